@@ -1,0 +1,62 @@
+"""The one interface every physics engine adapter implements.
+
+An adapter builds a world from a :class:`Scenario` (robot URDF, engine-neutral terrain,
+timestep, start poses) and steps it under open-loop wheel-speed commands, returning a
+:class:`PhysicsRecord` at the physics rate. Everything after that (IMU filtering, noise,
+health checks, trace files, metrics) is shared code, so adding an engine means writing one
+module and one registry line.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Protocol
+
+import numpy as np
+
+from simpick.robot import RobotSpec
+
+GRAVITY = 9.81  # m/s^2, the value every engine is given
+
+
+@dataclass(frozen=True)
+class Scenario:
+    robot: RobotSpec
+    terrain: dict
+    ground_friction: float
+    timestep: float  # s
+    max_wheel_torque: float  # N m, per wheel
+    starts: tuple[tuple[float, float, float], ...]  # (x, y, yaw) per robot; robot 0 is recorded
+    settings: dict[str, Any] = field(default_factory=dict)  # engine-specific, from config
+
+
+@dataclass
+class PhysicsRecord:
+    """Robot 0 at every physics step; quantities in the world frame unless noted.
+
+    ``imu_specific_force`` and ``imu_gyro`` are in the IMU (= body) frame. An engine with a
+    native IMU fills them itself; others fill them with
+    :func:`simpick.imu.imu_from_kinematics` from the base kinematics.
+    """
+
+    time: np.ndarray  # (n,) s, time at the end of each step
+    position: np.ndarray  # (n, 3) base_link origin
+    quaternion: np.ndarray  # (n, 4) w, x, y, z of base_link
+    linear_velocity: np.ndarray  # (n, 3) of the base_link origin
+    angular_velocity: np.ndarray  # (n, 3)
+    wheel_speed: np.ndarray  # (n, 4) rad/s, measured
+    imu_specific_force: np.ndarray  # (n, 3) m/s^2, body frame, +g on z at rest
+    imu_gyro: np.ndarray  # (n, 3) rad/s, body frame
+    wall_time: float  # s spent stepping (no model build, no I/O)
+    cpu_time: float  # s of process CPU while stepping
+    steps: int
+
+
+class Engine(Protocol):
+    name: str
+
+    def version(self) -> str:
+        """The engine's own version string, for provenance."""
+
+    def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
+        """Step the world; ``wheel_commands`` is (steps, robots, 4) wheel speeds in rad/s."""

@@ -1,0 +1,131 @@
+"""Bullet through PyBullet (the engine family of CoppeliaSim's Bullet 2.78 and of MORSE).
+
+Bullet has no IMU sensor, so the adapter records the base kinematics at every step and
+the shared :func:`simpick.imu.imu_from_kinematics` turns them into an IMU reading.
+
+Two Bullet habits the adapter undoes:
+- the base pose and velocity PyBullet reports are those of the base's *principal inertial
+  frame*: with the Husky's off-diagonal chassis inertia that frame is tilted and offset from
+  base_link, so it is converted back to base_link after the run;
+- contact friction is the *product* of the two bodies' coefficients, so wheels get 1.0 and
+  the terrain carries the whole coefficient.
+"""
+
+from __future__ import annotations
+
+import importlib.metadata
+import time
+
+import numpy as np
+
+from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario
+from simpick.imu import imu_from_kinematics, rotation_matrices
+
+SPAWN_CLEARANCE = 0.002  # m above resting height, so no wheel starts inside the ground
+
+
+def _xyzw_to_wxyz(q: np.ndarray) -> np.ndarray:
+    return q[..., [3, 0, 1, 2]]
+
+
+def _quat_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    aw, ax, ay, az = np.moveaxis(a, -1, 0)
+    bw, bx, by, bz = np.moveaxis(b, -1, 0)
+    return np.stack([aw * bw - ax * bx - ay * by - az * bz,
+                     aw * bx + ax * bw + ay * bz - az * by,
+                     aw * by - ax * bz + ay * bw + az * bx,
+                     aw * bz + ax * by - ay * bx + az * bw], -1)
+
+
+class PyBulletEngine:
+    name = "pybullet"
+
+    def version(self) -> str:
+        return importlib.metadata.version("pybullet")
+
+    def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
+        import pybullet as pb
+
+        client = pb.connect(pb.DIRECT)
+        try:
+            return self._run(pb, client, scenario, wheel_commands)
+        finally:
+            pb.disconnect(client)
+
+    def _build_terrain(self, pb, cid: int, scenario: Scenario) -> None:
+        ground = pb.createMultiBody(0, pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=cid),
+                                    physicsClientId=cid)
+        pb.changeDynamics(ground, -1, lateralFriction=scenario.ground_friction, physicsClientId=cid)
+        terrain = scenario.terrain
+        for x, y, z, yaw, sx, sy, sz in terrain["boxes"]:
+            shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[sx / 2, sy / 2, sz / 2], physicsClientId=cid)
+            body = pb.createMultiBody(0, shape, basePosition=[x, y, z],
+                                      baseOrientation=pb.getQuaternionFromEuler([0, 0, yaw]), physicsClientId=cid)
+            pb.changeDynamics(body, -1, lateralFriction=terrain["friction"], physicsClientId=cid)
+        if terrain["spheres"]:
+            # One static body per sphere via the batch API: a compound of hundreds of
+            # children steps slower in Bullet than separate static bodies in the broadphase.
+            for x, y, z, r in terrain["spheres"]:
+                shape = pb.createCollisionShape(pb.GEOM_SPHERE, radius=r, physicsClientId=cid)
+                body = pb.createMultiBody(0, shape, basePosition=[x, y, z], physicsClientId=cid)
+                pb.changeDynamics(body, -1, lateralFriction=terrain["friction"], physicsClientId=cid)
+
+    def _run(self, pb, cid: int, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
+        settings = scenario.settings
+        pb.setGravity(0, 0, -GRAVITY, physicsClientId=cid)
+        pb.setPhysicsEngineParameter(fixedTimeStep=scenario.timestep, numSubSteps=0,
+                                     numSolverIterations=int(settings.get("solver_iterations", 50)),
+                                     deterministicOverlappingPairs=1, physicsClientId=cid)
+        self._build_terrain(pb, cid, scenario)
+
+        robot = scenario.robot
+        flags = pb.URDF_USE_INERTIA_FROM_FILE | pb.URDF_USE_IMPLICIT_CYLINDER
+        bodies, wheel_index = [], None
+        for x, y, yaw in scenario.starts:
+            body = pb.loadURDF(str(robot.urdf), [x, y, robot.base_height + SPAWN_CLEARANCE],
+                               pb.getQuaternionFromEuler([0, 0, yaw]), flags=flags, physicsClientId=cid)
+            names = {pb.getJointInfo(body, j, physicsClientId=cid)[1].decode(): j
+                     for j in range(pb.getNumJoints(body, physicsClientId=cid))}
+            wheel_index = [names[n] for n in robot.wheel_joints]
+            for link in range(-1, pb.getNumJoints(body, physicsClientId=cid)):
+                pb.changeDynamics(body, link, lateralFriction=1.0, rollingFriction=0.0, spinningFriction=0.0,
+                                  restitution=0.0, linearDamping=0.0, angularDamping=0.0, physicsClientId=cid)
+            bodies.append(body)
+
+        steps, n_robots = wheel_commands.shape[:2]
+        dt = scenario.timestep
+        torque = [scenario.max_wheel_torque] * 4
+        com = np.empty((steps, 3)); com_q = np.empty((steps, 4))
+        com_v = np.empty((steps, 3)); omega = np.empty((steps, 3)); wheels = np.empty((steps, 4))
+        body0 = bodies[0]
+        get_pose, get_vel, get_joints = pb.getBasePositionAndOrientation, pb.getBaseVelocity, pb.getJointStates
+        set_motors, step = pb.setJointMotorControlArray, pb.stepSimulation
+        changes = np.flatnonzero(np.any(np.diff(wheel_commands, axis=0, prepend=np.nan) != 0, axis=(1, 2)))
+        change_set = set(changes.tolist())
+
+        cpu0, wall0 = time.process_time(), time.perf_counter()
+        for k in range(steps):
+            if k in change_set:
+                for i, body in enumerate(bodies):
+                    set_motors(body, wheel_index, pb.VELOCITY_CONTROL,
+                               targetVelocities=wheel_commands[k, i].tolist(), forces=torque, physicsClientId=cid)
+            step(physicsClientId=cid)
+            com[k], com_q[k] = get_pose(body0, physicsClientId=cid)
+            com_v[k], omega[k] = get_vel(body0, physicsClientId=cid)
+            wheels[k] = [s[1] for s in get_joints(body0, wheel_index, physicsClientId=cid)]
+        wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+
+        # From the principal inertial frame back to base_link.
+        info = pb.getDynamicsInfo(body0, -1, physicsClientId=cid)
+        local_pos = np.asarray(info[3]); local_q = _xyzw_to_wxyz(np.asarray(info[4]))
+        local_q_inv = local_q * np.array([1, -1, -1, -1])
+        quat = _quat_multiply(_xyzw_to_wxyz(com_q), local_q_inv)
+        quat /= np.linalg.norm(quat, axis=1, keepdims=True)
+        offset = rotation_matrices(quat) @ local_pos
+        position = com - offset
+        velocity = com_v - np.cross(omega, offset)
+        specific_force, gyro = imu_from_kinematics(quat, velocity, omega, robot.imu_mount, dt)
+        return PhysicsRecord(time=dt * np.arange(1, steps + 1), position=position, quaternion=quat,
+                             linear_velocity=velocity, angular_velocity=omega, wheel_speed=wheels,
+                             imu_specific_force=specific_force, imu_gyro=gyro,
+                             wall_time=wall, cpu_time=cpu, steps=steps)

@@ -1,0 +1,85 @@
+"""The simulated IMU: from physics-rate kinematics to what a 3DM-GX3-25 would output.
+
+Chain (METHOD.md section 3): specific force and angular rate in the body frame at the
+physics rate -> block average down to the output rate (the sensor's moving-average
+decimation) -> optional seeded bias and white noise -> saturation at the sensor's range.
+Convention REP-145: specific force, so +9.81 m/s^2 on z at rest with z up; rad/s.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from simpick.engines.base import GRAVITY
+
+
+@dataclass(frozen=True)
+class ImuModel:
+    rate_hz: float = 100.0
+    accel_range: float = 5 * GRAVITY  # +-5 g
+    gyro_range: float = np.deg2rad(300.0)  # +-300 deg/s
+    accel_noise_std: float = 0.0  # m/s^2 per output sample
+    gyro_noise_std: float = 0.0  # rad/s per output sample
+    accel_bias: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    gyro_bias: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+
+def rotation_matrices(quaternion: np.ndarray) -> np.ndarray:
+    """(n, 4) w, x, y, z unit quaternions -> (n, 3, 3) body-to-world rotations."""
+    w, x, y, z = np.moveaxis(np.asarray(quaternion, dtype=float), -1, 0)
+    return np.stack([
+        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
+    ], -2)
+
+
+def euler_rpy(quaternion: np.ndarray) -> np.ndarray:
+    """(n, 4) w, x, y, z -> (n, 3) roll, pitch, yaw (rad, ZYX convention)."""
+    w, x, y, z = np.moveaxis(np.asarray(quaternion, dtype=float), -1, 0)
+    roll = np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
+    pitch = np.arcsin(np.clip(2 * (w * y - z * x), -1.0, 1.0))
+    yaw = np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+    return np.stack([roll, pitch, yaw], -1)
+
+
+def imu_from_kinematics(quaternion: np.ndarray, linear_velocity: np.ndarray,
+                        angular_velocity: np.ndarray, mount: tuple[float, float, float],
+                        dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """Specific force and angular rate at an IMU mounted at ``mount`` (body frame).
+
+    For engines with no IMU: the mount point's velocity is v + w x R r; its acceleration
+    over each step is the finite difference of that velocity (the robot starts at rest,
+    so the velocity before the first step is zero). Subtracting gravity and rotating
+    into the body frame gives the accelerometer's reading.
+    """
+    rot = rotation_matrices(quaternion)
+    lever = rot @ np.asarray(mount, dtype=float)
+    v_mount = linear_velocity + np.cross(angular_velocity, lever)
+    accel = np.diff(v_mount, axis=0, prepend=np.zeros((1, 3))) / dt
+    specific_force_world = accel + np.array([0.0, 0.0, GRAVITY])
+    to_body = np.transpose(rot, (0, 2, 1))
+    specific_force = np.einsum("nij,nj->ni", to_body, specific_force_world)
+    gyro = np.einsum("nij,nj->ni", to_body, angular_velocity)
+    return specific_force, gyro
+
+
+def block_average(samples: np.ndarray, block: int) -> np.ndarray:
+    """Average consecutive blocks of ``block`` rows; an incomplete last block is dropped."""
+    n = (len(samples) // block) * block
+    return samples[:n].reshape(n // block, block, *samples.shape[1:]).mean(axis=1)
+
+
+def sensor_output(specific_force: np.ndarray, gyro: np.ndarray, model: ImuModel,
+                  rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """Add bias and seeded white noise, then saturate at the sensor's range."""
+    accel = specific_force + np.asarray(model.accel_bias)
+    rate = gyro + np.asarray(model.gyro_bias)
+    if model.accel_noise_std > 0:
+        accel = accel + rng.normal(0.0, model.accel_noise_std, accel.shape)
+    if model.gyro_noise_std > 0:
+        rate = rate + rng.normal(0.0, model.gyro_noise_std, rate.shape)
+    return (np.clip(accel, -model.accel_range, model.accel_range),
+            np.clip(rate, -model.gyro_range, model.gyro_range))
