@@ -22,6 +22,7 @@ from typing import Any
 import pandas as pd
 import yaml
 
+from simpick.metrics import axis_errors
 from simpick.scoring import (
     METRICS,
     accuracy_scores,
@@ -69,7 +70,10 @@ def load_published(path: str | Path = DEFAULT_PATH) -> dict[str, Any]:
 def _recomputed_scores(published: Mapping[str, Any]) -> pd.DataFrame:
     sims: list[str] = list(published["simulators"])
     t10 = published["table10"]
-    pick = lambda block: {s: block[s] for s in sims}  # noqa: E731 - keeps paper order
+
+    def pick(block: Mapping[str, float]) -> dict[str, float]:
+        return {s: block[s] for s in sims}  # paper order
+
     quantitative = {
         "real_time_factor": real_time_factor_scores(pick(t10["real_time_factor"])),
         "cpu_average": efficiency_scores(pick(t10["cpu_average_percent"])),
@@ -140,27 +144,6 @@ def table11_comparison(published: Mapping[str, Any]) -> pd.DataFrame:
                 }
             )
     return pd.DataFrame.from_records(records)
-
-
-def axis_errors(sim: Mapping[str, Mapping[str, float]], real: Mapping[str, Mapping[str, float]]) -> dict[str, dict[str, float]]:
-    """Per-axis Eq. 7 terms for one test: ``|range_s - range_r| + |mean_s - mean_r|``.
-
-    ``sim`` and ``real`` map each axis to ``{'range': ..., 'mean': ...}`` and
-    must name the same axes. Returns, per axis, ``range_error``,
-    ``mean_error`` and ``total_error``.
-    """
-    if set(sim) != set(real):
-        raise ValueError(f"sim axes {sorted(sim)} differ from real axes {sorted(real)}")
-    out: dict[str, dict[str, float]] = {}
-    for axis in sim:
-        range_error = abs(float(sim[axis]["range"]) - float(real[axis]["range"]))
-        mean_error = abs(float(sim[axis]["mean"]) - float(real[axis]["mean"]))
-        out[axis] = {
-            "range_error": range_error,
-            "mean_error": mean_error,
-            "total_error": range_error + mean_error,
-        }
-    return out
 
 
 def _r(x: float) -> float:

@@ -233,15 +233,16 @@ def qualitative_scores(facts: Mapping[str, Any]) -> dict[str, float]:
     missing = [k for k in FACT_KEYS if k not in facts]
     if missing:
         raise ValueError(f"fact record lacks {', '.join(missing)}")
+    plugin = facts["urdf_sdf_via_manual_plugin"]
+    if not isinstance(plugin, bool):
+        raise ValueError(f"urdf_sdf_via_manual_plugin must be a boolean, got {plugin!r}")
     return {
         "free": score_bool(facts["free"]),
         "open_source": score_bool(facts["open_source"]),
         "ros": score_ros(facts["ros"]),
         "languages": score_languages(facts["languages"]),
         "ui": score_ui(facts["ui"]),
-        "model_formats": score_model_formats(
-            facts["model_formats"], score_bool(facts["urdf_sdf_via_manual_plugin"]) > 0
-        ),
+        "model_formats": score_model_formats(facts["model_formats"], plugin),
         "physics_engines": score_physics_engines(facts["physics_engines"]),
     }
 

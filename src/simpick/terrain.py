@@ -46,7 +46,7 @@ def plywood_layers(rng: np.random.Generator, tiles: int, base: float, layer: flo
     """
     boxes = [_box(cx, 0.0, base / 2, 0.0, TILE, TILE, base) for cx in _tile_centres(tiles)]
     for cx in _tile_centres(tiles):
-        for _ in range(pieces_per_tile):
+        for _ in range(int(pieces_per_tile)):
             sx, sy = rng.uniform(piece_min, piece_max, size=2)
             yaw = rng.uniform(-math.pi, math.pi)
             reach = 0.5 * math.hypot(sx, sy)
@@ -66,6 +66,7 @@ def gravel_bed(rng: np.random.Generator, tiles: int, bed: float, stones_per_tile
     """Stones (spheres, partly sunk in a gravel bed) whose tops stay below ``max_height``."""
     boxes = [_box(cx, 0.0, bed / 2, 0.0, TILE, TILE, bed) for cx in _tile_centres(tiles)]
     spheres = []
+    stones_per_tile = int(stones_per_tile)
     for cx in _tile_centres(tiles):
         r = rng.uniform(radius_min, radius_max, size=stones_per_tile)
         x = cx + rng.uniform(-TILE / 2, TILE / 2, size=stones_per_tile)

@@ -1,0 +1,28 @@
+# simpick: the Farley, Wang & Marshall (2022) simulator study as a workflow.
+# Data flow: terrain -> simulate -> traces -> metrics (+ cpu load) -> scores -> report;
+# the paper's own Table 11 is recomputed beside it.
+from snakemake.utils import min_version
+
+min_version("9.0")
+
+
+configfile: "config.yaml"
+
+
+include: "rules/common.smk"
+include: "rules/terrain.smk"
+include: "rules/simulate.smk"
+include: "rules/metrics.smk"
+include: "rules/scores.smk"
+include: "rules/published.smk"
+include: "rules/report.smk"
+
+
+rule all:
+    input:
+        all_traces(),
+        "results/scores/weighted.csv",
+        "results/published/table11.csv",
+        "results/report/report.html",
+        "results/report/report.pdf",
+    default_target: True

@@ -1,0 +1,15 @@
+rule metrics:
+    input:
+        traces=all_traces(),
+        published=config["reference"]["published"],
+    output:
+        trace_stats="results/metrics/trace_stats.csv",
+        reference_stats="results/metrics/reference_stats.csv",
+        per_test_errors="results/metrics/per_test_errors.csv",
+        imu_errors="results/metrics/imu_errors.csv",
+        runs="results/metrics/runs.csv",
+        rtf="results/metrics/rtf.csv",
+    log:
+        "results/logs/metrics.log",
+    script:
+        "../scripts/metrics.py"

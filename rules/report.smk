@@ -1,0 +1,25 @@
+rule report:
+    input:
+        weighted="results/scores/weighted.csv",
+        trace_stats="results/metrics/trace_stats.csv",
+        reference_stats="results/metrics/reference_stats.csv",
+        imu_errors="results/metrics/imu_errors.csv",
+        per_test_errors="results/metrics/per_test_errors.csv",
+        runs="results/metrics/runs.csv",
+        rtf="results/metrics/rtf.csv",
+        cpu=expand("results/cpu/{engine}.json", engine=ENGINES),
+        qualitative=config["qualitative"],
+        table11="results/published/table11.csv",
+        table11_comparison="results/published/table11_comparison.csv",
+        worked_example="results/published/worked_example.json",
+        traces=all_traces(),
+    output:
+        html="results/report/report.html",
+        pdf="results/report/report.pdf",
+    params:
+        weights=canonical(config["weights"]),
+        config=canonical(config),
+    log:
+        "results/logs/report.log",
+    script:
+        "../scripts/report.py"

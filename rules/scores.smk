@@ -1,0 +1,16 @@
+rule scores:
+    input:
+        imu_errors="results/metrics/imu_errors.csv",
+        rtf="results/metrics/rtf.csv",
+        cpu=expand("results/cpu/{engine}.json", engine=ENGINES),
+        qualitative=config["qualitative"],
+    output:
+        scores="results/scores/scores.csv",
+        weighted="results/scores/weighted.csv",
+    params:
+        engines=ENGINES,
+        weights=canonical(config["weights"]),
+    log:
+        "results/logs/scores.log",
+    script:
+        "../scripts/scores.py"

@@ -1,0 +1,10 @@
+rule terrain:
+    output:
+        "results/terrains/{terrain}.json",
+    params:
+        spec=lambda wc: canonical(config["terrains"][wc.terrain]),
+        seed=lambda wc: canonical(config["seed"]),
+    log:
+        "results/logs/terrain/{terrain}.log",
+    script:
+        "../scripts/terrain.py"

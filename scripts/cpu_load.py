@@ -1,0 +1,4 @@
+from simpick.workflow import cpu_job, logged
+
+with logged(snakemake.log[0]):
+    cpu_job(snakemake.output[0], snakemake.input.terrain, snakemake.input.urdf, snakemake.params.case)

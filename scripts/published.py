@@ -1,0 +1,6 @@
+from pathlib import Path
+
+from simpick.workflow import logged, published_job
+
+with logged(snakemake.log[0]):
+    published_job(snakemake.input[0], str(Path(snakemake.output.table11).parent))

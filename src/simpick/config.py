@@ -1,0 +1,156 @@
+"""The study config, validated before any job runs.
+
+Typed models give every error the key, the bad value and what is allowed; the Snakefile
+calls :func:`validate_or_exit`, so a bad config stops the run with those lines and no
+traceback.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+
+from simpick.engines import ADAPTERS
+from simpick.scoring import METRICS
+from simpick.terrain import RULES
+
+Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class Physics(Strict):
+    timestep: Positive
+    ground_friction: NonNegative
+
+
+class Robot(Strict):
+    urdf: str
+    track: Positive
+    max_wheel_torque: Positive
+
+
+class Imu(Strict):
+    rate_hz: Positive
+    accel_range: Positive
+    gyro_range: Positive
+    accel_noise_std: NonNegative = 0.0
+    gyro_noise_std: NonNegative = 0.0
+
+
+class Health(Strict):
+    min_height: Finite
+    max_tilt: Positive
+    max_speed: Positive
+    max_acceleration: Positive
+
+
+class Terrain(BaseModel):
+    model_config = ConfigDict(extra="allow")  # the rule's own parameters
+    rule: Literal[tuple(RULES)]  # type: ignore[valid-type]
+    friction: Annotated[float, Field(ge=0, le=10, allow_inf_nan=False)]
+
+
+class Motion(Strict):
+    v: Finite
+    w: Finite
+    duration: Positive
+    start: tuple[Finite, Finite, Finite]
+
+
+class CpuLoad(Strict):
+    terrain: str
+    motion: str
+    duration: Positive
+    repeats: Annotated[int, Field(ge=1)]
+    robots_average: Annotated[int, Field(ge=1)]
+    robots_intense: Annotated[int, Field(ge=1)]
+    spacing: Positive
+
+
+class Reference(Strict):
+    published: str
+
+
+class Study(Strict):
+    seed: Annotated[int, Field(ge=0, lt=2**32)]
+    engines: dict[str, dict[str, Any] | None]
+    physics: Physics
+    robot: Robot
+    imu: Imu
+    health: Health
+    terrains: dict[str, Terrain]
+    motions: dict[str, Motion]
+    cpu_load: CpuLoad
+    reference: Reference
+    qualitative: str
+    weights: dict[str, NonNegative]
+
+    @field_validator("engines")
+    @classmethod
+    def known_engines(cls, engines):
+        unknown = [e for e in engines if e not in ADAPTERS]
+        if unknown:
+            raise ValueError(f"unknown engine(s) {unknown}; available: {sorted(ADAPTERS)}")
+        if not engines:
+            raise ValueError("at least one engine is needed")
+        return engines
+
+    @field_validator("weights")
+    @classmethod
+    def all_weights(cls, weights):
+        unknown = sorted(set(weights) - set(METRICS))
+        missing = [m for m in METRICS if m not in weights]
+        if unknown or missing:
+            raise ValueError(f"unknown weight(s) {unknown}, missing weight(s) {missing}; "
+                             f"one weight per metric: {list(METRICS)}")
+        return weights
+
+    @model_validator(mode="after")
+    def consistent(self):
+        block = 1.0 / (self.imu.rate_hz * self.physics.timestep)
+        if abs(block - round(block)) > 1e-6 or round(block) < 1:
+            raise ValueError(f"physics.timestep {self.physics.timestep} s does not divide the IMU period "
+                             f"1/{self.imu.rate_hz} s into whole steps; use e.g. 0.001, 0.002 or 0.005")
+        if self.cpu_load.terrain not in self.terrains:
+            raise ValueError(f"cpu_load.terrain {self.cpu_load.terrain!r} is not one of terrains {list(self.terrains)}")
+        if self.cpu_load.motion not in self.motions:
+            raise ValueError(f"cpu_load.motion {self.cpu_load.motion!r} is not one of motions {list(self.motions)}")
+        for key, path in (("robot.urdf", self.robot.urdf), ("reference.published", self.reference.published),
+                          ("qualitative", self.qualitative)):
+            if not Path(path).is_file():
+                raise ValueError(f"{key}: file {path!r} does not exist")
+        return self
+
+
+def problems(config: dict) -> list[str]:
+    """Human-readable lines, one per problem; empty when the config is valid."""
+    try:
+        Study.model_validate(config)
+    except ValidationError as exc:
+        lines = []
+        for err in exc.errors():
+            key = ".".join(str(p) for p in err["loc"]) or "(top level)"
+            value = err.get("input")
+            shown = "" if isinstance(value, dict) else f" (got {value!r})"
+            message = err["msg"].removeprefix("Value error, ")
+            lines.append(f"{key}: {message}{shown}")
+        return lines
+    return []
+
+
+def validate_or_exit(config: dict, source: str = "config") -> None:
+    found = problems(config)
+    if found:
+        print(f"simpick: the {source} has {len(found)} problem(s):", file=sys.stderr)
+        for line in found:
+            print(f"  - {line}", file=sys.stderr)
+        sys.exit(1)

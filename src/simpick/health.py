@@ -1,0 +1,68 @@
+"""Physics health: catch a run that diverged or misbehaved before it reaches a score.
+
+The failure modes are the ones Farley et al. (2022, section 3.1.2) met in the simulators'
+engines: the robot falling through the floor, jumping in position or velocity, flipping,
+and sliding while it should stand still. Thresholds come from config.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from simpick.engines.base import PhysicsRecord
+from simpick.imu import euler_rpy
+
+
+@dataclass(frozen=True)
+class HealthLimits:
+    min_height: float = -0.05  # m, base_link z below the ground surface
+    max_tilt: float = 1.0  # rad, |roll| or |pitch|
+    max_speed: float = 5.0  # m/s; the Husky tops out near 1 m/s
+    max_acceleration: float = 200.0  # m/s^2 at the physics rate; ~20 g is no wheel-terrain contact
+
+
+@dataclass
+class Health:
+    ok: bool = True
+    reasons: list[str] = field(default_factory=list)
+
+    def fail(self, reason: str) -> None:
+        self.ok = False
+        self.reasons.append(reason)
+
+    def as_dict(self) -> dict:
+        return {"status": "ok" if self.ok else "failed", "reasons": self.reasons}
+
+
+def check(record: PhysicsRecord, limits: HealthLimits) -> Health:
+    health = Health()
+    arrays = {"position": record.position, "quaternion": record.quaternion,
+              "linear velocity": record.linear_velocity, "angular velocity": record.angular_velocity,
+              "IMU": record.imu_specific_force}
+    for name, values in arrays.items():
+        bad = ~np.isfinite(values).all(axis=-1)
+        if bad.any():
+            health.fail(f"non-finite {name} from t = {record.time[np.argmax(bad)]:.3f} s (simulation diverged)")
+    if not health.ok:
+        return health
+    z = record.position[:, 2]
+    if (z < limits.min_height).any():
+        k = int(np.argmax(z < limits.min_height))
+        health.fail(f"fell through the ground: base z = {z[k]:.3f} m at t = {record.time[k]:.3f} s")
+    tilt = np.abs(euler_rpy(record.quaternion)[:, :2]).max(axis=1)
+    if (tilt > limits.max_tilt).any():
+        k = int(np.argmax(tilt > limits.max_tilt))
+        health.fail(f"flipped: roll/pitch {np.degrees(tilt[k]):.0f} deg at t = {record.time[k]:.3f} s "
+                    f"(limit {np.degrees(limits.max_tilt):.0f} deg)")
+    speed = np.linalg.norm(record.linear_velocity, axis=1)
+    if (speed > limits.max_speed).any():
+        k = int(np.argmax(speed > limits.max_speed))
+        health.fail(f"exploded: speed {speed[k]:.1f} m/s at t = {record.time[k]:.3f} s")
+    accel = np.linalg.norm(record.imu_specific_force, axis=1)
+    if (accel > limits.max_acceleration).any():
+        k = int(np.argmax(accel > limits.max_acceleration))
+        health.fail(f"jump: acceleration {accel[k]:.0f} m/s^2 at t = {record.time[k]:.3f} s "
+                    "(no wheel-terrain force explains it)")
+    return health

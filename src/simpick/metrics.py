@@ -1,0 +1,72 @@
+"""The paper's quantitative metrics (Farley et al. 2022, section 3.3).
+
+Eq. 5: per-axis mean. Eq. 6: range, which the paper takes as (mean of the top 1 % of
+samples) - (mean of the bottom 1 %), to discount the odd erratic sample. Eq. 7: the IMU
+error of a test, summed over axes, |range_sim - range_real| + |mean_sim - mean_real|;
+summed over tests for an engine. Eq. 2: real-time factor = total simulated time / total
+wall time.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+
+import numpy as np
+import pandas as pd
+
+from simpick.traces import IMU_AXES
+
+TRIM_FRACTION = 0.01
+AXES = ("x", "y", "z")
+
+
+def trimmed_range(values: Iterable[float], fraction: float = TRIM_FRACTION) -> float:
+    """Mean of the top ``fraction`` of samples minus mean of the bottom ``fraction``.
+
+    The tail holds max(1, round(fraction * n)) samples, so short series still have one.
+    """
+    x = np.asarray(values, dtype=float)
+    if x.size == 0 or not np.isfinite(x).all():
+        raise ValueError("trimmed_range needs a non-empty series of finite values")
+    k = max(1, int(round(fraction * x.size)))
+    ordered = np.sort(x)
+    return float(ordered[-k:].mean() - ordered[:k].mean())
+
+
+def axis_stats(values: Iterable[float], fraction: float = TRIM_FRACTION) -> dict[str, float]:
+    x = np.asarray(values, dtype=float)
+    return {"mean": float(x.mean()), "range": trimmed_range(x, fraction)}
+
+
+def trace_stats(frame: pd.DataFrame) -> dict[str, dict[str, dict[str, float]]]:
+    """{'linear'|'angular': {axis: {'mean', 'range'}}} of an IMU trace."""
+    return {quantity: {axis: axis_stats(frame[col]) for axis, col in zip(AXES, cols)}
+            for quantity, cols in IMU_AXES.items()}
+
+
+def axis_errors(sim: Mapping[str, Mapping[str, float]],
+                real: Mapping[str, Mapping[str, float]]) -> dict[str, dict[str, float]]:
+    """Per-axis Eq. 7 terms of one test; ``sim``/``real`` map axis -> {'range', 'mean'}."""
+    if set(sim) != set(real):
+        raise ValueError(f"sim axes {sorted(sim)} differ from real axes {sorted(real)}")
+    out = {}
+    for axis in sim:
+        range_error = abs(float(sim[axis]["range"]) - float(real[axis]["range"]))
+        mean_error = abs(float(sim[axis]["mean"]) - float(real[axis]["mean"]))
+        out[axis] = {"range_error": range_error, "mean_error": mean_error,
+                     "total_error": range_error + mean_error}
+    return out
+
+
+def test_error(sim: Mapping[str, Mapping[str, float]], real: Mapping[str, Mapping[str, float]]) -> float:
+    """Eq. 7 for one test and one quantity: the sum of the per-axis errors."""
+    return math.fsum(e["total_error"] for e in axis_errors(sim, real).values())
+
+
+def real_time_factor(sim_times: Iterable[float], wall_times: Iterable[float]) -> float:
+    """Eq. 2: sum of simulated time over sum of wall time, over all tests."""
+    sim, wall = math.fsum(sim_times), math.fsum(wall_times)
+    if wall <= 0:
+        raise ValueError("real_time_factor needs a positive total wall time")
+    return sim / wall

@@ -1,0 +1,192 @@
+"""Read the report's inputs (files written by the other workflow rules) and check their columns."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+import yaml
+
+from simpick.errors import InputError
+from simpick.scoring import METRICS
+
+COLUMNS: dict[str, tuple[str, ...]] = {
+    "weighted": (*METRICS, "total", "excluded", "rank"),
+    "runs": ("engine", "terrain", "motion", "sim_time", "wall_time", "cpu_time", "steps",
+             "steps_per_s", "real_time_factor", "status", "reasons"),
+    "trace_stats": ("engine", "terrain", "motion", "quantity", "axis", "mean", "range", "status"),
+    "reference_stats": ("terrain", "motion", "quantity", "axis", "mean", "range", "source"),
+    "imu_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
+    "per_test_errors": ("engine", "terrain", "motion", "quantity", "axis", "range_error",
+                        "mean_error", "total_error"),
+    "rtf": ("engine", "sim_time", "wall_time", "real_time_factor", "n_runs"),
+    "table11": (*METRICS, "total", "total_from_published_scores", "published_total"),
+    "table11_comparison": ("simulator", "metric", "published", "recomputed", "difference", "matches"),
+}
+
+# Text columns: read as strings, an empty cell becomes "" rather than NaN.
+TEXT_COLUMNS = {"excluded", "reasons", "tests", "status", "source", "engine", "terrain",
+                "motion", "quantity", "axis", "unit", "engine_version", "config_hash",
+                "simulator", "metric"}
+
+
+@dataclass
+class Trace:
+    engine: str
+    terrain: str
+    motion: str
+    frame: pd.DataFrame
+    meta: dict
+    path: str
+
+
+@dataclass
+class ReportData:
+    weighted: pd.DataFrame
+    runs: pd.DataFrame
+    trace_stats: pd.DataFrame | None = None
+    reference_stats: pd.DataFrame | None = None
+    imu_errors: pd.DataFrame | None = None
+    per_test_errors: pd.DataFrame | None = None
+    rtf: pd.DataFrame | None = None
+    cpu: list[dict] | None = None
+    qualitative: dict | None = None
+    table11: pd.DataFrame | None = None
+    table11_comparison: pd.DataFrame | None = None
+    worked_example: dict | None = None
+    traces: list[Trace] | None = None
+    sources: dict[str, Any] = field(default_factory=dict)
+
+
+def _path(name: str, value: Any) -> Path:
+    if isinstance(value, (list, tuple)):
+        if len(value) != 1:
+            raise InputError(f"report input {name!r}", f"expected one path, got {len(value)}")
+        value = value[0]
+    p = Path(str(value))
+    if not p.is_file():
+        raise InputError(str(p), f"report input {name!r} does not exist", "run the rule that writes it first")
+    return p
+
+
+def _paths(name: str, value: Any) -> list[Path]:
+    values = [value] if isinstance(value, (str, Path)) else list(value)
+    out = []
+    for v in values:
+        p = Path(str(v))
+        if not p.is_file():
+            raise InputError(str(p), f"report input {name!r} does not exist", "run the rule that writes it first")
+        out.append(p)
+    return out
+
+
+def _csv(name: str, path: Path, index: str | None = None) -> pd.DataFrame:
+    try:
+        head = pd.read_csv(path, nrows=0)
+    except (pd.errors.EmptyDataError, pd.errors.ParserError, UnicodeDecodeError) as exc:
+        raise InputError(str(path), f"not a readable CSV: {exc}") from None
+    dtypes = {c: "string" for c in head.columns if c in TEXT_COLUMNS}
+    df = pd.read_csv(path, dtype=dtypes, keep_default_na=True)
+    for c in dtypes:
+        df[c] = df[c].fillna("").astype(str)
+    have = set(df.columns)
+    missing = [c for c in COLUMNS.get(name, ()) if c not in have]
+    if missing:
+        raise InputError(str(path), f"columns {missing} are missing", "rerun the rule that writes it")
+    if index is not None:
+        if index not in df.columns:
+            # The index column may have been written without a name.
+            first = df.columns[0]
+            if first.startswith("Unnamed"):
+                df = df.rename(columns={first: index})
+            else:
+                raise InputError(str(path), f"index column {index!r} is missing")
+        df[index] = df[index].astype(str)
+        df = df.set_index(index)
+    return df
+
+
+def load_inputs(inputs: Mapping[str, Any]) -> ReportData:
+    """Read every input that is given; raise :class:`InputError` for a missing required one."""
+    from simpick.report import OPTIONAL_INPUTS, REQUIRED_INPUTS
+
+    for key in REQUIRED_INPUTS:
+        if inputs.get(key) in (None, "", []):
+            raise InputError(f"report inputs[{key!r}]", "required input is not given")
+    unknown = sorted(set(inputs) - set(REQUIRED_INPUTS) - set(OPTIONAL_INPUTS))
+    if unknown:
+        raise InputError("report inputs", f"unknown keys {unknown}")
+
+    def given(key: str) -> bool:
+        return inputs.get(key) not in (None, "", [])
+
+    sources: dict[str, Any] = {}
+    kw: dict[str, Any] = {}
+    for key, index in (("weighted", "engine"), ("runs", None), ("trace_stats", None),
+                       ("reference_stats", None), ("imu_errors", None), ("per_test_errors", None),
+                       ("rtf", None), ("table11", "simulator"), ("table11_comparison", None)):
+        if given(key):
+            p = _path(key, inputs[key])
+            sources[key] = str(p)
+            kw[key] = _csv(key, p, index)
+
+    runs = kw["runs"]
+    for col in ("engine_version", "config_hash"):
+        if col not in runs.columns:
+            runs[col] = ""
+    if "table11_comparison" in kw:
+        cmp_ = kw["table11_comparison"]
+        cmp_["matches"] = cmp_["matches"].astype(str).str.lower().isin(["true", "1"])
+
+    if given("cpu"):
+        cpu = []
+        for p in _paths("cpu", inputs["cpu"]):
+            try:
+                rec = json.loads(p.read_text(encoding="utf-8"))
+            except json.JSONDecodeError as exc:
+                raise InputError(str(p), f"not valid JSON: {exc}") from None
+            for k in ("engine", "average", "intense"):
+                if k not in rec:
+                    raise InputError(str(p), f"key {k!r} is missing")
+            cpu.append(rec)
+        kw["cpu"] = cpu
+        sources["cpu"] = [str(p) for p in _paths("cpu", inputs["cpu"])]
+
+    if given("qualitative"):
+        p = _path("qualitative", inputs["qualitative"])
+        with open(p, encoding="utf-8") as fh:
+            q = yaml.safe_load(fh) or {}
+        if not isinstance(q, dict):
+            raise InputError(str(p), "expected a mapping engine -> fact record")
+        if isinstance(q.get("engines"), dict):
+            q = q["engines"]
+        kw["qualitative"] = {str(k): v for k, v in q.items() if isinstance(v, dict)}
+        sources["qualitative"] = str(p)
+
+    if given("worked_example"):
+        p = _path("worked_example", inputs["worked_example"])
+        try:
+            kw["worked_example"] = json.loads(p.read_text(encoding="utf-8"))
+        except json.JSONDecodeError as exc:
+            raise InputError(str(p), f"not valid JSON: {exc}") from None
+        sources["worked_example"] = str(p)
+
+    if given("traces"):
+        from simpick.traces import read_trace
+
+        traces = []
+        for p in _paths("traces", inputs["traces"]):
+            frame, meta = read_trace(p)
+            # results/traces/{engine}/{terrain}/{motion}.parquet; metadata wins when present.
+            engine = str(meta.get("engine") or p.parent.parent.name)
+            terrain = str(meta.get("terrain") or p.parent.name)
+            motion = str(meta.get("motion") or p.stem)
+            traces.append(Trace(engine, terrain, motion, frame, meta, str(p)))
+        kw["traces"] = traces
+        sources["traces"] = [t.path for t in traces]
+
+    return ReportData(sources=sources, **kw)

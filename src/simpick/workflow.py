@@ -1,0 +1,215 @@
+"""What each Snakemake job does, as plain functions of paths and parameters.
+
+``scripts/*.py`` only unpack ``snakemake.input/params/output`` and call one function here,
+so every job can be run and tested without Snakemake.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pandas as pd
+import yaml
+
+from simpick.errors import InputError
+
+
+def _write_csv(frame: pd.DataFrame, path: str | Path, index: bool = False) -> None:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    frame.to_csv(path, index=index, float_format="%.6g")
+
+
+def terrain_job(output: str, name: str, seed: int, spec: dict) -> None:
+    from simpick import terrain
+    from simpick.simulate import stable_seed
+
+    spec = dict(spec)
+    rule, friction = spec.pop("rule"), spec.pop("friction")
+    tiles = int(spec.pop("tiles", 4))
+    desc = terrain.generate(name, rule, stable_seed(int(seed), "terrain", name), friction, tiles, **spec)
+    Path(output).parent.mkdir(parents=True, exist_ok=True)
+    terrain.save(desc, output)
+
+
+def simulate_job(output: str, terrain_file: str, urdf: str, params: dict) -> dict:
+    from simpick.health import HealthLimits
+    from simpick.imu import ImuModel
+    from simpick.simulate import Case, simulate_to_file
+
+    motion = params["motion"]
+    case = Case(engine=params["engine"], terrain=params["terrain"], motion=params["motion_name"],
+                v=motion["v"], w=motion["w"], duration=motion["duration"], start=tuple(motion["start"]))
+    return simulate_to_file(
+        case, output, params=params, urdf=urdf, terrain_file=terrain_file,
+        track=params["robot"]["track"], max_wheel_torque=params["robot"]["max_wheel_torque"],
+        timestep=params["physics"]["timestep"], ground_friction=params["physics"]["ground_friction"],
+        engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
+        seed=int(params["seed"]), limits=HealthLimits(**params["health"]))
+
+
+def cpu_job(output: str, terrain_file: str, urdf: str, params: dict) -> None:
+    from simpick.cpuload import measure
+
+    cpu = params["cpu_load"]
+    result = measure(params["engine"], urdf=urdf, terrain_file=terrain_file, motion=params["motion"],
+                     timestep=params["physics"]["timestep"],
+                     ground_friction=params["physics"]["ground_friction"],
+                     max_wheel_torque=params["robot"]["max_wheel_torque"], track=params["robot"]["track"],
+                     engine_settings=params["engine_settings"], duration=cpu["duration"],
+                     repeats=int(cpu["repeats"]), robots_average=int(cpu["robots_average"]),
+                     robots_intense=int(cpu["robots_intense"]), spacing=cpu["spacing"])
+    Path(output).parent.mkdir(parents=True, exist_ok=True)
+    Path(output).write_text(json.dumps(result, indent=1))
+
+
+def metrics_job(traces: list[str], published_file: str, outputs: dict[str, str]) -> None:
+    """Per-trace statistics, errors against the real reference, run table, real-time factors."""
+    from simpick import metrics
+    from simpick.published import load_published
+    from simpick.reference import lab_reference
+    from simpick.traces import read_trace
+
+    reference = lab_reference(load_published(published_file))
+    stats_rows, error_rows, runs = [], [], []
+    for path in traces:
+        frame, meta = read_trace(path)
+        key = (meta["engine"], meta["terrain"], meta["motion"])
+        health = meta["health"]
+        runs.append({"engine": key[0], "terrain": key[1], "motion": key[2], "sim_time": meta["sim_time"],
+                     "wall_time": meta["wall_time"], "cpu_time": meta["cpu_time"], "steps": meta["steps"],
+                     "steps_per_s": meta["steps"] / meta["wall_time"],
+                     "real_time_factor": meta["real_time_factor"], "status": health["status"],
+                     "reasons": "; ".join(health["reasons"]), "engine_version": meta["engine_version"],
+                     "config_hash": meta["config_hash"]})
+        if health["status"] != "ok":
+            continue
+        stats = metrics.trace_stats(frame)
+        for quantity, axes in stats.items():
+            for axis, s in axes.items():
+                stats_rows.append({"engine": key[0], "terrain": key[1], "motion": key[2], "quantity": quantity,
+                                   "axis": axis, "mean": s["mean"], "range": s["range"], "status": "ok"})
+            ref = reference.get(key[1:])
+            if ref is None:
+                continue
+            for axis, e in metrics.axis_errors(axes, ref[quantity]).items():
+                error_rows.append({"engine": key[0], "terrain": key[1], "motion": key[2],
+                                   "quantity": quantity, "axis": axis, **e})
+    runs = pd.DataFrame(runs)
+    for _, run in runs[runs.status != "ok"].iterrows():
+        for quantity in ("angular", "linear"):
+            for axis in metrics.AXES:
+                stats_rows.append({"engine": run.engine, "terrain": run.terrain, "motion": run.motion,
+                                   "quantity": quantity, "axis": axis, "mean": float("nan"),
+                                   "range": float("nan"), "status": "failed"})
+    per_test = pd.DataFrame(error_rows, columns=["engine", "terrain", "motion", "quantity", "axis",
+                                                 "range_error", "mean_error", "total_error"])
+
+    ref_rows = [{"terrain": t, "motion": m, "quantity": q, "axis": a, **s, "source": ref["source"]}
+                for (t, m), ref in reference.items() for q in ("angular", "linear") for a, s in ref[q].items()]
+
+    error_summary = []
+    units = {"angular": "rad/s", "linear": "m/s^2"}
+    for engine, engine_runs in runs.groupby("engine"):
+        failed = engine_runs[engine_runs.status != "ok"]
+        excluded = sorted(f"{r.terrain}/{r.motion}" for r in failed.itertuples() if (r.terrain, r.motion) in reference)
+        for quantity in ("angular", "linear"):
+            rows = per_test[(per_test.engine == engine) & (per_test.quantity == quantity)]
+            tests = sorted({f"{t}/{m}" for t, m in zip(rows.terrain, rows.motion)})
+            covered = bool(tests) and not excluded
+            error_summary.append({"engine": engine, "quantity": quantity,
+                                  "error": rows.total_error.sum() if covered else float("nan"),
+                                  "unit": units[quantity], "n_tests": len(tests), "tests": ";".join(tests),
+                                  "excluded": ";".join(excluded)})
+
+    rtf = [{"engine": engine, "sim_time": g.sim_time.sum(), "wall_time": g.wall_time.sum(),
+            "real_time_factor": metrics.real_time_factor(g.sim_time, g.wall_time), "n_runs": len(g)}
+           for engine, g in runs[runs.status == "ok"].groupby("engine")]
+
+    _write_csv(pd.DataFrame(stats_rows), outputs["trace_stats"])
+    _write_csv(pd.DataFrame(ref_rows), outputs["reference_stats"])
+    _write_csv(per_test, outputs["per_test_errors"])
+    _write_csv(pd.DataFrame(error_summary), outputs["imu_errors"])
+    _write_csv(runs, outputs["runs"])
+    _write_csv(pd.DataFrame(rtf, columns=["engine", "sim_time", "wall_time", "real_time_factor", "n_runs"]),
+               outputs["rtf"])
+
+
+def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[str], qualitative: str,
+               weights: dict, outputs: dict[str, str]) -> None:
+    from simpick import scoring
+
+    try:
+        facts = yaml.safe_load(Path(qualitative).read_text())
+    except (OSError, yaml.YAMLError) as exc:
+        raise InputError(qualitative, f"cannot read qualitative facts: {exc}") from None
+    missing = [e for e in engines if e not in (facts or {})]
+    if missing:
+        raise InputError(qualitative, f"no facts for engines {missing}", "add a record per engine")
+    rows = {}
+    for engine in engines:
+        try:
+            rows[engine] = scoring.qualitative_scores(facts[engine])
+        except ValueError as exc:
+            raise InputError(f"{qualitative}: {engine}", str(exc)) from None
+
+    rtf_frame = pd.read_csv(rtf).set_index("engine")
+    errors = pd.read_csv(imu_errors)
+    cpu = {json.loads(Path(f).read_text())["engine"]: json.loads(Path(f).read_text()) for f in cpu_files}
+
+    def column(values: dict) -> dict:
+        return {e: values.get(e, float("nan")) for e in engines}
+
+    quantitative = {
+        "real_time_factor": scoring.real_time_factor_scores(column(rtf_frame.real_time_factor.to_dict())),
+        "cpu_average": scoring.efficiency_scores(column({e: c["average"]["load_percent"] for e, c in cpu.items()})),
+        "cpu_intense": scoring.efficiency_scores(column({e: c["intense"]["load_percent"] for e, c in cpu.items()})),
+    }
+    for quantity in ("angular", "linear"):
+        q = errors[errors.quantity == quantity].set_index("engine").error.to_dict()
+        quantitative[f"imu_{quantity}"] = scoring.accuracy_scores(column(q))
+    for metric, values in quantitative.items():
+        for engine in engines:
+            rows[engine][metric] = values.get(engine, float("nan"))
+    scores = pd.DataFrame.from_dict(rows, orient="index")[list(scoring.METRICS)]
+    scores.index.name = "engine"
+    _write_csv(scores, outputs["scores"], index=True)
+    _write_csv(scoring.weighted_table(scores, weights), outputs["weighted"], index=True)
+
+
+def published_job(published_file: str, outdir: str) -> None:
+    from simpick.published import load_published, write_outputs
+
+    write_outputs(load_published(published_file), outdir)
+
+
+class logged:
+    """Send a job's stderr to its log; report a bad input as one clear line, not a traceback."""
+
+    def __init__(self, log_path: str):
+        self.log_path = Path(log_path)
+
+    def __enter__(self):
+        import sys
+
+        self.log_path.parent.mkdir(parents=True, exist_ok=True)
+        self._stderr = sys.stderr
+        sys.stderr = self.log_path.open("w")
+        return self
+
+    def __exit__(self, exc_type, exc, tb):
+        import sys
+
+        log, sys.stderr = sys.stderr, self._stderr
+        if exc_type is not None and issubclass(exc_type, InputError):
+            print(f"simpick: {exc}", file=log)
+            print(f"simpick: {exc}", file=sys.stderr)
+            log.close()
+            raise SystemExit(1)
+        if exc_type is not None:
+            import traceback
+
+            traceback.print_exception(exc_type, exc, tb, file=log)
+        log.close()
+        return False

@@ -1,0 +1,227 @@
+"""Scoring rules of Farley et al. (2022) section 3.2-4, on hand-computed cases."""
+
+from __future__ import annotations
+
+import math
+
+import pandas as pd
+import pytest
+
+from simpick import scoring as sc
+
+
+def test_metric_tables_are_consistent() -> None:
+    assert len(sc.METRICS) == 12 and len(set(sc.METRICS)) == 12
+    assert set(sc.METRIC_LABELS) == set(sc.METRICS)
+    assert set(sc.DEFAULT_WEIGHTS) == set(sc.METRICS)
+    assert sum(sc.DEFAULT_WEIGHTS.values()) == 56
+    assert sc.DEFAULT_WEIGHTS["imu_angular"] == 10 and sc.DEFAULT_WEIGHTS["ros"] == 6
+    assert sc.METRIC_LABELS["imu_angular"] == "IMU angular velocity accuracy"
+
+
+# ----------------------------------------------------------------- qualitative
+
+
+def test_bool_scores() -> None:
+    assert sc.score_bool(True) == 1.0
+    assert sc.score_bool(False) == 0.0
+    with pytest.raises(ValueError):
+        sc.score_bool("yes")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    ("support", "expected"), [("out_of_the_box", 1.0), ("official_plugin", 0.8), ("none", 0.0)]
+)
+def test_ros(support: str, expected: float) -> None:
+    assert sc.score_ros(support) == expected
+
+
+def test_ros_rejects_unknown_level() -> None:
+    with pytest.raises(ValueError, match="ROS support"):
+        sc.score_ros("plugin")
+
+
+@pytest.mark.parametrize(
+    ("languages", "expected"),
+    [
+        (["C/C++", "Python", "MATLAB", "Java"], 1.0),
+        (["c++", "python", "matlab", "lua"], 1.0),  # case-insensitive, C++ counts as C/C++
+        (["C", "Python", "MATLAB", "Octave"], 1.0),
+        (["C/C++", "Python", "MATLAB"], 0.667),  # "and more" is a condition
+        (["C/C++", "Python"], 0.667),
+        (["C/C++", "Python", "Java"], 0.667),
+        (["Python", "MATLAB", "Java"], 0.333),  # no C/C++
+        (["C/C++"], 0.333),
+        (["Python"], 0.333),
+        (["Lua", "MATLAB"], 0.0),
+        ([], 0.0),
+    ],
+)
+def test_languages(languages: list[str], expected: float) -> None:
+    assert sc.score_languages(languages) == expected
+
+
+def test_languages_rejects_a_bare_string() -> None:
+    with pytest.raises(ValueError):
+        sc.score_languages("Python")
+
+
+@pytest.mark.parametrize(
+    ("level", "expected"), [("full", 1.0), ("partial", 0.667), ("visualization", 0.333), ("none", 0.0)]
+)
+def test_ui(level: str, expected: float) -> None:
+    assert sc.score_ui(level) == expected
+
+
+def test_ui_rejects_unknown_level() -> None:
+    with pytest.raises(ValueError, match="UI level"):
+        sc.score_ui("good")
+
+
+@pytest.mark.parametrize(
+    ("formats", "plugin", "expected"),
+    [
+        (["URDF", "SDF", "STL"], False, 1.0),
+        (["urdf", "sdf", "collada"], True, 1.0),
+        (["URDF", "SDF"], False, 0.5),  # no "more"
+        (["URDF", "STL"], False, 0.5),
+        (["SDF"], True, 0.5),  # native beats the plugin
+        (["Proto Nodes"], True, 0.25),
+        (["Proto Nodes"], False, 0.0),
+        ([], False, 0.0),
+    ],
+)
+def test_model_formats(formats: list[str], plugin: bool, expected: float) -> None:
+    assert sc.score_model_formats(formats, plugin) == expected
+
+
+@pytest.mark.parametrize(
+    ("engines", "expected"),
+    [(["Bullet", "ODE"], 1.0), (["ODE"], 0.0), (["ODE", "ode"], 0.0), ([], 0.0)],
+)
+def test_physics_engines(engines: list[str], expected: float) -> None:
+    assert sc.score_physics_engines(engines) == expected
+
+
+def test_qualitative_scores_record() -> None:
+    facts = {
+        "free": True,
+        "open_source": False,
+        "ros": "official_plugin",
+        "languages": ["C/C++", "Python"],
+        "ui": "partial",
+        "model_formats": ["URDF"],
+        "urdf_sdf_via_manual_plugin": False,
+        "physics_engines": ["ODE", "Bullet"],
+        "note": "ignored",
+    }
+    assert sc.qualitative_scores(facts) == {
+        "free": 1.0,
+        "open_source": 0.0,
+        "ros": 0.8,
+        "languages": 0.667,
+        "ui": 0.667,
+        "model_formats": 0.5,
+        "physics_engines": 1.0,
+    }
+    del facts["ui"]
+    with pytest.raises(ValueError, match="ui"):
+        sc.qualitative_scores(facts)
+
+
+# ---------------------------------------------------------------- quantitative
+
+
+def test_real_time_factor_is_r_over_max() -> None:
+    s = sc.real_time_factor_scores({"a": 0.5, "b": 1.0, "c": 2.0})
+    assert s == pytest.approx({"a": 0.25, "b": 0.5, "c": 1.0})
+
+
+def test_efficiency_and_accuracy_are_min_over_value() -> None:
+    assert sc.efficiency_scores({"a": 10, "b": 20, "c": 40}) == pytest.approx({"a": 1.0, "b": 0.5, "c": 0.25})
+    assert sc.accuracy_scores({"a": 3.0, "b": 1.5}) == pytest.approx({"a": 0.5, "b": 1.0})
+
+
+def test_accuracy_zero_errors() -> None:
+    assert sc.accuracy_scores({"a": 0.0, "b": 0.0}) == {"a": 1.0, "b": 1.0}
+    assert sc.accuracy_scores({"a": 0.0, "b": 2.0, "c": 5.0}) == {"a": 1.0, "b": 0.0, "c": 0.0}
+    assert sc.efficiency_scores({"a": 0, "b": 3}) == {"a": 1.0, "b": 0.0}
+
+
+def test_real_time_factor_zeros() -> None:
+    assert sc.real_time_factor_scores({"a": 0.0, "b": 0.0}) == {"a": 1.0, "b": 1.0}
+    assert sc.real_time_factor_scores({"a": 0.0, "b": 2.0}) == {"a": 0.0, "b": 1.0}
+
+
+def test_missing_values_are_excluded() -> None:
+    s = sc.accuracy_scores({"a": 2.0, "b": float("nan"), "c": None, "d": 4.0})
+    assert s["a"] == 1.0 and s["d"] == 0.5
+    assert math.isnan(s["b"]) and math.isnan(s["c"])
+    r = sc.real_time_factor_scores({"a": float("nan"), "b": 0.5})
+    assert math.isnan(r["a"]) and r["b"] == 1.0
+    all_nan = sc.efficiency_scores({"a": None, "b": float("nan")})
+    assert all(math.isnan(v) for v in all_nan.values())
+
+
+@pytest.mark.parametrize(
+    "fn", [sc.real_time_factor_scores, sc.efficiency_scores, sc.accuracy_scores]
+)
+def test_negative_and_infinite_inputs_raise(fn) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(ValueError, match="negative"):
+        fn({"a": 1.0, "b": -0.1})
+    with pytest.raises(ValueError, match="infinite"):
+        fn({"a": 1.0, "b": float("inf")})
+
+
+def test_empty_input_gives_empty_scores() -> None:
+    assert sc.accuracy_scores({}) == {}
+
+
+# ---------------------------------------------------------------- weighted table
+
+
+def _scores(**rows: dict[str, float]) -> pd.DataFrame:
+    df = pd.DataFrame.from_dict(rows, orient="index")[list(sc.METRICS)]
+    df.index.name = "subject"
+    return df
+
+
+def test_weighted_table_totals_and_order() -> None:
+    ones = {m: 1.0 for m in sc.METRICS}
+    half = {m: 0.5 for m in sc.METRICS}
+    out = sc.weighted_table(_scores(low=half, high=ones), sc.DEFAULT_WEIGHTS)
+    assert list(out.index) == ["high", "low"]
+    assert out.loc["high", "total"] == pytest.approx(56.0)
+    assert out.loc["low", "total"] == pytest.approx(28.0)
+    assert list(out["rank"]) == [1, 2]
+    assert list(out["excluded"]) == ["", ""]
+    assert out.index.name == "subject"
+    assert all(m in out.columns for m in sc.METRICS)
+
+
+def test_weighted_table_nan_counts_zero_and_is_listed() -> None:
+    row = {m: 1.0 for m in sc.METRICS}
+    row["imu_angular"] = float("nan")
+    row["cpu_average"] = float("nan")
+    out = sc.weighted_table(_scores(a=row), sc.DEFAULT_WEIGHTS)
+    assert out.loc["a", "total"] == pytest.approx(56.0 - 10.0 - 2.0)
+    assert out.loc["a", "excluded"] == "cpu_average,imu_angular"
+
+
+def test_weighted_table_ties_share_rank() -> None:
+    ones = {m: 1.0 for m in sc.METRICS}
+    out = sc.weighted_table(_scores(a=ones, b=ones), sc.DEFAULT_WEIGHTS)
+    assert list(out["rank"]) == [1, 1]
+
+
+def test_weighted_table_missing_weight_raises() -> None:
+    weights = dict(sc.DEFAULT_WEIGHTS)
+    del weights["imu_linear"]
+    with pytest.raises(ValueError, match="imu_linear"):
+        sc.weighted_table(_scores(a={m: 1.0 for m in sc.METRICS}), weights)
+
+
+def test_weighted_table_missing_column_raises() -> None:
+    df = _scores(a={m: 1.0 for m in sc.METRICS}).drop(columns="ros")
+    with pytest.raises(ValueError, match="ros"):
+        sc.weighted_table(df, sc.DEFAULT_WEIGHTS)
