@@ -1,0 +1,572 @@
+"""Turn the loaded inputs into the template's context, render the HTML, write the PDF."""
+
+from __future__ import annotations
+
+import datetime as _dt
+import math
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from simpick.errors import InputError
+from simpick.report import figures
+from simpick.report.load import ReportData
+from simpick.scoring import (DEFAULT_WEIGHTS, METRIC_LABELS, METRICS, QUALITATIVE_METRICS,
+                             QUANTITATIVE_METRICS)
+
+TEMPLATE_DIR = Path(__file__).resolve().parent / "templates"
+TEMPLATE = "report.html.j2"
+DEFAULT_TITLE = "simpick: which physics engine reproduces the Husky best?"
+
+ROS_TEXT = {"out_of_the_box": "out of the box", "official_plugin": "official plugin (installed by hand)",
+            "none": "none"}
+UI_TEXT = {"full": "full", "partial": "partial", "visualization": "visualization only", "none": "none"}
+FACT_ROWS = ("free", "open_source", "ros", "languages", "ui", "model_formats", "physics_engines")
+QUANTITY_UNITS = {"angular": "rad/s", "linear": "m/s²"}
+
+
+# --------------------------------------------------------------------------
+# Formatting (Jinja filters)
+# --------------------------------------------------------------------------
+
+
+def _isnan(x: Any) -> bool:
+    if x is None:
+        return True
+    try:
+        return math.isnan(float(x))
+    except (TypeError, ValueError):
+        return False
+
+
+def fmt(x: Any, digits: int = 3) -> str:
+    """A number with ``digits`` decimals; very small non-zero values in 3 significant figures."""
+    if _isnan(x):
+        return "–"
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        return str(x)
+    if math.isinf(v):
+        return "∞" if v > 0 else "−∞"
+    if v != 0 and abs(v) < 0.5 * 10 ** (-digits):
+        return f"{v:.2e}".replace("-", "−")
+    s = f"{v:.{digits}f}"
+    if s.startswith("-"):
+        s = "−" + s[1:]
+    return "0." + "0" * digits if s == "−0." + "0" * digits else s
+
+
+def fmt_int(x: Any) -> str:
+    if _isnan(x):
+        return "–"
+    return f"{int(round(float(x))):,}".replace(",", "\u2009")
+
+
+def fmt_signed(x: Any, digits: int = 3) -> str:
+    s = fmt(x, digits)
+    if s not in ("–",) and not s.startswith("−") and float(x) != 0:
+        s = "+" + s
+    return s
+
+
+def fmt_yes_no(x: Any) -> str:
+    if isinstance(x, bool):
+        return "yes" if x else "no"
+    return "–" if x is None else str(x)
+
+
+def test_label(terrain: str, motion: str) -> str:
+    return f"{terrain}/{motion}"
+
+
+# --------------------------------------------------------------------------
+# Context
+# --------------------------------------------------------------------------
+
+
+def _weights(params: Mapping[str, Any]) -> dict[str, float]:
+    raw = params.get("weights")
+    if raw is None:
+        return dict(DEFAULT_WEIGHTS)
+    missing = [m for m in METRICS if m not in raw]
+    if missing:
+        raise InputError("report params['weights']", f"metrics {missing} have no weight")
+    return {m: float(raw[m]) for m in METRICS}
+
+
+def _test_order(data: ReportData, config: Mapping[str, Any]) -> list[tuple[str, str]]:
+    seen: list[tuple[str, str]] = []
+    frames = [data.runs]
+    for df in (data.trace_stats, data.per_test_errors, data.reference_stats):
+        if df is not None:
+            frames.append(df)
+    for df in frames:
+        for t, m in zip(df["terrain"], df["motion"]):
+            if (t, m) not in seen:
+                seen.append((t, m))
+    terrains = list((config.get("terrains") or {}).keys())
+    motions = list((config.get("motions") or {}).keys())
+
+    def key(tm):
+        t, m = tm
+        return (terrains.index(t) if t in terrains else len(terrains),
+                motions.index(m) if m in motions else len(motions), seen.index(tm))
+
+    return sorted(seen, key=key)
+
+
+def _engine_order(data: ReportData) -> list[str]:
+    engines = list(data.weighted.index)
+    for df in (data.runs, data.trace_stats, data.imu_errors, data.rtf):
+        if df is not None:
+            for e in df["engine"]:
+                if e not in engines:
+                    engines.append(e)
+    return engines
+
+
+def _ranking(data: ReportData, weights: dict[str, float]) -> dict[str, Any]:
+    w = data.weighted
+    scores = w[list(METRICS)].astype(float)
+    recomputed = scores.fillna(0.0).mul(pd.Series(weights), axis=1).sum(axis=1)
+    rows = []
+    for e in w.index:
+        excluded = [m for m in str(w.loc[e, "excluded"]).split(",") if m.strip()]
+        rows.append({
+            "engine": e,
+            "rank": int(w.loc[e, "rank"]) if not _isnan(w.loc[e, "rank"]) else None,
+            "total": float(w.loc[e, "total"]),
+            "share": float(w.loc[e, "total"]) / sum(weights.values()) if sum(weights.values()) else float("nan"),
+            "excluded": [METRIC_LABELS.get(m.strip(), m.strip()) for m in excluded],
+            "recomputed_total": float(recomputed.loc[e]),
+        })
+    mismatched = [r for r in rows if abs(r["total"] - r["recomputed_total"]) > 1e-6]
+    metric_rows = []
+    for m in METRICS:
+        cells = []
+        for e in w.index:
+            s = scores.loc[e, m]
+            cells.append({"score": s, "weighted": weights[m] * (0.0 if _isnan(s) else s), "nan": _isnan(s)})
+        metric_rows.append({"key": m, "label": METRIC_LABELS.get(m, m), "weight": weights[m],
+                            "group": "qualitative" if m in QUALITATIVE_METRICS else "quantitative",
+                            "cells": cells})
+    gap = None
+    if len(rows) >= 2:
+        a, b = rows[0]["engine"], rows[1]["engine"]
+        diffs = {m: weights[m] * (np.nan_to_num(scores.loc[a, m]) - np.nan_to_num(scores.loc[b, m]))
+                 for m in METRICS}
+        drivers = sorted(((METRIC_LABELS[m], d) for m, d in diffs.items() if d > 1e-9), key=lambda x: -x[1])
+        against = sorted(((METRIC_LABELS[m], -d) for m, d in diffs.items() if d < -1e-9), key=lambda x: -x[1])
+        gap = {"leader": a, "second": b, "value": rows[0]["total"] - rows[1]["total"],
+               "drivers": drivers[:3], "against": against[:3]}
+    return {"rows": rows, "metric_rows": metric_rows, "mismatched": mismatched, "gap": gap,
+            "max_total": sum(weights.values()), "engines": list(w.index)}
+
+
+def _qualitative(data: ReportData, engines: list[str]) -> dict[str, Any] | None:
+    q = data.qualitative
+    if not q:
+        return None
+    shown = [e for e in engines if e in q] + [e for e in q if e not in engines]
+    refs: list[dict[str, Any]] = []
+    ref_index: dict[str, int] = {}
+
+    def ref(engine: str, fact: str) -> list[int]:
+        src = (q[engine].get("sources") or {}).get(fact)
+        if not src:
+            return []
+        items = src if isinstance(src, list) else [src]
+        nums = []
+        for item in items:
+            text = str(item).strip()
+            if text not in ref_index:
+                ref_index[text] = len(refs) + 1
+                url = text if text.startswith(("http://", "https://")) else None
+                refs.append({"n": ref_index[text], "text": text, "url": url, "where": []})
+            refs[ref_index[text] - 1]["where"].append(f"{engine}: {METRIC_LABELS.get(fact, fact)}")
+            nums.append(ref_index[text])
+        return nums
+
+    def fact_text(rec: Mapping[str, Any], key: str) -> str:
+        if key not in rec:
+            return "–"
+        v = rec[key]
+        if isinstance(v, bool):
+            return "yes" if v else "no"
+        if key == "ros":
+            return ROS_TEXT.get(str(v), str(v))
+        if key == "ui":
+            return UI_TEXT.get(str(v), str(v))
+        if isinstance(v, (list, tuple)):
+            text = ", ".join(str(x) for x in v) if v else "none"
+        else:
+            text = str(v)
+        if key == "model_formats" and rec.get("urdf_sdf_via_manual_plugin"):
+            text += "; URDF/SDF via a plugin installed by hand"
+        return text
+
+    rows = []
+    for key in FACT_ROWS:
+        cells = []
+        for e in shown:
+            rec = q[e]
+            score = data.weighted.loc[e, key] if (e in data.weighted.index and key in data.weighted.columns) else None
+            cells.append({"text": fact_text(rec, key), "score": score, "refs": ref(e, key)})
+        rows.append({"key": key, "label": METRIC_LABELS.get(key, key), "cells": cells})
+    extra_keys = sorted({k for e in shown for k in (q[e].get("sources") or {}) if k not in FACT_ROWS})
+    for e in shown:
+        for k in extra_keys:
+            ref(e, k)
+    family = []
+    for e in shown:
+        sims = q[e].get("paper_simulators")
+        family.append({"engine": e, "simulators": list(sims) if sims else [],
+                       "known": "paper_simulators" in q[e]})
+    notes = []
+    for e in shown:
+        for k, text in (q[e].get("notes") or {}).items():
+            notes.append({"engine": e, "fact": METRIC_LABELS.get(k, k), "text": str(text)})
+    return {"engines": shown, "rows": rows, "refs": refs, "family": family, "notes": notes}
+
+
+def _runs(data: ReportData, tests: list[tuple[str, str]], engines: list[str]) -> dict[str, Any]:
+    runs = data.runs.copy()
+    runs["test"] = [test_label(t, m) for t, m in zip(runs["terrain"], runs["motion"])]
+    order = {tm: i for i, tm in enumerate(tests)}
+    runs["_e"] = [engines.index(e) if e in engines else len(engines) for e in runs["engine"]]
+    runs["_t"] = [order.get((t, m), len(order)) for t, m in zip(runs["terrain"], runs["motion"])]
+    runs = runs.sort_values(["_e", "_t"], kind="mergesort")
+    records = runs.to_dict("records")
+    failed = [r for r in records if str(r["status"]).strip().lower() != "ok"]
+    pivot = []
+    for t, m in tests:
+        cells = []
+        for e in engines:
+            sel = runs[(runs["engine"] == e) & (runs["terrain"] == t) & (runs["motion"] == m)]
+            if len(sel):
+                r = sel.iloc[0]
+                cells.append({"steps_per_s": r["steps_per_s"], "rtf": r["real_time_factor"],
+                              "ok": str(r["status"]).strip().lower() == "ok", "present": True})
+            else:
+                cells.append({"present": False})
+        pivot.append({"test": test_label(t, m), "cells": cells})
+    versions = []
+    for e in engines:
+        sel = runs[runs["engine"] == e]
+        if not len(sel):
+            continue
+        combos = sel.groupby(["engine_version", "config_hash"], sort=False).size().reset_index(name="n")
+        for _, c in combos.iterrows():
+            versions.append({"engine": e, "version": c["engine_version"] or "–",
+                             "config_hash": c["config_hash"] or "–", "n": int(c["n"])})
+    return {"records": records, "failed": failed, "n": len(records), "pivot": pivot, "versions": versions}
+
+
+def _cpu(data: ReportData, engines: list[str]) -> dict[str, Any] | None:
+    if not data.cpu:
+        return None
+    recs = sorted(data.cpu, key=lambda r: engines.index(r["engine"]) if r["engine"] in engines else len(engines))
+    rows = []
+    for r in recs:
+        e = r["engine"]
+        row = {"engine": e}
+        for scen in ("average", "intense"):
+            s = r.get(scen) or {}
+            row[scen] = {"robots": s.get("robots"), "load": s.get("load_percent"),
+                         "repeats": list(s.get("repeats_percent") or []),
+                         "score": data.weighted.loc[e, f"cpu_{scen}"] if e in data.weighted.index else None}
+        rows.append(row)
+    definitions = []
+    for r in recs:
+        d = str(r.get("definition", "")).strip()
+        if d and d not in [x["text"] for x in definitions]:
+            definitions.append({"text": d, "engines": [r["engine"]]})
+        elif d:
+            next(x for x in definitions if x["text"] == d)["engines"].append(r["engine"])
+    return {"rows": rows, "definitions": definitions, "n_defs": len(definitions)}
+
+
+def _imu(data: ReportData, engines: list[str], tests: list[tuple[str, str]]) -> dict[str, Any] | None:
+    if data.imu_errors is None:
+        return None
+    ie = data.imu_errors.copy()
+    ie["_e"] = [engines.index(e) if e in engines else len(engines) for e in ie["engine"]]
+    ie = ie.sort_values(["quantity", "_e"], kind="mergesort")
+    rows = []
+    for r in ie.to_dict("records"):
+        key = f"imu_{r['quantity']}"
+        score = data.weighted.loc[r["engine"], key] if (r["engine"] in data.weighted.index
+                                                        and key in data.weighted.columns) else None
+        rows.append({**r, "score": score,
+                     "tests_list": [t for t in str(r["tests"]).split(";") if t.strip()],
+                     "excluded_list": [t for t in str(r["excluded"]).split(";") if t.strip()]})
+    coverage = {}
+    for q, sel in ie.groupby("quantity"):
+        n = sorted({int(x) for x in sel["n_tests"] if not _isnan(x)})
+        coverage[q] = n
+    uneven = {q: n for q, n in coverage.items() if len(n) > 1}
+    breakdown = []
+    pte = data.per_test_errors
+    if pte is not None and len(pte):
+        order = {tm: i for i, tm in enumerate(tests)}
+        for q in ("angular", "linear"):
+            sel = pte[pte["quantity"] == q]
+            if not len(sel):
+                continue
+            trs = []
+            for e in engines:
+                es = sel[sel["engine"] == e]
+                keys = sorted({(t, m) for t, m in zip(es["terrain"], es["motion"])},
+                              key=lambda tm: order.get(tm, len(order)))
+                for t, m in keys:
+                    ts = es[(es["terrain"] == t) & (es["motion"] == m)].set_index("axis")
+                    cells = {a: ({"range": ts.loc[a, "range_error"], "mean": ts.loc[a, "mean_error"]}
+                                 if a in ts.index else None) for a in figures.AXES}
+                    trs.append({"engine": e, "test": test_label(t, m), "cells": cells,
+                                "total": float(ts["total_error"].sum())})
+            breakdown.append({"quantity": q, "unit": QUANTITY_UNITS[q], "rows": trs})
+    return {"rows": rows, "uneven": uneven, "breakdown": breakdown}
+
+
+def _reference(data: ReportData, tests: list[tuple[str, str]]) -> dict[str, Any]:
+    ref = data.reference_stats
+    have: list[dict[str, Any]] = []
+    if ref is not None and len(ref):
+        for (t, m), sel in ref.groupby(["terrain", "motion"], sort=False):
+            srcs = sorted({s for s in sel["source"] if s})
+            have.append({"terrain": t, "motion": m, "test": test_label(t, m), "sources": srcs,
+                         "quantities": sorted(set(sel["quantity"]))})
+    keys = {(h["terrain"], h["motion"]) for h in have}
+    without = [test_label(t, m) for t, m in tests if (t, m) not in keys]
+    covered = None
+    if data.imu_errors is not None:
+        covered = sorted({t for ts in data.imu_errors["tests"] for t in str(ts).split(";") if t.strip()})
+    return {"tests": have, "without": without, "covered": covered, "given": ref is not None}
+
+
+def _status_map(data: ReportData) -> dict[tuple[str, str, str], str]:
+    return {(r["engine"], r["terrain"], r["motion"]): str(r["status"]).strip().lower()
+            for r in data.runs.to_dict("records")}
+
+
+def _per_test(data: ReportData, engines: list[str], tests: list[tuple[str, str]],
+              colors: dict[str, str], config: Mapping[str, Any]) -> list[dict[str, Any]]:
+    status = _status_map(data)
+    traces = {(tr.engine, tr.terrain, tr.motion): tr for tr in (data.traces or [])}
+    ref = data.reference_stats
+    out = []
+    for t, m in tests:
+        item: dict[str, Any] = {"test": test_label(t, m), "terrain": t, "motion": m}
+        failed = [e for e in engines if status.get((e, t, m), "ok") != "ok" and (e, t, m) in status]
+        item["failed"] = failed
+        if data.trace_stats is not None:
+            ts = data.trace_stats
+            series = []
+            for e in engines:
+                sel = ts[(ts["engine"] == e) & (ts["terrain"] == t) & (ts["motion"] == m)]
+                if not len(sel) or e in failed or (sel["status"].str.lower() != "ok").any():
+                    continue
+                series.append((e, colors[e], sel))
+            rsel = None
+            if ref is not None:
+                rsel = ref[(ref["terrain"] == t) & (ref["motion"] == m)]
+                if len(rsel):
+                    series.append((figures.REFERENCE_LABEL, figures.REFERENCE_COLOR, rsel))
+                    item["reference_sources"] = sorted({s for s in rsel["source"] if s})
+            item["has_reference"] = rsel is not None and len(rsel) > 0
+            item["stats_engines"] = [s[0] for s in series if s[0] != figures.REFERENCE_LABEL]
+            item["imu_uri"] = figures.imu_stats_figure(series) if series else None
+        if data.traces is not None:
+            series = [(e, colors[e], traces[(e, t, m)].frame) for e in engines
+                      if (e, t, m) in traces and e not in failed]
+            item["trace_engines"] = [s[0] for s in series]
+            item["missing_traces"] = [e for e in engines if (e, t, m) not in traces and e not in failed
+                                      and (e, t, m) in status]
+            item["ts_uri"] = figures.timeseries_figure(series) if series else None
+            item["path_series"] = series
+            item["strip"] = _strip(config, t)
+            item["commanded"] = _commanded(config, m)
+        out.append(item)
+    return out
+
+
+def _strip(config: Mapping[str, Any], terrain: str):
+    terrains = config.get("terrains") or {}
+    if terrain not in terrains:
+        return None
+    tiles = int((terrains[terrain] or {}).get("tiles", 4))
+    return (0.0, float(tiles), -0.5, 0.5)
+
+
+def _commanded(config: Mapping[str, Any], motion: str):
+    spec = (config.get("motions") or {}).get(motion)
+    try:
+        return figures.commanded_path(spec["start"], float(spec["v"]), float(spec["w"]), float(spec["duration"]))
+    except (TypeError, KeyError, ValueError):
+        return None
+
+
+def _published(data: ReportData) -> dict[str, Any] | None:
+    if data.table11 is None:
+        return None
+    t11 = data.table11
+    sims = list(t11.index)
+    cmp_ = data.table11_comparison
+    lookup = {}
+    if cmp_ is not None:
+        for r in cmp_.to_dict("records"):
+            lookup[(r["simulator"], r["metric"])] = r
+    rows = []
+    for m in METRICS:
+        cells = []
+        for s in sims:
+            c = lookup.get((s, m))
+            cells.append({"published": c["published"] if c else None,
+                          "recomputed": t11.loc[s, m] if m in t11.columns else None,
+                          "matches": bool(c["matches"]) if c else None})
+        rows.append({"label": METRIC_LABELS.get(m, m), "weight": DEFAULT_WEIGHTS[m], "cells": cells})
+    totals = [{"simulator": s, "total": t11.loc[s, "total"],
+               "from_published": t11.loc[s, "total_from_published_scores"],
+               "printed": t11.loc[s, "published_total"],
+               "diff": float(t11.loc[s, "published_total"]) - float(t11.loc[s, "total_from_published_scores"]),
+               "diff_recomputed": float(t11.loc[s, "total"]) - float(t11.loc[s, "published_total"])}
+              for s in sims]
+    mismatches = [r for r in (cmp_.to_dict("records") if cmp_ is not None else []) if not r["matches"]]
+    for r in mismatches:
+        r["label"] = METRIC_LABELS.get(r["metric"], r["metric"])
+    return {"sims": sims, "rows": rows, "totals": totals, "mismatches": mismatches,
+            "n_compared": 0 if cmp_ is None else len(cmp_)}
+
+
+def _worked(data: ReportData) -> dict[str, Any] | None:
+    we = data.worked_example
+    if not we:
+        return None
+    blocks = []
+    for q in ("angular", "linear"):
+        b = we.get(q)
+        if not b:
+            continue
+        axes = []
+        for a in figures.AXES:
+            rec = (b.get("axes") or {}).get(a, {})
+            pr = (b.get("printed_axes") or {}).get(a, {})
+            axes.append({"axis": a, "rec": rec, "printed": pr,
+                         "differs": any(abs(float(rec.get(k, 0)) - float(pr.get(k, 0))) > 1e-9
+                                        for k in ("range_error", "mean_error", "total_error") if k in rec and k in pr)})
+        figs = [b.get("total_from_inputs"), b.get("printed_rows_sum"), b.get("text_total")]
+        agree = all(f is not None for f in figs) and max(figs) - min(figs) < 1e-9
+        blocks.append({"quantity": q, "unit": b.get("unit", QUANTITY_UNITS[q]), "axes": axes,
+                       "total_from_inputs": b.get("total_from_inputs"),
+                       "printed_rows_sum": b.get("printed_rows_sum"),
+                       "text_total": b.get("text_total"), "agree": agree})
+    return {"source": we.get("source"), "test": we.get("test") or {}, "frame": we.get("sensor_frame") or {},
+            "blocks": blocks}
+
+
+def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]:
+    import yaml
+
+    from simpick.report import provenance
+
+    config = dict(params.get("config") or {})
+    weights = _weights(params)
+    engines = _engine_order(data)
+    colors = figures.engine_colors(engines)
+    tests = _test_order(data, config)
+    ranking = _ranking(data, weights)
+    per_test = _per_test(data, engines, tests, colors, config)
+    paths_uri = None
+    if data.traces is not None and any(p.get("path_series") for p in per_test):
+        panels = [{"title": p["test"], "series": p["path_series"], "strip": p["strip"],
+                   "commanded": p["commanded"]} for p in per_test]
+        motions = list(dict.fromkeys(m for _, m in tests))
+        paths_uri = figures.paths_figure(panels, ncols=max(1, min(len(motions), 3)))
+    for p in per_test:
+        p.pop("path_series", None)
+        p.pop("commanded", None)
+    runs = _runs(data, tests, engines)
+    rtf_rows = []
+    if data.rtf is not None:
+        for r in data.rtf.to_dict("records"):
+            e = r["engine"]
+            r["score"] = data.weighted.loc[e, "real_time_factor"] if e in data.weighted.index else None
+            rtf_rows.append(r)
+        rtf_rows.sort(key=lambda r: engines.index(r["engine"]) if r["engine"] in engines else len(engines))
+    config_text = yaml.safe_dump(config, sort_keys=False, allow_unicode=True, width=100) if config else None
+    return {
+        "title": params.get("title") or DEFAULT_TITLE,
+        "generated": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "engines": engines,
+        "colors": colors,
+        "weights": weights,
+        "metrics": list(METRICS),
+        "labels": METRIC_LABELS,
+        "qualitative_metrics": list(QUALITATIVE_METRICS),
+        "quantitative_metrics": list(QUANTITATIVE_METRICS),
+        "accuracy_weight": weights["imu_angular"] + weights["imu_linear"],
+        "tests": [test_label(t, m) for t, m in tests],
+        "ranking": ranking,
+        "contrib_uri": figures.contributions_figure(data.weighted, weights, METRICS, METRIC_LABELS),
+        "reference": _reference(data, tests),
+        "qualitative": _qualitative(data, list(data.weighted.index)),
+        "rtf_rows": rtf_rows,
+        "rtf_given": data.rtf is not None,
+        "runs": runs,
+        "cpu": _cpu(data, engines),
+        "imu": _imu(data, engines, tests),
+        "per_test": per_test,
+        "traces_given": data.traces is not None,
+        "stats_given": data.trace_stats is not None,
+        "paths_uri": paths_uri,
+        "published": _published(data),
+        "worked": _worked(data),
+        "versions": provenance.package_versions(),
+        "machine": provenance.machine(),
+        "config_text": config_text,
+        "sources": data.sources,
+    }
+
+
+# --------------------------------------------------------------------------
+# Rendering
+# --------------------------------------------------------------------------
+
+
+def environment():
+    import jinja2
+
+    env = jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(TEMPLATE_DIR)),
+        autoescape=jinja2.select_autoescape(["html", "j2"]),
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+    )
+    env.filters.update(f3=fmt, f=fmt, int=fmt_int, signed=fmt_signed, yesno=fmt_yes_no,
+                       isnan=_isnan)
+    env.tests["nan"] = _isnan
+    return env
+
+
+def render_html(data: ReportData, params: Mapping[str, Any]) -> str:
+    ctx = build_context(data, params)
+    return environment().get_template(TEMPLATE).render(**ctx)
+
+
+def write_pdf(html: str, pdf_path: str | Path, base_url: str | None = None) -> None:
+    import logging
+
+    import weasyprint
+
+    # WeasyPrint logs each CSS property it ignores; the report's CSS is written for it.
+    logging.getLogger("weasyprint").setLevel(logging.ERROR)
+    pdf_path = Path(pdf_path)
+    pdf_path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = pdf_path.with_name(pdf_path.name + ".partial")
+    weasyprint.HTML(string=html, base_url=base_url).write_pdf(str(tmp))
+    tmp.replace(pdf_path)

@@ -1,0 +1,244 @@
+"""Report figures, drawn with Matplotlib (Agg) and returned as base64 PNG data URIs.
+
+Sizes are chosen to fit an A4 page (about 180 mm of text width) at a modest resolution, so
+a report with a dozen traces stays a few megabytes.
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+import math
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+import pandas as pd
+
+DPI = 100
+WIDTH_IN = 7.1  # inches: A4 width less the page margins
+REFERENCE_LABEL = "real robot (reference)"
+REFERENCE_COLOR = "#222222"
+_PALETTE = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#17becf", "#e377c2"]
+AXES = ("x", "y", "z")
+QUANTITY_TITLES = {"angular": "Angular velocity (rad/s)", "linear": "Linear acceleration (m/s²)"}
+QUANTITY_COLUMNS = {"angular": ("wx", "wy", "wz"), "linear": ("ax", "ay", "az")}
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    plt.rcParams.update({
+        "font.size": 7.5,
+        "axes.titlesize": 8,
+        "axes.labelsize": 7.5,
+        "legend.fontsize": 7,
+        "xtick.labelsize": 7,
+        "ytick.labelsize": 7,
+        "axes.spines.top": False,
+        "axes.spines.right": False,
+        "axes.grid": True,
+        "grid.alpha": 0.3,
+        "grid.linewidth": 0.5,
+        "svg.fonttype": "none",
+    })
+    return plt
+
+
+def engine_colors(engines: Sequence[str]) -> dict[str, str]:
+    return {e: _PALETTE[i % len(_PALETTE)] for i, e in enumerate(engines)}
+
+
+def to_data_uri(fig, dpi: int = DPI) -> str:
+    plt = _plt()
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight", pad_inches=0.05,
+                metadata={"Software": None})
+    plt.close(fig)
+    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+
+
+def _short(x: float) -> str:
+    """Compact label for a bar: 3 significant figures."""
+    if x is None or not math.isfinite(x):
+        return "n/a"
+    if x == 0:
+        return "0"
+    return f"{x:.3g}"
+
+
+# --------------------------------------------------------------------------
+# Weighted contributions
+# --------------------------------------------------------------------------
+
+
+def contributions_figure(weighted: pd.DataFrame, weights: Mapping[str, float],
+                         metrics: Sequence[str], labels: Mapping[str, str]) -> str:
+    """Horizontal stacked bars: each engine's total split into weight x score per metric."""
+    plt = _plt()
+    engines = list(weighted.index)
+    n = len(engines)
+    fig, ax = plt.subplots(figsize=(WIDTH_IN, 0.45 * n + 1.9))
+    cmap = plt.get_cmap("tab20")
+    # Qualitative metrics in the even (darker) tab20 shades, quantitative in distinct hues.
+    colors = [cmap(i % 20) for i in (0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 1, 5)][: len(metrics)]
+    max_total = float(sum(float(weights[m]) for m in metrics))
+    y = np.arange(n)[::-1]
+    left = np.zeros(n)
+    for m, c in zip(metrics, colors):
+        vals = np.array([float(weights[m]) * (0.0 if pd.isna(weighted.loc[e, m]) else float(weighted.loc[e, m]))
+                         for e in engines])
+        ax.barh(y, vals, left=left, color=c, edgecolor="white", linewidth=0.5,
+                label=f"{labels.get(m, m)} (w={float(weights[m]):g})", height=0.6)
+        left += vals
+    for yi, e in zip(y, engines):
+        ax.text(float(weighted.loc[e, "total"]) + 0.3, yi, f"{float(weighted.loc[e, 'total']):.3f}",
+                va="center", fontsize=7.5)
+    ax.axvline(max_total, color="0.4", ls=":", lw=0.8)
+    ax.text(max_total, n - 0.35, f"max {max_total:g}", ha="right", va="bottom", fontsize=6.5, color="0.3")
+    ax.set_yticks(y, engines)
+    ax.set_xlim(0, max_total * 1.08)
+    ax.set_xlabel("weighted score (sum of weight × score)")
+    ax.grid(axis="y", visible=False)
+    ax.legend(ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.28 if n < 3 else -0.18),
+              frameon=False, handlelength=1.2, columnspacing=1.0)
+    return to_data_uri(fig)
+
+
+# --------------------------------------------------------------------------
+# Per-test IMU statistics (paper Figures 7-8)
+# --------------------------------------------------------------------------
+
+
+def imu_stats_figure(series: Sequence[tuple[str, str, pd.DataFrame]], title: str | None = None) -> str:
+    """Mean and trimmed range per axis, angular (left) and linear (right).
+
+    ``series``: (label, colour, stats) where stats has columns quantity, axis, mean, range.
+    The top row shows the means, the bottom row the ranges (Eq. 6: mean of the top 1 % of
+    samples minus mean of the bottom 1 %), each bar labelled with its value. Eq. 7's error
+    is the sum over axes of the gaps between an engine's bar and the reference's bar in
+    both rows.
+    """
+    plt = _plt()
+    fig, axs = plt.subplots(2, 2, figsize=(WIDTH_IN, 4.3), sharex=True)
+    k = max(1, len(series))
+    width = 0.8 / k
+    x = np.arange(len(AXES))
+    for col, quantity in enumerate(("angular", "linear")):
+        for row, stat in enumerate(("mean", "range")):
+            ax = axs[row, col]
+            for i, (label, color, stats) in enumerate(series):
+                sub = stats[stats["quantity"] == quantity].set_index("axis")
+                vals = np.array([float(sub.loc[a, stat]) if a in sub.index else np.nan for a in AXES])
+                pos = x - 0.4 + width * (i + 0.5)
+                hatch = "////" if label == REFERENCE_LABEL else None
+                bars = ax.bar(pos, np.nan_to_num(vals), width=width * 0.92, color=color,
+                              alpha=0.85 if hatch is None else 0.35, hatch=hatch,
+                              edgecolor=color, linewidth=0.6, label=label)
+                for b, v in zip(bars, vals):
+                    h = b.get_height()
+                    ax.annotate(_short(v), (b.get_x() + b.get_width() / 2, h),
+                                xytext=(0, 1.5 if h >= 0 else -1.5), textcoords="offset points",
+                                ha="center", va="bottom" if h >= 0 else "top", fontsize=5.5,
+                                rotation=90 if k > 3 else 0)
+            ax.axhline(0, color="0.3", lw=0.6)
+            ax.margins(y=0.18)
+            ax.set_xticks(x, [f"{a}" for a in AXES])
+            ax.grid(axis="x", visible=False)
+            if row == 0:
+                ax.set_title(QUANTITY_TITLES[quantity])
+            ax.set_ylabel("mean" if stat == "mean" else "range (top 1 % − bottom 1 %)")
+    handles, labels = axs[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="upper center", ncol=min(len(labels), 5), frameon=False,
+               bbox_to_anchor=(0.5, 1.0))
+    if title:
+        fig.suptitle(title, y=1.05, fontsize=9)
+    fig.tight_layout(rect=(0, 0, 1, 0.94))
+    return to_data_uri(fig)
+
+
+# --------------------------------------------------------------------------
+# Traces
+# --------------------------------------------------------------------------
+
+
+def timeseries_figure(series: Sequence[tuple[str, str, pd.DataFrame]]) -> str:
+    """ax, ay, az (left) and wx, wy, wz (right) against time, engines overlaid."""
+    plt = _plt()
+    fig, axs = plt.subplots(3, 2, figsize=(WIDTH_IN, 4.6), sharex=True)
+    for col, quantity in enumerate(("linear", "angular")):
+        unit = "m/s²" if quantity == "linear" else "rad/s"
+        for row, column in enumerate(QUANTITY_COLUMNS[quantity]):
+            ax = axs[row, col]
+            for label, color, frame in series:
+                ax.plot(frame["time"].to_numpy(), frame[column].to_numpy(), color=color, lw=0.6,
+                        alpha=0.85, label=label)
+            ax.set_ylabel(f"{column} ({unit})")
+            if row == 2:
+                ax.set_xlabel("time (s)")
+    axs[0, 0].set_title("IMU linear acceleration (specific force)")
+    axs[0, 1].set_title("IMU angular velocity")
+    handles, labels = axs[0, 0].get_legend_handles_labels()
+    if handles:
+        fig.legend(handles, labels, loc="upper center", ncol=min(len(labels), 5), frameon=False,
+                   bbox_to_anchor=(0.5, 1.03))
+    fig.tight_layout(rect=(0, 0, 1, 0.97))
+    return to_data_uri(fig)
+
+
+def commanded_path(start: Sequence[float], v: float, w: float, duration: float, dt: float = 0.01) -> np.ndarray:
+    """Unicycle path of the open-loop command (no slip): x, y columns."""
+    t = np.arange(0.0, duration + dt / 2, dt)
+    x0, y0, yaw0 = (float(s) for s in start)
+    yaw = yaw0 + w * t
+    if abs(w) < 1e-12:
+        x = x0 + v * t * math.cos(yaw0)
+        y = y0 + v * t * math.sin(yaw0)
+    else:
+        x = x0 + v / w * (np.sin(yaw) - math.sin(yaw0))
+        y = y0 - v / w * (np.cos(yaw) - math.cos(yaw0))
+    return np.column_stack([x, y])
+
+
+def paths_figure(panels: Sequence[dict], ncols: int = 2) -> str:
+    """Top-down x-y paths, one panel per test.
+
+    Each panel: ``title``, ``series`` [(label, colour, frame)], optional ``strip``
+    (x0, x1, y0, y1) and ``commanded`` (N x 2 array).
+    """
+    plt = _plt()
+    n = max(1, len(panels))
+    ncols = min(ncols, n)
+    nrows = math.ceil(n / ncols)
+    fig, axs = plt.subplots(nrows, ncols, figsize=(WIDTH_IN, 2.35 * nrows + 0.4), squeeze=False)
+    legend = {}
+    for ax, panel in zip(axs.flat, panels):
+        strip = panel.get("strip")
+        if strip is not None:
+            x0, x1, y0, y1 = strip
+            r = plt.Rectangle((x0, y0), x1 - x0, y1 - y0, facecolor="#d9c9a3", alpha=0.45,
+                              edgecolor="#a08850", lw=0.6, label="terrain strip")
+            ax.add_patch(r)
+            legend.setdefault("terrain strip", r)
+        cmd = panel.get("commanded")
+        if cmd is not None:
+            (h,) = ax.plot(cmd[:, 0], cmd[:, 1], color="0.35", ls="--", lw=0.8,
+                           label="commanded (no slip)")
+            legend.setdefault("commanded (no slip)", h)
+        for label, color, frame in panel["series"]:
+            (h,) = ax.plot(frame["x"].to_numpy(), frame["y"].to_numpy(), color=color, lw=1.0, label=label)
+            ax.plot(frame["x"].iloc[-1], frame["y"].iloc[-1], "o", color=color, ms=2.5)
+            legend.setdefault(label, h)
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_title(panel["title"])
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
+    for ax in list(axs.flat)[len(panels):]:
+        ax.set_visible(False)
+    if legend:
+        fig.legend(list(legend.values()), list(legend.keys()), loc="upper center",
+                   ncol=min(len(legend), 5), frameon=False, bbox_to_anchor=(0.5, 1.0))
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.35 / (2.35 * nrows + 0.4)))
+    return to_data_uri(fig)

@@ -1,0 +1,89 @@
+"""Conformance suite: every registered engine adapter must pass these.
+
+They pin down what the rest of simpick assumes of an engine: the IMU convention
+(+9.81 on z at rest, body frame x forward / y left / z up), that the wheels follow their
+commands on high friction, that a left turn reads as positive yaw rate, and determinism.
+"""
+
+import numpy as np
+import pytest
+
+from conftest import flat_terrain
+from simpick.engines import ADAPTERS, get_engine
+from simpick.engines.base import Scenario
+from simpick.imu import block_average
+from simpick.motions import constant_commands
+
+DT = 0.001
+TRACK = 0.555
+
+
+def run(engine_name, robot, v, w, duration, friction=0.95, timestep=DT):
+    scenario = Scenario(robot=robot, terrain=flat_terrain(friction), ground_friction=friction, timestep=timestep,
+                        max_wheel_torque=50.0, starts=((0.0, 0.0, 0.0),), settings={})
+    commands = constant_commands(v, w, duration, timestep, TRACK, robot.wheel_radius)
+    return get_engine(engine_name).simulate(scenario, commands)
+
+
+@pytest.fixture(params=sorted(ADAPTERS))
+def engine(request):
+    return request.param
+
+
+def test_version_is_reported(engine):
+    assert get_engine(engine).version()
+
+
+def test_at_rest_reads_gravity_on_z_and_no_rotation(engine, robot):
+    record = run(engine, robot, 0.0, 0.0, 2.0)
+    accel = block_average(record.imu_specific_force, 10)[100:]  # after the first second
+    gyro = block_average(record.imu_gyro, 10)[100:]
+    assert abs(accel[:, 2].mean() - 9.81) < 0.05
+    assert np.abs(accel[:, :2].mean(axis=0)).max() < 0.05
+    assert np.abs(gyro).max() < 0.01
+    # parked means parked: no creeping on high friction
+    assert np.linalg.norm(record.position[-1, :2] - record.position[1000, :2]) < 0.005
+
+
+def test_straight_on_high_friction_tracks_the_command(engine, robot):
+    record = run(engine, robot, 0.5, 0.0, 4.0)
+    late = slice(2000, None)
+    speed = np.linalg.norm(record.linear_velocity[late, :2], axis=1).mean()
+    assert abs(speed - 0.5) / 0.5 < 0.05
+    assert abs(record.angular_velocity[late, 2].mean()) < 0.02
+    assert abs(record.position[-1, 1]) < 0.05  # no drift sideways
+    assert record.position[-1, 0] > 1.5
+    # x forward: speeding up from rest reads positive ax in the first 0.2 s
+    assert block_average(record.imu_specific_force, 10)[:20, 0].mean() > 0.1
+
+
+def test_left_turn_gives_positive_yaw_rate(engine, robot):
+    record = run(engine, robot, 0.5, 0.5, 3.0)
+    gyro = block_average(record.imu_gyro, 10)
+    assert gyro[100:, 2].mean() > 0.02
+    assert record.position[-1, 1] > 0.0  # it went left
+
+
+def test_wheel_speeds_follow_their_command(engine, robot):
+    record = run(engine, robot, 0.5, 0.0, 2.0)
+    target = 0.5 / robot.wheel_radius
+    assert np.allclose(record.wheel_speed[1000:].mean(axis=0), target, rtol=0.05)
+
+
+def test_same_inputs_give_identical_records(engine, robot):
+    a = run(engine, robot, 0.5, 0.5, 1.0)
+    b = run(engine, robot, 0.5, 0.5, 1.0)
+    np.testing.assert_array_equal(a.imu_specific_force, b.imu_specific_force)
+    np.testing.assert_array_equal(a.position, b.position)
+
+
+def test_record_shapes_match_the_steps(engine, robot):
+    record = run(engine, robot, 0.2, 0.0, 0.5)
+    n = record.steps
+    assert n == 500
+    assert record.time.shape == (n,) and np.isclose(record.time[-1], 0.5)
+    for name in ("position", "linear_velocity", "angular_velocity", "imu_specific_force", "imu_gyro"):
+        assert getattr(record, name).shape == (n, 3), name
+    assert record.quaternion.shape == (n, 4) and record.wheel_speed.shape == (n, 4)
+    assert np.allclose(np.linalg.norm(record.quaternion, axis=1), 1.0, atol=1e-6)
+    assert record.wall_time > 0 and record.cpu_time >= 0

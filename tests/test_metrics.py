@@ -1,0 +1,112 @@
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from simpick import metrics
+from simpick.imu import ImuModel, block_average, imu_from_kinematics, sensor_output
+from simpick.published import load_published
+from simpick.reference import lab_reference, to_simpick_frame
+
+
+def test_trimmed_range_uses_the_mean_of_each_one_percent_tail():
+    x = np.arange(1, 201, dtype=float)  # 200 samples: tails of 2
+    assert metrics.trimmed_range(x) == pytest.approx(199.5 - 1.5)
+
+
+def test_trimmed_range_discounts_a_single_outlier():
+    x = np.r_[np.zeros(99), [100.0]]  # tail of 1 sample
+    assert metrics.trimmed_range(x) == pytest.approx(100.0)
+    x = np.r_[np.zeros(999), [100.0]]  # tail of 10 samples: the outlier is averaged down
+    assert metrics.trimmed_range(x) == pytest.approx(10.0)
+
+
+def test_trimmed_range_short_series_and_bad_input():
+    assert metrics.trimmed_range([3.0, 1.0]) == pytest.approx(2.0)
+    with pytest.raises(ValueError):
+        metrics.trimmed_range([])
+    with pytest.raises(ValueError):
+        metrics.trimmed_range([1.0, float("nan")])
+
+
+def test_paper_worked_example_angular_error_is_1_237():
+    example = load_published()["worked_example"]
+    assert metrics.test_error(example["table6"]["sim"], example["table6"]["real"]) == pytest.approx(1.237, abs=5e-4)
+
+
+def test_paper_worked_example_linear_error_from_table7():
+    example = load_published()["worked_example"]
+    # 8.30 + 0.20 + 4.80 + 0.83 + 8.50 + 0.80; the paper prints 23.39 (Table 9) and 23.19 (text)
+    assert metrics.test_error(example["table7"]["sim"], example["table7"]["real"]) == pytest.approx(23.43, abs=5e-3)
+
+
+def test_trace_stats_on_a_known_trace():
+    n = 1000
+    frame = pd.DataFrame({c: np.zeros(n) for c in ("ax", "ay", "az", "wx", "wy", "wz")})
+    frame["az"] = 9.81
+    frame["wz"] = np.linspace(-1, 1, n)
+    stats = metrics.trace_stats(frame)
+    assert stats["linear"]["z"] == {"mean": pytest.approx(9.81), "range": pytest.approx(0.0)}
+    assert stats["angular"]["z"]["mean"] == pytest.approx(0.0, abs=1e-12)
+    assert stats["angular"]["z"]["range"] == pytest.approx(2 * (1 - 4.5 * 2 / 999), rel=1e-9)  # top 10 samples average 1 - 4.5 steps
+
+
+def test_real_time_factor_is_total_sim_over_total_wall():
+    assert metrics.real_time_factor([10, 20], [1, 4]) == pytest.approx(6.0)
+    with pytest.raises(ValueError):
+        metrics.real_time_factor([1], [0])
+
+
+def test_imu_from_kinematics_at_rest_and_in_a_steady_turn():
+    n, dt = 2000, 0.001
+    quat = np.tile([1.0, 0, 0, 0], (n, 1))
+    f, g = imu_from_kinematics(quat, np.zeros((n, 3)), np.zeros((n, 3)), (0.19, 0, 0.149), dt)
+    assert np.allclose(f, [0, 0, 9.81]) and np.allclose(g, 0)
+
+    # spinning in place at w about z: the mount at r = 0.19 m ahead feels a centripetal
+    # acceleration w^2 r toward the centre, i.e. -x in the body frame
+    w = 0.5
+    t = dt * np.arange(1, n + 1)
+    yaw = w * t
+    quat = np.stack([np.cos(yaw / 2), 0 * t, 0 * t, np.sin(yaw / 2)], 1)
+    omega = np.tile([0, 0, w], (n, 1))
+    f, g = imu_from_kinematics(quat, np.zeros((n, 3)), omega, (0.19, 0, 0.149), dt)
+    assert np.allclose(f[10:, 0], -w * w * 0.19, atol=1e-3)
+    assert np.allclose(f[10:, 1], 0.0, atol=1e-3)  # tangential: none at constant rate
+    assert np.allclose(g[:, 2], w)
+
+
+def test_block_average_and_saturation():
+    x = np.arange(25, dtype=float).reshape(-1, 1)
+    assert block_average(x, 10)[:, 0].tolist() == [4.5, 14.5]  # the incomplete block is dropped
+    model = ImuModel(accel_range=10.0, gyro_range=1.0)
+    a, g = sensor_output(np.array([[20.0, -20.0, 5.0]]), np.array([[2.0, -2.0, 0.5]]), model,
+                         np.random.default_rng(0))
+    assert a.tolist() == [[10.0, -10.0, 5.0]] and g.tolist() == [[1.0, -1.0, 0.5]]
+
+
+def test_sensor_noise_is_seeded():
+    model = ImuModel(accel_noise_std=0.1, gyro_noise_std=0.01)
+    zeros = np.zeros((100, 3))
+    a1, _ = sensor_output(zeros, zeros, model, np.random.default_rng(7))
+    a2, _ = sensor_output(zeros, zeros, model, np.random.default_rng(7))
+    a3, _ = sensor_output(zeros, zeros, model, np.random.default_rng(8))
+    assert np.array_equal(a1, a2) and not np.array_equal(a1, a3)
+    assert 0.07 < a1.std() < 0.13
+
+
+def test_paper_frame_is_mapped_to_z_up():
+    ref = lab_reference(load_published())[("gravel", "straight")]
+    assert ref["linear"]["z"]["mean"] == pytest.approx(11.50)  # -11.50 in the paper's z-down frame
+    assert ref["linear"]["y"]["mean"] == pytest.approx(-0.10)
+    assert ref["linear"]["x"]["mean"] == pytest.approx(-0.18)
+    assert ref["linear"]["z"]["range"] == pytest.approx(11.80)  # ranges do not change sign
+    assert ref["angular"]["z"]["mean"] == pytest.approx(-0.060)
+
+
+def test_a_general_rotation_is_refused():
+    c = math.sqrt(0.5)
+    stats = {a: {"mean": 0.0, "range": 1.0} for a in "xyz"}
+    with pytest.raises(ValueError, match="signed axis permutation"):
+        to_simpick_frame(stats, [[c, -c, 0], [c, c, 0], [0, 0, 1]], "test")

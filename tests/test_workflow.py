@@ -1,0 +1,129 @@
+"""The workflow end to end on a tiny config, and the rerun contract.
+
+The contract (what a user relies on to iterate cheaply): nothing edited -> nothing runs;
+a weight edited -> only scoring and the report; one engine's settings edited -> only that
+engine's simulations and what depends on them.
+"""
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pandas as pd
+import pytest
+import yaml
+
+from simpick.traces import read_trace
+
+ROOT = Path(__file__).resolve().parents[1]
+SNAKEMAKE = [sys.executable, "-m", "snakemake"]
+
+
+def tiny_config() -> dict:
+    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config["terrains"] = {"grass": config["terrains"]["grass"], "bumps": config["terrains"]["bumps"]}
+    config["terrains"]["bumps"]["pieces_per_tile"] = 2
+    config["motions"] = {"straight": dict(config["motions"]["straight"], duration=1.5)}
+    config["cpu_load"].update(terrain="grass", duration=0.5, repeats=1, robots_intense=2)
+    for key in ("urdf",):
+        config["robot"][key] = str(ROOT / config["robot"][key])
+    config["reference"]["published"] = str(ROOT / config["reference"]["published"])
+    config["qualitative"] = str(ROOT / config["qualitative"])
+    return config
+
+
+def snakemake(workdir: Path, *args: str) -> subprocess.CompletedProcess:
+    cmd = SNAKEMAKE + ["--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir),
+                       "--configfile", str(workdir / "config.yaml"), "--cores", "2", *args]
+    return subprocess.run(cmd, capture_output=True, text=True, cwd=workdir, env=os.environ | {"PYTHONHASHSEED": "0"})
+
+
+def planned_jobs(workdir: Path) -> list[tuple[str, str]]:
+    """(rule, wildcards) of every job a dry run plans."""
+    out = snakemake(workdir, "-n")
+    assert out.returncode == 0, out.stderr
+    text = out.stdout + out.stderr
+    jobs = []
+    for block in re.split(r"\n(?=(?:local)?rule \w+:)", text):
+        m = re.match(r"(?:local)?rule (\w+):", block.strip())
+        if m:
+            w = re.search(r"wildcards: (.*)", block)
+            jobs.append((m.group(1), w.group(1).strip() if w else ""))
+    return jobs
+
+
+def write_config(workdir: Path, config: dict) -> None:
+    (workdir / "config.yaml").write_text(yaml.safe_dump(config, sort_keys=False))
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    workdir = tmp_path_factory.mktemp("study")
+    config = tiny_config()
+    write_config(workdir, config)
+    run = snakemake(workdir)
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    return workdir, config
+
+
+def test_tiny_study_writes_every_output(study):
+    workdir, config = study
+    traces = sorted((workdir / "results" / "traces").rglob("*.parquet"))
+    assert len(traces) == 2 * 2 * 1
+    for path in ("scores/weighted.csv", "published/table11.csv", "report/report.html", "report/report.pdf"):
+        assert (workdir / "results" / path).stat().st_size > 0, path
+    weighted = pd.read_csv(workdir / "results/scores/weighted.csv", index_col="engine")
+    assert sorted(weighted.index) == ["mujoco", "pybullet"]
+    assert weighted["total"].between(0, 56).all()
+    frame, meta = read_trace(traces[0])
+    assert len(frame) == 150  # 1.5 s at 100 Hz
+    for key in ("engine_version", "timestep", "seed", "wall_time", "cpu_time", "steps", "config_hash", "units"):
+        assert key in meta, key
+    assert meta["units"]["ax"] == "m/s^2" and meta["steps"] == 1500
+
+
+def test_nothing_edited_nothing_runs(study):
+    workdir, _ = study
+    assert planned_jobs(workdir) == []
+
+
+def test_weight_edit_reruns_only_scoring_and_report(study):
+    workdir, config = study
+    edited = yaml.safe_load(yaml.safe_dump(config))
+    edited["weights"]["ui"] = 1
+    write_config(workdir, edited)
+    try:
+        rules = sorted({rule for rule, _ in planned_jobs(workdir)})
+        assert rules == ["all", "report", "scores"]
+    finally:
+        write_config(workdir, config)
+
+
+def test_engine_edit_reruns_only_that_engine(study):
+    workdir, config = study
+    edited = yaml.safe_load(yaml.safe_dump(config))
+    edited["engines"]["mujoco"]["solver_iterations"] = 60
+    write_config(workdir, edited)
+    try:
+        jobs = planned_jobs(workdir)
+        simulated = sorted(w for rule, w in jobs if rule in ("simulate", "cpu_load"))
+        assert simulated and all("engine=mujoco" in w for w in simulated), simulated
+        assert len([1 for rule, _ in jobs if rule == "simulate"]) == 2
+        assert not {rule for rule, _ in jobs} & {"terrain", "published_table11"}
+    finally:
+        write_config(workdir, config)
+
+
+def test_bad_config_is_refused_before_any_job(tmp_path):
+    config = tiny_config()
+    config["physics"]["timestep"] = 0.003  # 1/100 s is not a whole number of 3 ms steps
+    config["weights"]["free"] = -1
+    write_config(tmp_path, config)
+    run = snakemake(tmp_path, "-n")
+    assert run.returncode != 0
+    text = run.stdout + run.stderr
+    assert "physics.timestep" not in text or "does not divide" in text
+    assert "weights.free" in text and "greater than or equal to 0" in text
+    assert "Traceback" not in text
