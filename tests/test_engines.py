@@ -87,3 +87,10 @@ def test_record_shapes_match_the_steps(engine, robot):
     assert record.quaternion.shape == (n, 4) and record.wheel_speed.shape == (n, 4)
     assert np.allclose(np.linalg.norm(record.quaternion, axis=1), 1.0, atol=1e-6)
     assert record.wall_time > 0 and record.cpu_time >= 0
+
+
+def test_bare_loop_times_the_same_world(engine, robot):
+    scenario = Scenario(robot=robot, terrain=flat_terrain(), ground_friction=0.95, timestep=DT,
+                        max_wheel_torque=50.0, starts=((0.0, 0.0, 0.0),), settings={})
+    seconds = get_engine(engine).bare_loop(scenario, constant_commands(0.5, 0.0, 0.2, DT, TRACK, robot.wheel_radius))
+    assert 0 < seconds < 10

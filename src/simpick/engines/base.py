@@ -60,3 +60,7 @@ class Engine(Protocol):
 
     def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
         """Step the world; ``wheel_commands`` is (steps, robots, 4) wheel speeds in rad/s."""
+
+    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
+        """Wall seconds to step the same world the same number of steps under the first
+        command, recording nothing: the engine's own speed limit, for the benchmark."""

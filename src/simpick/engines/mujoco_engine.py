@@ -89,6 +89,16 @@ class MujocoEngine:
                     spec.add_sensor(type=S.mjSENS_JOINTVEL, objtype=O.mjOBJ_JOINT, objname=prefix + joint)
         return spec.compile()
 
+    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
+        import mujoco
+
+        model = self.build(scenario)
+        data = mujoco.MjData(model)
+        data.ctrl[:] = wheel_commands[0].reshape(-1)
+        start = time.perf_counter()
+        mujoco.mj_step(model, data, nstep=wheel_commands.shape[0])
+        return time.perf_counter() - start
+
     def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
         import mujoco
         from mujoco import rollout

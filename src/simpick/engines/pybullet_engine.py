@@ -52,6 +52,24 @@ class PyBulletEngine:
         finally:
             pb.disconnect(client)
 
+    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
+        import pybullet as pb
+
+        cid = pb.connect(pb.DIRECT)
+        try:
+            bodies, wheel_index = self._build_world(pb, cid, scenario)
+            for i, body in enumerate(bodies):
+                pb.setJointMotorControlArray(body, wheel_index, pb.VELOCITY_CONTROL,
+                                             targetVelocities=wheel_commands[0, i].tolist(),
+                                             forces=[scenario.max_wheel_torque] * 4, physicsClientId=cid)
+            step = pb.stepSimulation
+            start = time.perf_counter()
+            for _ in range(wheel_commands.shape[0]):
+                step(physicsClientId=cid)
+            return time.perf_counter() - start
+        finally:
+            pb.disconnect(cid)
+
     def _build_terrain(self, pb, cid: int, scenario: Scenario) -> None:
         ground = pb.createMultiBody(0, pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=cid),
                                     physicsClientId=cid)
@@ -70,7 +88,8 @@ class PyBulletEngine:
                 body = pb.createMultiBody(0, shape, basePosition=[x, y, z], physicsClientId=cid)
                 pb.changeDynamics(body, -1, lateralFriction=terrain["friction"], physicsClientId=cid)
 
-    def _run(self, pb, cid: int, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
+    def _build_world(self, pb, cid: int, scenario: Scenario) -> tuple[list[int], list[int]]:
+        """Ground, terrain and robots; returns the robot bodies and the wheel joint indices."""
         settings = scenario.settings
         pb.setGravity(0, 0, -GRAVITY, physicsClientId=cid)
         pb.setPhysicsEngineParameter(fixedTimeStep=scenario.timestep, numSubSteps=0,
@@ -91,7 +110,11 @@ class PyBulletEngine:
                 pb.changeDynamics(body, link, lateralFriction=1.0, rollingFriction=0.0, spinningFriction=0.0,
                                   restitution=0.0, linearDamping=0.0, angularDamping=0.0, physicsClientId=cid)
             bodies.append(body)
+        return bodies, wheel_index
 
+    def _run(self, pb, cid: int, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
+        bodies, wheel_index = self._build_world(pb, cid, scenario)
+        robot = scenario.robot
         steps, n_robots = wheel_commands.shape[:2]
         dt = scenario.timestep
         torque = [scenario.max_wheel_torque] * 4

@@ -1,0 +1,208 @@
+"""simpick benchmark: engine limits, pipeline overhead, rerun and planning costs, memory.
+
+Run from the repository root:  .venv/bin/python bench/run.py   (about 3-4 minutes)
+Writes bench/results.csv and bench/RESULTS.md (and the table into README.md between the
+bench markers). Every figure is the median of --repeats runs, with min and max.
+Separate from the tests on purpose: timings are measured, not asserted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import copy
+import os
+import platform
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import pandas as pd
+import psutil
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "src"))
+
+from simpick.engines import get_engine  # noqa: E402
+from simpick.engines.base import Scenario  # noqa: E402
+from simpick.motions import constant_commands  # noqa: E402
+from simpick.robot import load_robot  # noqa: E402
+from simpick.workflow import terrain_job  # noqa: E402
+
+TARGETS = {  # issue 5, on a 2-core machine
+    "job_vs_bare_ratio": (">=", 0.90),
+    "rtf_lab_study": (">=", 30.0),
+    "rtf_lab_study_mujoco": (">=", 60.0),
+    "default_study_wall_s": ("<=", 60.0),
+    "rerun_after_weight_edit_wall_s": ("<=", 5.0),
+    "dry_run_1000_cases_wall_s": ("<=", 5.0),
+    "simulate_job_peak_rss_mb": ("<=", 300.0),
+}
+
+
+def spread(values: list[float]) -> dict:
+    return {"median": statistics.median(values), "min": min(values), "max": max(values), "n": len(values)}
+
+
+def engine_throughput(config: dict, repeats: int, tmp: Path) -> list[dict]:
+    robot = load_robot(ROOT / config["robot"]["urdf"])
+    motion = config["motions"]["straight"]
+    dt = config["physics"]["timestep"]
+    rows = []
+    for terrain_name, spec in config["terrains"].items():
+        terrain_file = tmp / f"{terrain_name}.json"
+        terrain_job(str(terrain_file), terrain_name, config["seed"], spec)
+        terrain = yaml.safe_load(terrain_file.read_text())
+        commands = constant_commands(motion["v"], motion["w"], motion["duration"], dt, config["robot"]["track"],
+                                     robot.wheel_radius)
+        for engine_name, settings in config["engines"].items():
+            engine = get_engine(engine_name)
+            scenario = Scenario(robot=robot, terrain=terrain, ground_friction=config["physics"]["ground_friction"],
+                                timestep=dt, max_wheel_torque=config["robot"]["max_wheel_torque"],
+                                starts=(tuple(motion["start"]),), settings=settings or {})
+            bare = [commands.shape[0] / engine.bare_loop(scenario, commands) for _ in range(repeats)]
+            job = []
+            for _ in range(repeats):
+                record = engine.simulate(scenario, commands)
+                job.append(record.steps / record.wall_time)
+            b, j = spread(bare), spread(job)
+            rows.append({"measure": "steps_per_s_bare", "engine": engine_name, "terrain": terrain_name, **b})
+            rows.append({"measure": "steps_per_s_job", "engine": engine_name, "terrain": terrain_name, **j})
+            rows.append({"measure": "job_vs_bare_ratio", "engine": engine_name, "terrain": terrain_name,
+                         "median": j["median"] / b["median"], "min": j["min"] / b["max"],
+                         "max": j["max"] / b["min"], "n": repeats})
+    return rows
+
+
+def copy_project(dest: Path) -> None:
+    files = subprocess.run(["git", "ls-files"], cwd=ROOT, capture_output=True, text=True, check=True).stdout.split()
+    for name in files:
+        target = dest / name
+        target.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(ROOT / name, target)
+    for name in ("config.yaml",):  # the working copy's config, even if uncommitted
+        shutil.copy2(ROOT / name, dest / name)
+
+
+def snakemake(workdir: Path, *args: str) -> float:
+    start = time.perf_counter()
+    run = subprocess.run([str(ROOT / ".venv/bin/snakemake"), "--cores", "2", *args], cwd=workdir,
+                         capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    if run.returncode != 0:
+        raise RuntimeError(f"snakemake {' '.join(args)} failed:\n{run.stderr[-3000:]}")
+    return wall
+
+
+def pipeline(repeats: int) -> list[dict]:
+    rows = []
+    study, rerun, dry = [], [], []
+    job_rows = []
+    for _ in range(repeats):
+        with tempfile.TemporaryDirectory() as tmp:
+            work = Path(tmp)
+            copy_project(work)
+            study.append(snakemake(work))
+            config_path = work / "config.yaml"
+            config = yaml.safe_load(config_path.read_text())
+            config["weights"]["ui"] = config["weights"]["ui"] + 1
+            config_path.write_text(yaml.safe_dump(config, sort_keys=False))
+            rerun.append(snakemake(work))
+            bench = list((work / "results/benchmarks/simulate").rglob("*.tsv"))
+            runs = pd.read_csv(work / "results/metrics/runs.csv")
+            for path in bench:
+                engine, terrain, motion = path.relative_to(work / "results/benchmarks/simulate").with_suffix("").parts
+                b = pd.read_csv(path, sep="\t").iloc[0]
+                r = runs[(runs.engine == engine) & (runs.terrain == terrain) & (runs.motion == motion)].iloc[0]
+                job_rows.append({"engine": engine, "wall": b["s"], "stepping": r.wall_time, "rss": b["max_rss"]})
+            sweep = copy.deepcopy(config)
+            base_terrain = config["terrains"]["grass"]
+            sweep["terrains"] = {f"grass{i}": dict(base_terrain, friction=0.1 + 0.02 * i) for i in range(25)}
+            base_motion = config["motions"]["straight"]
+            sweep["motions"] = {f"straight{i}": dict(base_motion, v=0.1 + 0.05 * i) for i in range(20)}
+            assert len(sweep["engines"]) * 25 * 20 == 1000, "the sweep must have 1000 cases"
+            config_path.write_text(yaml.safe_dump(sweep, sort_keys=False))
+            shutil.rmtree(work / "results")
+            dry.append(snakemake(work, "-n", "--quiet"))
+    rows.append({"measure": "default_study_wall_s", **spread(study)})
+    rows.append({"measure": "rerun_after_weight_edit_wall_s", **spread(rerun)})
+    rows.append({"measure": "dry_run_1000_cases_wall_s", **spread(dry)})
+    jobs = pd.DataFrame(job_rows)
+    for engine, g in jobs.groupby("engine"):
+        fixed = (g.wall - g.stepping).tolist()
+        rows.append({"measure": "simulate_job_fixed_cost_s", "engine": engine, **spread(fixed)})
+        rows.append({"measure": "simulate_job_peak_rss_mb", "engine": engine, **spread(g.rss.tolist())})
+    return rows
+
+
+def lab_rtf(rows: list[dict], config: dict) -> list[dict]:
+    """Real-time factor of the lab study per engine, from the job throughput on each terrain."""
+    out = []
+    job = [r for r in rows if r["measure"] == "steps_per_s_job"]
+    dt = config["physics"]["timestep"]
+    for engine in config["engines"]:
+        rates = [r["median"] for r in job if r["engine"] == engine]
+        # every terrain is driven for the same simulated time: harmonic mean of the rates
+        rtf = len(rates) / sum(1 / r for r in rates) * dt
+        out.append({"measure": "rtf_lab_study" + ("_mujoco" if engine == "mujoco" else ""), "engine": engine,
+                    "median": rtf, "n": len(rates)})
+    return out
+
+
+def verdict(row: dict) -> str:
+    target = TARGETS.get(row["measure"])
+    if target is None or pd.isna(row.get("median")):
+        return ""
+    op, bound = target
+    ok = row["median"] >= bound if op == ">=" else row["median"] <= bound
+    return f"{'met' if ok else 'MISSED'} ({op} {bound:g})"
+
+
+def machine() -> str:
+    cpu = platform.processor() or ""
+    try:
+        cpu = next(line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    return (f"{cpu}, {psutil.cpu_count()} cores, {psutil.virtual_memory().total / 2**30:.0f} GiB, "
+            f"Python {platform.python_version()}, {platform.system()} {platform.release()}")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--pipeline-repeats", type=int, default=2)
+    args = parser.parse_args()
+    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    with tempfile.TemporaryDirectory() as tmp:
+        rows = engine_throughput(config, args.repeats, Path(tmp))
+    rows += lab_rtf(rows, config)
+    rows += pipeline(args.pipeline_repeats)
+    table = pd.DataFrame(rows)
+    table["target"] = [verdict(r) for r in rows]
+    table.to_csv(ROOT / "bench/results.csv", index=False, float_format="%.4g")
+
+    lines = [f"Measured {time.strftime('%Y-%m-%d')} on {machine()}.", "",
+             "| measure | engine | terrain | median | min | max | n | target |", "|---|---|---|---|---|---|---|---|"]
+    for r in table.fillna("").to_dict("records"):
+        fmt = lambda v: f"{v:.3g}" if isinstance(v, float) else str(v)  # noqa: E731
+        lines.append(f"| {r['measure']} | {r.get('engine', '')} | {r.get('terrain', '')} | {fmt(r['median'])} | "
+                     f"{fmt(r.get('min', ''))} | {fmt(r.get('max', ''))} | {fmt(r.get('n', ''))} | {r['target']} |")
+    text = "\n".join(lines) + "\n"
+    (ROOT / "bench/RESULTS.md").write_text("# simpick benchmark\n\n" + text)
+    readme = ROOT / "README.md"
+    body = readme.read_text()
+    if "<!-- bench:start -->" in body:
+        body = re.sub(r"<!-- bench:start -->.*<!-- bench:end -->",
+                      lambda _: "<!-- bench:start -->\n" + text + "<!-- bench:end -->", body, flags=re.S)
+        readme.write_text(body)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
