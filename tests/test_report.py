@@ -282,6 +282,15 @@ def test_published_sections(built):
         assert number in text, number
 
 
+def test_paths_and_command_table(built):
+    _, html, _ = built
+    text = html.read_text(encoding="utf-8")
+    table = re.search(r'<table[^>]*id="endpoints-table".*?</table>', text, re.S).group(0)
+    # 11 runs with a trace (the failed one has none), each one row.
+    assert table.count("<tr>") - 1 == 11
+    assert "commanded (no slip)" not in table and "Top-down paths" in text
+
+
 def test_pdf_has_several_pages(built):
     import weasyprint
 

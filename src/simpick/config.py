@@ -50,7 +50,7 @@ class Health(Strict):
     min_height: Finite
     max_tilt: Positive
     max_speed: Positive
-    max_acceleration: Positive
+    max_velocity_jump: Positive
 
 
 class Terrain(BaseModel):

@@ -14,6 +14,8 @@ from simpick.engines.base import Engine
 ADAPTERS = {
     "pybullet": "simpick.engines.pybullet_engine:PyBulletEngine",
     "mujoco": "simpick.engines.mujoco_engine:MujocoEngine",
+    "ode": "simpick.engines.ode_engine:OdeEngine",
+    "dart": "simpick.engines.dart_engine:DartEngine",
 }
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import math
+import re
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -52,12 +53,20 @@ def fmt(x: Any, digits: int = 3) -> str:
         return str(x)
     if math.isinf(v):
         return "∞" if v > 0 else "−∞"
-    if v != 0 and abs(v) < 0.5 * 10 ** (-digits):
+    if digits >= 3 and v != 0 and abs(v) < 0.5 * 10 ** (-digits):
         return f"{v:.2e}".replace("-", "−")
     s = f"{v:.{digits}f}"
     if s.startswith("-"):
         s = "−" + s[1:]
     return "0." + "0" * digits if s == "−0." + "0" * digits else s
+
+
+def fmt_num(x: Any) -> str:
+    """A weight or other round figure: no decimals when it is a whole number."""
+    if _isnan(x):
+        return "–"
+    v = float(x)
+    return f"{v:.0f}" if v == round(v) else fmt(v, 2)
 
 
 def fmt_int(x: Any) -> str:
@@ -77,6 +86,13 @@ def fmt_yes_no(x: Any) -> str:
     if isinstance(x, bool):
         return "yes" if x else "no"
     return "–" if x is None else str(x)
+
+
+def soft_lower(text: str) -> str:
+    """Lower-case the first letter unless the first word is an acronym (IMU, UI, ROS)."""
+    if len(text) > 1 and text[0].isupper() and text[1].islower():
+        return text[0].lower() + text[1:]
+    return text
 
 
 def test_label(terrain: str, motion: str) -> str:
@@ -144,7 +160,8 @@ def _ranking(data: ReportData, weights: dict[str, float]) -> dict[str, Any]:
             "excluded": [METRIC_LABELS.get(m.strip(), m.strip()) for m in excluded],
             "recomputed_total": float(recomputed.loc[e]),
         })
-    mismatched = [r for r in rows if abs(r["total"] - r["recomputed_total"]) > 1e-6]
+    # The CSV holds 6 significant figures: allow for that before crying wolf.
+    mismatched = [r for r in rows if abs(r["total"] - r["recomputed_total"]) > 1e-3]
     metric_rows = []
     for m in METRICS:
         cells = []
@@ -185,8 +202,9 @@ def _qualitative(data: ReportData, engines: list[str]) -> dict[str, Any] | None:
             text = str(item).strip()
             if text not in ref_index:
                 ref_index[text] = len(refs) + 1
-                url = text if text.startswith(("http://", "https://")) else None
-                refs.append({"n": ref_index[text], "text": text, "url": url, "where": []})
+                m = re.match(r"^(https?://\S+?)([.,;:]?(?:\s+.*)?)$", text)
+                url, rest = (m.group(1), m.group(2).strip()) if m else (None, text)
+                refs.append({"n": ref_index[text], "text": text, "url": url, "rest": rest, "where": []})
             refs[ref_index[text] - 1]["where"].append(f"{engine}: {METRIC_LABELS.get(fact, fact)}")
             nums.append(ref_index[text])
         return nums
@@ -254,15 +272,8 @@ def _runs(data: ReportData, tests: list[tuple[str, str]], engines: list[str]) ->
             else:
                 cells.append({"present": False})
         pivot.append({"test": test_label(t, m), "cells": cells})
-    versions = []
-    for e in engines:
-        sel = runs[runs["engine"] == e]
-        if not len(sel):
-            continue
-        combos = sel.groupby(["engine_version", "config_hash"], sort=False).size().reset_index(name="n")
-        for _, c in combos.iterrows():
-            versions.append({"engine": e, "version": c["engine_version"] or "–",
-                             "config_hash": c["config_hash"] or "–", "n": int(c["n"])})
+    versions = [{"engine": r["engine"], "test": r["test"], "version": r["engine_version"] or "–",
+                 "config_hash": r["config_hash"] or "–"} for r in records]
     return {"records": records, "failed": failed, "n": len(records), "pivot": pivot, "versions": versions}
 
 
@@ -387,10 +398,37 @@ def _per_test(data: ReportData, engines: list[str], tests: list[tuple[str, str]]
             item["missing_traces"] = [e for e in engines if (e, t, m) not in traces and e not in failed
                                       and (e, t, m) in status]
             item["ts_uri"] = figures.timeseries_figure(series) if series else None
+            item["endpoints"] = _endpoints(config, m, series, engines)
             item["path_series"] = series
             item["strip"] = _strip(config, t)
             item["commanded"] = _commanded(config, m)
         out.append(item)
+    return out
+
+
+def _endpoints(config: Mapping[str, Any], motion: str, series, engines: list[str]):
+    """Per engine: where the run ended against where the no-slip command would have taken it."""
+    spec = (config.get("motions") or {}).get(motion)
+    have = {label: frame for label, _, frame in series}
+    out = []
+    for e in engines:
+        frame = have.get(e)
+        if frame is None or not len(frame):
+            out.append(None)
+            continue
+        try:
+            t_end = float(frame["time"].iloc[-1])
+            cmd = figures.commanded_path(spec["start"], float(spec["v"]), float(spec["w"]), t_end)
+            yaw_cmd = float(spec["start"][2]) + float(spec["w"]) * t_end
+        except (TypeError, KeyError, ValueError, IndexError):
+            out.append(None)
+            continue
+        dx = float(frame["x"].iloc[-1]) - float(cmd[-1, 0])
+        dy = float(frame["y"].iloc[-1]) - float(cmd[-1, 1])
+        dyaw = (float(frame["yaw"].iloc[-1]) - yaw_cmd + math.pi) % (2 * math.pi) - math.pi
+        out.append({"engine": e, "t": t_end, "dist": math.hypot(dx, dy), "dyaw_deg": math.degrees(dyaw),
+                    "v_cmd": float(spec["v"]), "w_cmd": float(spec["w"]),
+                    "v_mean": float(frame["v_forward"].mean()), "w_mean": float(frame["yaw_rate"].mean())})
     return out
 
 
@@ -547,8 +585,8 @@ def environment():
         trim_blocks=True,
         lstrip_blocks=True,
     )
-    env.filters.update(f3=fmt, f=fmt, int=fmt_int, signed=fmt_signed, yesno=fmt_yes_no,
-                       isnan=_isnan)
+    env.filters.update(f3=fmt, f=fmt, num=fmt_num, int=fmt_int, signed=fmt_signed, yesno=fmt_yes_no,
+                       isnan=_isnan, soft_lower=soft_lower)
     env.tests["nan"] = _isnan
     return env
 

@@ -66,7 +66,7 @@ def _short(x: float) -> str:
         return "n/a"
     if x == 0:
         return "0"
-    return f"{x:.3g}"
+    return f"{x:.3g}".replace("e-0", "e-").replace("e+0", "e")
 
 
 # --------------------------------------------------------------------------
@@ -80,7 +80,7 @@ def contributions_figure(weighted: pd.DataFrame, weights: Mapping[str, float],
     plt = _plt()
     engines = list(weighted.index)
     n = len(engines)
-    fig, ax = plt.subplots(figsize=(WIDTH_IN, 0.45 * n + 1.9))
+    fig, ax = plt.subplots(figsize=(WIDTH_IN, 0.4 * n + 1.0))
     cmap = plt.get_cmap("tab20")
     # Qualitative metrics in the even (darker) tab20 shades, quantitative in distinct hues.
     colors = [cmap(i % 20) for i in (0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 1, 5)][: len(metrics)]
@@ -94,7 +94,7 @@ def contributions_figure(weighted: pd.DataFrame, weights: Mapping[str, float],
                 label=f"{labels.get(m, m)} (w={float(weights[m]):g})", height=0.6)
         left += vals
     for yi, e in zip(y, engines):
-        ax.text(float(weighted.loc[e, "total"]) + 0.3, yi, f"{float(weighted.loc[e, 'total']):.3f}",
+        ax.text(float(weighted.loc[e, "total"]) + 0.012 * max_total, yi, f"{float(weighted.loc[e, 'total']):.3f}",
                 va="center", fontsize=7.5)
     ax.axvline(max_total, color="0.4", ls=":", lw=0.8)
     ax.text(max_total, n - 0.35, f"max {max_total:g}", ha="right", va="bottom", fontsize=6.5, color="0.3")
@@ -102,8 +102,9 @@ def contributions_figure(weighted: pd.DataFrame, weights: Mapping[str, float],
     ax.set_xlim(0, max_total * 1.08)
     ax.set_xlabel("weighted score (sum of weight × score)")
     ax.grid(axis="y", visible=False)
-    ax.legend(ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.28 if n < 3 else -0.18),
-              frameon=False, handlelength=1.2, columnspacing=1.0)
+    fig.tight_layout()
+    fig.legend(*ax.get_legend_handles_labels(), ncol=3, loc="upper center", bbox_to_anchor=(0.5, 0.0),
+               frameon=False, handlelength=1.2, columnspacing=1.0)
     return to_data_uri(fig)
 
 
@@ -122,13 +123,14 @@ def imu_stats_figure(series: Sequence[tuple[str, str, pd.DataFrame]], title: str
     both rows.
     """
     plt = _plt()
-    fig, axs = plt.subplots(2, 2, figsize=(WIDTH_IN, 4.3), sharex=True)
+    fig, axs = plt.subplots(2, 2, figsize=(WIDTH_IN, 3.7), sharex=True)
     k = max(1, len(series))
     width = 0.8 / k
     x = np.arange(len(AXES))
     for col, quantity in enumerate(("angular", "linear")):
         for row, stat in enumerate(("mean", "range")):
             ax = axs[row, col]
+            rotate = k > 2 or stat == "mean"
             for i, (label, color, stats) in enumerate(series):
                 sub = stats[stats["quantity"] == quantity].set_index("axis")
                 vals = np.array([float(sub.loc[a, stat]) if a in sub.index else np.nan for a in AXES])
@@ -142,9 +144,9 @@ def imu_stats_figure(series: Sequence[tuple[str, str, pd.DataFrame]], title: str
                     ax.annotate(_short(v), (b.get_x() + b.get_width() / 2, h),
                                 xytext=(0, 1.5 if h >= 0 else -1.5), textcoords="offset points",
                                 ha="center", va="bottom" if h >= 0 else "top", fontsize=5.5,
-                                rotation=90 if k > 3 else 0)
+                                rotation=90 if rotate else 0)
             ax.axhline(0, color="0.3", lw=0.6)
-            ax.margins(y=0.18)
+            ax.margins(y=0.35 if rotate else 0.18)
             ax.set_xticks(x, [f"{a}" for a in AXES])
             ax.grid(axis="x", visible=False)
             if row == 0:
@@ -167,7 +169,7 @@ def imu_stats_figure(series: Sequence[tuple[str, str, pd.DataFrame]], title: str
 def timeseries_figure(series: Sequence[tuple[str, str, pd.DataFrame]]) -> str:
     """ax, ay, az (left) and wx, wy, wz (right) against time, engines overlaid."""
     plt = _plt()
-    fig, axs = plt.subplots(3, 2, figsize=(WIDTH_IN, 4.6), sharex=True)
+    fig, axs = plt.subplots(3, 2, figsize=(WIDTH_IN, 3.9), sharex=True)
     for col, quantity in enumerate(("linear", "angular")):
         unit = "m/s²" if quantity == "linear" else "rad/s"
         for row, column in enumerate(QUANTITY_COLUMNS[quantity]):
