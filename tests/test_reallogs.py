@@ -263,8 +263,9 @@ def test_row_with_extra_fields_names_the_line(tmp_path):
     lines = imu.to_csv(index=False).splitlines()
     lines[30] += ",1.0"
     expect_error("\n".join(lines) + "\n", tmp=tmp_path, file="imu", words=("line 31",))
+    lines = imu.to_csv(index=False).splitlines()
     every = [lines[0]] + [line + ",1.0" for line in lines[1:]]  # pandas would drop it silently
-    expect_error("\n".join(every) + "\n", tmp=tmp_path, file="imu", words=("more fields",))
+    expect_error("\n".join(every) + "\n", tmp=tmp_path, file="imu", words=("line 2", "8 fields"))
 
 
 def test_duplicated_header_column(tmp_path):

@@ -35,7 +35,7 @@ from simpick.errors import InputError
 from simpick.imu import imu_from_kinematics
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
-DEFAULTS = {"collision_detector": "ode", "ground": "plane", "lcp_solver": "dantzig", "friction_law": "coulomb", "solver_sweeps": 50}
+DEFAULTS = {"collision_detector": "ode", "lcp_solver": "dantzig", "friction_law": "coulomb", "solver_sweeps": 100}
 DETECTORS = ("ode", "bullet", "fcl", "dart")
 
 
@@ -115,22 +115,17 @@ class DartEngine:
             node.createDynamicsAspect().setFrictionCoeff(mu)
             return node
 
-        ground, ground_body = static_skeleton("ground")
-        if settings["ground"] == "plane":
-            add_shape(ground_body, dart.dynamics.PlaneShape(np.array([0.0, 0.0, 1.0]), 0.0),
-                      _isometry(dart, [0, 0, 0]), scenario.ground_friction)
-        else:  # a thick box whose top face is z = 0, for detectors without planes
-            add_shape(ground_body, dart.dynamics.BoxShape(np.array([200.0, 200.0, 1.0])),
-                      _isometry(dart, [0, 0, -0.5]), scenario.ground_friction)
+        # Ground and terrain on one static body: DART skips pairs within one skeleton (self
+        # collision is off by default), so the stones are never tested against their bed.
+        ground, body = static_skeleton("terrain")
+        add_shape(body, dart.dynamics.PlaneShape(np.array([0.0, 0.0, 1.0]), 0.0),
+                  _isometry(dart, [0, 0, 0]), scenario.ground_friction)
+        for x, y, z, yaw, sx, sy, sz in terrain["boxes"]:
+            add_shape(body, dart.dynamics.BoxShape(np.array([sx, sy, sz])),
+                      _isometry(dart, [x, y, z], _yaw(yaw)), terrain["friction"])
+        for x, y, z, r in terrain["spheres"]:
+            add_shape(body, dart.dynamics.SphereShape(r), _isometry(dart, [x, y, z]), terrain["friction"])
         world.addSkeleton(ground)
-        if terrain["boxes"] or terrain["spheres"]:
-            strip, strip_body = static_skeleton("terrain")
-            for x, y, z, yaw, sx, sy, sz in terrain["boxes"]:
-                add_shape(strip_body, dart.dynamics.BoxShape(np.array([sx, sy, sz])),
-                          _isometry(dart, [x, y, z], _yaw(yaw)), terrain["friction"])
-            for x, y, z, r in terrain["spheres"]:
-                add_shape(strip_body, dart.dynamics.SphereShape(r), _isometry(dart, [x, y, z]), terrain["friction"])
-            world.addSkeleton(strip)
 
         robot = scenario.robot
         loader = dart.utils.DartLoader()

@@ -52,7 +52,7 @@ def finish(imu: pd.DataFrame, commands: pd.DataFrame, *, imu_where: str, cmd_whe
     }
     overlap = min(t_imu[-1], t_cmd[-1]) - max(t_imu[0], t_cmd[0])
     shorter = min(t_imu[-1] - t_imu[0], t_cmd[-1] - t_cmd[0])
-    if False:
+    if overlap < 0.5 * shorter:
         raise InputError(V.col_where(cmd_where, cmd_names.get("time", "time")),
                          f"commands span {t_cmd[0]:.6g}..{t_cmd[-1]:.6g} s but the IMU spans "
                          f"{t_imu[0]:.6g}..{t_imu[-1]:.6g} s: they overlap for less than half of "

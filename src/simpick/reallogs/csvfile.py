@@ -74,7 +74,12 @@ def load_csv(path: str | Path) -> pd.DataFrame:
                                 low_memory=False)
     except pd.errors.EmptyDataError:
         raise InputError(str(path), "file has no header and no data") from None
-    except (pd.errors.ParserError, pd.errors.ParserWarning) as exc:
+    except pd.errors.ParserWarning:
+        line, count = _first_long_row(text, len(names))
+        raise InputError(str(path), f"not a well-formed CSV: line {line} has {count} fields but the "
+                                    f"header has {len(names)}",
+                         "every row needs as many comma-separated fields as the header") from None
+    except pd.errors.ParserError as exc:
         detail = str(exc).replace("Error tokenizing data. C error: ", "").strip()
         raise InputError(str(path), f"not a well-formed CSV: {detail or 'a row has more fields than the header'}",
                          "every row needs as many comma-separated fields as the header") from None
@@ -91,3 +96,11 @@ def load_csv(path: str | Path) -> pd.DataFrame:
     if frame.empty:
         raise InputError(str(path), "has a header but no data rows")
     return frame
+
+
+def _first_long_row(text: str, width: int) -> tuple[int, int]:
+    """(line number, field count) of the first row with more fields than the header."""
+    for number, row in enumerate(csv.reader(io.StringIO(text)), start=1):
+        if len(row) > width:
+            return number, len(row)
+    return 0, 0
