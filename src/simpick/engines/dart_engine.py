@@ -35,7 +35,7 @@ from simpick.errors import InputError
 from simpick.imu import imu_from_kinematics
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
-DEFAULTS = {"collision_detector": "ode", "lcp_solver": "dantzig", "friction_law": "coulomb", "solver_sweeps": 100}
+DEFAULTS = {"collision_detector": "ode", "lcp_solver": "dantzig", "friction_law": "coulomb", "solver_sweeps": 100, "solver_tolerance": 1e-5}
 DETECTORS = ("ode", "bullet", "fcl", "dart")
 
 
@@ -91,6 +91,7 @@ class DartEngine:
             options = C.NsgsFrictionSolver.Options()
             options.law = getattr(C.NsgsFrictionSolver.Law, settings["friction_law"].capitalize())
             options.maxSweeps = int(settings["solver_sweeps"])
+            options.tolerance = float(settings["solver_tolerance"])
             solver.setBoxedLcpSolver(C.NsgsFrictionSolver(options))
         elif settings["lcp_solver"] == "fbf":
             C = dart.constraint
