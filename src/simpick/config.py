@@ -51,6 +51,8 @@ class Health(Strict):
     max_tilt: Positive
     max_speed: Positive
     max_velocity_jump: Positive
+    wheel_tracking: Positive
+    max_parked_speed: Positive
 
 
 class Terrain(BaseModel):

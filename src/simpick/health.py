@@ -21,6 +21,8 @@ class HealthLimits:
     max_tilt: float = 1.0  # rad, |roll| or |pitch|
     max_speed: float = 5.0  # m/s; the Husky tops out near 1 m/s
     max_velocity_jump: float = 0.5  # m/s change of the base velocity within one physics step
+    wheel_tracking: float = 0.5  # rad/s: mean |measured - commanded| wheel speed over a second
+    max_parked_speed: float = 0.05  # m/s while every wheel is commanded to stand still
 
 
 @dataclass
@@ -36,7 +38,18 @@ class Health:
         return {"status": "ok" if self.ok else "failed", "reasons": self.reasons}
 
 
-def check(record: PhysicsRecord, limits: HealthLimits) -> Health:
+def _first_sustained(flags: np.ndarray, samples: int) -> int | None:
+    """Index where ``flags`` has been true for ``samples`` steps in a row, if ever."""
+    if samples <= 1:
+        hits = np.flatnonzero(flags)
+        return int(hits[0]) if hits.size else None
+    run = np.convolve(flags.astype(float), np.ones(samples), mode="valid")
+    hits = np.flatnonzero(run >= samples)
+    return int(hits[0] + samples - 1) if hits.size else None
+
+
+def check(record: PhysicsRecord, limits: HealthLimits, commands: np.ndarray | None = None) -> Health:
+    """``commands``: robot 0's (steps, 4) wheel-speed commands, for the tracking checks."""
     health = Health()
     arrays = {"position": record.position, "quaternion": record.quaternion,
               "linear velocity": record.linear_velocity, "angular velocity": record.angular_velocity,
@@ -66,4 +79,22 @@ def check(record: PhysicsRecord, limits: HealthLimits) -> Health:
         k = int(np.argmax(jump > limits.max_velocity_jump))
         health.fail(f"jump: base velocity changed by {jump[k]:.2f} m/s within one step at t = {record.time[k]:.3f} s "
                     f"(limit {limits.max_velocity_jump} m/s; no wheel-terrain force explains it)")
+    if commands is not None:
+        dt = float(record.time[0]) if len(record.time) else 0.0
+        second = max(1, int(round(1.0 / dt))) if dt > 0 else 1
+        error = np.abs(record.wheel_speed - commands).mean(axis=1)
+        smoothed = np.convolve(error, np.ones(second) / second, mode="same")
+        k = _first_sustained(smoothed > limits.wheel_tracking, 1)
+        if k is not None:
+            health.fail(f"wheels do not track their command: mean speed error {smoothed[k]:.2f} rad/s "
+                        f"around t = {record.time[k]:.3f} s (limit {limits.wheel_tracking} rad/s; torque bound "
+                        "too low or wheels stuck)")
+        parked = np.all(commands == 0, axis=1)
+        settle = second // 2  # let the robot settle on its wheels after the spawn
+        parked[:settle] = False
+        speed = np.linalg.norm(record.linear_velocity[:, :2], axis=1)
+        k = _first_sustained(parked & (speed > limits.max_parked_speed), max(1, second // 10))
+        if k is not None:
+            health.fail(f"slides while commanded to stand still: {speed[k]:.2f} m/s at t = {record.time[k]:.3f} s "
+                        f"(limit {limits.max_parked_speed} m/s)")
     return health

@@ -86,7 +86,7 @@ def run_case(case: Case, *, urdf: str | Path, terrain_file: str | Path, track: f
                         settings=engine_settings)
     commands = constant_commands(case.v, case.w, case.duration, timestep, track, robot.wheel_radius)
     record = engine.simulate(scenario, commands)
-    health = check(record, limits)
+    health = check(record, limits, commands[:, 0])
     noise_seed = stable_seed(seed, case.engine, case.terrain, case.motion)
     frame = to_trace(record, commands, timestep, imu, np.random.default_rng(noise_seed))
     sim_time = record.steps * timestep

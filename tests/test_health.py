@@ -1,0 +1,117 @@
+"""Each failure mode of a simulation is provoked and must be caught with its reason."""
+
+import numpy as np
+import pytest
+
+from conftest import flat_terrain
+from simpick.engines import get_engine
+from simpick.engines.base import PhysicsRecord, Scenario
+from simpick.health import HealthLimits, check
+from simpick.motions import constant_commands
+
+LIMITS = HealthLimits()
+N, DT = 3000, 0.001
+
+
+def resting() -> PhysicsRecord:
+    """A healthy robot standing still for 3 s."""
+    z = np.zeros((N, 3))
+    return PhysicsRecord(time=DT * np.arange(1, N + 1), position=np.tile([0, 0, 0.132], (N, 1)),
+                         quaternion=np.tile([1.0, 0, 0, 0], (N, 1)), linear_velocity=z.copy(),
+                         angular_velocity=z.copy(), wheel_speed=np.zeros((N, 4)),
+                         imu_specific_force=np.tile([0, 0, 9.81], (N, 1)), imu_gyro=z.copy(),
+                         wall_time=0.1, cpu_time=0.1, steps=N)
+
+
+def reasons(record, commands=None):
+    health = check(record, LIMITS, np.zeros((N, 4)) if commands is None else commands)
+    return health.ok, " | ".join(health.reasons)
+
+
+def test_a_resting_robot_is_healthy():
+    assert reasons(resting()) == (True, "")
+
+
+def test_non_finite_state_is_divergence():
+    record = resting()
+    record.linear_velocity[1500:] = np.nan
+    ok, why = reasons(record)
+    assert not ok and "non-finite linear velocity from t = 1.501 s" in why
+
+
+def test_falling_through_the_ground():
+    record = resting()
+    record.position[2000:, 2] = np.linspace(0.1, -1.0, 1000)
+    ok, why = reasons(record)
+    assert not ok and "fell through the ground" in why
+
+
+def test_flipped():
+    record = resting()
+    angle = np.pi / 2  # rolled onto its side
+    record.quaternion[2500:] = [np.cos(angle / 2), np.sin(angle / 2), 0, 0]
+    ok, why = reasons(record)
+    assert not ok and "flipped: roll/pitch 90 deg" in why
+
+
+def test_exploded_speed():
+    record = resting()
+    record.linear_velocity[:, 0] = np.linspace(0, 50, N)
+    ok, why = reasons(record)
+    assert not ok and "exploded" in why
+
+
+def test_jump_in_velocity():
+    record = resting()
+    record.linear_velocity[1200:, 2] = 1.0
+    ok, why = reasons(record)
+    assert not ok and "jump: base velocity changed by 1.00 m/s within one step at t = 1.201 s" in why
+
+
+def test_sliding_while_parked():
+    record = resting()
+    record.linear_velocity[1000:, 0] = 0.2
+    ok, why = reasons(record)
+    assert not ok and "slides while commanded to stand still" in why
+
+
+def test_wheels_not_tracking():
+    record = resting()
+    commands = np.full((N, 4), 3.0)
+    record.linear_velocity[:, 0] = 0.0
+    ok, why = reasons(record, commands)
+    assert not ok and "wheels do not track their command" in why
+
+
+@pytest.mark.parametrize("engine", ["pybullet", "mujoco"])
+def test_a_torque_bound_far_too_low_is_caught_in_a_real_engine(engine, robot):
+    scenario = Scenario(robot=robot, terrain=flat_terrain(), ground_friction=0.95, timestep=DT,
+                        max_wheel_torque=0.05, starts=((0.0, 0.0, 0.0),), settings={})
+    commands = constant_commands(0.5, 0.0, 2.0, DT, 0.555, robot.wheel_radius)
+    record = get_engine(engine).simulate(scenario, commands)
+    health = check(record, LIMITS, commands[:, 0])
+    assert not health.ok and "wheels do not track" in " ".join(health.reasons)
+
+
+@pytest.mark.parametrize("engine", ["pybullet"])
+def test_a_robot_spawned_inside_a_box_is_caught(engine, robot):
+    # A 20 cm block where the robot stands: Bullet's rigid contacts eject the robot in one
+    # step, a jump the check must catch. MuJoCo's soft contacts push it out over many steps
+    # without any jump, which is a legitimate resolution rather than a failure to report.
+    block = {"schema": "simpick.terrain/1", "name": "block", "friction": 0.9, "spheres": [],
+             "boxes": [[0.0, 0.0, 0.1, 0.0, 0.6, 0.4, 0.2]]}
+    scenario = Scenario(robot=robot, terrain=block, ground_friction=0.95, timestep=DT,
+                        max_wheel_torque=100.0, starts=((0.0, 0.0, 0.0),), settings={})
+    commands = constant_commands(0.0, 0.0, 1.0, DT, 0.555, robot.wheel_radius)
+    record = get_engine(engine).simulate(scenario, commands)
+    health = check(record, LIMITS, commands[:, 0])
+    assert not health.ok, "an interpenetrating start must not pass as healthy"
+
+
+def test_the_healthy_default_engines_pass_on_flat_ground(robot):
+    for engine in ("pybullet", "mujoco"):
+        scenario = Scenario(robot=robot, terrain=flat_terrain(), ground_friction=0.95, timestep=DT,
+                            max_wheel_torque=100.0, starts=((0.0, 0.0, 0.0),), settings={})
+        commands = constant_commands(0.5, 0.5, 3.0, DT, 0.555, robot.wheel_radius)
+        health = check(get_engine(engine).simulate(scenario, commands), LIMITS, commands[:, 0])
+        assert health.ok, (engine, health.reasons)
