@@ -13,6 +13,7 @@ include: "rules/common.smk"
 include: "rules/terrain.smk"
 include: "rules/simulate.smk"
 include: "rules/metrics.smk"
+include: "rules/real.smk"
 include: "rules/scores.smk"
 include: "rules/published.smk"
 include: "rules/report.smk"
@@ -21,6 +22,9 @@ include: "rules/report.smk"
 rule all:
     input:
         all_traces(),
+        segment_traces(),
+        f"{REAL}/metrics/segments_summary.csv",
+        f"{REAL}/metrics/replay_summary.csv" if config.get("borealtc_dir") else [],
         "results/scores/weighted.csv",
         "results/published/table11.csv",
         "results/report/report.html",

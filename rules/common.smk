@@ -38,20 +38,28 @@ def all_traces():
     )
 
 
-def simulation_params(engine, terrain, motion_name):
-    """Everything one simulation depends on, and nothing else."""
+def engine_params(engine):
+    """What every simulation on ``engine`` depends on, whatever it drives over."""
     robot = {k: v for k, v in config["robot"].items() if k != "urdf"}
     return canonical(
         {
             "engine": engine,
             "engine_settings": config["engines"][engine] or {},
-            "terrain": terrain,
-            "motion_name": motion_name,
-            "motion": config["motions"][motion_name],
             "physics": config["physics"],
             "robot": robot,
             "imu": config["imu"],
             "health": config["health"],
             "seed": config["seed"],
+        }
+    )
+
+
+def simulation_params(engine, terrain, motion_name):
+    """Everything one lab-study simulation depends on, and nothing else."""
+    return engine_params(engine) | canonical(
+        {
+            "terrain": terrain,
+            "motion_name": motion_name,
+            "motion": config["motions"][motion_name],
         }
     )

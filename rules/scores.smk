@@ -1,6 +1,6 @@
 rule scores:
     input:
-        imu_errors="results/metrics/imu_errors.csv",
+        imu_errors=accuracy_errors(),
         rtf="results/metrics/rtf.csv",
         cpu=expand("results/cpu/{engine}.json", engine=ENGINES),
         qualitative=config["qualitative"],

@@ -82,6 +82,32 @@ class Reference(Strict):
     published: str
 
 
+class SegmentRules(Strict):
+    tolerance: Positive
+    min_duration: Positive
+    max_duration: Positive
+    settle: NonNegative
+    min_turn: Positive
+    per_kind: Annotated[int, Field(ge=1)]
+
+
+class TerrainClass(Strict):
+    friction: Annotated[float, Field(ge=0, le=10, allow_inf_nan=False)]
+    source: str
+
+
+class RealData(Strict):
+    dataset: str
+    segments: str
+    segment_rules: SegmentRules
+    window: Positive
+    classes: dict[str, TerrainClass]
+
+
+class Accuracy(Strict):
+    reference: Literal["real", "paper"]
+
+
 class Study(Strict):
     seed: Annotated[int, Field(ge=0, lt=2**32)]
     engines: dict[str, dict[str, Any] | None]
@@ -93,6 +119,9 @@ class Study(Strict):
     motions: dict[str, Motion]
     cpu_load: CpuLoad
     reference: Reference
+    accuracy: Accuracy
+    borealtc_dir: str | None = None
+    real_data: RealData
     qualitative: str
     weights: dict[str, NonNegative]
 
@@ -126,6 +155,14 @@ class Study(Strict):
             raise ValueError(f"cpu_load.terrain {self.cpu_load.terrain!r} is not one of terrains {list(self.terrains)}")
         if self.cpu_load.motion not in self.motions:
             raise ValueError(f"cpu_load.motion {self.cpu_load.motion!r} is not one of motions {list(self.motions)}")
+        if self.borealtc_dir is not None and not Path(self.borealtc_dir).is_dir():
+            raise ValueError(f"borealtc_dir: {self.borealtc_dir!r} is not a folder. Download the data "
+                             "(github.com/norlab-ulaval/BorealTC, folder data/borealtc) or run "
+                             "`snakemake --cores 2 fetch_borealtc` while online, then pass "
+                             "--config borealtc_dir=PATH")
+        if self.borealtc_dir is None and not Path(self.real_data.segments).is_file():
+            raise ValueError(f"real_data.segments: {self.real_data.segments!r} does not exist; regenerate it with "
+                             "snakemake --cores 2 real_segments --config borealtc_dir=PATH")
         for key, path in (("robot.urdf", self.robot.urdf), ("reference.published", self.reference.published),
                           ("qualitative", self.qualitative)):
             if not Path(path).is_file():

@@ -21,7 +21,7 @@ from simpick.engines.base import PhysicsRecord, Scenario
 from simpick.health import HealthLimits, check
 from simpick.imu import ImuModel, block_average, euler_rpy, rotation_matrices, sensor_output
 from simpick.motions import constant_commands
-from simpick.robot import load_robot
+from simpick.robot import RobotSpec, load_robot
 from simpick.traces import write_trace
 
 
@@ -74,32 +74,45 @@ def to_trace(record: PhysicsRecord, commands: np.ndarray, timestep: float, imu: 
     return pd.DataFrame(frame)
 
 
-def run_case(case: Case, *, urdf: str | Path, terrain_file: str | Path, track: float,
-             max_wheel_torque: float, timestep: float, ground_friction: float,
-             engine_settings: dict, imu: ImuModel, seed: int,
-             limits: HealthLimits = HealthLimits()) -> tuple[pd.DataFrame, dict]:
-    robot = load_robot(urdf)
-    terrain = terrain_io.load(terrain_file)
-    engine = get_engine(case.engine)
+def run_commands(engine_name: str, commands: np.ndarray, *, robot: RobotSpec, terrain: dict,
+                 start: tuple[float, float, float], timestep: float, ground_friction: float,
+                 max_wheel_torque: float, engine_settings: dict, imu: ImuModel, noise_seed: int,
+                 limits: HealthLimits) -> tuple[pd.DataFrame, dict]:
+    """Drive robot 0 with ``commands`` (steps, 4) wheel speeds; returns the trace and its metadata."""
+    engine = get_engine(engine_name)
     scenario = Scenario(robot=robot, terrain=terrain, ground_friction=ground_friction, timestep=timestep,
-                        max_wheel_torque=max_wheel_torque, starts=(tuple(case.start),),
-                        settings=engine_settings)
-    commands = constant_commands(case.v, case.w, case.duration, timestep, track, robot.wheel_radius)
+                        max_wheel_torque=max_wheel_torque, starts=(tuple(start),), settings=engine_settings)
+    commands = commands.reshape(len(commands), 1, 4)
     record = engine.simulate(scenario, commands)
     health = check(record, limits, commands[:, 0])
-    noise_seed = stable_seed(seed, case.engine, case.terrain, case.motion)
     frame = to_trace(record, commands, timestep, imu, np.random.default_rng(noise_seed))
     sim_time = record.steps * timestep
     metadata = {
-        "engine": case.engine, "engine_version": engine.version(), "terrain": case.terrain,
-        "motion": case.motion, "command": {"v": case.v, "w": case.w, "track": track},
-        "timestep": timestep, "imu_rate_hz": imu.rate_hz, "seed": seed, "noise_seed": noise_seed,
-        "terrain_seed": terrain["seed"], "steps": record.steps, "sim_time": sim_time,
-        "wall_time": record.wall_time, "cpu_time": record.cpu_time,
+        "engine": engine_name, "engine_version": engine.version(), "timestep": timestep,
+        "imu_rate_hz": imu.rate_hz, "noise_seed": noise_seed, "terrain_seed": terrain.get("seed"),
+        "ground_friction": ground_friction, "terrain_friction": terrain.get("friction"),
+        "steps": record.steps, "sim_time": sim_time, "wall_time": record.wall_time, "cpu_time": record.cpu_time,
         "real_time_factor": sim_time / record.wall_time if record.wall_time > 0 else None,
-        "health": health.as_dict(), "simpick_version": simpick.__version__,
-        "python": platform.python_version(),
+        "health": health.as_dict(), "simpick_version": simpick.__version__, "python": platform.python_version(),
     }
+    return frame, metadata
+
+
+def run_case(case: Case, *, urdf: str | Path, terrain_file: str | Path | None = None, terrain: dict | None = None,
+             track: float, max_wheel_torque: float, timestep: float, ground_friction: float,
+             engine_settings: dict, imu: ImuModel, seed: int,
+             limits: HealthLimits = HealthLimits()) -> tuple[pd.DataFrame, dict]:
+    """One constant-command case; the terrain comes from a file or, already loaded, as a dict."""
+    robot = load_robot(urdf)
+    terrain = terrain if terrain is not None else terrain_io.load(terrain_file)
+    commands = constant_commands(case.v, case.w, case.duration, timestep, track, robot.wheel_radius)[:, 0]
+    noise_seed = stable_seed(seed, case.engine, case.terrain, case.motion)
+    frame, metadata = run_commands(case.engine, commands, robot=robot, terrain=terrain, start=case.start,
+                                   timestep=timestep, ground_friction=ground_friction,
+                                   max_wheel_torque=max_wheel_torque, engine_settings=engine_settings, imu=imu,
+                                   noise_seed=noise_seed, limits=limits)
+    metadata.update({"terrain": case.terrain, "motion": case.motion, "seed": seed,
+                     "command": {"v": case.v, "w": case.w, "track": track}})
     return frame, metadata
 
 

@@ -77,7 +77,12 @@ def gravel_bed(rng: np.random.Generator, tiles: int, bed: float, stones_per_tile
     return {"boxes": boxes, "spheres": spheres}
 
 
-RULES = {"flat_tiles": flat_tiles, "plywood_layers": plywood_layers, "gravel_bed": gravel_bed}
+def flat(rng: np.random.Generator, tiles: int) -> dict:
+    """Nothing but the ground plane (the real-data terrain classes: friction only)."""
+    return {"boxes": [], "spheres": []}
+
+
+RULES = {"flat": flat, "flat_tiles": flat_tiles, "plywood_layers": plywood_layers, "gravel_bed": gravel_bed}
 
 
 def generate(name: str, rule: str, seed: int, friction: float, tiles: int = 4, **params) -> dict:

@@ -1,25 +1,58 @@
 """DART (Dynamic Animation and Robotics Toolkit, a Gazebo physics option) through ``dartpy``.
 
-World:
-- robot: the same URDF through ``dart.utils.DartLoader`` with a floating (FreeJoint) base;
-  DART keeps each link's frame and COM apart, so base_link's pose and velocity are read
-  directly (no COM conversion). The 18 g IMU link stays a welded body.
-- wheels: actuator type SERVO with force limits +-``scenario.max_wheel_torque``. SERVO is a
-  velocity constraint solved with the contacts, bounded by the force limits: the same
-  velocity servo PyBullet and ODE use. VELOCITY, the other candidate, is *kinematic* in
-  DART (the joint velocity is prescribed, whatever torque that takes), so the force bound
-  would be ignored and a wheel could never stall.
-- terrain: one static skeleton whose body carries the boxes and spheres; a second static
-  skeleton carries the ground (see GROUND below). Friction: DART combines two shapes'
-  coefficients by taking the *minimum*, so terrain shapes carry the terrain's coefficient,
-  the ground ``scenario.ground_friction``, and the robot's shapes a coefficient no lower
-  than any of them (max(1, terrain, ground)), which leaves the contact's mu to the
-  terrain and makes robot-robot contacts 1.0 (PyBullet's 1.0 x 1.0) unless a terrain is
-  slipperier than... i.e. grippier than 1.0.
+- robot: the same URDF through ``dart.utils.DartLoader``, whose default root joint is a
+  FreeJoint (floating base). DART keeps a link's frame and its COM apart, so base_link's
+  pose and the world velocity of its origin are read from the body node directly. The
+  18 g IMU link stays a welded body.
+- wheels: actuator type SERVO with force limits +-``scenario.max_wheel_torque``: a velocity
+  constraint solved together with the contacts and bounded by the force limits, the same
+  servo as PyBullet's VELOCITY_CONTROL and ODE's hinge motor. DART's VELOCITY actuator is
+  *kinematic* (the joint velocity is prescribed whatever torque that takes), so the bound
+  would be ignored and a wheel could never stall. ``World.step(False)``: by default DART
+  zeroes the commands after every step.
+- terrain: the ground plane, boxes and spheres as shapes of one static body. DART does not
+  test shapes of one skeleton against each other (self collision is off), so a stone is
+  never paired with its gravel bed.
+- friction: DART takes the *minimum* of the two shapes' coefficients. Terrain shapes carry
+  the terrain's coefficient, the plane ``scenario.ground_friction``, the robot's shapes
+  max(1, terrain, ground): the contact's mu is the terrain's (or ground's), and
+  robot-robot contacts get 1.0 (PyBullet's 1.0 x 1.0) as long as no terrain exceeds 1.
 - IMU: DART has none; :func:`simpick.imu.imu_from_kinematics` from base_link kinematics.
 
-Collision detector (setting ``collision_detector``): see DETECTOR_NOTES below for the
-measured comparison that chose the default.
+Measured with dartpy 6.20.0 on this project's machine (1 kHz, one robot; "flat": 4 s at
+0.5 m/s, mu 0.95; "gravel": 10 s at 0.5 m/s from x = -0.8 m over the 4-tile gravel strip of
+METHOD.md; "turn": 3 s at v = w = 0.5, yaw rate averaged over 1-3 s; steps/s of the
+stepping loop; the machine is shared, so +-20 %):
+
+collision detector (setting ``collision_detector``), with the NSGS Coulomb solver:
+  detector  rest z   flat y drift  flat      gravel    turn      turn yaw rate
+  fcl       0.13228  -2.4 mm       9 800/s   2 700/s   2 500/s   0.25 rad/s
+  ode       0.13228  -2.7 mm       4 800/s   1 800/s     490/s   0.17 rad/s
+  dart      0.13228  -2.7 mm      22 000/s   2 100/s   1 800/s   0.21 rad/s
+  bullet    0.13228  -3.7 mm       8 700/s   2 800/s   2 200/s   0.27 rad/s
+All rest at base_link's 0.13228 m and drive straight. FCL (analytic primitives) is the
+default: one contact per wheel at the middle of the wheel's width, symmetric, and
+1.5x (gravel) to 5x (turning) faster than the ODE detector, whose two contacts across
+each wheel's width make the friction problem statically indeterminate and the iterative
+solver slow to converge. Not chosen: Bullet, because with DART's default Dantzig solver it
+left the robot stuck at the 2 cm edge of the gravel bed (x = 0.14 m, wheels spinning at
+their command); DART's own detector, because it puts each wheel's single contact on an
+edge of the wheel, inner edge on the left wheels and outer edge on the right ones, which
+biases turning.
+
+contact solver (setting ``lcp_solver``): DART's default is a Dantzig boxed LCP whose
+friction is a *pyramid* (box) aligned with the world x and y axes. With it the Husky,
+whose centre of mass is 8.5 cm right of its centre line, hardly turns: the right wheels
+grip, the robot goes straight at the right wheels' speed and the yaw rate only creeps up
+(0.004 rad/s averaged over 1-3 s for a 0.5 rad/s command with the ODE detector, 0.0007
+with FCL; MuJoCo with its elliptic cone: 0.13, PyBullet 0.056, ODE 0.031). DART 6.20's
+NSGS solver with the Coulomb law solves the true friction cone (the choice the MuJoCo
+adapter makes with ``cone: elliptic``), so it is the default; ``lcp_solver: dantzig`` gives
+DART's stock (and Gazebo's) behaviour. NSGS is iterative: its sweeps stop at
+``solver_tolerance`` or ``solver_sweeps`` (DART's defaults, 1e-5 and 100). A skid-steer turn
+is sensitive to where it stops (yaw rate over 1-3 s 0.17 / 0.14 / 0.08 rad/s for
+tolerance 1e-5 / 1e-5 with 1000 sweeps / 1e-7 with the ODE detector): contact forces of a
+four-wheeled rigid robot are not unique, and the solver picks one solution.
 """
 
 from __future__ import annotations
@@ -35,8 +68,11 @@ from simpick.errors import InputError
 from simpick.imu import imu_from_kinematics
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
-DEFAULTS = {"collision_detector": "ode", "lcp_solver": "dantzig", "friction_law": "coulomb", "solver_sweeps": 100, "solver_tolerance": 1e-5}
-DETECTORS = ("ode", "bullet", "fcl", "dart")
+DEFAULTS = {"collision_detector": "fcl", "lcp_solver": "nsgs", "friction_law": "coulomb",
+            "solver_sweeps": 100, "solver_tolerance": 1e-5}
+DETECTORS = ("fcl", "ode", "bullet", "dart")
+SOLVERS = ("nsgs", "dantzig", "pgs")
+FRICTION_LAWS = ("coulomb", "box", "associated")
 
 
 def _isometry(dart, position, rotation=None):
@@ -66,7 +102,7 @@ class DartEngine:
             return c.BulletCollisionDetector()
         if name == "fcl":
             detector = c.FCLCollisionDetector()
-            # FCL's default turns primitives into meshes; keep them analytic
+            # analytic primitives rather than meshes (dartpy 6.20's default, made explicit)
             detector.setPrimitiveShapeType(c.FCLCollisionDetector.PrimitiveShape.PRIMITIVE)
             return detector
         if name == "dart":
@@ -86,19 +122,21 @@ class DartEngine:
         world.setTimeStep(scenario.timestep)
         solver = world.getConstraintSolver()
         solver.setCollisionDetector(self._detector(dart, settings["collision_detector"]))
+        if settings["lcp_solver"] not in SOLVERS:
+            raise InputError("engines.dart.lcp_solver", f"{settings['lcp_solver']!r}", f"use one of {list(SOLVERS)}")
         if settings["lcp_solver"] == "nsgs":
             C = dart.constraint
+            if settings["friction_law"] not in FRICTION_LAWS:
+                raise InputError("engines.dart.friction_law", f"{settings['friction_law']!r}",
+                                 f"use one of {list(FRICTION_LAWS)}")
             options = C.NsgsFrictionSolver.Options()
             options.law = getattr(C.NsgsFrictionSolver.Law, settings["friction_law"].capitalize())
             options.maxSweeps = int(settings["solver_sweeps"])
             options.tolerance = float(settings["solver_tolerance"])
             solver.setBoxedLcpSolver(C.NsgsFrictionSolver(options))
-        elif settings["lcp_solver"] == "fbf":
-            C = dart.constraint
-            options = C.FbfFrictionSolver.Options()
-            solver.setBoxedLcpSolver(C.FbfFrictionSolver(options))
         elif settings["lcp_solver"] == "pgs":
             solver.setBoxedLcpSolver(dart.constraint.PgsBoxedLcpSolver())
+        # "dantzig": DART's default primary solver (with PGS as its fallback), left as it is
 
         terrain = scenario.terrain
         robot_mu = max(1.0, float(terrain["friction"]), float(scenario.ground_friction))
@@ -116,8 +154,8 @@ class DartEngine:
             node.createDynamicsAspect().setFrictionCoeff(mu)
             return node
 
-        # Ground and terrain on one static body: DART skips pairs within one skeleton (self
-        # collision is off by default), so the stones are never tested against their bed.
+        # Ground and terrain on one static body (see the module docstring); this alone took
+        # the gravel strip from 4 800 to 6 300 steps/s with the Dantzig solver.
         ground, body = static_skeleton("terrain")
         add_shape(body, dart.dynamics.PlaneShape(np.array([0.0, 0.0, 1.0]), 0.0),
                   _isometry(dart, [0, 0, 0]), scenario.ground_friction)
@@ -130,7 +168,7 @@ class DartEngine:
 
         robot = scenario.robot
         loader = dart.utils.DartLoader()
-        uri = "file://" + str(robot.urdf.resolve())
+        uri = robot.urdf.resolve().as_uri()
         robots = []
         for i, (x, y, yaw) in enumerate(scenario.starts):
             skel = loader.parseSkeleton(uri)

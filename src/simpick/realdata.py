@@ -1,0 +1,290 @@
+"""Real robot data in the workflow: segments, replays, and their comparison with the engines.
+
+Two ways in:
+- the committed constant-command segments (``resources/real/*_segments.csv``): every engine
+  drives each segment's command on its terrain class; no download needed;
+- the full replay (``borealtc_dir`` set): every run imported to the canonical form, driven
+  through every engine by its recorded wheel speeds, compared window by window.
+
+Both produce the paper's Eq. 7 errors per test (so they can feed the accuracy scores), the
+yaw-rate gain, and per-engine summaries with 95 % bootstrap intervals over runs.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import yaml
+
+from simpick import metrics, realmetrics
+from simpick.errors import InputError
+from simpick.metrics import AXES
+
+QUANTITIES = ("angular", "linear")
+UNITS = {"angular": "rad/s", "linear": "m/s^2"}
+
+
+def _write_csv(frame: pd.DataFrame, path: str | Path) -> None:
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    frame.to_csv(path, index=False, float_format="%.6g")
+
+
+def flat_terrain(name: str, friction: float) -> dict:
+    from simpick.terrain import generate
+
+    return generate(name, "flat", 0, friction, tiles=0)
+
+
+def load_segments(path: str | Path) -> pd.DataFrame:
+    from simpick.realsegments import COLUMNS
+
+    try:
+        frame = pd.read_csv(path, dtype={"run": str})
+    except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
+        raise InputError(str(path), f"cannot read the segments table: {exc}") from None
+    missing = [c for c in COLUMNS if c not in frame.columns]
+    if missing:
+        raise InputError(str(path), f"columns {missing} are missing",
+                         "regenerate it: snakemake --cores 2 real_segments --config borealtc_dir=PATH")
+    return frame
+
+
+# --- segments -------------------------------------------------------------------------------------
+
+def segments_job(folder: str, output_csv: str, output_provenance: str, params: dict) -> None:
+    from simpick.realsegments import derive
+
+    rules = params["segment_rules"]
+    table, provenance = derive(folder, tolerance=rules["tolerance"], min_duration=rules["min_duration"],
+                               max_duration=rules["max_duration"], settle=rules["settle"],
+                               min_turn=rules["min_turn"], per_kind=int(rules["per_kind"]), track=params["track"])
+    _write_csv(table, output_csv)
+    Path(output_provenance).write_text(yaml.safe_dump(provenance, sort_keys=False))
+
+
+def simulate_segments_job(segments_csv: str, urdf: str, outputs: list[str], params: dict) -> None:
+    """All segments of one terrain class on one engine (one job: short runs, one import)."""
+    from simpick.health import HealthLimits
+    from simpick.imu import ImuModel
+    from simpick.simulate import Case, config_hash, run_case
+    from simpick.traces import write_trace
+
+    segments = load_segments(segments_csv)
+    segments = segments[segments.terrain_class == params["terrain_class"]].set_index("segment")
+    friction = params["class"]["friction"]
+    terrain = flat_terrain(params["terrain_class"], friction)
+    for output in outputs:
+        seg = segments.loc[Path(output).stem]
+        case = Case(engine=params["engine"], terrain=params["terrain_class"], motion=seg.name, v=float(seg.v),
+                    w=float(seg.w), duration=float(seg.settle + seg.duration), start=(0.0, 0.0, 0.0))
+        frame, meta = run_case(case, urdf=urdf, terrain=terrain, track=params["robot"]["track"],
+                               max_wheel_torque=params["robot"]["max_wheel_torque"],
+                               timestep=params["physics"]["timestep"], ground_friction=friction,
+                               engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
+                               seed=int(params["seed"]), limits=HealthLimits(**params["health"]))
+        meta.update({"dataset": seg.dataset, "run": seg.run, "segment": seg.name,
+                     "window": [float(seg.settle), float(seg.settle + seg.duration)],
+                     "friction_source": params["class"].get("source", ""),
+                     "config_hash": config_hash(params)})
+        write_trace(frame, meta, output)
+
+
+def segment_metrics_job(segments_csv: str, traces: list[str], track: float, outputs: dict) -> None:
+    from simpick.traces import read_trace
+
+    segments = load_segments(segments_csv).set_index("segment")
+    rows = []
+    for path in traces:
+        frame, meta = read_trace(path)
+        seg = segments.loc[meta["segment"]]
+        row = {"engine": meta["engine"], "terrain_class": seg.terrain_class, "segment": seg.name, "run": seg.run,
+               "kind": seg.kind, "status": meta["health"]["status"], "reasons": "; ".join(meta["health"]["reasons"]),
+               "yaw_rate_gain_real": seg.yaw_rate_gain}
+        if row["status"] == "ok":
+            lo, hi = meta["window"]
+            window = frame[(frame.time > lo) & (frame.time <= hi)]
+            stats = metrics.trace_stats(window)
+            for q in QUANTITIES:
+                real = {a: {"mean": seg[f"{q}_{a}_mean"], "range": seg[f"{q}_{a}_range"]} for a in AXES}
+                row[f"error_{q}"] = metrics.test_error(stats[q], real)
+            row["yaw_rate_gain_sim"] = (realmetrics.yaw_rate_gain(
+                window.wz.to_numpy(), np.full(len(window), seg.v_left), np.full(len(window), seg.v_right), track)
+                if seg.kind == "turning" else float("nan"))
+            row["speed_sim"] = float(window.v_forward.mean())
+        rows.append(row)
+    per_test = pd.DataFrame(rows)
+    _write_csv(per_test, outputs["per_test"])
+    _summaries(per_test, "terrain_class", outputs)
+
+
+# --- full replay ----------------------------------------------------------------------------------
+
+def discover_runs(folder: str | Path) -> list[tuple[str, str]]:
+    """(terrain class, run id) of every run in a BorealTC-layout folder, for the DAG."""
+    from simpick.reallogs import borealtc
+
+    return [(c.lower(), r) for c, r, _, _ in borealtc.discover(folder)]
+
+
+def import_job(folder: str, terrain_class: str, run: str, output: str, track: float) -> None:
+    from simpick.reallogs import borealtc, write_canonical
+
+    root = Path(folder) / terrain_class.upper()
+    log = borealtc.read_run(root / f"imu_{run}.csv", root / f"pro_{run}.csv", terrain_class.upper(), track=track)
+    write_canonical(log, output)
+
+
+def replay_job(log_file: str, urdf: str, output: str, params: dict) -> None:
+    """Drive one engine with a real run's recorded wheel speeds (zero-order hold, from rest)."""
+    from simpick.health import HealthLimits
+    from simpick.imu import ImuModel
+    from simpick.reallogs import read_canonical
+    from simpick.robot import load_robot
+    from simpick.simulate import config_hash, run_commands, stable_seed
+    from simpick.traces import write_trace
+
+    log = read_canonical(log_file)
+    robot = load_robot(urdf)
+    dt = params["physics"]["timestep"]
+    cmd = log.wheel_commands(params["robot"]["track"])
+    duration = float(min(log.imu.time.iloc[-1], cmd.time.iloc[-1]))
+    t = dt * np.arange(int(duration / dt))
+    held = np.clip(np.searchsorted(cmd.time.to_numpy(), t, side="right") - 1, 0, len(cmd) - 1)
+    left, right = cmd.v_left.to_numpy()[held], cmd.v_right.to_numpy()[held]
+    wheels = np.stack([left, right, left, right], axis=1) / robot.wheel_radius
+    friction = params["class"]["friction"]
+    frame, meta = run_commands(params["engine"], wheels, robot=robot,
+                               terrain=flat_terrain(params["terrain_class"], friction), start=(0.0, 0.0, 0.0),
+                               timestep=dt, ground_friction=friction, max_wheel_torque=params["robot"]["max_wheel_torque"],
+                               engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
+                               noise_seed=stable_seed(params["seed"], params["engine"], log.meta["name"]),
+                               limits=HealthLimits(**params["health"]))
+    meta.update({"terrain": params["terrain_class"], "motion": f"replay-{log.meta['run_id']}",
+                 "dataset": log.meta.get("dataset"), "run": str(log.meta["run_id"]), "seed": params["seed"],
+                 "replay_of": log.meta.get("source_files"), "config_hash": config_hash(params)})
+    write_trace(frame, meta, output)
+
+
+def replay_metrics_job(logs: list[str], traces: list[str], params: dict, outputs: dict) -> None:
+    """Per run and window: Eq. 7 errors, yaw-rate gains, aligned errors, PSD distance."""
+    from simpick.reallogs import read_canonical
+    from simpick.traces import read_trace
+
+    track, window_s = params["track"], params["window"]
+    real = {}
+    for path in logs:
+        log = read_canonical(path)
+        real[(log.meta["terrain_class"].lower(), str(log.meta["run_id"]))] = log
+    rows = []
+    for path in traces:
+        sim, meta = read_trace(path)
+        key = (meta["terrain"], meta["run"])
+        log = real[key]
+        base = {"engine": meta["engine"], "terrain_class": key[0], "run": key[1],
+                "status": meta["health"]["status"], "reasons": "; ".join(meta["health"]["reasons"])}
+        if base["status"] != "ok":
+            rows.append(base)
+            continue
+        cmd = log.wheel_commands(track)
+        imu = log.imu
+        # the real IMU resampled at the simulated sample times (both 100 Hz, same clock from 0)
+        aligned = {c: np.interp(sim.time, imu.time, imu[c]) for c in ("ax", "ay", "az", "wx", "wy", "wz")}
+        held = np.clip(np.searchsorted(cmd.time.to_numpy(), sim.time.to_numpy(), side="right") - 1, 0, len(cmd) - 1)
+        v_left, v_right = cmd.v_left.to_numpy()[held], cmd.v_right.to_numpy()[held]
+        edges = np.arange(0.0, float(sim.time.iloc[-1]) + 1e-9, window_s)
+        for w0 in edges:
+            sel = ((sim.time > w0) & (sim.time <= w0 + window_s)).to_numpy()
+            if sel.sum() < window_s * 50:  # a tail shorter than half a window
+                continue
+            real_frame = pd.DataFrame({c: v[sel] for c, v in aligned.items()})
+            sim_stats, real_stats = metrics.trace_stats(sim[sel]), metrics.trace_stats(real_frame)
+            row = dict(base, window_start=w0, window_end=w0 + window_s)
+            for q in QUANTITIES:
+                row[f"error_{q}"] = metrics.test_error(sim_stats[q], real_stats[q])
+            row["yaw_rate_gain_real"] = realmetrics.yaw_rate_gain(real_frame.wz, v_left[sel], v_right[sel], track)
+            row["yaw_rate_gain_sim"] = realmetrics.yaw_rate_gain(sim.wz[sel], v_left[sel], v_right[sel], track)
+            row["rmse_yaw_rate"] = realmetrics.aligned_rmse(real_frame.wz.to_numpy(), sim.wz[sel].to_numpy(), 100.0)
+            row["rmse_ax"] = realmetrics.aligned_rmse(real_frame.ax.to_numpy(), sim.ax[sel].to_numpy(), 100.0)
+            row["psd_distance_az"] = realmetrics.psd_distance(real_frame.az.to_numpy(), sim.az[sel].to_numpy(), 100.0)
+            rows.append(row)
+    per_window = pd.DataFrame(rows)
+    _write_csv(per_window, outputs["per_window"])
+    # one test = one run: Eq. 7 sums the windows' errors, the other figures average over windows
+    ok = per_window[per_window.status == "ok"]
+    error_cols = [f"error_{q}" for q in QUANTITIES]
+    other = [c for c in ("yaw_rate_gain_real", "yaw_rate_gain_sim", "rmse_yaw_rate", "rmse_ax", "psd_distance_az")]
+    per_run = (ok.groupby(["engine", "terrain_class", "run"])
+               .agg({**{c: "sum" for c in error_cols}, **{c: "mean" for c in other}}).reset_index())
+    per_run["status"], per_run["kind"] = "ok", "replay"
+    failed = per_window[per_window.status != "ok"][["engine", "terrain_class", "run", "status", "reasons"]]
+    per_test = pd.concat([per_run, failed], ignore_index=True)
+    per_test["segment"] = per_test["terrain_class"] + "-" + per_test["run"]
+    _write_csv(per_test, outputs["per_test"])
+    _summaries(per_test, "terrain_class", outputs)
+
+
+# --- summaries shared by both -------------------------------------------------------------------------
+
+FIGURES = ("error_angular", "error_linear", "yaw_rate_gain_sim", "rmse_yaw_rate", "rmse_ax", "psd_distance_az")
+
+
+def _summaries(per_test: pd.DataFrame, group: str, outputs: dict) -> None:
+    """Per engine and terrain class: mean and 95 % bootstrap CI of every figure over tests;
+    paired engine differences; and the Eq. 7 totals in the lab study's imu_errors layout."""
+    ok = per_test[per_test.status == "ok"]
+    rows = []
+    for (engine, cls), g in ok.groupby(["engine", group]):
+        row = {"engine": engine, group: cls, "n_tests": len(g)}
+        for fig in FIGURES + ("yaw_rate_gain_real",):
+            if fig in g:
+                mean, lo, hi = realmetrics.bootstrap_ci(g[fig].to_numpy(), seed=0)
+                row.update({fig: mean, f"{fig}_low": lo, f"{fig}_high": hi})
+        rows.append(row)
+    summary = pd.DataFrame(rows)
+    _write_csv(summary, outputs["summary"])
+
+    pairs = []
+    engines = sorted(ok.engine.unique())
+    for cls, g in ok.groupby(group):
+        wide = g.pivot_table(index="segment", columns="engine", values=["error_angular", "error_linear"])
+        for i, a in enumerate(engines):
+            for b in engines[i + 1:]:
+                for fig in ("error_angular", "error_linear"):
+                    if (fig, a) not in wide or (fig, b) not in wide:
+                        continue
+                    mean, lo, hi = realmetrics.paired_difference_ci(wide[(fig, a)], wide[(fig, b)], seed=0)
+                    verdict = ("too few tests" if np.isnan(lo) else
+                               f"{b} closer" if lo > 0 else f"{a} closer" if hi < 0 else "no clear difference")
+                    pairs.append({group: cls, "figure": fig, "engine_a": a, "engine_b": b,
+                                  "mean_a_minus_b": mean, "low": lo, "high": hi, "verdict": verdict})
+    _write_csv(pd.DataFrame(pairs, columns=[group, "figure", "engine_a", "engine_b", "mean_a_minus_b",
+                                            "low", "high", "verdict"]), outputs["pairwise"])
+
+    # Eq. 7 sums over tests; an engine that failed a test would otherwise look better for it,
+    # so the totals cover only the tests every engine completed, and the rest are named.
+    all_tests = set(per_test.segment)
+    common = set.intersection(*(set(g[g.status == "ok"].segment) for _, g in per_test.groupby("engine"))) \
+        if len(per_test) else set()
+    excluded = ";".join(sorted(all_tests - common))
+    totals = []
+    for engine, g in per_test.groupby("engine"):
+        good = g[g.segment.isin(common)]
+        for q in QUANTITIES:
+            totals.append({"engine": engine, "quantity": q, "error": good[f"error_{q}"].sum() if len(good) else float("nan"),
+                           "unit": UNITS[q], "n_tests": len(good), "tests": ";".join(sorted(good.segment)),
+                           "excluded": excluded})
+    _write_csv(pd.DataFrame(totals), outputs["imu_errors"])
+
+
+def provenance_note(path: str | Path) -> dict:
+    try:
+        return yaml.safe_load(Path(path).read_text()) or {}
+    except OSError:
+        return {}
+
+
+def dump_json(obj, path) -> None:
+    Path(path).write_text(json.dumps(obj, indent=1))
