@@ -137,21 +137,18 @@ def import_job(folder: str, terrain_class: str, run: str, output: str, track: fl
     write_canonical(log, output)
 
 
-def replay_job(log_file: str, urdf: str, output: str, params: dict) -> None:
+def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> tuple[pd.DataFrame, dict]:
     """Drive one engine with a real run's recorded wheel speeds (zero-order hold, from rest)."""
     from simpick.health import HealthLimits
     from simpick.imu import ImuModel
-    from simpick.reallogs import read_canonical
     from simpick.robot import load_robot
-    from simpick.simulate import config_hash, run_commands, stable_seed
-    from simpick.traces import write_trace
+    from simpick.simulate import run_commands, stable_seed
 
-    log = read_canonical(log_file)
     robot = load_robot(urdf)
     dt = params["physics"]["timestep"]
     cmd = log.wheel_commands(params["robot"]["track"])
-    duration = float(min(log.imu.time.iloc[-1], cmd.time.iloc[-1]))
-    t = dt * np.arange(int(duration / dt))
+    end = float(min(log.imu.time.iloc[-1], cmd.time.iloc[-1]))
+    t = dt * np.arange(int(round((end if duration is None else min(end, duration)) / dt)))
     held = np.clip(np.searchsorted(cmd.time.to_numpy(), t, side="right") - 1, 0, len(cmd) - 1)
     left, right = cmd.v_left.to_numpy()[held], cmd.v_right.to_numpy()[held]
     wheels = np.stack([left, right, left, right], axis=1) / robot.wheel_radius
@@ -164,7 +161,17 @@ def replay_job(log_file: str, urdf: str, output: str, params: dict) -> None:
                                limits=HealthLimits(**params["health"]))
     meta.update({"terrain": params["terrain_class"], "motion": f"replay-{log.meta['run_id']}",
                  "dataset": log.meta.get("dataset"), "run": str(log.meta["run_id"]), "seed": params["seed"],
-                 "replay_of": log.meta.get("source_files"), "config_hash": config_hash(params)})
+                 "replay_of": log.meta.get("source_files")})
+    return frame, meta
+
+
+def replay_job(log_file: str, urdf: str, output: str, params: dict) -> None:
+    from simpick.reallogs import read_canonical
+    from simpick.simulate import config_hash
+    from simpick.traces import write_trace
+
+    frame, meta = replay_log(read_canonical(log_file), urdf, params)
+    meta["config_hash"] = config_hash(params)
     write_trace(frame, meta, output)
 
 

@@ -14,6 +14,7 @@ thing ctypes can pass, and matters in a stepping loop that runs 10 000+ times in
 
 from __future__ import annotations
 
+import collections
 import ctypes
 import ctypes.util
 import os
@@ -66,6 +67,8 @@ class dContact(Structure):
 
 # void dNearCallback(void *data, dGeomID o1, dGeomID o2)
 dNearCallback = ctypes.CFUNCTYPE(None, c_void_p, c_void_p, c_void_p)
+# void dMessageFunction(int errnum, const char *msg, va_list ap): msg is a printf format
+dMessageFunction = ctypes.CFUNCTYPE(None, c_int, c_char_p, c_void_p)
 
 # --- constants (values from ODE 0.16's headers; checked by tests/test_ode_binding.py) ----
 # common.h: enum { D_ALL_PARAM_NAMES(0) ... } -- joint parameters of the first axis
@@ -101,6 +104,7 @@ _SIGNATURES: dict[str, tuple] = {
     "dGetConfiguration": (c_char_p, []),
     "dCheckConfiguration": (c_int, [c_char_p]),
     "dRandSetSeed": (None, [c_ulong]),
+    "dSetMessageHandler": (None, [dMessageFunction]),
     # world
     "dWorldCreate": (c_void_p, []),
     "dWorldDestroy": (None, [c_void_p]),
@@ -173,6 +177,18 @@ _SIGNATURES: dict[str, tuple] = {
 
 _lib: SimpleNamespace | None = None
 
+# ODE's non-fatal messages (e.g. "LCP internal error, s <= 0" from dWorldStep's solver,
+# which then carries on) are counted here instead of being printed to stderr; the
+# adapter clears the counter before a run and logs what it holds after.
+messages: collections.Counter = collections.Counter()
+
+
+def _on_message(number: int, text: bytes | None, _args) -> None:
+    messages[(number, (text or b"").decode(errors="replace"))] += 1
+
+
+_message_handler = dMessageFunction(_on_message)
+
 
 def _find_library() -> tuple[ctypes.CDLL, str]:
     candidates = []
@@ -217,6 +233,7 @@ def load() -> SimpleNamespace:
     if not lib.dInitODE2(0):
         raise OdeUnavailable(f"dInitODE2 failed in {name}")
     lib.configuration = lib.dGetConfiguration().decode()
+    lib.dSetMessageHandler(_message_handler)
     _lib = lib
     return lib
 

@@ -15,34 +15,46 @@ terrain as every other engine:
   the same servo PyBullet's VELOCITY_CONTROL is.
 - terrain: boxes, spheres and a plane as static geoms (no body).
 - contacts: ``dSpaceCollide`` calls a Python callback for each pair whose bounding boxes
-  overlap; it runs ``dCollide`` and turns each contact into a contact joint. Friction:
-  the robot's surfaces carry none of their own; a contact's mu is the terrain's (or the
-  ground's, ``scenario.ground_friction``) coefficient, robot-robot contacts get 1.0 (what
-  PyBullet's product 1.0 x 1.0 gives). Surface mode ``dContactApprox1``: the friction
-  pyramid's bound is mu x normal force (Coulomb). Without it ODE treats ``mu`` as a fixed
-  force limit in newtons, which is not a friction coefficient at all. ``dContactApprox1`` is
-  also what Gazebo's ODE integration sets.
+  overlap; it runs ``dCollide`` straight into a preallocated ``dContact`` array whose
+  surface parameters are preset per friction value, and turns each contact into a contact
+  joint. Friction: the robot's surfaces carry none of their own; a contact's mu is the
+  terrain's (or the ground's, ``scenario.ground_friction``) coefficient, robot-robot
+  contacts get 1.0 (what PyBullet's product 1.0 x 1.0 gives). Surface mode
+  ``dContactApprox1``: the friction pyramid's bound is mu x normal force (Coulomb);
+  without it ODE reads ``mu`` as a fixed force limit in newtons, not a coefficient.
+  Webots' and Gazebo's ODE integrations set it too. ODE has no friction cone: the pyramid's
+  two directions are world-aligned (dPlaneSpace of the normal).
 - category bits keep static terrain from being paired with itself (every stone overlaps its
-  gravel bed, and each such pair would otherwise cost a Python callback per step) and keep
-  a robot's own shapes apart; robots still collide with each other.
+  gravel bed; each pair would cost a Python callback per step) and keep a robot's own
+  shapes apart; robots still collide with each other.
 
-Settings (``scenario.settings``, all optional):
-  stepper: "world" (dWorldStep, default) or "quick" (dWorldQuickStep)
+Settings (``scenario.settings``, all optional; figures measured here, 1 kHz, one robot):
+  stepper: "world" (default) or "quick". dWorldStep solves the constraints exactly
+    (Dantzig LCP); with one robot the system is small (about 20 joint rows + 3 per
+    contact), and it was the faster of the two: flat 4 s at 0.5 m/s 35 600 against 27 700
+    steps/s for dWorldQuickStep with 50 iterations; gravel strip 26 000 against 20 400.
+    Both pass the conformance suite. The exact solver now and then prints "LCP internal
+    error, s <= 0" (a degenerate pivot it recovers from; 4 times in 10 s on the bumps
+    strip); the adapter counts these and logs them instead of letting them reach stderr.
   quick_iterations: 50 (quick stepper only; ODE's default is 20, Gazebo's 50)
-  erp: 0.2, cfm: 1e-5 (ODE's defaults)
-  contact_surface_layer: 0.0 m (ODE's default; Gazebo uses 0.001, which lets the robot
-    rest 1 mm deep in the ground: 0.13127 m instead of 0.13228 m)
-  max_contacts: 4 (contact points per geom pair)
-  space: "hash" (default) or "quadtree" or "simple"
+  erp: 0.2, cfm: 1e-5 (ODE's defaults; Webots uses the same)
+  contact_surface_layer: 0.0 m (ODE's default). Gazebo's 0.001 lets the robot rest 1 mm
+    deep: base_link at 0.13127 m instead of 0.13228 m.
+  contact_max_correcting_vel: 0.1 m/s (ODE's default is unlimited, Gazebo's 100 m/s).
+    ODE pushes penetration out at ERP x depth / dt; when a wheel meets a plywood edge of
+    the bumps strip that is a kick: unlimited, the base velocity jumped by 0.90 m/s within
+    one step and the run failed the health check (limit 0.5 m/s); 0.5 m/s -> 0.36 m/s,
+    0.1 m/s -> 0.24 m/s (PyBullet 0.49, DART 0.41, MuJoCo 0.04 on the same strip). Other
+    engines cap this too (DART: 1 mm/s; Bullet: split impulse).
+  max_contacts: 4 contact points per geom pair (8 gave identical runs: ODE's cylinder
+    colliders return at most 4 here; a wheel on the ground gets 2, across its width)
+  space: "quadtree" (default), "hash" or "simple"; quadtree_cell: 0.4 m. A hash space
+    rebuilds its table every step, for every static stone: gravel strip 7 300 steps/s
+    (hash) against 25 500 (quadtree with 0.4 m cells; 10 300 with 1.6 m cells, 24 700 with
+    0.2 m), flat ground the same either way.
 
-Stepper: ``dWorldStep`` solves the whole constraint system exactly (Dantzig LCP); with one
-robot its system is small (about 20 joint rows + 3 per contact) and the exact solve
-keeps the stiff wheel motors and the 46 kg : 2.6 kg chassis-wheel mass ratio accurate.
-``dWorldQuickStep`` (projected Gauss-Seidel, Gazebo's default) scales better to many
-bodies but converges slowly on such ratios. Measured here (one robot, 1 kHz, flat ground
-and the 4-tile gravel strip, figures in the ODE section of the adapter's report):
-both steppers pass the conformance suite; the Python collision callback, not the solver,
-dominates the step cost, so the exact stepper is the default.
+Steps/s are of the whole Python stepping loop, which on flat ground spends most of its
+time in the collision callback (4 geom pairs, 8 contacts per step).
 
 Determinism: ODE's only randomness is the constraint reordering of the quick stepper
 (``dRandInt``); the seed is reset before every run, and geoms are created in a fixed
@@ -52,6 +64,7 @@ order, so the same inputs give identical arrays.
 from __future__ import annotations
 
 import ctypes
+import logging
 import math
 import time
 import xml.etree.ElementTree as ET
@@ -64,11 +77,13 @@ from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario
 from simpick.errors import InputError, SimulationFailure
 from simpick.imu import imu_from_kinematics, rotation_matrices
 
+LOG = logging.getLogger(__name__)
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 TERRAIN_BIT = 1  # category bit of static terrain; robot i gets bit i + 1
 ROBOT_ROBOT_FRICTION = 1.0
 DEFAULTS = {"stepper": "world", "quick_iterations": 50, "erp": 0.2, "cfm": 1e-5,
-            "contact_surface_layer": 0.0, "max_contacts": 4, "space": "quadtree", "quadtree_cell": 0.4}
+            "contact_surface_layer": 0.0, "contact_max_correcting_vel": 0.1, "max_contacts": 4,
+            "space": "quadtree", "quadtree_cell": 0.4}
 
 
 # --- small rigid-body helpers ------------------------------------------------------------
@@ -231,6 +246,7 @@ class _World:
         lib.dWorldSetERP(self.world, float(s["erp"]))
         lib.dWorldSetCFM(self.world, float(s["cfm"]))
         lib.dWorldSetContactSurfaceLayer(self.world, float(s["contact_surface_layer"]))
+        lib.dWorldSetContactMaxCorrectingVel(self.world, float(s["contact_max_correcting_vel"]))
         lib.dWorldSetAutoDisableFlag(self.world, 0)
         lib.dWorldSetQuickStepNumIterations(self.world, int(s["quick_iterations"]))
         if s["stepper"] not in ("world", "quick"):
@@ -439,6 +455,7 @@ class _World:
         space, world, group = self.space, self.world, self.group
         ok = 1
 
+        _ode.messages.clear()
         cpu0, wall0 = time.process_time(), time.perf_counter()
         for k in range(steps):
             if k in change_set:
@@ -450,6 +467,9 @@ class _World:
             for src, size, off in copies:
                 memmove(row + off, src, size)
         wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+        if _ode.messages:
+            LOG.warning("ODE messages during %d steps: %s", steps,
+                        "; ".join(f"{n} x ODE message {num}: {text!r}" for (num, text), n in _ode.messages.items()))
         if not ok:
             raise SimulationFailure("ODE's stepper failed (dWorldStep/dWorldQuickStep returned 0: out of memory)")
 

@@ -1,0 +1,83 @@
+"""Real data through the engines: segments, replay and their comparison."""
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from conftest import ROOT, SHARED
+from simpick.realdata import load_segments, replay_log
+from simpick.reallogs import RealLog
+from simpick.realsegments import COLUMNS, find_segments
+
+BOREALTC = SHARED / "data" / "borealtc"
+CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
+needs_borealtc = pytest.mark.skipif(not BOREALTC.is_dir(), reason=f"BorealTC logs not found at {BOREALTC}")
+
+
+def synthetic_log() -> RealLog:
+    """10 s straight at 0.3 m/s, then 10 s turning left (w = 0.4 rad/s) with a yaw gain of 0.6."""
+    t = np.arange(0, 20, 0.01)
+    turning = t >= 10
+    wz = np.where(turning, 0.6 * 0.4, 0.0)
+    imu = pd.DataFrame({"time": t, "ax": 0.0, "ay": 0.0, "az": 9.81, "wx": 0.0, "wy": 0.0, "wz": wz})
+    tc = np.arange(0, 20, 1 / 6.5)
+    w = np.where(tc >= 10, 0.4, 0.0)
+    commands = pd.DataFrame({"time": tc, "v_left": 0.3 - w * 0.555 / 2, "v_right": 0.3 + w * 0.555 / 2})
+    return RealLog(imu=imu, commands=commands, meta={"dataset": "synthetic", "run_id": "00",
+                                                      "terrain_class": "FLOOR", "name": "synthetic"})
+
+
+def test_segments_are_found_classified_and_measured():
+    rows = find_segments(synthetic_log(), tolerance=0.02, min_duration=4.0, max_duration=6.0, settle=1.0,
+                         min_turn=0.1, track=0.555)
+    assert [r["kind"] for r in rows] == ["straight", "turning"]
+    straight, turning = rows
+    assert straight["duration"] == pytest.approx(6.0, abs=0.2)  # capped at max_duration
+    assert turning["w"] == pytest.approx(0.4) and turning["v"] == pytest.approx(0.3)
+    assert turning["yaw_rate_gain"] == pytest.approx(0.6)
+    assert turning["linear_z_mean"] == pytest.approx(9.81)
+    assert set(COLUMNS) - {"segment"} <= set(straight)
+
+
+def test_committed_segments_table_is_valid_and_covers_every_class():
+    table = load_segments(ROOT / CONFIG["real_data"]["segments"])
+    assert set(table.terrain_class) == set(CONFIG["real_data"]["classes"])
+    assert table.segment.is_unique
+    assert (table.duration > 0).all() and table.notna()[[c for c in COLUMNS if c != "yaw_rate_gain"]].all().all()
+    turning = table[table.kind == "turning"]
+    assert turning.yaw_rate_gain.between(0.0, 1.2).all()
+
+
+@needs_borealtc
+def test_committed_segments_match_a_fresh_derivation():
+    from simpick.realsegments import derive
+
+    rules = CONFIG["real_data"]["segment_rules"]
+    fresh, _ = derive(BOREALTC, tolerance=rules["tolerance"], min_duration=rules["min_duration"],
+                      max_duration=rules["max_duration"], settle=rules["settle"], min_turn=rules["min_turn"],
+                      per_kind=rules["per_kind"], track=CONFIG["robot"]["track"])
+    committed = load_segments(ROOT / CONFIG["real_data"]["segments"])
+    pd.testing.assert_frame_equal(fresh.reset_index(drop=True), committed[fresh.columns].reset_index(drop=True),
+                                  check_dtype=False, rtol=1e-5)
+
+
+@needs_borealtc
+@pytest.mark.parametrize("engine", ["pybullet", "mujoco"])
+def test_replay_of_a_straight_run_covers_the_recorded_distance(engine):
+    from simpick.reallogs import borealtc
+
+    log = borealtc.read_run(BOREALTC / "FLOORING" / "imu_07.csv", BOREALTC / "FLOORING" / "pro_07.csv", "FLOORING")
+    duration = 30.0
+    params = {"engine": engine, "engine_settings": CONFIG["engines"][engine], "physics": CONFIG["physics"],
+              "robot": CONFIG["robot"], "imu": CONFIG["imu"], "health": CONFIG["health"], "seed": 1,
+              "terrain_class": "flooring", "class": {"friction": 0.9}}
+    frame, meta = replay_log(log, str(ROOT / CONFIG["robot"]["urdf"]), params, duration=duration)
+    assert meta["health"]["status"] == "ok", meta["health"]
+    cmd = log.wheel_commands()
+    t = np.arange(0, duration, 0.001)
+    held = np.clip(np.searchsorted(cmd.time, t, side="right") - 1, 0, len(cmd) - 1)
+    recorded = np.sum((cmd.v_left.to_numpy()[held] + cmd.v_right.to_numpy()[held]) / 2) * 0.001
+    travelled = np.sum(np.hypot(np.diff(frame.x), np.diff(frame.y)))
+    assert recorded > 5.0  # the window really drives somewhere
+    assert travelled == pytest.approx(recorded, rel=0.04)
