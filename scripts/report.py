@@ -1,6 +1,6 @@
-from simpick.report import build_report
+from simpick.report import LIST_INPUTS, build_report
 from simpick.workflow import logged
 
 with logged(snakemake.log[0]):
-    inputs = {key: (list(value) if key in ("cpu", "traces") else value) for key, value in snakemake.input.items()}
+    inputs = {key: (list(value) if key in LIST_INPUTS else value) for key, value in snakemake.input.items()}
     build_report(inputs, dict(snakemake.params.items()), snakemake.output.html, snakemake.output.pdf)

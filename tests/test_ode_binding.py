@@ -7,6 +7,7 @@ Debian's python3-pyode, whose ParamFMax is 3 where ODE 0.16 has 5).
 """
 
 import ctypes
+import dataclasses
 import math
 import re
 import shutil
@@ -15,7 +16,11 @@ import subprocess
 import numpy as np
 import pytest
 
-from simpick.engines import _ode
+from conftest import flat_terrain
+from simpick.engines import _ode, ode_engine
+from simpick.engines.base import Scenario
+from simpick.errors import InputError
+from simpick.motions import constant_commands
 
 try:
     LIB = _ode.load()
@@ -216,3 +221,83 @@ def test_missing_library_says_what_to_install(monkeypatch):
     monkeypatch.delenv("SIMPICK_LIBODE", raising=False)
     with pytest.raises(_ode.OdeUnavailable, match="apt-get install -y libode8"):
         _ode._find_library()
+
+
+# --- the adapter built on the binding ---------------------------------------------------
+
+DT = 0.001
+
+
+def _tile(friction: float, thickness: float = 0.01) -> dict:
+    terrain = flat_terrain(friction)
+    terrain["boxes"] = [[0.0, 0.0, thickness / 2, 0.0, 6.0, 6.0, thickness]]
+    return terrain
+
+
+def _simulate(robot, *, terrain, ground=0.95, torque=50.0, starts=((0.0, 0.0, 0.0),), v=0.5, duration=0.3,
+              settings=None):
+    scenario = Scenario(robot=robot, terrain=terrain, ground_friction=ground, timestep=DT, max_wheel_torque=torque,
+                        starts=starts, settings=settings or {})
+    commands = constant_commands(v, 0.0, duration, DT, 0.555, robot.wheel_radius, len(starts))
+    return ode_engine.OdeEngine().simulate(scenario, commands)
+
+
+def _speed(record, t: float) -> float:
+    return float(np.linalg.norm(record.linear_velocity[int(t / DT) - 1, :2]))
+
+
+def test_urdf_reading_folds_the_imu_into_the_chassis(robot):
+    model = ode_engine.read_urdf(robot)
+    chassis = model.chassis
+    assert math.isclose(chassis.mass, 46.034 + 0.018)
+    com = (46.034 * np.array([-0.00065, -0.085, 0.062]) + 0.018 * np.array([0.19, 0.0, 0.149])) / chassis.mass
+    assert np.allclose(chassis.com, com)
+    # about the combined COM: both inertias moved by the parallel-axis theorem, off-diagonals kept
+    base = np.array([[0.6022, -0.02364, -0.1197], [-0.02364, 1.7386, -0.001544], [-0.1197, -0.001544, 2.0296]])
+    expected = base + 2e-6 * np.eye(3)
+    for m, c in ((46.034, [-0.00065, -0.085, 0.062]), (0.018, [0.19, 0.0, 0.149])):
+        d = np.asarray(c) - com
+        expected += m * (d @ d * np.eye(3) - np.outer(d, d))
+    assert np.allclose(chassis.inertia, expected, rtol=1e-12, atol=1e-12)
+    assert abs(chassis.inertia[0, 1] - -0.02364) < 5e-4  # the IMU hardly moves it
+    assert [s[0] for s in chassis.shapes] == ["box", "box"]
+    assert len(model.wheels) == 4
+    for xyz, rot, axis, wheel in model.wheels:
+        assert np.allclose(axis, [0, 1, 0]) and math.isclose(wheel.mass, 2.637)
+        kind, (radius, length), _, shape_rot = wheel.shapes[0]
+        assert kind == "cylinder" and radius == 0.1651 and length == 0.1143
+        assert np.allclose(np.abs(shape_rot @ [0, 0, 1]), [0, 1, 0])  # cylinder axis along y
+
+
+def test_terrain_friction_not_the_robot_s_decides_the_contact(robot):
+    raised = dataclasses.replace(robot, base_height=robot.base_height + 0.01)  # spawn on the tile
+    assert _speed(_simulate(raised, terrain=_tile(0.1), ground=0.95), 0.25) < 0.3
+    assert _speed(_simulate(raised, terrain=_tile(0.95), ground=0.1), 0.25) > 0.45
+    assert _speed(_simulate(robot, terrain=flat_terrain(0.95), ground=0.1), 0.25) < 0.3
+
+
+def test_wheel_torque_bound_limits_the_acceleration(robot):
+    record = _simulate(robot, terrain=flat_terrain(), torque=1.0, duration=0.5)
+    assert _speed(record, 0.5) < 0.25  # 4 x 1 N m / 0.1651 m on 57 kg: 0.21 m/s after 0.5 s
+
+
+def test_robots_collide_with_each_other(robot):
+    record = _simulate(robot, terrain=flat_terrain(), starts=((0.0, 0.0, 0.0), (1.6, 0.0, math.pi)), duration=2.5)
+    assert record.position[:, 0].max() < 1.6 / 2 - 0.3
+
+
+@pytest.mark.parametrize("space", ["hash", "simple"])
+def test_space_kind_does_not_change_the_physics(robot, space):
+    terrain = _tile(0.5)
+    terrain["spheres"] = [[0.6, 0.28, 0.0, 0.05], [0.9, -0.28, 0.0, 0.04]]
+    raised = dataclasses.replace(robot, base_height=robot.base_height + 0.01)
+    a = _simulate(raised, terrain=terrain, duration=1.5)
+    b = _simulate(raised, terrain=terrain, duration=1.5, settings={"space": space})
+    np.testing.assert_allclose(a.position, b.position, atol=1e-9)
+
+
+def test_unknown_settings_are_refused(robot):
+    with pytest.raises(InputError, match="unknown settings"):
+        _simulate(robot, terrain=flat_terrain(), settings={"solver": "x"})
+    with pytest.raises(InputError, match="stepper"):
+        _simulate(robot, terrain=flat_terrain(), settings={"stepper": "rk4"})

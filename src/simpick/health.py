@@ -89,9 +89,10 @@ def check(record: PhysicsRecord, limits: HealthLimits, commands: np.ndarray | No
             health.fail(f"wheels do not track their command: mean speed error {smoothed[k]:.2f} rad/s "
                         f"around t = {record.time[k]:.3f} s (limit {limits.wheel_tracking} rad/s; torque bound "
                         "too low or wheels stuck)")
-        parked = np.all(commands == 0, axis=1)
-        settle = second // 2  # let the robot settle on its wheels after the spawn
-        parked[:settle] = False
+        # Parked = every wheel commanded to stop for a full second already: braking from speed
+        # takes a moment on low friction, and is not sliding.
+        stopped = np.all(commands == 0, axis=1)
+        parked = np.convolve(stopped.astype(float), np.ones(second), mode="full")[:len(stopped)] >= second
         speed = np.linalg.norm(record.linear_velocity[:, :2], axis=1)
         k = _first_sustained(parked & (speed > limits.max_parked_speed), max(1, second // 10))
         if k is not None:

@@ -64,7 +64,7 @@ class MujocoEngine:
                     terrain["friction"])
 
         robot = scenario.robot
-        kv = float(settings.get("wheel_servo_gain", 1000.0))  # N m s/rad
+        kv = float(settings.get("wheel_servo_gain", 300.0))  # N m s/rad
         for i, (x, y, yaw) in enumerate(scenario.starts):
             child = mujoco.MjSpec.from_file(str(robot.urdf))
             frame = world.add_frame(pos=[x, y, robot.base_height + SPAWN_CLEARANCE], quat=_yaw_quat(yaw))

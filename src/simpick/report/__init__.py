@@ -3,18 +3,29 @@
 :func:`build_report` is what the workflow's report rule calls. Importing this package is
 cheap; pandas, matplotlib, Jinja2 and WeasyPrint are imported only when a report is built.
 
-``inputs`` maps a short name to a path (or, for ``cpu`` and ``traces``, a list of paths):
+``inputs`` maps a short name to a path (or, for the keys in :data:`LIST_INPUTS`, a list
+of paths):
 
 required
     ``weighted``, ``runs``
 optional (a section whose input is absent says so instead of showing data)
-    ``trace_stats``, ``reference_stats``, ``imu_errors``, ``per_test_errors``, ``rtf``,
-    ``cpu``, ``qualitative``, ``table11``, ``table11_comparison``, ``worked_example``,
-    ``traces``
+    lab study: ``trace_stats``, ``reference_stats``, ``imu_errors``, ``per_test_errors``,
+    ``rtf``, ``cpu``, ``qualitative``, ``table11``, ``table11_comparison``,
+    ``worked_example``, ``traces``
+    accuracy: ``accuracy_errors`` (the Eq. 7 totals the accuracy scores were computed from;
+    rules/real.smk ``accuracy_errors()``; lab imu_errors layout)
+    real robot data (rules/real.smk): ``segments`` (the committed segment table) and
+    ``segments_provenance``; ``segments_per_test``, ``segments_summary``,
+    ``segments_pairwise``, ``segments_imu_errors``; with the full replay
+    ``replay_per_window``, ``replay_per_test``, ``replay_summary``, ``replay_pairwise``,
+    ``replay_imu_errors``, ``real_logs`` (canonical logs) and ``replay_traces``
 
 ``params``: ``weights`` (metric -> weight; the paper's defaults when absent), ``config``
 (the canonical study config, shown under provenance and used for test order, terrain strip
-and commanded paths), ``title`` (optional).
+and commanded paths), ``title`` (optional), ``accuracy`` (``reference``: "real" or
+"paper", ``errors_file``: the path the scores rule read, ``dataset``; when absent the
+lab ``imu_errors`` are taken to be the scored ones), ``real_data`` (``dataset`` and
+``classes``: terrain class -> {friction, source}, how each class was modelled).
 """
 
 from __future__ import annotations
@@ -36,9 +47,25 @@ OPTIONAL_INPUTS: tuple[str, ...] = (
     "table11_comparison",
     "worked_example",
     "traces",
+    "accuracy_errors",
+    "segments",
+    "segments_provenance",
+    "segments_per_test",
+    "segments_summary",
+    "segments_pairwise",
+    "segments_imu_errors",
+    "replay_per_window",
+    "replay_per_test",
+    "replay_summary",
+    "replay_pairwise",
+    "replay_imu_errors",
+    "real_logs",
+    "replay_traces",
 )
+# Inputs that are lists of paths (the workflow script passes these as lists).
+LIST_INPUTS: tuple[str, ...] = ("cpu", "traces", "real_logs", "replay_traces")
 
-__all__ = ["build_report", "REQUIRED_INPUTS", "OPTIONAL_INPUTS"]
+__all__ = ["build_report", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
 
 
 def build_report(inputs: Mapping[str, Any], params: Mapping[str, Any],

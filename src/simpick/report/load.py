@@ -26,12 +26,33 @@ COLUMNS: dict[str, tuple[str, ...]] = {
     "rtf": ("engine", "sim_time", "wall_time", "real_time_factor", "n_runs"),
     "table11": (*METRICS, "total", "total_from_published_scores", "published_total"),
     "table11_comparison": ("simulator", "metric", "published", "recomputed", "difference", "matches"),
+    # real robot data (rules/real.smk, simpick.realdata)
+    "accuracy_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
+    "segments": ("segment", "terrain_class", "run", "kind", "t_start", "t_end", "settle", "duration",
+                 "v_left", "v_right", "v", "w", "yaw_rate_gain"),
+    "segments_per_test": ("engine", "terrain_class", "segment", "run", "kind", "status", "reasons",
+                          "yaw_rate_gain_real"),
+    "segments_summary": ("engine", "terrain_class", "n_tests"),
+    "segments_pairwise": ("terrain_class", "figure", "engine_a", "engine_b", "mean_a_minus_b", "low", "high",
+                          "verdict"),
+    "segments_imu_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
+    "replay_per_window": ("engine", "terrain_class", "run", "status", "reasons"),
+    "replay_per_test": ("engine", "terrain_class", "segment", "run", "kind", "status", "reasons"),
+    "replay_summary": ("engine", "terrain_class", "n_tests"),
+    "replay_pairwise": ("terrain_class", "figure", "engine_a", "engine_b", "mean_a_minus_b", "low", "high",
+                        "verdict"),
+    "replay_imu_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
 }
+
+# The real-data sets: one per way of comparing with the real robot (simpick.realdata).
+REAL_SETS: tuple[str, ...] = ("segments", "replay")
+REAL_TABLES: tuple[str, ...] = ("per_test", "summary", "pairwise", "imu_errors")
 
 # Text columns: read as strings, an empty cell becomes "" rather than NaN.
 TEXT_COLUMNS = {"excluded", "reasons", "tests", "status", "source", "engine", "terrain",
                 "motion", "quantity", "axis", "unit", "engine_version", "config_hash",
-                "simulator", "metric"}
+                "simulator", "metric", "terrain_class", "segment", "run", "kind", "figure",
+                "engine_a", "engine_b", "verdict", "dataset"}
 
 
 @dataclass
@@ -59,6 +80,16 @@ class ReportData:
     table11_comparison: pd.DataFrame | None = None
     worked_example: dict | None = None
     traces: list[Trace] | None = None
+    # which Eq. 7 totals the accuracy scores were computed from (rules/real.smk accuracy_errors())
+    accuracy_errors: pd.DataFrame | None = None
+    # real robot data: the committed segment table, and per set ("segments", "replay") its tables
+    segments: pd.DataFrame | None = None
+    segments_provenance: dict | None = None
+    real: dict[str, dict[str, pd.DataFrame]] = field(default_factory=dict)
+    replay_per_window: pd.DataFrame | None = None
+    # real canonical logs and replay traces: paths only, read when the figures are drawn
+    real_logs: list[str] | None = None
+    replay_traces: list[str] | None = None
     sources: dict[str, Any] = field(default_factory=dict)
 
 
@@ -133,6 +164,36 @@ def load_inputs(inputs: Mapping[str, Any]) -> ReportData:
             p = _path(key, inputs[key])
             sources[key] = str(p)
             kw[key] = _csv(key, p, index)
+
+    for key in ("accuracy_errors", "segments", "replay_per_window"):
+        if given(key):
+            p = _path(key, inputs[key])
+            sources[key] = str(p)
+            kw[key] = _csv(key, p)
+    real: dict[str, dict[str, pd.DataFrame]] = {}
+    for set_ in REAL_SETS:
+        for table in REAL_TABLES:
+            key = f"{set_}_{table}"
+            if given(key):
+                p = _path(key, inputs[key])
+                sources[key] = str(p)
+                real.setdefault(set_, {})[table] = _csv(key, p)
+    kw["real"] = real
+    if given("segments_provenance"):
+        p = _path("segments_provenance", inputs["segments_provenance"])
+        try:
+            with open(p, encoding="utf-8") as fh:
+                prov = yaml.safe_load(fh) or {}
+        except yaml.YAMLError as exc:
+            raise InputError(str(p), f"not valid YAML: {exc}") from None
+        if not isinstance(prov, dict):
+            raise InputError(str(p), "expected a mapping")
+        kw["segments_provenance"] = prov
+        sources["segments_provenance"] = str(p)
+    for key in ("real_logs", "replay_traces"):
+        if given(key):
+            kw[key] = [str(p) for p in _paths(key, inputs[key])]
+            sources[key] = kw[key]
 
     runs = kw["runs"]
     for col in ("engine_version", "config_hash"):
