@@ -13,7 +13,7 @@ rule simulate:
     threads: 1
     resources:
         mem_mb=400,
-        runtime=10,
+        runtime=lambda wc: 1 + int(config["health"]["timeout"]) // 60,
     script:
         "../scripts/simulate.py"
 

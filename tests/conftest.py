@@ -1,6 +1,12 @@
+import os
+import re
+import subprocess
+import sys
 from pathlib import Path
 
+import pandas as pd
 import pytest
+import yaml
 
 from simpick.robot import load_robot
 
@@ -16,3 +22,54 @@ def robot():
 def flat_terrain(friction: float = 0.95) -> dict:
     """A terrain with no shapes: the robot drives on the ground plane alone."""
     return {"schema": "simpick.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": friction}
+
+
+# --- running the workflow on a tiny config (workflow and interruption tests) ---
+
+SNAKEMAKE = [sys.executable, "-m", "snakemake"]
+
+
+def tiny_config(workdir: Path | None = None) -> dict:
+    """The default study cut down to seconds: 2 terrains x 1 short motion, 2 real segments."""
+    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config["terrains"] = {"grass": config["terrains"]["grass"], "bumps": config["terrains"]["bumps"]}
+    config["terrains"]["bumps"]["pieces_per_tile"] = 2
+    config["motions"] = {"straight": dict(config["motions"]["straight"], duration=1.5)}
+    config["cpu_load"].update(terrain="grass", duration=0.5, repeats=1, robots_intense=2)
+    config["robot"]["urdf"] = str(ROOT / config["robot"]["urdf"])
+    config["reference"]["published"] = str(ROOT / config["reference"]["published"])
+    config["qualitative"] = str(ROOT / config["qualitative"])
+    segments = pd.read_csv(ROOT / config["real_data"]["segments"], dtype={"run": str})
+    segments = segments[segments.terrain_class == "flooring"].groupby("kind").head(1).copy()
+    segments["duration"] = 1.0
+    if workdir is not None:
+        path = workdir / "segments.csv"
+        segments.to_csv(path, index=False)
+        config["real_data"]["segments"] = str(path)
+    return config
+
+
+def snakemake(workdir: Path, *args: str) -> subprocess.CompletedProcess:
+    cmd = SNAKEMAKE + ["--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir),
+                       "--configfile", str(workdir / "config.yaml"), "--cores", "2", *args]
+    return subprocess.run(cmd, capture_output=True, text=True, cwd=workdir, env=os.environ | {"PYTHONHASHSEED": "0"})
+
+
+def planned_jobs(workdir: Path) -> list[tuple[str, str]]:
+    """(rule, wildcards) of every job a dry run plans."""
+    out = snakemake(workdir, "-n")
+    assert out.returncode == 0, out.stderr
+    text = out.stdout + out.stderr
+    jobs = []
+    for block in re.split(r"\n(?=(?:local)?rule \w+:)", text):
+        m = re.match(r"(?:local)?rule (\w+):", block.strip())
+        if m:
+            w = re.search(r"wildcards: (.*)", block)
+            jobs.append((m.group(1), w.group(1).strip() if w else ""))
+    return jobs
+
+
+def write_config(workdir: Path, config: dict) -> None:
+    (workdir / "config.yaml").write_text(yaml.safe_dump(config, sort_keys=False))
+
+

@@ -5,63 +5,19 @@ a weight edited -> only scoring and the report; one engine's settings edited -> 
 engine's simulations and what depends on them.
 """
 
-import os
-import re
-import subprocess
-import sys
-from pathlib import Path
-
 import pandas as pd
 import pytest
 import yaml
 
 from simpick.traces import read_trace
 
-ROOT = Path(__file__).resolve().parents[1]
-SNAKEMAKE = [sys.executable, "-m", "snakemake"]
-
-
-def tiny_config() -> dict:
-    config = yaml.safe_load((ROOT / "config.yaml").read_text())
-    config["terrains"] = {"grass": config["terrains"]["grass"], "bumps": config["terrains"]["bumps"]}
-    config["terrains"]["bumps"]["pieces_per_tile"] = 2
-    config["motions"] = {"straight": dict(config["motions"]["straight"], duration=1.5)}
-    config["cpu_load"].update(terrain="grass", duration=0.5, repeats=1, robots_intense=2)
-    for key in ("urdf",):
-        config["robot"][key] = str(ROOT / config["robot"][key])
-    config["reference"]["published"] = str(ROOT / config["reference"]["published"])
-    config["qualitative"] = str(ROOT / config["qualitative"])
-    return config
-
-
-def snakemake(workdir: Path, *args: str) -> subprocess.CompletedProcess:
-    cmd = SNAKEMAKE + ["--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir),
-                       "--configfile", str(workdir / "config.yaml"), "--cores", "2", *args]
-    return subprocess.run(cmd, capture_output=True, text=True, cwd=workdir, env=os.environ | {"PYTHONHASHSEED": "0"})
-
-
-def planned_jobs(workdir: Path) -> list[tuple[str, str]]:
-    """(rule, wildcards) of every job a dry run plans."""
-    out = snakemake(workdir, "-n")
-    assert out.returncode == 0, out.stderr
-    text = out.stdout + out.stderr
-    jobs = []
-    for block in re.split(r"\n(?=(?:local)?rule \w+:)", text):
-        m = re.match(r"(?:local)?rule (\w+):", block.strip())
-        if m:
-            w = re.search(r"wildcards: (.*)", block)
-            jobs.append((m.group(1), w.group(1).strip() if w else ""))
-    return jobs
-
-
-def write_config(workdir: Path, config: dict) -> None:
-    (workdir / "config.yaml").write_text(yaml.safe_dump(config, sort_keys=False))
+from conftest import ROOT, planned_jobs, snakemake, tiny_config, write_config
 
 
 @pytest.fixture(scope="module")
 def study(tmp_path_factory):
     workdir = tmp_path_factory.mktemp("study")
-    config = tiny_config()
+    config = tiny_config(workdir)
     write_config(workdir, config)
     run = snakemake(workdir)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
@@ -108,8 +64,9 @@ def test_engine_edit_reruns_only_that_engine(study):
     write_config(workdir, edited)
     try:
         jobs = planned_jobs(workdir)
-        simulated = sorted(w for rule, w in jobs if rule in ("simulate", "cpu_load"))
+        simulated = sorted(w for rule, w in jobs if rule in ("simulate", "cpu_load") or rule.startswith("simulate_"))
         assert simulated and all("engine=mujoco" in w for w in simulated), simulated
+        assert any(rule.startswith("simulate_segments") for rule, _ in jobs)
         assert len([1 for rule, _ in jobs if rule == "simulate"]) == 2
         assert not {rule for rule, _ in jobs} & {"terrain", "published_table11"}
     finally:
@@ -117,7 +74,7 @@ def test_engine_edit_reruns_only_that_engine(study):
 
 
 def test_bad_config_is_refused_before_any_job(tmp_path):
-    config = tiny_config()
+    config = tiny_config(tmp_path)
     config["physics"]["timestep"] = 0.003  # 1/100 s is not a whole number of 3 ms steps
     config["weights"]["free"] = -1
     write_config(tmp_path, config)

@@ -53,6 +53,7 @@ class Health(Strict):
     max_velocity_jump: Positive
     wheel_tracking: Positive
     max_parked_speed: Positive
+    timeout: Positive
 
 
 class Terrain(BaseModel):

@@ -23,6 +23,7 @@ class HealthLimits:
     max_velocity_jump: float = 0.5  # m/s change of the base velocity within one physics step
     wheel_tracking: float = 0.5  # rad/s: mean |measured - commanded| wheel speed over a second
     max_parked_speed: float = 0.05  # m/s while every wheel is commanded to stand still
+    timeout: float = 300.0  # s of wall time before a simulation job is stopped as hung
 
 
 @dataclass

@@ -7,6 +7,7 @@ so every job can be run and tested without Snakemake.
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 import pandas as pd
@@ -33,20 +34,38 @@ def terrain_job(output: str, name: str, seed: int, spec: dict) -> None:
     terrain.save(desc, output)
 
 
-def simulate_job(output: str, terrain_file: str, urdf: str, params: dict) -> dict:
+def simulate_job(output: str, terrain_file: str, urdf: str, params: dict) -> dict | None:
     from simpick.health import HealthLimits
     from simpick.imu import ImuModel
     from simpick.simulate import Case, simulate_to_file
+    from simpick.watchdog import Watchdog
 
     motion = params["motion"]
     case = Case(engine=params["engine"], terrain=params["terrain"], motion=params["motion_name"],
                 v=motion["v"], w=motion["w"], duration=motion["duration"], start=tuple(motion["start"]))
-    return simulate_to_file(
-        case, output, params=params, urdf=urdf, terrain_file=terrain_file,
-        track=params["robot"]["track"], max_wheel_torque=params["robot"]["max_wheel_torque"],
-        timestep=params["physics"]["timestep"], ground_friction=params["physics"]["ground_friction"],
-        engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
-        seed=int(params["seed"]), limits=HealthLimits(**params["health"]))
+    timeout = params["health"]["timeout"]
+    with Watchdog(timeout, lambda: write_hung_trace(output, case, params, timeout)):
+        return simulate_to_file(
+            case, output, params=params, urdf=urdf, terrain_file=terrain_file,
+            track=params["robot"]["track"], max_wheel_torque=params["robot"]["max_wheel_torque"],
+            timestep=params["physics"]["timestep"], ground_friction=params["physics"]["ground_friction"],
+            engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
+            seed=int(params["seed"]), limits=HealthLimits(**params["health"]))
+
+
+def write_hung_trace(output: str, case, params: dict, timeout: float) -> None:
+    """An empty trace whose health record says the engine hung, so the run is reported."""
+    from simpick.simulate import config_hash
+    from simpick.traces import COLUMNS, write_trace
+
+    reason = f"hung: no result after {timeout:g} s of wall time; the job was stopped"
+    print(f"simpick: {case.engine} {case.terrain}/{case.motion}: {reason}", file=sys.stderr)
+    write_trace(pd.DataFrame({c: pd.Series(dtype="float64") for c in COLUMNS}),
+                {"engine": case.engine, "engine_version": "", "terrain": case.terrain, "motion": case.motion,
+                 "timestep": params["physics"]["timestep"], "seed": params["seed"], "steps": 0, "sim_time": 0.0,
+                 "wall_time": float(timeout), "cpu_time": float("nan"), "real_time_factor": None,
+                 "health": {"status": "failed", "reasons": [reason]}, "config_hash": config_hash(params)},
+                output)
 
 
 def cpu_job(output: str, terrain_file: str, urdf: str, params: dict) -> None:

@@ -137,7 +137,9 @@ def _test_order(data: ReportData, config: Mapping[str, Any]) -> list[tuple[str, 
 
 def _engine_order(data: ReportData) -> list[str]:
     engines = list(data.weighted.index)
-    for df in (data.runs, data.trace_stats, data.imu_errors, data.rtf):
+    frames = [data.runs, data.trace_stats, data.imu_errors, data.rtf, data.accuracy_errors]
+    frames += [tables.get(k) for tables in data.real.values() for k in ("summary", "per_test")]
+    for df in frames:
         if df is not None:
             for e in df["engine"]:
                 if e not in engines:
@@ -509,7 +511,7 @@ def _worked(data: ReportData) -> dict[str, Any] | None:
 def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]:
     import yaml
 
-    from simpick.report import provenance
+    from simpick.report import provenance, real
 
     config = dict(params.get("config") or {})
     weights = _weights(params)
@@ -536,6 +538,9 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
             rtf_rows.append(r)
         rtf_rows.sort(key=lambda r: engines.index(r["engine"]) if r["engine"] in engines else len(engines))
     config_text = yaml.safe_dump(config, sort_keys=False, allow_unicode=True, width=100) if config else None
+    classes = real.class_order(data, params)
+    accuracy = real.accuracy(data, params, engines, classes, [test_label(t, m) for t, m in tests])
+    real_data = real.real_section(data, params, engines, colors, classes, accuracy)
     return {
         "title": params.get("title") or DEFAULT_TITLE,
         "generated": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
@@ -557,6 +562,8 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         "runs": runs,
         "cpu": _cpu(data, engines),
         "imu": _imu(data, engines, tests),
+        "accuracy": accuracy,
+        "real": real_data,
         "per_test": per_test,
         "traces_given": data.traces is not None,
         "stats_given": data.trace_stats is not None,

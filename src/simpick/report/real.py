@@ -1,0 +1,550 @@
+"""The report's real-robot parts: which data the accuracy scores rest on, and the section
+comparing every engine with the real Husky per terrain class (simpick.realdata's tables).
+
+Nothing here recomputes a study figure that a workflow rule already wrote, except the real
+robot's own yaw-rate gain per class (the mean and bootstrap interval over the distinct
+tests, as simpick.realdata does per engine) and, for the figures, the Welch spectra.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from simpick.report import figures
+from simpick.report.load import REAL_SETS, ReportData
+
+SET_TITLES = {"segments": "constant-command segments", "replay": "full replay"}
+SET_UNITS = {"segments": "segment", "replay": "run"}
+ERROR_FIGURES = ("error_angular", "error_linear")
+FIGURE_LABELS = {"error_angular": "angular velocity", "error_linear": "linear acceleration",
+                 "yaw_rate_gain": "yaw-rate gain"}
+FIGURE_UNITS = {"error_angular": "rad/s", "error_linear": "m/s²", "rmse_yaw_rate": "rad/s", "rmse_ax": "m/s²",
+                "psd_distance_az": "decades"}
+# Extra columns of the full replay's summary (simpick.realdata.FIGURES).
+REPLAY_EXTRA = (("rmse_yaw_rate", "RMSE yaw rate (rad/s)"), ("rmse_ax", "RMSE a<sub>x</sub> (m/s²)"),
+                ("psd_distance_az", "PSD distance a<sub>z</sub> (decades)"))
+REAL_TABLE_NAMES = ("per_test", "summary", "pairwise")
+TIME_PLOT_MAX_S = 120.0
+
+
+def _isnan(x: Any) -> bool:
+    try:
+        return x is None or math.isnan(float(x))
+    except (TypeError, ValueError):
+        return False
+
+
+def _f(x: Any) -> float:
+    try:
+        return float(x)
+    except (TypeError, ValueError):
+        return float("nan")
+
+
+def class_order(data: ReportData, params: Mapping[str, Any]) -> list[str]:
+    order = [str(c) for c in ((params.get("real_data") or {}).get("classes") or {})]
+    frames = [data.segments] + [t for s in data.real.values() for t in s.values()]
+    for df in frames:
+        if df is not None and "terrain_class" in df.columns:
+            for c in df["terrain_class"]:
+                if c and c not in order:
+                    order.append(c)
+    return order
+
+
+def _test_classes(data: ReportData) -> dict[str, str]:
+    out: dict[str, str] = {}
+    if data.segments is not None:
+        out.update(zip(data.segments["segment"], data.segments["terrain_class"]))
+    for tables in data.real.values():
+        pt = tables.get("per_test")
+        if pt is not None:
+            out.update(zip(pt["segment"], pt["terrain_class"]))
+    return out
+
+
+def group_tests(data: ReportData, tests: Sequence[str], classes: Sequence[str]) -> list[dict[str, Any]]:
+    """Tests grouped by terrain class (real-data tests are named ``{class}-...``)."""
+    known = _test_classes(data)
+    groups: dict[str, list[str]] = {}
+    for t in tests:
+        cls = known.get(t) or (t.split("-", 1)[0] if "-" in t else "")
+        groups.setdefault(cls, []).append(t)
+    order = list(classes) + [c for c in groups if c not in classes]
+    out = []
+    for c in order:
+        if c not in groups:
+            continue
+        ts = groups[c]
+        short = [t[len(c) + 1:] if c and t.startswith(c + "-") else t for t in ts]
+        out.append({"cls": c, "label": c.replace("_", " ") if c else "", "tests": ts, "short": short, "n": len(ts)})
+    return out
+
+
+# --------------------------------------------------------------------------
+# Which errors the accuracy scores rest on
+# --------------------------------------------------------------------------
+
+
+def _errors_kind(path: str | None, reference: str | None, is_lab: bool) -> str:
+    name = Path(path).name if path else ""
+    if "replay_imu_errors" in name:
+        return "replay"
+    if "segments_imu_errors" in name:
+        return "segments"
+    if is_lab or reference == "paper" or name == "imu_errors.csv":
+        return "lab"
+    return "real"
+
+
+def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], classes: list[str],
+             lab_tests: list[str]) -> dict[str, Any] | None:
+    """The Eq. 7 totals the accuracy scores were computed from, and what they cover."""
+    from simpick.scoring import accuracy_scores
+
+    acc = dict(params.get("accuracy") or {})
+    reference = acc.get("reference")
+    errors_file = acc.get("errors_file")
+    df, source, is_lab = None, None, False
+    if data.accuracy_errors is not None:
+        df, source = data.accuracy_errors, data.sources.get("accuracy_errors")
+        is_lab = bool(data.sources.get("imu_errors")) and Path(str(source)).resolve() == Path(
+            str(data.sources["imu_errors"])).resolve()
+    else:
+        candidates = [("imu_errors", data.imu_errors)] + [
+            (f"{s}_imu_errors", data.real.get(s, {}).get("imu_errors")) for s in REAL_SETS]
+        if errors_file:
+            for key, frame in candidates:
+                src = data.sources.get(key)
+                if frame is not None and src and (Path(src).resolve() == Path(str(errors_file)).resolve()
+                                                  or str(src).endswith(str(errors_file))):
+                    df, source, is_lab = frame, src, key == "imu_errors"
+                    break
+        elif reference in (None, "paper") and data.imu_errors is not None:
+            df, source, is_lab = data.imu_errors, data.sources.get("imu_errors"), True
+    path = str(errors_file or source or "")
+    kind = _errors_kind(path, reference, is_lab)
+    if reference is None:
+        reference = "paper" if kind == "lab" else "real"
+    if df is None:
+        return {"reference": reference, "kind": kind, "errors_file": path or None, "given": False,
+                "dataset": acc.get("dataset"), "lab_tests": lab_tests}
+
+    ie = df.copy()
+    ie["_e"] = [engines.index(e) if e in engines else len(engines) for e in ie["engine"]]
+    ie = ie.sort_values(["quantity", "_e"], kind="mergesort")
+    rows, mismatch = [], []
+    recomputed = {}
+    for q, sel in ie.groupby("quantity"):
+        try:
+            recomputed[q] = accuracy_scores(dict(zip(sel["engine"], [_f(x) for x in sel["error"]])))
+        except ValueError:
+            recomputed[q] = {}
+    for r in ie.to_dict("records"):
+        key = f"imu_{r['quantity']}"
+        score = (data.weighted.loc[r["engine"], key] if r["engine"] in data.weighted.index
+                 and key in data.weighted.columns else None)
+        again = recomputed.get(r["quantity"], {}).get(r["engine"])
+        if not _isnan(score) and not _isnan(again) and abs(float(score) - float(again)) > 2e-3:
+            mismatch.append({"engine": r["engine"], "quantity": r["quantity"], "score": score, "again": again})
+        rows.append({**r, "score": score,
+                     "tests_list": [t for t in str(r["tests"]).split(";") if t.strip()],
+                     "excluded_list": [t for t in str(r["excluded"]).split(";") if t.strip()]})
+    sets = {tuple(r["tests_list"]) for r in rows}
+    tests = sorted({t for r in rows for t in r["tests_list"]})
+    if kind != "lab":
+        pos = {c: i for i, c in enumerate(classes)}
+        cls_of = _test_classes(data)
+        tests.sort(key=lambda t: (pos.get(cls_of.get(t, t.split("-", 1)[0]), len(pos)), t))
+    excluded = sorted({t for r in rows for t in r["excluded_list"]})
+    groups = group_tests(data, tests, classes) if kind != "lab" else []
+    n_by_q = {q: sorted({int(x) for x in sel["n_tests"] if not _isnan(x)}) for q, sel in ie.groupby("quantity")}
+    dataset = acc.get("dataset")
+    if data.segments is not None and "dataset" in data.segments.columns and len(data.segments):
+        dataset = str(data.segments["dataset"].iloc[0]) or dataset
+    return {
+        "reference": reference, "kind": kind, "errors_file": path or None, "given": True,
+        "dataset": dataset, "rows": rows, "tests": tests, "n": len(tests), "same_for_all": len(sets) <= 1,
+        "excluded": excluded, "groups": groups, "mismatch": mismatch,
+        "uneven": {q: n for q, n in n_by_q.items() if len(n) > 1},
+        "lab_tests": lab_tests, "lab_scored": kind == "lab",
+        "unit_name": SET_UNITS.get(kind, "test"),
+        "kind_title": SET_TITLES.get(kind, "real-data tests" if kind == "real" else "lab tests"),
+    }
+
+
+# --------------------------------------------------------------------------
+# The real-data section
+# --------------------------------------------------------------------------
+
+
+def _cell(row: Mapping[str, Any] | None, fig: str) -> dict[str, Any] | None:
+    if row is None or fig not in row:
+        return None
+    return {"mean": _f(row.get(fig)), "low": _f(row.get(f"{fig}_low")), "high": _f(row.get(f"{fig}_high"))}
+
+
+def _real_gain(per_test: pd.DataFrame | None, summary: pd.DataFrame | None, cls: str) -> tuple[dict | None, int]:
+    """The real robot's yaw-rate gain over the class's distinct tests: mean and 95 % interval."""
+    from simpick.realmetrics import bootstrap_ci
+
+    if per_test is not None and "yaw_rate_gain_real" in per_test.columns:
+        sel = per_test[per_test["terrain_class"] == cls].drop_duplicates("segment")
+        vals = np.array([_f(x) for x in sel["yaw_rate_gain_real"]])
+        vals = vals[np.isfinite(vals)]
+        mean, lo, hi = bootstrap_ci(vals, seed=0)
+        return {"mean": mean, "low": lo, "high": hi}, int(vals.size)
+    if summary is not None and "yaw_rate_gain_real" in summary.columns:
+        sel = summary[summary["terrain_class"] == cls]
+        if len(sel):
+            return _cell(sel.iloc[0].to_dict(), "yaw_rate_gain_real"), -1
+    return None, 0
+
+
+def _verdict(cls: str, fig: str, summary: pd.DataFrame | None, pairwise: pd.DataFrame | None,
+             engines: list[str]) -> dict[str, Any] | None:
+    """The engine with the smallest mean error, and whether the paired 95 % intervals
+    against every other engine exclude zero (simpick.realdata's verdicts)."""
+    if summary is None or fig not in summary.columns:
+        return None
+    sel = summary[summary["terrain_class"] == cls]
+    means = {r["engine"]: _f(r[fig]) for r in sel.to_dict("records") if not _isnan(r[fig])}
+    if not means:
+        return None
+    order = {e: i for i, e in enumerate(engines)}
+    best = min(means, key=lambda e: (means[e], order.get(e, len(order))))
+    pairs = []
+    if pairwise is not None:
+        pw = pairwise[(pairwise["terrain_class"] == cls) & (pairwise["figure"] == fig)]
+        pairs = [r for r in pw.to_dict("records") if best in (r["engine_a"], r["engine_b"])]
+    others = [e for e in means if e != best]
+    verdicts = [str(r["verdict"]) for r in pairs]
+    clear = bool(others) and len(pairs) >= len(others) and all(v == f"{best} closer" for v in verdicts)
+    if not others:
+        reason = "only one engine"
+    elif clear:
+        reason = ""
+    elif not pairs:
+        reason = "no paired comparison"
+    elif any(v == "too few tests" for v in verdicts):
+        reason = "too few tests for an interval"
+    elif any(v.endswith(" closer") and v != f"{best} closer" for v in verdicts):
+        reason = "the paired intervals disagree with the means"
+    else:
+        reason = "the 95 % interval of the difference includes 0"
+    diffs = []
+    for r in pairs:
+        sign = 1.0 if r["engine_a"] == best else -1.0
+        other = r["engine_b"] if r["engine_a"] == best else r["engine_a"]
+        lo, hi = sign * _f(r["low"]), sign * _f(r["high"])
+        diffs.append({"other": other, "mean": sign * _f(r["mean_a_minus_b"]), "low": min(lo, hi),
+                      "high": max(lo, hi), "verdict": r["verdict"]})
+    return {"figure": fig, "label": FIGURE_LABELS[fig], "unit": FIGURE_UNITS[fig], "engine": best,
+            "clear": clear, "reason": reason, "diffs": diffs, "n_engines": len(means)}
+
+
+def _gain_closest(real_gain: dict | None, rows: list[dict]) -> dict[str, Any] | None:
+    if real_gain is None or _isnan(real_gain["mean"]):
+        return None
+    gaps = {r["engine"]: abs(r["gain"]["mean"] - real_gain["mean"]) for r in rows
+            if r.get("gain") and not _isnan(r["gain"]["mean"])}
+    if not gaps:
+        return None
+    best = min(gaps, key=gaps.get)
+    return {"engine": best, "gap": gaps[best], "gaps": gaps}
+
+
+def _set_block(set_: str, tables: Mapping[str, pd.DataFrame], cls: str, engines: list[str]) -> dict[str, Any]:
+    summary, pairwise, per_test = tables.get("summary"), tables.get("pairwise"), tables.get("per_test")
+    real_gain, n_gain = _real_gain(per_test, summary, cls)
+    n_class = None
+    if per_test is not None:
+        n_class = int(per_test[per_test["terrain_class"] == cls]["segment"].nunique())
+    rows = []
+    if summary is not None:
+        sel = summary[summary["terrain_class"] == cls]
+        recs = {r["engine"]: r for r in sel.to_dict("records")}
+        for e in [e for e in engines if e in recs] + [e for e in recs if e not in engines]:
+            r = recs[e]
+            n_turn = None
+            if per_test is not None and "yaw_rate_gain_sim" in per_test.columns:
+                pt = per_test[(per_test["terrain_class"] == cls) & (per_test["engine"] == e)]
+                n_turn = int(np.isfinite([_f(x) for x in pt["yaw_rate_gain_sim"]]).sum())
+            rows.append({"engine": e, "n": int(_f(r["n_tests"])) if not _isnan(r["n_tests"]) else 0,
+                         "n_gain": n_turn,
+                         "gain": _cell(r, "yaw_rate_gain_sim"),
+                         "errors": {f: _cell(r, f) for f in ERROR_FIGURES},
+                         "extra": {f: _cell(r, f) for f, _ in REPLAY_EXTRA}})
+    failed = []
+    if per_test is not None:
+        bad = per_test[(per_test["terrain_class"] == cls) & (per_test["status"].str.lower() != "ok")]
+        failed = [{"engine": r["engine"], "test": r["segment"], "status": r["status"], "reasons": r["reasons"]}
+                  for r in bad.to_dict("records")]
+    verdicts = [v for v in (_verdict(cls, f, summary, pairwise, engines) for f in ERROR_FIGURES) if v]
+    extra = [(f, label) for f, label in REPLAY_EXTRA
+             if summary is not None and f in summary.columns]
+    return {"set": set_, "title": SET_TITLES.get(set_, set_), "unit": SET_UNITS.get(set_, "test"),
+            "real_gain": real_gain, "n_gain_real": n_gain, "n_class": n_class, "rows": rows,
+            "verdicts": verdicts, "gain_closest": _gain_closest(real_gain, rows), "failed": failed,
+            "extra": extra, "given": summary is not None}
+
+
+def _gain_panels(blocks_by_set: dict[str, list[dict]], classes: list[str], engines: list[str],
+                 colors: Mapping[str, str]) -> list[dict]:
+    panels = []
+    for set_, blocks in blocks_by_set.items():
+        shown = [b for b in blocks if b["block"]["real_gain"] is not None or any(
+            r.get("gain") and not _isnan(r["gain"]["mean"]) for r in b["block"]["rows"])]
+        if not shown:
+            continue
+        cls = [b["cls"] for b in shown]
+        bars = [{"label": figures.REAL_LABEL, "color": figures.REAL_COLOR, "real": True,
+                 "mean": [(b["block"]["real_gain"] or {}).get("mean") for b in shown],
+                 "low": [(b["block"]["real_gain"] or {}).get("low") for b in shown],
+                 "high": [(b["block"]["real_gain"] or {}).get("high") for b in shown]}]
+        have = [e for e in engines if any(r["engine"] == e for b in shown for r in b["block"]["rows"])]
+        for e in have:
+            cells = [next((r["gain"] for r in b["block"]["rows"] if r["engine"] == e and r.get("gain")), None)
+                     for b in shown]
+            bars.append({"label": e, "color": colors.get(e, "#777777"), "real": False,
+                         "mean": [c["mean"] if c else None for c in cells],
+                         "low": [c["low"] if c else None for c in cells],
+                         "high": [c["high"] if c else None for c in cells]})
+        panels.append({"title": SET_TITLES.get(set_, set_), "classes": cls, "bars": bars})
+    return panels
+
+
+def _segments_table(data: ReportData, classes: list[str], engines: list[str]) -> list[dict[str, Any]] | None:
+    seg = data.segments
+    if seg is None:
+        return None
+    pt = data.real.get("segments", {}).get("per_test")
+    results = {}
+    if pt is not None:
+        for r in pt.to_dict("records"):
+            results[(r["engine"], r["segment"])] = r
+    groups = []
+    pos = {c: i for i, c in enumerate(classes)}
+    for cls in sorted(set(seg["terrain_class"]), key=lambda c: (pos.get(c, len(pos)), c)):
+        sel = seg[seg["terrain_class"] == cls].sort_values(["kind", "segment"])
+        rows = []
+        for r in sel.to_dict("records"):
+            cells = []
+            for e in engines:
+                res = results.get((e, r["segment"]))
+                if res is None:
+                    cells.append(None)
+                    continue
+                cells.append({"ok": str(res["status"]).lower() == "ok", "status": res["status"],
+                              "gain": _f(res.get("yaw_rate_gain_sim")), "ang": _f(res.get("error_angular")),
+                              "lin": _f(res.get("error_linear")), "speed": _f(res.get("speed_sim"))})
+            short = r["segment"][len(cls) + 1:] if r["segment"].startswith(cls + "-") else r["segment"]
+            rows.append({**r, "short": short, "cells": cells})
+        groups.append({"cls": cls, "label": cls.replace("_", " "), "rows": rows})
+    return groups
+
+
+def _read_real_series(path: str, track: float):
+    from simpick.reallogs import read_canonical
+
+    log = read_canonical(path)
+    imu = log.imu[["time", "ax", "ay", "az", "wx", "wy", "wz"]].copy()
+    cmd = log.wheel_commands(track)
+    commanded = pd.DataFrame({"time": cmd["time"].to_numpy(),
+                              "w": (cmd["v_right"] - cmd["v_left"]).to_numpy() / track})
+    return imu, commanded, log.meta
+
+
+def _rate(frame: pd.DataFrame) -> float:
+    dt = np.diff(frame["time"].to_numpy(dtype=float))
+    dt = dt[dt > 0]
+    return float(1.0 / np.median(dt)) if dt.size else 100.0
+
+
+def _mean_psd(signals: list[tuple[np.ndarray, float]]):
+    """Mean Welch PSD over runs (each at its own rate; runs on another grid are left out)."""
+    spectra = []
+    for x, rate in signals:
+        if len(x) < 256:
+            continue
+        f, p = figures.welch_psd(x, rate)
+        spectra.append((f, p))
+    if not spectra:
+        return None
+    f0 = spectra[0][0]
+    same = [p for f, p in spectra if f.shape == f0.shape and np.allclose(f, f0)]
+    return f0, np.mean(same, axis=0), len(same)
+
+
+def _replay_figures(data: ReportData, params: Mapping[str, Any], classes: list[str], engines: list[str],
+                    colors: Mapping[str, str]) -> tuple[list[dict], list[str]]:
+    """Per terrain class: time plots of one representative run and the mean az spectra."""
+    from simpick.realmetrics import LOWPASS_HZ, PSD_BAND_HZ
+    from simpick.traces import read_metadata, read_trace
+
+    notes: list[str] = []
+    config = params.get("config") or {}
+    track = float(((config.get("robot") or {}).get("track")) or 0.555)
+    logs: dict[tuple[str, str], str] = {}
+    for p in data.real_logs or []:
+        path = Path(p)
+        logs[(path.parent.name.lower(), path.stem)] = p
+    traces: dict[tuple[str, str, str], tuple[str, dict]] = {}
+    for p in data.replay_traces or []:
+        meta = read_metadata(p)
+        path = Path(p)
+        engine = str(meta.get("engine") or path.parent.parent.name)
+        cls = str(meta.get("terrain") or path.parent.name).lower()
+        run = str(meta.get("run") or path.stem)
+        traces[(engine, cls, run)] = (p, meta)
+    per_test = data.real.get("replay", {}).get("per_test")
+    out = []
+    for cls in classes:
+        runs = sorted(r for c, r in logs if c == cls)
+        if not runs:
+            continue
+        # the representative run: Eq. 7 angular error (mean over engines) nearest the class median
+        chosen, why = runs[0], "the first run of the class"
+        if per_test is not None and "error_angular" in per_test.columns:
+            ok = per_test[(per_test["terrain_class"] == cls) & (per_test["status"].str.lower() == "ok")
+                          & per_test["run"].isin(runs)]
+            if len(ok):
+                per_run = ok.groupby("run")["error_angular"].mean()
+                med = float(per_run.median())
+                chosen = str((per_run - med).abs().sort_values(kind="mergesort").index[0])
+                why = "the run whose Eq. 7 angular error, averaged over the engines, is nearest the class median"
+        imu, commanded, _ = _read_real_series(logs[(cls, chosen)], track)
+        rate = _rate(imu)
+        series = [(figures.REAL_LABEL, figures.REAL_COLOR, imu)]
+        skipped = []
+        for e in engines:
+            hit = traces.get((e, cls, chosen))
+            if hit is None:
+                skipped.append(f"{e} (no replay trace)")
+                continue
+            status = str(((hit[1].get("health") or {}).get("status")) or "ok").lower()
+            if status != "ok":
+                skipped.append(f"{e} (run failed: {status})")
+                continue
+            frame, _ = read_trace(hit[0])
+            series.append((e, colors.get(e, "#777777"), frame))
+        # spectra: mean over every run of the class that has the real log and the engine's trace
+        psd_series = []
+        real_sig = []
+        for r in runs:
+            real_imu = imu if r == chosen else _read_real_series(logs[(cls, r)], track)[0]
+            real_sig.append((real_imu["az"].to_numpy(dtype=float), _rate(real_imu)))
+        m = _mean_psd(real_sig)
+        n_psd = {}
+        if m:
+            psd_series.append((figures.REAL_LABEL, figures.REAL_COLOR, m[0], m[1]))
+            n_psd[figures.REAL_LABEL] = m[2]
+        for e in engines:
+            sig = []
+            for r in runs:
+                hit = traces.get((e, cls, r))
+                if hit is None or str(((hit[1].get("health") or {}).get("status")) or "ok").lower() != "ok":
+                    continue
+                frame = (next(f for lab, _, f in series if lab == e) if r == chosen and any(
+                    lab == e for lab, _, _ in series) else read_trace(hit[0])[0])
+                sig.append((frame["az"].to_numpy(dtype=float), _rate(frame)))
+            m = _mean_psd(sig)
+            if m:
+                psd_series.append((e, colors.get(e, "#777777"), m[0], m[1]))
+                n_psd[e] = m[2]
+        duration = float(imu["time"].iloc[-1]) if len(imu) else 0.0
+        t_max = TIME_PLOT_MAX_S if duration > TIME_PLOT_MAX_S else None
+        uri = figures.replay_figure(series, psd_series, commanded, rate, t_max=t_max, band=PSD_BAND_HZ,
+                                    cutoff_hz=LOWPASS_HZ)
+        out.append({"cls": cls, "label": cls.replace("_", " "), "run": chosen, "why": why, "uri": uri,
+                    "n_runs": len(runs), "duration": duration, "t_max": t_max, "skipped": skipped,
+                    "n_psd": n_psd, "lowpass_hz": LOWPASS_HZ, "band": PSD_BAND_HZ})
+    if (data.real_logs is None) != (data.replay_traces is None):
+        notes.append("the time plots and spectra need both the real logs and the replay traces")
+    return out, notes
+
+
+def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str],
+                 colors: Mapping[str, str], classes: list[str], acc: dict | None) -> dict[str, Any]:
+    rd = dict(params.get("real_data") or {})
+    class_params = {str(k): (v or {}) for k, v in (rd.get("classes") or {}).items()}
+    sets = [s for s in REAL_SETS if data.real.get(s)]
+    missing: list[str] = []
+    for s in sets:
+        lacking = [t for t in REAL_TABLE_NAMES if t not in data.real[s]]
+        if lacking:
+            missing.append(f"{SET_TITLES[s]}: no {', '.join(f'{s}_{t}' for t in lacking)} input")
+    given = bool(sets) or data.segments is not None
+    scored_set = acc.get("kind") if acc and acc.get("kind") in REAL_SETS else None
+
+    blocks_by_set: dict[str, list[dict]] = {s: [] for s in sets}
+    class_blocks = []
+    shown_classes = [c for c in classes if any(
+        (t := data.real[s].get(k)) is not None and (t["terrain_class"] == c).any()
+        for s in sets for k in ("summary", "per_test"))]
+    for cls in shown_classes:
+        cp = class_params.get(cls, {})
+        item = {"cls": cls, "label": cls.replace("_", " "), "friction": cp.get("friction"),
+                "source": cp.get("source"), "sets": []}
+        for s in sets:
+            block = _set_block(s, data.real[s], cls, engines)
+            block["scored"] = s == scored_set
+            item["sets"].append(block)
+            blocks_by_set[s].append({"cls": cls, "block": block})
+        class_blocks.append(item)
+
+    # at a glance: the verdicts of every class, and a tally per engine
+    glance = []
+    tally: dict[str, dict[str, int]] = {}
+    for s in sets:
+        rows = []
+        counts = {"clear": {}, "unclear": 0, "n": 0}
+        for b in blocks_by_set[s]:
+            vs = {v["figure"]: v for v in b["block"]["verdicts"]}
+            rows.append({"cls": b["cls"], "label": b["cls"].replace("_", " "), "verdicts": vs,
+                         "gain": b["block"]["gain_closest"], "real_gain": b["block"]["real_gain"]})
+            for v in vs.values():
+                counts["n"] += 1
+                if v["clear"]:
+                    counts["clear"][v["engine"]] = counts["clear"].get(v["engine"], 0) + 1
+                else:
+                    counts["unclear"] += 1
+        glance.append({"set": s, "title": SET_TITLES[s], "rows": rows, "scored": s == scored_set})
+        tally[s] = counts
+
+    panels = _gain_panels(blocks_by_set, classes, engines, colors)
+    gain_uri = figures.gain_figure(panels) if panels else None
+
+    replay_figs, replay_notes = [], []
+    if data.real_logs and data.replay_traces:
+        replay_figs, replay_notes = _replay_figures(data, params, classes, engines, colors)
+    elif data.real_logs or data.replay_traces:
+        replay_notes.append("the time plots and spectra need both the real logs and the replay traces")
+
+    limits_classes = [{"cls": c, "label": c.replace("_", " "), "friction": class_params.get(c, {}).get("friction"),
+                       "source": class_params.get(c, {}).get("source")}
+                      for c in (list(class_params) + [c for c in shown_classes if c not in class_params])]
+    prov = data.segments_provenance or {}
+    n_small = {}
+    for item in class_blocks:
+        for b in item["sets"]:
+            ns = [r["n"] for r in b["rows"]]
+            if ns:
+                n_small.setdefault(b["set"], []).append((item["cls"], min(ns)))
+    return {
+        "given": given, "sets": sets, "missing": missing, "classes": class_blocks, "glance": glance,
+        "tally": tally, "gain_uri": gain_uri, "segments": _segments_table(data, classes, engines),
+        "provenance": prov, "replay": "replay" in sets, "replay_figs": replay_figs,
+        "replay_notes": replay_notes, "limits_classes": limits_classes,
+        "dataset": (rd.get("dataset") or (acc or {}).get("dataset")),
+        "dataset_text": prov.get("dataset"), "scored_set": scored_set,
+        "window": rd.get("window"), "segment_rules": rd.get("segment_rules") or {},
+        "n_small": n_small,
+        "replay_wanted": bool((params.get("accuracy") or {}).get("replay")),
+    }

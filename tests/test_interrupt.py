@@ -1,0 +1,73 @@
+"""A run killed mid-way and restarted ends with the same results as an uninterrupted run."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pandas as pd
+import pytest
+
+from conftest import ROOT, snakemake, tiny_config, write_config
+from simpick.traces import read_trace
+
+
+def start(workdir):
+    cmd = [sys.executable, "-m", "snakemake", "--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir),
+           "--configfile", str(workdir / "config.yaml"), "--cores", "2"]
+    return subprocess.Popen(cmd, cwd=workdir, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            start_new_session=True)
+
+
+def traces(workdir):
+    return sorted(p.relative_to(workdir) for p in (workdir / "results").rglob("*.parquet"))
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    workdir = tmp_path_factory.mktemp("uninterrupted")
+    write_config(workdir, tiny_config(workdir))
+    assert snakemake(workdir).returncode == 0
+    return workdir
+
+
+@pytest.mark.parametrize("how", [signal.SIGINT, signal.SIGKILL], ids=["SIGINT", "SIGKILL"])
+def test_killed_and_restarted_run_equals_an_uninterrupted_one(how, reference, tmp_path):
+    config = tiny_config(tmp_path)
+    config["real_data"]["segments"] = str(reference / "segments.csv")  # the very same cases
+    write_config(tmp_path, config)
+    proc = start(tmp_path)
+    deadline = time.time() + 120
+    while time.time() < deadline and len(traces(tmp_path)) < 2:  # kill it in the middle
+        time.sleep(0.05)
+    os.killpg(proc.pid, how)  # the whole process group: snakemake and its running jobs
+    proc.wait(timeout=60)
+    assert proc.returncode != 0, "the run had finished before it could be interrupted"
+    # nothing half-written may pass for a finished trace
+    for path in traces(tmp_path):
+        try:
+            read_trace(tmp_path / path)
+        except Exception:  # noqa: BLE001 - any unreadable leftover must be redone by the restart
+            pass
+
+    if how == signal.SIGKILL:
+        # a killed Snakemake cannot release its lock; it says so and names --unlock
+        refused = snakemake(tmp_path)
+        assert refused.returncode != 0 and "--unlock" in refused.stdout + refused.stderr
+        assert snakemake(tmp_path, "--unlock").returncode == 0
+    restart = snakemake(tmp_path)
+    assert restart.returncode == 0, restart.stderr[-3000:]
+    assert traces(tmp_path) == traces(reference)
+    for rel in traces(reference):
+        if "/replay/" in str(rel):
+            continue
+        a, meta_a = read_trace(reference / rel)
+        b, meta_b = read_trace(tmp_path / rel)
+        pd.testing.assert_frame_equal(a, b, check_exact=True)
+        assert meta_a["config_hash"] == meta_b["config_hash"]
+    ref = pd.read_csv(reference / "results/scores/weighted.csv", index_col="engine")
+    got = pd.read_csv(tmp_path / "results/scores/weighted.csv", index_col="engine")
+    qualitative = [c for c in ref.columns if not c.startswith(("real_time", "cpu_"))]
+    pd.testing.assert_frame_equal(ref[qualitative].drop(columns=["total", "rank"]),
+                                  got[qualitative].drop(columns=["total", "rank"]))
