@@ -6,6 +6,9 @@ STAMP := $(VENV)/.installed
 .PHONY: study test bench clean
 
 $(STAMP): pyproject.toml
+	@# ODE comes from the system (Debian libode8); headers for the binding's own tests
+	ldconfig -p | grep -q 'libode\.so\.8' || { apt-get update && apt-get install -y --no-install-recommends libode8 libode-dev; } || \
+	  { echo "simpick: install ODE 0.16 first: apt-get install libode8 libode-dev (as root)"; exit 1; }
 	$(PYTHON) -m venv $(VENV)
 	$(VENV)/bin/pip install --quiet --upgrade pip
 	$(VENV)/bin/pip install --quiet -e '.[test]'

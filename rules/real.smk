@@ -63,6 +63,8 @@ for _cls, _ids in SEGMENTS.items():
             case=lambda wc, cls=_cls: real_params(wc.engine, cls),
         log:
             f"results/logs/real/segments/{{engine}}/{_cls}.log",
+        benchmark:
+            f"results/benchmarks/segments/{{engine}}/{_cls}.tsv"
         threads: 1
         resources:
             mem_mb=400,

@@ -31,6 +31,8 @@ rule cpu_load:
         | {"cpu_load": canonical(config["cpu_load"])},
     log:
         "results/logs/cpu_load/{engine}.log",
+    benchmark:
+        "results/benchmarks/cpu_load/{engine}.tsv"
     threads: 1
     resources:
         mem_mb=600,

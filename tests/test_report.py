@@ -67,8 +67,13 @@ def _trace(engine: str, terrain: str, motion: str, seconds: float, rng: np.rando
     return frame
 
 
-def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | None = FAILED) -> dict:
-    """Write every report input under ``root``; returns the ``inputs`` dict."""
+def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | None = FAILED,
+                           accuracy_errors: str | Path | None = None) -> dict:
+    """Write every report input under ``root``; returns the ``inputs`` dict.
+
+    ``accuracy_errors``: an Eq. 7 totals file the accuracy scores are computed from instead of
+    the lab errors (as the scores rule does with ``accuracy.reference: real``).
+    """
     rng = np.random.default_rng(7)
     root = Path(root)
     (root / "metrics").mkdir(parents=True, exist_ok=True)
@@ -167,7 +172,7 @@ def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | Non
     qpath.write_text(yaml.safe_dump(qual, sort_keys=False))
 
     from simpick.scoring import accuracy_scores, efficiency_scores, qualitative_scores, real_time_factor_scores
-    err = pd.DataFrame(errors)
+    err = pd.DataFrame(errors) if accuracy_errors is None else pd.read_csv(accuracy_errors)
     scores = pd.DataFrame({e: qualitative_scores(qual[e]) for e in ENGINES}).T
     scores["real_time_factor"] = pd.Series(real_time_factor_scores(dict(zip(rf.engine, rf.real_time_factor))))
     scores["cpu_average"] = pd.Series(efficiency_scores({"pybullet": 31.0, "mujoco": 18.5}))
@@ -319,3 +324,228 @@ def test_missing_required_input_is_named(tmp_path):
 
     with pytest.raises(InputError, match="runs"):
         build_report({"weighted": str(tmp_path / "w.csv")}, {}, tmp_path / "r.html", tmp_path / "r.pdf")
+
+
+# --------------------------------------------------------------------------
+# Real robot data (rules/real.smk, simpick.realdata)
+# --------------------------------------------------------------------------
+
+REAL_CLASSES = {"asphalt": {"friction": 0.75, "source": "Wong, Table 1.4 (synthetic test)"},
+                "snow": {"friction": 0.2, "source": "assumption for the test; sinkage not modelled"}}
+REAL_FAILED = ("pybullet", "snow-turning-02-0003p00s")
+TRACK = 0.555
+
+
+def _segment_rows() -> list[dict]:
+    from simpick.realsegments import COLUMNS as SEGMENT_COLUMNS
+
+    rows = []
+    for cls in REAL_CLASSES:
+        for kind, run, t0, vl, vr in (("straight", "01", 1.0, 0.4, 0.4), ("straight", "02", 2.0, 0.3, 0.31),
+                                      ("turning", "01", 12.0, 0.1, 0.3), ("turning", "02", 3.0, -0.1, 0.1)):
+            seg = f"{cls}-{kind}-{run}-{t0:07.2f}s".replace(".", "p")
+            w = (vr - vl) / TRACK
+            row = {c: 0.0 for c in SEGMENT_COLUMNS}
+            row.update({"segment": seg, "dataset": "BorealTC", "terrain_class": cls, "run": run, "kind": kind,
+                        "t_start": t0, "t_end": t0 + 6.0, "settle": 1.0, "duration": 6.0, "v_left": vl,
+                        "v_right": vr, "v": (vl + vr) / 2, "w": w,
+                        "yaw_rate_gain": (0.7 if cls == "asphalt" else 0.2) if kind == "turning" else float("nan"),
+                        "linear_z_mean": 9.8, "linear_z_range": 4.0 if cls == "asphalt" else 12.0})
+            rows.append(row)
+    return rows
+
+
+def _imu_frame(seconds: float, gain: float, w_cmd: float, rough: float, rng) -> pd.DataFrame:
+    t = np.arange(0.01, seconds + 1e-9, 0.01)
+    n = t.size
+    return pd.DataFrame({"time": t, "ax": rng.normal(0, rough, n), "ay": rng.normal(0, rough, n),
+                         "az": 9.81 + rng.normal(0, rough, n), "wx": rng.normal(0, 0.01, n),
+                         "wy": rng.normal(0, 0.01, n), "wz": gain * w_cmd + rng.normal(0, 0.01, n)})
+
+
+def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
+    """The real-data inputs of the report, in rules/real.smk's formats, from synthetic data."""
+    from simpick.realdata import _summaries, replay_metrics_job
+    from simpick.reallogs import RealLog, write_canonical
+
+    rng = np.random.default_rng(11)
+    root = Path(root)
+    (root / "metrics").mkdir(parents=True, exist_ok=True)
+    segments = pd.DataFrame(_segment_rows())
+    segments.to_csv(root / "segments.csv", index=False)
+    (root / "segments.provenance.yaml").write_text(yaml.safe_dump({
+        "dataset": "BorealTC (synthetic stand-in for the test)", "derived_by": "the report test",
+        "segments_found": 12, "segments_kept": len(segments)}))
+    rows = []
+    for e in ENGINES:
+        for i, seg in enumerate(segments.to_dict("records")):
+            asphalt = seg["terrain_class"] == "asphalt"
+            row = {"engine": e, "terrain_class": seg["terrain_class"], "segment": seg["segment"], "run": seg["run"],
+                   "kind": seg["kind"], "status": "ok", "reasons": "", "yaw_rate_gain_real": seg["yaw_rate_gain"]}
+            if (e, seg["segment"]) == REAL_FAILED:
+                row.update(status="failed", reasons="slides while commanded to stand still")
+                rows.append(row)
+                continue
+            # asphalt: mujoco clearly closer in angular velocity; snow: mixed
+            base = 0.3 + 0.05 * i
+            row["error_angular"] = base * (0.6 if e == "mujoco" and asphalt else 1.0) + (0.02 * (-1) ** i if not asphalt else 0)
+            row["error_linear"] = 10.0 + i + (0.5 * (-1) ** i if e == "mujoco" else 0.0)
+            row["yaw_rate_gain_sim"] = (0.25 if e == "mujoco" else 0.05) + 0.01 * i if seg["kind"] == "turning" else float("nan")
+            row["speed_sim"] = seg["v"]
+            rows.append(row)
+    per_test = pd.DataFrame(rows)
+    outputs = {k: str(root / "metrics" / f"segments_{k}.csv") for k in ("per_test", "summary", "pairwise", "imu_errors")}
+    per_test.to_csv(outputs["per_test"], index=False)
+    _summaries(per_test, "terrain_class", outputs)
+    inputs = {"segments": str(root / "segments.csv"),
+              "segments_provenance": str(root / "segments.provenance.yaml"),
+              **{f"segments_{k}": v for k, v in outputs.items()}}
+    if not replay:
+        return inputs
+
+    logs, traces = [], []
+    for cls in REAL_CLASSES:
+        for run, w_cmd in (("01", 0.4), ("02", -0.3)):
+            seconds = 30.0
+            rough = 0.8 if cls == "asphalt" else 2.0
+            imu = _imu_frame(seconds, 0.7 if cls == "asphalt" else 0.2, w_cmd, rough, rng)
+            imu["time"] -= 0.01
+            tc = np.arange(0.0, seconds, 1 / 6.5)
+            cmd = pd.DataFrame({"time": tc, "v_left": 0.3 - w_cmd * TRACK / 2 + 0 * tc,
+                                "v_right": 0.3 + w_cmd * TRACK / 2 + 0 * tc})
+            log = RealLog(imu=imu, commands=cmd, meta={"dataset": "BorealTC", "run_id": run,
+                                                       "terrain_class": cls.upper(), "name": f"{cls.upper()}_{run}"})
+            path = root / "logs" / cls.upper() / f"{run}.parquet"
+            write_canonical(log, path)
+            logs.append(str(path))
+            for e in ENGINES:
+                sim = _imu_frame(seconds, 0.25 if e == "mujoco" else 0.05, w_cmd, 0.01, rng)
+                frame = _trace(e, "grass", "straight", seconds, rng).iloc[: len(sim)].reset_index(drop=True)
+                for c in sim.columns:
+                    frame[c] = sim[c].to_numpy()
+                tpath = root / "replay" / e / cls / f"{run}.parquet"
+                write_trace(frame, {"engine": e, "terrain": cls, "motion": f"replay-{run}", "run": run,
+                                    "dataset": "BorealTC", "health": {"status": "ok", "reasons": []}}, tpath)
+                traces.append(str(tpath))
+    outputs = {k: str(root / "metrics" / f"replay_{k}.csv")
+               for k in ("per_window", "per_test", "summary", "pairwise", "imu_errors")}
+    replay_metrics_job(logs, traces, {"track": TRACK, "window": 10.0}, outputs)
+    inputs.update({f"replay_{k}": v for k, v in outputs.items()})
+    inputs.update({"real_logs": logs, "replay_traces": traces})
+    return inputs
+
+
+def _real_params(errors_file: str, reference: str = "real", replay: bool = True) -> dict:
+    return {**PARAMS, "accuracy": {"reference": reference, "errors_file": errors_file, "dataset": "borealtc",
+                                   "replay": replay},
+            "real_data": {"dataset": "borealtc", "classes": REAL_CLASSES, "window": 10.0,
+                          "segment_rules": {"settle": 1.0, "per_kind": 2}}}
+
+
+@pytest.fixture(scope="module")
+def built_real(tmp_path_factory):
+    from simpick.report import build_report
+
+    root = tmp_path_factory.mktemp("report_real")
+    real = write_synthetic_real_inputs(root / "real")
+    inputs = write_synthetic_inputs(root / "in", accuracy_errors=real["segments_imu_errors"])
+    inputs.update(real)
+    inputs["accuracy_errors"] = real["segments_imu_errors"]
+    html, pdf = root / "out" / "report.html", root / "out" / "report.pdf"
+    build_report(inputs, _real_params(real["segments_imu_errors"]), html, pdf)
+    return inputs, html.read_text(encoding="utf-8"), pdf
+
+
+def _section(text: str, start: str, end: str) -> str:
+    i = text.index(start)
+    return text[i:text.index(end, i)]
+
+
+def test_real_section_has_per_class_tables_and_verdicts(built_real):
+    _, text, pdf = built_real
+    assert pdf.read_bytes()[:4] == b"%PDF"
+    sec = _section(text, '<h2 id="real">', '<h2 id="health">')
+    assert "which engine is closest to the real Husky on each terrain, and how sure are we" in sec
+    for cls in REAL_CLASSES:
+        table = re.search(rf'<table[^>]*id="real-{cls}-segments".*?</table>', sec, re.S).group(0)
+        assert "real robot" in table and all(e in table for e in ENGINES)
+        assert "[" in table  # 95 % intervals
+        assert re.search(rf'<table[^>]*id="real-{cls}-replay"', sec)
+    # asphalt: mujoco's angular error is clearly smaller
+    asphalt = _section(sec, 'id="real-asphalt"', "</div>")
+    assert re.search(r"<b>Closest:</b>\s*angular velocity <b>mujoco</b> \(clear at 95 %", asphalt)
+    assert "not clear at 95 %" in sec
+    # the yaw-rate-gain figure, the segments table, the replay figures, the limits
+    assert 'alt="Yaw-rate gain per terrain class' in sec
+    seg_table = re.search(r'<table[^>]*id="segments-table".*?</table>', sec, re.S).group(0)
+    assert seg_table.count("straight-01-0001p00s") == 2 and "failed" in seg_table
+    for cls in REAL_CLASSES:
+        assert f'id="replay-{cls}"' in sec
+    assert "rigid flat ground with one friction coefficient" in sec
+    assert "sinkage" in sec.lower()
+    for c in REAL_CLASSES.values():
+        assert c["source"] in sec
+    assert "slides while commanded to stand still" in sec  # the failed segment is named
+
+
+def test_summary_names_the_accuracy_data(built_real):
+    inputs, text, _ = built_real
+    summary = re.search(r'<div class="summary".*?</div>', text, re.S).group(0)
+    errors = pd.read_csv(inputs["segments_imu_errors"], dtype={"tests": str, "excluded": str},
+                         keep_default_na=False)
+    tests = sorted({t for ts in errors["tests"] for t in ts.split(";") if t})
+    excluded = sorted({t for ts in errors["excluded"] for t in ts.split(";") if t})
+    assert excluded == [REAL_FAILED[1]]
+    assert "real robot data" in summary
+    assert f"{len(tests)} constant-command segments" in summary
+    for t in tests:  # listed per class without the class prefix
+        cls = t.split("-", 1)[0]
+        assert t[len(cls) + 1:] in summary
+    assert "Left out because an engine failed it" in summary and REAL_FAILED[1] in summary
+    assert inputs["segments_imu_errors"] in summary
+    assert "gravel/straight" in summary and "not in the accuracy scores" in summary
+    assert "do not follow from this errors file" not in text
+    # the IMU-error section lists the same tests, and the lab comparison is labelled apart
+    listed = re.search(r'<p class="note" id="accuracy-tests">.*?</p>', text, re.S).group(0)
+    assert f"The {len(tests)} constant-command segments the accuracy scores cover" in listed
+    assert all(t[len(t.split("-", 1)[0]) + 1:] in listed for t in tests)
+    lab = _section(text, 'id="lab-imu"', '<h2 id="real">')
+    assert "Lab study: gravel/straight against the paper" in lab and "Not in the accuracy scores" in lab
+
+
+def _render(inputs: dict, params: dict) -> str:
+    from simpick.report.build import render_html
+    from simpick.report.load import load_inputs
+
+    return render_html(load_inputs(inputs), params)
+
+
+def test_paper_reference_and_segments_only(tmp_path, built_real):
+    inputs, _, _ = built_real
+    lab = write_synthetic_inputs(tmp_path / "in", seconds=1.0, failed=None)
+    real = {k: v for k, v in inputs.items() if k.startswith("segments")}
+    text = _render({**lab, **real, "accuracy_errors": lab["imu_errors"]},
+                   _real_params(lab["imu_errors"], reference="paper", replay=False))
+    summary = re.search(r'<div class="summary".*?</div>', text, re.S).group(0)
+    assert "gravel/straight" in summary and "accuracy.reference: paper" in summary
+    assert "is shown but is not in the accuracy scores" in summary
+    assert 'id="real-asphalt-segments"' in text and 'id="real-asphalt-replay"' not in text
+    assert 'id="replay-missing"' in text and "borealtc_dir" in text
+    # the scores in weighted.csv were computed from the lab errors: a real-data errors file contradicts them
+    text = _render({**lab, **real, "accuracy_errors": real["segments_imu_errors"]},
+                   _real_params(real["segments_imu_errors"]))
+    assert "do not follow from this errors file" in text
+
+
+def test_without_real_inputs_the_section_says_so(built):
+    _, html, _ = built
+    text = html.read_text(encoding="utf-8")
+    assert 'id="real-missing"' in text and "No real-robot data was given" in text
+    assert 'id="real-glance"' not in text
+
+
+def test_list_inputs_cover_the_lists():
+    from simpick.report import LIST_INPUTS, OPTIONAL_INPUTS
+
+    assert set(LIST_INPUTS) <= set(OPTIONAL_INPUTS)
+    assert {"cpu", "traces", "real_logs", "replay_traces"} == set(LIST_INPUTS)

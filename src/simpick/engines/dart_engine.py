@@ -230,9 +230,8 @@ class DartEngine:
         omega = np.empty((steps, 3))
         joint_speed = np.empty((steps, skel0.getNumDofs()))
         # base_link's world pose and the world-frame velocity of its origin straight from the
-        # body node: version-proof, unlike the FreeJoint's generalized velocities, whose
-        # frames (angular in the body frame, linear in the world frame in dartpy 6.20) have
-        # changed between DART releases.
+        # body node, independent of the FreeJoint's coordinate convention (in dartpy 6.20 its
+        # generalized velocity is angular in the body frame but linear in the world frame).
         get_pose, get_v, get_w = base.getWorldTransform, base.getLinearVelocity, base.getAngularVelocity
         get_dq, step = skel0.getVelocities, world.step
 

@@ -287,9 +287,9 @@ def gain_figure(panels: Sequence[dict]) -> str:
                             fmt="none", ecolor="0.15", elinewidth=0.8, capsize=2)
             for p, m, hi in zip(pos, mean, high):
                 top = hi if np.isfinite(hi) else m
-                ax.annotate(_short(m) if np.isfinite(m) else "n/a", (p, max(top, 0) if np.isfinite(top) else 0),
+                ax.annotate(f"{m:.2f}" if np.isfinite(m) else "n/a", (p, max(top, 0) if np.isfinite(top) else 0),
                             xytext=(0, 1.5), textcoords="offset points", ha="center", va="bottom",
-                            fontsize=5.5, rotation=90 if k > 2 else 0)
+                            fontsize=5.5, rotation=90 if k * len(classes) > 18 else 0)
         ax.axhline(1.0, color="0.4", ls=":", lw=0.8)
         ax.axhline(0.0, color="0.3", lw=0.6)
         ax.set_xticks(x, [c.replace("_", " ") for c in classes])

@@ -168,7 +168,10 @@ def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], cl
     dataset = acc.get("dataset")
     if data.segments is not None and "dataset" in data.segments.columns and len(data.segments):
         dataset = str(data.segments["dataset"].iloc[0]) or dataset
+    n = len(tests)
+    noun = {"segments": "constant-command segment", "replay": "replayed run", "real": "real-data test"}.get(kind, "test")
     return {
+        "count_text": f"{n} {noun}{'s' if n != 1 else ''}",
         "reference": reference, "kind": kind, "errors_file": path or None, "given": True,
         "dataset": dataset, "rows": rows, "tests": tests, "n": len(tests), "same_for_all": len(sets) <= 1,
         "excluded": excluded, "groups": groups, "mismatch": mismatch,
@@ -246,7 +249,7 @@ def _verdict(cls: str, fig: str, summary: pd.DataFrame | None, pairwise: pd.Data
         diffs.append({"other": other, "mean": sign * _f(r["mean_a_minus_b"]), "low": min(lo, hi),
                       "high": max(lo, hi), "verdict": r["verdict"]})
     return {"figure": fig, "label": FIGURE_LABELS[fig], "unit": FIGURE_UNITS[fig], "engine": best,
-            "clear": clear, "reason": reason, "diffs": diffs, "n_engines": len(means)}
+            "is_clear": clear, "reason": reason, "diffs": diffs, "n_engines": len(means)}
 
 
 def _gain_closest(real_gain: dict | None, rows: list[dict]) -> dict[str, Any] | None:
@@ -257,7 +260,8 @@ def _gain_closest(real_gain: dict | None, rows: list[dict]) -> dict[str, Any] | 
     if not gaps:
         return None
     best = min(gaps, key=gaps.get)
-    return {"engine": best, "gap": gaps[best], "gaps": gaps}
+    sim = next(r["gain"]["mean"] for r in rows if r["engine"] == best)
+    return {"engine": best, "gap": gaps[best], "gaps": gaps, "sim": sim}
 
 
 def _set_block(set_: str, tables: Mapping[str, pd.DataFrame], cls: str, engines: list[str]) -> dict[str, Any]:
@@ -414,11 +418,16 @@ def _replay_figures(data: ReportData, params: Mapping[str, Any], classes: list[s
         if per_test is not None and "error_angular" in per_test.columns:
             ok = per_test[(per_test["terrain_class"] == cls) & (per_test["status"].str.lower() == "ok")
                           & per_test["run"].isin(runs)]
-            if len(ok):
-                per_run = ok.groupby("run")["error_angular"].mean()
+            turning = ok
+            if "yaw_rate_gain_real" in ok.columns:
+                turning = ok[np.isfinite([_f(x) for x in ok["yaw_rate_gain_real"]])]
+            pool, among = (turning, "of the runs that turn, ") if len(turning) else (ok, "")
+            if len(pool):
+                per_run = pool.groupby("run")["error_angular"].mean()
                 med = float(per_run.median())
                 chosen = str((per_run - med).abs().sort_values(kind="mergesort").index[0])
-                why = "the run whose Eq. 7 angular error, averaged over the engines, is nearest the class median"
+                why = (f"{among}the one whose Eq. 7 angular error, averaged over the engines, "
+                       "is nearest the class median")
         imu, commanded, _ = _read_real_series(logs[(cls, chosen)], track)
         rate = _rate(imu)
         series = [(figures.REAL_LABEL, figures.REAL_COLOR, imu)]
@@ -462,8 +471,11 @@ def _replay_figures(data: ReportData, params: Mapping[str, Any], classes: list[s
         t_max = TIME_PLOT_MAX_S if duration > TIME_PLOT_MAX_S else None
         uri = figures.replay_figure(series, psd_series, commanded, rate, t_max=t_max, band=PSD_BAND_HZ,
                                     cutoff_hz=LOWPASS_HZ)
+        counts = sorted(set(n_psd.values()))
+        psd_text = (f"{counts[0]} run{'s' if counts[0] != 1 else ''}" if len(counts) == 1 else
+                    ", ".join(f"{label} {n}" for label, n in n_psd.items()) + " runs")
         out.append({"cls": cls, "label": cls.replace("_", " "), "run": chosen, "why": why, "uri": uri,
-                    "n_runs": len(runs), "duration": duration, "t_max": t_max, "skipped": skipped,
+                    "n_runs": len(runs), "psd_text": psd_text, "duration": duration, "t_max": t_max, "skipped": skipped,
                     "n_psd": n_psd, "lowpass_hz": LOWPASS_HZ, "band": PSD_BAND_HZ})
     if (data.real_logs is None) != (data.replay_traces is None):
         notes.append("the time plots and spectra need both the real logs and the replay traces")
@@ -504,15 +516,15 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
     tally: dict[str, dict[str, int]] = {}
     for s in sets:
         rows = []
-        counts = {"clear": {}, "unclear": 0, "n": 0}
+        counts = {"by_engine": {}, "unclear": 0, "n": 0}
         for b in blocks_by_set[s]:
             vs = {v["figure"]: v for v in b["block"]["verdicts"]}
             rows.append({"cls": b["cls"], "label": b["cls"].replace("_", " "), "verdicts": vs,
                          "gain": b["block"]["gain_closest"], "real_gain": b["block"]["real_gain"]})
             for v in vs.values():
                 counts["n"] += 1
-                if v["clear"]:
-                    counts["clear"][v["engine"]] = counts["clear"].get(v["engine"], 0) + 1
+                if v["is_clear"]:
+                    counts["by_engine"][v["engine"]] = counts["by_engine"].get(v["engine"], 0) + 1
                 else:
                     counts["unclear"] += 1
         glance.append({"set": s, "title": SET_TITLES[s], "rows": rows, "scored": s == scored_set})
