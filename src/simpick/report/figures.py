@@ -334,7 +334,8 @@ def _limits(values: Sequence[np.ndarray], smooth: Sequence[np.ndarray]) -> tuple
     return a - pad, b + pad
 
 
-def replay_figure(series: Sequence[tuple[str, str, pd.DataFrame]], psd: Sequence[tuple[str, str, np.ndarray, np.ndarray]],
+def replay_figure(series: Sequence[tuple[str, str, pd.DataFrame]],
+                  psd: Sequence[tuple[str, str, np.ndarray, np.ndarray]],
                   commanded: pd.DataFrame | None, rate_hz: float, t_max: float | None = None,
                   band: tuple[float, float] | None = None, cutoff_hz: float = 2.0) -> str:
     """One terrain class of the full replay.
@@ -366,7 +367,8 @@ def replay_figure(series: Sequence[tuple[str, str, pd.DataFrame]], psd: Sequence
             ys = lowpass(y, rate_hz, cutoff_hz)
             real = label == REAL_LABEL
             ax.plot(t, y, color=color, lw=0.35, alpha=0.22)
-            (h,) = ax.plot(t, ys, color=color, lw=1.3 if real else 0.9, alpha=0.95, label=label, zorder=3 if real else 2)
+            (h,) = ax.plot(t, ys, color=color, lw=1.3 if real else 0.9, alpha=0.95, label=label,
+                           zorder=3 if real else 2)
             handles.setdefault(label, h)
             raws.append(y)
             smooths.append(ys)

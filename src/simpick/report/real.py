@@ -169,7 +169,8 @@ def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], cl
     if data.segments is not None and "dataset" in data.segments.columns and len(data.segments):
         dataset = str(data.segments["dataset"].iloc[0]) or dataset
     n = len(tests)
-    noun = {"segments": "constant-command segment", "replay": "replayed run", "real": "real-data test"}.get(kind, "test")
+    noun = {"segments": "constant-command segment", "replay": "replayed run",
+            "real": "real-data test"}.get(kind, "test")
     return {
         "count_text": f"{n} {noun}{'s' if n != 1 else ''}",
         "reference": reference, "kind": kind, "errors_file": path or None, "given": True,
@@ -552,7 +553,9 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
     return {
         "given": given, "sets": sets, "missing": missing, "classes": class_blocks, "glance": glance,
         "tally": tally, "gain_uri": gain_uri, "segments": _segments_table(data, classes, engines),
-        "provenance": prov, "replay": "replay" in sets, "replay_figs": replay_figs,
+        "provenance": {"derived_by": prov.get("derived_by"), "found": prov.get("segments_found"),
+                       "kept": prov.get("segments_kept")},
+        "replay": "replay" in sets, "replay_figs": replay_figs,
         "replay_notes": replay_notes, "limits_classes": limits_classes,
         "dataset": (rd.get("dataset") or (acc or {}).get("dataset")),
         "dataset_text": prov.get("dataset"), "scored_set": scored_set,
