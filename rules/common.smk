@@ -4,7 +4,7 @@ import sys
 from simpick.config import validate_or_exit
 
 
-validate_or_exit(config)
+validate_or_exit(config, files=workflow.configfiles)
 
 ENGINES = list(config["engines"])
 TERRAINS = list(config["terrains"])

@@ -14,7 +14,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from simpick.engines import ADAPTERS
+from simpick.engines import ADAPTERS, engine_defaults
 from simpick.scoring import METRICS
 from simpick.terrain import RULES
 
@@ -134,6 +134,11 @@ class Study(Strict):
             raise ValueError(f"unknown engine(s) {unknown}; available: {sorted(ADAPTERS)}")
         if not engines:
             raise ValueError("at least one engine is needed")
+        for name, settings in engines.items():
+            unknown = sorted(set(settings or {}) - set(engine_defaults(name)))
+            if unknown:
+                raise ValueError(f"engines.{name}: unknown setting(s) {unknown}; "
+                                 f"{name} accepts {sorted(engine_defaults(name))}")
         return engines
 
     @field_validator("weights")
@@ -187,8 +192,35 @@ def problems(config: dict) -> list[str]:
     return []
 
 
-def validate_or_exit(config: dict, source: str = "config") -> None:
-    found = problems(config)
+def duplicate_keys(path: str | Path) -> list[str]:
+    """YAML quietly keeps the last of two equal keys; a config must not say a thing twice."""
+    import yaml
+
+    found: list[str] = []
+
+    class Loader(yaml.SafeLoader):
+        pass
+
+    def mapping(loader, node, deep=False):
+        seen = set()
+        for key_node, _ in node.value:
+            key = loader.construct_object(key_node, deep=deep)
+            if key in seen:
+                found.append(f"{path}, line {key_node.start_mark.line + 1}: key {key!r} appears twice "
+                             "in the same block (YAML would silently keep the last one)")
+            seen.add(key)
+        return yaml.SafeLoader.construct_mapping(loader, node, deep)
+
+    Loader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, mapping)
+    try:
+        yaml.load(Path(path).read_text(), Loader=Loader)
+    except (OSError, yaml.YAMLError) as exc:
+        found.append(f"{path}: cannot be read as YAML: {exc}")
+    return found
+
+
+def validate_or_exit(config: dict, source: str = "config", files: list | tuple = ()) -> None:
+    found = [line for f in files for line in duplicate_keys(f)] + problems(config)
     if found:
         print(f"simpick: the {source} has {len(found)} problem(s):", file=sys.stderr)
         for line in found:

@@ -24,3 +24,9 @@ def get_engine(name: str) -> Engine:
         raise KeyError(f"unknown engine {name!r}; known engines: {sorted(ADAPTERS)}")
     module, cls = ADAPTERS[name].split(":")
     return getattr(importlib.import_module(module), cls)()
+
+
+def engine_defaults(name: str) -> dict:
+    """The settings an engine accepts, with their defaults (``DEFAULTS`` of its module)."""
+    module, _ = ADAPTERS[name].split(":")
+    return dict(importlib.import_module(module).DEFAULTS)

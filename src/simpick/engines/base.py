@@ -52,6 +52,17 @@ class PhysicsRecord:
     steps: int
 
 
+def validated_commands(scenario: Scenario, wheel_commands) -> np.ndarray:
+    """(steps, robots, 4) float array matching the scenario's robots, or a clear error."""
+    from simpick.errors import InputError
+
+    wheel_commands = np.asarray(wheel_commands, dtype=float)
+    if wheel_commands.ndim != 3 or wheel_commands.shape[1:] != (len(scenario.starts), 4):
+        raise InputError("wheel_commands", f"shape {wheel_commands.shape} does not fit "
+                         f"{len(scenario.starts)} robots x 4 wheels")
+    return wheel_commands
+
+
 class Engine(Protocol):
     name: str
 

@@ -63,7 +63,7 @@ import time
 
 import numpy as np
 
-from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario
+from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario, validated_commands
 from simpick.errors import InputError
 from simpick.imu import imu_from_kinematics
 
@@ -194,16 +194,8 @@ class DartEngine:
             robots.append((skel, wheels))
         return world, robots
 
-    @staticmethod
-    def _commands(scenario: Scenario, wheel_commands) -> np.ndarray:
-        wheel_commands = np.asarray(wheel_commands, dtype=float)
-        if wheel_commands.ndim != 3 or wheel_commands.shape[1:] != (len(scenario.starts), 4):
-            raise InputError("wheel_commands", f"shape {wheel_commands.shape} does not fit "
-                             f"{len(scenario.starts)} robots x 4 wheels")
-        return wheel_commands
-
     def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
-        wheel_commands = self._commands(scenario, wheel_commands)
+        wheel_commands = validated_commands(scenario, wheel_commands)
         world, robots = self.build(scenario)
         for (_, wheels), speeds in zip(robots, wheel_commands[0]):
             for joint, w in zip(wheels, speeds.tolist()):
@@ -215,7 +207,7 @@ class DartEngine:
         return time.perf_counter() - start
 
     def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
-        wheel_commands = self._commands(scenario, wheel_commands)
+        wheel_commands = validated_commands(scenario, wheel_commands)
         world, robots = self.build(scenario)
         steps = wheel_commands.shape[0]
         dt = scenario.timestep

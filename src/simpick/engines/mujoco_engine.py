@@ -18,9 +18,10 @@ import time
 
 import numpy as np
 
-from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario
+from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario, validated_commands
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
+DEFAULTS = {"integrator": "implicitfast", "cone": "elliptic", "solver_iterations": 50, "wheel_servo_gain": 300.0}
 # Sensor layout of robot 0, in the order the sensors are added: name -> width.
 SENSORS = (("accel", 3), ("gyro", 3), ("pos", 3), ("quat", 4), ("linvel", 3), ("angvel", 3), ("wheels", 4))
 
@@ -39,13 +40,13 @@ class MujocoEngine:
         """Compile the world; returns (model, per-robot actuator count)."""
         import mujoco
 
-        settings = scenario.settings
+        settings = {**DEFAULTS, **scenario.settings}
         spec = mujoco.MjSpec()
         spec.option.timestep = scenario.timestep
         spec.option.gravity = [0.0, 0.0, -GRAVITY]
-        spec.option.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{settings.get('integrator', 'implicitfast').upper()}")
-        spec.option.cone = getattr(mujoco.mjtCone, f"mjCONE_{settings.get('cone', 'elliptic').upper()}")
-        spec.option.iterations = int(settings.get("solver_iterations", 50))
+        spec.option.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{settings['integrator'].upper()}")
+        spec.option.cone = getattr(mujoco.mjtCone, f"mjCONE_{settings['cone'].upper()}")
+        spec.option.iterations = int(settings["solver_iterations"])
         world = spec.worldbody
 
         def surface(geom, friction: float) -> None:
@@ -64,7 +65,7 @@ class MujocoEngine:
                     terrain["friction"])
 
         robot = scenario.robot
-        kv = float(settings.get("wheel_servo_gain", 300.0))  # N m s/rad
+        kv = float(settings["wheel_servo_gain"])  # N m s/rad
         for i, (x, y, yaw) in enumerate(scenario.starts):
             child = mujoco.MjSpec.from_file(str(robot.urdf))
             frame = world.add_frame(pos=[x, y, robot.base_height + SPAWN_CLEARANCE], quat=_yaw_quat(yaw))
@@ -100,6 +101,7 @@ class MujocoEngine:
         return time.perf_counter() - start
 
     def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
+        wheel_commands = validated_commands(scenario, wheel_commands)
         import mujoco
         from mujoco import rollout
 

@@ -73,7 +73,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from simpick.engines import _ode
-from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario
+from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario, validated_commands
 from simpick.errors import InputError, SimulationFailure
 from simpick.imu import imu_from_kinematics, rotation_matrices
 
@@ -497,16 +497,8 @@ class OdeEngine:
     def version(self) -> str:
         return _ode.version()
 
-    @staticmethod
-    def _commands(scenario: Scenario, wheel_commands) -> np.ndarray:
-        wheel_commands = np.asarray(wheel_commands, dtype=float)
-        if wheel_commands.ndim != 3 or wheel_commands.shape[1:] != (len(scenario.starts), 4):
-            raise InputError("wheel_commands", f"shape {wheel_commands.shape} does not fit "
-                             f"{len(scenario.starts)} robots x 4 wheels")
-        return wheel_commands
-
     def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
-        wheel_commands = self._commands(scenario, wheel_commands)
+        wheel_commands = validated_commands(scenario, wheel_commands)
         world = _World(_ode.load(), scenario)
         try:
             return world.bare_loop(scenario.timestep, wheel_commands)
@@ -514,7 +506,7 @@ class OdeEngine:
             world.destroy()
 
     def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
-        wheel_commands = self._commands(scenario, wheel_commands)
+        wheel_commands = validated_commands(scenario, wheel_commands)
         world = _World(_ode.load(), scenario)
         try:
             position, quat, velocity, omega, wheels, wall, cpu = world.run(scenario.timestep, wheel_commands)

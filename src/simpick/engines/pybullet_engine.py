@@ -18,10 +18,11 @@ import time
 
 import numpy as np
 
-from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario
+from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario, validated_commands
 from simpick.imu import imu_from_kinematics, rotation_matrices
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, so no wheel starts inside the ground
+DEFAULTS = {"solver_iterations": 50}
 
 
 def _xyzw_to_wxyz(q: np.ndarray) -> np.ndarray:
@@ -44,6 +45,7 @@ class PyBulletEngine:
         return importlib.metadata.version("pybullet")
 
     def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
+        wheel_commands = validated_commands(scenario, wheel_commands)
         import pybullet as pb
 
         client = pb.connect(pb.DIRECT)
@@ -97,7 +99,7 @@ class PyBulletEngine:
         # it 1.23 rad). Runs are deterministic without it: the world is built in a fixed order
         # (tests/test_determinism.py).
         pb.setPhysicsEngineParameter(fixedTimeStep=scenario.timestep, numSubSteps=0,
-                                     numSolverIterations=int(settings.get("solver_iterations", 50)),
+                                     numSolverIterations=int({**DEFAULTS, **settings}["solver_iterations"]),
                                      physicsClientId=cid)
         self._build_terrain(pb, cid, scenario)
 

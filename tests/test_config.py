@@ -1,0 +1,65 @@
+"""Every config mistake is caught before any job runs, naming the key, the value and what is allowed."""
+
+import copy
+
+import pytest
+import yaml
+
+from conftest import ROOT, snakemake, tiny_config, write_config
+from simpick.config import duplicate_keys, problems
+
+CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
+
+
+def broken(edit):
+    config = copy.deepcopy(CONFIG)
+    edit(config)
+    return "\n".join(problems(config))
+
+
+def test_the_shipped_config_is_valid():
+    assert problems(CONFIG) == []
+
+
+@pytest.mark.parametrize("edit, expected", [
+    (lambda c: c["engines"].update(gazebo={}), "unknown engine(s) ['gazebo']; available: ['dart', 'mujoco', 'ode', 'pybullet']"),
+    (lambda c: c["engines"]["mujoco"].update(iterationz=3), "engines.mujoco: unknown setting(s) ['iterationz']"),
+    (lambda c: c["terrains"]["grass"].update(rule="lava"), "terrains.grass.rule"),
+    (lambda c: c["motions"]["straight"].update(duration=-1), "motions.straight.duration: Input should be greater than 0 (got -1)"),
+    (lambda c: c["physics"].update(timestep=0), "physics.timestep: Input should be greater than 0 (got 0)"),
+    (lambda c: c["physics"].update(timestep=0.003), "does not divide the IMU period"),
+    (lambda c: c["weights"].update(ui=-2), "weights.ui: Input should be greater than or equal to 0 (got -2)"),
+    (lambda c: c["weights"].update(ui=float("inf")), "weights.ui: Input should be a finite number"),
+    (lambda c: c["weights"].pop("ui"), "missing weight(s) ['ui']"),
+    (lambda c: c["weights"].update(speed=1), "unknown weight(s) ['speed']"),
+    (lambda c: c["robot"].update(urdf="nowhere.urdf"), "robot.urdf: file 'nowhere.urdf' does not exist"),
+    (lambda c: c["robot"].update(track="wide"), "robot.track: Input should be a valid number"),
+    (lambda c: c["cpu_load"].update(terrain="moon"), "cpu_load.terrain 'moon' is not one of terrains"),
+    (lambda c: c.update(borealtc_dir="/no/such/folder"), "borealtc_dir: '/no/such/folder' is not a folder"),
+    (lambda c: c["imu"].update(rate_hz="fast"), "imu.rate_hz: Input should be a valid number"),
+    (lambda c: c.update(sede=1), "sede: Extra inputs are not permitted"),
+    (lambda c: c["accuracy"].update(reference="vibes"), "accuracy.reference: Input should be 'real' or 'paper'"),
+])
+def test_each_mistake_is_named(edit, expected):
+    assert expected in broken(edit)
+
+
+def test_a_key_given_twice_is_refused(tmp_path):
+    path = tmp_path / "c.yaml"
+    path.write_text("weights:\n  ui: 1\n  free: 4\n  ui: 2\n")
+    assert duplicate_keys(path) == [f"{path}, line 4: key 'ui' appears twice in the same block "
+                                    "(YAML would silently keep the last one)"]
+
+
+def test_snakemake_stops_with_the_message_and_no_traceback(tmp_path):
+    config = tiny_config(tmp_path)
+    config["motions"]["straight"]["duration"] = 0
+    write_config(tmp_path, config)
+    text = (tmp_path / "config.yaml").read_text() + "seed: 3\n"  # and a duplicated top-level key
+    (tmp_path / "config.yaml").write_text(text)
+    run = snakemake(tmp_path, "-n")
+    out = run.stdout + run.stderr
+    assert run.returncode != 0
+    assert "motions.straight.duration: Input should be greater than 0 (got 0)" in out
+    assert "key 'seed' appears twice" in out
+    assert "Traceback" not in out
