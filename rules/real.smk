@@ -182,3 +182,14 @@ def accuracy_errors():
     if config.get("borealtc_dir"):
         return f"{REAL}/metrics/replay_imu_errors.csv"
     return f"{REAL}/metrics/segments_imu_errors.csv"
+
+
+rule fetch_borealtc:
+    """For users who are online: the public dataset into data/borealtc (not part of the
+    project; git-ignored). Then run with --config borealtc_dir=data/borealtc."""
+    output:
+        directory("data/borealtc"),
+    log:
+        "results/logs/real/fetch_borealtc.log",
+    script:
+        "../scripts/fetch_borealtc.py"

@@ -84,3 +84,28 @@ def test_bad_config_is_refused_before_any_job(tmp_path):
     assert "physics.timestep" not in text or "does not divide" in text
     assert "weights.free" in text and "greater than or equal to 0" in text
     assert "Traceback" not in text
+
+
+def test_a_new_engine_runs_only_its_own_simulations(tmp_path):
+    config = tiny_config(tmp_path)
+    newcomer = "ode"
+    settings = config["engines"].pop(newcomer)
+    write_config(tmp_path, config)
+    run = snakemake(tmp_path)
+    assert run.returncode == 0, run.stderr[-3000:]
+    config["engines"][newcomer] = settings
+    write_config(tmp_path, config)
+    jobs = planned_jobs(tmp_path)
+    simulations = [(rule, w) for rule, w in jobs if rule in ("simulate", "cpu_load") or rule.startswith("simulate_")]
+    assert simulations and all(f"engine={newcomer}" in w for _, w in simulations), simulations
+    assert not {rule for rule, _ in jobs} & {"terrain", "published_table11"}
+
+
+def test_fetching_the_dataset_offline_says_how_to_use_a_local_copy(tmp_path, monkeypatch):
+    from simpick import realdata
+    from simpick.errors import InputError
+
+    monkeypatch.setattr(realdata, "BOREALTC_ARCHIVES", ("http://127.0.0.1:9/BorealTC.zip",))
+    with pytest.raises(InputError, match=r"could not download BorealTC.*borealtc_dir=PATH"):
+        realdata.fetch_borealtc(tmp_path / "borealtc", timeout=2)
+    assert not (tmp_path / "borealtc").exists()

@@ -164,7 +164,7 @@ class Study(Strict):
         if self.borealtc_dir is not None and not Path(self.borealtc_dir).is_dir():
             raise ValueError(f"borealtc_dir: {self.borealtc_dir!r} is not a folder. Download the data "
                              "(github.com/norlab-ulaval/BorealTC, folder data/borealtc) or run "
-                             "`snakemake --cores 2 fetch_borealtc` while online, then pass "
+                             "`snakemake --cores 2 fetch_borealtc` while online (it writes data/borealtc), then pass "
                              "--config borealtc_dir=PATH")
         if self.borealtc_dir is None and not Path(self.real_data.segments).is_file():
             raise ValueError(f"real_data.segments: {self.real_data.segments!r} does not exist; regenerate it with "

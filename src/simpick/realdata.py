@@ -295,3 +295,48 @@ def provenance_note(path: str | Path) -> dict:
 
 def dump_json(obj, path) -> None:
     Path(path).write_text(json.dumps(obj, indent=1))
+
+
+# --- fetching the public dataset ------------------------------------------------------------------
+
+BOREALTC_ARCHIVES = ("https://github.com/norlab-ulaval/BorealTC/archive/refs/heads/main.zip",
+                     "https://github.com/norlab-ulaval/BorealTC/archive/refs/heads/master.zip")
+
+
+def fetch_borealtc(dest: str | Path, timeout: float = 30.0) -> Path:
+    """Download the public BorealTC repository and keep its data/borealtc folder at ``dest``.
+
+    Offline (or if the repository moved) this raises an InputError that says how to use a
+    local copy instead, rather than a network traceback.
+    """
+    import io
+    import shutil
+    import tempfile
+    import urllib.error
+    import urllib.request
+    import zipfile
+
+    dest = Path(dest)
+    errors = []
+    for url in BOREALTC_ARCHIVES:
+        try:
+            with urllib.request.urlopen(url, timeout=timeout) as response:  # noqa: S310 - fixed https URLs
+                payload = response.read()
+            break
+        except (urllib.error.URLError, OSError, TimeoutError) as exc:
+            errors.append(f"{url}: {exc}")
+    else:
+        raise InputError("borealtc_dir", "could not download BorealTC (" + "; ".join(errors) + ")",
+                         "download the folder data/borealtc of the GitHub repository norlab-ulaval/BorealTC "
+                         "on a connected machine, copy it here, and run "
+                         "snakemake --cores 2 --config borealtc_dir=PATH/TO/borealtc")
+    with tempfile.TemporaryDirectory() as tmp, zipfile.ZipFile(io.BytesIO(payload)) as archive:
+        archive.extractall(tmp)
+        found = [p for p in Path(tmp).glob("*/data/borealtc") if p.is_dir()]
+        if not found:
+            raise InputError("borealtc_dir", "the downloaded archive has no data/borealtc folder",
+                             "download data/borealtc by hand and pass --config borealtc_dir=PATH")
+        if dest.exists():
+            shutil.rmtree(dest)
+        shutil.copytree(found[0], dest)
+    return dest
