@@ -74,11 +74,18 @@ def build_report(inputs: Mapping[str, Any], params: Mapping[str, Any],
     from simpick.report.build import render_html, write_pdf
     from simpick.report.load import load_inputs
 
+    import sys
+    import time
+
+    start = time.perf_counter()
     data = load_inputs(inputs)
     html = render_html(data, params)
+    rendered = time.perf_counter()
     html_path = Path(html_path)
     html_path.parent.mkdir(parents=True, exist_ok=True)
     tmp = html_path.with_name(html_path.name + ".partial")
     tmp.write_text(html, encoding="utf-8")
     tmp.replace(html_path)
     write_pdf(html, pdf_path, base_url=str(html_path.parent))
+    print(f"report: figures and HTML {rendered - start:.1f} s, PDF {time.perf_counter() - rendered:.1f} s",
+          file=sys.stderr)
