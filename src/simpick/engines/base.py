@@ -44,7 +44,7 @@ class PhysicsRecord:
     quaternion: np.ndarray  # (n, 4) w, x, y, z of base_link
     linear_velocity: np.ndarray  # (n, 3) of the base_link origin
     angular_velocity: np.ndarray  # (n, 3)
-    wheel_speed: np.ndarray  # (n, 4) rad/s, measured
+    wheel_speed: np.ndarray  # (n, 4) rad/s, measured (an adapter may read it every few steps and hold it)
     imu_specific_force: np.ndarray  # (n, 3) m/s^2, body frame, +g on z at rest
     imu_gyro: np.ndarray  # (n, 3) rad/s, body frame
     wall_time: float  # s spent stepping (no model build, no I/O)
