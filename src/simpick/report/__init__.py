@@ -77,7 +77,10 @@ def build_report(inputs: Mapping[str, Any], params: Mapping[str, Any],
     import sys
     import time
 
+    from simpick.report import figures
+
     start = time.perf_counter()
+    figures.CACHE_DIR = Path(html_path).parent / ".figure-cache"
     data = load_inputs(inputs)
     html = render_html(data, params)
     rendered = time.perf_counter()

@@ -24,6 +24,35 @@ QUANTITY_TITLES = {"angular": "Angular velocity (rad/s)", "linear": "Linear acce
 QUANTITY_COLUMNS = {"angular": ("wx", "wy", "wz"), "linear": ("ax", "ay", "az")}
 
 
+# Figures depend on traces and metrics, not on the weights; memoised on disk by the content
+# of their arguments, so a weight edit redraws only the weighted-score chart.
+CACHE_DIR: "Path | None" = None
+
+
+def cached(function):
+    import functools
+    import hashlib
+    import pickle
+    from pathlib import Path
+
+    @functools.wraps(function)
+    def wrapper(*args, **kwargs):
+        if CACHE_DIR is None:
+            return function(*args, **kwargs)
+        key = hashlib.sha256(pickle.dumps((function.__name__, args, sorted(kwargs.items())), protocol=5)).hexdigest()
+        path = Path(CACHE_DIR) / f"{function.__name__}-{key[:24]}.txt"
+        if path.is_file():
+            return path.read_text()
+        uri = function(*args, **kwargs)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(".partial")
+        tmp.write_text(uri)
+        tmp.replace(path)
+        return uri
+
+    return wrapper
+
+
 def _plt():
     import matplotlib
 
@@ -113,6 +142,7 @@ def contributions_figure(weighted: pd.DataFrame, weights: Mapping[str, float],
 # --------------------------------------------------------------------------
 
 
+@cached
 def imu_stats_figure(series: Sequence[tuple[str, str, pd.DataFrame]], title: str | None = None) -> str:
     """Mean and trimmed range per axis, angular (left) and linear (right).
 
@@ -166,6 +196,7 @@ def imu_stats_figure(series: Sequence[tuple[str, str, pd.DataFrame]], title: str
 # --------------------------------------------------------------------------
 
 
+@cached
 def timeseries_figure(series: Sequence[tuple[str, str, pd.DataFrame]]) -> str:
     """ax, ay, az (left) and wx, wy, wz (right) against time, engines overlaid."""
     plt = _plt()
@@ -204,6 +235,7 @@ def commanded_path(start: Sequence[float], v: float, w: float, duration: float, 
     return np.column_stack([x, y])
 
 
+@cached
 def paths_figure(panels: Sequence[dict], ncols: int = 2) -> str:
     """Top-down x-y paths, one panel per test.
 
@@ -254,6 +286,7 @@ REAL_LABEL = "real robot"
 REAL_COLOR = "#222222"
 
 
+@cached
 def gain_figure(panels: Sequence[dict]) -> str:
     """Yaw-rate gain per terrain class: the real robot against each engine.
 
@@ -334,6 +367,7 @@ def _limits(values: Sequence[np.ndarray], smooth: Sequence[np.ndarray]) -> tuple
     return a - pad, b + pad
 
 
+@cached
 def replay_figure(series: Sequence[tuple[str, str, pd.DataFrame]],
                   psd: Sequence[tuple[str, str, np.ndarray, np.ndarray]],
                   commanded: pd.DataFrame | None, rate_hz: float, t_max: float | None = None,
