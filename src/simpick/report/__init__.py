@@ -83,6 +83,7 @@ def build_report(inputs: Mapping[str, Any], params: Mapping[str, Any],
     figures.CACHE_DIR = Path(html_path).parent / ".figure-cache"
     data = load_inputs(inputs)
     html = render_html(data, params)
+    figures.prune_cache()
     rendered = time.perf_counter()
     html_path = Path(html_path)
     html_path.parent.mkdir(parents=True, exist_ok=True)

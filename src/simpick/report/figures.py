@@ -27,6 +27,16 @@ QUANTITY_COLUMNS = {"angular": ("wx", "wy", "wz"), "linear": ("ax", "ay", "az")}
 # Figures depend on traces and metrics, not on the weights; memoised on disk by the content
 # of their arguments, so a weight edit redraws only the weighted-score chart.
 CACHE_DIR: "Path | None" = None
+USED: set[str] = set()
+
+
+def prune_cache() -> None:
+    """Drop cached figures this build did not use, so the cache does not grow without end."""
+    if CACHE_DIR is None or not CACHE_DIR.is_dir():
+        return
+    for path in CACHE_DIR.iterdir():
+        if path.name not in USED:
+            path.unlink()
 
 
 def cached(function):
@@ -41,6 +51,7 @@ def cached(function):
             return function(*args, **kwargs)
         key = hashlib.sha256(pickle.dumps((function.__name__, args, sorted(kwargs.items())), protocol=5)).hexdigest()
         path = Path(CACHE_DIR) / f"{function.__name__}-{key[:24]}.txt"
+        USED.add(path.name)
         if path.is_file():
             return path.read_text()
         uri = function(*args, **kwargs)
