@@ -1,4 +1,6 @@
 # Helpers shared by the rules: the config slices each rule may see, canonicalised.
+import csv
+import os
 import sys
 
 from simpick.config import validate_or_exit
@@ -63,3 +65,92 @@ def simulation_params(engine, terrain, motion_name):
             "motion": config["motions"][motion_name],
         }
     )
+
+
+# --- real robot data (rules/real.smk) ---
+
+DATASET = config["real_data"]["dataset"]
+REAL = f"results/real/{DATASET}"
+
+
+def read_segments(path):
+    """terrain class -> segment ids, from the committed table (plain csv: fast to parse).
+    Absent only while it is being derived (the config check demands it otherwise)."""
+    by_class = {}
+    if not os.path.exists(path):
+        return by_class
+    with open(path, newline="") as handle:
+        for row in csv.DictReader(handle):
+            by_class.setdefault(row["terrain_class"], []).append(row["segment"])
+    unknown = sorted(set(by_class) - set(config["real_data"]["classes"]))
+    if unknown:
+        raise WorkflowError(
+            f"{path}: terrain classes {unknown} have no entry under real_data.classes in the config"
+        )
+    return by_class
+
+
+def real_params(engine, terrain_class):
+    return engine_params(engine) | canonical(
+        {
+            "terrain_class": terrain_class,
+            "class": config["real_data"]["classes"][terrain_class],
+        }
+    )
+
+
+SEGMENTS = read_segments(config["real_data"]["segments"])
+
+
+def segment_traces():
+    return [
+        f"{REAL}/segments/{engine}/{cls}/{segment}.parquet"
+        for engine in ENGINES
+        for cls, ids in SEGMENTS.items()
+        for segment in ids
+    ]
+
+RUNS = []
+if config.get("borealtc_dir"):
+    from simpick.realdata import discover_runs
+
+    RUNS = discover_runs(config["borealtc_dir"])
+
+
+def accuracy_errors():
+    """The Eq. 7 totals the accuracy scores rest on (see accuracy.reference in the config)."""
+    if config["accuracy"]["reference"] == "paper":
+        return "results/metrics/imu_errors.csv"
+    if config.get("borealtc_dir"):
+        return f"{REAL}/metrics/replay_imu_errors.csv"
+    return f"{REAL}/metrics/segments_imu_errors.csv"
+
+
+
+def report_real_inputs(wildcards):
+    """The real-robot inputs of the report: the accuracy scores' errors file, the segment
+    comparison always, the full replay only when borealtc_dir is set (rules/real.smk)."""
+    segments = config["real_data"]["segments"]
+    provenance = segments.replace(".csv", ".provenance.yaml")
+    inputs = {
+        "accuracy_errors": accuracy_errors(),
+        "segments": segments,
+        "segments_per_test": f"{REAL}/metrics/segments_per_test.csv",
+        "segments_summary": f"{REAL}/metrics/segments_summary.csv",
+        "segments_pairwise": f"{REAL}/metrics/segments_pairwise.csv",
+        "segments_imu_errors": f"{REAL}/metrics/segments_imu_errors.csv",
+    }
+    if config.get("borealtc_dir") or os.path.exists(provenance):
+        inputs["segments_provenance"] = provenance
+    if config.get("borealtc_dir"):
+        inputs.update(
+            {
+                f"replay_{name}": f"{REAL}/metrics/replay_{name}.csv"
+                for name in ("per_window", "per_test", "summary", "pairwise", "imu_errors")
+            }
+        )
+        inputs["real_logs"] = [f"{REAL}/logs/{c.upper()}/{run}.parquet" for c, run in RUNS]
+        inputs["replay_traces"] = [
+            f"{REAL}/replay/{engine}/{c}/{run}.parquet" for engine in ENGINES for c, run in RUNS
+        ]
+    return inputs

@@ -11,5 +11,7 @@ rule metrics:
         rtf="results/metrics/rtf.csv",
     log:
         "results/logs/metrics.log",
+    conda:
+        "../envs/simpick.yaml"
     script:
         "../scripts/metrics.py"

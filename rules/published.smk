@@ -7,5 +7,7 @@ rule published_table11:
         worked_example="results/published/worked_example.json",
     log:
         "results/logs/published.log",
+    conda:
+        "../envs/simpick.yaml"
     script:
         "../scripts/published.py"

@@ -1,48 +1,5 @@
 # Real robot data: constant-command segments (committed, default) and the full replay
-# of a BorealTC-layout folder (--config borealtc_dir=PATH).
-import csv
-import os
-
-DATASET = config["real_data"]["dataset"]
-REAL = f"results/real/{DATASET}"
-
-
-def read_segments(path):
-    """terrain class -> segment ids, from the committed table (plain csv: fast to parse).
-    Absent only while it is being derived (the config check demands it otherwise)."""
-    by_class = {}
-    if not os.path.exists(path):
-        return by_class
-    with open(path, newline="") as handle:
-        for row in csv.DictReader(handle):
-            by_class.setdefault(row["terrain_class"], []).append(row["segment"])
-    unknown = sorted(set(by_class) - set(config["real_data"]["classes"]))
-    if unknown:
-        raise WorkflowError(
-            f"{path}: terrain classes {unknown} have no entry under real_data.classes in the config"
-        )
-    return by_class
-
-
-def real_params(engine, terrain_class):
-    return engine_params(engine) | canonical(
-        {
-            "terrain_class": terrain_class,
-            "class": config["real_data"]["classes"][terrain_class],
-        }
-    )
-
-
-SEGMENTS = read_segments(config["real_data"]["segments"])
-
-
-def segment_traces():
-    return [
-        f"{REAL}/segments/{engine}/{cls}/{segment}.parquet"
-        for engine in ENGINES
-        for cls, ids in SEGMENTS.items()
-        for segment in ids
-    ]
+# of a BorealTC-layout folder (--config borealtc_dir=PATH). Helpers in common.smk.
 
 
 # One job per terrain class and engine: its segments are short runs sharing one import.
@@ -69,6 +26,8 @@ for _cls, _ids in SEGMENTS.items():
         resources:
             mem_mb=400,
             runtime=15,
+        conda:
+            "../envs/simpick.yaml"
         script:
             "../scripts/simulate_segments.py"
 
@@ -86,14 +45,13 @@ rule segment_metrics:
         track=canonical(config["robot"]["track"]),
     log:
         "results/logs/real/segment_metrics.log",
+    conda:
+        "../envs/simpick.yaml"
     script:
         "../scripts/segment_metrics.py"
 
 
 if config.get("borealtc_dir"):
-    from simpick.realdata import discover_runs
-
-    RUNS = discover_runs(config["borealtc_dir"])
 
     rule real_segments:
         input:
@@ -115,6 +73,8 @@ if config.get("borealtc_dir"):
             ),
         log:
             "results/logs/real/real_segments.log",
+        conda:
+            "../envs/simpick.yaml"
         script:
             "../scripts/real_segments.py"
 
@@ -129,6 +89,8 @@ if config.get("borealtc_dir"):
             track=canonical(config["robot"]["track"]),
         log:
             "results/logs/real/import/{upper}/{run}.log",
+        conda:
+            "../envs/simpick.yaml"
         script:
             "../scripts/import_real.py"
 
@@ -148,6 +110,8 @@ if config.get("borealtc_dir"):
         resources:
             mem_mb=800,
             runtime=30,
+        conda:
+            "../envs/simpick.yaml"
         script:
             "../scripts/replay.py"
 
@@ -171,17 +135,10 @@ if config.get("borealtc_dir"):
             ),
         log:
             "results/logs/real/replay_metrics.log",
+        conda:
+            "../envs/simpick.yaml"
         script:
             "../scripts/replay_metrics.py"
-
-
-def accuracy_errors():
-    """The Eq. 7 totals the accuracy scores rest on (see accuracy.reference in the config)."""
-    if config["accuracy"]["reference"] == "paper":
-        return "results/metrics/imu_errors.csv"
-    if config.get("borealtc_dir"):
-        return f"{REAL}/metrics/replay_imu_errors.csv"
-    return f"{REAL}/metrics/segments_imu_errors.csv"
 
 
 rule fetch_borealtc:
@@ -191,5 +148,7 @@ rule fetch_borealtc:
         directory("data/borealtc"),
     log:
         "results/logs/real/fetch_borealtc.log",
+    conda:
+        "../envs/simpick.yaml"
     script:
         "../scripts/fetch_borealtc.py"

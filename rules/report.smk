@@ -1,32 +1,3 @@
-def report_real_inputs(wildcards):
-    """The real-robot inputs of the report: the accuracy scores' errors file, the segment
-    comparison always, the full replay only when borealtc_dir is set (rules/real.smk)."""
-    segments = config["real_data"]["segments"]
-    provenance = segments.replace(".csv", ".provenance.yaml")
-    inputs = {
-        "accuracy_errors": accuracy_errors(),
-        "segments": segments,
-        "segments_per_test": f"{REAL}/metrics/segments_per_test.csv",
-        "segments_summary": f"{REAL}/metrics/segments_summary.csv",
-        "segments_pairwise": f"{REAL}/metrics/segments_pairwise.csv",
-        "segments_imu_errors": f"{REAL}/metrics/segments_imu_errors.csv",
-    }
-    if config.get("borealtc_dir") or os.path.exists(provenance):
-        inputs["segments_provenance"] = provenance
-    if config.get("borealtc_dir"):
-        inputs.update(
-            {
-                f"replay_{name}": f"{REAL}/metrics/replay_{name}.csv"
-                for name in ("per_window", "per_test", "summary", "pairwise", "imu_errors")
-            }
-        )
-        inputs["real_logs"] = [f"{REAL}/logs/{c.upper()}/{run}.parquet" for c, run in RUNS]
-        inputs["replay_traces"] = [
-            f"{REAL}/replay/{engine}/{c}/{run}.parquet" for engine in ENGINES for c, run in RUNS
-        ]
-    return inputs
-
-
 rule report:
     input:
         unpack(report_real_inputs),
@@ -67,5 +38,7 @@ rule report:
         ),
     log:
         "results/logs/report.log",
+    conda:
+        "../envs/simpick.yaml"
     script:
         "../scripts/report.py"

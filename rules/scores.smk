@@ -12,5 +12,7 @@ rule scores:
         weights=canonical(config["weights"]),
     log:
         "results/logs/scores.log",
+    conda:
+        "../envs/simpick.yaml"
     script:
         "../scripts/scores.py"

@@ -14,6 +14,8 @@ rule simulate:
     resources:
         mem_mb=400,
         runtime=lambda wc: 1 + int(config["health"]["timeout"]) // 60,
+    conda:
+        "../envs/simpick.yaml"
     script:
         "../scripts/simulate.py"
 
@@ -37,5 +39,7 @@ rule cpu_load:
     resources:
         mem_mb=600,
         runtime=15,
+    conda:
+        "../envs/simpick.yaml"
     script:
         "../scripts/cpu_load.py"

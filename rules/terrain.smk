@@ -6,5 +6,7 @@ rule terrain:
         seed=lambda wc: canonical(config["seed"]),
     log:
         "results/logs/terrain/{terrain}.log",
+    conda:
+        "../envs/simpick.yaml"
     script:
         "../scripts/terrain.py"
