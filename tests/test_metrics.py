@@ -110,3 +110,30 @@ def test_a_general_rotation_is_refused():
     stats = {a: {"mean": 0.0, "range": 1.0} for a in "xyz"}
     with pytest.raises(ValueError, match="signed axis permutation"):
         to_simpick_frame(stats, [[c, -c, 0], [c, c, 0], [0, 0, 1]], "test")
+
+
+def test_lab_totals_leave_out_a_test_any_engine_failed(tmp_path):
+    """A failed run must not make its engine look better: the test leaves every engine's total."""
+    from simpick.published import DEFAULT_PATH
+    from simpick.traces import COLUMNS, write_trace
+    from simpick.workflow import metrics_job
+
+    paths = []
+    for engine, status in (("a", "ok"), ("b", "failed")):
+        frame = pd.DataFrame({c: np.linspace(0, 1, 200) for c in COLUMNS})
+        frame["time"] = np.arange(1, 201) * 0.01
+        meta = {"engine": engine, "engine_version": "1", "terrain": "gravel", "motion": "straight", "steps": 2000,
+                "sim_time": 2.0, "wall_time": 0.1, "cpu_time": 0.1, "real_time_factor": 20.0, "config_hash": "x",
+                "health": {"status": status, "reasons": [] if status == "ok" else ["flipped"]}}
+        path = tmp_path / f"{engine}.parquet"
+        write_trace(frame, meta, path)
+        paths.append(str(path))
+    names = ("trace_stats", "reference_stats", "per_test_errors", "imu_errors", "runs", "rtf")
+    outputs = {n: str(tmp_path / f"{n}.csv") for n in names}
+    metrics_job(paths, str(DEFAULT_PATH), outputs)
+    errors = pd.read_csv(outputs["imu_errors"])
+    assert errors.error.isna().all() and (errors.n_tests == 0).all()
+    assert set(errors.excluded) == {"gravel/straight"}
+    runs = pd.read_csv(outputs["runs"])
+    assert runs.set_index("engine").status.to_dict() == {"a": "ok", "b": "failed"}
+    assert list(pd.read_csv(outputs["rtf"]).engine) == ["a"]  # a failed run does not count for speed either

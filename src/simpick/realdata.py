@@ -22,14 +22,10 @@ import yaml
 from simpick import metrics, realmetrics
 from simpick.errors import InputError
 from simpick.metrics import AXES
+from simpick.workflow import write_csv
 
 QUANTITIES = ("angular", "linear")
 UNITS = {"angular": "rad/s", "linear": "m/s^2"}
-
-
-def _write_csv(frame: pd.DataFrame, path: str | Path) -> None:
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    frame.to_csv(path, index=False, float_format="%.6g")
 
 
 def flat_terrain(name: str, friction: float) -> dict:
@@ -61,7 +57,7 @@ def segments_job(folder: str, output_csv: str, output_provenance: str, params: d
     table, provenance = derive(folder, tolerance=rules["tolerance"], min_duration=rules["min_duration"],
                                max_duration=rules["max_duration"], settle=rules["settle"],
                                min_turn=rules["min_turn"], per_kind=int(rules["per_kind"]), track=params["track"])
-    _write_csv(table, output_csv)
+    write_csv(table, output_csv)
     Path(output_provenance).write_text(yaml.safe_dump(provenance, sort_keys=False))
 
 
@@ -116,7 +112,7 @@ def segment_metrics_job(segments_csv: str, traces: list[str], track: float, outp
             row["speed_sim"] = float(window.v_forward.mean())
         rows.append(row)
     per_test = pd.DataFrame(rows)
-    _write_csv(per_test, outputs["per_test"])
+    write_csv(per_test, outputs["per_test"])
     _summaries(per_test, "terrain_class", outputs)
 
 
@@ -218,7 +214,7 @@ def replay_metrics_job(logs: list[str], traces: list[str], params: dict, outputs
             row["psd_distance_az"] = realmetrics.psd_distance(real_frame.az.to_numpy(), sim.az[sel].to_numpy(), 100.0)
             rows.append(row)
     per_window = pd.DataFrame(rows)
-    _write_csv(per_window, outputs["per_window"])
+    write_csv(per_window, outputs["per_window"])
     # one test = one run: Eq. 7 sums the windows' errors, the other figures average over windows
     ok = per_window[per_window.status == "ok"]
     error_cols = [f"error_{q}" for q in QUANTITIES]
@@ -229,7 +225,7 @@ def replay_metrics_job(logs: list[str], traces: list[str], params: dict, outputs
     failed = per_window[per_window.status != "ok"][["engine", "terrain_class", "run", "status", "reasons"]]
     per_test = pd.concat([per_run, failed], ignore_index=True)
     per_test["segment"] = per_test["terrain_class"] + "-" + per_test["run"]
-    _write_csv(per_test, outputs["per_test"])
+    write_csv(per_test, outputs["per_test"])
     _summaries(per_test, "terrain_class", outputs)
 
 
@@ -251,7 +247,7 @@ def _summaries(per_test: pd.DataFrame, group: str, outputs: dict) -> None:
                 row.update({fig: mean, f"{fig}_low": lo, f"{fig}_high": hi})
         rows.append(row)
     summary = pd.DataFrame(rows)
-    _write_csv(summary, outputs["summary"])
+    write_csv(summary, outputs["summary"])
 
     pairs = []
     engines = sorted(ok.engine.unique())
@@ -267,7 +263,7 @@ def _summaries(per_test: pd.DataFrame, group: str, outputs: dict) -> None:
                                f"{b} closer" if lo > 0 else f"{a} closer" if hi < 0 else "no clear difference")
                     pairs.append({group: cls, "figure": fig, "engine_a": a, "engine_b": b,
                                   "mean_a_minus_b": mean, "low": lo, "high": hi, "verdict": verdict})
-    _write_csv(pd.DataFrame(pairs, columns=[group, "figure", "engine_a", "engine_b", "mean_a_minus_b",
+    write_csv(pd.DataFrame(pairs, columns=[group, "figure", "engine_a", "engine_b", "mean_a_minus_b",
                                             "low", "high", "verdict"]), outputs["pairwise"])
 
     # Eq. 7 sums over tests; an engine that failed a test would otherwise look better for it,
@@ -283,7 +279,7 @@ def _summaries(per_test: pd.DataFrame, group: str, outputs: dict) -> None:
             totals.append({"engine": engine, "quantity": q, "error": good[f"error_{q}"].sum() if len(good) else float("nan"),
                            "unit": UNITS[q], "n_tests": len(good), "tests": ";".join(sorted(good.segment)),
                            "excluded": excluded})
-    _write_csv(pd.DataFrame(totals), outputs["imu_errors"])
+    write_csv(pd.DataFrame(totals), outputs["imu_errors"])
 
 
 def provenance_note(path: str | Path) -> dict:

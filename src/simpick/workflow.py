@@ -16,7 +16,7 @@ import yaml
 from simpick.errors import InputError
 
 
-def _write_csv(frame: pd.DataFrame, path: str | Path, index: bool = False) -> None:
+def write_csv(frame: pd.DataFrame, path: str | Path, index: bool = False) -> None:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     frame.to_csv(path, index=index, float_format="%.6g")
@@ -128,30 +128,33 @@ def metrics_job(traces: list[str], published_file: str, outputs: dict[str, str])
     ref_rows = [{"terrain": t, "motion": m, "quantity": q, "axis": a, **s, "source": ref["source"]}
                 for (t, m), ref in reference.items() for q in ("angular", "linear") for a, s in ref[q].items()]
 
-    error_summary = []
+    # Eq. 7 sums over tests: like the real-data totals, they cover only the referenced tests
+    # every engine completed, and name the rest (a failed run must not make an engine look better).
+    referenced = {f"{t}/{m}" for t, m in reference}
+    failed = {f"{r.terrain}/{r.motion}" for r in runs[runs.status != "ok"].itertuples()}
+    common = sorted(referenced - failed)
+    per_test["test"] = per_test.terrain + "/" + per_test.motion
     units = {"angular": "rad/s", "linear": "m/s^2"}
-    for engine, engine_runs in runs.groupby("engine"):
-        failed = engine_runs[engine_runs.status != "ok"]
-        excluded = sorted(f"{r.terrain}/{r.motion}" for r in failed.itertuples() if (r.terrain, r.motion) in reference)
+    error_summary = []
+    for engine in sorted(runs.engine.unique()):
         for quantity in ("angular", "linear"):
-            rows = per_test[(per_test.engine == engine) & (per_test.quantity == quantity)]
-            tests = sorted({f"{t}/{m}" for t, m in zip(rows.terrain, rows.motion)})
-            covered = bool(tests) and not excluded
+            rows = per_test[(per_test.engine == engine) & (per_test.quantity == quantity) & per_test.test.isin(common)]
             error_summary.append({"engine": engine, "quantity": quantity,
-                                  "error": rows.total_error.sum() if covered else float("nan"),
-                                  "unit": units[quantity], "n_tests": len(tests), "tests": ";".join(tests),
-                                  "excluded": ";".join(excluded)})
+                                  "error": rows.total_error.sum() if common else float("nan"),
+                                  "unit": units[quantity], "n_tests": len(common), "tests": ";".join(common),
+                                  "excluded": ";".join(sorted(referenced & failed))})
+    per_test = per_test.drop(columns="test")
 
     rtf = [{"engine": engine, "sim_time": g.sim_time.sum(), "wall_time": g.wall_time.sum(),
             "real_time_factor": metrics.real_time_factor(g.sim_time, g.wall_time), "n_runs": len(g)}
            for engine, g in runs[runs.status == "ok"].groupby("engine")]
 
-    _write_csv(pd.DataFrame(stats_rows), outputs["trace_stats"])
-    _write_csv(pd.DataFrame(ref_rows), outputs["reference_stats"])
-    _write_csv(per_test, outputs["per_test_errors"])
-    _write_csv(pd.DataFrame(error_summary), outputs["imu_errors"])
-    _write_csv(runs, outputs["runs"])
-    _write_csv(pd.DataFrame(rtf, columns=["engine", "sim_time", "wall_time", "real_time_factor", "n_runs"]),
+    write_csv(pd.DataFrame(stats_rows), outputs["trace_stats"])
+    write_csv(pd.DataFrame(ref_rows), outputs["reference_stats"])
+    write_csv(per_test, outputs["per_test_errors"])
+    write_csv(pd.DataFrame(error_summary), outputs["imu_errors"])
+    write_csv(runs, outputs["runs"])
+    write_csv(pd.DataFrame(rtf, columns=["engine", "sim_time", "wall_time", "real_time_factor", "n_runs"]),
                outputs["rtf"])
 
 
@@ -193,8 +196,8 @@ def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[st
             rows[engine][metric] = values.get(engine, float("nan"))
     scores = pd.DataFrame.from_dict(rows, orient="index")[list(scoring.METRICS)]
     scores.index.name = "engine"
-    _write_csv(scores, outputs["scores"], index=True)
-    _write_csv(scoring.weighted_table(scores, weights), outputs["weighted"], index=True)
+    write_csv(scores, outputs["scores"], index=True)
+    write_csv(scoring.weighted_table(scores, weights), outputs["weighted"], index=True)
 
 
 def published_job(published_file: str, outdir: str) -> None:
