@@ -25,6 +25,7 @@ rule all:
         segment_traces(),
         f"{REAL}/metrics/segments_summary.csv",
         f"{REAL}/metrics/replay_summary.csv" if config.get("borealtc_dir") else [],
+        f"{OWN}/metrics/replay_summary.csv" if OWN_LOGS else [],
         "results/scores/weighted.csv",
         "results/published/table11.csv",
         "results/report/report.html",

@@ -117,10 +117,16 @@ if config.get("borealtc_dir"):
     RUNS = discover_runs(config["borealtc_dir"])
 
 
+OWN = "results/real/own"
+OWN_LOGS = {entry["name"]: entry for entry in config.get("own_logs") or []}
+
+
 def accuracy_errors():
     """The Eq. 7 totals the accuracy scores rest on (see accuracy.reference in the config)."""
     if config["accuracy"]["reference"] == "paper":
         return "results/metrics/imu_errors.csv"
+    if config["accuracy"]["reference"] == "own":
+        return f"{OWN}/metrics/replay_imu_errors.csv"
     if config.get("borealtc_dir"):
         return f"{REAL}/metrics/replay_imu_errors.csv"
     return f"{REAL}/metrics/segments_imu_errors.csv"

@@ -152,3 +152,59 @@ rule fetch_borealtc:
         "../envs/simpick.yaml"
     script:
         "../scripts/fetch_borealtc.py"
+
+
+if OWN_LOGS:
+
+    rule import_own_log:
+        output:
+            f"{OWN}/logs/{{name}}.parquet",
+        params:
+            entry=lambda wc: canonical(OWN_LOGS[wc.name]),
+            track=canonical(config["robot"]["track"]),
+        log:
+            "results/logs/real/own/import/{name}.log",
+        conda:
+            "../envs/simpick.yaml"
+        script:
+            "../scripts/import_own_log.py"
+
+    rule replay_own:
+        input:
+            log=f"{OWN}/logs/{{name}}.parquet",
+            urdf=config["robot"]["urdf"],
+        output:
+            f"{OWN}/replay/{{engine}}/{{name}}.parquet",
+        params:
+            case=lambda wc: real_params(wc.engine, OWN_LOGS[wc.name]["terrain_class"]),
+        log:
+            "results/logs/real/own/replay/{engine}/{name}.log",
+        threads: 1
+        resources:
+            mem_mb=800,
+            runtime=30,
+        conda:
+            "../envs/simpick.yaml"
+        script:
+            "../scripts/replay.py"
+
+    rule replay_own_metrics:
+        input:
+            logs=expand(f"{OWN}/logs/{{name}}.parquet", name=OWN_LOGS),
+            traces=expand(f"{OWN}/replay/{{engine}}/{{name}}.parquet", engine=ENGINES, name=OWN_LOGS),
+        output:
+            per_window=f"{OWN}/metrics/replay_per_window.csv",
+            per_test=f"{OWN}/metrics/replay_per_test.csv",
+            summary=f"{OWN}/metrics/replay_summary.csv",
+            pairwise=f"{OWN}/metrics/replay_pairwise.csv",
+            imu_errors=f"{OWN}/metrics/replay_imu_errors.csv",
+        params:
+            settings=canonical(
+                {"track": config["robot"]["track"], "window": config["real_data"]["window"]}
+            ),
+        log:
+            "results/logs/real/own/replay_metrics.log",
+        conda:
+            "../envs/simpick.yaml"
+        script:
+            "../scripts/replay_metrics.py"

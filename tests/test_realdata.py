@@ -81,3 +81,40 @@ def test_replay_of_a_straight_run_covers_the_recorded_distance(engine):
     travelled = np.sum(np.hypot(np.diff(frame.x), np.diff(frame.y)))
     assert recorded > 5.0  # the window really drives somewhere
     assert travelled == pytest.approx(recorded, rel=0.04)
+
+
+@needs_borealtc
+def test_own_csv_log_is_imported_replayed_and_compared_by_the_workflow(tmp_path):
+    """A user's log in another layout (ms, deg/s, body commands) goes through the same replay."""
+    from conftest import snakemake, tiny_config, write_config
+    from simpick.reallogs import borealtc, read_canonical
+
+    real = borealtc.read_run(BOREALTC / "FLOORING" / "imu_01.csv", BOREALTC / "FLOORING" / "pro_01.csv", "FLOORING")
+    imu = real.imu[real.imu.time < 12.0]
+    body = real.body_commands()
+    held = np.clip(np.searchsorted(body.time, imu.time, side="right") - 1, 0, len(body) - 1)
+    own = pd.DataFrame({"t_ms": imu.time * 1000, "acc_x": imu.ax, "acc_y": imu.ay, "acc_z": imu.az,
+                        "gyro_x": np.degrees(imu.wx), "gyro_y": np.degrees(imu.wy), "gyro_z": np.degrees(imu.wz),
+                        "cmd_v": body.v.to_numpy()[held], "cmd_w": body.w.to_numpy()[held]})
+    own.to_csv(tmp_path / "mine.csv", index=False)
+    deg = {"unit": "deg/s"}
+    config = tiny_config(tmp_path)
+    config["engines"] = {k: config["engines"][k] for k in ("mujoco", "pybullet")}
+    config["own_logs"] = [{
+        "name": "mine", "terrain_class": "flooring", "csv": str(tmp_path / "mine.csv"),
+        "mapping": {"time": {"column": "t_ms", "unit": "ms"}, "ax": "acc_x", "ay": "acc_y", "az": "acc_z",
+                    "wx": {"column": "gyro_x", **deg}, "wy": {"column": "gyro_y", **deg},
+                    "wz": {"column": "gyro_z", **deg}, "v": "cmd_v", "w": "cmd_w"}}]
+    config["accuracy"]["reference"] = "own"
+    write_config(tmp_path, config)
+    run = snakemake(tmp_path, "results/real/own/metrics/replay_summary.csv", "results/scores/weighted.csv")
+    assert run.returncode == 0, run.stderr[-3000:]
+    log = read_canonical(tmp_path / "results/real/own/logs/mine.parquet")
+    assert np.allclose(log.imu.wz.to_numpy(), imu.wz.to_numpy(), atol=1e-9)  # deg/s came back as rad/s
+    per_test = pd.read_csv(tmp_path / "results/real/own/metrics/replay_per_test.csv")
+    assert sorted(per_test.engine) == ["mujoco", "pybullet"] and (per_test.status == "ok").all()
+    assert per_test.error_angular.gt(0).all() and per_test.yaw_rate_gain_real.notna().all()
+    errors = pd.read_csv(tmp_path / "results/real/own/metrics/replay_imu_errors.csv")
+    weighted = pd.read_csv(tmp_path / "results/scores/weighted.csv", index_col="engine")
+    best = errors[errors.quantity == "angular"].set_index("engine").error.idxmin()
+    assert weighted.loc[best, "imu_angular"] == 1.0  # the scores rest on the user's log

@@ -105,8 +105,43 @@ class RealData(Strict):
     classes: dict[str, TerrainClass]
 
 
+class OwnLog(Strict):
+    """One of the user's own logs, replayed through every engine like a BorealTC run."""
+    name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")]
+    terrain_class: str
+    csv: str | None = None
+    commands_csv: str | None = None
+    mapping: dict[str, Any] | None = None
+    rosbag: str | None = None
+    imu_topic: str | None = None
+    command_topic: str | None = None
+    command_type: str | None = None
+    wheel_radius: Positive | None = None
+    left_joints: str | None = None
+    right_joints: str | None = None
+    frame_z: Literal["up", "down"] | None = None
+    imu_rate_hz: Positive | None = None
+    command_rate_hz: Positive | None = None
+
+    @model_validator(mode="after")
+    def one_source(self):
+        if bool(self.csv) == bool(self.rosbag):
+            raise ValueError(f"own log {self.name!r}: give exactly one of csv (with mapping) or rosbag")
+        if self.csv and not self.mapping:
+            raise ValueError(f"own log {self.name!r}: a csv needs a column and unit mapping (see README)")
+        if self.rosbag and not (self.imu_topic and self.command_topic):
+            raise ValueError(f"own log {self.name!r}: a rosbag needs imu_topic and command_topic")
+        for key in ("csv", "commands_csv"):
+            path = getattr(self, key)
+            if path and not Path(path).is_file():
+                raise ValueError(f"own log {self.name!r}: {key} file {path!r} does not exist")
+        if self.rosbag and not Path(self.rosbag).exists():
+            raise ValueError(f"own log {self.name!r}: rosbag {self.rosbag!r} does not exist")
+        return self
+
+
 class Accuracy(Strict):
-    reference: Literal["real", "paper"]
+    reference: Literal["real", "paper", "own"]
 
 
 class Study(Strict):
@@ -122,6 +157,7 @@ class Study(Strict):
     reference: Reference
     accuracy: Accuracy
     borealtc_dir: str | None = None
+    own_logs: list[OwnLog] = []
     real_data: RealData
     qualitative: str
     weights: dict[str, NonNegative]
@@ -169,6 +205,15 @@ class Study(Strict):
         if self.borealtc_dir is None and not Path(self.real_data.segments).is_file():
             raise ValueError(f"real_data.segments: {self.real_data.segments!r} does not exist; regenerate it with "
                              "snakemake --cores 2 real_segments --config borealtc_dir=PATH")
+        names = [log.name for log in self.own_logs]
+        if len(set(names)) != len(names):
+            raise ValueError(f"own_logs: names must be unique, got {names}")
+        unknown = sorted({log.terrain_class for log in self.own_logs} - set(self.real_data.classes))
+        if unknown:
+            raise ValueError(f"own_logs: terrain classes {unknown} are not under real_data.classes "
+                             f"{sorted(self.real_data.classes)}; add them there with a friction and its source")
+        if self.accuracy.reference == "own" and not self.own_logs:
+            raise ValueError("accuracy.reference is 'own' but own_logs is empty")
         for key, path in (("robot.urdf", self.robot.urdf), ("reference.published", self.reference.published),
                           ("qualitative", self.qualitative)):
             if not Path(path).is_file():

@@ -336,3 +336,28 @@ def fetch_borealtc(dest: str | Path, timeout: float = 30.0) -> Path:
             shutil.rmtree(dest)
         shutil.copytree(found[0], dest)
     return dest
+
+
+# --- the user's own logs ------------------------------------------------------------------------
+
+def import_own_job(entry: dict, output: str, track: float) -> None:
+    """One of the user's logs (config ``own_logs``: a mapped CSV or a ROS bag) -> canonical form."""
+    from simpick.reallogs import write_canonical
+
+    meta = {"dataset": "own", "run_id": entry["name"], "terrain_class": entry["terrain_class"],
+            "name": entry["name"]}
+    if entry.get("csv"):
+        from simpick.reallogs.csvlog import read_csv_log
+
+        mapping = {**entry["mapping"], "meta": {**entry["mapping"].get("meta", {}), **meta}}
+        log = read_csv_log(entry["csv"], mapping, commands_path=entry.get("commands_csv"), track=track)
+    else:
+        from simpick.reallogs.rosbag import read_bag
+
+        bag = entry["rosbag"]
+        options = {k: v for k, v in entry.items()
+                   if k in ("command_type", "wheel_radius", "left_joints", "right_joints", "frame_z",
+                            "imu_rate_hz", "command_rate_hz")}
+        log = read_bag(bag, entry["imu_topic"], entry["command_topic"], track=track, meta=meta, **options)
+    log.meta.update(meta)
+    write_canonical(log, output)
