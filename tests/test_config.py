@@ -38,7 +38,11 @@ def test_the_shipped_config_is_valid():
     (lambda c: c.update(borealtc_dir="/no/such/folder"), "borealtc_dir: '/no/such/folder' is not a folder"),
     (lambda c: c["imu"].update(rate_hz="fast"), "imu.rate_hz: Input should be a valid number"),
     (lambda c: c.update(sede=1), "sede: Extra inputs are not permitted"),
-    (lambda c: c["accuracy"].update(reference="vibes"), "accuracy.reference: Input should be 'real' or 'paper'"),
+    (lambda c: c["accuracy"].update(reference="vibes"), "accuracy.reference: Input should be 'real', 'paper' or 'own' (got 'vibes')"),
+    (lambda c: c.update(own_logs=[{"name": "x", "terrain_class": "moon", "csv": "config.yaml", "mapping": {"a": 1}}]),
+     "own_logs: terrain classes ['moon'] are not under real_data.classes"),
+    (lambda c: c.update(own_logs=[{"name": "x", "terrain_class": "ice", "rosbag": "missing.bag", "imu_topic": "/imu",
+                                   "command_topic": "/cmd"}]), "own log 'x': rosbag 'missing.bag' does not exist"),
 ])
 def test_each_mistake_is_named(edit, expected):
     assert expected in broken(edit)
