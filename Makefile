@@ -20,5 +20,8 @@ study: $(STAMP)
 test: $(STAMP)
 	$(VENV)/bin/python -m pytest
 
+bench: $(STAMP)
+	$(VENV)/bin/python bench/run.py
+
 clean:
 	rm -rf results .snakemake
