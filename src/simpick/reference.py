@@ -48,5 +48,6 @@ def lab_reference(published: Mapping) -> dict[tuple[str, str], dict]:
         "angular": to_simpick_frame(example["table6"]["real"], rotation, where),
         "linear": to_simpick_frame(example["table7"]["real"], rotation, where),
         "source": "Farley et al. 2022, Tables 6-7 (real Husky, gravel, straight); "
-                  f"sensor frame {example['sensor_frame']['axes']} mapped to x fwd, y left, z up",
+                  "sensor frame x " + ", y ".join(example["sensor_frame"]["axes"][a] for a in "xy")
+                  + f", z {example['sensor_frame']['axes']['z']} (inferred) mapped to x forward, y left, z up",
     }}
