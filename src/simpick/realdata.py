@@ -12,7 +12,6 @@ yaw-rate gain, and per-engine summaries with 95 % bootstrap intervals over runs.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
@@ -280,17 +279,6 @@ def _summaries(per_test: pd.DataFrame, group: str, outputs: dict) -> None:
                            "unit": UNITS[q], "n_tests": len(good), "tests": ";".join(sorted(good.segment)),
                            "excluded": excluded})
     write_csv(pd.DataFrame(totals), outputs["imu_errors"])
-
-
-def provenance_note(path: str | Path) -> dict:
-    try:
-        return yaml.safe_load(Path(path).read_text()) or {}
-    except OSError:
-        return {}
-
-
-def dump_json(obj, path) -> None:
-    Path(path).write_text(json.dumps(obj, indent=1))
 
 
 # --- fetching the public dataset ------------------------------------------------------------------
