@@ -24,6 +24,32 @@ def flat_terrain(friction: float = 0.95) -> dict:
     return {"schema": "simpick.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": friction}
 
 
+def tile_terrain(friction: float, thickness: float = 0.01) -> dict:
+    """One large tile under the robot, so every wheel contact is a terrain contact."""
+    terrain = flat_terrain(friction)
+    terrain["boxes"] = [[0.0, 0.0, thickness / 2, 0.0, 6.0, 6.0, thickness]]
+    return terrain
+
+
+def setup(robot, *, terrain=None, ground=0.95, torque=50.0, starts=((0.0, 0.0, 0.0),), v=0.5, w=0.0,
+          duration=0.3, timestep=0.001, settings=None):
+    """A scenario on flat ground (unless ``terrain`` is given) and its constant wheel commands."""
+    from simpick.engines.base import Scenario
+    from simpick.motions import constant_commands
+
+    scenario = Scenario(robot=robot, terrain=flat_terrain(ground) if terrain is None else terrain,
+                        ground_friction=ground, timestep=timestep, max_wheel_torque=torque, starts=tuple(starts),
+                        settings=settings or {})
+    return scenario, constant_commands(v, w, duration, timestep, 0.555, robot.wheel_radius, len(starts))
+
+
+def drive(engine: str, robot, **kwargs):
+    """Simulate ``engine`` (a registry name) on :func:`setup`'s scenario; returns the record."""
+    from simpick.engines import get_engine
+
+    return get_engine(engine).simulate(*setup(robot, **kwargs))
+
+
 # --- running the workflow on a tiny config (workflow and interruption tests) ---
 
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]

@@ -7,31 +7,17 @@ import dataclasses
 import numpy as np
 import pytest
 
-from conftest import flat_terrain
-from simpick.engines.base import Scenario
+from conftest import drive, flat_terrain, tile_terrain
 from simpick.errors import InputError
-from simpick.motions import constant_commands
 
 dart_engine = pytest.importorskip("simpick.engines.dart_engine")
 pytest.importorskip("dartpy")
 
 DT = 0.001
-TRACK = 0.555
 
 
-def tile(friction: float, thickness: float = 0.01) -> dict:
-    """One large tile under the robot, so every wheel contact is a terrain contact."""
-    terrain = flat_terrain(friction)
-    terrain["boxes"] = [[0.0, 0.0, thickness / 2, 0.0, 6.0, 6.0, thickness]]
-    return terrain
-
-
-def simulate(robot, *, terrain, ground=0.95, torque=50.0, starts=((0.0, 0.0, 0.0),), v=0.5, w=0.0,
-             duration=0.3, settings=None):
-    scenario = Scenario(robot=robot, terrain=terrain, ground_friction=ground, timestep=DT, max_wheel_torque=torque,
-                        starts=starts, settings=settings or {})
-    commands = constant_commands(v, w, duration, DT, TRACK, robot.wheel_radius, len(starts))
-    return dart_engine.DartEngine().simulate(scenario, commands)
+def simulate(robot, **kwargs):
+    return drive("dart", robot, **kwargs)
 
 
 def forward_speed(record, t: float) -> float:
@@ -40,8 +26,8 @@ def forward_speed(record, t: float) -> float:
 
 def test_terrain_friction_not_the_robot_s_decides_the_contact(robot):
     raised = dataclasses.replace(robot, base_height=robot.base_height + 0.01)  # spawn on the tile
-    slippery = simulate(raised, terrain=tile(0.1), ground=0.95)
-    grippy = simulate(raised, terrain=tile(0.95), ground=0.1)
+    slippery = simulate(raised, terrain=tile_terrain(0.1), ground=0.95)
+    grippy = simulate(raised, terrain=tile_terrain(0.95), ground=0.1)
     # traction limited to mu g: 0.1 x 9.81 m/s^2 for 0.25 s is 0.25 m/s at most
     assert forward_speed(slippery, 0.25) < 0.3
     assert forward_speed(grippy, 0.25) > 0.45

@@ -8,21 +8,15 @@ commands on high friction, that a left turn reads as positive yaw rate, and dete
 import numpy as np
 import pytest
 
-from conftest import flat_terrain
+from conftest import drive, setup
 from simpick.engines import ADAPTERS, get_engine
-from simpick.engines.base import Scenario
 from simpick.imu import block_average
-from simpick.motions import constant_commands
 
 DT = 0.001
-TRACK = 0.555
 
 
-def run(engine_name, robot, v, w, duration, friction=0.95, timestep=DT):
-    scenario = Scenario(robot=robot, terrain=flat_terrain(friction), ground_friction=friction, timestep=timestep,
-                        max_wheel_torque=50.0, starts=((0.0, 0.0, 0.0),), settings={})
-    commands = constant_commands(v, w, duration, timestep, TRACK, robot.wheel_radius)
-    return get_engine(engine_name).simulate(scenario, commands)
+def run(engine_name, robot, v, w, duration):
+    return drive(engine_name, robot, v=v, w=w, duration=duration)
 
 
 @pytest.fixture(params=sorted(ADAPTERS))
@@ -90,7 +84,5 @@ def test_record_shapes_match_the_steps(engine, robot):
 
 
 def test_bare_loop_times_the_same_world(engine, robot):
-    scenario = Scenario(robot=robot, terrain=flat_terrain(), ground_friction=0.95, timestep=DT,
-                        max_wheel_torque=50.0, starts=((0.0, 0.0, 0.0),), settings={})
-    seconds = get_engine(engine).bare_loop(scenario, constant_commands(0.5, 0.0, 0.2, DT, TRACK, robot.wheel_radius))
+    seconds = get_engine(engine).bare_loop(*setup(robot, duration=0.2))
     assert 0 < seconds < 10

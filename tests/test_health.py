@@ -3,11 +3,10 @@
 import numpy as np
 import pytest
 
-from conftest import flat_terrain
+from conftest import setup
 from simpick.engines import get_engine
-from simpick.engines.base import PhysicsRecord, Scenario
+from simpick.engines.base import PhysicsRecord
 from simpick.health import HealthLimits, check
-from simpick.motions import constant_commands
 
 LIMITS = HealthLimits()
 N, DT = 3000, 0.001
@@ -85,9 +84,7 @@ def test_wheels_not_tracking():
 
 @pytest.mark.parametrize("engine", ["pybullet", "mujoco"])
 def test_a_torque_bound_far_too_low_is_caught_in_a_real_engine(engine, robot):
-    scenario = Scenario(robot=robot, terrain=flat_terrain(), ground_friction=0.95, timestep=DT,
-                        max_wheel_torque=0.05, starts=((0.0, 0.0, 0.0),), settings={})
-    commands = constant_commands(0.5, 0.0, 2.0, DT, 0.555, robot.wheel_radius)
+    scenario, commands = setup(robot, torque=0.05, duration=2.0)
     record = get_engine(engine).simulate(scenario, commands)
     health = check(record, LIMITS, commands[:, 0])
     assert not health.ok and "wheels do not track" in " ".join(health.reasons)
@@ -100,9 +97,7 @@ def test_a_robot_spawned_inside_a_box_is_caught(engine, robot):
     # without any jump, which is a legitimate resolution rather than a failure to report.
     block = {"schema": "simpick.terrain/1", "name": "block", "friction": 0.9, "spheres": [],
              "boxes": [[0.0, 0.0, 0.1, 0.0, 0.6, 0.4, 0.2]]}
-    scenario = Scenario(robot=robot, terrain=block, ground_friction=0.95, timestep=DT,
-                        max_wheel_torque=100.0, starts=((0.0, 0.0, 0.0),), settings={})
-    commands = constant_commands(0.0, 0.0, 1.0, DT, 0.555, robot.wheel_radius)
+    scenario, commands = setup(robot, terrain=block, torque=100.0, v=0.0, duration=1.0)
     record = get_engine(engine).simulate(scenario, commands)
     health = check(record, LIMITS, commands[:, 0])
     assert not health.ok, "an interpenetrating start must not pass as healthy"
@@ -110,8 +105,6 @@ def test_a_robot_spawned_inside_a_box_is_caught(engine, robot):
 
 def test_the_healthy_default_engines_pass_on_flat_ground(robot):
     for engine in ("pybullet", "mujoco"):
-        scenario = Scenario(robot=robot, terrain=flat_terrain(), ground_friction=0.95, timestep=DT,
-                            max_wheel_torque=100.0, starts=((0.0, 0.0, 0.0),), settings={})
-        commands = constant_commands(0.5, 0.5, 3.0, DT, 0.555, robot.wheel_radius)
+        scenario, commands = setup(robot, torque=100.0, w=0.5, duration=3.0)
         health = check(get_engine(engine).simulate(scenario, commands), LIMITS, commands[:, 0])
         assert health.ok, (engine, health.reasons)

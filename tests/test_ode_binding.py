@@ -16,11 +16,9 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import flat_terrain
+from conftest import drive, flat_terrain, tile_terrain
 from simpick.engines import _ode, ode_engine
-from simpick.engines.base import Scenario
 from simpick.errors import InputError
-from simpick.motions import constant_commands
 
 try:
     LIB = _ode.load()
@@ -228,18 +226,8 @@ def test_missing_library_says_what_to_install(monkeypatch):
 DT = 0.001
 
 
-def _tile(friction: float, thickness: float = 0.01) -> dict:
-    terrain = flat_terrain(friction)
-    terrain["boxes"] = [[0.0, 0.0, thickness / 2, 0.0, 6.0, 6.0, thickness]]
-    return terrain
-
-
-def _simulate(robot, *, terrain, ground=0.95, torque=50.0, starts=((0.0, 0.0, 0.0),), v=0.5, duration=0.3,
-              settings=None):
-    scenario = Scenario(robot=robot, terrain=terrain, ground_friction=ground, timestep=DT, max_wheel_torque=torque,
-                        starts=starts, settings=settings or {})
-    commands = constant_commands(v, 0.0, duration, DT, 0.555, robot.wheel_radius, len(starts))
-    return ode_engine.OdeEngine().simulate(scenario, commands)
+def _simulate(robot, **kwargs):
+    return drive("ode", robot, **kwargs)
 
 
 def _speed(record, t: float) -> float:
@@ -271,8 +259,8 @@ def test_urdf_reading_folds_the_imu_into_the_chassis(robot):
 
 def test_terrain_friction_not_the_robot_s_decides_the_contact(robot):
     raised = dataclasses.replace(robot, base_height=robot.base_height + 0.01)  # spawn on the tile
-    assert _speed(_simulate(raised, terrain=_tile(0.1), ground=0.95), 0.25) < 0.3
-    assert _speed(_simulate(raised, terrain=_tile(0.95), ground=0.1), 0.25) > 0.45
+    assert _speed(_simulate(raised, terrain=tile_terrain(0.1), ground=0.95), 0.25) < 0.3
+    assert _speed(_simulate(raised, terrain=tile_terrain(0.95), ground=0.1), 0.25) > 0.45
     assert _speed(_simulate(robot, terrain=flat_terrain(0.95), ground=0.1), 0.25) < 0.3
 
 
@@ -288,7 +276,7 @@ def test_robots_collide_with_each_other(robot):
 
 @pytest.mark.parametrize("space", ["hash", "simple"])
 def test_space_kind_does_not_change_the_physics(robot, space):
-    terrain = _tile(0.5)
+    terrain = tile_terrain(0.5)
     terrain["spheres"] = [[0.6, 0.28, 0.0, 0.05], [0.9, -0.28, 0.0, 0.04]]
     raised = dataclasses.replace(robot, base_height=robot.base_height + 0.01)
     a = _simulate(raised, terrain=terrain, duration=1.5)

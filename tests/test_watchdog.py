@@ -4,7 +4,6 @@ import subprocess
 import sys
 import textwrap
 
-import yaml
 
 from conftest import ROOT
 from simpick.traces import read_trace

@@ -11,7 +11,7 @@ import yaml
 
 from simpick.traces import read_trace
 
-from conftest import ROOT, planned_jobs, snakemake, tiny_config, write_config
+from conftest import planned_jobs, snakemake, tiny_config, write_config
 
 
 @pytest.fixture(scope="module")

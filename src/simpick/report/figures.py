@@ -10,6 +10,7 @@ import base64
 import io
 import math
 from collections.abc import Mapping, Sequence
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -26,7 +27,7 @@ QUANTITY_COLUMNS = {"angular": ("wx", "wy", "wz"), "linear": ("ax", "ay", "az")}
 
 # Figures depend on traces and metrics, not on the weights; memoised on disk by the content
 # of their arguments, so a weight edit redraws only the weighted-score chart.
-CACHE_DIR: "Path | None" = None
+CACHE_DIR: Path | None = None
 USED: set[str] = set()
 
 
@@ -43,7 +44,6 @@ def cached(function):
     import functools
     import hashlib
     import pickle
-    from pathlib import Path
 
     @functools.wraps(function)
     def wrapper(*args, **kwargs):
