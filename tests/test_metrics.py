@@ -137,3 +137,14 @@ def test_lab_totals_leave_out_a_test_any_engine_failed(tmp_path):
     runs = pd.read_csv(outputs["runs"])
     assert runs.set_index("engine").status.to_dict() == {"a": "ok", "b": "failed"}
     assert list(pd.read_csv(outputs["rtf"]).engine) == ["a"]  # a failed run does not count for speed either
+
+
+def test_rotation_matrices_and_quaternions_round_trip():
+    from simpick.imu import matrices_to_quaternions, rotation_matrices
+
+    rng = np.random.default_rng(3)
+    q = rng.normal(size=(500, 4))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    q *= np.where(q[:, :1] < 0, -1.0, 1.0)  # the canonical sign (w >= 0)
+    q[:4] = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]  # every branch of the conversion
+    np.testing.assert_allclose(matrices_to_quaternions(rotation_matrices(q)), q, atol=1e-12)

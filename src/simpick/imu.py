@@ -36,6 +36,26 @@ def rotation_matrices(quaternion: np.ndarray) -> np.ndarray:
     ], -2)
 
 
+def matrices_to_quaternions(rot: np.ndarray) -> np.ndarray:
+    """(n, 3, 3) rotations -> (n, 4) unit quaternions w, x, y, z with w >= 0."""
+    m = rot
+    trace = np.trace(m, axis1=1, axis2=2)
+    candidates = np.stack([
+        np.stack([1 + trace, m[:, 2, 1] - m[:, 1, 2], m[:, 0, 2] - m[:, 2, 0], m[:, 1, 0] - m[:, 0, 1]], -1),
+        np.stack([m[:, 2, 1] - m[:, 1, 2], 1 + m[:, 0, 0] - m[:, 1, 1] - m[:, 2, 2],
+                  m[:, 0, 1] + m[:, 1, 0], m[:, 0, 2] + m[:, 2, 0]], -1),
+        np.stack([m[:, 0, 2] - m[:, 2, 0], m[:, 0, 1] + m[:, 1, 0],
+                  1 - m[:, 0, 0] + m[:, 1, 1] - m[:, 2, 2], m[:, 1, 2] + m[:, 2, 1]], -1),
+        np.stack([m[:, 1, 0] - m[:, 0, 1], m[:, 0, 2] + m[:, 2, 0], m[:, 1, 2] + m[:, 2, 1],
+                  1 - m[:, 0, 0] - m[:, 1, 1] + m[:, 2, 2]], -1),
+    ], 1)  # (n, 4 candidates, 4): each is 4 q_i q for the i-th largest-component choice
+    diag = np.stack([trace, m[:, 0, 0], m[:, 1, 1], m[:, 2, 2]], -1)
+    best = np.argmax(diag, axis=1)  # the numerically safest candidate
+    quat = candidates[np.arange(len(m)), best]
+    quat /= np.linalg.norm(quat, axis=1, keepdims=True)
+    return quat * np.where(quat[:, :1] < 0, -1.0, 1.0)
+
+
 def euler_rpy(quaternion: np.ndarray) -> np.ndarray:
     """(n, 4) w, x, y, z -> (n, 3) roll, pitch, yaw (rad, ZYX convention)."""
     w, x, y, z = np.moveaxis(np.asarray(quaternion, dtype=float), -1, 0)

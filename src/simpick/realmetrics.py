@@ -54,19 +54,25 @@ def aligned_rmse(real: np.ndarray, sim: np.ndarray, rate_hz: float, cutoff_hz: f
     return float(np.sqrt(np.mean(d * d)))
 
 
+def psd(signal: np.ndarray, rate_hz: float, nperseg: int = 256) -> tuple[np.ndarray, np.ndarray]:
+    """Welch power spectral density of the signal less its mean (so gravity and tilt drop out)."""
+    from scipy.signal import welch
+
+    x = np.asarray(signal, float)
+    return welch(x - x.mean(), fs=rate_hz, nperseg=int(min(nperseg, len(x))))
+
+
 def psd_distance(real: np.ndarray, sim: np.ndarray, rate_hz: float,
                  band: tuple[float, float] = PSD_BAND_HZ) -> float:
     """Mean |log10 PSD_sim - log10 PSD_real| over ``band`` (decades; 0 = same spectrum).
 
     Welch with 2.56 s segments; the mean is removed, so gravity and tilt do not count.
     """
-    from scipy.signal import welch
-
     nper = int(min(256, len(real), len(sim)))
     if nper < 16:
         return float("nan")
-    f, p_real = welch(np.asarray(real, float) - np.mean(real), fs=rate_hz, nperseg=nper)
-    _, p_sim = welch(np.asarray(sim, float) - np.mean(sim), fs=rate_hz, nperseg=nper)
+    f, p_real = psd(real, rate_hz, nper)
+    _, p_sim = psd(sim, rate_hz, nper)
     keep = (f >= band[0]) & (f <= band[1])
     tiny = 1e-12  # a perfectly still simulation has zero power: compare against a floor
     return float(np.mean(np.abs(np.log10(p_sim[keep] + tiny) - np.log10(p_real[keep] + tiny))))

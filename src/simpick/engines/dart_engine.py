@@ -65,7 +65,7 @@ import numpy as np
 
 from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario, validated_commands
 from simpick.errors import InputError
-from simpick.imu import imu_from_kinematics
+from simpick.imu import imu_from_kinematics, matrices_to_quaternions
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 DEFAULTS = {"collision_detector": "fcl", "lcp_solver": "nsgs", "friction_law": "coulomb",
@@ -239,30 +239,10 @@ class DartEngine:
             joint_speed[k] = get_dq()
         wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
 
-        quat = _matrix_to_quat(pose[:, :3, :3])
+        quat = matrices_to_quaternions(pose[:, :3, :3])
         specific_force, gyro = imu_from_kinematics(quat, velocity, omega, scenario.robot.imu_mount, dt)
         return PhysicsRecord(time=dt * np.arange(1, steps + 1), position=pose[:, :3, 3].copy(), quaternion=quat,
                              linear_velocity=velocity, angular_velocity=omega,
                              wheel_speed=joint_speed[:, wheel_dofs],
                              imu_specific_force=specific_force, imu_gyro=gyro,
                              wall_time=wall, cpu_time=cpu, steps=steps)
-
-
-def _matrix_to_quat(rot: np.ndarray) -> np.ndarray:
-    """(n, 3, 3) rotations -> (n, 4) unit quaternions w, x, y, z with w >= 0."""
-    m = rot
-    trace = np.trace(m, axis1=1, axis2=2)
-    candidates = np.stack([
-        np.stack([1 + trace, m[:, 2, 1] - m[:, 1, 2], m[:, 0, 2] - m[:, 2, 0], m[:, 1, 0] - m[:, 0, 1]], -1),
-        np.stack([m[:, 2, 1] - m[:, 1, 2], 1 + m[:, 0, 0] - m[:, 1, 1] - m[:, 2, 2],
-                  m[:, 0, 1] + m[:, 1, 0], m[:, 0, 2] + m[:, 2, 0]], -1),
-        np.stack([m[:, 0, 2] - m[:, 2, 0], m[:, 0, 1] + m[:, 1, 0],
-                  1 - m[:, 0, 0] + m[:, 1, 1] - m[:, 2, 2], m[:, 1, 2] + m[:, 2, 1]], -1),
-        np.stack([m[:, 1, 0] - m[:, 0, 1], m[:, 0, 2] + m[:, 2, 0], m[:, 1, 2] + m[:, 2, 1],
-                  1 - m[:, 0, 0] - m[:, 1, 1] + m[:, 2, 2]], -1),
-    ], 1)  # (n, 4 candidates, 4): each is 4 q_i q for the i-th largest-component choice
-    diag = np.stack([trace, m[:, 0, 0], m[:, 1, 1], m[:, 2, 2]], -1)
-    best = np.argmax(diag, axis=1)  # the numerically safest candidate
-    quat = candidates[np.arange(len(m)), best]
-    quat /= np.linalg.norm(quat, axis=1, keepdims=True)
-    return quat * np.where(quat[:, :1] < 0, -1.0, 1.0)

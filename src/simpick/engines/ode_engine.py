@@ -75,7 +75,7 @@ import numpy as np
 from simpick.engines import _ode
 from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario, validated_commands
 from simpick.errors import InputError, SimulationFailure
-from simpick.imu import imu_from_kinematics, rotation_matrices
+from simpick.imu import imu_from_kinematics, matrices_to_quaternions, rotation_matrices
 
 LOG = logging.getLogger(__name__)
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
@@ -95,25 +95,6 @@ def _rpy_matrix(rpy) -> np.ndarray:
     return np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
                      [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
                      [-sp, cp * sr, cp * cr]])
-
-
-def _matrix_quat(m: np.ndarray) -> np.ndarray:
-    """Rotation matrix -> unit quaternion (w, x, y, z)."""
-    t = np.trace(m)
-    if t > 0:
-        s = 2.0 * math.sqrt(1.0 + t)
-        q = [0.25 * s, (m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s]
-    else:
-        i = int(np.argmax(np.diag(m)))
-        j, k = (i + 1) % 3, (i + 2) % 3
-        s = 2.0 * math.sqrt(1.0 + m[i, i] - m[j, j] - m[k, k])
-        q = [0.0] * 4
-        q[0] = (m[k, j] - m[j, k]) / s
-        q[1 + i] = 0.25 * s
-        q[1 + j] = (m[j, i] + m[i, j]) / s
-        q[1 + k] = (m[k, i] + m[i, k]) / s
-    q = np.asarray(q)
-    return q / np.linalg.norm(q)
 
 
 def _floats(text: str | None, n: int, default: float = 0.0) -> np.ndarray:
@@ -334,7 +315,7 @@ class _World:
                 lib.dBodySetMass(body, ctypes.byref(mass))
                 px, py, pz = link_pos + link_rot @ part.com
                 lib.dBodySetPosition(body, px, py, pz)
-                lib.dBodySetQuaternion(body, _ode.dQuaternion(*_matrix_quat(link_rot)))
+                lib.dBodySetQuaternion(body, _ode.dQuaternion(*matrices_to_quaternions(link_rot[None])[0]))
                 for kind, dims, pos, rot in part.shapes:
                     if kind == "box":
                         geom = lib.dCreateBox(self.space, *dims)
@@ -345,7 +326,7 @@ class _World:
                     lib.dGeomSetBody(geom, body)
                     ox, oy, oz = pos - part.com
                     lib.dGeomSetOffsetPosition(geom, ox, oy, oz)
-                    lib.dGeomSetOffsetQuaternion(geom, _ode.dQuaternion(*_matrix_quat(rot)))
+                    lib.dGeomSetOffsetQuaternion(geom, _ode.dQuaternion(*matrices_to_quaternions(rot[None])[0]))
                     lib.dGeomSetCategoryBits(geom, own)
                     lib.dGeomSetCollideBits(geom, TERRAIN_BIT | (robot_bits & ~own))
                     self.body_of[geom] = body

@@ -349,15 +349,6 @@ def gain_figure(panels: Sequence[dict]) -> str:
     return to_data_uri(fig)
 
 
-def welch_psd(signal: np.ndarray, rate_hz: float, nperseg: int = 256) -> tuple[np.ndarray, np.ndarray]:
-    """Welch PSD of the signal less its mean (as simpick.realmetrics.psd_distance)."""
-    from scipy.signal import welch
-
-    x = np.asarray(signal, float)
-    n = int(min(nperseg, len(x)))
-    return welch(x - np.mean(x), fs=rate_hz, nperseg=n)
-
-
 def _limits(values: Sequence[np.ndarray], smooth: Sequence[np.ndarray]) -> tuple[float, float]:
     """y limits that show every low-passed curve and most of the raw ones (1st-99th percentile)."""
     lo, hi = [], []

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from simpick.realmetrics import psd
 from simpick.report import figures
 from simpick.report.load import REAL_SETS, ReportData
 
@@ -378,7 +379,7 @@ def _mean_psd(signals: list[tuple[np.ndarray, float]]):
     for x, rate in signals:
         if len(x) < 256:
             continue
-        f, p = figures.welch_psd(x, rate)
+        f, p = psd(x, rate)
         spectra.append((f, p))
     if not spectra:
         return None
