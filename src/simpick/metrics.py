@@ -70,3 +70,29 @@ def real_time_factor(sim_times: Iterable[float], wall_times: Iterable[float]) ->
     if wall <= 0:
         raise ValueError("real_time_factor needs a positive total wall time")
     return sim / wall
+
+
+UNITS = {"angular": "rad/s", "linear": "m/s^2"}
+
+
+def eq7_totals(per_test: pd.DataFrame, engines: Iterable[str] | None = None) -> pd.DataFrame:
+    """Eq. 7 per engine and quantity, summed over tests (columns engine, test, status,
+    error_angular, error_linear; one row per engine and test).
+
+    An engine that failed a test would look better for missing its error, so the totals
+    cover only the tests every engine completed, and name the others as excluded.
+    """
+    engines = sorted(set(per_test.engine) if engines is None else engines)
+    ok = per_test[per_test.status == "ok"]
+    tested = [e for e in engines if (per_test.engine == e).any()]
+    common = set.intersection(*(set(ok[ok.engine == e].test) for e in tested)) if tested else set()
+    excluded = ";".join(sorted(set(per_test.test) - common))
+    tests = sorted(common)
+    rows = []
+    for engine in engines:
+        good = ok[(ok.engine == engine) & ok.test.isin(common)]
+        for quantity, unit in UNITS.items():
+            rows.append({"engine": engine, "quantity": quantity,
+                         "error": math.fsum(good[f"error_{quantity}"]) if tests else float("nan"),
+                         "unit": unit, "n_tests": len(tests), "tests": ";".join(tests), "excluded": excluded})
+    return pd.DataFrame(rows, columns=["engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"])

@@ -24,7 +24,6 @@ from simpick.metrics import AXES
 from simpick.workflow import write_csv
 
 QUANTITIES = ("angular", "linear")
-UNITS = {"angular": "rad/s", "linear": "m/s^2"}
 
 
 def flat_terrain(name: str, friction: float) -> dict:
@@ -265,20 +264,7 @@ def _summaries(per_test: pd.DataFrame, group: str, outputs: dict) -> None:
     write_csv(pd.DataFrame(pairs, columns=[group, "figure", "engine_a", "engine_b", "mean_a_minus_b",
                                             "low", "high", "verdict"]), outputs["pairwise"])
 
-    # Eq. 7 sums over tests; an engine that failed a test would otherwise look better for it,
-    # so the totals cover only the tests every engine completed, and the rest are named.
-    all_tests = set(per_test.segment)
-    common = set.intersection(*(set(g[g.status == "ok"].segment) for _, g in per_test.groupby("engine"))) \
-        if len(per_test) else set()
-    excluded = ";".join(sorted(all_tests - common))
-    totals = []
-    for engine, g in per_test.groupby("engine"):
-        good = g[g.segment.isin(common)]
-        for q in QUANTITIES:
-            totals.append({"engine": engine, "quantity": q, "error": good[f"error_{q}"].sum() if len(good) else float("nan"),
-                           "unit": UNITS[q], "n_tests": len(good), "tests": ";".join(sorted(good.segment)),
-                           "excluded": excluded})
-    write_csv(pd.DataFrame(totals), outputs["imu_errors"])
+    write_csv(metrics.eq7_totals(per_test.rename(columns={"segment": "test"})), outputs["imu_errors"])
 
 
 # --- fetching the public dataset ------------------------------------------------------------------

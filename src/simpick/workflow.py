@@ -128,22 +128,14 @@ def metrics_job(traces: list[str], published_file: str, outputs: dict[str, str])
     ref_rows = [{"terrain": t, "motion": m, "quantity": q, "axis": a, **s, "source": ref["source"]}
                 for (t, m), ref in reference.items() for q in ("angular", "linear") for a, s in ref[q].items()]
 
-    # Eq. 7 sums over tests: like the real-data totals, they cover only the referenced tests
-    # every engine completed, and name the rest (a failed run must not make an engine look better).
-    referenced = {f"{t}/{m}" for t, m in reference}
-    failed = {f"{r.terrain}/{r.motion}" for r in runs[runs.status != "ok"].itertuples()}
-    common = sorted(referenced - failed)
-    per_test["test"] = per_test.terrain + "/" + per_test.motion
-    units = {"angular": "rad/s", "linear": "m/s^2"}
-    error_summary = []
-    for engine in sorted(runs.engine.unique()):
-        for quantity in ("angular", "linear"):
-            rows = per_test[(per_test.engine == engine) & (per_test.quantity == quantity) & per_test.test.isin(common)]
-            error_summary.append({"engine": engine, "quantity": quantity,
-                                  "error": rows.total_error.sum() if common else float("nan"),
-                                  "unit": units[quantity], "n_tests": len(common), "tests": ";".join(common),
-                                  "excluded": ";".join(sorted(referenced & failed))})
-    per_test = per_test.drop(columns="test")
+    # Eq. 7 per test from the per-axis rows; failed runs of referenced tests count as failed
+    columns = ["engine", "test", "status", "error_angular", "error_linear"]
+    ok_tests = [{"engine": e, "test": f"{t}/{m}", "status": "ok",
+                 **{f"error_{q}": g[g.quantity == q].total_error.sum() for q in ("angular", "linear")}}
+                for (e, t, m), g in per_test.groupby(["engine", "terrain", "motion"])]
+    failed = [{"engine": r.engine, "test": f"{r.terrain}/{r.motion}", "status": "failed"}
+              for r in runs[runs.status != "ok"].itertuples() if (r.terrain, r.motion) in reference]
+    error_summary = metrics.eq7_totals(pd.DataFrame(ok_tests + failed, columns=columns), engines=runs.engine.unique())
 
     rtf = [{"engine": engine, "sim_time": g.sim_time.sum(), "wall_time": g.wall_time.sum(),
             "real_time_factor": metrics.real_time_factor(g.sim_time, g.wall_time), "n_runs": len(g)}
@@ -152,7 +144,7 @@ def metrics_job(traces: list[str], published_file: str, outputs: dict[str, str])
     write_csv(pd.DataFrame(stats_rows), outputs["trace_stats"])
     write_csv(pd.DataFrame(ref_rows), outputs["reference_stats"])
     write_csv(per_test, outputs["per_test_errors"])
-    write_csv(pd.DataFrame(error_summary), outputs["imu_errors"])
+    write_csv(error_summary, outputs["imu_errors"])
     write_csv(runs, outputs["runs"])
     write_csv(pd.DataFrame(rtf, columns=["engine", "sim_time", "wall_time", "real_time_factor", "n_runs"]),
                outputs["rtf"])
@@ -178,7 +170,7 @@ def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[st
 
     rtf_frame = pd.read_csv(rtf).set_index("engine")
     errors = pd.read_csv(imu_errors)
-    cpu = {json.loads(Path(f).read_text())["engine"]: json.loads(Path(f).read_text()) for f in cpu_files}
+    cpu = {c["engine"]: c for c in (json.loads(Path(f).read_text()) for f in cpu_files)}
 
     def column(values: dict) -> dict:
         return {e: values.get(e, float("nan")) for e in engines}
