@@ -12,6 +12,8 @@ rule scores:
         weights=canonical(config["weights"]),
     log:
         "results/logs/scores.log",
+    benchmark:
+        "results/benchmarks/scores.tsv"
     conda:
         "../envs/simpick.yaml"
     script:
