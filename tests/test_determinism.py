@@ -27,7 +27,7 @@ def trace(engine, terrain_file, seed):
     frame, meta = run_case(case, urdf=ROOT / CONFIG["robot"]["urdf"], terrain_file=terrain_file, track=0.555,
                            max_wheel_torque=50.0, timestep=0.001, ground_friction=0.8, engine_settings={},
                            imu=ImuModel(accel_noise_std=0.01, gyro_noise_std=0.001), seed=seed)
-    return frame, meta
+    return pd.DataFrame(frame), meta
 
 
 @pytest.mark.parametrize("engine", sorted(ADAPTERS))

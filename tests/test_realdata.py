@@ -78,7 +78,7 @@ def test_replay_of_a_straight_run_covers_the_recorded_distance(engine):
     t = np.arange(0, duration, 0.001)
     held = np.clip(np.searchsorted(cmd.time, t, side="right") - 1, 0, len(cmd) - 1)
     recorded = np.sum((cmd.v_left.to_numpy()[held] + cmd.v_right.to_numpy()[held]) / 2) * 0.001
-    travelled = np.sum(np.hypot(np.diff(frame.x), np.diff(frame.y)))
+    travelled = np.sum(np.hypot(np.diff(frame["x"]), np.diff(frame["y"])))
     assert recorded > 5.0  # the window really drives somewhere
     assert travelled == pytest.approx(recorded, rel=0.04)
 

@@ -12,7 +12,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
 import simpick
 from simpick import terrain as terrain_io
@@ -47,8 +46,8 @@ class Case:
 
 
 def to_trace(record: PhysicsRecord, commands: np.ndarray, timestep: float, imu: ImuModel,
-             rng: np.random.Generator) -> pd.DataFrame:
-    """Physics-rate record of robot 0 -> IMU-rate trace table."""
+             rng: np.random.Generator) -> dict[str, np.ndarray]:
+    """Physics-rate record of robot 0 -> IMU-rate trace columns (see simpick.traces.UNITS)."""
     block = int(round(1.0 / (imu.rate_hz * timestep)))
     accel, gyro = sensor_output(block_average(record.imu_specific_force, block),
                                 block_average(record.imu_gyro, block), imu, rng)
@@ -71,13 +70,13 @@ def to_trace(record: PhysicsRecord, commands: np.ndarray, timestep: float, imu: 
         "wheel_fl": record.wheel_speed[at, 0], "wheel_fr": record.wheel_speed[at, 1],
         "wheel_rl": record.wheel_speed[at, 2], "wheel_rr": record.wheel_speed[at, 3],
     }
-    return pd.DataFrame(frame)
+    return frame
 
 
 def run_commands(engine_name: str, commands: np.ndarray, *, robot: RobotSpec, terrain: dict,
                  start: tuple[float, float, float], timestep: float, ground_friction: float,
                  max_wheel_torque: float, engine_settings: dict, imu: ImuModel, noise_seed: int,
-                 limits: HealthLimits) -> tuple[pd.DataFrame, dict]:
+                 limits: HealthLimits) -> tuple[dict[str, np.ndarray], dict]:
     """Drive robot 0 with ``commands`` (steps, 4) wheel speeds; returns the trace and its metadata."""
     engine = get_engine(engine_name)
     scenario = Scenario(robot=robot, terrain=terrain, ground_friction=ground_friction, timestep=timestep,
@@ -101,7 +100,7 @@ def run_commands(engine_name: str, commands: np.ndarray, *, robot: RobotSpec, te
 def run_case(case: Case, *, urdf: str | Path, terrain_file: str | Path | None = None, terrain: dict | None = None,
              track: float, max_wheel_torque: float, timestep: float, ground_friction: float,
              engine_settings: dict, imu: ImuModel, seed: int,
-             limits: HealthLimits = HealthLimits()) -> tuple[pd.DataFrame, dict]:
+             limits: HealthLimits = HealthLimits()) -> tuple[dict[str, np.ndarray], dict]:
     """One constant-command case; the terrain comes from a file or, already loaded, as a dict."""
     robot = load_robot(urdf)
     terrain = terrain if terrain is not None else terrain_io.load(terrain_file)

@@ -10,14 +10,18 @@ refused with the file's name rather than half-understood.
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
 from simpick.errors import InputError
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 SCHEMA = "simpick.trace/1"
 METADATA_KEY = b"simpick"
@@ -37,13 +41,17 @@ IMU_AXES = {"linear": ["ax", "ay", "az"], "angular": ["wx", "wy", "wz"]}
 FRAME = "body: x forward, y left, z up (REP-103); accelerometer = specific force (REP-145)"
 
 
-def write_trace(frame: pd.DataFrame, metadata: dict, path: str | Path) -> None:
-    """Write atomically: a killed job leaves a temp file, never a truncated trace."""
-    missing = [c for c in COLUMNS if c not in frame.columns]
+def write_trace(frame: Mapping, metadata: dict, path: str | Path) -> None:
+    """Write atomically: a killed job leaves a temp file, never a truncated trace.
+
+    ``frame`` maps column names to arrays (a dict or a DataFrame): simulation jobs build a
+    dict of arrays, so they need not import pandas.
+    """
+    missing = [c for c in COLUMNS if c not in frame]
     if missing:
         raise ValueError(f"trace is missing columns {missing}")
     meta = {"schema": SCHEMA, "units": UNITS, "frame": FRAME, **metadata}
-    table = pa.Table.from_pandas(frame[COLUMNS].astype("float64"), preserve_index=False)
+    table = pa.table({c: np.asarray(frame[c], dtype=np.float64) for c in COLUMNS})
     table = table.replace_schema_metadata({**(table.schema.metadata or {}),
                                            METADATA_KEY: json.dumps(meta, sort_keys=True).encode()})
     path = Path(path)
@@ -68,7 +76,7 @@ def read_metadata(path: str | Path) -> dict:
     return meta
 
 
-def read_trace(path: str | Path) -> tuple[pd.DataFrame, dict]:
+def read_trace(path: str | Path) -> tuple["pd.DataFrame", dict]:
     meta = read_metadata(path)
     frame = pq.read_table(path).to_pandas()
     missing = [c for c in COLUMNS if c not in frame.columns]

@@ -10,13 +10,12 @@ import json
 import sys
 from pathlib import Path
 
-import pandas as pd
 import yaml
 
 from simpick.errors import InputError
 
 
-def write_csv(frame: pd.DataFrame, path: str | Path, index: bool = False) -> None:
+def write_csv(frame, path: str | Path, index: bool = False) -> None:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     frame.to_csv(path, index=index, float_format="%.6g")
@@ -60,7 +59,7 @@ def write_hung_trace(output: str, case, params: dict, timeout: float) -> None:
 
     reason = f"hung: no result after {timeout:g} s of wall time; the job was stopped"
     print(f"simpick: {case.engine} {case.terrain}/{case.motion}: {reason}", file=sys.stderr)
-    write_trace(pd.DataFrame({c: pd.Series(dtype="float64") for c in COLUMNS}),
+    write_trace({c: [] for c in COLUMNS},
                 {"engine": case.engine, "engine_version": "", "terrain": case.terrain, "motion": case.motion,
                  "timestep": params["physics"]["timestep"], "seed": params["seed"], "steps": 0, "sim_time": 0.0,
                  "wall_time": float(timeout), "cpu_time": float("nan"), "real_time_factor": None,
@@ -85,6 +84,8 @@ def cpu_job(output: str, terrain_file: str, urdf: str, params: dict) -> None:
 
 def metrics_job(traces: list[str], published_file: str, outputs: dict[str, str]) -> None:
     """Per-trace statistics, errors against the real reference, run table, real-time factors."""
+    import pandas as pd
+
     from simpick import metrics
     from simpick.published import load_published
     from simpick.reference import lab_reference
@@ -152,6 +153,8 @@ def metrics_job(traces: list[str], published_file: str, outputs: dict[str, str])
 
 def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[str], qualitative: str,
                weights: dict, outputs: dict[str, str]) -> None:
+    import pandas as pd
+
     from simpick import scoring
 
     try:
