@@ -81,6 +81,7 @@ def build_report(inputs: Mapping[str, Any], params: Mapping[str, Any],
 
     start = time.perf_counter()
     figures.CACHE_DIR = Path(html_path).parent / ".figure-cache"
+    figures.USED.clear()  # prune_cache keeps what this build used, not what an earlier one did
     data = load_inputs(inputs)
     html = render_html(data, params)
     figures.prune_cache()
