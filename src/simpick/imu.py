@@ -67,7 +67,7 @@ def euler_rpy(quaternion: np.ndarray) -> np.ndarray:
 
 def imu_from_kinematics(quaternion: np.ndarray, linear_velocity: np.ndarray,
                         angular_velocity: np.ndarray, mount: tuple[float, float, float],
-                        dt: float) -> tuple[np.ndarray, np.ndarray]:
+                        dt: float, gravity=(0.0, 0.0, -GRAVITY)) -> tuple[np.ndarray, np.ndarray]:
     """Specific force and angular rate at an IMU mounted at ``mount`` (body frame).
 
     For engines with no IMU: the mount point's velocity is v + w x R r; its acceleration
@@ -79,7 +79,7 @@ def imu_from_kinematics(quaternion: np.ndarray, linear_velocity: np.ndarray,
     lever = rot @ np.asarray(mount, dtype=float)
     v_mount = linear_velocity + np.cross(angular_velocity, lever)
     accel = np.diff(v_mount, axis=0, prepend=np.zeros((1, 3))) / dt
-    specific_force_world = accel + np.array([0.0, 0.0, GRAVITY])
+    specific_force_world = accel - np.asarray(gravity, dtype=float)
     to_body = np.transpose(rot, (0, 2, 1))
     specific_force = np.einsum("nij,nj->ni", to_body, specific_force_world)
     gyro = np.einsum("nij,nj->ni", to_body, angular_velocity)

@@ -28,6 +28,9 @@ class Scenario:
     max_wheel_torque: float  # N m, per wheel
     starts: tuple[tuple[float, float, float], ...]  # (x, y, yaw) per robot; robot 0 is recorded
     settings: dict[str, Any] = field(default_factory=dict)  # engine-specific, from config
+    # World gravity, m/s^2. Tilted only by the validation's incline case: tilting gravity by
+    # theta about y is the same mechanics as a plane inclined by theta, with no sloped geometry.
+    gravity: tuple[float, float, float] = (0.0, 0.0, -GRAVITY)
 
 
 @dataclass

@@ -63,7 +63,7 @@ import time
 
 import numpy as np
 
-from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import PhysicsRecord, Scenario, validated_commands
 from simpick.errors import InputError
 from simpick.imu import imu_from_kinematics, matrices_to_quaternions
 
@@ -118,7 +118,7 @@ class DartEngine:
             raise InputError("engines.dart", f"unknown settings {sorted(unknown)}", f"use {sorted(DEFAULTS)}")
         settings = {**DEFAULTS, **scenario.settings}
         world = dart.simulation.World()
-        world.setGravity([0.0, 0.0, -GRAVITY])
+        world.setGravity(list(scenario.gravity))
         world.setTimeStep(scenario.timestep)
         solver = world.getConstraintSolver()
         solver.setCollisionDetector(self._detector(dart, settings["collision_detector"]))
@@ -240,7 +240,7 @@ class DartEngine:
         wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
 
         quat = matrices_to_quaternions(pose[:, :3, :3])
-        specific_force, gyro = imu_from_kinematics(quat, velocity, omega, scenario.robot.imu_mount, dt)
+        specific_force, gyro = imu_from_kinematics(quat, velocity, omega, scenario.robot.imu_mount, dt, scenario.gravity)
         return PhysicsRecord(time=dt * np.arange(1, steps + 1), position=pose[:, :3, 3].copy(), quaternion=quat,
                              linear_velocity=velocity, angular_velocity=omega,
                              wheel_speed=joint_speed[:, wheel_dofs],

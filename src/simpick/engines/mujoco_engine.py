@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 
-from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import PhysicsRecord, Scenario, validated_commands
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 DEFAULTS = {"integrator": "implicitfast", "cone": "elliptic", "solver_iterations": 50, "wheel_servo_gain": 300.0}
@@ -43,7 +43,7 @@ class MujocoEngine:
         settings = {**DEFAULTS, **scenario.settings}
         spec = mujoco.MjSpec()
         spec.option.timestep = scenario.timestep
-        spec.option.gravity = [0.0, 0.0, -GRAVITY]
+        spec.option.gravity = list(scenario.gravity)
         spec.option.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{settings['integrator'].upper()}")
         spec.option.cone = getattr(mujoco.mjtCone, f"mjCONE_{settings['cone'].upper()}")
         spec.option.iterations = int(settings["solver_iterations"])

@@ -73,7 +73,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from simpick.engines import _ode
-from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import PhysicsRecord, Scenario, validated_commands
 from simpick.errors import InputError, SimulationFailure
 from simpick.imu import imu_from_kinematics, matrices_to_quaternions, rotation_matrices
 
@@ -223,7 +223,7 @@ class _World:
         lib.dAllocateODEDataForThread(_ode.dAllocateMaskAll)
         lib.dRandSetSeed(0)
         self.world = lib.dWorldCreate()
-        lib.dWorldSetGravity(self.world, 0.0, 0.0, -GRAVITY)
+        lib.dWorldSetGravity(self.world, *scenario.gravity)
         lib.dWorldSetERP(self.world, float(s["erp"]))
         lib.dWorldSetCFM(self.world, float(s["cfm"]))
         lib.dWorldSetContactSurfaceLayer(self.world, float(s["contact_surface_layer"]))
@@ -495,7 +495,7 @@ class OdeEngine:
             world.destroy()
         dt = scenario.timestep
         steps = wheel_commands.shape[0]
-        specific_force, gyro = imu_from_kinematics(quat, velocity, omega, scenario.robot.imu_mount, dt)
+        specific_force, gyro = imu_from_kinematics(quat, velocity, omega, scenario.robot.imu_mount, dt, scenario.gravity)
         return PhysicsRecord(time=dt * np.arange(1, steps + 1), position=position, quaternion=quat,
                              linear_velocity=velocity, angular_velocity=omega, wheel_speed=wheels,
                              imu_specific_force=specific_force, imu_gyro=gyro,

@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 
-from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import PhysicsRecord, Scenario, validated_commands
 from simpick.imu import imu_from_kinematics, rotation_matrices
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, so no wheel starts inside the ground
@@ -107,7 +107,7 @@ class PyBulletEngine:
     def _build_world(self, pb, cid: int, scenario: Scenario) -> tuple[list[int], list[int]]:
         """Ground, terrain and robots; returns the robot bodies and the wheel joint indices."""
         settings = scenario.settings
-        pb.setGravity(0, 0, -GRAVITY, physicsClientId=cid)
+        pb.setGravity(*scenario.gravity, physicsClientId=cid)
         # Not deterministicOverlappingPairs: with it, a Husky commanded to spin in place on a
         # plane translates forward without turning (measured: 1.38 m, 0.02 rad in 10 s; without
         # it 1.23 rad). Runs are deterministic without it: the world is built in a fixed order
@@ -169,7 +169,7 @@ class PyBulletEngine:
         offset = rotation_matrices(quat) @ local_pos
         position = com - offset
         velocity = com_v - np.cross(omega, offset)
-        specific_force, gyro = imu_from_kinematics(quat, velocity, omega, robot.imu_mount, dt)
+        specific_force, gyro = imu_from_kinematics(quat, velocity, omega, robot.imu_mount, dt, scenario.gravity)
         return PhysicsRecord(time=dt * np.arange(1, steps + 1), position=position, quaternion=quat,
                              linear_velocity=velocity, angular_velocity=omega, wheel_speed=wheels,
                              imu_specific_force=specific_force, imu_gyro=gyro,
