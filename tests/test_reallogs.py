@@ -73,10 +73,10 @@ def write_run(folder: Path, imu: pd.DataFrame | str | None = None, pro: pd.DataF
 
 
 def expect_error(imu=None, pro=None, *, tmp: Path, file: str, column: str | None = None,
-                 row: str | None = None, words: tuple[str, ...] = ()) -> InputError:
+                 row: str | None = None, words: tuple[str, ...] = (), **options) -> InputError:
     imu_path, pro_path = write_run(tmp / "ASPHALT", imu, pro)
     with pytest.raises(InputError) as info:
-        borealtc.read_run(imu_path, pro_path, "ASPHALT")
+        borealtc.read_run(imu_path, pro_path, "ASPHALT", **options)
     message = str(info.value)
     path = imu_path if file == "imu" else pro_path
     assert str(path) in message, message
@@ -174,7 +174,7 @@ def test_discover_missing_partner_names_the_file(tmp_path):
 def test_discover_missing_folder_and_empty_folder(tmp_path):
     with pytest.raises(InputError, match="not found"):
         borealtc.discover(tmp_path / "nope")
-    with pytest.raises(InputError, match="no BorealTC runs"):
+    with pytest.raises(InputError, match="is empty: no terrain-class sub-folders"):
         borealtc.discover(tmp_path)
 
 
@@ -312,13 +312,16 @@ def test_wheel_speed_not_in_m_per_s(tmp_path):
 
 
 def test_sample_rate_mismatch(tmp_path):
+    declared = {"imu_rate_hz": 100.0, "command_rate_hz": 6.5, "declared_by": "real_data.datasets.x"}
     imu, pro = synthetic()
     imu["time"] = imu["time"] * 1.5  # 66.7 Hz against the declared 100 Hz
     pro["time"] = pro["time"] * 1.5
-    expect_error(imu, pro, tmp=tmp_path, file="imu", column="time", words=("Hz", "declared 100"))
+    expect_error(imu, pro, tmp=tmp_path, file="imu", column="time",
+                 words=("measured IMU sample rate 66.67 Hz", "declared 100 Hz of real_data.datasets.x"), **declared)
     imu, pro = synthetic()
     pro["time"] = pro["time"] * 0.5  # 13 Hz against 6.5 Hz
-    expect_error(imu, pro, tmp=tmp_path, file="pro", column="time", words=("6.5",))
+    expect_error(imu, pro, tmp=tmp_path, file="pro", column="time", words=("13 Hz", "declared 6.5 Hz"), **declared)
+    borealtc.read_run(*write_run(tmp_path / "ICE", imu, pro), "ICE")  # undeclared: measured, not refused
 
 
 def test_streams_that_do_not_overlap(tmp_path):

@@ -26,6 +26,23 @@ class ImuModel:
     gyro_bias: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
 
+def model_at_rate(settings: dict, rate_hz: float, timestep: float) -> ImuModel:
+    """The configured sensor (``imu:`` settings, noise given per sample at ``settings["rate_hz"]``)
+    read out at ``rate_hz`` instead: the nearest rate a whole number of physics steps per
+    sample gives (the block average's own), with the white noise per sample scaled by
+    sqrt(new rate / configured rate), since averaging over a longer block narrows its band.
+    This is how a replay's simulated IMU is brought to the real log's rate."""
+    block = max(1, int(round(1.0 / (rate_hz * timestep))))
+    if block == int(round(1.0 / (settings["rate_hz"] * timestep))):
+        return ImuModel(**settings)
+    rate = 1.0 / (block * timestep)
+    scale = float(np.sqrt(rate / settings["rate_hz"]))
+    fields = {**settings, "rate_hz": rate}
+    for key in ("accel_noise_std", "gyro_noise_std"):
+        fields[key] = float(settings.get(key, 0.0)) * scale
+    return ImuModel(**fields)
+
+
 def rotation_matrices(quaternion: np.ndarray) -> np.ndarray:
     """(n, 4) w, x, y, z unit quaternions -> (n, 3, 3) body-to-world rotations."""
     w, x, y, z = np.moveaxis(np.asarray(quaternion, dtype=float), -1, 0)

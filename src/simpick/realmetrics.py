@@ -17,7 +17,8 @@ from __future__ import annotations
 import numpy as np
 
 LOWPASS_HZ = 2.0
-PSD_BAND_HZ = (1.0, 40.0)
+PSD_BAND_HZ = (1.0, 40.0)  # up to the Nyquist frequency where the IMU rate is below 80 Hz
+PSD_SEGMENT_S = 2.56  # Welch segment: 256 samples at 100 Hz, the same resolution at any rate
 
 
 def yaw_rate_gain(yaw_rate: np.ndarray, v_left: np.ndarray, v_right: np.ndarray, track: float,
@@ -54,11 +55,17 @@ def aligned_rmse(real: np.ndarray, sim: np.ndarray, rate_hz: float, cutoff_hz: f
     return float(np.sqrt(np.mean(d * d)))
 
 
-def psd(signal: np.ndarray, rate_hz: float, nperseg: int = 256) -> tuple[np.ndarray, np.ndarray]:
+def psd_segment(rate_hz: float) -> int:
+    """Samples per Welch segment at ``rate_hz`` (:data:`PSD_SEGMENT_S` seconds)."""
+    return int(round(PSD_SEGMENT_S * rate_hz))
+
+
+def psd(signal: np.ndarray, rate_hz: float, nperseg: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Welch power spectral density of the signal less its mean (so gravity and tilt drop out)."""
     from scipy.signal import welch
 
     x = np.asarray(signal, float)
+    nperseg = psd_segment(rate_hz) if nperseg is None else nperseg
     return welch(x - x.mean(), fs=rate_hz, nperseg=int(min(nperseg, len(x))))
 
 
@@ -66,9 +73,10 @@ def psd_distance(real: np.ndarray, sim: np.ndarray, rate_hz: float,
                  band: tuple[float, float] = PSD_BAND_HZ) -> float:
     """Mean |log10 PSD_sim - log10 PSD_real| over ``band`` (decades; 0 = same spectrum).
 
-    Welch with 2.56 s segments; the mean is removed, so gravity and tilt do not count.
+    Welch with 2.56 s segments; the mean is removed, so gravity and tilt do not count. The
+    band ends at the Nyquist frequency of a slower IMU.
     """
-    nper = int(min(256, len(real), len(sim)))
+    nper = int(min(psd_segment(rate_hz), len(real), len(sim)))
     if nper < 16:
         return float("nan")
     f, p_real = psd(real, rate_hz, nper)

@@ -10,7 +10,6 @@ commit, so the default study has real-data accuracy on a machine with no network
 
 from __future__ import annotations
 
-import hashlib
 from pathlib import Path
 
 import numpy as np
@@ -52,7 +51,8 @@ def find_segments(log: RealLog, *, tolerance: float, min_duration: float, max_du
 def _segment(log: RealLog, t0: float, t1: float, v_left: float, v_right: float, settle: float,
              min_turn: float, track: float) -> dict | None:
     imu = log.imu[(log.imu["time"] >= t0) & (log.imu["time"] < t1)]
-    if len(imu) < 100 or max(abs(v_left), abs(v_right)) < 0.02:  # standing still tells nothing
+    covered = float(imu["time"].iloc[-1] - imu["time"].iloc[0]) if len(imu) > 1 else 0.0
+    if covered < 0.99 or max(abs(v_left), abs(v_right)) < 0.02:  # under a second of IMU, or standing still
         return None
     v, w = (v_left + v_right) / 2, (v_right - v_left) / track
     kind = "turning" if abs(w) >= min_turn else "straight"
@@ -83,26 +83,42 @@ def select(rows: list[dict], per_kind: int) -> pd.DataFrame:
     return frame[COLUMNS]
 
 
+BOREALTC_SOURCE = "BorealTC (LaRocque et al., IROS 2024), CC0 1.0; github.com/norlab-ulaval/BorealTC data/borealtc"
+
+
 def derive(folder: str | Path, *, tolerance: float, min_duration: float, max_duration: float, settle: float,
-           min_turn: float, per_kind: int, track: float) -> tuple[pd.DataFrame, dict]:
-    """Segments table and its provenance from a BorealTC-layout folder."""
+           min_turn: float, per_kind: int, track: float, source: str = BOREALTC_SOURCE,
+           **read_options) -> tuple[pd.DataFrame, dict]:
+    """Segments table and its provenance from a dataset folder (BorealTC layout)."""
     from simpick.reallogs import borealtc
 
-    rows, sources = [], []
-    for terrain_class, run, imu_path, pro_path in borealtc.discover(folder):
-        log = borealtc.read_run(imu_path, pro_path, terrain_class, track=track)
+    logs = (borealtc.read_run(imu, pro, cls, track=track, **read_options)
+            for cls, _, imu, pro in borealtc.discover(folder))
+    return derive_from_logs(logs, tolerance=tolerance, min_duration=min_duration, max_duration=max_duration,
+                            settle=settle, min_turn=min_turn, per_kind=per_kind, track=track, source=source)
+
+
+def derive_from_logs(logs, *, tolerance: float, min_duration: float, max_duration: float, settle: float,
+                     min_turn: float, per_kind: int, track: float, source: str) -> tuple[pd.DataFrame, dict]:
+    """Segments table and its provenance from a dataset's runs (canonical logs, in the folder's
+    class and run order); ``source`` says where the data come from."""
+    rows, sources, rates = [], [], {"imu": [], "commands": []}
+    for log in logs:
         rows += find_segments(log, tolerance=tolerance, min_duration=min_duration, max_duration=max_duration,
                               settle=settle, min_turn=min_turn, track=track)
-        for path in (imu_path, pro_path):
-            sources.append({"file": f"{terrain_class}/{Path(path).name}",
-                            "sha256": hashlib.sha256(Path(path).read_bytes()).hexdigest()})
+        for stream in ("imu", "commands"):
+            info = log.meta["source_files"][stream]
+            path = Path(info["path"])
+            sources.append({"file": f"{path.parent.name}/{path.name}", "sha256": info["sha256"]})
+            rates[stream].append(float(log.meta["rates"][stream]["median_hz"]))
     table = select(rows, per_kind)
     provenance = {
-        "dataset": "BorealTC (LaRocque et al., IROS 2024), CC0 1.0; github.com/norlab-ulaval/BorealTC data/borealtc",
+        "dataset": source,
         "derived_by": "simpick.realsegments.derive (rule real_segments)",
         "parameters": {"tolerance_m_s": tolerance, "min_duration_s": min_duration,
                        "max_duration_s": max_duration, "settle_s": settle,
                        "min_turn_rad_s": min_turn, "per_kind": per_kind, "track_m": track},
         "segments_found": len(rows), "segments_kept": len(table), "source_files": sources,
+        "rates_hz": {s: [round(min(r), 4), round(max(r), 4)] if r else None for s, r in rates.items()},
     }
     return table, provenance

@@ -12,9 +12,10 @@ from simpick.reallogs.canonical import (
     RealLog,
     body_to_wheels,
     read_canonical,
+    read_canonical_meta,
     wheels_to_body,
     write_canonical,
 )
 
-__all__ = ["DEFAULT_TRACK", "RealLog", "body_to_wheels", "read_canonical", "wheels_to_body",
-           "write_canonical"]
+__all__ = ["DEFAULT_TRACK", "RealLog", "body_to_wheels", "read_canonical", "read_canonical_meta",
+           "wheels_to_body", "write_canonical"]

@@ -39,16 +39,23 @@ def finish(imu: pd.DataFrame, commands: pd.DataFrame, *, imu_where: str, cmd_whe
            imu_row_label: V.RowLabel, cmd_row_label: V.RowLabel,
            cmd_rows: np.ndarray | None = None,
            declared_hz: Mapping[str, float | None] | None = None,
+           declared_by: str = "the reader's options", steady: bool = False,
            track: float = DEFAULT_TRACK, meta: Mapping | None = None,
            reader: str = "simpick.reallogs") -> RealLog:
-    """Check and package canonical frames (times still on the source clock, in s)."""
+    """Check and package canonical frames (times still on the source clock, in s).
+
+    ``declared_hz`` ("imu", "commands"): rates the data must show, declared by ``declared_by``
+    (named in the error); ``steady``: each stream must also keep one rate (no gaps, no jitter).
+    """
     declared_hz = dict(declared_hz or {})
     t_imu = imu["time"].to_numpy(dtype=float)
     t_cmd = commands["time"].to_numpy(dtype=float)
     rates = {
-        "imu": V.check_rate(t_imu, declared_hz.get("imu"), imu_where, imu_names.get("time", "time"), "IMU"),
+        "imu": V.check_rate(t_imu, declared_hz.get("imu"), imu_where, imu_names.get("time", "time"), "IMU",
+                            declared_by=declared_by, steady=steady, row_label=imu_row_label),
         "commands": V.check_rate(t_cmd, declared_hz.get("commands"), cmd_where,
-                                 cmd_names.get("time", "time"), "command"),
+                                 cmd_names.get("time", "time"), "command", declared_by=declared_by,
+                                 steady=steady, row_label=cmd_row_label, rows=cmd_rows),
     }
     overlap = min(t_imu[-1], t_cmd[-1]) - max(t_imu[0], t_cmd[0])
     shorter = min(t_imu[-1] - t_imu[0], t_cmd[-1] - t_cmd[0])
@@ -75,7 +82,8 @@ def finish(imu: pd.DataFrame, commands: pd.DataFrame, *, imu_where: str, cmd_whe
         "frame": FRAME,
         "commands_kind": kind,
         "track_m": track,
-        "rates": {"declared_hz": declared_hz, "imu": rates["imu"], "commands": rates["commands"]},
+        "rates": {"declared_hz": declared_hz, "declared_by": declared_by if any(declared_hz.values()) else None,
+                  "imu": rates["imu"], "commands": rates["commands"]},
         "time_offset_s": offset,
         "time_zero": "first IMU sample",
         "checks": {"imu": imu_checks, "yaw": yaw},

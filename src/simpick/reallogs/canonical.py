@@ -167,6 +167,18 @@ def write_canonical(log: RealLog, path: str | Path) -> Path:
     return path
 
 
+def read_canonical_meta(path: str | Path) -> dict:
+    """The log's meta alone (rates, source files ...), from the Parquet footer: no data read."""
+    try:
+        raw = (pq.read_schema(path).metadata or {}).get(METADATA_KEY)
+        meta = json.loads(raw) if raw is not None else None
+    except (OSError, pa.ArrowException, ValueError) as exc:
+        raise InputError(str(path), f"not a readable canonical log: {exc}", "delete it and write it again") from None
+    if not isinstance(meta, dict) or meta.get("schema") != SCHEMA:
+        raise InputError(str(path), "has no simpick reallog metadata; it was not written by write_canonical")
+    return meta.get("meta") or {}
+
+
 def read_canonical(path: str | Path) -> RealLog:
     """Read and validate a file written by ``write_canonical``."""
     path = Path(path)

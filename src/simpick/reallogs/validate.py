@@ -14,7 +14,11 @@ Plausibility limits (a Husky A200 tops out near 1 m/s and 2 rad/s):
   * wheel / body speeds above 5 m/s, body yaw rates above 20 rad/s;
   * gyro yaw rate more than 3x the commanded yaw rate on turning commands: deg/s again
     (skid-steer slip makes the real ratio 0.05..0.8; deg/s multiplies it by 57);
-  * a declared sample rate: the median-interval rate must be within 20 %.
+  * a declared sample rate: the median-interval rate must be within 20 %;
+  * a steady stream (the dataset-folder reader asks for one): no interval longer than
+    10 median intervals and 0.5 s (a gap: the real signal is unknown there), and at most
+    10 % of the intervals more than 50 % off the median one (jitter: no single rate).
+    Duplicated or backward times are refused for every stream (``check_time``).
 """
 
 from __future__ import annotations
@@ -36,6 +40,10 @@ SPEED_LIMIT = 5.0  # m/s
 YAW_RATE_LIMIT = 20.0  # rad/s, body command
 YAW_GAIN_LIMIT = 3.0  # measured / commanded yaw rate
 RATE_TOLERANCE = 0.20
+GAP_INTERVALS = 10.0  # median intervals
+GAP_MIN_S = 0.5  # s: shorter holes are interpolated over harmlessly
+JITTER_OFF = 0.5  # an interval this far (relative) from the median one is off
+JITTER_SHARE = 0.10  # share of off intervals above which a stream has no single rate
 
 
 def csv_row(i: int) -> str:
@@ -113,8 +121,8 @@ def check_time(time: np.ndarray, where: str, column: str, row_label: RowLabel,
         src = (lambda k: int(rows[k])) if rows is not None else (lambda k: k)
         kind = "duplicates" if step[i - 1] == 0 else "goes backwards from"
         raise InputError(col_where(where, column),
-                         f"time is not strictly increasing: {time[i]!r} at {row_label(src(i))} "
-                         f"{kind} {time[i - 1]!r} at {row_label(src(i - 1))}",
+                         f"time is not strictly increasing: {float(time[i])!r} at {row_label(src(i))} "
+                         f"{kind} {float(time[i - 1])!r} at {row_label(src(i - 1))}",
                          "sort the rows by time and drop duplicated samples")
 
 
@@ -124,26 +132,51 @@ def measured_rate(time: np.ndarray) -> dict:
     if n < 2:
         return {"samples": n, "duration_s": 0.0, "median_hz": None, "mean_hz": None}
     duration = float(time[-1] - time[0])
+    step = np.diff(time)
+    median = float(np.median(step))
+    off = np.abs(step / median - 1.0)
     return {"samples": n, "duration_s": duration,
-            "median_hz": float(1.0 / np.median(np.diff(time))),
-            "mean_hz": float((n - 1) / duration)}
+            "median_hz": float(1.0 / median), "mean_hz": float((n - 1) / duration),
+            "median_interval_s": median, "max_interval_s": float(step.max()),
+            "jitter_p95": float(np.quantile(off, 0.95)), "off_share": float(np.mean(off > JITTER_OFF))}
 
 
 def check_rate(time: np.ndarray, declared_hz: float | None, where: str, column: str,
-               stream: str, tolerance: float = RATE_TOLERANCE) -> dict:
-    """Measured rates; an error when the median-interval rate is off the declared one."""
+               stream: str, tolerance: float = RATE_TOLERANCE, *, declared_by: str = "the reader's options",
+               steady: bool = False, row_label: RowLabel = plain_row,
+               rows: np.ndarray | None = None) -> dict:
+    """The measured rates (median interval); an error when the stream is not steady (if
+    ``steady``) or its rate contradicts the one ``declared_by`` declares."""
     rate = measured_rate(time)
     if rate["samples"] < 2:
         raise InputError(col_where(where, column), f"the {stream} stream has {rate['samples']} sample(s); "
                                               "at least 2 are needed")
-    if declared_hz is not None:
-        got = rate["median_hz"]
-        if abs(got / declared_hz - 1.0) > tolerance:
+    median, got = rate["median_interval_s"], rate["median_hz"]
+    if steady:
+        step = np.diff(time)
+        src = (lambda k: int(rows[k])) if rows is not None else (lambda k: k)
+        gaps = np.flatnonzero(step > max(GAP_INTERVALS * median, GAP_MIN_S))
+        if len(gaps):
+            k = int(np.argmax(step))
             raise InputError(col_where(where, column),
-                             f"{stream} sample rate is {got:.4g} Hz (median interval), "
-                             f"{100 * (got / declared_hz - 1):+.0f} % off the declared "
-                             f"{declared_hz:g} Hz",
-                             "check the time unit (s, ms, ns) and the declared rate")
+                             f"the {stream} stream stops for {step[k]:.4g} s ({step[k] / median:.0f} median "
+                             f"intervals) between {row_label(src(k))} (time {time[k]:.6g}) and "
+                             f"{row_label(src(k + 1))} (time {time[k + 1]:.6g})"
+                             + (f"; {len(gaps)} such gaps" if len(gaps) > 1 else ""),
+                             "split the run at the gap into two runs, or drop the file")
+        if rate["off_share"] > JITTER_SHARE:
+            first = int(np.flatnonzero(np.abs(step / median - 1.0) > JITTER_OFF)[0])
+            raise InputError(col_where(where, column),
+                             f"the {stream} stream has no steady rate: {100 * rate['off_share']:.0f} % of its "
+                             f"sample intervals are more than {100 * JITTER_OFF:.0f} % off the median "
+                             f"{median:.4g} s (first at {row_label(src(first + 1))})",
+                             "resample the stream to one rate, or check that the time column holds one stream")
+    if declared_hz is not None and abs(got / declared_hz - 1.0) > tolerance:
+        raise InputError(col_where(where, column),
+                         f"measured {stream} sample rate {got:.4g} Hz (median interval {median:.4g} s) "
+                         f"contradicts the declared {declared_hz:g} Hz of {declared_by} "
+                         f"({100 * (got / declared_hz - 1):+.0f} %)",
+                         "correct the declared rate, or check the time unit (s, ms, ns)")
     return rate
 
 
