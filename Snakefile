@@ -24,7 +24,11 @@ rule all:
         all_traces(),
         segment_traces(),
         f"{REAL}/metrics/segments_summary.csv",
-        f"{REAL}/metrics/replay_summary.csv" if config.get("borealtc_dir") else [],
+        (
+            [f"{REPLAY}/metrics/replay_summary.csv", f"{REPLAY}/segments.csv", f"{REPLAY}/dataset.yaml"]
+            if REPLAY_SET
+            else []
+        ),
         f"{OWN}/metrics/replay_summary.csv" if OWN_LOGS else [],
         "results/scores/weighted.csv",
         "results/published/table11.csv",

@@ -1,6 +1,7 @@
 # Helpers shared by the rules: the config slices each rule may see, canonicalised.
 import csv
 import os
+import re
 import sys
 
 from simpick.config import validate_or_exit
@@ -69,16 +70,14 @@ def simulation_params(engine, terrain, motion_name):
 
 # --- real robot data (rules/real.smk) ---
 
-DATASET = config["real_data"]["dataset"]
+DATASET = config["real_data"]["dataset"]  # the committed segment table's dataset
 REAL = f"results/real/{DATASET}"
 
 
 def read_segments(path):
     """terrain class -> segment ids, from the committed table (plain csv: fast to parse).
-    Absent only while it is being derived (the config check demands it otherwise)."""
+    The config check has made sure it exists; no run ever writes it."""
     by_class = {}
-    if not os.path.exists(path):
-        return by_class
     with open(path, newline="") as handle:
         for row in csv.DictReader(handle):
             by_class.setdefault(row["terrain_class"], []).append(row["segment"])
@@ -110,11 +109,61 @@ def segment_traces():
         for segment in ids
     ]
 
-RUNS = []
-if config.get("borealtc_dir"):
-    from simpick.realdata import discover_runs
 
-    RUNS = discover_runs(config["borealtc_dir"])
+# The full replay's dataset folder (--config borealtc_dir=PATH [real_dataset=NAME]), checked
+# now: a folder that is not a dataset, an empty class folder, an unpaired file or a class with
+# no ground model stops the run here with one `simpick:` line each, before any job.
+REPLAY_SET = None
+if config.get("borealtc_dir"):
+    from simpick.datasets import open_dataset_or_exit
+
+    REPLAY_SET = open_dataset_or_exit(
+        config["borealtc_dir"],
+        classes=config["real_data"]["classes"],
+        name=config.get("real_dataset"),
+    )
+REPLAY = f"results/real/{REPLAY_SET.name}" if REPLAY_SET else None
+RUNS = [(r.terrain_class, r.run) for r in REPLAY_SET.runs] if REPLAY_SET else []
+
+
+def replay_dataset():
+    """The replay dataset as the rules see it: name, label, source and declared rates."""
+    declared = (config["real_data"].get("datasets") or {}).get(REPLAY_SET.name) or {}
+    return {
+        "name": REPLAY_SET.name,
+        "folder": str(REPLAY_SET.folder),
+        "label": declared.get("label") or REPLAY_SET.name,
+        "source": declared.get("source") or f"dataset folder {REPLAY_SET.folder}",
+        "declared": {k: declared[k] for k in ("imu_hz", "commands_hz") if declared.get(k)},
+    }
+
+
+def real_logs():
+    return [f"{REPLAY}/logs/{c}/{run}.parquet" for c, run in RUNS]
+
+
+def replay_traces():
+    return [f"{REPLAY}/replay/{engine}/{c}/{run}.parquet" for engine in ENGINES for c, run in RUNS]
+
+
+def maintained_table(wildcards):
+    """maintain_segments' inputs: the BorealTC folder's derived table. Asked for on any other
+    dataset (or none), it stops the run while the DAG is built, before any job."""
+    if REPLAY_SET is None:
+        problem = (
+            "maintain_segments derives the committed segment table from the BorealTC folder "
+            "(fix: pass --config borealtc_dir=PATH/TO/borealtc)"
+        )
+    elif REPLAY_SET.name != DATASET:
+        problem = (
+            f"maintain_segments rewrites {config['real_data']['segments']}, the table of dataset "
+            f"{DATASET!r}, but {REPLAY_SET.folder} is dataset {REPLAY_SET.name!r} (fix: pass --config "
+            f"real_dataset={DATASET} if that folder holds {DATASET}; its own table is {REPLAY}/segments.csv)"
+        )
+    else:
+        return {"csv": f"{REPLAY}/segments.csv", "provenance": f"{REPLAY}/segments.provenance.yaml"}
+    print(f"simpick: {problem}", file=sys.stderr)
+    sys.exit(1)
 
 
 OWN = "results/real/own"
@@ -127,15 +176,15 @@ def accuracy_errors():
         return "results/metrics/imu_errors.csv"
     if config["accuracy"]["reference"] == "own":
         return f"{OWN}/metrics/replay_imu_errors.csv"
-    if config.get("borealtc_dir"):
-        return f"{REAL}/metrics/replay_imu_errors.csv"
+    if REPLAY_SET:
+        return f"{REPLAY}/metrics/replay_imu_errors.csv"
     return f"{REAL}/metrics/segments_imu_errors.csv"
 
 
 
 def report_real_inputs(wildcards):
-    """The real-robot inputs of the report: the accuracy scores' errors file, the segment
-    comparison always, the full replay only when borealtc_dir is set (rules/real.smk)."""
+    """The real-robot inputs of the report: the accuracy scores' errors file, the committed
+    segments' comparison always, the full replay of the dataset folder when one is given."""
     segments = config["real_data"]["segments"]
     provenance = segments.replace(".csv", ".provenance.yaml")
     inputs = {
@@ -146,17 +195,33 @@ def report_real_inputs(wildcards):
         "segments_pairwise": f"{REAL}/metrics/segments_pairwise.csv",
         "segments_imu_errors": f"{REAL}/metrics/segments_imu_errors.csv",
     }
-    if config.get("borealtc_dir") or os.path.exists(provenance):
+    if os.path.exists(provenance):
         inputs["segments_provenance"] = provenance
-    if config.get("borealtc_dir"):
+    if REPLAY_SET:
         inputs.update(
             {
-                f"replay_{name}": f"{REAL}/metrics/replay_{name}.csv"
+                f"replay_{name}": f"{REPLAY}/metrics/replay_{name}.csv"
                 for name in ("per_window", "per_test", "summary", "pairwise", "imu_errors")
             }
         )
-        inputs["real_logs"] = [f"{REAL}/logs/{c.upper()}/{run}.parquet" for c, run in RUNS]
-        inputs["replay_traces"] = [
-            f"{REAL}/replay/{engine}/{c}/{run}.parquet" for engine in ENGINES for c, run in RUNS
-        ]
+        inputs["real_logs"] = real_logs()
+        inputs["replay_traces"] = replay_traces()
     return inputs
+
+
+def report_datasets():
+    """Which dataset each real-data set comes from, and its declared rates (the report states them)."""
+    declared = config["real_data"].get("datasets") or {}
+    committed = declared.get(DATASET) or {}
+    return canonical(
+        {
+            "segments": {
+                "name": DATASET,
+                "label": committed.get("label") or DATASET,
+                "source": committed.get("source") or "",
+                "declared": {k: committed[k] for k in ("imu_hz", "commands_hz") if committed.get(k)},
+                "simulated_imu_hz": config["imu"]["rate_hz"],
+            },
+            "replay": replay_dataset() if REPLAY_SET else None,
+        }
+    )

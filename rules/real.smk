@@ -1,5 +1,6 @@
-# Real robot data: constant-command segments (committed, default) and the full replay
-# of a BorealTC-layout folder (--config borealtc_dir=PATH). Helpers in common.smk.
+# Real robot data: constant-command segments (the committed table, read, never written) and
+# the full replay of a dataset folder (--config borealtc_dir=PATH), whose results all go to
+# results/real/<dataset>/. Helpers in common.smk.
 
 
 # One job per terrain class and engine: its segments are short runs sharing one import.
@@ -51,44 +52,44 @@ rule segment_metrics:
         "../scripts/segment_metrics.py"
 
 
-if config.get("borealtc_dir"):
+if REPLAY_SET:
 
-    rule real_segments:
-        input:
-            [
-                f"{config['borealtc_dir']}/{c.upper()}/{kind}_{run}.csv"
-                for c, run in RUNS
-                for kind in ("imu", "pro")
-            ],
+    rule real_dataset:
+        """Which folder results/real/<dataset>/ holds the results of (a second folder of the same
+        name is then refused before any job: simpick.datasets.open_dataset)."""
         output:
-            csv=config["real_data"]["segments"],
-            provenance=config["real_data"]["segments"].replace(".csv", ".provenance.yaml"),
+            f"{REPLAY}/dataset.yaml",
         params:
-            folder=config["borealtc_dir"],
-            rules=canonical(
-                {
-                    "segment_rules": config["real_data"]["segment_rules"],
-                    "track": config["robot"]["track"],
-                }
-            ),
+            dataset=canonical(replay_dataset()),
+        priority: 50
         log:
-            "results/logs/real/real_segments.log",
+            f"results/logs/real/{REPLAY_SET.name}/dataset.log",
         conda:
             "../envs/simpick.yaml"
         script:
-            "../scripts/real_segments.py"
+            "../scripts/real_dataset.py"
 
     rule import_real:
         input:
-            imu=f"{config['borealtc_dir']}/{{upper}}/imu_{{run}}.csv",
-            pro=f"{config['borealtc_dir']}/{{upper}}/pro_{{run}}.csv",
+            imu=lambda wc: str(REPLAY_SET.run(wc.terrain_class, wc.run).imu),
+            pro=lambda wc: str(REPLAY_SET.run(wc.terrain_class, wc.run).pro),
         output:
-            f"{REAL}/logs/{{upper}}/{{run}}.parquet",
+            f"{REPLAY}/logs/{{terrain_class}}/{{run}}.parquet",
         params:
-            folder=config["borealtc_dir"],
-            track=canonical(config["robot"]["track"]),
+            folder_class=lambda wc: REPLAY_SET.run(wc.terrain_class, wc.run).folder,
+            settings=canonical(
+                {
+                    "track": config["robot"]["track"],
+                    "dataset": REPLAY_SET.name,
+                    "label": replay_dataset()["label"],
+                    "declared": replay_dataset()["declared"],
+                }
+            ),
+        wildcard_constraints:
+            terrain_class="|".join(REPLAY_SET.classes),
+            run="|".join(sorted({re.escape(run) for _, run in RUNS})),
         log:
-            "results/logs/real/import/{upper}/{run}.log",
+            f"results/logs/real/{REPLAY_SET.name}/import/{{terrain_class}}/{{run}}.log",
         conda:
             "../envs/simpick.yaml"
         script:
@@ -96,16 +97,18 @@ if config.get("borealtc_dir"):
 
     rule replay:
         input:
-            log=lambda wc: f"{REAL}/logs/{wc.terrain_class.upper()}/{wc.run}.parquet",
+            log=f"{REPLAY}/logs/{{terrain_class}}/{{run}}.parquet",
             urdf=config["robot"]["urdf"],
         output:
-            f"{REAL}/replay/{{engine}}/{{terrain_class}}/{{run}}.parquet",
+            f"{REPLAY}/replay/{{engine}}/{{terrain_class}}/{{run}}.parquet",
         params:
             case=lambda wc: real_params(wc.engine, wc.terrain_class),
+        wildcard_constraints:
+            terrain_class="|".join(REPLAY_SET.classes),
         log:
-            "results/logs/real/replay/{engine}/{terrain_class}/{run}.log",
+            f"results/logs/real/{REPLAY_SET.name}/replay/{{engine}}/{{terrain_class}}/{{run}}.log",
         benchmark:
-            "results/benchmarks/replay/{engine}/{terrain_class}/{run}.tsv"
+            f"results/benchmarks/replay/{REPLAY_SET.name}/{{engine}}/{{terrain_class}}/{{run}}.tsv"
         threads: 1
         resources:
             mem_mb=800,
@@ -117,28 +120,69 @@ if config.get("borealtc_dir"):
 
     rule replay_metrics:
         input:
-            logs=[f"{REAL}/logs/{c.upper()}/{run}.parquet" for c, run in RUNS],
-            traces=[
-                f"{REAL}/replay/{engine}/{c}/{run}.parquet"
-                for engine in ENGINES
-                for c, run in RUNS
-            ],
+            logs=real_logs(),
+            traces=replay_traces(),
         output:
-            per_window=f"{REAL}/metrics/replay_per_window.csv",
-            per_test=f"{REAL}/metrics/replay_per_test.csv",
-            summary=f"{REAL}/metrics/replay_summary.csv",
-            pairwise=f"{REAL}/metrics/replay_pairwise.csv",
-            imu_errors=f"{REAL}/metrics/replay_imu_errors.csv",
+            per_window=f"{REPLAY}/metrics/replay_per_window.csv",
+            per_test=f"{REPLAY}/metrics/replay_per_test.csv",
+            summary=f"{REPLAY}/metrics/replay_summary.csv",
+            pairwise=f"{REPLAY}/metrics/replay_pairwise.csv",
+            imu_errors=f"{REPLAY}/metrics/replay_imu_errors.csv",
         params:
             settings=canonical(
                 {"track": config["robot"]["track"], "window": config["real_data"]["window"]}
             ),
         log:
-            "results/logs/real/replay_metrics.log",
+            f"results/logs/real/{REPLAY_SET.name}/replay_metrics.log",
         conda:
             "../envs/simpick.yaml"
         script:
             "../scripts/replay_metrics.py"
+
+    # The folder's own constant-command segments: a result, beside its replay.
+    rule real_segments:
+        input:
+            logs=real_logs(),
+        output:
+            csv=f"{REPLAY}/segments.csv",
+            provenance=f"{REPLAY}/segments.provenance.yaml",
+        params:
+            rules=canonical(
+                {
+                    "segment_rules": config["real_data"]["segment_rules"],
+                    "track": config["robot"]["track"],
+                    "source": replay_dataset()["source"],
+                }
+            ),
+        log:
+            f"results/logs/real/{REPLAY_SET.name}/real_segments.log",
+        conda:
+            "../envs/simpick.yaml"
+        script:
+            "../scripts/real_segments.py"
+
+
+# Maintainers only, on purpose (README "Real data"): the BorealTC folder's derived table over the
+# committed one. The committed files are never a rule's output, so no failed job can delete them;
+# the job replaces them atomically, and its receipt (what changed) is the output.
+rule maintain_segments:
+    input:
+        unpack(maintained_table),
+    output:
+        f"{REAL}/maintain_segments.yaml",
+    params:
+        committed=canonical(
+            {
+                "csv": config["real_data"]["segments"],
+                "provenance": config["real_data"]["segments"].replace(".csv", ".provenance.yaml"),
+            }
+        ),
+    log:
+        "results/logs/real/maintain_segments.log",
+    conda:
+        "../envs/simpick.yaml"
+    script:
+        "../scripts/maintain_segments.py"
 
 
 rule fetch_borealtc:

@@ -24,13 +24,14 @@ rule report:
             {
                 "reference": config["accuracy"]["reference"],
                 "errors_file": accuracy_errors(),
-                "dataset": config["real_data"]["dataset"],
-                "replay": bool(config.get("borealtc_dir")),
+                "dataset": REPLAY_SET.name if REPLAY_SET else DATASET,
+                "replay": bool(REPLAY_SET),
             }
         ),
         real_data=canonical(
             {
-                "dataset": config["real_data"]["dataset"],
+                "dataset": DATASET,
+                "datasets": report_datasets(),
                 "classes": config["real_data"]["classes"],
                 "window": config["real_data"]["window"],
                 "segment_rules": config["real_data"]["segment_rules"],

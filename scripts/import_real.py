@@ -2,5 +2,5 @@ from simpick.realdata import import_job
 from simpick.workflow import logged
 
 with logged(snakemake.log[0]):
-    import_job(snakemake.params.folder, snakemake.wildcards.upper.lower(), snakemake.wildcards.run,
-               snakemake.output[0], snakemake.params.track)
+    import_job(snakemake.input.imu, snakemake.input.pro, snakemake.params.folder_class, snakemake.output[0],
+               snakemake.params.settings)

@@ -99,3 +99,38 @@ def write_config(workdir: Path, config: dict) -> None:
     (workdir / "config.yaml").write_text(yaml.safe_dump(config, sort_keys=False))
 
 
+# --- dataset folders in the BorealTC layout, made up in the test ---
+
+def synthetic_run(seconds: float = 12.0, imu_hz: float = 100.0, cmd_hz: float = 6.5, seed: int = 0,
+                  gain: float = 0.6) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """One run as (imu, pro) frames in BorealTC's columns: 0.3 m/s straight, then a left turn
+    (wheels 0.1 / 0.4 m/s) whose measured yaw rate is ``gain`` x the commanded one."""
+    import numpy as np
+
+    rng = np.random.default_rng(seed)
+    tp = np.arange(int(round(seconds * cmd_hz))) / cmd_hz
+    turning = tp >= seconds / 2
+    vel_l, vel_r = np.where(turning, 0.1, 0.3), np.where(turning, 0.4, 0.3)
+    pro = pd.DataFrame({"time": tp, "curL": 5 + rng.random(len(tp)), "curR": 5 + rng.random(len(tp)),
+                        "velL": vel_l, "velR": vel_r})
+    ti = np.arange(int(round(seconds * imu_hz))) / imu_hz
+    held = np.clip(np.searchsorted(tp, ti, side="right") - 1, 0, len(tp) - 1)
+    n = len(ti)
+    imu = pd.DataFrame({"time": ti, "wx": 0.01 * rng.standard_normal(n), "wy": 0.01 * rng.standard_normal(n),
+                        "wz": gain * (vel_r - vel_l)[held] / 0.555 + 0.01 * rng.standard_normal(n),
+                        "ax": 0.2 * rng.standard_normal(n), "ay": 0.2 * rng.standard_normal(n),
+                        "az": 9.81 + 0.2 * rng.standard_normal(n)})
+    return imu, pro
+
+
+def write_dataset(root: Path, runs: dict[str, list[str]], **options) -> Path:
+    """``root/<CLASS>/imu_<run>.csv`` + ``pro_<run>.csv`` for every class and run id given."""
+    for i, (cls, ids) in enumerate(runs.items()):
+        (root / cls).mkdir(parents=True, exist_ok=True)
+        for j, run in enumerate(ids):
+            imu, pro = synthetic_run(seed=10 * i + j, **options)
+            imu.to_csv(root / cls / f"imu_{run}.csv", index=False)
+            pro.to_csv(root / cls / f"pro_{run}.csv", index=False)
+    return root
+
+

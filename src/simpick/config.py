@@ -96,12 +96,21 @@ class TerrainClass(Strict):
     source: str
 
 
+class DeclaredDataset(Strict):
+    """What is known of a dataset folder before reading it (all optional; rates are measured)."""
+    label: str | None = None
+    source: str | None = None
+    imu_hz: Positive | None = None
+    commands_hz: Positive | None = None
+
+
 class RealData(Strict):
     dataset: str
     segments: str
     segment_rules: SegmentRules
     window: Positive
     classes: dict[str, TerrainClass]
+    datasets: dict[str, DeclaredDataset] = {}
 
 
 class OwnLog(Strict):
@@ -156,6 +165,7 @@ class Study(Strict):
     reference: Reference
     accuracy: Accuracy
     borealtc_dir: str | None = None
+    real_dataset: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] | None = None
     own_logs: list[OwnLog] = []
     real_data: RealData
     qualitative: str
@@ -201,9 +211,13 @@ class Study(Strict):
                              "(github.com/norlab-ulaval/BorealTC, folder data/borealtc) or run "
                              "`snakemake --cores 2 fetch_borealtc` while online (it writes data/borealtc), then pass "
                              "--config borealtc_dir=PATH")
-        if self.borealtc_dir is None and not Path(self.real_data.segments).is_file():
-            raise ValueError(f"real_data.segments: {self.real_data.segments!r} does not exist; regenerate it with "
-                             "snakemake --cores 2 real_segments --config borealtc_dir=PATH")
+        if self.real_dataset is not None and self.borealtc_dir is None:
+            raise ValueError(f"real_dataset {self.real_dataset!r} names the dataset folder given as borealtc_dir, "
+                             "but borealtc_dir is not set; pass --config borealtc_dir=PATH real_dataset=NAME")
+        if not Path(self.real_data.segments).is_file():
+            raise ValueError(f"real_data.segments: {self.real_data.segments!r} does not exist; restore it from git "
+                             "(git checkout -- PATH) or regenerate it: "
+                             "snakemake --cores 2 maintain_segments --config borealtc_dir=PATH")
         names = [log.name for log in self.own_logs]
         if len(set(names)) != len(names):
             raise ValueError(f"own_logs: names must be unique, got {names}")

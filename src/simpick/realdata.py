@@ -3,8 +3,11 @@
 Two ways in:
 - the committed constant-command segments (``resources/real/*_segments.csv``): every engine
   drives each segment's command on its terrain class; no download needed;
-- the full replay (``borealtc_dir`` set): every run imported to the canonical form, driven
-  through every engine by its recorded wheel speeds, compared window by window.
+- the full replay of a dataset folder (``borealtc_dir`` set; :mod:`simpick.datasets`): every
+  run imported to the canonical form, driven through every engine by its recorded wheel
+  speeds, its simulated IMU block-averaged to the run's own IMU rate, compared window by
+  window. The folder's own segment table is derived too, as a result; only the maintainer
+  target ``maintain_segments`` copies it over the committed one.
 
 Both produce the paper's Eq. 7 errors per test (so they can feed the accuracy scores), the
 yaw-rate gain, and per-engine summaries with 95 % bootstrap intervals over runs.
@@ -12,6 +15,7 @@ yaw-rate gain, and per-engine summaries with 95 % bootstrap intervals over runs.
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -42,21 +46,53 @@ def load_segments(path: str | Path) -> pd.DataFrame:
     missing = [c for c in COLUMNS if c not in frame.columns]
     if missing:
         raise InputError(str(path), f"columns {missing} are missing",
-                         "regenerate it: snakemake --cores 2 real_segments --config borealtc_dir=PATH")
+                         "restore it (git checkout -- PATH) or regenerate it: "
+                         "snakemake --cores 2 maintain_segments --config borealtc_dir=PATH")
     return frame
 
 
 # --- segments -------------------------------------------------------------------------------------
 
-def segments_job(folder: str, output_csv: str, output_provenance: str, params: dict) -> None:
-    from simpick.realsegments import derive
+def segments_job(logs: list[str], output_csv: str, output_provenance: str, params: dict) -> None:
+    """The constant-command segments of a dataset's imported runs (a result, never the committed table)."""
+    from simpick.reallogs import read_canonical
+    from simpick.realsegments import derive_from_logs
 
     rules = params["segment_rules"]
-    table, provenance = derive(folder, tolerance=rules["tolerance"], min_duration=rules["min_duration"],
-                               max_duration=rules["max_duration"], settle=rules["settle"],
-                               min_turn=rules["min_turn"], per_kind=int(rules["per_kind"]), track=params["track"])
+    table, provenance = derive_from_logs((read_canonical(p) for p in logs), tolerance=rules["tolerance"],
+                                         min_duration=rules["min_duration"], max_duration=rules["max_duration"],
+                                         settle=rules["settle"], min_turn=rules["min_turn"],
+                                         per_kind=int(rules["per_kind"]), track=params["track"],
+                                         source=params["source"])
     write_csv(table, output_csv)
     Path(output_provenance).write_text(yaml.safe_dump(provenance, sort_keys=False))
+
+
+def maintain_segments_job(derived_csv: str, derived_provenance: str, committed: dict, receipt: str) -> None:
+    """The maintainer's deliberate step: the derived table (and provenance) over the committed
+    ones. Each file is written beside its target and renamed over it, so a failure leaves the
+    committed file as it was; the receipt (a result) says what changed."""
+    import hashlib
+    import os
+
+    def digest(path) -> str | None:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest() if Path(path).is_file() else None
+
+    load_segments(derived_csv)  # refuse a table the study could not read
+    done = {}
+    for key, source in (("csv", derived_csv), ("provenance", derived_provenance)):
+        target = Path(committed[key])
+        before = digest(target)
+        partial = target.with_name(f".{target.name}.partial")
+        partial.write_bytes(Path(source).read_bytes())
+        os.replace(partial, target)
+        done[key] = {"file": str(target), "from": str(source), "sha256_before": before,
+                     "sha256_after": digest(target), "changed": before != digest(target)}
+    Path(receipt).parent.mkdir(parents=True, exist_ok=True)
+    Path(receipt).write_text(yaml.safe_dump(done, sort_keys=False))
+    changed = [d["file"] for d in done.values() if d["changed"]]
+    print(f"simpick: maintain_segments: {', '.join(changed) or 'nothing'} changed; commit it if intended",
+          file=sys.stderr)
 
 
 def simulate_segments_job(segments_csv: str, urdf: str, outputs: list[str], params: dict) -> None:
@@ -116,25 +152,34 @@ def segment_metrics_job(segments_csv: str, traces: list[str], track: float, outp
 
 # --- full replay ----------------------------------------------------------------------------------
 
-def discover_runs(folder: str | Path) -> list[tuple[str, str]]:
-    """(terrain class, run id) of every run in a BorealTC-layout folder, for the DAG."""
-    from simpick.reallogs import borealtc
+def dataset_manifest_job(dataset: dict, output: str) -> None:
+    """results/real/<dataset>/dataset.yaml: the folder whose results that folder holds."""
+    Path(output).parent.mkdir(parents=True, exist_ok=True)
+    Path(output).write_text(yaml.safe_dump(dict(dataset), sort_keys=False))
 
-    return [(c.lower(), r) for c, r, _, _ in borealtc.discover(folder)]
 
-
-def import_job(folder: str, terrain_class: str, run: str, output: str, track: float) -> None:
+def import_job(imu: str, pro: str, terrain_class: str, output: str, params: dict) -> None:
+    """One run of a dataset folder -> canonical log (rates measured, checked against any declared)."""
     from simpick.reallogs import borealtc, write_canonical
 
-    root = Path(folder) / terrain_class.upper()
-    log = borealtc.read_run(root / f"imu_{run}.csv", root / f"pro_{run}.csv", terrain_class.upper(), track=track)
+    declared = params["declared"]
+    log = borealtc.read_run(imu, pro, terrain_class, track=params["track"],
+                            imu_rate_hz=declared.get("imu_hz"), command_rate_hz=declared.get("commands_hz"),
+                            declared_by=f"real_data.datasets.{params['dataset']} in the config",
+                            dataset=params["label"])
     write_canonical(log, output)
+
+
+def log_imu_rate(log) -> float:
+    """A real log's IMU rate (Hz): the reader's measured median rate, else from its times."""
+    rate = ((log.meta.get("rates") or {}).get("imu") or {}).get("median_hz")
+    return float(rate) if rate else float(1.0 / np.median(np.diff(log.imu["time"].to_numpy(dtype=float))))
 
 
 def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> tuple[pd.DataFrame, dict]:
     """Drive one engine with a real run's recorded wheel speeds (zero-order hold, from rest)."""
     from simpick.health import HealthLimits
-    from simpick.imu import ImuModel
+    from simpick.imu import model_at_rate
     from simpick.robot import load_robot
     from simpick.simulate import run_commands, stable_seed
 
@@ -150,12 +195,13 @@ def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> t
     frame, meta = run_commands(params["engine"], wheels, robot=robot,
                                terrain=flat_terrain(params["terrain_class"], friction), start=(0.0, 0.0, 0.0),
                                timestep=dt, ground_friction=friction, max_wheel_torque=params["robot"]["max_wheel_torque"],
-                               engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
+                               engine_settings=params["engine_settings"],
+                               imu=model_at_rate(params["imu"], log_imu_rate(log), dt),
                                noise_seed=stable_seed(params["seed"], params["engine"], log.meta["name"]),
                                limits=HealthLimits(**params["health"]))
     meta.update({"terrain": params["terrain_class"], "motion": f"replay-{log.meta['run_id']}",
                  "dataset": log.meta.get("dataset"), "run": str(log.meta["run_id"]), "seed": params["seed"],
-                 "replay_of": log.meta.get("source_files")})
+                 "replay_of": log.meta.get("source_files"), "real_imu_rate_hz": log_imu_rate(log)})
     return frame, meta
 
 
@@ -191,25 +237,27 @@ def replay_metrics_job(logs: list[str], traces: list[str], params: dict, outputs
             continue
         cmd = log.wheel_commands(track)
         imu = log.imu
-        # the real IMU resampled at the simulated sample times (both 100 Hz, same clock from 0)
+        # the simulated IMU is block-averaged to the real one's rate (replay_log); the real IMU is
+        # interpolated at the simulated sample times (same clock from 0)
+        rate = float(meta.get("imu_rate_hz") or 1.0 / np.median(np.diff(sim.time)))
         aligned = {c: np.interp(sim.time, imu.time, imu[c]) for c in ("ax", "ay", "az", "wx", "wy", "wz")}
         held = np.clip(np.searchsorted(cmd.time.to_numpy(), sim.time.to_numpy(), side="right") - 1, 0, len(cmd) - 1)
         v_left, v_right = cmd.v_left.to_numpy()[held], cmd.v_right.to_numpy()[held]
         edges = np.arange(0.0, float(sim.time.iloc[-1]) + 1e-9, window_s)
         for w0 in edges:
             sel = ((sim.time > w0) & (sim.time <= w0 + window_s)).to_numpy()
-            if sel.sum() < window_s * 50:  # a tail shorter than half a window
+            if sel.sum() < 0.5 * window_s * rate:  # a tail shorter than half a window
                 continue
             real_frame = pd.DataFrame({c: v[sel] for c, v in aligned.items()})
             sim_stats, real_stats = metrics.trace_stats(sim[sel]), metrics.trace_stats(real_frame)
-            row = dict(base, window_start=w0, window_end=w0 + window_s)
+            row = dict(base, window_start=w0, window_end=w0 + window_s, imu_rate_hz=rate)
             for q in QUANTITIES:
                 row[f"error_{q}"] = metrics.test_error(sim_stats[q], real_stats[q])
             row["yaw_rate_gain_real"] = realmetrics.yaw_rate_gain(real_frame.wz, v_left[sel], v_right[sel], track)
             row["yaw_rate_gain_sim"] = realmetrics.yaw_rate_gain(sim.wz[sel], v_left[sel], v_right[sel], track)
-            row["rmse_yaw_rate"] = realmetrics.aligned_rmse(real_frame.wz.to_numpy(), sim.wz[sel].to_numpy(), 100.0)
-            row["rmse_ax"] = realmetrics.aligned_rmse(real_frame.ax.to_numpy(), sim.ax[sel].to_numpy(), 100.0)
-            row["psd_distance_az"] = realmetrics.psd_distance(real_frame.az.to_numpy(), sim.az[sel].to_numpy(), 100.0)
+            row["rmse_yaw_rate"] = realmetrics.aligned_rmse(real_frame.wz.to_numpy(), sim.wz[sel].to_numpy(), rate)
+            row["rmse_ax"] = realmetrics.aligned_rmse(real_frame.ax.to_numpy(), sim.ax[sel].to_numpy(), rate)
+            row["psd_distance_az"] = realmetrics.psd_distance(real_frame.az.to_numpy(), sim.az[sel].to_numpy(), rate)
             rows.append(row)
     per_window = pd.DataFrame(rows)
     write_csv(per_window, outputs["per_window"])

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from simpick.realmetrics import psd
+from simpick.realmetrics import psd, psd_segment
 from simpick.report import figures
 from simpick.report.load import REAL_SETS, ReportData
 
@@ -377,7 +377,7 @@ def _mean_psd(signals: list[tuple[np.ndarray, float]]):
     """Mean Welch PSD over runs (each at its own rate; runs on another grid are left out)."""
     spectra = []
     for x, rate in signals:
-        if len(x) < 256:
+        if len(x) < psd_segment(rate):
             continue
         f, p = psd(x, rate)
         spectra.append((f, p))
@@ -471,17 +471,71 @@ def _replay_figures(data: ReportData, params: Mapping[str, Any], classes: list[s
                 n_psd[e] = m[2]
         duration = float(imu["time"].iloc[-1]) if len(imu) else 0.0
         t_max = TIME_PLOT_MAX_S if duration > TIME_PLOT_MAX_S else None
-        uri = figures.replay_figure(series, psd_series, commanded, rate, t_max=t_max, band=PSD_BAND_HZ,
+        band = (PSD_BAND_HZ[0], min(PSD_BAND_HZ[1], rate / 2))  # a slower IMU's spectrum ends at Nyquist
+        uri = figures.replay_figure(series, psd_series, commanded, rate, t_max=t_max, band=band,
                                     cutoff_hz=LOWPASS_HZ)
         counts = sorted(set(n_psd.values()))
         psd_text = (f"{counts[0]} run{'s' if counts[0] != 1 else ''}" if len(counts) == 1 else
                     ", ".join(f"{label} {n}" for label, n in n_psd.items()) + " runs")
         out.append({"cls": cls, "label": cls.replace("_", " "), "run": chosen, "why": why, "uri": uri,
                     "n_runs": len(runs), "psd_text": psd_text, "duration": duration, "t_max": t_max, "skipped": skipped,
-                    "n_psd": n_psd, "lowpass_hz": LOWPASS_HZ, "band": PSD_BAND_HZ})
+                    "n_psd": n_psd, "lowpass_hz": LOWPASS_HZ, "band": band})
     if (data.real_logs is None) != (data.replay_traces is None):
         notes.append("the time plots and spectra need both the real logs and the replay traces")
     return out, notes
+
+
+def _hz_range(values: Sequence[float]) -> str | None:
+    """"100 Hz" or "49.9–50.1 Hz" (4 significant digits), None when there are none."""
+    vals = sorted(float(v) for v in values if v is not None and not _isnan(v))
+    if not vals:
+        return None
+    lo, hi = (f"{v:.4g}" for v in (vals[0], vals[-1]))
+    return f"{lo} Hz" if lo == hi else f"{lo}–{hi} Hz"
+
+
+def _declared_text(declared: Mapping[str, Any] | None) -> str | None:
+    declared = declared or {}
+    parts = [f"{what} {float(declared[key]):g} Hz" for key, what in (("imu_hz", "IMU"), ("commands_hz", "wheels"))
+             if declared.get(key)]
+    return ", ".join(parts) or None
+
+
+def datasets(data: ReportData, params: Mapping[str, Any]) -> list[dict[str, Any]]:
+    """Per real-data set: the dataset it comes from and its sample rates (measured, declared, and
+    the simulated IMU's, which the comparison uses). Measured rates of the full replay come from
+    its canonical logs' meta; those of the committed segments from the table's provenance."""
+    from simpick.reallogs import read_canonical_meta
+    from simpick.traces import read_metadata
+
+    declared = (params.get("real_data") or {}).get("datasets") or {}
+    rows = []
+    if data.segments is not None:
+        d = declared.get("segments") or {}
+        prov = data.segments_provenance or {}
+        rates = prov.get("rates_hz") or {}
+        label = d.get("label") or (str(data.segments["dataset"].iloc[0]) if "dataset" in data.segments.columns
+                                   and len(data.segments) else None)
+        rows.append({"set": "segments", "title": SET_TITLES["segments"], "label": label or "(not named)",
+                     "where": "the committed segment table", "n": f"{len(data.segments)} segments",
+                     "imu": _hz_range(rates.get("imu") or []), "commands": _hz_range(rates.get("commands") or []),
+                     "declared": _declared_text(d.get("declared")),
+                     "simulated": _hz_range([d["simulated_imu_hz"]] if d.get("simulated_imu_hz") else [])})
+    if data.real_logs:
+        d = declared.get("replay") or {}
+        metas = [read_canonical_meta(p) for p in data.real_logs]
+        imu = [((m.get("rates") or {}).get("imu") or {}).get("median_hz") for m in metas]
+        cmd = [((m.get("rates") or {}).get("commands") or {}).get("median_hz") for m in metas]
+        sim = [read_metadata(p).get("imu_rate_hz") for p in (data.replay_traces or [])]
+        rows.append({"set": "replay", "title": SET_TITLES["replay"],
+                     "label": d.get("label") or d.get("name") or (metas[0].get("dataset") if metas else None)
+                     or "(not named)", "where": d.get("folder") or "", "n": f"{len(metas)} runs",
+                     "imu": _hz_range(imu), "commands": _hz_range(cmd), "declared": _declared_text(d.get("declared")),
+                     "simulated": _hz_range(sim)})
+    for row, d in zip(rows, [declared.get(r["set"]) or {} for r in rows]):
+        stated = (d.get("declared") or {}).get("commands_hz")
+        row["wheel_rate"] = row["commands"] or (f"{float(stated):g} Hz (declared)" if stated else None)
+    return rows
 
 
 def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str],
@@ -563,4 +617,5 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
         "window": rd.get("window"), "segment_rules": rd.get("segment_rules") or {},
         "n_small": n_small,
         "replay_wanted": bool((params.get("accuracy") or {}).get("replay")),
+        "datasets": datasets(data, params),
     }

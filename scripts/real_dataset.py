@@ -1,0 +1,5 @@
+from simpick.realdata import dataset_manifest_job
+from simpick.workflow import logged
+
+with logged(snakemake.log[0]):
+    dataset_manifest_job(snakemake.params.dataset, snakemake.output[0])
