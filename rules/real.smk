@@ -54,7 +54,7 @@ rule segment_metrics:
 
 if REPLAY_SET:
 
-    rule real_dataset:
+    rule dataset_manifest:
         """Which folder results/real/<dataset>/ holds the results of (a second folder of the same
         name is then refused before any job: simpick.datasets.open_dataset)."""
         output:
@@ -63,11 +63,11 @@ if REPLAY_SET:
             dataset=canonical(replay_dataset()),
         priority: 50
         log:
-            f"results/logs/real/{REPLAY_SET.name}/dataset.log",
+            f"results/logs/real/{REPLAY_SET.name}/dataset_manifest.log",
         conda:
             "../envs/simpick.yaml"
         script:
-            "../scripts/real_dataset.py"
+            "../scripts/dataset_manifest.py"
 
     rule import_real:
         input:

@@ -118,3 +118,29 @@ def test_own_csv_log_is_imported_replayed_and_compared_by_the_workflow(tmp_path)
     weighted = pd.read_csv(tmp_path / "results/scores/weighted.csv", index_col="engine")
     best = errors[errors.quantity == "angular"].set_index("engine").error.idxmin()
     assert weighted.loc[best, "imu_angular"] == 1.0  # the scores rest on the user's log
+
+
+def test_maintain_segments_replaces_the_committed_files_only_when_the_table_is_sound(tmp_path):
+    from simpick.errors import InputError
+    from simpick.realdata import maintain_segments_job
+
+    committed = {"csv": str(tmp_path / "committed.csv"), "provenance": str(tmp_path / "committed.provenance.yaml")}
+    (tmp_path / "committed.csv").write_text("old table\n")
+    (tmp_path / "committed.provenance.yaml").write_text("old: provenance\n")
+    broken = tmp_path / "broken.csv"
+    broken.write_text("segment,dataset\nx,y\n")
+    (tmp_path / "derived.provenance.yaml").write_text("new: provenance\n")
+    with pytest.raises(InputError, match="columns .* are missing"):
+        maintain_segments_job(str(broken), str(tmp_path / "derived.provenance.yaml"), committed,
+                              str(tmp_path / "receipt.yaml"))
+    assert (tmp_path / "committed.csv").read_text() == "old table\n"  # a failure leaves it as it was
+
+    derived = tmp_path / "derived.csv"
+    derived.write_bytes((ROOT / CONFIG["real_data"]["segments"]).read_bytes())
+    maintain_segments_job(str(derived), str(tmp_path / "derived.provenance.yaml"), committed,
+                          str(tmp_path / "receipt.yaml"))
+    assert (tmp_path / "committed.csv").read_bytes() == derived.read_bytes()
+    assert (tmp_path / "committed.provenance.yaml").read_text() == "new: provenance\n"
+    receipt = yaml.safe_load((tmp_path / "receipt.yaml").read_text())
+    assert receipt["csv"]["changed"] and receipt["provenance"]["changed"]
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.endswith(".partial")) == []
