@@ -210,7 +210,7 @@ def open_dataset(folder: str | Path, *, classes: Mapping, name: str | None = Non
         if before is not None and Path(before) != folder.resolve():
             problems.insert(0, InputError(
                 f"{Path(results) / dataset}", f"holds the results of dataset folder {before}, not of {folder.resolve()}",
-                "name this dataset: --config real_dataset=OTHER_NAME (or delete that results folder)"))
+                "pass --config real_dataset=OTHER_NAME, or delete that results folder"))
     if problems:
         raise DatasetProblems(problems)
     return Dataset(dataset, folder.resolve(), tuple(runs))
