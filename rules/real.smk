@@ -120,7 +120,7 @@ if config.get("borealtc_dir"):
             logs=[f"{REAL}/logs/{c.upper()}/{run}.parquet" for c, run in RUNS],
             traces=[
                 f"{REAL}/replay/{engine}/{c}/{run}.parquet"
-                for engine in ENGINES
+                for engine in REAL_MODELS
                 for c, run in RUNS
             ],
         output:
@@ -191,7 +191,7 @@ if OWN_LOGS:
     rule replay_own_metrics:
         input:
             logs=expand(f"{OWN}/logs/{{name}}.parquet", name=OWN_LOGS),
-            traces=expand(f"{OWN}/replay/{{engine}}/{{name}}.parquet", engine=ENGINES, name=OWN_LOGS),
+            traces=expand(f"{OWN}/replay/{{engine}}/{{name}}.parquet", engine=REAL_MODELS, name=OWN_LOGS),
         output:
             per_window=f"{OWN}/metrics/replay_per_window.csv",
             per_test=f"{OWN}/metrics/replay_per_test.csv",
