@@ -99,3 +99,19 @@ def test_engine_passes_the_analytic_case(engine, case):
     summary = summarise([outcome], TOLERANCES)
     bad = summary[~summary.passed]
     assert bad.empty, bad[["quantity", "engine_value", "analytic_value", "error", "tolerance"]].to_string()
+
+
+def test_the_lab_circle_starts_where_its_driven_arc_crosses_the_strip(robot):
+    from simpick.coulomb import contact_layout, yaw_rate_gain
+    from simpick.motions import arc_start_over_strip
+
+    circle = CONFIG["motions"]["circle"]
+    gain = yaw_rate_gain(contact_layout(robot), circle["v"], circle["w"], CONFIG["robot"]["track"])
+    expected = arc_start_over_strip(circle["v"], circle["w"], gain, (1.5, -0.2), -0.5)
+    np.testing.assert_allclose(circle["start"], expected, atol=0.005)
+    # the Coulomb model driving that command from that start spends >= 2 m of its path on the strip
+    scenario, commands = setup(robot, ground=0.8, v=circle["v"], w=circle["w"], duration=circle["duration"],
+                               starts=(tuple(circle["start"]),))
+    path = get_engine("coulomb").simulate(scenario, commands).position
+    on_strip = (path[:, 0] > 0) & (path[:, 0] < 4) & (np.abs(path[:, 1]) < 0.5)
+    assert np.linalg.norm(np.diff(path[on_strip, :2], axis=0), axis=1).sum() > 2.0
