@@ -3,15 +3,15 @@ PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed
 
-.PHONY: study test bench clean
+.PHONY: study test bench clean lock
 
-$(STAMP): pyproject.toml
+$(STAMP): pyproject.toml constraints.txt
 	@# ODE comes from the system (Debian libode8); headers for the binding's own tests
 	ldconfig -p | grep -q 'libode\.so\.8' || { apt-get update && apt-get install -y --no-install-recommends libode8 libode-dev; } || \
 	  { echo "simpick: install ODE 0.16 first: apt-get install libode8 libode-dev (as root)"; exit 1; }
 	$(PYTHON) -m venv $(VENV)
 	$(VENV)/bin/pip install --quiet --upgrade pip
-	$(VENV)/bin/pip install --quiet -e '.[test]'
+	$(VENV)/bin/pip install --quiet -c constraints.txt -e '.[test]'
 	touch $(STAMP)
 
 study: $(STAMP)
@@ -25,3 +25,13 @@ bench: $(STAMP)
 
 clean:
 	rm -rf results .snakemake
+
+# Re-resolve the dependencies of pyproject.toml from the registry and pin what comes out.
+lock:
+	rm -rf .lock-venv && $(PYTHON) -m venv .lock-venv
+	.lock-venv/bin/pip install --quiet --upgrade pip
+	.lock-venv/bin/pip install --quiet -e '.[test]'
+	{ echo "# Pinned versions for 'make' (pip install -c constraints.txt): what the test suite last passed with."; \
+	  echo "# Refresh: make lock (resolves pyproject.toml afresh in a scratch venv and freezes it), then make test."; \
+	  .lock-venv/bin/pip freeze --exclude-editable; } > constraints.txt
+	rm -rf .lock-venv

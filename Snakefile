@@ -1,5 +1,5 @@
 # simpick: the Farley, Wang & Marshall (2022) simulator study as a workflow.
-# Data flow: terrain -> simulate -> traces -> metrics (+ cpu load) -> scores -> report;
+# Data flow: validate (engines against analytic mechanics) -> summary; terrain -> simulate -> traces -> metrics (+ cpu load) -> scores -> report;
 # the paper's own Table 11 is recomputed beside it.
 from snakemake.utils import min_version
 
@@ -11,6 +11,7 @@ configfile: "config.yaml"
 
 include: "rules/common.smk"
 include: "rules/terrain.smk"
+include: "rules/validate.smk"
 include: "rules/simulate.smk"
 include: "rules/metrics.smk"
 include: "rules/real.smk"
@@ -21,6 +22,7 @@ include: "rules/report.smk"
 
 rule all:
     input:
+        "results/validation/summary.csv",
         all_traces(),
         segment_traces(),
         f"{REAL}/metrics/segments_summary.csv",

@@ -10,12 +10,19 @@ from simpick.config import validate_or_exit
 validate_or_exit(config, files=workflow.configfiles)
 
 ENGINES = list(config["engines"])
+# Reference models (kinematic, coulomb) join the real-data comparison only, never the scores.
+BASELINES = list(config.get("baselines") or {})
+REAL_MODELS = ENGINES + BASELINES
 TERRAINS = list(config["terrains"])
 MOTIONS = list(config["motions"])
 
 
+VALIDATION_CASES = list(config["validation"]["cases"])
+
+
 wildcard_constraints:
-    engine="|".join(ENGINES),
+    engine="|".join(REAL_MODELS),
+    case="|".join(re.escape(c) for c in VALIDATION_CASES),
     terrain="|".join(TERRAINS),
     motion="|".join(MOTIONS),
 
@@ -47,7 +54,7 @@ def engine_params(engine):
     return canonical(
         {
             "engine": engine,
-            "engine_settings": config["engines"][engine] or {},
+            "engine_settings": (config["engines"] | (config.get("baselines") or {}))[engine] or {},
             "physics": config["physics"],
             "robot": robot,
             "imu": config["imu"],
@@ -66,6 +73,25 @@ def simulation_params(engine, terrain, motion_name):
             "motion": config["motions"][motion_name],
         }
     )
+
+
+def validation_params(engine, case):
+    """What one validation run depends on: the engine's settings, the robot, the timestep and
+    the case (not the IMU model, the health limits or the tolerances)."""
+    return canonical(
+        {
+            "engine": engine,
+            "engine_settings": config["engines"][engine] or {},
+            "physics": {"timestep": config["physics"]["timestep"]},
+            "robot": {k: v for k, v in config["robot"].items() if k != "urdf"},
+            "case_name": case,
+            "case": {k: v for k, v in config["validation"]["cases"][case].items() if v is not None},
+        }
+    )
+
+
+def validation_results():
+    return expand("results/validation/{engine}/{case}.json", engine=ENGINES, case=VALIDATION_CASES)
 
 
 # --- real robot data (rules/real.smk) ---
@@ -104,7 +130,7 @@ SEGMENTS = read_segments(config["real_data"]["segments"])
 def segment_traces():
     return [
         f"{REAL}/segments/{engine}/{cls}/{segment}.parquet"
-        for engine in ENGINES
+        for engine in REAL_MODELS
         for cls, ids in SEGMENTS.items()
         for segment in ids
     ]
@@ -143,7 +169,7 @@ def real_logs():
 
 
 def replay_traces():
-    return [f"{REPLAY}/replay/{engine}/{c}/{run}.parquet" for engine in ENGINES for c, run in RUNS]
+    return [f"{REPLAY}/replay/{engine}/{c}/{run}.parquet" for engine in REAL_MODELS for c, run in RUNS]
 
 
 def maintained_table(wildcards):

@@ -235,7 +235,7 @@ if OWN_LOGS:
     rule replay_own_metrics:
         input:
             logs=expand(f"{OWN}/logs/{{name}}.parquet", name=OWN_LOGS),
-            traces=expand(f"{OWN}/replay/{{engine}}/{{name}}.parquet", engine=ENGINES, name=OWN_LOGS),
+            traces=expand(f"{OWN}/replay/{{engine}}/{{name}}.parquet", engine=REAL_MODELS, name=OWN_LOGS),
         output:
             per_window=f"{OWN}/metrics/replay_per_window.csv",
             per_test=f"{OWN}/metrics/replay_per_test.csv",

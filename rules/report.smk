@@ -2,6 +2,7 @@ rule report:
     input:
         unpack(report_real_inputs),
         weighted="results/scores/weighted.csv",
+        validation="results/validation/summary.csv",
         trace_stats="results/metrics/trace_stats.csv",
         reference_stats="results/metrics/reference_stats.csv",
         imu_errors="results/metrics/imu_errors.csv",

@@ -62,6 +62,10 @@ def tiny_config(workdir: Path | None = None) -> dict:
     config["terrains"]["bumps"]["pieces_per_tile"] = 2
     config["motions"] = {"straight": dict(config["motions"]["straight"], duration=1.5)}
     config["cpu_load"].update(terrain="grass", duration=0.5, repeats=1, robots_intense=2)
+    config["validation"]["cases"] = {
+        "gain_v0.5_w0.5_mu0.8": {"kind": "yaw_gain", "v": 0.5, "w": 0.5, "mu": 0.8, "duration": 2.0},
+        "rest_mu0.8": {"kind": "rest", "mu": 0.8, "duration": 1.5},
+    }
     config["robot"]["urdf"] = str(ROOT / config["robot"]["urdf"])
     config["reference"]["published"] = str(ROOT / config["reference"]["published"])
     config["qualitative"] = str(ROOT / config["qualitative"])

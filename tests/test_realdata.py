@@ -112,11 +112,15 @@ def test_own_csv_log_is_imported_replayed_and_compared_by_the_workflow(tmp_path)
     log = read_canonical(tmp_path / "results/real/own/logs/mine.parquet")
     assert np.allclose(log.imu.wz.to_numpy(), imu.wz.to_numpy(), atol=1e-9)  # deg/s came back as rad/s
     per_test = pd.read_csv(tmp_path / "results/real/own/metrics/replay_per_test.csv")
-    assert sorted(per_test.engine) == ["mujoco", "pybullet"] and (per_test.status == "ok").all()
+    # the reference models are compared beside the engines
+    assert sorted(per_test.engine) == ["coulomb", "kinematic", "mujoco", "pybullet"]
+    assert (per_test.status == "ok").all()
     assert per_test.error_angular.gt(0).all() and per_test.yaw_rate_gain_real.notna().all()
     errors = pd.read_csv(tmp_path / "results/real/own/metrics/replay_imu_errors.csv")
     weighted = pd.read_csv(tmp_path / "results/scores/weighted.csv", index_col="engine")
-    best = errors[errors.quantity == "angular"].set_index("engine").error.idxmin()
+    assert sorted(weighted.index) == ["mujoco", "pybullet"]  # reference models are never scored
+    engines = errors[errors.engine.isin(weighted.index)]
+    best = engines[engines.quantity == "angular"].set_index("engine").error.idxmin()
     assert weighted.loc[best, "imu_angular"] == 1.0  # the scores rest on the user's log
 
 

@@ -40,6 +40,32 @@ def test_tiny_study_writes_every_output(study):
     assert meta["units"]["ax"] == "m/s^2" and meta["steps"] == 1500
 
 
+def test_validation_and_reference_models_are_in_the_study(study):
+    workdir, config = study
+    summary = pd.read_csv(workdir / "results/validation/summary.csv")
+    assert sorted(summary.engine.unique()) == sorted(config["engines"])
+    assert set(summary.case) == set(config["validation"]["cases"])
+    assert summary.engine_value.notna().all() and summary.analytic_value.notna().all()
+    html = (workdir / "results/report/report.html").read_text()
+    assert "Engines against analytic mechanics" in html
+    per_test = pd.read_csv(workdir / "results/real/borealtc/metrics/segments_per_test.csv")
+    assert {"kinematic", "coulomb"} <= set(per_test.engine)
+    kinematic = per_test[(per_test.engine == "kinematic") & (per_test.kind == "turning")]
+    assert ((kinematic.yaw_rate_gain_sim - 1).abs() < 0.02).all()  # no slip: yaw rate = commanded w
+
+
+def test_tolerance_edit_rejudges_without_stepping_an_engine(study):
+    workdir, config = study
+    edited = yaml.safe_load(yaml.safe_dump(config))
+    edited["validation"]["tolerances"]["yaw_rate_gain"] = 0.2
+    write_config(workdir, edited)
+    try:
+        rules = sorted({rule for rule, _ in planned_jobs(workdir)})
+        assert rules == ["all", "report", "validation_summary"]
+    finally:
+        write_config(workdir, config)
+
+
 def test_nothing_edited_nothing_runs(study):
     workdir, _ = study
     assert planned_jobs(workdir) == []

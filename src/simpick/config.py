@@ -13,7 +13,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from simpick.engines import ADAPTERS, engine_defaults
+from simpick.engines import ADAPTERS, REFERENCE_MODELS, engine_defaults
 from simpick.scoring import METRICS
 from simpick.terrain import RULES
 
@@ -148,6 +148,43 @@ class OwnLog(Strict):
         return self
 
 
+class ValidationCase(Strict):
+    kind: Literal["yaw_gain", "straight", "slide", "incline", "rest"]
+    v: Finite | None = None
+    w: Finite | None = None
+    mu: Annotated[float, Field(gt=0, le=10, allow_inf_nan=False)]
+    angle_factor: Positive | None = None
+    duration: Positive | None = None
+    cruise: Positive | None = None
+
+    @model_validator(mode="after")
+    def needed(self):
+        need = {"yaw_gain": ("v", "w"), "straight": ("v",), "slide": ("v",), "incline": ("angle_factor",),
+                "rest": ()}[self.kind]
+        missing = [k for k in need if getattr(self, k) is None]
+        if missing:
+            raise ValueError(f"a {self.kind} case needs {missing}")
+        if self.kind == "yaw_gain" and self.w == 0:
+            raise ValueError("a yaw_gain case needs w != 0 (the gain is yaw rate / w)")
+        return self
+
+
+class Validation(Strict):
+    cases: dict[Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")], ValidationCase]
+    tolerances: dict[str, NonNegative]
+
+    @model_validator(mode="after")
+    def every_quantity(self):
+        from simpick.validation import QUANTITIES
+
+        unknown = sorted(set(self.tolerances) - set(QUANTITIES))
+        missing = sorted(set(QUANTITIES) - set(self.tolerances))
+        if unknown or missing:
+            raise ValueError(f"unknown tolerance(s) {unknown}, missing tolerance(s) {missing}; "
+                             f"one per quantity: {sorted(QUANTITIES)}")
+        return self
+
+
 class Accuracy(Strict):
     reference: Literal["real", "paper", "own"]
 
@@ -155,6 +192,7 @@ class Accuracy(Strict):
 class Study(Strict):
     seed: Annotated[int, Field(ge=0, lt=2**32)]
     engines: dict[str, dict[str, Any] | None]
+    baselines: dict[str, dict[str, Any] | None] = {}
     physics: Physics
     robot: Robot
     imu: Imu
@@ -162,6 +200,7 @@ class Study(Strict):
     terrains: dict[str, Terrain]
     motions: dict[str, Motion]
     cpu_load: CpuLoad
+    validation: Validation
     reference: Reference
     accuracy: Accuracy
     borealtc_dir: str | None = None
@@ -185,6 +224,18 @@ class Study(Strict):
                 raise ValueError(f"engines.{name}: unknown setting(s) {unknown}; "
                                  f"{name} accepts {sorted(engine_defaults(name))}")
         return engines
+
+    @field_validator("baselines")
+    @classmethod
+    def known_baselines(cls, baselines):
+        for name, settings in baselines.items():
+            if name not in REFERENCE_MODELS:
+                raise ValueError(f"unknown reference model {name!r}; available: {sorted(REFERENCE_MODELS)}")
+            unknown = sorted(set(settings or {}) - set(engine_defaults(name)))
+            if unknown:
+                raise ValueError(f"baselines.{name}: unknown setting(s) {unknown}; "
+                                 f"{name} accepts {sorted(engine_defaults(name))}")
+        return baselines
 
     @field_validator("weights")
     @classmethod

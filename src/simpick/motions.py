@@ -6,6 +6,8 @@ speed = side speed / wheel radius. Every engine receives the same command array.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 
@@ -20,3 +22,21 @@ def constant_commands(v: float, w: float, duration: float, timestep: float, trac
     left, right = side_speeds(v, w, track)
     per_robot = np.array([left, right, left, right]) / wheel_radius
     return np.broadcast_to(per_robot, (steps, robots, 4)).copy()
+
+
+def arc_start_over_strip(v: float, w: float, gain: float, lowest: tuple[float, float],
+                         start_x: float) -> tuple[float, float, float]:
+    """Start pose (x, y, yaw) of a left-turning open-loop circle whose *driven* arc passes
+    lowest (heading +x) through ``lowest`` = (x, y), entering from ``start_x``.
+
+    The paper's controller is open loop (Eq. 1 from (v, w); no pose feedback), and a skid-steer
+    robot turns at ``gain`` x w, so it drives a circle of radius v / (gain w), not v / w. Placing
+    that arc, not the commanded one, over the strip is what makes the circle test cross terrain.
+    """
+    radius = v / (gain * w)
+    x_low, y_low = lowest
+    sin_phi = (x_low - start_x) / radius
+    if not -1.0 <= sin_phi <= 1.0:
+        raise ValueError(f"the driven arc (radius {radius:.2f} m) cannot reach x = {x_low} from x = {start_x}")
+    phi = math.asin(sin_phi)
+    return (start_x, y_low + radius * (1 - math.cos(phi)), -phi)

@@ -18,15 +18,25 @@ ADAPTERS = {
     "dart": "simpick.engines.dart_engine:DartEngine",
 }
 
+# Reference models (simpick.engines.baselines): same interface, but formulas, not simulators.
+# They join the real-data comparison (config ``baselines``) and are never scored.
+REFERENCE_MODELS = {
+    "kinematic": "simpick.engines.baselines:KinematicModel",
+    "coulomb": "simpick.engines.baselines:CoulombModel",
+}
+_DEFAULTS = {"kinematic": "DEFAULTS_KINEMATIC", "coulomb": "DEFAULTS_COULOMB"}
+
 
 def get_engine(name: str) -> Engine:
-    if name not in ADAPTERS:
-        raise KeyError(f"unknown engine {name!r}; known engines: {sorted(ADAPTERS)}")
-    module, cls = ADAPTERS[name].split(":")
+    known = {**ADAPTERS, **REFERENCE_MODELS}
+    if name not in known:
+        raise KeyError(f"unknown engine {name!r}; known engines: {sorted(ADAPTERS)}, "
+                       f"reference models: {sorted(REFERENCE_MODELS)}")
+    module, cls = known[name].split(":")
     return getattr(importlib.import_module(module), cls)()
 
 
 def engine_defaults(name: str) -> dict:
-    """The settings an engine accepts, with their defaults (``DEFAULTS`` of its module)."""
-    module, _ = ADAPTERS[name].split(":")
-    return dict(importlib.import_module(module).DEFAULTS)
+    """The settings an engine (or reference model) accepts, with their defaults."""
+    module, _ = {**ADAPTERS, **REFERENCE_MODELS}[name].split(":")
+    return dict(getattr(importlib.import_module(module), _DEFAULTS.get(name, "DEFAULTS")))

@@ -48,6 +48,7 @@ OPTIONAL_INPUTS: tuple[str, ...] = (
     "worked_example",
     "traces",
     "accuracy_errors",
+    "validation",
     "segments",
     "segments_provenance",
     "segments_per_test",

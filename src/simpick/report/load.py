@@ -26,6 +26,8 @@ COLUMNS: dict[str, tuple[str, ...]] = {
     "rtf": ("engine", "sim_time", "wall_time", "real_time_factor", "n_runs"),
     "table11": (*METRICS, "total", "total_from_published_scores", "published_total"),
     "table11_comparison": ("simulator", "metric", "published", "recomputed", "difference", "matches"),
+    "validation": ("engine", "case", "kind", "quantity", "unit", "engine_value", "analytic_value", "error",
+                   "error_kind", "tolerance", "passed", "status"),
     # real robot data (rules/real.smk, simpick.realdata)
     "accuracy_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
     "segments": ("segment", "terrain_class", "run", "kind", "t_start", "t_end", "settle", "duration",
@@ -52,7 +54,7 @@ REAL_TABLES: tuple[str, ...] = ("per_test", "summary", "pairwise", "imu_errors")
 TEXT_COLUMNS = {"excluded", "reasons", "tests", "status", "source", "engine", "terrain",
                 "motion", "quantity", "axis", "unit", "engine_version", "config_hash",
                 "simulator", "metric", "terrain_class", "segment", "run", "kind", "figure",
-                "engine_a", "engine_b", "verdict", "dataset"}
+                "engine_a", "engine_b", "verdict", "dataset", "case", "kind", "error_kind"}
 
 
 @dataclass
@@ -82,6 +84,8 @@ class ReportData:
     traces: list[Trace] | None = None
     # which Eq. 7 totals the accuracy scores were computed from (rules/real.smk accuracy_errors())
     accuracy_errors: pd.DataFrame | None = None
+    # engines against analytic mechanics (rules/validate.smk)
+    validation: pd.DataFrame | None = None
     # real robot data: the committed segment table, and per set ("segments", "replay") its tables
     segments: pd.DataFrame | None = None
     segments_provenance: dict | None = None
@@ -165,7 +169,7 @@ def load_inputs(inputs: Mapping[str, Any]) -> ReportData:
             sources[key] = str(p)
             kw[key] = _csv(key, p, index)
 
-    for key in ("accuracy_errors", "segments", "replay_per_window"):
+    for key in ("accuracy_errors", "segments", "replay_per_window", "validation"):
         if given(key):
             p = _path(key, inputs[key])
             sources[key] = str(p)

@@ -1,0 +1,39 @@
+# Engines against analytic mechanics (simpick.validation): every engine runs cases with known
+# answers on the study's robot and settings; the summary judges them against the config's
+# tolerances, so a tolerance edit reruns the summary and the report, not the engines.
+
+
+rule validate:
+    input:
+        urdf=config["robot"]["urdf"],
+    output:
+        "results/validation/{engine}/{case}.json",
+    params:
+        case=lambda wc: validation_params(wc.engine, wc.case),
+    log:
+        "results/logs/validate/{engine}/{case}.log",
+    benchmark:
+        "results/benchmarks/validate/{engine}/{case}.tsv"
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=lambda wc: 1 + int(config["health"]["timeout"]) // 60,
+    conda:
+        "../envs/simpick.yaml"
+    script:
+        "../scripts/validate.py"
+
+
+rule validation_summary:
+    input:
+        validation_results(),
+    output:
+        summary="results/validation/summary.csv",
+    params:
+        tolerances=canonical(config["validation"]["tolerances"]),
+    log:
+        "results/logs/validate/summary.log",
+    conda:
+        "../envs/simpick.yaml"
+    script:
+        "../scripts/validation_summary.py"

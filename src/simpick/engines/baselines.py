@@ -1,0 +1,123 @@
+"""Two reference models that join the real-data comparison beside the engines.
+
+They are not simulators (no contacts, no suspension, flat rigid ground only, terrain shapes
+ignored) and are never scored in the weighted table; they tell a user what a full physics
+engine adds over a formula:
+
+``kinematic``  no slip: the body moves at the commanded twist, v = (v_l + v_r) / 2 and
+    yaw rate = (v_r - v_l) / track (the paper's Eq. 1 read backwards, so yaw rate = w).
+``coulomb``    quasi-static Coulomb skid-steer (:mod:`simpick.coulomb`): the steady twist
+    for the commanded rim speeds, from the robot description's contact layout and loads.
+
+Both follow a changing command no faster than friction allows: the twist moves toward its
+target so that no wheel contact's velocity changes by more than ``mu g`` per second (the
+largest acceleration friction can give a contact point), instead of jumping, which would put
+an unbounded spike into the accelerometer. The IMU reading is derived from the planar
+motion by :func:`simpick.imu.imu_from_kinematics`, as for the engines without an IMU.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+import simpick
+from simpick.engines.base import PhysicsRecord, Scenario, validated_commands
+from simpick.imu import imu_from_kinematics
+
+DEFAULTS_KINEMATIC = {"track": 0.555}  # m: the controller's effective track (config robot.track)
+DEFAULTS_COULOMB: dict = {}
+
+
+def _integrate(targets: np.ndarray, points: np.ndarray, max_accel: float, dt: float) -> np.ndarray:
+    """Body twists (vx, vy, wz) following ``targets`` with every contact's acceleration <= max_accel."""
+    twist = np.zeros(3)
+    out = np.empty_like(targets)
+    x, y = points[:, 0], points[:, 1]
+    for k, target in enumerate(targets):
+        delta = target - twist
+        # velocity change of each contact point for this twist change
+        dx, dy = delta[0] - delta[2] * y, delta[1] + delta[2] * x
+        largest = float(np.sqrt(dx * dx + dy * dy).max())
+        limit = max_accel * dt
+        twist = twist + (delta if largest <= limit else delta * (limit / largest))
+        out[k] = twist
+    return out
+
+
+def _record(scenario: Scenario, twists: np.ndarray, wheels: np.ndarray, wall: float, cpu: float) -> PhysicsRecord:
+    """Pose by integrating the body twist in the plane at base_link's resting height."""
+    dt = scenario.timestep
+    n = len(twists)
+    x0, y0, yaw0 = scenario.starts[0]
+    yaw = yaw0 + np.cumsum(twists[:, 2]) * dt
+    c, s = np.cos(yaw), np.sin(yaw)
+    vx, vy = c * twists[:, 0] - s * twists[:, 1], s * twists[:, 0] + c * twists[:, 1]
+    position = np.stack([x0 + np.cumsum(vx) * dt, y0 + np.cumsum(vy) * dt,
+                         np.full(n, scenario.robot.base_height)], axis=1)
+    quaternion = np.stack([np.cos(yaw / 2), np.zeros(n), np.zeros(n), np.sin(yaw / 2)], axis=1)
+    velocity = np.stack([vx, vy, np.zeros(n)], axis=1)
+    omega = np.stack([np.zeros(n), np.zeros(n), twists[:, 2]], axis=1)
+    specific_force, gyro = imu_from_kinematics(quaternion, velocity, omega, scenario.robot.imu_mount, dt,
+                                               scenario.gravity)
+    return PhysicsRecord(time=dt * np.arange(1, n + 1), position=position, quaternion=quaternion,
+                         linear_velocity=velocity, angular_velocity=omega, wheel_speed=wheels,
+                         imu_specific_force=specific_force, imu_gyro=gyro, wall_time=wall, cpu_time=cpu, steps=n)
+
+
+class _ReferenceModel:
+    name = ""
+    reference_model = True  # not a simulator: kept out of the lab study, validation and scores
+
+    def version(self) -> str:
+        return f"simpick {simpick.__version__} {self.name} model"
+
+    def targets(self, scenario: Scenario, left: np.ndarray, right: np.ndarray) -> np.ndarray:
+        raise NotImplementedError
+
+    def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
+        from simpick.coulomb import contact_layout
+
+        commands = validated_commands(scenario, wheel_commands)[:, 0]
+        radius = scenario.robot.wheel_radius
+        cpu0, wall0 = time.process_time(), time.perf_counter()
+        left = (commands[:, 0] + commands[:, 2]) / 2 * radius
+        right = (commands[:, 1] + commands[:, 3]) / 2 * radius
+        layout = contact_layout(scenario.robot, points_per_wheel=1)
+        mu = float(scenario.ground_friction)
+        twists = _integrate(self.targets(scenario, left, right), layout.points, mu * abs(scenario.gravity[2]),
+                            scenario.timestep)
+        wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+        return _record(scenario, twists, commands.copy(), wall, cpu)
+
+    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
+        start = time.perf_counter()
+        self.simulate(scenario, wheel_commands)
+        return time.perf_counter() - start
+
+
+class KinematicModel(_ReferenceModel):
+    name = "kinematic"
+
+    def targets(self, scenario, left, right):
+        track = float({**DEFAULTS_KINEMATIC, **scenario.settings}["track"])
+        return np.stack([(left + right) / 2, np.zeros_like(left), (right - left) / track], axis=1)
+
+
+class CoulombModel(_ReferenceModel):
+    name = "coulomb"
+
+    def targets(self, scenario, left, right):
+        from simpick.coulomb import CoulombTable, contact_layout
+
+        # Solve each distinct command once (replays hold each wheel-speed sample for many steps).
+        pairs, inverse = np.unique(np.stack([left, right], axis=1), axis=0, return_inverse=True)
+        layout = contact_layout(scenario.robot)
+        if len(pairs) <= 64:
+            from simpick.coulomb import steady_twist
+
+            solved = np.array([steady_twist(layout, [lft, rgt, lft, rgt]) for lft, rgt in pairs])
+        else:
+            solved = CoulombTable(layout, angles=720).twist(pairs[:, 0], pairs[:, 1])
+        return solved[inverse.reshape(-1)]

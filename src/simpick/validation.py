@@ -1,0 +1,288 @@
+"""Engines against analytic mechanics: cases with known answers, run before any comparison
+with the real robot (issue 9; METHOD.md section 6).
+
+Every case runs the study's own robot, timestep, wheel-torque bound and engine settings on
+flat rigid ground with one Coulomb coefficient, and measures one or more *checks*: the
+engine's value beside the value mechanics predicts. Pass or fail is decided later, by
+:func:`summarise` with the tolerances of the config, so editing a tolerance re-judges the
+stored runs without stepping an engine again.
+
+Case kinds (their parameters come from ``validation.cases`` in the config):
+
+``yaw_gain``  (v, w, mu) skid-steer turning; steady yaw rate / commanded w over the second
+    half of the run against :mod:`simpick.coulomb`'s quasi-static solution for this robot's
+    contact layout and loads.
+``straight``  (v, mu) forward speed against measured wheel speed x radius (rolling without
+    slip), and the heading drift (none expected).
+``slide``     (v, mu) cruise, then every wheel commanded to stop (locked by its servo): the
+    robot slides to rest with deceleration mu g.
+``incline``   (mu, angle_factor) parked with locked wheels on a slope of angle_factor x
+    atan(mu) (gravity tilted about y, same mechanics as a tilted plane): below atan(mu) it
+    stays (creep speed 0), above it slides down with g (sin a - mu cos a).
+``rest``      (mu) parked on level ground: accelerometer z = g, gyro 0, no creep.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from simpick.coulomb import contact_layout, yaw_rate_gain
+from simpick.engines import get_engine
+from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario
+from simpick.errors import InputError
+from simpick.imu import block_average, euler_rpy, rotation_matrices
+from simpick.motions import side_speeds
+from simpick.robot import RobotSpec, load_robot
+
+KINDS = ("yaw_gain", "straight", "slide", "incline", "rest")
+FLAT = {"schema": "simpick.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": 0.0}
+
+# Quantity -> (unit, how its error is measured): "relative" |e - a| / |a|, or "absolute" |e - a|.
+QUANTITIES = {
+    "yaw_rate_gain": ("1", "relative"),
+    "speed_over_wheel_speed": ("1", "relative"),
+    "heading_drift": ("rad", "absolute"),
+    "deceleration": ("m/s^2", "relative"),
+    "creep_speed": ("m/s", "absolute"),
+    "slide_acceleration": ("m/s^2", "relative"),
+    "accel_z": ("m/s^2", "absolute"),
+    "gyro_max": ("rad/s", "absolute"),
+    "creep_distance": ("m", "absolute"),
+}
+
+
+@dataclass(frozen=True)
+class Setup:
+    """What every case shares with the study: the robot and the engine's settings."""
+
+    engine: str
+    robot: RobotSpec
+    timestep: float
+    max_wheel_torque: float
+    track: float
+    settings: dict
+
+
+def _scenario(setup: Setup, mu: float, gravity=(0.0, 0.0, -GRAVITY)) -> Scenario:
+    return Scenario(robot=setup.robot, terrain=dict(FLAT, friction=mu), ground_friction=mu,
+                    timestep=setup.timestep, max_wheel_torque=setup.max_wheel_torque,
+                    starts=((0.0, 0.0, 0.0),), settings=dict(setup.settings), gravity=tuple(gravity))
+
+
+def _commands(setup: Setup, segments: list[tuple[float, float, float]]) -> np.ndarray:
+    """(steps, 1, 4) wheel speeds for consecutive (duration, v, w) pieces."""
+    rows = []
+    for duration, v, w in segments:
+        left, right = side_speeds(v, w, setup.track)
+        steps = int(round(duration / setup.timestep))
+        rows.append(np.tile(np.array([left, right, left, right]) / setup.robot.wheel_radius, (steps, 1)))
+    return np.concatenate(rows)[:, None, :]
+
+
+def _check(quantity: str, engine_value: float, analytic: float, **extra) -> dict:
+    unit, measure = QUANTITIES[quantity]
+    return {"quantity": quantity, "unit": unit, "error_kind": measure, "engine_value": float(engine_value),
+            "analytic_value": float(analytic), **extra}
+
+
+def _finite(record: PhysicsRecord) -> bool:
+    return all(np.isfinite(getattr(record, k)).all()
+               for k in ("position", "linear_velocity", "angular_velocity", "imu_specific_force"))
+
+
+def _body_velocity(record: PhysicsRecord) -> np.ndarray:
+    """(n, 3) base_link velocity in the body frame."""
+    return np.einsum("nji,nj->ni", rotation_matrices(record.quaternion), record.linear_velocity)
+
+
+def _yaw_gain(setup: Setup, p: dict):
+    v, w, mu, duration = p["v"], p["w"], p["mu"], p.get("duration", 6.0)
+    record = get_engine(setup.engine).simulate(_scenario(setup, mu), _commands(setup, [(duration, v, w)]))
+    half = record.steps // 2
+    # body yaw rate: the angular velocity's component on the body z axis
+    rate = np.einsum("nji,nj->ni", rotation_matrices(record.quaternion), record.angular_velocity)[:, 2]
+    gain = rate[half:].mean() / w
+    analytic = yaw_rate_gain(contact_layout(setup.robot), v, w, setup.track)
+    return record, [_check("yaw_rate_gain", gain, analytic, v=v, w=w, mu=mu)]
+
+
+def _straight(setup: Setup, p: dict):
+    v, mu, duration = p["v"], p["mu"], p.get("duration", 6.0)
+    record = get_engine(setup.engine).simulate(_scenario(setup, mu), _commands(setup, [(duration, v, 0.0)]))
+    half = record.steps // 2
+    speed = _body_velocity(record)[half:, 0].mean()
+    rolling = record.wheel_speed[half:].mean() * setup.robot.wheel_radius
+    yaw = np.unwrap(euler_rpy(record.quaternion)[:, 2])
+    return record, [_check("speed_over_wheel_speed", speed / rolling, 1.0, v=v, mu=mu),
+                    _check("heading_drift", yaw[-1] - yaw[half], 0.0, v=v, mu=mu)]
+
+
+def _slide(setup: Setup, p: dict):
+    v, mu, cruise = p["v"], p["mu"], p.get("cruise", 2.0)
+    record = get_engine(setup.engine).simulate(_scenario(setup, mu),
+                                               _commands(setup, [(cruise, v, 0.0), (2.0, 0.0, 0.0)]))
+    speed = _body_velocity(record)[:, 0]
+    brake = int(round(cruise / setup.timestep))
+    after = speed[brake:]
+    v0 = after[0]
+    # Fit the speed while it falls from 80 % to 20 % of its value at the brake command:
+    # away from the servo's lock-up and from the stop, where static friction takes over.
+    window = np.flatnonzero((after <= 0.8 * v0) & (after >= 0.2 * v0))
+    if v0 <= 0 or window.size < 5:
+        return record, [_check("deceleration", math.nan, mu * GRAVITY, v=v, mu=mu)]
+    t = window * setup.timestep
+    slope = np.polyfit(t, after[window], 1)[0]
+    return record, [_check("deceleration", -slope, mu * GRAVITY, v=v, mu=mu)]
+
+
+def _incline(setup: Setup, p: dict):
+    mu, factor, duration = p["mu"], p["angle_factor"], p.get("duration", 4.0)
+    angle = factor * math.atan(mu)
+    gravity = (-GRAVITY * math.sin(angle), 0.0, -GRAVITY * math.cos(angle))  # downhill = -x
+    record = get_engine(setup.engine).simulate(_scenario(setup, mu, gravity),
+                                               _commands(setup, [(duration, 0.0, 0.0)]))
+    settle = int(round(1.0 / setup.timestep))  # spawn drop and servo lock-up
+    x = record.position[:, 0]
+    if factor < 1:
+        creep = abs(x[-1] - x[settle]) / ((record.steps - 1 - settle) * setup.timestep)
+        return record, [_check("creep_speed", creep, 0.0, mu=mu, angle=angle)]
+    t = np.arange(settle, record.steps) * setup.timestep
+    accel = -2 * np.polyfit(t, x[settle:], 2)[0]  # x = x0 + v0 t - a t^2 / 2
+    analytic = GRAVITY * (math.sin(angle) - mu * math.cos(angle))
+    return record, [_check("slide_acceleration", accel, analytic, mu=mu, angle=angle)]
+
+
+def _rest(setup: Setup, p: dict):
+    mu, duration = p["mu"], p.get("duration", 10.0)
+    record = get_engine(setup.engine).simulate(_scenario(setup, mu), _commands(setup, [(duration, 0.0, 0.0)]))
+    block = max(1, int(round(0.01 / setup.timestep)))  # the IMU's 100 Hz
+    settle = int(round(1.0 / setup.timestep))
+    accel = block_average(record.imu_specific_force[settle:], block)
+    gyro = block_average(record.imu_gyro[settle:], block)
+    creep = float(np.linalg.norm(record.position[-1, :2] - record.position[settle, :2]))
+    return record, [_check("accel_z", accel[:, 2].mean(), GRAVITY, mu=mu),
+                    _check("gyro_max", np.abs(gyro).max(), 0.0, mu=mu),
+                    _check("creep_distance", creep, 0.0, mu=mu)]
+
+
+RUNNERS = {"yaw_gain": _yaw_gain, "straight": _straight, "slide": _slide, "incline": _incline, "rest": _rest}
+
+
+def run_case(setup: Setup, name: str, params: dict) -> dict:
+    """Run one case on one engine; returns its record (checks, cost, health)."""
+    params = dict(params)
+    kind = params.pop("kind")
+    if kind not in RUNNERS:
+        raise InputError(f"validation.cases.{name}.kind", f"{kind!r} is not a case kind", f"use one of {list(KINDS)}")
+    engine = get_engine(setup.engine)
+    start = time.perf_counter()
+    record, checks = RUNNERS[kind](setup, params)
+    wall = time.perf_counter() - start
+    status, reasons = "ok", []
+    if not _finite(record):
+        status, reasons = "failed", ["diverged: non-finite state"]
+        for c in checks:
+            c["engine_value"] = math.nan
+    return {"engine": setup.engine, "engine_version": engine.version(), "case": name, "kind": kind,
+            "params": params, "checks": checks, "status": status, "reasons": reasons,
+            "steps": record.steps, "sim_time": record.steps * setup.timestep,
+            "steps_per_s": record.steps / record.wall_time if record.wall_time > 0 else None,
+            "wall_time": wall}
+
+
+def validate_job(output: str | Path, urdf: str | Path, params: dict) -> dict:
+    """The workflow's per-(engine, case) job: run and write the JSON record."""
+    setup = Setup(engine=params["engine"], robot=load_robot(urdf), timestep=params["physics"]["timestep"],
+                  max_wheel_torque=params["robot"]["max_wheel_torque"], track=params["robot"]["track"],
+                  settings=params["engine_settings"])
+    result = run_case(setup, params["case_name"], params["case"])
+    output = Path(output)
+    output.parent.mkdir(parents=True, exist_ok=True)
+    tmp = output.with_name(output.name + ".partial")
+    tmp.write_text(json.dumps(result, indent=1, sort_keys=True, allow_nan=True))
+    tmp.replace(output)
+    return result
+
+
+def summarise(results: list[dict], tolerances: dict[str, float]):
+    """One row per (engine, case, quantity): values, error and pass/fail under ``tolerances``."""
+    import pandas as pd
+
+    rows = []
+    for result in results:
+        for c in result["checks"]:
+            quantity = c["quantity"]
+            if quantity not in tolerances:
+                raise InputError(f"validation.tolerances.{quantity}", "no tolerance given",
+                                 f"add `{quantity}: <tolerance>` under validation.tolerances in the config")
+            e, a = c["engine_value"], c["analytic_value"]
+            error = abs(e - a) / abs(a) if c["error_kind"] == "relative" else abs(e - a)
+            passed = bool(result["status"] == "ok" and np.isfinite(error) and error <= tolerances[quantity])
+            rows.append({"engine": result["engine"], "case": result["case"], "kind": result["kind"],
+                         "quantity": quantity, "unit": c["unit"], "engine_value": e, "analytic_value": a,
+                         "error": error, "error_kind": c["error_kind"], "tolerance": float(tolerances[quantity]),
+                         "passed": passed, "status": result["status"], "reasons": "; ".join(result["reasons"]),
+                         "v": c.get("v"), "w": c.get("w"), "mu": c.get("mu"),
+                         "steps_per_s": result["steps_per_s"]})
+    return pd.DataFrame(rows)
+
+
+def failures(summary) -> dict[str, list[str]]:
+    """engine -> the cases it failed (each once), in case order."""
+    out: dict[str, list[str]] = {}
+    for row in summary.itertuples():
+        if not row.passed and row.case not in out.setdefault(row.engine, []):
+            out[row.engine].append(row.case)
+    return {e: cases for e, cases in out.items() if cases}
+
+
+def summarise_job(inputs: list[str], outputs: dict, tolerances: dict) -> None:
+    from simpick.workflow import write_csv
+
+    results = [json.loads(Path(p).read_text()) for p in inputs]
+    summary = summarise(results, tolerances)
+    write_csv(summary, outputs["summary"])
+
+
+def main(argv: list[str] | None = None) -> None:
+    """``python -m simpick.validation ENGINE [CASE ...]``: run the config's cases and print them."""
+    import argparse
+
+    import yaml
+
+    parser = argparse.ArgumentParser(description=main.__doc__)
+    parser.add_argument("engine")
+    parser.add_argument("cases", nargs="*")
+    parser.add_argument("--config", default="config.yaml")
+    parser.add_argument("--set", action="append", default=[], help="engine setting key=value (JSON value)")
+    args = parser.parse_args(argv)
+    config = yaml.safe_load(Path(args.config).read_text())
+    settings = dict(config["engines"].get(args.engine) or {})
+    for item in args.set:
+        key, value = item.split("=", 1)
+        try:
+            settings[key] = json.loads(value)
+        except json.JSONDecodeError:
+            settings[key] = value
+    setup = Setup(engine=args.engine, robot=load_robot(config["robot"]["urdf"]),
+                  timestep=config["physics"]["timestep"], max_wheel_torque=config["robot"]["max_wheel_torque"],
+                  track=config["robot"]["track"], settings=settings)
+    cases = config["validation"]["cases"]
+    results = [run_case(setup, name, cases[name]) for name in (args.cases or cases)]
+    summary = summarise(results, config["validation"]["tolerances"])
+    import pandas as pd
+
+    with pd.option_context("display.width", 200, "display.max_columns", 20):
+        print(summary[["case", "quantity", "engine_value", "analytic_value", "error", "tolerance", "passed",
+                       "steps_per_s"]].to_string(index=False, float_format=lambda x: f"{x:.4g}"))
+
+
+if __name__ == "__main__":
+    main()

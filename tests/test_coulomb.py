@@ -1,0 +1,70 @@
+"""The quasi-static Coulomb skid-steer solver against hand-computed cases (METHOD.md s6)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from simpick.coulomb import (ContactLayout, CoulombTable, contact_layout, equal_loads, mass_distribution,
+                             steady_twist, yaw_rate_gain)
+
+TRACK = 0.555
+
+
+def test_two_wheels_on_one_axle_turn_without_slip():
+    # Contacts only on the axle (x = 0): no lateral slip, so yaw rate = (u_r - u_l) / (2 b) exactly.
+    b = 0.2854
+    # wheel order FL, FR, RL, RR -> contacts at left, right, left, right
+    axle = ContactLayout(points=np.array([(0, b), (0, -b), (0, b), (0, -b)]), loads=np.ones(4),
+                         wheel=np.arange(4), com=(0.0, 0.0), mass=1.0)
+    assert yaw_rate_gain(axle, 0.5, 0.5, TRACK) == pytest.approx(TRACK / (2 * b), rel=1e-6)
+
+
+def test_equal_loads_give_0_539_for_any_command(robot):
+    equal = equal_loads(contact_layout(robot, points_per_wheel=1))
+    for v, w in [(0.0, 0.5), (0.5, 0.5), (0.5, 0.2), (1.0, 0.1), (-0.3, 0.8)]:
+        assert yaw_rate_gain(equal, v, w, TRACK) == pytest.approx(0.539, abs=0.001), (v, w)
+
+
+def test_two_contact_points_per_wheel_give_0_526(robot):
+    assert yaw_rate_gain(equal_loads(contact_layout(robot, 2)), 0.5, 0.5, TRACK) == pytest.approx(0.526, abs=0.001)
+
+
+def test_urdf_centre_of_mass_shifts_the_load_and_lowers_the_gain(robot):
+    mass, com = mass_distribution(robot.urdf)
+    assert mass == pytest.approx(46.034 + 4 * 2.637 + 0.018, abs=0.05)
+    # chassis COM y = -0.085 m over the whole robot's mass
+    assert com[1] == pytest.approx(-0.085 * 46.034 / mass, rel=1e-3)
+    one = contact_layout(robot, 1)
+    shares = one.load_shares()
+    # rigid body on equal springs: both left wheels together carry 1/2 (1 + yc / b), b = 0.2854 m
+    assert shares[0] + shares[2] == pytest.approx(0.5 * (1 + com[1] / 0.2854), rel=1e-6)
+    assert shares[0] == pytest.approx(0.19, abs=0.005) and shares[1] == pytest.approx(0.31, abs=0.005)
+    assert one.loads.sum() == pytest.approx(mass * 9.81)
+    assert yaw_rate_gain(one, 0.5, 0.5, TRACK) == pytest.approx(0.481, abs=0.001)
+    assert yaw_rate_gain(contact_layout(robot), 0.5, 0.5, TRACK) == pytest.approx(0.478, abs=0.001)
+
+
+def test_forces_balance_at_the_solution(robot):
+    lay = contact_layout(robot, 1)
+    u = np.array([0.36, 0.64, 0.36, 0.64])
+    vx, vy, wz = steady_twist(lay, u)
+    x, y = lay.points.T
+    s = np.stack([vx - wz * y - u[lay.wheel], vy + wz * x], axis=1)
+    f = -lay.loads[:, None] * s / np.linalg.norm(s, axis=1, keepdims=True)
+    assert np.abs(f.sum(axis=0)).max() < 1e-4 * lay.loads.sum()
+    assert abs((x * f[:, 1] - y * f[:, 0]).sum()) < 1e-4 * lay.loads.sum()
+
+
+def test_straight_command_rolls_and_spin_does_not_translate(robot):
+    lay = contact_layout(robot, 1)
+    np.testing.assert_allclose(steady_twist(lay, [0.5] * 4), [0.5, 0.0, 0.0], atol=1e-6)
+    assert steady_twist(lay, [0.0] * 4).tolist() == [0.0, 0.0, 0.0]
+
+
+def test_table_interpolates_the_solver(robot):
+    lay = contact_layout(robot, 1)
+    table = CoulombTable(lay, angles=720)
+    for left, right in [(0.36, 0.64), (-0.14, 0.14), (0.5, 0.5), (0.2, -0.05)]:
+        np.testing.assert_allclose(table.twist([left], [right])[0], steady_twist(lay, [left, right] * 2),
+                                   atol=2e-3 * math.hypot(left, right))
