@@ -21,6 +21,7 @@ from simpick.traces import read_metadata, read_trace
 COMMITTED = [ROOT / "resources" / "real" / "borealtc_segments.csv",
              ROOT / "resources" / "real" / "borealtc_segments.provenance.yaml"]
 NAME = "husky_yard"  # from the folder "Husky Yard"
+ENGINES = ("mujoco", "pybullet")
 OUT = f"results/real/{NAME}"
 
 
@@ -41,7 +42,7 @@ def replay(tmp_path_factory):
     folder = write_dataset(workdir / "Husky Yard", {"CONCRETE": ["1", "12"], "FLOORING": ["7"]},
                            imu_hz=50.0, cmd_hz=15.0)
     config = tiny_config()
-    config["engines"] = {k: config["engines"][k] for k in ("mujoco", "pybullet")}
+    config["engines"] = {k: config["engines"][k] for k in ENGINES}
     config["real_data"]["segments"] = str(COMMITTED[0])  # the committed table itself, by absolute path
     config["real_data"]["classes"]["concrete"] = {"friction": 0.7, "source": "test: a made-up dataset"}
     config["real_data"]["datasets"][NAME] = {"label": "Husky yard", "imu_hz": 50, "commands_hz": 15}
@@ -55,6 +56,7 @@ def replay(tmp_path_factory):
 def test_replay_of_another_dataset_succeeds_under_its_own_name(replay):
     workdir, _, _, run = replay
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    models = (*ENGINES, *tiny_config()["baselines"])  # the reference models are replayed beside the engines
     out = workdir / OUT
     for path in ("dataset.yaml", "segments.csv", "segments.provenance.yaml", "logs/concrete/12.parquet",
                  "logs/flooring/7.parquet", "metrics/replay_summary.csv", "metrics/replay_imu_errors.csv"):
@@ -62,10 +64,10 @@ def test_replay_of_another_dataset_succeeds_under_its_own_name(replay):
     per_test = pd.read_csv(out / "metrics" / "replay_per_test.csv", dtype={"run": str})
     assert sorted(zip(per_test.terrain_class, per_test.run, per_test.engine)) == sorted(
         (c, r, e) for c, r in (("concrete", "1"), ("concrete", "12"), ("flooring", "7"))
-        for e in ("mujoco", "pybullet"))
+        for e in models)
     assert (per_test.status == "ok").all() and per_test.error_angular.gt(0).all()
     # the committed segments were compared too, under their own dataset
-    assert len(list((workdir / "results/real/borealtc/segments").rglob("*.parquet"))) == 2 * 18
+    assert len(list((workdir / "results/real/borealtc/segments").rglob("*.parquet"))) == len(models) * 18
 
 
 def test_simulated_imu_is_compared_at_the_logs_50_hz(replay):
