@@ -2,12 +2,31 @@
 
 The world is assembled with ``MjSpec``: the same URDF the other engines load (MuJoCo
 gives a URDF no free joint, so one is added), the engine-neutral terrain as primitive
-geoms, velocity servos with a torque bound on the wheels, and MuJoCo's own accelerometer
+geoms, wheel servos with a torque bound, and MuJoCo's own accelerometer
 and gyro at the IMU mount (they already follow REP-145). The whole run is stepped in C by
 ``mujoco.rollout`` with the sensors recorded there, so no Python runs per step.
 
 Friction: MuJoCo combines two geoms' friction by taking the maximum unless one has higher
 ``priority``; terrain and floor get priority 1 so their coefficient is the contact's.
+
+Wheel contacts (issue 9). With MuJoCo's default soft contact the Husky turned at 0.18-0.25 of
+the commanded yaw rate against the quasi-static Coulomb 0.478: the contacts of every *sliding*
+wheel hop. MuJoCo's contact force is the solution of a convex problem (docs, Computation > Dual
+problem); for one steadily sliding contact it reduces to
+``N = (N0 + mu b_t v_slip / R_n) / (1 + mu^2 / impratio)`` (N0: the force of the normal
+spring-damper alone, R: the regulariser, b_t: the friction rows' velocity decay rate): the
+friction demand ``b_t v_slip`` is projected onto the elliptic cone in the metric of R and, with
+the default ``R_n`` (impedance 0.9-0.95), it *raises the normal force* instead of capping the
+friction (the docs: "if we push it sideways, we would expect it to move up a bit as it starts
+sliding"). For this robot that inflation (b_t / R_n = 16 800 N s/m per contact, times mu)
+exceeds the 50-90 N loads above 6 mm/s of slip, so in a turn the wheels lift, land and lift
+(35 Hz, loads 0-300 N, 5.4 of 8 contacts in contact). impratio does not help (it shrinks R_t but
+raises the demand b_t v / R_t by the same factor), nor do noslip, the integrator (implicit, RK4,
+Euler), the solver (Newton, CG, PGS; 200 iterations, tolerance 1e-10), condim 4 or 6, or a servo
+that tracks exactly; a 4x finer step only reaches 0.37. The coupling grows with mu: at mu 0.05
+the default contact gives 0.479. The cure keeps MuJoCo's contact *dynamics* and friction law and
+removes only the coupling, with documented contact-pair attributes (``wheel_contact:
+decoupled``, see :meth:`MujocoEngine._wheel_pairs`).
 """
 
 from __future__ import annotations
@@ -21,7 +40,32 @@ import numpy as np
 from simpick.engines.base import PhysicsRecord, Scenario, validated_commands
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
-DEFAULTS = {"integrator": "implicitfast", "cone": "elliptic", "solver_iterations": 50, "wheel_servo_gain": 300.0}
+DEFAULTS = {
+    "integrator": "implicitfast", "cone": "elliptic", "solver_iterations": 50,
+    # "intvelocity": position servo on the integrated speed command (MuJoCo's <intvelocity>; the
+    # docs: "in real robotic systems this integrated-velocity actuator is the most common
+    # implementation of actuators with velocity semantics"), no steady speed error; "velocity":
+    # torque = wheel_servo_gain x speed error, the former servo. Measured: the velocity servo lags
+    # 5 % in a spin and leaves 11 % of the differential at (v, w) = (0.5, 0.2); and MuJoCo drops a
+    # saturated actuator's velocity derivative from the implicit step (engine_derivative.c,
+    # mjd_actuator_vel: "skip if force is clamped by forcerange"), so with kv > 2 I / h = 88 N m s/rad
+    # a wheel that is not held by stiff stick friction (in the air, on ice, sliding) locks into a
+    # +-100 N m bang-bang cycle (2.27 rad/s per step). With the decoupled contact below, a spin at
+    # mu 0.2 then gives rear rim speeds 0.198 / 0.074 m/s for 0.139 commanded and a gain of 0.80
+    # (0.05 at mu 0.05). The integrated servo has no such cycle (same cases: 0.467 / 0.467).
+    "wheel_servo": "intvelocity",
+    "wheel_servo_kp": 1000.0,  # N m/rad, intvelocity stiffness (critically damped on the wheel's inertia);
+    #                            5000 gives the same gains to 3 digits
+    "wheel_servo_gain": 300.0,  # N m s/rad, kv of the "velocity" servo only
+    # "decoupled": wheel x terrain contact pairs as described in _wheel_pairs; "default": MuJoCo's
+    # default geom contact (the Husky then turns at 0.18-0.25 of w, see the module docstring).
+    "wheel_contact": "decoupled",
+    "wheel_contact_impedance": 0.015,  # solimp d of the wheel pairs, see _wheel_pairs
+    "wheel_friction_impedance": 0.98,  # impedance the wheel pairs' friction rows get via impratio
+}
+# MuJoCo's default contact reference (solref timeconst 0.02 s, dampratio 1) and the largest default
+# impedance (solimp dmax 0.95): the friction rows' velocity decay rate is 2 / (dmax timeconst).
+MUJOCO_TIMECONST, MUJOCO_DMAX = 0.02, 0.95
 # Sensor layout of robot 0, in the order the sensors are added: name -> width.
 SENSORS = (("accel", 3), ("gyro", 3), ("pos", 3), ("quat", 4), ("linvel", 3), ("angvel", 3), ("wheels", 4))
 
@@ -49,10 +93,14 @@ class MujocoEngine:
         spec.option.iterations = int(settings["solver_iterations"])
         world = spec.worldbody
 
+        grounds = []  # (geom, friction) of the floor and every terrain shape
+
         def surface(geom, friction: float) -> None:
             geom.friction = [friction, 0.0, 0.0]
             geom.priority = 1
             geom.condim = 3
+            geom.name = f"ground{len(grounds)}"
+            grounds.append((geom, friction))
 
         floor = world.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1])
         surface(floor, scenario.ground_friction)
@@ -76,9 +124,20 @@ class MujocoEngine:
             for joint in robot.wheel_joints:
                 act = spec.add_actuator(name=prefix + joint + "/servo", target=prefix + joint,
                                         trntype=mujoco.mjtTrn.mjTRN_JOINT)
-                act.set_to_velocity(kv=kv)
+                if settings["wheel_servo"] == "intvelocity":
+                    act.set_to_intvelocity(kp=float(settings["wheel_servo_kp"]), dampratio=1.0)
+                    act.actlimited = mujoco.mjtLimited.mjLIMITED_FALSE  # a continuous joint: no setpoint range
+                elif settings["wheel_servo"] == "velocity":
+                    act.set_to_velocity(kv=kv)
+                else:
+                    raise ValueError(f"wheel_servo {settings['wheel_servo']!r}: use 'intvelocity' or 'velocity'")
                 act.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
                 act.forcerange = [-scenario.max_wheel_torque, scenario.max_wheel_torque]
+            if settings["wheel_contact"] == "decoupled":
+                self._wheel_pairs(spec, settings, [spec.joint(prefix + j).parent for j in robot.wheel_joints],
+                                  grounds, prefix)
+            elif settings["wheel_contact"] != "default":
+                raise ValueError(f"wheel_contact {settings['wheel_contact']!r}: use 'decoupled' or 'default'")
             if i == 0:
                 base.add_site(name="imu", pos=list(robot.imu_mount))
                 S, O = mujoco.mjtSensor, mujoco.mjtObj
@@ -89,6 +148,56 @@ class MujocoEngine:
                 for joint in robot.wheel_joints:
                     spec.add_sensor(type=S.mjSENS_JOINTVEL, objtype=O.mjOBJ_JOINT, objname=prefix + joint)
         return spec.compile()
+
+    @staticmethod
+    def _wheel_pairs(spec, settings: dict, wheels, grounds, prefix: str) -> None:
+        """Wheel x ground contact pairs whose sliding friction does not lift the wheel.
+
+        From the per-contact problem above, the normal-force inflation of a sliding contact is
+        ``mu b_t v / R_n`` with ``R_n = (1 - d) / d * A`` (A: the contact's inverse inertia, about
+        1/17 kg here) and ``b_t`` the friction rows' velocity decay rate. Three documented pair
+        attributes (MJCF <pair>: solimp, solref, solreffriction) and one option:
+
+        * ``solimp`` d = ``wheel_contact_impedance`` (0.015, constant with depth): R_n = 66 A, so
+          b_t / R_n is 23-35 N s/m instead of 16 800 (at mu 0.8 and the 0.13 m/s slip of a 0.5 rad/s
+          spin, 2-4 N of inflation on 50-90 N loads). MuJoCo's impedance scaling keeps the contact's
+          dynamics independent of d (docs, Modeling > Solver parameters); only the resting
+          penetration grows, to 1.4-1.6 mm (measured; a tyre's deflection) from 0.16 mm. Measured:
+          d = 0.005 ... 0.1 give the same gains to 0.01 up to (v, w) = (1, 2); 0.2 fails at 2 rad/s.
+        * ``solref`` (0.02 s, 1): MuJoCo's default normal reference, stated explicitly: the normal
+          spring-damper is unchanged (natural period 20 ms, critically damped).
+        * ``solreffriction``: the friction rows would otherwise inherit b = 2 / (d timeconst), 63x
+          the default; timeconst 0.02 x 0.95 / d restores MuJoCo's default b_t = 105 /s, i.e. the
+          default friction law (slip decays in 10 ms, Coulomb cap mu N). Lowering b_t instead turns
+          friction viscous (measured with b_t = 1 /s: half the wheel speed after 2 s of straight
+          driving, locked-wheel deceleration 0.14 m/s^2 for mu g = 2.9).
+        * ``impratio`` = ((1 - d) / d) / ((1 - df) / df) with df = ``wheel_friction_impedance`` 0.98:
+          the friction rows' R_t = R_n / impratio is that of impedance 0.98 (MuJoCo's default contact
+          has 0.90 at impratio 1). MuJoCo's docs: "when contact slip is a problem, ... use elliptic
+          cones, large impratio". Measured creep parked at 0.8 atan(mu): 1.6 mm/s at df 0.90,
+          0.71 at 0.95, 0.27 at 0.98 (the default contact: 6.6 mm/s). It applies to every contact; the
+          chassis contacts' friction just gets stiffer.
+
+        Pairs, not geom attributes, because only pairs carry solreffriction (geom contacts use one
+        solref for normal and friction rows, and a normal damping that low bounces: measured,
+        the robot never settles at rest). The wheels' own dynamic collisions are switched off, so a
+        wheel touches only the floor and terrain (not another robot). Cost: one pair per wheel and
+        ground shape (1 940 per robot on the gravel strip).
+        """
+        import mujoco
+
+        d = float(settings["wheel_contact_impedance"])
+        df = float(settings["wheel_friction_impedance"])
+        spec.option.impratio = ((1 - d) / d) / ((1 - df) / df)
+        for k, body in enumerate(wheels):
+            for g, geom in enumerate(body.geoms):
+                geom.name = geom.name or f"{prefix}wheel{k}_{g}"
+                geom.contype = geom.conaffinity = 0
+                for ground, mu in grounds:
+                    spec.add_pair(geomname1=ground.name, geomname2=geom.name, condim=3,
+                                  friction=[mu, mu, 0.0, 0.0, 0.0], solref=[MUJOCO_TIMECONST, 1.0],
+                                  solimp=[d, d, 0.001, 0.5, 2.0],
+                                  solreffriction=[MUJOCO_TIMECONST * MUJOCO_DMAX / d, 1.0])
 
     def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
         import mujoco
