@@ -22,13 +22,33 @@ terrain as every other engine:
   contacts get 1.0 (what PyBullet's product 1.0 x 1.0 gives). Surface mode
   ``dContactApprox1``: the friction pyramid's bound is mu x normal force (Coulomb);
   without it ODE reads ``mu`` as a fixed force limit in newtons, not a coefficient.
-  Webots' and Gazebo's ODE integrations set it too. ODE has no friction cone: the pyramid's
-  two directions are world-aligned (dPlaneSpace of the normal).
+  Webots' and Gazebo's ODE integrations set it too. ODE has no friction cone: each contact
+  gets two friction rows, each bounded by mu x normal force on its own (a pyramid), along
+  fdir1 and normal x fdir1. See ``friction_direction`` below for how fdir1 is chosen.
 - category bits keep static terrain from being paired with itself (every stone overlaps its
   gravel bed; each pair would cost a Python callback per step) and keep a robot's own
   shapes apart; robots still collide with each other.
 
 Settings (``scenario.settings``, all optional; figures measured here, 1 kHz, one robot):
+  friction_direction: "slip" (default) or "plane". "plane" leaves fdir1 to ODE, which takes
+    dPlaneSpace of the normal: on flat ground the world's x and y. A wheel sliding diagonally
+    to them then meets friction up to sqrt(2) mu N, not opposite its slip, and the skid-
+    steered Husky hardly turns (issue 9, validation cases, 6 s, mu 0.8): yaw-rate gain 0.115
+    at (v, w) = (0, 0.5), 0.207 at (0.5, 0.5), 0.028 at (0.5, 0.2); mu 0.2: 0.219 / 0.388;
+    Coulomb 0.478. Commanded to spin, it drove forward at 0.135 m/s instead (the heavier right
+    wheels rolled, the left ones slid). Parked on a 1.2 atan(mu) slope it slides (1.015 m/s^2,
+    Coulomb 1.016) when the slope runs along x, and stays put when it runs along the world
+    diagonal. Gazebo users see the same (jackal_simulator#18, husky#105; gazebo-classic#2068,
+    where a user fixes it by computing the friction direction himself between collision and
+    physics update). "slip" does that: fdir1 = the contact's sliding direction (Bullet's default
+    "velocity dependent friction direction"), so a sliding contact gets mu N against its slip.
+    Gains then 0.483 / 0.484 / 0.482 (mu 0.8), 0.487 / 0.507 (mu 0.2), within 1-6 % of 0.478;
+    the 45-degree slope slides at 0.974 m/s^2. Cost: flat ground 26 200 -> 19 600 steps/s
+    (bare loop), gravel strip about 12 900 -> 11 100. Residual artefact: the second row
+    (across the slip) holds up to mu N too, so a robot sliding down a slope with locked wheels
+    slowly yaws (1.4 rad in 3 s at 1.2 atan(0.5); Coulomb damps yaw) and slides 3 % slower.
+  friction_direction_min_slip: 1e-6 m/s. Below this sliding speed a contact's direction is
+    noise and fdir1 is dPlaneSpace's; 1e-4 and 1e-3 gave the same validation figures.
   stepper: "world" (default) or "quick". dWorldStep solves the constraints exactly
     (Dantzig LCP); with one robot the system is small (about 20 joint rows + 3 per
     contact), and it was the faster of the two: flat 4 s at 0.5 m/s 35 600 against 27 700
@@ -37,7 +57,9 @@ Settings (``scenario.settings``, all optional; figures measured here, 1 kHz, one
     error, s <= 0" (a degenerate pivot it recovers from; 4 times in 10 s on the bumps
     strip); the adapter counts these and logs them instead of letting them reach stderr.
   quick_iterations: 50 (quick stepper only; ODE's default is 20, Gazebo's 50)
-  erp: 0.2, cfm: 1e-5 (ODE's defaults; Webots uses the same)
+  erp: 0.2 (ODE's default), cfm: 1e-5 (Webots' WorldInfo default and ODE's default for
+    single-precision builds; Debian's double-precision build defaults to 1e-10, which we
+    have not validated)
   contact_surface_layer: 0.0 m (ODE's default). Gazebo's 0.001 lets the robot rest 1 mm
     deep: base_link at 0.13127 m instead of 0.13228 m.
   contact_max_correcting_vel: 0.1 m/s (ODE's default is unlimited, Gazebo's 100 m/s).
@@ -83,7 +105,10 @@ TERRAIN_BIT = 1  # category bit of static terrain; robot i gets bit i + 1
 ROBOT_ROBOT_FRICTION = 1.0
 DEFAULTS = {"stepper": "world", "quick_iterations": 50, "erp": 0.2, "cfm": 1e-5,
             "contact_surface_layer": 0.0, "contact_max_correcting_vel": 0.1, "max_contacts": 4,
-            "space": "quadtree", "quadtree_cell": 0.4}
+            "space": "quadtree", "quadtree_cell": 0.4,
+            # fdir1 along each contact's slip (module docstring: gain 0.115 -> 0.483 at pure spin)
+            "friction_direction": "slip", "friction_direction_min_slip": 1e-6}
+FRICTION_DIRECTIONS = ("slip", "plane")
 
 
 # --- small rigid-body helpers ------------------------------------------------------------
@@ -264,17 +289,30 @@ class _World:
         self.max_contacts = int(s["max_contacts"])
         buffers: dict[float, tuple] = {}
 
+        if s["friction_direction"] not in FRICTION_DIRECTIONS:
+            raise InputError("engines.ode.friction_direction", f"{s['friction_direction']!r}",
+                             f"use one of {list(FRICTION_DIRECTIONS)}")
+        self.slip_directions = s["friction_direction"] == "slip"
+        self.min_slip = float(s["friction_direction_min_slip"])
+        mode = _ode.dContactApprox1 | (_ode.dContactFDir1 if self.slip_directions else 0)
+
         def contacts_for(mu: float) -> tuple:
             if mu not in buffers:
                 array = (_ode.dContact * self.max_contacts)()
                 for c in array:
-                    c.surface.mode = _ode.dContactApprox1
-                    c.surface.mu = mu
+                    c.surface.mode = mode
+                    c.surface.mu = mu  # without dContactMu2, ODE bounds both directions by mu
                 self._keep.append(array)
                 base = ctypes.addressof(array)
                 size = ctypes.sizeof(_ode.dContact)
+                # each contact also as a flat array of dReals, for the callback to read its
+                # position and normal and write its fdir1 without building ctypes structs
+                n_reals = size // ctypes.sizeof(_ode.dReal)
+                views = tuple((_ode.dReal * n_reals).from_address(base + i * size)
+                              for i in range(self.max_contacts))
+                self._keep.append(views)
                 buffers[mu] = (base + _ode.dContact.geom.offset,
-                               tuple(base + i * size for i in range(self.max_contacts)))
+                               tuple(base + i * size for i in range(self.max_contacts)), views)
             return buffers[mu]
 
         def static(geom: int, mu: float) -> None:
@@ -361,23 +399,85 @@ class _World:
         self.world = self.space = self.group = None
 
     def _near_callback(self):
-        """The dSpaceCollide callback: contacts of one geom pair -> contact joints."""
+        """The dSpaceCollide callback: contacts of one geom pair -> contact joints.
+
+        With ``friction_direction`` "slip" (the default) each contact's first friction
+        direction (fdir1) is set to its sliding direction: the relative velocity of the two
+        bodies at the contact point, projected onto the contact plane (Bullet's default
+        "velocity dependent friction direction", btSequentialImpulseConstraintSolver). ODE's
+        friction is a pyramid, two directions each bounded by mu N on its own; left to
+        itself (dPlaneSpace of the normal) it aligns them with the world's x and y, so a
+        wheel sliding diagonally meets up to sqrt(2) mu N, not opposite its slip, and the
+        skid-steered Husky barely turns (see the module docstring). With fdir1 along the
+        slip, a sliding contact's friction is mu N straight against its slip: Coulomb's law.
+        Below ``friction_direction_min_slip`` (m/s: rolling or parked) the direction is
+        undefined and fdir1 is dPlaneSpace's, i.e. ODE's own choice.
+        """
         lib = self.lib
         surface_of, body_of = self.surface_of, self.body_of
         robot_contacts, max_contacts = self.robot_contacts, self.max_contacts
         stride = ctypes.sizeof(_ode.dContact)
         collide, create, attach = lib.dCollide, lib.dJointCreateContact, lib.dJointAttach
         world, group = self.world, self.group
+        # each robot body's position, linear and angular velocity read straight from ODE's
+        # memory (one dReal array over the span holding them): cheaper than dBodyGetPointVel
+        state = {}
+        for body in set(body_of.values()):
+            a = [lib.dBodyGetPosition(body), lib.dBodyGetLinearVel(body), lib.dBodyGetAngularVel(body)]
+            lo = min(a)
+            view = (_ode.dReal * ((max(a) - lo) // ctypes.sizeof(_ode.dReal) + 3)).from_address(lo)
+            state[body] = (view, *((x - lo) // ctypes.sizeof(_ode.dReal) for x in a))
+        real = ctypes.sizeof(_ode.dReal)
+        geom = _ode.dContact.geom.offset
+        P = (geom + _ode.dContactGeom.pos.offset) // real  # indices into a contact's dReals
+        N = (geom + _ode.dContactGeom.normal.offset) // real
+        F = _ode.dContact.fdir1.offset // real
+        min_slip2 = self.min_slip ** 2
+        sqrt, half = math.sqrt, math.sqrt(0.5)
+
+        if not self.slip_directions:
+            def near(_data, g1, g2):
+                # the pair's contact buffer: its surface (mode, mu) is preset, dCollide fills
+                # the geometry of each dContact in place (stride = sizeof(dContact))
+                contacts = surface_of.get(g1) or surface_of.get(g2) or robot_contacts
+                n = collide(g1, g2, max_contacts, contacts[0], stride)
+                if n:
+                    b1, b2 = body_of.get(g1), body_of.get(g2)
+                    for address in contacts[1][:n]:
+                        attach(create(world, group, address), b1, b2)
+
+            return _ode.dNearCallback(near)
 
         def near(_data, g1, g2):
-            # the pair's contact buffer: its surface (mode, mu) is preset, dCollide fills
-            # the geometry of each dContact in place (stride = sizeof(dContact))
             contacts = surface_of.get(g1) or surface_of.get(g2) or robot_contacts
             n = collide(g1, g2, max_contacts, contacts[0], stride)
             if n:
                 b1, b2 = body_of.get(g1), body_of.get(g2)
-                for address in contacts[1][:n]:
-                    attach(create(world, group, address), b1, b2)
+                for i in range(n):
+                    c = contacts[2][i]
+                    px, py, pz, nx, ny, nz = c[P], c[P + 1], c[P + 2], c[N], c[N + 1], c[N + 2]
+                    vx = vy = vz = 0.0
+                    for body, sign in ((b1, 1.0), (b2, -1.0)):  # velocity of b1 relative to b2
+                        if body:
+                            b, x, v, w = state[body]
+                            rx, ry, rz = px - b[x], py - b[x + 1], pz - b[x + 2]
+                            wx, wy, wz = b[w], b[w + 1], b[w + 2]
+                            vx += sign * (b[v] + wy * rz - wz * ry)
+                            vy += sign * (b[v + 1] + wz * rx - wx * rz)
+                            vz += sign * (b[v + 2] + wx * ry - wy * rx)
+                    d = vx * nx + vy * ny + vz * nz
+                    vx, vy, vz = vx - d * nx, vy - d * ny, vz - d * nz
+                    s2 = vx * vx + vy * vy + vz * vz
+                    if s2 > min_slip2:
+                        k = 1.0 / sqrt(s2)
+                        c[F], c[F + 1], c[F + 2] = vx * k, vy * k, vz * k
+                    elif abs(nz) > half:  # dPlaneSpace (ODE's choice when fdir1 is not given)
+                        k = 1.0 / sqrt(ny * ny + nz * nz)
+                        c[F], c[F + 1], c[F + 2] = 0.0, -nz * k, ny * k
+                    else:
+                        k = 1.0 / sqrt(nx * nx + ny * ny)
+                        c[F], c[F + 1], c[F + 2] = -ny * k, nx * k, 0.0
+                    attach(create(world, group, contacts[1][i]), b1, b2)
 
         return _ode.dNearCallback(near)
 
