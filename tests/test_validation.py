@@ -75,11 +75,15 @@ def test_reference_models_follow_their_formula(model, robot):
 # --- conformance: every engine against mechanics, on the study's own settings ----------------------
 
 CASES = ["gain_spin_mu0.8", "gain_v0.5_w0.5_mu0.8", "gain_v0.5_w0.2_mu0.8", "straight_mu0.8", "slide_mu0.3",
-         "incline_hold_mu0.5", "incline_slide_mu0.5", "rest_mu0.8"]
+         "incline_hold_mu0.5", "incline_slide_mu0.5", "incline_slide_diagonal_mu0.5", "rest_mu0.8"]
 
 # Engines that genuinely cannot pass a case with any documented setting (measured; README
 # "Engines against analytic mechanics"). strict: if an engine starts passing, the test says so.
-EXPECTED_FAILURES: dict[tuple[str, str], str] = {}
+EXPECTED_FAILURES: dict[tuple[str, str], str] = {
+    ("ode", "incline_slide_diagonal_mu0.5"):
+        "ODE yaws 0.27 rad (0.036 rad per metre) sliding down a slope at 45 degrees to the robot, with "
+        "slip-aligned Coulomb friction (friction_direction coulomb); along the slope 0.014 rad",
+}
 
 
 def _params():

@@ -16,9 +16,10 @@ Case kinds (their parameters come from ``validation.cases`` in the config):
     slip), and the heading drift (none expected).
 ``slide``     (v, mu) cruise, then every wheel commanded to stop (locked by its servo): the
     robot slides to rest with deceleration mu g.
-``incline``   (mu, angle_factor) parked with locked wheels on a slope of angle_factor x
-    atan(mu) (gravity tilted about y, same mechanics as a tilted plane): below atan(mu) it
-    stays (creep speed 0), above it slides down with g (sin a - mu cos a).
+``incline``   (mu, angle_factor, heading) parked with locked wheels on a slope of angle_factor x
+    atan(mu) (gravity tilted, same mechanics as a tilted plane), downhill at ``heading`` degrees
+    from the robot's back (0: along -x; 45: across the world axes): below atan(mu) it stays
+    (creep speed 0), above it slides down with g (sin a - mu cos a) and does not yaw.
 ``rest``      (mu) parked on level ground: accelerometer z = g, gyro 0, no creep.
 """
 
@@ -49,6 +50,7 @@ QUANTITIES = {
     "yaw_rate_gain": ("1", "relative"),
     "speed_over_wheel_speed": ("1", "relative"),
     "heading_drift": ("rad", "absolute"),
+    "slide_yaw": ("rad", "absolute"),
     "deceleration": ("m/s^2", "relative"),
     "creep_speed": ("m/s", "absolute"),
     "slide_acceleration": ("m/s^2", "relative"),
@@ -145,18 +147,28 @@ def _slide(setup: Setup, p: dict):
 def _incline(setup: Setup, p: dict):
     mu, factor, duration = p["mu"], p["angle_factor"], p.get("duration", 4.0)
     angle = factor * math.atan(mu)
-    gravity = (-GRAVITY * math.sin(angle), 0.0, -GRAVITY * math.cos(angle))  # downhill = -x
+    # downhill points along -(cos h, sin h); h = 0: along -x, the robot's back. h = 45 deg puts the
+    # slope across the world axes, where an engine with world-aligned friction directions holds
+    # up to sqrt(2) mu N (ODE's default pyramid did: parked at 1.2 atan(mu))
+    heading = math.radians(p.get("heading", 0.0))
+    down = np.array([-math.cos(heading), -math.sin(heading)])
+    horizontal = GRAVITY * math.sin(angle) * down
+    gravity = (horizontal[0], horizontal[1], -GRAVITY * math.cos(angle))
     record = get_engine(setup.engine).simulate(_scenario(setup, mu, gravity),
                                                _commands(setup, [(duration, 0.0, 0.0)]))
     settle = int(round(1.0 / setup.timestep))  # spawn drop and servo lock-up
-    x = record.position[:, 0]
+    s = record.position[:, :2] @ down  # distance travelled downhill
     if factor < 1:
-        creep = abs(x[-1] - x[settle]) / ((record.steps - 1 - settle) * setup.timestep)
+        creep = abs(s[-1] - s[settle]) / ((record.steps - 1 - settle) * setup.timestep)
         return record, [_check("creep_speed", creep, 0.0, mu=mu, angle=angle)]
     t = np.arange(settle, record.steps) * setup.timestep
-    accel = -2 * np.polyfit(t, x[settle:], 2)[0]  # x = x0 + v0 t - a t^2 / 2
+    accel = 2 * np.polyfit(t, s[settle:], 2)[0]  # s = s0 + v0 t + a t^2 / 2
     analytic = GRAVITY * (math.sin(angle) - mu * math.cos(angle))
-    return record, [_check("slide_acceleration", accel, analytic, mu=mu, angle=angle)]
+    # all contacts slide the same way, so Coulomb friction has no yaw moment about the centre of
+    # mass and damps any yaw rate: the robot slides without turning
+    yaw = np.unwrap(euler_rpy(record.quaternion)[:, 2])
+    return record, [_check("slide_acceleration", accel, analytic, mu=mu, angle=angle),
+                    _check("slide_yaw", yaw[-1] - yaw[settle], 0.0, mu=mu, angle=angle)]
 
 
 def _rest(setup: Setup, p: dict):

@@ -30,7 +30,7 @@ terrain as every other engine:
   shapes apart; robots still collide with each other.
 
 Settings (``scenario.settings``, all optional; figures measured here, 1 kHz, one robot):
-  friction_direction: "slip" (default) or "plane". "plane" leaves fdir1 to ODE, which takes
+  friction_direction: "coulomb" (default), "slip" or "plane". "plane" leaves fdir1 to ODE, which takes
     dPlaneSpace of the normal: on flat ground the world's x and y. A wheel sliding diagonally
     to them then meets friction up to sqrt(2) mu N, not opposite its slip, and the skid-
     steered Husky hardly turns (issue 9, validation cases, 6 s, mu 0.8): yaw-rate gain 0.115
@@ -44,11 +44,21 @@ Settings (``scenario.settings``, all optional; figures measured here, 1 kHz, one
     "velocity dependent friction direction"), so a sliding contact gets mu N against its slip.
     Gains then 0.483 / 0.484 / 0.482 (mu 0.8), 0.487 / 0.507 (mu 0.2), within 1-6 % of 0.478;
     the 45-degree slope slides at 0.974 m/s^2. Cost: flat ground 26 200 -> 19 600 steps/s
-    (bare loop), gravel strip about 12 900 -> 11 100. Residual artefact: the second row
-    (across the slip) holds up to mu N too, so a robot sliding down a slope with locked wheels
-    slowly yaws (1.4 rad in 3 s at 1.2 atan(0.5); Coulomb damps yaw) and slides 3 % slower.
-  friction_direction_min_slip: 1e-6 m/s. Below this sliding speed a contact's direction is
-    noise and fdir1 is dPlaneSpace's; 1e-4 and 1e-3 gave the same validation figures.
+    (bare loop), gravel strip about 12 900 -> 11 100. Residual artefact of "slip": the second
+    row (across the slip) still holds up to mu N, so a robot sliding down a slope with locked
+    wheels yaws (1.24 rad in 3 s at 1.2 atan(0.5); Coulomb friction has no yaw moment there)
+    and slides 3 % slower. "coulomb" (the default) also frees that row (dContactMu2, mu2 = 0)
+    while the contact slides faster than friction_direction_min_slip: a sliding contact then
+    gets exactly Coulomb's mu N against its slip and nothing across it; a slower one keeps the
+    full pyramid (sticking). Measured: the same gains (0.482-0.487), slide down the slope
+    1.016 m/s^2 (Coulomb 1.016) with 0.014 rad of yaw. Not cured: on a slope at 45 degrees to
+    the robot it slides at 0.975 (4 % slow) and yaws 0.27 rad in 3 s (0.036 rad per metre);
+    the other three engines yaw < 0.01 rad there (validation case incline_slide_diagonal).
+  friction_direction_min_slip: 1e-3 m/s, the stick/slip threshold of "coulomb" (below it fdir1
+    is dPlaneSpace's and both rows hold). It must exceed the creep that ODE's constraint
+    softness allows a sticking contact (CFM x load: 0.27 mm/s measured on the 0.8 atan(mu)
+    slope); at 1e-6 that creep counts as sliding, the cross row is freed and the parked robot
+    creeps 3.4 mm/s. 1e-3 and 3e-3 gave identical validation figures.
   stepper: "world" (default) or "quick". dWorldStep solves the constraints exactly
     (Dantzig LCP); with one robot the system is small (about 20 joint rows + 3 per
     contact), and it was the faster of the two: flat 4 s at 0.5 m/s 35 600 against 27 700
@@ -107,8 +117,8 @@ DEFAULTS = {"stepper": "world", "quick_iterations": 50, "erp": 0.2, "cfm": 1e-5,
             "contact_surface_layer": 0.0, "contact_max_correcting_vel": 0.1, "max_contacts": 4,
             "space": "quadtree", "quadtree_cell": 0.4,
             # fdir1 along each contact's slip (module docstring: gain 0.115 -> 0.483 at pure spin)
-            "friction_direction": "slip", "friction_direction_min_slip": 1e-6}
-FRICTION_DIRECTIONS = ("slip", "plane")
+            "friction_direction": "coulomb", "friction_direction_min_slip": 1e-3}
+FRICTION_DIRECTIONS = ("coulomb", "slip", "plane")
 
 
 # --- small rigid-body helpers ------------------------------------------------------------
@@ -292,16 +302,18 @@ class _World:
         if s["friction_direction"] not in FRICTION_DIRECTIONS:
             raise InputError("engines.ode.friction_direction", f"{s['friction_direction']!r}",
                              f"use one of {list(FRICTION_DIRECTIONS)}")
-        self.slip_directions = s["friction_direction"] == "slip"
+        self.slip_directions = s["friction_direction"] in ("slip", "coulomb")
+        self.coulomb = s["friction_direction"] == "coulomb"
         self.min_slip = float(s["friction_direction_min_slip"])
-        mode = _ode.dContactApprox1 | (_ode.dContactFDir1 if self.slip_directions else 0)
+        mode = (_ode.dContactApprox1 | (_ode.dContactFDir1 if self.slip_directions else 0)
+                | (_ode.dContactMu2 if self.coulomb else 0))
 
         def contacts_for(mu: float) -> tuple:
             if mu not in buffers:
                 array = (_ode.dContact * self.max_contacts)()
                 for c in array:
                     c.surface.mode = mode
-                    c.surface.mu = mu  # without dContactMu2, ODE bounds both directions by mu
+                    c.surface.mu = c.surface.mu2 = mu  # both rows bounded by mu unless sliding ("coulomb")
                 self._keep.append(array)
                 base = ctypes.addressof(array)
                 size = ctypes.sizeof(_ode.dContact)
@@ -433,6 +445,9 @@ class _World:
         N = (geom + _ode.dContactGeom.normal.offset) // real
         F = _ode.dContact.fdir1.offset // real
         min_slip2 = self.min_slip ** 2
+        coulomb = self.coulomb
+        MU = _ode.dContact.surface.offset // real + _ode.dSurfaceParameters.mu.offset // real
+        MU2 = _ode.dContact.surface.offset // real + _ode.dSurfaceParameters.mu2.offset // real
         sqrt, half = math.sqrt, math.sqrt(0.5)
 
         if not self.slip_directions:
@@ -471,12 +486,16 @@ class _World:
                     if s2 > min_slip2:
                         k = 1.0 / sqrt(s2)
                         c[F], c[F + 1], c[F + 2] = vx * k, vy * k, vz * k
+                        if coulomb:  # sliding: mu N against the slip, nothing across it
+                            c[MU2] = 0.0
                     elif abs(nz) > half:  # dPlaneSpace (ODE's choice when fdir1 is not given)
                         k = 1.0 / sqrt(ny * ny + nz * nz)
                         c[F], c[F + 1], c[F + 2] = 0.0, -nz * k, ny * k
                     else:
                         k = 1.0 / sqrt(nx * nx + ny * ny)
                         c[F], c[F + 1], c[F + 2] = -ny * k, nx * k, 0.0
+                    if coulomb and s2 <= min_slip2:  # sticking: the full pyramid holds it
+                        c[MU2] = c[MU]
                     attach(create(world, group, contacts[1][i]), b1, b2)
 
         return _ode.dNearCallback(near)
