@@ -79,7 +79,14 @@ CASES = ["gain_spin_mu0.8", "gain_v0.5_w0.5_mu0.8", "gain_v0.5_w0.2_mu0.8", "str
 
 # Engines that genuinely cannot pass a case with any documented setting (measured; README
 # "Engines against analytic mechanics"). strict: if an engine starts passing, the test says so.
+_BULLET = ("PyBullet loads the Husky as a btMultiBody, whose contact solver takes the friction directions "
+           "from btPlaneSpace1 of the normal (world-aligned; the slip-aligned choice is commented out in "
+           "btMultiBodyConstraintSolver::convertMultiBodyContact) and PyBullet exposes no per-contact override; "
+           "measured friction 15-41 deg off the slip, yaw-rate gain 0.07-0.42 for 0.478")
 EXPECTED_FAILURES: dict[tuple[str, str], str] = {
+    ("pybullet", "gain_spin_mu0.8"): _BULLET,
+    ("pybullet", "gain_v0.5_w0.5_mu0.8"): _BULLET,
+    ("pybullet", "gain_v0.5_w0.2_mu0.8"): _BULLET,
     ("ode", "incline_slide_diagonal_mu0.5"):
         "ODE yaws 0.27 rad (0.036 rad per metre) sliding down a slope at 45 degrees to the robot, with "
         "slip-aligned Coulomb friction (friction_direction coulomb); along the slope 0.014 rad",
