@@ -79,10 +79,11 @@ CASES = ["gain_spin_mu0.8", "gain_v0.5_w0.5_mu0.8", "gain_v0.5_w0.2_mu0.8", "str
 
 # Engines that genuinely cannot pass a case with any documented setting (measured; README
 # "Engines against analytic mechanics"). strict: if an engine starts passing, the test says so.
-_BULLET = ("PyBullet loads the Husky as a btMultiBody, whose contact solver takes the friction directions "
-           "from btPlaneSpace1 of the normal (world-aligned; the slip-aligned choice is commented out in "
-           "btMultiBodyConstraintSolver::convertMultiBodyContact) and PyBullet exposes no per-contact override; "
-           "measured friction 15-41 deg off the slip, yaw-rate gain 0.07-0.42 for 0.478")
+_BULLET = ("Bullet's two friction rows per multibody contact are fixed to the world axes (btPlaneSpace1), solved "
+           "separately, each with its own effective mass, then scaled into the cone (bullet3 PR #4539, open); "
+           "PyBullet has no per-contact override. On a driven wheel the friction leans sideways (25-57 deg off "
+           "the slip) and the gain depends on heading with a 90 deg period: 0.11 along the axes, 0.51 at 45 deg, "
+           "about 0.26 over a long spin, for 0.478")
 EXPECTED_FAILURES: dict[tuple[str, str], str] = {
     ("pybullet", "gain_spin_mu0.8"): _BULLET,
     ("pybullet", "gain_v0.5_w0.5_mu0.8"): _BULLET,

@@ -9,6 +9,27 @@ Two Bullet habits the adapter undoes:
   base_link, so it is converted back to base_link after the run;
 - contact friction is the *product* of the two bodies' coefficients, so wheels get 1.0 and
   the terrain carries the whole coefficient.
+
+Skid-steer turning (issue 9; measurements in the issue note). Bullet's rigid contacts leave the
+four wheel loads statically indeterminate and its solver picks a warped split (at rest
+FL/FR/RL/RR 41/236/138/140 N for the rigid-body 105/172/105/173 N); in a long spin the Husky then
+locks at about 70 deg of yaw and stops turning. Compliant contacts (DEFAULTS contact_stiffness /
+contact_damping) restore the loads and cost nothing (steps/s up 4-39 %). What remains is Bullet's
+multibody friction: each contact gets two friction rows along *world-fixed* directions
+(btPlaneSpace1 of the normal: -y and +x on a level plane, reported by getContactPoints), each
+solved with its own diagonal effective mass and then scaled into the cone, so the friction
+force converges to (v1/a1, v2/a2) instead of opposing the slip v. A driven wheel is an order of
+magnitude easier to move along its rolling direction (the free wheel spin) than sideways, so with the
+wheels along the world axes the friction leans sideways (measured 25-57 deg off the slip) and the
+yaw-rate gain falls to ~0.11; with the wheels at 45 deg to the axes both rows see the same mass
+and the gain is 0.51 (the Coulomb value for Bullet's own one-edge contact layout, 0.537). The gain
+thus varies with heading with a period of 90 deg (long-run mean ~0.26 for 0.478). Upstream:
+bullet3 PR #4539 (open) and issue #2590. No PyBullet setting changes it: enableConeFriction=0
+(world-aligned pyramid) over-turns (0.69, |f| up to 1.1 mu N), the Dantzig MLCP solver, friction
+anchors, 200 solver iterations and mesh cylinders leave it; useMaximalCoordinates collapses the
+URDF into one rigid body without wheel joints. Also: a rolling implicit cylinder touches the plane
+at one point, always the same (-y) edge of every wheel, which shifts the contact layout 56 mm to
+the right of the wheel centres.
 """
 
 from __future__ import annotations
@@ -22,7 +43,19 @@ from simpick.engines.base import PhysicsRecord, Scenario, validated_commands
 from simpick.imu import imu_from_kinematics, rotation_matrices
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, so no wheel starts inside the ground
-DEFAULTS = {"solver_iterations": 50}
+DEFAULTS = {"solver_iterations": 50,
+            # Compliant wheel contacts (changeDynamics contactStiffness / contactDamping, N/m and N s/m).
+            # Four rigid wheel contacts are statically indeterminate and Bullet's rigid solver picks a
+            # warped load split: at rest FL/FR/RL/RR = 41/236/138/140 N against 105/172/105/173 N for a
+            # rigid body on equally stiff contacts (simpick.coulomb), which cut the skid-steer yaw-rate
+            # gain (issue 9: 0.415/0.342/0.113 at (v,w) = (0,.5)/(.5,.5)/(.5,.2), mu 0.8). With equal
+            # spring-dampers the loads are 106/171/107/171 N and the gain 0.443/0.443/0.173 (8 s from
+            # heading 0; it now swings 0.11-0.51 with the heading: Bullet's friction directions, see
+            # the module docstring), and a long spin no longer locks up. 0: rigid contacts. 1e6 N/m: ~0.14 mm
+            # static deflection, vertical mode ~42 Hz with a quarter of the mass (24 steps at 1 kHz);
+            # 5e3 N s/m: damping ratio ~0.7. 1e7 N/m (2e4 N s/m) gives the same gains within 0.001;
+            # 1e5 N/m lets the loads oscillate (sd 20 N) in a spin.
+            "contact_stiffness": 1.0e6, "contact_damping": 5.0e3}
 # getJointStates costs about half a Bullet step; wheel speeds are read every 10th step (the
 # IMU's 100 Hz at 1 kHz physics, so trace rows hold exact values) and held in between.
 WHEEL_SAMPLE_EVERY = 10
@@ -107,13 +140,14 @@ class PyBulletEngine:
     def _build_world(self, pb, cid: int, scenario: Scenario) -> tuple[list[int], list[int]]:
         """Ground, terrain and robots; returns the robot bodies and the wheel joint indices."""
         settings = scenario.settings
+        params = {**DEFAULTS, **settings}
         pb.setGravity(*scenario.gravity, physicsClientId=cid)
         # Not deterministicOverlappingPairs: with it, a Husky commanded to spin in place on a
         # plane translates forward without turning (measured: 1.38 m, 0.02 rad in 10 s; without
         # it 1.23 rad). Runs are deterministic without it: the world is built in a fixed order
         # (tests/test_determinism.py).
         pb.setPhysicsEngineParameter(fixedTimeStep=scenario.timestep, numSubSteps=0,
-                                     numSolverIterations=int({**DEFAULTS, **settings}["solver_iterations"]),
+                                     numSolverIterations=int(params["solver_iterations"]),
                                      physicsClientId=cid)
         self._build_terrain(pb, cid, scenario)
 
@@ -126,9 +160,14 @@ class PyBulletEngine:
             names = {pb.getJointInfo(body, j, physicsClientId=cid)[1].decode(): j
                      for j in range(pb.getNumJoints(body, physicsClientId=cid))}
             wheel_index = [names[n] for n in robot.wheel_joints]
+            # contact_stiffness 0: Bullet's rigid contacts (the adapter before issue 9)
+            compliance = ({"contactStiffness": float(params["contact_stiffness"]),
+                           "contactDamping": float(params["contact_damping"])}
+                          if float(params["contact_stiffness"]) > 0 else {})
             for link in range(-1, pb.getNumJoints(body, physicsClientId=cid)):
                 pb.changeDynamics(body, link, lateralFriction=1.0, rollingFriction=0.0, spinningFriction=0.0,
-                                  restitution=0.0, linearDamping=0.0, angularDamping=0.0, physicsClientId=cid)
+                                  restitution=0.0, linearDamping=0.0, angularDamping=0.0, **compliance,
+                                  physicsClientId=cid)
             bodies.append(body)
         return bodies, wheel_index
 
