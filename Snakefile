@@ -1,6 +1,6 @@
 # simpick: the Farley, Wang & Marshall (2022) simulator study as a workflow.
 # Data flow: validate (engines against analytic mechanics) -> summary; terrain -> simulate -> traces -> metrics (+ cpu load) -> scores -> report;
-# the paper's own Table 11 is recomputed beside it.
+# the paper's own Table 11 is recomputed beside it; with a `sweep:` config, real-data error against speed per timestep.
 from snakemake.utils import min_version
 
 min_version("9.0")
@@ -15,6 +15,7 @@ include: "rules/validate.smk"
 include: "rules/simulate.smk"
 include: "rules/metrics.smk"
 include: "rules/real.smk"
+include: "rules/sweep.smk"
 include: "rules/scores.smk"
 include: "rules/published.smk"
 include: "rules/report.smk"
@@ -32,6 +33,7 @@ rule all:
             else []
         ),
         f"{OWN}/metrics/replay_summary.csv" if OWN_LOGS else [],
+        f"{SWEEP_DIR}/summary.csv" if SWEEP else [],
         "results/scores/weighted.csv",
         "results/published/table11.csv",
         "results/report/report.html",

@@ -127,6 +127,28 @@ def real_params(engine, terrain_class):
 SEGMENTS = read_segments(config["real_data"]["segments"])
 
 
+# Speed-accuracy sweep (rules/sweep.smk): timesteps as wildcard labels ("0.5ms")
+SWEEP = config.get("sweep")
+SWEEP_DIR = f"results/sweeps/{SWEEP['name']}" if SWEEP else None
+SWEEP_LABELS = [f"{t * 1000:g}ms" for t in SWEEP["timesteps"]] if SWEEP else []
+
+
+def sweep_params(engine, terrain_class, label):
+    """A segment job's parameters with the physics timestep of the sweep point."""
+    params = real_params(engine, terrain_class)
+    dt = dict(zip(SWEEP_LABELS, SWEEP["timesteps"]))[label]
+    return canonical(params | {"physics": params["physics"] | {"timestep": float(dt)}})
+
+
+def sweep_runs():
+    return [
+        f"{SWEEP_DIR}/runs/{engine}/{cls}/{label}.csv"
+        for engine in ENGINES
+        for cls in SEGMENTS
+        for label in SWEEP_LABELS
+    ]
+
+
 def segment_traces():
     return [
         f"{REAL}/segments/{engine}/{cls}/{segment}.parquet"
@@ -232,6 +254,8 @@ def report_real_inputs(wildcards):
         )
         inputs["real_logs"] = real_logs()
         inputs["replay_traces"] = replay_traces()
+    if SWEEP:
+        inputs["sweep"] = f"{SWEEP_DIR}/summary.csv"
     return inputs
 
 

@@ -186,6 +186,20 @@ class Validation(Strict):
         return self
 
 
+class Sweep(Strict):
+    name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")]
+    # s; 20 ms at most (a step that long skips whole contact events of a 0.33 m wheel at 1 m/s)
+    timesteps: Annotated[list[Annotated[float, Field(gt=0, le=0.02, allow_inf_nan=False)]], Field(min_length=1)]
+
+    @field_validator("timesteps")
+    @classmethod
+    def distinct(cls, timesteps):
+        labels = [f"{t * 1000:g}ms" for t in timesteps]
+        if len(set(labels)) != len(labels):
+            raise ValueError(f"timesteps must be distinct (to 6 significant digits in ms), got {timesteps}")
+        return timesteps
+
+
 class Accuracy(Strict):
     reference: Literal["real", "paper", "own"]
 
@@ -207,6 +221,7 @@ class Study(Strict):
     borealtc_dir: str | None = None
     real_dataset: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] | None = None
     own_logs: list[OwnLog] = []
+    sweep: Sweep | None = None
     real_data: RealData
     qualitative: str
     weights: dict[str, NonNegative]

@@ -109,6 +109,25 @@ def block_average(samples: np.ndarray, block: int) -> np.ndarray:
     return samples[:n].reshape(n // block, block, *samples.shape[1:]).mean(axis=1)
 
 
+def interval_average(samples: np.ndarray, timestep: float, period: float) -> np.ndarray:
+    """Average over consecutive output periods of a signal held constant over each physics step.
+
+    Row i of ``samples`` holds over (i dt, (i + 1) dt]; output row k is its mean over
+    (k T, (k + 1) T] for every whole period T the samples cover. Where T is a whole number of
+    steps this is :func:`block_average`; otherwise a step that straddles two periods counts in
+    each by the time it spends there (the integral of a piecewise constant signal is piecewise
+    linear, so interpolating it at the period boundaries is exact).
+    """
+    steps = len(samples)
+    n = int(np.floor(steps * timestep / period + 1e-9))
+    flat = samples.reshape(steps, -1)
+    integral = np.vstack([np.zeros((1, flat.shape[1])), np.cumsum(flat, axis=0) * timestep])
+    knots = timestep * np.arange(steps + 1)
+    bounds = period * np.arange(n + 1)
+    at = np.column_stack([np.interp(bounds, knots, integral[:, j]) for j in range(flat.shape[1])])
+    return (np.diff(at, axis=0) / period).reshape(n, *samples.shape[1:])
+
+
 def sensor_output(specific_force: np.ndarray, gyro: np.ndarray, model: ImuModel,
                   rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
     """Add bias and seeded white noise, then saturate at the sensor's range."""

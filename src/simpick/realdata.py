@@ -95,31 +95,59 @@ def maintain_segments_job(derived_csv: str, derived_provenance: str, committed: 
           file=sys.stderr)
 
 
-def simulate_segments_job(segments_csv: str, urdf: str, outputs: list[str], params: dict) -> None:
-    """All segments of one terrain class on one engine (one job: short runs, one import)."""
+def simulate_segment(seg: pd.Series, urdf: str, params: dict) -> tuple[pd.DataFrame, dict]:
+    """One real segment's command driven on ``params["engine"]`` over its class's flat ground."""
     from simpick.health import HealthLimits
     from simpick.imu import ImuModel
     from simpick.simulate import Case, config_hash, run_case
+
+    friction = params["class"]["friction"]
+    case = Case(engine=params["engine"], terrain=params["terrain_class"], motion=seg.name, v=float(seg.v),
+                w=float(seg.w), duration=float(seg.settle + seg.duration), start=(0.0, 0.0, 0.0))
+    frame, meta = run_case(case, urdf=urdf, terrain=flat_terrain(params["terrain_class"], friction),
+                           track=params["robot"]["track"], max_wheel_torque=params["robot"]["max_wheel_torque"],
+                           timestep=params["physics"]["timestep"], ground_friction=friction,
+                           engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
+                           seed=int(params["seed"]), limits=HealthLimits(**params["health"]))
+    meta.update({"dataset": seg.dataset, "run": seg.run, "segment": seg.name,
+                 "window": [float(seg.settle), float(seg.settle + seg.duration)],
+                 "friction_source": params["class"].get("source", ""),
+                 "config_hash": config_hash(params)})
+    return frame, meta
+
+
+def class_segments(segments_csv: str, terrain_class: str) -> pd.DataFrame:
+    segments = load_segments(segments_csv)
+    return segments[segments.terrain_class == terrain_class].set_index("segment")
+
+
+def simulate_segments_job(segments_csv: str, urdf: str, outputs: list[str], params: dict) -> None:
+    """All segments of one terrain class on one engine (one job: short runs, one import)."""
     from simpick.traces import write_trace
 
-    segments = load_segments(segments_csv)
-    segments = segments[segments.terrain_class == params["terrain_class"]].set_index("segment")
-    friction = params["class"]["friction"]
-    terrain = flat_terrain(params["terrain_class"], friction)
+    segments = class_segments(segments_csv, params["terrain_class"])
     for output in outputs:
-        seg = segments.loc[Path(output).stem]
-        case = Case(engine=params["engine"], terrain=params["terrain_class"], motion=seg.name, v=float(seg.v),
-                    w=float(seg.w), duration=float(seg.settle + seg.duration), start=(0.0, 0.0, 0.0))
-        frame, meta = run_case(case, urdf=urdf, terrain=terrain, track=params["robot"]["track"],
-                               max_wheel_torque=params["robot"]["max_wheel_torque"],
-                               timestep=params["physics"]["timestep"], ground_friction=friction,
-                               engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
-                               seed=int(params["seed"]), limits=HealthLimits(**params["health"]))
-        meta.update({"dataset": seg.dataset, "run": seg.run, "segment": seg.name,
-                     "window": [float(seg.settle), float(seg.settle + seg.duration)],
-                     "friction_source": params["class"].get("source", ""),
-                     "config_hash": config_hash(params)})
+        frame, meta = simulate_segment(segments.loc[Path(output).stem], urdf, params)
         write_trace(frame, meta, output)
+
+
+def segment_row(frame: pd.DataFrame, meta: dict, seg: pd.Series, track: float) -> dict:
+    """One simulated segment against its real statistics: Eq. 7 errors, yaw-rate gain, speed."""
+    row = {"engine": meta["engine"], "terrain_class": seg.terrain_class, "segment": seg.name, "run": seg.run,
+           "kind": seg.kind, "status": meta["health"]["status"], "reasons": "; ".join(meta["health"]["reasons"]),
+           "yaw_rate_gain_real": seg.yaw_rate_gain}
+    if row["status"] == "ok":
+        lo, hi = meta["window"]
+        window = frame[(frame.time > lo) & (frame.time <= hi)]
+        stats = metrics.trace_stats(window)
+        for q in QUANTITIES:
+            real = {a: {"mean": seg[f"{q}_{a}_mean"], "range": seg[f"{q}_{a}_range"]} for a in AXES}
+            row[f"error_{q}"] = metrics.test_error(stats[q], real)
+        row["yaw_rate_gain_sim"] = (realmetrics.yaw_rate_gain(
+            window.wz.to_numpy(), np.full(len(window), seg.v_left), np.full(len(window), seg.v_right), track)
+            if seg.kind == "turning" else float("nan"))
+        row["speed_sim"] = float(window.v_forward.mean())
+    return row
 
 
 def segment_metrics_job(segments_csv: str, traces: list[str], track: float, outputs: dict) -> None:
@@ -129,22 +157,7 @@ def segment_metrics_job(segments_csv: str, traces: list[str], track: float, outp
     rows = []
     for path in traces:
         frame, meta = read_trace(path)
-        seg = segments.loc[meta["segment"]]
-        row = {"engine": meta["engine"], "terrain_class": seg.terrain_class, "segment": seg.name, "run": seg.run,
-               "kind": seg.kind, "status": meta["health"]["status"], "reasons": "; ".join(meta["health"]["reasons"]),
-               "yaw_rate_gain_real": seg.yaw_rate_gain}
-        if row["status"] == "ok":
-            lo, hi = meta["window"]
-            window = frame[(frame.time > lo) & (frame.time <= hi)]
-            stats = metrics.trace_stats(window)
-            for q in QUANTITIES:
-                real = {a: {"mean": seg[f"{q}_{a}_mean"], "range": seg[f"{q}_{a}_range"]} for a in AXES}
-                row[f"error_{q}"] = metrics.test_error(stats[q], real)
-            row["yaw_rate_gain_sim"] = (realmetrics.yaw_rate_gain(
-                window.wz.to_numpy(), np.full(len(window), seg.v_left), np.full(len(window), seg.v_right), track)
-                if seg.kind == "turning" else float("nan"))
-            row["speed_sim"] = float(window.v_forward.mean())
-        rows.append(row)
+        rows.append(segment_row(frame, meta, segments.loc[meta["segment"]], track))
     per_test = pd.DataFrame(rows)
     write_csv(per_test, outputs["per_test"])
     _summaries(per_test, "terrain_class", outputs)

@@ -18,7 +18,7 @@ from simpick import terrain as terrain_io
 from simpick.engines import get_engine
 from simpick.engines.base import PhysicsRecord, Scenario
 from simpick.health import HealthLimits, check
-from simpick.imu import ImuModel, block_average, euler_rpy, rotation_matrices, sensor_output
+from simpick.imu import ImuModel, block_average, euler_rpy, interval_average, rotation_matrices, sensor_output
 from simpick.motions import constant_commands
 from simpick.robot import RobotSpec, load_robot
 from simpick.traces import write_trace
@@ -48,10 +48,20 @@ class Case:
 def to_trace(record: PhysicsRecord, commands: np.ndarray, timestep: float, imu: ImuModel,
              rng: np.random.Generator) -> dict[str, np.ndarray]:
     """Physics-rate record of robot 0 -> IMU-rate trace columns (see simpick.traces.UNITS)."""
-    block = int(round(1.0 / (imu.rate_hz * timestep)))
-    accel, gyro = sensor_output(block_average(record.imu_specific_force, block),
-                                block_average(record.imu_gyro, block), imu, rng)
-    at = np.arange(block - 1, (len(record.time) // block) * block, block)  # last step of each block
+    ratio = 1.0 / (imu.rate_hz * timestep)
+    block = int(round(ratio))
+    if abs(ratio - block) < 1e-6 and block >= 1:  # the IMU period is a whole number of steps
+        accel, gyro = sensor_output(block_average(record.imu_specific_force, block),
+                                    block_average(record.imu_gyro, block), imu, rng)
+        at = np.arange(block - 1, (len(record.time) // block) * block, block)  # last step of each block
+        time = record.time[at]
+    else:  # e.g. a 4 ms step for a 100 Hz IMU (the timestep sweep): average by time, not by step
+        period = 1.0 / imu.rate_hz
+        force = interval_average(record.imu_specific_force, timestep, period)
+        accel, gyro = sensor_output(force, interval_average(record.imu_gyro, timestep, period), imu, rng)
+        time = period * np.arange(1, len(force) + 1)
+        # the state at the last step that ends at or before each IMU sample
+        at = np.floor(time / timestep + 1e-9).astype(int) - 1
     quat = record.quaternion[at]
     rpy = euler_rpy(quat)
     vel = record.linear_velocity[at]
@@ -59,7 +69,7 @@ def to_trace(record: PhysicsRecord, commands: np.ndarray, timestep: float, imu: 
     body_rate = np.einsum("nji,nj->ni", rotation_matrices(quat), record.angular_velocity[at])
     cmd = commands[at, 0]
     frame = {
-        "time": record.time[at],
+        "time": time,
         "ax": accel[:, 0], "ay": accel[:, 1], "az": accel[:, 2],
         "wx": gyro[:, 0], "wy": gyro[:, 1], "wz": gyro[:, 2],
         "x": record.position[at, 0], "y": record.position[at, 1], "z": record.position[at, 2],

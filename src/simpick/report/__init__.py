@@ -36,6 +36,7 @@ from typing import Any
 
 REQUIRED_INPUTS: tuple[str, ...] = ("weighted", "runs")
 OPTIONAL_INPUTS: tuple[str, ...] = (
+    "sweep",
     "trace_stats",
     "reference_stats",
     "imu_errors",

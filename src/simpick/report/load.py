@@ -26,6 +26,8 @@ COLUMNS: dict[str, tuple[str, ...]] = {
     "rtf": ("engine", "sim_time", "wall_time", "real_time_factor", "n_runs"),
     "table11": (*METRICS, "total", "total_from_published_scores", "published_total"),
     "table11_comparison": ("simulator", "metric", "published", "recomputed", "difference", "matches"),
+    "sweep": ("terrain_class", "engine", "timestep", "n_segments", "n_failed", "n_compared", "excluded",
+              "error_angular", "error_linear", "gain_error", "real_time_factor", "steps_per_s"),
     "validation": ("engine", "case", "kind", "quantity", "unit", "engine_value", "analytic_value", "error",
                    "error_kind", "tolerance", "passed", "status"),
     # real robot data (rules/real.smk, simpick.realdata)
@@ -86,6 +88,8 @@ class ReportData:
     accuracy_errors: pd.DataFrame | None = None
     # engines against analytic mechanics (rules/validate.smk)
     validation: pd.DataFrame | None = None
+    # speed-accuracy sweep (rules/sweep.smk), when the study ran with one
+    sweep: pd.DataFrame | None = None
     # real robot data: the committed segment table, and per set ("segments", "replay") its tables
     segments: pd.DataFrame | None = None
     segments_provenance: dict | None = None
@@ -169,7 +173,7 @@ def load_inputs(inputs: Mapping[str, Any]) -> ReportData:
             sources[key] = str(p)
             kw[key] = _csv(key, p, index)
 
-    for key in ("accuracy_errors", "segments", "replay_per_window", "validation"):
+    for key in ("accuracy_errors", "segments", "replay_per_window", "validation", "sweep"):
         if given(key):
             p = _path(key, inputs[key])
             sources[key] = str(p)

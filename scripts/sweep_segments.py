@@ -1,0 +1,5 @@
+from simpick.sweep import sweep_job
+from simpick.workflow import logged
+
+with logged(snakemake.log[0]):
+    sweep_job(snakemake.input.segments, snakemake.input.urdf, snakemake.params.case, snakemake.output[0])

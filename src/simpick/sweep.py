@@ -1,0 +1,80 @@
+"""Speed-accuracy sweeps: every engine over the committed real segments at several physics timesteps.
+
+A sweep config (``config/sweeps/timestep.yaml``) names the timesteps; the workflow
+(``rules/sweep.smk``) runs one job per engine x terrain class x timestep, each driving every
+segment of the class and writing one row per segment: the real-data errors of
+:func:`simpick.realdata.segment_row`, the simulated and wall seconds, the health status.
+:func:`sweep_summary_job` then puts, per class, engine and timestep, the mean errors next to the
+real-time factor (simulated seconds / wall seconds of the stepping loop).
+
+Equal comparisons: at each class and timestep the errors are averaged over the segments every
+engine ran healthily; a segment any engine failed is left out for all and listed, and an engine's
+failed segments are counted, never averaged in.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from simpick.workflow import write_csv
+
+SUMMARY_COLUMNS = ("terrain_class", "engine", "timestep", "n_segments", "n_failed", "n_compared", "excluded",
+                   "error_angular", "error_linear", "gain_error", "real_time_factor", "steps_per_s")
+
+
+def timestep_label(timestep: float) -> str:
+    """0.0005 -> '0.5ms' (the wildcard and file name of a timestep)."""
+    return f"{timestep * 1000:g}ms"
+
+
+def timestep_from_label(label: str) -> float:
+    if not label.endswith("ms"):
+        raise ValueError(f"timestep label {label!r} does not end in 'ms'")
+    return float(label[:-2]) / 1000.0
+
+
+def sweep_job(segments_csv: str, urdf: str, params: dict, output: str) -> None:
+    """Every segment of one class on one engine at ``params["physics"]["timestep"]``: one CSV row each."""
+    from simpick.realdata import class_segments, segment_row, simulate_segment
+
+    segments = class_segments(segments_csv, params["terrain_class"])
+    dt = float(params["physics"]["timestep"])
+    rows = []
+    for name in segments.index:
+        seg = segments.loc[name]
+        frame, meta = simulate_segment(seg, urdf, params)
+        row = segment_row(pd.DataFrame(frame), meta, seg, params["robot"]["track"])
+        row.update({"timestep": dt, "steps": int(meta["steps"]), "sim_time": int(meta["steps"]) * dt,
+                    "wall_time": float(meta["wall_time"])})
+        rows.append(row)
+    write_csv(pd.DataFrame(rows), output)
+
+
+def summarise(runs: pd.DataFrame) -> pd.DataFrame:
+    """Per class, engine and timestep: errors over the segments every engine ran healthily, RTF."""
+    out = []
+    for (cls, dt), group in runs.groupby(["terrain_class", "timestep"], sort=True):
+        bad = sorted(set(group.loc[group.status != "ok", "segment"]))
+        compared = group[~group.segment.isin(bad)]
+        for engine, g in group.groupby("engine", sort=True):
+            c = compared[compared.engine == engine]
+            turning = c[c.kind == "turning"]
+            ok = g[g.status == "ok"]
+            wall = float(ok.wall_time.sum())
+            out.append({
+                "terrain_class": cls, "engine": engine, "timestep": dt, "n_segments": len(g),
+                "n_failed": int((g.status != "ok").sum()), "n_compared": len(c), "excluded": "; ".join(bad),
+                "error_angular": float(c.error_angular.mean()) if len(c) else np.nan,
+                "error_linear": float(c.error_linear.mean()) if len(c) else np.nan,
+                "gain_error": (float((turning.yaw_rate_gain_sim - turning.yaw_rate_gain_real).abs().mean())
+                               if len(turning) else np.nan),
+                "real_time_factor": float(ok.sim_time.sum()) / wall if wall > 0 else np.nan,
+                "steps_per_s": float(ok.steps.sum()) / wall if wall > 0 else np.nan,
+            })
+    return pd.DataFrame(out, columns=list(SUMMARY_COLUMNS))
+
+
+def sweep_summary_job(inputs: list[str], output: str) -> None:
+    runs = pd.concat([pd.read_csv(p, dtype={"run": str}) for p in inputs], ignore_index=True)
+    write_csv(summarise(runs), output)

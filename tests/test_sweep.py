@@ -1,0 +1,141 @@
+"""The speed-accuracy sweep: its config, the IMU at a timestep that does not divide the IMU period,
+the equal-comparison summary, the report section and a tiny sweep through the workflow."""
+
+import copy
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from conftest import ROOT, drive, snakemake, tiny_config, write_config
+from simpick.config import problems
+from simpick.imu import block_average, interval_average
+from simpick.sweep import summarise, timestep_from_label, timestep_label
+
+CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
+SWEEP = yaml.safe_load((ROOT / "config" / "sweeps" / "timestep.yaml").read_text())
+
+
+def with_sweep(sweep):
+    config = copy.deepcopy(CONFIG)
+    config["sweep"] = sweep
+    return "\n".join(problems(config))
+
+
+def test_the_shipped_sweep_config_is_valid():
+    assert with_sweep(SWEEP["sweep"]) == ""
+    assert SWEEP["sweep"]["timesteps"] == [0.0005, 0.001, 0.002, 0.004]
+
+
+@pytest.mark.parametrize("sweep, expected", [
+    ({"name": "t", "timesteps": [0.001, 0.001]}, "timesteps must be distinct"),
+    ({"name": "t", "timesteps": [0.05]}, "sweep.timesteps.0: Input should be less than or equal to 0.02"),
+    ({"name": "t", "timesteps": [0]}, "sweep.timesteps.0: Input should be greater than 0"),
+    ({"name": "t", "timesteps": []}, "sweep.timesteps: List should have at least 1 item"),
+    ({"name": "my sweep", "timesteps": [0.001]}, "sweep.name: String should match pattern"),
+    ({"timesteps": [0.001]}, "sweep.name: Field required"),
+])
+def test_a_bad_sweep_is_named(sweep, expected):
+    assert expected in with_sweep(sweep)
+
+
+def test_labels_round_trip():
+    for dt in SWEEP["sweep"]["timesteps"]:
+        assert timestep_from_label(timestep_label(dt)) == pytest.approx(dt)
+    assert timestep_label(0.0005) == "0.5ms"
+
+
+# ------------------------------------------------------------ the IMU at any timestep
+
+def test_interval_average_is_the_block_average_where_the_period_is_whole_steps():
+    x = np.random.default_rng(1).normal(size=(1000, 3))
+    np.testing.assert_allclose(interval_average(x, 0.001, 0.01), block_average(x, 10), atol=1e-12)
+
+
+def test_interval_average_weighs_a_straddling_step_by_its_time():
+    # 4 ms steps holding 0, 1, 2, ...: the first 10 ms are 4 ms of 0, 4 ms of 1 and 2 ms of 2
+    out = interval_average(np.arange(10.0)[:, None], 0.004, 0.01).ravel()
+    np.testing.assert_allclose(out, [0.8, 3.2, 5.8, 8.2])
+    # a constant stays exactly that constant, whatever the ratio
+    np.testing.assert_allclose(interval_average(np.full((997, 2), 9.81), 0.0007, 0.01), 9.81)
+
+
+def test_a_4ms_step_gives_a_100hz_imu_at_rest(robot):
+    """At rest the IMU reads g on z and nothing else; its samples are 10 ms apart although
+    2.5 physics steps make one sample."""
+    from simpick.health import HealthLimits
+    from simpick.imu import ImuModel
+    from simpick.simulate import Case, run_case
+
+    case = Case(engine="mujoco", terrain="flat", motion="rest", v=0.0, w=0.0, duration=2.0, start=(0.0, 0.0, 0.0))
+    terrain = {"schema": "simpick.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": 0.8}
+    frame, meta = run_case(case, urdf=str(ROOT / "resources/robot/husky_a200.urdf"), terrain=terrain, track=0.555,
+                           max_wheel_torque=100.0, timestep=0.004, ground_friction=0.8, engine_settings={},
+                           imu=ImuModel(rate_hz=100.0), seed=0, limits=HealthLimits())
+    frame = pd.DataFrame(frame)
+    np.testing.assert_allclose(np.diff(frame.time), 0.01, atol=1e-12)
+    assert len(frame) == 200 and meta["imu_rate_hz"] == 100.0
+    settled = frame[frame.time > 1.0]
+    assert settled.az.mean() == pytest.approx(9.81, abs=0.05)
+    assert settled.wz.abs().max() < 0.01
+
+
+# ------------------------------------------------------------ summary: equal comparisons
+
+def _runs():
+    rows = []
+    for engine, errors, status in (("a", (1.0, 2.0, 3.0), ("ok", "ok", "ok")),
+                                   ("b", (2.0, 9.0, 4.0), ("ok", "diverged", "ok"))):
+        for k, (err, st) in enumerate(zip(errors, status)):
+            rows.append({"engine": engine, "terrain_class": "ice", "segment": f"s{k}", "run": "1", "kind": "straight",
+                         "status": st, "error_angular": err if st == "ok" else np.nan,
+                         "error_linear": 10 * err if st == "ok" else np.nan, "yaw_rate_gain_real": np.nan,
+                         "yaw_rate_gain_sim": np.nan, "timestep": 0.001, "steps": 1000, "sim_time": 1.0,
+                         "wall_time": 0.1 if engine == "a" else 0.5})
+    return pd.DataFrame(rows)
+
+
+def test_a_segment_failed_by_one_engine_is_left_out_for_all():
+    out = summarise(_runs()).set_index("engine")
+    assert out.loc["a", "n_compared"] == out.loc["b", "n_compared"] == 2
+    assert out.loc["a", "excluded"] == out.loc["b", "excluded"] == "s1"
+    assert out.loc["a", "error_angular"] == pytest.approx(2.0)  # s0 and s2, not s1 which it ran well
+    assert out.loc["b", "error_angular"] == pytest.approx(3.0)
+    assert (out.loc["a", "n_failed"], out.loc["b", "n_failed"]) == (0, 1)
+    # the real-time factor counts healthy runs only: 3 s in 0.3 s, 2 s in 1.0 s
+    assert out.loc["a", "real_time_factor"] == pytest.approx(10.0)
+    assert out.loc["b", "real_time_factor"] == pytest.approx(2.0)
+
+
+def test_the_report_section_pivots_by_timestep():
+    from simpick.report.sweep import sweep_section
+
+    runs = pd.concat([_runs(), _runs().assign(timestep=0.002, steps=500)], ignore_index=True)
+    section = sweep_section(summarise(runs), ["b", "a"], {"a": "#111111", "b": "#222222"})
+    assert section["given"] and section["uri"].startswith("data:image/png;base64,")
+    assert section["timesteps_ms"] == [1.0, 2.0]
+    assert [r["engine"] for r in section["rows"]] == ["b", "a"]  # the report's engine order
+    assert all(len(r["cells"]) == 2 for r in section["rows"])
+    assert section["failed"] == ["b ice 1 ms (1 of 3)", "b ice 2 ms (1 of 3)"]
+    assert sweep_section(None, ["a"], {})["given"] is False
+
+
+# ------------------------------------------------------------ through the workflow
+
+def test_a_tiny_sweep_runs_and_reruns_nothing(tmp_path):
+    config = tiny_config(tmp_path)
+    config["engines"] = {"mujoco": config["engines"]["mujoco"], "ode": config["engines"]["ode"]}
+    config["sweep"] = {"name": "tiny", "timesteps": [0.002, 0.004]}
+    write_config(tmp_path, config)
+    run = snakemake(tmp_path, "sweep")
+    assert run.returncode == 0, run.stderr[-3000:]
+    summary = pd.read_csv(tmp_path / "results/sweeps/tiny/summary.csv")
+    assert sorted(summary.engine.unique()) == ["mujoco", "ode"]
+    assert sorted(summary.timestep.unique()) == [0.002, 0.004]
+    assert (summary.n_segments == 2).all() and (summary.n_failed == 0).all()
+    assert summary.error_angular.notna().all() and (summary.real_time_factor > 1).all()
+    runs = pd.read_csv(tmp_path / "results/sweeps/tiny/runs/ode/flooring/4ms.csv")
+    assert (runs.timestep == 0.004).all() and np.allclose(runs.steps * 0.004, runs.sim_time)
+    again = snakemake(tmp_path, "sweep", "-n")
+    assert again.returncode == 0 and "Nothing to be done" in again.stdout + again.stderr
