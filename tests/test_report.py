@@ -232,6 +232,18 @@ def test_both_files_exist(built):
     assert not list(html.parent.glob("*.partial"))
 
 
+def test_the_pdf_job_makes_the_same_document_from_the_html(built, tmp_path):
+    """rules/report.smk renders the PDF from the HTML in a job of its own: the same document
+    (byte for byte but for WeasyPrint's time stamps and ids, so: same size within 0.5 %)."""
+    from simpick.report import html_to_pdf
+
+    _, html, pdf = built
+    again = tmp_path / "again.pdf"
+    html_to_pdf(html, again)
+    assert again.read_bytes().startswith(b"%PDF-")
+    assert abs(again.stat().st_size - pdf.stat().st_size) <= 0.005 * pdf.stat().st_size
+
+
 def test_ranking_table_has_engines_and_totals(built):
     inputs, html, _ = built
     text = html.read_text(encoding="utf-8")

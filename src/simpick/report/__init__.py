@@ -67,12 +67,16 @@ OPTIONAL_INPUTS: tuple[str, ...] = (
 # Inputs that are lists of paths (the workflow script passes these as lists).
 LIST_INPUTS: tuple[str, ...] = ("cpu", "traces", "real_logs", "replay_traces")
 
-__all__ = ["build_report", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
+__all__ = ["build_report", "html_to_pdf", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
 
 
 def build_report(inputs: Mapping[str, Any], params: Mapping[str, Any],
-                 html_path: str | Path, pdf_path: str | Path) -> None:
-    """Write the HTML report to ``html_path`` and the same document as PDF to ``pdf_path``."""
+                 html_path: str | Path, pdf_path: str | Path | None = None) -> None:
+    """Write the HTML report to ``html_path`` and, if ``pdf_path`` is given, the same document as PDF.
+
+    The workflow renders the PDF in a job of its own (:func:`html_to_pdf`), so that the HTML
+    of a rerun is there before WeasyPrint has laid out the pages.
+    """
     from simpick.report.build import render_html, write_pdf
     from simpick.report.load import load_inputs
 
@@ -93,6 +97,22 @@ def build_report(inputs: Mapping[str, Any], params: Mapping[str, Any],
     tmp = html_path.with_name(html_path.name + ".partial")
     tmp.write_text(html, encoding="utf-8")
     tmp.replace(html_path)
+    if pdf_path is None:
+        print(f"report: figures and HTML {rendered - start:.1f} s", file=sys.stderr)
+        return
     write_pdf(html, pdf_path, base_url=str(html_path.parent))
     print(f"report: figures and HTML {rendered - start:.1f} s, PDF {time.perf_counter() - rendered:.1f} s",
           file=sys.stderr)
+
+
+def html_to_pdf(html_path: str | Path, pdf_path: str | Path) -> None:
+    """The report's PDF from its HTML (figures are embedded, so the HTML alone suffices)."""
+    import sys
+    import time
+
+    from simpick.report.build import write_pdf
+
+    start = time.perf_counter()
+    html_path = Path(html_path)
+    write_pdf(html_path.read_text(encoding="utf-8"), pdf_path, base_url=str(html_path.parent))
+    print(f"report: PDF {time.perf_counter() - start:.1f} s", file=sys.stderr)
