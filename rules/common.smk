@@ -218,6 +218,23 @@ OWN = "results/real/own"
 OWN_LOGS = {entry["name"]: entry for entry in config.get("own_logs") or []}
 
 
+def statistics_params():
+    """How many independent runs a real-data interval or verdict needs, and at what level."""
+    from simpick.config import Statistics
+
+    return canonical(Statistics(**(config.get("statistics") or {})).model_dump())
+
+
+def report_config():
+    """The slice of the config the report shows and reads: terrains (strip geometry), motions
+    (commanded paths, test order) and the track."""
+    return {
+        "terrains": config["terrains"],
+        "motions": config["motions"],
+        "robot": {"track": config["robot"]["track"]},
+    }
+
+
 def accuracy_errors():
     """The Eq. 7 totals the accuracy scores rest on (see accuracy.reference in the config)."""
     if config["accuracy"]["reference"] == "paper":

@@ -44,6 +44,7 @@ rule segment_metrics:
         imu_errors=f"{REAL}/metrics/segments_imu_errors.csv",
     params:
         track=canonical(config["robot"]["track"]),
+        statistics=statistics_params(),
     log:
         "results/logs/real/segment_metrics.log",
     conda:
@@ -130,7 +131,11 @@ if REPLAY_SET:
             imu_errors=f"{REPLAY}/metrics/replay_imu_errors.csv",
         params:
             settings=canonical(
-                {"track": config["robot"]["track"], "window": config["real_data"]["window"]}
+                {
+                    "track": config["robot"]["track"],
+                    "window": config["real_data"]["window"],
+                    "statistics": statistics_params(),
+                }
             ),
         log:
             f"results/logs/real/{REPLAY_SET.name}/replay_metrics.log",
@@ -244,7 +249,11 @@ if OWN_LOGS:
             imu_errors=f"{OWN}/metrics/replay_imu_errors.csv",
         params:
             settings=canonical(
-                {"track": config["robot"]["track"], "window": config["real_data"]["window"]}
+                {
+                    "track": config["robot"]["track"],
+                    "window": config["real_data"]["window"],
+                    "statistics": statistics_params(),
+                }
             ),
         log:
             "results/logs/real/own/replay_metrics.log",

@@ -20,7 +20,10 @@ rule report:
         pdf="results/report/report.pdf",
     params:
         weights=canonical(config["weights"]),
-        config=canonical(config),
+        # only the keys the report reads (strip geometry, commanded paths, test order): an edit
+        # elsewhere reaches it through its inputs or not at all
+        config=canonical(report_config()),
+        statistics=statistics_params(),
         accuracy=canonical(
             {
                 "reference": config["accuracy"]["reference"],

@@ -10,7 +10,8 @@ Two ways in:
   target ``maintain_segments`` copies it over the committed one.
 
 Both produce the paper's Eq. 7 errors per test (so they can feed the accuracy scores), the
-yaw-rate gain, and per-engine summaries with 95 % bootstrap intervals over runs.
+yaw-rate gain, and per-engine summaries over runs: intervals and paired verdicts only from
+the config's ``statistics.min_runs`` independent runs on (:mod:`simpick.realmetrics`).
 """
 
 from __future__ import annotations
@@ -150,7 +151,8 @@ def segment_row(frame: pd.DataFrame, meta: dict, seg: pd.Series, track: float) -
     return row
 
 
-def segment_metrics_job(segments_csv: str, traces: list[str], track: float, outputs: dict) -> None:
+def segment_metrics_job(segments_csv: str, traces: list[str], track: float, outputs: dict,
+                        statistics: dict | None = None) -> None:
     from simpick.traces import read_trace
 
     segments = load_segments(segments_csv).set_index("segment")
@@ -160,7 +162,7 @@ def segment_metrics_job(segments_csv: str, traces: list[str], track: float, outp
         rows.append(segment_row(frame, meta, segments.loc[meta["segment"]], track))
     per_test = pd.DataFrame(rows)
     write_csv(per_test, outputs["per_test"])
-    _summaries(per_test, "terrain_class", outputs)
+    _summaries(per_test, "terrain_class", outputs, statistics)
 
 
 # --- full replay ----------------------------------------------------------------------------------
@@ -285,7 +287,7 @@ def replay_metrics_job(logs: list[str], traces: list[str], params: dict, outputs
     per_test = pd.concat([per_run, failed], ignore_index=True)
     per_test["segment"] = per_test["terrain_class"] + "-" + per_test["run"]
     write_csv(per_test, outputs["per_test"])
-    _summaries(per_test, "terrain_class", outputs)
+    _summaries(per_test, "terrain_class", outputs, params.get("statistics"))
 
 
 # --- summaries shared by both -------------------------------------------------------------------------
@@ -293,16 +295,21 @@ def replay_metrics_job(logs: list[str], traces: list[str], params: dict, outputs
 FIGURES = ("error_angular", "error_linear", "yaw_rate_gain_sim", "rmse_yaw_rate", "rmse_ax", "psd_distance_az")
 
 
-def _summaries(per_test: pd.DataFrame, group: str, outputs: dict) -> None:
-    """Per engine and terrain class: mean and 95 % bootstrap CI of every figure over tests;
-    paired engine differences; and the Eq. 7 totals in the lab study's imu_errors layout."""
+def _summaries(per_test: pd.DataFrame, group: str, outputs: dict, statistics: dict | None = None) -> None:
+    """Per engine and terrain class: every figure's mean over runs (a run's tests averaged first:
+    segments and windows of one run are not independent) with its BCa bootstrap interval from
+    ``statistics["min_runs"]`` runs on; paired engine differences judged by a sign-flip
+    permutation test over runs (``too few runs`` below the minimum); and the Eq. 7 totals in
+    the lab study's imu_errors layout."""
+    stats = {"min_runs": realmetrics.MIN_RUNS, "level": 0.95} | dict(statistics or {})
+    min_runs, level = int(stats["min_runs"]), float(stats["level"])
     ok = per_test[per_test.status == "ok"]
     rows = []
     for (engine, cls), g in ok.groupby(["engine", group]):
-        row = {"engine": engine, group: cls, "n_tests": len(g)}
+        row = {"engine": engine, group: cls, "n_tests": len(g), "n_runs": int(g["run"].nunique())}
         for fig in FIGURES + ("yaw_rate_gain_real",):
             if fig in g:
-                mean, lo, hi = realmetrics.bootstrap_ci(g[fig].to_numpy(), seed=0)
+                mean, lo, hi, _ = realmetrics.mean_ci(g[fig].to_numpy(), g["run"].to_numpy(), min_runs, level)
                 row.update({fig: mean, f"{fig}_low": lo, f"{fig}_high": hi})
         rows.append(row)
     summary = pd.DataFrame(rows)
@@ -312,18 +319,22 @@ def _summaries(per_test: pd.DataFrame, group: str, outputs: dict) -> None:
     engines = sorted(ok.engine.unique())
     for cls, g in ok.groupby(group):
         wide = g.pivot_table(index="segment", columns="engine", values=["error_angular", "error_linear"])
+        run_of = g.drop_duplicates("segment").set_index("segment")["run"]
         for i, a in enumerate(engines):
             for b in engines[i + 1:]:
                 for fig in ("error_angular", "error_linear"):
                     if (fig, a) not in wide or (fig, b) not in wide:
                         continue
-                    mean, lo, hi = realmetrics.paired_difference_ci(wide[(fig, a)], wide[(fig, b)], seed=0)
-                    verdict = ("too few tests" if np.isnan(lo) else
-                               f"{b} closer" if lo > 0 else f"{a} closer" if hi < 0 else "no clear difference")
+                    t = realmetrics.paired_test(wide[(fig, a)], wide[(fig, b)], run_of.reindex(wide.index).to_numpy(),
+                                                min_runs, level)
+                    verdict = {"a": f"{b} closer", "b": f"{a} closer"}.get(t["verdict"], t["verdict"])
+                    if verdict == "too few runs":
+                        verdict = f"too few runs ({t['n_runs']} < {min_runs})"
                     pairs.append({group: cls, "figure": fig, "engine_a": a, "engine_b": b,
-                                  "mean_a_minus_b": mean, "low": lo, "high": hi, "verdict": verdict})
+                                  "mean_a_minus_b": t["mean"], "low": t["low"], "high": t["high"],
+                                  "p_value": t["p_value"], "n_runs": t["n_runs"], "verdict": verdict})
     write_csv(pd.DataFrame(pairs, columns=[group, "figure", "engine_a", "engine_b", "mean_a_minus_b",
-                                            "low", "high", "verdict"]), outputs["pairwise"])
+                                            "low", "high", "p_value", "n_runs", "verdict"]), outputs["pairwise"])
 
     write_csv(metrics.eq7_totals(per_test.rename(columns={"segment": "test"})), outputs["imu_errors"])
 
