@@ -4,6 +4,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from conftest import ROOT
 from simpick import metrics
 from simpick.imu import ImuModel, block_average, imu_from_kinematics, sensor_output
 from simpick.published import load_published
@@ -136,7 +137,11 @@ def test_lab_totals_leave_out_a_test_any_engine_failed(tmp_path):
     assert set(errors.excluded) == {"gravel/straight"}
     runs = pd.read_csv(outputs["runs"])
     assert runs.set_index("engine").status.to_dict() == {"a": "ok", "b": "failed"}
-    assert list(pd.read_csv(outputs["rtf"]).engine) == ["a"]  # a failed run does not count for speed either
+    # a failed run does not count for speed either: its test is left out for every engine, so here
+    # no engine has a real-time factor
+    rtf = pd.read_csv(outputs["rtf"])
+    assert list(rtf.engine) == ["a", "b"] and rtf.real_time_factor.isna().all()
+    assert (rtf.excluded == "gravel/straight").all() and (rtf.n_runs == 0).all()
 
 
 def test_rotation_matrices_and_quaternions_round_trip():
@@ -148,3 +153,35 @@ def test_rotation_matrices_and_quaternions_round_trip():
     q *= np.where(q[:, :1] < 0, -1.0, 1.0)  # the canonical sign (w >= 0)
     q[:4] = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]  # every branch of the conversion
     np.testing.assert_allclose(matrices_to_quaternions(rotation_matrices(q)), q, atol=1e-12)
+
+
+def test_real_time_factor_covers_the_same_tests_for_every_engine():
+    """Issue 13: an engine failing the slow terrain must not look faster for it."""
+    from simpick.workflow import equal_rtf
+
+    runs = pd.DataFrame({"engine": ["a", "a", "b", "b"], "terrain": ["grass", "gravel"] * 2,
+                         "motion": ["straight"] * 4, "sim_time": [10.0, 10.0, 10.0, 10.0],
+                         "wall_time": [1.0, 9.0, 2.0, 0.5], "status": ["ok", "ok", "ok", "failed"]})
+    rtf = equal_rtf(runs).set_index("engine")
+    assert rtf.loc["a", "real_time_factor"] == pytest.approx(10.0)  # grass only, not 20 / 10
+    assert rtf.loc["b", "real_time_factor"] == pytest.approx(5.0)
+    assert (rtf.n_runs == 1).all() and (rtf.excluded == "gravel/straight").all() and (rtf.tests == "grass/straight").all()
+
+
+def test_cpu_load_runs_are_health_checked(tmp_path):
+    from simpick import terrain
+    from simpick.cpuload import measure
+    from simpick.health import HealthLimits
+
+    path = tmp_path / "flat.json"
+    terrain.save(terrain.generate("flat", "flat", 0, 0.8, tiles=0), path)
+    common = dict(urdf=str(ROOT / "resources/robot/husky_a200.urdf"), terrain_file=str(path),
+                  motion={"v": 0.5, "w": 0.0, "start": [0.0, 0.0, 0.0]}, timestep=0.001, ground_friction=0.8,
+                  max_wheel_torque=100.0, track=0.555, engine_settings={}, duration=0.3, repeats=1,
+                  robots_average=1, robots_intense=2, spacing=1.2)
+    ok = measure("mujoco", **common, limits=HealthLimits())
+    assert ok["health"] == {"status": "ok", "reasons": [], "checked": True}
+    # limits no real run can meet: the measurement is failed, with the reason
+    bad = measure("mujoco", **common, limits=HealthLimits(max_speed=0.01))
+    assert bad["health"]["status"] == "failed"
+    assert any(r.startswith("average (1 robots): exploded") for r in bad["health"]["reasons"])

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pandas as pd
 import pytest
@@ -269,3 +270,30 @@ def test_scores_job_against_hand_computed_values(tmp_path) -> None:  # type: ign
     # b: 6 + 3 x 0.667 + 6 + 4 + 3 + 4 + 2 x 0.5 + 2 + 10 + 10
     assert b.total == pytest.approx(6 + 2.001 + 6 + 4 + 3 + 4 + 1 + 2 + 20, abs=1e-5)
     assert list(weighted.index) == ["b", "a"] and (b["rank"], a["rank"]) == (1, 2)
+
+
+def test_a_failed_cpu_run_is_not_scored(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    import json
+
+    import yaml
+
+    from simpick.workflow import scores_job
+
+    fact = {"free": True, "open_source": True, "ros": "none", "languages": ["Python"], "ui": "none",
+            "model_formats": ["URDF"], "urdf_sdf_via_manual_plugin": False, "physics_engines": ["one"]}
+    (tmp_path / "facts.yaml").write_text(yaml.safe_dump({"a": fact, "b": fact}))
+    pd.DataFrame({"engine": ["a", "a", "b", "b"], "quantity": ["angular", "linear"] * 2,
+                  "error": [1.0, 1.0, 1.0, 1.0]}).to_csv(tmp_path / "errors.csv", index=False)
+    pd.DataFrame({"engine": ["a", "b"], "real_time_factor": [1.0, 1.0]}).to_csv(tmp_path / "rtf.csv", index=False)
+    cpu = []
+    for engine, load, status in (("a", 50.0, "ok"), ("b", 10.0, "failed")):  # b fell through: cheap, not good
+        cpu.append(str(tmp_path / f"{engine}.json"))
+        Path(cpu[-1]).write_text(json.dumps({"engine": engine, "average": {"load_percent": load},
+                                             "intense": {"load_percent": load},
+                                             "health": {"status": status, "reasons": ["fell through"]}}))
+    outputs = {"scores": str(tmp_path / "scores.csv"), "weighted": str(tmp_path / "weighted.csv")}
+    scores_job(["a", "b"], str(tmp_path / "errors.csv"), str(tmp_path / "rtf.csv"), cpu,
+               str(tmp_path / "facts.yaml"), dict(sc.DEFAULT_WEIGHTS), outputs)
+    weighted = pd.read_csv(outputs["weighted"], index_col="engine")
+    assert weighted.loc["a", "cpu_average"] == 1.0 and math.isnan(weighted.loc["b", "cpu_average"])
+    assert weighted.loc["b", "excluded"] == "cpu_average,cpu_intense"
