@@ -407,3 +407,65 @@ def import_own_job(entry: dict, output: str, track: float) -> None:
         log = read_bag(bag, entry["imu_topic"], entry["command_topic"], track=track, meta=meta, **options)
     log.meta.update(meta)
     write_canonical(log, output)
+
+
+# --- what the accuracy scores can tell apart -----------------------------------------------------
+
+def score_discrimination(per_test: pd.DataFrame, engines: list[str], floor_models: list[str],
+                         tests: list[str] | None = None, statistics: dict | None = None,
+                         resamples: int = 2000, seed: int = 0) -> dict:
+    """How much of each engine's Eq. 7 total is the engine, and whether its Eq. 8 score separates it.
+
+    - ``floor``: the smallest Eq. 7 total of the rigid reference models (``floor_models``, e.g.
+      kinematic and coulomb) over the same tests: the real vibration and sensor offsets no
+      rigid model produces. ``engine_part`` = E - floor (negative: closer than the reference
+      models), ``floor_share`` = floor / E.
+    - the score's uncertainty: the Eq. 8 scores recomputed over runs resampled with replacement
+      (each run's tests kept together, all engines resampled alike, seeded): a percentile
+      interval per engine, from ``statistics["min_runs"]`` runs on. The score ``separates``
+      the engines when its spread (largest minus smallest score) is larger than the half-width
+      of the widest interval; ``None`` when there are too few runs to say.
+
+    Returns {quantity: {"rows": [per engine], "spread", "half_width", "separates", "n_runs", "floor"}}.
+    """
+    from simpick.scoring import accuracy_scores
+
+    stats = {"min_runs": realmetrics.MIN_RUNS, "level": 0.95} | dict(statistics or {})
+    ok = per_test[per_test.status == "ok"]
+    if tests is not None:
+        ok = ok[ok.segment.isin(tests)]
+    ok = ok.assign(_unit=ok.terrain_class.astype(str) + "/" + ok.run.astype(str))
+    models = [m for m in engines + floor_models if m in set(ok.engine)]
+    out = {}
+    for q in QUANTITIES:
+        col = f"error_{q}"
+        if col not in ok or not models or not any(e in models for e in engines):
+            continue
+        wide = ok.pivot_table(index="_unit", columns="engine", values=col, aggfunc="sum")[models].dropna()
+        eng = [e for e in engines if e in wide.columns]
+        floors = [m for m in floor_models if m in wide.columns]
+        totals = wide.sum()
+        scores = accuracy_scores({e: float(totals[e]) for e in eng})
+        floor = float(totals[floors].min()) if floors else float("nan")
+        n_runs = len(wide)
+        low = {e: float("nan") for e in eng}
+        high = dict(low)
+        if n_runs >= max(int(stats["min_runs"]), 2):
+            rng = np.random.default_rng(seed)
+            values = wide[eng].to_numpy(float)
+            draws = values[rng.integers(0, n_runs, size=(resamples, n_runs))].sum(axis=1)  # (resamples, engines)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                boot = draws.min(axis=1, keepdims=True) / draws
+            alpha = (1 - float(stats["level"])) / 2
+            for i, e in enumerate(eng):
+                low[e], high[e] = (float(v) for v in np.nanquantile(boot[:, i], [alpha, 1 - alpha]))
+        rows = [{"engine": e, "error": float(totals[e]), "floor": floor, "engine_part": float(totals[e]) - floor,
+                 "floor_share": floor / float(totals[e]) if totals[e] > 0 else float("nan"),
+                 "score": scores[e], "score_low": low[e], "score_high": high[e]} for e in eng]
+        spread = max(scores.values()) - min(scores.values()) if scores else float("nan")
+        widths = [(high[e] - low[e]) / 2 for e in eng if np.isfinite(low[e])]
+        half = max(widths) if widths else float("nan")
+        out[q] = {"rows": rows, "spread": spread, "half_width": half, "n_runs": n_runs, "floor": floor,
+                  "floor_models": floors, "separates": (None if not widths else bool(spread > half)),
+                  "min_runs": int(stats["min_runs"])}
+    return out

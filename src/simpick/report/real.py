@@ -169,6 +169,19 @@ def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], cl
     dataset = acc.get("dataset")
     if data.segments is not None and "dataset" in data.segments.columns and len(data.segments):
         dataset = str(data.segments["dataset"].iloc[0]) or dataset
+    discrimination = None
+    per_test = data.real.get(kind, {}).get("per_test") if kind in REAL_SETS else None
+    if per_test is not None and "run" in per_test.columns:
+        from simpick.realdata import score_discrimination
+
+        scored = [e for e in engines if e in set(ie["engine"])]
+        floor_models = sorted(set(per_test["engine"]) - set(scored) - set(data.weighted.index))
+        if scored and floor_models:
+            discrimination = score_discrimination(per_test, scored, floor_models, tests=tests,
+                                                  statistics=statistics(params))
+            for d in discrimination.values():
+                shares = [r["floor_share"] for r in d["rows"] if not _isnan(r["floor_share"])]
+                d["engine_share_max"] = max(abs(1 - s) for s in shares) if shares else float("nan")
     n = len(tests)
     noun = {"segments": "constant-command segment", "replay": "replayed run",
             "real": "real-data test"}.get(kind, "test")
@@ -178,7 +191,7 @@ def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], cl
         "dataset": dataset, "rows": rows, "tests": tests, "n": len(tests), "same_for_all": len(sets) <= 1,
         "excluded": excluded, "groups": groups, "mismatch": mismatch,
         "uneven": {q: n for q, n in n_by_q.items() if len(n) > 1},
-        "lab_tests": lab_tests, "lab_scored": kind == "lab",
+        "lab_tests": lab_tests, "lab_scored": kind == "lab", "discrimination": discrimination,
         "unit_name": SET_UNITS.get(kind, "test"),
         "kind_title": SET_TITLES.get(kind, "real-data tests" if kind == "real" else "lab tests"),
     }
