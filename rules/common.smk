@@ -292,3 +292,21 @@ def report_datasets():
             "replay": replay_dataset() if REPLAY_SET else None,
         }
     )
+
+
+# --- library code as a rerun trigger ---
+# Snakemake reruns a job when its params change, not when imported library code does: each rule
+# carries the hash of the src/simpick files it runs (simpick.codeversion), so an edited metric or
+# engine adapter reruns what depends on it, and nothing else.
+from simpick.codeversion import code_version
+
+SIM_CODE = ("simulate.py", "imu.py", "health.py", "traces.py", "robot.py", "terrain.py", "motions.py",
+            "watchdog.py", "workflow.py", "engines/base.py", "engines/__init__.py")
+ENGINE_CODE = {"ode": ("engines/ode_engine.py", "engines/_ode.py"), "kinematic": ("engines/baselines.py",),
+               "coulomb": ("engines/baselines.py", "coulomb.py")}
+
+
+def engine_code(engine, *more):
+    """The code one engine's simulations run: the shared simulation code, its adapter, ``more``."""
+    own = ENGINE_CODE.get(engine, (f"engines/{engine}_engine.py",))
+    return code_version(*SIM_CODE, *own, *more)

@@ -24,6 +24,7 @@ rule report:
         # elsewhere reaches it through its inputs or not at all
         config=canonical(report_config()),
         statistics=statistics_params(),
+        code=code_version("report", "realdata.py", "realmetrics.py", "scoring.py", "metrics.py", "traces.py"),
         accuracy=canonical(
             {
                 "reference": config["accuracy"]["reference"],
