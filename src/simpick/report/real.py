@@ -174,8 +174,8 @@ def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], cl
     if per_test is not None and "run" in per_test.columns:
         from simpick.realdata import score_discrimination
 
-        scored = [e for e in engines if e in set(ie["engine"])]
-        floor_models = sorted(set(per_test["engine"]) - set(scored) - set(data.weighted.index))
+        scored = [e for e in engines if e in set(ie["engine"]) and e in set(data.weighted.index)]
+        floor_models = sorted(set(per_test["engine"]) - set(data.weighted.index))
         if scored and floor_models:
             discrimination = score_discrimination(per_test, scored, floor_models, tests=tests,
                                                   statistics=statistics(params))
