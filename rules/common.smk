@@ -218,6 +218,23 @@ OWN = "results/real/own"
 OWN_LOGS = {entry["name"]: entry for entry in config.get("own_logs") or []}
 
 
+def statistics_params():
+    """How many independent runs a real-data interval or verdict needs, and at what level."""
+    from simpick.config import Statistics
+
+    return canonical(Statistics(**(config.get("statistics") or {})).model_dump())
+
+
+def report_config():
+    """The slice of the config the report shows and reads: terrains (strip geometry), motions
+    (commanded paths, test order) and the track."""
+    return {
+        "terrains": config["terrains"],
+        "motions": config["motions"],
+        "robot": {"track": config["robot"]["track"]},
+    }
+
+
 def accuracy_errors():
     """The Eq. 7 totals the accuracy scores rest on (see accuracy.reference in the config)."""
     if config["accuracy"]["reference"] == "paper":
@@ -275,3 +292,21 @@ def report_datasets():
             "replay": replay_dataset() if REPLAY_SET else None,
         }
     )
+
+
+# --- library code as a rerun trigger ---
+# Snakemake reruns a job when its params change, not when imported library code does: each rule
+# carries the hash of the src/simpick files it runs (simpick.codeversion), so an edited metric or
+# engine adapter reruns what depends on it, and nothing else.
+from simpick.codeversion import code_version
+
+SIM_CODE = ("simulate.py", "imu.py", "health.py", "traces.py", "robot.py", "terrain.py", "motions.py",
+            "watchdog.py", "workflow.py", "engines/base.py", "engines/__init__.py")
+ENGINE_CODE = {"ode": ("engines/ode_engine.py", "engines/_ode.py"), "kinematic": ("engines/baselines.py",),
+               "coulomb": ("engines/baselines.py", "coulomb.py")}
+
+
+def engine_code(engine, *more):
+    """The code one engine's simulations run: the shared simulation code, its adapter, ``more``."""
+    own = ENGINE_CODE.get(engine, (f"engines/{engine}_engine.py",))
+    return code_version(*SIM_CODE, *own, *more)

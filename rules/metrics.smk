@@ -9,6 +9,8 @@ rule metrics:
         imu_errors="results/metrics/imu_errors.csv",
         runs="results/metrics/runs.csv",
         rtf="results/metrics/rtf.csv",
+    params:
+        code=code_version("metrics.py", "workflow.py", "reference.py", "published.py", "traces.py"),
     log:
         "results/logs/metrics.log",
     conda:

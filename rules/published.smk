@@ -5,6 +5,8 @@ rule published_table11:
         table11="results/published/table11.csv",
         comparison="results/published/table11_comparison.csv",
         worked_example="results/published/worked_example.json",
+    params:
+        code=code_version("published.py"),
     log:
         "results/logs/published.log",
     conda:

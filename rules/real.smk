@@ -19,6 +19,7 @@ for _cls, _ids in SEGMENTS.items():
             ),
         params:
             case=lambda wc, cls=_cls: real_params(wc.engine, cls),
+            code=lambda wc: engine_code(wc.engine, "realdata.py"),
         log:
             f"results/logs/real/segments/{{engine}}/{_cls}.log",
         benchmark:
@@ -44,6 +45,8 @@ rule segment_metrics:
         imu_errors=f"{REAL}/metrics/segments_imu_errors.csv",
     params:
         track=canonical(config["robot"]["track"]),
+        statistics=statistics_params(),
+        code=code_version("realdata.py", "realmetrics.py", "metrics.py", "traces.py", "workflow.py"),
     log:
         "results/logs/real/segment_metrics.log",
     conda:
@@ -85,6 +88,7 @@ if REPLAY_SET:
                     "declared": replay_dataset()["declared"],
                 }
             ),
+            code=code_version("reallogs", "realdata.py"),
         wildcard_constraints:
             terrain_class="|".join(REPLAY_SET.classes),
             run="|".join(sorted({re.escape(run) for _, run in RUNS})),
@@ -103,6 +107,7 @@ if REPLAY_SET:
             f"{REPLAY}/replay/{{engine}}/{{terrain_class}}/{{run}}.parquet",
         params:
             case=lambda wc: real_params(wc.engine, wc.terrain_class),
+            code=lambda wc: engine_code(wc.engine, "realdata.py", "reallogs"),
         wildcard_constraints:
             terrain_class="|".join(REPLAY_SET.classes),
         log:
@@ -130,7 +135,14 @@ if REPLAY_SET:
             imu_errors=f"{REPLAY}/metrics/replay_imu_errors.csv",
         params:
             settings=canonical(
-                {"track": config["robot"]["track"], "window": config["real_data"]["window"]}
+                {
+                    "track": config["robot"]["track"],
+                    "window": config["real_data"]["window"],
+                    "statistics": statistics_params(),
+                }
+            ),
+            code=code_version(
+                "realdata.py", "realmetrics.py", "metrics.py", "traces.py", "workflow.py", "reallogs"
             ),
         log:
             f"results/logs/real/{REPLAY_SET.name}/replay_metrics.log",
@@ -154,6 +166,7 @@ if REPLAY_SET:
                     "source": replay_dataset()["source"],
                 }
             ),
+            code=code_version("realsegments.py", "realdata.py", "reallogs"),
         log:
             f"results/logs/real/{REPLAY_SET.name}/real_segments.log",
         conda:
@@ -206,6 +219,7 @@ if OWN_LOGS:
         params:
             entry=lambda wc: canonical(OWN_LOGS[wc.name]),
             track=canonical(config["robot"]["track"]),
+            code=code_version("reallogs", "realdata.py"),
         log:
             "results/logs/real/own/import/{name}.log",
         conda:
@@ -221,6 +235,7 @@ if OWN_LOGS:
             f"{OWN}/replay/{{engine}}/{{name}}.parquet",
         params:
             case=lambda wc: real_params(wc.engine, OWN_LOGS[wc.name]["terrain_class"]),
+            code=lambda wc: engine_code(wc.engine, "realdata.py", "reallogs"),
         log:
             "results/logs/real/own/replay/{engine}/{name}.log",
         threads: 1
@@ -244,7 +259,14 @@ if OWN_LOGS:
             imu_errors=f"{OWN}/metrics/replay_imu_errors.csv",
         params:
             settings=canonical(
-                {"track": config["robot"]["track"], "window": config["real_data"]["window"]}
+                {
+                    "track": config["robot"]["track"],
+                    "window": config["real_data"]["window"],
+                    "statistics": statistics_params(),
+                }
+            ),
+            code=code_version(
+                "realdata.py", "realmetrics.py", "metrics.py", "traces.py", "workflow.py", "reallogs"
             ),
         log:
             "results/logs/real/own/replay_metrics.log",

@@ -19,7 +19,11 @@ rule report:
         html="results/report/report.html",
     params:
         weights=canonical(config["weights"]),
-        config=canonical(config),
+        # only the keys the report reads (strip geometry, commanded paths, test order): an edit
+        # elsewhere reaches it through its inputs or not at all
+        config=canonical(report_config()),
+        statistics=statistics_params(),
+        code=code_version("report", "realdata.py", "realmetrics.py", "scoring.py", "metrics.py", "traces.py"),
         accuracy=canonical(
             {
                 "reference": config["accuracy"]["reference"],

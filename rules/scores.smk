@@ -10,6 +10,7 @@ rule scores:
     params:
         engines=sorted(ENGINES),  # a reordered engines: block is not an edit
         weights=canonical(config["weights"]),
+        code=code_version("scoring.py", "workflow.py"),
     log:
         "results/logs/scores.log",
     benchmark:

@@ -6,6 +6,7 @@ rule simulate:
         "results/traces/{engine}/{terrain}/{motion}.parquet",
     params:
         case=lambda wc: simulation_params(wc.engine, wc.terrain, wc.motion),
+        code=lambda wc: engine_code(wc.engine),
     log:
         "results/logs/simulate/{engine}/{terrain}/{motion}.log",
     benchmark:
@@ -31,6 +32,7 @@ rule cpu_load:
             wc.engine, config["cpu_load"]["terrain"], config["cpu_load"]["motion"]
         )
         | {"cpu_load": canonical(config["cpu_load"])},
+        code=lambda wc: engine_code(wc.engine, "cpuload.py"),
     log:
         "results/logs/cpu_load/{engine}.log",
     benchmark:

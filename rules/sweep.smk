@@ -12,6 +12,7 @@ if SWEEP:
             f"{SWEEP_DIR}/runs/{{engine}}/{{terrain_class}}/{{dt}}.csv",
         params:
             case=lambda wc: sweep_params(wc.engine, wc.terrain_class, wc.dt),
+            code=lambda wc: engine_code(wc.engine, "realdata.py", "sweep.py", "metrics.py", "realmetrics.py"),
         wildcard_constraints:
             engine="|".join(ENGINES),
             terrain_class="|".join(SEGMENTS),
@@ -35,6 +36,8 @@ if SWEEP:
             sweep_runs(),
         output:
             f"{SWEEP_DIR}/summary.csv",
+        params:
+            code=code_version("sweep.py"),
         log:
             f"{SWEEP_DIR}/logs/summary.log",
         conda:

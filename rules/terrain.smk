@@ -4,6 +4,7 @@ rule terrain:
     params:
         spec=lambda wc: canonical(config["terrains"][wc.terrain]),
         seed=lambda wc: canonical(config["seed"]),
+        code=code_version("terrain.py"),
     log:
         "results/logs/terrain/{terrain}.log",
     conda:

@@ -51,10 +51,24 @@ def test_straight_on_high_friction_tracks_the_command(engine, robot):
     assert block_average(record.imu_specific_force, 10)[:20, 0].mean() > 0.1
 
 
+# Measured (v, w) = (0.5, 0.5) on flat ground, mu 0.95, from heading 0: mean yaw rate after 1 s
+# DART 0.247, ODE 0.241, MuJoCo 0.231 rad/s; the quasi-static Coulomb value is 0.478 x 0.5 = 0.239
+# (README "Engines against analytic mechanics"). PyBullet 0.075 (gain 0.15): see the reason.
+LEFT_TURN_XFAIL = {
+    "pybullet": "Bullet's multibody friction rows are fixed to the world axes (btPlaneSpace1; bullet3 PR #4539): "
+                "starting along the x axis the Husky turns at 0.075 rad/s for 0.5 commanded (gain 0.15, Coulomb "
+                "0.478); tests/test_validation.py and the README explain it",
+}
+
+
+@pytest.mark.parametrize("engine", [pytest.param(e, marks=[pytest.mark.xfail(reason=LEFT_TURN_XFAIL[e], strict=True)]
+                                                 if e in LEFT_TURN_XFAIL else []) for e in sorted(ADAPTERS)])
 def test_left_turn_gives_positive_yaw_rate(engine, robot):
+    """A left turn reads as a positive yaw rate of a meaningful size: at least 0.4 of the command
+    (Coulomb: 0.478), and not more than the command (no engine may turn faster than its wheels)."""
     record = run(engine, robot, 0.5, 0.5, 3.0)
     gyro = block_average(record.imu_gyro, 10)
-    assert gyro[100:, 2].mean() > 0.02
+    assert 0.2 < gyro[100:, 2].mean() < 0.5
     assert record.position[-1, 1] > 0.0  # it went left
 
 

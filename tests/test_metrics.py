@@ -4,6 +4,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from conftest import ROOT
 from simpick import metrics
 from simpick.imu import ImuModel, block_average, imu_from_kinematics, sensor_output
 from simpick.published import load_published
@@ -136,7 +137,11 @@ def test_lab_totals_leave_out_a_test_any_engine_failed(tmp_path):
     assert set(errors.excluded) == {"gravel/straight"}
     runs = pd.read_csv(outputs["runs"])
     assert runs.set_index("engine").status.to_dict() == {"a": "ok", "b": "failed"}
-    assert list(pd.read_csv(outputs["rtf"]).engine) == ["a"]  # a failed run does not count for speed either
+    # a failed run does not count for speed either: its test is left out for every engine, so here
+    # no engine has a real-time factor
+    rtf = pd.read_csv(outputs["rtf"])
+    assert list(rtf.engine) == ["a", "b"] and rtf.real_time_factor.isna().all()
+    assert (rtf.excluded == "gravel/straight").all() and (rtf.n_runs == 0).all()
 
 
 def test_rotation_matrices_and_quaternions_round_trip():
@@ -148,3 +153,67 @@ def test_rotation_matrices_and_quaternions_round_trip():
     q *= np.where(q[:, :1] < 0, -1.0, 1.0)  # the canonical sign (w >= 0)
     q[:4] = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]  # every branch of the conversion
     np.testing.assert_allclose(matrices_to_quaternions(rotation_matrices(q)), q, atol=1e-12)
+
+
+def test_real_time_factor_covers_the_same_tests_for_every_engine():
+    """Issue 13: an engine failing the slow terrain must not look faster for it."""
+    from simpick.workflow import equal_rtf
+
+    runs = pd.DataFrame({"engine": ["a", "a", "b", "b"], "terrain": ["grass", "gravel"] * 2,
+                         "motion": ["straight"] * 4, "sim_time": [10.0, 10.0, 10.0, 10.0],
+                         "wall_time": [1.0, 9.0, 2.0, 0.5], "status": ["ok", "ok", "ok", "failed"]})
+    rtf = equal_rtf(runs).set_index("engine")
+    assert rtf.loc["a", "real_time_factor"] == pytest.approx(10.0)  # grass only, not 20 / 10
+    assert rtf.loc["b", "real_time_factor"] == pytest.approx(5.0)
+    assert (rtf.n_runs == 1).all() and (rtf.excluded == "gravel/straight").all() and (rtf.tests == "grass/straight").all()
+
+
+def test_cpu_load_runs_are_health_checked(tmp_path):
+    from simpick import terrain
+    from simpick.cpuload import measure
+    from simpick.health import HealthLimits
+
+    path = tmp_path / "flat.json"
+    terrain.save(terrain.generate("flat", "flat", 0, 0.8, tiles=0), path)
+    common = dict(urdf=str(ROOT / "resources/robot/husky_a200.urdf"), terrain_file=str(path),
+                  motion={"v": 0.5, "w": 0.0, "start": [0.0, 0.0, 0.0]}, timestep=0.001, ground_friction=0.8,
+                  max_wheel_torque=100.0, track=0.555, engine_settings={}, duration=0.3, repeats=1,
+                  robots_average=1, robots_intense=2, spacing=1.2)
+    ok = measure("mujoco", **common, limits=HealthLimits())
+    assert ok["health"] == {"status": "ok", "reasons": [], "checked": True}
+    # limits no real run can meet: the measurement is failed, with the reason
+    bad = measure("mujoco", **common, limits=HealthLimits(max_speed=0.01))
+    assert bad["health"]["status"] == "failed"
+    assert any(r.startswith("average (1 robots): exploded") for r in bad["health"]["reasons"])
+
+
+def test_code_version_changes_with_the_code_it_covers(tmp_path):
+    from simpick.codeversion import code_version
+
+    (tmp_path / "pkg").mkdir()
+    (tmp_path / "a.py").write_text("x = 1\n")
+    (tmp_path / "b.py").write_text("y = 1\n")
+    (tmp_path / "pkg" / "c.py").write_text("z = 1\n")
+    before = code_version("a.py", "pkg", root=tmp_path)
+    assert code_version("pkg", "a.py", root=tmp_path) == before  # order of the names does not matter
+    (tmp_path / "b.py").write_text("y = 2\n")
+    assert code_version("a.py", "pkg", root=tmp_path) == before  # b.py is not covered
+    (tmp_path / "pkg" / "c.py").write_text("z = 2\n")
+    assert code_version("a.py", "pkg", root=tmp_path) != before
+    with pytest.raises(FileNotFoundError):
+        code_version("renamed.py", root=tmp_path)
+
+
+def test_every_rule_that_runs_library_code_carries_its_code_version():
+    """Snakemake reruns on a params change, not on an edited import: src/ must be in the params."""
+    import re
+
+    for smk in sorted((ROOT / "rules").glob("*.smk")):
+        text = smk.read_text()
+        for block in re.split(r"\n(?=\s*rule )", text):
+            m = re.match(r"\s*rule (\w+):", block)
+            # targets and the maintainer's copy of a derived table run no library code of their own;
+            # a download is not redone for a code edit
+            if not m or m.group(1) in ("all", "sweep", "maintain_segments", "dataset_manifest", "fetch_borealtc"):
+                continue
+            assert "code=" in block, f"{smk.name}: rule {m.group(1)} has no code= param"

@@ -148,3 +148,98 @@ def test_maintain_segments_replaces_the_committed_files_only_when_the_table_is_s
     receipt = yaml.safe_load((tmp_path / "receipt.yaml").read_text())
     assert receipt["csv"]["changed"] and receipt["provenance"]["changed"]
     assert sorted(p.name for p in tmp_path.iterdir() if p.name.endswith(".partial")) == []
+
+
+def _segment_trace(path, engine, segment, wz, status="ok"):
+    """A 3 s trace whose window (1, 3] has ax alternating 0.1 / 0.3 (mean 0.2, 1 %-trimmed range
+    0.2), az 9.81, constant wz, everything else 0."""
+    from simpick.traces import COLUMNS, write_trace
+
+    t = np.arange(1, 301) / 100.0
+    frame = {c: np.zeros(t.size) for c in COLUMNS}
+    frame.update(time=t, ax=np.where(np.arange(t.size) % 2 == 0, 0.1, 0.3), az=np.full(t.size, 9.81),
+                 wz=np.full(t.size, wz), v_forward=np.full(t.size, 0.3))
+    reasons = [] if status == "ok" else ["slid while parked"]
+    write_trace(frame, {"engine": engine, "segment": segment, "window": [1.0, 3.0],
+                        "health": {"status": status, "reasons": reasons}}, path)
+    return str(path)
+
+
+def test_segment_metrics_job_against_hand_computed_values(tmp_path):
+    """Eq. 7 per segment, yaw-rate gain, totals over the tests every engine completed, and no
+    verdict from two runs."""
+    from simpick.realdata import segment_metrics_job
+
+    real = {"dataset": "test", "terrain_class": "flooring", "t_start": 0.0, "t_end": 3.0, "settle": 1.0,
+            "duration": 2.0, "angular_x_mean": 0.0, "angular_x_range": 0.2, "angular_y_mean": 0.0,
+            "angular_y_range": 0.2, "angular_z_range": 0.1, "linear_x_mean": 0.5, "linear_x_range": 1.0,
+            "linear_y_mean": 0.1, "linear_y_range": 0.4, "linear_z_mean": 9.8, "linear_z_range": 2.0}
+    rows = [dict(real, segment="flooring-straight", run="01", kind="straight", v_left=0.3, v_right=0.3, v=0.3,
+                 w=0.0, yaw_rate_gain=float("nan"), angular_z_mean=0.0),
+            dict(real, segment="flooring-turning", run="02", kind="turning", v_left=0.2, v_right=0.4, v=0.3,
+                 w=0.4, yaw_rate_gain=0.7, angular_z_mean=0.3)]
+    pd.DataFrame(rows)[COLUMNS].to_csv(tmp_path / "segments.csv", index=False)
+    traces = [_segment_trace(tmp_path / "a-s.parquet", "a", "flooring-straight", 0.0),
+              _segment_trace(tmp_path / "a-t.parquet", "a", "flooring-turning", 0.25),
+              _segment_trace(tmp_path / "b-s.parquet", "b", "flooring-straight", 0.0, status="failed"),
+              _segment_trace(tmp_path / "b-t.parquet", "b", "flooring-turning", 0.3)]
+    outputs = {k: str(tmp_path / f"{k}.csv") for k in ("per_test", "summary", "pairwise", "imu_errors")}
+    segment_metrics_job(str(tmp_path / "segments.csv"), traces, 0.5, outputs, {"min_runs": 6, "level": 0.95})
+
+    per_test = pd.read_csv(outputs["per_test"], dtype={"run": str}).set_index(["engine", "segment"])
+    # linear: |0.2-1.0| + |0.2-0.5| (x) + |0-0.4| + |0-0.1| (y) + |0-2.0| + |9.81-9.8| (z) = 3.61
+    assert per_test.loc[("a", "flooring-turning"), "error_linear"] == pytest.approx(3.61)
+    assert per_test.loc[("a", "flooring-straight"), "error_linear"] == pytest.approx(3.61)
+    # angular: 0.2 (x range) + 0.2 (y range) + 0.1 (z range) + |wz - real mean|
+    assert per_test.loc[("a", "flooring-straight"), "error_angular"] == pytest.approx(0.5)
+    assert per_test.loc[("a", "flooring-turning"), "error_angular"] == pytest.approx(0.55)
+    assert per_test.loc[("b", "flooring-turning"), "error_angular"] == pytest.approx(0.5)
+    # gain: wz over (v_right - v_left) / track = 0.25 / 0.4
+    assert per_test.loc[("a", "flooring-turning"), "yaw_rate_gain_sim"] == pytest.approx(0.625)
+    assert np.isnan(per_test.loc[("a", "flooring-straight"), "yaw_rate_gain_sim"])
+    assert per_test.loc[("b", "flooring-straight"), "status"] == "failed"
+    assert per_test.loc[("a", "flooring-turning"), "speed_sim"] == pytest.approx(0.3)
+
+    totals = pd.read_csv(outputs["imu_errors"]).set_index(["engine", "quantity"])
+    # b failed the straight segment: it is left out of both engines' totals, and named
+    assert totals.loc[("a", "angular"), "error"] == pytest.approx(0.55)
+    assert totals.loc[("b", "angular"), "error"] == pytest.approx(0.5)
+    assert totals.loc[("a", "linear"), "error"] == pytest.approx(3.61)
+    assert (totals.n_tests == 1).all() and (totals.excluded == "flooring-straight").all()
+
+    summary = pd.read_csv(outputs["summary"]).set_index("engine")
+    assert summary.loc["a", "error_angular"] == pytest.approx((0.5 + 0.55) / 2)  # mean over runs 01, 02
+    assert summary.loc["a", "n_runs"] == 2 and summary.loc["b", "n_runs"] == 1
+    assert summary[["error_angular_low", "error_angular_high"]].isna().all().all()  # 2 runs: no interval
+    pairwise = pd.read_csv(outputs["pairwise"])
+    assert len(pairwise) == 2 and (pairwise.verdict == "too few runs (1 < 6)").all()
+    assert pairwise.set_index("figure").loc["error_angular", "mean_a_minus_b"] == pytest.approx(0.05)
+
+
+def _unit_errors(errors: dict[str, list[float]]) -> pd.DataFrame:
+    rows = [{"engine": e, "terrain_class": "ice", "run": f"{i:02d}", "segment": f"ice-{i:02d}", "status": "ok",
+             "error_angular": v, "error_linear": v} for e, vals in errors.items() for i, v in enumerate(vals)]
+    return pd.DataFrame(rows)
+
+
+def test_score_discrimination_splits_the_error_into_floor_and_engine():
+    from simpick.realdata import score_discrimination
+
+    a = [10.0, 20.0, 5.0, 30.0, 8.0, 12.0]
+    per_test = _unit_errors({"a": a, "b": [x + 1 for x in a], "k": a, "c": [x + 5 for x in a]})
+    d = score_discrimination(per_test, ["a", "b"], ["k", "c"])["angular"]
+    rows = {r["engine"]: r for r in d["rows"]}
+    assert d["floor"] == 85.0 and d["n_runs"] == 6  # the smaller reference total
+    assert rows["b"]["error"] == 91.0 and rows["b"]["engine_part"] == 6.0
+    assert rows["b"]["floor_share"] == pytest.approx(85 / 91) and rows["a"]["floor_share"] == 1.0
+    assert rows["b"]["score"] == pytest.approx(85 / 91) and d["spread"] == pytest.approx(6 / 91)
+    assert d["separates"] is True  # b is worse in every run: the score's interval stays below 1
+
+    # b better on some runs, worse on others, by more than the totals differ: no separation
+    noisy = _unit_errors({"a": a, "b": [x + s for x, s in zip(a, (6, -5, 4, -6, 5, -3))], "k": a})
+    d = score_discrimination(noisy, ["a", "b"], ["k"])["angular"]
+    assert d["spread"] == pytest.approx(1 - 85 / 86) and d["separates"] is False
+
+    # fewer runs than statistics.min_runs: no interval, no judgement
+    d = score_discrimination(_unit_errors({"a": a[:3], "b": a[:3], "k": a[:3]}), ["a", "b"], ["k"])["linear"]
+    assert d["separates"] is None and np.isnan(d["half_width"])

@@ -37,19 +37,60 @@ def test_psd_distance_in_decades():
     assert rm.psd_distance(x, np.sqrt(10) * x, 100.0) == pytest.approx(1.0, rel=1e-6)  # 10x power
 
 
-def test_bootstrap_ci_brackets_the_mean_and_is_seeded():
+def test_mean_ci_averages_per_run_and_gives_an_interval_only_from_min_runs():
     values = np.random.default_rng(2).normal(1.0, 0.5, 40)
-    mean, low, high = rm.bootstrap_ci(values, seed=3)
-    assert low < mean < high and mean == pytest.approx(values.mean())
-    assert rm.bootstrap_ci(values, seed=3) == (mean, low, high)
+    mean, low, high, n = rm.mean_ci(values, min_runs=6, seed=3)
+    assert low < mean < high and mean == pytest.approx(values.mean()) and n == 40
+    assert rm.mean_ci(values, min_runs=6, seed=3) == (mean, low, high, n)  # seeded
     assert 0.1 < high - low < 0.5  # about 4 standard errors wide
-    assert np.isnan(rm.bootstrap_ci([1.0])[1])
+    # five runs of eight windows each: five samples, too few for an interval
+    runs = np.repeat(np.arange(5), 8)
+    mean, low, high, n = rm.mean_ci(values, runs, min_runs=6)
+    assert n == 5 and np.isnan(low) and np.isnan(high)
+    assert mean == pytest.approx(np.mean([values[runs == r].mean() for r in range(5)]))
 
 
-def test_paired_difference_excludes_zero_only_for_a_real_difference():
+def test_a_paired_difference_is_found_only_when_real():
     base = np.random.default_rng(4).normal(2.0, 1.0, 30)
-    _, low, high = rm.paired_difference_ci(base + 0.5, base)
-    assert low > 0
+    t = rm.paired_test(base + 0.5, base)
+    assert t["verdict"] == "a" and t["p_value"] < 0.05 and t["low"] > 0 and t["n_runs"] == 30
     noise = np.random.default_rng(5).normal(0, 0.5, 30)
-    _, low, high = rm.paired_difference_ci(base + noise, base)
-    assert low < 0 < high
+    t = rm.paired_test(base + noise, base)
+    assert t["verdict"] == "no clear difference" and t["p_value"] >= 0.05 and t["low"] < 0 < t["high"]
+    assert rm.paired_test(base, base + 0.5)["verdict"] == "b"
+
+
+def test_two_runs_give_no_verdict():
+    """Issue 13: the hand-written bootstrap called any two same-sign differences clear at 95 %."""
+    t = rm.paired_test([1, 1.2], [0.9, 1.19])
+    assert t["verdict"] == "too few runs" and t["n_runs"] == 2
+    assert np.isnan(t["p_value"]) and np.isnan(t["low"]) and np.isnan(t["high"])
+    assert t["mean"] == pytest.approx(0.055)
+
+
+def test_windows_of_one_run_are_not_independent_samples():
+    a, b = np.arange(12) + 1.0, np.zeros(12)
+    assert rm.paired_test(a, b, min_runs=6)["verdict"] == "a"  # 12 runs, all one sign: p = 2/4096
+    runs = np.repeat(["r1", "r2", "r3"], 4)  # the same 12 values from 3 runs
+    t = rm.paired_test(a, b, runs, min_runs=6)
+    assert t["n_runs"] == 3 and t["verdict"] == "too few runs"
+
+
+def test_the_sign_flip_test_is_exact_and_its_smallest_p_sets_the_minimum():
+    assert rm.smallest_p(5) == pytest.approx(0.0625) and rm.smallest_p(6) == pytest.approx(0.03125)
+    t = rm.paired_test(np.arange(6) + 1.0, np.zeros(6), min_runs=6)
+    assert t["p_value"] == pytest.approx(2 / 2 ** 6) and t["verdict"] == "a"
+    # with min_runs lowered to 5, five same-sign runs still cannot reach 5 %
+    t = rm.paired_test(np.arange(5) + 1.0, np.zeros(5), min_runs=5)
+    assert t["p_value"] == pytest.approx(0.0625) and t["verdict"] == "no clear difference"
+
+
+def test_a_minimum_that_could_never_reach_the_level_is_refused():
+    from pydantic import ValidationError
+
+    from simpick.config import Statistics
+
+    assert Statistics().min_runs == 6
+    with pytest.raises(ValidationError, match="at least 6"):
+        Statistics(min_runs=5, level=0.95)
+    assert Statistics(min_runs=8, level=0.99).min_runs == 8

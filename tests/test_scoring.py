@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pandas as pd
 import pytest
@@ -225,3 +226,74 @@ def test_weighted_table_missing_column_raises() -> None:
     df = _scores(a={m: 1.0 for m in sc.METRICS}).drop(columns="ros")
     with pytest.raises(ValueError, match="ros"):
         sc.weighted_table(df, sc.DEFAULT_WEIGHTS)
+
+
+def test_scores_job_against_hand_computed_values(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """The scores rule's job: facts, Eq. 7 totals, real-time factors and CPU loads in, the
+    weighted table out, every figure computed by hand."""
+    import json
+
+    import yaml
+
+    from simpick.workflow import scores_job
+
+    facts = {
+        "a": {"free": True, "open_source": True, "ros": "none", "languages": ["Python"], "ui": "none",
+              "model_formats": ["URDF"], "urdf_sdf_via_manual_plugin": False, "physics_engines": ["one"]},
+        "b": {"free": False, "open_source": False, "ros": "out_of_the_box", "languages": ["C++", "Python"],
+              "ui": "full", "model_formats": ["URDF", "SDF", "MJCF"], "urdf_sdf_via_manual_plugin": False,
+              "physics_engines": ["one", "two"]},
+    }
+    (tmp_path / "facts.yaml").write_text(yaml.safe_dump(facts))
+    pd.DataFrame({"engine": ["a", "a", "b", "b"], "quantity": ["angular", "linear"] * 2,
+                  "error": [0.55, 3.61, 0.5, 3.61]}).to_csv(tmp_path / "errors.csv", index=False)
+    pd.DataFrame({"engine": ["a", "b"], "real_time_factor": [10.0, 40.0]}).to_csv(tmp_path / "rtf.csv", index=False)
+    cpu = []
+    for engine, average, intense in (("a", 50.0, 200.0), ("b", 100.0, 100.0)):
+        cpu.append(tmp_path / f"{engine}.json")
+        cpu[-1].write_text(json.dumps({"engine": engine, "average": {"load_percent": average},
+                                       "intense": {"load_percent": intense}}))
+    outputs = {"scores": str(tmp_path / "scores.csv"), "weighted": str(tmp_path / "weighted.csv")}
+    scores_job(["a", "b"], str(tmp_path / "errors.csv"), str(tmp_path / "rtf.csv"), [str(p) for p in cpu],
+               str(tmp_path / "facts.yaml"), dict(sc.DEFAULT_WEIGHTS), outputs)
+
+    weighted = pd.read_csv(outputs["weighted"], index_col="engine")
+    a, b = weighted.loc["a"], weighted.loc["b"]
+    assert (a.languages, a.model_formats, a.ros, a.physics_engines) == (0.333, 0.5, 0.0, 0.0)
+    assert (b.languages, b.model_formats, b.ui, b.physics_engines) == (0.667, 1.0, 1.0, 1.0)
+    assert (a.real_time_factor, b.real_time_factor) == (0.25, 1.0)  # R / max R
+    assert (a.cpu_average, b.cpu_average, a.cpu_intense, b.cpu_intense) == (1.0, 0.5, 0.5, 1.0)  # min L / L
+    assert a.imu_angular == pytest.approx(0.5 / 0.55, abs=1e-6) and b.imu_angular == 1.0  # min E / E
+    assert a.imu_linear == b.imu_linear == 1.0
+    # a: 4 + 2 + 3 x 0.333 + 4 x 0.5 + 4 x 0.25 + 2 x 1 + 2 x 0.5 + 10 x 0.5/0.55 + 10
+    assert a.total == pytest.approx(4 + 2 + 0.999 + 2 + 1 + 2 + 1 + 10 * 0.5 / 0.55 + 10, abs=1e-5)
+    # b: 6 + 3 x 0.667 + 6 + 4 + 3 + 4 + 2 x 0.5 + 2 + 10 + 10
+    assert b.total == pytest.approx(6 + 2.001 + 6 + 4 + 3 + 4 + 1 + 2 + 20, abs=1e-5)
+    assert list(weighted.index) == ["b", "a"] and (b["rank"], a["rank"]) == (1, 2)
+
+
+def test_a_failed_cpu_run_is_not_scored(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    import json
+
+    import yaml
+
+    from simpick.workflow import scores_job
+
+    fact = {"free": True, "open_source": True, "ros": "none", "languages": ["Python"], "ui": "none",
+            "model_formats": ["URDF"], "urdf_sdf_via_manual_plugin": False, "physics_engines": ["one"]}
+    (tmp_path / "facts.yaml").write_text(yaml.safe_dump({"a": fact, "b": fact}))
+    pd.DataFrame({"engine": ["a", "a", "b", "b"], "quantity": ["angular", "linear"] * 2,
+                  "error": [1.0, 1.0, 1.0, 1.0]}).to_csv(tmp_path / "errors.csv", index=False)
+    pd.DataFrame({"engine": ["a", "b"], "real_time_factor": [1.0, 1.0]}).to_csv(tmp_path / "rtf.csv", index=False)
+    cpu = []
+    for engine, load, status in (("a", 50.0, "ok"), ("b", 10.0, "failed")):  # b fell through: cheap, not good
+        cpu.append(str(tmp_path / f"{engine}.json"))
+        Path(cpu[-1]).write_text(json.dumps({"engine": engine, "average": {"load_percent": load},
+                                             "intense": {"load_percent": load},
+                                             "health": {"status": status, "reasons": ["fell through"]}}))
+    outputs = {"scores": str(tmp_path / "scores.csv"), "weighted": str(tmp_path / "weighted.csv")}
+    scores_job(["a", "b"], str(tmp_path / "errors.csv"), str(tmp_path / "rtf.csv"), cpu,
+               str(tmp_path / "facts.yaml"), dict(sc.DEFAULT_WEIGHTS), outputs)
+    weighted = pd.read_csv(outputs["weighted"], index_col="engine")
+    assert weighted.loc["a", "cpu_average"] == 1.0 and math.isnan(weighted.loc["b", "cpu_average"])
+    assert weighted.loc["b", "excluded"] == "cpu_average,cpu_intense"

@@ -33,6 +33,11 @@ def test_tiny_study_writes_every_output(study):
     weighted = pd.read_csv(workdir / "results/scores/weighted.csv", index_col="engine")
     assert sorted(weighted.index) == sorted(config["engines"])
     assert weighted["total"].between(0, 56).all()
+    # every engine finished its real segments, so every accuracy and speed score is a number: an
+    # all-NaN column would pass the total's range check as zeros
+    for metric in ("imu_angular", "imu_linear", "real_time_factor", "cpu_average", "cpu_intense"):
+        assert weighted[metric].between(0, 1).all() and (weighted[metric] == 1).any(), metric
+    assert weighted["excluded"].isna().all(), weighted["excluded"]  # empty cells: nothing left out
     frame, meta = read_trace(traces[0])
     assert len(frame) == 150  # 1.5 s at 100 Hz
     for key in ("engine_version", "timestep", "seed", "wall_time", "cpu_time", "steps", "config_hash", "units"):
@@ -99,16 +104,21 @@ def test_engine_edit_reruns_only_that_engine(study):
         write_config(workdir, config)
 
 
-def test_bad_config_is_refused_before_any_job(tmp_path):
+@pytest.mark.parametrize("key,value,message", [
+    # 1/100 s is not a whole number of 3 ms steps (a check across keys: pydantic runs it only once
+    # every field is valid, so it gets a config of its own)
+    (("physics", "timestep"), 0.003, "physics.timestep 0.003 s does not divide the IMU period"),
+    (("weights", "free"), -1, "weights.free: Input should be greater than or equal to 0"),
+    (("statistics", "min_runs"), 5, "statistics.min_runs 5: a sign-flip test over 5 runs cannot give p below"),
+])
+def test_bad_config_is_refused_before_any_job(tmp_path, key, value, message):
     config = tiny_config(tmp_path)
-    config["physics"]["timestep"] = 0.003  # 1/100 s is not a whole number of 3 ms steps
-    config["weights"]["free"] = -1
+    config[key[0]][key[1]] = value
     write_config(tmp_path, config)
     run = snakemake(tmp_path, "-n")
     assert run.returncode != 0
     text = run.stdout + run.stderr
-    assert "physics.timestep" not in text or "does not divide" in text
-    assert "weights.free" in text and "greater than or equal to 0" in text
+    assert message in text
     assert "Traceback" not in text
 
 

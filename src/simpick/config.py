@@ -204,6 +204,30 @@ class Accuracy(Strict):
     reference: Literal["real", "paper", "own"]
 
 
+class Statistics(Strict):
+    min_runs: Annotated[int, Field(ge=2)] = 6
+    level: Annotated[float, Field(gt=0, lt=1)] = 0.95
+
+    @model_validator(mode="after")
+    def reachable(self):
+        from simpick.realmetrics import smallest_p
+
+        if smallest_p(self.min_runs) >= 1 - self.level:
+            raise ValueError(f"statistics.min_runs {self.min_runs}: a sign-flip test over {self.min_runs} runs "
+                             f"cannot give p below {smallest_p(self.min_runs):.3g}, so no verdict could ever reach "
+                             f"level {self.level:g}; use at least {_runs_for(self.level)}")
+        return self
+
+
+def _runs_for(level: float) -> int:
+    from simpick.realmetrics import smallest_p
+
+    n = 2
+    while smallest_p(n) >= 1 - level:
+        n += 1
+    return n
+
+
 class Study(Strict):
     seed: Annotated[int, Field(ge=0, lt=2**32)]
     engines: dict[str, dict[str, Any] | None]
@@ -218,6 +242,7 @@ class Study(Strict):
     validation: Validation
     reference: Reference
     accuracy: Accuracy
+    statistics: Statistics = Statistics()
     borealtc_dir: str | None = None
     real_dataset: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] | None = None
     own_logs: list[OwnLog] = []

@@ -16,6 +16,7 @@ from __future__ import annotations
 import os
 import statistics
 
+import numpy as np
 import psutil
 
 from simpick import terrain as terrain_io
@@ -38,22 +39,35 @@ def convoy(robots: int, start: tuple[float, float, float], spacing: float) -> tu
 def measure(engine_name: str, *, urdf: str, terrain_file: str, motion: dict, timestep: float,
             ground_friction: float, max_wheel_torque: float, track: float, engine_settings: dict,
             duration: float, repeats: int, robots_average: int, robots_intense: int,
-            spacing: float) -> dict:
+            spacing: float, limits=None) -> dict:
+    """CPU load per scenario; with ``limits`` (a :class:`simpick.health.HealthLimits`) every
+    repeat is health-checked like a simulation job (on the lead robot, the one the engine
+    records), and a failed repeat fails the measurement (``health``), so the scores leave it out."""
+    from simpick.health import check
+
     engine = get_engine(engine_name)
     robot = load_robot(urdf)
     terrain = terrain_io.load(terrain_file)
     result = {"engine": engine_name, "engine_version": engine.version(), "definition": DEFINITION,
               "cpu_count": psutil.cpu_count(), "affinity": sorted(os.sched_getaffinity(0))}
+    all_reasons: list[str] = []
     for scenario_name, robots in (("average", robots_average), ("intense", robots_intense)):
         scenario = Scenario(robot=robot, terrain=terrain, ground_friction=ground_friction,
                             timestep=timestep, max_wheel_torque=max_wheel_torque,
                             starts=convoy(robots, tuple(motion["start"]), spacing), settings=engine_settings)
         commands = constant_commands(motion["v"], motion["w"], duration, timestep, track,
                                      robot.wheel_radius, robots)
-        loads = []
+        loads, reasons = [], []
         for _ in range(repeats):
             record = engine.simulate(scenario, commands)
             loads.append(100.0 * record.cpu_time / (record.steps * timestep))
+            if limits is not None:
+                health = check(record, limits, np.asarray(commands)[:, 0])
+                reasons += [f"{scenario_name} ({robots} robots): {r}" for r in health.reasons if
+                            f"{scenario_name} ({robots} robots): {r}" not in reasons]
         result[scenario_name] = {"robots": robots, "load_percent": statistics.median(loads),
                                  "repeats_percent": loads, "simulated_seconds": duration}
+        all_reasons += reasons
+    result["health"] = {"status": "failed" if all_reasons else "ok", "reasons": all_reasons,
+                        "checked": limits is not None}
     return result

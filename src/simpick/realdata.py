@@ -10,7 +10,8 @@ Two ways in:
   target ``maintain_segments`` copies it over the committed one.
 
 Both produce the paper's Eq. 7 errors per test (so they can feed the accuracy scores), the
-yaw-rate gain, and per-engine summaries with 95 % bootstrap intervals over runs.
+yaw-rate gain, and per-engine summaries over runs: intervals and paired verdicts only from
+the config's ``statistics.min_runs`` independent runs on (:mod:`simpick.realmetrics`).
 """
 
 from __future__ import annotations
@@ -150,7 +151,8 @@ def segment_row(frame: pd.DataFrame, meta: dict, seg: pd.Series, track: float) -
     return row
 
 
-def segment_metrics_job(segments_csv: str, traces: list[str], track: float, outputs: dict) -> None:
+def segment_metrics_job(segments_csv: str, traces: list[str], track: float, outputs: dict,
+                        statistics: dict | None = None) -> None:
     from simpick.traces import read_trace
 
     segments = load_segments(segments_csv).set_index("segment")
@@ -160,7 +162,7 @@ def segment_metrics_job(segments_csv: str, traces: list[str], track: float, outp
         rows.append(segment_row(frame, meta, segments.loc[meta["segment"]], track))
     per_test = pd.DataFrame(rows)
     write_csv(per_test, outputs["per_test"])
-    _summaries(per_test, "terrain_class", outputs)
+    _summaries(per_test, "terrain_class", outputs, statistics)
 
 
 # --- full replay ----------------------------------------------------------------------------------
@@ -285,7 +287,7 @@ def replay_metrics_job(logs: list[str], traces: list[str], params: dict, outputs
     per_test = pd.concat([per_run, failed], ignore_index=True)
     per_test["segment"] = per_test["terrain_class"] + "-" + per_test["run"]
     write_csv(per_test, outputs["per_test"])
-    _summaries(per_test, "terrain_class", outputs)
+    _summaries(per_test, "terrain_class", outputs, params.get("statistics"))
 
 
 # --- summaries shared by both -------------------------------------------------------------------------
@@ -293,16 +295,21 @@ def replay_metrics_job(logs: list[str], traces: list[str], params: dict, outputs
 FIGURES = ("error_angular", "error_linear", "yaw_rate_gain_sim", "rmse_yaw_rate", "rmse_ax", "psd_distance_az")
 
 
-def _summaries(per_test: pd.DataFrame, group: str, outputs: dict) -> None:
-    """Per engine and terrain class: mean and 95 % bootstrap CI of every figure over tests;
-    paired engine differences; and the Eq. 7 totals in the lab study's imu_errors layout."""
+def _summaries(per_test: pd.DataFrame, group: str, outputs: dict, statistics: dict | None = None) -> None:
+    """Per engine and terrain class: every figure's mean over runs (a run's tests averaged first:
+    segments and windows of one run are not independent) with its BCa bootstrap interval from
+    ``statistics["min_runs"]`` runs on; paired engine differences judged by a sign-flip
+    permutation test over runs (``too few runs`` below the minimum); and the Eq. 7 totals in
+    the lab study's imu_errors layout."""
+    stats = {"min_runs": realmetrics.MIN_RUNS, "level": 0.95} | dict(statistics or {})
+    min_runs, level = int(stats["min_runs"]), float(stats["level"])
     ok = per_test[per_test.status == "ok"]
     rows = []
     for (engine, cls), g in ok.groupby(["engine", group]):
-        row = {"engine": engine, group: cls, "n_tests": len(g)}
+        row = {"engine": engine, group: cls, "n_tests": len(g), "n_runs": int(g["run"].nunique())}
         for fig in FIGURES + ("yaw_rate_gain_real",):
             if fig in g:
-                mean, lo, hi = realmetrics.bootstrap_ci(g[fig].to_numpy(), seed=0)
+                mean, lo, hi, _ = realmetrics.mean_ci(g[fig].to_numpy(), g["run"].to_numpy(), min_runs, level)
                 row.update({fig: mean, f"{fig}_low": lo, f"{fig}_high": hi})
         rows.append(row)
     summary = pd.DataFrame(rows)
@@ -312,18 +319,22 @@ def _summaries(per_test: pd.DataFrame, group: str, outputs: dict) -> None:
     engines = sorted(ok.engine.unique())
     for cls, g in ok.groupby(group):
         wide = g.pivot_table(index="segment", columns="engine", values=["error_angular", "error_linear"])
+        run_of = g.drop_duplicates("segment").set_index("segment")["run"]
         for i, a in enumerate(engines):
             for b in engines[i + 1:]:
                 for fig in ("error_angular", "error_linear"):
                     if (fig, a) not in wide or (fig, b) not in wide:
                         continue
-                    mean, lo, hi = realmetrics.paired_difference_ci(wide[(fig, a)], wide[(fig, b)], seed=0)
-                    verdict = ("too few tests" if np.isnan(lo) else
-                               f"{b} closer" if lo > 0 else f"{a} closer" if hi < 0 else "no clear difference")
+                    t = realmetrics.paired_test(wide[(fig, a)], wide[(fig, b)], run_of.reindex(wide.index).to_numpy(),
+                                                min_runs, level)
+                    verdict = {"a": f"{b} closer", "b": f"{a} closer"}.get(t["verdict"], t["verdict"])
+                    if verdict == "too few runs":
+                        verdict = f"too few runs ({t['n_runs']} < {min_runs})"
                     pairs.append({group: cls, "figure": fig, "engine_a": a, "engine_b": b,
-                                  "mean_a_minus_b": mean, "low": lo, "high": hi, "verdict": verdict})
+                                  "mean_a_minus_b": t["mean"], "low": t["low"], "high": t["high"],
+                                  "p_value": t["p_value"], "n_runs": t["n_runs"], "verdict": verdict})
     write_csv(pd.DataFrame(pairs, columns=[group, "figure", "engine_a", "engine_b", "mean_a_minus_b",
-                                            "low", "high", "verdict"]), outputs["pairwise"])
+                                            "low", "high", "p_value", "n_runs", "verdict"]), outputs["pairwise"])
 
     write_csv(metrics.eq7_totals(per_test.rename(columns={"segment": "test"})), outputs["imu_errors"])
 
@@ -396,3 +407,65 @@ def import_own_job(entry: dict, output: str, track: float) -> None:
         log = read_bag(bag, entry["imu_topic"], entry["command_topic"], track=track, meta=meta, **options)
     log.meta.update(meta)
     write_canonical(log, output)
+
+
+# --- what the accuracy scores can tell apart -----------------------------------------------------
+
+def score_discrimination(per_test: pd.DataFrame, engines: list[str], floor_models: list[str],
+                         tests: list[str] | None = None, statistics: dict | None = None,
+                         resamples: int = 2000, seed: int = 0) -> dict:
+    """How much of each engine's Eq. 7 total is the engine, and whether its Eq. 8 score separates it.
+
+    - ``floor``: the smallest Eq. 7 total of the rigid reference models (``floor_models``, e.g.
+      kinematic and coulomb) over the same tests: the real vibration and sensor offsets no
+      rigid model produces. ``engine_part`` = E - floor (negative: closer than the reference
+      models), ``floor_share`` = floor / E.
+    - the score's uncertainty: the Eq. 8 scores recomputed over runs resampled with replacement
+      (each run's tests kept together, all engines resampled alike, seeded): a percentile
+      interval per engine, from ``statistics["min_runs"]`` runs on. The score ``separates``
+      the engines when its spread (largest minus smallest score) is larger than the half-width
+      of the widest interval; ``None`` when there are too few runs to say.
+
+    Returns {quantity: {"rows": [per engine], "spread", "half_width", "separates", "n_runs", "floor"}}.
+    """
+    from simpick.scoring import accuracy_scores
+
+    stats = {"min_runs": realmetrics.MIN_RUNS, "level": 0.95} | dict(statistics or {})
+    ok = per_test[per_test.status == "ok"]
+    if tests is not None:
+        ok = ok[ok.segment.isin(tests)]
+    ok = ok.assign(_unit=ok.terrain_class.astype(str) + "/" + ok.run.astype(str))
+    models = [m for m in engines + floor_models if m in set(ok.engine)]
+    out = {}
+    for q in QUANTITIES:
+        col = f"error_{q}"
+        if col not in ok or not models or not any(e in models for e in engines):
+            continue
+        wide = ok.pivot_table(index="_unit", columns="engine", values=col, aggfunc="sum")[models].dropna()
+        eng = [e for e in engines if e in wide.columns]
+        floors = [m for m in floor_models if m in wide.columns]
+        totals = wide.sum()
+        scores = accuracy_scores({e: float(totals[e]) for e in eng})
+        floor = float(totals[floors].min()) if floors else float("nan")
+        n_runs = len(wide)
+        low = {e: float("nan") for e in eng}
+        high = dict(low)
+        if n_runs >= max(int(stats["min_runs"]), 2):
+            rng = np.random.default_rng(seed)
+            values = wide[eng].to_numpy(float)
+            draws = values[rng.integers(0, n_runs, size=(resamples, n_runs))].sum(axis=1)  # (resamples, engines)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                boot = draws.min(axis=1, keepdims=True) / draws
+            alpha = (1 - float(stats["level"])) / 2
+            for i, e in enumerate(eng):
+                low[e], high[e] = (float(v) for v in np.nanquantile(boot[:, i], [alpha, 1 - alpha]))
+        rows = [{"engine": e, "error": float(totals[e]), "floor": floor, "engine_part": float(totals[e]) - floor,
+                 "floor_share": floor / float(totals[e]) if totals[e] > 0 else float("nan"),
+                 "score": scores[e], "score_low": low[e], "score_high": high[e]} for e in eng]
+        spread = max(scores.values()) - min(scores.values()) if scores else float("nan")
+        widths = [(high[e] - low[e]) / 2 for e in eng if np.isfinite(low[e])]
+        half = max(widths) if widths else float("nan")
+        out[q] = {"rows": rows, "spread": spread, "half_width": half, "n_runs": n_runs, "floor": floor,
+                  "floor_models": floors, "separates": (None if not widths else bool(spread > half)),
+                  "min_runs": int(stats["min_runs"])}
+    return out

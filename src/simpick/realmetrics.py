@@ -8,13 +8,19 @@
   that no rigid terrain reproduces sample by sample).
 - vibration: distance between the real and simulated spectra (Welch PSD) of vertical
   acceleration, in decades, averaged over a frequency band.
-- bootstrap confidence intervals over runs, and over paired differences between engines,
-  so a report can say whether one engine is really closer than another.
+- statistics over independent runs: a segment or window is not an independent sample (two
+  windows of one run share its robot, terrain patch and calibration), so every figure is
+  first averaged per run; intervals (BCa bootstrap of the mean) and paired engine verdicts
+  (an exact sign-flip permutation test of the per-run mean difference) are given only from
+  ``min_runs`` runs on. A two-sided sign-flip test over n runs cannot give p below 2 / 2^n,
+  so under 6 runs no difference could ever be significant at 5 %: fewer runs say "too few
+  runs" rather than a verdict.
 """
 
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 
 LOWPASS_HZ = 2.0
 PSD_BAND_HZ = (1.0, 40.0)  # up to the Nyquist frequency where the IMU rate is below 80 Hz
@@ -86,22 +92,84 @@ def psd_distance(real: np.ndarray, sim: np.ndarray, rate_hz: float,
     return float(np.mean(np.abs(np.log10(p_sim[keep] + tiny) - np.log10(p_real[keep] + tiny))))
 
 
-def bootstrap_ci(values, level: float = 0.95, resamples: int = 2000, seed: int = 0) -> tuple[float, float, float]:
-    """(mean, low, high): percentile bootstrap of the mean over independent runs."""
-    x = np.asarray([v for v in values if np.isfinite(v)], float)
+MIN_RUNS = 6  # the smallest n whose sign-flip test can reach p < 0.05 (2 / 2^6 = 0.031)
+
+
+def smallest_p(n: int) -> float:
+    """The smallest two-sided p-value an exact sign-flip test over ``n`` pairs can give."""
+    return min(1.0, 2.0 / 2.0 ** n) if n > 0 else 1.0
+
+
+def per_run(values, runs=None) -> np.ndarray:
+    """The finite values averaged per run (``runs`` labels each value; None: each value is a run)."""
+    x = np.asarray(values, float)
+    keys = np.arange(x.size) if runs is None else np.asarray(runs, dtype=object)
+    finite = np.isfinite(x)
+    if not finite.any():
+        return np.empty(0)
+    frame = pd.DataFrame({"run": keys[finite], "x": x[finite]})
+    return frame.groupby("run", sort=True)["x"].mean().to_numpy(float)
+
+
+def _bca(x: np.ndarray, level: float, seed: int) -> tuple[float, float]:
+    from scipy.stats import bootstrap
+
+    if np.ptp(x) <= 1e-12 * max(1.0, float(np.abs(x).max())):  # every run the same: nothing to resample
+        return float(x.mean()), float(x.mean())
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # a degenerate BCa falls back to the percentile interval below
+        for method in ("BCa", "percentile"):
+            res = bootstrap((x,), np.mean, confidence_level=level, method=method, n_resamples=4999,
+                            random_state=np.random.default_rng(seed))
+            low, high = float(res.confidence_interval.low), float(res.confidence_interval.high)
+            if np.isfinite(low) and np.isfinite(high):
+                break
+    return low, high
+
+
+def mean_ci(values, runs=None, min_runs: int = MIN_RUNS, level: float = 0.95,
+            seed: int = 0) -> tuple[float, float, float, int]:
+    """(mean, low, high, n_runs): mean over runs (each run's values averaged first) and its BCa
+    bootstrap interval, NaN below ``min_runs`` runs."""
+    x = per_run(values, runs)
     if x.size == 0:
-        return (float("nan"),) * 3
-    if x.size == 1:
-        return float(x[0]), float("nan"), float("nan")
-    rng = np.random.default_rng(seed)
-    means = x[rng.integers(0, x.size, size=(resamples, x.size))].mean(axis=1)
-    alpha = (1 - level) / 2
-    return float(x.mean()), float(np.quantile(means, alpha)), float(np.quantile(means, 1 - alpha))
+        return float("nan"), float("nan"), float("nan"), 0
+    if x.size < max(int(min_runs), 2):
+        return float(x.mean()), float("nan"), float("nan"), int(x.size)
+    low, high = _bca(x, level, seed)
+    return float(x.mean()), low, high, int(x.size)
 
 
-def paired_difference_ci(a, b, level: float = 0.95, resamples: int = 2000,
-                         seed: int = 0) -> tuple[float, float, float]:
-    """Bootstrap CI of mean(a - b) over runs both engines completed: excludes 0 -> a real difference."""
+def paired_test(a, b, runs=None, min_runs: int = MIN_RUNS, level: float = 0.95, seed: int = 0) -> dict:
+    """Is ``a`` really different from ``b``, over the runs both have (a pair per test)?
+
+    Differences a - b are averaged per run; below ``min_runs`` runs the result has no p-value,
+    no interval and the verdict ``too few runs``. Otherwise: an exact two-sided sign-flip
+    permutation test of the mean difference (``scipy.stats.permutation_test``,
+    ``permutation_type='samples'``; random sign flips, seeded, above 2^13 runs) and the BCa
+    bootstrap interval of the mean difference. ``verdict`` is ``a`` (a is larger), ``b``,
+    ``no clear difference`` or ``too few runs``.
+    """
+    from scipy.stats import permutation_test
+
     a, b = np.asarray(a, float), np.asarray(b, float)
     both = np.isfinite(a) & np.isfinite(b)
-    return bootstrap_ci(a[both] - b[both], level, resamples, seed)
+    keys = None if runs is None else np.asarray(runs, dtype=object)[both]
+    d = per_run(a[both] - b[both], keys)
+    out = {"mean": float(d.mean()) if d.size else float("nan"), "low": float("nan"), "high": float("nan"),
+           "p_value": float("nan"), "n_runs": int(d.size), "verdict": "too few runs"}
+    if d.size < max(int(min_runs), 2):
+        return out
+    if np.all(d == 0):
+        out.update(low=0.0, high=0.0, p_value=1.0, verdict="no clear difference")
+        return out
+    res = permutation_test((d, np.zeros_like(d)), lambda x, y, axis: np.mean(x - y, axis=axis),
+                           permutation_type="samples", alternative="two-sided", n_resamples=2 ** 13,
+                           random_state=np.random.default_rng(seed))
+    low, high = _bca(d, level, seed)
+    p = float(res.pvalue)
+    out.update(low=low, high=high, p_value=p,
+               verdict=("no clear difference" if p >= 1 - level else "a" if d.mean() > 0 else "b"))
+    return out

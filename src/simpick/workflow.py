@@ -69,6 +69,7 @@ def write_hung_trace(output: str, case, params: dict, timeout: float) -> None:
 
 def cpu_job(output: str, terrain_file: str, urdf: str, params: dict) -> None:
     from simpick.cpuload import measure
+    from simpick.health import HealthLimits
 
     cpu = params["cpu_load"]
     result = measure(params["engine"], urdf=urdf, terrain_file=terrain_file, motion=params["motion"],
@@ -77,7 +78,8 @@ def cpu_job(output: str, terrain_file: str, urdf: str, params: dict) -> None:
                      max_wheel_torque=params["robot"]["max_wheel_torque"], track=params["robot"]["track"],
                      engine_settings=params["engine_settings"], duration=cpu["duration"],
                      repeats=int(cpu["repeats"]), robots_average=int(cpu["robots_average"]),
-                     robots_intense=int(cpu["robots_intense"]), spacing=cpu["spacing"])
+                     robots_intense=int(cpu["robots_intense"]), spacing=cpu["spacing"],
+                     limits=HealthLimits(**params["health"]) if params.get("health") else None)
     Path(output).parent.mkdir(parents=True, exist_ok=True)
     Path(output).write_text(json.dumps(result, indent=1))
 
@@ -138,17 +140,38 @@ def metrics_job(traces: list[str], published_file: str, outputs: dict[str, str])
               for r in runs[runs.status != "ok"].itertuples() if (r.terrain, r.motion) in reference]
     error_summary = metrics.eq7_totals(pd.DataFrame(ok_tests + failed, columns=columns), engines=runs.engine.unique())
 
-    rtf = [{"engine": engine, "sim_time": g.sim_time.sum(), "wall_time": g.wall_time.sum(),
-            "real_time_factor": metrics.real_time_factor(g.sim_time, g.wall_time), "n_runs": len(g)}
-           for engine, g in runs[runs.status == "ok"].groupby("engine")]
+    rtf = equal_rtf(runs)
 
     write_csv(pd.DataFrame(stats_rows), outputs["trace_stats"])
     write_csv(pd.DataFrame(ref_rows), outputs["reference_stats"])
     write_csv(per_test, outputs["per_test_errors"])
     write_csv(error_summary, outputs["imu_errors"])
     write_csv(runs, outputs["runs"])
-    write_csv(pd.DataFrame(rtf, columns=["engine", "sim_time", "wall_time", "real_time_factor", "n_runs"]),
-               outputs["rtf"])
+    write_csv(rtf, outputs["rtf"])
+
+
+def equal_rtf(runs) -> "pd.DataFrame":
+    """Eq. 2 per engine over the same tests for every engine: a test any engine failed is left
+    out for all (an engine failing the slowest terrain would otherwise look faster) and named
+    in ``excluded``; an engine with no run of a test leaves that test out too."""
+    import pandas as pd
+
+    from simpick import metrics
+
+    runs = runs.assign(test=runs.terrain + "/" + runs.motion)
+    engines = sorted(runs.engine.unique())
+    ok = runs[runs.status == "ok"]
+    common = set.intersection(*(set(ok[ok.engine == e].test) for e in engines)) if engines else set()
+    excluded = ";".join(sorted(set(runs.test) - common))
+    rows = []
+    for engine in engines:
+        g = ok[(ok.engine == engine) & ok.test.isin(common)]
+        rows.append({"engine": engine, "sim_time": g.sim_time.sum(), "wall_time": g.wall_time.sum(),
+                     "real_time_factor": (metrics.real_time_factor(g.sim_time, g.wall_time) if len(g)
+                                          else float("nan")),
+                     "n_runs": len(g), "tests": ";".join(sorted(common)), "excluded": excluded})
+    return pd.DataFrame(rows, columns=["engine", "sim_time", "wall_time", "real_time_factor", "n_runs", "tests",
+                                       "excluded"])
 
 
 def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[str], qualitative: str,
@@ -174,6 +197,9 @@ def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[st
     rtf_frame = pd.read_csv(rtf).set_index("engine")
     errors = pd.read_csv(imu_errors)
     cpu = {c["engine"]: c for c in (json.loads(Path(f).read_text()) for f in cpu_files)}
+    # a CPU run that failed its health check is not a load to compare: that engine's score is NaN
+    # (listed as excluded in the weighted table), the others are scored among themselves
+    cpu = {e: c for e, c in cpu.items() if (c.get("health") or {}).get("status", "ok") == "ok"}
 
     def column(values: dict) -> dict:
         return {e: values.get(e, float("nan")) for e in engines}

@@ -21,8 +21,9 @@ optional (a section whose input is absent says so instead of showing data)
     ``replay_imu_errors``, ``real_logs`` (canonical logs) and ``replay_traces``
 
 ``params``: ``weights`` (metric -> weight; the paper's defaults when absent), ``config``
-(the canonical study config, shown under provenance and used for test order, terrain strip
-and commanded paths), ``title`` (optional), ``accuracy`` (``reference``: "real" or
+(the slice of the study config the report reads: terrains, motions, robot track; shown under
+provenance and used for test order, terrain strip and commanded paths), ``statistics``
+(``min_runs``, ``level``: when the real-data section may give an interval or verdict), ``title`` (optional), ``accuracy`` (``reference``: "real" or
 "paper", ``errors_file``: the path the scores rule read, ``dataset``; when absent the
 lab ``imu_errors`` are taken to be the scored ones), ``real_data`` (``dataset`` and
 ``classes``: terrain class -> {friction, source}, how each class was modelled).

@@ -286,7 +286,9 @@ def _cpu(data: ReportData, engines: list[str]) -> dict[str, Any] | None:
     rows = []
     for r in recs:
         e = r["engine"]
-        row = {"engine": e}
+        health = r.get("health") or {}
+        row = {"engine": e, "status": health.get("status", "unchecked" if not health else "ok"),
+               "reasons": list(health.get("reasons") or [])}
         for scen in ("average", "intense"):
             s = r.get(scen) or {}
             row[scen] = {"robots": s.get("robots"), "load": s.get("load_percent"),
@@ -537,6 +539,10 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
             r["score"] = data.weighted.loc[e, "real_time_factor"] if e in data.weighted.index else None
             rtf_rows.append(r)
         rtf_rows.sort(key=lambda r: engines.index(r["engine"]) if r["engine"] in engines else len(engines))
+    rtf_excluded = sorted({t for r in rtf_rows for t in str(r.get("excluded") or "").split(";")
+                           if t.strip() and t != "nan"})
+    rtf_tests = sorted({t for r in rtf_rows for t in str(r.get("tests") or "").split(";")
+                        if t.strip() and t != "nan"})
     config_text = yaml.safe_dump(config, sort_keys=False, allow_unicode=True, width=100) if config else None
     classes = real.class_order(data, params)
     accuracy = real.accuracy(data, params, engines, classes, [test_label(t, m) for t, m in tests])
@@ -566,6 +572,8 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         "rtf_given": data.rtf is not None,
         "runs": runs,
         "cpu": _cpu(data, engines),
+        "rtf_excluded": rtf_excluded,
+        "rtf_tests": rtf_tests,
         "imu": _imu(data, engines, tests),
         "accuracy": accuracy,
         "real": real_data,

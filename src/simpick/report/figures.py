@@ -26,9 +26,21 @@ QUANTITY_COLUMNS = {"angular": ("wx", "wy", "wz"), "linear": ("ax", "ay", "az")}
 
 
 # Figures depend on traces and metrics, not on the weights; memoised on disk by the content
-# of their arguments, so a weight edit redraws only the weighted-score chart.
+# of their arguments and the code that draws them (this module, the Matplotlib version), so a
+# weight edit redraws only the weighted-score chart and an edited figure is never served stale.
 CACHE_DIR: Path | None = None
 USED: set[str] = set()
+
+
+def _code_version() -> str:
+    import hashlib
+
+    import matplotlib
+
+    return hashlib.sha256(Path(__file__).read_bytes() + matplotlib.__version__.encode()).hexdigest()[:16]
+
+
+CODE_VERSION = _code_version()
 
 
 def prune_cache() -> None:
@@ -49,7 +61,8 @@ def cached(function):
     def wrapper(*args, **kwargs):
         if CACHE_DIR is None:
             return function(*args, **kwargs)
-        key = hashlib.sha256(pickle.dumps((function.__name__, args, sorted(kwargs.items())), protocol=5)).hexdigest()
+        key = hashlib.sha256(pickle.dumps((CODE_VERSION, function.__name__, args, sorted(kwargs.items())),
+                                          protocol=5)).hexdigest()
         path = Path(CACHE_DIR) / f"{function.__name__}-{key[:24]}.txt"
         USED.add(path.name)
         if path.is_file():

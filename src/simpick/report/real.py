@@ -2,8 +2,8 @@
 comparing every engine with the real Husky per terrain class (simpick.realdata's tables).
 
 Nothing here recomputes a study figure that a workflow rule already wrote, except the real
-robot's own yaw-rate gain per class (the mean and bootstrap interval over the distinct
-tests, as simpick.realdata does per engine) and, for the figures, the Welch spectra.
+robot's own yaw-rate gain per class (the mean over runs and its interval from
+``statistics.min_runs`` runs on, as simpick.realdata does per engine) and, for the figures, the Welch spectra.
 """
 
 from __future__ import annotations
@@ -169,6 +169,19 @@ def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], cl
     dataset = acc.get("dataset")
     if data.segments is not None and "dataset" in data.segments.columns and len(data.segments):
         dataset = str(data.segments["dataset"].iloc[0]) or dataset
+    discrimination = None
+    per_test = data.real.get(kind, {}).get("per_test") if kind in REAL_SETS else None
+    if per_test is not None and "run" in per_test.columns:
+        from simpick.realdata import score_discrimination
+
+        scored = [e for e in engines if e in set(ie["engine"]) and e in set(data.weighted.index)]
+        floor_models = sorted(set(per_test["engine"]) - set(data.weighted.index))
+        if scored and floor_models:
+            discrimination = score_discrimination(per_test, scored, floor_models, tests=tests,
+                                                  statistics=statistics(params))
+            for d in discrimination.values():
+                shares = [r["floor_share"] for r in d["rows"] if not _isnan(r["floor_share"])]
+                d["engine_share_max"] = max(abs(1 - s) for s in shares) if shares else float("nan")
     n = len(tests)
     noun = {"segments": "constant-command segment", "replay": "replayed run",
             "real": "real-data test"}.get(kind, "test")
@@ -178,7 +191,7 @@ def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], cl
         "dataset": dataset, "rows": rows, "tests": tests, "n": len(tests), "same_for_all": len(sets) <= 1,
         "excluded": excluded, "groups": groups, "mismatch": mismatch,
         "uneven": {q: n for q, n in n_by_q.items() if len(n) > 1},
-        "lab_tests": lab_tests, "lab_scored": kind == "lab",
+        "lab_tests": lab_tests, "lab_scored": kind == "lab", "discrimination": discrimination,
         "unit_name": SET_UNITS.get(kind, "test"),
         "kind_title": SET_TITLES.get(kind, "real-data tests" if kind == "real" else "lab tests"),
     }
@@ -195,16 +208,29 @@ def _cell(row: Mapping[str, Any] | None, fig: str) -> dict[str, Any] | None:
     return {"mean": _f(row.get(fig)), "low": _f(row.get(f"{fig}_low")), "high": _f(row.get(f"{fig}_high"))}
 
 
-def _real_gain(per_test: pd.DataFrame | None, summary: pd.DataFrame | None, cls: str) -> tuple[dict | None, int]:
-    """The real robot's yaw-rate gain over the class's distinct tests: mean and 95 % interval."""
-    from simpick.realmetrics import bootstrap_ci
+def statistics(params: Mapping[str, Any]) -> dict[str, Any]:
+    """The config's statistics slice (minimum independent runs, level), with its defaults."""
+    from simpick.realmetrics import MIN_RUNS, smallest_p
 
+    st = {"min_runs": MIN_RUNS, "level": 0.95} | dict(params.get("statistics") or {})
+    st["min_runs"], st["level"] = int(st["min_runs"]), float(st["level"])
+    st["smallest_p_below"] = smallest_p(st["min_runs"] - 1)
+    return st
+
+
+def _real_gain(per_test: pd.DataFrame | None, summary: pd.DataFrame | None, cls: str,
+               stats: Mapping[str, Any] | None = None) -> tuple[dict | None, int]:
+    """The real robot's yaw-rate gain over the class's distinct tests: mean over runs, and its
+    interval where there are enough runs (``stats``)."""
+    from simpick.realmetrics import MIN_RUNS, mean_ci
+
+    stats = stats or {}
     if per_test is not None and "yaw_rate_gain_real" in per_test.columns:
         sel = per_test[per_test["terrain_class"] == cls].drop_duplicates("segment")
         vals = np.array([_f(x) for x in sel["yaw_rate_gain_real"]])
-        vals = vals[np.isfinite(vals)]
-        mean, lo, hi = bootstrap_ci(vals, seed=0)
-        return {"mean": mean, "low": lo, "high": hi}, int(vals.size)
+        runs = sel["run"].astype(str).to_numpy() if "run" in sel.columns else None
+        mean, lo, hi, n_runs = mean_ci(vals, runs, stats.get("min_runs", MIN_RUNS), stats.get("level", 0.95))
+        return {"mean": mean, "low": lo, "high": hi, "n_runs": n_runs}, int(np.isfinite(vals).sum())
     if summary is not None and "yaw_rate_gain_real" in summary.columns:
         sel = summary[summary["terrain_class"] == cls]
         if len(sel):
@@ -231,14 +257,16 @@ def _verdict(cls: str, fig: str, summary: pd.DataFrame | None, pairwise: pd.Data
     others = [e for e in means if e != best]
     verdicts = [str(r["verdict"]) for r in pairs]
     clear = bool(others) and len(pairs) >= len(others) and all(v == f"{best} closer" for v in verdicts)
+    n_runs = sorted({int(_f(r["n_runs"])) for r in pairs if "n_runs" in r and not _isnan(r["n_runs"])})
     if not others:
         reason = "only one engine"
     elif clear:
         reason = ""
     elif not pairs:
         reason = "no paired comparison"
-    elif any(v == "too few tests" for v in verdicts):
-        reason = "too few tests for an interval"
+    elif any(v.startswith("too few") for v in verdicts):
+        reason = (f"too few runs ({', '.join(map(str, n_runs))} independent run{'s' if n_runs != [1] else ''})"
+                  if n_runs else "too few runs")
     elif any(v.endswith(" closer") and v != f"{best} closer" for v in verdicts):
         reason = "the paired intervals disagree with the means"
     else:
@@ -249,9 +277,11 @@ def _verdict(cls: str, fig: str, summary: pd.DataFrame | None, pairwise: pd.Data
         other = r["engine_b"] if r["engine_a"] == best else r["engine_a"]
         lo, hi = sign * _f(r["low"]), sign * _f(r["high"])
         diffs.append({"other": other, "mean": sign * _f(r["mean_a_minus_b"]), "low": min(lo, hi),
-                      "high": max(lo, hi), "verdict": r["verdict"]})
+                      "high": max(lo, hi), "verdict": r["verdict"], "p_value": _f(r.get("p_value")),
+                      "n_runs": _f(r.get("n_runs"))})
     return {"figure": fig, "label": FIGURE_LABELS[fig], "unit": FIGURE_UNITS[fig], "engine": best,
-            "is_clear": clear, "reason": reason, "diffs": diffs, "n_engines": len(means)}
+            "is_clear": clear, "too_few": reason.startswith("too few"), "reason": reason, "diffs": diffs,
+            "n_engines": len(means), "n_runs": n_runs}
 
 
 def _gain_closest(real_gain: dict | None, rows: list[dict]) -> dict[str, Any] | None:
@@ -266,12 +296,15 @@ def _gain_closest(real_gain: dict | None, rows: list[dict]) -> dict[str, Any] | 
     return {"engine": best, "gap": gaps[best], "gaps": gaps, "sim": sim}
 
 
-def _set_block(set_: str, tables: Mapping[str, pd.DataFrame], cls: str, engines: list[str]) -> dict[str, Any]:
+def _set_block(set_: str, tables: Mapping[str, pd.DataFrame], cls: str, engines: list[str],
+               stats: Mapping[str, Any] | None = None) -> dict[str, Any]:
     summary, pairwise, per_test = tables.get("summary"), tables.get("pairwise"), tables.get("per_test")
-    real_gain, n_gain = _real_gain(per_test, summary, cls)
-    n_class = None
+    real_gain, n_gain = _real_gain(per_test, summary, cls, stats)
+    n_class = n_runs_class = None
     if per_test is not None:
         n_class = int(per_test[per_test["terrain_class"] == cls]["segment"].nunique())
+        if "run" in per_test.columns:
+            n_runs_class = int(per_test[per_test["terrain_class"] == cls]["run"].astype(str).nunique())
     rows = []
     if summary is not None:
         sel = summary[summary["terrain_class"] == cls]
@@ -283,6 +316,7 @@ def _set_block(set_: str, tables: Mapping[str, pd.DataFrame], cls: str, engines:
                 pt = per_test[(per_test["terrain_class"] == cls) & (per_test["engine"] == e)]
                 n_turn = int(np.isfinite([_f(x) for x in pt["yaw_rate_gain_sim"]]).sum())
             rows.append({"engine": e, "n": int(_f(r["n_tests"])) if not _isnan(r["n_tests"]) else 0,
+                         "n_runs": int(_f(r["n_runs"])) if not _isnan(r.get("n_runs")) else None,
                          "n_gain": n_turn,
                          "gain": _cell(r, "yaw_rate_gain_sim"),
                          "errors": {f: _cell(r, f) for f in ERROR_FIGURES},
@@ -296,7 +330,8 @@ def _set_block(set_: str, tables: Mapping[str, pd.DataFrame], cls: str, engines:
     extra = [(f, label) for f, label in REPLAY_EXTRA
              if summary is not None and f in summary.columns]
     return {"set": set_, "title": SET_TITLES.get(set_, set_), "unit": SET_UNITS.get(set_, "test"),
-            "real_gain": real_gain, "n_gain_real": n_gain, "n_class": n_class, "rows": rows,
+            "real_gain": real_gain, "n_gain_real": n_gain, "n_class": n_class, "n_runs": n_runs_class,
+            "rows": rows,
             "verdicts": verdicts, "gain_closest": _gain_closest(real_gain, rows), "failed": failed,
             "extra": extra, "given": summary is not None}
 
@@ -550,6 +585,7 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
             missing.append(f"{SET_TITLES[s]}: no {', '.join(f'{s}_{t}' for t in lacking)} input")
     given = bool(sets) or data.segments is not None
     scored_set = acc.get("kind") if acc and acc.get("kind") in REAL_SETS else None
+    stats = statistics(params)
 
     blocks_by_set: dict[str, list[dict]] = {s: [] for s in sets}
     class_blocks = []
@@ -561,7 +597,7 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
         item = {"cls": cls, "label": cls.replace("_", " "), "friction": cp.get("friction"),
                 "source": cp.get("source"), "sets": []}
         for s in sets:
-            block = _set_block(s, data.real[s], cls, engines)
+            block = _set_block(s, data.real[s], cls, engines, stats)
             block["scored"] = s == scored_set
             item["sets"].append(block)
             blocks_by_set[s].append({"cls": cls, "block": block})
@@ -572,7 +608,7 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
     tally: dict[str, dict[str, int]] = {}
     for s in sets:
         rows = []
-        counts = {"by_engine": {}, "unclear": 0, "n": 0}
+        counts = {"by_engine": {}, "unclear": 0, "too_few": 0, "n": 0}
         for b in blocks_by_set[s]:
             vs = {v["figure"]: v for v in b["block"]["verdicts"]}
             rows.append({"cls": b["cls"], "label": b["cls"].replace("_", " "), "verdicts": vs,
@@ -581,6 +617,8 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
                 counts["n"] += 1
                 if v["is_clear"]:
                     counts["by_engine"][v["engine"]] = counts["by_engine"].get(v["engine"], 0) + 1
+                elif v.get("too_few"):
+                    counts["too_few"] += 1
                 else:
                     counts["unclear"] += 1
         glance.append({"set": s, "title": SET_TITLES[s], "rows": rows, "scored": s == scored_set})
@@ -602,7 +640,7 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
     n_small = {}
     for item in class_blocks:
         for b in item["sets"]:
-            ns = [r["n"] for r in b["rows"]]
+            ns = [r["n_runs"] if r.get("n_runs") is not None else r["n"] for r in b["rows"]]
             if ns:
                 n_small.setdefault(b["set"], []).append((item["cls"], min(ns)))
     return {
@@ -615,7 +653,7 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
         "dataset": (rd.get("dataset") or (acc or {}).get("dataset")),
         "dataset_text": prov.get("dataset"), "scored_set": scored_set,
         "window": rd.get("window"), "segment_rules": rd.get("segment_rules") or {},
-        "n_small": n_small,
+        "n_small": n_small, "stats": stats,
         "replay_wanted": bool((params.get("accuracy") or {}).get("replay")),
         "datasets": datasets(data, params),
     }
