@@ -57,6 +57,8 @@ rule report_pdf:
         "results/report/report.html",
     output:
         "results/report/report.pdf",
+    params:
+        code=code_version("report"),
     log:
         "results/logs/report_pdf.log",
     benchmark:
