@@ -53,6 +53,39 @@ DART's stock (and Gazebo's) behaviour. NSGS is iterative: its sweeps stop at
 is sensitive to where it stops (yaw rate over 1-3 s 0.17 / 0.14 / 0.08 rad/s for
 tolerance 1e-5 / 1e-5 with 1000 sweeps / 1e-7 with the ODE detector): contact forces of a
 four-wheeled rigid robot are not unique, and the solver picks one solution.
+
+Speed (issue 12). What a step costs, from ``bench/dart_profile.py`` (lab straight run, medians of 3,
+shared 2-core machine at load 4-5, so absolute figures are about 1.3-2x those of a quiet machine):
+
+  terrain  step     with Dantzig  NSGS share  collision query  NSGS sweeps/step (at the 100 cap)  contacts
+  grass    492 us   31 us         ~461 us     15 us            82 (63 % of steps)                  3.7
+  bumps    471 us   49 us         ~422 us     40 us            80 (62 %)                           2.7
+  gravel   573 us   171 us        ~403 us     151 us           59 (35 %)                           2.5
+
+The friction-cone solve is 70-94 % of the step: NSGS starts every step from zero (a robot at
+rest still takes 32 sweeps a step), and a sweep over 3-4 contacts and the 4 wheel servo rows costs
+about 5.6 us. 10x real time at 1 kHz needs <= 100 us a step, i.e. <= ~12 sweeps. On gravel the
+collision query is the rest: DART collides one group with itself, so the 485 terrain shapes'
+overlapping pairs (bed boxes under stones, neighbouring stones, the plane) all reach DART's
+filter each step: 176 us with no robot in the world. The recording loop adds ~3 % (job/bare
+0.97). Tried and not adopted (same machine, single runs unless stated):
+- ``solver_tolerance`` 1e-4 / 1e-3: grass 1.4x / 3.9x faster, but the validation fails (1e-4:
+  gain_v0.5_w0.1 0.247, gain_spin_mu0.2 0.400; 1e-3: gain_spin_mu0.2 0.242, gain_v0.5_w0.5_mu0.2
+  0.235; Coulomb 0.478): the loose solve settles on a non-turning set of forces.
+- ``solver_sweeps`` 20 / 35 / 50: the validation passes (gains within 0.001 of 100 sweeps; parked
+  creep 9.9e-4 / 3.4e-4 / 1.4e-4 m/s for 1.6e-5, tolerance 1e-3), grass 1.8x faster at 35. But
+  the cap is where DART's answer is set (63 % of grass steps stop there): at 35 the grass straight
+  run's IMU statistics move far beyond roundoff (1 %-trimmed acceleration range 3.1 m/s^2, gyro
+  range 0.14 rad/s, against 0.11 and 0.0017 for a 1e-9 m start shift). Not the same physics.
+- ``FbfFrictionSolver``: 4.7x slower on grass (16 of 3000 solves converged).
+- Dantzig (``lcp_solver: dantzig``): 8-17x faster, but its world-aligned friction box barely turns
+  the robot (above).
+- detectors (3 s runs, NSGS): DART's 1 471 / 1 863 / 854, Bullet's 1 829 / 2 568 / 1 743 steps/s on
+  grass / bumps / gravel against FCL's 2 244 / 1 995 / 1 492: no gain, other contact layouts (above).
+- only the terrain shapes within reach of the robot in the collision group (collision aspects
+  switched per 0.25 m cell, every 20 steps): the query falls to 98 us for 200 of the 485 shapes,
+  but re-syncing the group on each change eats it (gravel 1 228 -> 1 273 steps/s, n 3, within
+  noise) and the traces part at roundoff.
 """
 
 from __future__ import annotations
