@@ -66,7 +66,7 @@ def test_tolerance_edit_rejudges_without_stepping_an_engine(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        assert rules == ["all", "report", "validation_summary"]
+        assert rules == ["all", "report", "report_pdf", "validation_summary"]
     finally:
         write_config(workdir, config)
 
@@ -83,7 +83,7 @@ def test_weight_edit_reruns_only_scoring_and_report(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        assert rules == ["all", "report", "scores"]
+        assert rules == ["all", "report", "report_pdf", "scores"]
     finally:
         write_config(workdir, config)
 
