@@ -256,6 +256,8 @@ def report_real_inputs(wildcards):
         inputs["replay_traces"] = replay_traces()
     if SWEEP:
         inputs["sweep"] = f"{SWEEP_DIR}/summary.csv"
+    if CALIBRATION and CALIBRATION.get("enabled"):  # rules/calibration.smk
+        inputs["calibration"] = f"{CAL_DIR}/summary.csv"
     return inputs
 
 
