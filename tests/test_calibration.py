@@ -243,3 +243,17 @@ def planned_jobs_for(workdir, target):
     out = snakemake(workdir, target, "-n")
     assert out.returncode == 0, out.stderr
     return [(m.group(1), "") for m in re.finditer(r"\n(?:local)?rule (\w+):", "\n" + out.stdout + out.stderr)]
+
+
+def test_the_calibration_template_renders_the_tables():
+    from simpick.report.build import environment
+    from simpick.report.calibration import calibration_section
+
+    best = {("a", "ice"): {"parameters": {"friction": 0.2}, "as_configured": {"friction": 0.1}}}
+    section = calibration_section(summarise(_evals(), best), ["b", "a"], {})
+    wrapper = ('{% macro eng(e) %}<span class="engine">{{ e }}</span>{% endmacro %}'
+               '{% if calibration.given %}{% include "calibration_section.html.j2" %}{% endif %}')
+    html = environment().from_string(wrapper).render(calibration=section, colors={})
+    assert "the test winner changes from b to a" in html
+    assert "friction=0.2" in html and "(friction=0.1)" in html
+    assert html.count("<tr><td>") == 2 and "2 → 1" in html  # a: rank 2 as configured, 1 calibrated
