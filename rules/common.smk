@@ -273,6 +273,8 @@ def report_real_inputs(wildcards):
         inputs["replay_traces"] = replay_traces()
     if SWEEP:
         inputs["sweep"] = f"{SWEEP_DIR}/summary.csv"
+    if CALIBRATION and CALIBRATION.get("enabled"):  # rules/calibration.smk
+        inputs["calibration"] = f"{CAL_DIR}/summary.csv"
     return inputs
 
 
@@ -310,3 +312,48 @@ def engine_code(engine, *more):
     """The code one engine's simulations run: the shared simulation code, its adapter, ``more``."""
     own = ENGINE_CODE.get(engine, (f"engines/{engine}_engine.py",))
     return code_version(*SIM_CODE, *own, *more)
+
+
+# Calibration (rules/calibration.smk, config `calibration:`): units, settings and targets
+CALIBRATION = config.get("calibration")
+
+if CALIBRATION:
+    from simpick.engines import get_engine as _get_engine
+
+    CAL_SOURCE = "replay" if REPLAY_SET else "segments"
+    CAL_DIR = f"results/calibration/replay-{REPLAY_SET.name}" if REPLAY_SET else f"results/calibration/segments-{DATASET}"
+    CAL_MODELS = [m for m in (CALIBRATION.get("models") or REAL_MODELS) if _get_engine(m).calibratable]
+    CAL_CLASSES = sorted({c for c, _ in RUNS}) if REPLAY_SET else sorted(SEGMENTS)
+
+    def calibration_units():
+        """(terrain class, run, unit) of every real unit the split divides."""
+        if REPLAY_SET:
+            return [[c, run, run] for c, run in RUNS]
+        with open(config["real_data"]["segments"], newline="") as handle:
+            return [[r["terrain_class"], r["run"], r["segment"]] for r in csv.DictReader(handle)]
+
+    def calibration_data(wildcards):
+        """The real data a class's jobs read: the committed table, or the class's canonical logs."""
+        if REPLAY_SET:
+            return {"logs": [f"{REPLAY}/logs/{c}/{run}.parquet" for c, run in RUNS if c == wildcards.terrain_class]}
+        return {"segments": config["real_data"]["segments"]}
+
+    def calibration_settings(engine, search=True):
+        """What a class's errors depend on; with ``search`` also the optimiser's budget, seed and
+        this model's bounds (so an evaluation does not rerun on a budget edit unless the best
+        parameters change)."""
+        window = {"segment_seconds": CALIBRATION.get("segment_seconds")} if not REPLAY_SET else {
+            "replay_seconds": CALIBRATION.get("replay_seconds")}
+        out = {"source": CAL_SOURCE, "scales": CALIBRATION["scales"], **window}
+        if search:
+            out.update({"n_trials": CALIBRATION["n_trials"], "startup_trials": CALIBRATION["startup_trials"],
+                        "seed": CALIBRATION["seed"],
+                        "bounds": {engine: (CALIBRATION.get("bounds") or {}).get(engine) or {}}})
+        return canonical(out)
+
+    def calibration_outputs():
+        return [f"{CAL_DIR}/{e}/{c}/evaluation.csv" for e in CAL_MODELS for c in CAL_CLASSES]
+
+    CALIBRATION_ALL = [f"{CAL_DIR}/summary.csv"] if CALIBRATION.get("enabled") else []
+else:
+    CALIBRATION_ALL = []

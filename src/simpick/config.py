@@ -200,6 +200,43 @@ class Sweep(Strict):
         return timesteps
 
 
+class CalibrationScales(Strict):
+    yaw_rate: Positive  # rad/s
+    accel_x: Positive  # m/s^2
+
+
+class Calibration(Strict):
+    """Issue 11: calibrate every real-data model on training runs, judge it on test runs."""
+    enabled: bool = False
+    test_fraction: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)]
+    seed: Annotated[int, Field(ge=0, lt=2**32)]
+    n_trials: Annotated[int, Field(ge=1)]
+    startup_trials: Annotated[int, Field(ge=1)]
+    segment_seconds: Positive | None = None
+    replay_seconds: Positive | None = None
+    scales: CalibrationScales
+    models: list[str] | None = None  # engines and baselines to calibrate; None: every one in the study
+    bounds: dict[str, dict[str, Annotated[list[Finite], Field(min_length=2, max_length=2)]]] = {}
+
+    @model_validator(mode="after")
+    def known_parameters(self):
+        from simpick.engines import get_engine
+
+        for engine, params in self.bounds.items():
+            if engine not in ADAPTERS and engine not in REFERENCE_MODELS:
+                raise ValueError(f"bounds.{engine}: unknown engine; available: {sorted(ADAPTERS | REFERENCE_MODELS)}")
+            declared = getattr(get_engine(engine), "calibratable", {})
+            for name, (low, high) in params.items():
+                if name not in declared:
+                    raise ValueError(f"bounds.{engine}.{name}: {engine} declares no calibratable parameter "
+                                     f"{name!r}; it declares {sorted(declared)}")
+                if not low < high:
+                    raise ValueError(f"bounds.{engine}.{name}: low {low} must be below high {high}")
+                if declared[name].log and low <= 0:
+                    raise ValueError(f"bounds.{engine}.{name}: searched on a log scale, low must be > 0")
+        return self
+
+
 class Accuracy(Strict):
     reference: Literal["real", "paper", "own"]
 
@@ -247,6 +284,7 @@ class Study(Strict):
     real_dataset: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] | None = None
     own_logs: list[OwnLog] = []
     sweep: Sweep | None = None
+    calibration: Calibration | None = None
     real_data: RealData
     qualitative: str
     weights: dict[str, NonNegative]
@@ -317,6 +355,11 @@ class Study(Strict):
         if unknown:
             raise ValueError(f"own_logs: terrain classes {unknown} are not under real_data.classes "
                              f"{sorted(self.real_data.classes)}; add them there with a friction and its source")
+        if self.calibration is not None:
+            known = list(self.engines) + list(self.baselines)
+            unknown = [m for m in self.calibration.models or [] if m not in known]
+            if unknown:
+                raise ValueError(f"calibration.models: {unknown} are not in this study's engines or baselines {known}")
         if self.accuracy.reference == "own" and not self.own_logs:
             raise ValueError("accuracy.reference is 'own' but own_logs is empty")
         for key, path in (("robot.urdf", self.robot.urdf), ("reference.published", self.reference.published),

@@ -66,8 +66,29 @@ def validated_commands(scenario: Scenario, wheel_commands) -> np.ndarray:
     return wheel_commands
 
 
+@dataclass(frozen=True)
+class Calibratable:
+    """A contact parameter a user tunes, with the bounds calibration searches (simpick.calibration).
+
+    The name ``friction`` is the ground's Coulomb coefficient (``real_data.classes.<c>.friction``);
+    any other name is one of the adapter's own settings. ``why`` gives the source of the bounds."""
+
+    low: float
+    high: float
+    log: bool = False  # search on a log scale (parameters spanning decades)
+    why: str = ""
+
+
+# The ground's Coulomb coefficient, the parameter every engine exposes: from ice (0.05, below
+# Wong's 0.1 peak for a tyre on ice) to 1.5, above any dry tyre-road peak (Wong, Theory of Ground
+# Vehicles, Table 1.4: 0.8-0.9); log scale, as the classes span a decade.
+FRICTION = Calibratable(0.05, 1.5, log=True, why="tyre on ice (Wong Table 1.4: 0.1) to above dry asphalt (0.9)")
+
+
 class Engine(Protocol):
     name: str
+    # parameter name -> bounds: what calibration may tune on this engine (simpick.calibration)
+    calibratable: dict[str, Calibratable]
 
     def version(self) -> str:
         """The engine's own version string, for provenance."""

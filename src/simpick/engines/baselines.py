@@ -23,7 +23,7 @@ import time
 import numpy as np
 
 import simpick
-from simpick.engines.base import PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import FRICTION, Calibratable, PhysicsRecord, Scenario, validated_commands
 from simpick.imu import imu_from_kinematics
 
 DEFAULTS_KINEMATIC = {"track": 0.555}  # m: the controller's effective track (config robot.track)
@@ -99,6 +99,10 @@ class _ReferenceModel:
 
 class KinematicModel(_ReferenceModel):
     name = "kinematic"
+    # The effective track of skid-steer kinematics, the parameter its users calibrate (e.g. Mandow
+    # et al. 2007): yaw rate = (v_r - v_l) / track. From the geometric 0.555 m (no slip) to 3 m, a
+    # yaw-rate gain of 0.19, below the real Husky's lowest (0.21 on snow, METHOD.md s6).
+    calibratable = {"track": Calibratable(0.555, 3.0, why="gain 1 (no slip) down to 0.19, below snow's 0.21")}
 
     def targets(self, scenario, left, right):
         track = float({**DEFAULTS_KINEMATIC, **scenario.settings}["track"])
@@ -107,6 +111,10 @@ class KinematicModel(_ReferenceModel):
 
 class CoulombModel(_ReferenceModel):
     name = "coulomb"
+    # Its one parameter: the friction coefficient, which bounds how fast the twist follows a new
+    # command (mu g at every contact); the steady twist does not depend on it (Coulomb's gain is
+    # the same for every mu, METHOD.md s6). The loads come from the robot description.
+    calibratable = {"friction": FRICTION}
 
     def targets(self, scenario, left, right):
         from simpick.coulomb import CoulombTable, contact_layout

@@ -96,7 +96,7 @@ import time
 
 import numpy as np
 
-from simpick.engines.base import PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import FRICTION, PhysicsRecord, Scenario, validated_commands
 from simpick.errors import InputError
 from simpick.imu import imu_from_kinematics, matrices_to_quaternions
 
@@ -122,6 +122,9 @@ def _yaw(yaw: float) -> np.ndarray:
 
 
 class DartEngine:
+    # dartpy 6.20 exposes one contact parameter per shape, the friction coefficient
+    # (DynamicsAspect get/setFrictionCoeff; no slip compliance, no secondary direction)
+    calibratable = {"friction": FRICTION}
     name = "dart"
 
     def version(self) -> str:

@@ -37,7 +37,7 @@ import time
 
 import numpy as np
 
-from simpick.engines.base import PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import FRICTION, Calibratable, PhysicsRecord, Scenario, validated_commands
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 DEFAULTS = {
@@ -75,6 +75,18 @@ def _yaw_quat(yaw: float) -> list[float]:
 
 
 class MujocoEngine:
+    calibratable = {
+        "friction": FRICTION,
+        # Contact softness (solimp d of the wheel pairs): 0.005-0.1 is the range the adapter was
+        # measured over in issue 9 (config comment: same gains); 0.015 gives 1.5 mm resting sag.
+        "wheel_contact_impedance": Calibratable(0.005, 0.1, log=True,
+                                                why="the range measured in issue 9 (DEFAULTS comment)"),
+        # Friction softness (impedance of the friction rows via impratio): from 0.8, softer friction
+        # rows that let a sticking contact creep more, to 0.995, stiffer than the 0.98 chosen in
+        # issue 9 (config comment: parked creep 0.27 against 6.6 for MuJoCo's default contact).
+        "wheel_friction_impedance": Calibratable(0.8, 0.995,
+                                                 why="from MuJoCo-default-like creep (0.8) to near-rigid 0.995"),
+    }
     name = "mujoco"
 
     def version(self) -> str:

@@ -105,7 +105,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from simpick.engines import _ode
-from simpick.engines.base import PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import FRICTION, Calibratable, PhysicsRecord, Scenario, validated_commands
 from simpick.errors import InputError, SimulationFailure
 from simpick.imu import imu_from_kinematics, matrices_to_quaternions, rotation_matrices
 
@@ -117,7 +117,11 @@ DEFAULTS = {"stepper": "world", "quick_iterations": 50, "erp": 0.2, "cfm": 1e-5,
             "contact_surface_layer": 0.0, "contact_max_correcting_vel": 0.1, "max_contacts": 4,
             "space": "quadtree", "quadtree_cell": 0.4,
             # fdir1 along each contact's slip (module docstring: gain 0.115 -> 0.483 at pure spin)
-            "friction_direction": "coulomb", "friction_direction_min_slip": 1e-3}
+            "friction_direction": "coulomb", "friction_direction_min_slip": 1e-3,
+            # force-dependent slip of terrain contacts, (m/s)/N on both friction rows (ODE's
+            # dContactSlip1/2: a contact slides at slip x friction force); Gazebo exposes it as
+            # <slip1>/<slip2> and users tune it for skid-steer turning. 0: off (ODE's default).
+            "contact_slip": 0.0}
 FRICTION_DIRECTIONS = ("coulomb", "slip", "plane")
 
 
@@ -305,8 +309,10 @@ class _World:
         self.slip_directions = s["friction_direction"] in ("slip", "coulomb")
         self.coulomb = s["friction_direction"] == "coulomb"
         self.min_slip = float(s["friction_direction_min_slip"])
+        slip = float(s["contact_slip"])
         mode = (_ode.dContactApprox1 | (_ode.dContactFDir1 if self.slip_directions else 0)
-                | (_ode.dContactMu2 if self.coulomb else 0))
+                | (_ode.dContactMu2 if self.coulomb else 0)
+                | (_ode.dContactSlip1 | _ode.dContactSlip2 if slip > 0 else 0))
 
         def contacts_for(mu: float) -> tuple:
             if mu not in buffers:
@@ -314,6 +320,7 @@ class _World:
                 for c in array:
                     c.surface.mode = mode
                     c.surface.mu = c.surface.mu2 = mu  # both rows bounded by mu unless sliding ("coulomb")
+                    c.surface.slip1 = c.surface.slip2 = slip
                 self._keep.append(array)
                 base = ctypes.addressof(array)
                 size = ctypes.sizeof(_ode.dContact)
@@ -593,6 +600,16 @@ class _World:
 
 class OdeEngine:
     name = "ode"
+    calibratable = {
+        "friction": FRICTION,
+        # Force-dependent slip, (m/s)/N: a Husky wheel's friction force is about mu x 170 N (up to
+        # ~130 N at mu 0.75), so 5e-3 lets it creep at up to ~0.6 m/s, beyond the runs' 0.5 m/s:
+        # the range spans rigid (0) to fully compliant.
+        "contact_slip": Calibratable(0.0, 5.0e-3, why="0 (rigid) to creep beyond the runs' speeds"),
+        # Global constraint force mixing (the softness of every constraint, contacts included): two
+        # decades either side of ODE's and Webots' default 1e-5 (the ODE manual: larger is softer).
+        "cfm": Calibratable(1.0e-7, 1.0e-3, log=True, why="two decades either side of the 1e-5 default"),
+    }
 
     def version(self) -> str:
         return _ode.version()

@@ -39,7 +39,7 @@ import time
 
 import numpy as np
 
-from simpick.engines.base import PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import FRICTION, Calibratable, PhysicsRecord, Scenario, validated_commands
 from simpick.imu import imu_from_kinematics, rotation_matrices
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, so no wheel starts inside the ground
@@ -55,7 +55,11 @@ DEFAULTS = {"solver_iterations": 50,
             # static deflection, vertical mode ~42 Hz with a quarter of the mass (24 steps at 1 kHz);
             # 5e3 N s/m: damping ratio ~0.7. 1e7 N/m (2e4 N s/m) gives the same gains within 0.001;
             # 1e5 N/m lets the loads oscillate (sd 20 N) in a spin.
-            "contact_stiffness": 1.0e6, "contact_damping": 5.0e3}
+            "contact_stiffness": 1.0e6, "contact_damping": 5.0e3,
+            # Torsional ("spinning") friction of the robot's links, m: Bullet combines it with the
+            # ground's friction (robot spinning x ground mu), a torque of that x the normal force
+            # resisting a contact's spin about its normal. 0: none (the set-up before issue 11).
+            "spinning_friction": 0.0}
 # getJointStates costs about half a Bullet step; wheel speeds are read every 10th step (the
 # IMU's 100 Hz at 1 kHz physics, so trace rows hold exact values) and held in between.
 WHEEL_SAMPLE_EVERY = 10
@@ -86,6 +90,17 @@ def _quat_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 class PyBulletEngine:
+    calibratable = {
+        "friction": FRICTION,
+        # Contact softness: 2e5 N/m is ~0.7 mm static sag per wheel; at 1e5 the loads oscillate in a
+        # spin (sd 20 N, DEFAULTS above); 1e7 gives the gains of 1e6 within 0.001, so the range
+        # covers every distinct behaviour. Damping stays at its setting.
+        "contact_stiffness": Calibratable(2.0e5, 1.0e7, log=True,
+                                          why="1e5 N/m oscillates in a spin; 1e7 = 1e6 within 0.001 (issue 9)"),
+        # Torsional friction, m (x mu x normal force): 0 to 0.05 m, under half the wheel's
+        # 0.114 m width, the largest lever a contact patch across the wheel could give.
+        "spinning_friction": Calibratable(0.0, 0.05, why="0 to under half the 0.114 m wheel width"),
+    }
     name = "pybullet"
 
     def version(self) -> str:
@@ -192,7 +207,8 @@ class PyBulletEngine:
                            "contactDamping": float(params["contact_damping"])}
                           if float(params["contact_stiffness"]) > 0 else {})
             for link in range(-1, pb.getNumJoints(body, physicsClientId=cid)):
-                pb.changeDynamics(body, link, lateralFriction=1.0, rollingFriction=0.0, spinningFriction=0.0,
+                pb.changeDynamics(body, link, lateralFriction=1.0, rollingFriction=0.0,
+                                  spinningFriction=float(params["spinning_friction"]),
                                   restitution=0.0, linearDamping=0.0, angularDamping=0.0, **compliance,
                                   physicsClientId=cid)
             bodies.append(body)

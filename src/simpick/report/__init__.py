@@ -19,6 +19,7 @@ optional (a section whose input is absent says so instead of showing data)
     ``segments_pairwise``, ``segments_imu_errors``; with the full replay
     ``replay_per_window``, ``replay_per_test``, ``replay_summary``, ``replay_pairwise``,
     ``replay_imu_errors``, ``real_logs`` (canonical logs) and ``replay_traces``
+    calibration (rules/calibration.smk): ``calibration`` (its summary.csv)
 
 ``params``: ``weights`` (metric -> weight; the paper's defaults when absent), ``config``
 (the slice of the study config the report reads: terrains, motions, robot track; shown under
@@ -38,6 +39,7 @@ from typing import Any
 REQUIRED_INPUTS: tuple[str, ...] = ("weighted", "runs")
 OPTIONAL_INPUTS: tuple[str, ...] = (
     "sweep",
+    "calibration",
     "trace_stats",
     "reference_stats",
     "imu_errors",

@@ -547,12 +547,15 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     classes = real.class_order(data, params)
     accuracy = real.accuracy(data, params, engines, classes, [test_label(t, m) for t, m in tests])
     real_data = real.real_section(data, params, engines, colors, classes, accuracy)
+    from simpick.report.calibration import calibration_section
     from simpick.report.sweep import sweep_section
     from simpick.report.validation import validation_section
 
     return {
         "validation": validation_section(data.validation, engines, colors),
         "sweep": sweep_section(data.sweep, engines, colors),
+        "calibration": calibration_section(data.calibration, engines + [e for e in (data.calibration.engine.unique()
+                                           if data.calibration is not None else []) if e not in engines], colors),
         "title": params.get("title") or DEFAULT_TITLE,
         "generated": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
         "engines": engines,

@@ -28,6 +28,8 @@ COLUMNS: dict[str, tuple[str, ...]] = {
     "table11_comparison": ("simulator", "metric", "published", "recomputed", "difference", "matches"),
     "sweep": ("terrain_class", "engine", "timestep", "n_segments", "n_failed", "n_compared", "excluded",
               "error_angular", "error_linear", "gain_error", "real_time_factor", "steps_per_s"),
+    "calibration": ("terrain_class", "engine", "set", "n_units", "n_runs", "objective_configured",
+                    "objective_calibrated", "change", "parameters", "rank_configured", "rank_calibrated"),
     "validation": ("engine", "case", "kind", "quantity", "unit", "engine_value", "analytic_value", "error",
                    "error_kind", "tolerance", "passed", "status"),
     # real robot data (rules/real.smk, simpick.realdata)
@@ -90,6 +92,8 @@ class ReportData:
     validation: pd.DataFrame | None = None
     # speed-accuracy sweep (rules/sweep.smk), when the study ran with one
     sweep: pd.DataFrame | None = None
+    # calibration on training runs, judged on test runs (rules/calibration.smk), when run
+    calibration: pd.DataFrame | None = None
     # real robot data: the committed segment table, and per set ("segments", "replay") its tables
     segments: pd.DataFrame | None = None
     segments_provenance: dict | None = None
@@ -173,7 +177,7 @@ def load_inputs(inputs: Mapping[str, Any]) -> ReportData:
             sources[key] = str(p)
             kw[key] = _csv(key, p, index)
 
-    for key in ("accuracy_errors", "segments", "replay_per_window", "validation", "sweep"):
+    for key in ("accuracy_errors", "segments", "replay_per_window", "validation", "sweep", "calibration"):
         if given(key):
             p = _path(key, inputs[key])
             sources[key] = str(p)

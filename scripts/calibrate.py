@@ -1,0 +1,5 @@
+from simpick.calibration import calibrate_job
+from simpick.workflow import logged
+
+with logged(snakemake.log[0]):
+    calibrate_job({k: (list(v) if k == "logs" else v) for k, v in snakemake.input.items()}, snakemake.params.case, snakemake.params.settings, dict(snakemake.output))

@@ -1,0 +1,5 @@
+from simpick.calibration import evaluate_job
+from simpick.workflow import logged
+
+with logged(snakemake.log[0]):
+    evaluate_job({k: (list(v) if k == "logs" else v) for k, v in snakemake.input.items()}, snakemake.params.case, snakemake.params.settings, snakemake.output[0])

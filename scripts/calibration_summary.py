@@ -1,0 +1,6 @@
+from simpick.calibration import summary_job
+from simpick.workflow import logged
+
+with logged(snakemake.log[0]):
+    summary_job(list(snakemake.input.evals), list(snakemake.input.bests), snakemake.input.split,
+                dict(snakemake.output))

@@ -1,0 +1,390 @@
+"""Calibrate each engine on some real runs, judge it on the others (issue 11).
+
+A user tunes an engine's contact parameters to their robot and ground before trusting it. This
+module asks: after the best calibration each engine allows, how close does it get on runs it
+has not seen, and at what cost (after Acosta, Posa et al. 2022, who did this for cube tosses)?
+
+- **Split** (:func:`split_runs`): per terrain class the real *runs* (never windows or segments of
+  one run) are shuffled with a seeded generator and a fraction goes to the test set; the split
+  is a result file (``results/calibration/<source>/split.csv``).
+- **Parameters**: each engine adapter (and reference model) declares ``calibratable``, a mapping
+  of parameter name to :class:`simpick.engines.base.Calibratable` bounds, each with the reason for
+  its bounds. ``friction`` is the terrain class's Coulomb coefficient (``real_data.classes.<c>.
+  friction``); any other name is one of the adapter's own settings (``engines.<e>.<name>``).
+  :func:`apply_parameters` is the only place that knows this, and it knows no engine by name.
+- **Objective** (:func:`objective_terms`): on every training unit, the low-passed yaw-rate error
+  (rad/s) and the low-passed longitudinal-acceleration error (m/s^2), each divided by its scale
+  from the config (``calibration.scales``) and summed; the objective is the mean over the
+  training units. A unit is a committed segment (the real table keeps only its window means: a
+  constant command's low-passed signal is its mean, so the errors are |mean sim - mean real|) or,
+  for the full replay, a run (RMS of the difference of the two signals after the same 2 Hz
+  low-pass, :func:`simpick.realmetrics.aligned_rmse`, as the replay metrics). A unit the engine
+  fails (health check) counts :data:`FAILED_UNIT` instead.
+- **Optimiser**: Optuna's TPE sampler with a journal file as storage
+  (``results/calibration/<source>/<engine>/<class>/optuna.journal``): an interrupted job resumes
+  the finished trials from the file and runs only the missing ones. The sampler is seeded per
+  trial from (seed, number of finished trials), so a resumed calibration proposes exactly what
+  an uninterrupted one would have. Trial 0 is always the as-configured engine, so the best
+  parameters are never worse on the training units than the configured ones.
+
+Everything here drives the engines through :func:`simpick.realdata.simulate_segment` and
+:func:`simpick.realdata.replay_log`, the same paths as the study's real-data comparison.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import yaml
+
+from simpick.errors import InputError
+from simpick.workflow import write_csv
+
+FAILED_UNIT = 10.0  # objective counted for a unit the engine fails (10x the scale of either error)
+SPLIT_COLUMNS = ("terrain_class", "run", "unit", "set")
+EVAL_COLUMNS = ("engine", "terrain_class", "unit", "run", "set", "variant", "status", "error_yaw_rate",
+                "error_accel_x", "objective")
+
+
+# --- the split --------------------------------------------------------------------------------------
+
+def split_runs(units: pd.DataFrame, test_fraction: float, seed: int) -> pd.DataFrame:
+    """Per terrain class, the runs shuffled by a seeded generator; ``round(test_fraction x n)``
+    of them (at least 1, at most n - 1) are test runs, the rest training runs. A class with a
+    single run keeps it for training (nothing to test on). Every unit of a run goes where its
+    run goes. ``units`` needs columns terrain_class, run, unit."""
+    from simpick.simulate import stable_seed
+
+    rows = []
+    for cls in sorted(units.terrain_class.unique()):
+        g = units[units.terrain_class == cls]
+        runs = sorted(str(r) for r in g.run.unique())
+        order = np.random.default_rng(stable_seed(int(seed), "calibration-split", cls)).permutation(len(runs))
+        n_test = 0 if len(runs) < 2 else min(max(int(round(test_fraction * len(runs))), 1), len(runs) - 1)
+        test = {runs[i] for i in order[:n_test]}
+        for r in g.sort_values(["run", "unit"]).itertuples():
+            rows.append({"terrain_class": cls, "run": str(r.run), "unit": r.unit,
+                         "set": "test" if str(r.run) in test else "train"})
+    return pd.DataFrame(rows, columns=list(SPLIT_COLUMNS))
+
+
+def split_job(units: list[dict], test_fraction: float, seed: int, output: str) -> None:
+    frame = pd.DataFrame(units, columns=["terrain_class", "run", "unit"]).astype({"run": str})
+    write_csv(split_runs(frame, test_fraction, seed), output)
+
+
+def read_split(path: str, terrain_class: str) -> pd.DataFrame:
+    split = pd.read_csv(path, dtype={"run": str, "unit": str})
+    return split[split.terrain_class == terrain_class]
+
+
+# --- parameters ---------------------------------------------------------------------------------------
+
+def parameter_space(engine: str, overrides: dict | None = None) -> dict:
+    """name -> Calibratable: what the adapter declares, with the config's bounds overrides."""
+    from dataclasses import replace
+
+    from simpick.engines import get_engine
+
+    space = dict(getattr(get_engine(engine), "calibratable", {}) or {})
+    for name, bounds in (overrides or {}).items():
+        if name not in space:
+            raise InputError(f"calibration.bounds.{engine}.{name}",
+                             f"{engine} has no calibratable parameter {name!r}", f"use one of {sorted(space)}")
+        space[name] = replace(space[name], low=float(bounds[0]), high=float(bounds[1]))
+    return space
+
+
+def configured_values(params: dict, space: dict) -> dict:
+    """The as-configured value of each parameter (clipped into its bounds)."""
+    from simpick.engines import engine_defaults
+
+    settings = {**engine_defaults(params["engine"]), **(params.get("engine_settings") or {})}
+    out = {}
+    for name, p in space.items():
+        value = float(params["class"]["friction"]) if name == "friction" else float(settings[name])
+        out[name] = min(max(value, p.low), p.high)
+    return out
+
+
+def apply_parameters(params: dict, values: dict) -> dict:
+    """A copy of a real-data job's params with the parameter values in place: ``friction`` is the
+    class's ground friction, every other name an engine setting."""
+    out = copy.deepcopy(params)
+    for name, value in values.items():
+        if name == "friction":
+            out["class"] = dict(out["class"], friction=float(value))
+        else:
+            out["engine_settings"] = dict(out.get("engine_settings") or {}, **{name: float(value)})
+    return out
+
+
+# --- one unit's errors ----------------------------------------------------------------------------------
+
+def segment_errors(seg: pd.Series, urdf: str, params: dict, window: float | None) -> dict:
+    """A committed segment: |mean sim - mean real| of yaw rate and longitudinal acceleration over
+    the first ``window`` seconds of its compared window (all of it when None)."""
+    from simpick.realdata import simulate_segment
+
+    seg = seg.copy()
+    if window is not None:
+        seg["duration"] = min(float(seg.duration), float(window))
+    frame, meta = simulate_segment(seg, urdf, params)
+    out = {"status": meta["health"]["status"], "wall_time": float(meta["wall_time"]), "steps": int(meta["steps"])}
+    if out["status"] == "ok":
+        frame = pd.DataFrame(frame)
+        lo, hi = meta["window"]
+        w = frame[(frame.time > lo) & (frame.time <= hi)]
+        out["error_yaw_rate"] = abs(float(w.wz.mean()) - float(seg.angular_z_mean))
+        out["error_accel_x"] = abs(float(w.ax.mean()) - float(seg.linear_x_mean))
+    return out
+
+
+def replay_errors(log, urdf: str, params: dict, duration: float | None) -> dict:
+    """A replayed run: RMS difference of the low-passed yaw rate and longitudinal acceleration
+    (the replay metrics' rmse_yaw_rate and rmse_ax, over the first ``duration`` seconds)."""
+    from simpick import realmetrics
+    from simpick.realdata import replay_log
+
+    frame, meta = replay_log(log, urdf, params, duration=duration)
+    out = {"status": meta["health"]["status"], "wall_time": float(meta["wall_time"]), "steps": int(meta["steps"])}
+    if out["status"] == "ok":
+        sim = pd.DataFrame(frame)
+        rate = float(meta.get("imu_rate_hz") or 1.0 / np.median(np.diff(sim.time)))
+        t = sim.time.to_numpy()
+        for col, key in (("wz", "error_yaw_rate"), ("ax", "error_accel_x")):
+            real = np.interp(t, log.imu.time.to_numpy(), log.imu[col].to_numpy())
+            out[key] = realmetrics.aligned_rmse(real, sim[col].to_numpy(), rate)
+    return out
+
+
+def objective_terms(row: dict, scales: dict) -> float:
+    """One unit's contribution to the objective (dimensionless)."""
+    if row.get("status") != "ok" or not np.isfinite(row.get("error_yaw_rate", np.nan)):
+        return FAILED_UNIT
+    return row["error_yaw_rate"] / scales["yaw_rate"] + row["error_accel_x"] / scales["accel_x"]
+
+
+class Units:
+    """The real units of one terrain class (segments or replayed runs), by unit id."""
+
+    def __init__(self, source: str, segments_csv: str | None = None, logs: list[str] | None = None,
+                 terrain_class: str | None = None):
+        self.source = source
+        if source == "segments":
+            from simpick.realdata import class_segments
+
+            self.segments = class_segments(segments_csv, terrain_class)
+            self.ids = [str(s) for s in self.segments.index]
+            self.runs = {str(s): str(self.segments.loc[s, "run"]) for s in self.segments.index}
+        else:
+            from simpick.reallogs import read_canonical
+
+            self.logs = {}
+            for path in logs or []:
+                log = read_canonical(path)
+                self.logs[str(log.meta["run_id"])] = log
+            self.ids = sorted(self.logs)
+            self.runs = {r: r for r in self.ids}
+
+    def errors(self, unit: str, urdf: str, params: dict, settings: dict) -> dict:
+        if self.source == "segments":
+            return segment_errors(self.segments.loc[unit], urdf, params, settings.get("segment_seconds"))
+        return replay_errors(self.logs[unit], urdf, params, settings.get("replay_seconds"))
+
+
+def evaluate(units: Units, ids: list[str], urdf: str, params: dict, settings: dict) -> list[dict]:
+    rows = []
+    for unit in ids:
+        row = {"unit": unit, "run": units.runs[unit], **units.errors(unit, urdf, params, settings)}
+        row["objective"] = objective_terms(row, settings["scales"])
+        rows.append(row)
+    return rows
+
+
+# --- the optimisation ---------------------------------------------------------------------------------
+
+def _storage(path: Path):
+    from optuna.storages import JournalStorage
+    from optuna.storages.journal import JournalFileBackend
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return JournalStorage(JournalFileBackend(str(path)))
+
+
+def study_name(params: dict, settings: dict) -> str:
+    """Names the study by everything its trials depend on except the budget, so raising
+    ``n_trials`` continues the same study and any other edit starts a new one."""
+    from simpick.simulate import config_hash
+
+    keyed = {"params": params, "settings": {k: v for k, v in settings.items() if k != "n_trials"}}
+    return f"{params['engine']}-{params['terrain_class']}-{config_hash(keyed)}"
+
+
+def calibrate(units: Units, train: list[str], urdf: str, params: dict, settings: dict, journal: Path,
+              evaluate_fn=evaluate) -> tuple[dict, pd.DataFrame, dict]:
+    """Run (or resume) the study until ``settings["n_trials"]`` trials have finished.
+
+    Returns the best parameter values, the trial history and run facts (trials run now, wall s).
+    """
+    import optuna
+    from optuna.trial import TrialState
+
+    from simpick.simulate import stable_seed
+
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    space = parameter_space(params["engine"], (settings.get("bounds") or {}).get(params["engine"]))
+    if not space:
+        raise InputError(f"engines.{params['engine']}", "declares no calibratable parameters")
+    storage = _storage(journal)
+    name = study_name(params, settings)
+    study = optuna.create_study(study_name=name, storage=storage, direction="minimize", load_if_exists=True)
+    # a trial left RUNNING by a killed job never finishes: mark it failed (one job owns a study)
+    for t in study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):
+        storage.set_trial_state_values(t._trial_id, TrialState.FAIL)
+    done = lambda s: len(s.get_trials(deepcopy=False, states=(TrialState.COMPLETE,)))  # noqa: E731
+    if done(study) == 0 and not study.get_trials(deepcopy=False, states=(TrialState.WAITING,)):
+        study.enqueue_trial(configured_values(params, space), user_attrs={"as_configured": True})
+
+    def objective(trial):
+        values = {}
+        for pname, p in space.items():
+            values[pname] = trial.suggest_float(pname, p.low, p.high, log=p.log)
+        start = time.perf_counter()
+        rows = evaluate_fn(units, train, urdf, apply_parameters(params, values), settings)
+        trial.set_user_attr("units", json.dumps(rows, default=float))
+        trial.set_user_attr("wall_time", time.perf_counter() - start)
+        trial.set_user_attr("n_failed", sum(r["status"] != "ok" for r in rows))
+        for key in ("error_yaw_rate", "error_accel_x"):
+            vals = [r[key] for r in rows if r["status"] == "ok"]
+            trial.set_user_attr(key, float(np.mean(vals)) if vals else float("nan"))
+        return float(np.mean([r["objective"] for r in rows]))
+
+    ran, start = 0, time.perf_counter()
+    while done(study) < int(settings["n_trials"]):
+        sampler = optuna.samplers.TPESampler(seed=stable_seed(int(settings["seed"]), name, done(study)),
+                                             n_startup_trials=int(settings["startup_trials"]))
+        study = optuna.load_study(study_name=name, storage=storage, sampler=sampler)
+        study.optimize(objective, n_trials=1)
+        ran += 1
+    complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
+    history = pd.DataFrame([{
+        "trial": t.number, "as_configured": bool(t.user_attrs.get("as_configured", False)),
+        **{f"param_{k}": v for k, v in t.params.items()}, "objective": t.value,
+        "error_yaw_rate": t.user_attrs.get("error_yaw_rate"), "error_accel_x": t.user_attrs.get("error_accel_x"),
+        "n_failed": t.user_attrs.get("n_failed"), "wall_time": t.user_attrs.get("wall_time")}
+        for t in complete])
+    # the best of the first n_trials finished trials (a larger earlier budget may have left more)
+    history = history.sort_values("trial").head(int(settings["n_trials"])).reset_index(drop=True)
+    best = history.loc[history.objective.idxmin()]
+    values = {k: float(best[f"param_{k}"]) for k in space}
+    facts = {"study": name, "trials_run_now": ran, "wall_time_now": time.perf_counter() - start,
+             "best_trial": int(best.trial), "best_objective": float(best.objective),
+             "configured_objective": float(history.loc[history.as_configured, "objective"].iloc[0])
+             if history.as_configured.any() else None,
+             "bounds": {k: {"low": p.low, "high": p.high, "log": p.log, "why": p.why} for k, p in space.items()}}
+    return values, history, facts
+
+
+def calibrate_job(inputs: dict, params: dict, settings: dict, outputs: dict) -> None:
+    """One engine x terrain class: calibrate on the training units; write best.yaml and trials.csv."""
+    split = read_split(inputs["split"], params["terrain_class"])
+    units = Units(settings["source"], inputs.get("segments"), inputs.get("logs"), params["terrain_class"])
+    train = [u for u in split[split.set == "train"].unit if u in units.ids]
+    if not train:
+        raise InputError(inputs["split"], f"class {params['terrain_class']!r} has no training units")
+    journal = Path(outputs["best"]).with_name("optuna.journal")
+    values, history, facts = calibrate(units, train, inputs["urdf"], params, settings, journal)
+    write_csv(history, outputs["trials"])
+    Path(outputs["best"]).write_text(yaml.safe_dump({
+        "engine": params["engine"], "terrain_class": params["terrain_class"], "parameters": values,
+        "as_configured": configured_values(params, parameter_space(
+            params["engine"], (settings.get("bounds") or {}).get(params["engine"]))),
+        "train_units": train, "n_trials": int(settings["n_trials"]), "journal": str(journal), **facts},
+        sort_keys=False))
+
+
+def evaluate_job(inputs: dict, params: dict, settings: dict, output: str) -> None:
+    """Every unit of the class (train and test), as configured and as calibrated: one row each."""
+    split = read_split(inputs["split"], params["terrain_class"])
+    units = Units(settings["source"], inputs.get("segments"), inputs.get("logs"), params["terrain_class"])
+    best = yaml.safe_load(Path(inputs["best"]).read_text())
+    sets = dict(zip(split.unit, split.set))
+    ids = [u for u in split.unit if u in units.ids]
+    rows = []
+    for variant, p in (("configured", params), ("calibrated", apply_parameters(params, best["parameters"]))):
+        for row in evaluate(units, ids, inputs["urdf"], p, settings):
+            rows.append({"engine": params["engine"], "terrain_class": params["terrain_class"],
+                         "set": sets[row["unit"]], "variant": variant, **row})
+    write_csv(pd.DataFrame(rows), output)
+
+
+# --- the summary ----------------------------------------------------------------------------------------
+
+MIN_UNITS_FOR_CI = 3  # fewer units than this: no bootstrap interval ("too few runs")
+
+
+def _ci(values: np.ndarray) -> tuple[float, float, float]:
+    from simpick.realmetrics import bootstrap_ci
+
+    values = np.asarray(values, float)
+    if len(values) == 0:
+        return (math.nan, math.nan, math.nan)
+    if len(values) < MIN_UNITS_FOR_CI:
+        return (float(values.mean()), math.nan, math.nan)
+    return bootstrap_ci(values, seed=0)
+
+
+def summarise(evals: pd.DataFrame, best: dict[tuple[str, str], dict]) -> pd.DataFrame:
+    """Per class, engine, set and variant: mean objective and errors with 95 % bootstrap intervals
+    over units (none below :data:`MIN_UNITS_FOR_CI`), the change against as configured, and the
+    engines' rank in the class (by mean objective) as configured and as calibrated."""
+    rows = []
+    for (cls, engine, set_), g in evals.groupby(["terrain_class", "engine", "set"], sort=True):
+        conf = g[g.variant == "configured"].set_index("unit")
+        cal = g[g.variant == "calibrated"].set_index("unit")
+        row = {"terrain_class": cls, "engine": engine, "set": set_, "n_units": len(conf),
+               "n_runs": conf.run.nunique(), "n_failed_configured": int((conf.status != "ok").sum()),
+               "n_failed_calibrated": int((cal.status != "ok").sum())}
+        for variant, frame in (("configured", conf), ("calibrated", cal)):
+            for fig in ("objective", "error_yaw_rate", "error_accel_x"):
+                mean, lo, hi = _ci(frame[fig].dropna().to_numpy())
+                row.update({f"{fig}_{variant}": mean, f"{fig}_{variant}_low": lo, f"{fig}_{variant}_high": hi})
+        common = conf.index.intersection(cal.index)
+        mean, lo, hi = _ci((cal.loc[common, "objective"] - conf.loc[common, "objective"]).to_numpy())
+        row.update({"change": mean, "change_low": lo, "change_high": hi})
+        params = best.get((engine, cls), {})
+        row["parameters"] = "; ".join(f"{k}={v:.4g}" for k, v in (params.get("parameters") or {}).items())
+        row["parameters_configured"] = "; ".join(f"{k}={v:.4g}" for k, v in
+                                                 (params.get("as_configured") or {}).items())
+        rows.append(row)
+    out = pd.DataFrame(rows)
+    if out.empty:
+        return out
+    for variant in ("configured", "calibrated"):
+        out[f"rank_{variant}"] = (out.groupby(["terrain_class", "set"])[f"objective_{variant}"]
+                                  .rank(method="min").astype("Int64"))
+    return out
+
+
+def summary_job(evals: list[str], bests: list[str], split: str, outputs: dict) -> None:
+    frame = pd.concat([pd.read_csv(p, dtype={"run": str, "unit": str}) for p in evals], ignore_index=True)
+    best = {}
+    for path in bests:
+        b = yaml.safe_load(Path(path).read_text())
+        best[(b["engine"], b["terrain_class"])] = b
+    summary = summarise(frame, best)
+    write_csv(summary, outputs["summary"])
+    write_csv(frame, outputs["units"])
+    params = pd.DataFrame([{"engine": e, "terrain_class": c, "parameter": k, "calibrated": v,
+                            "as_configured": b["as_configured"].get(k), "best_trial": b["best_trial"],
+                            "n_trials": b["n_trials"], "train_objective_configured": b["configured_objective"],
+                            "train_objective_calibrated": b["best_objective"]}
+                           for (e, c), b in sorted(best.items()) for k, v in b["parameters"].items()])
+    write_csv(params, outputs["parameters"])

@@ -1,0 +1,51 @@
+"""The report's calibration section (results/calibration/<source>/summary.csv, rules/calibration.smk)."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import pandas as pd
+
+
+def _cell(row, fig: str, variant: str) -> dict:
+    def get(key):
+        value = row.get(key)
+        return None if value is None or (isinstance(value, float) and math.isnan(value)) else float(value)
+
+    return {"mean": get(f"{fig}_{variant}"), "low": get(f"{fig}_{variant}_low"),
+            "high": get(f"{fig}_{variant}_high")}
+
+
+def calibration_section(summary: pd.DataFrame | None, engines: list[str], colors: dict[str, str]) -> dict[str, Any]:
+    """Per class and model: parameters found, train and test objective (as configured and as
+    calibrated, 95 % bootstrap intervals where there are enough units), the change, and the
+    ranking before and after; per class whether the test-set winner changes."""
+    if summary is None or summary.empty:
+        return {"given": False}
+    order = {e: i for i, e in enumerate(engines)}
+    summary = summary.assign(_o=summary.engine.map(lambda e: order.get(e, len(order))))
+    classes = []
+    for cls, g in summary.sort_values(["terrain_class", "_o"]).groupby("terrain_class", sort=True):
+        rows = []
+        for engine, ge in g.groupby("engine", sort=False):
+            by_set = {r["set"]: r for r in ge.to_dict("records")}
+            train, test = by_set.get("train", {}), by_set.get("test", {})
+            rows.append({
+                "engine": engine, "parameters": (test or train).get("parameters", ""),
+                "configured": (test or train).get("parameters_configured", ""),
+                "n_train": train.get("n_runs"), "n_test": test.get("n_runs"),
+                "train": {v: _cell(train, "objective", v) for v in ("configured", "calibrated")} if train else None,
+                "test": {v: _cell(test, "objective", v) for v in ("configured", "calibrated")} if test else None,
+                "test_yaw": {v: _cell(test, "error_yaw_rate", v) for v in ("configured", "calibrated")} if test else None,
+                "change": _cell({"change_x": test.get("change"), "change_x_low": test.get("change_low"),
+                                 "change_x_high": test.get("change_high")}, "change", "x") if test else None,
+                "rank_configured": test.get("rank_configured"), "rank_calibrated": test.get("rank_calibrated"),
+                "failed": int((test.get("n_failed_configured") or 0) + (test.get("n_failed_calibrated") or 0)),
+            })
+        test = g[g.set == "test"]
+        winner = {v: (test.sort_values(f"objective_{v}").engine.iloc[0] if len(test) and
+                      test[f"objective_{v}"].notna().any() else None) for v in ("configured", "calibrated")}
+        classes.append({"terrain_class": cls, "rows": rows, "winner": winner,
+                        "winner_changes": winner["configured"] != winner["calibrated"]})
+    return {"given": True, "classes": classes}

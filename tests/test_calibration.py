@@ -1,0 +1,259 @@
+"""Calibration (issue 11): the split by run, the declared parameters, recovering a known friction
+coefficient, resuming an interrupted study, the report section and the rerun contract."""
+
+import copy
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from conftest import ROOT, planned_jobs, snakemake, tiny_config, write_config
+from simpick.calibration import Units, apply_parameters, calibrate, evaluate, split_runs, summarise
+from simpick.config import problems
+from simpick.engines import ADAPTERS, REFERENCE_MODELS, engine_defaults, get_engine
+
+CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
+URDF = str(ROOT / "resources/robot/husky_a200.urdf")
+
+
+# ------------------------------------------------------------ the split
+
+def _units():
+    rows = []
+    for cls, n_runs in (("ice", 5), ("snow", 2), ("asphalt", 1)):
+        for r in range(n_runs):
+            for k in range(3):  # three units (segments or windows) of every run
+                rows.append({"terrain_class": cls, "run": f"{r:02d}", "unit": f"{cls}-{r:02d}-{k}"})
+    return pd.DataFrame(rows)
+
+
+def test_the_split_is_by_run_and_deterministic():
+    a, b = split_runs(_units(), 0.5, seed=7), split_runs(_units(), 0.5, seed=7)
+    pd.testing.assert_frame_equal(a, b)
+    assert len(a) == len(_units())
+    # every unit of a run goes where its run goes
+    assert (a.groupby(["terrain_class", "run"])["set"].nunique() == 1).all()
+    runs = a.drop_duplicates(["terrain_class", "run"]).groupby(["terrain_class", "set"]).size()
+    assert runs[("ice", "test")] == 2 and runs[("ice", "train")] == 3   # round(0.5 x 5) = 2 (banker's)
+    assert runs[("snow", "test")] == 1 and runs[("snow", "train")] == 1
+    assert ("asphalt", "test") not in runs  # a single run: training only
+    # the seed matters: over a few seeds the ice test runs differ
+    tests = {tuple(sorted(split_runs(_units(), 0.5, seed=s).query("terrain_class == 'ice' and set == 'test'")
+                          .run.unique())) for s in range(6)}
+    assert len(tests) > 1
+
+
+def test_the_committed_segments_split_keeps_each_run_whole():
+    seg = pd.read_csv(ROOT / CONFIG["real_data"]["segments"], dtype={"run": str})
+    split = split_runs(seg.rename(columns={"segment": "unit"})[["terrain_class", "run", "unit"]], 0.5, seed=11)
+    assert (split.groupby(["terrain_class", "run"])["set"].nunique() == 1).all()
+    per_class = split.groupby("terrain_class")["set"].agg(set)
+    assert all(s == {"train", "test"} for s in per_class)  # every class has 2+ runs
+
+
+# ------------------------------------------------------------ the declared parameters
+
+@pytest.mark.parametrize("name", sorted(ADAPTERS) + sorted(REFERENCE_MODELS))
+def test_every_model_declares_parameters_its_settings_accept(name):
+    space = get_engine(name).calibratable
+    assert space, f"{name} declares nothing to calibrate"
+    if name in ADAPTERS:
+        assert "friction" in space  # issue 11: at least the friction coefficient
+        assert len(space) <= 3  # friction plus up to two more
+    defaults = engine_defaults(name)
+    configured = {**defaults, **((CONFIG["engines"] | CONFIG["baselines"]).get(name) or {})}
+    for pname, p in space.items():
+        assert p.low < p.high and p.why, pname
+        assert not p.log or p.low > 0
+        if pname != "friction":
+            assert pname in defaults, f"{name}.{pname} is not one of its settings"
+            assert p.low <= float(configured[pname]) <= p.high, f"{name}.{pname}: the configured value is outside"
+
+
+def test_apply_parameters_sets_friction_on_the_class_and_the_rest_as_settings():
+    params = {"engine": "ode", "engine_settings": {"cfm": 1e-5}, "class": {"friction": 0.6, "source": "x"}}
+    out = apply_parameters(params, {"friction": 0.3, "contact_slip": 0.001})
+    assert out["class"] == {"friction": 0.3, "source": "x"}
+    assert out["engine_settings"] == {"cfm": 1e-5, "contact_slip": 0.001}
+    assert params["class"]["friction"] == 0.6  # the input is left alone
+
+
+@pytest.mark.parametrize("bounds, expected", [
+    ({"dart": {"cfm": [0.1, 1.0]}}, "bounds.dart.cfm: dart declares no calibratable parameter 'cfm'"),
+    ({"ode": {"friction": [0.5, 0.1]}}, "bounds.ode.friction: low 0.5 must be below high 0.1"),
+    ({"ode": {"cfm": [0.0, 1e-3]}}, "bounds.ode.cfm: searched on a log scale, low must be > 0"),
+    ({"gazebo": {"friction": [0.1, 1.0]}}, "bounds.gazebo: unknown engine"),
+])
+def test_bad_calibration_bounds_are_named(bounds, expected):
+    config = copy.deepcopy(CONFIG)
+    config["calibration"]["bounds"] = bounds
+    assert expected in "\n".join(problems(config))
+
+
+def test_bad_calibration_settings_are_named():
+    config = copy.deepcopy(CONFIG)
+    config["calibration"].update(test_fraction=1.0, models=["gazebo"])
+    found = "\n".join(problems(config))
+    assert "calibration.test_fraction: Input should be less than 1" in found
+    config["calibration"].update(test_fraction=0.5)
+    assert "calibration.models: ['gazebo'] are not in this study's engines" in "\n".join(problems(config))
+    assert problems(CONFIG) == []
+
+
+# ------------------------------------------------------------ recovering a known friction coefficient
+
+def _params(engine, friction):
+    return {"engine": engine, "engine_settings": (CONFIG["engines"] | CONFIG["baselines"])[engine] or {},
+            "physics": CONFIG["physics"], "robot": {k: v for k, v in CONFIG["robot"].items() if k != "urdf"},
+            "imu": CONFIG["imu"], "health": CONFIG["health"], "seed": CONFIG["seed"], "terrain_class": "test",
+            "class": {"friction": friction, "source": "test"}}
+
+
+def _synthetic_units(engine, friction):
+    """A "real" log made by ``engine`` itself at ``friction``: the wheels swing between +-0.8 m/s
+    every 2 s (so the robot accelerates at friction x g, a 2 Hz-visible square wave), then turn."""
+    from simpick.realdata import replay_log
+    from simpick.reallogs import RealLog
+
+    t = np.arange(0, 10.0, 1 / 6.5)
+    v = np.where((t // 2) % 2 == 0, 0.8, -0.8)
+    left, right = np.where(t >= 8, 0.1, v), np.where(t >= 8, 0.5, v)
+    commands = pd.DataFrame({"time": t, "v_left": left, "v_right": right})
+    seed = RealLog(imu=pd.DataFrame({"time": np.arange(0, 10.0, 0.01)}), commands=commands,
+                   meta={"name": "synthetic", "run_id": "s1", "terrain_class": "test", "dataset": "synthetic"})
+    frame, _ = replay_log(seed, URDF, _params(engine, friction))
+    imu = pd.DataFrame({c: np.asarray(frame[c]) for c in ("time", "ax", "ay", "az", "wx", "wy", "wz")})
+    units = Units("replay", logs=[])
+    units.logs, units.ids, units.runs = {"s1": RealLog(imu=imu, commands=commands, meta=seed.meta)}, ["s1"], {"s1": "s1"}
+    return units
+
+
+SETTINGS = {"source": "replay", "replay_seconds": None, "scales": {"yaw_rate": 0.05, "accel_x": 0.05},
+            "n_trials": 30, "startup_trials": 6, "seed": 3, "bounds": {}}
+
+
+def test_the_optimiser_recovers_a_known_friction_coefficient(tmp_path):
+    """The Coulomb model (the Engine interface, friction its only parameter) drives a synthetic log
+    at mu = 0.2 and is calibrated back from the configured 0.6: within 5 %."""
+    units = _synthetic_units("coulomb", 0.2)
+    values, history, facts = calibrate(units, ["s1"], URDF, _params("coulomb", 0.6), SETTINGS,
+                                       tmp_path / "optuna.journal")
+    assert values["friction"] == pytest.approx(0.2, rel=0.05)
+    assert facts["best_objective"] < facts["configured_objective"]
+    assert history.as_configured.iloc[0] and history.param_friction.iloc[0] == pytest.approx(0.6)
+
+
+# ------------------------------------------------------------ an interrupted calibration resumes
+
+def test_an_interrupted_calibration_resumes_without_repeating_trials(tmp_path):
+    units = _synthetic_units("coulomb", 0.2)
+    params = _params("coulomb", 0.6)
+    calls = []
+
+    def counting(*args, **kwargs):
+        calls.append(args[3]["class"]["friction"])
+        return evaluate(*args, **kwargs)
+
+    settings = dict(SETTINGS, n_trials=8)
+    _, whole, _ = calibrate(units, ["s1"], URDF, params, settings, tmp_path / "a.journal")
+
+    # "killed" after 5 trials, with a sixth left running in the journal
+    import optuna
+
+    calibrate(units, ["s1"], URDF, params, dict(settings, n_trials=5), tmp_path / "b.journal", evaluate_fn=counting)
+    assert len(calls) == 5
+    from simpick.calibration import _storage, study_name
+
+    storage = _storage(tmp_path / "b.journal")
+    optuna.load_study(study_name=study_name(params, settings), storage=storage).ask()  # stays RUNNING
+    calls.clear()
+    _, resumed, facts = calibrate(units, ["s1"], URDF, params, settings, tmp_path / "b.journal", evaluate_fn=counting)
+    assert len(calls) == 3 and facts["trials_run_now"] == 3  # only the missing trials ran
+    # the resumed study proposed exactly what the uninterrupted one did
+    np.testing.assert_allclose(resumed.param_friction.to_numpy(), whole.param_friction.to_numpy())
+    np.testing.assert_allclose(resumed.objective.to_numpy(), whole.objective.to_numpy())
+
+
+# ------------------------------------------------------------ summary and report section
+
+def _evals():
+    rows = []
+    for engine, conf, cal in (("a", 1.0, 0.5), ("b", 0.8, 0.9)):
+        for set_ in ("train", "test"):
+            for k in range(3):
+                for variant, value in (("configured", conf), ("calibrated", cal)):
+                    rows.append({"engine": engine, "terrain_class": "ice", "unit": f"u{set_}{k}", "run": f"{set_}{k}",
+                                 "set": set_, "variant": variant, "status": "ok", "error_yaw_rate": value / 20,
+                                 "error_accel_x": value / 20, "objective": value + 0.01 * k})
+    return pd.DataFrame(rows)
+
+
+def test_the_summary_ranks_before_and_after_and_the_report_says_the_winner_changes():
+    from simpick.report.calibration import calibration_section
+
+    best = {("a", "ice"): {"parameters": {"friction": 0.2}, "as_configured": {"friction": 0.1}}}
+    summary = summarise(_evals(), best)
+    test = summary[summary.set == "test"].set_index("engine")
+    assert test.loc["a", "rank_configured"] == 2 and test.loc["a", "rank_calibrated"] == 1
+    assert test.loc["a", "change"] == pytest.approx(-0.5)
+    assert test.loc["a", "parameters"] == "friction=0.2"
+    assert test.loc["a", "objective_calibrated_low"] <= test.loc["a", "objective_calibrated"]
+    # fewer than three units: no interval
+    small = summarise(_evals()[_evals().unit.isin(["utest0", "utest1", "utrain0"])], best)
+    assert small.objective_configured_low.isna().all()
+    section = calibration_section(summary, ["b", "a"], {})
+    ice = section["classes"][0]
+    assert ice["winner"] == {"configured": "b", "calibrated": "a"} and ice["winner_changes"]
+    assert [r["engine"] for r in ice["rows"]] == ["b", "a"]
+    assert calibration_section(None, [], {})["given"] is False
+
+
+# ------------------------------------------------------------ through the workflow: the rerun contract
+
+def test_a_budget_edit_reruns_calibration_and_what_depends_on_it_nothing_else(tmp_path):
+    config = tiny_config(tmp_path)
+    config["engines"] = {"mujoco": config["engines"]["mujoco"]}
+    config["calibration"].update(models=["kinematic"], n_trials=2, startup_trials=1)
+    write_config(tmp_path, config)
+    run = snakemake(tmp_path, "calibration")
+    assert run.returncode == 0, run.stderr[-3000:]
+    out = tmp_path / "results/calibration/segments-borealtc"
+    split = pd.read_csv(out / "split.csv", dtype={"run": str})
+    assert set(split.set) == {"train", "test"}
+    summary = pd.read_csv(out / "summary.csv")
+    assert set(summary.engine) == {"kinematic"} and set(summary.set) == {"train", "test"}
+    assert (out / "kinematic/flooring/optuna.journal").is_file()
+    assert "Nothing to be done" in (lambda r: r.stdout + r.stderr)(snakemake(tmp_path, "calibration", "-n"))
+
+    config["calibration"]["n_trials"] = 3
+    write_config(tmp_path, config)
+    jobs = planned_jobs_for(tmp_path, "calibration")
+    assert sorted({rule for rule, _ in jobs}) == ["calibrate", "calibration", "calibration_evaluate",
+                                                 "calibration_summary"]
+    run = snakemake(tmp_path, "calibration")
+    assert run.returncode == 0, run.stderr[-3000:]
+    best = yaml.safe_load((out / "kinematic/flooring/best.yaml").read_text())
+    assert best["trials_run_now"] == 1 and best["n_trials"] == 3  # the journal's two trials were kept
+
+
+def planned_jobs_for(workdir, target):
+    import re
+
+    out = snakemake(workdir, target, "-n")
+    assert out.returncode == 0, out.stderr
+    return [(m.group(1), "") for m in re.finditer(r"\n(?:local)?rule (\w+):", "\n" + out.stdout + out.stderr)]
+
+
+def test_the_calibration_template_renders_the_tables():
+    from simpick.report.build import environment
+    from simpick.report.calibration import calibration_section
+
+    best = {("a", "ice"): {"parameters": {"friction": 0.2}, "as_configured": {"friction": 0.1}}}
+    section = calibration_section(summarise(_evals(), best), ["b", "a"], {})
+    wrapper = ('{% macro eng(e) %}<span class="engine">{{ e }}</span>{% endmacro %}'
+               '{% if calibration.given %}{% include "calibration_section.html.j2" %}{% endif %}')
+    html = environment().from_string(wrapper).render(calibration=section, colors={})
+    assert "the test winner changes from b to a" in html
+    assert "friction=0.2" in html and "(friction=0.1)" in html
+    assert html.count("<tr><td>") == 2 and "2 → 1" in html  # a: rank 2 as configured, 1 calibrated
