@@ -181,7 +181,7 @@ def _evals():
     rows = []
     for engine, conf, cal in (("a", 1.0, 0.5), ("b", 0.8, 0.9)):
         for set_ in ("train", "test"):
-            for k in range(3):
+            for k in range(6):  # 6 runs: the real-data statistics' minimum for an interval
                 for variant, value in (("configured", conf), ("calibrated", cal)):
                     rows.append({"engine": engine, "terrain_class": "ice", "unit": f"u{set_}{k}", "run": f"{set_}{k}",
                                  "set": set_, "variant": variant, "status": "ok", "error_yaw_rate": value / 20,
@@ -199,7 +199,7 @@ def test_the_summary_ranks_before_and_after_and_the_report_says_the_winner_chang
     assert test.loc["a", "change"] == pytest.approx(-0.5)
     assert test.loc["a", "parameters"] == "friction=0.2"
     assert test.loc["a", "objective_calibrated_low"] <= test.loc["a", "objective_calibrated"]
-    # fewer than three units: no interval
+    # fewer runs than statistics.min_runs (6): no interval
     small = summarise(_evals()[_evals().unit.isin(["utest0", "utest1", "utrain0"])], best)
     assert small.objective_configured_low.isna().all()
     section = calibration_section(summary, ["b", "a"], {})

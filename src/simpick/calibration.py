@@ -327,23 +327,21 @@ def evaluate_job(inputs: dict, params: dict, settings: dict, output: str) -> Non
 
 # --- the summary ----------------------------------------------------------------------------------------
 
-MIN_UNITS_FOR_CI = 3  # fewer units than this: no bootstrap interval ("too few runs")
-
-
-def _ci(values: np.ndarray) -> tuple[float, float, float]:
-    from simpick.realmetrics import bootstrap_ci
+def _ci(values, runs) -> tuple[float, float, float]:
+    """(mean, low, high) over runs (a run's units averaged first): the real-data statistics'
+    rule (simpick.realmetrics.mean_ci), so no interval below its minimum number of runs."""
+    from simpick.realmetrics import mean_ci
 
     values = np.asarray(values, float)
     if len(values) == 0:
         return (math.nan, math.nan, math.nan)
-    if len(values) < MIN_UNITS_FOR_CI:
-        return (float(values.mean()), math.nan, math.nan)
-    return bootstrap_ci(values, seed=0)
+    mean, low, high, _ = mean_ci(values, runs)
+    return mean, low, high
 
 
 def summarise(evals: pd.DataFrame, best: dict[tuple[str, str], dict]) -> pd.DataFrame:
     """Per class, engine, set and variant: mean objective and errors with 95 % bootstrap intervals
-    over units (none below :data:`MIN_UNITS_FOR_CI`), the change against as configured, and the
+    over runs (none below the real-data statistics' minimum number of runs), the change against as configured, and the
     engines' rank in the class (by mean objective) as configured and as calibrated."""
     rows = []
     for (cls, engine, set_), g in evals.groupby(["terrain_class", "engine", "set"], sort=True):
@@ -354,10 +352,12 @@ def summarise(evals: pd.DataFrame, best: dict[tuple[str, str], dict]) -> pd.Data
                "n_failed_calibrated": int((cal.status != "ok").sum())}
         for variant, frame in (("configured", conf), ("calibrated", cal)):
             for fig in ("objective", "error_yaw_rate", "error_accel_x"):
-                mean, lo, hi = _ci(frame[fig].dropna().to_numpy())
+                ok = frame[fig].notna()
+                mean, lo, hi = _ci(frame.loc[ok, fig].to_numpy(), frame.loc[ok, "run"].to_numpy())
                 row.update({f"{fig}_{variant}": mean, f"{fig}_{variant}_low": lo, f"{fig}_{variant}_high": hi})
         common = conf.index.intersection(cal.index)
-        mean, lo, hi = _ci((cal.loc[common, "objective"] - conf.loc[common, "objective"]).to_numpy())
+        mean, lo, hi = _ci((cal.loc[common, "objective"] - conf.loc[common, "objective"]).to_numpy(),
+                           conf.loc[common, "run"].to_numpy())
         row.update({"change": mean, "change_low": lo, "change_high": hi})
         params = best.get((engine, cls), {})
         row["parameters"] = "; ".join(f"{k}={v:.4g}" for k, v in (params.get("parameters") or {}).items())
