@@ -17,6 +17,25 @@ def _cell(row, fig: str, variant: str) -> dict:
             "high": get(f"{fig}_{variant}_high")}
 
 
+def _parameters(found: str, configured: str) -> list[dict]:
+    """'friction=0.0573; cfm=6.03e-06' and its as-configured twin -> [{name, found, configured}]
+    with 3 significant digits, one per line in the report."""
+    def parse(text) -> dict[str, str]:
+        out = {}
+        for part in str(text or "").split(";"):
+            if "=" in part:
+                key, value = part.split("=", 1)
+                try:
+                    value = f"{float(value):.3g}"
+                except ValueError:
+                    value = value.strip()
+                out[key.strip()] = value
+        return out
+
+    got, conf = parse(found), parse(configured)
+    return [{"name": k.replace("_", " "), "found": v, "configured": conf.get(k, "–")} for k, v in got.items()]
+
+
 def calibration_section(summary: pd.DataFrame | None, engines: list[str], colors: dict[str, str]) -> dict[str, Any]:
     """Per class and model: parameters found, train and test objective (as configured and as
     calibrated, 95 % bootstrap intervals where there are enough units), the change, and the
@@ -34,6 +53,8 @@ def calibration_section(summary: pd.DataFrame | None, engines: list[str], colors
             rows.append({
                 "engine": engine, "parameters": (test or train).get("parameters", ""),
                 "configured": (test or train).get("parameters_configured", ""),
+                "params": _parameters((test or train).get("parameters", ""),
+                                      (test or train).get("parameters_configured", "")),
                 "n_train": train.get("n_runs"), "n_test": test.get("n_runs"),
                 "train": {v: _cell(train, "objective", v) for v in ("configured", "calibrated")} if train else None,
                 "test": {v: _cell(test, "objective", v) for v in ("configured", "calibrated")} if test else None,
