@@ -255,5 +255,5 @@ def test_the_calibration_template_renders_the_tables():
                '{% if calibration.given %}{% include "calibration_section.html.j2" %}{% endif %}')
     html = environment().from_string(wrapper).render(calibration=section, colors={})
     assert "the test winner changes from b to a" in html
-    assert "friction=0.2" in html and "(friction=0.1)" in html
+    assert "friction: <b>0.2</b> (0.1)" in html  # found, and as configured in brackets
     assert html.count("<tr><td>") == 2 and "2 → 1" in html  # a: rank 2 as configured, 1 calibrated
