@@ -4,7 +4,7 @@ import os
 import re
 import sys
 
-from simpick.config import validate_or_exit
+from simpick.config import timestep_label, validate_or_exit
 
 
 validate_or_exit(config, files=workflow.configfiles)
@@ -130,7 +130,7 @@ SEGMENTS = read_segments(config["real_data"]["segments"])
 # Speed-accuracy sweep (rules/sweep.smk): timesteps as wildcard labels ("0.5ms")
 SWEEP = config.get("sweep")
 SWEEP_DIR = f"results/sweeps/{SWEEP['name']}" if SWEEP else None
-SWEEP_LABELS = [f"{t * 1000:g}ms" for t in SWEEP["timesteps"]] if SWEEP else []
+SWEEP_LABELS = [timestep_label(t) for t in SWEEP["timesteps"]] if SWEEP else []
 
 
 def sweep_params(engine, terrain_class, label):

@@ -186,6 +186,11 @@ class Validation(Strict):
         return self
 
 
+def timestep_label(timestep: float) -> str:
+    """0.0005 -> '0.5ms': a sweep timestep's wildcard and file name (rules/sweep.smk)."""
+    return f"{timestep * 1000:g}ms"
+
+
 class Sweep(Strict):
     name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")]
     # s; 20 ms at most (a step that long skips whole contact events of a 0.33 m wheel at 1 m/s)
@@ -194,7 +199,7 @@ class Sweep(Strict):
     @field_validator("timesteps")
     @classmethod
     def distinct(cls, timesteps):
-        labels = [f"{t * 1000:g}ms" for t in timesteps]
+        labels = [timestep_label(t) for t in timesteps]
         if len(set(labels)) != len(labels):
             raise ValueError(f"timesteps must be distinct (to 6 significant digits in ms), got {timesteps}")
         return timesteps

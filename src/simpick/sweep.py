@@ -8,8 +8,9 @@ segment of the class and writing one row per segment: the real-data errors of
 real-time factor (simulated seconds / wall seconds of the stepping loop).
 
 Equal comparisons: at each class and timestep the errors are averaged over the segments every
-engine ran healthily; a segment any engine failed is left out for all and listed, and an engine's
-failed segments are counted, never averaged in.
+engine ran healthily; a segment any engine failed is left out for all and listed (errors and real-time factor alike, as
+:func:`simpick.workflow.equal_rtf` for the lab study), and an engine's failed segments are
+counted, never averaged in.
 """
 
 from __future__ import annotations
@@ -17,21 +18,11 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from simpick.config import timestep_label  # noqa: F401 - the label lives with the config check
 from simpick.workflow import write_csv
 
 SUMMARY_COLUMNS = ("terrain_class", "engine", "timestep", "n_segments", "n_failed", "n_compared", "excluded",
                    "error_angular", "error_linear", "gain_error", "real_time_factor", "steps_per_s")
-
-
-def timestep_label(timestep: float) -> str:
-    """0.0005 -> '0.5ms' (the wildcard and file name of a timestep)."""
-    return f"{timestep * 1000:g}ms"
-
-
-def timestep_from_label(label: str) -> float:
-    if not label.endswith("ms"):
-        raise ValueError(f"timestep label {label!r} does not end in 'ms'")
-    return float(label[:-2]) / 1000.0
 
 
 def sweep_job(segments_csv: str, urdf: str, params: dict, output: str) -> None:
@@ -60,8 +51,7 @@ def summarise(runs: pd.DataFrame) -> pd.DataFrame:
         for engine, g in group.groupby("engine", sort=True):
             c = compared[compared.engine == engine]
             turning = c[c.kind == "turning"]
-            ok = g[g.status == "ok"]
-            wall = float(ok.wall_time.sum())
+            wall = float(c.wall_time.sum())  # the same segments for every engine (workflow.equal_rtf's rule)
             out.append({
                 "terrain_class": cls, "engine": engine, "timestep": dt, "n_segments": len(g),
                 "n_failed": int((g.status != "ok").sum()), "n_compared": len(c), "excluded": "; ".join(bad),
@@ -69,8 +59,8 @@ def summarise(runs: pd.DataFrame) -> pd.DataFrame:
                 "error_linear": float(c.error_linear.mean()) if len(c) else np.nan,
                 "gain_error": (float((turning.yaw_rate_gain_sim - turning.yaw_rate_gain_real).abs().mean())
                                if len(turning) else np.nan),
-                "real_time_factor": float(ok.sim_time.sum()) / wall if wall > 0 else np.nan,
-                "steps_per_s": float(ok.steps.sum()) / wall if wall > 0 else np.nan,
+                "real_time_factor": float(c.sim_time.sum()) / wall if wall > 0 else np.nan,
+                "steps_per_s": float(c.steps.sum()) / wall if wall > 0 else np.nan,
             })
     return pd.DataFrame(out, columns=list(SUMMARY_COLUMNS))
 
