@@ -130,7 +130,7 @@ def apply_parameters(params: dict, values: dict) -> dict:
 def segment_errors(seg: pd.Series, urdf: str, params: dict, window: float | None) -> dict:
     """A committed segment: |mean sim - mean real| of yaw rate and longitudinal acceleration over
     the first ``window`` seconds of its compared window (all of it when None)."""
-    from simpick.realdata import simulate_segment
+    from simpick.realdata import compared_window, simulate_segment
 
     seg = seg.copy()
     if window is not None:
@@ -138,9 +138,7 @@ def segment_errors(seg: pd.Series, urdf: str, params: dict, window: float | None
     frame, meta = simulate_segment(seg, urdf, params)
     out = {"status": meta["health"]["status"], "wall_time": float(meta["wall_time"]), "steps": int(meta["steps"])}
     if out["status"] == "ok":
-        frame = pd.DataFrame(frame)
-        lo, hi = meta["window"]
-        w = frame[(frame.time > lo) & (frame.time <= hi)]
+        w = compared_window(pd.DataFrame(frame), meta)
         out["error_yaw_rate"] = abs(float(w.wz.mean()) - float(seg.angular_z_mean))
         out["error_accel_x"] = abs(float(w.ax.mean()) - float(seg.linear_x_mean))
     return out
@@ -150,17 +148,16 @@ def replay_errors(log, urdf: str, params: dict, duration: float | None) -> dict:
     """A replayed run: RMS difference of the low-passed yaw rate and longitudinal acceleration
     (the replay metrics' rmse_yaw_rate and rmse_ax, over the first ``duration`` seconds)."""
     from simpick import realmetrics
-    from simpick.realdata import replay_log
+    from simpick.realdata import real_imu_at, replay_log, trace_rate
 
     frame, meta = replay_log(log, urdf, params, duration=duration)
     out = {"status": meta["health"]["status"], "wall_time": float(meta["wall_time"]), "steps": int(meta["steps"])}
     if out["status"] == "ok":
         sim = pd.DataFrame(frame)
-        rate = float(meta.get("imu_rate_hz") or 1.0 / np.median(np.diff(sim.time)))
-        t = sim.time.to_numpy()
+        rate = trace_rate(sim, meta)
+        real = real_imu_at(log.imu, sim.time.to_numpy(), ("wz", "ax"))
         for col, key in (("wz", "error_yaw_rate"), ("ax", "error_accel_x")):
-            real = np.interp(t, log.imu.time.to_numpy(), log.imu[col].to_numpy())
-            out[key] = realmetrics.aligned_rmse(real, sim[col].to_numpy(), rate)
+            out[key] = realmetrics.aligned_rmse(real[col], sim[col].to_numpy(), rate)
     return out
 
 

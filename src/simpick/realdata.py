@@ -132,14 +132,30 @@ def simulate_segments_job(segments_csv: str, urdf: str, outputs: list[str], para
         write_trace(frame, meta, output)
 
 
+def compared_window(frame: pd.DataFrame, meta: dict) -> pd.DataFrame:
+    """The rows of a simulated segment inside its compared window (``meta["window"]``, after settling)."""
+    lo, hi = meta["window"]
+    return frame[(frame.time > lo) & (frame.time <= hi)]
+
+
+def trace_rate(sim: pd.DataFrame, meta: dict) -> float:
+    """A simulated trace's IMU rate (Hz): from its metadata, else its median sample interval."""
+    return float(meta.get("imu_rate_hz") or 1.0 / np.median(np.diff(sim.time)))
+
+
+def real_imu_at(imu: pd.DataFrame, times, columns=("ax", "ay", "az", "wx", "wy", "wz")) -> dict[str, np.ndarray]:
+    """The real IMU interpolated at the simulated sample times (same clock from 0); the simulated
+    IMU is already block-averaged to the real one's rate (replay_log)."""
+    return {c: np.interp(times, imu.time, imu[c]) for c in columns}
+
+
 def segment_row(frame: pd.DataFrame, meta: dict, seg: pd.Series, track: float) -> dict:
     """One simulated segment against its real statistics: Eq. 7 errors, yaw-rate gain, speed."""
     row = {"engine": meta["engine"], "terrain_class": seg.terrain_class, "segment": seg.name, "run": seg.run,
            "kind": seg.kind, "status": meta["health"]["status"], "reasons": "; ".join(meta["health"]["reasons"]),
            "yaw_rate_gain_real": seg.yaw_rate_gain}
     if row["status"] == "ok":
-        lo, hi = meta["window"]
-        window = frame[(frame.time > lo) & (frame.time <= hi)]
+        window = compared_window(frame, meta)
         stats = metrics.trace_stats(window)
         for q in QUANTITIES:
             real = {a: {"mean": seg[f"{q}_{a}_mean"], "range": seg[f"{q}_{a}_range"]} for a in AXES}
@@ -252,10 +268,8 @@ def replay_metrics_job(logs: list[str], traces: list[str], params: dict, outputs
             continue
         cmd = log.wheel_commands(track)
         imu = log.imu
-        # the simulated IMU is block-averaged to the real one's rate (replay_log); the real IMU is
-        # interpolated at the simulated sample times (same clock from 0)
-        rate = float(meta.get("imu_rate_hz") or 1.0 / np.median(np.diff(sim.time)))
-        aligned = {c: np.interp(sim.time, imu.time, imu[c]) for c in ("ax", "ay", "az", "wx", "wy", "wz")}
+        rate = trace_rate(sim, meta)
+        aligned = real_imu_at(imu, sim.time)
         held = np.clip(np.searchsorted(cmd.time.to_numpy(), sim.time.to_numpy(), side="right") - 1, 0, len(cmd) - 1)
         v_left, v_right = cmd.v_left.to_numpy()[held], cmd.v_right.to_numpy()[held]
         edges = np.arange(0.0, float(sim.time.iloc[-1]) + 1e-9, window_s)
