@@ -23,7 +23,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "bench"))
 sys.path.insert(0, str(ROOT / "src"))
 
-from engine_speed import scenarios  # noqa: E402
+from run import lab_scenarios  # noqa: E402
 from simpick.engines import get_engine  # noqa: E402
 
 
@@ -64,7 +64,7 @@ def main() -> None:
     args = parser.parse_args()
     config = yaml.safe_load((ROOT / "config.yaml").read_text())
     terrains = args.terrains or list(config["terrains"])
-    for name, scenario, commands in scenarios(config, "dart", terrains, args.duration, {}):
+    for name, scenario, commands in lab_scenarios(config, "dart", terrains, args.duration):
         dantzig = type(scenario)(**{**scenario.__dict__, "settings": {**scenario.settings, "lcp_solver": "dantzig"}})
         rows = {"nsgs": [], "dantzig": [], "collide": []}
         sweeps = capped = contacts = None

@@ -15,36 +15,16 @@ from __future__ import annotations
 import argparse
 import statistics
 import sys
-import tempfile
 from pathlib import Path
 
 import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
+sys.path.insert(0, str(ROOT / "bench"))
 
+from run import lab_scenarios  # noqa: E402 - the benchmark's own lab scenarios, so the figures compare
 from simpick.engines import get_engine  # noqa: E402
-from simpick.engines.base import Scenario  # noqa: E402
-from simpick.motions import constant_commands  # noqa: E402
-from simpick.robot import load_robot  # noqa: E402
-from simpick.workflow import terrain_job  # noqa: E402
-
-
-def scenarios(config: dict, engine: str, terrains: list[str], duration: float | None, overrides: dict):
-    robot = load_robot(ROOT / config["robot"]["urdf"])
-    motion = config["motions"]["straight"]
-    dt = config["physics"]["timestep"]
-    commands = constant_commands(motion["v"], motion["w"], duration or motion["duration"], dt,
-                                 config["robot"]["track"], robot.wheel_radius)
-    settings = {**(config["engines"].get(engine) or {}), **overrides}
-    with tempfile.TemporaryDirectory() as tmp:
-        for name in terrains:
-            path = Path(tmp) / f"{name}.json"
-            terrain_job(str(path), name, config["seed"], config["terrains"][name])
-            terrain = yaml.safe_load(path.read_text())
-            yield name, Scenario(robot=robot, terrain=terrain, ground_friction=config["physics"]["ground_friction"],
-                                 timestep=dt, max_wheel_torque=config["robot"]["max_wheel_torque"],
-                                 starts=(tuple(motion["start"]),), settings=settings), commands
 
 
 def main() -> None:
@@ -62,7 +42,7 @@ def main() -> None:
     terrains = args.terrains or list(config["terrains"])
     dt = config["physics"]["timestep"]
     rates = {"bare": [], "job": []}
-    for name, scenario, commands in scenarios(config, args.engine, terrains, args.duration, overrides):
+    for name, scenario, commands in lab_scenarios(config, args.engine, terrains, args.duration, overrides):
         line = [f"{args.engine:9s} {name:7s}"]
         for loop in ("bare", "job"):
             if args.loop not in (loop, "both"):

@@ -49,22 +49,31 @@ def spread(values: list[float]) -> dict:
     return {"median": statistics.median(values), "min": min(values), "max": max(values), "n": len(values)}
 
 
-def engine_throughput(config: dict, repeats: int, tmp: Path) -> list[dict]:
+def lab_scenarios(config: dict, engine: str, terrains: list[str] | None = None, duration: float | None = None,
+                  overrides: dict | None = None):
+    """(terrain, scenario, commands) of the straight lab motion on each terrain for ``engine``, its
+    config settings updated with ``overrides`` (bench/engine_speed.py tries settings this way)."""
     robot = load_robot(ROOT / config["robot"]["urdf"])
     motion = config["motions"]["straight"]
     dt = config["physics"]["timestep"]
+    commands = constant_commands(motion["v"], motion["w"], duration or motion["duration"], dt,
+                                 config["robot"]["track"], robot.wheel_radius)
+    settings = {**(config["engines"].get(engine) or {}), **(overrides or {})}
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in terrains or list(config["terrains"]):
+            path = Path(tmp) / f"{name}.json"
+            terrain_job(str(path), name, config["seed"], config["terrains"][name])
+            terrain = yaml.safe_load(path.read_text())
+            yield name, Scenario(robot=robot, terrain=terrain, ground_friction=config["physics"]["ground_friction"],
+                                 timestep=dt, max_wheel_torque=config["robot"]["max_wheel_torque"],
+                                 starts=(tuple(motion["start"]),), settings=settings), commands
+
+
+def engine_throughput(config: dict, repeats: int) -> list[dict]:
     rows = []
-    for terrain_name, spec in config["terrains"].items():
-        terrain_file = tmp / f"{terrain_name}.json"
-        terrain_job(str(terrain_file), terrain_name, config["seed"], spec)
-        terrain = yaml.safe_load(terrain_file.read_text())
-        commands = constant_commands(motion["v"], motion["w"], motion["duration"], dt, config["robot"]["track"],
-                                     robot.wheel_radius)
-        for engine_name, settings in config["engines"].items():
-            engine = get_engine(engine_name)
-            scenario = Scenario(robot=robot, terrain=terrain, ground_friction=config["physics"]["ground_friction"],
-                                timestep=dt, max_wheel_torque=config["robot"]["max_wheel_torque"],
-                                starts=(tuple(motion["start"]),), settings=settings or {})
+    for engine_name in config["engines"]:
+        engine = get_engine(engine_name)
+        for terrain_name, scenario, commands in lab_scenarios(config, engine_name):
             bare = [commands.shape[0] / engine.bare_loop(scenario, commands) for _ in range(repeats)]
             job = []
             for _ in range(repeats):
@@ -76,7 +85,9 @@ def engine_throughput(config: dict, repeats: int, tmp: Path) -> list[dict]:
             rows.append({"measure": "job_vs_bare_ratio", "engine": engine_name, "terrain": terrain_name,
                          "median": j["median"] / b["median"], "min": j["min"] / b["max"],
                          "max": j["max"] / b["min"], "n": repeats})
-    return rows
+    # the table's order: terrain by terrain, the engines in config order within each
+    terrains, engines = list(config["terrains"]), list(config["engines"])
+    return sorted(rows, key=lambda r: (terrains.index(r["terrain"]), engines.index(r["engine"])))
 
 
 def copy_project(dest: Path) -> None:
@@ -189,8 +200,7 @@ def main() -> None:
     config = yaml.safe_load((ROOT / "config.yaml").read_text())
     rows: list[dict] = []
     if args.only != "pipeline":
-        with tempfile.TemporaryDirectory() as tmp:
-            rows = engine_throughput(config, args.repeats, Path(tmp))
+        rows = engine_throughput(config, args.repeats)
         rows += lab_rtf(rows, config)
     if args.only != "engines":
         rows += pipeline(args.pipeline_repeats)
