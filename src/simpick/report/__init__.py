@@ -80,7 +80,7 @@ def build_report(inputs: Mapping[str, Any], params: Mapping[str, Any],
     The workflow renders the PDF in a job of its own (:func:`html_to_pdf`), so that the HTML
     of a rerun is there before WeasyPrint has laid out the pages.
     """
-    from simpick.report.build import render_html, write_pdf
+    from simpick.report.build import render_html
     from simpick.report.load import load_inputs
 
     import sys
@@ -100,12 +100,9 @@ def build_report(inputs: Mapping[str, Any], params: Mapping[str, Any],
     tmp = html_path.with_name(html_path.name + ".partial")
     tmp.write_text(html, encoding="utf-8")
     tmp.replace(html_path)
-    if pdf_path is None:
-        print(f"report: figures and HTML {rendered - start:.1f} s", file=sys.stderr)
-        return
-    write_pdf(html, pdf_path, base_url=str(html_path.parent))
-    print(f"report: figures and HTML {rendered - start:.1f} s, PDF {time.perf_counter() - rendered:.1f} s",
-          file=sys.stderr)
+    print(f"report: figures and HTML {rendered - start:.1f} s", file=sys.stderr)
+    if pdf_path is not None:
+        html_to_pdf(html_path, pdf_path)
 
 
 def html_to_pdf(html_path: str | Path, pdf_path: str | Path) -> None:
