@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, ClassVar, Protocol, Self
+from typing import Any, ClassVar, Protocol, Self, runtime_checkable
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, ValidationError, model_validator
@@ -134,9 +134,19 @@ class Calibratable:
 FRICTION = Calibratable(0.05, 1.5, log=True, why="tyre on ice (Wong Table 1.4: 0.1) to above dry asphalt (0.9)")
 
 
+@runtime_checkable
 class Engine(Protocol):
-    name: str
-    # parameter name -> bounds: what calibration may tune on this engine (simpick.calibration)
+    """What the workflow and the shared code use of an adapter (or a reference model).
+
+    tests/test_engines.py checks every registered engine and reference model against it."""
+
+    name: str  # its registry key (simpick.engines), the name in config and result paths
+    # Its settings: the config's engines.<name> block (baselines.<name> for a reference model) is
+    # validated into this model by simpick.config, and simulate / bare_loop read
+    # settings_model.of(scenario.settings, name)
+    settings_model: type[EngineSettings]
+    # parameter name -> bounds: what calibration may tune on this engine (simpick.calibration);
+    # "friction" is the ground's coefficient, every other name a float field of settings_model
     calibratable: dict[str, Calibratable]
 
     def version(self) -> str:
