@@ -11,7 +11,7 @@ import yaml
 from conftest import ROOT, planned_jobs, snakemake, tiny_config, write_config
 from simpick.calibration import Units, apply_parameters, calibrate, evaluate, split_runs, summarise
 from simpick.config import problems
-from simpick.engines import ADAPTERS, REFERENCE_MODELS, engine_defaults, get_engine
+from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
 URDF = str(ROOT / "resources/robot/husky_a200.urdf")
@@ -61,14 +61,14 @@ def test_every_model_declares_parameters_its_settings_accept(name):
     if name in ADAPTERS:
         assert "friction" in space  # issue 11: at least the friction coefficient
         assert len(space) <= 3  # friction plus up to two more
-    defaults = engine_defaults(name)
-    configured = {**defaults, **((CONFIG["engines"] | CONFIG["baselines"]).get(name) or {})}
+    model = get_engine(name).settings_model
+    configured = model.of((CONFIG["engines"] | CONFIG["baselines"]).get(name), name)
     for pname, p in space.items():
         assert p.low < p.high and p.why, pname
         assert not p.log or p.low > 0
         if pname != "friction":
-            assert pname in defaults, f"{name}.{pname} is not one of its settings"
-            assert p.low <= float(configured[pname]) <= p.high, f"{name}.{pname}: the configured value is outside"
+            assert pname in model.model_fields, f"{name}.{pname} is not one of its settings"
+            assert p.low <= getattr(configured, pname) <= p.high, f"{name}.{pname}: the configured value is outside"
 
 
 def test_apply_parameters_sets_friction_on_the_class_and_the_rest_as_settings():

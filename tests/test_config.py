@@ -23,7 +23,20 @@ def test_the_shipped_config_is_valid():
 
 @pytest.mark.parametrize("edit, expected", [
     (lambda c: c["engines"].update(gazebo={}), "unknown engine(s) ['gazebo']; available: ['dart', 'mujoco', 'ode', 'pybullet']"),
-    (lambda c: c["engines"]["mujoco"].update(iterationz=3), "engines.mujoco: unknown setting(s) ['iterationz']"),
+    (lambda c: c["engines"]["mujoco"].update(iterationz=3), "engines.mujoco: unknown setting(s) ['iterationz']; "
+                                                            "accepted: ['cone', 'integrator', 'solver_iterations',"),
+    (lambda c: c["engines"]["ode"].update(stepper="rk4"), "engines.ode.stepper: Input should be 'world' or 'quick' "
+                                                          "(got 'rk4')"),
+    (lambda c: c["engines"]["pybullet"].update(contact_stiffness="stiff"),
+     "engines.pybullet.contact_stiffness: Input should be a valid number, unable to parse string as a number "
+     "(got 'stiff')"),
+    (lambda c: c["engines"]["dart"].update(solver_sweeps=0), "engines.dart.solver_sweeps: Input should be greater "
+                                                             "than or equal to 1 (got 0)"),
+    (lambda c: c["engines"]["mujoco"].update(wheel_contact_impedance=1.0),
+     "engines.mujoco.wheel_contact_impedance: Input should be less than 1 (got 1.0)"),
+    (lambda c: c["baselines"]["kinematic"].update(track=0), "baselines.kinematic.track: Input should be greater "
+                                                            "than 0 (got 0)"),
+    (lambda c: c["baselines"].update(unicycle={}), "baselines: unknown reference model 'unicycle'"),
     (lambda c: c["terrains"]["grass"].update(rule="lava"), "terrains.grass.rule"),
     (lambda c: c["motions"]["straight"].update(duration=-1), "motions.straight.duration: Input should be greater than 0 (got -1)"),
     (lambda c: c["physics"].update(timestep=0), "physics.timestep: Input should be greater than 0 (got 0)"),

@@ -1,15 +1,21 @@
 """Conformance suite: every registered engine adapter must pass these.
 
-They pin down what the rest of simpick assumes of an engine: the IMU convention
+They pin down what the rest of simpick assumes of an engine: the Engine protocol (every
+engine and reference model), the IMU convention
 (+9.81 on z at rest, body frame x forward / y left / z up), that the wheels follow their
 commands on high friction, that a left turn reads as positive yaw rate, and determinism.
 """
+
+import inspect
+import re
 
 import numpy as np
 import pytest
 
 from conftest import drive, setup
-from simpick.engines import ADAPTERS, get_engine
+from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
+from simpick.engines.base import Calibratable, Engine, EngineSettings
+from simpick.errors import InputError
 from simpick.imu import block_average
 
 DT = 0.001
@@ -26,6 +32,54 @@ def engine(request):
 
 def test_version_is_reported(engine):
     assert get_engine(engine).version()
+
+
+@pytest.mark.parametrize("name", sorted(ADAPTERS) + sorted(REFERENCE_MODELS))
+def test_every_registered_model_satisfies_the_engine_protocol(name):
+    engine = get_engine(name)
+    assert isinstance(engine, Engine)  # every member the protocol names is there
+    assert engine.name == name
+    for method in ("simulate", "bare_loop"):
+        assert list(inspect.signature(getattr(engine, method)).parameters) == ["scenario", "wheel_commands"]
+    assert isinstance(engine.version(), str) and engine.version()
+    model = engine.settings_model
+    assert issubclass(model, EngineSettings)
+    assert model.model_config["frozen"] and model.model_config["extra"] == "forbid"
+    assert model.config_block == ("engines" if name in ADAPTERS else "baselines")
+    assert model.of({}, name) == model() == model.of(None, name)  # every setting has a default
+    for pname, bounds in engine.calibratable.items():
+        assert isinstance(bounds, Calibratable)
+        if pname != "friction":  # any other name is one of its own float settings
+            assert model.model_fields[pname].annotation is float, f"{name}.{pname}"
+
+
+@pytest.mark.parametrize("name", sorted(ADAPTERS) + sorted(REFERENCE_MODELS))
+def test_every_setting_carries_its_comment(name):
+    """Each field of a settings model has a comment: on its line, or between it and the field above."""
+    source = inspect.getsource(get_engine(name).settings_model)
+    commented = False
+    for line in source.splitlines()[1:]:
+        stripped = line.strip()
+        field = re.match(r"(\w+): ", stripped)
+        if stripped.startswith("#"):
+            commented = True
+        elif field:
+            assert commented or "#" in stripped, f"{name}.{field.group(1)} has no comment"
+            commented = False
+
+
+def test_a_bad_setting_names_its_config_key_and_value():
+    pybullet = get_engine("pybullet").settings_model
+    # YAML 1.1 reads 1.0e6 as text; the model parses it as float() did
+    assert pybullet.of({"contact_stiffness": "1.0e6"}, "pybullet").contact_stiffness == 1.0e6
+    with pytest.raises(InputError, match=r"engines\.pybullet\.solver_iterations: .*\(got 0\)"):
+        pybullet.of({"solver_iterations": 0}, "pybullet")
+    with pytest.raises(InputError, match=r"engines\.mujoco\.cone: Input should be 'elliptic' or 'pyramidal' "
+                                         r"\(got 'round'\)"):
+        get_engine("mujoco").settings_model.of({"cone": "round"}, "mujoco")
+    with pytest.raises(InputError, match=r"baselines\.kinematic: unknown setting\(s\) \['width'\]; "
+                                         r"accepted: \['track'\]"):
+        get_engine("kinematic").settings_model.of({"width": 1.0}, "kinematic")
 
 
 def test_at_rest_reads_gravity_on_z_and_no_rotation(engine, robot):

@@ -92,7 +92,7 @@ def parameter_space(engine: str, overrides: dict | None = None) -> dict:
 
     from simpick.engines import get_engine
 
-    space = dict(getattr(get_engine(engine), "calibratable", {}) or {})
+    space = dict(get_engine(engine).calibratable)
     for name, bounds in (overrides or {}).items():
         if name not in space:
             raise InputError(f"calibration.bounds.{engine}.{name}",
@@ -103,12 +103,13 @@ def parameter_space(engine: str, overrides: dict | None = None) -> dict:
 
 def configured_values(params: dict, space: dict) -> dict:
     """The as-configured value of each parameter (clipped into its bounds)."""
-    from simpick.engines import engine_defaults
+    from simpick.engines import get_engine
 
-    settings = {**engine_defaults(params["engine"]), **(params.get("engine_settings") or {})}
+    engine = params["engine"]
+    settings = get_engine(engine).settings_model.of(params.get("engine_settings"), engine)
     out = {}
     for name, p in space.items():
-        value = float(params["class"]["friction"]) if name == "friction" else float(settings[name])
+        value = float(params["class"]["friction"]) if name == "friction" else getattr(settings, name)
         out[name] = min(max(value, p.low), p.high)
     return out
 

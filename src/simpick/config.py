@@ -11,9 +11,10 @@ import sys
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model, field_validator, model_validator
 
-from simpick.engines import ADAPTERS, REFERENCE_MODELS, engine_defaults
+from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
+from simpick.errors import validation_problems
 from simpick.scoring import METRICS
 from simpick.terrain import RULES
 
@@ -225,12 +226,10 @@ class Calibration(Strict):
 
     @model_validator(mode="after")
     def known_parameters(self):
-        from simpick.engines import get_engine
-
         for engine, params in self.bounds.items():
             if engine not in ADAPTERS and engine not in REFERENCE_MODELS:
                 raise ValueError(f"bounds.{engine}: unknown engine; available: {sorted(ADAPTERS | REFERENCE_MODELS)}")
-            declared = getattr(get_engine(engine), "calibratable", {})
+            declared = get_engine(engine).calibratable
             for name, (low, high) in params.items():
                 if name not in declared:
                     raise ValueError(f"bounds.{engine}.{name}: {engine} declares no calibratable parameter "
@@ -270,10 +269,21 @@ def _runs_for(level: float) -> int:
     return n
 
 
+def _settings_block(section: str, registry: dict) -> type[BaseModel]:
+    """The ``engines:`` or ``baselines:`` block: one optional entry per registered name, typed by
+    that adapter's own settings model (an omitted or empty entry takes the model's defaults)."""
+    fields = {name: (get_engine(name).settings_model | None, None) for name in registry}
+    return create_model(f"{section.capitalize()}Block", __base__=Strict, **fields)
+
+
+EnginesBlock = _settings_block("engines", ADAPTERS)
+BaselinesBlock = _settings_block("baselines", REFERENCE_MODELS)
+
+
 class Study(Strict):
     seed: Annotated[int, Field(ge=0, lt=2**32)]
-    engines: dict[str, dict[str, Any] | None]
-    baselines: dict[str, dict[str, Any] | None] = {}
+    engines: EnginesBlock  # type: ignore[valid-type]
+    baselines: BaselinesBlock = BaselinesBlock()  # type: ignore[valid-type]
     physics: Physics
     robot: Robot
     imu: Imu
@@ -294,31 +304,26 @@ class Study(Strict):
     qualitative: str
     weights: dict[str, NonNegative]
 
-    @field_validator("engines")
+    # Each entry's settings are checked by its adapter's model (the block's field types); these
+    # name an unknown engine with what is available, where pydantic would only say "extra".
+    @field_validator("engines", mode="before")
     @classmethod
     def known_engines(cls, engines):
-        unknown = [e for e in engines if e not in ADAPTERS]
-        if unknown:
-            raise ValueError(f"unknown engine(s) {unknown}; available: {sorted(ADAPTERS)}")
-        if not engines:
-            raise ValueError("at least one engine is needed")
-        for name, settings in engines.items():
-            unknown = sorted(set(settings or {}) - set(engine_defaults(name)))
+        if isinstance(engines, dict):
+            unknown = [e for e in engines if e not in ADAPTERS]
             if unknown:
-                raise ValueError(f"engines.{name}: unknown setting(s) {unknown}; "
-                                 f"{name} accepts {sorted(engine_defaults(name))}")
+                raise ValueError(f"unknown engine(s) {unknown}; available: {sorted(ADAPTERS)}")
+            if not engines:
+                raise ValueError("at least one engine is needed")
         return engines
 
-    @field_validator("baselines")
+    @field_validator("baselines", mode="before")
     @classmethod
     def known_baselines(cls, baselines):
-        for name, settings in baselines.items():
-            if name not in REFERENCE_MODELS:
-                raise ValueError(f"unknown reference model {name!r}; available: {sorted(REFERENCE_MODELS)}")
-            unknown = sorted(set(settings or {}) - set(engine_defaults(name)))
-            if unknown:
-                raise ValueError(f"baselines.{name}: unknown setting(s) {unknown}; "
-                                 f"{name} accepts {sorted(engine_defaults(name))}")
+        if isinstance(baselines, dict):
+            for name in baselines:
+                if name not in REFERENCE_MODELS:
+                    raise ValueError(f"unknown reference model {name!r}; available: {sorted(REFERENCE_MODELS)}")
         return baselines
 
     @field_validator("weights")
@@ -361,7 +366,8 @@ class Study(Strict):
             raise ValueError(f"own_logs: terrain classes {unknown} are not under real_data.classes "
                              f"{sorted(self.real_data.classes)}; add them there with a friction and its source")
         if self.calibration is not None:
-            known = list(self.engines) + list(self.baselines)
+            known = [name for block in (self.engines, self.baselines) for name in type(block).model_fields
+                     if name in block.model_fields_set]
             unknown = [m for m in self.calibration.models or [] if m not in known]
             if unknown:
                 raise ValueError(f"calibration.models: {unknown} are not in this study's engines or baselines {known}")
@@ -379,14 +385,7 @@ def problems(config: dict) -> list[str]:
     try:
         Study.model_validate(config)
     except ValidationError as exc:
-        lines = []
-        for err in exc.errors():
-            key = ".".join(str(p) for p in err["loc"]) or "(top level)"
-            value = err.get("input")
-            shown = "" if isinstance(value, dict) else f" (got {value!r})"
-            message = err["msg"].removeprefix("Value error, ")
-            lines.append(f"{key}: {message}{shown}")
-        return lines
+        return [f"{key}: {problem}" for key, problem in validation_problems(exc)]
     return []
 
 

@@ -12,5 +12,17 @@ class InputError(ValueError):
         super().__init__(message)
 
 
+def validation_problems(exc, prefix: tuple = ()) -> list[tuple[str, str]]:
+    """(key, problem) for each error of a pydantic ValidationError: the dotted key under
+    ``prefix``, pydantic's message (what is allowed) and the value that broke it."""
+    found = []
+    for err in exc.errors():
+        key = ".".join(str(p) for p in (*prefix, *err["loc"])) or "(top level)"
+        value = err.get("input")
+        shown = "" if isinstance(value, dict) else f" (got {value!r})"
+        found.append((key, err["msg"].removeprefix("Value error, ") + shown))
+    return found
+
+
 class SimulationFailure(RuntimeError):
     """A simulation that diverged or misbehaved; carries the reason for the health record."""

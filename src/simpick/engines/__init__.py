@@ -2,7 +2,7 @@
 
 Adapters are imported only when asked for, so a job that runs MuJoCo never imports
 PyBullet. Adding an engine: one module implementing :class:`~simpick.engines.base.Engine`
-and one line here.
+(its settings model included: the config check takes it from there) and one line here.
 """
 
 from __future__ import annotations
@@ -24,7 +24,6 @@ REFERENCE_MODELS = {
     "kinematic": "simpick.engines.baselines:KinematicModel",
     "coulomb": "simpick.engines.baselines:CoulombModel",
 }
-_DEFAULTS = {"kinematic": "DEFAULTS_KINEMATIC", "coulomb": "DEFAULTS_COULOMB"}
 
 
 def get_engine(name: str) -> Engine:
@@ -35,8 +34,3 @@ def get_engine(name: str) -> Engine:
     module, cls = known[name].split(":")
     return getattr(importlib.import_module(module), cls)()
 
-
-def engine_defaults(name: str) -> dict:
-    """The settings an engine (or reference model) accepts, with their defaults."""
-    module, _ = {**ADAPTERS, **REFERENCE_MODELS}[name].split(":")
-    return dict(getattr(importlib.import_module(module), _DEFAULTS.get(name, "DEFAULTS")))

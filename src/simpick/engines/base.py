@@ -9,10 +9,12 @@ module and one registry line.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from typing import Any, ClassVar, Protocol, Self, runtime_checkable
 
 import numpy as np
+from pydantic import BaseModel, ConfigDict, ValidationError, model_validator
 
 from simpick.robot import RobotSpec
 
@@ -27,10 +29,57 @@ class Scenario:
     timestep: float  # s
     max_wheel_torque: float  # N m, per wheel
     starts: tuple[tuple[float, float, float], ...]  # (x, y, yaw) per robot; robot 0 is recorded
-    settings: dict[str, Any] = field(default_factory=dict)  # engine-specific, from config
+    # engine-specific: the config's block for this engine (only the settings it changes), or the
+    # adapter's settings model itself; the adapter reads it through EngineSettings.of
+    settings: Mapping[str, Any] | EngineSettings = field(default_factory=dict)
     # World gravity, m/s^2. Tilted only by the validation's incline case: tilting gravity by
     # theta about y is the same mechanics as a plane inclined by theta, with no sloped geometry.
     gravity: tuple[float, float, float] = (0.0, 0.0, -GRAVITY)
+
+
+class EngineSettings(BaseModel):
+    """An adapter's settings: each a typed field with its default, allowed values and range.
+
+    Each adapter subclasses this (its ``settings_model``) and documents every field where it is
+    declared, with the measurement or source behind its default. The config check
+    (:mod:`simpick.config`) and the adapter build the same model from the same mapping, so both
+    refuse the same values with the same message, naming ``engines.<engine>.<setting>``, the value
+    and what is allowed; adapters read typed attributes, with no checks or casts of their own.
+    Numbers may come as strings:
+    YAML 1.1 reads ``1.0e6`` (no exponent sign) as text, and pydantic's lax mode parses it.
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    config_block: ClassVar[str] = "engines"  # the config section holding these settings
+
+    @model_validator(mode="before")
+    @classmethod
+    def _known_settings(cls, data: Any) -> Any:
+        # one line naming every unknown key and every accepted one (pydantic's own extra check
+        # gives a line per key, none of them listing what is accepted)
+        if isinstance(data, Mapping):
+            unknown = sorted(set(data) - set(cls.model_fields))
+            if unknown:
+                raise ValueError(f"unknown setting(s) {unknown}; accepted: {sorted(cls.model_fields)}")
+        return data
+
+    @classmethod
+    def of(cls, settings: Mapping[str, Any] | EngineSettings | None, engine: str) -> Self:
+        """The model for ``settings`` (a config block, or the model itself); a bad value raises
+        :class:`~simpick.errors.InputError` naming ``<block>.<engine>.<setting>`` and the value."""
+        from simpick.errors import InputError, validation_problems
+
+        if isinstance(settings, cls):
+            return settings
+        try:
+            return cls.model_validate(dict(settings or {}))
+        except ValidationError as exc:
+            found = validation_problems(exc, (cls.config_block, engine))
+            if len(found) == 1:
+                raise InputError(*found[0]) from None
+            raise InputError(f"{cls.config_block}.{engine}",
+                             "; ".join(f"{key}: {problem}" for key, problem in found)) from None
 
 
 @dataclass
@@ -85,9 +134,19 @@ class Calibratable:
 FRICTION = Calibratable(0.05, 1.5, log=True, why="tyre on ice (Wong Table 1.4: 0.1) to above dry asphalt (0.9)")
 
 
+@runtime_checkable
 class Engine(Protocol):
-    name: str
-    # parameter name -> bounds: what calibration may tune on this engine (simpick.calibration)
+    """What the workflow and the shared code use of an adapter (or a reference model).
+
+    tests/test_engines.py checks every registered engine and reference model against it."""
+
+    name: str  # its registry key (simpick.engines), the name in config and result paths
+    # Its settings: the config's engines.<name> block (baselines.<name> for a reference model) is
+    # validated into this model by simpick.config, and simulate / bare_loop read
+    # settings_model.of(scenario.settings, name)
+    settings_model: type[EngineSettings]
+    # parameter name -> bounds: what calibration may tune on this engine (simpick.calibration);
+    # "friction" is the ground's coefficient, every other name a float field of settings_model
     calibratable: dict[str, Calibratable]
 
     def version(self) -> str:

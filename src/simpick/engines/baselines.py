@@ -19,15 +19,29 @@ motion by :func:`simpick.imu.imu_from_kinematics`, as for the engines without an
 from __future__ import annotations
 
 import time
+from typing import Annotated, ClassVar
 
 import numpy as np
+from pydantic import Field
 
 import simpick
-from simpick.engines.base import FRICTION, Calibratable, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
 from simpick.imu import imu_from_kinematics
 
-DEFAULTS_KINEMATIC = {"track": 0.555}  # m: the controller's effective track (config robot.track)
-DEFAULTS_COULOMB: dict = {}
+
+class _BaselineSettings(EngineSettings):
+    config_block: ClassVar[str] = "baselines"
+
+
+class CoulombSettings(_BaselineSettings):
+    """config ``baselines.coulomb``: none; the loads and contact layout come from the robot description."""
+
+
+class KinematicSettings(_BaselineSettings):
+    """config ``baselines.kinematic``."""
+
+    # m: the controller's effective track (config robot.track, the paper's Eq. 1 read backwards)
+    track: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 0.555
 
 
 def _integrate(targets: np.ndarray, points: np.ndarray, max_accel: float, dt: float) -> np.ndarray:
@@ -68,26 +82,29 @@ def _record(scenario: Scenario, twists: np.ndarray, wheels: np.ndarray, wall: fl
 
 class _ReferenceModel:
     name = ""
+    settings_model: type[EngineSettings]
     reference_model = True  # not a simulator: kept out of the lab study, validation and scores
 
     def version(self) -> str:
         return f"simpick {simpick.__version__} {self.name} model"
 
-    def targets(self, scenario: Scenario, left: np.ndarray, right: np.ndarray) -> np.ndarray:
+    def targets(self, scenario: Scenario, settings: EngineSettings, left: np.ndarray,
+                right: np.ndarray) -> np.ndarray:
         raise NotImplementedError
 
     def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
         from simpick.coulomb import contact_layout
 
         commands = validated_commands(scenario, wheel_commands)[:, 0]
+        settings = self.settings_model.of(scenario.settings, self.name)
         radius = scenario.robot.wheel_radius
         cpu0, wall0 = time.process_time(), time.perf_counter()
         left = (commands[:, 0] + commands[:, 2]) / 2 * radius
         right = (commands[:, 1] + commands[:, 3]) / 2 * radius
         layout = contact_layout(scenario.robot, points_per_wheel=1)
         mu = float(scenario.ground_friction)
-        twists = _integrate(self.targets(scenario, left, right), layout.points, mu * abs(scenario.gravity[2]),
-                            scenario.timestep)
+        twists = _integrate(self.targets(scenario, settings, left, right), layout.points,
+                            mu * abs(scenario.gravity[2]), scenario.timestep)
         wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
         return _record(scenario, twists, commands.copy(), wall, cpu)
 
@@ -99,24 +116,25 @@ class _ReferenceModel:
 
 class KinematicModel(_ReferenceModel):
     name = "kinematic"
+    settings_model = KinematicSettings
     # The effective track of skid-steer kinematics, the parameter its users calibrate (e.g. Mandow
     # et al. 2007): yaw rate = (v_r - v_l) / track. From the geometric 0.555 m (no slip) to 3 m, a
     # yaw-rate gain of 0.19, below the real Husky's lowest (0.21 on snow, METHOD.md s6).
     calibratable = {"track": Calibratable(0.555, 3.0, why="gain 1 (no slip) down to 0.19, below snow's 0.21")}
 
-    def targets(self, scenario, left, right):
-        track = float({**DEFAULTS_KINEMATIC, **scenario.settings}["track"])
-        return np.stack([(left + right) / 2, np.zeros_like(left), (right - left) / track], axis=1)
+    def targets(self, scenario, settings, left, right):
+        return np.stack([(left + right) / 2, np.zeros_like(left), (right - left) / settings.track], axis=1)
 
 
 class CoulombModel(_ReferenceModel):
     name = "coulomb"
+    settings_model = CoulombSettings
     # Its one parameter: the friction coefficient, which bounds how fast the twist follows a new
     # command (mu g at every contact); the steady twist does not depend on it (Coulomb's gain is
     # the same for every mu, METHOD.md s6). The loads come from the robot description.
     calibratable = {"friction": FRICTION}
 
-    def targets(self, scenario, left, right):
+    def targets(self, scenario, settings, left, right):
         from simpick.coulomb import CoulombTable, contact_layout
 
         # Solve each distinct command once (replays hold each wheel-speed sample for many steps).

@@ -34,14 +34,27 @@ from __future__ import annotations
 import importlib.metadata
 import math
 import time
+from typing import Annotated, Literal
 
 import numpy as np
+from pydantic import Field
 
-from simpick.engines.base import FRICTION, Calibratable, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
-DEFAULTS = {
-    "integrator": "implicitfast", "cone": "elliptic", "solver_iterations": 50,
+
+
+class MujocoSettings(EngineSettings):
+    """config ``engines.mujoco``."""
+
+    # mjOption integrator; implicitfast: implicit in velocity, so the stiff wheel servos stay
+    # stable at 1 kHz (config.yaml)
+    integrator: Literal["implicitfast", "implicit", "euler", "rk4"] = "implicitfast"
+    # mjOption cone; elliptic: the true Coulomb cone rather than the pyramid approximation
+    cone: Literal["elliptic", "pyramidal"] = "elliptic"
+    # mjOption iterations, the constraint solver's cap per step (MuJoCo's default: 100). 50 since
+    # the first adapter, as PyBullet's; no measurement is recorded for it.
+    solver_iterations: Annotated[int, Field(ge=1)] = 50
     # "intvelocity": position servo on the integrated speed command (MuJoCo's <intvelocity>; the
     # docs: "in real robotic systems this integrated-velocity actuator is the most common
     # implementation of actuators with velocity semantics"), no steady speed error; "velocity":
@@ -53,16 +66,24 @@ DEFAULTS = {
     # +-100 N m bang-bang cycle (2.27 rad/s per step). With the decoupled contact below, a spin at
     # mu 0.2 then gives rear rim speeds 0.198 / 0.074 m/s for 0.139 commanded and a gain of 0.80
     # (0.05 at mu 0.05). The integrated servo has no such cycle (same cases: 0.467 / 0.467).
-    "wheel_servo": "intvelocity",
-    "wheel_servo_kp": 1000.0,  # N m/rad, intvelocity stiffness (critically damped on the wheel's inertia);
-    #                            5000 gives the same gains to 3 digits
-    "wheel_servo_gain": 300.0,  # N m s/rad, kv of the "velocity" servo only
+    wheel_servo: Literal["intvelocity", "velocity"] = "intvelocity"
+    # N m/rad, intvelocity stiffness (critically damped on the wheel's inertia); 5000 gives the
+    # same gains to 3 digits
+    wheel_servo_kp: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 1000.0
+    # N m s/rad, kv of the "velocity" servo only (above 88 it bang-bangs when saturated, see wheel_servo)
+    wheel_servo_gain: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 300.0
     # "decoupled": wheel x terrain contact pairs as described in _wheel_pairs; "default": MuJoCo's
     # default geom contact (the Husky then turns at 0.18-0.25 of w, see the module docstring).
-    "wheel_contact": "decoupled",
-    "wheel_contact_impedance": 0.015,  # solimp d of the wheel pairs, see _wheel_pairs
-    "wheel_friction_impedance": 0.98,  # impedance the wheel pairs' friction rows get via impratio
-}
+    wheel_contact: Literal["decoupled", "default"] = "decoupled"
+    # solimp d of the wheel pairs, see _wheel_pairs: 0.015 gives a 1.5 mm resting sag; 0.005-0.1
+    # measured to give the same gains, 0.2 fails at 2 rad/s. An impedance, so below 1, and
+    # R_n = (1 - d) / d needs it above 0.
+    wheel_contact_impedance: Annotated[float, Field(gt=0, lt=1)] = 0.015
+    # impedance the wheel pairs' friction rows get via impratio, see _wheel_pairs: parked creep at
+    # 0.8 atan(mu) 0.27 mm/s at 0.98, 0.71 at 0.95, 1.6 at 0.90 (MuJoCo's default contact: 6.6)
+    wheel_friction_impedance: Annotated[float, Field(gt=0, lt=1)] = 0.98
+
+
 # MuJoCo's default contact reference (solref timeconst 0.02 s, dampratio 1) and the largest default
 # impedance (solimp dmax 0.95): the friction rows' velocity decay rate is 2 / (dmax timeconst).
 MUJOCO_TIMECONST, MUJOCO_DMAX = 0.02, 0.95
@@ -80,7 +101,7 @@ class MujocoEngine:
         # Contact softness (solimp d of the wheel pairs): 0.005-0.1 is the range the adapter was
         # measured over in issue 9 (config comment: same gains); 0.015 gives 1.5 mm resting sag.
         "wheel_contact_impedance": Calibratable(0.005, 0.1, log=True,
-                                                why="the range measured in issue 9 (DEFAULTS comment)"),
+                                                why="the range measured in issue 9 (MujocoSettings comment)"),
         # Friction softness (impedance of the friction rows via impratio): from 0.8, softer friction
         # rows that let a sticking contact creep more, to 0.995, stiffer than the 0.98 chosen in
         # issue 9 (config comment: parked creep 0.27 against 6.6 for MuJoCo's default contact).
@@ -88,6 +109,7 @@ class MujocoEngine:
                                                  why="from MuJoCo-default-like creep (0.8) to near-rigid 0.995"),
     }
     name = "mujoco"
+    settings_model = MujocoSettings
 
     def version(self) -> str:
         return importlib.metadata.version("mujoco")
@@ -96,13 +118,13 @@ class MujocoEngine:
         """Compile the world; returns (model, per-robot actuator count)."""
         import mujoco
 
-        settings = {**DEFAULTS, **scenario.settings}
+        settings = MujocoSettings.of(scenario.settings, self.name)
         spec = mujoco.MjSpec()
         spec.option.timestep = scenario.timestep
         spec.option.gravity = list(scenario.gravity)
-        spec.option.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{settings['integrator'].upper()}")
-        spec.option.cone = getattr(mujoco.mjtCone, f"mjCONE_{settings['cone'].upper()}")
-        spec.option.iterations = int(settings["solver_iterations"])
+        spec.option.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{settings.integrator.upper()}")
+        spec.option.cone = getattr(mujoco.mjtCone, f"mjCONE_{settings.cone.upper()}")
+        spec.option.iterations = settings.solver_iterations
         world = spec.worldbody
 
         grounds = []  # (geom, friction) of the floor and every terrain shape
@@ -125,7 +147,6 @@ class MujocoEngine:
                     terrain["friction"])
 
         robot = scenario.robot
-        kv = float(settings["wheel_servo_gain"])  # N m s/rad
         for i, (x, y, yaw) in enumerate(scenario.starts):
             child = mujoco.MjSpec.from_file(str(robot.urdf))
             frame = world.add_frame(pos=[x, y, robot.base_height + SPAWN_CLEARANCE], quat=_yaw_quat(yaw))
@@ -136,20 +157,16 @@ class MujocoEngine:
             for joint in robot.wheel_joints:
                 act = spec.add_actuator(name=prefix + joint + "/servo", target=prefix + joint,
                                         trntype=mujoco.mjtTrn.mjTRN_JOINT)
-                if settings["wheel_servo"] == "intvelocity":
-                    act.set_to_intvelocity(kp=float(settings["wheel_servo_kp"]), dampratio=1.0)
+                if settings.wheel_servo == "intvelocity":
+                    act.set_to_intvelocity(kp=settings.wheel_servo_kp, dampratio=1.0)
                     act.actlimited = mujoco.mjtLimited.mjLIMITED_FALSE  # a continuous joint: no setpoint range
-                elif settings["wheel_servo"] == "velocity":
-                    act.set_to_velocity(kv=kv)
-                else:
-                    raise ValueError(f"wheel_servo {settings['wheel_servo']!r}: use 'intvelocity' or 'velocity'")
+                else:  # "velocity"
+                    act.set_to_velocity(kv=settings.wheel_servo_gain)
                 act.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
                 act.forcerange = [-scenario.max_wheel_torque, scenario.max_wheel_torque]
-            if settings["wheel_contact"] == "decoupled":
+            if settings.wheel_contact == "decoupled":  # else "default": MuJoCo's geom contacts, as they are
                 self._wheel_pairs(spec, settings, [spec.joint(prefix + j).parent for j in robot.wheel_joints],
                                   grounds, prefix)
-            elif settings["wheel_contact"] != "default":
-                raise ValueError(f"wheel_contact {settings['wheel_contact']!r}: use 'decoupled' or 'default'")
             if i == 0:
                 base.add_site(name="imu", pos=list(robot.imu_mount))
                 S, O = mujoco.mjtSensor, mujoco.mjtObj
@@ -162,7 +179,7 @@ class MujocoEngine:
         return spec.compile()
 
     @staticmethod
-    def _wheel_pairs(spec, settings: dict, wheels, grounds, prefix: str) -> None:
+    def _wheel_pairs(spec, settings: MujocoSettings, wheels, grounds, prefix: str) -> None:
         """Wheel x ground contact pairs whose sliding friction does not lift the wheel.
 
         From the per-contact problem above, the normal-force inflation of a sliding contact is
@@ -198,8 +215,8 @@ class MujocoEngine:
         """
         import mujoco
 
-        d = float(settings["wheel_contact_impedance"])
-        df = float(settings["wheel_friction_impedance"])
+        d = settings.wheel_contact_impedance
+        df = settings.wheel_friction_impedance
         spec.option.impratio = ((1 - d) / d) / ((1 - df) / df)
         for k, body in enumerate(wheels):
             for g, geom in enumerate(body.geoms):

@@ -24,69 +24,12 @@ terrain as every other engine:
   without it ODE reads ``mu`` as a fixed force limit in newtons, not a coefficient.
   Webots' and Gazebo's ODE integrations set it too. ODE has no friction cone: each contact
   gets two friction rows, each bounded by mu x normal force on its own (a pyramid), along
-  fdir1 and normal x fdir1. See ``friction_direction`` below for how fdir1 is chosen.
+  fdir1 and normal x fdir1. See ``OdeSettings.friction_direction`` for how fdir1 is chosen.
 - category bits keep static terrain from being paired with itself (every stone overlaps its
   gravel bed; each pair would cost a Python callback per step) and keep a robot's own
   shapes apart; robots still collide with each other.
 
-Settings (``scenario.settings``, all optional; figures measured here, 1 kHz, one robot):
-  friction_direction: "coulomb" (default), "slip" or "plane". "plane" leaves fdir1 to ODE, which takes
-    dPlaneSpace of the normal: on flat ground the world's x and y. A wheel sliding diagonally
-    to them then meets friction up to sqrt(2) mu N, not opposite its slip, and the skid-
-    steered Husky hardly turns (issue 9, validation cases, 6 s, mu 0.8): yaw-rate gain 0.115
-    at (v, w) = (0, 0.5), 0.207 at (0.5, 0.5), 0.028 at (0.5, 0.2); mu 0.2: 0.219 / 0.388;
-    Coulomb 0.478. Commanded to spin, it drove forward at 0.135 m/s instead (the heavier right
-    wheels rolled, the left ones slid). Parked on a 1.2 atan(mu) slope it slides (1.015 m/s^2,
-    Coulomb 1.016) when the slope runs along x, and stays put when it runs along the world
-    diagonal. Gazebo users see the same (jackal_simulator#18, husky#105; gazebo-classic#2068,
-    where a user fixes it by computing the friction direction himself between collision and
-    physics update). "slip" does that: fdir1 = the contact's sliding direction (Bullet's default
-    "velocity dependent friction direction"), so a sliding contact gets mu N against its slip.
-    Gains then 0.483 / 0.484 / 0.482 (mu 0.8), 0.487 / 0.507 (mu 0.2), within 1-6 % of 0.478;
-    the 45-degree slope slides at 0.974 m/s^2. Cost: flat ground 26 200 -> 19 600 steps/s
-    (bare loop), gravel strip about 12 900 -> 11 100. Residual artefact of "slip": the second
-    row (across the slip) still holds up to mu N, so a robot sliding down a slope with locked
-    wheels yaws (1.24 rad in 3 s at 1.2 atan(0.5); Coulomb friction has no yaw moment there)
-    and slides 3 % slower. "coulomb" (the default) also frees that row (dContactMu2, mu2 = 0)
-    while the contact slides faster than friction_direction_min_slip: a sliding contact then
-    gets exactly Coulomb's mu N against its slip and nothing across it; a slower one keeps the
-    full pyramid (sticking). Measured: the same gains (0.482-0.487), slide down the slope
-    1.016 m/s^2 (Coulomb 1.016) with 0.014 rad of yaw. Not cured: on a slope at 45 degrees to
-    the robot it slides at 0.975 (4 % slow) and yaws 0.27 rad in 3 s (0.036 rad per metre);
-    the other three engines yaw < 0.01 rad there (validation case incline_slide_diagonal).
-  friction_direction_min_slip: 1e-3 m/s, the stick/slip threshold of "coulomb" (below it fdir1
-    is dPlaneSpace's and both rows hold). It must exceed the creep that ODE's constraint
-    softness allows a sticking contact (CFM x load: 0.27 mm/s measured on the 0.8 atan(mu)
-    slope); at 1e-6 that creep counts as sliding, the cross row is freed and the parked robot
-    creeps 3.4 mm/s. 1e-3 and 3e-3 gave identical validation figures.
-  stepper: "world" (default) or "quick". dWorldStep solves the constraints exactly
-    (Dantzig LCP); with one robot the system is small (about 20 joint rows + 3 per
-    contact), and it was the faster of the two: flat 4 s at 0.5 m/s 35 600 against 27 700
-    steps/s for dWorldQuickStep with 50 iterations; gravel strip 26 000 against 20 400.
-    Both pass the conformance suite. The exact solver now and then prints "LCP internal
-    error, s <= 0" (a degenerate pivot it recovers from; 4 times in 10 s on the bumps
-    strip); the adapter counts these and logs them instead of letting them reach stderr.
-  quick_iterations: 50 (quick stepper only; ODE's default is 20, Gazebo's 50)
-  erp: 0.2 (ODE's default), cfm: 1e-5 (Webots' WorldInfo default and ODE's default for
-    single-precision builds; Debian's double-precision build defaults to 1e-10, which we
-    have not validated)
-  contact_surface_layer: 0.0 m (ODE's default). Gazebo's 0.001 lets the robot rest 1 mm
-    deep: base_link at 0.13127 m instead of 0.13228 m.
-  contact_max_correcting_vel: 0.1 m/s (ODE's default is unlimited, Gazebo's 100 m/s).
-    ODE pushes penetration out at ERP x depth / dt; when a wheel meets a plywood edge of
-    the bumps strip that is a kick: unlimited, the base velocity jumped by 0.90 m/s within
-    one step and the run failed the health check (limit 0.5 m/s); 0.5 m/s -> 0.36 m/s,
-    0.1 m/s -> 0.24 m/s (PyBullet 0.49, DART 0.41, MuJoCo 0.04 on the same strip). Other
-    engines cap this too (DART: 1 mm/s; Bullet: split impulse).
-  max_contacts: 4 contact points per geom pair (8 gave identical runs: ODE's cylinder
-    colliders return at most 4 here; a wheel on the ground gets 2, across its width)
-  space: "quadtree" (default), "hash" or "simple"; quadtree_cell: 0.4 m. A hash space
-    rebuilds its table every step, for every static stone: gravel strip 7 300 steps/s
-    (hash) against 25 500 (quadtree with 0.4 m cells; 10 300 with 1.6 m cells, 24 700 with
-    0.2 m), flat ground the same either way.
-
-Steps/s are of the whole Python stepping loop, which on flat ground spends most of its
-time in the collision callback (4 geom pairs, 8 contacts per step).
+Settings: :class:`OdeSettings` (config ``engines.ode``), each with what was measured for it.
 
 Determinism: ODE's only randomness is the constraint reordering of the quick stepper
 (``dRandInt``); the seed is reset before every run, and geoms are created in a fixed
@@ -101,11 +44,13 @@ import math
 import time
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
+from typing import Annotated, Literal
 
 import numpy as np
+from pydantic import Field
 
 from simpick.engines import _ode
-from simpick.engines.base import FRICTION, Calibratable, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
 from simpick.errors import InputError, SimulationFailure
 from simpick.imu import imu_from_kinematics, matrices_to_quaternions, rotation_matrices
 
@@ -113,16 +58,81 @@ LOG = logging.getLogger(__name__)
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 TERRAIN_BIT = 1  # category bit of static terrain; robot i gets bit i + 1
 ROBOT_ROBOT_FRICTION = 1.0
-DEFAULTS = {"stepper": "world", "quick_iterations": 50, "erp": 0.2, "cfm": 1e-5,
-            "contact_surface_layer": 0.0, "contact_max_correcting_vel": 0.1, "max_contacts": 4,
-            "space": "quadtree", "quadtree_cell": 0.4,
-            # fdir1 along each contact's slip (module docstring: gain 0.115 -> 0.483 at pure spin)
-            "friction_direction": "coulomb", "friction_direction_min_slip": 1e-3,
-            # force-dependent slip of terrain contacts, (m/s)/N on both friction rows (ODE's
-            # dContactSlip1/2: a contact slides at slip x friction force); Gazebo exposes it as
-            # <slip1>/<slip2> and users tune it for skid-steer turning. 0: off (ODE's default).
-            "contact_slip": 0.0}
-FRICTION_DIRECTIONS = ("coulomb", "slip", "plane")
+class OdeSettings(EngineSettings):
+    """config ``engines.ode``. Figures measured here, 1 kHz, one robot; steps/s are of the whole
+    Python stepping loop, which on flat ground spends most of its time in the collision callback
+    (4 geom pairs, 8 contacts per step)."""
+
+    # "world" or "quick". dWorldStep solves the constraints exactly (Dantzig LCP); with one robot
+    # the system is small (about 20 joint rows + 3 per contact), and it was the faster of the two:
+    # flat 4 s at 0.5 m/s 35 600 against 27 700 steps/s for dWorldQuickStep with 50 iterations;
+    # gravel strip 26 000 against 20 400. Both pass the conformance suite. The exact solver now and
+    # then prints "LCP internal error, s <= 0" (a degenerate pivot it recovers from; 4 times in 10 s
+    # on the bumps strip); the adapter counts these and logs them instead of letting them reach stderr.
+    stepper: Literal["world", "quick"] = "world"
+    # quick stepper only; ODE's default is 20, Gazebo's 50
+    quick_iterations: Annotated[int, Field(ge=1)] = 50
+    # error reduction parameter, a fraction of the joint error corrected per step: 0.2, ODE's default
+    erp: Annotated[float, Field(ge=0, le=1)] = 0.2
+    # constraint force mixing: 1e-5 is Webots' WorldInfo default and ODE's default for
+    # single-precision builds; Debian's double-precision build defaults to 1e-10, which we have
+    # not validated
+    cfm: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 1e-5
+    # m, ODE's default 0. Gazebo's 0.001 lets the robot rest 1 mm deep: base_link at 0.13127 m
+    # instead of 0.13228 m.
+    contact_surface_layer: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.0
+    # m/s (ODE's default is unlimited: .inf; Gazebo's 100 m/s). ODE pushes penetration out at
+    # ERP x depth / dt; when a wheel meets a plywood edge of the bumps strip that is a kick:
+    # unlimited, the base velocity jumped by 0.90 m/s within one step and the run failed the health
+    # check (limit 0.5 m/s); 0.5 m/s -> 0.36 m/s, 0.1 m/s -> 0.24 m/s (PyBullet 0.49, DART 0.41,
+    # MuJoCo 0.04 on the same strip). Other engines cap this too (DART: 1 mm/s; Bullet: split impulse).
+    contact_max_correcting_vel: Annotated[float, Field(gt=0)] = 0.1
+    # contact points per geom pair (8 gave identical runs: ODE's cylinder colliders return at most
+    # 4 here; a wheel on the ground gets 2, across its width). dCollide takes the count in the
+    # low 16 bits of its flags.
+    max_contacts: Annotated[int, Field(ge=1, le=0xFFFF)] = 4
+    # A hash space rebuilds its table every step, for every static stone: gravel strip 7 300
+    # steps/s (hash) against 25 500 (quadtree with 0.4 m cells; 10 300 with 1.6 m cells, 24 700
+    # with 0.2 m), flat ground the same either way.
+    space: Literal["quadtree", "hash", "simple"] = "quadtree"
+    quadtree_cell: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 0.4  # m, finest cell (space above)
+    # "plane" leaves fdir1 to ODE, which takes dPlaneSpace of the normal: on flat ground the
+    # world's x and y. A wheel sliding diagonally to them then meets friction up to sqrt(2) mu N,
+    # not opposite its slip, and the skid-steered Husky hardly turns (issue 9, validation cases,
+    # 6 s, mu 0.8): yaw-rate gain 0.115 at (v, w) = (0, 0.5), 0.207 at (0.5, 0.5), 0.028 at
+    # (0.5, 0.2); mu 0.2: 0.219 / 0.388; Coulomb 0.478. Commanded to spin, it drove forward at
+    # 0.135 m/s instead (the heavier right wheels rolled, the left ones slid). Parked on a
+    # 1.2 atan(mu) slope it slides (1.015 m/s^2, Coulomb 1.016) when the slope runs along x, and
+    # stays put when it runs along the world diagonal. Gazebo users see the same
+    # (jackal_simulator#18, husky#105; gazebo-classic#2068, where a user fixes it by computing the
+    # friction direction himself between collision and physics update).
+    # "slip" does that: fdir1 = the contact's sliding direction (Bullet's default "velocity
+    # dependent friction direction"), so a sliding contact gets mu N against its slip. Gains then
+    # 0.483 / 0.484 / 0.482 (mu 0.8), 0.487 / 0.507 (mu 0.2), within 1-6 % of 0.478; the 45-degree
+    # slope slides at 0.974 m/s^2. Cost: flat ground 26 200 -> 19 600 steps/s (bare loop), gravel
+    # strip about 12 900 -> 11 100. Residual artefact of "slip": the second row (across the slip)
+    # still holds up to mu N, so a robot sliding down a slope with locked wheels yaws (1.24 rad in
+    # 3 s at 1.2 atan(0.5); Coulomb friction has no yaw moment there) and slides 3 % slower.
+    # "coulomb" (the default) also frees that row (dContactMu2, mu2 = 0) while the contact slides
+    # faster than friction_direction_min_slip: a sliding contact then gets exactly Coulomb's mu N
+    # against its slip and nothing across it; a slower one keeps the full pyramid (sticking).
+    # Measured: the same gains (0.482-0.487), slide down the slope 1.016 m/s^2 (Coulomb 1.016)
+    # with 0.014 rad of yaw. Not cured: on a slope at 45 degrees to the robot it slides at 0.975
+    # (4 % slow) and yaws 0.27 rad in 3 s (0.036 rad per metre); the other three engines yaw
+    # < 0.01 rad there (validation case incline_slide_diagonal).
+    friction_direction: Literal["coulomb", "slip", "plane"] = "coulomb"
+    # m/s, the stick/slip threshold of "coulomb" (below it fdir1 is dPlaneSpace's and both rows
+    # hold). It must exceed the creep that ODE's constraint softness allows a sticking contact
+    # (CFM x load: 0.27 mm/s measured on the 0.8 atan(mu) slope); at 1e-6 that creep counts as
+    # sliding, the cross row is freed and the parked robot creeps 3.4 mm/s. 1e-3 and 3e-3 gave
+    # identical validation figures.
+    friction_direction_min_slip: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 1e-3
+    # force-dependent slip of terrain contacts, (m/s)/N on both friction rows (ODE's
+    # dContactSlip1/2: a contact slides at slip x friction force); Gazebo exposes it as
+    # <slip1>/<slip2> and users tune it for skid-steer turning. 0: off (ODE's default).
+    contact_slip: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.0
+
+
 
 
 # --- small rigid-body helpers ------------------------------------------------------------
@@ -243,10 +253,7 @@ class _World:
 
     def __init__(self, lib, scenario: Scenario):
         self.lib = lib
-        unknown = set(scenario.settings) - set(DEFAULTS)
-        if unknown:
-            raise InputError("engines.ode", f"unknown settings {sorted(unknown)}", f"use {sorted(DEFAULTS)}")
-        self.settings = {**DEFAULTS, **scenario.settings}
+        self.settings = OdeSettings.of(scenario.settings, OdeEngine.name)
         self.world = self.space = self.group = None
         self._keep = []  # ctypes objects whose memory ODE or the callback refers to
         try:
@@ -263,20 +270,17 @@ class _World:
         lib.dRandSetSeed(0)
         self.world = lib.dWorldCreate()
         lib.dWorldSetGravity(self.world, *scenario.gravity)
-        lib.dWorldSetERP(self.world, float(s["erp"]))
-        lib.dWorldSetCFM(self.world, float(s["cfm"]))
-        lib.dWorldSetContactSurfaceLayer(self.world, float(s["contact_surface_layer"]))
-        lib.dWorldSetContactMaxCorrectingVel(self.world, float(s["contact_max_correcting_vel"]))
+        lib.dWorldSetERP(self.world, s.erp)
+        lib.dWorldSetCFM(self.world, s.cfm)
+        lib.dWorldSetContactSurfaceLayer(self.world, s.contact_surface_layer)
+        lib.dWorldSetContactMaxCorrectingVel(self.world, s.contact_max_correcting_vel)
         lib.dWorldSetAutoDisableFlag(self.world, 0)
-        lib.dWorldSetQuickStepNumIterations(self.world, int(s["quick_iterations"]))
-        if s["stepper"] not in ("world", "quick"):
-            raise InputError("engines.ode.stepper", f"{s['stepper']!r}", "use 'world' or 'quick'")
-        self.step_fn = lib.dWorldStep if s["stepper"] == "world" else lib.dWorldQuickStep
+        lib.dWorldSetQuickStepNumIterations(self.world, s.quick_iterations)
+        self.step_fn = lib.dWorldStep if s.stepper == "world" else lib.dWorldQuickStep
 
-        kind = s["space"]
-        if kind == "hash":
+        if s.space == "hash":
             self.space = lib.dHashSpaceCreate(None)
-        elif kind == "quadtree":
+        elif s.space == "quadtree":
             # Sized to the terrain and the starts plus a margin the robots may drive into;
             # depth chosen so that the finest cells are about quadtree_cell wide (0.4 m
             # measured fastest on the gravel strip: 25 500 steps/s against 10 300 with
@@ -287,29 +291,24 @@ class _World:
             margin = 10.0
             centre = _ode.dVector3((min(xs) + max(xs)) / 2, (min(ys) + max(ys)) / 2, 0.0)
             extent = _ode.dVector3(max(xs) - min(xs) + 2 * margin, max(ys) - min(ys) + 2 * margin, 2 * margin)
-            cell = float(s["quadtree_cell"])
+            cell = s.quadtree_cell
             depth = 1 + max(0, math.ceil(math.log2(max(extent[0], extent[1]) / cell)))
             self.space = lib.dQuadTreeSpaceCreate(None, centre, extent, min(depth, 9))
-        elif kind == "simple":
+        else:  # "simple"
             self.space = lib.dSimpleSpaceCreate(None)
-        else:
-            raise InputError("engines.ode.space", f"{kind!r}", "use 'hash', 'quadtree' or 'simple'")
         self.group = lib.dJointGroupCreate(0)
 
         n_robots = len(scenario.starts)
         robot_bits = ((1 << (n_robots + 1)) - 1) & ~TERRAIN_BIT
         self.surface_of: dict[int, tuple] = {}  # static geom -> contact buffer with its friction
         self.body_of: dict[int, int] = {}  # robot geom -> its body
-        self.max_contacts = int(s["max_contacts"])
+        self.max_contacts = s.max_contacts
         buffers: dict[float, tuple] = {}
 
-        if s["friction_direction"] not in FRICTION_DIRECTIONS:
-            raise InputError("engines.ode.friction_direction", f"{s['friction_direction']!r}",
-                             f"use one of {list(FRICTION_DIRECTIONS)}")
-        self.slip_directions = s["friction_direction"] in ("slip", "coulomb")
-        self.coulomb = s["friction_direction"] == "coulomb"
-        self.min_slip = float(s["friction_direction_min_slip"])
-        slip = float(s["contact_slip"])
+        self.slip_directions = s.friction_direction in ("slip", "coulomb")
+        self.coulomb = s.friction_direction == "coulomb"
+        self.min_slip = s.friction_direction_min_slip
+        slip = s.contact_slip
         mode = (_ode.dContactApprox1 | (_ode.dContactFDir1 if self.slip_directions else 0)
                 | (_ode.dContactMu2 if self.coulomb else 0)
                 | (_ode.dContactSlip1 | _ode.dContactSlip2 if slip > 0 else 0))
@@ -420,7 +419,7 @@ class _World:
     def _near_callback(self):
         """The dSpaceCollide callback: contacts of one geom pair -> contact joints.
 
-        With ``friction_direction`` "slip" (the default) each contact's first friction
+        With ``friction_direction`` "slip" or "coulomb" (the default) each contact's first friction
         direction (fdir1) is set to its sliding direction: the relative velocity of the two
         bodies at the contact point, projected onto the contact plane (Bullet's default
         "velocity dependent friction direction", btSequentialImpulseConstraintSolver). ODE's
@@ -600,6 +599,7 @@ class _World:
 
 class OdeEngine:
     name = "ode"
+    settings_model = OdeSettings
     calibratable = {
         "friction": FRICTION,
         # Force-dependent slip, (m/s)/N: a Husky wheel's friction force is about mu x 170 N (up to

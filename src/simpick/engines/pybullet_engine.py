@@ -13,7 +13,7 @@ Two Bullet habits the adapter undoes:
 Skid-steer turning (issue 9; measurements in the issue note). Bullet's rigid contacts leave the
 four wheel loads statically indeterminate and its solver picks a warped split (at rest
 FL/FR/RL/RR 41/236/138/140 N for the rigid-body 105/172/105/173 N); in a long spin the Husky then
-locks at about 70 deg of yaw and stops turning. Compliant contacts (DEFAULTS contact_stiffness /
+locks at about 70 deg of yaw and stops turning. Compliant contacts (PyBulletSettings contact_stiffness /
 contact_damping) restore the loads and cost nothing (steps/s up 4-39 %). What remains is Bullet's
 multibody friction: each contact gets two friction rows along *world-fixed* directions
 (btPlaneSpace1 of the normal: -y and +x on a level plane, reported by getContactPoints), each
@@ -36,30 +36,43 @@ from __future__ import annotations
 
 import importlib.metadata
 import time
+from typing import Annotated
 
 import numpy as np
+from pydantic import Field
 
-from simpick.engines.base import FRICTION, Calibratable, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
 from simpick.imu import imu_from_kinematics, rotation_matrices
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, so no wheel starts inside the ground
-DEFAULTS = {"solver_iterations": 50,
-            # Compliant wheel contacts (changeDynamics contactStiffness / contactDamping, N/m and N s/m).
-            # Four rigid wheel contacts are statically indeterminate and Bullet's rigid solver picks a
-            # warped load split: at rest FL/FR/RL/RR = 41/236/138/140 N against 105/172/105/173 N for a
-            # rigid body on equally stiff contacts (simpick.coulomb), which cut the skid-steer yaw-rate
-            # gain (issue 9: 0.415/0.342/0.113 at (v,w) = (0,.5)/(.5,.5)/(.5,.2), mu 0.8). With equal
-            # spring-dampers the loads are 106/171/107/171 N and the gain 0.443/0.443/0.173 (8 s from
-            # heading 0; it now swings 0.11-0.51 with the heading: Bullet's friction directions, see
-            # the module docstring), and a long spin no longer locks up. 0: rigid contacts. 1e6 N/m: ~0.14 mm
-            # static deflection, vertical mode ~42 Hz with a quarter of the mass (24 steps at 1 kHz);
-            # 5e3 N s/m: damping ratio ~0.7. 1e7 N/m (2e4 N s/m) gives the same gains within 0.001;
-            # 1e5 N/m lets the loads oscillate (sd 20 N) in a spin.
-            "contact_stiffness": 1.0e6, "contact_damping": 5.0e3,
-            # Torsional ("spinning") friction of the robot's links, m: Bullet combines it with the
-            # ground's friction (robot spinning x ground mu), a torque of that x the normal force
-            # resisting a contact's spin about its normal. 0: none (the set-up before issue 11).
-            "spinning_friction": 0.0}
+
+
+class PyBulletSettings(EngineSettings):
+    """config ``engines.pybullet``."""
+
+    # setPhysicsEngineParameter numSolverIterations: constraint solver iterations per step;
+    # 50 is PyBullet's own default (getPhysicsEngineParameters)
+    solver_iterations: Annotated[int, Field(ge=1)] = 50
+    # Compliant wheel contacts (changeDynamics contactStiffness / contactDamping, N/m and N s/m).
+    # Four rigid wheel contacts are statically indeterminate and Bullet's rigid solver picks a
+    # warped load split: at rest FL/FR/RL/RR = 41/236/138/140 N against 105/172/105/173 N for a
+    # rigid body on equally stiff contacts (simpick.coulomb), which cut the skid-steer yaw-rate
+    # gain (issue 9: 0.415/0.342/0.113 at (v,w) = (0,.5)/(.5,.5)/(.5,.2), mu 0.8). With equal
+    # spring-dampers the loads are 106/171/107/171 N and the gain 0.443/0.443/0.173 (8 s from
+    # heading 0; it now swings 0.11-0.51 with the heading: Bullet's friction directions, see
+    # the module docstring), and a long spin no longer locks up. 0: rigid contacts. 1e6 N/m: ~0.14 mm
+    # static deflection, vertical mode ~42 Hz with a quarter of the mass (24 steps at 1 kHz);
+    # 5e3 N s/m: damping ratio ~0.7. 1e7 N/m (2e4 N s/m) gives the same gains within 0.001;
+    # 1e5 N/m lets the loads oscillate (sd 20 N) in a spin.
+    contact_stiffness: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 1.0e6
+    # N s/m, with the stiffness above (damping ratio ~0.7 on a quarter of the robot's mass)
+    contact_damping: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 5.0e3
+    # Torsional ("spinning") friction of the robot's links, m: Bullet combines it with the
+    # ground's friction (robot spinning x ground mu), a torque of that x the normal force
+    # resisting a contact's spin about its normal. 0: none (the set-up before issue 11).
+    spinning_friction: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.0
+
+
 # getJointStates costs about half a Bullet step; wheel speeds are read every 10th step (the
 # IMU's 100 Hz at 1 kHz physics, so trace rows hold exact values) and held in between.
 WHEEL_SAMPLE_EVERY = 10
@@ -93,7 +106,7 @@ class PyBulletEngine:
     calibratable = {
         "friction": FRICTION,
         # Contact softness: 2e5 N/m is ~0.7 mm static sag per wheel; at 1e5 the loads oscillate in a
-        # spin (sd 20 N, DEFAULTS above); 1e7 gives the gains of 1e6 within 0.001, so the range
+        # spin (sd 20 N, PyBulletSettings above); 1e7 gives the gains of 1e6 within 0.001, so the range
         # covers every distinct behaviour. Damping stays at its setting.
         "contact_stiffness": Calibratable(2.0e5, 1.0e7, log=True,
                                           why="1e5 N/m oscillates in a spin; 1e7 = 1e6 within 0.001 (issue 9)"),
@@ -102,6 +115,7 @@ class PyBulletEngine:
         "spinning_friction": Calibratable(0.0, 0.05, why="0 to under half the 0.114 m wheel width"),
     }
     name = "pybullet"
+    settings_model = PyBulletSettings
 
     def version(self) -> str:
         return importlib.metadata.version("pybullet")
@@ -181,15 +195,14 @@ class PyBulletEngine:
 
     def _build_world(self, pb, cid: int, scenario: Scenario) -> tuple[list[int], list[int]]:
         """Ground, terrain and robots; returns the robot bodies and the wheel joint indices."""
-        settings = scenario.settings
-        params = {**DEFAULTS, **settings}
+        settings = PyBulletSettings.of(scenario.settings, self.name)
         pb.setGravity(*scenario.gravity, physicsClientId=cid)
         # Not deterministicOverlappingPairs: with it, a Husky commanded to spin in place on a
         # plane translates forward without turning (measured: 1.38 m, 0.02 rad in 10 s; without
         # it 1.23 rad). Runs are deterministic without it: the world is built in a fixed order
         # (tests/test_determinism.py).
         pb.setPhysicsEngineParameter(fixedTimeStep=scenario.timestep, numSubSteps=0,
-                                     numSolverIterations=int(params["solver_iterations"]),
+                                     numSolverIterations=settings.solver_iterations,
                                      physicsClientId=cid)
         self._build_terrain(pb, cid, scenario)
 
@@ -203,12 +216,12 @@ class PyBulletEngine:
                      for j in range(pb.getNumJoints(body, physicsClientId=cid))}
             wheel_index = [names[n] for n in robot.wheel_joints]
             # contact_stiffness 0: Bullet's rigid contacts (the adapter before issue 9)
-            compliance = ({"contactStiffness": float(params["contact_stiffness"]),
-                           "contactDamping": float(params["contact_damping"])}
-                          if float(params["contact_stiffness"]) > 0 else {})
+            compliance = ({"contactStiffness": settings.contact_stiffness,
+                           "contactDamping": settings.contact_damping}
+                          if settings.contact_stiffness > 0 else {})
             for link in range(-1, pb.getNumJoints(body, physicsClientId=cid)):
                 pb.changeDynamics(body, link, lateralFriction=1.0, rollingFriction=0.0,
-                                  spinningFriction=float(params["spinning_friction"]),
+                                  spinningFriction=settings.spinning_friction,
                                   restitution=0.0, linearDamping=0.0, angularDamping=0.0, **compliance,
                                   physicsClientId=cid)
             bodies.append(body)
