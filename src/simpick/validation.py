@@ -99,9 +99,20 @@ def _finite(record: PhysicsRecord) -> bool:
                for k in ("position", "linear_velocity", "angular_velocity", "imu_specific_force"))
 
 
-def _body_velocity(record: PhysicsRecord) -> np.ndarray:
+def body_velocity(record: PhysicsRecord) -> np.ndarray:
     """(n, 3) base_link velocity in the body frame."""
     return np.einsum("nji,nj->ni", rotation_matrices(record.quaternion), record.linear_velocity)
+
+
+def braking_deceleration(speed: np.ndarray, timestep: float) -> float:
+    """Deceleration fitted to a forward ``speed`` trace that starts at the brake command: while
+    it falls from 80 % to 20 % of its first value, away from the servo's lock-up and from the
+    stop, where static friction takes over. NaN when it never falls through that window."""
+    v0 = speed[0]
+    window = np.flatnonzero((speed <= 0.8 * v0) & (speed >= 0.2 * v0))
+    if v0 <= 0 or window.size < 5:
+        return math.nan
+    return float(-np.polyfit(window * timestep, speed[window], 1)[0])
 
 
 def _yaw_gain(setup: Setup, p: dict):
@@ -119,7 +130,7 @@ def _straight(setup: Setup, p: dict):
     v, mu, duration = p["v"], p["mu"], p.get("duration", 6.0)
     record = get_engine(setup.engine).simulate(_scenario(setup, mu), _commands(setup, [(duration, v, 0.0)]))
     half = record.steps // 2
-    speed = _body_velocity(record)[half:, 0].mean()
+    speed = body_velocity(record)[half:, 0].mean()
     rolling = record.wheel_speed[half:].mean() * setup.robot.wheel_radius
     yaw = np.unwrap(euler_rpy(record.quaternion)[:, 2])
     return record, [_check("speed_over_wheel_speed", speed / rolling, 1.0, v=v, mu=mu),
@@ -130,18 +141,9 @@ def _slide(setup: Setup, p: dict):
     v, mu, cruise = p["v"], p["mu"], p.get("cruise", 2.0)
     record = get_engine(setup.engine).simulate(_scenario(setup, mu),
                                                _commands(setup, [(cruise, v, 0.0), (2.0, 0.0, 0.0)]))
-    speed = _body_velocity(record)[:, 0]
     brake = int(round(cruise / setup.timestep))
-    after = speed[brake:]
-    v0 = after[0]
-    # Fit the speed while it falls from 80 % to 20 % of its value at the brake command:
-    # away from the servo's lock-up and from the stop, where static friction takes over.
-    window = np.flatnonzero((after <= 0.8 * v0) & (after >= 0.2 * v0))
-    if v0 <= 0 or window.size < 5:
-        return record, [_check("deceleration", math.nan, mu * GRAVITY, v=v, mu=mu)]
-    t = window * setup.timestep
-    slope = np.polyfit(t, after[window], 1)[0]
-    return record, [_check("deceleration", -slope, mu * GRAVITY, v=v, mu=mu)]
+    deceleration = braking_deceleration(body_velocity(record)[brake:, 0], setup.timestep)
+    return record, [_check("deceleration", deceleration, mu * GRAVITY, v=v, mu=mu)]
 
 
 def _incline(setup: Setup, p: dict):

@@ -28,13 +28,17 @@ class Scenario:
     ground_friction: float
     timestep: float  # s
     max_wheel_torque: float  # N m, per wheel
-    starts: tuple[tuple[float, float, float], ...]  # (x, y, yaw) per robot; robot 0 is recorded
+    starts: tuple[tuple[float, float, float], ...]  # (x, y, yaw) per robot
     # engine-specific: the config's block for this engine (only the settings it changes), or the
     # adapter's settings model itself; the adapter reads it through EngineSettings.of
     settings: Mapping[str, Any] | EngineSettings = field(default_factory=dict)
     # World gravity, m/s^2. Tilted only by the validation's incline case: tilting gravity by
     # theta about y is the same mechanics as a plane inclined by theta, with no sloped geometry.
     gravity: tuple[float, float, float] = (0.0, 0.0, -GRAVITY)
+    # Index into ``starts`` of the robot the record follows (0: the lead robot, as the study
+    # records). The world is built the same whichever it is, so running one scenario once per
+    # index gives every robot's state at the same steps (the multi-robot conformance tests).
+    recorded_robot: int = 0
 
 
 class EngineSettings(BaseModel):
@@ -84,7 +88,8 @@ class EngineSettings(BaseModel):
 
 @dataclass
 class PhysicsRecord:
-    """Robot 0 at every physics step; quantities in the world frame unless noted.
+    """The recorded robot (``Scenario.recorded_robot``, robot 0 unless told otherwise) at every
+    physics step; quantities in the world frame unless noted.
 
     ``imu_specific_force`` and ``imu_gyro`` are in the IMU (= body) frame. An engine with a
     native IMU fills them itself; others fill them with
@@ -112,6 +117,9 @@ def validated_commands(scenario: Scenario, wheel_commands) -> np.ndarray:
     if wheel_commands.ndim != 3 or wheel_commands.shape[1:] != (len(scenario.starts), 4):
         raise InputError("wheel_commands", f"shape {wheel_commands.shape} does not fit "
                          f"{len(scenario.starts)} robots x 4 wheels")
+    if not 0 <= scenario.recorded_robot < len(scenario.starts):
+        raise InputError("recorded_robot", f"{scenario.recorded_robot} is not one of the "
+                         f"{len(scenario.starts)} robots")
     return wheel_commands
 
 

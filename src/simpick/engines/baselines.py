@@ -64,7 +64,7 @@ def _record(scenario: Scenario, twists: np.ndarray, wheels: np.ndarray, wall: fl
     """Pose by integrating the body twist in the plane at base_link's resting height."""
     dt = scenario.timestep
     n = len(twists)
-    x0, y0, yaw0 = scenario.starts[0]
+    x0, y0, yaw0 = scenario.starts[scenario.recorded_robot]
     yaw = yaw0 + np.cumsum(twists[:, 2]) * dt
     c, s = np.cos(yaw), np.sin(yaw)
     vx, vy = c * twists[:, 0] - s * twists[:, 1], s * twists[:, 0] + c * twists[:, 1]

@@ -261,7 +261,7 @@ class DartEngine:
         world, robots = self.build(scenario)
         steps = wheel_commands.shape[0]
         dt = scenario.timestep
-        skel0, wheels0 = robots[0]
+        skel0, wheels0 = robots[scenario.recorded_robot]
         base = skel0.getBodyNode(scenario.robot.base_link)
         wheel_dofs = [j.getIndexInSkeleton(0) for j in wheels0]
         all_wheels = [j for _, ws in robots for j in ws]

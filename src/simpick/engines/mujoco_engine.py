@@ -87,7 +87,7 @@ class MujocoSettings(EngineSettings):
 # MuJoCo's default contact reference (solref timeconst 0.02 s, dampratio 1) and the largest default
 # impedance (solimp dmax 0.95): the friction rows' velocity decay rate is 2 / (dmax timeconst).
 MUJOCO_TIMECONST, MUJOCO_DMAX = 0.02, 0.95
-# Sensor layout of robot 0, in the order the sensors are added: name -> width.
+# Sensor layout of the recorded robot (Scenario.recorded_robot), in the order the sensors are added: name -> width.
 SENSORS = (("accel", 3), ("gyro", 3), ("pos", 3), ("quat", 4), ("linvel", 3), ("angvel", 3), ("wheels", 4))
 
 
@@ -167,7 +167,7 @@ class MujocoEngine:
             if settings.wheel_contact == "decoupled":  # else "default": MuJoCo's geom contacts, as they are
                 self._wheel_pairs(spec, settings, [spec.joint(prefix + j).parent for j in robot.wheel_joints],
                                   grounds, prefix)
-            if i == 0:
+            if i == scenario.recorded_robot:  # its sensors: the record
                 base.add_site(name="imu", pos=list(robot.imu_mount))
                 S, O = mujoco.mjtSensor, mujoco.mjtObj
                 spec.add_sensor(type=S.mjSENS_ACCELEROMETER, objtype=O.mjOBJ_SITE, objname="imu")

@@ -354,6 +354,7 @@ class _World:
         model = read_urdf(scenario.robot)
         self.model = model
         self.robots = []  # per robot: (chassis body, [hinge joints], [wheel bodies])
+        self.recorded = scenario.recorded_robot
         torque = float(scenario.max_wheel_torque)
         for i, (x, y, yaw) in enumerate(scenario.starts):
             own = 1 << (i + 1)
@@ -529,10 +530,10 @@ class _World:
         lib = self.lib
         steps, n_robots = wheel_commands.shape[:2]
 
-        # Robot 0's state is copied each step straight from ODE's body memory: one memmove
-        # of the span holding a body's position, quaternion and velocities (addresses from
-        # dBodyGet*), so the loop creates no Python objects for it.
-        chassis, hinges, wheels = self.robots[0]
+        # The recorded robot's state is copied each step straight from ODE's body memory: one
+        # memmove of the span holding a body's position, quaternion and velocities (addresses
+        # from dBodyGet*), so the loop creates no Python objects for it.
+        chassis, hinges, wheels = self.robots[self.recorded]
         getters = (lib.dBodyGetPosition, lib.dBodyGetQuaternion, lib.dBodyGetLinearVel, lib.dBodyGetAngularVel)
         chunks, layout, width = [], [], 0
         for body in [chassis] + wheels:

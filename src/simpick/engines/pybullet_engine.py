@@ -235,7 +235,7 @@ class PyBulletEngine:
         torque = [scenario.max_wheel_torque] * 4
         com = np.empty((steps, 3)); com_q = np.empty((steps, 4))
         com_v = np.empty((steps, 3)); omega = np.empty((steps, 3)); wheels = np.full((steps, 4), np.nan)
-        body0 = bodies[0]
+        body0 = bodies[scenario.recorded_robot]
         get_pose, get_vel, get_joints = pb.getBasePositionAndOrientation, pb.getBaseVelocity, pb.getJointStates
         set_motors, step = pb.setJointMotorControlArray, pb.stepSimulation
         changes = np.flatnonzero(np.any(np.diff(wheel_commands, axis=0, prepend=np.nan) != 0, axis=(1, 2)))
