@@ -29,12 +29,8 @@ rule all:
         all_traces(),
         segment_traces(),
         f"{REAL}/metrics/segments_summary.csv",
-        (
-            [f"{REPLAY}/metrics/replay_summary.csv", f"{REPLAY}/segments.csv", f"{REPLAY}/dataset.yaml"]
-            if REPLAY_SET
-            else []
-        ),
-        f"{OWN}/metrics/replay_summary.csv" if OWN_LOGS else [],
+        [f"results/real/{source}/metrics/replay_summary.csv" for source in REPLAY_CASES],
+        [f"{REPLAY}/segments.csv", f"{REPLAY}/dataset.yaml"] if REPLAY_SET else [],
         f"{SWEEP_DIR}/summary.csv" if SWEEP else [],
         CALIBRATION_ALL,
         "results/scores/weighted.csv",

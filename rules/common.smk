@@ -186,12 +186,6 @@ def replay_dataset():
     }
 
 
-def real_logs():
-    return [f"{REPLAY}/logs/{c}/{run}.parquet" for c, run in RUNS]
-
-
-def replay_traces():
-    return [f"{REPLAY}/replay/{engine}/{c}/{run}.parquet" for engine in REAL_MODELS for c, run in RUNS]
 
 
 def maintained_table(wildcards):
@@ -216,6 +210,27 @@ def maintained_table(wildcards):
 
 OWN = "results/real/own"
 OWN_LOGS = {entry["name"]: entry for entry in config.get("own_logs") or []}
+
+# The replay sources and their case tables: a source is the dataset folder (its name) or the
+# user's own logs ("own"); a case is one (terrain class, run) whose canonical log lies at
+# results/real/<source>/logs/<class>/<run>.parquet. Each kind of source has its import rule;
+# from the log on, one replay and one replay_metrics rule serve every source (rules/real.smk).
+# No dataset is called "own" (simpick.datasets.RESERVED_NAMES).
+REPLAY_CASES = {REPLAY_SET.name: RUNS} if REPLAY_SET else {}
+if OWN_LOGS:
+    REPLAY_CASES["own"] = [(entry["terrain_class"], name) for name, entry in OWN_LOGS.items()]
+
+
+def real_logs(source):
+    return [f"results/real/{source}/logs/{c}/{run}.parquet" for c, run in REPLAY_CASES[source]]
+
+
+def replay_traces(source):
+    return [
+        f"results/real/{source}/replay/{engine}/{c}/{run}.parquet"
+        for engine in REAL_MODELS
+        for c, run in REPLAY_CASES[source]
+    ]
 
 
 def statistics_params():
@@ -269,8 +284,8 @@ def report_real_inputs(wildcards):
                 for name in ("per_window", "per_test", "summary", "pairwise", "imu_errors")
             }
         )
-        inputs["real_logs"] = real_logs()
-        inputs["replay_traces"] = replay_traces()
+        inputs["real_logs"] = real_logs(REPLAY_SET.name)
+        inputs["replay_traces"] = replay_traces(REPLAY_SET.name)
     if SWEEP:
         inputs["sweep"] = f"{SWEEP_DIR}/summary.csv"
     if CALIBRATION and CALIBRATION.get("enabled"):  # rules/calibration.smk

@@ -43,7 +43,8 @@ def simulate_job(output: str, terrain_file: str, urdf: str, params: dict) -> dic
     case = Case(engine=params["engine"], terrain=params["terrain"], motion=params["motion_name"],
                 v=motion["v"], w=motion["w"], duration=motion["duration"], start=tuple(motion["start"]))
     timeout = params["health"]["timeout"]
-    with Watchdog(timeout, lambda: write_hung_trace(output, case, params, timeout)):
+    which = {"engine": case.engine, "terrain": case.terrain, "motion": case.motion}
+    with Watchdog(timeout, lambda: write_hung_trace(output, which, params, timeout)):
         return simulate_to_file(
             case, output, params=params, urdf=urdf, terrain_file=terrain_file,
             track=params["robot"]["track"], max_wheel_torque=params["robot"]["max_wheel_torque"],
@@ -52,15 +53,17 @@ def simulate_job(output: str, terrain_file: str, urdf: str, params: dict) -> dic
             seed=int(params["seed"]), limits=HealthLimits(**params["health"]))
 
 
-def write_hung_trace(output: str, case, params: dict, timeout: float) -> None:
-    """An empty trace whose health record says the engine hung, so the run is reported."""
+def write_hung_trace(output: str, which: dict, params: dict, timeout: float) -> None:
+    """An empty trace whose health record says the engine hung, so the run is reported.
+    ``which``: the metadata that names the run (engine, terrain, motion and, for a replay, its
+    run and dataset), so the job that compares it finds it like any other."""
     from simpick.simulate import config_hash
     from simpick.traces import COLUMNS, write_trace
 
     reason = f"hung: no result after {timeout:g} s of wall time; the job was stopped"
-    print(f"simpick: {case.engine} {case.terrain}/{case.motion}: {reason}", file=sys.stderr)
+    print(f"simpick: {which['engine']} {which['terrain']}/{which['motion']}: {reason}", file=sys.stderr)
     write_trace({c: [] for c in COLUMNS},
-                {"engine": case.engine, "engine_version": "", "terrain": case.terrain, "motion": case.motion,
+                {"engine_version": "", **which,
                  "timestep": params["physics"]["timestep"], "seed": params["seed"], "steps": 0, "sim_time": 0.0,
                  "wall_time": float(timeout), "cpu_time": float("nan"), "real_time_factor": None,
                  "health": {"status": "failed", "reasons": [reason]}, "config_hash": config_hash(params)},
