@@ -250,16 +250,29 @@ def report_config():
     }
 
 
-def accuracy_errors():
-    """The Eq. 7 totals the accuracy scores rest on (see accuracy.reference in the config)."""
-    if config["accuracy"]["reference"] == "paper":
-        return "results/metrics/imu_errors.csv"
-    if config["accuracy"]["reference"] == "own":
-        return f"{OWN}/metrics/replay_imu_errors.csv"
-    if REPLAY_SET:
-        return f"{REPLAY}/metrics/replay_imu_errors.csv"
-    return f"{REAL}/metrics/segments_imu_errors.csv"
+def accuracy_source():
+    """What the accuracy scores rest on (accuracy.reference in the config): the set of tests
+    (lab, segments, replay or own), its dataset, its Eq. 7 totals and the per-test table beside
+    them. Only the rules use this; the scores job records it in results/scores/provenance.yaml,
+    which is what the report reads."""
+    reference = config["accuracy"]["reference"]
+    if reference == "paper":
+        return {"reference": reference, "set": "lab", "dataset": None,
+                "errors": "results/metrics/imu_errors.csv", "per_test": "results/metrics/runs.csv"}
+    if reference == "own":
+        kind, root, dataset = "own", OWN, "own"
+    elif REPLAY_SET:
+        kind, root, dataset = "replay", REPLAY, REPLAY_SET.name
+    else:
+        kind, root, dataset = "segments", REAL, DATASET
+    prefix = "segments" if kind == "segments" else "replay"
+    return {"reference": reference, "set": kind, "dataset": dataset,
+            "errors": f"{root}/metrics/{prefix}_imu_errors.csv", "per_test": f"{root}/metrics/{prefix}_per_test.csv"}
 
+
+def accuracy_errors():
+    """The Eq. 7 totals the accuracy scores rest on."""
+    return accuracy_source()["errors"]
 
 
 def report_real_inputs(wildcards):
@@ -275,6 +288,8 @@ def report_real_inputs(wildcards):
         "segments_pairwise": f"{REAL}/metrics/segments_pairwise.csv",
         "segments_imu_errors": f"{REAL}/metrics/segments_imu_errors.csv",
     }
+    if accuracy_source()["set"] != "lab":  # its per-test table: how much of each error a rigid model leaves
+        inputs["accuracy_per_test"] = accuracy_source()["per_test"]
     if os.path.exists(provenance):
         inputs["segments_provenance"] = provenance
     if REPLAY_SET:

@@ -2,6 +2,7 @@ rule report:
     input:
         unpack(report_real_inputs),
         weighted="results/scores/weighted.csv",
+        scores_provenance="results/scores/provenance.yaml",
         validation="results/validation/summary.csv",
         trace_stats="results/metrics/trace_stats.csv",
         reference_stats="results/metrics/reference_stats.csv",
@@ -24,14 +25,6 @@ rule report:
         config=canonical(report_config()),
         statistics=statistics_params(),
         code=code_version("report", "realdata.py", "realmetrics.py", "scoring.py", "metrics.py", "traces.py"),
-        accuracy=canonical(
-            {
-                "reference": config["accuracy"]["reference"],
-                "errors_file": accuracy_errors(),
-                "dataset": REPLAY_SET.name if REPLAY_SET else DATASET,
-                "replay": bool(REPLAY_SET),
-            }
-        ),
         real_data=canonical(
             {
                 "dataset": DATASET,

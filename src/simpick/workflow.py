@@ -178,7 +178,10 @@ def equal_rtf(runs) -> "pd.DataFrame":
 
 
 def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[str], qualitative: str,
-               weights: dict, outputs: dict[str, str]) -> None:
+               weights: dict, outputs: dict[str, str], sources: dict | None = None) -> None:
+    """The scores and the weighted table; with ``outputs["provenance"]`` also the record of what
+    they rest on (:func:`score_provenance`; ``sources`` as it describes), which the report reads
+    instead of working it out again."""
     import pandas as pd
 
     from simpick import scoring
@@ -222,6 +225,75 @@ def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[st
     scores.index.name = "engine"
     write_csv(scores, outputs["scores"], index=True)
     write_csv(scoring.weighted_table(scores, weights), outputs["weighted"], index=True)
+    if outputs.get("provenance"):
+        record = score_provenance(engines, imu_errors, rtf, cpu_files, sources or {})
+        Path(outputs["provenance"]).write_text(yaml.safe_dump(record, sort_keys=False))
+
+
+def _failures(path: str | None) -> dict[str, list[str]]:
+    """test -> "model: reasons" of every run in a per-test table (the lab runs.csv or a real-data
+    *_per_test.csv) that did not finish healthily."""
+    import pandas as pd
+
+    if not path:
+        return {}
+    frame = pd.read_csv(path, dtype=str, keep_default_na=False)
+    tests = frame["segment"] if "segment" in frame else frame["terrain"] + "/" + frame["motion"]
+    out: dict[str, list[str]] = {}
+    for test, row in zip(tests, frame.to_dict("records")):
+        if row.get("status", "ok") != "ok":
+            out.setdefault(test, []).append(f"{row['engine']} {row['status']}: {row.get('reasons') or 'no reason given'}")
+    return out
+
+
+def _split(cells) -> list[str]:
+    return sorted({t for cell in cells for t in str(cell).split(";") if t.strip() and t != "nan"})
+
+
+def score_provenance(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[str], sources: dict) -> dict:
+    """What the scores rest on, as results/scores/provenance.yaml records it: the errors file of
+    the accuracy scores, its tests and the tests left out (a test any model failed is left out
+    for all: metrics.eq7_totals) with the failures that left each out; the same for the
+    real-time factor (equal_rtf); which engines' CPU runs were scored and why the others were not.
+
+    ``sources``: ``accuracy`` (``reference``, ``set``: lab, segments, replay or own, ``dataset``),
+    ``accuracy_tests`` (the per-test table beside the errors file), ``runs`` (the lab runs.csv)
+    and ``cpu_test`` (the CPU runs' terrain/motion); each optional."""
+    import pandas as pd
+
+    errors = pd.read_csv(imu_errors, dtype=str, keep_default_na=False)
+    errors = errors[errors.engine.isin(engines)]
+    why = _failures(sources.get("accuracy_tests"))
+    lab_why = _failures(sources.get("runs"))
+
+    def left_out(tests: list[str], reasons: dict) -> list[dict]:
+        return [{"test": t, "why": "; ".join(reasons.get(t) or ["not completed by every model"])} for t in tests]
+
+    rtf_frame = pd.read_csv(rtf, dtype=str, keep_default_na=False)
+    cpu = [json.loads(Path(f).read_text()) for f in cpu_files]
+    failed_cpu = [c for c in cpu if (c.get("health") or {}).get("status", "ok") != "ok"]
+    return {
+        "accuracy": {
+            **dict(sources.get("accuracy") or {}),
+            "errors_file": str(imu_errors),
+            "per_test_file": sources.get("accuracy_tests"),
+            "engines": list(engines),
+            "tests": _split(errors.get("tests", [])),
+            "excluded": left_out(_split(errors.get("excluded", [])), why),
+        },
+        "real_time_factor": {
+            "file": str(rtf),
+            "tests": _split(rtf_frame.get("tests", [])),
+            "excluded": left_out(_split(rtf_frame.get("excluded", [])), lab_why),
+        },
+        "cpu": {
+            "files": [str(f) for f in cpu_files],
+            "test": sources.get("cpu_test"),
+            "engines": sorted(c["engine"] for c in cpu if c not in failed_cpu),
+            "excluded": [{"engine": c["engine"], "why": "; ".join(c["health"].get("reasons") or ["failed"])}
+                         for c in failed_cpu],
+        },
+    }
 
 
 def published_job(published_file: str, outdir: str) -> None:
