@@ -17,7 +17,8 @@ rule report:
         worked_example="results/published/worked_example.json",
         traces=all_traces(),
     output:
-        html="results/report/report.html",
+        # report(): `snakemake --report` carries the study report (its figures are embedded in it)
+        html=report("results/report/report.html", category="Study report"),
     params:
         weights=canonical(config["weights"]),
         # only the keys the report reads (strip geometry, commanded paths, test order): an edit
@@ -49,7 +50,7 @@ rule report_pdf:
     input:
         "results/report/report.html",
     output:
-        "results/report/report.pdf",
+        report("results/report/report.pdf", category="Study report"),
     params:
         code=code_version("report"),
     log:

@@ -9,9 +9,9 @@ rule scores:
         cpu=expand("results/cpu/{engine}.json", engine=ENGINES),
         qualitative=config["qualitative"],
     output:
-        scores="results/scores/scores.csv",
-        weighted="results/scores/weighted.csv",
-        provenance="results/scores/provenance.yaml",
+        scores=report("results/scores/scores.csv", category="Scores"),
+        weighted=report("results/scores/weighted.csv", category="Scores"),
+        provenance=report("results/scores/provenance.yaml", category="Scores"),
     params:
         engines=sorted(ENGINES),  # a reordered engines: block is not an edit
         weights=canonical(config["weights"]),
