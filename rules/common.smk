@@ -186,12 +186,6 @@ def replay_dataset():
     }
 
 
-def real_logs():
-    return [f"{REPLAY}/logs/{c}/{run}.parquet" for c, run in RUNS]
-
-
-def replay_traces():
-    return [f"{REPLAY}/replay/{engine}/{c}/{run}.parquet" for engine in REAL_MODELS for c, run in RUNS]
 
 
 def maintained_table(wildcards):
@@ -217,6 +211,27 @@ def maintained_table(wildcards):
 OWN = "results/real/own"
 OWN_LOGS = {entry["name"]: entry for entry in config.get("own_logs") or []}
 
+# The replay sources and their case tables: a source is the dataset folder (its name) or the
+# user's own logs ("own"); a case is one (terrain class, run) whose canonical log lies at
+# results/real/<source>/logs/<class>/<run>.parquet. Each kind of source has its import rule;
+# from the log on, one replay and one replay_metrics rule serve every source (rules/real.smk).
+# No dataset is called "own" (simpick.datasets.RESERVED_NAMES).
+REPLAY_CASES = {REPLAY_SET.name: RUNS} if REPLAY_SET else {}
+if OWN_LOGS:
+    REPLAY_CASES["own"] = [(entry["terrain_class"], name) for name, entry in OWN_LOGS.items()]
+
+
+def real_logs(source):
+    return [f"results/real/{source}/logs/{c}/{run}.parquet" for c, run in REPLAY_CASES[source]]
+
+
+def replay_traces(source):
+    return [
+        f"results/real/{source}/replay/{engine}/{c}/{run}.parquet"
+        for engine in REAL_MODELS
+        for c, run in REPLAY_CASES[source]
+    ]
+
 
 def statistics_params():
     """How many independent runs a real-data interval or verdict needs, and at what level."""
@@ -235,16 +250,29 @@ def report_config():
     }
 
 
-def accuracy_errors():
-    """The Eq. 7 totals the accuracy scores rest on (see accuracy.reference in the config)."""
-    if config["accuracy"]["reference"] == "paper":
-        return "results/metrics/imu_errors.csv"
-    if config["accuracy"]["reference"] == "own":
-        return f"{OWN}/metrics/replay_imu_errors.csv"
-    if REPLAY_SET:
-        return f"{REPLAY}/metrics/replay_imu_errors.csv"
-    return f"{REAL}/metrics/segments_imu_errors.csv"
+def accuracy_source():
+    """What the accuracy scores rest on (accuracy.reference in the config): the set of tests
+    (lab, segments, replay or own), its dataset, its Eq. 7 totals and the per-test table beside
+    them. Only the rules use this; the scores job records it in results/scores/provenance.yaml,
+    which is what the report reads."""
+    reference = config["accuracy"]["reference"]
+    if reference == "paper":
+        return {"reference": reference, "set": "lab", "dataset": None,
+                "errors": "results/metrics/imu_errors.csv", "per_test": "results/metrics/runs.csv"}
+    if reference == "own":
+        kind, root, dataset = "own", OWN, "own"
+    elif REPLAY_SET:
+        kind, root, dataset = "replay", REPLAY, REPLAY_SET.name
+    else:
+        kind, root, dataset = "segments", REAL, DATASET
+    prefix = "segments" if kind == "segments" else "replay"
+    return {"reference": reference, "set": kind, "dataset": dataset,
+            "errors": f"{root}/metrics/{prefix}_imu_errors.csv", "per_test": f"{root}/metrics/{prefix}_per_test.csv"}
 
+
+def accuracy_errors():
+    """The Eq. 7 totals the accuracy scores rest on."""
+    return accuracy_source()["errors"]
 
 
 def report_real_inputs(wildcards):
@@ -260,6 +288,8 @@ def report_real_inputs(wildcards):
         "segments_pairwise": f"{REAL}/metrics/segments_pairwise.csv",
         "segments_imu_errors": f"{REAL}/metrics/segments_imu_errors.csv",
     }
+    if accuracy_source()["set"] != "lab":  # its per-test table: how much of each error a rigid model leaves
+        inputs["accuracy_per_test"] = accuracy_source()["per_test"]
     if os.path.exists(provenance):
         inputs["segments_provenance"] = provenance
     if REPLAY_SET:
@@ -269,8 +299,8 @@ def report_real_inputs(wildcards):
                 for name in ("per_window", "per_test", "summary", "pairwise", "imu_errors")
             }
         )
-        inputs["real_logs"] = real_logs()
-        inputs["replay_traces"] = replay_traces()
+        inputs["real_logs"] = real_logs(REPLAY_SET.name)
+        inputs["replay_traces"] = replay_traces(REPLAY_SET.name)
     if SWEEP:
         inputs["sweep"] = f"{SWEEP_DIR}/summary.csv"
     if CALIBRATION and CALIBRATION.get("enabled"):  # rules/calibration.smk

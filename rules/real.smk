@@ -1,6 +1,8 @@
 # Real robot data: constant-command segments (the committed table, read, never written) and
-# the full replay of a dataset folder (--config borealtc_dir=PATH), whose results all go to
-# results/real/<dataset>/. Helpers in common.smk.
+# the full replay of a replay source: a dataset folder (--config borealtc_dir=PATH; results in
+# results/real/<dataset>/) or the user's own logs (config own_logs; results/real/own/). Each
+# kind of source has its import rule; from the canonical log on, every source goes through the
+# same replay and replay_metrics rules. Helpers (the case tables REPLAY_CASES) in common.smk.
 
 
 # One job per terrain class and engine: its segments are short runs sharing one import.
@@ -99,62 +101,10 @@ if REPLAY_SET:
         script:
             "../scripts/import_real.py"
 
-    rule replay:
-        input:
-            log=f"{REPLAY}/logs/{{terrain_class}}/{{run}}.parquet",
-            urdf=config["robot"]["urdf"],
-        output:
-            f"{REPLAY}/replay/{{engine}}/{{terrain_class}}/{{run}}.parquet",
-        params:
-            case=lambda wc: real_params(wc.engine, wc.terrain_class),
-            code=lambda wc: engine_code(wc.engine, "realdata.py", "reallogs"),
-        wildcard_constraints:
-            terrain_class="|".join(REPLAY_SET.classes),
-        log:
-            f"results/logs/real/{REPLAY_SET.name}/replay/{{engine}}/{{terrain_class}}/{{run}}.log",
-        benchmark:
-            f"results/benchmarks/replay/{REPLAY_SET.name}/{{engine}}/{{terrain_class}}/{{run}}.tsv"
-        threads: 1
-        resources:
-            mem_mb=800,
-            runtime=30,
-        conda:
-            "../envs/simpick.yaml"
-        script:
-            "../scripts/replay.py"
-
-    rule replay_metrics:
-        input:
-            logs=real_logs(),
-            traces=replay_traces(),
-        output:
-            per_window=f"{REPLAY}/metrics/replay_per_window.csv",
-            per_test=f"{REPLAY}/metrics/replay_per_test.csv",
-            summary=f"{REPLAY}/metrics/replay_summary.csv",
-            pairwise=f"{REPLAY}/metrics/replay_pairwise.csv",
-            imu_errors=f"{REPLAY}/metrics/replay_imu_errors.csv",
-        params:
-            settings=canonical(
-                {
-                    "track": config["robot"]["track"],
-                    "window": config["real_data"]["window"],
-                    "statistics": statistics_params(),
-                }
-            ),
-            code=code_version(
-                "realdata.py", "realmetrics.py", "metrics.py", "traces.py", "workflow.py", "reallogs"
-            ),
-        log:
-            f"results/logs/real/{REPLAY_SET.name}/replay_metrics.log",
-        conda:
-            "../envs/simpick.yaml"
-        script:
-            "../scripts/replay_metrics.py"
-
     # The folder's own constant-command segments: a result, beside its replay.
     rule real_segments:
         input:
-            logs=real_logs(),
+            logs=real_logs(REPLAY_SET.name),
         output:
             csv=f"{REPLAY}/segments.csv",
             provenance=f"{REPLAY}/segments.provenance.yaml",
@@ -214,30 +164,47 @@ rule fetch_borealtc:
 if OWN_LOGS:
 
     rule import_own_log:
+        """One of the user's logs (a mapped CSV or a ROS bag) to the canonical form, filed under
+        its terrain class like a dataset folder's runs."""
         output:
-            f"{OWN}/logs/{{name}}.parquet",
+            f"{OWN}/logs/{{terrain_class}}/{{run}}.parquet",
         params:
-            entry=lambda wc: canonical(OWN_LOGS[wc.name]),
+            entry=lambda wc: canonical(OWN_LOGS[wc.run]),
             track=canonical(config["robot"]["track"]),
             code=code_version("reallogs", "realdata.py"),
+        wildcard_constraints:
+            terrain_class="|".join(sorted({re.escape(c) for c, _ in REPLAY_CASES["own"]})),
+            run="|".join(sorted(re.escape(name) for name in OWN_LOGS)),
         log:
-            "results/logs/real/own/import/{name}.log",
+            "results/logs/real/own/import/{terrain_class}/{run}.log",
         conda:
             "../envs/simpick.yaml"
         script:
             "../scripts/import_own_log.py"
 
-    rule replay_own:
+
+# One replay family for every source: a case's canonical log driven through one model (under
+# the watchdog: simpick.realdata.replay_job), then all of a source's cases compared at once.
+if REPLAY_CASES:
+    _SOURCES = "|".join(re.escape(source) for source in REPLAY_CASES)
+
+    rule replay:
         input:
-            log=f"{OWN}/logs/{{name}}.parquet",
+            log="results/real/{source}/logs/{terrain_class}/{run}.parquet",
             urdf=config["robot"]["urdf"],
         output:
-            f"{OWN}/replay/{{engine}}/{{name}}.parquet",
+            "results/real/{source}/replay/{engine}/{terrain_class}/{run}.parquet",
         params:
-            case=lambda wc: real_params(wc.engine, OWN_LOGS[wc.name]["terrain_class"]),
+            case=lambda wc: real_params(wc.engine, wc.terrain_class),
             code=lambda wc: engine_code(wc.engine, "realdata.py", "reallogs"),
+        wildcard_constraints:
+            source=_SOURCES,
+            terrain_class="|".join(sorted({re.escape(c) for cases in REPLAY_CASES.values() for c, _ in cases})),
+            run="|".join(sorted({re.escape(run) for cases in REPLAY_CASES.values() for _, run in cases})),
         log:
-            "results/logs/real/own/replay/{engine}/{name}.log",
+            "results/logs/real/{source}/replay/{engine}/{terrain_class}/{run}.log",
+        benchmark:
+            "results/benchmarks/replay/{source}/{engine}/{terrain_class}/{run}.tsv"
         threads: 1
         resources:
             mem_mb=800,
@@ -247,16 +214,16 @@ if OWN_LOGS:
         script:
             "../scripts/replay.py"
 
-    rule replay_own_metrics:
+    rule replay_metrics:
         input:
-            logs=expand(f"{OWN}/logs/{{name}}.parquet", name=OWN_LOGS),
-            traces=expand(f"{OWN}/replay/{{engine}}/{{name}}.parquet", engine=REAL_MODELS, name=OWN_LOGS),
+            logs=lambda wc: real_logs(wc.source),
+            traces=lambda wc: replay_traces(wc.source),
         output:
-            per_window=f"{OWN}/metrics/replay_per_window.csv",
-            per_test=f"{OWN}/metrics/replay_per_test.csv",
-            summary=f"{OWN}/metrics/replay_summary.csv",
-            pairwise=f"{OWN}/metrics/replay_pairwise.csv",
-            imu_errors=f"{OWN}/metrics/replay_imu_errors.csv",
+            per_window="results/real/{source}/metrics/replay_per_window.csv",
+            per_test="results/real/{source}/metrics/replay_per_test.csv",
+            summary="results/real/{source}/metrics/replay_summary.csv",
+            pairwise="results/real/{source}/metrics/replay_pairwise.csv",
+            imu_errors="results/real/{source}/metrics/replay_imu_errors.csv",
         params:
             settings=canonical(
                 {
@@ -268,8 +235,10 @@ if OWN_LOGS:
             code=code_version(
                 "realdata.py", "realmetrics.py", "metrics.py", "traces.py", "workflow.py", "reallogs"
             ),
+        wildcard_constraints:
+            source=_SOURCES,
         log:
-            "results/logs/real/own/replay_metrics.log",
+            "results/logs/real/{source}/replay_metrics.log",
         conda:
             "../envs/simpick.yaml"
         script:

@@ -2,6 +2,7 @@ rule report:
     input:
         unpack(report_real_inputs),
         weighted="results/scores/weighted.csv",
+        scores_provenance="results/scores/provenance.yaml",
         validation="results/validation/summary.csv",
         trace_stats="results/metrics/trace_stats.csv",
         reference_stats="results/metrics/reference_stats.csv",
@@ -16,7 +17,8 @@ rule report:
         worked_example="results/published/worked_example.json",
         traces=all_traces(),
     output:
-        html="results/report/report.html",
+        # report(): `snakemake --report` carries the study report (its figures are embedded in it)
+        html=report("results/report/report.html", category="Study report"),
     params:
         weights=canonical(config["weights"]),
         # only the keys the report reads (strip geometry, commanded paths, test order): an edit
@@ -24,14 +26,6 @@ rule report:
         config=canonical(report_config()),
         statistics=statistics_params(),
         code=code_version("report", "realdata.py", "realmetrics.py", "scoring.py", "metrics.py", "traces.py"),
-        accuracy=canonical(
-            {
-                "reference": config["accuracy"]["reference"],
-                "errors_file": accuracy_errors(),
-                "dataset": REPLAY_SET.name if REPLAY_SET else DATASET,
-                "replay": bool(REPLAY_SET),
-            }
-        ),
         real_data=canonical(
             {
                 "dataset": DATASET,
@@ -56,7 +50,7 @@ rule report_pdf:
     input:
         "results/report/report.html",
     output:
-        "results/report/report.pdf",
+        report("results/report/report.pdf", category="Study report"),
     params:
         code=code_version("report"),
     log:

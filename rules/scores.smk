@@ -1,15 +1,22 @@
+# The scores, and results/scores/provenance.yaml: which errors file, tests and exclusions they
+# rest on (the report reads that file rather than working it out from the config again).
 rule scores:
     input:
         imu_errors=accuracy_errors(),
+        accuracy_tests=accuracy_source()["per_test"],
+        runs="results/metrics/runs.csv",
         rtf="results/metrics/rtf.csv",
         cpu=expand("results/cpu/{engine}.json", engine=ENGINES),
         qualitative=config["qualitative"],
     output:
-        scores="results/scores/scores.csv",
-        weighted="results/scores/weighted.csv",
+        scores=report("results/scores/scores.csv", category="Scores"),
+        weighted=report("results/scores/weighted.csv", category="Scores"),
+        provenance=report("results/scores/provenance.yaml", category="Scores"),
     params:
         engines=sorted(ENGINES),  # a reordered engines: block is not an edit
         weights=canonical(config["weights"]),
+        accuracy=canonical({k: accuracy_source()[k] for k in ("reference", "set", "dataset")}),
+        cpu_test=f"{config['cpu_load']['terrain']}/{config['cpu_load']['motion']}",
         code=code_version("scoring.py", "workflow.py"),
     log:
         "results/logs/scores.log",

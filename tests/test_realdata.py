@@ -109,7 +109,7 @@ def test_own_csv_log_is_imported_replayed_and_compared_by_the_workflow(tmp_path)
     write_config(tmp_path, config)
     run = snakemake(tmp_path, "results/real/own/metrics/replay_summary.csv", "results/scores/weighted.csv")
     assert run.returncode == 0, run.stderr[-3000:]
-    log = read_canonical(tmp_path / "results/real/own/logs/mine.parquet")
+    log = read_canonical(tmp_path / "results/real/own/logs/flooring/mine.parquet")
     assert np.allclose(log.imu.wz.to_numpy(), imu.wz.to_numpy(), atol=1e-9)  # deg/s came back as rad/s
     per_test = pd.read_csv(tmp_path / "results/real/own/metrics/replay_per_test.csv")
     # the reference models are compared beside the engines

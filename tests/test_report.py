@@ -183,10 +183,22 @@ def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | Non
     scores = scores[list(METRICS)].astype(float)
     scores.index.name = "engine"
     weighted_table(scores, DEFAULT_WEIGHTS).to_csv(root / "weighted.csv", index_label="engine")
+    # what the scores rest on, recorded as the scores job records it
+    from simpick.workflow import score_provenance
+
+    scored = str(accuracy_errors or root / "metrics" / "imu_errors.csv")
+    accuracy = ({"reference": "real", "set": "segments", "dataset": "borealtc"} if accuracy_errors
+                else {"reference": "paper", "set": "lab", "dataset": None})
+    record = score_provenance(ENGINES, scored, str(root / "metrics" / "rtf.csv"), cpu, {
+        "accuracy": accuracy, "runs": str(root / "metrics" / "runs.csv"),
+        "accuracy_tests": scored.replace("imu_errors", "per_test") if accuracy_errors else str(root / "metrics" / "runs.csv")})
+    (root / "provenance.yaml").write_text(yaml.safe_dump(record, sort_keys=False))
 
     pub = write_outputs(load_published(), root / "published")
     return {
         "weighted": str(root / "weighted.csv"),
+        "scores_provenance": str(root / "provenance.yaml"),
+        "accuracy_errors": scored,
         "trace_stats": str(root / "metrics" / "trace_stats.csv"),
         "reference_stats": str(root / "metrics" / "reference_stats.csv"),
         "imu_errors": str(root / "metrics" / "imu_errors.csv"),
@@ -455,9 +467,8 @@ def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
     return inputs
 
 
-def _real_params(errors_file: str, reference: str = "real", replay: bool = True) -> dict:
-    return {**PARAMS, "accuracy": {"reference": reference, "errors_file": errors_file, "dataset": "borealtc",
-                                   "replay": replay},
+def _real_params() -> dict:
+    return {**PARAMS,
             "real_data": {"dataset": "borealtc", "classes": REAL_CLASSES, "window": 10.0,
                           "segment_rules": {"settle": 1.0, "per_kind": 2}}}
 
@@ -471,8 +482,9 @@ def built_real(tmp_path_factory):
     inputs = write_synthetic_inputs(root / "in", accuracy_errors=real["segments_imu_errors"])
     inputs.update(real)
     inputs["accuracy_errors"] = real["segments_imu_errors"]
+    inputs["accuracy_per_test"] = real["segments_per_test"]
     html, pdf = root / "out" / "report.html", root / "out" / "report.pdf"
-    build_report(inputs, _real_params(real["segments_imu_errors"]), html, pdf)
+    build_report(inputs, _real_params(), html, pdf)
     return inputs, html.read_text(encoding="utf-8"), pdf
 
 
@@ -533,7 +545,7 @@ def test_summary_names_the_accuracy_data(built_real):
     assert "Left out because an engine failed it" in summary and REAL_FAILED[1] in summary
     assert inputs["segments_imu_errors"] in summary
     assert "gravel/straight" in summary and "not in the accuracy scores" in summary
-    assert "do not follow from this errors file" not in text
+    assert "is not the one the accuracy scores rest on" not in " ".join(text.split())
     # the IMU-error section lists the same tests, and the lab comparison is labelled apart
     listed = re.search(r'<p class="note" id="accuracy-tests">.*?</p>', text, re.S).group(0)
     assert f"The {len(tests)} constant-command segments the accuracy scores cover" in listed
@@ -553,17 +565,15 @@ def test_paper_reference_and_segments_only(tmp_path, built_real):
     inputs, _, _ = built_real
     lab = write_synthetic_inputs(tmp_path / "in", seconds=1.0, failed=None)
     real = {k: v for k, v in inputs.items() if k.startswith("segments") and k != "segments_provenance"}
-    text = _render({**lab, **real, "accuracy_errors": lab["imu_errors"]},
-                   _real_params(lab["imu_errors"], reference="paper", replay=False))
+    text = _render({**lab, **real, "accuracy_errors": lab["imu_errors"]}, _real_params())
     summary = " ".join(re.search(r'<div class="summary".*?</div>', text, re.S).group(0).split())
     assert "gravel/straight" in summary and "accuracy.reference: paper" in summary
     assert "is shown but is not in the accuracy scores" in summary
     assert 'id="real-asphalt-segments"' in text and 'id="real-asphalt-replay"' not in text
     assert 'id="replay-missing"' in text and "borealtc_dir" in text
-    # the scores in weighted.csv were computed from the lab errors: a real-data errors file contradicts them
-    text = _render({**lab, **real, "accuracy_errors": real["segments_imu_errors"]},
-                   _real_params(real["segments_imu_errors"]))
-    assert "do not follow from this errors file" in text
+    # the scores rest on the lab errors (provenance.yaml): a report given another errors file says so
+    text = " ".join(_render({**lab, **real, "accuracy_errors": real["segments_imu_errors"]}, _real_params()).split())
+    assert "is not the one the accuracy scores rest on" in text and lab["imu_errors"] in text
 
 
 def test_without_real_inputs_the_section_says_so(built):

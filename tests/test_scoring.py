@@ -297,3 +297,48 @@ def test_a_failed_cpu_run_is_not_scored(tmp_path) -> None:  # type: ignore[no-un
     weighted = pd.read_csv(outputs["weighted"], index_col="engine")
     assert weighted.loc["a", "cpu_average"] == 1.0 and math.isnan(weighted.loc["b", "cpu_average"])
     assert weighted.loc["b", "excluded"] == "cpu_average,cpu_intense"
+
+
+def test_scores_job_records_what_the_scores_rest_on(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """provenance.yaml: the errors file, its tests, each test left out with the failure that left
+    it out, the same for the real-time factor, and the CPU runs scored and not."""
+    import json
+
+    import yaml
+
+    from simpick.workflow import scores_job
+
+    fact = {"free": True, "open_source": True, "ros": "none", "languages": ["Python"], "ui": "none",
+            "model_formats": ["URDF"], "urdf_sdf_via_manual_plugin": False, "physics_engines": ["one"]}
+    (tmp_path / "facts.yaml").write_text(yaml.safe_dump({"a": fact, "b": fact}))
+    pd.DataFrame({"engine": ["a", "a", "b", "b", "kinematic", "kinematic"], "quantity": ["angular", "linear"] * 3,
+                  "error": [1.0] * 6, "tests": ["ice-1;snow-2"] * 6, "excluded": ["ice-3"] * 6}
+                 ).to_csv(tmp_path / "errors.csv", index=False)
+    pd.DataFrame({"engine": ["a", "b", "kinematic"], "segment": ["ice-3"] * 3, "status": ["ok", "failed", "ok"],
+                  "reasons": ["", "diverged", ""]}).to_csv(tmp_path / "per_test.csv", index=False)
+    pd.DataFrame({"engine": ["a", "b"], "terrain": ["bumps", "bumps"], "motion": ["circle"] * 2,
+                  "status": ["failed", "ok"], "reasons": ["fell through", ""]}).to_csv(tmp_path / "runs.csv", index=False)
+    pd.DataFrame({"engine": ["a", "b"], "real_time_factor": [1.0, 2.0], "tests": ["grass/straight"] * 2,
+                  "excluded": ["bumps/circle"] * 2}).to_csv(tmp_path / "rtf.csv", index=False)
+    cpu = []
+    for engine, status in (("a", "ok"), ("b", "failed")):
+        cpu.append(str(tmp_path / f"{engine}.json"))
+        Path(cpu[-1]).write_text(json.dumps({"engine": engine, "average": {"load_percent": 10.0},
+                                             "intense": {"load_percent": 10.0},
+                                             "health": {"status": status, "reasons": ["jumped"]}}))
+    outputs = {k: str(tmp_path / f"{k}.{'yaml' if k == 'provenance' else 'csv'}")
+               for k in ("scores", "weighted", "provenance")}
+    accuracy = {"reference": "real", "set": "segments", "dataset": "borealtc"}
+    scores_job(["a", "b"], str(tmp_path / "errors.csv"), str(tmp_path / "rtf.csv"), cpu, str(tmp_path / "facts.yaml"),
+               dict(sc.DEFAULT_WEIGHTS), outputs,
+               {"accuracy": accuracy, "accuracy_tests": str(tmp_path / "per_test.csv"),
+                "runs": str(tmp_path / "runs.csv"), "cpu_test": "grass/straight"})
+    record = yaml.safe_load(Path(outputs["provenance"]).read_text())
+    acc = record["accuracy"]
+    assert {k: acc[k] for k in accuracy} == accuracy and acc["errors_file"] == str(tmp_path / "errors.csv")
+    assert acc["engines"] == ["a", "b"] and acc["tests"] == ["ice-1", "snow-2"]
+    assert acc["excluded"] == [{"test": "ice-3", "why": "b failed: diverged"}]
+    assert record["real_time_factor"]["tests"] == ["grass/straight"]
+    assert record["real_time_factor"]["excluded"] == [{"test": "bumps/circle", "why": "a failed: fell through"}]
+    assert record["cpu"]["engines"] == ["a"] and record["cpu"]["test"] == "grass/straight"
+    assert record["cpu"]["excluded"] == [{"engine": "b", "why": "jumped"}]

@@ -237,11 +237,22 @@ def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> t
 
 
 def replay_job(log_file: str, urdf: str, output: str, params: dict) -> None:
+    """One case of a replay source (a dataset folder's run or an own log) through one model,
+    under the watchdog like every job that steps an engine: a replay still running after
+    ``health.timeout`` s is written as a failed (hung) trace that replay_metrics lists."""
     from simpick.reallogs import read_canonical
     from simpick.simulate import config_hash
     from simpick.traces import write_trace
+    from simpick.watchdog import Watchdog
+    from simpick.workflow import write_hung_trace
 
-    frame, meta = replay_log(read_canonical(log_file), urdf, params)
+    log = read_canonical(log_file)
+    run = str(log.meta["run_id"])
+    which = {"engine": params["engine"], "terrain": params["terrain_class"], "motion": f"replay-{run}",
+             "dataset": log.meta.get("dataset"), "run": run}
+    timeout = params["health"]["timeout"]
+    with Watchdog(timeout, lambda: write_hung_trace(output, which, params, timeout)):
+        frame, meta = replay_log(log, urdf, params)
     meta["config_hash"] = config_hash(params)
     write_trace(frame, meta, output)
 

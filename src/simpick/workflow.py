@@ -43,7 +43,8 @@ def simulate_job(output: str, terrain_file: str, urdf: str, params: dict) -> dic
     case = Case(engine=params["engine"], terrain=params["terrain"], motion=params["motion_name"],
                 v=motion["v"], w=motion["w"], duration=motion["duration"], start=tuple(motion["start"]))
     timeout = params["health"]["timeout"]
-    with Watchdog(timeout, lambda: write_hung_trace(output, case, params, timeout)):
+    which = {"engine": case.engine, "terrain": case.terrain, "motion": case.motion}
+    with Watchdog(timeout, lambda: write_hung_trace(output, which, params, timeout)):
         return simulate_to_file(
             case, output, params=params, urdf=urdf, terrain_file=terrain_file,
             track=params["robot"]["track"], max_wheel_torque=params["robot"]["max_wheel_torque"],
@@ -52,15 +53,17 @@ def simulate_job(output: str, terrain_file: str, urdf: str, params: dict) -> dic
             seed=int(params["seed"]), limits=HealthLimits(**params["health"]))
 
 
-def write_hung_trace(output: str, case, params: dict, timeout: float) -> None:
-    """An empty trace whose health record says the engine hung, so the run is reported."""
+def write_hung_trace(output: str, which: dict, params: dict, timeout: float) -> None:
+    """An empty trace whose health record says the engine hung, so the run is reported.
+    ``which``: the metadata that names the run (engine, terrain, motion and, for a replay, its
+    run and dataset), so the job that compares it finds it like any other."""
     from simpick.simulate import config_hash
     from simpick.traces import COLUMNS, write_trace
 
     reason = f"hung: no result after {timeout:g} s of wall time; the job was stopped"
-    print(f"simpick: {case.engine} {case.terrain}/{case.motion}: {reason}", file=sys.stderr)
+    print(f"simpick: {which['engine']} {which['terrain']}/{which['motion']}: {reason}", file=sys.stderr)
     write_trace({c: [] for c in COLUMNS},
-                {"engine": case.engine, "engine_version": "", "terrain": case.terrain, "motion": case.motion,
+                {"engine_version": "", **which,
                  "timestep": params["physics"]["timestep"], "seed": params["seed"], "steps": 0, "sim_time": 0.0,
                  "wall_time": float(timeout), "cpu_time": float("nan"), "real_time_factor": None,
                  "health": {"status": "failed", "reasons": [reason]}, "config_hash": config_hash(params)},
@@ -175,7 +178,10 @@ def equal_rtf(runs) -> "pd.DataFrame":
 
 
 def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[str], qualitative: str,
-               weights: dict, outputs: dict[str, str]) -> None:
+               weights: dict, outputs: dict[str, str], sources: dict | None = None) -> None:
+    """The scores and the weighted table; with ``outputs["provenance"]`` also the record of what
+    they rest on (:func:`score_provenance`; ``sources`` as it describes), which the report reads
+    instead of working it out again."""
     import pandas as pd
 
     from simpick import scoring
@@ -219,6 +225,75 @@ def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[st
     scores.index.name = "engine"
     write_csv(scores, outputs["scores"], index=True)
     write_csv(scoring.weighted_table(scores, weights), outputs["weighted"], index=True)
+    if outputs.get("provenance"):
+        record = score_provenance(engines, imu_errors, rtf, cpu_files, sources or {})
+        Path(outputs["provenance"]).write_text(yaml.safe_dump(record, sort_keys=False))
+
+
+def _failures(path: str | None) -> dict[str, list[str]]:
+    """test -> "model: reasons" of every run in a per-test table (the lab runs.csv or a real-data
+    *_per_test.csv) that did not finish healthily."""
+    import pandas as pd
+
+    if not path:
+        return {}
+    frame = pd.read_csv(path, dtype=str, keep_default_na=False)
+    tests = frame["segment"] if "segment" in frame else frame["terrain"] + "/" + frame["motion"]
+    out: dict[str, list[str]] = {}
+    for test, row in zip(tests, frame.to_dict("records")):
+        if row.get("status", "ok") != "ok":
+            out.setdefault(test, []).append(f"{row['engine']} {row['status']}: {row.get('reasons') or 'no reason given'}")
+    return out
+
+
+def _split(cells) -> list[str]:
+    return sorted({t for cell in cells for t in str(cell).split(";") if t.strip() and t != "nan"})
+
+
+def score_provenance(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[str], sources: dict) -> dict:
+    """What the scores rest on, as results/scores/provenance.yaml records it: the errors file of
+    the accuracy scores, its tests and the tests left out (a test any model failed is left out
+    for all: metrics.eq7_totals) with the failures that left each out; the same for the
+    real-time factor (equal_rtf); which engines' CPU runs were scored and why the others were not.
+
+    ``sources``: ``accuracy`` (``reference``, ``set``: lab, segments, replay or own, ``dataset``),
+    ``accuracy_tests`` (the per-test table beside the errors file), ``runs`` (the lab runs.csv)
+    and ``cpu_test`` (the CPU runs' terrain/motion); each optional."""
+    import pandas as pd
+
+    errors = pd.read_csv(imu_errors, dtype=str, keep_default_na=False)
+    errors = errors[errors.engine.isin(engines)]
+    why = _failures(sources.get("accuracy_tests"))
+    lab_why = _failures(sources.get("runs"))
+
+    def left_out(tests: list[str], reasons: dict) -> list[dict]:
+        return [{"test": t, "why": "; ".join(reasons.get(t) or ["not completed by every model"])} for t in tests]
+
+    rtf_frame = pd.read_csv(rtf, dtype=str, keep_default_na=False)
+    cpu = [json.loads(Path(f).read_text()) for f in cpu_files]
+    failed_cpu = [c for c in cpu if (c.get("health") or {}).get("status", "ok") != "ok"]
+    return {
+        "accuracy": {
+            **dict(sources.get("accuracy") or {}),
+            "errors_file": str(imu_errors),
+            "per_test_file": sources.get("accuracy_tests"),
+            "engines": list(engines),
+            "tests": _split(errors.get("tests", [])),
+            "excluded": left_out(_split(errors.get("excluded", [])), why),
+        },
+        "real_time_factor": {
+            "file": str(rtf),
+            "tests": _split(rtf_frame.get("tests", [])),
+            "excluded": left_out(_split(rtf_frame.get("excluded", [])), lab_why),
+        },
+        "cpu": {
+            "files": [str(f) for f in cpu_files],
+            "test": sources.get("cpu_test"),
+            "engines": sorted(c["engine"] for c in cpu if c not in failed_cpu),
+            "excluded": [{"engine": c["engine"], "why": "; ".join(c["health"].get("reasons") or ["failed"])}
+                         for c in failed_cpu],
+        },
+    }
 
 
 def published_job(published_file: str, outdir: str) -> None:

@@ -12,8 +12,10 @@ optional (a section whose input is absent says so instead of showing data)
     lab study: ``trace_stats``, ``reference_stats``, ``imu_errors``, ``per_test_errors``,
     ``rtf``, ``cpu``, ``qualitative``, ``table11``, ``table11_comparison``,
     ``worked_example``, ``traces``
-    accuracy: ``accuracy_errors`` (the Eq. 7 totals the accuracy scores were computed from;
-    rules/real.smk ``accuracy_errors()``; lab imu_errors layout)
+    accuracy: ``scores_provenance`` (the scores job's record of what the scores rest on:
+    errors file, tests, exclusions and why; simpick.workflow.score_provenance),
+    ``accuracy_errors`` (the Eq. 7 totals it names; lab imu_errors layout) and
+    ``accuracy_per_test`` (the real-data per-test table beside them)
     real robot data (rules/real.smk): ``segments`` (the committed segment table) and
     ``segments_provenance``; ``segments_per_test``, ``segments_summary``,
     ``segments_pairwise``, ``segments_imu_errors``; with the full replay
@@ -24,10 +26,9 @@ optional (a section whose input is absent says so instead of showing data)
 ``params``: ``weights`` (metric -> weight; the paper's defaults when absent), ``config``
 (the slice of the study config the report reads: terrains, motions, robot track; shown under
 provenance and used for test order, terrain strip and commanded paths), ``statistics``
-(``min_runs``, ``level``: when the real-data section may give an interval or verdict), ``title`` (optional), ``accuracy`` (``reference``: "real" or
-"paper", ``errors_file``: the path the scores rule read, ``dataset``; when absent the
-lab ``imu_errors`` are taken to be the scored ones), ``real_data`` (``dataset`` and
-``classes``: terrain class -> {friction, source}, how each class was modelled).
+(``min_runs``, ``level``: when the real-data section may give an interval or verdict), ``title`` (optional),
+``real_data`` (``dataset`` and ``classes``: terrain class -> {friction, source}, how each class
+was modelled). Which data the accuracy scores rest on comes from ``scores_provenance`` only.
 """
 
 from __future__ import annotations
@@ -52,6 +53,8 @@ OPTIONAL_INPUTS: tuple[str, ...] = (
     "worked_example",
     "traces",
     "accuracy_errors",
+    "accuracy_per_test",
+    "scores_provenance",
     "validation",
     "segments",
     "segments_provenance",

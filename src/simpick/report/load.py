@@ -34,6 +34,7 @@ COLUMNS: dict[str, tuple[str, ...]] = {
                    "error_kind", "tolerance", "passed", "status"),
     # real robot data (rules/real.smk, simpick.realdata)
     "accuracy_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
+    "accuracy_per_test": ("engine", "terrain_class", "segment", "run", "status"),
     "segments": ("segment", "terrain_class", "run", "kind", "t_start", "t_end", "settle", "duration",
                  "v_left", "v_right", "v", "w", "yaw_rate_gain"),
     "segments_per_test": ("engine", "terrain_class", "segment", "run", "kind", "status", "reasons",
@@ -86,8 +87,11 @@ class ReportData:
     table11_comparison: pd.DataFrame | None = None
     worked_example: dict | None = None
     traces: list[Trace] | None = None
-    # which Eq. 7 totals the accuracy scores were computed from (rules/real.smk accuracy_errors())
+    # what the scores rest on (results/scores/provenance.yaml), the Eq. 7 totals it names and,
+    # for real data, the per-test table beside them
+    scores_provenance: dict | None = None
     accuracy_errors: pd.DataFrame | None = None
+    accuracy_per_test: pd.DataFrame | None = None
     # engines against analytic mechanics (rules/validate.smk)
     validation: pd.DataFrame | None = None
     # speed-accuracy sweep (rules/sweep.smk), when the study ran with one
@@ -177,7 +181,7 @@ def load_inputs(inputs: Mapping[str, Any]) -> ReportData:
             sources[key] = str(p)
             kw[key] = _csv(key, p, index)
 
-    for key in ("accuracy_errors", "segments", "replay_per_window", "validation", "sweep", "calibration"):
+    for key in ("accuracy_errors", "accuracy_per_test", "segments", "replay_per_window", "validation", "sweep", "calibration"):
         if given(key):
             p = _path(key, inputs[key])
             sources[key] = str(p)
@@ -191,17 +195,18 @@ def load_inputs(inputs: Mapping[str, Any]) -> ReportData:
                 sources[key] = str(p)
                 real.setdefault(set_, {})[table] = _csv(key, p)
     kw["real"] = real
-    if given("segments_provenance"):
-        p = _path("segments_provenance", inputs["segments_provenance"])
-        try:
-            with open(p, encoding="utf-8") as fh:
-                prov = yaml.safe_load(fh) or {}
-        except yaml.YAMLError as exc:
-            raise InputError(str(p), f"not valid YAML: {exc}") from None
-        if not isinstance(prov, dict):
-            raise InputError(str(p), "expected a mapping")
-        kw["segments_provenance"] = prov
-        sources["segments_provenance"] = str(p)
+    for key in ("segments_provenance", "scores_provenance"):
+        if given(key):
+            p = _path(key, inputs[key])
+            try:
+                with open(p, encoding="utf-8") as fh:
+                    prov = yaml.safe_load(fh) or {}
+            except yaml.YAMLError as exc:
+                raise InputError(str(p), f"not valid YAML: {exc}") from None
+            if not isinstance(prov, dict):
+                raise InputError(str(p), "expected a mapping")
+            kw[key] = prov
+            sources[key] = str(p)
     for key in ("real_logs", "replay_traces"):
         if given(key):
             kw[key] = [str(p) for p in _paths(key, inputs[key])]

@@ -20,8 +20,8 @@ from simpick.realmetrics import psd, psd_segment
 from simpick.report import figures
 from simpick.report.load import REAL_SETS, ReportData
 
-SET_TITLES = {"segments": "constant-command segments", "replay": "full replay"}
-SET_UNITS = {"segments": "segment", "replay": "run"}
+SET_TITLES = {"segments": "constant-command segments", "replay": "full replay", "own": "own logs"}
+SET_UNITS = {"segments": "segment", "replay": "run", "own": "log"}
 ERROR_FIGURES = ("error_angular", "error_linear")
 FIGURE_LABELS = {"error_angular": "angular velocity", "error_linear": "linear acceleration",
                  "yaw_rate_gain": "yaw-rate gain"}
@@ -93,85 +93,48 @@ def group_tests(data: ReportData, tests: Sequence[str], classes: Sequence[str]) 
 # --------------------------------------------------------------------------
 
 
-def _errors_kind(path: str | None, reference: str | None, is_lab: bool) -> str:
-    name = Path(path).name if path else ""
-    if "replay_imu_errors" in name:
-        return "replay"
-    if "segments_imu_errors" in name:
-        return "segments"
-    if is_lab or reference == "paper" or name == "imu_errors.csv":
-        return "lab"
-    return "real"
+def _same_file(a: Any, b: Any) -> bool:
+    return bool(a) and bool(b) and Path(str(a)).resolve() == Path(str(b)).resolve()
 
 
 def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], classes: list[str],
              lab_tests: list[str]) -> dict[str, Any] | None:
-    """The Eq. 7 totals the accuracy scores were computed from, and what they cover."""
-    from simpick.scoring import accuracy_scores
+    """The Eq. 7 totals the accuracy scores were computed from, and what they cover, as the
+    scores job recorded them (results/scores/provenance.yaml): this reads that record, it
+    does not work out again which file or tests were scored."""
+    prov = dict((data.scores_provenance or {}).get("accuracy") or {})
+    reference, kind, path = prov.get("reference"), prov.get("set") or "lab", prov.get("errors_file")
+    if not prov or data.accuracy_errors is None:
+        return {"reference": reference, "kind": kind, "errors_file": path, "given": False,
+                "dataset": prov.get("dataset"), "lab_tests": lab_tests, "lab_scored": False}
+    # the errors file given to the report is the one the scores rest on, or the report says so
+    given_file = data.sources.get("accuracy_errors")
+    differs = None if _same_file(given_file, path) else str(given_file)
 
-    acc = dict(params.get("accuracy") or {})
-    reference = acc.get("reference")
-    errors_file = acc.get("errors_file")
-    df, source, is_lab = None, None, False
-    if data.accuracy_errors is not None:
-        df, source = data.accuracy_errors, data.sources.get("accuracy_errors")
-        is_lab = bool(data.sources.get("imu_errors")) and Path(str(source)).resolve() == Path(
-            str(data.sources["imu_errors"])).resolve()
-    else:
-        candidates = [("imu_errors", data.imu_errors)] + [
-            (f"{s}_imu_errors", data.real.get(s, {}).get("imu_errors")) for s in REAL_SETS]
-        if errors_file:
-            for key, frame in candidates:
-                src = data.sources.get(key)
-                if frame is not None and src and (Path(src).resolve() == Path(str(errors_file)).resolve()
-                                                  or str(src).endswith(str(errors_file))):
-                    df, source, is_lab = frame, src, key == "imu_errors"
-                    break
-        elif reference in (None, "paper") and data.imu_errors is not None:
-            df, source, is_lab = data.imu_errors, data.sources.get("imu_errors"), True
-    path = str(errors_file or source or "")
-    kind = _errors_kind(path, reference, is_lab)
-    if reference is None:
-        reference = "paper" if kind == "lab" else "real"
-    if df is None:
-        return {"reference": reference, "kind": kind, "errors_file": path or None, "given": False,
-                "dataset": acc.get("dataset"), "lab_tests": lab_tests}
-
-    ie = df.copy()
+    ie = data.accuracy_errors.copy()
     ie["_e"] = [engines.index(e) if e in engines else len(engines) for e in ie["engine"]]
     ie = ie.sort_values(["quantity", "_e"], kind="mergesort")
-    rows, mismatch = [], []
-    recomputed = {}
-    for q, sel in ie.groupby("quantity"):
-        try:
-            recomputed[q] = accuracy_scores(dict(zip(sel["engine"], [_f(x) for x in sel["error"]])))
-        except ValueError:
-            recomputed[q] = {}
+    rows = []
     for r in ie.to_dict("records"):
         key = f"imu_{r['quantity']}"
         score = (data.weighted.loc[r["engine"], key] if r["engine"] in data.weighted.index
                  and key in data.weighted.columns else None)
-        again = recomputed.get(r["quantity"], {}).get(r["engine"])
-        if not _isnan(score) and not _isnan(again) and abs(float(score) - float(again)) > 2e-3:
-            mismatch.append({"engine": r["engine"], "quantity": r["quantity"], "score": score, "again": again})
         rows.append({**r, "score": score,
                      "tests_list": [t for t in str(r["tests"]).split(";") if t.strip()],
                      "excluded_list": [t for t in str(r["excluded"]).split(";") if t.strip()]})
     sets = {tuple(r["tests_list"]) for r in rows}
-    tests = sorted({t for r in rows for t in r["tests_list"]})
+    tests = list(prov.get("tests") or [])
     if kind != "lab":
         pos = {c: i for i, c in enumerate(classes)}
         cls_of = _test_classes(data)
         tests.sort(key=lambda t: (pos.get(cls_of.get(t, t.split("-", 1)[0]), len(pos)), t))
-    excluded = sorted({t for r in rows for t in r["excluded_list"]})
+    why = {str(x["test"]): str(x.get("why") or "") for x in prov.get("excluded") or []}
+    excluded = sorted(why)
     groups = group_tests(data, tests, classes) if kind != "lab" else []
     n_by_q = {q: sorted({int(x) for x in sel["n_tests"] if not _isnan(x)}) for q, sel in ie.groupby("quantity")}
-    dataset = acc.get("dataset")
-    if data.segments is not None and "dataset" in data.segments.columns and len(data.segments):
-        dataset = str(data.segments["dataset"].iloc[0]) or dataset
     discrimination = None
-    per_test = data.real.get(kind, {}).get("per_test") if kind in REAL_SETS else None
-    if per_test is not None and "run" in per_test.columns:
+    per_test = data.accuracy_per_test
+    if kind != "lab" and per_test is not None and "run" in per_test.columns:
         from simpick.realdata import score_discrimination
 
         scored = [e for e in engines if e in set(ie["engine"]) and e in set(data.weighted.index)]
@@ -183,17 +146,16 @@ def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], cl
                 shares = [r["floor_share"] for r in d["rows"] if not _isnan(r["floor_share"])]
                 d["engine_share_max"] = max(abs(1 - s) for s in shares) if shares else float("nan")
     n = len(tests)
-    noun = {"segments": "constant-command segment", "replay": "replayed run",
-            "real": "real-data test"}.get(kind, "test")
+    noun = {"segments": "constant-command segment", "replay": "replayed run", "own": "replayed own log"}.get(kind, "test")
     return {
         "count_text": f"{n} {noun}{'s' if n != 1 else ''}",
-        "reference": reference, "kind": kind, "errors_file": path or None, "given": True,
-        "dataset": dataset, "rows": rows, "tests": tests, "n": len(tests), "same_for_all": len(sets) <= 1,
-        "excluded": excluded, "groups": groups, "mismatch": mismatch,
+        "reference": reference, "kind": kind, "errors_file": path, "given": True, "differs": differs,
+        "dataset": prov.get("dataset"), "rows": rows, "tests": tests, "n": len(tests), "same_for_all": len(sets) <= 1,
+        "excluded": excluded, "why": why, "groups": groups,
         "uneven": {q: n for q, n in n_by_q.items() if len(n) > 1},
         "lab_tests": lab_tests, "lab_scored": kind == "lab", "discrimination": discrimination,
         "unit_name": SET_UNITS.get(kind, "test"),
-        "kind_title": SET_TITLES.get(kind, "real-data tests" if kind == "real" else "lab tests"),
+        "kind_title": SET_TITLES.get(kind, "lab tests"),
     }
 
 
