@@ -257,3 +257,30 @@ def test_the_calibration_template_renders_the_tables():
     assert "the test winner changes from b to a" in html
     assert "friction: <b>0.2</b> (0.1)" in html  # found, and as configured in brackets
     assert html.count("<tr><td>") == 2 and "2 → 1" in html  # a: rank 2 as configured, 1 calibrated
+
+
+def test_classes_too_small_for_an_interval_get_one_pooled_and_runs_are_named_by_class():
+    """Three classes of 2 test runs each: no class reaches statistics.min_runs (6), all of them
+    together do. Run numbers repeat across classes ("00", "01"); pooled they are 6 runs, not 2."""
+    from simpick.calibration import POOLED
+    from simpick.report.calibration import calibration_section
+
+    rows = []
+    for c, cls in enumerate(("asphalt", "ice", "snow")):
+        for k in range(2):
+            for variant, value in (("configured", 1.0), ("calibrated", 0.6 + 0.1 * k + 0.05 * c)):
+                rows.append({"engine": "a", "terrain_class": cls, "unit": f"seg{k}", "run": f"{k:02d}",
+                             "set": "test", "variant": variant, "status": "ok", "error_yaw_rate": value / 20,
+                             "error_accel_x": value / 20, "objective": value})
+    summary = summarise(pd.DataFrame(rows), {})
+    per_class = summary[summary.terrain_class != POOLED]
+    assert per_class.change_low.isna().all() and (per_class.n_runs == 2).all()
+    pooled = summary[summary.terrain_class == POOLED].iloc[0]
+    assert pooled.n_runs == 6 and pooled.n_units == 6
+    # the paired change, calibrated - configured, per run: -0.4, -0.3, -0.35, -0.25, -0.3, -0.2
+    assert pooled.change == pytest.approx(-0.3)
+    assert pooled.change_low < -0.3 < pooled.change_high < 0  # an interval, and it excludes 0
+    # the report puts the pooled block after the classes
+    section = calibration_section(summary, ["a"], {})
+    assert [c["terrain_class"] for c in section["classes"]] == ["asphalt", "ice", "snow", POOLED]
+    assert section["classes"][-1]["pooled"] and not section["classes"][0]["pooled"]

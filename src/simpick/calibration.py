@@ -337,31 +337,53 @@ def _ci(values, runs) -> tuple[float, float, float]:
     return mean, low, high
 
 
+POOLED = "all classes"  # the summary's pooled rows: every class's units, each class calibrated on its own
+
+
+def _summary_row(g: pd.DataFrame, runs: pd.Series) -> dict:
+    """One engine and set over the units in ``g`` (as configured and as calibrated), with intervals
+    over the independent runs named by ``runs`` (one key per unit)."""
+    conf = g[g.variant == "configured"].set_index("unit")
+    cal = g[g.variant == "calibrated"].set_index("unit")
+    run_of = dict(zip(g.unit, runs))
+    row = {"n_units": len(conf), "n_runs": len({run_of[u] for u in conf.index}),
+           "n_failed_configured": int((conf.status != "ok").sum()),
+           "n_failed_calibrated": int((cal.status != "ok").sum())}
+    for variant, frame in (("configured", conf), ("calibrated", cal)):
+        for fig in ("objective", "error_yaw_rate", "error_accel_x"):
+            ok = frame[fig].notna()
+            mean, lo, hi = _ci(frame.loc[ok, fig].to_numpy(), [run_of[u] for u in frame.index[ok]])
+            row.update({f"{fig}_{variant}": mean, f"{fig}_{variant}_low": lo, f"{fig}_{variant}_high": hi})
+    common = conf.index.intersection(cal.index)
+    mean, lo, hi = _ci((cal.loc[common, "objective"] - conf.loc[common, "objective"]).to_numpy(),
+                       [run_of[u] for u in common])
+    row.update({"change": mean, "change_low": lo, "change_high": hi})
+    return row
+
+
 def summarise(evals: pd.DataFrame, best: dict[tuple[str, str], dict]) -> pd.DataFrame:
     """Per class, engine, set and variant: mean objective and errors with 95 % bootstrap intervals
-    over runs (none below the real-data statistics' minimum number of runs), the change against as configured, and the
-    engines' rank in the class (by mean objective) as configured and as calibrated."""
+    over runs (none below the real-data statistics' minimum number of runs), the change against as
+    configured, and the engines' rank in the class (by mean objective) as configured and as
+    calibrated. Then the same over every class pooled (terrain_class ``POOLED``): a class has only
+    a few runs (BorealTC 4-8, so 2-4 test runs), too few for an interval, while the runs of all
+    classes together are independent samples enough for one; a run is named by class and run there,
+    since run numbers repeat across classes."""
     rows = []
     for (cls, engine, set_), g in evals.groupby(["terrain_class", "engine", "set"], sort=True):
-        conf = g[g.variant == "configured"].set_index("unit")
-        cal = g[g.variant == "calibrated"].set_index("unit")
-        row = {"terrain_class": cls, "engine": engine, "set": set_, "n_units": len(conf),
-               "n_runs": conf.run.nunique(), "n_failed_configured": int((conf.status != "ok").sum()),
-               "n_failed_calibrated": int((cal.status != "ok").sum())}
-        for variant, frame in (("configured", conf), ("calibrated", cal)):
-            for fig in ("objective", "error_yaw_rate", "error_accel_x"):
-                ok = frame[fig].notna()
-                mean, lo, hi = _ci(frame.loc[ok, fig].to_numpy(), frame.loc[ok, "run"].to_numpy())
-                row.update({f"{fig}_{variant}": mean, f"{fig}_{variant}_low": lo, f"{fig}_{variant}_high": hi})
-        common = conf.index.intersection(cal.index)
-        mean, lo, hi = _ci((cal.loc[common, "objective"] - conf.loc[common, "objective"]).to_numpy(),
-                           conf.loc[common, "run"].to_numpy())
-        row.update({"change": mean, "change_low": lo, "change_high": hi})
+        row = {"terrain_class": cls, "engine": engine, "set": set_, **_summary_row(g, g.run)}
         params = best.get((engine, cls), {})
         row["parameters"] = "; ".join(f"{k}={v:.4g}" for k, v in (params.get("parameters") or {}).items())
         row["parameters_configured"] = "; ".join(f"{k}={v:.4g}" for k, v in
                                                  (params.get("as_configured") or {}).items())
         rows.append(row)
+    if evals.terrain_class.nunique() > 1:
+        for (engine, set_), g in evals.groupby(["engine", "set"], sort=True):
+            # units are unique within a class only: pool under class-qualified names
+            g = g.assign(unit=g.terrain_class + "/" + g.unit.astype(str))
+            rows.append({"terrain_class": POOLED, "engine": engine, "set": set_,
+                         **_summary_row(g, g.unit.str.rsplit("/", n=1).str[0] + "/" + g.run.astype(str)),
+                         "parameters": "", "parameters_configured": ""})
     out = pd.DataFrame(rows)
     if out.empty:
         return out

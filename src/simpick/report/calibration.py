@@ -7,6 +7,8 @@ from typing import Any
 
 import pandas as pd
 
+from simpick.calibration import POOLED
+
 
 def _cell(row, fig: str, variant: str) -> dict:
     def get(key):
@@ -45,7 +47,10 @@ def calibration_section(summary: pd.DataFrame | None, engines: list[str], colors
     order = {e: i for i, e in enumerate(engines)}
     summary = summary.assign(_o=summary.engine.map(lambda e: order.get(e, len(order))))
     classes = []
-    for cls, g in summary.sort_values(["terrain_class", "_o"]).groupby("terrain_class", sort=True):
+    groups = dict(list(summary.sort_values(["terrain_class", "_o"]).groupby("terrain_class", sort=True)))
+    # the classes in name order, then every class pooled (calibration.summarise)
+    for cls in sorted(groups, key=lambda c: (c == POOLED, c)):
+        g = groups[cls]
         rows = []
         for engine, ge in g.groupby("engine", sort=False):
             by_set = {r["set"]: r for r in ge.to_dict("records")}
@@ -67,6 +72,6 @@ def calibration_section(summary: pd.DataFrame | None, engines: list[str], colors
         test = g[g.set == "test"]
         winner = {v: (test.sort_values(f"objective_{v}").engine.iloc[0] if len(test) and
                       test[f"objective_{v}"].notna().any() else None) for v in ("configured", "calibrated")}
-        classes.append({"terrain_class": cls, "rows": rows, "winner": winner,
+        classes.append({"terrain_class": cls, "pooled": cls == POOLED, "rows": rows, "winner": winner,
                         "winner_changes": winner["configured"] != winner["calibrated"]})
     return {"given": True, "classes": classes}
