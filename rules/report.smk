@@ -1,3 +1,271 @@
+# The study report. Every figure is drawn by a rule of its own (one job per figure, or per test
+# or terrain class for a family) from the tables into results/report/figures/, registered with
+# report() so `snakemake --report` shows it too; the report job only embeds the files. So a weight
+# edit redraws the one figure that shows the weights (figure_contributions), and a template edit
+# (src/simpick/report/templates, hashed by the report rules alone) redraws none.
+
+FIGURES = "results/report/figures"
+# engine -> colour follows this list (simpick.report.draw.colors): sorted, so reordering the
+# config's engines neither recolours nor redraws a figure
+FIGURE_ENGINES = sorted(ENGINES) + sorted(BASELINES)
+# what every figure job runs (simpick.report.draw: the data each figure shows; figures: the drawing)
+FIGURE_CODE = ("report/draw.py", "report/figures.py", "report/load.py", "scoring.py")
+
+
+def lab_figure_tests():
+    """The lab tests with an IMU-statistics figure: every simulated test, and every test the
+    paper gives a real reference for (drawn with the reference alone when no engine ran it)."""
+    from simpick.published import load_published
+    from simpick.reference import lab_reference
+
+    tests = [(t, m) for t in TERRAINS for m in MOTIONS]
+    return tests + [tm for tm in lab_reference(load_published(config["reference"]["published"])) if tm not in tests]
+
+
+LAB_FIGURE_TESTS = lab_figure_tests()
+
+
+def report_figures():
+    """Every figure file the report embeds (and the notes beside the replay figures)."""
+    out = [f"{FIGURES}/contributions.png", f"{FIGURES}/paths.png", f"{FIGURES}/validation_gain.png",
+           f"{FIGURES}/real_gain.png"]
+    out += [f"{FIGURES}/imu_stats/{t}/{m}.png" for t, m in LAB_FIGURE_TESTS]
+    out += expand(f"{FIGURES}/traces/{{terrain}}/{{motion}}.png", terrain=TERRAINS, motion=MOTIONS)
+    if SWEEP:
+        out.append(f"{FIGURES}/sweep.png")
+    if REPLAY_SET:
+        out += expand(f"{FIGURES}/replay/{{terrain_class}}.{{ext}}", terrain_class=REPLAY_SET.classes, ext=("png", "json"))
+    return out
+
+
+def lab_test_traces(wildcards):
+    return expand("results/traces/{engine}/{terrain}/{motion}.parquet", engine=ENGINES,
+                  terrain=wildcards.terrain, motion=wildcards.motion)
+
+
+def real_gain_inputs(wildcards):
+    """The real-data tables whose yaw-rate gains the figure shows: the committed segments', and
+    the full replay's when a dataset folder is given."""
+    names = ("per_test", "summary", "pairwise")
+    inputs = {f"segments_{n}": f"{REAL}/metrics/segments_{n}.csv" for n in names}
+    if REPLAY_SET:
+        inputs.update({f"replay_{n}": f"{REPLAY}/metrics/replay_{n}.csv" for n in names})
+    return inputs
+
+
+def replay_class_inputs(wildcards):
+    """One terrain class of the full replay: its canonical logs, every model's replay of them,
+    and the per-test table that picks the run drawn."""
+    runs = [run for c, run in RUNS if c == wildcards.terrain_class]
+    return {
+        "real_logs": [f"{REPLAY}/logs/{wildcards.terrain_class}/{run}.parquet" for run in runs],
+        "replay_traces": [f"{REPLAY}/replay/{e}/{wildcards.terrain_class}/{run}.parquet"
+                          for e in REAL_MODELS for run in runs],
+        "replay_per_test": f"{REPLAY}/metrics/replay_per_test.csv",
+    }
+
+
+# Figure rules: light jobs (one Matplotlib figure each), code= the drawing code they run and no
+# more, so an edit to the report's templates or context code reruns none of them.
+
+rule figure_contributions:
+    """The one weight-dependent figure: each engine's total split into weight x score."""
+    input:
+        weighted="results/scores/weighted.csv",
+    output:
+        png=report(f"{FIGURES}/contributions.png", caption="captions/contributions.rst", category="Figures",
+                   subcategory="Scores"),
+    params:
+        weights=canonical(config["weights"]),
+        engines=FIGURE_ENGINES,
+        code=code_version(*FIGURE_CODE),
+    log:
+        "results/logs/figures/contributions.log",
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=5,
+    conda:
+        "../envs/simpick.yaml"
+    script:
+        "../scripts/figure.py"
+
+
+rule figure_imu_stats:
+    """One lab test: IMU mean and range per axis (paper Figures 7-8)."""
+    input:
+        trace_stats="results/metrics/trace_stats.csv",
+        reference_stats="results/metrics/reference_stats.csv",
+        runs="results/metrics/runs.csv",
+    output:
+        png=report(f"{FIGURES}/imu_stats/{{lab_terrain}}/{{lab_motion}}.png", caption="captions/imu_stats.rst",
+                   category="Figures", subcategory="IMU statistics", labels={"test": "{lab_terrain}/{lab_motion}"}),
+    params:
+        engines=FIGURE_ENGINES,
+        code=code_version(*FIGURE_CODE),
+    # its own wildcard names: a reference-only test's terrain is not one the study simulates
+    wildcard_constraints:
+        lab_terrain="|".join(re.escape(t) for t in dict.fromkeys(t for t, _ in LAB_FIGURE_TESTS)),
+        lab_motion="|".join(re.escape(m) for m in dict.fromkeys(m for _, m in LAB_FIGURE_TESTS)),
+    log:
+        "results/logs/figures/imu_stats/{lab_terrain}/{lab_motion}.log",
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=5,
+    conda:
+        "../envs/simpick.yaml"
+    script:
+        "../scripts/figure.py"
+
+
+rule figure_traces:
+    """One lab test: every engine's IMU time series."""
+    input:
+        traces=lab_test_traces,
+        runs="results/metrics/runs.csv",
+    output:
+        png=report(f"{FIGURES}/traces/{{terrain}}/{{motion}}.png", caption="captions/traces.rst",
+                   category="Figures", subcategory="Traces", labels={"test": "{terrain}/{motion}"}),
+    params:
+        engines=FIGURE_ENGINES,
+        code=code_version(*FIGURE_CODE, "traces.py"),
+    log:
+        "results/logs/figures/traces/{terrain}/{motion}.log",
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=5,
+    conda:
+        "../envs/simpick.yaml"
+    script:
+        "../scripts/figure.py"
+
+
+rule figure_paths:
+    """Every lab test's top-down paths, and the table of where each run ended."""
+    input:
+        traces=all_traces(),
+        runs="results/metrics/runs.csv",
+    output:
+        png=report(f"{FIGURES}/paths.png", caption="captions/paths.rst", category="Figures", subcategory="Traces"),
+        endpoints=f"{FIGURES}/endpoints.csv",
+    params:
+        engines=FIGURE_ENGINES,
+        # the strip geometry and commanded paths: the report's own slice of the config
+        config=canonical(report_config()),
+        code=code_version(*FIGURE_CODE, "traces.py"),
+    log:
+        "results/logs/figures/paths.log",
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=5,
+    conda:
+        "../envs/simpick.yaml"
+    script:
+        "../scripts/figure.py"
+
+
+rule figure_validation:
+    """Yaw-rate gain against commanded yaw rate, every engine and the Coulomb gain."""
+    input:
+        validation="results/validation/summary.csv",
+    output:
+        png=report(f"{FIGURES}/validation_gain.png", caption="captions/validation_gain.rst", category="Figures",
+                   subcategory="Analytic mechanics"),
+    params:
+        engines=FIGURE_ENGINES,
+        code=code_version(*FIGURE_CODE, "report/validation.py", "validation.py"),
+    log:
+        "results/logs/figures/validation_gain.log",
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=5,
+    conda:
+        "../envs/simpick.yaml"
+    script:
+        "../scripts/figure.py"
+
+
+rule figure_real_gain:
+    """Yaw-rate gain per terrain class: the real robot against every model."""
+    input:
+        unpack(real_gain_inputs),
+    output:
+        png=report(f"{FIGURES}/real_gain.png", caption="captions/real_gain.rst", category="Figures",
+                   subcategory="Real robot"),
+    params:
+        engines=FIGURE_ENGINES,
+        statistics=statistics_params(),
+        real_data=canonical({"classes": config["real_data"]["classes"]}),
+        code=code_version(*FIGURE_CODE, "report/real.py", "realmetrics.py", "realdata.py"),
+    log:
+        "results/logs/figures/real_gain.log",
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=5,
+    conda:
+        "../envs/simpick.yaml"
+    script:
+        "../scripts/figure.py"
+
+
+if SWEEP:
+
+    rule figure_sweep:
+        """The speed-accuracy sweep: real-data error against real-time factor per timestep."""
+        input:
+            sweep=f"{SWEEP_DIR}/summary.csv",
+        output:
+            png=report(f"{FIGURES}/sweep.png", caption="captions/sweep.rst", category="Figures",
+                       subcategory="Speed and accuracy"),
+        params:
+            engines=FIGURE_ENGINES,
+            code=code_version(*FIGURE_CODE, "report/sweep.py"),
+        log:
+            "results/logs/figures/sweep.log",
+        threads: 1
+        resources:
+            mem_mb=300,
+            runtime=5,
+        conda:
+            "../envs/simpick.yaml"
+        script:
+            "../scripts/figure.py"
+
+
+if REPLAY_SET:
+
+    rule figure_replay:
+        """One terrain class of the full replay: a representative run against every model, and the
+        mean vertical-acceleration spectra; the notes say which run and why."""
+        input:
+            unpack(replay_class_inputs),
+        output:
+            png=report(f"{FIGURES}/replay/{{terrain_class}}.png", caption="captions/replay.rst",
+                       category="Figures", subcategory="Real robot", labels={"terrain class": "{terrain_class}"}),
+            notes=f"{FIGURES}/replay/{{terrain_class}}.json",
+        params:
+            engines=FIGURE_ENGINES,
+            config=canonical({"robot": {"track": config["robot"]["track"]}}),
+            code=code_version(*FIGURE_CODE, "report/real.py", "realmetrics.py", "reallogs", "traces.py"),
+        wildcard_constraints:
+            terrain_class="|".join(REPLAY_SET.classes),
+        log:
+            f"results/logs/figures/replay/{{terrain_class}}.log",
+        threads: 1
+        resources:
+            mem_mb=800,
+            runtime=10,
+        conda:
+            "../envs/simpick.yaml"
+        script:
+            "../scripts/figure.py"
+
+
 rule report:
     input:
         unpack(report_real_inputs),
@@ -15,7 +283,9 @@ rule report:
         table11="results/published/table11.csv",
         table11_comparison="results/published/table11_comparison.csv",
         worked_example="results/published/worked_example.json",
-        traces=all_traces(),
+        # the figure rules' files, embedded (the report draws nothing itself)
+        figures=report_figures(),
+        endpoints=f"{FIGURES}/endpoints.csv",
     output:
         # report(): `snakemake --report` carries the study report (its figures are embedded in it)
         html=report("results/report/report.html", category="Study report"),
@@ -25,6 +295,7 @@ rule report:
         # elsewhere reaches it through its inputs or not at all
         config=canonical(report_config()),
         statistics=statistics_params(),
+        engines=FIGURE_ENGINES,
         code=code_version("report", "realdata.py", "realmetrics.py", "scoring.py", "metrics.py", "traces.py"),
         real_data=canonical(
             {

@@ -1,5 +1,8 @@
 from simpick.calibration import calibrate_job
+from simpick.watchdog import runtime_timeout
 from simpick.workflow import logged
 
 with logged(snakemake.log[0]):
-    calibrate_job({k: (list(v) if k == "logs" else v) for k, v in snakemake.input.items()}, snakemake.params.case, snakemake.params.settings, dict(snakemake.output))
+    calibrate_job({k: (list(v) if k == "logs" else v) for k, v in snakemake.input.items()}, snakemake.params.case,
+                  snakemake.params.settings, dict(snakemake.output),
+                  timeout=runtime_timeout(snakemake.resources.get("runtime")))

@@ -1,5 +1,8 @@
 from simpick.calibration import evaluate_job
+from simpick.watchdog import runtime_timeout
 from simpick.workflow import logged
 
 with logged(snakemake.log[0]):
-    evaluate_job({k: (list(v) if k == "logs" else v) for k, v in snakemake.input.items()}, snakemake.params.case, snakemake.params.settings, snakemake.output[0])
+    evaluate_job({k: (list(v) if k == "logs" else v) for k, v in snakemake.input.items()}, snakemake.params.case,
+                 snakemake.params.settings, snakemake.output[0],
+                 timeout=runtime_timeout(snakemake.resources.get("runtime")))

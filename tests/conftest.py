@@ -79,15 +79,16 @@ def tiny_config(workdir: Path | None = None) -> dict:
     return config
 
 
-def snakemake(workdir: Path, *args: str) -> subprocess.CompletedProcess:
+def snakemake(workdir: Path, *args: str, env: dict | None = None) -> subprocess.CompletedProcess:
     cmd = SNAKEMAKE + ["--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir),
                        "--configfile", str(workdir / "config.yaml"), "--cores", "2", *args]
-    return subprocess.run(cmd, capture_output=True, text=True, cwd=workdir, env=os.environ | {"PYTHONHASHSEED": "0"})
+    return subprocess.run(cmd, capture_output=True, text=True, cwd=workdir,
+                          env=os.environ | {"PYTHONHASHSEED": "0"} | (env or {}))
 
 
-def planned_jobs(workdir: Path) -> list[tuple[str, str]]:
-    """(rule, wildcards) of every job a dry run plans."""
-    out = snakemake(workdir, "-n")
+def planned_jobs(workdir: Path, env: dict | None = None) -> list[tuple[str, str]]:
+    """(rule, wildcards) of every job a dry run plans (``env``: extra environment variables)."""
+    out = snakemake(workdir, "-n", env=env)
     assert out.returncode == 0, out.stderr
     text = out.stdout + out.stderr
     jobs = []

@@ -214,7 +214,14 @@ def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | Non
     }
 
 
-PARAMS = {"weights": dict(DEFAULT_WEIGHTS), "config": CONFIG, "title": "Synthetic test report"}
+PARAMS = {"weights": dict(DEFAULT_WEIGHTS), "config": CONFIG, "title": "Synthetic test report", "engines": list(ENGINES)}
+
+
+def with_figures(inputs: dict, params: dict, folder: Path) -> dict:
+    """The report's inputs once the figure rules have drawn from them (simpick.report.draw)."""
+    from simpick.report.draw import draw_all
+
+    return draw_all(inputs, params, folder / "figures")
 
 
 @pytest.fixture(scope="module")
@@ -224,7 +231,7 @@ def built(tmp_path_factory):
     root = tmp_path_factory.mktemp("report")
     inputs = write_synthetic_inputs(root / "in")
     html, pdf = root / "out" / "report.html", root / "out" / "report.pdf"
-    build_report(inputs, PARAMS, html, pdf)
+    build_report(with_figures(inputs, PARAMS, root), PARAMS, html, pdf)
     return inputs, html, pdf
 
 
@@ -484,7 +491,7 @@ def built_real(tmp_path_factory):
     inputs["accuracy_errors"] = real["segments_imu_errors"]
     inputs["accuracy_per_test"] = real["segments_per_test"]
     html, pdf = root / "out" / "report.html", root / "out" / "report.pdf"
-    build_report(inputs, _real_params(), html, pdf)
+    build_report(with_figures(inputs, _real_params(), root), _real_params(), html, pdf)
     return inputs, html.read_text(encoding="utf-8"), pdf
 
 
@@ -558,7 +565,7 @@ def _render(inputs: dict, params: dict) -> str:
     from simpick.report.build import render_html
     from simpick.report.load import load_inputs
 
-    return render_html(load_inputs(inputs), params)
+    return render_html(load_inputs({k: v for k, v in inputs.items() if k != "traces"}), params)
 
 
 def test_paper_reference_and_segments_only(tmp_path, built_real):
@@ -587,4 +594,4 @@ def test_list_inputs_cover_the_lists():
     from simpick.report import LIST_INPUTS, OPTIONAL_INPUTS
 
     assert set(LIST_INPUTS) <= set(OPTIONAL_INPUTS)
-    assert {"cpu", "traces", "real_logs", "replay_traces"} == set(LIST_INPUTS)
+    assert {"cpu", "traces", "real_logs", "replay_traces", "figures"} == set(LIST_INPUTS)

@@ -108,17 +108,22 @@ def test_a_segment_failed_by_one_engine_is_left_out_for_all():
     assert out.loc["b", "real_time_factor"] == pytest.approx(2.0)
 
 
-def test_the_report_section_pivots_by_timestep():
+def test_the_report_section_pivots_by_timestep(tmp_path):
+    from simpick.report import draw
     from simpick.report.sweep import sweep_section
 
     runs = pd.concat([_runs(), _runs().assign(timestep=0.002, steps=500)], ignore_index=True)
-    section = sweep_section(summarise(runs), ["b", "a"], {"a": "#111111", "b": "#222222"})
+    summarise(runs).to_csv(tmp_path / "summary.csv", index=False)
+    figure = tmp_path / "figures" / "sweep.png"  # what rule figure_sweep draws
+    draw.sweep({"sweep": str(tmp_path / "summary.csv")}, {"engines": ["a", "b"]}, str(figure))
+    assert figure.read_bytes().startswith(b"\x89PNG")
+    section = sweep_section(summarise(runs), ["b", "a"], str(figure))
     assert section["given"] and section["uri"].startswith("data:image/png;base64,")
     assert section["timesteps_ms"] == [1.0, 2.0]
     assert [r["engine"] for r in section["rows"]] == ["b", "a"]  # the report's engine order
     assert all(len(r["cells"]) == 2 for r in section["rows"])
     assert section["failed"] == ["b ice 1 ms (1 of 3)", "b ice 2 ms (1 of 3)"]
-    assert sweep_section(None, ["a"], {})["given"] is False
+    assert sweep_section(None, ["a"], None)["given"] is False
 
 
 # ------------------------------------------------------------ through the workflow

@@ -96,3 +96,130 @@ def test_a_hung_replay_is_stopped_and_reported_like_a_run(tmp_path):
     assert len(frame) == 0
     assert (meta["engine"], meta["terrain"], meta["run"]) == ("hanging", "flooring", "7")
     assert meta["health"]["status"] == "failed" and "hung: no result after 1 s" in meta["health"]["reasons"][0]
+
+
+# --- the other jobs that step an engine: CPU load, a sweep point, calibration -----------------------
+
+# A calibratable model (the Coulomb baseline's friction parameter) whose simulate never returns.
+HANGING_MODEL = textwrap.dedent("""
+    import sys, time, yaml
+    from simpick import engines
+    from simpick.engines.baselines import CoulombModel
+
+    class Hanging(CoulombModel):
+        name = "hanging"
+        def simulate(self, scenario, commands):
+            while True:
+                time.sleep(0.01)
+
+    sys.modules["hanging_engine"] = sys.modules[__name__]
+    engines.ADAPTERS["hanging"] = "hanging_engine:Hanging"
+    config = yaml.safe_load(open(sys.argv[1]))
+    out = sys.argv[2]
+    real = {"engine": "hanging", "engine_settings": {}, "terrain_class": "flooring",
+            "class": config["real_data"]["classes"]["flooring"], "physics": config["physics"],
+            "robot": config["robot"], "imu": config["imu"], "health": config["health"], "seed": 1}
+    calibration = {"source": "segments", "scales": config["calibration"]["scales"], "segment_seconds": 1.0,
+                   "n_trials": 2, "startup_trials": 1, "seed": 1, "bounds": {}}
+""")
+
+
+def _run_hanging(tmp_path, name: str, job: str, output):
+    """Run ``job`` (after HANGING_MODEL) in a process of its own: the watchdog ends the process."""
+    script = tmp_path / f"{name}.py"
+    script.write_text(HANGING_MODEL + textwrap.dedent(job) + '\nprint("not reached")\n')
+    run = subprocess.run([sys.executable, str(script), str(ROOT / "config.yaml"), str(output)], cwd=ROOT,
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert "not reached" not in run.stdout
+    assert "hung: no result after 1 s" in run.stderr  # the job's log says why it stopped
+
+
+def test_a_hung_cpu_load_job_is_recorded_failed_and_left_out_of_the_scores(tmp_path):
+    import json
+
+    from simpick.workflow import score_provenance
+
+    output = tmp_path / "cpu" / "hanging.json"
+    _run_hanging(tmp_path, "cpu", """
+        from simpick.cpuload import cpu_load_job
+        from simpick.workflow import terrain_job
+        terrain_job(out + ".terrain.json", "grass", 1, config["terrains"]["grass"])
+        params = {**real, "motion": config["motions"]["straight"], "cpu_load": config["cpu_load"]}
+        cpu_load_job(out, out + ".terrain.json", config["robot"]["urdf"], params, timeout=1.0)
+    """, output)
+    record = json.loads(output.read_text())
+    assert record["health"]["status"] == "failed"
+    assert "hung: no result after 1 s" in record["health"]["reasons"][0]
+    assert record["average"]["load_percent"] is None and record["intense"]["load_percent"] is None
+    # the scores' provenance lists it among the failed CPU runs, not among the scored engines
+    (tmp_path / "errors.csv").write_text("engine,quantity,tests,excluded\n")
+    (tmp_path / "rtf.csv").write_text("engine,tests,excluded\n")
+    cpu = score_provenance(["hanging"], str(tmp_path / "errors.csv"), str(tmp_path / "rtf.csv"), [str(output)],
+                           {})["cpu"]
+    assert cpu["engines"] == [] and cpu["excluded"][0]["engine"] == "hanging"
+    assert "hung: no result after 1 s" in cpu["excluded"][0]["why"]
+
+
+def test_a_hung_sweep_point_records_every_segment_failed(tmp_path):
+    import pandas as pd
+    import yaml
+
+    from simpick.sweep import summarise
+
+    output = tmp_path / "sweep.csv"
+    _run_hanging(tmp_path, "sweep", """
+        from simpick.sweep import sweep_job
+        sweep_job(config["real_data"]["segments"], config["robot"]["urdf"], real, out, timeout=1.0)
+    """, output)
+    runs = pd.read_csv(output, dtype={"run": str})
+    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    segments = pd.read_csv(ROOT / config["real_data"]["segments"])
+    assert len(runs) == (segments.terrain_class == "flooring").sum() > 0
+    assert (runs.status == "failed").all() and runs.reasons.str.startswith("hung: no result after 1 s").all()
+    # the summary counts them as failed and averages none of them
+    summary = summarise(runs).iloc[0]
+    assert summary.n_failed == summary.n_segments == len(runs) and summary.n_compared == 0
+    assert pd.isna(summary.error_angular)
+
+
+def test_a_hung_calibration_and_its_evaluation_are_recorded_failed(tmp_path):
+    import pandas as pd
+    import yaml
+
+    from simpick.calibration import summarise
+
+    best, trials, evaluation = tmp_path / "best.yaml", tmp_path / "trials.csv", tmp_path / "evaluation.csv"
+    setup = """
+        import pandas as pd
+        from simpick.calibration import split_job
+        segments = config["real_data"]["segments"]
+        units = pd.read_csv(segments, dtype={"run": str})
+        units = units[units.terrain_class == "flooring"]
+        split = out + ".split.csv"
+        split_job([[r.terrain_class, r.run, r.segment] for r in units.itertuples()], 0.5, 1, split)
+        inputs = {"split": split, "segments": segments, "urdf": config["robot"]["urdf"]}
+    """
+    _run_hanging(tmp_path, "calibrate", setup + f"""
+        from simpick.calibration import calibrate_job
+        calibrate_job(inputs, real, calibration, {{"best": out, "trials": {str(trials)!r}}}, timeout=1.0)
+    """, best)
+    record = yaml.safe_load(best.read_text())
+    assert record["status"] == "failed" and record["parameters"] == {}
+    assert "hung: no result after 1 s" in record["reasons"][0]
+    assert trials.is_file()
+
+    _run_hanging(tmp_path, "evaluate", setup + f"""
+        from simpick.calibration import evaluate_job
+        inputs["best"] = {str(best)!r}
+        evaluate_job(inputs, real, calibration, out, timeout=1.0)
+    """, evaluation)
+    rows = pd.read_csv(evaluation, dtype={"run": str, "unit": str})
+    assert (rows.status == "failed").all()
+    assert set(rows.variant) == {"configured", "calibrated"}
+    configured, calibrated = rows[rows.variant == "configured"], rows[rows.variant == "calibrated"]
+    assert configured.reasons.str.startswith("hung: no result after 1 s").all()
+    assert calibrated.reasons.str.startswith("no calibrated parameters: hung").all()
+    summary = summarise(rows, {("hanging", "flooring"): record})
+    assert (summary.n_failed_configured == summary.n_units).all()
+    assert (summary.n_failed_calibrated == summary.n_units).all() and (summary.parameters == "").all()

@@ -1,8 +1,9 @@
 """The workflow end to end on a tiny config, and the rerun contract.
 
 The contract (what a user relies on to iterate cheaply): nothing edited -> nothing runs;
-a weight edited -> only scoring and the report; one engine's settings edited -> only that
-engine's simulations and what depends on them.
+a weight edited -> only scoring, the one figure that shows the weights and the report; a report
+template edited -> only the report; one engine's settings edited -> only that engine's simulations
+and what depends on them.
 """
 
 import pandas as pd
@@ -66,7 +67,7 @@ def test_tolerance_edit_rejudges_without_stepping_an_engine(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        assert rules == ["all", "report", "report_pdf", "validation_summary"]
+        assert rules == ["all", "figure_validation", "report", "report_pdf", "validation_summary"]
     finally:
         write_config(workdir, config)
 
@@ -83,9 +84,29 @@ def test_weight_edit_reruns_only_scoring_and_report(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        assert rules == ["all", "report", "report_pdf", "scores"]
+        # figure_contributions draws weight x score per metric: the one figure the weights reach
+        assert rules == ["all", "figure_contributions", "report", "report_pdf", "scores"]
     finally:
         write_config(workdir, config)
+
+
+def test_template_edit_reruns_only_the_report(study, tmp_path):
+    """The figures are rules of their own that do not hash the report's templates: a template
+    edit reruns the report and its PDF, no figure. The edit is made to a copy of the library
+    (first on PYTHONPATH, so the workflow's code fingerprints read it), not to tracked files."""
+    import shutil
+
+    from conftest import ROOT
+
+    workdir, _ = study
+    copy = tmp_path / "src"
+    shutil.copytree(ROOT / "src" / "simpick", copy / "simpick", ignore=shutil.ignore_patterns("__pycache__"))
+    env = {"PYTHONPATH": str(copy)}
+    assert planned_jobs(workdir, env) == []  # the copy fingerprints like the original
+    template = copy / "simpick" / "report" / "templates" / "report.html.j2"
+    template.write_text(template.read_text() + "\n{# edited #}\n")
+    rules = sorted({rule for rule, _ in planned_jobs(workdir, env)})
+    assert rules == ["all", "report", "report_pdf"]
 
 
 def test_engine_edit_reruns_only_that_engine(study):

@@ -36,6 +36,7 @@ from __future__ import annotations
 import copy
 import json
 import math
+import sys
 import time
 from pathlib import Path
 
@@ -290,36 +291,89 @@ def calibrate(units: Units, train: list[str], urdf: str, params: dict, settings:
     return values, history, facts
 
 
-def calibrate_job(inputs: dict, params: dict, settings: dict, outputs: dict) -> None:
-    """One engine x terrain class: calibrate on the training units; write best.yaml and trials.csv."""
+def calibrate_job(inputs: dict, params: dict, settings: dict, outputs: dict, timeout: float | None = None) -> None:
+    """One engine x terrain class: calibrate on the training units; write best.yaml and trials.csv.
+
+    Under the watchdog (``timeout`` s of wall time, simpick.watchdog.runtime_timeout of the rule's
+    runtime): a study still running then writes best.yaml with ``status: failed`` and the reason
+    and no parameters (the journal keeps the finished trials, so a rerun resumes), and the
+    evaluation reports every calibrated unit of the class as failed instead of inventing a best."""
+    from simpick.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
+
     split = read_split(inputs["split"], params["terrain_class"])
     units = Units(settings["source"], inputs.get("segments"), inputs.get("logs"), params["terrain_class"])
     train = [u for u in split[split.set == "train"].unit if u in units.ids]
     if not train:
         raise InputError(inputs["split"], f"class {params['terrain_class']!r} has no training units")
     journal = Path(outputs["best"]).with_name("optuna.journal")
-    values, history, facts = calibrate(units, train, inputs["urdf"], params, settings, journal)
+    timeout = DEFAULT_TIMEOUT_S if timeout is None else float(timeout)
+    as_configured = configured_values(params, parameter_space(
+        params["engine"], (settings.get("bounds") or {}).get(params["engine"])))
+
+    def hung() -> None:
+        reason = hung_reason(timeout)
+        print(f"simpick: calibrate {params['engine']} {params['terrain_class']}: {reason}", file=sys.stderr)
+        write_csv(pd.DataFrame(columns=["trial", "as_configured", "objective"]), outputs["trials"])
+        Path(outputs["best"]).write_text(yaml.safe_dump({
+            "engine": params["engine"], "terrain_class": params["terrain_class"], "status": "failed",
+            "reasons": [reason], "parameters": {}, "as_configured": as_configured, "train_units": train,
+            "n_trials": int(settings["n_trials"]), "journal": str(journal), "best_trial": None,
+            "best_objective": None, "configured_objective": None}, sort_keys=False))
+
+    with Watchdog(timeout, hung):
+        values, history, facts = calibrate(units, train, inputs["urdf"], params, settings, journal)
     write_csv(history, outputs["trials"])
     Path(outputs["best"]).write_text(yaml.safe_dump({
-        "engine": params["engine"], "terrain_class": params["terrain_class"], "parameters": values,
-        "as_configured": configured_values(params, parameter_space(
-            params["engine"], (settings.get("bounds") or {}).get(params["engine"]))),
+        "engine": params["engine"], "terrain_class": params["terrain_class"], "status": "ok", "reasons": [],
+        "parameters": values, "as_configured": as_configured,
         "train_units": train, "n_trials": int(settings["n_trials"]), "journal": str(journal), **facts},
         sort_keys=False))
 
 
-def evaluate_job(inputs: dict, params: dict, settings: dict, output: str) -> None:
-    """Every unit of the class (train and test), as configured and as calibrated: one row each."""
+def _failed_rows(units: Units, ids: list[str], reason: str) -> list[dict]:
+    """Units not evaluated (the watchdog stopped the job, or there is no calibrated best): failed,
+    with the reason, counted like any failed unit (objective FAILED_UNIT, n_failed_*)."""
+    return [{"unit": u, "run": units.runs[u], "status": "failed", "reasons": reason, "error_yaw_rate": math.nan,
+             "error_accel_x": math.nan, "objective": FAILED_UNIT} for u in ids]
+
+
+def evaluate_job(inputs: dict, params: dict, settings: dict, output: str, timeout: float | None = None) -> None:
+    """Every unit of the class (train and test), as configured and as calibrated: one row each.
+
+    Under the watchdog (``timeout``, as :func:`calibrate_job`): a job still running then writes
+    the rows it has and every unit not yet evaluated as failed with the reason."""
+    from simpick.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
+
     split = read_split(inputs["split"], params["terrain_class"])
     units = Units(settings["source"], inputs.get("segments"), inputs.get("logs"), params["terrain_class"])
     best = yaml.safe_load(Path(inputs["best"]).read_text())
     sets = dict(zip(split.unit, split.set))
     ids = [u for u in split.unit if u in units.ids]
-    rows = []
-    for variant, p in (("configured", params), ("calibrated", apply_parameters(params, best["parameters"]))):
-        for row in evaluate(units, ids, inputs["urdf"], p, settings):
-            rows.append({"engine": params["engine"], "terrain_class": params["terrain_class"],
-                         "set": sets[row["unit"]], "variant": variant, **row})
+    timeout = DEFAULT_TIMEOUT_S if timeout is None else float(timeout)
+    rows: list[dict] = []
+    key = {"engine": params["engine"], "terrain_class": params["terrain_class"]}
+    plan = [("configured", params)]
+    if best.get("status", "ok") == "ok":
+        plan.append(("calibrated", apply_parameters(params, best["parameters"])))
+    else:  # the calibration failed (hung): nothing to evaluate as calibrated
+        why = "no calibrated parameters: " + "; ".join(best.get("reasons") or ["the calibration failed"])
+        rows += [{**key, "set": sets[r["unit"]], "variant": "calibrated", **r} for r in _failed_rows(units, ids, why)]
+
+    def hung() -> None:
+        done = list(rows)
+        seen = {(r["variant"], r["unit"]) for r in done}
+        left = [{**key, "set": sets[r["unit"]], "variant": variant, **r}
+                for variant, _ in plan for r in _failed_rows(units, [u for u in ids if (variant, u) not in seen],
+                                                             hung_reason(timeout))]
+        print(f"simpick: evaluate {params['engine']} {params['terrain_class']}: {len(left)} unit(s) not done: "
+              f"{hung_reason(timeout)}", file=sys.stderr)
+        write_csv(pd.DataFrame(done + left), output)
+
+    with Watchdog(timeout, hung):
+        for variant, p in plan:
+            for unit in ids:
+                row = evaluate(units, [unit], inputs["urdf"], p, settings)[0]
+                rows.append({**key, "set": sets[row["unit"]], "variant": variant, **row})
     write_csv(pd.DataFrame(rows), output)
 
 

@@ -71,3 +71,37 @@ def measure(engine_name: str, *, urdf: str, terrain_file: str, motion: dict, tim
     result["health"] = {"status": "failed" if all_reasons else "ok", "reasons": all_reasons,
                         "checked": limits is not None}
     return result
+
+
+def hung_result(params: dict, timeout: float) -> dict:
+    """The record of a CPU-load job stopped by the watchdog: no load, health failed with the
+    reason, so the scores leave the engine out of both CPU metrics and list why (as for a
+    failed repeat) instead of scoring a partial measurement."""
+    from simpick.watchdog import hung_reason
+
+    cpu = params["cpu_load"]
+    reason = hung_reason(timeout)
+    return {"engine": params["engine"], "engine_version": "", "definition": DEFINITION,
+            **{scenario: {"robots": int(cpu[f"robots_{scenario}"]), "load_percent": None, "repeats_percent": [],
+                          "simulated_seconds": cpu["duration"]} for scenario in ("average", "intense")},
+            "health": {"status": "failed", "reasons": [reason], "checked": True}}
+
+
+def cpu_load_job(output: str, terrain_file: str, urdf: str, params: dict, timeout: float) -> None:
+    """simpick.workflow.cpu_job under the watchdog: still running after ``timeout`` s of wall
+    time, the job writes :func:`hung_result` to ``output`` and ends."""
+    import json
+    import sys
+    from pathlib import Path
+
+    from simpick.watchdog import Watchdog
+    from simpick.workflow import cpu_job
+
+    def hung() -> None:
+        result = hung_result(params, timeout)
+        print(f"simpick: cpu_load {params['engine']}: {result['health']['reasons'][0]}", file=sys.stderr)
+        Path(output).parent.mkdir(parents=True, exist_ok=True)
+        Path(output).write_text(json.dumps(result, indent=1))
+
+    with Watchdog(timeout, hung):
+        cpu_job(output, terrain_file, urdf, params)

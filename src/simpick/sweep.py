@@ -15,6 +15,8 @@ counted, never averaged in.
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 import pandas as pd
 
@@ -25,21 +27,48 @@ SUMMARY_COLUMNS = ("terrain_class", "engine", "timestep", "n_segments", "n_faile
                    "error_angular", "error_linear", "gain_error", "real_time_factor", "steps_per_s")
 
 
-def sweep_job(segments_csv: str, urdf: str, params: dict, output: str) -> None:
-    """Every segment of one class on one engine at ``params["physics"]["timestep"]``: one CSV row each."""
+def sweep_job(segments_csv: str, urdf: str, params: dict, output: str, timeout: float | None = None) -> None:
+    """Every segment of one class on one engine at ``params["physics"]["timestep"]``: one CSV row each.
+
+    Under the watchdog (``timeout`` s of wall time, simpick.watchdog.runtime_timeout of the rule's
+    runtime): a job still running then writes the rows it has and every segment not yet done as
+    failed (hung), so the summary counts them as failed and leaves them out for every engine,
+    instead of averaging a partial class."""
     from simpick.realdata import class_segments, segment_row, simulate_segment
+    from simpick.watchdog import DEFAULT_TIMEOUT_S, Watchdog
 
     segments = class_segments(segments_csv, params["terrain_class"])
     dt = float(params["physics"]["timestep"])
-    rows = []
-    for name in segments.index:
-        seg = segments.loc[name]
-        frame, meta = simulate_segment(seg, urdf, params)
-        row = segment_row(pd.DataFrame(frame), meta, seg, params["robot"]["track"])
-        row.update({"timestep": dt, "steps": int(meta["steps"]), "sim_time": int(meta["steps"]) * dt,
-                    "wall_time": float(meta["wall_time"])})
-        rows.append(row)
+    timeout = DEFAULT_TIMEOUT_S if timeout is None else float(timeout)
+    rows: list[dict] = []
+
+    def hung() -> None:
+        done = len(rows)  # the rows finished so far (the main thread only appends whole rows)
+        left = [hung_row(params, segments.loc[name], timeout) for name in segments.index[done:]]
+        print(f"simpick: sweep {params['engine']} {params['terrain_class']} {dt:g} s: {len(left)} segment(s) "
+              f"not done: {left[0]['reasons'] if left else ''}", file=sys.stderr)
+        write_csv(pd.DataFrame(rows[:done] + left), output)
+
+    with Watchdog(timeout, hung):
+        for name in segments.index:
+            seg = segments.loc[name]
+            frame, meta = simulate_segment(seg, urdf, params)
+            row = segment_row(pd.DataFrame(frame), meta, seg, params["robot"]["track"])
+            row.update({"timestep": dt, "steps": int(meta["steps"]), "sim_time": int(meta["steps"]) * dt,
+                        "wall_time": float(meta["wall_time"])})
+            rows.append(row)
     write_csv(pd.DataFrame(rows), output)
+
+
+def hung_row(params: dict, seg: pd.Series, timeout: float) -> dict:
+    """A segment the watchdog stopped, or never reached: failed, with the reason; no errors."""
+    from simpick.watchdog import hung_reason
+
+    return {"engine": params["engine"], "terrain_class": seg.terrain_class, "segment": seg.name, "run": seg.run,
+            "kind": seg.kind, "status": "failed", "reasons": hung_reason(timeout),
+            "yaw_rate_gain_real": seg.yaw_rate_gain, "error_angular": np.nan, "error_linear": np.nan,
+            "yaw_rate_gain_sim": np.nan, "speed_sim": np.nan, "timestep": float(params["physics"]["timestep"]),
+            "steps": 0, "sim_time": 0.0, "wall_time": np.nan}
 
 
 def summarise(runs: pd.DataFrame) -> pd.DataFrame:

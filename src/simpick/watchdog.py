@@ -39,3 +39,23 @@ class Watchdog:
         self._timer.cancel()
         faulthandler.cancel_dump_traceback_later()
         return False
+
+
+# A job that declares no runtime (minutes, the rule's resources) gets the lab simulations' default.
+DEFAULT_TIMEOUT_S = 300.0
+RUNTIME_SHARE = 0.9
+
+
+def runtime_timeout(runtime_min: float | None) -> float:
+    """The hang limit of a job that steps an engine many times (CPU load, a sweep point, a
+    calibration): 90 % of the runtime its rule declares, the wall time it is budgeted (and, on a
+    cluster, granted: profiles/slurm), so the job records itself as hung before a scheduler that
+    enforces that runtime kills it without a word."""
+    if runtime_min is None or float(runtime_min) <= 0:
+        return DEFAULT_TIMEOUT_S
+    return RUNTIME_SHARE * 60.0 * float(runtime_min)
+
+
+def hung_reason(timeout: float) -> str:
+    """The reason every hung job records (the lab traces' wording: simpick.workflow.write_hung_trace)."""
+    return f"hung: no result after {timeout:g} s of wall time; the job was stopped"

@@ -11,7 +11,10 @@ required
 optional (a section whose input is absent says so instead of showing data)
     lab study: ``trace_stats``, ``reference_stats``, ``imu_errors``, ``per_test_errors``,
     ``rtf``, ``cpu``, ``qualitative``, ``table11``, ``table11_comparison``,
-    ``worked_example``, ``traces``
+    ``worked_example``, ``endpoints`` (rule figure_paths' table of where each run ended)
+    figures: ``figures``, the files the figure rules drew (:mod:`simpick.report.draw`; PNG, and
+    the JSON notes some write beside them), embedded by name (:func:`simpick.report.load.figure_key`);
+    a figure that is not given is not shown. ``traces`` is read by the figure jobs, not the report.
     accuracy: ``scores_provenance`` (the scores job's record of what the scores rest on:
     errors file, tests, exclusions and why; simpick.workflow.score_provenance),
     ``accuracy_errors`` (the Eq. 7 totals it names; lab imu_errors layout) and
@@ -69,9 +72,11 @@ OPTIONAL_INPUTS: tuple[str, ...] = (
     "replay_imu_errors",
     "real_logs",
     "replay_traces",
+    "figures",
+    "endpoints",
 )
 # Inputs that are lists of paths (the workflow script passes these as lists).
-LIST_INPUTS: tuple[str, ...] = ("cpu", "traces", "real_logs", "replay_traces")
+LIST_INPUTS: tuple[str, ...] = ("cpu", "traces", "real_logs", "replay_traces", "figures")
 
 __all__ = ["build_report", "html_to_pdf", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
 
@@ -89,21 +94,16 @@ def build_report(inputs: Mapping[str, Any], params: Mapping[str, Any],
     import sys
     import time
 
-    from simpick.report import figures
-
     start = time.perf_counter()
-    figures.CACHE_DIR = Path(html_path).parent / ".figure-cache"
-    figures.USED.clear()  # prune_cache keeps what this build used, not what an earlier one did
     data = load_inputs(inputs)
     html = render_html(data, params)
-    figures.prune_cache()
     rendered = time.perf_counter()
     html_path = Path(html_path)
     html_path.parent.mkdir(parents=True, exist_ok=True)
     tmp = html_path.with_name(html_path.name + ".partial")
     tmp.write_text(html, encoding="utf-8")
     tmp.replace(html_path)
-    print(f"report: figures and HTML {rendered - start:.1f} s", file=sys.stderr)
+    print(f"report: HTML {rendered - start:.1f} s", file=sys.stderr)
     if pdf_path is not None:
         html_to_pdf(html_path, pdf_path)
 

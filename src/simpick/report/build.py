@@ -12,8 +12,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from simpick.errors import InputError
 from simpick.report import figures
+from simpick.report.draw import test_label
+from simpick.report.draw import weights_of as _weights
 from simpick.report.load import ReportData
 from simpick.scoring import (DEFAULT_WEIGHTS, METRIC_LABELS, METRICS, QUALITATIVE_METRICS,
                              QUANTITATIVE_METRICS)
@@ -95,23 +96,11 @@ def soft_lower(text: str) -> str:
     return text
 
 
-def test_label(terrain: str, motion: str) -> str:
-    return f"{terrain}/{motion}"
 
 
 # --------------------------------------------------------------------------
 # Context
 # --------------------------------------------------------------------------
-
-
-def _weights(params: Mapping[str, Any]) -> dict[str, float]:
-    raw = params.get("weights")
-    if raw is None:
-        return dict(DEFAULT_WEIGHTS)
-    missing = [m for m in METRICS if m not in raw]
-    if missing:
-        raise InputError("report params['weights']", f"metrics {missing} have no weight")
-    return {m: float(raw[m]) for m in METRICS}
 
 
 def _test_order(data: ReportData, config: Mapping[str, Any]) -> list[tuple[str, str]]:
@@ -368,88 +357,36 @@ def _status_map(data: ReportData) -> dict[tuple[str, str, str], str]:
             for r in data.runs.to_dict("records")}
 
 
-def _per_test(data: ReportData, engines: list[str], tests: list[tuple[str, str]],
-              colors: dict[str, str], config: Mapping[str, Any]) -> list[dict[str, Any]]:
+def _per_test(data: ReportData, engines: list[str], tests: list[tuple[str, str]]) -> list[dict[str, Any]]:
+    """Per lab test: its figures (rules figure_imu_stats, figure_traces) and where each run ended
+    (rule figure_paths' endpoints table)."""
     status = _status_map(data)
-    traces = {(tr.engine, tr.terrain, tr.motion): tr for tr in (data.traces or [])}
     ref = data.reference_stats
+    ends = data.endpoints
     out = []
     for t, m in tests:
         item: dict[str, Any] = {"test": test_label(t, m), "terrain": t, "motion": m}
         failed = [e for e in engines if status.get((e, t, m), "ok") != "ok" and (e, t, m) in status]
         item["failed"] = failed
         if data.trace_stats is not None:
-            ts = data.trace_stats
-            series = []
-            for e in engines:
-                sel = ts[(ts["engine"] == e) & (ts["terrain"] == t) & (ts["motion"] == m)]
-                if not len(sel) or e in failed or (sel["status"].str.lower() != "ok").any():
-                    continue
-                series.append((e, colors[e], sel))
             rsel = None
             if ref is not None:
                 rsel = ref[(ref["terrain"] == t) & (ref["motion"] == m)]
                 if len(rsel):
-                    series.append((figures.REFERENCE_LABEL, figures.REFERENCE_COLOR, rsel))
                     item["reference_sources"] = sorted({s for s in rsel["source"] if s})
             item["has_reference"] = rsel is not None and len(rsel) > 0
-            item["stats_engines"] = [s[0] for s in series if s[0] != figures.REFERENCE_LABEL]
-            item["imu_uri"] = figures.imu_stats_figure(series) if series else None
-        if data.traces is not None:
-            series = [(e, colors[e], traces[(e, t, m)].frame) for e in engines
-                      if (e, t, m) in traces and e not in failed]
-            item["trace_engines"] = [s[0] for s in series]
-            item["missing_traces"] = [e for e in engines if (e, t, m) not in traces and e not in failed
-                                      and (e, t, m) in status]
-            item["ts_uri"] = figures.timeseries_figure(series) if series else None
-            item["endpoints"] = _endpoints(config, m, series, engines)
-            item["path_series"] = series
-            item["strip"] = _strip(config, t)
-            item["commanded"] = _commanded(config, m)
+            key = f"imu_stats/{t}/{m}"
+            item["imu_uri"] = figures.data_uri(data.figures[key]) if key in data.figures else None
+        if ends is not None:
+            sel = ends[(ends["terrain"] == t) & (ends["motion"] == m)]
+            rows = {r["engine"]: r for r in sel.to_dict("records")}
+            item["trace_engines"] = [e for e in engines if e in rows]
+            item["missing_traces"] = [e for e in engines if e not in rows and e not in failed and (e, t, m) in status]
+            key = f"traces/{t}/{m}"
+            item["ts_uri"] = figures.data_uri(data.figures[key]) if key in data.figures and rows else None
+            item["endpoints"] = [rows.get(e) for e in engines]
         out.append(item)
     return out
-
-
-def _endpoints(config: Mapping[str, Any], motion: str, series, engines: list[str]):
-    """Per engine: where the run ended against where the no-slip command would have taken it."""
-    spec = (config.get("motions") or {}).get(motion)
-    have = {label: frame for label, _, frame in series}
-    out = []
-    for e in engines:
-        frame = have.get(e)
-        if frame is None or not len(frame):
-            out.append(None)
-            continue
-        try:
-            t_end = float(frame["time"].iloc[-1])
-            cmd = figures.commanded_path(spec["start"], float(spec["v"]), float(spec["w"]), t_end)
-            yaw_cmd = float(spec["start"][2]) + float(spec["w"]) * t_end
-        except (TypeError, KeyError, ValueError, IndexError):
-            out.append(None)
-            continue
-        dx = float(frame["x"].iloc[-1]) - float(cmd[-1, 0])
-        dy = float(frame["y"].iloc[-1]) - float(cmd[-1, 1])
-        dyaw = (float(frame["yaw"].iloc[-1]) - yaw_cmd + math.pi) % (2 * math.pi) - math.pi
-        out.append({"engine": e, "t": t_end, "dist": math.hypot(dx, dy), "dyaw_deg": math.degrees(dyaw),
-                    "v_cmd": float(spec["v"]), "w_cmd": float(spec["w"]),
-                    "v_mean": float(frame["v_forward"].mean()), "w_mean": float(frame["yaw_rate"].mean())})
-    return out
-
-
-def _strip(config: Mapping[str, Any], terrain: str):
-    terrains = config.get("terrains") or {}
-    if terrain not in terrains:
-        return None
-    tiles = int((terrains[terrain] or {}).get("tiles", 4))
-    return (0.0, float(tiles), -0.5, 0.5)
-
-
-def _commanded(config: Mapping[str, Any], motion: str):
-    spec = (config.get("motions") or {}).get(motion)
-    try:
-        return figures.commanded_path(spec["start"], float(spec["v"]), float(spec["w"]), float(spec["duration"]))
-    except (TypeError, KeyError, ValueError):
-        return None
 
 
 def _published(data: ReportData) -> dict[str, Any] | None:
@@ -514,23 +451,18 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     import yaml
 
     from simpick.report import provenance, real
+    from simpick.report.draw import colors as draw_colors
 
     config = dict(params.get("config") or {})
     weights = _weights(params)
     engines = _engine_order(data)
-    colors = figures.engine_colors(engines)
+    # the figures' colours: params engines (rules/report.smk FIGURE_ENGINES), not the ranking
+    colors = draw_colors(params.get("engines"), engines)
     tests = _test_order(data, config)
     ranking = _ranking(data, weights)
-    per_test = _per_test(data, engines, tests, colors, config)
-    paths_uri = None
-    if data.traces is not None and any(p.get("path_series") for p in per_test):
-        panels = [{"title": p["test"], "series": p["path_series"], "strip": p["strip"],
-                   "commanded": p["commanded"]} for p in per_test]
-        motions = list(dict.fromkeys(m for _, m in tests))
-        paths_uri = figures.paths_figure(panels, ncols=max(1, min(len(motions), 3)))
-    for p in per_test:
-        p.pop("path_series", None)
-        p.pop("commanded", None)
+    per_test = _per_test(data, engines, tests)
+    paths_uri = figures.data_uri(data.figures["paths"]) if "paths" in data.figures and data.endpoints is not None \
+        and len(data.endpoints) else None
     runs = _runs(data, tests, engines)
     rtf_rows = []
     if data.rtf is not None:
@@ -552,8 +484,8 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     from simpick.report.validation import validation_section
 
     return {
-        "validation": validation_section(data.validation, engines, colors),
-        "sweep": sweep_section(data.sweep, engines, colors),
+        "validation": validation_section(data.validation, engines, data.figures.get("validation_gain")),
+        "sweep": sweep_section(data.sweep, engines, data.figures.get("sweep")),
         "calibration": calibration_section(data.calibration, engines + [e for e in (data.calibration.engine.unique()
                                            if data.calibration is not None else []) if e not in engines], colors),
         "title": params.get("title") or DEFAULT_TITLE,
@@ -568,7 +500,7 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         "accuracy_weight": weights["imu_angular"] + weights["imu_linear"],
         "tests": [test_label(t, m) for t, m in tests],
         "ranking": ranking,
-        "contrib_uri": figures.contributions_figure(data.weighted, weights, METRICS, METRIC_LABELS),
+        "contrib_uri": figures.data_uri(data.figures["contributions"]) if "contributions" in data.figures else None,
         "reference": _reference(data, tests),
         "qualitative": _qualitative(data, list(data.weighted.index)),
         "rtf_rows": rtf_rows,
@@ -581,7 +513,7 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         "accuracy": accuracy,
         "real": real_data,
         "per_test": per_test,
-        "traces_given": data.traces is not None,
+        "traces_given": data.endpoints is not None,
         "stats_given": data.trace_stats is not None,
         "paths_uri": paths_uri,
         "published": _published(data),

@@ -1,7 +1,10 @@
-"""Report figures, drawn with Matplotlib (Agg) and returned as base64 PNG data URIs.
+"""Report figures, drawn with Matplotlib (Agg) into PNG files by the figure rules
+(rules/report.smk, :mod:`simpick.report.draw`); the report job embeds the files.
 
-Sizes are chosen to fit an A4 page (about 180 mm of text width) at a modest resolution, so
-a report with a dozen traces stays a few megabytes.
+PNG rather than SVG: the time series and replay plots hold tens of thousands of points, which
+WeasyPrint lays out slowly as SVG paths, and an SVG's text depends on the fonts of the machine
+that opens it. Sizes fit an A4 page (about 180 mm of text width); 150 dpi keeps 5.5 pt bar
+labels legible in the PDF while a report with a dozen traces stays a few megabytes.
 """
 
 from __future__ import annotations
@@ -15,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-DPI = 100
+DPI = 150
 WIDTH_IN = 7.1  # inches: A4 width less the page margins
 REFERENCE_LABEL = "real robot (reference)"
 REFERENCE_COLOR = "#222222"
@@ -23,58 +26,6 @@ _PALETTE = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#
 AXES = ("x", "y", "z")
 QUANTITY_TITLES = {"angular": "Angular velocity (rad/s)", "linear": "Linear acceleration (m/s²)"}
 QUANTITY_COLUMNS = {"angular": ("wx", "wy", "wz"), "linear": ("ax", "ay", "az")}
-
-
-# Figures depend on traces and metrics, not on the weights; memoised on disk by the content
-# of their arguments and the code that draws them (this module, the Matplotlib version), so a
-# weight edit redraws only the weighted-score chart and an edited figure is never served stale.
-CACHE_DIR: Path | None = None
-USED: set[str] = set()
-
-
-def _code_version() -> str:
-    import hashlib
-
-    import matplotlib
-
-    return hashlib.sha256(Path(__file__).read_bytes() + matplotlib.__version__.encode()).hexdigest()[:16]
-
-
-CODE_VERSION = _code_version()
-
-
-def prune_cache() -> None:
-    """Drop cached figures this build did not use, so the cache does not grow without end."""
-    if CACHE_DIR is None or not CACHE_DIR.is_dir():
-        return
-    for path in CACHE_DIR.iterdir():
-        if path.name not in USED:
-            path.unlink()
-
-
-def cached(function):
-    import functools
-    import hashlib
-    import pickle
-
-    @functools.wraps(function)
-    def wrapper(*args, **kwargs):
-        if CACHE_DIR is None:
-            return function(*args, **kwargs)
-        key = hashlib.sha256(pickle.dumps((CODE_VERSION, function.__name__, args, sorted(kwargs.items())),
-                                          protocol=5)).hexdigest()
-        path = Path(CACHE_DIR) / f"{function.__name__}-{key[:24]}.txt"
-        USED.add(path.name)
-        if path.is_file():
-            return path.read_text()
-        uri = function(*args, **kwargs)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(".partial")
-        tmp.write_text(uri)
-        tmp.replace(path)
-        return uri
-
-    return wrapper
 
 
 def _plt():
@@ -104,13 +55,32 @@ def engine_colors(engines: Sequence[str]) -> dict[str, str]:
     return {e: _PALETTE[i % len(_PALETTE)] for i, e in enumerate(engines)}
 
 
-def to_data_uri(fig, dpi: int = DPI) -> str:
+def save(fig, path: str | Path, dpi: int = DPI) -> Path:
+    """Write ``fig`` as a PNG (no time stamp or software tag: the same figure, the same bytes)."""
     plt = _plt()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight", pad_inches=0.05,
                 metadata={"Software": None})
     plt.close(fig)
-    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+    tmp = path.with_name(path.name + ".partial")
+    tmp.write_bytes(buf.getvalue())
+    tmp.replace(path)
+    return path
+
+
+def nothing_to_draw(path: str | Path, why: str) -> Path:
+    """A figure rule must write its file: when there is no data, a small panel that says why."""
+    plt = _plt()
+    fig = plt.figure(figsize=(WIDTH_IN, 0.45))
+    fig.text(0.5, 0.5, f"Nothing to draw: {why}", ha="center", va="center", fontsize=8, color="0.3")
+    return save(fig, path)
+
+
+def data_uri(path: str | Path) -> str:
+    """The report embeds each figure file, so the HTML (and the PDF made from it) stands alone."""
+    return "data:image/png;base64," + base64.b64encode(Path(path).read_bytes()).decode("ascii")
 
 
 def _short(x: float) -> str:
@@ -128,7 +98,7 @@ def _short(x: float) -> str:
 
 
 def contributions_figure(weighted: pd.DataFrame, weights: Mapping[str, float],
-                         metrics: Sequence[str], labels: Mapping[str, str]) -> str:
+                         metrics: Sequence[str], labels: Mapping[str, str], path: str | Path) -> Path:
     """Horizontal stacked bars: each engine's total split into weight x score per metric."""
     plt = _plt()
     engines = list(weighted.index)
@@ -158,7 +128,7 @@ def contributions_figure(weighted: pd.DataFrame, weights: Mapping[str, float],
     fig.tight_layout()
     fig.legend(*ax.get_legend_handles_labels(), ncol=3, loc="upper center", bbox_to_anchor=(0.5, 0.0),
                frameon=False, handlelength=1.2, columnspacing=1.0)
-    return to_data_uri(fig)
+    return save(fig, path)
 
 
 # --------------------------------------------------------------------------
@@ -166,8 +136,8 @@ def contributions_figure(weighted: pd.DataFrame, weights: Mapping[str, float],
 # --------------------------------------------------------------------------
 
 
-@cached
-def imu_stats_figure(series: Sequence[tuple[str, str, pd.DataFrame]], title: str | None = None) -> str:
+def imu_stats_figure(series: Sequence[tuple[str, str, pd.DataFrame]], path: str | Path,
+                     title: str | None = None) -> Path:
     """Mean and trimmed range per axis, angular (left) and linear (right).
 
     ``series``: (label, colour, stats) where stats has columns quantity, axis, mean, range.
@@ -212,7 +182,7 @@ def imu_stats_figure(series: Sequence[tuple[str, str, pd.DataFrame]], title: str
     if title:
         fig.suptitle(title, y=1.05, fontsize=9)
     fig.tight_layout(rect=(0, 0, 1, 0.94))
-    return to_data_uri(fig)
+    return save(fig, path)
 
 
 # --------------------------------------------------------------------------
@@ -220,8 +190,7 @@ def imu_stats_figure(series: Sequence[tuple[str, str, pd.DataFrame]], title: str
 # --------------------------------------------------------------------------
 
 
-@cached
-def timeseries_figure(series: Sequence[tuple[str, str, pd.DataFrame]]) -> str:
+def timeseries_figure(series: Sequence[tuple[str, str, pd.DataFrame]], path: str | Path) -> Path:
     """ax, ay, az (left) and wx, wy, wz (right) against time, engines overlaid."""
     plt = _plt()
     fig, axs = plt.subplots(3, 2, figsize=(WIDTH_IN, 3.9), sharex=True)
@@ -242,7 +211,7 @@ def timeseries_figure(series: Sequence[tuple[str, str, pd.DataFrame]]) -> str:
         fig.legend(handles, labels, loc="upper center", ncol=min(len(labels), 5), frameon=False,
                    bbox_to_anchor=(0.5, 1.03))
     fig.tight_layout(rect=(0, 0, 1, 0.97))
-    return to_data_uri(fig)
+    return save(fig, path)
 
 
 def commanded_path(start: Sequence[float], v: float, w: float, duration: float, dt: float = 0.01) -> np.ndarray:
@@ -259,8 +228,7 @@ def commanded_path(start: Sequence[float], v: float, w: float, duration: float, 
     return np.column_stack([x, y])
 
 
-@cached
-def paths_figure(panels: Sequence[dict], ncols: int = 2) -> str:
+def paths_figure(panels: Sequence[dict], path: str | Path, ncols: int = 2) -> Path:
     """Top-down x-y paths, one panel per test.
 
     Each panel: ``title``, ``series`` [(label, colour, frame)], optional ``strip``
@@ -299,7 +267,7 @@ def paths_figure(panels: Sequence[dict], ncols: int = 2) -> str:
         fig.legend(list(legend.values()), list(legend.keys()), loc="upper center",
                    ncol=min(len(legend), 5), frameon=False, bbox_to_anchor=(0.5, 1.0))
     fig.tight_layout(rect=(0, 0, 1, 1 - 0.35 / (2.35 * nrows + 0.4)))
-    return to_data_uri(fig)
+    return save(fig, path)
 
 
 # --------------------------------------------------------------------------
@@ -310,8 +278,7 @@ REAL_LABEL = "real robot"
 REAL_COLOR = "#222222"
 
 
-@cached
-def gain_figure(panels: Sequence[dict]) -> str:
+def gain_figure(panels: Sequence[dict], path: str | Path) -> Path:
     """Yaw-rate gain per terrain class: the real robot against each engine.
 
     Each panel: ``title``, ``classes`` (x labels) and ``bars``, a list of
@@ -359,7 +326,7 @@ def gain_figure(panels: Sequence[dict]) -> str:
     fig.legend(list(handles.values()), list(handles.keys()), loc="upper center",
                ncol=min(len(handles), 5), frameon=False, bbox_to_anchor=(0.5, 1.0))
     fig.tight_layout(rect=(0, 0, 1, 1 - 0.3 / (2.25 * n + 0.35)))
-    return to_data_uri(fig)
+    return save(fig, path)
 
 
 def _limits(values: Sequence[np.ndarray], smooth: Sequence[np.ndarray]) -> tuple[float, float]:
@@ -382,11 +349,10 @@ def _limits(values: Sequence[np.ndarray], smooth: Sequence[np.ndarray]) -> tuple
     return a - pad, b + pad
 
 
-@cached
 def replay_figure(series: Sequence[tuple[str, str, pd.DataFrame]],
                   psd: Sequence[tuple[str, str, np.ndarray, np.ndarray]],
-                  commanded: pd.DataFrame | None, rate_hz: float, t_max: float | None = None,
-                  band: tuple[float, float] | None = None, cutoff_hz: float = 2.0) -> str:
+                  commanded: pd.DataFrame | None, rate_hz: float, path: str | Path, t_max: float | None = None,
+                  band: tuple[float, float] | None = None, cutoff_hz: float = 2.0) -> Path:
     """One terrain class of the full replay.
 
     Left: yaw rate (top) and longitudinal acceleration (bottom) of one run against time,
@@ -444,4 +410,53 @@ def replay_figure(series: Sequence[tuple[str, str, pd.DataFrame]],
     ax_p.set_title("vertical acceleration spectrum")
     fig.legend(list(handles.values()), list(handles.keys()), loc="upper center", ncol=min(len(handles), 5),
                frameon=False, bbox_to_anchor=(0.5, 1.05))
-    return to_data_uri(fig)
+    return save(fig, path)
+
+
+# --------------------------------------------------------------------------
+# Engines against analytic mechanics; speed against accuracy
+# --------------------------------------------------------------------------
+
+
+def validation_gain_figure(series: Sequence[tuple[str, Sequence[tuple[float, float]]]], analytic: float,
+                           colors: Mapping[str, str], path: str | Path) -> Path:
+    """Yaw-rate gain against commanded w at v = 0.5 m/s, one line per engine, analytic line."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(5.2, 2.6))
+    for engine, points in series:
+        ws, gains = zip(*points)
+        ax.plot(ws, gains, "o-", color=colors.get(engine), label=engine, lw=1.2, ms=3.5)
+    ax.axhline(analytic, color="black", lw=1.0, ls="--", label=f"Coulomb, quasi-static ({analytic:.3f})")
+    ax.axhspan(analytic * 0.9, analytic * 1.1, color="black", alpha=0.07, lw=0, label="±10 %")
+    ax.set_xlabel("commanded yaw rate w (rad/s), v = 0.5 m/s")
+    ax.set_ylabel("yaw-rate gain (measured / w)")
+    ax.set_ylim(0, max(1.0, max(g for _, pts in series for _, g in pts) * 1.1))
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    return save(fig, path)
+
+
+def sweep_figure(panels: Sequence[tuple[str, Sequence]], colors: Mapping[str, str], path: str | Path) -> Path:
+    """Per class: mean angular error against real-time factor, one line per engine over the timesteps."""
+    plt = _plt()
+    n = len(panels)
+    cols = min(n, 3)
+    rows = math.ceil(n / cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols + 1.2, 2.6 * rows), squeeze=False)
+    for ax, (cls, series) in zip(axes.flat, panels):
+        for engine, points in series:
+            rtf, err, labels, failed = zip(*points)
+            ax.plot(rtf, err, "-", color=colors.get(engine), lw=1.0, label=engine)
+            for x, y, label, bad in points:
+                ax.plot([x], [y], "o", ms=3.5, color=colors.get(engine), mfc="white" if bad else colors.get(engine))
+                ax.annotate(label, (x, y), fontsize=5.5, xytext=(2, 2), textcoords="offset points")
+        ax.set_xscale("log")
+        ax.set_title(cls, fontsize=8)
+        ax.set_xlabel("real-time factor (log)", fontsize=7)
+        ax.set_ylabel("angular error (rad/s)", fontsize=7)
+        ax.tick_params(labelsize=6)
+    for ax in list(axes.flat)[n:]:
+        ax.axis("off")
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="center right", frameon=False, fontsize=7)
+    fig.tight_layout(rect=(0, 0, 1 - 1.1 / (3.0 * cols + 1.2), 1))
+    return save(fig, path)

@@ -49,6 +49,8 @@ COLUMNS: dict[str, tuple[str, ...]] = {
     "replay_pairwise": ("terrain_class", "figure", "engine_a", "engine_b", "mean_a_minus_b", "low", "high",
                         "verdict"),
     "replay_imu_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
+    # where each lab run ended against the command (rule figure_paths, beside its figure)
+    "endpoints": ("engine", "terrain", "motion", "t", "dist", "dyaw_deg", "v_cmd", "w_cmd", "v_mean", "w_mean"),
 }
 
 # The real-data sets: one per way of comparing with the real robot (simpick.realdata).
@@ -106,6 +108,11 @@ class ReportData:
     # real canonical logs and replay traces: paths only, read when the figures are drawn
     real_logs: list[str] | None = None
     replay_traces: list[str] | None = None
+    # the figure rules' files (rules/report.smk): key (path under figures/, no suffix) -> PNG,
+    # and the notes some of them write beside the PNG (key -> the JSON's mapping)
+    figures: dict[str, str] = field(default_factory=dict)
+    figure_notes: dict[str, dict] = field(default_factory=dict)
+    endpoints: pd.DataFrame | None = None
     sources: dict[str, Any] = field(default_factory=dict)
 
 
@@ -157,11 +164,24 @@ def _csv(name: str, path: Path, index: str | None = None) -> pd.DataFrame:
     return df
 
 
-def load_inputs(inputs: Mapping[str, Any]) -> ReportData:
-    """Read every input that is given; raise :class:`InputError` for a missing required one."""
+def figure_key(path: str | Path) -> str:
+    """A figure file's name in the report: its path under the last ``figures`` folder, no suffix
+    (results/report/figures/traces/grass/straight.png -> traces/grass/straight)."""
+    parts = Path(path).with_suffix("").parts
+    if "figures" not in parts:
+        return Path(path).stem
+    i = len(parts) - 1 - parts[::-1].index("figures")
+    return "/".join(parts[i + 1:])
+
+
+def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = None) -> ReportData:
+    """Read every input that is given; raise :class:`InputError` for a missing required one
+    (``required``: the report's by default; a figure job names what it draws from)."""
     from simpick.report import OPTIONAL_INPUTS, REQUIRED_INPUTS
 
-    for key in REQUIRED_INPUTS:
+    if required is None:
+        required = REQUIRED_INPUTS
+    for key in required:
         if inputs.get(key) in (None, "", []):
             raise InputError(f"report inputs[{key!r}]", "required input is not given")
     unknown = sorted(set(inputs) - set(REQUIRED_INPUTS) - set(OPTIONAL_INPUTS))
@@ -175,7 +195,8 @@ def load_inputs(inputs: Mapping[str, Any]) -> ReportData:
     kw: dict[str, Any] = {}
     for key, index in (("weighted", "engine"), ("runs", None), ("trace_stats", None),
                        ("reference_stats", None), ("imu_errors", None), ("per_test_errors", None),
-                       ("rtf", None), ("table11", "simulator"), ("table11_comparison", None)):
+                       ("rtf", None), ("table11", "simulator"), ("table11_comparison", None),
+                       ("endpoints", None)):
         if given(key):
             p = _path(key, inputs[key])
             sources[key] = str(p)
@@ -212,9 +233,19 @@ def load_inputs(inputs: Mapping[str, Any]) -> ReportData:
             kw[key] = [str(p) for p in _paths(key, inputs[key])]
             sources[key] = kw[key]
 
-    runs = kw["runs"]
+    if given("figures"):
+        figs, notes = {}, {}
+        for p in _paths("figures", inputs["figures"]):
+            if p.suffix == ".json":
+                notes[figure_key(p)] = json.loads(p.read_text(encoding="utf-8"))
+            else:
+                figs[figure_key(p)] = str(p)
+        kw["figures"], kw["figure_notes"] = figs, notes
+        sources["figures"] = sorted(figs.values())
+
+    runs = kw.get("runs")
     for col in ("engine_version", "config_hash"):
-        if col not in runs.columns:
+        if runs is not None and col not in runs.columns:
             runs[col] = ""
     if "table11_comparison" in kw:
         cmp_ = kw["table11_comparison"]
@@ -267,4 +298,6 @@ def load_inputs(inputs: Mapping[str, Any]) -> ReportData:
         kw["traces"] = traces
         sources["traces"] = [t.path for t in traces]
 
+    kw.setdefault("weighted", None)
+    kw.setdefault("runs", None)
     return ReportData(sources=sources, **kw)

@@ -3,7 +3,8 @@ comparing every engine with the real Husky per terrain class (simpick.realdata's
 
 Nothing here recomputes a study figure that a workflow rule already wrote, except the real
 robot's own yaw-rate gain per class (the mean over runs and its interval from
-``statistics.min_runs`` runs on, as simpick.realdata does per engine) and, for the figures, the Welch spectra.
+``statistics.min_runs`` runs on, as simpick.realdata does per engine). The figures are drawn by
+the figure rules (simpick.report.draw); :func:`gain_panels` gives the yaw-rate-gain figure its data.
 """
 
 from __future__ import annotations
@@ -16,7 +17,6 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from simpick.realmetrics import psd, psd_segment
 from simpick.report import figures
 from simpick.report.load import REAL_SETS, ReportData
 
@@ -298,6 +298,40 @@ def _set_block(set_: str, tables: Mapping[str, pd.DataFrame], cls: str, engines:
             "extra": extra, "given": summary is not None}
 
 
+def _blocks(data: ReportData, params: Mapping[str, Any], engines: list[str],
+            classes: list[str]) -> tuple[list[str], list[dict], dict[str, list[dict]]]:
+    """Per shown class and real-data set, the block of tables and verdicts (:func:`_set_block`)."""
+    rd = dict(params.get("real_data") or {})
+    class_params = {str(k): (v or {}) for k, v in (rd.get("classes") or {}).items()}
+    sets = [s for s in REAL_SETS if data.real.get(s)]
+    scored_set = params.get("_scored_set")
+    stats = statistics(params)
+    blocks_by_set: dict[str, list[dict]] = {s: [] for s in sets}
+    class_blocks = []
+    shown_classes = [c for c in classes if any(
+        (t := data.real[s].get(k)) is not None and (t["terrain_class"] == c).any()
+        for s in sets for k in ("summary", "per_test"))]
+    for cls in shown_classes:
+        cp = class_params.get(cls, {})
+        item = {"cls": cls, "label": cls.replace("_", " "), "friction": cp.get("friction"),
+                "source": cp.get("source"), "sets": []}
+        for s in sets:
+            block = _set_block(s, data.real[s], cls, engines, stats)
+            block["scored"] = s == scored_set
+            item["sets"].append(block)
+            blocks_by_set[s].append({"cls": cls, "block": block})
+        class_blocks.append(item)
+    return shown_classes, class_blocks, blocks_by_set
+
+
+def gain_panels(data: ReportData, params: Mapping[str, Any], engines: list[str],
+                colors: Mapping[str, str]) -> list[dict]:
+    """The yaw-rate-gain figure's panels (rule figure_real_gain): one per real-data set."""
+    classes = class_order(data, params)
+    _, _, blocks_by_set = _blocks(data, params, engines, classes)
+    return _gain_panels(blocks_by_set, classes, engines, colors)
+
+
 def _gain_panels(blocks_by_set: dict[str, list[dict]], classes: list[str], engines: list[str],
                  colors: Mapping[str, str]) -> list[dict]:
     panels = []
@@ -351,135 +385,6 @@ def _segments_table(data: ReportData, classes: list[str], engines: list[str]) ->
             rows.append({**r, "short": short, "cells": cells})
         groups.append({"cls": cls, "label": cls.replace("_", " "), "rows": rows})
     return groups
-
-
-def _read_real_series(path: str, track: float):
-    from simpick.reallogs import read_canonical
-
-    log = read_canonical(path)
-    imu = log.imu[["time", "ax", "ay", "az", "wx", "wy", "wz"]].copy()
-    cmd = log.wheel_commands(track)
-    commanded = pd.DataFrame({"time": cmd["time"].to_numpy(),
-                              "w": (cmd["v_right"] - cmd["v_left"]).to_numpy() / track})
-    return imu, commanded, log.meta
-
-
-def _rate(frame: pd.DataFrame) -> float:
-    dt = np.diff(frame["time"].to_numpy(dtype=float))
-    dt = dt[dt > 0]
-    return float(1.0 / np.median(dt)) if dt.size else 100.0
-
-
-def _mean_psd(signals: list[tuple[np.ndarray, float]]):
-    """Mean Welch PSD over runs (each at its own rate; runs on another grid are left out)."""
-    spectra = []
-    for x, rate in signals:
-        if len(x) < psd_segment(rate):
-            continue
-        f, p = psd(x, rate)
-        spectra.append((f, p))
-    if not spectra:
-        return None
-    f0 = spectra[0][0]
-    same = [p for f, p in spectra if f.shape == f0.shape and np.allclose(f, f0)]
-    return f0, np.mean(same, axis=0), len(same)
-
-
-def _replay_figures(data: ReportData, params: Mapping[str, Any], classes: list[str], engines: list[str],
-                    colors: Mapping[str, str]) -> tuple[list[dict], list[str]]:
-    """Per terrain class: time plots of one representative run and the mean az spectra."""
-    from simpick.realmetrics import LOWPASS_HZ, PSD_BAND_HZ
-    from simpick.traces import read_metadata, read_trace
-
-    notes: list[str] = []
-    config = params.get("config") or {}
-    track = float(((config.get("robot") or {}).get("track")) or 0.555)
-    logs: dict[tuple[str, str], str] = {}
-    for p in data.real_logs or []:
-        path = Path(p)
-        logs[(path.parent.name.lower(), path.stem)] = p
-    traces: dict[tuple[str, str, str], tuple[str, dict]] = {}
-    for p in data.replay_traces or []:
-        meta = read_metadata(p)
-        path = Path(p)
-        engine = str(meta.get("engine") or path.parent.parent.name)
-        cls = str(meta.get("terrain") or path.parent.name).lower()
-        run = str(meta.get("run") or path.stem)
-        traces[(engine, cls, run)] = (p, meta)
-    per_test = data.real.get("replay", {}).get("per_test")
-    out = []
-    for cls in classes:
-        runs = sorted(r for c, r in logs if c == cls)
-        if not runs:
-            continue
-        # the representative run: Eq. 7 angular error (mean over engines) nearest the class median
-        chosen, why = runs[0], "the first run of the class"
-        if per_test is not None and "error_angular" in per_test.columns:
-            ok = per_test[(per_test["terrain_class"] == cls) & (per_test["status"].str.lower() == "ok")
-                          & per_test["run"].isin(runs)]
-            turning = ok
-            if "yaw_rate_gain_real" in ok.columns:
-                turning = ok[np.isfinite([_f(x) for x in ok["yaw_rate_gain_real"]])]
-            pool, among = (turning, "of the runs that turn, ") if len(turning) else (ok, "")
-            if len(pool):
-                per_run = pool.groupby("run")["error_angular"].mean()
-                med = float(per_run.median())
-                chosen = str((per_run - med).abs().sort_values(kind="mergesort").index[0])
-                why = (f"{among}the one whose Eq. 7 angular error, averaged over the engines, "
-                       "is nearest the class median")
-        imu, commanded, _ = _read_real_series(logs[(cls, chosen)], track)
-        rate = _rate(imu)
-        series = [(figures.REAL_LABEL, figures.REAL_COLOR, imu)]
-        skipped = []
-        for e in engines:
-            hit = traces.get((e, cls, chosen))
-            if hit is None:
-                skipped.append(f"{e} (no replay trace)")
-                continue
-            status = str(((hit[1].get("health") or {}).get("status")) or "ok").lower()
-            if status != "ok":
-                skipped.append(f"{e} (run failed: {status})")
-                continue
-            frame, _ = read_trace(hit[0])
-            series.append((e, colors.get(e, "#777777"), frame))
-        # spectra: mean over every run of the class that has the real log and the engine's trace
-        psd_series = []
-        real_sig = []
-        for r in runs:
-            real_imu = imu if r == chosen else _read_real_series(logs[(cls, r)], track)[0]
-            real_sig.append((real_imu["az"].to_numpy(dtype=float), _rate(real_imu)))
-        m = _mean_psd(real_sig)
-        n_psd = {}
-        if m:
-            psd_series.append((figures.REAL_LABEL, figures.REAL_COLOR, m[0], m[1]))
-            n_psd[figures.REAL_LABEL] = m[2]
-        for e in engines:
-            sig = []
-            for r in runs:
-                hit = traces.get((e, cls, r))
-                if hit is None or str(((hit[1].get("health") or {}).get("status")) or "ok").lower() != "ok":
-                    continue
-                frame = (next(f for lab, _, f in series if lab == e) if r == chosen and any(
-                    lab == e for lab, _, _ in series) else read_trace(hit[0])[0])
-                sig.append((frame["az"].to_numpy(dtype=float), _rate(frame)))
-            m = _mean_psd(sig)
-            if m:
-                psd_series.append((e, colors.get(e, "#777777"), m[0], m[1]))
-                n_psd[e] = m[2]
-        duration = float(imu["time"].iloc[-1]) if len(imu) else 0.0
-        t_max = TIME_PLOT_MAX_S if duration > TIME_PLOT_MAX_S else None
-        band = (PSD_BAND_HZ[0], min(PSD_BAND_HZ[1], rate / 2))  # a slower IMU's spectrum ends at Nyquist
-        uri = figures.replay_figure(series, psd_series, commanded, rate, t_max=t_max, band=band,
-                                    cutoff_hz=LOWPASS_HZ)
-        counts = sorted(set(n_psd.values()))
-        psd_text = (f"{counts[0]} run{'s' if counts[0] != 1 else ''}" if len(counts) == 1 else
-                    ", ".join(f"{label} {n}" for label, n in n_psd.items()) + " runs")
-        out.append({"cls": cls, "label": cls.replace("_", " "), "run": chosen, "why": why, "uri": uri,
-                    "n_runs": len(runs), "psd_text": psd_text, "duration": duration, "t_max": t_max, "skipped": skipped,
-                    "n_psd": n_psd, "lowpass_hz": LOWPASS_HZ, "band": band})
-    if (data.real_logs is None) != (data.replay_traces is None):
-        notes.append("the time plots and spectra need both the real logs and the replay traces")
-    return out, notes
 
 
 def _hz_range(values: Sequence[float]) -> str | None:
@@ -548,22 +453,8 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
     given = bool(sets) or data.segments is not None
     scored_set = acc.get("kind") if acc and acc.get("kind") in REAL_SETS else None
     stats = statistics(params)
-
-    blocks_by_set: dict[str, list[dict]] = {s: [] for s in sets}
-    class_blocks = []
-    shown_classes = [c for c in classes if any(
-        (t := data.real[s].get(k)) is not None and (t["terrain_class"] == c).any()
-        for s in sets for k in ("summary", "per_test"))]
-    for cls in shown_classes:
-        cp = class_params.get(cls, {})
-        item = {"cls": cls, "label": cls.replace("_", " "), "friction": cp.get("friction"),
-                "source": cp.get("source"), "sets": []}
-        for s in sets:
-            block = _set_block(s, data.real[s], cls, engines, stats)
-            block["scored"] = s == scored_set
-            item["sets"].append(block)
-            blocks_by_set[s].append({"cls": cls, "block": block})
-        class_blocks.append(item)
+    shown_classes, class_blocks, blocks_by_set = _blocks(data, {**params, "_scored_set": scored_set},
+                                                         engines, classes)
 
     # at a glance: the verdicts of every class, and a tally per engine
     glance = []
@@ -586,13 +477,16 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
         glance.append({"set": s, "title": SET_TITLES[s], "rows": rows, "scored": s == scored_set})
         tally[s] = counts
 
-    panels = _gain_panels(blocks_by_set, classes, engines, colors)
-    gain_uri = figures.gain_figure(panels) if panels else None
+    gain_file = data.figures.get("real_gain")
+    gain_uri = figures.data_uri(gain_file) if gain_file else None
 
+    # the full replay's figures (rule figure_replay): the PNG and the notes the job wrote beside it
+    pos = {c: i for i, c in enumerate(classes)}
     replay_figs, replay_notes = [], []
-    if data.real_logs and data.replay_traces:
-        replay_figs, replay_notes = _replay_figures(data, params, classes, engines, colors)
-    elif data.real_logs or data.replay_traces:
+    for key, note in sorted(data.figure_notes.items(), key=lambda kv: (pos.get(kv[1].get("cls"), len(pos)), kv[0])):
+        if key.startswith("replay/") and note.get("drawn") and key in data.figures:
+            replay_figs.append({**note, "band": tuple(note["band"]), "uri": figures.data_uri(data.figures[key])})
+    if (data.real_logs is None) != (data.replay_traces is None):
         replay_notes.append("the time plots and spectra need both the real logs and the replay traces")
 
     limits_classes = [{"cls": c, "label": c.replace("_", " "), "friction": class_params.get(c, {}).get("friction"),

@@ -10,29 +10,31 @@ from simpick.report import figures
 from simpick.validation import failures
 
 
-@figures.cached
-def _gain_figure(series: tuple, analytic: float, colors: tuple) -> str:
-    """Yaw-rate gain against commanded w at v = 0.5 m/s, one line per engine, analytic line."""
-    plt = figures._plt()
-    fig, ax = plt.subplots(figsize=(5.2, 2.6))
-    colors = dict(colors)
-    for engine, points in series:
-        ws, gains = zip(*points)
-        ax.plot(ws, gains, "o-", color=colors.get(engine), label=engine, lw=1.2, ms=3.5)
-    ax.axhline(analytic, color="black", lw=1.0, ls="--", label=f"Coulomb, quasi-static ({analytic:.3f})")
-    ax.axhspan(analytic * 0.9, analytic * 1.1, color="black", alpha=0.07, lw=0, label="±10 %")
-    ax.set_xlabel("commanded yaw rate w (rad/s), v = 0.5 m/s")
-    ax.set_ylabel("yaw-rate gain (measured / w)")
-    ax.set_ylim(0, max(1.0, max(g for _, pts in series for _, g in pts) * 1.1))
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
-    return figures.to_data_uri(fig)
+def _present(summary: pd.DataFrame, engines: list[str]) -> list[str]:
+    order = {e: i for i, e in enumerate(engines)}
+    return sorted(summary.engine.unique(), key=lambda e: order.get(e, len(order)))
 
 
-def validation_section(summary: pd.DataFrame | None, engines: list[str], colors: dict[str, str]) -> dict[str, Any]:
+def gain_series(summary: pd.DataFrame, engines: list[str]) -> tuple[list, float | None, float | None]:
+    """The gain figure's data: per engine (w, gain) at v = 0.5 m/s on the highest friction, the
+    analytic gain, and that friction."""
+    gains = summary[(summary.quantity == "yaw_rate_gain") & (summary.v == 0.5)]
+    mus = sorted(gains.mu.unique())
+    mu = max(mus) if mus else None
+    series = []
+    for e in _present(summary, engines):
+        g = gains[(gains.engine == e) & (gains.mu == mu)].sort_values("w")
+        if len(g):
+            series.append((e, list(zip(g.w.round(6), g.engine_value.round(6)))))
+    analytic = float(gains[gains.mu == mu].analytic_value.iloc[0]) if series else None
+    return series, analytic, mu
+
+
+def validation_section(summary: pd.DataFrame | None, engines: list[str], figure: str | None) -> dict[str, Any]:
+    """``figure``: the gain figure's file (rule figure_validation), None when not drawn."""
     if summary is None or summary.empty:
         return {"given": False}
-    order = {e: i for i, e in enumerate(engines)}
-    present = sorted(summary.engine.unique(), key=lambda e: order.get(e, len(order)))
+    present = _present(summary, engines)
     cases = list(dict.fromkeys(summary.case))
     rows = []
     for case in cases:
@@ -45,16 +47,8 @@ def validation_section(summary: pd.DataFrame | None, engines: list[str], colors:
                              "passed": bool(r.passed.iloc[0]), "status": r.status.iloc[0]} if len(r) else None)
             rows.append({"case": case, "quantity": quantity, "unit": first.unit, "analytic": first.analytic_value,
                          "tolerance": first.tolerance, "error_kind": first.error_kind, "cells": cells})
-    gains = summary[(summary.quantity == "yaw_rate_gain") & (summary.v == 0.5)]
-    mus = sorted(gains.mu.unique())
-    mu = max(mus) if mus else None
-    series = []
-    for e in present:
-        g = gains[(gains.engine == e) & (gains.mu == mu)].sort_values("w")
-        if len(g):
-            series.append((e, tuple(zip(g.w.round(6), g.engine_value.round(6)))))
-    uri = (_gain_figure(tuple(series), float(gains[gains.mu == mu].analytic_value.iloc[0]),
-                        tuple(sorted(colors.items()))) if series else None)
+    series, _, mu = gain_series(summary, engines)
+    uri = figures.data_uri(figure) if figure and series else None
     failed = failures(summary)
     passed = [e for e in present if e not in failed]
     costs = summary.groupby("engine").steps_per_s.median().to_dict()
