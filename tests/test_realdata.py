@@ -165,6 +165,64 @@ def _segment_trace(path, engine, segment, wz, status="ok"):
     return str(path)
 
 
+def test_replay_metrics_job_against_hand_computed_values(tmp_path):
+    """One run replayed by one engine, 20 s at 100 Hz, compared in two 10 s windows. Real: yaw
+    rate 0.3 + 0.1 sin(2 pi t / 5) (whole periods per window: mean 0.3), forward acceleration 0.2; simulated: yaw rate 0.2, no forward acceleration;
+    both +9.81 on z, the rest 0. Commands: 0.3 m/s, 0.5 rad/s kinematic."""
+    from simpick.realdata import replay_metrics_job
+    from simpick.reallogs import write_canonical
+    from simpick.traces import write_trace
+
+    track, rate, seconds = 0.555, 100.0, 20.0
+    t = np.round(np.arange(1, int(seconds * rate) + 1) / rate, 10)
+    zeros = np.zeros(t.size)
+    real_imu = pd.DataFrame({"time": t, "ax": zeros + 0.2, "ay": zeros, "az": zeros + 9.81, "wx": zeros,
+                             "wy": zeros, "wz": 0.3 + 0.1 * np.sin(2 * np.pi * t / 5.0)})
+    tc = np.arange(0.0, seconds + 1.0, 0.1)
+    commands = pd.DataFrame({"time": tc, "v_left": 0.3 - 0.5 * track / 2 + 0 * tc,
+                             "v_right": 0.3 + 0.5 * track / 2 + 0 * tc})
+    log_path = tmp_path / "logs" / "FLOORING" / "01.parquet"
+    write_canonical(RealLog(imu=real_imu, commands=commands,
+                            meta={"dataset": "test", "run_id": "01", "terrain_class": "FLOORING",
+                                  "name": "FLOORING_01"}), log_path)
+    from simpick.traces import COLUMNS as TRACE_COLUMNS
+
+    sim = pd.DataFrame({c: zeros for c in TRACE_COLUMNS})
+    sim["time"], sim["az"], sim["wz"] = t, 9.81, 0.2
+    trace = tmp_path / "replay" / "a" / "flooring" / "01.parquet"
+    write_trace(sim, {"engine": "a", "terrain": "flooring", "run": "01", "imu_rate_hz": rate,
+                      "health": {"status": "ok", "reasons": []}}, trace)
+    outputs = {k: str(tmp_path / f"{k}.csv") for k in ("per_window", "per_test", "summary", "pairwise", "imu_errors")}
+    replay_metrics_job([str(log_path)], [str(trace)], {"track": track, "window": 10.0}, outputs)
+
+    windows = pd.read_csv(outputs["per_window"], dtype={"run": str})
+    assert list(windows.window_start) == [0.0, 10.0]
+    # Eq. 7 per window: angular |0.2 - 0.3| (z mean) + |0 - 0.2| (z range); linear |0 - 0.2| (x mean)
+    # the range is the 1 %-trimmed one (metrics.trimmed_range): the 10 largest of a window's 1 000
+    # samples averaged minus the 10 smallest. A window holds two peaks and two troughs; the 10 largest
+    # are each peak's sample and its two neighbours either side (t offsets 0, +-0.01, +-0.02 s)
+    offsets = np.array([0.0, 0.01, -0.01, 0.02, -0.02] * 2)
+    trimmed = 2 * 0.1 * np.mean(np.cos(2 * np.pi * offsets / 5.0))  # peak mean - trough mean
+    assert trimmed == pytest.approx(0.2, abs=1e-4)
+    np.testing.assert_allclose(windows.error_angular, 0.1 + trimmed, atol=1e-6)  # the CSV keeps 6 significant digits
+    np.testing.assert_allclose(windows.error_linear, 0.2, atol=1e-6)  # the CSV keeps 6 significant digits
+    # gains: yaw rate over the 0.5 rad/s kinematic one
+    np.testing.assert_allclose(windows.yaw_rate_gain_real, 0.6, atol=1e-6)  # the CSV keeps 6 significant digits
+    np.testing.assert_allclose(windows.yaw_rate_gain_sim, 0.4, atol=1e-6)  # the CSV keeps 6 significant digits
+    # low-passed RMS: ax a constant 0.2 apart; yaw rate 0.1 + 0.1 sin: sqrt(0.1^2 + 0.1^2 / 2), the
+    # 0.2 Hz wave kept by the 2 Hz low-pass (1 % for its gain and the filter's ends)
+    np.testing.assert_allclose(windows.rmse_ax, 0.2, rtol=1e-3)
+    np.testing.assert_allclose(windows.rmse_yaw_rate, np.sqrt(0.015), rtol=0.01)
+
+    per_test = pd.read_csv(outputs["per_test"], dtype={"run": str}).iloc[0]
+    # one test = one run: Eq. 7 summed over its windows, the other figures averaged
+    assert per_test.error_angular == pytest.approx(2 * (0.1 + trimmed), abs=1e-5)
+    assert per_test.error_linear == pytest.approx(0.4)
+    assert per_test.yaw_rate_gain_sim == pytest.approx(0.4) and per_test.segment == "flooring-01"
+    totals = pd.read_csv(outputs["imu_errors"]).set_index("quantity")
+    assert totals.loc["angular", "error"] == pytest.approx(2 * (0.1 + trimmed), abs=1e-5) and totals.loc["linear", "error"] == pytest.approx(0.4)
+
+
 def test_segment_metrics_job_against_hand_computed_values(tmp_path):
     """Eq. 7 per segment, yaw-rate gain, totals over the tests every engine completed, and no
     verdict from two runs."""
