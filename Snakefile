@@ -8,8 +8,8 @@
 #   Sources: lab (terrain -> terrain x motion on every engine, against the paper's reference statistics);
 #   segments (the committed resources/real/*_segments.csv, read, never written: every model drives each
 #   segment's command, against its real window statistics); a dataset folder (--config borealtc_dir=PATH:
-#   dataset_manifest, import_real per run -> results/real/<dataset>/logs/, real_segments: its own segment
-#   table, a result) and own logs (own_logs: import_own_log -> results/real/own/logs/), each replayed run
+#   dataset_manifest, import_real per run -> results/real/<dataset>/logs/; checkpoint real_segments: its own
+#   segment table, a result and the case table of source <dataset>-segments) and own logs (own_logs: import_own_log -> results/real/own/logs/), each replayed run
 #   against its real log window by window. Only the maintainers' maintain_segments target copies
 #   BorealTC's derived table over the committed one.
 # - lab extras: cpu_load per engine; validate (engines against analytic mechanics) -> validation_summary;

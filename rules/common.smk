@@ -213,21 +213,39 @@ def real_logs(source):
 # committed table); a dataset folder's name or "own": terrain class x run (its canonical logs). A
 # case's trace is results/traces/<source>/<model>/<group>/<name>.parquet; the source's tables lie in
 # results/metrics/<source>/. Sources "lab" and "segments" are no dataset's name (simpick.datasets.RESERVED_NAMES).
+# A dataset folder's derived segment table (rule real_segments, a checkpoint) is a source too,
+# "<dataset>-segments": its cases are known once the table is written (source_cases).
 SOURCES = {
     "lab": {"kind": "lab", "models": ENGINES, "group": "terrain",
             "cases": [(t, m) for t in TERRAINS for m in MOTIONS]},
     "segments": {"kind": "segments", "models": REAL_MODELS, "group": "terrain_class",
-                 "cases": [(c, s) for c, ids in SEGMENTS.items() for s in ids]},
+                 "cases": [(c, s) for c, ids in SEGMENTS.items() for s in ids],
+                 "table": config["real_data"]["segments"]},
     **{source: {"kind": "replay", "models": REAL_MODELS, "group": "terrain_class", "cases": cases}
        for source, cases in REPLAY_CASES.items()},
 }
+
+
+if REPLAY_SET:
+    DERIVED = f"{REPLAY_SET.name}-segments"  # no dataset name ends so and is also replayed: one folder a run
+    SOURCES[DERIVED] = {"kind": "segments", "models": REAL_MODELS, "group": "terrain_class", "cases": None,
+                        "table": f"{REPLAY}/segments.csv", "classes": list(REPLAY_SET.classes)}
+
+
+def source_cases(source):
+    """A source's (group, name) cases; a derived segment table's once its checkpoint has run."""
+    cases = SOURCES[source]["cases"]
+    if cases is not None:
+        return cases
+    with open(checkpoints.real_segments.get().output.csv, newline="") as handle:
+        return [(row["terrain_class"], row["segment"]) for row in csv.DictReader(handle)]
 
 
 def source_traces(source):
     return [
         f"results/traces/{source}/{model}/{group}/{name}.parquet"
         for model in SOURCES[source]["models"]
-        for group, name in SOURCES[source]["cases"]
+        for group, name in source_cases(source)
     ]
 
 
@@ -268,10 +286,14 @@ def simulate_units():
 
 
 def one_case_constraints(sources):
-    cases = [case for source in sources for case in SOURCES[source]["cases"]]
+    known = [SOURCES[s] for s in sources if SOURCES[s]["cases"] is not None]
+    groups = {g for s in known for g, _ in s["cases"]} | {g for s in sources for g in SOURCES[s].get("classes", [])}
+    names = {n for s in known for _, n in s["cases"]}
+    # a derived table's segment ids are known only after its checkpoint: any name, the source pins it
+    unknown = len(known) < len(sources)
     return {"source": "|".join(re.escape(s) for s in sources),
-            "group": "|".join(sorted({re.escape(g) for g, _ in cases})),
-            "name": "|".join(sorted({re.escape(n) for _, n in cases}))}
+            "group": "|".join(sorted(re.escape(g) for g in groups)),
+            "name": "[^/]+" if unknown else "|".join(sorted(re.escape(n) for n in names))}
 
 
 def unit(wildcards, fixed):
@@ -288,7 +310,7 @@ def case_inputs(source, group, names):
     if kind == "lab":
         return urdf | {"terrain": f"results/terrains/{group}.json"}
     if kind == "segments":
-        return urdf | {"segments": config["real_data"]["segments"]}
+        return urdf | {"segments": SOURCES[source]["table"]}
     (name,) = names  # a replay is never batched: one log per job
     return urdf | {"log": f"results/real/{source}/logs/{group}/{name}.parquet"}
 
@@ -314,7 +336,7 @@ def compare_inputs(wildcards):
     """A source's traces and what they are compared with."""
     kind = SOURCES[wildcards.source]["kind"]
     compared = {"lab": {"published": config["reference"]["published"]},
-                "segments": {"segments": config["real_data"]["segments"]},
+                "segments": {"segments": SOURCES[wildcards.source].get("table")},
                 "replay": {"logs": real_logs(wildcards.source) if kind == "replay" else []}}[kind]
     return {"traces": source_traces(wildcards.source)} | compared
 

@@ -50,8 +50,9 @@ if REPLAY_SET:
         script:
             "../scripts/import_real.py"
 
-    # The folder's own constant-command segments: a result, beside its replay.
-    rule real_segments:
+    # The folder's own constant-command segments: a result, beside its replay, and a source of cases
+    # ("<dataset>-segments", rules/common.smk) known only once it is written: a checkpoint.
+    checkpoint real_segments:
         input:
             logs=real_logs(REPLAY_SET.name),
         output:

@@ -3,6 +3,7 @@
 # writes a trace per case. The unit is one case (rule `simulate`, over {source}), except for a batched
 # source (BATCHED: the committed segments, a job per terrain class sharing one import): Snakemake gives
 # a rule a fixed number of outputs, so the same rule is stated once per class (simulate_segments_<class>).
+# A dataset folder's derived segments are one job each: their ids exist only after the checkpoint.
 for _rule, _outputs, _fixed in simulate_units():
 
     rule:

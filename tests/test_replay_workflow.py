@@ -73,6 +73,12 @@ def test_replay_of_another_dataset_succeeds_under_its_own_name(replay):
     assert (per_test.status == "ok").all() and per_test.error_angular.gt(0).all()
     # the committed segments were compared too, under their own dataset
     assert len(list((workdir / "results/traces/segments").rglob("*.parquet"))) == len(models) * 18
+    # and the folder's own segments, a case table known only once the checkpoint wrote it
+    derived = pd.read_csv(out / "segments.csv", dtype={"run": str})
+    assert len(derived) > 0
+    compared = pd.read_csv(workdir / f"results/metrics/{NAME}-segments/per_test.csv", dtype={"run": str})
+    assert sorted(zip(compared.segment, compared.engine)) == sorted((s, e) for s in derived.segment for e in models)
+    assert (compared.status == "ok").all()
 
 
 def test_simulated_imu_is_compared_at_the_logs_50_hz(replay):
