@@ -1,19 +1,24 @@
 # simpick: the Farley, Wang & Marshall (2022) simulator study as a workflow.
-# Data flow (helpers and config slices in rules/common.smk):
-# - lab study: terrain -> simulate (one engine x terrain x motion) -> metrics (+ cpu_load) -> scores -> report (+ report_pdf);
-#   validate (engines against analytic mechanics) -> validation_summary; published: the paper's Table 11 recomputed.
-# - real data, committed segments (resources/real/*_segments.csv, read, never written): simulate_segments_<class>
-#   -> segment_metrics -> results/real/<dataset>/metrics/segments_*.
-# - real data, replay sources (rules/real.smk): a dataset folder (--config borealtc_dir=PATH: dataset_manifest,
-#   import_real per run, real_segments: its own segment table) and the user's own logs (own_logs: import_own_log)
-#   each give canonical logs in results/real/<source>/logs/; one replay rule (a job per model x case) and one
-#   replay_metrics rule (a job per source) serve both. Only the maintainers' maintain_segments target copies
+# Data flow (helpers, config slices and the case tables SOURCES in rules/common.smk):
+# - one path per case: each source yields a case table (engine-independent rows) and every case goes
+#   through the same three families, over a {source} wildcard:
+#     simulate (a job per case x model, under the watchdog) -> results/traces/<source>/<model>/<group>/<case>.parquet
+#     compare (a job per source: per-test error rows)  -> results/metrics/<source>/{per_test,detail,runs}.csv
+#     summarise (a job per source)                     -> results/metrics/<source>/{imu_errors,rtf,summary,pairwise}.csv
+#   Sources: lab (terrain -> terrain x motion on every engine, against the paper's reference statistics);
+#   segments (the committed resources/real/*_segments.csv, read, never written: every model drives each
+#   segment's command, against its real window statistics); a dataset folder (--config borealtc_dir=PATH:
+#   dataset_manifest, import_real per run -> results/real/<dataset>/logs/; checkpoint real_segments: its own
+#   segment table, a result and the case table of source <dataset>-segments) and own logs (own_logs: import_own_log -> results/real/own/logs/), each replayed run
+#   against its real log window by window. Only the maintainers' maintain_segments target copies
 #   BorealTC's derived table over the committed one.
-# - scores rest on one set of Eq. 7 errors (accuracy.reference: the segments, the dataset replay, own logs or the
-#   paper's lab reference) and record it in results/scores/provenance.yaml, which the report reads.
+# - lab extras: cpu_load per engine; validate (engines against analytic mechanics) -> validation_summary;
+#   published: the paper's Table 11 recomputed.
+# - scores rest on one source's Eq. 7 totals (accuracy.reference: the segments, the dataset replay, own
+#   logs or the paper's lab reference) and record it in results/scores/provenance.yaml, which the report reads.
 # - calibration (`snakemake calibration` or calibration.enabled): every model per class on training units
 #   (segments, or the replay's runs), judged on test units; sweep (a `sweep:` config): segment error and speed
-#   per timestep. Both feed the report when run.
+#   per timestep. Both simulate in-process and feed the report when run.
 from snakemake.utils import min_version
 
 min_version("9.0")
@@ -38,10 +43,7 @@ include: "rules/report.smk"
 rule all:
     input:
         "results/validation/summary.csv",
-        all_traces(),
-        segment_traces(),
-        f"{REAL}/metrics/segments_summary.csv",
-        [f"results/real/{source}/metrics/replay_summary.csv" for source in REPLAY_CASES],
+        [metrics_file(source, table) for source in SOURCES for table in ("imu_errors", "summary")],
         [f"{REPLAY}/segments.csv", f"{REPLAY}/dataset.yaml"] if REPLAY_SET else [],
         f"{SWEEP_DIR}/summary.csv" if SWEEP else [],
         CALIBRATION_ALL,

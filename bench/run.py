@@ -131,10 +131,10 @@ def pipeline(repeats: int) -> list[dict]:
             rerun.append(snakemake(work))
             # the PDF is its own job: the HTML a user reloads is there before WeasyPrint is done
             to_html.append((work / "results/report/report.html").stat().st_mtime - started)
-            bench = list((work / "results/benchmarks/simulate").rglob("*.tsv"))
-            runs = pd.read_csv(work / "results/metrics/runs.csv")
+            bench = list((work / "results/benchmarks/simulate/lab").rglob("*.tsv"))
+            runs = pd.read_csv(work / "results/metrics/lab/runs.csv")
             for path in bench:
-                engine, terrain, motion = path.relative_to(work / "results/benchmarks/simulate").with_suffix("").parts
+                engine, terrain, motion = path.relative_to(work / "results/benchmarks/simulate/lab").with_suffix("").parts
                 b = pd.read_csv(path, sep="\t").iloc[0]
                 r = runs[(runs.engine == engine) & (runs.terrain == terrain) & (runs.motion == motion)].iloc[0]
                 job_rows.append({"engine": engine, "wall": b["s"], "stepping": r.wall_time, "rss": b["max_rss"]})

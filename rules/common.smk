@@ -39,15 +39,6 @@ def canonical(value):
     return float(value)
 
 
-def all_traces():
-    return expand(
-        "results/traces/{engine}/{terrain}/{motion}.parquet",
-        engine=ENGINES,
-        terrain=TERRAINS,
-        motion=MOTIONS,
-    )
-
-
 def engine_params(engine):
     """What every simulation on ``engine`` depends on, whatever it drives over."""
     robot = {k: v for k, v in config["robot"].items() if k != "urdf"}
@@ -149,15 +140,6 @@ def sweep_runs():
     ]
 
 
-def segment_traces():
-    return [
-        f"{REAL}/segments/{engine}/{cls}/{segment}.parquet"
-        for engine in REAL_MODELS
-        for cls, ids in SEGMENTS.items()
-        for segment in ids
-    ]
-
-
 # The full replay's dataset folder (--config borealtc_dir=PATH [real_dataset=NAME]), checked
 # now: a folder that is not a dataset, an empty class folder, an unpaired file or a class with
 # no ground model stops the run here with one `simpick:` line each, before any job.
@@ -213,8 +195,8 @@ OWN_LOGS = {entry["name"]: entry for entry in config.get("own_logs") or []}
 
 # The replay sources and their case tables: a source is the dataset folder (its name) or the
 # user's own logs ("own"); a case is one (terrain class, run) whose canonical log lies at
-# results/real/<source>/logs/<class>/<run>.parquet. Each kind of source has its import rule;
-# from the log on, one replay and one replay_metrics rule serve every source (rules/real.smk).
+# results/real/<source>/logs/<class>/<run>.parquet. Each kind of source has its import rule
+# (rules/real.smk); from the log on, every source is one entry of SOURCES below.
 # No dataset is called "own" (simpick.datasets.RESERVED_NAMES).
 REPLAY_CASES = {REPLAY_SET.name: RUNS} if REPLAY_SET else {}
 if OWN_LOGS:
@@ -225,12 +207,152 @@ def real_logs(source):
     return [f"results/real/{source}/logs/{c}/{run}.parquet" for c, run in REPLAY_CASES[source]]
 
 
-def replay_traces(source):
+# --- the case tables and the one simulate / compare / summarise path (rules/simulate.smk, metrics.smk) ---
+# A source yields a case table: engine-independent (group, name) rows, each one simulation per model
+# of the source. "lab": terrain x motion (config); "segments": terrain class x segment id (the
+# committed table); a dataset folder's name or "own": terrain class x run (its canonical logs). A
+# case's trace is results/traces/<source>/<model>/<group>/<name>.parquet; the source's tables lie in
+# results/metrics/<source>/. Sources "lab" and "segments" are no dataset's name (simpick.datasets.RESERVED_NAMES).
+# A dataset folder's derived segment table (rule real_segments, a checkpoint) is a source too,
+# "<dataset>-segments": its cases are known once the table is written (source_cases).
+SOURCES = {
+    "lab": {"kind": "lab", "models": ENGINES, "group": "terrain",
+            "cases": [(t, m) for t in TERRAINS for m in MOTIONS]},
+    "segments": {"kind": "segments", "models": REAL_MODELS, "group": "terrain_class",
+                 "cases": [(c, s) for c, ids in SEGMENTS.items() for s in ids],
+                 "table": config["real_data"]["segments"]},
+    **{source: {"kind": "replay", "models": REAL_MODELS, "group": "terrain_class", "cases": cases}
+       for source, cases in REPLAY_CASES.items()},
+}
+
+
+if REPLAY_SET:
+    DERIVED = f"{REPLAY_SET.name}-segments"  # no dataset name ends so and is also replayed: one folder a run
+    SOURCES[DERIVED] = {"kind": "segments", "models": REAL_MODELS, "group": "terrain_class", "cases": None,
+                        "table": f"{REPLAY}/segments.csv", "classes": list(REPLAY_SET.classes)}
+
+
+def source_cases(source):
+    """A source's (group, name) cases; a derived segment table's once its checkpoint has run."""
+    cases = SOURCES[source]["cases"]
+    if cases is not None:
+        return cases
+    with open(checkpoints.real_segments.get().output.csv, newline="") as handle:
+        return [(row["terrain_class"], row["segment"]) for row in csv.DictReader(handle)]
+
+
+def source_traces(source):
     return [
-        f"results/real/{source}/replay/{engine}/{c}/{run}.parquet"
-        for engine in REAL_MODELS
-        for c, run in REPLAY_CASES[source]
+        f"results/traces/{source}/{model}/{group}/{name}.parquet"
+        for model in SOURCES[source]["models"]
+        for group, name in source_cases(source)
     ]
+
+
+def all_traces():
+    """The lab study's traces (engine x terrain x motion)."""
+    return source_traces("lab")
+
+
+def replay_traces(source):
+    return source_traces(source)
+
+
+def metrics_file(source, table):
+    return f"results/metrics/{source}/{table}.csv"
+
+
+# The unit of work of the simulate family: one case, except where a source's case table is batched
+# by group (the committed segments, per terrain class): 18 short runs, where a job per segment cost
+# about 1.2 s of fixed cost each (process, imports, robot) and the default study some 50 s more
+# on 2 cores than a job per class sharing one import (measured; see the commit that made this).
+BATCHED = {"segments"}
+
+
+def simulate_units():
+    """(rule name, output patterns, what the rule fixes) of every rule of the simulate family: one
+    rule over the {source} wildcard for the one-case units, one per group of a batched source."""
+    single = [s for s in SOURCES if s not in BATCHED]
+    units = [("simulate", ["results/traces/{source}/{engine}/{group}/{name}.parquet"],
+              {"sources": single})] if single else []
+    for source in sorted(BATCHED & set(SOURCES)):
+        groups = {}
+        for group, name in SOURCES[source]["cases"]:
+            groups.setdefault(group, []).append(name)
+        for group, names in groups.items():
+            outputs = [f"results/traces/{source}/{{engine}}/{group}/{name}.parquet" for name in names]
+            units.append((f"simulate_{source}_{group}", outputs, {"source": source, "group": group, "names": names}))
+    return units
+
+
+def one_case_constraints(sources):
+    known = [SOURCES[s] for s in sources if SOURCES[s]["cases"] is not None]
+    groups = {g for s in known for g, _ in s["cases"]} | {g for s in sources for g in SOURCES[s].get("classes", [])}
+    names = {n for s in known for _, n in s["cases"]}
+    # a derived table's segment ids are known only after its checkpoint: any name, the source pins it
+    unknown = len(known) < len(sources)
+    return {"source": "|".join(re.escape(s) for s in sources),
+            "group": "|".join(sorted(re.escape(g) for g in groups)),
+            "name": "[^/]+" if unknown else "|".join(sorted(re.escape(n) for n in names))}
+
+
+def unit(wildcards, fixed):
+    """source, engine, group and the case names of one simulate job."""
+    if "names" in fixed:
+        return fixed["source"], wildcards.engine, fixed["group"], list(fixed["names"])
+    return wildcards.source, wildcards.engine, wildcards.group, [wildcards.name]
+
+
+def case_inputs(source, group, names):
+    """The files a unit's cases read: the lab's terrain, the committed segment table, or the run's log."""
+    kind = SOURCES[source]["kind"]
+    urdf = {"urdf": config["robot"]["urdf"]}
+    if kind == "lab":
+        return urdf | {"terrain": f"results/terrains/{group}.json"}
+    if kind == "segments":
+        return urdf | {"segments": SOURCES[source]["table"]}
+    (name,) = names  # a replay is never batched: one log per job
+    return urdf | {"log": f"results/real/{source}/logs/{group}/{name}.parquet"}
+
+
+def case_params(source, engine, group, names):
+    """Everything a unit's cases on one model depend on, and nothing else."""
+    kind = SOURCES[source]["kind"]
+    if kind == "lab":
+        (name,) = names
+        params = simulation_params(engine, group, name)
+    else:
+        params = real_params(engine, group)
+    return params | {"kind": kind, "source": source, "cases": list(names)}
+
+
+def case_code(source, engine):
+    """The library code a case runs: the simulation, the model's adapter, and how its kind drives it."""
+    more = {"lab": (), "segments": ("realdata.py",), "replay": ("realdata.py", "reallogs")}
+    return engine_code(engine, *more[SOURCES[source]["kind"]])
+
+
+def compare_inputs(wildcards):
+    """A source's traces and what they are compared with."""
+    kind = SOURCES[wildcards.source]["kind"]
+    compared = {"lab": {"published": config["reference"]["published"]},
+                "segments": {"segments": SOURCES[wildcards.source].get("table")},
+                "replay": {"logs": real_logs(wildcards.source) if kind == "replay" else []}}[kind]
+    return {"traces": source_traces(wildcards.source)} | compared
+
+
+def compare_settings(source):
+    kind = SOURCES[source]["kind"]
+    if kind == "lab":
+        return {}
+    if kind == "segments":
+        return canonical({"track": config["robot"]["track"]})
+    return canonical({"track": config["robot"]["track"], "window": config["real_data"]["window"]})
+
+
+COMPARE_CODE = {"lab": ("workflow.py", "metrics.py", "traces.py", "reference.py", "published.py"),
+                "segments": ("workflow.py", "metrics.py", "traces.py", "realdata.py", "realmetrics.py"),
+                "replay": ("workflow.py", "metrics.py", "traces.py", "realdata.py", "realmetrics.py", "reallogs")}
 
 
 def statistics_params():
@@ -257,17 +379,15 @@ def accuracy_source():
     which is what the report reads."""
     reference = config["accuracy"]["reference"]
     if reference == "paper":
-        return {"reference": reference, "set": "lab", "dataset": None,
-                "errors": "results/metrics/imu_errors.csv", "per_test": "results/metrics/runs.csv"}
-    if reference == "own":
-        kind, root, dataset = "own", OWN, "own"
+        kind, source, dataset = "lab", "lab", None
+    elif reference == "own":
+        kind, source, dataset = "own", "own", "own"
     elif REPLAY_SET:
-        kind, root, dataset = "replay", REPLAY, REPLAY_SET.name
+        kind, source, dataset = "replay", REPLAY_SET.name, REPLAY_SET.name
     else:
-        kind, root, dataset = "segments", REAL, DATASET
-    prefix = "segments" if kind == "segments" else "replay"
+        kind, source, dataset = "segments", "segments", DATASET
     return {"reference": reference, "set": kind, "dataset": dataset,
-            "errors": f"{root}/metrics/{prefix}_imu_errors.csv", "per_test": f"{root}/metrics/{prefix}_per_test.csv"}
+            "errors": metrics_file(source, "imu_errors"), "per_test": metrics_file(source, "per_test")}
 
 
 def accuracy_errors():
@@ -283,22 +403,17 @@ def report_real_inputs(wildcards):
     inputs = {
         "accuracy_errors": accuracy_errors(),
         "segments": segments,
-        "segments_per_test": f"{REAL}/metrics/segments_per_test.csv",
-        "segments_summary": f"{REAL}/metrics/segments_summary.csv",
-        "segments_pairwise": f"{REAL}/metrics/segments_pairwise.csv",
-        "segments_imu_errors": f"{REAL}/metrics/segments_imu_errors.csv",
+        **{f"segments_{table}": metrics_file("segments", table)
+           for table in ("per_test", "summary", "pairwise", "imu_errors")},
     }
     if accuracy_source()["set"] != "lab":  # its per-test table: how much of each error a rigid model leaves
         inputs["accuracy_per_test"] = accuracy_source()["per_test"]
     if os.path.exists(provenance):
         inputs["segments_provenance"] = provenance
     if REPLAY_SET:
-        inputs.update(
-            {
-                f"replay_{name}": f"{REPLAY}/metrics/replay_{name}.csv"
-                for name in ("per_window", "per_test", "summary", "pairwise", "imu_errors")
-            }
-        )
+        inputs.update({f"replay_{table}": metrics_file(REPLAY_SET.name, table)
+                       for table in ("per_test", "summary", "pairwise", "imu_errors")})
+        inputs["replay_per_window"] = metrics_file(REPLAY_SET.name, "detail")
         inputs["real_logs"] = real_logs(REPLAY_SET.name)
         inputs["replay_traces"] = replay_traces(REPLAY_SET.name)
     if SWEEP:

@@ -1,19 +1,59 @@
-rule metrics:
+# One compare and one summarise family over the sources of rules/common.smk (SOURCES): a source's
+# traces against what they are compared with (simpick.workflow.compare_job: the paper's reference
+# statistics for the lab, each segment's real window statistics, the real log for a replay), then its
+# per-test rows summed and summarised (simpick.workflow.summarise_job), all in results/metrics/<source>/.
+
+
+rule compare:
     input:
-        traces=all_traces(),
-        published=config["reference"]["published"],
+        unpack(compare_inputs),
     output:
-        trace_stats="results/metrics/trace_stats.csv",
-        reference_stats="results/metrics/reference_stats.csv",
-        per_test_errors="results/metrics/per_test_errors.csv",
-        imu_errors="results/metrics/imu_errors.csv",
-        runs="results/metrics/runs.csv",
-        rtf="results/metrics/rtf.csv",
+        per_test="results/metrics/{source}/per_test.csv",
+        detail="results/metrics/{source}/detail.csv",
+        runs="results/metrics/{source}/runs.csv",
     params:
-        code=code_version("metrics.py", "workflow.py", "reference.py", "published.py", "traces.py"),
+        kind=lambda wc: SOURCES[wc.source]["kind"],
+        settings=lambda wc: compare_settings(wc.source),
+        code=lambda wc: code_version(*COMPARE_CODE[SOURCES[wc.source]["kind"]]),
+    wildcard_constraints:
+        source="|".join(re.escape(s) for s in SOURCES),
     log:
-        "results/logs/metrics.log",
+        "results/logs/compare/{source}.log",
+    benchmark:
+        "results/benchmarks/compare/{source}.tsv"
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=30,
     conda:
         "../envs/simpick.yaml"
     script:
-        "../scripts/metrics.py"
+        "../scripts/compare.py"
+
+
+rule summarise:
+    input:
+        per_test="results/metrics/{source}/per_test.csv",
+        runs="results/metrics/{source}/runs.csv",
+    output:
+        imu_errors="results/metrics/{source}/imu_errors.csv",
+        rtf="results/metrics/{source}/rtf.csv",
+        summary="results/metrics/{source}/summary.csv",
+        pairwise="results/metrics/{source}/pairwise.csv",
+    params:
+        settings=lambda wc: canonical({"group": SOURCES[wc.source]["group"], "statistics": statistics_params()}),
+        code=code_version("workflow.py", "metrics.py", "realdata.py", "realmetrics.py"),
+    wildcard_constraints:
+        source="|".join(re.escape(s) for s in SOURCES),
+    log:
+        "results/logs/summarise/{source}.log",
+    benchmark:
+        "results/benchmarks/summarise/{source}.tsv"
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=10,
+    conda:
+        "../envs/simpick.yaml"
+    script:
+        "../scripts/summarise.py"

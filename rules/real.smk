@@ -1,60 +1,9 @@
-# Real robot data: constant-command segments (the committed table, read, never written) and
-# the full replay of a replay source: a dataset folder (--config borealtc_dir=PATH; results in
-# results/real/<dataset>/) or the user's own logs (config own_logs; results/real/own/). Each
-# kind of source has its import rule; from the canonical log on, every source goes through the
-# same replay and replay_metrics rules. Helpers (the case tables REPLAY_CASES) in common.smk.
-
-
-# One job per terrain class and engine: its segments are short runs sharing one import.
-for _cls, _ids in SEGMENTS.items():
-
-    rule:
-        name:
-            f"simulate_segments_{_cls}"
-        input:
-            segments=config["real_data"]["segments"],
-            urdf=config["robot"]["urdf"],
-        output:
-            expand(
-                f"{REAL}/segments/{{{{engine}}}}/{_cls}/{{segment}}.parquet",
-                segment=_ids,
-            ),
-        params:
-            case=lambda wc, cls=_cls: real_params(wc.engine, cls),
-            code=lambda wc: engine_code(wc.engine, "realdata.py"),
-        log:
-            f"results/logs/real/segments/{{engine}}/{_cls}.log",
-        benchmark:
-            f"results/benchmarks/segments/{{engine}}/{_cls}.tsv"
-        threads: 1
-        resources:
-            mem_mb=400,
-            runtime=15,
-        conda:
-            "../envs/simpick.yaml"
-        script:
-            "../scripts/simulate_segments.py"
-
-
-rule segment_metrics:
-    input:
-        segments=config["real_data"]["segments"],
-        traces=segment_traces(),
-    output:
-        per_test=f"{REAL}/metrics/segments_per_test.csv",
-        summary=f"{REAL}/metrics/segments_summary.csv",
-        pairwise=f"{REAL}/metrics/segments_pairwise.csv",
-        imu_errors=f"{REAL}/metrics/segments_imu_errors.csv",
-    params:
-        track=canonical(config["robot"]["track"]),
-        statistics=statistics_params(),
-        code=code_version("realdata.py", "realmetrics.py", "metrics.py", "traces.py", "workflow.py"),
-    log:
-        "results/logs/real/segment_metrics.log",
-    conda:
-        "../envs/simpick.yaml"
-    script:
-        "../scripts/segment_metrics.py"
+# Real robot data in: the replay sources' canonical logs (a dataset folder, --config borealtc_dir=PATH,
+# in results/real/<dataset>/; the user's own logs, config own_logs, in results/real/own/), a dataset
+# folder's own segment table, and the maintainers' copy of it over the committed one (read, never
+# written by a run). Each kind of source has its import rule; from the canonical log (or the committed
+# table) on, every case goes through the one simulate, compare and summarise family (simulate.smk,
+# metrics.smk). Helpers (the case tables SOURCES, REPLAY_CASES) in common.smk.
 
 
 if REPLAY_SET:
@@ -101,8 +50,9 @@ if REPLAY_SET:
         script:
             "../scripts/import_real.py"
 
-    # The folder's own constant-command segments: a result, beside its replay.
-    rule real_segments:
+    # The folder's own constant-command segments: a result, beside its replay, and a source of cases
+    # ("<dataset>-segments", rules/common.smk) known only once it is written: a checkpoint.
+    checkpoint real_segments:
         input:
             logs=real_logs(REPLAY_SET.name),
         output:
@@ -181,65 +131,3 @@ if OWN_LOGS:
             "../envs/simpick.yaml"
         script:
             "../scripts/import_own_log.py"
-
-
-# One replay family for every source: a case's canonical log driven through one model (under
-# the watchdog: simpick.realdata.replay_job), then all of a source's cases compared at once.
-if REPLAY_CASES:
-    _SOURCES = "|".join(re.escape(source) for source in REPLAY_CASES)
-
-    rule replay:
-        input:
-            log="results/real/{source}/logs/{terrain_class}/{run}.parquet",
-            urdf=config["robot"]["urdf"],
-        output:
-            "results/real/{source}/replay/{engine}/{terrain_class}/{run}.parquet",
-        params:
-            case=lambda wc: real_params(wc.engine, wc.terrain_class),
-            code=lambda wc: engine_code(wc.engine, "realdata.py", "reallogs"),
-        wildcard_constraints:
-            source=_SOURCES,
-            terrain_class="|".join(sorted({re.escape(c) for cases in REPLAY_CASES.values() for c, _ in cases})),
-            run="|".join(sorted({re.escape(run) for cases in REPLAY_CASES.values() for _, run in cases})),
-        log:
-            "results/logs/real/{source}/replay/{engine}/{terrain_class}/{run}.log",
-        benchmark:
-            "results/benchmarks/replay/{source}/{engine}/{terrain_class}/{run}.tsv"
-        threads: 1
-        resources:
-            mem_mb=800,
-            runtime=30,
-        conda:
-            "../envs/simpick.yaml"
-        script:
-            "../scripts/replay.py"
-
-    rule replay_metrics:
-        input:
-            logs=lambda wc: real_logs(wc.source),
-            traces=lambda wc: replay_traces(wc.source),
-        output:
-            per_window="results/real/{source}/metrics/replay_per_window.csv",
-            per_test="results/real/{source}/metrics/replay_per_test.csv",
-            summary="results/real/{source}/metrics/replay_summary.csv",
-            pairwise="results/real/{source}/metrics/replay_pairwise.csv",
-            imu_errors="results/real/{source}/metrics/replay_imu_errors.csv",
-        params:
-            settings=canonical(
-                {
-                    "track": config["robot"]["track"],
-                    "window": config["real_data"]["window"],
-                    "statistics": statistics_params(),
-                }
-            ),
-            code=code_version(
-                "realdata.py", "realmetrics.py", "metrics.py", "traces.py", "workflow.py", "reallogs"
-            ),
-        wildcard_constraints:
-            source=_SOURCES,
-        log:
-            "results/logs/real/{source}/replay_metrics.log",
-        conda:
-            "../envs/simpick.yaml"
-        script:
-            "../scripts/replay_metrics.py"

@@ -39,7 +39,7 @@ def report_figures():
 
 
 def lab_test_traces(wildcards):
-    return expand("results/traces/{engine}/{terrain}/{motion}.parquet", engine=ENGINES,
+    return expand("results/traces/lab/{engine}/{terrain}/{motion}.parquet", engine=ENGINES,
                   terrain=wildcards.terrain, motion=wildcards.motion)
 
 
@@ -47,9 +47,9 @@ def real_gain_inputs(wildcards):
     """The real-data tables whose yaw-rate gains the figure shows: the committed segments', and
     the full replay's when a dataset folder is given."""
     names = ("per_test", "summary", "pairwise")
-    inputs = {f"segments_{n}": f"{REAL}/metrics/segments_{n}.csv" for n in names}
+    inputs = {f"segments_{n}": metrics_file("segments", n) for n in names}
     if REPLAY_SET:
-        inputs.update({f"replay_{n}": f"{REPLAY}/metrics/replay_{n}.csv" for n in names})
+        inputs.update({f"replay_{n}": metrics_file(REPLAY_SET.name, n) for n in names})
     return inputs
 
 
@@ -58,10 +58,10 @@ def replay_class_inputs(wildcards):
     and the per-test table that picks the run drawn."""
     runs = [run for c, run in RUNS if c == wildcards.terrain_class]
     return {
-        "real_logs": [f"{REPLAY}/logs/{wildcards.terrain_class}/{run}.parquet" for run in runs],
-        "replay_traces": [f"{REPLAY}/replay/{e}/{wildcards.terrain_class}/{run}.parquet"
+        "real_logs": [log for log in real_logs(REPLAY_SET.name) if f"/logs/{wildcards.terrain_class}/" in log],
+        "replay_traces": [f"results/traces/{REPLAY_SET.name}/{e}/{wildcards.terrain_class}/{run}.parquet"
                           for e in REAL_MODELS for run in runs],
-        "replay_per_test": f"{REPLAY}/metrics/replay_per_test.csv",
+        "replay_per_test": metrics_file(REPLAY_SET.name, "per_test"),
     }
 
 
@@ -94,9 +94,9 @@ rule figure_contributions:
 rule figure_imu_stats:
     """One lab test: IMU mean and range per axis (paper Figures 7-8)."""
     input:
-        trace_stats="results/metrics/trace_stats.csv",
-        reference_stats="results/metrics/reference_stats.csv",
-        runs="results/metrics/runs.csv",
+        trace_stats=metrics_file("lab", "detail"),
+        reference_stats=metrics_file("lab", "detail"),
+        runs=metrics_file("lab", "runs"),
     output:
         png=report(f"{FIGURES}/imu_stats/{{lab_terrain}}/{{lab_motion}}.png", caption="captions/imu_stats.rst",
                    category="Figures", subcategory="IMU statistics", labels={"test": "{lab_terrain}/{lab_motion}"}),
@@ -123,7 +123,7 @@ rule figure_traces:
     """One lab test: every engine's IMU time series."""
     input:
         traces=lab_test_traces,
-        runs="results/metrics/runs.csv",
+        runs=metrics_file("lab", "runs"),
     output:
         png=report(f"{FIGURES}/traces/{{terrain}}/{{motion}}.png", caption="captions/traces.rst",
                    category="Figures", subcategory="Traces", labels={"test": "{terrain}/{motion}"}),
@@ -146,7 +146,7 @@ rule figure_paths:
     """Every lab test's top-down paths, and the table of where each run ended."""
     input:
         traces=all_traces(),
-        runs="results/metrics/runs.csv",
+        runs=metrics_file("lab", "runs"),
     output:
         png=report(f"{FIGURES}/paths.png", caption="captions/paths.rst", category="Figures", subcategory="Traces"),
         endpoints=f"{FIGURES}/endpoints.csv",
@@ -272,12 +272,13 @@ rule report:
         weighted="results/scores/weighted.csv",
         scores_provenance="results/scores/provenance.yaml",
         validation="results/validation/summary.csv",
-        trace_stats="results/metrics/trace_stats.csv",
-        reference_stats="results/metrics/reference_stats.csv",
-        imu_errors="results/metrics/imu_errors.csv",
-        per_test_errors="results/metrics/per_test_errors.csv",
-        runs="results/metrics/runs.csv",
-        rtf="results/metrics/rtf.csv",
+        # the lab's per-axis table holds the simulated statistics, the paper's and the errors between
+        trace_stats=metrics_file("lab", "detail"),
+        reference_stats=metrics_file("lab", "detail"),
+        imu_errors=metrics_file("lab", "imu_errors"),
+        per_test_errors=metrics_file("lab", "detail"),
+        runs=metrics_file("lab", "runs"),
+        rtf=metrics_file("lab", "rtf"),
         cpu=expand("results/cpu/{engine}.json", engine=ENGINES),
         qualitative=config["qualitative"],
         table11="results/published/table11.csv",

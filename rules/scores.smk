@@ -4,8 +4,8 @@ rule scores:
     input:
         imu_errors=accuracy_errors(),
         accuracy_tests=accuracy_source()["per_test"],
-        runs="results/metrics/runs.csv",
-        rtf="results/metrics/rtf.csv",
+        runs=metrics_file("lab", "runs"),
+        rtf=metrics_file("lab", "rtf"),
         cpu=expand("results/cpu/{engine}.json", engine=ENGINES),
         qualitative=config["qualitative"],
     output:

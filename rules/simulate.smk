@@ -1,24 +1,38 @@
-rule simulate:
-    input:
-        terrain="results/terrains/{terrain}.json",
-        urdf=config["robot"]["urdf"],
-    output:
-        "results/traces/{engine}/{terrain}/{motion}.parquet",
-    params:
-        case=lambda wc: simulation_params(wc.engine, wc.terrain, wc.motion),
-        code=lambda wc: engine_code(wc.engine),
-    log:
-        "results/logs/simulate/{engine}/{terrain}/{motion}.log",
-    benchmark:
-        "results/benchmarks/simulate/{engine}/{terrain}/{motion}.tsv"
-    threads: 1
-    resources:
-        mem_mb=400,
-        runtime=lambda wc: 1 + int(config["health"]["timeout"]) // 60,
-    conda:
-        "../envs/simpick.yaml"
-    script:
-        "../scripts/simulate.py"
+# One simulate family for every source's cases (case tables: SOURCES in rules/common.smk): a job steps
+# its cases on one model, each under the watchdog (simpick.workflow.simulate_job; health.timeout), and
+# writes a trace per case. The unit is one case (rule `simulate`, over {source}), except for a batched
+# source (BATCHED: the committed segments, a job per terrain class sharing one import): Snakemake gives
+# a rule a fixed number of outputs, so the same rule is stated once per class (simulate_segments_<class>).
+# A dataset folder's derived segments are one job each: their ids exist only after the checkpoint.
+for _rule, _outputs, _fixed in simulate_units():
+
+    rule:
+        name:
+            _rule
+        input:
+            unpack(lambda wc, fixed=_fixed: case_inputs(*[unit(wc, fixed)[i] for i in (0, 2, 3)])),
+        output:
+            _outputs,
+        params:
+            case=lambda wc, fixed=_fixed: case_params(*unit(wc, fixed)),
+            code=lambda wc, fixed=_fixed: case_code(unit(wc, fixed)[0], wc.engine),
+        wildcard_constraints:
+            **(one_case_constraints(_fixed["sources"]) if "sources" in _fixed else {}),
+        log:
+            "results/logs/simulate/{source}/{engine}/{group}/{name}.log" if "sources" in _fixed
+            else f"results/logs/simulate/{_fixed['source']}/{{engine}}/{_fixed['group']}.log",
+        benchmark:
+            ("results/benchmarks/simulate/{source}/{engine}/{group}/{name}.tsv" if "sources" in _fixed
+             else f"results/benchmarks/simulate/{_fixed['source']}/{{engine}}/{_fixed['group']}.tsv")
+        threads: 1
+        resources:
+            mem_mb=lambda wc, fixed=_fixed: 800 if SOURCES[unit(wc, fixed)[0]]["kind"] == "replay" else 400,
+            # each case is stopped by the watchdog at health.timeout (its hard fallback 30 s later)
+            runtime=lambda wc, fixed=_fixed: len(unit(wc, fixed)[3]) * (1 + int(config["health"]["timeout"]) // 60),
+        conda:
+            "../envs/simpick.yaml"
+        script:
+            "../scripts/simulate.py"
 
 
 rule cpu_load:

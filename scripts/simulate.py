@@ -1,4 +1,4 @@
 from simpick.workflow import logged, simulate_job
 
 with logged(snakemake.log[0]):
-    simulate_job(snakemake.output[0], snakemake.input.terrain, snakemake.input.urdf, snakemake.params.case)
+    simulate_job(list(snakemake.output), snakemake.input.urdf, dict(snakemake.input.items()), snakemake.params.case)

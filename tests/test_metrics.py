@@ -117,7 +117,7 @@ def test_lab_totals_leave_out_a_test_any_engine_failed(tmp_path):
     """A failed run must not make its engine look better: the test leaves every engine's total."""
     from simpick.published import DEFAULT_PATH
     from simpick.traces import COLUMNS, write_trace
-    from simpick.workflow import metrics_job
+    from simpick.workflow import compare_job, summarise_job
 
     paths = []
     for engine, status in (("a", "ok"), ("b", "failed")):
@@ -129,9 +129,10 @@ def test_lab_totals_leave_out_a_test_any_engine_failed(tmp_path):
         path = tmp_path / f"{engine}.parquet"
         write_trace(frame, meta, path)
         paths.append(str(path))
-    names = ("trace_stats", "reference_stats", "per_test_errors", "imu_errors", "runs", "rtf")
+    names = ("per_test", "detail", "runs", "imu_errors", "rtf", "summary", "pairwise")
     outputs = {n: str(tmp_path / f"{n}.csv") for n in names}
-    metrics_job(paths, str(DEFAULT_PATH), outputs)
+    compare_job("lab", paths, {"published": str(DEFAULT_PATH)}, {}, outputs)
+    summarise_job(outputs["per_test"], outputs["runs"], {"group": "terrain"}, outputs)
     errors = pd.read_csv(outputs["imu_errors"])
     assert errors.error.isna().all() and (errors.n_tests == 0).all()
     assert set(errors.excluded) == {"gravel/straight"}

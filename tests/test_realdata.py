@@ -107,16 +107,16 @@ def test_own_csv_log_is_imported_replayed_and_compared_by_the_workflow(tmp_path)
                     "wz": {"column": "gyro_z", **deg}, "v": "cmd_v", "w": "cmd_w"}}]
     config["accuracy"]["reference"] = "own"
     write_config(tmp_path, config)
-    run = snakemake(tmp_path, "results/real/own/metrics/replay_summary.csv", "results/scores/weighted.csv")
+    run = snakemake(tmp_path, "results/metrics/own/summary.csv", "results/scores/weighted.csv")
     assert run.returncode == 0, run.stderr[-3000:]
     log = read_canonical(tmp_path / "results/real/own/logs/flooring/mine.parquet")
     assert np.allclose(log.imu.wz.to_numpy(), imu.wz.to_numpy(), atol=1e-9)  # deg/s came back as rad/s
-    per_test = pd.read_csv(tmp_path / "results/real/own/metrics/replay_per_test.csv")
+    per_test = pd.read_csv(tmp_path / "results/metrics/own/per_test.csv")
     # the reference models are compared beside the engines
     assert sorted(per_test.engine) == ["coulomb", "kinematic", "mujoco", "pybullet"]
     assert (per_test.status == "ok").all()
     assert per_test.error_angular.gt(0).all() and per_test.yaw_rate_gain_real.notna().all()
-    errors = pd.read_csv(tmp_path / "results/real/own/metrics/replay_imu_errors.csv")
+    errors = pd.read_csv(tmp_path / "results/metrics/own/imu_errors.csv")
     weighted = pd.read_csv(tmp_path / "results/scores/weighted.csv", index_col="engine")
     assert sorted(weighted.index) == ["mujoco", "pybullet"]  # reference models are never scored
     engines = errors[errors.engine.isin(weighted.index)]
@@ -165,11 +165,11 @@ def _segment_trace(path, engine, segment, wz, status="ok"):
     return str(path)
 
 
-def test_replay_metrics_job_against_hand_computed_values(tmp_path):
+def test_replay_compare_and_summarise_against_hand_computed_values(tmp_path):
     """One run replayed by one engine, 20 s at 100 Hz, compared in two 10 s windows. Real: yaw
     rate 0.3 + 0.1 sin(2 pi t / 5) (whole periods per window: mean 0.3), forward acceleration 0.2; simulated: yaw rate 0.2, no forward acceleration;
     both +9.81 on z, the rest 0. Commands: 0.3 m/s, 0.5 rad/s kinematic."""
-    from simpick.realdata import replay_metrics_job
+    from simpick.workflow import compare_job, summarise_job
     from simpick.reallogs import write_canonical
     from simpick.traces import write_trace
 
@@ -192,10 +192,12 @@ def test_replay_metrics_job_against_hand_computed_values(tmp_path):
     trace = tmp_path / "replay" / "a" / "flooring" / "01.parquet"
     write_trace(sim, {"engine": "a", "terrain": "flooring", "run": "01", "imu_rate_hz": rate,
                       "health": {"status": "ok", "reasons": []}}, trace)
-    outputs = {k: str(tmp_path / f"{k}.csv") for k in ("per_window", "per_test", "summary", "pairwise", "imu_errors")}
-    replay_metrics_job([str(log_path)], [str(trace)], {"track": track, "window": 10.0}, outputs)
+    outputs = {k: str(tmp_path / f"{k}.csv")
+               for k in ("per_test", "detail", "runs", "summary", "pairwise", "imu_errors", "rtf")}
+    compare_job("replay", [str(trace)], {"logs": [str(log_path)]}, {"track": track, "window": 10.0}, outputs)
+    summarise_job(outputs["per_test"], outputs["runs"], {"group": "terrain_class"}, outputs)
 
-    windows = pd.read_csv(outputs["per_window"], dtype={"run": str})
+    windows = pd.read_csv(outputs["detail"], dtype={"run": str})  # a replay's detail: one row per window
     assert list(windows.window_start) == [0.0, 10.0]
     # Eq. 7 per window: angular |0.2 - 0.3| (z mean) + |0 - 0.2| (z range); linear |0 - 0.2| (x mean)
     # the range is the 1 %-trimmed one (metrics.trimmed_range): the 10 largest of a window's 1 000
@@ -223,10 +225,10 @@ def test_replay_metrics_job_against_hand_computed_values(tmp_path):
     assert totals.loc["angular", "error"] == pytest.approx(2 * (0.1 + trimmed), abs=1e-5) and totals.loc["linear", "error"] == pytest.approx(0.4)
 
 
-def test_segment_metrics_job_against_hand_computed_values(tmp_path):
-    """Eq. 7 per segment, yaw-rate gain, totals over the tests every engine completed, and no
-    verdict from two runs."""
-    from simpick.realdata import segment_metrics_job
+def test_segment_compare_and_summarise_against_hand_computed_values(tmp_path):
+    """Eq. 7 per segment and per axis, yaw-rate gain, totals over the tests every engine
+    completed, and no verdict from two runs."""
+    from simpick.workflow import compare_job, summarise_job
 
     real = {"dataset": "test", "terrain_class": "flooring", "t_start": 0.0, "t_end": 3.0, "settle": 1.0,
             "duration": 2.0, "angular_x_mean": 0.0, "angular_x_range": 0.2, "angular_y_mean": 0.0,
@@ -241,8 +243,17 @@ def test_segment_metrics_job_against_hand_computed_values(tmp_path):
               _segment_trace(tmp_path / "a-t.parquet", "a", "flooring-turning", 0.25),
               _segment_trace(tmp_path / "b-s.parquet", "b", "flooring-straight", 0.0, status="failed"),
               _segment_trace(tmp_path / "b-t.parquet", "b", "flooring-turning", 0.3)]
-    outputs = {k: str(tmp_path / f"{k}.csv") for k in ("per_test", "summary", "pairwise", "imu_errors")}
-    segment_metrics_job(str(tmp_path / "segments.csv"), traces, 0.5, outputs, {"min_runs": 6, "level": 0.95})
+    outputs = {k: str(tmp_path / f"{k}.csv")
+               for k in ("per_test", "detail", "runs", "summary", "pairwise", "imu_errors", "rtf")}
+    compare_job("segments", traces, {"segments": str(tmp_path / "segments.csv")}, {"track": 0.5}, outputs)
+    summarise_job(outputs["per_test"], outputs["runs"],
+                  {"group": "terrain_class", "statistics": {"min_runs": 6, "level": 0.95}}, outputs)
+
+    detail = pd.read_csv(outputs["detail"]).set_index(["engine", "test", "quantity", "axis"])
+    x = detail.loc[("a", "flooring-turning", "linear", "x")]
+    assert (x.range_error, x.mean_error) == (pytest.approx(0.8), pytest.approx(0.3))  # |0.2-1.0|, |0.2-0.5|
+    assert (x.ref_range, x.ref_mean) == (pytest.approx(1.0), pytest.approx(0.5))
+    assert np.isnan(detail.loc[("b", "flooring-straight", "linear", "x"), "total_error"])  # failed: no error
 
     per_test = pd.read_csv(outputs["per_test"], dtype={"run": str}).set_index(["engine", "segment"])
     # linear: |0.2-1.0| + |0.2-0.5| (x) + |0-0.4| + |0-0.1| (y) + |0-2.0| + |9.81-9.8| (z) = 3.61

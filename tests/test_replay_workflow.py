@@ -2,7 +2,8 @@
 
 A Husky dataset "recorded elsewhere" is made up here: its own terrain classes (CONCRETE,
 declared in the config; FLOORING), runs numbered 1, 12 and 7, the IMU at 50 Hz and the wheel
-speeds at 15 Hz. The run must succeed, write every result under results/real/<dataset>/, and
+speeds at 15 Hz. The run must succeed, write its logs and segment table under results/real/<dataset>/,
+its traces under results/traces/<dataset>/ and its tables under results/metrics/<dataset>/, and
 leave the checkout as it found it: the committed segment table and its provenance
 byte-identical, `git status --porcelain` unchanged (empty in a clean checkout) - also when a
 job fails on a broken file.
@@ -23,6 +24,8 @@ COMMITTED = [ROOT / "resources" / "real" / "borealtc_segments.csv",
 NAME = "husky_yard"  # from the folder "Husky Yard"
 ENGINES = ("mujoco", "pybullet")
 OUT = f"results/real/{NAME}"
+TRACES = f"results/traces/{NAME}"
+METRICS = f"results/metrics/{NAME}"
 
 
 def git_status() -> str:
@@ -59,24 +62,32 @@ def test_replay_of_another_dataset_succeeds_under_its_own_name(replay):
     models = (*ENGINES, *tiny_config()["baselines"])  # the reference models are replayed beside the engines
     out = workdir / OUT
     for path in ("dataset.yaml", "segments.csv", "segments.provenance.yaml", "logs/concrete/12.parquet",
-                 "logs/flooring/7.parquet", "metrics/replay_summary.csv", "metrics/replay_imu_errors.csv"):
+                 "logs/flooring/7.parquet"):
         assert (out / path).is_file(), path
-    per_test = pd.read_csv(out / "metrics" / "replay_per_test.csv", dtype={"run": str})
+    for table in ("summary", "imu_errors", "pairwise", "rtf", "detail", "runs"):
+        assert (workdir / METRICS / f"{table}.csv").is_file(), table
+    per_test = pd.read_csv(workdir / METRICS / "per_test.csv", dtype={"run": str})
     assert sorted(zip(per_test.terrain_class, per_test.run, per_test.engine)) == sorted(
         (c, r, e) for c, r in (("concrete", "1"), ("concrete", "12"), ("flooring", "7"))
         for e in models)
     assert (per_test.status == "ok").all() and per_test.error_angular.gt(0).all()
     # the committed segments were compared too, under their own dataset
-    assert len(list((workdir / "results/real/borealtc/segments").rglob("*.parquet"))) == len(models) * 18
+    assert len(list((workdir / "results/traces/segments").rglob("*.parquet"))) == len(models) * 18
+    # and the folder's own segments, a case table known only once the checkpoint wrote it
+    derived = pd.read_csv(out / "segments.csv", dtype={"run": str})
+    assert len(derived) > 0
+    compared = pd.read_csv(workdir / f"results/metrics/{NAME}-segments/per_test.csv", dtype={"run": str})
+    assert sorted(zip(compared.segment, compared.engine)) == sorted((s, e) for s in derived.segment for e in models)
+    assert (compared.status == "ok").all()
 
 
 def test_simulated_imu_is_compared_at_the_logs_50_hz(replay):
     workdir, _, _, _ = replay
-    frame, meta = read_trace(workdir / OUT / "replay" / "mujoco" / "concrete" / "12.parquet")
+    frame, meta = read_trace(workdir / TRACES / "mujoco" / "concrete" / "12.parquet")
     assert meta["imu_rate_hz"] == pytest.approx(50.0) and meta["real_imu_rate_hz"] == pytest.approx(50.0)
     assert np.median(np.diff(frame["time"])) == pytest.approx(0.02)
     assert len(frame) == pytest.approx(11.93 * 50, abs=1)  # while both streams last (the 15 Hz one ends first)
-    windows = pd.read_csv(workdir / OUT / "metrics" / "replay_per_window.csv")
+    windows = pd.read_csv(workdir / METRICS / "detail.csv")
     assert (windows.imu_rate_hz == 50.0).all()
 
 
@@ -110,4 +121,4 @@ def test_a_failing_job_leaves_every_committed_file_in_place(replay):
     assert fingerprints() == committed
     assert git_status() == status
     assert not (workdir / OUT / "logs" / "concrete" / "12.parquet").exists()  # a failed job's output, removed
-    assert read_metadata(workdir / OUT / "replay" / "mujoco" / "flooring" / "7.parquet")["imu_rate_hz"] == 50.0
+    assert read_metadata(workdir / TRACES / "mujoco" / "flooring" / "7.parquet")["imu_rate_hz"] == 50.0

@@ -401,7 +401,8 @@ def _imu_frame(seconds: float, gain: float, w_cmd: float, rough: float, rng) -> 
 
 def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
     """The real-data inputs of the report, in rules/real.smk's formats, from synthetic data."""
-    from simpick.realdata import _summaries, replay_metrics_job
+    from simpick.metrics import eq7_totals
+    from simpick.realdata import replay_compare, summaries
     from simpick.reallogs import RealLog, write_canonical
 
     rng = np.random.default_rng(11)
@@ -432,10 +433,12 @@ def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
             row["speed_sim"] = seg["v"]
             rows.append(row)
     per_test = pd.DataFrame(rows)
+    per_test["test"] = per_test["segment"]
     outputs = {k: str(root / "metrics" / f"segments_{k}.csv")
                for k in ("per_test", "summary", "pairwise", "imu_errors")}
     per_test.to_csv(outputs["per_test"], index=False)
-    _summaries(per_test, "terrain_class", outputs)
+    summaries(per_test, "terrain_class", outputs)
+    eq7_totals(per_test).to_csv(outputs["imu_errors"], index=False)
     inputs = {"segments": str(root / "segments.csv"),
               "segments_provenance": str(root / "segments.provenance.yaml"),
               **{f"segments_{k}": v for k, v in outputs.items()}}
@@ -468,7 +471,11 @@ def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
                 traces.append(str(tpath))
     outputs = {k: str(root / "metrics" / f"replay_{k}.csv")
                for k in ("per_window", "per_test", "summary", "pairwise", "imu_errors")}
-    replay_metrics_job(logs, traces, {"track": TRACK, "window": 10.0}, outputs)
+    per_test, per_window, _ = replay_compare(logs, traces, {"track": TRACK, "window": 10.0})
+    per_test.to_csv(outputs["per_test"], index=False)
+    per_window.to_csv(outputs["per_window"], index=False)
+    summaries(per_test, "terrain_class", outputs)
+    eq7_totals(per_test).to_csv(outputs["imu_errors"], index=False)
     inputs.update({f"replay_{k}": v for k, v in outputs.items()})
     inputs.update({"real_logs": logs, "replay_traces": traces})
     return inputs
@@ -595,3 +602,44 @@ def test_list_inputs_cover_the_lists():
 
     assert set(LIST_INPUTS) <= set(OPTIONAL_INPUTS)
     assert {"cpu", "traces", "real_logs", "replay_traces", "figures"} == set(LIST_INPUTS)
+
+
+def test_the_lab_detail_table_gives_the_reports_three_lab_views(tmp_path):
+    """results/metrics/lab/detail.csv (compare) holds per axis the simulated statistics, the paper's
+    and the errors; the report reads trace_stats, reference_stats and per_test_errors from it."""
+    from simpick.published import DEFAULT_PATH
+    from simpick.report.load import load_inputs
+    from simpick.workflow import compare_job
+
+    rng = np.random.default_rng(3)
+    paths = []
+    for engine, status in (("pybullet", "ok"), ("mujoco", "failed")):
+        for terrain in ("gravel", "grass"):
+            path = tmp_path / f"{engine}-{terrain}.parquet"
+            write_trace(_trace(engine, terrain, "straight", 3.0, rng),
+                        {"engine": engine, "terrain": terrain, "motion": "straight", "steps": 3000, "sim_time": 3.0,
+                         "wall_time": 0.5, "cpu_time": 0.5, "real_time_factor": 6.0, "engine_version": "1",
+                         "config_hash": "x", "health": {"status": status, "reasons": [] if status == "ok" else ["flipped"]}},
+                        path)
+            paths.append(str(path))
+    outputs = {k: str(tmp_path / f"{k}.csv") for k in ("per_test", "detail", "runs")}
+    compare_job("lab", paths, {"published": str(DEFAULT_PATH)}, {}, outputs)
+    weighted = weighted_table(pd.DataFrame({m: [1.0, 0.5] for m in METRICS}, index=["pybullet", "mujoco"]),
+                              DEFAULT_WEIGHTS)
+    weighted.index.name = "engine"
+    weighted.to_csv(tmp_path / "weighted.csv")
+    data = load_inputs({"weighted": str(tmp_path / "weighted.csv"), "runs": outputs["runs"],
+                        **{k: outputs["detail"] for k in ("trace_stats", "reference_stats", "per_test_errors")}})
+    assert len(data.trace_stats) == 4 * 6 and set(data.trace_stats.status) == {"ok", "failed"}
+    assert data.trace_stats[data.trace_stats.status == "failed"]["mean"].isna().all()
+    # the paper has a reference for gravel/straight only: 6 axes, once whatever the engines
+    assert len(data.reference_stats) == 6 and set(data.reference_stats.terrain) == {"gravel"}
+    ref = data.reference_stats.set_index(["quantity", "axis"])
+    assert ref.loc[("linear", "z"), "mean"] == pytest.approx(11.50) and ref.loc[("linear", "z"), "range"] == pytest.approx(11.80)
+    # errors only where a healthy run meets a reference
+    errors = data.per_test_errors
+    assert len(errors) == 6 and set(errors.engine) == {"pybullet"} and set(errors.terrain) == {"gravel"}
+    per_test = pd.read_csv(outputs["per_test"])
+    linear = errors[errors.quantity == "linear"].total_error.sum()
+    assert per_test.set_index("engine").loc["pybullet", "error_linear"] == pytest.approx(linear)
+    assert per_test.set_index("engine").loc["mujoco", "status"] == "failed"

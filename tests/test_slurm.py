@@ -76,8 +76,8 @@ def test_slurm_results_equal_the_local_ones(runs):
     # figures computed from the traces; timing columns (steps_per_s, wall) legitimately differ
     for path, keys, values in (("results/validation/summary.csv", ["engine", "case", "quantity"],
                                 ["engine_value", "analytic_value", "passed"]),
-                               ("results/metrics/imu_errors.csv", None, None),
-                               ("results/real/borealtc/metrics/segments_per_test.csv", None, None)):
+                               ("results/metrics/lab/imu_errors.csv", None, None),
+                               ("results/metrics/segments/per_test.csv", None, None)):
         a, b = pd.read_csv(local / path), pd.read_csv(slurm / path)
         if keys:
             a, b = a.set_index(keys)[values].sort_index(), b.set_index(keys)[values].sort_index()

@@ -27,7 +27,7 @@ def study(tmp_path_factory):
 
 def test_tiny_study_writes_every_output(study):
     workdir, config = study
-    traces = sorted((workdir / "results" / "traces").rglob("*.parquet"))
+    traces = sorted((workdir / "results" / "traces" / "lab").rglob("*.parquet"))
     assert len(traces) == len(config["engines"]) * 2 * 1
     for path in ("scores/weighted.csv", "published/table11.csv", "report/report.html", "report/report.pdf"):
         assert (workdir / "results" / path).stat().st_size > 0, path
@@ -54,7 +54,7 @@ def test_validation_and_reference_models_are_in_the_study(study):
     assert summary.engine_value.notna().all() and summary.analytic_value.notna().all()
     html = (workdir / "results/report/report.html").read_text()
     assert "Engines against analytic mechanics" in html
-    per_test = pd.read_csv(workdir / "results/real/borealtc/metrics/segments_per_test.csv")
+    per_test = pd.read_csv(workdir / "results/metrics/segments/per_test.csv")
     assert {"kinematic", "coulomb"} <= set(per_test.engine)
     kinematic = per_test[(per_test.engine == "kinematic") & (per_test.kind == "turning")]
     assert ((kinematic.yaw_rate_gain_sim - 1).abs() < 0.02).all()  # no slip: yaw rate = commanded w
@@ -118,8 +118,9 @@ def test_engine_edit_reruns_only_that_engine(study):
         jobs = planned_jobs(workdir)
         simulated = sorted(w for rule, w in jobs if rule in ("simulate", "cpu_load") or rule.startswith("simulate_"))
         assert simulated and all("engine=mujoco" in w for w in simulated), simulated
-        assert any(rule.startswith("simulate_segments") for rule, _ in jobs)
-        assert len([1 for rule, _ in jobs if rule == "simulate"]) == 2
+        # the lab's 2 tests, one job each, and the segments' one class in one job
+        assert sorted(w.split(",")[0] for rule, w in jobs if rule == "simulate") == ["source=lab"] * 2
+        assert [rule for rule, _ in jobs if rule.startswith("simulate_")] == ["simulate_segments_flooring"]
         assert not {rule for rule, _ in jobs} & {"terrain", "published_table11"}
     finally:
         write_config(workdir, config)

@@ -122,16 +122,6 @@ def class_segments(segments_csv: str, terrain_class: str) -> pd.DataFrame:
     return segments[segments.terrain_class == terrain_class].set_index("segment")
 
 
-def simulate_segments_job(segments_csv: str, urdf: str, outputs: list[str], params: dict) -> None:
-    """All segments of one terrain class on one engine (one job: short runs, one import)."""
-    from simpick.traces import write_trace
-
-    segments = class_segments(segments_csv, params["terrain_class"])
-    for output in outputs:
-        frame, meta = simulate_segment(segments.loc[Path(output).stem], urdf, params)
-        write_trace(frame, meta, output)
-
-
 def compared_window(frame: pd.DataFrame, meta: dict) -> pd.DataFrame:
     """The rows of a simulated segment inside its compared window (``meta["window"]``, after settling)."""
     lo, hi = meta["window"]
@@ -167,18 +157,25 @@ def segment_row(frame: pd.DataFrame, meta: dict, seg: pd.Series, track: float) -
     return row
 
 
-def segment_metrics_job(segments_csv: str, traces: list[str], track: float, outputs: dict,
-                        statistics: dict | None = None) -> None:
+def segment_compare(segments_csv: str, traces: list[str], track: float):
+    """Every simulated segment against its real window statistics (the committed table): per
+    test rows (segment_row), per axis rows (workflow.axis_rows) and each trace's run row."""
     from simpick.traces import read_trace
+    from simpick.workflow import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, run_row
 
     segments = load_segments(segments_csv).set_index("segment")
-    rows = []
+    rows, detail, runs = [], [], []
     for path in traces:
         frame, meta = read_trace(path)
-        rows.append(segment_row(frame, meta, segments.loc[meta["segment"]], track))
-    per_test = pd.DataFrame(rows)
-    write_csv(per_test, outputs["per_test"])
-    _summaries(per_test, "terrain_class", outputs, statistics)
+        seg = segments.loc[meta["segment"]]
+        rows.append(segment_row(frame, meta, seg, track) | {"test": meta["segment"]})
+        runs.append(run_row(meta))
+        ok = meta["health"]["status"] == "ok"
+        real = {q: {a: {"mean": seg[f"{q}_{a}_mean"], "range": seg[f"{q}_{a}_range"]} for a in AXES}
+                for q in QUANTITIES}
+        detail += axis_rows(meta, metrics.trace_stats(compared_window(frame, meta)) if ok else None,
+                            real | {"source": str(seg.dataset)})
+    return pd.DataFrame(rows), pd.DataFrame(detail, columns=DETAIL_COLUMNS), pd.DataFrame(runs, columns=RUN_COLUMNS)
 
 
 # --- full replay ----------------------------------------------------------------------------------
@@ -236,40 +233,23 @@ def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> t
     return frame, meta
 
 
-def replay_job(log_file: str, urdf: str, output: str, params: dict) -> None:
-    """One case of a replay source (a dataset folder's run or an own log) through one model,
-    under the watchdog like every job that steps an engine: a replay still running after
-    ``health.timeout`` s is written as a failed (hung) trace that replay_metrics lists."""
-    from simpick.reallogs import read_canonical
-    from simpick.simulate import config_hash
-    from simpick.traces import write_trace
-    from simpick.watchdog import Watchdog
-    from simpick.workflow import write_hung_trace
-
-    log = read_canonical(log_file)
-    run = str(log.meta["run_id"])
-    which = {"engine": params["engine"], "terrain": params["terrain_class"], "motion": f"replay-{run}",
-             "dataset": log.meta.get("dataset"), "run": run}
-    timeout = params["health"]["timeout"]
-    with Watchdog(timeout, lambda: write_hung_trace(output, which, params, timeout)):
-        frame, meta = replay_log(log, urdf, params)
-    meta["config_hash"] = config_hash(params)
-    write_trace(frame, meta, output)
-
-
-def replay_metrics_job(logs: list[str], traces: list[str], params: dict, outputs: dict) -> None:
-    """Per run and window: Eq. 7 errors, yaw-rate gains, aligned errors, PSD distance."""
+def replay_compare(logs: list[str], traces: list[str], params: dict):
+    """Every replay trace against its real log, window by window: Eq. 7 errors, yaw-rate gains,
+    aligned errors, PSD distance (the per-window rows), summed per run (the per-test rows: one
+    test = one run), and each trace's run row."""
     from simpick.reallogs import read_canonical
     from simpick.traces import read_trace
+    from simpick.workflow import RUN_COLUMNS, run_row
 
     track, window_s = params["track"], params["window"]
     real = {}
     for path in logs:
         log = read_canonical(path)
         real[(log.meta["terrain_class"].lower(), str(log.meta["run_id"]))] = log
-    rows = []
+    rows, runs = [], []
     for path in traces:
         sim, meta = read_trace(path)
+        runs.append(run_row(meta))
         key = (meta["terrain"], meta["run"])
         log = real[key]
         base = {"engine": meta["engine"], "terrain_class": key[0], "run": key[1],
@@ -300,7 +280,6 @@ def replay_metrics_job(logs: list[str], traces: list[str], params: dict, outputs
             row["psd_distance_az"] = realmetrics.psd_distance(real_frame.az.to_numpy(), sim.az[sel].to_numpy(), rate)
             rows.append(row)
     per_window = pd.DataFrame(rows)
-    write_csv(per_window, outputs["per_window"])
     # one test = one run: Eq. 7 sums the windows' errors, the other figures average over windows
     ok = per_window[per_window.status == "ok"]
     error_cols = [f"error_{q}" for q in QUANTITIES]
@@ -311,21 +290,21 @@ def replay_metrics_job(logs: list[str], traces: list[str], params: dict, outputs
     failed = per_window[per_window.status != "ok"][["engine", "terrain_class", "run", "status", "reasons"]]
     per_test = pd.concat([per_run, failed], ignore_index=True)
     per_test["segment"] = per_test["terrain_class"] + "-" + per_test["run"]
-    write_csv(per_test, outputs["per_test"])
-    _summaries(per_test, "terrain_class", outputs, params.get("statistics"))
+    per_test["test"] = per_test["segment"]
+    return per_test, per_window, pd.DataFrame(runs, columns=RUN_COLUMNS)
 
 
-# --- summaries shared by both -------------------------------------------------------------------------
+# --- summaries shared by every source -------------------------------------------------------------------------
 
 FIGURES = ("error_angular", "error_linear", "yaw_rate_gain_sim", "rmse_yaw_rate", "rmse_ax", "psd_distance_az")
 
 
-def _summaries(per_test: pd.DataFrame, group: str, outputs: dict, statistics: dict | None = None) -> None:
-    """Per engine and terrain class: every figure's mean over runs (a run's tests averaged first:
-    segments and windows of one run are not independent) with its BCa bootstrap interval from
-    ``statistics["min_runs"]`` runs on; paired engine differences judged by a sign-flip
-    permutation test over runs (``too few runs`` below the minimum); and the Eq. 7 totals in
-    the lab study's imu_errors layout."""
+def summaries(per_test: pd.DataFrame, group: str, outputs: dict, statistics: dict | None = None) -> None:
+    """Per engine and ``group`` (terrain class, or the lab's terrain): every figure's mean over
+    runs (a run's tests averaged first: segments and windows of one run are not independent) with
+    its BCa bootstrap interval from ``statistics["min_runs"]`` runs on (``summary``); paired
+    engine differences judged by a sign-flip permutation test over runs (``too few runs`` below
+    the minimum; ``pairwise``). Per-test rows need engine, ``group``, test, run and status."""
     stats = {"min_runs": realmetrics.MIN_RUNS, "level": 0.95} | dict(statistics or {})
     min_runs, level = int(stats["min_runs"]), float(stats["level"])
     ok = per_test[per_test.status == "ok"]
@@ -343,8 +322,8 @@ def _summaries(per_test: pd.DataFrame, group: str, outputs: dict, statistics: di
     pairs = []
     engines = sorted(ok.engine.unique())
     for cls, g in ok.groupby(group):
-        wide = g.pivot_table(index="segment", columns="engine", values=["error_angular", "error_linear"])
-        run_of = g.drop_duplicates("segment").set_index("segment")["run"]
+        wide = g.pivot_table(index="test", columns="engine", values=["error_angular", "error_linear"])
+        run_of = g.drop_duplicates("test").set_index("test")["run"]
         for i, a in enumerate(engines):
             for b in engines[i + 1:]:
                 for fig in ("error_angular", "error_linear"):
@@ -360,8 +339,6 @@ def _summaries(per_test: pd.DataFrame, group: str, outputs: dict, statistics: di
                                   "p_value": t["p_value"], "n_runs": t["n_runs"], "verdict": verdict})
     write_csv(pd.DataFrame(pairs, columns=[group, "figure", "engine_a", "engine_b", "mean_a_minus_b",
                                             "low", "high", "p_value", "n_runs", "verdict"]), outputs["pairwise"])
-
-    write_csv(metrics.eq7_totals(per_test.rename(columns={"segment": "test"})), outputs["imu_errors"])
 
 
 # --- fetching the public dataset ------------------------------------------------------------------

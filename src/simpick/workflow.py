@@ -33,39 +33,113 @@ def terrain_job(output: str, name: str, seed: int, spec: dict) -> None:
     terrain.save(desc, output)
 
 
-def simulate_job(output: str, terrain_file: str, urdf: str, params: dict) -> dict | None:
+# --- one simulate path for every case ----------------------------------------------------------
+# A case is one row of a source's case table (rules/common.smk: the lab's terrain x motion, the
+# committed segments, a dataset folder's runs, the user's own logs): what is driven, never by which
+# engine. Every case is stepped by simulate_job under the watchdog and written as a trace whose
+# metadata names it the same way (TRACE_KEYS), whatever its source.
+
+TRACE_KEYS = ("source", "test", "engine", "terrain", "motion", "dataset", "run", "segment", "window")
+
+
+def _lab_case(urdf: str, inputs: dict, params: dict, name: str):
+    """A lab test: the motion's constant command over the generated terrain strip."""
     from simpick.health import HealthLimits
     from simpick.imu import ImuModel
-    from simpick.simulate import Case, simulate_to_file
-    from simpick.watchdog import Watchdog
+    from simpick.simulate import Case, run_case
 
     motion = params["motion"]
-    case = Case(engine=params["engine"], terrain=params["terrain"], motion=params["motion_name"],
+    case = Case(engine=params["engine"], terrain=params["terrain"], motion=name,
                 v=motion["v"], w=motion["w"], duration=motion["duration"], start=tuple(motion["start"]))
+    which = {"terrain": case.terrain, "motion": case.motion, "test": f"{case.terrain}/{case.motion}"}
+
+    def run():
+        return run_case(case, urdf=urdf, terrain_file=inputs["terrain"], track=params["robot"]["track"],
+                        max_wheel_torque=params["robot"]["max_wheel_torque"],
+                        timestep=params["physics"]["timestep"], ground_friction=params["physics"]["ground_friction"],
+                        engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
+                        seed=int(params["seed"]), limits=HealthLimits(**params["health"]))
+
+    return which, run
+
+
+def _segment_case(urdf: str, inputs: dict, params: dict, name: str):
+    """A committed segment: its constant command on its class's flat ground, compared in its window."""
+    from simpick.realdata import class_segments, simulate_segment
+
+    table = class_segments(inputs["segments"], params["terrain_class"])
+    if name not in table.index:
+        raise InputError(inputs["segments"], f"has no {params['terrain_class']} segment {name!r}", "rerun snakemake")
+    seg = table.loc[name]
+    which = {"terrain": params["terrain_class"], "motion": seg.name, "test": seg.name, "dataset": seg.dataset,
+             "run": str(seg.run), "segment": seg.name,
+             "window": [float(seg.settle), float(seg.settle + seg.duration)]}
+    return which, lambda: simulate_segment(seg, urdf, params)
+
+
+def _replay_case(urdf: str, inputs: dict, params: dict, name: str):
+    """A replay source's run (a dataset folder's or an own log) driven by its recorded wheel speeds."""
+    from simpick.realdata import replay_log
+    from simpick.reallogs import read_canonical
+
+    log = read_canonical(inputs["log"])
+    run = str(log.meta["run_id"])
+    which = {"terrain": params["terrain_class"], "motion": f"replay-{run}", "test": f"{params['terrain_class']}-{run}",
+             "dataset": log.meta.get("dataset"), "run": run}
+    return which, lambda: replay_log(log, urdf, params)
+
+
+CASE_KINDS = {"lab": _lab_case, "segments": _segment_case, "replay": _replay_case}
+
+
+def simulate_job(outputs: list[str], urdf: str, inputs: dict, params: dict) -> list[dict]:
+    """A unit's cases (``params["cases"]``, one trace each in ``outputs``) on one model, each under
+    the watchdog: a case still running after ``health.timeout`` s of wall time is written as a
+    failed (hung) trace, and so are the unit's cases after it, which cannot run in the stopped
+    process; the source's compare job lists them like any failed run. ``params["kind"]`` says how
+    a case is driven (lab, segments, replay); ``inputs`` holds the files it reads."""
+    from simpick.simulate import config_hash
+    from simpick.traces import write_trace
+    from simpick.watchdog import Watchdog
+
+    if len(outputs) != len(params["cases"]):
+        raise ValueError(f"{len(params['cases'])} cases for {len(outputs)} outputs")
+    prepare = CASE_KINDS[params["kind"]]
+    units = []
+    for name, output in zip(params["cases"], outputs):
+        described, run = prepare(urdf, inputs, params, name)
+        which = {key: None for key in TRACE_KEYS} | described | {"source": params["source"], "engine": params["engine"]}
+        units.append((which, run, output))
     timeout = params["health"]["timeout"]
-    which = {"engine": case.engine, "terrain": case.terrain, "motion": case.motion}
-    with Watchdog(timeout, lambda: write_hung_trace(output, which, params, timeout)):
-        return simulate_to_file(
-            case, output, params=params, urdf=urdf, terrain_file=terrain_file,
-            track=params["robot"]["track"], max_wheel_torque=params["robot"]["max_wheel_torque"],
-            timestep=params["physics"]["timestep"], ground_friction=params["physics"]["ground_friction"],
-            engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
-            seed=int(params["seed"]), limits=HealthLimits(**params["health"]))
+    done = []
+    for i, (which, run, output) in enumerate(units):
+        def hung(i=i):
+            write_hung_trace(units[i][2], units[i][0], params, timeout)
+            for later, _, path in units[i + 1:]:
+                write_hung_trace(path, later, params, timeout, reason=f"not run: {units[i][0]['test']} hung before it")
+
+        with Watchdog(timeout, hung):
+            frame, meta = run()
+        meta = meta | which | {"config_hash": config_hash(params)}
+        write_trace(frame, meta, output)
+        done.append(meta)
+    return done
 
 
-def write_hung_trace(output: str, which: dict, params: dict, timeout: float) -> None:
-    """An empty trace whose health record says the engine hung, so the run is reported.
-    ``which``: the metadata that names the run (engine, terrain, motion and, for a replay, its
-    run and dataset), so the job that compares it finds it like any other."""
+def write_hung_trace(output: str, which: dict, params: dict, timeout: float, reason: str | None = None) -> None:
+    """An empty trace whose health record says the engine hung (or ``reason``), so the run is
+    reported. ``which``: the metadata that names the case (TRACE_KEYS), so the job that compares
+    it finds it like any other."""
     from simpick.simulate import config_hash
     from simpick.traces import COLUMNS, write_trace
 
-    reason = f"hung: no result after {timeout:g} s of wall time; the job was stopped"
-    print(f"simpick: {which['engine']} {which['terrain']}/{which['motion']}: {reason}", file=sys.stderr)
+    waited = 0.0 if reason else float(timeout)  # a case not run used no time
+    reason = reason or f"hung: no result after {timeout:g} s of wall time; the job was stopped"
+    print(f"simpick: {which['engine']} {which['source']} {which['test']}: {reason}", file=sys.stderr)
     write_trace({c: [] for c in COLUMNS},
                 {"engine_version": "", **which,
                  "timestep": params["physics"]["timestep"], "seed": params["seed"], "steps": 0, "sim_time": 0.0,
-                 "wall_time": float(timeout), "cpu_time": float("nan"), "real_time_factor": None,
+                 "wall_time": waited, "cpu_time": float("nan"), "real_time_factor": None,
                  "health": {"status": "failed", "reasons": [reason]}, "config_hash": config_hash(params)},
                 output)
 
@@ -87,8 +161,60 @@ def cpu_job(output: str, terrain_file: str, urdf: str, params: dict) -> None:
     Path(output).write_text(json.dumps(result, indent=1))
 
 
-def metrics_job(traces: list[str], published_file: str, outputs: dict[str, str]) -> None:
-    """Per-trace statistics, errors against the real reference, run table, real-time factors."""
+# --- one compare and one summarise step for every source --------------------------------------
+
+RUN_COLUMNS = ["engine", "terrain", "motion", "test", "sim_time", "wall_time", "cpu_time", "steps", "steps_per_s",
+               "real_time_factor", "status", "reasons", "engine_version", "config_hash"]
+
+
+def run_row(meta: dict) -> dict:
+    """What a trace's metadata says about its run: timing, health, versions (any source; a field
+    a hand-made trace lacks is left empty)."""
+    health, nan = meta["health"], float("nan")
+    steps, wall = meta.get("steps", nan), meta.get("wall_time", nan)
+    return {"engine": meta["engine"], "terrain": meta.get("terrain"), "motion": meta.get("motion"),
+            "test": case_test(meta), "sim_time": meta.get("sim_time", nan), "wall_time": wall,
+            "cpu_time": meta.get("cpu_time", nan), "steps": steps,
+            "steps_per_s": steps / wall if wall else nan, "real_time_factor": meta.get("real_time_factor"),
+            "status": health["status"], "reasons": "; ".join(health["reasons"]),
+            "engine_version": meta.get("engine_version", ""), "config_hash": meta.get("config_hash", "")}
+
+
+def case_test(meta: dict) -> str:
+    """The test a trace is of (TRACE_KEYS' ``test``; for a trace without it, its segment or terrain/motion)."""
+    return meta.get("test") or meta.get("segment") or f"{meta.get('terrain')}/{meta.get('motion')}"
+
+
+def axis_rows(meta: dict, stats: dict | None, reference: dict | None) -> list[dict]:
+    """Per quantity and axis: the simulated mean and range (``stats``, None for a failed run), the
+    reference's (None where the test has none) and the Eq. 7 axis errors between them."""
+    from simpick import metrics
+
+    nan = float("nan")
+    rows = []
+    for quantity in ("angular", "linear"):
+        errors = (metrics.axis_errors(stats[quantity], reference[quantity])
+                  if stats is not None and reference is not None else {})
+        for axis in metrics.AXES:
+            sim = stats[quantity][axis] if stats is not None else {"mean": nan, "range": nan}
+            ref = reference[quantity][axis] if reference is not None else {"mean": nan, "range": nan}
+            e = errors.get(axis) or {"range_error": nan, "mean_error": nan, "total_error": nan}
+            rows.append({"engine": meta["engine"], "terrain": meta.get("terrain"), "motion": meta.get("motion"),
+                         "test": case_test(meta), "quantity": quantity, "axis": axis, "mean": sim["mean"],
+                         "range": sim["range"], "status": meta["health"]["status"],
+                         "ref_mean": ref["mean"], "ref_range": ref["range"],
+                         "source": (reference or {}).get("source") or "", **e})
+    return rows
+
+
+DETAIL_COLUMNS = ["engine", "terrain", "motion", "test", "quantity", "axis", "mean", "range", "status", "ref_mean",
+                  "ref_range", "source", "range_error", "mean_error", "total_error"]
+
+
+def lab_compare(traces: list[str], published_file: str):
+    """The lab tests against the paper's real statistics (simpick.reference): per engine, test,
+    quantity and axis (``detail``), and Eq. 7 per test where the paper has a reference
+    (``per_test``; a failed run of such a test is a failed row)."""
     import pandas as pd
 
     from simpick import metrics
@@ -97,60 +223,66 @@ def metrics_job(traces: list[str], published_file: str, outputs: dict[str, str])
     from simpick.traces import read_trace
 
     reference = lab_reference(load_published(published_file))
-    stats_rows, error_rows, runs = [], [], []
+    detail, per_test, runs = [], [], []
     for path in traces:
         frame, meta = read_trace(path)
-        key = (meta["engine"], meta["terrain"], meta["motion"])
-        health = meta["health"]
-        runs.append({"engine": key[0], "terrain": key[1], "motion": key[2], "sim_time": meta["sim_time"],
-                     "wall_time": meta["wall_time"], "cpu_time": meta["cpu_time"], "steps": meta["steps"],
-                     "steps_per_s": meta["steps"] / meta["wall_time"],
-                     "real_time_factor": meta["real_time_factor"], "status": health["status"],
-                     "reasons": "; ".join(health["reasons"]), "engine_version": meta["engine_version"],
-                     "config_hash": meta["config_hash"]})
-        if health["status"] != "ok":
+        runs.append(run_row(meta))
+        ok = meta["health"]["status"] == "ok"
+        ref = reference.get((meta["terrain"], meta["motion"]))
+        rows = axis_rows(meta, metrics.trace_stats(frame) if ok else None, ref)
+        detail += rows
+        if ref is None:
             continue
-        stats = metrics.trace_stats(frame)
-        for quantity, axes in stats.items():
-            for axis, s in axes.items():
-                stats_rows.append({"engine": key[0], "terrain": key[1], "motion": key[2], "quantity": quantity,
-                                   "axis": axis, "mean": s["mean"], "range": s["range"], "status": "ok"})
-            ref = reference.get(key[1:])
-            if ref is None:
-                continue
-            for axis, e in metrics.axis_errors(axes, ref[quantity]).items():
-                error_rows.append({"engine": key[0], "terrain": key[1], "motion": key[2],
-                                   "quantity": quantity, "axis": axis, **e})
-    runs = pd.DataFrame(runs)
-    for _, run in runs[runs.status != "ok"].iterrows():
-        for quantity in ("angular", "linear"):
-            for axis in metrics.AXES:
-                stats_rows.append({"engine": run.engine, "terrain": run.terrain, "motion": run.motion,
-                                   "quantity": quantity, "axis": axis, "mean": float("nan"),
-                                   "range": float("nan"), "status": "failed"})
-    per_test = pd.DataFrame(error_rows, columns=["engine", "terrain", "motion", "quantity", "axis",
-                                                 "range_error", "mean_error", "total_error"])
+        test = case_test(meta)
+        row = {"engine": meta["engine"], "terrain": meta["terrain"], "motion": meta["motion"], "test": test,
+               "run": test, "kind": "lab", "status": meta["health"]["status"],
+               "reasons": "; ".join(meta["health"]["reasons"])}
+        if ok:
+            row.update({f"error_{q}": sum(r["total_error"] for r in rows if r["quantity"] == q)
+                        for q in ("angular", "linear")})
+        per_test.append(row)
+    per_test = pd.DataFrame(per_test, columns=["engine", "terrain", "motion", "test", "run", "kind", "status",
+                                               "reasons", "error_angular", "error_linear"])
+    return per_test, pd.DataFrame(detail, columns=DETAIL_COLUMNS), pd.DataFrame(runs, columns=RUN_COLUMNS)
 
-    ref_rows = [{"terrain": t, "motion": m, "quantity": q, "axis": a, **s, "source": ref["source"]}
-                for (t, m), ref in reference.items() for q in ("angular", "linear") for a, s in ref[q].items()]
 
-    # Eq. 7 per test from the per-axis rows; failed runs of referenced tests count as failed
-    columns = ["engine", "test", "status", "error_angular", "error_linear"]
-    ok_tests = [{"engine": e, "test": f"{t}/{m}", "status": "ok",
-                 **{f"error_{q}": g[g.quantity == q].total_error.sum() for q in ("angular", "linear")}}
-                for (e, t, m), g in per_test.groupby(["engine", "terrain", "motion"])]
-    failed = [{"engine": r.engine, "test": f"{r.terrain}/{r.motion}", "status": "failed"}
-              for r in runs[runs.status != "ok"].itertuples() if (r.terrain, r.motion) in reference]
-    error_summary = metrics.eq7_totals(pd.DataFrame(ok_tests + failed, columns=columns), engines=runs.engine.unique())
+def compare_job(kind: str, traces: list[str], inputs: dict, params: dict, outputs: dict[str, str]) -> None:
+    """One source's traces against what they are compared with: the paper's reference statistics
+    (lab), each segment's real window statistics (segments), the real log window by window
+    (replay). Writes ``per_test`` (Eq. 7 per model and test: what scores and summaries use),
+    ``detail`` (the rows a test's error sums: per axis, or per window for a replay) and ``runs``
+    (each trace's timing and health)."""
+    if kind == "lab":
+        per_test, detail, runs = lab_compare(traces, inputs["published"])
+    elif kind == "segments":
+        from simpick.realdata import segment_compare
 
-    rtf = equal_rtf(runs)
+        per_test, detail, runs = segment_compare(inputs["segments"], traces, params["track"])
+    else:
+        from simpick.realdata import replay_compare
 
-    write_csv(pd.DataFrame(stats_rows), outputs["trace_stats"])
-    write_csv(pd.DataFrame(ref_rows), outputs["reference_stats"])
-    write_csv(per_test, outputs["per_test_errors"])
-    write_csv(error_summary, outputs["imu_errors"])
+        per_test, detail, runs = replay_compare(list(inputs["logs"]), traces, params)
+    write_csv(per_test, outputs["per_test"])
+    write_csv(detail, outputs["detail"])
     write_csv(runs, outputs["runs"])
-    write_csv(rtf, outputs["rtf"])
+
+
+def summarise_job(per_test: str, runs: str, params: dict, outputs: dict[str, str]) -> None:
+    """A source's per-test rows summed and summarised, the same way for every source: Eq. 7
+    totals over the tests every model completed (``imu_errors``), the real-time factor over the
+    tests every model ran healthily (``rtf``), per model and group (terrain or terrain class)
+    means with intervals and paired verdicts over independent runs (``summary``, ``pairwise``:
+    simpick.realdata.summaries)."""
+    import pandas as pd
+
+    from simpick import metrics
+    from simpick.realdata import summaries
+
+    tests = pd.read_csv(per_test, dtype={"run": str, "test": str})
+    run_table = pd.read_csv(runs, dtype={"terrain": str, "motion": str, "test": str})
+    write_csv(metrics.eq7_totals(tests, engines=run_table.engine.unique()), outputs["imu_errors"])
+    write_csv(equal_rtf(run_table), outputs["rtf"])
+    summaries(tests, params["group"], outputs, params.get("statistics"))
 
 
 def equal_rtf(runs) -> "pd.DataFrame":
@@ -161,7 +293,9 @@ def equal_rtf(runs) -> "pd.DataFrame":
 
     from simpick import metrics
 
-    runs = runs.assign(test=runs.terrain + "/" + runs.motion)
+    if "test" not in runs:  # a run table without the test column (TRACE_KEYS) names it by terrain/motion
+        runs = runs.assign(test=runs.terrain + "/" + runs.motion)
+    runs = runs.assign(test=runs.test.astype(str))
     engines = sorted(runs.engine.unique())
     ok = runs[runs.status == "ok"]
     common = set.intersection(*(set(ok[ok.engine == e].test) for e in engines)) if engines else set()

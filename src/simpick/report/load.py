@@ -23,6 +23,8 @@ COLUMNS: dict[str, tuple[str, ...]] = {
     "imu_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
     "per_test_errors": ("engine", "terrain", "motion", "quantity", "axis", "range_error",
                         "mean_error", "total_error"),
+    "detail": ("engine", "terrain", "motion", "quantity", "axis", "mean", "range", "status", "ref_mean",
+               "ref_range", "source", "range_error", "mean_error", "total_error"),
     "rtf": ("engine", "sim_time", "wall_time", "real_time_factor", "n_runs"),
     "table11": (*METRICS, "total", "total_from_published_scores", "published_total"),
     "table11_comparison": ("simulator", "metric", "published", "recomputed", "difference", "matches"),
@@ -164,6 +166,21 @@ def _csv(name: str, path: Path, index: str | None = None) -> pd.DataFrame:
     return df
 
 
+# The lab's per-axis table (results/metrics/lab/detail.csv: simpick.workflow.axis_rows) holds the
+# simulated statistics, the paper's and the errors between them; the report reads three views of it.
+DETAIL_VIEWS = {
+    "trace_stats": lambda d: d[["engine", "terrain", "motion", "quantity", "axis", "mean", "range", "status"]],
+    "reference_stats": lambda d: (d[d["ref_mean"].notna()]
+                                  .drop_duplicates(["terrain", "motion", "quantity", "axis"])
+                                  [["terrain", "motion", "quantity", "axis", "ref_mean", "ref_range", "source"]]
+                                  .rename(columns={"ref_mean": "mean", "ref_range": "range"})
+                                  .reset_index(drop=True)),
+    "per_test_errors": lambda d: (d[d["total_error"].notna()]
+                                  [["engine", "terrain", "motion", "quantity", "axis", "range_error",
+                                    "mean_error", "total_error"]].reset_index(drop=True)),
+}
+
+
 def figure_key(path: str | Path) -> str:
     """A figure file's name in the report: its path under the last ``figures`` folder, no suffix
     (results/report/figures/traces/grass/straight.png -> traces/grass/straight)."""
@@ -200,7 +217,10 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
         if given(key):
             p = _path(key, inputs[key])
             sources[key] = str(p)
-            kw[key] = _csv(key, p, index)
+            if key in DETAIL_VIEWS and "ref_mean" in pd.read_csv(p, nrows=0).columns:
+                kw[key] = DETAIL_VIEWS[key](_csv("detail", p)).copy()
+            else:
+                kw[key] = _csv(key, p, index)
 
     for key in ("accuracy_errors", "accuracy_per_test", "segments", "replay_per_window", "validation", "sweep", "calibration"):
         if given(key):
@@ -290,7 +310,7 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
         traces = []
         for p in _paths("traces", inputs["traces"]):
             frame, meta = read_trace(p)
-            # results/traces/{engine}/{terrain}/{motion}.parquet; metadata wins when present.
+            # results/traces/<source>/{engine}/{terrain}/{motion}.parquet; metadata wins when present.
             engine = str(meta.get("engine") or p.parent.parent.name)
             terrain = str(meta.get("terrain") or p.parent.name)
             motion = str(meta.get("motion") or p.stem)

@@ -1,0 +1,5 @@
+from simpick.workflow import compare_job, logged
+
+with logged(snakemake.log[0]):
+    compare_job(snakemake.params.kind, list(snakemake.input.traces), dict(snakemake.input.items()),
+                snakemake.params.settings, dict(snakemake.output.items()))
