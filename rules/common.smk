@@ -414,8 +414,6 @@ def report_real_inputs(wildcards):
         inputs.update({f"replay_{table}": metrics_file(REPLAY_SET.name, table)
                        for table in ("per_test", "summary", "pairwise", "imu_errors")})
         inputs["replay_per_window"] = metrics_file(REPLAY_SET.name, "detail")
-        inputs["real_logs"] = real_logs(REPLAY_SET.name)
-        inputs["replay_traces"] = replay_traces(REPLAY_SET.name)
     if SWEEP:
         inputs["sweep"] = f"{SWEEP_DIR}/summary.csv"
     if CALIBRATION and CALIBRATION.get("enabled"):  # rules/calibration.smk

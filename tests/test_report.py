@@ -456,7 +456,10 @@ def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
             cmd = pd.DataFrame({"time": tc, "v_left": 0.3 - w_cmd * TRACK / 2 + 0 * tc,
                                 "v_right": 0.3 + w_cmd * TRACK / 2 + 0 * tc})
             log = RealLog(imu=imu, commands=cmd, meta={"dataset": "BorealTC", "run_id": run,
-                                                       "terrain_class": cls.upper(), "name": f"{cls.upper()}_{run}"})
+                                                       "terrain_class": cls.upper(), "name": f"{cls.upper()}_{run}",
+                                                       # as an import measures them (reallogs.validate)
+                                                       "rates": {"imu": {"median_hz": 100.0},
+                                                                 "commands": {"median_hz": 6.5}}})
             path = root / "logs" / cls.upper() / f"{run}.parquet"
             write_canonical(log, path)
             logs.append(str(path))
@@ -467,7 +470,8 @@ def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
                     frame[c] = sim[c].to_numpy()
                 tpath = root / "replay" / e / cls / f"{run}.parquet"
                 write_trace(frame, {"engine": e, "terrain": cls, "motion": f"replay-{run}", "run": run,
-                                    "dataset": "BorealTC", "health": {"status": "ok", "reasons": []}}, tpath)
+                                    "dataset": "BorealTC", "imu_rate_hz": 100.0,
+                                    "health": {"status": "ok", "reasons": []}}, tpath)
                 traces.append(str(tpath))
     outputs = {k: str(root / "metrics" / f"replay_{k}.csv")
                for k in ("per_window", "per_test", "summary", "pairwise", "imu_errors")}
@@ -643,3 +647,26 @@ def test_the_lab_detail_table_gives_the_reports_three_lab_views(tmp_path):
     linear = errors[errors.quantity == "linear"].total_error.sum()
     assert per_test.set_index("engine").loc["pybullet", "error_linear"] == pytest.approx(linear)
     assert per_test.set_index("engine").loc["mujoco", "status"] == "failed"
+
+
+def test_the_sample_rate_table_is_read_from_the_replay_table_not_the_logs(built_real):
+    """The report states each set's measured IMU and wheel-speed rates and the simulated IMU rate;
+    for the full replay it reads them from the compare step's per-test table (real_imu_hz,
+    real_commands_hz, sim_imu_hz), so it needs no log or trace of its own."""
+    from simpick.report.load import load_inputs
+    from simpick.report.real import datasets
+
+    inputs, text, _ = built_real
+    per_test = pd.read_csv(inputs["replay_per_test"], dtype={"run": str})
+    runs = per_test.drop_duplicates(["terrain_class", "run"])
+    table = re.search(r'<table[^>]*id="real-datasets".*?</table>', text, re.S).group(0)
+    replay = re.search(r"<tr><td>Full replay.*?</tr>", table, re.S).group(0)
+    assert f"{len(runs)} runs" in replay
+    for col, hz in (("real_imu_hz", "100 Hz"), ("real_commands_hz", "6.5 Hz"), ("sim_imu_hz", "100 Hz")):
+        assert (per_test[col] == float(hz.split()[0])).all(), col  # every run's, from the synthetic logs
+        assert hz in replay, (col, replay)
+    # the same row from the tables alone: no logs, no traces given
+    tables_only = {k: v for k, v in inputs.items() if k not in ("real_logs", "replay_traces", "traces", "figures")}
+    row = next(r for r in datasets(load_inputs(tables_only), _real_params()) if r["set"] == "replay")
+    assert (row["n"], row["imu"], row["commands"], row["simulated"]) == (f"{len(runs)} runs", "100 Hz", "6.5 Hz",
+                                                                       "100 Hz")

@@ -246,12 +246,19 @@ def replay_compare(logs: list[str], traces: list[str], params: dict):
     for path in logs:
         log = read_canonical(path)
         real[(log.meta["terrain_class"].lower(), str(log.meta["run_id"]))] = log
-    rows, runs = [], []
+    rows, runs, rates = [], [], []
     for path in traces:
         sim, meta = read_trace(path)
         runs.append(run_row(meta))
         key = (meta["terrain"], meta["run"])
         log = real[key]
+        # the rates the report states (measured median of the log's streams, the trace's IMU rate),
+        # so that it reads them from this table and not from the logs and traces themselves
+        measured = log.meta.get("rates") or {}
+        rates.append({"engine": meta["engine"], "terrain_class": key[0], "run": key[1],
+                      "real_imu_hz": (measured.get("imu") or {}).get("median_hz"),
+                      "real_commands_hz": (measured.get("commands") or {}).get("median_hz"),
+                      "sim_imu_hz": meta.get("imu_rate_hz")})
         base = {"engine": meta["engine"], "terrain_class": key[0], "run": key[1],
                 "status": meta["health"]["status"], "reasons": "; ".join(meta["health"]["reasons"])}
         if base["status"] != "ok":
@@ -289,6 +296,9 @@ def replay_compare(logs: list[str], traces: list[str], params: dict):
     per_run["status"], per_run["kind"] = "ok", "replay"
     failed = per_window[per_window.status != "ok"][["engine", "terrain_class", "run", "status", "reasons"]]
     per_test = pd.concat([per_run, failed], ignore_index=True)
+    per_test = per_test.merge(pd.DataFrame(rates, columns=["engine", "terrain_class", "run", "real_imu_hz",
+                                                           "real_commands_hz", "sim_imu_hz"]),
+                              on=["engine", "terrain_class", "run"], how="left")
     per_test["segment"] = per_test["terrain_class"] + "-" + per_test["run"]
     per_test["test"] = per_test["segment"]
     return per_test, per_window, pd.DataFrame(runs, columns=RUN_COLUMNS)

@@ -407,9 +407,6 @@ def datasets(data: ReportData, params: Mapping[str, Any]) -> list[dict[str, Any]
     """Per real-data set: the dataset it comes from and its sample rates (measured, declared, and
     the simulated IMU's, which the comparison uses). Measured rates of the full replay come from
     its canonical logs' meta; those of the committed segments from the table's provenance."""
-    from simpick.reallogs import read_canonical_meta
-    from simpick.traces import read_metadata
-
     declared = (params.get("real_data") or {}).get("datasets") or {}
     rows = []
     if data.segments is not None:
@@ -423,17 +420,18 @@ def datasets(data: ReportData, params: Mapping[str, Any]) -> list[dict[str, Any]
                      "imu": _hz_range(rates.get("imu") or []), "commands": _hz_range(rates.get("commands") or []),
                      "declared": _declared_text(d.get("declared")),
                      "simulated": _hz_range([d["simulated_imu_hz"]] if d.get("simulated_imu_hz") else [])})
-    if data.real_logs:
+    replay = (data.real.get("replay") or {}).get("per_test")
+    if replay is not None and "real_imu_hz" in replay:
+        # the replay's per-test table carries each run's measured rates and each trace's IMU rate
+        # (simpick.realdata.replay_compare): the report reads no log or trace itself
         d = declared.get("replay") or {}
-        metas = [read_canonical_meta(p) for p in data.real_logs]
-        imu = [((m.get("rates") or {}).get("imu") or {}).get("median_hz") for m in metas]
-        cmd = [((m.get("rates") or {}).get("commands") or {}).get("median_hz") for m in metas]
-        sim = [read_metadata(p).get("imu_rate_hz") for p in (data.replay_traces or [])]
+        per_run = replay.drop_duplicates(["terrain_class", "run"])
         rows.append({"set": "replay", "title": SET_TITLES["replay"],
-                     "label": d.get("label") or d.get("name") or (metas[0].get("dataset") if metas else None)
-                     or "(not named)", "where": d.get("folder") or "", "n": f"{len(metas)} runs",
-                     "imu": _hz_range(imu), "commands": _hz_range(cmd), "declared": _declared_text(d.get("declared")),
-                     "simulated": _hz_range(sim)})
+                     "label": d.get("label") or d.get("name") or "(not named)", "where": d.get("folder") or "",
+                     "n": f"{len(per_run)} runs", "imu": _hz_range(per_run.real_imu_hz.dropna().tolist()),
+                     "commands": _hz_range(per_run.real_commands_hz.dropna().tolist()),
+                     "declared": _declared_text(d.get("declared")),
+                     "simulated": _hz_range(replay.sim_imu_hz.dropna().tolist())})
     for row, d in zip(rows, [declared.get(r["set"]) or {} for r in rows]):
         stated = (d.get("declared") or {}).get("commands_hz")
         row["wheel_rate"] = row["commands"] or (f"{float(stated):g} Hz (declared)" if stated else None)
