@@ -226,7 +226,11 @@ SOURCES = {
 }
 
 
-if REPLAY_SET:
+# Not for the folder the committed table was derived from (dataset DATASET): its derived table is the
+# committed one (maintain_segments keeps them equal; tests/test_realdata checks a fresh derivation
+# against it), already simulated as source "segments"; as a source of its own it would simulate the
+# same 18 segments x 6 models a second time (108 jobs of the full BorealTC replay).
+if REPLAY_SET and REPLAY_SET.name != DATASET:
     DERIVED = f"{REPLAY_SET.name}-segments"  # no dataset name ends so and is also replayed: one folder a run
     SOURCES[DERIVED] = {"kind": "segments", "models": REAL_MODELS, "group": "terrain_class", "cases": None,
                         "table": f"{REPLAY}/segments.csv", "classes": list(REPLAY_SET.classes)}

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 import yaml
 
-from conftest import ROOT, SHARED, snakemake, synthetic_run, tiny_config, write_config, write_dataset
+from conftest import ROOT, SHARED, planned_jobs, snakemake, synthetic_run, tiny_config, write_config, write_dataset
 from simpick.datasets import DatasetProblems, dataset_name, find_runs, open_dataset, run_key
 from simpick.errors import InputError
 from simpick.imu import ImuModel, model_at_rate
@@ -233,3 +233,17 @@ def test_bad_dataset_folder_stops_the_run_before_any_job(tmp_path, case, expecte
     assert len(lines) == 1 and expected in lines[0], text[-2000:]
     assert "Traceback" not in text and "Exception" not in text
     assert not (tmp_path / "results").exists()  # no job ran
+
+
+def test_the_committed_tables_own_folder_is_not_simulated_a_second_time(tmp_path):
+    """The shared BorealTC folder's derived segment table is the committed one (test_realdata
+    checks a fresh derivation against it): replaying that folder derives the table (a result) but
+    simulates no source "<dataset>-segments" beside "segments", which holds the same cases."""
+    config = tiny_config(tmp_path)
+    config["borealtc_dir"] = str(SHARED / "data" / "borealtc")
+    write_config(tmp_path, config)
+    jobs = planned_jobs(tmp_path)
+    dry = snakemake(tmp_path, "-n")
+    assert "real_segments" in dry.stdout + dry.stderr  # the folder's own table is still derived (a checkpoint)
+    assert any("source=borealtc," in w for rule, w in jobs if rule == "simulate")  # its runs are replayed
+    assert not [w for _, w in jobs if "borealtc-segments" in w]
