@@ -1,7 +1,6 @@
-from simpick.cpuload import cpu_load_job
 from simpick.watchdog import runtime_timeout
-from simpick.workflow import logged
+from simpick.workflow import cpu_job, logged
 
 with logged(snakemake.log[0]):
-    cpu_load_job(snakemake.output[0], snakemake.input.terrain, snakemake.input.urdf, snakemake.params.case,
-                 runtime_timeout(snakemake.resources.get("runtime")))
+    cpu_job(snakemake.output[0], snakemake.input.terrain, snakemake.input.urdf, snakemake.params.case,
+            runtime_timeout(snakemake.resources.get("runtime")))

@@ -11,7 +11,8 @@ import yaml
 from conftest import ROOT, drive, snakemake, tiny_config, write_config
 from simpick.config import problems
 from simpick.imu import block_average, interval_average
-from simpick.sweep import summarise, timestep_label
+from simpick.config import timestep_label
+from simpick.sweep import summarise
 
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
 SWEEP = yaml.safe_load((ROOT / "config" / "sweeps" / "timestep.yaml").read_text())

@@ -45,6 +45,7 @@ import pandas as pd
 import yaml
 
 from simpick.errors import InputError
+from simpick.watchdog import DEFAULT_TIMEOUT_S
 from simpick.workflow import write_csv
 
 FAILED_UNIT = 10.0  # objective counted for a unit the engine fails (10x the scale of either error)
@@ -291,14 +292,14 @@ def calibrate(units: Units, train: list[str], urdf: str, params: dict, settings:
     return values, history, facts
 
 
-def calibrate_job(inputs: dict, params: dict, settings: dict, outputs: dict, timeout: float | None = None) -> None:
+def calibrate_job(inputs: dict, params: dict, settings: dict, outputs: dict, timeout: float = DEFAULT_TIMEOUT_S) -> None:
     """One engine x terrain class: calibrate on the training units; write best.yaml and trials.csv.
 
     Under the watchdog (``timeout`` s of wall time, simpick.watchdog.runtime_timeout of the rule's
     runtime): a study still running then writes best.yaml with ``status: failed`` and the reason
     and no parameters (the journal keeps the finished trials, so a rerun resumes), and the
     evaluation reports every calibrated unit of the class as failed instead of inventing a best."""
-    from simpick.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
+    from simpick.watchdog import Watchdog, hung_reason
 
     split = read_split(inputs["split"], params["terrain_class"])
     units = Units(settings["source"], inputs.get("segments"), inputs.get("logs"), params["terrain_class"])
@@ -306,7 +307,6 @@ def calibrate_job(inputs: dict, params: dict, settings: dict, outputs: dict, tim
     if not train:
         raise InputError(inputs["split"], f"class {params['terrain_class']!r} has no training units")
     journal = Path(outputs["best"]).with_name("optuna.journal")
-    timeout = DEFAULT_TIMEOUT_S if timeout is None else float(timeout)
     as_configured = configured_values(params, parameter_space(
         params["engine"], (settings.get("bounds") or {}).get(params["engine"])))
 
@@ -337,19 +337,18 @@ def _failed_rows(units: Units, ids: list[str], reason: str) -> list[dict]:
              "error_accel_x": math.nan, "objective": FAILED_UNIT} for u in ids]
 
 
-def evaluate_job(inputs: dict, params: dict, settings: dict, output: str, timeout: float | None = None) -> None:
+def evaluate_job(inputs: dict, params: dict, settings: dict, output: str, timeout: float = DEFAULT_TIMEOUT_S) -> None:
     """Every unit of the class (train and test), as configured and as calibrated: one row each.
 
     Under the watchdog (``timeout``, as :func:`calibrate_job`): a job still running then writes
     the rows it has and every unit not yet evaluated as failed with the reason."""
-    from simpick.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
+    from simpick.watchdog import Watchdog, hung_reason
 
     split = read_split(inputs["split"], params["terrain_class"])
     units = Units(settings["source"], inputs.get("segments"), inputs.get("logs"), params["terrain_class"])
     best = yaml.safe_load(Path(inputs["best"]).read_text())
     sets = dict(zip(split.unit, split.set))
     ids = [u for u in split.unit if u in units.ids]
-    timeout = DEFAULT_TIMEOUT_S if timeout is None else float(timeout)
     rows: list[dict] = []
     key = {"engine": params["engine"], "terrain_class": params["terrain_class"]}
     plan = [("configured", params)]

@@ -86,22 +86,3 @@ def hung_result(params: dict, timeout: float) -> dict:
                           "simulated_seconds": cpu["duration"]} for scenario in ("average", "intense")},
             "health": {"status": "failed", "reasons": [reason], "checked": True}}
 
-
-def cpu_load_job(output: str, terrain_file: str, urdf: str, params: dict, timeout: float) -> None:
-    """simpick.workflow.cpu_job under the watchdog: still running after ``timeout`` s of wall
-    time, the job writes :func:`hung_result` to ``output`` and ends."""
-    import json
-    import sys
-    from pathlib import Path
-
-    from simpick.watchdog import Watchdog
-    from simpick.workflow import cpu_job
-
-    def hung() -> None:
-        result = hung_result(params, timeout)
-        print(f"simpick: cpu_load {params['engine']}: {result['health']['reasons'][0]}", file=sys.stderr)
-        Path(output).parent.mkdir(parents=True, exist_ok=True)
-        Path(output).write_text(json.dumps(result, indent=1))
-
-    with Watchdog(timeout, hung):
-        cpu_job(output, terrain_file, urdf, params)

@@ -20,14 +20,14 @@ import sys
 import numpy as np
 import pandas as pd
 
-from simpick.config import timestep_label  # noqa: F401 - the label lives with the config check
+from simpick.watchdog import DEFAULT_TIMEOUT_S
 from simpick.workflow import write_csv
 
 SUMMARY_COLUMNS = ("terrain_class", "engine", "timestep", "n_segments", "n_failed", "n_compared", "excluded",
                    "error_angular", "error_linear", "gain_error", "real_time_factor", "steps_per_s")
 
 
-def sweep_job(segments_csv: str, urdf: str, params: dict, output: str, timeout: float | None = None) -> None:
+def sweep_job(segments_csv: str, urdf: str, params: dict, output: str, timeout: float = DEFAULT_TIMEOUT_S) -> None:
     """Every segment of one class on one engine at ``params["physics"]["timestep"]``: one CSV row each.
 
     Under the watchdog (``timeout`` s of wall time, simpick.watchdog.runtime_timeout of the rule's
@@ -35,11 +35,10 @@ def sweep_job(segments_csv: str, urdf: str, params: dict, output: str, timeout: 
     failed (hung), so the summary counts them as failed and leaves them out for every engine,
     instead of averaging a partial class."""
     from simpick.realdata import class_segments, segment_row, simulate_segment
-    from simpick.watchdog import DEFAULT_TIMEOUT_S, Watchdog
+    from simpick.watchdog import Watchdog
 
     segments = class_segments(segments_csv, params["terrain_class"])
     dt = float(params["physics"]["timestep"])
-    timeout = DEFAULT_TIMEOUT_S if timeout is None else float(timeout)
     rows: list[dict] = []
 
     def hung() -> None:

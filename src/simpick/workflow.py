@@ -13,6 +13,7 @@ from pathlib import Path
 import yaml
 
 from simpick.errors import InputError
+from simpick.watchdog import DEFAULT_TIMEOUT_S
 
 
 def write_csv(frame, path: str | Path, index: bool = False) -> None:
@@ -132,9 +133,10 @@ def write_hung_trace(output: str, which: dict, params: dict, timeout: float, rea
     it finds it like any other."""
     from simpick.simulate import config_hash
     from simpick.traces import COLUMNS, write_trace
+    from simpick.watchdog import hung_reason
 
     waited = 0.0 if reason else float(timeout)  # a case not run used no time
-    reason = reason or f"hung: no result after {timeout:g} s of wall time; the job was stopped"
+    reason = reason or hung_reason(timeout)
     print(f"simpick: {which['engine']} {which['source']} {which['test']}: {reason}", file=sys.stderr)
     write_trace({c: [] for c in COLUMNS},
                 {"engine_version": "", **which,
@@ -144,21 +146,34 @@ def write_hung_trace(output: str, which: dict, params: dict, timeout: float, rea
                 output)
 
 
-def cpu_job(output: str, terrain_file: str, urdf: str, params: dict) -> None:
-    from simpick.cpuload import measure
+def cpu_job(output: str, terrain_file: str, urdf: str, params: dict, timeout: float = DEFAULT_TIMEOUT_S) -> None:
+    """The CPU-load measurement of one engine (simpick.cpuload), under the watchdog: still running
+    after ``timeout`` s of wall time (simpick.watchdog.runtime_timeout of the rule's runtime), the
+    job writes :func:`simpick.cpuload.hung_result` instead, which the scores leave out and name."""
+    from simpick.cpuload import hung_result, measure
     from simpick.health import HealthLimits
+    from simpick.watchdog import Watchdog
+
+    def write(result: dict) -> None:
+        Path(output).parent.mkdir(parents=True, exist_ok=True)
+        Path(output).write_text(json.dumps(result, indent=1))
+
+    def hung() -> None:
+        result = hung_result(params, timeout)
+        print(f"simpick: cpu_load {params['engine']}: {result['health']['reasons'][0]}", file=sys.stderr)
+        write(result)
 
     cpu = params["cpu_load"]
-    result = measure(params["engine"], urdf=urdf, terrain_file=terrain_file, motion=params["motion"],
-                     timestep=params["physics"]["timestep"],
-                     ground_friction=params["physics"]["ground_friction"],
-                     max_wheel_torque=params["robot"]["max_wheel_torque"], track=params["robot"]["track"],
-                     engine_settings=params["engine_settings"], duration=cpu["duration"],
-                     repeats=int(cpu["repeats"]), robots_average=int(cpu["robots_average"]),
-                     robots_intense=int(cpu["robots_intense"]), spacing=cpu["spacing"],
-                     limits=HealthLimits(**params["health"]) if params.get("health") else None)
-    Path(output).parent.mkdir(parents=True, exist_ok=True)
-    Path(output).write_text(json.dumps(result, indent=1))
+    with Watchdog(timeout, hung):
+        result = measure(params["engine"], urdf=urdf, terrain_file=terrain_file, motion=params["motion"],
+                         timestep=params["physics"]["timestep"],
+                         ground_friction=params["physics"]["ground_friction"],
+                         max_wheel_torque=params["robot"]["max_wheel_torque"], track=params["robot"]["track"],
+                         engine_settings=params["engine_settings"], duration=cpu["duration"],
+                         repeats=int(cpu["repeats"]), robots_average=int(cpu["robots_average"]),
+                         robots_intense=int(cpu["robots_intense"]), spacing=cpu["spacing"],
+                         limits=HealthLimits(**params["health"]) if params.get("health") else None)
+    write(result)
 
 
 # --- one compare and one summarise step for every source --------------------------------------
