@@ -217,10 +217,61 @@ def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | Non
 PARAMS = {"weights": dict(DEFAULT_WEIGHTS), "config": CONFIG, "title": "Synthetic test report", "engines": list(ENGINES)}
 
 
+def draw_all(inputs: dict, params: dict, folder: Path) -> dict:
+    """Every figure the given inputs allow, as the workflow's figure rules would draw them, into
+    ``folder`` (named ``figures``); returns the report inputs that embed them (``figures``,
+    ``endpoints``) added to ``inputs`` less ``traces``."""
+    from simpick.report.draw import (_tests, contributions, imu_stats, paths, real_gain, replay, sweep, traces,
+                                     validation)
+
+    folder = Path(folder)
+    out: list[str] = []
+
+    def path(name: str) -> str:
+        p = folder / name
+        p.parent.mkdir(parents=True, exist_ok=True)
+        out.append(str(p))
+        return str(p)
+
+    report = {k: v for k, v in inputs.items() if k != "traces"}
+    if inputs.get("weighted"):
+        contributions(inputs, params, path("contributions.png"))
+
+    def pairs(key: str) -> list[tuple[str, str]]:
+        if not inputs.get(key):
+            return []
+        frame = pd.read_csv(inputs[key], dtype=str)
+        return list(zip(frame["terrain"], frame["motion"]))
+
+    config = params.get("config") or {}
+    tests = _tests(config, pairs("runs"))
+    if inputs.get("trace_stats"):  # the paper's reference tests too, drawn with the reference alone
+        for t, m in _tests(config, tests + pairs("reference_stats")):
+            imu_stats(inputs, params, t, m, path(f"imu_stats/{t}/{m}.png"))
+    if inputs.get("traces"):
+        for t, m in tests:
+            traces(inputs, params, t, m, path(f"traces/{t}/{m}.png"))
+        ends = folder / "endpoints.csv"
+        paths(inputs, params, path("paths.png"), str(ends))
+        report["endpoints"] = str(ends)
+    if inputs.get("validation"):
+        validation(inputs, params, path("validation_gain.png"))
+    if inputs.get("sweep"):
+        sweep(inputs, params, path("sweep.png"))
+    real_keys = {k: v for k, v in inputs.items() if k.startswith(("segments_", "replay_")) and k != "replay_traces"
+                 and not k.endswith("provenance")}
+    if real_keys:
+        real_gain(real_keys, params, path("real_gain.png"))
+    if inputs.get("real_logs") and inputs.get("replay_traces"):
+        classes = sorted({Path(p).parent.name.lower() for p in inputs["real_logs"]})
+        for c in classes:
+            replay(inputs, params, c, path(f"replay/{c}.png"), path(f"replay/{c}.json"))
+    report["figures"] = out
+    return report
+
+
 def with_figures(inputs: dict, params: dict, folder: Path) -> dict:
     """The report's inputs once the figure rules have drawn from them (simpick.report.draw)."""
-    from simpick.report.draw import draw_all
-
     return draw_all(inputs, params, folder / "figures")
 
 

@@ -375,61 +375,6 @@ def replay(inputs: Mapping[str, Any], params: Mapping[str, Any], cls: str, outpu
          "lowpass_hz": LOWPASS_HZ, "band": list(band)}, indent=1))
 
 
-# --------------------------------------------------------------------------
-# All of them (tests and one-off reports outside the workflow)
-# --------------------------------------------------------------------------
-
-
-def draw_all(inputs: Mapping[str, Any], params: Mapping[str, Any], folder: str | Path) -> dict[str, Any]:
-    """Every figure the given inputs allow, as the workflow's figure rules would draw them, into
-    ``folder`` (named ``figures``); returns the report inputs that embed them (``figures``,
-    ``endpoints``) added to ``inputs`` less ``traces``."""
-    folder = Path(folder)
-    out: list[str] = []
-
-    def path(name: str) -> str:
-        p = folder / name
-        p.parent.mkdir(parents=True, exist_ok=True)
-        out.append(str(p))
-        return str(p)
-
-    report = {k: v for k, v in inputs.items() if k != "traces"}
-    if inputs.get("weighted"):
-        contributions(inputs, params, path("contributions.png"))
-
-    def pairs(key: str) -> list[tuple[str, str]]:
-        if not inputs.get(key):
-            return []
-        frame = pd.read_csv(inputs[key], dtype=str)
-        return list(zip(frame["terrain"], frame["motion"]))
-
-    config = params.get("config") or {}
-    tests = _tests(config, pairs("runs"))
-    if inputs.get("trace_stats"):  # the paper's reference tests too, drawn with the reference alone
-        for t, m in _tests(config, tests + pairs("reference_stats")):
-            imu_stats(inputs, params, t, m, path(f"imu_stats/{t}/{m}.png"))
-    if inputs.get("traces"):
-        for t, m in tests:
-            traces(inputs, params, t, m, path(f"traces/{t}/{m}.png"))
-        ends = folder / "endpoints.csv"
-        paths(inputs, params, path("paths.png"), str(ends))
-        report["endpoints"] = str(ends)
-    if inputs.get("validation"):
-        validation(inputs, params, path("validation_gain.png"))
-    if inputs.get("sweep"):
-        sweep(inputs, params, path("sweep.png"))
-    real_keys = {k: v for k, v in inputs.items() if k.startswith(("segments_", "replay_")) and k != "replay_traces"
-                 and not k.endswith("provenance")}
-    if real_keys:
-        real_gain(real_keys, params, path("real_gain.png"))
-    if inputs.get("real_logs") and inputs.get("replay_traces"):
-        classes = sorted({Path(p).parent.name.lower() for p in inputs["real_logs"]})
-        for c in classes:
-            replay(inputs, params, c, path(f"replay/{c}.png"), path(f"replay/{c}.json"))
-    report["figures"] = out
-    return report
-
-
 # The figure rules, by name: rule -> (function, wildcard names passed after params, output names)
 RULES = {
     "figure_contributions": (contributions, (), ("png",)),
