@@ -310,24 +310,22 @@ def calibrate_job(inputs: dict, params: dict, settings: dict, outputs: dict, tim
     as_configured = configured_values(params, parameter_space(
         params["engine"], (settings.get("bounds") or {}).get(params["engine"])))
 
+    def write_best(status: str, reasons: list[str], values: dict, facts: dict) -> None:
+        Path(outputs["best"]).write_text(yaml.safe_dump({
+            "engine": params["engine"], "terrain_class": params["terrain_class"], "status": status,
+            "reasons": reasons, "parameters": values, "as_configured": as_configured, "train_units": train,
+            "n_trials": int(settings["n_trials"]), "journal": str(journal), **facts}, sort_keys=False))
+
     def hung() -> None:
         reason = hung_reason(timeout)
         print(f"simpick: calibrate {params['engine']} {params['terrain_class']}: {reason}", file=sys.stderr)
         write_csv(pd.DataFrame(columns=["trial", "as_configured", "objective"]), outputs["trials"])
-        Path(outputs["best"]).write_text(yaml.safe_dump({
-            "engine": params["engine"], "terrain_class": params["terrain_class"], "status": "failed",
-            "reasons": [reason], "parameters": {}, "as_configured": as_configured, "train_units": train,
-            "n_trials": int(settings["n_trials"]), "journal": str(journal), "best_trial": None,
-            "best_objective": None, "configured_objective": None}, sort_keys=False))
+        write_best("failed", [reason], {}, {"best_trial": None, "best_objective": None, "configured_objective": None})
 
     with Watchdog(timeout, hung):
         values, history, facts = calibrate(units, train, inputs["urdf"], params, settings, journal)
     write_csv(history, outputs["trials"])
-    Path(outputs["best"]).write_text(yaml.safe_dump({
-        "engine": params["engine"], "terrain_class": params["terrain_class"], "status": "ok", "reasons": [],
-        "parameters": values, "as_configured": as_configured,
-        "train_units": train, "n_trials": int(settings["n_trials"]), "journal": str(journal), **facts},
-        sort_keys=False))
+    write_best("ok", [], values, facts)
 
 
 def _failed_rows(units: Units, ids: list[str], reason: str) -> list[dict]:
