@@ -484,8 +484,9 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
     for key, note in sorted(data.figure_notes.items(), key=lambda kv: (pos.get(kv[1].get("cls"), len(pos)), kv[0])):
         if key.startswith("replay/") and note.get("drawn") and key in data.figures:
             replay_figs.append({**note, "band": tuple(note["band"]), "uri": figures.data_uri(data.figures[key])})
-    if (data.real_logs is None) != (data.replay_traces is None):
-        replay_notes.append("the time plots and spectra need both the real logs and the replay traces")
+    undrawn = sorted(n.get("cls") for k, n in data.figure_notes.items() if k.startswith("replay/") and not n.get("drawn"))
+    if undrawn:  # figure_replay had no real log of the class (simpick.report.draw.replay)
+        replay_notes.append(f"no real log to draw for {', '.join(c.replace('_', ' ') for c in undrawn)}")
 
     limits_classes = [{"cls": c, "label": c.replace("_", " "), "friction": class_params.get(c, {}).get("friction"),
                        "source": class_params.get(c, {}).get("source")}
