@@ -133,6 +133,9 @@ LEFT_TURN_XFAIL = {
     "pybullet": "Bullet's multibody friction rows are fixed to the world axes (btPlaneSpace1; bullet3 PR #4539): "
                 "starting along the x axis the Husky turns at 0.075 rad/s for 0.5 commanded (gain 0.15, Coulomb "
                 "0.478); tests/test_validation.py and the README explain it",
+    "physx": "PhysX's friction is a box (two rows per anchor, each clamped to mu N on its own, along tangents from "
+             "the bodies' linear velocities), so a skidding wheel keeps full lateral friction: the Husky turns at "
+             "0.050 rad/s for 0.5 commanded (gain 0.10, Coulomb 0.478); physx_engine docstring",
 }
 
 
@@ -260,6 +263,14 @@ def test_terrain_patch_friction_and_ground_friction_each_brake_at_mu_g(engine, r
     assert decelerations["ground"] == pytest.approx(ground * GRAVITY, rel=DECELERATION_TOLERANCE)
 
 
+TORQUE_BOUND_XFAIL = {
+    "physx": "the wheel is a convex polygon (SAPIEN cooks at most 64 sides; 4 turned 64-sided prisms): every "
+             "vertex landing is an inelastic impact, measured 0.752 m/s^2 for the analytic 0.768 (-2.1 %; 8 prisms "
+             "0.757, but overlapping patches then brake at 1.06 mu g); PhysxSettings.wheel_prisms",
+}
+
+
+@pytest.mark.parametrize("engine", every_engine_but(TORQUE_BOUND_XFAIL))
 def test_wheel_torque_bound_sets_the_acceleration(engine, robot):
     """With the servos saturated at 2 N m on high friction the wheels roll without slip, so the
     robot accelerates at 4 tau / (r (m + 4 I / r^2)): 0.768 m/s^2 for the URDF's 56.6 kg and
@@ -422,6 +433,9 @@ STEADY_TURN_XFAIL = {
             "four-wheeled rigid robot (dart_engine docstring), so the yaw rate jumps between 0.208 and 0.263 "
             "rad/s in 0.25 s blocks over 1-3 s and the base slides sideways at 0.02-0.03 m/s; ay reads 0.1213 "
             "m/s^2 for v x yaw rate 0.1286 (-5.7 %, the dv_y/dt and yaw acceleration terms)",
+    "physx": "a steady turn, but hardly a turn: PhysX's box friction (LEFT_TURN_XFAIL) holds the yaw rate at "
+             "0.043-0.045 rad/s in 0.25 s blocks over 1-3 s, so v x yaw rate is 0.027 m/s^2, below the 0.1 a real "
+             "turn gives",
 }
 
 

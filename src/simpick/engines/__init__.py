@@ -16,6 +16,7 @@ ADAPTERS = {
     "mujoco": "simpick.engines.mujoco_engine:MujocoEngine",
     "ode": "simpick.engines.ode_engine:OdeEngine",
     "dart": "simpick.engines.dart_engine:DartEngine",
+    "physx": "simpick.engines.physx_engine:PhysxEngine",
 }
 
 # Reference models (simpick.engines.baselines): same interface, but formulas, not simulators.
