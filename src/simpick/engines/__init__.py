@@ -17,6 +17,7 @@ ADAPTERS = {
     "ode": "simpick.engines.ode_engine:OdeEngine",
     "dart": "simpick.engines.dart_engine:DartEngine",
     "physx": "simpick.engines.physx_engine:PhysxEngine",
+    "drake": "simpick.engines.drake_engine:DrakeEngine",
 }
 
 # Reference models (simpick.engines.baselines): same interface, but formulas, not simulators.
