@@ -492,3 +492,18 @@ def test_the_accelerometer_agrees_with_the_kinematic_imu(engine):
     np.testing.assert_allclose(native, kinematic, atol=1e-3)
     np.testing.assert_allclose(block_average(record.imu_gyro, 10), block_average(gyro, 10), atol=1e-4)
     assert np.abs(native[:, :2]).max() > 0.3  # the signal is there: starting and turning
+
+
+def test_an_engine_that_is_not_installed_is_reported_with_the_fix(monkeypatch):
+    """simpick.engines.unavailable: what the plan leaves out and why (the report lists it). A missing
+    module names itself and the pip extra that installs it; a failing library loader its message."""
+    from simpick import engines
+
+    assert engines.unavailable(ADAPTERS) == {}  # this machine runs every engine
+    assert set(engines.REQUIREMENTS) == set(ADAPTERS)  # every adapter says what it needs
+    monkeypatch.setitem(engines.REQUIREMENTS, "drake", "no_such_module_for_simpick")
+    monkeypatch.setitem(engines.REQUIREMENTS, "ode", "simpick.engines._ode:no_such_loader")
+    found = engines.unavailable(["drake", "ode", "mujoco"])
+    assert set(found) == {"drake", "ode"}
+    assert "'no_such_module_for_simpick' is not installed" in found["drake"] and "-e '.[drake]'" in found["drake"]
+    assert found["ode"].startswith("AttributeError") and "no_such_loader" in found["ode"]
