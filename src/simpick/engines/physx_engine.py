@@ -20,11 +20,17 @@
 - IMU: none in PhysX; :func:`simpick.imu.imu_from_kinematics` from base_link kinematics. PhysX
   reports a link's velocity at its centre of mass, converted here to base_link's origin.
 
+Two corrections of ours (issue 19): PhysX gives every articulation link 0.05 /s of linear and
+angular damping by default (a robot coasting on frictionless ground lost 1.3 N of momentum), set
+to 0 here; and the wheel cylinders become turned convex prisms (``PhysxSettings.wheel_prisms``).
+
 Skid-steer turning (issue 19). With the set-up Isaac Lab uses (TGS, 4 position / 0 velocity
-iterations, implicit velocity drives) the Husky turns at a yaw-rate gain of 0.11 at (v, w) =
-(0.5, 0.5) on mu 0.8, 0.21 in a spin and 0.09 at (0.5, 0.2), against the Coulomb 0.478; the same
-from a 45 deg heading (0.117 / 0.117), so it is not world-aligned friction as in Bullet. Measured
-at 1 kHz, 4 s runs, yaw rate averaged after 1 s; nothing exposed moves it to the Coulomb value:
+iterations, implicit velocity drives) the Husky turns at a yaw-rate gain of 0.103 at (v, w) =
+(0.5, 0.5) on mu 0.8, 0.191 in a spin and 0.081 at (0.5, 0.2), against the Coulomb 0.478 (the
+validation cases, 6 s, second half); the same from headings 0 / 22.5 / 45 deg (0.103 / 0.102 /
+0.102) and mirrored (w < 0: 0.091-0.094), so it is not world-aligned friction as in Bullet. A
+spin at mu 0.2 does reach 0.477. Earlier variants, 4 s runs at 1 kHz with SAPIEN's cylinder and
+the default link damping, yaw rate averaged after 1 s; nothing exposed moves the gain to Coulomb:
   variant                                              (0.5,0.5)   (0,0.5)
   SAPIEN defaults (TGS, 10/1 iterations, damping 1e3)  0.117       0.20
   PGS                                                  0.194       0.36-0.39
