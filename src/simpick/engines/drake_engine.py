@@ -135,13 +135,11 @@ class DrakeEngine:
             props = ProximityProperties()
             f = _terrain_friction(mu, where)
             AddContactMaterial(friction=CoulombFriction(f, f), properties=props)
-            if hydro:
+            if hydro:  # a sphere's rigid mesh needs a resolution; boxes and the half space are exact
                 AddRigidHydroelasticProperties(resolution, props) if resolution else AddRigidHydroelasticProperties(props)
             return props
 
         world = plant.world_body()
-        plant.RegisterCollisionGeometry(world, RigidTransform(), HalfSpace(), "ground",
-                                        surface(scenario.ground_friction, "physics.ground_friction"))
         terrain = scenario.terrain
         mu = float(terrain["friction"])
         for k, (x, y, z, yaw, sx, sy, sz) in enumerate(terrain["boxes"]):
@@ -150,6 +148,11 @@ class DrakeEngine:
         for k, (x, y, z, r) in enumerate(terrain["spheres"]):
             plant.RegisterCollisionGeometry(world, RigidTransform([x, y, z]), Sphere(r), f"sphere{k}",
                                             surface(mu, "terrain friction", min(settings.mesh_resolution, r / 4)))
+        # The ground plane last: with the HalfSpace registered first, registering the gravel strip's
+        # 485 stones on the world body crashed Drake 1.51.1 (segmentation fault after 300-380 of them,
+        # hydroelastic or not; issue 19); registered after them, it does not.
+        plant.RegisterCollisionGeometry(world, RigidTransform(), HalfSpace(), "ground",
+                                        surface(scenario.ground_friction, "physics.ground_friction"))
 
         robot = scenario.robot
         parser = Parser(plant)
