@@ -192,7 +192,7 @@ class DrakeEngine:
                 base = plant.GetBodyByName(robot.base_link, instance)
                 plant.SetFreeBodyPose(context, base, RigidTransform(RotationMatrix.MakeZRotation(yaw),
                                                                      [x, y, robot.base_height + SPAWN_CLEARANCE]))
-                plant.get_actuation_input_port(instance).FixValue(context, np.zeros(4))
+                plant.get_actuation_input_port(instance).FixValue(context, np.zeros(len(robot.wheel_joints)))
             simulator.Initialize()
         finally:
             drake_log.setLevel(level)
@@ -202,7 +202,8 @@ class DrakeEngine:
     def _command(plant, context, robots, speeds) -> None:
         for (instance, _), robot_speeds in zip(robots, speeds):
             # desired state of the PD-controlled actuators: positions (ignored, gain 0), then speeds
-            plant.get_desired_state_input_port(instance).FixValue(context, np.concatenate([np.zeros(4), robot_speeds]))
+            plant.get_desired_state_input_port(instance).FixValue(
+                context, np.concatenate([np.zeros(len(robot_speeds)), robot_speeds]))
 
     def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
         wheel_commands = validated_commands(scenario, wheel_commands)
@@ -244,6 +245,6 @@ class DrakeEngine:
         omega, velocity = state[:, 7:10], state[:, 10:13]
         specific_force, gyro = imu_from_kinematics(quat, velocity, omega, scenario.robot.imu_mount, dt, scenario.gravity)
         return PhysicsRecord(time=dt * np.arange(1, steps + 1), position=state[:, 4:7].copy(), quaternion=quat,
-                             linear_velocity=velocity, angular_velocity=omega, wheel_speed=state[:, 13:17].copy(),
+                             linear_velocity=velocity, angular_velocity=omega, wheel_speed=state[:, 13:].copy(),
                              imu_specific_force=specific_force, imu_gyro=gyro,
                              wall_time=wall, cpu_time=cpu, steps=steps)

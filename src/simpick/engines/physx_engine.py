@@ -287,7 +287,7 @@ class PhysxEngine:
         quat = np.empty((steps, 4))
         v_com = np.empty((steps, 3))
         omega = np.empty((steps, 3))
-        wheel_speed = np.empty((steps, 4))
+        wheel_speed = np.empty((steps, len(wheel_dofs)))
 
         step = scene.step
         cpu0, wall0 = time.process_time(), time.perf_counter()
