@@ -155,7 +155,9 @@ class ValidationCase(Strict):
     w: Finite | None = None
     mu: Annotated[float, Field(gt=0, le=10, allow_inf_nan=False)]
     angle_factor: Positive | None = None
-    heading: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = 0.0  # deg, incline only
+    # deg: yaw_gain, slide: the robot's start heading; incline: the downhill direction from the
+    # robot's back (the robot starts at heading 0)
+    heading: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = 0.0
     duration: Positive | None = None
     cruise: Positive | None = None
 
