@@ -4,6 +4,7 @@ engine's validation cases as conformance tests (issue 9)."""
 import copy
 import functools
 import math
+import re
 
 import numpy as np
 import pytest
@@ -103,6 +104,35 @@ def test_gain_table_gives_left_right_and_the_spread_over_headings():
     assert row.spread == pytest.approx(0.20 / 0.478)
     assert row.headings == "0 45"
     assert table.loc[0.2].n_right == 0 and math.isnan(table.loc[0.2].right_mean)
+
+
+def test_the_report_shows_left_right_and_headings_and_names_the_failed_check(tmp_path):
+    """The report and its gain figure read gains.csv; the ranking names the failed invariance check."""
+    from test_report import PARAMS, _render, write_synthetic_inputs
+
+    from simpick.report.draw import validation as draw_validation
+    from simpick.validation import gain_table
+
+    summary = summarise([gain("pybullet", 0.5, 0.50), gain("pybullet", -0.5, 0.30),
+                         gain("pybullet", 0.5, 0.46, heading=-135), gain("mujoco", 0.5, 0.462),
+                         gain("mujoco", -0.5, 0.472), gain("mujoco", 0.5, 0.462, heading=-135)], TOLERANCES)
+    paths = {"validation": tmp_path / "summary.csv", "validation_gains": tmp_path / "gains.csv"}
+    summary.to_csv(paths["validation"], index=False)
+    gain_table(summary).to_csv(paths["validation_gains"], index=False)
+    png = tmp_path / "figures" / "validation_gain.png"
+    png.parent.mkdir()
+    draw_validation({"validation_gains": str(paths["validation_gains"])}, PARAMS, str(png))
+    inputs = write_synthetic_inputs(tmp_path / "in", seconds=1.0, failed=None)
+    text = re.sub(r">\s+<", "><", " ".join(_render({**inputs, **{k: str(v) for k, v in paths.items()},
+                                                    "figures": [str(png)]}, PARAMS).split()))
+    ranking = text[:text.index('<h2 id="validation">')]
+    assert "failed</span> g_-0.5_0.0, left_right_v0.5_w0.5_mu0.8" in ranking
+    table = text[text.index('id="validation-gains"'):]
+    table = table[:table.index("</table>")]
+    # pybullet: left 0.48 mean of 0.46-0.50 over two headings, right 0.30 from one; spread 0.20 / 0.478
+    assert ("<td>pybullet</td><td>0.478</td><td>0.480 (0.460–0.500, n 2)</td><td>0.300</td><td>0.418</td>"
+            "<td>-135 0</td>") in table
+    assert 'alt="yaw-rate gain against commanded yaw rate, left and right turns"' in text
 
 
 def test_a_quantity_without_tolerance_is_a_clear_error():
