@@ -145,6 +145,10 @@ def test_config_refuses_incomplete_cases_and_tolerances():
     config["validation"]["cases"]["bad"] = {"kind": "yaw_gain", "v": 0.5, "mu": 0.8}
     assert problems(config) == ["validation.cases.bad: a yaw_gain case needs ['w']"]
     config = yaml.safe_load(yaml.safe_dump(CONFIG))
+    config["validation"]["cases"]["rest_mu0.8"]["heading"] = 45
+    assert problems(config) == ["validation.cases.rest_mu0.8: a rest case takes no heading (parked on level "
+                                "ground, it would change nothing)"]
+    config = yaml.safe_load(yaml.safe_dump(CONFIG))
     del config["validation"]["tolerances"]["creep_speed"]
     assert "missing tolerance(s) ['creep_speed']" in "\n".join(problems(config))
 

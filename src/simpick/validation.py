@@ -14,8 +14,8 @@ Case kinds (their parameters come from ``validation.cases`` in the config):
     :mod:`simpick.coulomb`'s quasi-static solution for this robot's contact layout and loads
     (the same for w and -w: mirroring a turn mirrors the COM offset, and the gain does not
     depend on the offset's side).
-``straight``  (v, mu) forward speed against measured wheel speed x radius (rolling without
-    slip), and the heading drift (none expected).
+``straight``  (v, mu, heading) forward speed against measured wheel speed x radius (rolling
+    without slip), and the heading drift (none expected).
 ``slide``     (v, mu, heading) cruise from start heading ``heading``, then every wheel commanded
     to stop (locked by its servo): the robot slides to rest with deceleration mu g.
 ``incline``   (mu, angle_factor, heading) parked with locked wheels on a slope of angle_factor x
@@ -148,7 +148,8 @@ def _yaw_gain(setup: Setup, p: dict):
 
 def _straight(setup: Setup, p: dict):
     v, mu, duration = p["v"], p["mu"], p.get("duration", 6.0)
-    record = get_engine(setup.engine).simulate(_scenario(setup, mu), _commands(setup, [(duration, v, 0.0)]))
+    record = get_engine(setup.engine).simulate(_scenario(setup, mu, heading=p.get("heading", 0.0)),
+                                               _commands(setup, [(duration, v, 0.0)]))
     half = record.steps // 2
     speed = body_velocity(record)[half:, 0].mean()
     rolling = record.wheel_speed[half:].mean() * setup.robot.wheel_radius
