@@ -277,22 +277,23 @@ def invariance_rows(rows: list[dict], tolerances: dict) -> list[dict]:
     gains = gains.assign(ratio=gains.engine_value / gains.analytic_value, turn=np.sign(gains.w),
                          speed=gains.w.abs(), heading=gains.heading.fillna(0.0))
     out = []
+    def status(cases) -> str:
+        return "ok" if (cases.status == "ok").all() else "failed"
+
     for (engine, v, speed, mu), g in gains.groupby(["engine", "v", "speed", "mu"], sort=False):
-        status = "ok" if (g.status == "ok").all() else "failed"
         name = f"v{_label(v)}_w{_label(speed)}_mu{_label(mu)}"
         both = g.groupby("heading").filter(lambda h: set(h.turn) == {-1.0, 1.0})
         if len(both):
             differences = both.groupby("heading").apply(
                 lambda h: abs(h.ratio[h.turn > 0].mean() - h.ratio[h.turn < 0].mean()), include_groups=False)
             out.append(_row(engine, f"left_right_{name}", "invariance", "turn_asymmetry", float(differences.max()),
-                            0.0, tolerances, status, "", v=v, w=speed, mu=mu, covers=" ".join(both.case)))
+                            0.0, tolerances, status(both), "", v=v, w=speed, mu=mu, covers=" ".join(both.case)))
         for turn, t in g.groupby("turn", sort=False):
             if t.heading.nunique() > 1:
                 w = float(turn * speed)
                 out.append(_row(engine, f"headings_v{_label(v)}_w{_label(w)}_mu{_label(mu)}", "invariance",
                                 "heading_spread", float(t.ratio.max() - t.ratio.min()), 0.0, tolerances,
-                                "ok" if (t.status == "ok").all() else "failed", "", v=v, w=w, mu=mu,
-                                covers=" ".join(t.case)))
+                                status(t), "", v=v, w=w, mu=mu, covers=" ".join(t.case)))
     return out
 
 
