@@ -79,9 +79,10 @@ left 0.460 / 0.401, neither the mirror image of the other. Tight enough (1e-6 wi
 through the spin-up), all four wheels stay down, every solve converges in about 16 sweeps, and
 the gains are 0.475 / 0.485 at every heading. FCL's one contact per wheel is not at mid-width: it
 moves across the wheel's width (y within +-0.057 m of the wheel centre) as the wheel tilts.
-config.yaml sets 1e-6 and 200 (twice the failing cap); the cost on the lab straight runs (4 s,
-CPU steps/s, 2 runs): grass 2 470 -> 1 180 (at the cap in 81 % of solves), bumps 2 740 -> 1 710,
-gravel 1 800 -> 1 270.
+config.yaml sets 1e-6 and 200 (twice the failing cap); the cost on the lab runs (CPU steps/s,
+2 runs each): straight (4 s) grass 2 470 -> 1 180 (at the cap in 81 % of solves), bumps 2 740 ->
+1 710, gravel 1 800 -> 1 270; circle (3 s) grass 1 360 -> 980, bumps 1 660 -> 870, gravel 1 440 ->
+860.
 
 Speed (issue 12, with DART's own stop 1e-5 / 100 sweeps). What a step costs, from
 ``bench/dart_profile.py`` (lab straight run, medians of 3,
