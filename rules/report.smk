@@ -168,9 +168,10 @@ rule figure_paths:
 
 
 rule figure_validation:
-    """Yaw-rate gain against commanded yaw rate, every engine and the Coulomb gain."""
+    """Yaw-rate gain against commanded yaw rate (w < 0: right turns; bars: min-max over start
+    headings), every engine and the Coulomb gain."""
     input:
-        validation="results/validation/summary.csv",
+        validation_gains="results/validation/gains.csv",
     output:
         png=report(f"{FIGURES}/validation_gain.png", caption="captions/validation_gain.rst", category="Figures",
                    subcategory="Analytic mechanics"),
@@ -272,6 +273,7 @@ rule report:
         weighted="results/scores/weighted.csv",
         scores_provenance="results/scores/provenance.yaml",
         validation="results/validation/summary.csv",
+        validation_gains="results/validation/gains.csv",
         # the lab's per-axis table holds the simulated statistics, the paper's and the errors between
         trace_stats=metrics_file("lab", "detail"),
         reference_stats=metrics_file("lab", "detail"),

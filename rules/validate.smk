@@ -30,6 +30,8 @@ rule validation_summary:
         validation_results(),
     output:
         summary="results/validation/summary.csv",
+        # per engine, the yaw-rate gain left / right and its spread over start headings
+        gains="results/validation/gains.csv",
     params:
         tolerances=canonical(config["validation"]["tolerances"]),
         code=code_version("validation.py", "coulomb.py"),

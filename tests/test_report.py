@@ -254,7 +254,7 @@ def draw_all(inputs: dict, params: dict, folder: Path) -> dict:
         ends = folder / "endpoints.csv"
         paths(inputs, params, path("paths.png"), str(ends))
         report["endpoints"] = str(ends)
-    if inputs.get("validation"):
+    if inputs.get("validation_gains"):
         validation(inputs, params, path("validation_gain.png"))
     if inputs.get("sweep"):
         sweep(inputs, params, path("sweep.png"))

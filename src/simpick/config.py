@@ -155,7 +155,9 @@ class ValidationCase(Strict):
     w: Finite | None = None
     mu: Annotated[float, Field(gt=0, le=10, allow_inf_nan=False)]
     angle_factor: Positive | None = None
-    heading: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = 0.0  # deg, incline only
+    # deg: yaw_gain, straight, slide: the robot's start heading; incline: the downhill direction
+    # from the robot's back (the robot starts at heading 0); rest: refused (it would change nothing)
+    heading: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = 0.0
     duration: Positive | None = None
     cruise: Positive | None = None
 
@@ -168,6 +170,8 @@ class ValidationCase(Strict):
             raise ValueError(f"a {self.kind} case needs {missing}")
         if self.kind == "yaw_gain" and self.w == 0:
             raise ValueError("a yaw_gain case needs w != 0 (the gain is yaw rate / w)")
+        if self.kind == "rest" and self.heading != 0:
+            raise ValueError("a rest case takes no heading (parked on level ground, it would change nothing)")
         return self
 
 

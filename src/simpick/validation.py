@@ -9,18 +9,32 @@ stored runs without stepping an engine again.
 
 Case kinds (their parameters come from ``validation.cases`` in the config):
 
-``yaw_gain``  (v, w, mu) skid-steer turning; steady yaw rate / commanded w over the second
-    half of the run against :mod:`simpick.coulomb`'s quasi-static solution for this robot's
-    contact layout and loads.
-``straight``  (v, mu) forward speed against measured wheel speed x radius (rolling without
-    slip), and the heading drift (none expected).
-``slide``     (v, mu) cruise, then every wheel commanded to stop (locked by its servo): the
-    robot slides to rest with deceleration mu g.
+``yaw_gain``  (v, w, mu, heading) skid-steer turning from start heading ``heading`` (degrees);
+    steady yaw rate / commanded w over the second half of the run against
+    :mod:`simpick.coulomb`'s quasi-static solution for this robot's contact layout and loads
+    (the same for w and -w: mirroring a turn mirrors the COM offset, and the gain does not
+    depend on the offset's side).
+``straight``  (v, mu, heading) forward speed against measured wheel speed x radius (rolling
+    without slip), and the heading drift (none expected).
+``slide``     (v, mu, heading) cruise from start heading ``heading``, then every wheel commanded
+    to stop (locked by its servo): the robot slides to rest with deceleration mu g.
 ``incline``   (mu, angle_factor, heading) parked with locked wheels on a slope of angle_factor x
     atan(mu) (gravity tilted, same mechanics as a tilted plane), downhill at ``heading`` degrees
     from the robot's back (0: along -x; 45: across the world axes): below atan(mu) it stays
     (creep speed 0), above it slides down with g (sin a - mu cos a) and does not yaw.
 ``rest``      (mu) parked on level ground: accelerometer z = g, gyro 0, no creep.
+
+Invariance checks (issue 17). Flat isotropic ground has no preferred direction, and the
+mirror image of a turn is a turn the other way: an engine's gain must not depend on the
+start heading nor on the turn's direction. :func:`summarise` adds, from the yaw_gain cases
+themselves (no extra engine runs), per group of cases with the same (v, |w|, mu):
+
+``turn_asymmetry``  the largest |gain(w) / analytic - gain(-w) / analytic| over the headings
+    at which both directions ran;
+``heading_spread``  per turn direction, max - min of gain / analytic over the headings.
+
+:func:`gain_table` gives each engine's gain per group with its spread (left, right, over
+headings): results/validation/gains.csv, which the report and its gain figure read.
 """
 
 from __future__ import annotations
@@ -57,7 +71,10 @@ QUANTITIES = {
     "accel_z": ("m/s^2", "absolute"),
     "gyro_max": ("rad/s", "absolute"),
     "creep_distance": ("m", "absolute"),
+    "turn_asymmetry": ("1", "absolute"),
+    "heading_spread": ("1", "absolute"),
 }
+INVARIANCE = ("turn_asymmetry", "heading_spread")
 
 
 @dataclass(frozen=True)
@@ -72,10 +89,12 @@ class Setup:
     settings: dict
 
 
-def _scenario(setup: Setup, mu: float, gravity=(0.0, 0.0, -GRAVITY)) -> Scenario:
+def _scenario(setup: Setup, mu: float, gravity=(0.0, 0.0, -GRAVITY), heading: float = 0.0) -> Scenario:
+    """``heading``: the robot's start yaw in degrees."""
     return Scenario(robot=setup.robot, terrain=dict(FLAT, friction=mu), ground_friction=mu,
                     timestep=setup.timestep, max_wheel_torque=setup.max_wheel_torque,
-                    starts=((0.0, 0.0, 0.0),), settings=dict(setup.settings), gravity=tuple(gravity))
+                    starts=((0.0, 0.0, math.radians(heading)),), settings=dict(setup.settings),
+                    gravity=tuple(gravity))
 
 
 def _commands(setup: Setup, segments: list[tuple[float, float, float]]) -> np.ndarray:
@@ -116,19 +135,21 @@ def braking_deceleration(speed: np.ndarray, timestep: float) -> float:
 
 
 def _yaw_gain(setup: Setup, p: dict):
-    v, w, mu, duration = p["v"], p["w"], p["mu"], p.get("duration", 6.0)
-    record = get_engine(setup.engine).simulate(_scenario(setup, mu), _commands(setup, [(duration, v, w)]))
+    v, w, mu, duration, heading = p["v"], p["w"], p["mu"], p.get("duration", 6.0), p.get("heading", 0.0)
+    record = get_engine(setup.engine).simulate(_scenario(setup, mu, heading=heading),
+                                               _commands(setup, [(duration, v, w)]))
     half = record.steps // 2
     # body yaw rate: the angular velocity's component on the body z axis
     rate = np.einsum("nji,nj->ni", rotation_matrices(record.quaternion), record.angular_velocity)[:, 2]
     gain = rate[half:].mean() / w
     analytic = yaw_rate_gain(contact_layout(setup.robot), v, w, setup.track)
-    return record, [_check("yaw_rate_gain", gain, analytic, v=v, w=w, mu=mu)]
+    return record, [_check("yaw_rate_gain", gain, analytic, v=v, w=w, mu=mu, heading=heading)]
 
 
 def _straight(setup: Setup, p: dict):
     v, mu, duration = p["v"], p["mu"], p.get("duration", 6.0)
-    record = get_engine(setup.engine).simulate(_scenario(setup, mu), _commands(setup, [(duration, v, 0.0)]))
+    record = get_engine(setup.engine).simulate(_scenario(setup, mu, heading=p.get("heading", 0.0)),
+                                               _commands(setup, [(duration, v, 0.0)]))
     half = record.steps // 2
     speed = body_velocity(record)[half:, 0].mean()
     rolling = record.wheel_speed[half:].mean() * setup.robot.wheel_radius
@@ -138,12 +159,12 @@ def _straight(setup: Setup, p: dict):
 
 
 def _slide(setup: Setup, p: dict):
-    v, mu, cruise = p["v"], p["mu"], p.get("cruise", 2.0)
-    record = get_engine(setup.engine).simulate(_scenario(setup, mu),
+    v, mu, cruise, heading = p["v"], p["mu"], p.get("cruise", 2.0), p.get("heading", 0.0)
+    record = get_engine(setup.engine).simulate(_scenario(setup, mu, heading=heading),
                                                _commands(setup, [(cruise, v, 0.0), (2.0, 0.0, 0.0)]))
     brake = int(round(cruise / setup.timestep))
     deceleration = braking_deceleration(body_velocity(record)[brake:, 0], setup.timestep)
-    return record, [_check("deceleration", deceleration, mu * GRAVITY, v=v, mu=mu)]
+    return record, [_check("deceleration", deceleration, mu * GRAVITY, v=v, mu=mu, heading=heading)]
 
 
 def _incline(setup: Setup, p: dict):
@@ -225,27 +246,97 @@ def validate_job(output: str | Path, urdf: str | Path, params: dict) -> dict:
     return result
 
 
+def _row(engine: str, case: str, kind: str, quantity: str, value: float, analytic: float, tolerances: dict,
+         status: str, reasons: str, **extra) -> dict:
+    if quantity not in tolerances:
+        raise InputError(f"validation.tolerances.{quantity}", "no tolerance given",
+                         f"add `{quantity}: <tolerance>` under validation.tolerances in the config")
+    unit, measure = QUANTITIES[quantity]
+    error = abs(value - analytic) / abs(analytic) if measure == "relative" else abs(value - analytic)
+    passed = bool(status == "ok" and np.isfinite(error) and error <= tolerances[quantity])
+    return {"engine": engine, "case": case, "kind": kind, "quantity": quantity, "unit": unit,
+            "engine_value": value, "analytic_value": analytic, "error": error, "error_kind": measure,
+            "tolerance": float(tolerances[quantity]), "passed": passed, "status": status, "reasons": reasons,
+            "v": extra.get("v"), "w": extra.get("w"), "mu": extra.get("mu"), "heading": extra.get("heading"),
+            "steps_per_s": extra.get("steps_per_s"), "covers": extra.get("covers", "")}
+
+
+def _label(x: float) -> str:
+    return f"{float(x):g}"
+
+
+def invariance_rows(rows: list[dict], tolerances: dict) -> list[dict]:
+    """The turn_asymmetry and heading_spread checks of every engine, from its yaw_rate_gain rows
+    (see the module docstring). A group's check fails when any of its cases failed."""
+    import pandas as pd
+
+    gains = pd.DataFrame([r for r in rows if r["quantity"] == "yaw_rate_gain" and r["w"] is not None])
+    if gains.empty:
+        return []
+    gains = gains.astype({"v": float, "w": float, "mu": float})
+    gains = gains.assign(ratio=gains.engine_value / gains.analytic_value, turn=np.sign(gains.w),
+                         speed=gains.w.abs(), heading=gains.heading.fillna(0.0))
+    out = []
+    def status(cases) -> str:
+        return "ok" if (cases.status == "ok").all() else "failed"
+
+    for (engine, v, speed, mu), g in gains.groupby(["engine", "v", "speed", "mu"], sort=False):
+        name = f"v{_label(v)}_w{_label(speed)}_mu{_label(mu)}"
+        both = g.groupby("heading").filter(lambda h: set(h.turn) == {-1.0, 1.0})
+        if len(both):
+            differences = both.groupby("heading").apply(
+                lambda h: abs(h.ratio[h.turn > 0].mean() - h.ratio[h.turn < 0].mean()), include_groups=False)
+            out.append(_row(engine, f"left_right_{name}", "invariance", "turn_asymmetry", float(differences.max()),
+                            0.0, tolerances, status(both), "", v=v, w=speed, mu=mu, covers=" ".join(both.case)))
+        for turn, t in g.groupby("turn", sort=False):
+            if t.heading.nunique() > 1:
+                w = float(turn * speed)
+                out.append(_row(engine, f"headings_v{_label(v)}_w{_label(w)}_mu{_label(mu)}", "invariance",
+                                "heading_spread", float(t.ratio.max() - t.ratio.min()), 0.0, tolerances,
+                                status(t), "", v=v, w=w, mu=mu, covers=" ".join(t.case)))
+    return out
+
+
 def summarise(results: list[dict], tolerances: dict[str, float]):
-    """One row per (engine, case, quantity): values, error and pass/fail under ``tolerances``."""
+    """One row per (engine, case, quantity): values, error and pass/fail under ``tolerances``;
+    then the invariance checks (:func:`invariance_rows`)."""
     import pandas as pd
 
     rows = []
     for result in results:
         for c in result["checks"]:
-            quantity = c["quantity"]
-            if quantity not in tolerances:
-                raise InputError(f"validation.tolerances.{quantity}", "no tolerance given",
-                                 f"add `{quantity}: <tolerance>` under validation.tolerances in the config")
-            e, a = c["engine_value"], c["analytic_value"]
-            error = abs(e - a) / abs(a) if c["error_kind"] == "relative" else abs(e - a)
-            passed = bool(result["status"] == "ok" and np.isfinite(error) and error <= tolerances[quantity])
-            rows.append({"engine": result["engine"], "case": result["case"], "kind": result["kind"],
-                         "quantity": quantity, "unit": c["unit"], "engine_value": e, "analytic_value": a,
-                         "error": error, "error_kind": c["error_kind"], "tolerance": float(tolerances[quantity]),
-                         "passed": passed, "status": result["status"], "reasons": "; ".join(result["reasons"]),
-                         "v": c.get("v"), "w": c.get("w"), "mu": c.get("mu"),
-                         "steps_per_s": result["steps_per_s"]})
-    return pd.DataFrame(rows)
+            rows.append(_row(result["engine"], result["case"], result["kind"], c["quantity"], c["engine_value"],
+                             c["analytic_value"], tolerances, result["status"], "; ".join(result["reasons"]),
+                             v=c.get("v"), w=c.get("w"), mu=c.get("mu"), heading=c.get("heading"),
+                             steps_per_s=result["steps_per_s"]))
+    return pd.DataFrame(rows + invariance_rows(rows, tolerances))
+
+
+GAIN_COLUMNS = ("engine", "v", "w", "mu", "analytic", "n_left", "left_mean", "left_min", "left_max", "n_right",
+                "right_mean", "right_min", "right_max", "min", "max", "spread", "headings")
+
+
+def gain_table(summary):
+    """Per engine and (v, |w|, mu): the Coulomb gain and the engine's gain turning left (w > 0)
+    and right (w < 0): mean, min and max over the start headings; over both, min, max and the
+    spread max - min relative to the Coulomb gain."""
+    import pandas as pd
+
+    gains = summary[(summary.quantity == "yaw_rate_gain") & summary.w.notna()]
+    rows = []
+    if gains.empty:
+        return pd.DataFrame(columns=list(GAIN_COLUMNS))
+    gains = gains.assign(speed=gains.w.abs(), heading=gains.heading.fillna(0.0))
+    for (engine, v, speed, mu), g in gains.groupby(["engine", "v", "speed", "mu"], sort=False):
+        left, right = g[g.w > 0].engine_value, g[g.w < 0].engine_value
+        analytic = float(g.analytic_value.mean())
+        rows.append({"engine": engine, "v": v, "w": speed, "mu": mu, "analytic": analytic,
+                     "n_left": len(left), "left_mean": left.mean(), "left_min": left.min(), "left_max": left.max(),
+                     "n_right": len(right), "right_mean": right.mean(), "right_min": right.min(),
+                     "right_max": right.max(), "min": g.engine_value.min(), "max": g.engine_value.max(),
+                     "spread": (g.engine_value.max() - g.engine_value.min()) / analytic,
+                     "headings": " ".join(_label(h) for h in sorted(g.heading.unique()))})
+    return pd.DataFrame(rows, columns=list(GAIN_COLUMNS))
 
 
 def failures(summary) -> dict[str, list[str]]:
@@ -263,6 +354,7 @@ def summarise_job(inputs: list[str], outputs: dict, tolerances: dict) -> None:
     results = [json.loads(Path(p).read_text()) for p in inputs]
     summary = summarise(results, tolerances)
     write_csv(summary, outputs["summary"])
+    write_csv(gain_table(summary), outputs["gains"])
 
 
 def main(argv: list[str] | None = None) -> None:

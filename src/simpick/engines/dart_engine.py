@@ -31,7 +31,7 @@ collision detector (setting ``collision_detector``), with the NSGS Coulomb solve
   dart      0.13228  -2.7 mm      22 000/s   2 100/s   1 800/s   0.21 rad/s
   bullet    0.13228  -3.7 mm       8 700/s   2 800/s   2 200/s   0.27 rad/s
 All rest at base_link's 0.13228 m and drive straight. FCL (analytic primitives) is the
-default: one contact per wheel at the middle of the wheel's width, symmetric, and
+default: one contact per wheel (not always at mid-width: see "Right turns" above), and
 1.5x (gravel) to 5x (turning) faster than the ODE detector, whose two contacts across
 each wheel's width make the friction problem statically indeterminate and the iterative
 solver slow to converge. Not chosen: Bullet, because with DART's default Dantzig solver it
@@ -54,7 +54,38 @@ is sensitive to where it stops (yaw rate over 1-3 s 0.17 / 0.14 / 0.08 rad/s for
 tolerance 1e-5 / 1e-5 with 1000 sweeps / 1e-7 with the ODE detector): contact forces of a
 four-wheeled rigid robot are not unique, and the solver picks one solution.
 
-Speed (issue 12). What a step costs, from ``bench/dart_profile.py`` (lab straight run, medians of 3,
+Right turns (issue 17). With DART's own NSGS stop (tolerance 1e-5, 100 sweeps) the Husky turned
+left at 0.51 and right at 0.30-0.33 of the commanded rate (validation cases, mu 0.8, 6 s; Coulomb
+0.478 both ways: the quasi-static solution is the same for w and -w, simpick.coulomb), at every
+start heading (0 / 112.5 / -135 degrees: 0.511 / 0.504 / 0.503 left, 0.299 / 0.299 / 0.299 right).
+Measured on (v, w) = (0.5, +-0.5), 4 s, solver statistics over 2-4 s (FrictionSolveStats):
+
+  tolerance  sweeps  left gain (at cap, contacts/solve)  right gain (at cap, contacts/solve)
+  1e-5       100     0.513 (0 %, 3.37)                   0.315 (43 %, 3.52)
+  1e-5       300     0.511 (0 %, 3.38)                   0.359 (4 %, 3.95)
+  1e-6       100     0.475                               0.320
+  1e-6       150     -                                   0.485 (0 %, 4.00)
+  1e-6       200     0.475 (0 %, 4.00)                   0.485 (0 %, 4.00)
+  1e-7       1000    0.475                               0.485
+
+Not the collision detector (right / left: FCL 0.315 / 0.513, Bullet 0.303 / 0.530, DART's 0.315 /
+0.502; the ODE detector's two contacts per wheel give 0.293 / 0.306, symmetric and low), not the
+heading (45 degrees: the same figures), not the sweep order alone: it follows the solver's stop.
+A loose stop leaves the contact impulses short of the solution; a wheel then lifts off part of the
+time (3.4 contacts per step instead of 4), the robot rocks on a diagonal, and how it rocks depends
+on the side of its centre of mass (8.5 cm right of the centre line): with the COM moved to the
+centre line the loose solve gives 0.508 / 0.539 (Coulomb with equal loads: 0.539), moved to the
+left 0.460 / 0.401, neither the mirror image of the other. Tight enough (1e-6 with >= 150 sweeps
+through the spin-up), all four wheels stay down, every solve converges in about 16 sweeps, and
+the gains are 0.475 / 0.485 at every heading. FCL's one contact per wheel is not at mid-width: it
+moves across the wheel's width (y within +-0.057 m of the wheel centre) as the wheel tilts.
+config.yaml sets 1e-6 and 200 (twice the failing cap); the cost on the lab runs (CPU steps/s,
+2 runs each): straight (4 s) grass 2 470 -> 1 180 (at the cap in 81 % of solves), bumps 2 740 ->
+1 710, gravel 1 800 -> 1 270; circle (3 s) grass 1 360 -> 980, bumps 1 660 -> 870, gravel 1 440 ->
+860.
+
+Speed (issue 12, with DART's own stop 1e-5 / 100 sweeps). What a step costs, from
+``bench/dart_profile.py`` (lab straight run, medians of 3,
 shared 2-core machine at load 4-5, so absolute figures are about 1.3-2x those of a quiet machine):
 
   terrain  step     with Dantzig  NSGS share  collision query  NSGS sweeps/step (at the 100 cap)  contacts
@@ -110,7 +141,8 @@ DETECTORS = get_args(Detector)
 class DartSettings(EngineSettings):
     """config ``engines.dart``; the measurements behind each choice are in the module docstring."""
 
-    # fcl (analytic primitives): one symmetric contact per wheel, mid-width, and 1.5x (gravel) to
+    # fcl (analytic primitives): one contact per wheel (it moves across the wheel's width as the
+    # wheel tilts, issue 17), and 1.5x (gravel) to
     # 5x (turning) faster than "ode", whose two contacts across each wheel's width slow the
     # iterative solver. "bullet" left the robot stuck at the gravel bed's 2 cm edge (with Dantzig);
     # "dart" puts each wheel's contact on an edge (inner left, outer right), which biases turning.
@@ -123,13 +155,15 @@ class DartSettings(EngineSettings):
     # NsgsFrictionSolver.Law ("nsgs" only): "coulomb", the Coulomb cone; "box" and "associated",
     # DART's other two laws (not measured here)
     friction_law: Literal["coulomb", "box", "associated"] = "coulomb"
-    # NSGS sweeps per step, at most: DART's default 100. 20 / 35 / 50 pass the validation, but 63 %
-    # of grass steps stop at the cap, and at 35 the grass straight run's IMU statistics move far
-    # beyond roundoff (issue 12; module docstring): not the same physics.
+    # NSGS sweeps per step, at most: DART's default 100. 20 / 35 / 50 pass the left-turn validation,
+    # but 63 % of grass steps stop at the cap, and at 35 the grass straight run's IMU statistics move
+    # far beyond roundoff (issue 12; module docstring): not the same physics. config.yaml: 200 (with
+    # tolerance 1e-6; at 100 the robot turns right at 0.32 of w, issue 17).
     solver_sweeps: Annotated[int, Field(ge=1)] = 100
     # NSGS stopping tolerance: DART's default 1e-5. 1e-4 and 1e-3 are faster (grass 1.4x / 3.9x)
     # but fail the turning validation; the skid-steer turn depends on where the solver stops
-    # (module docstring).
+    # (module docstring). At 1e-5 right turns reach 0.30-0.33 of w, left 0.51 (Coulomb 0.478);
+    # config.yaml: 1e-6, which gives 0.485 / 0.475 (issue 17, module docstring).
     solver_tolerance: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 1e-5
 
 

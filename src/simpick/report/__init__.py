@@ -59,6 +59,7 @@ OPTIONAL_INPUTS: tuple[str, ...] = (
     "accuracy_per_test",
     "scores_provenance",
     "validation",
+    "validation_gains",
     "segments",
     "segments_provenance",
     "segments_per_test",

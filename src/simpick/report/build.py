@@ -484,7 +484,8 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     from simpick.report.validation import validation_section
 
     return {
-        "validation": validation_section(data.validation, engines, data.figures.get("validation_gain")),
+        "validation": validation_section(data.validation, engines, data.figures.get("validation_gain"),
+                                         data.validation_gains),
         "sweep": sweep_section(data.sweep, engines, data.figures.get("sweep")),
         "calibration": calibration_section(data.calibration, engines + [e for e in (data.calibration.engine.unique()
                                            if data.calibration is not None else []) if e not in engines], colors),

@@ -198,11 +198,12 @@ def paths(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str, end
 
 
 def validation(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str) -> None:
-    """Yaw-rate gain against commanded yaw rate, every engine and the quasi-static Coulomb gain."""
+    """Yaw-rate gain against commanded yaw rate, left and right turns with their spread over start
+    headings, every engine and the quasi-static Coulomb gain."""
     from simpick.report.validation import gain_series
 
-    data = load_inputs({"validation": inputs["validation"]}, required=("validation",))
-    series, analytic, _ = gain_series(data.validation, list(params.get("engines") or []))
+    data = load_inputs({"validation_gains": inputs["validation_gains"]}, required=("validation_gains",))
+    series, analytic, _ = gain_series(data.validation_gains, list(params.get("engines") or []))
     if series:
         figures.validation_gain_figure(series, analytic, colors(params.get("engines"), [e for e, _ in series]),
                                        output)

@@ -418,20 +418,30 @@ def replay_figure(series: Sequence[tuple[str, str, pd.DataFrame]],
 # --------------------------------------------------------------------------
 
 
-def validation_gain_figure(series: Sequence[tuple[str, Sequence[tuple[float, float]]]], analytic: float,
-                           colors: Mapping[str, str], path: str | Path) -> Path:
-    """Yaw-rate gain against commanded w at v = 0.5 m/s, one line per engine, analytic line."""
+def validation_gain_figure(series: Sequence[tuple[str, Sequence[tuple[float, float, float, float]]]],
+                           analytic: float, colors: Mapping[str, str], path: str | Path) -> Path:
+    """Yaw-rate gain against commanded w at v = 0.5 m/s, one line per engine (points: mean over
+    the start headings, bars: min to max; w < 0: right turns), analytic line."""
     plt = _plt()
-    fig, ax = plt.subplots(figsize=(5.2, 2.6))
-    for engine, points in series:
-        ws, gains = zip(*points)
-        ax.plot(ws, gains, "o-", color=colors.get(engine), label=engine, lw=1.2, ms=3.5)
+    fig, ax = plt.subplots(figsize=(5.6, 2.8))
+    n = max(1, len(series))
+    for i, (engine, points) in enumerate(series):
+        ws, means, lows, highs = (np.asarray(c, dtype=float) for c in zip(*points))
+        x = ws + (i - (n - 1) / 2) * 0.012  # engines side by side at each w
+        label = engine
+        for side in (ws < 0, ws > 0):  # right and left turns as two lines: no data between them
+            if side.any():
+                ax.errorbar(x[side], means[side], yerr=[means[side] - lows[side], highs[side] - means[side]],
+                            fmt="o-", color=colors.get(engine), label=label, lw=1.0, ms=3.5, capsize=2.0,
+                            elinewidth=0.9)
+                label = None
     ax.axhline(analytic, color="black", lw=1.0, ls="--", label=f"Coulomb, quasi-static ({analytic:.3f})")
     ax.axhspan(analytic * 0.9, analytic * 1.1, color="black", alpha=0.07, lw=0, label="±10 %")
-    ax.set_xlabel("commanded yaw rate w (rad/s), v = 0.5 m/s")
+    ax.axvline(0.0, color="grey", lw=0.6)
+    ax.set_xlabel("commanded yaw rate w (rad/s), v = 0.5 m/s; w < 0: right turns")
     ax.set_ylabel("yaw-rate gain (measured / w)")
-    ax.set_ylim(0, max(1.0, max(g for _, pts in series for _, g in pts) * 1.1))
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    ax.set_ylim(0, max(1.0, max(p[3] for _, pts in series for p in pts) * 1.1))
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=7)
     return save(fig, path)
 
 

@@ -34,6 +34,8 @@ COLUMNS: dict[str, tuple[str, ...]] = {
                     "objective_calibrated", "change", "parameters", "rank_configured", "rank_calibrated"),
     "validation": ("engine", "case", "kind", "quantity", "unit", "engine_value", "analytic_value", "error",
                    "error_kind", "tolerance", "passed", "status"),
+    "validation_gains": ("engine", "v", "w", "mu", "analytic", "n_left", "left_mean", "left_min", "left_max",
+                         "n_right", "right_mean", "right_min", "right_max", "spread", "headings"),
     # real robot data (rules/real.smk, simpick.realdata)
     "accuracy_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
     "accuracy_per_test": ("engine", "terrain_class", "segment", "run", "status"),
@@ -98,6 +100,7 @@ class ReportData:
     accuracy_per_test: pd.DataFrame | None = None
     # engines against analytic mechanics (rules/validate.smk)
     validation: pd.DataFrame | None = None
+    validation_gains: pd.DataFrame | None = None  # per engine, gain left / right over start headings
     # speed-accuracy sweep (rules/sweep.smk), when the study ran with one
     sweep: pd.DataFrame | None = None
     # calibration on training runs, judged on test runs (rules/calibration.smk), when run
@@ -222,7 +225,8 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
             else:
                 kw[key] = _csv(key, p, index)
 
-    for key in ("accuracy_errors", "accuracy_per_test", "segments", "replay_per_window", "validation", "sweep", "calibration"):
+    for key in ("accuracy_errors", "accuracy_per_test", "segments", "replay_per_window", "validation",
+                "validation_gains", "sweep", "calibration"):
         if given(key):
             p = _path(key, inputs[key])
             sources[key] = str(p)

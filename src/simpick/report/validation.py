@@ -1,4 +1,5 @@
-"""The report's "Engines against analytic mechanics" section (results/validation/summary.csv)."""
+"""The report's "Engines against analytic mechanics" section (results/validation/summary.csv,
+and the gain per turn direction and start heading, results/validation/gains.csv)."""
 
 from __future__ import annotations
 
@@ -15,29 +16,55 @@ def _present(summary: pd.DataFrame, engines: list[str]) -> list[str]:
     return sorted(summary.engine.unique(), key=lambda e: order.get(e, len(order)))
 
 
-def gain_series(summary: pd.DataFrame, engines: list[str]) -> tuple[list, float | None, float | None]:
-    """The gain figure's data: per engine (w, gain) at v = 0.5 m/s on the highest friction, the
-    analytic gain, and that friction."""
-    gains = summary[(summary.quantity == "yaw_rate_gain") & (summary.v == 0.5)]
-    mus = sorted(gains.mu.unique())
-    mu = max(mus) if mus else None
+def gain_series(gains: pd.DataFrame, engines: list[str]) -> tuple[list, float | None, float | None]:
+    """The gain figure's data from the gain table: per engine, points (w, mean, min, max) at
+    v = 0.5 m/s on the highest friction, w > 0 from its left turns and w < 0 from its right
+    turns, min and max over the start headings; the analytic gain and that friction."""
+    at = gains[gains.v == 0.5]
+    mu = float(at.mu.max()) if len(at) else None
+    at = at[at.mu == mu]
     series = []
-    for e in _present(summary, engines):
-        g = gains[(gains.engine == e) & (gains.mu == mu)].sort_values("w")
-        if len(g):
-            series.append((e, list(zip(g.w.round(6), g.engine_value.round(6)))))
-    analytic = float(gains[gains.mu == mu].analytic_value.iloc[0]) if series else None
+    for e in _present(at, engines):
+        points = []
+        for r in at[at.engine == e].itertuples():
+            if r.n_left:
+                points.append((float(r.w), r.left_mean, r.left_min, r.left_max))
+            if r.n_right:
+                points.append((-float(r.w), r.right_mean, r.right_min, r.right_max))
+        if points:
+            series.append((e, sorted(points)))
+    analytic = float(at.analytic.iloc[0]) if series else None
     return series, analytic, mu
 
 
-def validation_section(summary: pd.DataFrame | None, engines: list[str], figure: str | None) -> dict[str, Any]:
-    """``figure``: the gain figure's file (rule figure_validation), None when not drawn."""
+def gain_rows(gains: pd.DataFrame | None, engines: list[str]) -> list[dict]:
+    """The spread table: per (v, |w|, mu) with cases in both directions or at several headings,
+    each engine's gain left and right (mean, min-max over headings) and its spread."""
+    if gains is None or gains.empty:
+        return []
+    rows = []
+    for (v, w, mu), g in gains.groupby(["v", "w", "mu"], sort=False):
+        if not ((g.n_left > 0) & (g.n_right > 0)).any() and not ((g.n_left > 1) | (g.n_right > 1)).any():
+            continue
+        for e in _present(g, engines):
+            r = g[g.engine == e].iloc[0]
+            rows.append({"v": v, "w": w, "mu": mu, "engine": e, "analytic": r.analytic,
+                         "left": (r.left_mean, r.left_min, r.left_max, int(r.n_left)),
+                         "right": (r.right_mean, r.right_min, r.right_max, int(r.n_right)),
+                         "spread": r.spread, "headings": r.headings})
+    return rows
+
+
+def validation_section(summary: pd.DataFrame | None, engines: list[str], figure: str | None,
+                       gains: pd.DataFrame | None = None) -> dict[str, Any]:
+    """``figure``: the gain figure's file (rule figure_validation), None when not drawn;
+    ``gains``: the gain table (results/validation/gains.csv), None when not given."""
     if summary is None or summary.empty:
         return {"given": False}
     present = _present(summary, engines)
-    cases = list(dict.fromkeys(summary.case))
+    cases = list(dict.fromkeys(summary[summary.kind != "invariance"].case))
     rows = []
-    for case in cases:
+    for case in dict.fromkeys(summary.case):
         for quantity, g in summary[summary.case == case].groupby("quantity", sort=False):
             first = g.iloc[0]
             cells = {}
@@ -47,10 +74,11 @@ def validation_section(summary: pd.DataFrame | None, engines: list[str], figure:
                              "passed": bool(r.passed.iloc[0]), "status": r.status.iloc[0]} if len(r) else None)
             rows.append({"case": case, "quantity": quantity, "unit": first.unit, "analytic": first.analytic_value,
                          "tolerance": first.tolerance, "error_kind": first.error_kind, "cells": cells})
-    series, _, mu = gain_series(summary, engines)
-    uri = figures.data_uri(figure) if figure and series else None
+    uri = figures.data_uri(figure) if figure and gains is not None and len(gains) else None
     failed = failures(summary)
     passed = [e for e in present if e not in failed]
-    costs = summary.groupby("engine").steps_per_s.median().to_dict()
+    costs = summary[summary.kind != "invariance"].groupby("engine").steps_per_s.median().to_dict()
+    mu = float(gains[gains.v == 0.5].mu.max()) if gains is not None and (gains.v == 0.5).any() else None
     return {"given": True, "engines": present, "rows": rows, "gain_uri": uri, "gain_mu": mu,
-            "failed": failed, "passed": passed, "costs": costs, "n_cases": len(cases)}
+            "gain_rows": gain_rows(gains, engines), "failed": failed, "passed": passed, "costs": costs,
+            "n_cases": len(cases)}
