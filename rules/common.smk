@@ -9,7 +9,16 @@ from simpick.config import timestep_label, validate_or_exit
 
 validate_or_exit(config, files=workflow.configfiles)
 
-ENGINES = list(config["engines"])
+# Engines this machine cannot run (simpick.engines.unavailable: not installed): the study runs
+# without them, says so here at planning time, and its report lists them.
+from simpick.engines import unavailable as _unavailable
+
+UNAVAILABLE = _unavailable(config["engines"])
+for _engine, _why in UNAVAILABLE.items():
+    print(f"simpick: engine {_engine!r} is left out of this study: {_why}", file=sys.stderr)
+ENGINES = [e for e in config["engines"] if e not in UNAVAILABLE]
+if not ENGINES:
+    raise WorkflowError(f"none of the configured engines can run here: {UNAVAILABLE}")
 # Reference models (kinematic, coulomb) join the real-data comparison only, never the scores.
 BASELINES = list(config.get("baselines") or {})
 REAL_MODELS = ENGINES + BASELINES
@@ -469,7 +478,7 @@ if CALIBRATION:
 
     CAL_SOURCE = "replay" if REPLAY_SET else "segments"
     CAL_DIR = f"results/calibration/replay-{REPLAY_SET.name}" if REPLAY_SET else f"results/calibration/segments-{DATASET}"
-    CAL_MODELS = [m for m in (CALIBRATION.get("models") or REAL_MODELS) if _get_engine(m).calibratable]
+    CAL_MODELS = [m for m in (CALIBRATION.get("models") or REAL_MODELS) if m not in UNAVAILABLE and _get_engine(m).calibratable]
     CAL_CLASSES = sorted({c for c, _ in RUNS}) if REPLAY_SET else sorted(SEGMENTS)
 
     def calibration_units():

@@ -299,6 +299,7 @@ rule report:
         config=canonical(report_config()),
         statistics=statistics_params(),
         engines=FIGURE_ENGINES,
+        unavailable=canonical(UNAVAILABLE),  # configured engines this machine cannot run: listed, not dropped
         code=code_version("report", "realdata.py", "realmetrics.py", "scoring.py", "metrics.py", "traces.py"),
         real_data=canonical(
             {

@@ -721,3 +721,15 @@ def test_the_sample_rate_table_is_read_from_the_replay_table_not_the_logs(built_
     row = next(r for r in datasets(load_inputs(tables_only), _real_params()) if r["set"] == "replay")
     assert (row["n"], row["imu"], row["commands"], row["simulated"]) == (f"{len(runs)} runs", "100 Hz", "6.5 Hz",
                                                                        "100 Hz")
+
+
+def test_the_summary_lists_engines_left_out_because_they_are_not_installed(tmp_path):
+    """An engine the machine cannot run (rules/common.smk UNAVAILABLE) is named in the summary with
+    the reason, not dropped silently; with none left out there is no such line."""
+    lab = write_synthetic_inputs(tmp_path / "in", seconds=1.0, failed=None)
+    inputs = {**lab, "accuracy_errors": lab["imu_errors"]}
+    why = "Python module 'pydrake' is not installed; install it with pip install -c constraints.txt -e '.[drake]'"
+    text = " ".join(_render(inputs, {**_real_params(), "unavailable": {"drake": why}}).split())
+    summary = re.search(r'<div class="summary".*?</div>', text, re.S).group(0)
+    assert "Left out of this study" in summary and f"drake ({why})" in summary.replace("&#39;", "'")
+    assert "Left out of this study" not in _render(inputs, _real_params())

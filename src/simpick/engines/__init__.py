@@ -8,6 +8,7 @@ PyBullet. Adding an engine: one module implementing :class:`~simpick.engines.bas
 from __future__ import annotations
 
 import importlib
+import importlib.util
 
 from simpick.engines.base import Engine
 
@@ -16,6 +17,8 @@ ADAPTERS = {
     "mujoco": "simpick.engines.mujoco_engine:MujocoEngine",
     "ode": "simpick.engines.ode_engine:OdeEngine",
     "dart": "simpick.engines.dart_engine:DartEngine",
+    "physx": "simpick.engines.physx_engine:PhysxEngine",
+    "drake": "simpick.engines.drake_engine:DrakeEngine",
 }
 
 # Reference models (simpick.engines.baselines): same interface, but formulas, not simulators.
@@ -24,6 +27,43 @@ REFERENCE_MODELS = {
     "kinematic": "simpick.engines.baselines:KinematicModel",
     "coulomb": "simpick.engines.baselines:CoulombModel",
 }
+
+
+# What each adapter needs beyond simpick itself, checked at planning time (unavailable()): a Python
+# module found on the path, or "module:function" called to load a shared library. Found, not
+# imported: importing pydrake or sapien takes 0.7-0.9 s, too long for every plan; an install that
+# is found but broken fails in its first job, with the import error.
+REQUIREMENTS = {
+    "pybullet": "pybullet",
+    "mujoco": "mujoco",
+    "ode": "simpick.engines._ode:load",
+    "dart": "dartpy",
+    "physx": "sapien",
+    "drake": "pydrake",
+}
+# the engines installed as extras of pyproject.toml (their wheels do not fit every machine)
+EXTRAS = ("physx", "drake")
+
+
+def unavailable(names) -> dict[str, str]:
+    """Engine name -> why it cannot run on this machine, for the engines among ``names`` that
+    cannot (an empty dict when all can). The study runs without them and its report says so."""
+    found = {}
+    for name in names:
+        need = REQUIREMENTS.get(name)
+        if need is None:
+            continue
+        module, _, function = need.partition(":")
+        if function:
+            try:
+                getattr(importlib.import_module(module), function)()
+            except Exception as exc:  # the loader's own message says what is missing
+                found[name] = f"{type(exc).__name__}: {exc}"
+        elif importlib.util.find_spec(module) is None:
+            extra = f".[{name}]" if name in EXTRAS else "."
+            found[name] = (f"Python module {module!r} is not installed; install it with "
+                           f"pip install -c constraints.txt -e '{extra}'")
+    return found
 
 
 def get_engine(name: str) -> Engine:

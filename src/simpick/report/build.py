@@ -492,6 +492,8 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         "title": params.get("title") or DEFAULT_TITLE,
         "generated": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
         "engines": engines,
+        # configured engines the machine could not run (rules/common.smk UNAVAILABLE): engine -> why
+        "unavailable": dict(params.get("unavailable") or {}),
         "colors": colors,
         "weights": weights,
         "metrics": list(METRICS),

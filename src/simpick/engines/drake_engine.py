@@ -1,0 +1,255 @@
+"""Drake (Toyota Research Institute) through ``pydrake``: a discrete-time MultibodyPlant.
+
+- robot: the scenario's URDF through Drake's parser (a free-floating base_link, continuous joints
+  as revolute joints); masses, inertias and collision shapes as the URDF gives them.
+- wheels: one joint actuator per wheel joint with Drake's implicit PD control (proportional gain
+  0, derivative gain ``wheel_drive_damping``) and effort limit ``scenario.max_wheel_torque``:
+  the controller is solved inside the discrete contact problem, the counterpart of PhysX's
+  implicit velocity drive and MuJoCo's servo, and of DART's SERVO joints. Implicit PD needs one
+  of the SAP-family solvers (``discrete_approximation``).
+- contact: compliant. ``contact_model: hydroelastic`` gives every wheel a compliant-hydroelastic
+  collision (modulus ``hydroelastic_modulus``) and the ground and terrain rigid-hydroelastic
+  ones, so a wheel presses a contact *patch* into the ground; ``point`` leaves Drake's point
+  contact (one point per wheel, stiffness from Drake's 1 mm penetration allowance).
+- friction: Drake combines two coefficients as 2 a b / (a + b). The robot's shapes get 1, every
+  ground or terrain shape mu / (2 - mu), so a wheel contact has exactly the terrain's (or the
+  ground's) mu (below 2) and robot-robot contacts 1.0, as in PyBullet and DART.
+- IMU: none in Drake; :func:`simpick.imu.imu_from_kinematics` from base_link kinematics. The
+  floating base's generalized velocity is the angular velocity and the velocity of base_link's
+  origin, both in the world frame, read from the state vector after each step.
+
+Set-up (issue 19), measured with drake 1.51.1 at 1 kHz on mu 0.8, 4 s runs, yaw-rate gain
+(yaw rate / commanded w) averaged after 1 s, against the quasi-static Coulomb 0.478:
+  contact, approximation                      (0.5,0.5)  (0,0.5)  (0.5,0.2)  wall for 4 s
+  point, sap (damping 1e3 / 1e4 / 1e5)        0.38 / 0.39 / 0.39  0.39  0.44-0.45   0.7-1.5 s
+  point, similar                              0.518      0.515    0.535      1.4 s
+  point, lagged                               0.536      0.536    0.535      0.9-1.3 s
+  hydroelastic 1e7 Pa, lagged                 0.471      0.477    0.473      3.5 s
+  hydroelastic 1e6 Pa, lagged                 0.464      0.473    0.461      4.4-5.1 s
+  hydroelastic 1e7 Pa, sap                    0.462      0.467    0.457      2.6-3.5 s
+SAP under-turns with point contact: Drake's docs name the cause, SAP's and kSimilar's O(dt)
+"gliding" in sliding contact. With point contact every approximation turns the robot as if the
+four wheel loads were equal (equal-load Coulomb value 0.539): one point per wheel on a compliant
+contact. Hydroelastic wheels carry a pressure patch whose centre shifts with the load, and turn
+at the Coulomb value within 0.01, heading-independent; they cost about 3x the point contact's time.
+Drake's own recommendation for robotics is ``lagged`` (DiscreteContactApproximation docs: "kLagged
+is the preferred approximation when strong transients are not expected"; MultibodyPlantConfig's
+default); TAMSI is deprecated for removal (2026-09-01) and cannot run implicit PD actuators.
+"""
+
+from __future__ import annotations
+
+import importlib.metadata
+import logging
+import time
+from typing import Annotated, Literal
+
+import numpy as np
+from pydantic import Field
+
+from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.errors import InputError
+from simpick.imu import imu_from_kinematics
+
+SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
+ROBOT_FRICTION = 1.0  # the robot's coefficient; the terrain's is chosen so that the combination is its mu
+
+
+class DrakeSettings(EngineSettings):
+    """config ``engines.drake``; the measurements behind each choice are in the module docstring."""
+
+    # "hydroelastic": compliant-hydroelastic wheels on rigid-hydroelastic ground and terrain (a
+    # pressure patch per wheel), the Coulomb gain within 0.01; "point": Drake's point contact, one
+    # point per wheel, gain 0.536 (as if the four loads were equal) with "lagged"
+    contact_model: Literal["hydroelastic", "point"] = "hydroelastic"
+    # MultibodyPlant discrete contact approximation: "lagged", Drake's default and its documented
+    # choice for robotics; "similar" and "sap" add O(dt) gliding in sliding contact (Drake's docs):
+    # sap turned the Husky at 0.38-0.39 with point contact. TAMSI (deprecated) cannot run implicit PD.
+    discrete_approximation: Literal["lagged", "similar", "sap"] = "lagged"
+    # Pa, the wheels' hydroelastic modulus ("hydroelastic" only): 1e7 rests base_link 0.5 mm low,
+    # 1e6 2.3 mm (a tyre's deflection is of that order) with gains within 0.01 and 1.3-1.4x the time
+    hydroelastic_modulus: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 1.0e7
+    # m, the resolution hint of the wheels' compliant mesh and of the terrain's spheres, for these
+    # at most a quarter of the radius ("hydroelastic" only): 2 cm gives a 52-sided wheel of radius
+    # 0.165 m; measured 5 mm: torque-bound acceleration 0.641 for 0.652 (Drake's default dissipation).
+    # 4 cm half-sunk stones meshed at 2 cm lifted an axle 37.8 mm, at r/4 38.6-38.7 mm (exact: 40)
+    mesh_resolution: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 0.02
+    # N m s/rad, derivative gain of the wheels' implicit PD controllers (proportional gain 0):
+    # 1e3 / 1e4 / 1e5 gave the same turning gains within 0.01 (point, sap); 1e4 tracks within 1 %
+    wheel_drive_damping: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 1.0e4
+    # s/m, Hunt-Crossley dissipation of the wheels' contact (lagged and similar): it is the tyre's
+    # rolling resistance. With the wheel torque bound at 2 N m the Husky accelerates at 0.765 /
+    # 0.764 / 0.759 / 0.749 m/s^2 for 0 / 0.1 / 1 / 5 s/m (analytic, no rolling resistance: 0.768);
+    # left unset, Drake's default gave 0.652 (-15 %). 0.2: the turning gains in the docstring.
+    wheel_dissipation: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.2
+    # m/s, the regularised friction's stiction tolerance (lagged and similar): Drake's default
+    stiction_tolerance: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 1.0e-4
+
+
+def _terrain_friction(mu: float, where: str) -> float:
+    """The coefficient that, combined with the robot's 1.0 by Drake's 2ab/(a+b), gives ``mu``."""
+    if not 0 <= mu < 2 * ROBOT_FRICTION:
+        raise InputError(where, f"friction {mu} cannot be represented in Drake's combination with the robot's "
+                         f"{ROBOT_FRICTION}", "use a coefficient below 2")
+    return mu * ROBOT_FRICTION / (2 * ROBOT_FRICTION - mu)
+
+
+class DrakeEngine:
+    calibratable = {
+        "friction": FRICTION,
+        # Tyre stiffness (hydroelastic): from a soft 1e5 Pa (a few cm of sag) to a near-rigid 1e8;
+        # log scale. Measured gains at 1e6 and 1e7 within 0.01 of each other (module docstring).
+        "hydroelastic_modulus": Calibratable(1.0e5, 1.0e8, log=True,
+                                             why="soft rubber (1e5 Pa) to near-rigid (1e8 Pa); 1e6-1e7 measured"),
+    }
+    name = "drake"
+    settings_model = DrakeSettings
+
+    def version(self) -> str:
+        return importlib.metadata.version("drake")
+
+    def build(self, scenario: Scenario, record: bool = False):
+        """(simulator, plant, plant context, per robot (model instance, wheel joints), state log or
+        None): with ``record``, a logger samples the plant's state every step."""
+        from pydrake.geometry import (AddCompliantHydroelasticProperties, AddContactMaterial,
+                                      AddRigidHydroelasticProperties, Box, HalfSpace, ProximityProperties,
+                                      RoleAssign, Sphere)
+        from pydrake.math import RigidTransform, RotationMatrix
+        from pydrake.multibody.parsing import Parser
+        from pydrake.multibody.plant import (AddMultibodyPlantSceneGraph, ContactModel, CoulombFriction,
+                                             DiscreteContactApproximation)
+        from pydrake.multibody.tree import PdControllerGains
+        from pydrake.systems.analysis import Simulator
+        from pydrake.systems.framework import DiagramBuilder
+        from pydrake.systems.primitives import LogVectorOutput
+
+        settings = DrakeSettings.of(scenario.settings, self.name)
+        hydro = settings.contact_model == "hydroelastic"
+        builder = DiagramBuilder()
+        plant, scene_graph = AddMultibodyPlantSceneGraph(builder, time_step=scenario.timestep)
+        plant.set_discrete_contact_approximation(
+            getattr(DiscreteContactApproximation, "k" + settings.discrete_approximation.capitalize()))
+        plant.set_contact_model(ContactModel.kHydroelasticWithFallback if hydro else ContactModel.kPoint)
+        plant.set_stiction_tolerance(settings.stiction_tolerance)
+        plant.mutable_gravity_field().set_gravity_vector(np.asarray(scenario.gravity, dtype=float))
+
+        def surface(mu: float, where: str, resolution: float | None = None) -> ProximityProperties:
+            props = ProximityProperties()
+            f = _terrain_friction(mu, where)
+            AddContactMaterial(friction=CoulombFriction(f, f), properties=props)
+            if hydro:  # a sphere's rigid mesh needs a resolution; boxes and the half space are exact
+                AddRigidHydroelasticProperties(resolution, props) if resolution else AddRigidHydroelasticProperties(props)
+            return props
+
+        world = plant.world_body()
+        terrain = scenario.terrain
+        mu = float(terrain["friction"])
+        for k, (x, y, z, yaw, sx, sy, sz) in enumerate(terrain["boxes"]):
+            plant.RegisterCollisionGeometry(world, RigidTransform(RotationMatrix.MakeZRotation(yaw), [x, y, z]),
+                                            Box(sx, sy, sz), f"box{k}", surface(mu, "terrain friction"))
+        for k, (x, y, z, r) in enumerate(terrain["spheres"]):
+            plant.RegisterCollisionGeometry(world, RigidTransform([x, y, z]), Sphere(r), f"sphere{k}",
+                                            surface(mu, "terrain friction", min(settings.mesh_resolution, r / 4)))
+        # The ground plane last: with the HalfSpace registered first, registering the gravel strip's
+        # 485 stones on the world body crashed Drake 1.51.1 (segmentation fault after 300-380 of them,
+        # hydroelastic or not; issue 19); registered after them, it does not.
+        plant.RegisterCollisionGeometry(world, RigidTransform(), HalfSpace(), "ground",
+                                        surface(scenario.ground_friction, "physics.ground_friction"))
+
+        robot = scenario.robot
+        parser = Parser(plant)
+        parser.SetAutoRenaming(True)
+        robots = []
+        drake_log = logging.getLogger("drake")
+        for i, _ in enumerate(scenario.starts):
+            try:
+                (instance,) = parser.AddModels(str(robot.urdf))
+            except (RuntimeError, ValueError) as exc:
+                raise InputError(str(robot.urdf), f"Drake's URDF parser could not read the robot: {exc}") from None
+            wheels = []
+            for name in robot.wheel_joints:
+                joint = plant.GetJointByName(name, instance)
+                actuator = plant.AddJointActuator(f"{name}_drive", joint, scenario.max_wheel_torque)
+                actuator.set_controller_gains(PdControllerGains(p=0.0, d=settings.wheel_drive_damping))
+                wheels.append(joint)
+            for body in plant.GetBodyIndices(instance):
+                for geometry in plant.GetCollisionGeometriesForBody(plant.get_body(body)):
+                    props = ProximityProperties()
+                    is_wheel = plant.get_body(body).name() in {j.child_body().name() for j in wheels}
+                    AddContactMaterial(dissipation=settings.wheel_dissipation if is_wheel else None,
+                                       friction=CoulombFriction(ROBOT_FRICTION, ROBOT_FRICTION), properties=props)
+                    if hydro and is_wheel:
+                        AddCompliantHydroelasticProperties(settings.mesh_resolution, settings.hydroelastic_modulus,
+                                                           props)
+                    scene_graph.AssignRole(plant.get_source_id(), geometry, props, RoleAssign.kReplace)
+            robots.append((instance, wheels))
+        plant.Finalize()
+        # the state after every step, sampled inside Drake (at 0, dt, 2 dt ...): the job advances once
+        # per command change instead of once per step (per-step AdvanceTo ran at 0.6x the bare loop)
+        logger = LogVectorOutput(plant.get_state_output_port(), builder, scenario.timestep) if record else None
+        diagram = builder.Build()
+        level = drake_log.level
+        drake_log.setLevel(logging.ERROR)  # "half spaces are not supported for deformable contact": none here
+        try:
+            simulator = Simulator(diagram)
+            context = plant.GetMyMutableContextFromRoot(simulator.get_mutable_context())
+            for (instance, _), (x, y, yaw) in zip(robots, scenario.starts):
+                base = plant.GetBodyByName(robot.base_link, instance)
+                plant.SetFreeBodyPose(context, base, RigidTransform(RotationMatrix.MakeZRotation(yaw),
+                                                                     [x, y, robot.base_height + SPAWN_CLEARANCE]))
+                plant.get_actuation_input_port(instance).FixValue(context, np.zeros(len(robot.wheel_joints)))
+            simulator.Initialize()
+        finally:
+            drake_log.setLevel(level)
+        return simulator, plant, context, robots, logger
+
+    @staticmethod
+    def _command(plant, context, robots, speeds) -> None:
+        for (instance, _), robot_speeds in zip(robots, speeds):
+            # desired state of the PD-controlled actuators: positions (ignored, gain 0), then speeds
+            plant.get_desired_state_input_port(instance).FixValue(
+                context, np.concatenate([np.zeros(len(robot_speeds)), robot_speeds]))
+
+    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
+        wheel_commands = validated_commands(scenario, wheel_commands)
+        simulator, plant, context, robots, _ = self.build(scenario)
+        self._command(plant, context, robots, wheel_commands[0])
+        end = wheel_commands.shape[0] * scenario.timestep
+        start = time.perf_counter()
+        simulator.AdvanceTo(end)
+        return time.perf_counter() - start
+
+    def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
+        wheel_commands = validated_commands(scenario, wheel_commands)
+        simulator, plant, context, robots, logger = self.build(scenario, record=True)
+        steps = wheel_commands.shape[0]
+        dt = scenario.timestep
+        instance, wheels = robots[scenario.recorded_robot]
+        base = plant.GetBodyByName(scenario.robot.base_link, instance)
+        if not base.is_floating_base_body():
+            raise InputError(str(scenario.robot.urdf), f"{scenario.robot.base_link} is not a free body in Drake")
+        q0, v0 = base.floating_positions_start(), base.floating_velocities_start_in_v()
+        nq = plant.num_positions()
+        wheel_v = [nq + j.velocity_start() for j in wheels]
+        columns = np.r_[q0:q0 + 7, nq + v0:nq + v0 + 6, wheel_v]  # quaternion w x y z, position; w, v; wheels
+        changes = np.flatnonzero(np.any(np.diff(wheel_commands, axis=0, prepend=np.nan) != 0, axis=(1, 2)))
+        ends = list(changes[1:]) + [steps]
+
+        cpu0, wall0 = time.process_time(), time.perf_counter()
+        for k, end in zip(changes, ends):
+            self._command(plant, context, robots, wheel_commands[k])
+            simulator.AdvanceTo(end * dt)
+        wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+
+        log = logger.FindLog(simulator.get_context())
+        if log.num_samples() != steps + 1:  # one sample at t = 0, then one after each step
+            raise RuntimeError(f"drake: logged {log.num_samples()} states for {steps} steps")
+        state = log.data().T[1:, columns]
+        quat = state[:, 0:4] / np.linalg.norm(state[:, 0:4], axis=1, keepdims=True)
+        quat *= np.where(quat[:, :1] < 0, -1.0, 1.0)
+        omega, velocity = state[:, 7:10], state[:, 10:13]
+        specific_force, gyro = imu_from_kinematics(quat, velocity, omega, scenario.robot.imu_mount, dt, scenario.gravity)
+        return PhysicsRecord(time=dt * np.arange(1, steps + 1), position=state[:, 4:7].copy(), quaternion=quat,
+                             linear_velocity=velocity, angular_velocity=omega, wheel_speed=state[:, 13:].copy(),
+                             imu_specific_force=specific_force, imu_gyro=gyro,
+                             wall_time=wall, cpu_time=cpu, steps=steps)

@@ -1,0 +1,314 @@
+"""NVIDIA PhysX 5 (the physics of Isaac Sim and Isaac Lab) through SAPIEN 3 on the CPU.
+
+- world: ``sapien.Scene([sapien.physx.PhysxCpuSystem()])``; the solver type (TGS/PGS) and gravity
+  are scene-wide and SAPIEN reads them from its default scene config when the system is created,
+  so :meth:`PhysxEngine.build` sets that config first. SAPIEN's CPU system runs PhysX on the
+  calling thread (no worker threads), which keeps a run deterministic.
+- robot: the scenario's URDF through SAPIEN's loader as a floating-base articulation
+  (``fix_root_link = False``). The loader refuses a URDF with ``<visual>`` elements when no
+  rendering device exists ("failed to find a rendering device"), so it reads a temporary copy with
+  the visuals stripped (collision mesh paths made absolute). Everything else (wheel joints, base
+  link, masses, inertias, collision shapes) comes from the URDF as it is. SAPIEN turns a URDF
+  cylinder into a convex mesh.
+- wheels: PhysX articulation velocity drives (stiffness 0, damping ``wheel_drive_damping``, force
+  limit ``scenario.max_wheel_torque``): the implicit drive Isaac Lab's ``ImplicitActuatorCfg``
+  configures for wheels (its Jetbot: stiffness 0, damping 1e5).
+- friction: PhysX combines two materials' coefficients by their *average* (its default combine
+  mode; SAPIEN 3.0.3 does not expose another). The robot's shapes get 0 and every ground or
+  terrain shape twice its coefficient, so a wheel contact has exactly the terrain's (or the
+  ground's) mu; robot-robot contacts are frictionless. Static = dynamic coefficient.
+- IMU: none in PhysX; :func:`simpick.imu.imu_from_kinematics` from base_link kinematics. PhysX
+  reports a link's velocity at its centre of mass, converted here to base_link's origin.
+
+Two corrections of ours (issue 19): PhysX gives every articulation link 0.05 /s of linear and
+angular damping by default (a robot coasting on frictionless ground lost 1.3 N of momentum), set
+to 0 here; and the wheel cylinders become turned convex prisms (``PhysxSettings.wheel_prisms``).
+
+Skid-steer turning (issue 19). With the set-up Isaac Lab uses (TGS, 4 position / 0 velocity
+iterations, implicit velocity drives) the Husky turns at a yaw-rate gain of 0.103 at (v, w) =
+(0.5, 0.5) on mu 0.8, 0.191 in a spin and 0.081 at (0.5, 0.2), against the Coulomb 0.478 (the
+validation cases, 6 s, second half); the same from headings 0 / 22.5 / 45 deg (0.103 / 0.102 /
+0.102) and mirrored (w < 0: 0.091-0.094), so it is not world-aligned friction as in Bullet. A
+spin at mu 0.2 does reach 0.477. Earlier variants, 4 s runs at 1 kHz with SAPIEN's cylinder and
+the default link damping, yaw rate averaged after 1 s; nothing exposed moves the gain to Coulomb:
+  variant                                              (0.5,0.5)   (0,0.5)
+  SAPIEN defaults (TGS, 10/1 iterations, damping 1e3)  0.117       0.20
+  PGS                                                  0.194       0.36-0.39
+  TGS 50/10 iterations, PGS 50/10                      0.128 / 0.161
+  drive damping 1e4 / 1e5                              0.116 / 0.112
+  friction every iteration off; PCM off                0.117; 0.118
+  torsional patch radius 0 / 5 cm                      0.117 / 0.117
+  compliant contact 1e5 / 1e6 N/m (negative restitution)  0.123 / 0.167  0.20 / 0.20
+  wheel as a sphere or a capsule (one contact per wheel)   0.114-0.116  0.20
+The rigid contacts leave the four wheel loads indeterminate (at rest FL/FR/RL/RR 82/187/117/164 N
+against the rigid-body 105/172/105/173; compliant 1e6 N/m: 104/157/104/156), but equalising them
+does not restore the turn. The cause is PhysX's friction model: per friction anchor two rows,
+each clamped on its own to mu N (a box, not a cone), along tangents built from the relative
+*linear* velocity of the two bodies' centres (``computeFrictionTangents(b0.getLinVel() -
+b1.getLinVel(), ...)`` in PhysX's ``DyContactPrep``), i.e. along the wheel centre's travel, not
+the contact's slip. A box lets a skidding wheel carry full lateral *and* longitudinal friction at
+once, which the cone does not (ODE's friction pyramid under-turned the same way, 0.03-0.21; DART's
+Dantzig box 0.004 rad/s). PhysX's other friction types (one-/two-directional) and the friction
+correlation distance are not reachable through SAPIEN 3.0.3 (its CPU system leaves PxSceneDesc's
+frictionType and frictionCorrelationDistance at their defaults: patch friction, 0.025 m, the
+values Isaac Lab's PhysxCfg also uses). So this is reported as PhysX's finding, as Bullet's is.
+"""
+
+from __future__ import annotations
+
+import importlib.metadata
+import math
+import tempfile
+import time
+import warnings
+import xml.etree.ElementTree as ET
+from pathlib import Path
+from typing import Annotated, Literal
+
+import numpy as np
+from pydantic import Field
+
+from simpick.engines.base import FRICTION, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.errors import InputError
+from simpick.imu import imu_from_kinematics, rotation_matrices
+
+SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
+# SAPIEN's plane collision has its normal along +x; this turns it onto +z (a -90 deg turn about y)
+# sides of one convex prism standing in for a wheel cylinder: the most SAPIEN's convex cooking keeps
+# (a 96-sided prism came back with 128 vertices)
+PRISM_SIDES = 64
+PLANE_UP = (math.sqrt(0.5), 0.0, -math.sqrt(0.5), 0.0)
+
+
+class PhysxSettings(EngineSettings):
+    """config ``engines.physx``; the measurements behind each choice are in the module docstring."""
+
+    # PxSceneDesc solverType: "tgs" (Temporal Gauss-Seidel), Isaac Lab's default (PhysxCfg
+    # solver_type=1, "recommended for articulated robots") and SAPIEN's; "pgs" turns the Husky more
+    # (0.19 at (0.5, 0.5) for TGS's 0.11) but still far under the Coulomb 0.478
+    solver: Literal["tgs", "pgs"] = "tgs"
+    # per-articulation solver iterations: 4 position / 0 velocity, Isaac Lab's wheeled-robot asset
+    # (isaaclab_assets JETBOT_CFG, ArticulationRootPropertiesCfg); 50 / 10 measured to change the
+    # turning gain by < 0.02
+    position_iterations: Annotated[int, Field(ge=1, le=255)] = 4
+    velocity_iterations: Annotated[int, Field(ge=0, le=255)] = 0  # (see position_iterations)
+    # N m s/rad, the wheels' implicit velocity drive (stiffness 0): Isaac Lab's Jetbot wheel
+    # actuator (ImplicitActuatorCfg damping 1e5); 1e3 (SAPIEN examples) and 1e4 give the same gains
+    wheel_drive_damping: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 1.0e5
+    # convex 64-sided prisms that together stand in for each URDF collision cylinder (a wheel), each
+    # turned by 1/wheel_prisms of a side. SAPIEN's own cylinder is a coarse convex mesh and its
+    # convex cooking keeps at most 128 vertices (64 sides). Each vertex landing is an inelastic
+    # impact: with the wheel torque bound at 2 N m the Husky accelerates at 0.684 m/s^2 on SAPIEN's
+    # cylinder, 0.726 / 0.748 / 0.752 / 0.757 on 1 / 2 / 4 / 8 prisms, for the analytic 0.768
+    # (the conformance suite's 2 % tolerance needs >= 0.753)
+    wheel_prisms: Annotated[int, Field(ge=1, le=16)] = 4
+    # m, PxShape contactOffset of every shape: SAPIEN's default shape config (0.01 m), as in
+    # Isaac Gym-style PhysX configs (contact_offset 0.01, rest_offset 0)
+    contact_offset: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 0.01
+    # m/s, PxSceneDesc bounceThresholdVelocity: Isaac Lab 2.x PhysxCfg default (0.5); with
+    # restitution 0 everywhere nothing bounces anyway
+    bounce_threshold: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 0.5
+
+
+def _quiet_import():
+    with warnings.catch_warnings():
+        # SAPIEN warns at import that it falls back to its bundled libvulkan: the renderer is never used
+        warnings.simplefilter("ignore")
+        import sapien
+        import sapien.physx
+    return sapien
+
+
+def cylinder_obj(radius: float, length: float, segments: int, phase: float = 0.0) -> str:
+    """Wavefront OBJ text of a closed prism: ``segments`` sides around the z axis (the URDF
+    cylinder's axis), vertices on the circle of ``radius``, from z = -length/2 to +length/2."""
+    angles = 2 * np.pi * np.arange(segments) / segments + phase
+    lines = []
+    for z in (-length / 2, length / 2):
+        lines += [f"v {radius * math.cos(a):.9f} {radius * math.sin(a):.9f} {z:.9f}" for a in angles]
+    n = segments
+    for i in range(n):  # sides (1-based OBJ indices), then the two caps
+        j = (i + 1) % n
+        lines.append(f"f {i + 1} {j + 1} {n + j + 1} {n + i + 1}")
+    lines.append("f " + " ".join(str(i + 1) for i in reversed(range(n))))
+    lines.append("f " + " ".join(str(n + i + 1) for i in range(n)))
+    return "\n".join(lines) + "\n"
+
+
+def collision_only_urdf(urdf: Path, folder: Path, prisms: int) -> Path:
+    """A copy of ``urdf`` in ``folder`` without ``<visual>`` elements, mesh paths made absolute,
+    and each collision cylinder replaced by ``prisms`` convex 64-sided prisms, each turned by
+    1/``prisms`` of a side against the previous one: together a 64 x ``prisms``-sided wheel."""
+    try:
+        tree = ET.parse(urdf)
+    except (OSError, ET.ParseError) as exc:
+        raise InputError(str(urdf), f"cannot read the robot description: {exc}") from None
+    root = tree.getroot()
+    for link in root.iter("link"):
+        for visual in link.findall("visual"):
+            link.remove(visual)
+    for mesh in root.iter("mesh"):
+        name = mesh.get("filename", "")
+        if name and "://" not in name and not Path(name).is_absolute():
+            mesh.set("filename", str((urdf.parent / name).resolve()))
+    k = 0
+    for link in root.iter("link"):
+        for collision in link.findall("collision"):
+            cylinder = collision.find("geometry/cylinder")
+            if cylinder is None:
+                continue
+            try:
+                radius, length = float(cylinder.get("radius")), float(cylinder.get("length"))
+            except (TypeError, ValueError):
+                raise InputError(str(urdf), f"a collision cylinder needs a numeric radius and length, got "
+                                 f"{cylinder.attrib}") from None
+            link.remove(collision)
+            for p in range(prisms):
+                obj = folder / f"cylinder{k}_{p}.obj"
+                obj.write_text(cylinder_obj(radius, length, PRISM_SIDES, 2 * math.pi * p / (PRISM_SIDES * prisms)))
+                copy = ET.SubElement(link, "collision")
+                if collision.find("origin") is not None:
+                    copy.append(collision.find("origin"))
+                ET.SubElement(ET.SubElement(copy, "geometry"), "mesh", {"filename": str(obj)})
+            k += 1
+    out = folder / urdf.name
+    tree.write(out)
+    return out
+
+
+def _yaw_quat(yaw: float) -> list[float]:
+    return [math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)]
+
+
+class PhysxEngine:
+    # SAPIEN 3.0.3 exposes one contact parameter that matters here, the friction coefficient
+    # (no material damping, so no tunable compliant contact)
+    calibratable = {"friction": FRICTION}
+    name = "physx"
+    settings_model = PhysxSettings
+
+    def version(self) -> str:
+        sapien = _quiet_import()
+        return f"{importlib.metadata.version('sapien')} ({sapien.physx.version()})"
+
+    def build(self, scenario: Scenario):
+        """Scene, and per robot (articulation, its four wheel joints in simpick's order)."""
+        sapien = _quiet_import()
+        px = sapien.physx
+        settings = PhysxSettings.of(scenario.settings, self.name)
+
+        config = px.PhysxSceneConfig()
+        config.gravity = list(scenario.gravity)
+        config.enable_tgs = settings.solver == "tgs"
+        config.bounce_threshold = settings.bounce_threshold
+        px.set_scene_config(config)  # read by the system's constructor
+        shapes = px.get_shape_config()
+        shapes.contact_offset = settings.contact_offset
+        shapes.rest_offset = 0.0
+        px.set_shape_config(shapes)
+        system = px.PhysxCpuSystem()
+        system.set_timestep(scenario.timestep)
+        scene = sapien.Scene([system])
+
+        def material(mu: float):  # averaged with the robot's 0: the contact gets mu
+            return px.PhysxMaterial(2 * mu, 2 * mu, 0.0)
+
+        terrain = scenario.terrain
+        ground = scene.create_actor_builder()
+        ground.add_plane_collision(sapien.Pose(q=list(PLANE_UP)), material=material(scenario.ground_friction))
+        shape_material = material(float(terrain["friction"]))
+        for x, y, z, yaw, sx, sy, sz in terrain["boxes"]:
+            ground.add_box_collision(sapien.Pose([x, y, z], _yaw_quat(yaw)), half_size=[sx / 2, sy / 2, sz / 2],
+                                     material=shape_material)
+        for x, y, z, r in terrain["spheres"]:
+            ground.add_sphere_collision(sapien.Pose([x, y, z]), radius=r, material=shape_material)
+        ground.build_static(name="terrain")
+
+        robot = scenario.robot
+        robots = []
+        with tempfile.TemporaryDirectory(prefix="simpick-physx-") as folder:
+            urdf = collision_only_urdf(Path(robot.urdf), Path(folder), settings.wheel_prisms)
+            loader = scene.create_urdf_loader()
+            loader.fix_root_link = False
+            loader.set_material(0.0, 0.0, 0.0)  # see the module docstring: the terrain carries mu
+            for i, (x, y, yaw) in enumerate(scenario.starts):
+                try:
+                    art = loader.load(str(urdf))
+                except Exception as exc:  # SAPIEN raises RuntimeError with its parser's message
+                    raise InputError(str(robot.urdf), f"SAPIEN's URDF loader could not read the robot: {exc}") from None
+                art.name = f"robot{i}"
+                art.set_root_pose(sapien.Pose([x, y, robot.base_height + SPAWN_CLEARANCE], _yaw_quat(yaw)))
+                art.set_solver_position_iterations(settings.position_iterations)
+                art.set_solver_velocity_iterations(settings.velocity_iterations)
+                for link in art.links:  # PhysX gives articulation links 0.05 /s damping by default
+                    link.linear_damping = 0.0
+                    link.angular_damping = 0.0
+                joints = {j.name: j for j in art.active_joints}
+                missing = [n for n in robot.wheel_joints if n not in joints]
+                if missing:
+                    raise InputError(str(robot.urdf), f"wheel joints {missing} are not movable joints of the articulation")
+                wheels = [joints[n] for n in robot.wheel_joints]
+                for joint in wheels:
+                    joint.set_drive_properties(0.0, settings.wheel_drive_damping, scenario.max_wheel_torque, "force")
+                    joint.set_drive_velocity_target(0.0)
+                robots.append((art, wheels))
+        return scene, robots
+
+    @staticmethod
+    def _command(robots, speeds) -> None:
+        for (_, wheels), robot_speeds in zip(robots, speeds):
+            for joint, w in zip(wheels, robot_speeds.tolist()):
+                joint.set_drive_velocity_target(w)
+
+    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
+        wheel_commands = validated_commands(scenario, wheel_commands)
+        scene, robots = self.build(scenario)
+        self._command(robots, wheel_commands[0])
+        step = scene.step
+        start = time.perf_counter()
+        for _ in range(wheel_commands.shape[0]):
+            step()
+        return time.perf_counter() - start
+
+    def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
+        wheel_commands = validated_commands(scenario, wheel_commands)
+        scene, robots = self.build(scenario)
+        steps = wheel_commands.shape[0]
+        dt = scenario.timestep
+        art, wheels = robots[scenario.recorded_robot]
+        base = art.find_link_by_name(scenario.robot.base_link)
+        if base is None:
+            raise InputError(str(scenario.robot.urdf), f"no link {scenario.robot.base_link!r} in the articulation")
+        order = [j.name for j in art.active_joints]
+        wheel_dofs = [order.index(j.name) for j in wheels]
+        com = np.asarray(base.cmass_local_pose.p, dtype=float)  # centre of mass in base_link
+        changes = set(np.flatnonzero(np.any(np.diff(wheel_commands, axis=0, prepend=np.nan) != 0, axis=(1, 2))).tolist())
+        position = np.empty((steps, 3))
+        quat = np.empty((steps, 4))
+        v_com = np.empty((steps, 3))
+        omega = np.empty((steps, 3))
+        wheel_speed = np.empty((steps, len(wheel_dofs)))
+
+        step = scene.step
+        cpu0, wall0 = time.process_time(), time.perf_counter()
+        for k in range(steps):
+            if k in changes:
+                self._command(robots, wheel_commands[k])
+            step()
+            pose = base.entity_pose
+            position[k] = pose.p
+            quat[k] = pose.q  # w, x, y, z
+            v_com[k] = base.linear_velocity
+            omega[k] = base.angular_velocity
+            wheel_speed[k] = art.qvel[wheel_dofs]
+        wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+
+        quat /= np.linalg.norm(quat, axis=1, keepdims=True)
+        quat *= np.where(quat[:, :1] < 0, -1.0, 1.0)
+        # PhysX gives the centre of mass's velocity; base_link's origin moves at v - w x (R c)
+        velocity = v_com - np.cross(omega, rotation_matrices(quat) @ com)
+        specific_force, gyro = imu_from_kinematics(quat, velocity, omega, scenario.robot.imu_mount, dt, scenario.gravity)
+        return PhysicsRecord(time=dt * np.arange(1, steps + 1), position=position, quaternion=quat,
+                             linear_velocity=velocity, angular_velocity=omega, wheel_speed=wheel_speed,
+                             imu_specific_force=specific_force, imu_gyro=gyro,
+                             wall_time=wall, cpu_time=cpu, steps=steps)
