@@ -32,10 +32,30 @@ class Physics(Strict):
     ground_friction: NonNegative
 
 
+class RobotWheel(Strict):
+    joint: str
+    side: Literal["left", "right"]
+
+
+class RobotOverrides(Strict):
+    """Figures that replace the description's (simpick.robot.OVERRIDABLE); the engines still
+    simulate the description, these feed the controller and the mechanics."""
+    wheel_radius: Positive | None = None
+    track: Positive | None = None
+    wheelbase: NonNegative | None = None
+    mass: Positive | None = None
+    com: tuple[Finite, Finite, Finite] | None = None
+    base_height: Positive | None = None
+    imu_mount: tuple[Finite, Finite, Finite] | None = None
+
+
 class Robot(Strict):
-    urdf: str
+    urdf: str  # a URDF or xacro file (simpick.robot.load_robot)
     track: Positive
     max_wheel_torque: Positive
+    imu_link: str | None = None  # default: the first link with "imu" in its name, else the base
+    wheels: list[RobotWheel] | None = None  # the driven joints and sides, instead of finding them
+    overrides: RobotOverrides | None = None
 
 
 class Imu(Strict):
@@ -377,6 +397,15 @@ class Study(Strict):
                           ("qualitative", self.qualitative)):
             if not Path(path).is_file():
                 raise ValueError(f"{key}: file {path!r} does not exist")
+        # the robot is read here, at planning time: a description no job could read stops the run
+        # before any job starts (and before Snakemake deletes any output to rerun it)
+        from simpick.errors import InputError
+        from simpick.robot import load_from_config
+
+        try:
+            load_from_config(self.robot.model_dump(exclude_none=True))
+        except InputError as exc:
+            raise ValueError(f"robot.urdf: {exc}") from None
         return self
 
 

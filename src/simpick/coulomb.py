@@ -28,7 +28,9 @@ import numpy as np
 
 from simpick.errors import InputError
 from simpick.motions import side_speeds
-from simpick.robot import WHEEL_SIDES, RobotSpec, load_robot
+from simpick.robot import RobotSpec, load_robot
+
+WHEEL_SIDES = ("left", "right", "left", "right")  # the Husky's order (FL, FR, RL, RR)
 
 GRAVITY = 9.81
 
