@@ -52,5 +52,7 @@ def validation_section(summary: pd.DataFrame | None, engines: list[str], figure:
     failed = failures(summary)
     passed = [e for e in present if e not in failed]
     costs = summary.groupby("engine").steps_per_s.median().to_dict()
+    gone = summary[summary.status == "skipped"].drop_duplicates("case")
+    skipped = dict(zip(gone.case, gone.reasons))
     return {"given": True, "engines": present, "rows": rows, "gain_uri": uri, "gain_mu": mu,
-            "failed": failed, "passed": passed, "costs": costs, "n_cases": len(cases)}
+            "failed": failed, "passed": passed, "costs": costs, "n_cases": len(cases), "skipped": skipped}
