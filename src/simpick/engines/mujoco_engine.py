@@ -88,7 +88,8 @@ class MujocoSettings(EngineSettings):
 # impedance (solimp dmax 0.95): the friction rows' velocity decay rate is 2 / (dmax timeconst).
 MUJOCO_TIMECONST, MUJOCO_DMAX = 0.02, 0.95
 # Sensor layout of the recorded robot (Scenario.recorded_robot), in the order the sensors are added: name -> width.
-SENSORS = (("accel", 3), ("gyro", 3), ("pos", 3), ("quat", 4), ("linvel", 3), ("angvel", 3), ("wheels", 4))
+# "wheels": one joint speed per driven wheel (RobotSpec.wheel_joints).
+SENSORS = (("accel", 3), ("gyro", 3), ("pos", 3), ("quat", 4), ("linvel", 3), ("angvel", 3), ("wheels", None))
 
 
 def _yaw_quat(yaw: float) -> list[float]:
@@ -165,7 +166,8 @@ class MujocoEngine:
                 act.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
                 act.forcerange = [-scenario.max_wheel_torque, scenario.max_wheel_torque]
             if settings.wheel_contact == "decoupled":  # else "default": MuJoCo's geom contacts, as they are
-                self._wheel_pairs(spec, settings, [spec.joint(prefix + j).parent for j in robot.wheel_joints],
+                # every wheel, driven or caster, touches the ground through the same pairs
+                self._wheel_pairs(spec, settings, [spec.joint(prefix + w.joint).parent for w in robot.wheels],
                                   grounds, prefix)
             if i == scenario.recorded_robot:  # its sensors: the record
                 base.add_site(name="imu", pos=list(robot.imu_mount))
@@ -259,6 +261,7 @@ class MujocoEngine:
 
         columns, start = {}, 0
         for name, width in SENSORS:
+            width = len(scenario.robot.wheel_joints) if width is None else width
             columns[name] = sensordata[0, :, start:start + width]
             start += width
         # MuJoCo evaluates sensors at the start of each step: row k + 1 holds the state at
