@@ -60,3 +60,44 @@ def test_another_robot_plans_no_real_data_and_refuses_resting_on_it(tmp_path):
     sources = {w.split("source=")[1].split(",")[0] for rule, w in jobs if "source=" in w}
     assert sources == {"lab"}, sources
     assert {"validate", "simulate", "report"} <= {rule for rule, _ in jobs}
+
+
+def test_own_logs_replay_on_the_robot_the_config_names(tmp_path):
+    """A user's log of the diff-drive robot is replayed on that robot (its mirrored right wheel
+    commanded backwards, the caster free) by an engine and by both reference models."""
+    import numpy as np
+    import pandas as pd
+
+    from simpick.traces import read_trace
+
+    t = np.arange(0.0, 12.0, 0.01)
+    v = np.where(t < 6.0, 0.3, 0.2)
+    w = np.where(t < 6.0, 0.0, 0.5)
+    log = pd.DataFrame({"time": t, "ax": 0.0, "ay": 0.0, "az": 9.81, "wx": 0.0, "wy": 0.0,
+                        "wz": np.where(t < 6.0, 0.0, 0.45), "v": v, "w": w})
+    log.to_csv(tmp_path / "bot.csv", index=False)
+    import yaml
+
+    config = tiny_config(tmp_path)
+    robot = yaml.safe_load((ROOT / "config" / "robots" / "diffbot.yaml").read_text())
+    for block in ("robot", "baselines", "health"):  # what Snakemake merges from --configfile
+        config[block].update(robot[block])
+    config["robot"]["urdf"] = str(ROOT / robot["robot"]["urdf"])
+    config["engines"] = {"mujoco": config["engines"]["mujoco"] | robot["engines"]["mujoco"]}
+    config["own_logs"] = [{"name": "bot", "terrain_class": "flooring", "csv": str(tmp_path / "bot.csv"),
+                           "mapping": {k: k for k in ("time", "ax", "ay", "az", "wx", "wy", "wz", "v", "w")}}]
+    config["accuracy"]["reference"] = "own"
+    write_config(tmp_path, config)
+    run = snakemake(tmp_path, "results/metrics/own/summary.csv")
+    assert run.returncode == 0, run.stderr[-3000:]
+    per_test = pd.read_csv(tmp_path / "results/metrics/own/per_test.csv")
+    assert sorted(per_test.engine) == ["coulomb", "kinematic", "mujoco"] and (per_test.status == "ok").all()
+    frame, meta = read_trace(tmp_path / "results/traces/own/mujoco/flooring/bot.parquet")
+    # forward-signed wheel speeds: both sides at v / r = 6 rad/s while driving straight
+    straight = (frame.time > 2.0) & (frame.time < 5.5)
+    assert np.allclose(frame.cmd_left[straight], 6.0) and np.allclose(frame.cmd_right[straight], 6.0)
+    assert np.allclose(frame.wheel_fr[straight], 6.0, rtol=0.05)
+    assert frame.v_forward[straight].mean() == pytest.approx(0.3, rel=0.05)
+    # then the turn, at the no-slip rate of a differential drive
+    turning = frame.time > 9.0
+    assert frame.yaw_rate[turning].mean() == pytest.approx(0.5, rel=0.15)
