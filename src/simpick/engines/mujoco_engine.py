@@ -155,6 +155,16 @@ class MujocoEngine:
             spec.attach(child, prefix=prefix, frame=frame)
             base = spec.body(prefix + robot.base_link)
             base.add_freejoint()
+            # A robot's own links never touch each other, as in the other engines (PyBullet, DART:
+            # no self-collision by default; ODE: kept apart here): MuJoCo only filters parent and
+            # child, so a caster wheel under the chassis (its grandparent) would rub on it (measured on
+            # the diff-drive robot: a locked-wheel slide braked at mu g, the caster jammed). Robot i's
+            # geoms get their own contype bit and collide with the ground's (1) and other robots'.
+            own = 1 << (1 + i % 30)
+            others = sum(1 << (1 + k % 30) for k in range(len(scenario.starts))) & ~own
+            for geom in base.find_all(mujoco.mjtObj.mjOBJ_GEOM):
+                if geom.contype or geom.conaffinity:
+                    geom.contype, geom.conaffinity = own, 1 | others
             for joint in robot.wheel_joints:
                 act = spec.add_actuator(name=prefix + joint + "/servo", target=prefix + joint,
                                         trntype=mujoco.mjtTrn.mjTRN_JOINT)
@@ -166,8 +176,9 @@ class MujocoEngine:
                 act.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
                 act.forcerange = [-scenario.max_wheel_torque, scenario.max_wheel_torque]
             if settings.wheel_contact == "decoupled":  # else "default": MuJoCo's geom contacts, as they are
-                # every wheel, driven or caster, touches the ground through the same pairs
-                self._wheel_pairs(spec, settings, [spec.joint(prefix + w.joint).parent for w in robot.wheels],
+                # the driven wheels: a caster keeps MuJoCo's default contact (the pairs' soft normal,
+                # set for a Husky wheel, let the diff-drive robot's 50 g caster sink 7.7 mm)
+                self._wheel_pairs(spec, settings, [spec.joint(prefix + j).parent for j in robot.wheel_joints],
                                   grounds, prefix)
             if i == scenario.recorded_robot:  # its sensors: the record
                 base.add_site(name="imu", pos=list(robot.imu_mount))
