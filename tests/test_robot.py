@@ -220,3 +220,27 @@ def test_normalised_copy_fuses_fixed_links_and_drops_meshes(tmp_path):
     assert fused.mass == pytest.approx(spec.mass) and np.allclose(fused.com, spec.com)
     assert fused.mass == pytest.approx(10.0 + 4 * 0.5 + 2.0)
     assert math.isclose(fused.com[2], 2.0 * 0.2 / fused.mass)
+
+
+@pytest.mark.parametrize("name", ["jackal", "diffbot"])
+def test_robot_configs_fit_their_robot(name):
+    """config/robots/<name>.yaml: the controller's track is the robot's, the open-loop circle starts
+    where the robot's own Coulomb arc crosses the strip, the wheel-tracking limit is the Husky's rim
+    speed, and the real data (a Husky's) carry no score."""
+    import yaml
+
+    from simpick.coulomb import contact_layout, yaw_rate_gain
+    from simpick.motions import arc_start_over_strip
+
+    base = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config = yaml.safe_load((ROOT / "config" / "robots" / f"{name}.yaml").read_text())
+    spec = load_from_config({**config["robot"], "urdf": str(ROOT / config["robot"]["urdf"])})
+    assert spec.name != base["real_data"]["robot"] and config["accuracy"]["reference"] != "real"
+    assert config["robot"]["track"] == pytest.approx(spec.track) == config["baselines"]["kinematic"]["track"]
+    circle = base["motions"]["circle"]
+    gain = yaw_rate_gain(contact_layout(spec), circle["v"], circle["w"], config["robot"]["track"])
+    start = config["motions"]["circle"]["start"]
+    assert arc_start_over_strip(circle["v"], circle["w"], gain, (1.5, -0.2), start[0]) == pytest.approx(start, abs=0.005)
+    husky = load_robot(ROBOTS / "husky_a200.urdf")
+    rim = base["health"]["wheel_tracking"] * husky.wheel_radius
+    assert config["health"]["wheel_tracking"] * spec.wheel_radius == pytest.approx(rim, rel=0.01)
