@@ -127,3 +127,27 @@ def test_rotated_joints_give_the_same_layout_as_plain_ones(tmp_path):
     rotated = contact_layout(load_robot(write_robot(tmp_path, four(rotate_right=True), name="rotated")))
     np.testing.assert_allclose(rotated.points, plain.points, atol=1e-12)
     np.testing.assert_allclose(rotated.loads, plain.loads, rtol=1e-12)
+
+
+def test_a_skid_drags_with_the_ground_s_friction(tmp_path):
+    from simpick.coulomb import braking_deceleration
+    from simpick.robot import load_robot
+    from test_robot import write_skid_robot
+
+    spec = load_robot(write_skid_robot(tmp_path))
+    one = contact_layout(spec, 1)
+    assert one.sides == ("left", "right", "skid") and one.friction.tolist() == [1.0, 1.0, 1.0]
+    # three supports: the skid's load from moments about the axle
+    x_s = spec.skids[0].position[0]
+    assert one.load_shares()[2] == pytest.approx(spec.com[0] / x_s, rel=1e-9)
+    # the skid drags: spinning in place, the wheels must slip and the robot turns slower than
+    # no-slip kinematics; every contact slides when the wheels lock: mu g
+    assert yaw_rate_gain(one, 0.0, 1.0, spec.track) < yaw_rate_gain(contact_layout(spec, 1, caster_friction=0.0),
+                                                                      0.0, 1.0, spec.track)
+    # its centre of mass 0.03 m behind the axle, 0.04 m up: the centre of pressure moves 0.3 x 0.04 m
+    # forward when braking at mu 0.3, still behind the axle: mu g. At mu 0.8 it passes the axle
+    h = spec.com[2] + spec.base_height
+    assert spec.com[0] + 0.3 * h < 0 < spec.com[0] + 0.8 * h
+    assert braking_deceleration(spec, 0.3) == (pytest.approx(0.3 * 9.81), None)
+    a, why = braking_deceleration(spec, 0.8)
+    assert math.isnan(a) and "pitches onto its nose" in why

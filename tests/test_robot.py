@@ -244,3 +244,48 @@ def test_robot_configs_fit_their_robot(name):
     husky = load_robot(ROBOTS / "husky_a200.urdf")
     rim = base["health"]["wheel_tracking"] * husky.wheel_radius
     assert config["health"]["wheel_tracking"] * spec.wheel_radius == pytest.approx(rim, rel=0.01)
+
+
+def write_skid_robot(tmp_path):
+    """A TurtleBot3-like layout (written here, not ROBOTIS's file): footprint root, wheel joints
+    turned by -1.57 rad (not quite pi/2) about x spinning about their z, a box skid behind the axle
+    fixed to the base 0.5 mm above the ground, an IMU link without mass, mesh visuals; the body's
+    centre of mass 0.03 m behind the axle, so that the skid carries a third of the weight."""
+    wheel = ('<link name="{n}"><visual><geometry><mesh filename="package://tb/{n}.stl"/></geometry></visual>'
+             '<collision><geometry><cylinder length="0.018" radius="0.033"/></geometry></collision>'
+             '<inertial><mass value="0.0285"/><inertia ixx="1.1e-05" iyy="1.1e-05" izz="2.1e-05" ixy="0" ixz="0" '
+             'iyz="0"/></inertial></link>')
+    text = f"""<?xml version="1.0"?><robot name="tb_like">
+      <link name="base_footprint"/>
+      {_joint("base_joint", "base_footprint", "base_link", "0 0 0.010", axis="", kind="fixed")}
+      <link name="base_link"><collision><origin xyz="-0.032 0 0.070"/><geometry><box size="0.14 0.14 0.143"/></geometry>
+        </collision><inertial><origin xyz="-0.03 0 0.05"/><mass value="0.826"/><inertia ixx="0.0022" iyy="0.0021" izz="0.0020" ixy="0" ixz="0" iyz="0"/>
+        </inertial></link>
+      {_joint("wheel_left_joint", "base_link", "wheel_left_link", "0 0.08 0.023", "-1.57 0 0", "0 0 1")}
+      {wheel.format(n="wheel_left_link")}
+      {_joint("wheel_right_joint", "base_link", "wheel_right_link", "0 -0.08 0.023", "-1.57 0 0", "0 0 1")}
+      {wheel.format(n="wheel_right_link")}
+      {_joint("caster_back_joint", "base_link", "caster_back_link", "-0.081 0 -0.004", "-1.57 0 0", axis="", kind="fixed")}
+      <link name="caster_back_link"><collision><origin xyz="0 0.001 0"/><geometry><box size="0.030 0.009 0.020"/></geometry>
+        </collision><inertial><mass value="0.005"/><inertia ixx="0.001" iyy="0.001" izz="0.001" ixy="0" ixz="0" iyz="0"/>
+        </inertial></link>
+      {_joint("imu_joint", "base_link", "imu_link", "-0.032 0 0.068", axis="", kind="fixed")}
+      <link name="imu_link"/>
+    </robot>"""
+    path = tmp_path / "tb_like.urdf"
+    path.write_text(text)
+    return path
+
+
+def test_a_box_skid_fixed_to_the_base_is_a_sliding_support(tmp_path):
+    spec = load_robot(write_skid_robot(tmp_path))
+    assert spec.wheel_joints == ("wheel_left_joint", "wheel_right_joint") and not spec.casters
+    assert [w.axis_sign for w in spec.driven] == [1, 1]  # -1.57 about x turns z onto base +y
+    (skid,) = spec.skids
+    # box 9 mm tall once turned by -1.57 about x, centre 5 mm above the footprint: 0.5 mm clearance
+    assert skid.link == "caster_back_link" and skid.shape == "box"
+    assert skid.clearance == pytest.approx(0.0005, abs=1e-4) and skid.position[0] == pytest.approx(-0.081)
+    assert spec.base_height == pytest.approx(0.0, abs=1e-6) and spec.imu_mount == pytest.approx((-0.032, 0, 0.078))
+    assert spec.urdf != spec.source and "mesh" not in spec.urdf.read_text()
+    # the base's 0.143 m tall box is no skid: 8.5 mm up
+    assert len(spec.skids) == 1

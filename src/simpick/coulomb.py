@@ -33,7 +33,7 @@ import numpy as np
 
 from simpick.errors import InputError
 from simpick.motions import side_speeds
-from simpick.robot import RobotSpec, load_robot
+from simpick.robot import SKID_REACH, RobotSpec, load_robot
 
 GRAVITY = 9.81
 
@@ -96,18 +96,28 @@ def contact_layout(robot: RobotSpec, points_per_wheel: int | None = None,
             friction.append(mu)
             free.append(rolls)
         sides.append(w.side if w.driven else "caster")
+    for skid in robot.skids:  # a skid or ball caster fixed to the base slides: the ground's friction
+        points.append(skid.position[:2])
+        wheel.append(len(sides))
+        friction.append(1.0 if caster_friction is None else float(caster_friction))
+        free.append(False)
+        sides.append("skid")
     points = np.asarray(points)
     mass, com = robot.mass, robot.com
     # Rigid body on equally stiff contacts: loads are linear in position, the minimum-norm
     # solution of (sum N = W, sum N x = W xc, sum N y = W yc).
     a = np.vstack([np.ones(len(points)), points[:, 0], points[:, 1]])
+    if np.linalg.matrix_rank(a) < 3:  # every contact on one line: two wheels and nothing else touching
+        raise InputError(str(robot.source), "the robot stands on one line of contacts (its driven wheels' axle) "
+                         f"with no caster or skid within {SKID_REACH * 1000:.0f} mm of the ground: it would tip",
+                         "give it a caster wheel on a swivel, or a collision shape reaching the ground")
     weight = mass * GRAVITY
     loads = a.T @ np.linalg.solve(a @ a.T, weight * np.array([1.0, com[0], com[1]]))
     if np.any(loads <= 0):
         lifted = sorted({robot.wheels[i].joint for i in np.asarray(wheel)[loads <= 0]})
         raise InputError(str(robot.source), f"the centre of mass ({com[0]:.3f}, {com[1]:.3f}) m lies outside the "
                          f"wheels' support polygon: wheels {lifted} would lift")
-    casters = any(not w.driven for w in robot.wheels)
+    casters = any(not w.driven for w in robot.wheels) or bool(robot.skids)
     return ContactLayout(points=points, loads=loads, wheel=np.asarray(wheel), com=(com[0], com[1]), mass=mass,
                          sides=tuple(sides), friction=np.asarray(friction) if casters else None,
                          free_roll=np.asarray(free) if casters else None)
@@ -190,12 +200,22 @@ def braking_deceleration(robot: RobotSpec, mu: float) -> tuple[float, str | None
     casters at x_c, N_d = m g (x_c - x_g) / (x_c - x_d + mu h) and a = mu N_d / m.
     """
     casters = robot.casters
-    if not casters:
+    x_g, h = robot.com[0], robot.com[2] + robot.base_height
+    if not casters:  # every contact slides (skids too): mu g, if none lifts
+        # moments about the centre of mass: the centre of pressure moves forward by mu h, which
+        # must stay behind the front-most contact, else the robot pitches onto its nose
+        front = max([w.position[0] for w in robot.driven] + [s.position[0] for s in robot.skids])
+        if x_g + mu * h > front:
+            return math.nan, (f"braking at mu {mu:g} moves the centre of pressure {mu * h:.3f} m forward, ahead of "
+                              f"the front-most contact (x = {front:.3f} m, centre of mass at {x_g:.3f} m, {h:.3f} m "
+                              "high): the robot pitches onto its nose, which the sliding case does not describe")
         return mu * GRAVITY, None
+    if robot.skids:
+        return math.nan, ("the robot has both free casters and sliding skids, for which the sliding case "
+                          "has no analytic value here")
     driven = robot.driven
     x_d = float(np.mean([w.position[0] for w in driven]))
     x_c = float(np.mean([w.position[0] for w in casters]))
-    x_g, h = robot.com[0], robot.com[2] + robot.base_height
     share = (x_c - x_g) / (x_c - x_d + mu * h)
     if not 0 < share < 1:
         return math.nan, (f"braking on the driven wheels alone lifts the {'casters' if share >= 1 else 'driven wheels'} "

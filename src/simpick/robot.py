@@ -69,6 +69,22 @@ class Wheel:
 
 
 @dataclass(frozen=True)
+class Skid:
+    """A collision shape of the base (a skid or ball caster fixed to it) that reaches the ground
+    when the robot rests on its wheels: it slides, with the friction the engines give the robot."""
+
+    link: str
+    shape: str  # "box", "sphere" or "cylinder"
+    position: tuple[float, float, float]  # lowest point (its shape's centre in x, y) in the base frame, m
+    clearance: float  # m above flat ground with the robot level on its wheels (<= SKID_REACH)
+
+
+# A base collision whose lowest point is within this of the ground (robot level on its wheels) is a
+# skid: TurtleBot3's box caster is 0.5 mm up and touches once the robot tips onto it.
+SKID_REACH = 0.005
+
+
+@dataclass(frozen=True)
 class RobotSpec:
     """What simpick knows of the robot; every engine adapter reads the robot only through this.
 
@@ -93,6 +109,7 @@ class RobotSpec:
     wheelbase: float  # m, front-most minus rear-most driven wheel x (0 for two driven wheels)
     notes: tuple[str, ...] = ()  # what was assumed or dropped while reading the description
     overridden: tuple[str, ...] = ()  # figures the config set instead of the description
+    skids: tuple[Skid, ...] = ()  # base shapes that reach the ground (sliding supports)
 
     @property
     def driven(self) -> tuple[Wheel, ...]:
@@ -492,6 +509,47 @@ def _find_wheels(tree: _Tree, where: str, declared: Mapping[str, str] | None) ->
     return driven + [w for w in wheels if not w.driven], notes
 
 
+def _find_skids(tree: _Tree, where: str, base_height: float) -> tuple[Skid, ...]:
+    """Collision shapes of links rigidly fixed to the base whose lowest point, the robot level on
+    its wheels, is within SKID_REACH of the ground."""
+    def on_base(link: str) -> bool:
+        while link in tree.child_joint:
+            joint = tree.child_joint[link]
+            if joint.get("type") != "fixed":
+                return False
+            link = joint.find("parent").get("link")
+        return True
+
+    found = []
+    for name, link in tree.links.items():
+        if not on_base(name):
+            continue
+        p, r = tree.pose[name]
+        for collision in link.findall("collision"):
+            geometry = collision.find("geometry")
+            if geometry is None:
+                continue
+            xyz, rot = origin(collision, f"{where}: link {name!r} collision")
+            centre, m = p + r @ xyz, r @ rot
+            box, sph, cyl = geometry.find("box"), geometry.find("sphere"), geometry.find("cylinder")
+            if box is not None:
+                half = _floats(box.get("size"), 3, f"{where}: link {name!r} box size") / 2
+                low, kind = centre[2] - float(np.abs(m[2]) @ half), "box"
+            elif sph is not None:
+                low, kind = centre[2] - float(sph.get("radius")), "sphere"
+            elif cyl is not None:
+                c = abs(m[2, 2])
+                low = centre[2] - (c * float(cyl.get("length")) / 2 + math.sqrt(max(0.0, 1 - c * c)) * float(cyl.get("radius")))
+                kind = "cylinder"
+            else:
+                continue
+            clearance = low + base_height
+            if clearance <= SKID_REACH:
+                found.append(Skid(link=name, shape=kind, position=(float(centre[0]), float(centre[1]), float(low)),
+                                  clearance=float(clearance)))
+    return tuple(found)
+
+
 def _subtree_joints(tree: _Tree, link: str) -> list[str]:
     out, stack = [], [link]
     while stack:
@@ -567,6 +625,10 @@ def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping
         figures[key] = tuple(float(v) for v in value) if key in ("com", "imu_mount") else float(value)
         overridden.append(key)
 
+    skids = _find_skids(tree, where, float(base_height))
+    for s in skids:
+        notes.append(f"link {s.link!r}: a {s.shape} {s.clearance * 1000:.1f} mm above the ground at rest, a "
+                     "sliding support (skid) with the ground's friction")
     file = source
     if _needs_rewrite(root, source):
         text, more = normalised_urdf(root, tree, root.get("name") or source.stem)
@@ -575,7 +637,7 @@ def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping
         notes.append(f"loaded through a normalised copy ({file.name}): fixed links fused, visuals dropped")
     return RobotSpec(urdf=file, source=source, name=root.get("name") or source.stem, base_link=tree.base,
                      wheels=tuple(found), imu_link=imu_link, notes=tuple(notes), overridden=tuple(overridden),
-                     **figures)
+                     skids=skids, **figures)
 
 
 def load_from_config(robot: Mapping[str, Any]) -> RobotSpec:
@@ -592,5 +654,5 @@ def with_figures(spec: RobotSpec, **figures) -> RobotSpec:
     return replace(spec, **figures)
 
 
-__all__ = ["OVERRIDABLE", "RobotSpec", "Wheel", "load_from_config", "load_robot", "normalised_urdf",
+__all__ = ["OVERRIDABLE", "RobotSpec", "SKID_REACH", "Skid", "Wheel", "load_from_config", "load_robot", "normalised_urdf",
            "read_description", "rpy_matrix", "matrix_rpy", "with_figures"]
