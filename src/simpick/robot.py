@@ -43,7 +43,7 @@ import os
 import tempfile
 import xml.etree.ElementTree as ET
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -427,7 +427,6 @@ def _write_cached(text: str) -> Path:
 def _find_wheels(tree: _Tree, where: str, declared: Mapping[str, str] | None) -> tuple[list[Wheel], list[str]]:
     notes = []
     wheels = []
-    swivels = set()
     for jname, j in tree.joints.items():
         kind = j.get("type")
         child = j.find("child").get("link")
@@ -447,7 +446,6 @@ def _find_wheels(tree: _Tree, where: str, declared: Mapping[str, str] | None) ->
         if abs(axis[2]) > 1 - 1e-3:  # a vertical continuous joint: a caster's swivel
             if not any(tree.joints[k].get("type") == "continuous" for k in _subtree_joints(tree, child)):
                 raise InputError(jw, "spins about a vertical axis and carries no wheel: not a wheel or a caster swivel")
-            swivels.add(jname)
             continue
         shape = _wheel_shape(link, axis_local, jw)
         if shape is None:
@@ -649,10 +647,5 @@ def load_from_config(robot: Mapping[str, Any]) -> RobotSpec:
     return load_robot(robot["urdf"], imu_link=robot.get("imu_link"), wheels=wheels, overrides=overrides)
 
 
-def with_figures(spec: RobotSpec, **figures) -> RobotSpec:
-    """A copy with some figures replaced (tests and what-if mechanics)."""
-    return replace(spec, **figures)
-
-
 __all__ = ["OVERRIDABLE", "RobotSpec", "SKID_REACH", "Skid", "Wheel", "load_from_config", "load_robot", "normalised_urdf",
-           "read_description", "rpy_matrix", "matrix_rpy", "with_figures"]
+           "read_description", "rpy_matrix", "matrix_rpy"]
