@@ -289,3 +289,19 @@ def test_a_box_skid_fixed_to_the_base_is_a_sliding_support(tmp_path):
     assert spec.urdf != spec.source and "mesh" not in spec.urdf.read_text()
     # the base's 0.143 m tall box is no skid: 8.5 mm up
     assert len(spec.skids) == 1
+
+
+def test_joint_frames_turned_by_half_pi_spinning_about_x(tmp_path):
+    """Joint origins turned by +pi/2 about z (left) and -pi/2 (right), each spinning about its
+    own x: base +y on the left, base -y on the right (mirrored)."""
+    half = "0 0 1.5707963267948966"
+    wheels = {"fl_joint": (0.25, 0.3, 0.0, half, "1 0 0"), "fr_joint": (0.25, -0.3, 0.0, "0 0 -1.5707963267948966", "1 0 0"),
+              "rl_joint": (-0.25, 0.3, 0.0, half, "1 0 0"), "rr_joint": (-0.25, -0.3, 0.0, "0 0 -1.5707963267948966", "1 0 0")}
+    path = write_robot(tmp_path, wheels)
+    # the wheel links' cylinders along the joint axis (x in the link frame)
+    path.write_text(path.read_text().replace('rpy="1.5707963267948966 0 0"/><geometry><cylinder',
+                                             'rpy="0 1.5707963267948966 0"/><geometry><cylinder'))
+    spec = load_robot(path)
+    assert spec.wheel_joints == ("fl_joint", "fr_joint", "rl_joint", "rr_joint")
+    assert [w.axis_sign for w in spec.driven] == [1, -1, 1, -1]
+    assert spec.track == pytest.approx(0.6) and spec.wheelbase == pytest.approx(0.5)
