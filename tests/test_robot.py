@@ -305,3 +305,11 @@ def test_joint_frames_turned_by_half_pi_spinning_about_x(tmp_path):
     assert spec.wheel_joints == ("fl_joint", "fr_joint", "rl_joint", "rr_joint")
     assert [w.axis_sign for w in spec.driven] == [1, -1, 1, -1]
     assert spec.track == pytest.approx(0.6) and spec.wheelbase == pytest.approx(0.5)
+
+
+def test_a_massless_moving_part_is_refused(tmp_path):
+    extra = ('<link name="swivel"/>' + _joint("swivel_joint", "base_link", "swivel", "-0.4 0 0", axis="0 0 1")
+             + _link("caster", 0.1, _wheel_collision(radius=0.05)) + _joint("caster_joint", "swivel", "caster",
+                                                                            "-0.02 0 -0.05"))
+    with pytest.raises(InputError, match=r"links \['swivel'\] \(with the links fixed to them\) have no mass"):
+        load_robot(write_robot(tmp_path, four(), extra=extra))

@@ -590,6 +590,19 @@ def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping
     if mass <= 0:
         raise InputError(where, "no link has a mass: the robot's weight is unknown", "add <inertial> blocks")
     com = moment / mass
+    # every rigid body an engine builds (the base, each moving link, with what is fixed to it) needs
+    # a mass: Bullet would give a massless one 1 kg, ODE refuses it
+    body_mass: dict[str, float] = {}
+    for name, link in tree.links.items():
+        body = name
+        while body in tree.child_joint and tree.child_joint[body].get("type") == "fixed":
+            body = tree.child_joint[body].find("parent").get("link")
+        inert = _inertial(link, where)
+        body_mass[body] = body_mass.get(body, 0.0) + (inert[0] if inert else 0.0)
+    massless = sorted(b for b, m in body_mass.items() if m <= 0)
+    if massless:
+        raise InputError(where, f"links {massless} (with the links fixed to them) have no mass: each moving "
+                         "part and the base needs one", "add an <inertial> with the part's mass")
 
     if imu_link is None:
         imu_link = next((n for n in tree.links if "imu" in n.lower()), tree.base)
