@@ -5,9 +5,17 @@ import re
 import sys
 
 from simpick.config import timestep_label, validate_or_exit
+from simpick.robot import load_from_config
 
 
 validate_or_exit(config, files=workflow.configfiles)
+
+# The study's robot, read again here (the config check above has read it and stopped on any
+# problem). The committed segments and a dataset folder were recorded on real_data.robot (BorealTC:
+# a Husky A200): they are compared with the study only when its robot is that one (else the
+# config check has refused every part that rests on them).
+ROBOT = load_from_config(config["robot"])
+REAL_DATA_ROBOT = ROBOT.name == (config["real_data"].get("robot") or ROBOT.name)
 
 # Engines this machine cannot run (simpick.engines.unavailable: not installed): the study runs
 # without them, says so here at planning time, and its report lists them.
@@ -227,9 +235,9 @@ def real_logs(source):
 SOURCES = {
     "lab": {"kind": "lab", "models": ENGINES, "group": "terrain",
             "cases": [(t, m) for t in TERRAINS for m in MOTIONS]},
-    "segments": {"kind": "segments", "models": REAL_MODELS, "group": "terrain_class",
-                 "cases": [(c, s) for c, ids in SEGMENTS.items() for s in ids],
-                 "table": config["real_data"]["segments"]},
+    **({"segments": {"kind": "segments", "models": REAL_MODELS, "group": "terrain_class",
+                     "cases": [(c, s) for c, ids in SEGMENTS.items() for s in ids],
+                     "table": config["real_data"]["segments"]}} if REAL_DATA_ROBOT else {}),
     **{source: {"kind": "replay", "models": REAL_MODELS, "group": "terrain_class", "cases": cases}
        for source, cases in REPLAY_CASES.items()},
 }
@@ -381,7 +389,9 @@ def report_config():
     return {
         "terrains": config["terrains"],
         "motions": config["motions"],
-        "robot": {"track": config["robot"]["track"]},
+        "robot": {"track": config["robot"]["track"], "name": ROBOT.name,
+                  "label": config["robot"].get("label") or ROBOT.name,
+                  "real_data_robot": config["real_data"].get("robot") if not REAL_DATA_ROBOT else None},
     }
 
 
@@ -415,13 +425,14 @@ def report_real_inputs(wildcards):
     provenance = segments.replace(".csv", ".provenance.yaml")
     inputs = {
         "accuracy_errors": accuracy_errors(),
-        "segments": segments,
-        **{f"segments_{table}": metrics_file("segments", table)
-           for table in ("per_test", "summary", "pairwise", "imu_errors")},
     }
+    if REAL_DATA_ROBOT:  # the committed segments are real_data.robot's
+        inputs["segments"] = segments
+        inputs.update({f"segments_{table}": metrics_file("segments", table)
+                       for table in ("per_test", "summary", "pairwise", "imu_errors")})
     if accuracy_source()["set"] != "lab":  # its per-test table: how much of each error a rigid model leaves
         inputs["accuracy_per_test"] = accuracy_source()["per_test"]
-    if os.path.exists(provenance):
+    if os.path.exists(provenance) and REAL_DATA_ROBOT:
         inputs["segments_provenance"] = provenance
     if REPLAY_SET:
         inputs.update({f"replay_{table}": metrics_file(REPLAY_SET.name, table)

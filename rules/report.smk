@@ -47,7 +47,7 @@ def real_gain_inputs(wildcards):
     """The real-data tables whose yaw-rate gains the figure shows: the committed segments', and
     the full replay's when a dataset folder is given."""
     names = ("per_test", "summary", "pairwise")
-    inputs = {f"segments_{n}": metrics_file("segments", n) for n in names}
+    inputs = {f"segments_{n}": metrics_file("segments", n) for n in names} if REAL_DATA_ROBOT else {}
     if REPLAY_SET:
         inputs.update({f"replay_{n}": metrics_file(REPLAY_SET.name, n) for n in names})
     return inputs

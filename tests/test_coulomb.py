@@ -68,3 +68,86 @@ def test_table_interpolates_the_solver(robot):
     for left, right in [(0.36, 0.64), (-0.14, 0.14), (0.5, 0.5), (0.2, -0.05)]:
         np.testing.assert_allclose(table.twist([left], [right])[0], steady_twist(lay, [left, right] * 2),
                                    atol=2e-3 * math.hypot(left, right))
+
+
+# --- any robot (issue 18): N contacts, casters, braking with casters -------------------------------
+
+def test_diff_drive_on_a_frictionless_caster_turns_without_slip():
+    from simpick.robot import load_robot
+    from conftest import ROOT
+
+    bot = load_robot(ROOT / "resources" / "robot" / "diffbot.urdf.xacro")
+    one = contact_layout(bot, points_per_wheel=1)
+    assert one.sides == ("left", "right", "caster")
+    # three contacts: statically determinate, loads from moments about the axle (x = 0)
+    x_c, x_g, weight = bot.casters[0].position[0], bot.com[0], bot.mass * 9.81
+    shares = one.load_shares()
+    assert shares[2] == pytest.approx(x_g / x_c, rel=1e-9)
+    assert shares[0] == pytest.approx((1 - x_g / x_c) / 2, rel=1e-9) and one.loads.sum() == pytest.approx(weight)
+    # no contact need slip: the gain is 1 for any command, the controller's track the geometric one
+    for v, w in [(0.5, 0.5), (0.0, 1.0), (0.3, -0.2)]:
+        assert yaw_rate_gain(one, v, w, bot.track) == pytest.approx(1.0, abs=1e-6), (v, w)
+    # a line contact across each 25 mm wheel scuffs a little when turning
+    assert 0.97 < yaw_rate_gain(contact_layout(bot), 0.5, 0.5, bot.track) < 1.0
+    # a skid dragging with friction k mu instead of the caster, on a spin about the axle: it pulls
+    # k mu N_c sideways at x_c; each wheel must hold half of that sideways and the moment k mu N_c |x_c|
+    # as a force couple over the track: by hand, below mu N_w for k = 1 (no slip: gain 1), above it for
+    # k = 2 (the wheels slip and the robot turns slower)
+    n_w, n_c = one.loads[0], one.loads[2]
+    for k in (1.0, 2.0):
+        need = math.hypot(k * n_c * abs(x_c) / bot.track, k * n_c / 2)
+        assert (need < n_w) == (k == 1.0)
+    assert yaw_rate_gain(contact_layout(bot, 1, caster_friction=1.0), 0.0, 1.0, bot.track) == pytest.approx(1.0, abs=1e-6)
+    assert yaw_rate_gain(contact_layout(bot, 1, caster_friction=2.0), 0.0, 1.0, bot.track) < 0.95
+
+
+def test_braking_deceleration_with_casters_and_without():
+    from simpick.coulomb import braking_deceleration
+    from simpick.robot import load_robot
+    from conftest import ROOT
+
+    husky = load_robot(ROOT / "resources" / "robot" / "husky_a200.urdf")
+    assert braking_deceleration(husky, 0.3) == (pytest.approx(0.3 * 9.81), None)
+    bot = load_robot(ROOT / "resources" / "robot" / "diffbot.urdf.xacro")
+    a, why = braking_deceleration(bot, 0.3)
+    # by hand: moments about the centre of mass (h above ground) with friction mu N_d at the axle
+    x_c, x_g, h = -0.18, bot.com[0], bot.com[2] + bot.base_height
+    n_d = (x_c - x_g) / (x_c - 0.0 + 0.3 * h)
+    assert why is None and a == pytest.approx(0.3 * 9.81 * n_d) and 0 < n_d < 1
+    # so much friction that the caster lifts: not applicable, with the reason
+    a, why = braking_deceleration(bot, 5.0)
+    assert math.isnan(a) and "pitches over" in why
+
+
+def test_rotated_joints_give_the_same_layout_as_plain_ones(tmp_path):
+    from simpick.robot import load_robot
+    from test_robot import four, write_robot
+
+    plain = contact_layout(load_robot(write_robot(tmp_path, four(), name="plain")))
+    rotated = contact_layout(load_robot(write_robot(tmp_path, four(rotate_right=True), name="rotated")))
+    np.testing.assert_allclose(rotated.points, plain.points, atol=1e-12)
+    np.testing.assert_allclose(rotated.loads, plain.loads, rtol=1e-12)
+
+
+def test_a_skid_drags_with_the_ground_s_friction(tmp_path):
+    from simpick.coulomb import braking_deceleration
+    from simpick.robot import load_robot
+    from test_robot import write_skid_robot
+
+    spec = load_robot(write_skid_robot(tmp_path))
+    one = contact_layout(spec, 1)
+    assert one.sides == ("left", "right", "skid") and one.friction.tolist() == [1.0, 1.0, 1.0]
+    # three supports: the skid's load from moments about the axle
+    x_s = spec.skids[0].position[0]
+    assert one.load_shares()[2] == pytest.approx(spec.com[0] / x_s, rel=1e-9)
+    # the skid drags: spinning in place, the wheels must slip and the robot turns slower than
+    # no-slip kinematics; every contact slides when the wheels lock: mu g
+    assert yaw_rate_gain(one, 0.0, 1.0, spec.track) < yaw_rate_gain(contact_layout(spec, 1, caster_friction=0.0),
+                                                                      0.0, 1.0, spec.track)
+    # its centre of mass 0.03 m behind the axle, 0.04 m up: the centre of pressure moves 0.3 x 0.04 m
+    # forward when braking at mu 0.3, still behind the axle: mu g. At mu 0.8 it passes the axle
+    h = spec.com[2] + spec.base_height
+    assert spec.com[0] + 0.3 * h < 0 < spec.com[0] + 0.8 * h
+    assert braking_deceleration(spec, 0.3) == (pytest.approx(0.3 * 9.81), None)
+    a, why = braking_deceleration(spec, 0.8)
+    assert math.isnan(a) and "pitches onto its nose" in why

@@ -32,10 +32,31 @@ class Physics(Strict):
     ground_friction: NonNegative
 
 
+class RobotWheel(Strict):
+    joint: str
+    side: Literal["left", "right"]
+
+
+class RobotOverrides(Strict):
+    """Figures that replace the description's (simpick.robot.OVERRIDABLE); the engines still
+    simulate the description, these feed the controller and the mechanics."""
+    wheel_radius: Positive | None = None
+    track: Positive | None = None
+    wheelbase: NonNegative | None = None
+    mass: Positive | None = None
+    com: tuple[Finite, Finite, Finite] | None = None
+    base_height: Positive | None = None
+    imu_mount: tuple[Finite, Finite, Finite] | None = None
+
+
 class Robot(Strict):
-    urdf: str
+    urdf: str  # a URDF or xacro file (simpick.robot.load_robot)
+    label: str | None = None  # the robot's name in the report (default: the URDF's <robot name>)
     track: Positive
     max_wheel_torque: Positive
+    imu_link: str | None = None  # default: the first link with "imu" in its name, else the base
+    wheels: list[RobotWheel] | None = None  # the driven joints and sides, instead of finding them
+    overrides: RobotOverrides | None = None
 
 
 class Imu(Strict):
@@ -107,6 +128,9 @@ class DeclaredDataset(Strict):
 
 class RealData(Strict):
     dataset: str
+    # the robot the committed segments and the dataset folders were recorded on, as its URDF names
+    # it (<robot name>): they are compared with the study only when robot.urdf is that robot
+    robot: str | None = None
     segments: str
     segment_rules: SegmentRules
     window: Positive
@@ -381,6 +405,28 @@ class Study(Strict):
                           ("qualitative", self.qualitative)):
             if not Path(path).is_file():
                 raise ValueError(f"{key}: file {path!r} does not exist")
+        # the robot is read here, at planning time: a description no job could read stops the run
+        # before any job starts (and before Snakemake deletes any output to rerun it)
+        from simpick.errors import InputError
+        from simpick.robot import load_from_config
+
+        try:
+            robot = load_from_config(self.robot.model_dump(exclude_none=True))
+        except InputError as exc:
+            raise ValueError(f"robot.urdf: {exc}") from None
+        if self.real_data.robot is not None and robot.name != self.real_data.robot:
+            # the real data are another robot's: nothing may rest on them
+            theirs = (f"the real data (real_data.dataset {self.real_data.dataset!r}) were recorded on robot "
+                      f"{self.real_data.robot!r}, not on this study's {robot.name!r} ({self.robot.urdf})")
+            if self.accuracy.reference == "real":
+                raise ValueError(f"accuracy.reference is 'real', but {theirs}; set accuracy.reference: paper, "
+                                 "or own with own_logs recorded on your robot")
+            if self.borealtc_dir is not None:
+                raise ValueError(f"borealtc_dir is set, but {theirs}; leave borealtc_dir out")
+            if self.calibration is not None and self.calibration.enabled:
+                raise ValueError(f"calibration.enabled is true, but calibration runs on the real data and {theirs}")
+            if self.sweep is not None:
+                raise ValueError(f"sweep is set, but the sweep runs the real segments and {theirs}")
         return self
 
 

@@ -1,26 +1,31 @@
 """Quasi-static skid-steer on flat rigid ground with Coulomb friction (METHOD.md section 6).
 
-At steady state a skid-steered robot's body twist (vx, vy, wz) is the one for which the
-friction forces of all wheel contacts, each ``-mu N_i`` times the unit slip vector of its
-contact point, and their yaw moment sum to zero. Those sums are the gradient of the total
-frictional power ``D(q) = mu sum_i N_i |s_i(q)|`` with ``s_i = (vx - wz y_i - u_i,
-vy + wz x_i)`` (u_i the rim speed of the contact's wheel), so the steady twist is the
-minimiser of a convex function: found here with SciPy, whatever the loads and layout.
+At steady state a wheeled robot's body twist (vx, vy, wz) is the one for which the friction
+forces of all wheel contacts, each ``-mu_i N_i`` times the unit slip vector of its contact
+point, and their yaw moment sum to zero. Those sums are the gradient of the total frictional
+power ``D(q) = sum_i mu_i N_i |s_i(q)|`` with ``s_i = (vx - wz y_i - u_i, vy + wz x_i)`` (u_i
+the rim speed of the contact's wheel), so the steady twist is the minimiser of a convex
+function: found here with SciPy, whatever the number of contacts, loads and layout. A common
 ``mu`` scales D and drops out; D is positively homogeneous in the rim speeds, so the twist
 scales with the command and a replay needs the solution on one circle of (left, right)
 commands only (:class:`CoulombTable`).
 
-The contact layout and loads come from the robot description itself
-(:func:`contact_layout`): each wheel's contact points across its width under its joint, and
-static loads from the mass distribution of every link, shared among the contact points as
-a rigid body on equally stiff contacts does (the minimum-norm load set that balances weight
-and the two tipping moments: loads linear in position).
+The contact layout and loads come from the robot description (:func:`contact_layout`, through
+:class:`simpick.robot.RobotSpec`): each wheel's contact points across its width under its
+centre, and static loads from the whole robot's mass and centre of mass, shared among the
+contact points as a rigid body on equally stiff contacts does (the minimum-norm load set that
+balances weight and the two tipping moments: loads linear in position; exact for three
+contacts, the statically indeterminate four or more shared as for the Husky). A caster on a
+swivel is frictionless (it turns to roll wherever it is pushed: load, no force); a passive wheel
+without a swivel rolls freely but resists lateral slip; ``caster_friction`` replaces both by
+sliding friction of that fraction of the ground's. For a two-wheel differential drive on
+frictionless casters no contact need slip, and the gain is 1 (up to the scuffing across each
+wheel's width).
 """
 
 from __future__ import annotations
 
 import math
-import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -28,98 +33,105 @@ import numpy as np
 
 from simpick.errors import InputError
 from simpick.motions import side_speeds
-from simpick.robot import WHEEL_SIDES, RobotSpec, load_robot
+from simpick.robot import SKID_REACH, RobotSpec, load_robot
 
 GRAVITY = 9.81
 
 
 @dataclass(frozen=True)
 class ContactLayout:
-    """Ground contact points in base_link's horizontal plane and their normal loads."""
+    """Ground contact points in the base frame's horizontal plane and their normal loads."""
 
-    points: np.ndarray  # (n, 2) x, y in m, relative to base_link
+    points: np.ndarray  # (n, 2) x, y in m, relative to the base frame
     loads: np.ndarray  # (n,) N
-    wheel: np.ndarray  # (n,) index 0..3 (FL, FR, RL, RR) of the wheel each point belongs to
+    wheel: np.ndarray  # (n,) index into ``sides`` of the wheel each point belongs to
     com: tuple[float, float]  # x, y of the whole robot's centre of mass, m
     mass: float  # kg
+    # per wheel: "left"/"right" (driven, in the robot's command order) or "caster"
+    sides: tuple[str, ...] = ("left", "right", "left", "right")
+    # (n,) friction of each point relative to the ground's (0: frictionless caster)
+    friction: np.ndarray | None = None
+    # (n,) True where the wheel rolls freely (a passive wheel: friction across it only)
+    free_roll: np.ndarray | None = None
 
     def load_shares(self) -> np.ndarray:
-        """Fraction of the weight on each wheel (FL, FR, RL, RR)."""
-        return np.bincount(self.wheel, weights=self.loads, minlength=4) / self.loads.sum()
+        """Fraction of the weight on each wheel (command order, then casters)."""
+        return np.bincount(self.wheel, weights=self.loads, minlength=len(self.sides)) / self.loads.sum()
 
-
-def _xyz(element, attribute: str = "xyz") -> np.ndarray:
-    origin = element.find("origin") if element is not None else None
-    if origin is None or origin.get(attribute) is None:
-        return np.zeros(3)
-    return np.array([float(v) for v in origin.get(attribute).split()])
+    def rim_speeds(self, left, right) -> np.ndarray:
+        """Rim speed per wheel (0 for casters) for the sides' rim speeds."""
+        return np.array([left if s == "left" else right if s == "right" else 0.0 for s in self.sides], dtype=float)
 
 
 def mass_distribution(urdf: str | Path) -> tuple[float, np.ndarray]:
-    """Total mass and centre of mass (in base_link, joints at zero) of every link."""
-    root = ET.parse(urdf).getroot()
-    joints = {j.find("child").get("link"): j for j in root.iter("joint")}
-    total, moment = 0.0, np.zeros(3)
-    for link in root.iter("link"):
-        inertial = link.find("inertial")
-        if inertial is None:
-            continue
-        mass = float(inertial.find("mass").get("value"))
-        # Link frame origin in base_link: sum of joint offsets up the tree (no joint rotates
-        # a child's origin in this robot; a joint rpy would need composing here).
-        position, name = _xyz(inertial), link.get("name")
-        while name in joints:
-            joint = joints[name]
-            if np.any(_xyz(joint, "rpy")):
-                raise InputError(str(urdf), f"joint {joint.get('name')!r} has a rotated origin, which the "
-                                 "Coulomb model's load computation does not handle")
-            position = position + _xyz(joint)
-            name = joint.find("parent").get("link")
-        total += mass
-        moment += mass * position
-    return total, moment / total
+    """Total mass and centre of mass (in the base frame, joints at zero) of every link."""
+    robot = load_robot(urdf)
+    return robot.mass, np.asarray(robot.com)
 
 
-def contact_layout(robot: RobotSpec, points_per_wheel: int | None = None) -> ContactLayout:
+def contact_layout(robot: RobotSpec, points_per_wheel: int | None = None,
+                   caster_friction: float | None = None) -> ContactLayout:
     """Wheel contact points and static loads of ``robot`` on flat ground.
 
     ``points_per_wheel``: None spreads pressure uniformly across each wheel's width (the line
     contact of a rigid cylinder on a plane, here 21 points); 1 puts one point under the wheel
-    centre; 2 one at each edge (what several engines generate for a cylinder on a plane).
+    centre; 2 one at each edge (what several engines generate for a cylinder on a plane). A
+    sphere wheel has one point. ``caster_friction``: see the module docstring.
     """
-    root = ET.parse(robot.urdf).getroot()
-    joints = {j.get("name"): j for j in root.iter("joint")}
-    links = {lk.get("name"): lk for lk in root.iter("link")}
-    mass, com = mass_distribution(robot.urdf)
     n = 21 if points_per_wheel is None else int(points_per_wheel)
-    points, wheel = [], []
-    for index, name in enumerate(robot.wheel_joints):
-        x, y, _ = _xyz(joints[name])
-        cylinder = links[joints[name].find("child").get("link")].find("collision/geometry/cylinder")
-        width = float(cylinder.get("length"))
-        offsets = [0.0] if n == 1 else np.linspace(-width / 2, width / 2, n)
+    points, wheel, friction, free = [], [], [], []
+    sides = []
+    for index, w in enumerate(robot.wheels):
+        x, y, _ = w.position
+        offsets = [0.0] if (n == 1 or w.shape == "sphere") else np.linspace(-w.width / 2, w.width / 2, n)
+        if w.driven:
+            mu, rolls = 1.0, False
+        elif caster_friction is not None:
+            mu, rolls = float(caster_friction), False
+        else:
+            mu, rolls = (0.0, False) if w.swivel else (1.0, True)
         for dy in offsets:
             points.append((x, y + dy))
             wheel.append(index)
+            friction.append(mu)
+            free.append(rolls)
+        sides.append(w.side if w.driven else "caster")
+    for skid in robot.skids:  # a skid or ball caster fixed to the base slides: the ground's friction
+        points.append(skid.position[:2])
+        wheel.append(len(sides))
+        friction.append(1.0 if caster_friction is None else float(caster_friction))
+        free.append(False)
+        sides.append("skid")
     points = np.asarray(points)
+    mass, com = robot.mass, robot.com
     # Rigid body on equally stiff contacts: loads are linear in position, the minimum-norm
     # solution of (sum N = W, sum N x = W xc, sum N y = W yc).
     a = np.vstack([np.ones(len(points)), points[:, 0], points[:, 1]])
+    if np.linalg.matrix_rank(a) < 3:  # every contact on one line: two wheels and nothing else touching
+        raise InputError(str(robot.source), "the robot stands on one line of contacts (its driven wheels' axle) "
+                         f"with no caster or skid within {SKID_REACH * 1000:.0f} mm of the ground: it would tip",
+                         "give it a caster wheel on a swivel, or a collision shape reaching the ground")
     weight = mass * GRAVITY
     loads = a.T @ np.linalg.solve(a @ a.T, weight * np.array([1.0, com[0], com[1]]))
     if np.any(loads <= 0):
-        raise InputError(str(robot.urdf), "the centre of mass lies outside the wheelbase: a wheel would lift")
-    return ContactLayout(points=points, loads=loads, wheel=np.asarray(wheel), com=(com[0], com[1]), mass=mass)
+        lifted = sorted({robot.wheels[i].joint for i in np.asarray(wheel)[loads <= 0]})
+        raise InputError(str(robot.source), f"the centre of mass ({com[0]:.3f}, {com[1]:.3f}) m lies outside the "
+                         f"wheels' support polygon: wheels {lifted} would lift")
+    casters = any(not w.driven for w in robot.wheels) or bool(robot.skids)
+    return ContactLayout(points=points, loads=loads, wheel=np.asarray(wheel), com=(com[0], com[1]), mass=mass,
+                         sides=tuple(sides), friction=np.asarray(friction) if casters else None,
+                         free_roll=np.asarray(free) if casters else None)
 
 
 def equal_loads(layout: ContactLayout) -> ContactLayout:
     """The same contact points with the weight shared equally (a centred centre of mass)."""
     loads = np.full(len(layout.loads), layout.loads.sum() / len(layout.loads))
-    return ContactLayout(points=layout.points, loads=loads, wheel=layout.wheel, com=(0.0, 0.0), mass=layout.mass)
+    return ContactLayout(points=layout.points, loads=loads, wheel=layout.wheel, com=(0.0, 0.0), mass=layout.mass,
+                         sides=layout.sides, friction=layout.friction, free_roll=layout.free_roll)
 
 
 def steady_twist(layout: ContactLayout, rim_speeds) -> np.ndarray:
-    """Body twist (vx, vy, wz) at base_link under rim speeds (FL, FR, RL, RR) in m/s."""
+    """Body twist (vx, vy, wz) at the base frame under rim speeds per wheel (layout.sides) in m/s."""
     from scipy.optimize import minimize
 
     u = np.asarray(rim_speeds, dtype=float)[layout.wheel]
@@ -128,11 +140,14 @@ def steady_twist(layout: ContactLayout, rim_speeds) -> np.ndarray:
         return np.zeros(3)
     x, y = layout.points[:, 0], layout.points[:, 1]
     weights = layout.loads / layout.loads.sum()
+    if layout.friction is not None:  # casters: their own friction (0: load, no force)
+        weights = weights * layout.friction
+    along = 1.0 if layout.free_roll is None else (~layout.free_roll).astype(float)
     eps = 1e-9  # slip speed (relative) below which |s| is rounded: keeps D differentiable
     un = u / scale
 
     def power(q):
-        sx = q[0] - q[2] * y - un
+        sx = (q[0] - q[2] * y - un) * along
         sy = q[1] + q[2] * x
         norm = np.sqrt(sx * sx + sy * sy + eps * eps)
         ex, ey = weights * sx / norm, weights * sy / norm
@@ -146,7 +161,7 @@ def steady_twist(layout: ContactLayout, rim_speeds) -> np.ndarray:
 def yaw_rate_gain(layout: ContactLayout, v: float, w: float, track: float, wheel_radius: float | None = None) -> float:
     """Steady yaw rate / commanded w under the paper's controller (Eq. 1, effective track)."""
     left, right = side_speeds(v, w, track)
-    return float(steady_twist(layout, [left, right, left, right])[2] / w)
+    return float(steady_twist(layout, layout.rim_speeds(left, right))[2] / w)
 
 
 class CoulombTable:
@@ -159,7 +174,8 @@ class CoulombTable:
 
     def __init__(self, layout: ContactLayout, angles: int = 1440):
         self.angles = np.linspace(-math.pi, math.pi, angles + 1)
-        self.twists = np.array([steady_twist(layout, [math.cos(a), math.sin(a)] * 2) for a in self.angles])
+        self.twists = np.array([steady_twist(layout, layout.rim_speeds(math.cos(a), math.sin(a)))
+                                for a in self.angles])
 
     def twist(self, left, right) -> np.ndarray:
         """(n, 3) twists for arrays of left and right rim speeds (m/s)."""
@@ -174,5 +190,39 @@ def load_layout(urdf: str | Path, points_per_wheel: int | None = None) -> Contac
     return contact_layout(load_robot(urdf), points_per_wheel)
 
 
-__all__ = ["ContactLayout", "CoulombTable", "contact_layout", "equal_loads", "load_layout", "mass_distribution",
-           "steady_twist", "yaw_rate_gain", "WHEEL_SIDES"]
+def braking_deceleration(robot: RobotSpec, mu: float) -> tuple[float, str | None]:
+    """Steady deceleration (m/s^2) of ``robot`` sliding forward on its locked driven wheels,
+    casters rolling free, with the pitch load transfer of a rigid body; and why it does not
+    apply (None if it does).
+
+    Every wheel locked (no casters): mu g. With casters, only the driven wheels' load N_d brakes:
+    moments about the centre of mass (height h above ground) give, for driven wheels at x_d and
+    casters at x_c, N_d = m g (x_c - x_g) / (x_c - x_d + mu h) and a = mu N_d / m.
+    """
+    casters = robot.casters
+    x_g, h = robot.com[0], robot.com[2] + robot.base_height
+    if not casters:  # every contact slides (skids too): mu g, if none lifts
+        # moments about the centre of mass: the centre of pressure moves forward by mu h, which
+        # must stay behind the front-most contact, else the robot pitches onto its nose
+        front = max([w.position[0] for w in robot.driven] + [s.position[0] for s in robot.skids])
+        if x_g + mu * h > front:
+            return math.nan, (f"braking at mu {mu:g} moves the centre of pressure {mu * h:.3f} m forward, ahead of "
+                              f"the front-most contact (x = {front:.3f} m, centre of mass at {x_g:.3f} m, {h:.3f} m "
+                              "high): the robot pitches onto its nose, which the sliding case does not describe")
+        return mu * GRAVITY, None
+    if robot.skids:
+        return math.nan, ("the robot has both free casters and sliding skids, for which the sliding case "
+                          "has no analytic value here")
+    driven = robot.driven
+    x_d = float(np.mean([w.position[0] for w in driven]))
+    x_c = float(np.mean([w.position[0] for w in casters]))
+    share = (x_c - x_g) / (x_c - x_d + mu * h)
+    if not 0 < share < 1:
+        return math.nan, (f"braking on the driven wheels alone lifts the {'casters' if share >= 1 else 'driven wheels'} "
+                          f"(driven-wheel load share {share:.2f} with the centre of mass {h:.3f} m high): the robot "
+                          "pitches over, which the sliding case does not describe")
+    return mu * GRAVITY * share, None
+
+
+__all__ = ["ContactLayout", "CoulombTable", "braking_deceleration", "contact_layout", "equal_loads", "load_layout",
+           "mass_distribution", "steady_twist", "yaw_rate_gain"]

@@ -23,7 +23,7 @@ from simpick import terrain as terrain_io
 from simpick.engines import get_engine
 from simpick.engines.base import Scenario
 from simpick.motions import constant_commands
-from simpick.robot import load_robot
+from simpick.robot import load_from_config
 
 DEFINITION = ("CPU load = process CPU time (user + system) spent stepping / simulated time, "
               "in % of one core: the load the engine would put on one core if paced to real time. "
@@ -39,14 +39,14 @@ def convoy(robots: int, start: tuple[float, float, float], spacing: float) -> tu
 def measure(engine_name: str, *, urdf: str, terrain_file: str, motion: dict, timestep: float,
             ground_friction: float, max_wheel_torque: float, track: float, engine_settings: dict,
             duration: float, repeats: int, robots_average: int, robots_intense: int,
-            spacing: float, limits=None) -> dict:
+            spacing: float, limits=None, robot_options: dict | None = None) -> dict:
     """CPU load per scenario; with ``limits`` (a :class:`simpick.health.HealthLimits`) every
     repeat is health-checked like a simulation job (on the lead robot, the one the engine
     records), and a failed repeat fails the measurement (``health``), so the scores leave it out."""
     from simpick.health import check
 
     engine = get_engine(engine_name)
-    robot = load_robot(urdf)
+    robot = load_from_config({**(robot_options or {}), "urdf": urdf})
     terrain = terrain_io.load(terrain_file)
     result = {"engine": engine_name, "engine_version": engine.version(), "definition": DEFINITION,
               "cpu_count": psutil.cpu_count(), "affinity": sorted(os.sched_getaffinity(0))}
@@ -55,8 +55,7 @@ def measure(engine_name: str, *, urdf: str, terrain_file: str, motion: dict, tim
         scenario = Scenario(robot=robot, terrain=terrain, ground_friction=ground_friction,
                             timestep=timestep, max_wheel_torque=max_wheel_torque,
                             starts=convoy(robots, tuple(motion["start"]), spacing), settings=engine_settings)
-        commands = constant_commands(motion["v"], motion["w"], duration, timestep, track,
-                                     robot.wheel_radius, robots)
+        commands = constant_commands(motion["v"], motion["w"], duration, timestep, track, robot, robots)
         loads, reasons = [], []
         for _ in range(repeats):
             record = engine.simulate(scenario, commands)

@@ -16,12 +16,17 @@ def side_speeds(v: float, w: float, track: float) -> tuple[float, float]:
 
 
 def constant_commands(v: float, w: float, duration: float, timestep: float, track: float,
-                      wheel_radius: float, robots: int = 1) -> np.ndarray:
-    """(steps, robots, 4) wheel angular speeds, wheels ordered FL, FR, RL, RR."""
+                      wheel_radius, robots: int = 1) -> np.ndarray:
+    """(steps, robots, driven wheels) joint speeds. ``wheel_radius``: a
+    :class:`simpick.robot.RobotSpec` (its driven wheels, sides and axis signs), or a radius for
+    the Husky's four wheels ordered FL, FR, RL, RR."""
     steps = int(round(duration / timestep))
     left, right = side_speeds(v, w, track)
-    per_robot = np.array([left, right, left, right]) / wheel_radius
-    return np.broadcast_to(per_robot, (steps, robots, 4)).copy()
+    if hasattr(wheel_radius, "joint_speeds"):
+        per_robot = wheel_radius.joint_speeds(left, right)
+    else:
+        per_robot = np.array([left, right, left, right]) / wheel_radius
+    return np.broadcast_to(per_robot, (steps, robots, len(per_robot))).copy()
 
 
 def arc_start_over_strip(v: float, w: float, gain: float, lowest: tuple[float, float],

@@ -109,7 +109,8 @@ def simulate_segment(seg: pd.Series, urdf: str, params: dict) -> tuple[pd.DataFr
                            track=params["robot"]["track"], max_wheel_torque=params["robot"]["max_wheel_torque"],
                            timestep=params["physics"]["timestep"], ground_friction=friction,
                            engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
-                           seed=int(params["seed"]), limits=HealthLimits(**params["health"]))
+                           seed=int(params["seed"]), limits=HealthLimits(**params["health"]),
+                           robot_options=params["robot"])
     meta.update({"dataset": seg.dataset, "run": seg.run, "segment": seg.name,
                  "window": [float(seg.settle), float(seg.settle + seg.duration)],
                  "friction_source": params["class"].get("source", ""),
@@ -208,17 +209,17 @@ def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> t
     """Drive one engine with a real run's recorded wheel speeds (zero-order hold, from rest)."""
     from simpick.health import HealthLimits
     from simpick.imu import model_at_rate
-    from simpick.robot import load_robot
+    from simpick.robot import load_from_config
     from simpick.simulate import run_commands, stable_seed
 
-    robot = load_robot(urdf)
+    robot = load_from_config({**params["robot"], "urdf": urdf})
     dt = params["physics"]["timestep"]
     cmd = log.wheel_commands(params["robot"]["track"])
     end = float(min(log.imu.time.iloc[-1], cmd.time.iloc[-1]))
     t = dt * np.arange(int(round((end if duration is None else min(end, duration)) / dt)))
     held = np.clip(np.searchsorted(cmd.time.to_numpy(), t, side="right") - 1, 0, len(cmd) - 1)
     left, right = cmd.v_left.to_numpy()[held], cmd.v_right.to_numpy()[held]
-    wheels = np.stack([left, right, left, right], axis=1) / robot.wheel_radius
+    wheels = robot.joint_speeds(left, right)  # (steps, driven wheels): the Husky's [l, r, l, r] / radius
     friction = params["class"]["friction"]
     frame, meta = run_commands(params["engine"], wheels, robot=robot,
                                terrain=flat_terrain(params["terrain_class"], friction), start=(0.0, 0.0, 0.0),

@@ -20,7 +20,7 @@ from simpick.engines.base import PhysicsRecord, Scenario
 from simpick.health import HealthLimits, check
 from simpick.imu import ImuModel, block_average, euler_rpy, interval_average, rotation_matrices, sensor_output
 from simpick.motions import constant_commands
-from simpick.robot import RobotSpec, load_robot
+from simpick.robot import RobotSpec, load_from_config
 from simpick.traces import write_trace
 
 
@@ -46,7 +46,7 @@ class Case:
 
 
 def to_trace(record: PhysicsRecord, commands: np.ndarray, timestep: float, imu: ImuModel,
-             rng: np.random.Generator) -> dict[str, np.ndarray]:
+             rng: np.random.Generator, robot: RobotSpec | None = None) -> dict[str, np.ndarray]:
     """Physics-rate record of robot 0 -> IMU-rate trace columns (see simpick.traces.UNITS)."""
     ratio = 1.0 / (imu.rate_hz * timestep)
     block = int(round(ratio))
@@ -68,6 +68,14 @@ def to_trace(record: PhysicsRecord, commands: np.ndarray, timestep: float, imu: 
     body_vel = np.einsum("nji,nj->ni", rotation_matrices(quat), vel)
     body_rate = np.einsum("nji,nj->ni", rotation_matrices(quat), record.angular_velocity[at])
     cmd = commands[at, 0]
+    # The trace's wheel columns, for any robot: forward-signed joint speeds (a mirrored joint's
+    # sign undone) of the front-most (fl, fr) and rear-most (rl, rr) driven wheel of each side; with
+    # two driven wheels, front and rear are the same wheel. The Husky: its FL, FR, RL, RR as they are.
+    n = record.wheel_speed.shape[1]
+    signs = np.ones(n) if robot is None else np.array([w.axis_sign for w in robot.driven], dtype=float)
+    first, last = (0, 1), (n - 2, n - 1)
+    signed = commands[at, 0] * signs if robot is not None and np.any(signs != 1) else cmd
+    wheel = record.wheel_speed[at] * signs if robot is not None and np.any(signs != 1) else record.wheel_speed[at]
     frame = {
         "time": time,
         "ax": accel[:, 0], "ay": accel[:, 1], "az": accel[:, 2],
@@ -76,9 +84,9 @@ def to_trace(record: PhysicsRecord, commands: np.ndarray, timestep: float, imu: 
         "roll": rpy[:, 0], "pitch": rpy[:, 1], "yaw": np.unwrap(rpy[:, 2]),
         "vx": vel[:, 0], "vy": vel[:, 1], "vz": vel[:, 2],
         "v_forward": body_vel[:, 0], "yaw_rate": body_rate[:, 2],
-        "cmd_left": cmd[:, 0], "cmd_right": cmd[:, 1],
-        "wheel_fl": record.wheel_speed[at, 0], "wheel_fr": record.wheel_speed[at, 1],
-        "wheel_rl": record.wheel_speed[at, 2], "wheel_rr": record.wheel_speed[at, 3],
+        "cmd_left": signed[:, first[0]], "cmd_right": signed[:, first[1]],
+        "wheel_fl": wheel[:, first[0]], "wheel_fr": wheel[:, first[1]],
+        "wheel_rl": wheel[:, last[0]], "wheel_rr": wheel[:, last[1]],
     }
     return frame
 
@@ -87,14 +95,14 @@ def run_commands(engine_name: str, commands: np.ndarray, *, robot: RobotSpec, te
                  start: tuple[float, float, float], timestep: float, ground_friction: float,
                  max_wheel_torque: float, engine_settings: dict, imu: ImuModel, noise_seed: int,
                  limits: HealthLimits) -> tuple[dict[str, np.ndarray], dict]:
-    """Drive robot 0 with ``commands`` (steps, 4) wheel speeds; returns the trace and its metadata."""
+    """Drive robot 0 with ``commands`` (steps, driven wheels) joint speeds; returns the trace and its metadata."""
     engine = get_engine(engine_name)
     scenario = Scenario(robot=robot, terrain=terrain, ground_friction=ground_friction, timestep=timestep,
                         max_wheel_torque=max_wheel_torque, starts=(tuple(start),), settings=engine_settings)
-    commands = commands.reshape(len(commands), 1, 4)
+    commands = commands.reshape(len(commands), 1, -1)
     record = engine.simulate(scenario, commands)
     health = check(record, limits, commands[:, 0])
-    frame = to_trace(record, commands, timestep, imu, np.random.default_rng(noise_seed))
+    frame = to_trace(record, commands, timestep, imu, np.random.default_rng(noise_seed), robot)
     sim_time = record.steps * timestep
     metadata = {
         "engine": engine_name, "engine_version": engine.version(), "timestep": timestep,
@@ -110,11 +118,13 @@ def run_commands(engine_name: str, commands: np.ndarray, *, robot: RobotSpec, te
 def run_case(case: Case, *, urdf: str | Path, terrain_file: str | Path | None = None, terrain: dict | None = None,
              track: float, max_wheel_torque: float, timestep: float, ground_friction: float,
              engine_settings: dict, imu: ImuModel, seed: int,
-             limits: HealthLimits = HealthLimits()) -> tuple[dict[str, np.ndarray], dict]:
-    """One constant-command case; the terrain comes from a file or, already loaded, as a dict."""
-    robot = load_robot(urdf)
+             limits: HealthLimits = HealthLimits(), robot_options: dict | None = None
+             ) -> tuple[dict[str, np.ndarray], dict]:
+    """One constant-command case; the terrain comes from a file or, already loaded, as a dict.
+    ``robot_options``: the config's ``robot`` block (imu_link, wheels, overrides)."""
+    robot = load_from_config({**(robot_options or {}), "urdf": urdf})
     terrain = terrain if terrain is not None else terrain_io.load(terrain_file)
-    commands = constant_commands(case.v, case.w, case.duration, timestep, track, robot.wheel_radius)[:, 0]
+    commands = constant_commands(case.v, case.w, case.duration, timestep, track, robot)[:, 0]
     noise_seed = stable_seed(seed, case.engine, case.terrain, case.motion)
     frame, metadata = run_commands(case.engine, commands, robot=robot, terrain=terrain, start=case.start,
                                    timestep=timestep, ground_friction=ground_friction,

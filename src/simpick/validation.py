@@ -48,13 +48,13 @@ from typing import Any
 
 import numpy as np
 
-from simpick.coulomb import contact_layout, yaw_rate_gain
+from simpick.coulomb import braking_deceleration as coulomb_braking, contact_layout, yaw_rate_gain
 from simpick.engines import get_engine
 from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario
 from simpick.errors import InputError
 from simpick.imu import block_average, euler_rpy, rotation_matrices
 from simpick.motions import side_speeds
-from simpick.robot import RobotSpec, load_robot
+from simpick.robot import RobotSpec, load_from_config
 
 KINDS = ("yaw_gain", "straight", "slide", "incline", "rest")
 FLAT = {"schema": "simpick.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": 0.0}
@@ -98,12 +98,12 @@ def _scenario(setup: Setup, mu: float, gravity=(0.0, 0.0, -GRAVITY), heading: fl
 
 
 def _commands(setup: Setup, segments: list[tuple[float, float, float]]) -> np.ndarray:
-    """(steps, 1, 4) wheel speeds for consecutive (duration, v, w) pieces."""
+    """(steps, 1, driven wheels) joint speeds for consecutive (duration, v, w) pieces."""
     rows = []
     for duration, v, w in segments:
         left, right = side_speeds(v, w, setup.track)
         steps = int(round(duration / setup.timestep))
-        rows.append(np.tile(np.array([left, right, left, right]) / setup.robot.wheel_radius, (steps, 1)))
+        rows.append(np.tile(setup.robot.joint_speeds(left, right), (steps, 1)))
     return np.concatenate(rows)[:, None, :]
 
 
@@ -152,7 +152,8 @@ def _straight(setup: Setup, p: dict):
                                                _commands(setup, [(duration, v, 0.0)]))
     half = record.steps // 2
     speed = body_velocity(record)[half:, 0].mean()
-    rolling = record.wheel_speed[half:].mean() * setup.robot.wheel_radius
+    signs = np.array([w.axis_sign for w in setup.robot.driven], dtype=float)  # mirrored joints: forward-signed
+    rolling = (record.wheel_speed[half:] * signs).mean() * setup.robot.wheel_radius
     yaw = np.unwrap(euler_rpy(record.quaternion)[:, 2])
     return record, [_check("speed_over_wheel_speed", speed / rolling, 1.0, v=v, mu=mu),
                     _check("heading_drift", yaw[-1] - yaw[half], 0.0, v=v, mu=mu)]
@@ -164,7 +165,8 @@ def _slide(setup: Setup, p: dict):
                                                _commands(setup, [(cruise, v, 0.0), (2.0, 0.0, 0.0)]))
     brake = int(round(cruise / setup.timestep))
     deceleration = braking_deceleration(body_velocity(record)[brake:, 0], setup.timestep)
-    return record, [_check("deceleration", deceleration, mu * GRAVITY, v=v, mu=mu, heading=heading)]
+    analytic, _ = braking_deceleration_of(setup.robot, mu)  # mu g unless casters roll free
+    return record, [_check("deceleration", deceleration, analytic, v=v, mu=mu, heading=heading)]
 
 
 def _incline(setup: Setup, p: dict):
@@ -207,6 +209,22 @@ def _rest(setup: Setup, p: dict):
                     _check("creep_distance", creep, 0.0, mu=mu)]
 
 
+# --- robot-generic: where a case's analytic value does not apply to the robot studied ---------
+
+def braking_deceleration_of(robot: RobotSpec, mu: float) -> tuple[float, str | None]:
+    return coulomb_braking(robot, mu)
+
+
+def not_applicable(robot: RobotSpec, kind: str, params: dict) -> str | None:
+    """Why a case's analytic value does not describe ``robot`` (None: it does)."""
+    if kind == "slide":
+        return braking_deceleration_of(robot, params["mu"])[1]
+    if kind == "incline" and robot.casters:
+        return ("the robot's casters roll freely, so only its driven wheels hold it on the slope, and the "
+                "analytic values (every wheel locked: parked below atan(mu), sliding above it) do not apply")
+    return None
+
+
 RUNNERS = {"yaw_gain": _yaw_gain, "straight": _straight, "slide": _slide, "incline": _incline, "rest": _rest}
 
 
@@ -217,6 +235,11 @@ def run_case(setup: Setup, name: str, params: dict) -> dict:
     if kind not in RUNNERS:
         raise InputError(f"validation.cases.{name}.kind", f"{kind!r} is not a case kind", f"use one of {list(KINDS)}")
     engine = get_engine(setup.engine)
+    reason = not_applicable(setup.robot, kind, params)
+    if reason is not None:  # skipped, with the reason in the summary and the report
+        return {"engine": setup.engine, "engine_version": engine.version(), "case": name, "kind": kind,
+                "params": params, "checks": [], "status": "skipped", "reasons": [f"not applicable: {reason}"],
+                "steps": 0, "sim_time": 0.0, "steps_per_s": None, "wall_time": 0.0}
     start = time.perf_counter()
     record, checks = RUNNERS[kind](setup, params)
     wall = time.perf_counter() - start
@@ -234,7 +257,8 @@ def run_case(setup: Setup, name: str, params: dict) -> dict:
 
 def validate_job(output: str | Path, urdf: str | Path, params: dict) -> dict:
     """The workflow's per-(engine, case) job: run and write the JSON record."""
-    setup = Setup(engine=params["engine"], robot=load_robot(urdf), timestep=params["physics"]["timestep"],
+    setup = Setup(engine=params["engine"], robot=load_from_config({**params["robot"], "urdf": urdf}),
+                  timestep=params["physics"]["timestep"],
                   max_wheel_torque=params["robot"]["max_wheel_torque"], track=params["robot"]["track"],
                   settings=params["engine_settings"])
     result = run_case(setup, params["case_name"], params["case"])
@@ -270,7 +294,8 @@ def invariance_rows(rows: list[dict], tolerances: dict) -> list[dict]:
     (see the module docstring). A group's check fails when any of its cases failed."""
     import pandas as pd
 
-    gains = pd.DataFrame([r for r in rows if r["quantity"] == "yaw_rate_gain" and r["w"] is not None])
+    gains = pd.DataFrame([r for r in rows if r["quantity"] == "yaw_rate_gain" and r["w"] is not None
+                          and r["status"] != "skipped"])
     if gains.empty:
         return []
     gains = gains.astype({"v": float, "w": float, "mu": float})
@@ -304,6 +329,16 @@ def summarise(results: list[dict], tolerances: dict[str, float]):
 
     rows = []
     for result in results:
+        if result["status"] == "skipped":  # not applicable to this robot: one row with the reason
+            rows.append({"engine": result["engine"], "case": result["case"], "kind": result["kind"],
+                         "quantity": SKIPPED_QUANTITY[result["kind"]], "unit": QUANTITIES[SKIPPED_QUANTITY[result["kind"]]][0],
+                         "engine_value": math.nan, "analytic_value": math.nan, "error": math.nan,
+                         "error_kind": QUANTITIES[SKIPPED_QUANTITY[result["kind"]]][1], "tolerance": math.nan,
+                         "passed": False, "status": "skipped", "reasons": "; ".join(result["reasons"]),
+                         "v": result["params"].get("v"), "w": result["params"].get("w"),
+                         "mu": result["params"].get("mu"), "heading": result["params"].get("heading"),
+                         "steps_per_s": None, "covers": ""})
+            continue
         for c in result["checks"]:
             rows.append(_row(result["engine"], result["case"], result["kind"], c["quantity"], c["engine_value"],
                              c["analytic_value"], tolerances, result["status"], "; ".join(result["reasons"]),
@@ -322,7 +357,7 @@ def gain_table(summary):
     spread max - min relative to the Coulomb gain."""
     import pandas as pd
 
-    gains = summary[(summary.quantity == "yaw_rate_gain") & summary.w.notna()]
+    gains = summary[(summary.quantity == "yaw_rate_gain") & summary.w.notna() & (summary.status != "skipped")]
     rows = []
     if gains.empty:
         return pd.DataFrame(columns=list(GAIN_COLUMNS))
@@ -339,10 +374,16 @@ def gain_table(summary):
     return pd.DataFrame(rows, columns=list(GAIN_COLUMNS))
 
 
+SKIPPED_QUANTITY = {"yaw_gain": "yaw_rate_gain", "straight": "speed_over_wheel_speed", "slide": "deceleration",
+                    "incline": "slide_acceleration", "rest": "accel_z"}
+
+
 def failures(summary) -> dict[str, list[str]]:
-    """engine -> the cases it failed (each once), in case order."""
+    """engine -> the cases it failed (each once), in case order; skipped cases are not failures."""
     out: dict[str, list[str]] = {}
     for row in summary.itertuples():
+        if row.status == "skipped":
+            continue
         if not row.passed and row.case not in out.setdefault(row.engine, []):
             out[row.engine].append(row.case)
     return {e: cases for e, cases in out.items() if cases}
@@ -377,7 +418,7 @@ def main(argv: list[str] | None = None) -> None:
             settings[key] = json.loads(value)
         except json.JSONDecodeError:
             settings[key] = value
-    setup = Setup(engine=args.engine, robot=load_robot(config["robot"]["urdf"]),
+    setup = Setup(engine=args.engine, robot=load_from_config(config["robot"]),
                   timestep=config["physics"]["timestep"], max_wheel_torque=config["robot"]["max_wheel_torque"],
                   track=config["robot"]["track"], settings=settings)
     cases = config["validation"]["cases"]

@@ -59,7 +59,8 @@ def _lab_case(urdf: str, inputs: dict, params: dict, name: str):
                         max_wheel_torque=params["robot"]["max_wheel_torque"],
                         timestep=params["physics"]["timestep"], ground_friction=params["physics"]["ground_friction"],
                         engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
-                        seed=int(params["seed"]), limits=HealthLimits(**params["health"]))
+                        seed=int(params["seed"]), limits=HealthLimits(**params["health"]),
+                        robot_options=params["robot"])
 
     return which, run
 
@@ -172,6 +173,7 @@ def cpu_job(output: str, terrain_file: str, urdf: str, params: dict, timeout: fl
                          engine_settings=params["engine_settings"], duration=cpu["duration"],
                          repeats=int(cpu["repeats"]), robots_average=int(cpu["robots_average"]),
                          robots_intense=int(cpu["robots_intense"]), spacing=cpu["spacing"],
+                         robot_options=params["robot"],
                          limits=HealthLimits(**params["health"]) if params.get("health") else None)
     write(result)
 

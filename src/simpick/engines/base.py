@@ -23,6 +23,11 @@ GRAVITY = 9.81  # m/s^2, the value every engine is given
 
 @dataclass(frozen=True)
 class Scenario:
+    # The robot, read once by simpick.robot.load_robot: an adapter loads ``robot.urdf`` (the file
+    # to load, already normalised where needed), drives ``robot.wheel_joints`` (the driven wheels,
+    # in command order) with velocity servos of at most ``max_wheel_torque``, leaves
+    # ``robot.passive_joints`` (casters and their swivels) free, spawns ``robot.base_link`` at
+    # ``robot.base_height`` and reports that link's pose. See RobotSpec for every field.
     robot: RobotSpec
     terrain: dict
     ground_friction: float
@@ -101,7 +106,7 @@ class PhysicsRecord:
     quaternion: np.ndarray  # (n, 4) w, x, y, z of base_link
     linear_velocity: np.ndarray  # (n, 3) of the base_link origin
     angular_velocity: np.ndarray  # (n, 3)
-    wheel_speed: np.ndarray  # (n, 4) rad/s, measured (an adapter may read it every few steps and hold it)
+    wheel_speed: np.ndarray  # (n, len(robot.driven)) rad/s, joint speeds of the driven wheels in command order, measured (an adapter may read it every few steps and hold it)
     imu_specific_force: np.ndarray  # (n, 3) m/s^2, body frame, +g on z at rest
     imu_gyro: np.ndarray  # (n, 3) rad/s, body frame
     wall_time: float  # s spent stepping (no model build, no I/O)
@@ -110,13 +115,14 @@ class PhysicsRecord:
 
 
 def validated_commands(scenario: Scenario, wheel_commands) -> np.ndarray:
-    """(steps, robots, 4) float array matching the scenario's robots, or a clear error."""
+    """(steps, robots, driven wheels) float array matching the scenario, or a clear error."""
     from simpick.errors import InputError
 
     wheel_commands = np.asarray(wheel_commands, dtype=float)
-    if wheel_commands.ndim != 3 or wheel_commands.shape[1:] != (len(scenario.starts), 4):
+    wheels = len(scenario.robot.wheel_joints)
+    if wheel_commands.ndim != 3 or wheel_commands.shape[1:] != (len(scenario.starts), wheels):
         raise InputError("wheel_commands", f"shape {wheel_commands.shape} does not fit "
-                         f"{len(scenario.starts)} robots x 4 wheels")
+                         f"{len(scenario.starts)} robots x {wheels} driven wheels")
     if not 0 <= scenario.recorded_robot < len(scenario.starts):
         raise InputError("recorded_robot", f"{scenario.recorded_robot} is not one of the "
                          f"{len(scenario.starts)} robots")
@@ -161,7 +167,8 @@ class Engine(Protocol):
         """The engine's own version string, for provenance."""
 
     def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
-        """Step the world; ``wheel_commands`` is (steps, robots, 4) wheel speeds in rad/s."""
+        """Step the world; ``wheel_commands`` is (steps, robots, driven wheels) joint speeds in
+        rad/s, in the order of ``scenario.robot.wheel_joints``."""
 
     def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
         """Wall seconds to step the same world the same number of steps under the first

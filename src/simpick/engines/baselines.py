@@ -99,8 +99,8 @@ class _ReferenceModel:
         settings = self.settings_model.of(scenario.settings, self.name)
         radius = scenario.robot.wheel_radius
         cpu0, wall0 = time.process_time(), time.perf_counter()
-        left = (commands[:, 0] + commands[:, 2]) / 2 * radius
-        right = (commands[:, 1] + commands[:, 3]) / 2 * radius
+        left = scenario.robot.side_mean(commands, "left") * radius
+        right = scenario.robot.side_mean(commands, "right") * radius
         layout = contact_layout(scenario.robot, points_per_wheel=1)
         mu = float(scenario.ground_friction)
         twists = _integrate(self.targets(scenario, settings, left, right), layout.points,
@@ -143,7 +143,7 @@ class CoulombModel(_ReferenceModel):
         if len(pairs) <= 64:
             from simpick.coulomb import steady_twist
 
-            solved = np.array([steady_twist(layout, [lft, rgt, lft, rgt]) for lft, rgt in pairs])
+            solved = np.array([steady_twist(layout, layout.rim_speeds(lft, rgt)) for lft, rgt in pairs])
         else:
             solved = CoulombTable(layout, angles=720).twist(pairs[:, 0], pairs[:, 1])
         return solved[inverse.reshape(-1)]

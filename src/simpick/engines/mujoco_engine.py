@@ -88,7 +88,8 @@ class MujocoSettings(EngineSettings):
 # impedance (solimp dmax 0.95): the friction rows' velocity decay rate is 2 / (dmax timeconst).
 MUJOCO_TIMECONST, MUJOCO_DMAX = 0.02, 0.95
 # Sensor layout of the recorded robot (Scenario.recorded_robot), in the order the sensors are added: name -> width.
-SENSORS = (("accel", 3), ("gyro", 3), ("pos", 3), ("quat", 4), ("linvel", 3), ("angvel", 3), ("wheels", 4))
+# "wheels": one joint speed per driven wheel (RobotSpec.wheel_joints).
+SENSORS = (("accel", 3), ("gyro", 3), ("pos", 3), ("quat", 4), ("linvel", 3), ("angvel", 3), ("wheels", None))
 
 
 def _yaw_quat(yaw: float) -> list[float]:
@@ -154,6 +155,16 @@ class MujocoEngine:
             spec.attach(child, prefix=prefix, frame=frame)
             base = spec.body(prefix + robot.base_link)
             base.add_freejoint()
+            # A robot's own links never touch each other, as in the other engines (PyBullet, DART:
+            # no self-collision by default; ODE: kept apart here): MuJoCo only filters parent and
+            # child, so a caster wheel under the chassis (its grandparent) would rub on it (measured on
+            # the diff-drive robot: a locked-wheel slide braked at mu g, the caster jammed). Robot i's
+            # geoms get their own contype bit and collide with the ground's (1) and other robots'.
+            own = 1 << (1 + i % 30)
+            others = sum(1 << (1 + k % 30) for k in range(len(scenario.starts))) & ~own
+            for geom in base.find_all(mujoco.mjtObj.mjOBJ_GEOM):
+                if geom.contype or geom.conaffinity:
+                    geom.contype, geom.conaffinity = own, 1 | others
             for joint in robot.wheel_joints:
                 act = spec.add_actuator(name=prefix + joint + "/servo", target=prefix + joint,
                                         trntype=mujoco.mjtTrn.mjTRN_JOINT)
@@ -165,6 +176,8 @@ class MujocoEngine:
                 act.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
                 act.forcerange = [-scenario.max_wheel_torque, scenario.max_wheel_torque]
             if settings.wheel_contact == "decoupled":  # else "default": MuJoCo's geom contacts, as they are
+                # the driven wheels: a caster keeps MuJoCo's default contact (the pairs' soft normal,
+                # set for a Husky wheel, let the diff-drive robot's 50 g caster sink 7.7 mm)
                 self._wheel_pairs(spec, settings, [spec.joint(prefix + j).parent for j in robot.wheel_joints],
                                   grounds, prefix)
             if i == scenario.recorded_robot:  # its sensors: the record
@@ -259,6 +272,7 @@ class MujocoEngine:
 
         columns, start = {}, 0
         for name, width in SENSORS:
+            width = len(scenario.robot.wheel_joints) if width is None else width
             columns[name] = sensordata[0, :, start:start + width]
             start += width
         # MuJoCo evaluates sensors at the start of each step: row k + 1 holds the state at

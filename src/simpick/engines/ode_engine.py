@@ -222,38 +222,61 @@ class _Part:
 @dataclass
 class _RobotModel:
     chassis: _Part
-    wheels: list  # (joint position in base_link, joint rotation, axis in the wheel link frame, _Part)
+    # driven wheels in command order: (joint position in base_link, joint rotation, axis in the
+    # wheel link frame, _Part)
+    wheels: list
+    # every other moving link (casters, swivels), parents before children: (joint position and
+    # rotation in the parent link's frame, axis, _Part, parent: -1 the chassis, else an index
+    # into this list)
+    passive: list = field(default_factory=list)
 
 
 def read_urdf(robot) -> _RobotModel:
-    """Masses, inertias, collision shapes and wheel joints of a Husky-layout URDF."""
+    """Masses, inertias, collision shapes and joints of the robot (simpick.robot.RobotSpec):
+    each moving link with every link hung on it by fixed joints folded in."""
     try:
         root = ET.parse(robot.urdf).getroot()
         links = {lk.get("name"): lk for lk in root.iter("link")}
         joints = {j.get("name"): j for j in root.iter("joint")}
-        chassis = _Part()
-        # base_link plus every link hung on it by fixed joints (breadth first)
-        queue = [(robot.base_link, np.zeros(3), np.eye(3))]
-        while queue:
-            name, pos, rot = queue.pop(0)
-            chassis.add(links[name], pos, rot)
-            for joint in joints.values():
-                if joint.get("type") == "fixed" and joint.find("parent").get("link") == name:
-                    xyz, r = _origin(joint)
-                    queue.append((joint.find("child").get("link"), pos + rot @ xyz, rot @ r))
+
+        def part_of(link_name: str) -> _Part:
+            # the link plus every link hung on it by fixed joints (breadth first)
+            part = _Part()
+            queue = [(link_name, np.zeros(3), np.eye(3))]
+            while queue:
+                name, pos, rot = queue.pop(0)
+                part.add(links[name], pos, rot)
+                for joint in joints.values():
+                    if joint.get("type") == "fixed" and joint.find("parent").get("link") == name:
+                        xyz, r = _origin(joint)
+                        queue.append((joint.find("child").get("link"), pos + rot @ xyz, rot @ r))
+            return part
+
+        def axis_of(joint) -> np.ndarray:
+            axis = _floats(joint.find("axis").get("xyz") if joint.find("axis") is not None else None, 3)
+            return axis / np.linalg.norm(axis)
+
+        chassis = part_of(robot.base_link)
         wheels = []
         for name in robot.wheel_joints:
             joint = joints[name]
             if joint.find("parent").get("link") != robot.base_link:
                 raise ValueError(f"{name} does not hang on {robot.base_link}")
             xyz, rot = _origin(joint)
-            axis = _floats(joint.find("axis").get("xyz") if joint.find("axis") is not None else None, 3)
-            part = _Part()
-            part.add(links[joint.find("child").get("link")], np.zeros(3), np.eye(3))
-            wheels.append((xyz, rot, axis / np.linalg.norm(axis), part))
+            wheels.append((xyz, rot, axis_of(joint), part_of(joint.find("child").get("link"))))
+        passive, index = [], {}
+        for name in robot.passive_joints[::-1]:  # (caster joint, its swivel): the swivel first
+            joint = joints[name]
+            parent = joint.find("parent").get("link")
+            if parent != robot.base_link and parent not in index:
+                raise ValueError(f"{name} hangs on {parent!r}, which is neither the base nor a passive link")
+            xyz, rot = _origin(joint)
+            index[joint.find("child").get("link")] = len(passive)
+            passive.append((xyz, rot, axis_of(joint), part_of(joint.find("child").get("link")),
+                            -1 if parent == robot.base_link else index[parent]))
     except (OSError, ET.ParseError, KeyError, AttributeError, TypeError, ValueError) as exc:
         raise InputError(str(robot.urdf), f"the ODE adapter cannot read the robot: {exc!r}") from None
-    return _RobotModel(chassis, wheels)
+    return _RobotModel(chassis, wheels, passive)
 
 
 # --- the world ---------------------------------------------------------------------------
@@ -414,6 +437,17 @@ class _World:
                 lib.dJointSetHingeParam(hinge, _ode.dParamFMax, torque)
                 hinges.append(hinge)
                 wheel_bodies.append(wheel)
+            # casters and swivels: free hinges (no motor), each on its parent link
+            frames = []
+            for xyz, rot, axis, part, parent in model.passive:
+                parent_pos, parent_rot, parent_body = ((base_pos, yaw_rot, chassis) if parent < 0 else frames[parent])
+                link_pos, link_rot = parent_pos + parent_rot @ xyz, parent_rot @ rot
+                body = make_body(part, link_pos, link_rot)
+                hinge = lib.dJointCreateHinge(self.world, None)
+                lib.dJointAttach(hinge, body, parent_body)
+                lib.dJointSetHingeAnchor(hinge, *link_pos)
+                lib.dJointSetHingeAxis(hinge, *(link_rot @ axis))
+                frames.append((link_pos, link_rot, body))
             self.robots.append((chassis, hinges, wheel_bodies))
         self.all_hinges = [h for _, hs, _ in self.robots for h in hs]
 
@@ -601,7 +635,7 @@ class _World:
         offset = rot @ self.model.chassis.com
         position = com - offset
         velocity = com_v - np.cross(omega, offset)
-        wheel_speed = np.empty((steps, 4))
+        wheel_speed = np.empty((steps, len(self.model.wheels)))
         for j, (_, jrot, axis, _) in enumerate(self.model.wheels):
             axis_world = rot @ (jrot @ axis)
             wheel_speed[:, j] = np.einsum("ni,ni->n", columns(1 + j, 3, 3) - omega, axis_world)

@@ -215,6 +215,12 @@ class PyBulletEngine:
             names = {pb.getJointInfo(body, j, physicsClientId=cid)[1].decode(): j
                      for j in range(pb.getNumJoints(body, physicsClientId=cid))}
             wheel_index = [names[n] for n in robot.wheel_joints]
+            # casters and their swivels roll free: Bullet motorises every revolute joint by default
+            # (a velocity motor holding 0), which a maximum force of 0 switches off
+            passive = [names[n] for n in robot.passive_joints]
+            if passive:
+                pb.setJointMotorControlArray(body, passive, pb.VELOCITY_CONTROL, forces=[0.0] * len(passive),
+                                             physicsClientId=cid)
             # contact_stiffness 0: Bullet's rigid contacts (the adapter before issue 9)
             compliance = ({"contactStiffness": settings.contact_stiffness,
                            "contactDamping": settings.contact_damping}
@@ -232,11 +238,12 @@ class PyBulletEngine:
         robot = scenario.robot
         steps, n_robots = wheel_commands.shape[:2]
         dt = scenario.timestep
-        torque = [scenario.max_wheel_torque] * 4
+        n_wheels = len(wheel_index)
+        torque = [scenario.max_wheel_torque] * n_wheels
         # per step, PyBullet's tuples are kept as they come and made arrays once after the loop: four
         # numpy row assignments a step cost ~3 us, a tenth of a grass step (job/bare 0.87, issue 12)
         poses, velocities = [], []
-        wheels = np.full((steps, 4), np.nan)
+        wheels = np.full((steps, n_wheels), np.nan)
         body0 = bodies[scenario.recorded_robot]
         get_pose, get_vel, get_joints = pb.getBasePositionAndOrientation, pb.getBaseVelocity, pb.getJointStates
         set_motors, step = pb.setJointMotorControlArray, pb.stepSimulation

@@ -476,6 +476,8 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     rtf_tests = sorted({t for r in rtf_rows for t in str(r.get("tests") or "").split(";")
                         if t.strip() and t != "nan"})
     config_text = yaml.safe_dump(config, sort_keys=False, allow_unicode=True, width=100) if config else None
+    # name, label; real_data_robot: whose the real data are, when not the study's robot's
+    robot = {"name": None, "label": None, "real_data_robot": None, **dict(config.get("robot") or {})}
     classes = real.class_order(data, params)
     accuracy = real.accuracy(data, params, engines, classes, [test_label(t, m) for t, m in tests])
     real_data = real.real_section(data, params, engines, colors, classes, accuracy)
@@ -489,7 +491,9 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         "sweep": sweep_section(data.sweep, engines, data.figures.get("sweep")),
         "calibration": calibration_section(data.calibration, engines + [e for e in (data.calibration.engine.unique()
                                            if data.calibration is not None else []) if e not in engines], colors),
-        "title": params.get("title") or DEFAULT_TITLE,
+        "title": params.get("title") or (f"simpick: which physics engine reproduces the {robot['label']} best?"
+                                         if robot.get("label") else DEFAULT_TITLE),
+        "robot": robot,
         "generated": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
         "engines": engines,
         # configured engines the machine could not run (rules/common.smk UNAVAILABLE): engine -> why

@@ -77,8 +77,11 @@ def validation_section(summary: pd.DataFrame | None, engines: list[str], figure:
     uri = figures.data_uri(figure) if figure and gains is not None and len(gains) else None
     failed = failures(summary)
     passed = [e for e in present if e not in failed]
-    costs = summary[summary.kind != "invariance"].groupby("engine").steps_per_s.median().to_dict()
+    costs = summary[~summary.kind.isin(["invariance"]) & (summary.status != "skipped")].groupby(
+        "engine").steps_per_s.median().to_dict()
     mu = float(gains[gains.v == 0.5].mu.max()) if gains is not None and (gains.v == 0.5).any() else None
+    gone = summary[summary.status == "skipped"].drop_duplicates("case")
+    skipped = dict(zip(gone.case, gone.reasons))
     return {"given": True, "engines": present, "rows": rows, "gain_uri": uri, "gain_mu": mu,
             "gain_rows": gain_rows(gains, engines), "failed": failed, "passed": passed, "costs": costs,
-            "n_cases": len(cases)}
+            "n_cases": len(cases), "skipped": skipped}
