@@ -107,3 +107,27 @@ def turning_summary(windows: pd.DataFrame) -> pd.DataFrame:
             row[f"rho_{name}"], row[f"p_{name}"] = _spearman(column, g["yaw_rate_gain"])
         rows.append(row)
     return pd.DataFrame(rows, columns=SUMMARY_COLUMNS)
+
+
+def turning_job(logs: list[str], urdf: str, params: dict, outputs: dict[str, str]) -> None:
+    """Rule real_turning: the windows of every canonical log of a replayed dataset and their
+    per-class summary, with the rigid-Coulomb gain of the study's robot at each command."""
+    from functools import lru_cache
+
+    from simpick.coulomb import load_layout, yaw_rate_gain
+    from simpick.reallogs import read_canonical
+    from simpick.workflow import write_csv
+
+    track = float(params["track"])
+    layout = load_layout(urdf)
+
+    @lru_cache(maxsize=None)
+    def coulomb(v: float, w: float) -> float:
+        return yaw_rate_gain(layout, v, w, track)
+
+    options = {k: float(params[k]) for k in ("window", "settle", "tolerance", "min_turn")}
+    frames = [turning_windows(read_canonical(path), track, coulomb=lambda v, w: coulomb(round(v, 3), round(w, 3)),
+                              **options) for path in logs]
+    windows = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=WINDOW_COLUMNS)
+    write_csv(windows, outputs["windows"])
+    write_csv(turning_summary(windows), outputs["summary"])
