@@ -76,3 +76,16 @@ def test_body_twist_logs_have_no_wheel_windows():
     body = RealLog(imu=log.imu, commands=pd.DataFrame({"time": log.commands["time"], "v": 0.25, "w": 0.5}),
                    meta=log.meta)
     assert turning_windows(body, TRACK).empty
+
+
+def test_the_figure_job_draws_the_windows_or_says_there_are_none(tmp_path):
+    from simpick.report.draw import figure_job
+
+    windows = turning_windows(synthetic_log([(6.0, 0.1, 0.4), (6.0, -0.2, 0.2)], lambda v, w: 0.6), TRACK,
+                              coulomb=lambda v, w: 0.478)
+    for name, frame in (("some", windows), ("none", windows.iloc[0:0])):
+        table = tmp_path / f"{name}.csv"
+        frame.to_csv(table, index=False)
+        png = tmp_path / f"{name}.png"
+        figure_job("figure_real_turning", {"windows": str(table)}, {}, {}, {"png": str(png)})
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
