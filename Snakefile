@@ -44,7 +44,7 @@ rule all:
     input:
         "results/validation/summary.csv",
         [metrics_file(source, table) for source in SOURCES for table in ("imu_errors", "summary")],
-        [f"{REPLAY}/segments.csv", f"{REPLAY}/dataset.yaml"] if REPLAY_SET else [],
+        [f"{REPLAY}/segments.csv", f"{REPLAY}/dataset.yaml", f"{REPLAY}/turning/summary.csv"] if REPLAY_SET else [],
         f"{SWEEP_DIR}/summary.csv" if SWEEP else [],
         CALIBRATION_ALL,
         "results/scores/weighted.csv",

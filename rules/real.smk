@@ -75,6 +75,34 @@ if REPLAY_SET:
             "../scripts/real_segments.py"
 
 
+    # How the real robot turns (issue 20, point 0): its yaw-rate gain in steady-command windows
+    # against speed, turn radius and wheel-speed difference, beside the rigid-Coulomb prediction.
+    rule real_turning:
+        input:
+            logs=real_logs(REPLAY_SET.name),
+            urdf=config["robot"]["urdf"],
+        output:
+            windows=f"{REPLAY}/turning/windows.csv",
+            summary=f"{REPLAY}/turning/summary.csv",
+        params:
+            settings=canonical(
+                {
+                    "track": config["robot"]["track"],
+                    "window": 1.0,  # s: short enough for many windows a run, long for a mean of 100 samples
+                    "settle": 0.5,  # s of held command before a window (wheel speeds settle in ~0.3 s)
+                    "tolerance": config["real_data"]["segment_rules"]["tolerance"],
+                    "min_turn": config["real_data"]["segment_rules"]["min_turn"],
+                }
+            ),
+            code=code_version("realturning.py", "coulomb.py", "reallogs"),
+        log:
+            f"results/logs/real/{REPLAY_SET.name}/real_turning.log",
+        conda:
+            "../envs/simpick.yaml"
+        script:
+            "../scripts/real_turning.py"
+
+
 # Maintainers only, on purpose (README "Real data"): the BorealTC folder's derived table over the
 # committed one. The committed files are never a rule's output, so no failed job can delete them;
 # the job replaces them atomically, and its receipt (what changed) is the output.

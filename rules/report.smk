@@ -240,6 +240,26 @@ if SWEEP:
 
 if REPLAY_SET:
 
+    rule figure_real_turning:
+        """The real robot's yaw-rate gain against speed, turn radius and wheel-speed difference."""
+        input:
+            windows=f"{REPLAY}/turning/windows.csv",
+        output:
+            png=report(f"{FIGURES}/real_turning.png", caption="captions/real_turning.rst", category="Figures",
+                       subcategory="Real robot"),
+        params:
+            code=code_version(*FIGURE_CODE),
+        log:
+            "results/logs/figures/real_turning.log",
+        threads: 1
+        resources:
+            mem_mb=300,
+            runtime=5,
+        conda:
+            "../envs/simpick.yaml"
+        script:
+            "../scripts/figure.py"
+
     rule figure_replay:
         """One terrain class of the full replay: a representative run against every model, and the
         mean vertical-acceleration spectra; the notes say which run and why."""

@@ -377,6 +377,15 @@ def replay(inputs: Mapping[str, Any], params: Mapping[str, Any], cls: str, outpu
 
 
 # The figure rules, by name: rule -> (function, wildcard names passed after params, output names)
+def real_turning(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str) -> None:
+    """How the real robot turns: the turning windows of a replayed dataset (rule real_turning)."""
+    windows = pd.read_csv(inputs["windows"])
+    if windows.empty:
+        figures.nothing_to_draw(output, "no steady-command turning window in this dataset")
+    else:
+        figures.turning_figure(windows, output)
+
+
 RULES = {
     "figure_contributions": (contributions, (), ("png",)),
     "figure_imu_stats": (imu_stats, ("lab_terrain", "lab_motion"), ("png",)),
@@ -386,6 +395,7 @@ RULES = {
     "figure_sweep": (sweep, (), ("png",)),
     "figure_real_gain": (real_gain, (), ("png",)),
     "figure_replay": (replay, ("terrain_class",), ("png", "notes")),
+    "figure_real_turning": (real_turning, (), ("png",)),
 }
 
 

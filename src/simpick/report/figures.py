@@ -470,3 +470,28 @@ def sweep_figure(panels: Sequence[tuple[str, Sequence]], colors: Mapping[str, st
     fig.legend(handles, labels, loc="center right", frameon=False, fontsize=7)
     fig.tight_layout(rect=(0, 0, 1 - 1.1 / (3.0 * cols + 1.2), 1))
     return save(fig, path)
+
+
+def turning_figure(windows: pd.DataFrame, path: str | Path) -> Path:
+    """The real robot's yaw-rate gain per steady-command window against |speed|, turn radius and
+    |wheel-speed difference|, one colour per terrain class, with the rigid-Coulomb prediction."""
+    plt = _plt()
+    fig, axs = plt.subplots(1, 3, figsize=(WIDTH_IN, 2.5), sharey=True)
+    classes = sorted(windows["terrain_class"].unique())
+    colors = {c: _PALETTE[i % len(_PALETTE)] for i, c in enumerate(classes)}
+    columns = (("|commanded speed| (m/s)", windows["v"].abs()), ("turn radius (m; 0 = spin)", windows["turn_radius"]),
+               ("|v_right - v_left| (m/s)", windows["wheel_speed_difference"].abs()))
+    coulomb = windows["coulomb_gain"].dropna()
+    for ax, (label, x) in zip(axs, columns):
+        for c in classes:
+            rows = windows["terrain_class"] == c
+            ax.scatter(x[rows], windows.loc[rows, "yaw_rate_gain"], s=6, alpha=0.6, color=colors[c],
+                       label=c.replace("_", " "), linewidths=0)
+        if not coulomb.empty:
+            ax.axhline(float(coulomb.median()), color=REFERENCE_COLOR, ls="--", lw=0.9, label="rigid Coulomb")
+        ax.set_xlabel(label)
+    axs[0].set_ylabel("real yaw-rate gain")
+    handles, labels = axs[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="upper center", ncol=min(len(labels), 6), frameon=False, markerscale=2)
+    fig.tight_layout(rect=(0, 0, 1, 0.88))
+    return save(fig, path)
