@@ -21,6 +21,17 @@ without a swivel rolls freely but resists lateral slip; ``caster_friction`` repl
 sliding friction of that fraction of the ground's. For a two-wheel differential drive on
 frictionless casters no contact need slip, and the gain is 1 (up to the scuffing across each
 wheel's width).
+
+Anisotropic (elliptic) friction (issue 20): a wheel contact may resist sliding across the wheel
+less (or more) than along it, ``mu_lat = r mu_long`` in the wheel's frame (its rolling direction,
+here the base's x: no wheel is steered). The friction force is the one that maximises the
+dissipated power on the ellipse (F_long / mu_long)^2 + (F_lat / mu_lat)^2 <= N^2, so the contact
+dissipates ``mu_long N sqrt(s_long^2 + r^2 s_lat^2)`` and D stays convex and homogeneous: the same
+solver, with that norm. ``r = 1`` is isotropic Coulomb; ``r -> 0`` lets the contacts slide
+sideways freely (the gain tends to the no-slip kinematics of the contacts' lateral positions).
+For four equally loaded contacts at (+-a, +-b) a pure spin gives the closed form
+``w = u b / (b^2 + r^2 a^2)`` (tests/test_coulomb.py). Skids and ball casters have no wheel
+frame and stay isotropic.
 """
 
 from __future__ import annotations
@@ -53,6 +64,9 @@ class ContactLayout:
     friction: np.ndarray | None = None
     # (n,) True where the wheel rolls freely (a passive wheel: friction across it only)
     free_roll: np.ndarray | None = None
+    # (n,) lateral / longitudinal friction ratio of each point in its wheel's frame (None: 1,
+    # isotropic); see the module docstring
+    lateral_ratio: np.ndarray | None = None
 
     def load_shares(self) -> np.ndarray:
         """Fraction of the weight on each wheel (command order, then casters)."""
@@ -70,7 +84,7 @@ def mass_distribution(urdf: str | Path) -> tuple[float, np.ndarray]:
 
 
 def contact_layout(robot: RobotSpec, points_per_wheel: int | None = None,
-                   caster_friction: float | None = None) -> ContactLayout:
+                   caster_friction: float | None = None, friction_ratio: float = 1.0) -> ContactLayout:
     """Wheel contact points and static loads of ``robot`` on flat ground.
 
     ``points_per_wheel``: None spreads pressure uniformly across each wheel's width (the line
@@ -118,16 +132,35 @@ def contact_layout(robot: RobotSpec, points_per_wheel: int | None = None,
         raise InputError(str(robot.source), f"the centre of mass ({com[0]:.3f}, {com[1]:.3f}) m lies outside the "
                          f"wheels' support polygon: wheels {lifted} would lift")
     casters = any(not w.driven for w in robot.wheels) or bool(robot.skids)
-    return ContactLayout(points=points, loads=loads, wheel=np.asarray(wheel), com=(com[0], com[1]), mass=mass,
+    layout = ContactLayout(points=points, loads=loads, wheel=np.asarray(wheel), com=(com[0], com[1]), mass=mass,
                          sides=tuple(sides), friction=np.asarray(friction) if casters else None,
                          free_roll=np.asarray(free) if casters else None)
+    return with_friction_ratio(layout, friction_ratio)
+
+
+def with_friction_ratio(layout: ContactLayout, ratio: float) -> ContactLayout:
+    """The same layout with every wheel contact's lateral/longitudinal friction ratio set to
+    ``ratio`` (skids stay isotropic); 1 gives back an isotropic layout."""
+    ratio = float(ratio)
+    if not (math.isfinite(ratio) and ratio > 0):
+        raise InputError("friction_ratio", f"{ratio!r} is not a positive finite number",
+                         "give the lateral/longitudinal friction ratio, e.g. 0.63 (1: isotropic)")
+    if ratio == 1.0:
+        lateral = None
+    else:
+        is_wheel = np.array([layout.sides[k] != "skid" for k in layout.wheel])
+        lateral = np.where(is_wheel, ratio, 1.0)
+    return ContactLayout(points=layout.points, loads=layout.loads, wheel=layout.wheel, com=layout.com,
+                         mass=layout.mass, sides=layout.sides, friction=layout.friction,
+                         free_roll=layout.free_roll, lateral_ratio=lateral)
 
 
 def equal_loads(layout: ContactLayout) -> ContactLayout:
     """The same contact points with the weight shared equally (a centred centre of mass)."""
     loads = np.full(len(layout.loads), layout.loads.sum() / len(layout.loads))
     return ContactLayout(points=layout.points, loads=loads, wheel=layout.wheel, com=(0.0, 0.0), mass=layout.mass,
-                         sides=layout.sides, friction=layout.friction, free_roll=layout.free_roll)
+                         sides=layout.sides, friction=layout.friction, free_roll=layout.free_roll,
+                         lateral_ratio=layout.lateral_ratio)
 
 
 def steady_twist(layout: ContactLayout, rim_speeds) -> np.ndarray:
@@ -143,14 +176,15 @@ def steady_twist(layout: ContactLayout, rim_speeds) -> np.ndarray:
     if layout.friction is not None:  # casters: their own friction (0: load, no force)
         weights = weights * layout.friction
     along = 1.0 if layout.free_roll is None else (~layout.free_roll).astype(float)
+    r2 = 1.0 if layout.lateral_ratio is None else layout.lateral_ratio ** 2  # elliptic friction
     eps = 1e-9  # slip speed (relative) below which |s| is rounded: keeps D differentiable
     un = u / scale
 
     def power(q):
         sx = (q[0] - q[2] * y - un) * along
         sy = q[1] + q[2] * x
-        norm = np.sqrt(sx * sx + sy * sy + eps * eps)
-        ex, ey = weights * sx / norm, weights * sy / norm
+        norm = np.sqrt(sx * sx + r2 * sy * sy + eps * eps)
+        ex, ey = weights * sx / norm, weights * r2 * sy / norm
         return float(weights @ norm), np.array([ex.sum(), ey.sum(), (ex * -y + ey * x).sum()])
 
     start = np.array([un.mean(), 0.0, 0.0])
@@ -225,4 +259,4 @@ def braking_deceleration(robot: RobotSpec, mu: float) -> tuple[float, str | None
 
 
 __all__ = ["ContactLayout", "CoulombTable", "braking_deceleration", "contact_layout", "equal_loads", "load_layout",
-           "mass_distribution", "steady_twist", "yaw_rate_gain"]
+           "mass_distribution", "steady_twist", "with_friction_ratio", "yaw_rate_gain"]
