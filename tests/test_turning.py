@@ -28,10 +28,31 @@ def _setup(engine, **settings):
 
 def test_the_config_has_an_anisotropic_case_and_ode_supports_it():
     assert CONFIG["validation"]["cases"][CASE]["friction_ratio"] == 0.63
-    assert "ode" in ANISOTROPIC
+    # measured and documented: MuJoCo's cylinder-plane contact frame is world-fixed (the pair's
+    # friction[0]/[1] do not follow the wheel), dartpy 6.20 exposes no secondary coefficient or
+    # direction, SAPIEN 3.0.3's PhysxMaterial and Drake's CoulombFriction have static/dynamic only
+    assert ANISOTROPIC == ["ode", "pybullet"]
 
 
-@pytest.mark.parametrize("engine", ANISOTROPIC)
+def test_pybullet_gain_rises_as_the_ratio_falls():
+    gains = []
+    for r in (1.0, 0.8, 0.5):
+        result = run_case(_setup("pybullet"), "x", {"kind": "yaw_gain", "v": 0.0, "w": 0.5, "mu": 0.8, "duration": 3.0,
+                                                    "friction_ratio": r})
+        gains.append(result["checks"][0]["engine_value"])
+    assert gains[0] < gains[1] < gains[2], gains
+
+
+# Bullet's friction rows stay world-aligned (tests/test_validation.py _BULLET); anisotropicFriction
+# scales them in the wheel's frame and raises the gain, but it stays 12 % low, as the isotropic
+# gain is 22 % low: measured 6 s, (0, 0.5) / (0.5, 0.5) / (0.5, -0.5), r 1 0.375 / 0.372 / 0.278
+# (0.478), 0.63 0.618 / 0.620 / 0.600 (0.705)
+EXPECTED_FAILURES = {"pybullet": "Bullet's world-aligned friction rows: r 0.63 gives 0.62 for 0.705 (isotropic "
+                                 "0.37 for 0.478)"}
+
+
+@pytest.mark.parametrize("engine", [pytest.param(e, marks=[pytest.mark.xfail(reason=EXPECTED_FAILURES[e], strict=True)]
+                                                 if e in EXPECTED_FAILURES else []) for e in ANISOTROPIC])
 def test_engine_turns_at_the_anisotropic_coulomb_gain(engine):
     """At r = 0.63 the analytic gain is 0.705 (0.478 isotropic); the engine is within the gain
     tolerance of it (ODE measured 0.694)."""

@@ -236,6 +236,12 @@ class MujocoEngine:
                 geom.name = geom.name or f"{prefix}wheel{k}_{g}"
                 geom.contype = geom.conaffinity = 0
                 for ground, mu in grounds:
+                    # friction[0] and [1] apply along the contact frame's two tangents, which for a
+                    # cylinder on a plane are fixed to the world (measured, MuJoCo 4.0.0: frame rows
+                    # (0, 0, 1), (0, 1, 0), (-1, 0, 0) at every robot heading and wheel angle), so a
+                    # pair's anisotropy cannot follow the wheel: no lateral/longitudinal ratio here
+                    # (issue 20; google-deepmind/mujoco#67: only some colliders, e.g. capsule-plane,
+                    # orient the frame along the geom)
                     spec.add_pair(geomname1=ground.name, geomname2=geom.name, condim=3,
                                   friction=[mu, mu, 0.0, 0.0, 0.0], solref=[MUJOCO_TIMECONST, 1.0],
                                   solimp=[d, d, 0.001, 0.5, 2.0],
