@@ -109,3 +109,14 @@ def test_ode_gain_follows_the_ratio():
                                                    "friction_ratio": r})
             check = result["checks"][0]
             assert check["engine_value"] == pytest.approx(check["analytic_value"], rel=0.05), (r, v, w)
+
+
+def test_ode_anisotropy_follows_the_wheel_at_any_heading():
+    """The ratio is applied in each wheel's frame, not the world's: the same gain from start
+    headings 0 and 112.5 degrees (measured 4 s: 0.694 / 0.694 left, 0.696 / 0.696 right)."""
+    gains = []
+    for heading in (0.0, 112.5):
+        result = run_case(_setup("ode"), "x", {"kind": "yaw_gain", "v": 0.5, "w": -0.5, "mu": 0.8, "duration": 3.0,
+                                               "heading": heading, "friction_ratio": 0.63})
+        gains.append(result["checks"][0]["engine_value"])
+    assert gains[0] == pytest.approx(gains[1], abs=0.01) and gains[0] > 0.65, gains
