@@ -7,6 +7,7 @@ import pytest
 
 from simpick.coulomb import (ContactLayout, CoulombTable, contact_layout, equal_loads, mass_distribution,
                              steady_twist, yaw_rate_gain)
+from simpick.errors import InputError
 
 TRACK = 0.555
 
@@ -221,3 +222,46 @@ def test_coulomb_baseline_turns_at_its_friction_ratio(robot):
         assert record.angular_velocity[-1, 2] / 0.5 == pytest.approx(expected, rel=2e-3), r
     with pytest.raises(Exception, match="friction_ratio"):
         drive("coulomb", robot, settings={"friction_ratio": -1.0})
+
+
+# --- slip compliance (issue 20) ----------------------------------------------------------------
+
+def _viscous_twist(layout, u, r=1.0):
+    """Independent viscous limit: every contact below saturation, force -s / k_i, so the twist is
+    the least-squares solution of s_i = 0 weighted by 1 / sqrt(k_i) (lateral rows by r as well)."""
+    x, y = layout.points.T
+    w = 1.0 / np.sqrt(layout.slip_compliance)
+    n = len(x)
+    a = np.zeros((2 * n, 3))
+    b = np.zeros(2 * n)
+    a[:n, 0], a[:n, 2], b[:n] = w, -w * y, w * np.asarray(u, dtype=float)[layout.wheel]
+    a[n:, 1], a[n:, 2] = w * r, w * r * x
+    return np.linalg.lstsq(a, b, rcond=None)[0]
+
+
+def test_slip_compliance_zero_is_rigid_coulomb_and_large_is_viscous(robot):
+    from simpick.coulomb import with_slip_compliance
+
+    one = contact_layout(robot, points_per_wheel=1)
+    u = one.rim_speeds(-0.1387, 0.1387)  # spin at w = 0.5
+    assert with_slip_compliance(one, 0.0).slip_compliance is None
+    np.testing.assert_array_equal(steady_twist(with_slip_compliance(one, 0.0), u), steady_twist(one, u))
+    soft = with_slip_compliance(one, 1.0)  # saturation slip mu N k ~ 100 m/s: all viscous
+    np.testing.assert_allclose(steady_twist(soft, u, mu=0.8), _viscous_twist(soft, u), atol=1e-6)
+    # viscous and equal compliance: the loads drop out, the gain is the equal-loads 0.539 (rigid 0.481)
+    assert yaw_rate_gain(soft, 0.0, 0.5, TRACK, mu=0.8) == pytest.approx(0.539, abs=0.001)
+    assert yaw_rate_gain(with_slip_compliance(one, 1e-7), 0.0, 0.5, TRACK, mu=0.8) == pytest.approx(0.481, abs=0.001)
+
+
+def test_compliant_gain_depends_on_the_command_size(robot):
+    """Not homogeneous any more: at 1e-4 (m/s)/N a slow spin is viscous, a fast one Coulomb."""
+    from simpick.coulomb import with_slip_compliance
+
+    lay = with_slip_compliance(contact_layout(robot, points_per_wheel=1), 1e-4)
+    gains = [yaw_rate_gain(lay, 0.0, w, TRACK, mu=0.8) for w in (0.01, 0.1, 0.5, 2.0)]
+    assert gains[0] == pytest.approx(0.539, abs=0.002) and gains[-1] == pytest.approx(0.481, abs=0.002)
+    assert all(a >= b - 1e-6 for a, b in zip(gains, gains[1:])), gains
+    with pytest.raises(InputError, match="slip_compliance"):
+        CoulombTable(lay, angles=8)
+    with pytest.raises(InputError, match="slip_compliance"):
+        with_slip_compliance(lay, -1.0)

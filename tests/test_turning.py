@@ -120,3 +120,20 @@ def test_ode_anisotropy_follows_the_wheel_at_any_heading():
                                                "heading": heading, "friction_ratio": 0.63})
         gains.append(result["checks"][0]["engine_value"])
     assert gains[0] == pytest.approx(gains[1], abs=0.01) and gains[0] > 0.65, gains
+
+
+def test_ode_contact_slip_against_the_compliant_coulomb_gain():
+    """ODE's force-dependent slip (contact_slip k per contact, 2 contacts per wheel on flat ground)
+    against simpick.coulomb with the wheel's compliance k / 2 on a 2-point layout. Measured 4 s,
+    (0, 0.5) / (0.5, 0.5) / (0.5, 0.2), ODE / analytic: k 5e-3 mu 0.8 0.527 / 0.527 all three;
+    mu 0.2 0.512 / 0.498, 0.514 / 0.498, 0.527 / 0.527; k 1e-3 mu 0.8 0.501 / 0.480, 0.500 / 0.480,
+    0.527 / 0.527. Compliance moves the gain from 0.474 (rigid) to 0.527 (viscous) at most."""
+    from simpick.coulomb import contact_layout, with_slip_compliance, yaw_rate_gain
+
+    setup = _setup("ode", contact_slip=5e-3)
+    for mu, v, w in ((0.8, 0.0, 0.5), (0.2, 0.5, 0.2)):
+        result = run_case(setup, "x", {"kind": "yaw_gain", "v": v, "w": w, "mu": mu, "duration": 3.0})
+        analytic = yaw_rate_gain(with_slip_compliance(contact_layout(setup.robot, 2), 5e-3 / 2), v, w, setup.track,
+                                 mu=mu)
+        assert result["checks"][0]["engine_value"] == pytest.approx(analytic, rel=0.05), (mu, v, w)
+    assert analytic == pytest.approx(0.527, abs=0.002)  # the viscous limit, not the rigid 0.474

@@ -32,6 +32,14 @@ sideways freely (the gain tends to the no-slip kinematics of the contacts' later
 For four equally loaded contacts at (+-a, +-b) a pure spin gives the closed form
 ``w = u b / (b^2 + r^2 a^2)`` (tests/test_coulomb.py). Skids and ball casters have no wheel
 frame and stay isotropic.
+
+Slip compliance (issue 20; ODE's force-dependent slip, Gazebo's <slip1>/<slip2>): a contact point
+with compliance k ((m/s)/N) slides at k x its friction force until that force reaches Coulomb's
+bound, F = -min(rho / k, mu N) along the (elliptic) slip. Its dissipation potential is then the
+Huber function of the slip (quadratic rho^2 / 2k below the saturation slip c = k mu N, linear
+beyond), still convex: the same minimisation, but no longer homogeneous in the rim speeds, so the
+twist depends on the command's size and on mu (slow commands: the viscous limit, every contact
+below saturation, loads irrelevant; fast ones: Coulomb). :class:`CoulombTable` refuses it.
 """
 
 from __future__ import annotations
@@ -67,6 +75,8 @@ class ContactLayout:
     # (n,) lateral / longitudinal friction ratio of each point in its wheel's frame (None: 1,
     # isotropic); see the module docstring
     lateral_ratio: np.ndarray | None = None
+    # (n,) slip compliance of each point, (m/s)/N (None: rigid Coulomb); see the module docstring
+    slip_compliance: np.ndarray | None = None
 
     def load_shares(self) -> np.ndarray:
         """Fraction of the weight on each wheel (command order, then casters)."""
@@ -152,7 +162,25 @@ def with_friction_ratio(layout: ContactLayout, ratio: float) -> ContactLayout:
         lateral = np.where(is_wheel, ratio, 1.0)
     return ContactLayout(points=layout.points, loads=layout.loads, wheel=layout.wheel, com=layout.com,
                          mass=layout.mass, sides=layout.sides, friction=layout.friction,
-                         free_roll=layout.free_roll, lateral_ratio=lateral)
+                         free_roll=layout.free_roll, lateral_ratio=lateral, slip_compliance=layout.slip_compliance)
+
+
+def with_slip_compliance(layout: ContactLayout, per_wheel: float) -> ContactLayout:
+    """The same layout with every wheel's contact points sharing a slip compliance of
+    ``per_wheel`` (m/s)/N for the wheel as a whole: its n points in parallel each get n x that
+    (skids get the same per point). 0: rigid Coulomb. An engine with m contacts per wheel, each of
+    compliance k (ODE's contact_slip), has per_wheel = k / m."""
+    per_wheel = float(per_wheel)
+    if not (math.isfinite(per_wheel) and per_wheel >= 0):
+        raise InputError("slip_compliance", f"{per_wheel!r} is not a finite number >= 0",
+                         "give the wheel's slip compliance in (m/s)/N, 0 for rigid Coulomb")
+    compliance = None
+    if per_wheel > 0:
+        count = np.bincount(layout.wheel)
+        compliance = per_wheel * count[layout.wheel].astype(float)
+    return ContactLayout(points=layout.points, loads=layout.loads, wheel=layout.wheel, com=layout.com,
+                         mass=layout.mass, sides=layout.sides, friction=layout.friction,
+                         free_roll=layout.free_roll, lateral_ratio=layout.lateral_ratio, slip_compliance=compliance)
 
 
 def equal_loads(layout: ContactLayout) -> ContactLayout:
@@ -160,11 +188,12 @@ def equal_loads(layout: ContactLayout) -> ContactLayout:
     loads = np.full(len(layout.loads), layout.loads.sum() / len(layout.loads))
     return ContactLayout(points=layout.points, loads=loads, wheel=layout.wheel, com=(0.0, 0.0), mass=layout.mass,
                          sides=layout.sides, friction=layout.friction, free_roll=layout.free_roll,
-                         lateral_ratio=layout.lateral_ratio)
+                         lateral_ratio=layout.lateral_ratio, slip_compliance=layout.slip_compliance)
 
 
-def steady_twist(layout: ContactLayout, rim_speeds) -> np.ndarray:
-    """Body twist (vx, vy, wz) at the base frame under rim speeds per wheel (layout.sides) in m/s."""
+def steady_twist(layout: ContactLayout, rim_speeds, mu: float = 1.0) -> np.ndarray:
+    """Body twist (vx, vy, wz) at the base frame under rim speeds per wheel (layout.sides) in m/s.
+    ``mu``, the ground's friction coefficient, matters only with slip compliance."""
     from scipy.optimize import minimize
 
     u = np.asarray(rim_speeds, dtype=float)[layout.wheel]
@@ -187,15 +216,33 @@ def steady_twist(layout: ContactLayout, rim_speeds) -> np.ndarray:
         ex, ey = weights * sx / norm, weights * r2 * sy / norm
         return float(weights @ norm), np.array([ex.sum(), ey.sum(), (ex * -y + ey * x).sum()])
 
+    if layout.slip_compliance is not None:  # Huber potential, saturation slip c = k mu N (relative units)
+        friction = 1.0 if layout.friction is None else layout.friction
+        saturation = layout.slip_compliance * float(mu) * layout.loads * friction / scale
+        saturation = np.maximum(saturation, 1e-300)
+
+        def power(q):  # noqa: F811 (the compliant potential replaces the rigid one)
+            sx = (q[0] - q[2] * y - un) * along
+            sy = q[1] + q[2] * x
+            norm = np.sqrt(sx * sx + r2 * sy * sy + eps * eps)
+            below = norm < saturation
+            value = np.where(below, norm * norm / (2 * saturation), norm - saturation / 2)
+            slope = np.where(below, 1.0 / saturation, 1.0 / norm)
+            ex, ey = weights * sx * slope, weights * r2 * sy * slope
+            return float(weights @ value), np.array([ex.sum(), ey.sum(), (ex * -y + ey * x).sum()])
+
     start = np.array([un.mean(), 0.0, 0.0])
-    result = minimize(power, start, jac=True, method="BFGS", options={"gtol": 1e-12, "maxiter": 500})
+    result = minimize(power, start, jac=True, method="BFGS",
+                      options={"gtol": 1e-12, "maxiter": 500 if layout.slip_compliance is None else 2000})
     return result.x * scale
 
 
-def yaw_rate_gain(layout: ContactLayout, v: float, w: float, track: float, wheel_radius: float | None = None) -> float:
-    """Steady yaw rate / commanded w under the paper's controller (Eq. 1, effective track)."""
+def yaw_rate_gain(layout: ContactLayout, v: float, w: float, track: float, wheel_radius: float | None = None,
+                  mu: float = 1.0) -> float:
+    """Steady yaw rate / commanded w under the paper's controller (Eq. 1, effective track);
+    ``mu`` matters only with slip compliance."""
     left, right = side_speeds(v, w, track)
-    return float(steady_twist(layout, layout.rim_speeds(left, right))[2] / w)
+    return float(steady_twist(layout, layout.rim_speeds(left, right), mu)[2] / w)
 
 
 class CoulombTable:
@@ -207,6 +254,9 @@ class CoulombTable:
     """
 
     def __init__(self, layout: ContactLayout, angles: int = 1440):
+        if layout.slip_compliance is not None:
+            raise InputError("slip_compliance", "a compliant layout's twist is not homogeneous in the rim speeds, "
+                             "so it cannot be tabled on the unit circle", "solve each command with steady_twist")
         self.angles = np.linspace(-math.pi, math.pi, angles + 1)
         self.twists = np.array([steady_twist(layout, layout.rim_speeds(math.cos(a), math.sin(a)))
                                 for a in self.angles])
@@ -259,4 +309,4 @@ def braking_deceleration(robot: RobotSpec, mu: float) -> tuple[float, str | None
 
 
 __all__ = ["ContactLayout", "CoulombTable", "braking_deceleration", "contact_layout", "equal_loads", "load_layout",
-           "mass_distribution", "steady_twist", "with_friction_ratio", "yaw_rate_gain"]
+           "mass_distribution", "steady_twist", "with_friction_ratio", "with_slip_compliance", "yaw_rate_gain"]
