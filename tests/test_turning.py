@@ -28,10 +28,9 @@ def _setup(engine, **settings):
 
 def test_the_config_has_an_anisotropic_case_and_ode_supports_it():
     assert CONFIG["validation"]["cases"][CASE]["friction_ratio"] == 0.63
-    # measured and documented: MuJoCo's cylinder-plane contact frame is world-fixed (the pair's
-    # friction[0]/[1] do not follow the wheel), dartpy 6.20 exposes no secondary coefficient or
-    # direction, SAPIEN 3.0.3's PhysxMaterial and Drake's CoulombFriction have static/dynamic only
-    assert ANISOTROPIC == ["ode", "pybullet"]
+    # measured and documented: dartpy 6.20 exposes no secondary coefficient or direction, SAPIEN
+    # 3.0.3's PhysxMaterial and Drake's CoulombFriction have static/dynamic only
+    assert ANISOTROPIC == ["mujoco", "ode", "pybullet"]
 
 
 def test_pybullet_gain_rises_as_the_ratio_falls():
@@ -97,6 +96,8 @@ def test_friction_ratio_is_refused_outside_yaw_gain_cases_and_on_odes_box():
     assert any("friction_ratio is a yaw_gain case's parameter only" in p for p in problems(bad))
     with pytest.raises(InputError, match="friction_ratio.*needs friction_direction 'coulomb'"):
         get_engine("ode").settings_model.of({"friction_ratio": 0.6, "friction_direction": "slip"}, "ode")
+    with pytest.raises(InputError, match="friction_ratio.*needs wheel_contact 'decoupled'"):
+        get_engine("mujoco").settings_model.of({"friction_ratio": 0.6, "wheel_contact": "default"}, "mujoco")
 
 
 def test_ode_gain_follows_the_ratio():
@@ -137,3 +138,17 @@ def test_ode_contact_slip_against_the_compliant_coulomb_gain():
                                  mu=mu)
         assert result["checks"][0]["engine_value"] == pytest.approx(analytic, rel=0.05), (mu, v, w)
     assert analytic == pytest.approx(0.527, abs=0.002)  # the viscous limit, not the rigid 0.474
+
+
+def test_mujoco_capsule_frame_follows_the_wheel():
+    """MuJoCo's anisotropic pairs (capsule wheels): the same gain from headings 0 and 112.5
+    (measured 4 s: 0.686 both, for 0.705), and a capsule at r ~ 1 turns as the cylinder does
+    (0.462 / 0.462 at (0.5, 0.5), 6 s)."""
+    gains = []
+    for heading, r in ((0.0, 0.63), (112.5, 0.63), (0.0, 0.9999)):
+        result = run_case(_setup("mujoco"), "x", {"kind": "yaw_gain", "v": 0.5, "w": -0.5, "mu": 0.8, "duration": 3.0,
+                                                  "heading": heading, "friction_ratio": r})
+        gains.append(result["checks"][0]["engine_value"])
+    cylinder = run_case(_setup("mujoco"), "x", {"kind": "yaw_gain", "v": 0.5, "w": -0.5, "mu": 0.8, "duration": 3.0})
+    assert gains[0] == pytest.approx(gains[1], abs=0.01) and gains[0] > 0.65, gains
+    assert gains[2] == pytest.approx(cylinder["checks"][0]["engine_value"], abs=0.01), (gains, cylinder["checks"])
