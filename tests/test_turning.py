@@ -152,3 +152,15 @@ def test_mujoco_capsule_frame_follows_the_wheel():
     cylinder = run_case(_setup("mujoco"), "x", {"kind": "yaw_gain", "v": 0.5, "w": -0.5, "mu": 0.8, "duration": 3.0})
     assert gains[0] == pytest.approx(gains[1], abs=0.01) and gains[0] > 0.65, gains
     assert gains[2] == pytest.approx(cylinder["checks"][0]["engine_value"], abs=0.01), (gains, cylinder["checks"])
+
+
+def test_report_takes_the_analytic_of_an_engine_that_ran_and_names_the_engines_that_skipped():
+    from simpick.report.validation import validation_section
+
+    ran = run_case(_setup("ode"), CASE, dict(CONFIG["validation"]["cases"][CASE], duration=1.0))
+    gone = run_case(_setup("dart"), CASE, CONFIG["validation"]["cases"][CASE])
+    section = validation_section(summarise([gone, ran], TOLERANCES), ["dart", "ode"], None)
+    row = next(r for r in section["rows"] if r["case"] == CASE)
+    assert row["analytic"] == pytest.approx(0.705, abs=0.002)
+    assert row["cells"]["dart"]["status"] == "skipped" and row["cells"]["ode"]["status"] == "ok"
+    assert list(section["skipped"]) == [f"{CASE} (dart)"] and "friction_ratio" in section["skipped"][f"{CASE} (dart)"]
