@@ -265,3 +265,16 @@ def test_compliant_gain_depends_on_the_command_size(robot):
         CoulombTable(lay, angles=8)
     with pytest.raises(InputError, match="slip_compliance"):
         with_slip_compliance(lay, -1.0)
+
+
+def test_ratio_for_gain_inverts_the_anisotropic_gain_and_the_ros_multiplier(robot):
+    from simpick.coulomb import ratio_for_gain, wheel_separation_multiplier
+
+    husky = contact_layout(robot)
+    r = ratio_for_gain(husky, 0.70, 0.5, 0.5, TRACK)
+    assert 0.6 < r < 0.66  # the notes' r ~ 0.63 for hard ground
+    assert yaw_rate_gain(contact_layout(robot, friction_ratio=r), 0.5, 0.5, TRACK) == pytest.approx(0.70, abs=1e-3)
+    assert math.isnan(ratio_for_gain(husky, 1.2, 0.5, 0.5, TRACK))  # above the frictionless-sideways limit
+    # Clearpath's Husky multiplier 1.875 on the 0.5708 m separation <=> a gain of 0.519 on track 0.555
+    assert wheel_separation_multiplier(0.5186, TRACK, 0.5708) == pytest.approx(1.875, abs=0.001)
+    assert wheel_separation_multiplier(1.0, 0.5708, 0.5708) == 1.0

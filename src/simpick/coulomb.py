@@ -245,6 +245,31 @@ def yaw_rate_gain(layout: ContactLayout, v: float, w: float, track: float, wheel
     return float(steady_twist(layout, layout.rim_speeds(left, right), mu)[2] / w)
 
 
+def ratio_for_gain(layout: ContactLayout, gain: float, v: float, w: float, track: float,
+                   bounds: tuple[float, float] = (0.02, 2.0)) -> float:
+    """The lateral/longitudinal friction ratio at which the anisotropic Coulomb gain at (v, w) is
+    ``gain`` (the gain falls monotonically with the ratio); NaN when ``gain`` lies outside the
+    gains at ``bounds``."""
+    from scipy.optimize import brentq
+
+    def excess(r: float) -> float:
+        return yaw_rate_gain(with_friction_ratio(layout, r), v, w, track) - gain
+
+    lo, hi = excess(bounds[0]), excess(bounds[1])
+    if not (math.isfinite(gain) and lo >= 0 >= hi):
+        return math.nan
+    return float(brentq(excess, *bounds, xtol=1e-4))
+
+
+def wheel_separation_multiplier(gain: float, track: float, separation: float) -> float:
+    """What a ROS diff_drive_controller user sets as ``wheel_separation_multiplier`` for a robot
+    whose yaw rate is ``gain`` x (v_right - v_left) / ``track``: the controller commands
+    v_right - v_left = w x multiplier x ``separation`` (the wheels' geometric separation), so the
+    robot turns at w when multiplier = track / (gain x separation). Clearpath's 1.875 for the
+    Husky (separation 0.5708 m) is a gain of 0.519 against track 0.555."""
+    return float(track / (gain * separation)) if gain > 0 else math.inf
+
+
 class CoulombTable:
     """Steady twist for any (left, right) rim speed pair, from solutions on the unit circle.
 
@@ -309,4 +334,5 @@ def braking_deceleration(robot: RobotSpec, mu: float) -> tuple[float, str | None
 
 
 __all__ = ["ContactLayout", "CoulombTable", "braking_deceleration", "contact_layout", "equal_loads", "load_layout",
-           "mass_distribution", "steady_twist", "with_friction_ratio", "with_slip_compliance", "yaw_rate_gain"]
+           "mass_distribution", "ratio_for_gain", "steady_twist", "wheel_separation_multiplier", "with_friction_ratio",
+           "with_slip_compliance", "yaw_rate_gain"]
