@@ -7,7 +7,8 @@ import sys
 from simpick.config import timestep_label, validate_or_exit
 
 
-validate_or_exit(config, files=workflow.configfiles)
+# the typed, validated settings (defaults filled in): what the statistics-bearing rules pass on
+SETTINGS = validate_or_exit(config, files=workflow.configfiles)
 
 ENGINES = list(config["engines"])
 # Reference models (kinematic, coulomb) join the real-data comparison only, never the scores.
@@ -360,10 +361,10 @@ COMPARE_CODE = {"lab": ("workflow.py", "metrics.py", "traces.py", "reference.py"
 
 
 def statistics_params():
-    """How many independent runs a real-data interval or verdict needs, and at what level."""
-    from simpick.config import Statistics
-
-    return canonical(Statistics(**(config.get("statistics") or {})).model_dump())
+    """How many independent runs an interval, a verdict, a rank or an improvement needs, and at what
+    level: the validated ``statistics`` settings (SETTINGS), the one rule of every summary (real
+    data, calibration, sweep, verdict, report)."""
+    return canonical(SETTINGS.statistics.model_dump())
 
 
 def report_config():
