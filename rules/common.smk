@@ -395,6 +395,22 @@ def accuracy_source():
             "errors": metrics_file(source, "imu_errors"), "per_test": metrics_file(source, "per_test")}
 
 
+def verdict_source():
+    """The real data simpick's verdict rests on: the accuracy scores' real set, else the committed segments."""
+    src = accuracy_source()
+    return src["per_test"].split("/")[-2] if src["set"] != "lab" else "segments"
+
+
+def verdict_source_title():
+    kind = SOURCES[verdict_source()]["kind"]
+    if kind == "segments":
+        return f"committed constant-command segments of {config['real_data']['datasets'].get(DATASET, {}).get('label') or DATASET}"
+    return f"full replay of {verdict_source()}"
+
+
+VERDICT_TABLES = ("metrics", "table", "separation", "ranking", "discrimination")
+
+
 def accuracy_errors():
     """The Eq. 7 totals the accuracy scores rest on."""
     return accuracy_source()["errors"]
@@ -419,6 +435,8 @@ def report_real_inputs(wildcards):
         inputs.update({f"replay_{table}": metrics_file(REPLAY_SET.name, table)
                        for table in ("per_test", "summary", "pairwise", "imu_errors")})
         inputs["replay_per_window"] = metrics_file(REPLAY_SET.name, "detail")
+    inputs.update({f"verdict_{t}": f"results/verdict/{t}.csv" for t in VERDICT_TABLES})
+    inputs["verdict_headline"] = "results/verdict/headline.yaml"
     if SWEEP:
         inputs["sweep"] = f"{SWEEP_DIR}/summary.csv"
     if CALIBRATION and CALIBRATION.get("enabled"):  # rules/calibration.smk

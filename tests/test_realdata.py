@@ -294,35 +294,6 @@ def test_segment_compare_and_summarise_against_hand_computed_values(tmp_path):
     assert pairwise.set_index("figure").loc["error_angular", "mean_a_minus_b"] == pytest.approx(0.05)
 
 
-def _unit_errors(errors: dict[str, list[float]]) -> pd.DataFrame:
-    rows = [{"engine": e, "terrain_class": "ice", "run": f"{i:02d}", "segment": f"ice-{i:02d}", "status": "ok",
-             "error_angular": v, "error_linear": v} for e, vals in errors.items() for i, v in enumerate(vals)]
-    return pd.DataFrame(rows)
-
-
-def test_score_discrimination_splits_the_error_into_floor_and_engine():
-    from simpick.realdata import score_discrimination
-
-    a = [10.0, 20.0, 5.0, 30.0, 8.0, 12.0]
-    per_test = _unit_errors({"a": a, "b": [x + 1 for x in a], "k": a, "c": [x + 5 for x in a]})
-    d = score_discrimination(per_test, ["a", "b"], ["k", "c"])["angular"]
-    rows = {r["engine"]: r for r in d["rows"]}
-    assert d["floor"] == 85.0 and d["n_runs"] == 6  # the smaller reference total
-    assert rows["b"]["error"] == 91.0 and rows["b"]["engine_part"] == 6.0
-    assert rows["b"]["floor_share"] == pytest.approx(85 / 91) and rows["a"]["floor_share"] == 1.0
-    assert rows["b"]["score"] == pytest.approx(85 / 91) and d["spread"] == pytest.approx(6 / 91)
-    assert d["separates"] is True  # b is worse in every run: the score's interval stays below 1
-
-    # b better on some runs, worse on others, by more than the totals differ: no separation
-    noisy = _unit_errors({"a": a, "b": [x + s for x, s in zip(a, (6, -5, 4, -6, 5, -3))], "k": a})
-    d = score_discrimination(noisy, ["a", "b"], ["k"])["angular"]
-    assert d["spread"] == pytest.approx(1 - 85 / 86) and d["separates"] is False
-
-    # fewer runs than statistics.min_runs: no interval, no judgement
-    d = score_discrimination(_unit_errors({"a": a[:3], "b": a[:3], "k": a[:3]}), ["a", "b"], ["k"])["linear"]
-    assert d["separates"] is None and np.isnan(d["half_width"])
-
-
 def test_every_real_case_starts_from_its_own_seeded_heading_the_same_for_every_model():
     """Issue 17: no real-data case starts from a fixed heading. The heading derives from the config
     seed and the case's names (not the model), so paired comparisons stay paired."""

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import html
 import json
 import math
 import re
@@ -482,6 +483,9 @@ def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
             row["yaw_rate_gain_sim"] = ((0.25 if e == "mujoco" else 0.05) + 0.01 * i
                                         if seg["kind"] == "turning" else float("nan"))
             row["speed_sim"] = seg["v"]
+            row["gain_error"] = (abs(row["yaw_rate_gain_sim"] - seg["yaw_rate_gain"]) if seg["kind"] == "turning"
+                                 else float("nan"))
+            row["heading_error"] = 0.05 * (i + 1) * (0.5 if e == "mujoco" else 1.0)
             rows.append(row)
     per_test = pd.DataFrame(rows)
     per_test["test"] = per_test["segment"]
@@ -552,9 +556,45 @@ def built_real(tmp_path_factory):
     inputs.update(real)
     inputs["accuracy_errors"] = real["segments_imu_errors"]
     inputs["accuracy_per_test"] = real["segments_per_test"]
+    inputs.update(write_verdict(root / "verdict", real["segments_per_test"], inputs["weighted"]))
     html, pdf = root / "out" / "report.html", root / "out" / "report.pdf"
     build_report(with_figures(inputs, _real_params(), root), _real_params(), html, pdf)
     return inputs, html.read_text(encoding="utf-8"), pdf
+
+
+def write_verdict(root: Path, per_test: str, weighted: str) -> dict:
+    """The verdict rule's tables (simpick.verdict.verdict_job) from the synthetic real data."""
+    from simpick.verdict import verdict_job
+
+    root.mkdir(parents=True, exist_ok=True)
+    provenance = root / "provenance.yaml"
+    provenance.write_text(yaml.safe_dump({"accuracy": {"set": "segments", "per_test_file": per_test}}))
+    outputs = {k: str(root / f"{k}.csv") for k in ("metrics", "table", "separation", "ranking", "discrimination")}
+    outputs["headline"] = str(root / "headline.yaml")
+    verdict_job(per_test, weighted, str(provenance),
+                {"engines": list(ENGINES), "baselines": [], "statistics": {"min_runs": 6, "level": 0.95},
+                 "weights": dict(DEFAULT_WEIGHTS), "seed": 3, "source": "segments", "source_title": "test segments"},
+                outputs)
+    return {f"verdict_{k}": v for k, v in outputs.items()}
+
+
+def test_the_report_opens_with_the_verdict_and_labels_the_papers_method(built_real):
+    """Issue 17: the first paragraph is the verdict rule's (results/verdict/headline.yaml), printed as
+    written; the paper's weighted table is labelled as the paper's method and carries its interval."""
+    inputs, text, _ = built_real
+    head = yaml.safe_load(Path(inputs["verdict_headline"]).read_text())
+    summary = re.search(r'<div class="summary".*?</div>', text, re.S).group(0)
+    first = re.search(r"<p[^>]*>(.*?)</p>", summary, re.S).group(1)
+    assert first.startswith("<b>Verdict.</b>") and head["paragraph"] in html.unescape(" ".join(first.split()))
+    assert "By the paper's method" in summary
+    assert "1. Ranking and weighted scores: the paper's method" in text
+    table = pd.read_csv(inputs["verdict_table"])
+    section = _section(text, 'id="verdict"', '<nav class="toc">')
+    for label in table.label.unique():
+        assert label in section
+    separation = pd.read_csv(inputs["verdict_separation"])
+    assert separation.statement.map(lambda st: st in html.unescape(section)).all()
+    assert "not measurable on this data" in section  # the speed error on BorealTC-like data
 
 
 def _section(text: str, start: str, end: str) -> str:

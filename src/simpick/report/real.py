@@ -132,19 +132,7 @@ def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], cl
     excluded = sorted(why)
     groups = group_tests(data, tests, classes) if kind != "lab" else []
     n_by_q = {q: sorted({int(x) for x in sel["n_tests"] if not _isnan(x)}) for q, sel in ie.groupby("quantity")}
-    discrimination = None
-    per_test = data.accuracy_per_test
-    if kind != "lab" and per_test is not None and "run" in per_test.columns:
-        from simpick.realdata import score_discrimination
-
-        scored = [e for e in engines if e in set(ie["engine"]) and e in set(data.weighted.index)]
-        floor_models = sorted(set(per_test["engine"]) - set(data.weighted.index))
-        if scored and floor_models:
-            discrimination = score_discrimination(per_test, scored, floor_models, tests=tests,
-                                                  statistics=statistics(params))
-            for d in discrimination.values():
-                shares = [r["floor_share"] for r in d["rows"] if not _isnan(r["floor_share"])]
-                d["engine_share_max"] = max(abs(1 - s) for s in shares) if shares else float("nan")
+    discrimination = _discrimination(data, statistics(params))
     n = len(tests)
     noun = {"segments": "constant-command segment", "replay": "replayed run", "own": "replayed own log"}.get(kind, "test")
     return {
@@ -157,6 +145,27 @@ def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], cl
         "unit_name": SET_UNITS.get(kind, "test"),
         "kind_title": SET_TITLES.get(kind, "lab tests"),
     }
+
+
+def _discrimination(data: ReportData, stats: Mapping[str, Any]) -> dict[str, Any] | None:
+    """What the paper's accuracy scores can tell apart, as the verdict rule wrote it
+    (results/verdict/discrimination.csv, simpick.verdict.score_discrimination): per quantity its rows."""
+    table = data.verdict.get("discrimination")
+    if table is None or table.empty:
+        return None
+    out = {}
+    for q, g in table.groupby("quantity", sort=False):
+        rows = g.to_dict("records")
+        first = rows[0]
+        sep = first.get("separates")
+        sep = None if _isnan(sep) or sep in ("", None) else str(sep) == "True"
+        shares = [_f(r["floor_share"]) for r in rows if not _isnan(r["floor_share"])]
+        out[str(q)] = {"rows": rows, "spread": _f(first["spread"]), "half_width": _f(first["half_width"]),
+                       "separates": sep, "n_runs": int(_f(first["n_runs"])), "floor": _f(first["floor"]),
+                       "floor_models": [m for m in str(first.get("floor_models") or "").split(";") if m],
+                       "min_runs": stats["min_runs"],
+                       "engine_share_max": max(abs(1 - x) for x in shares) if shares else float("nan")}
+    return out
 
 
 # --------------------------------------------------------------------------
@@ -182,22 +191,20 @@ def statistics(params: Mapping[str, Any]) -> dict[str, Any]:
 
 def _real_gain(per_test: pd.DataFrame | None, summary: pd.DataFrame | None, cls: str,
                stats: Mapping[str, Any] | None = None) -> tuple[dict | None, int]:
-    """The real robot's yaw-rate gain over the class's distinct tests: mean over runs, and its
-    interval where there are enough runs (``stats``)."""
-    from simpick.realmetrics import MIN_RUNS, mean_ci
-
-    stats = stats or {}
+    """The real robot's yaw-rate gain over the class's tests, as the summarise job wrote it (the
+    mean over runs and its interval from statistics.min_runs runs on, beside each model's row: the
+    row of the model that completed most tests), and the number of its distinct turning tests."""
+    n = 0
     if per_test is not None and "yaw_rate_gain_real" in per_test.columns:
         sel = per_test[per_test["terrain_class"] == cls].drop_duplicates("segment")
-        vals = np.array([_f(x) for x in sel["yaw_rate_gain_real"]])
-        runs = sel["run"].astype(str).to_numpy() if "run" in sel.columns else None
-        mean, lo, hi, n_runs = mean_ci(vals, runs, stats.get("min_runs", MIN_RUNS), stats.get("level", 0.95))
-        return {"mean": mean, "low": lo, "high": hi, "n_runs": n_runs}, int(np.isfinite(vals).sum())
+        n = int(np.isfinite([_f(x) for x in sel["yaw_rate_gain_real"]]).sum())
     if summary is not None and "yaw_rate_gain_real" in summary.columns:
         sel = summary[summary["terrain_class"] == cls]
         if len(sel):
-            return _cell(sel.iloc[0].to_dict(), "yaw_rate_gain_real"), -1
-    return None, 0
+            row = sel.sort_values("n_tests", ascending=False, kind="mergesort").iloc[0].to_dict()
+            cell = _cell(row, "yaw_rate_gain_real")
+            return {**cell, "n_runs": int(_f(row.get("n_runs"))) if not _isnan(row.get("n_runs")) else 0}, n
+    return None, n
 
 
 def _verdict(cls: str, fig: str, summary: pd.DataFrame | None, pairwise: pd.DataFrame | None,
