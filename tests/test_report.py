@@ -761,3 +761,22 @@ def test_the_sample_rate_table_is_read_from_the_replay_table_not_the_logs(built_
     row = next(r for r in datasets(load_inputs(tables_only), _real_params()) if r["set"] == "replay")
     assert (row["n"], row["imu"], row["commands"], row["simulated"]) == (f"{len(runs)} runs", "100 Hz", "6.5 Hz",
                                                                        "100 Hz")
+
+
+def test_a_real_source_with_no_case_is_said_not_a_crash(tmp_path, built_real):
+    """Issue 21: a replay source with no case (its compare and summarise tables with their columns and
+    no rows) renders, and the report says so."""
+    from simpick.workflow import compare_job, summarise_job
+
+    inputs, _, _ = built_real
+    out = {k: str(tmp_path / f"{k}.csv") for k in ("per_test", "detail", "runs", "summary", "pairwise", "imu_errors",
+                                                   "rtf")}
+    compare_job("replay", [], {"logs": []}, {"track": TRACK, "window": 10.0}, out)
+    summarise_job(out["per_test"], out["runs"], {"group": "terrain_class"}, out)
+    empty = {"replay_per_test": out["per_test"], "replay_summary": out["summary"],
+             "replay_pairwise": out["pairwise"], "replay_imu_errors": out["imu_errors"],
+             "replay_per_window": out["detail"]}
+    kept = {k: v for k, v in inputs.items() if not k.startswith("replay_") and k not in ("real_logs",)}
+    text = " ".join(_render({**kept, **empty}, _real_params()).split())
+    assert 'id="real-empty-replay"' in text and "<b>Full replay</b>: no case, the source yielded none" in text
+    assert 'id="real-asphalt-segments"' in text  # the segments are reported as before

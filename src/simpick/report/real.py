@@ -456,6 +456,12 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
         if lacking:
             missing.append(f"{SET_TITLES[s]}: no {', '.join(f'{s}_{t}' for t in lacking)} input")
     given = bool(sets) or data.segments is not None
+    # a source with no case, or none that any model completed: a normal outcome, said, not a crash (issue 21)
+    empty = []
+    for s_ in sets:
+        pt = data.real[s_].get("per_test")
+        if pt is not None and not (pt["status"].astype(str).str.lower() == "ok").any():
+            empty.append({"set": s_, "title": SET_TITLES[s_], "n_rows": len(pt)})
     scored_set = acc.get("kind") if acc and acc.get("kind") in REAL_SETS else None
     stats = statistics(params)
     shown_classes, class_blocks, blocks_by_set = _blocks(data, {**params, "_scored_set": scored_set},
@@ -506,7 +512,7 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
             if ns:
                 n_small.setdefault(b["set"], []).append((item["cls"], min(ns)))
     return {
-        "given": given, "sets": sets, "missing": missing, "classes": class_blocks, "glance": glance,
+        "given": given, "sets": sets, "missing": missing, "empty": empty, "classes": class_blocks, "glance": glance,
         "tally": tally, "gain_uri": gain_uri, "segments": _segments_table(data, classes, engines),
         "provenance": {"derived_by": prov.get("derived_by"), "found": prov.get("segments_found"),
                        "kept": prov.get("segments_kept")},
