@@ -246,6 +246,17 @@ def test_a_budget_edit_reruns_calibration_and_what_depends_on_it_nothing_else(tm
     best = yaml.safe_load((out / "kinematic/flooring/best.yaml").read_text())
     assert best["trials_run_now"] == 1 and best["n_trials"] == 3  # the journal's two trials were kept
 
+    # one statistics rule (issue 17): editing statistics.min_runs reruns the calibration summary and
+    # the real-data summaries, never a simulation or a calibration
+    run = snakemake(tmp_path, "results/metrics/segments/summary.csv")
+    assert run.returncode == 0, run.stderr[-3000:]
+    config["statistics"] = {"min_runs": 7, "level": 0.95}
+    write_config(tmp_path, config)
+    jobs = planned_jobs_for(tmp_path, "calibration")
+    assert sorted({rule for rule, _ in jobs}) == ["calibration", "calibration_summary"]
+    jobs = planned_jobs_for(tmp_path, "results/metrics/segments/summary.csv")
+    assert sorted({rule for rule, _ in jobs}) == ["summarise"]
+
 
 def planned_jobs_for(workdir, target):
     import re
