@@ -408,7 +408,7 @@ def verdict_source_title():
     return f"full replay of {verdict_source()}"
 
 
-VERDICT_TABLES = ("metrics", "table", "separation", "ranking", "discrimination")
+VERDICT_TABLES = ("metrics", "table", "separation", "ranking", "discrimination", "headings")
 
 
 def accuracy_errors():

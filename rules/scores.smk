@@ -44,6 +44,7 @@ rule verdict:
         separation=report("results/verdict/separation.csv", category="Verdict"),
         ranking=report("results/verdict/ranking.csv", category="Verdict"),
         discrimination=report("results/verdict/discrimination.csv", category="Verdict"),
+        headings=report("results/verdict/headings.csv", category="Verdict"),
         headline=report("results/verdict/headline.yaml", category="Verdict"),
     params:
         settings=canonical(

@@ -569,7 +569,8 @@ def write_verdict(root: Path, per_test: str, weighted: str) -> dict:
     root.mkdir(parents=True, exist_ok=True)
     provenance = root / "provenance.yaml"
     provenance.write_text(yaml.safe_dump({"accuracy": {"set": "segments", "per_test_file": per_test}}))
-    outputs = {k: str(root / f"{k}.csv") for k in ("metrics", "table", "separation", "ranking", "discrimination")}
+    outputs = {k: str(root / f"{k}.csv") for k in ("metrics", "table", "separation", "ranking", "discrimination",
+                                                    "headings")}
     outputs["headline"] = str(root / "headline.yaml")
     verdict_job(per_test, weighted, str(provenance),
                 {"engines": list(ENGINES), "baselines": [], "statistics": {"min_runs": 6, "level": 0.95},

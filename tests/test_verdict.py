@@ -124,7 +124,7 @@ def test_the_verdict_job_writes_every_table_and_the_headline(tmp_path):
     provenance.write_text(yaml.safe_dump({"accuracy": {"set": "segments", "per_test_file": str(per_test),
                                                        "tests": sorted(frame.test.unique())}}))
     outputs = {k: str(tmp_path / "verdict" / f"{k}.csv") for k in ("metrics", "table", "separation", "ranking",
-                                                                     "discrimination")}
+                                                                     "discrimination", "headings")}
     outputs["headline"] = str(tmp_path / "verdict" / "headline.yaml")
     params = {"engines": ["a", "b"], "baselines": ["k"], "statistics": STATS, "weights": WEIGHTS, "seed": 1,
               "source": "segments", "source_title": "test segments"}
@@ -139,3 +139,18 @@ def test_the_verdict_job_writes_every_table_and_the_headline(tmp_path):
     assert head["n_runs"] == 6 and head["paragraph"].startswith("Closest to the real Husky")
     assert "heading error: a is closest" in head["paragraph"] and "The paper's method" in head["paragraph"]
     assert "speed error: not measurable on this data" in head["paragraph"].lower()
+
+
+def test_the_heading_spread_is_each_gain_over_the_coulomb_gain_on_the_same_test():
+    rows = []
+    for test, heading, gains in (("t0", 0.0, {"p": 0.1, "coulomb": 0.5}), ("t1", 45.0, {"p": 0.5, "coulomb": 0.5}),
+                                 ("t2", 90.0, {"p": 0.12, "coulomb": 0.4})):
+        for model, g in gains.items():
+            rows.append({"engine": model, "test": test, "terrain_class": "asphalt", "run": test, "status": "ok",
+                         "start_heading_deg": heading, "yaw_rate_gain_sim": g})
+    from simpick.verdict import heading_spread
+
+    out = heading_spread(pd.DataFrame(rows)).set_index("test")
+    assert list(out.model) == ["p"] * 3
+    np.testing.assert_allclose(out.gain_ratio, [0.2, 1.0, 0.3])
+    assert heading_spread(pd.DataFrame(rows)[lambda f: f.engine != "coulomb"]).empty

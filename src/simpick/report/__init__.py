@@ -80,6 +80,7 @@ OPTIONAL_INPUTS: tuple[str, ...] = (
     "verdict_separation",
     "verdict_ranking",
     "verdict_discrimination",
+    "verdict_headings",
     "verdict_headline",
 )
 # Inputs that are lists of paths (the workflow script passes these as lists).

@@ -482,8 +482,17 @@ def _verdict(data: ReportData, engines: list[str]) -> dict[str, Any]:
         for r in rank.to_dict("records"):
             ranking[str(r["engine"])] = {"low": _f(r["total_low"]), "high": _f(r["total_high"]),
                                          "share_first": _f(r["share_first"]), "n_runs": int(_f(r["n_runs"]) or 0)}
+    headings = []
+    spread = data.verdict.get("headings")
+    if spread is not None and not spread.empty:
+        for model, g in spread.groupby("model", sort=False):
+            ratio = g.gain_ratio.astype(float)
+            headings.append({"model": model, "n": int(ratio.notna().sum()), "low": float(ratio.min()),
+                             "high": float(ratio.max()), "deg_low": float(g.start_heading_deg.min()),
+                             "deg_high": float(g.start_heading_deg.max())})
+        headings.sort(key=lambda h: order.get(h["model"], len(order)))
     head = data.verdict_headline or {}
-    return {"given": True, "paragraph": head.get("paragraph"), "n_runs": head.get("n_runs"),
+    return {"given": True, "headings": headings, "paragraph": head.get("paragraph"), "n_runs": head.get("n_runs"),
             "source": head.get("source"), "metrics": metrics, "separation": seps, "ranking": ranking}
 
 

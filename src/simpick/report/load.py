@@ -60,6 +60,8 @@ COLUMNS: dict[str, tuple[str, ...]] = {
                                "score_low", "score_high", "spread", "half_width", "separates", "n_runs",
                                "floor_models"),
     "verdict_metrics": ("run", "model", "metric", "value"),
+    "verdict_headings": ("model", "test", "start_heading_deg", "yaw_rate_gain_sim", "yaw_rate_gain_reference",
+                         "gain_ratio"),
     # where each lab run ended against the command (rule figure_paths, beside its figure)
     "endpoints": ("engine", "terrain", "motion", "t", "dist", "dyaw_deg", "v_cmd", "w_cmd", "v_mean", "w_mean"),
 }
@@ -67,7 +69,7 @@ COLUMNS: dict[str, tuple[str, ...]] = {
 # The real-data sets: one per way of comparing with the real robot (simpick.realdata).
 REAL_SETS: tuple[str, ...] = ("segments", "replay")
 REAL_TABLES: tuple[str, ...] = ("per_test", "summary", "pairwise", "imu_errors")
-VERDICT_TABLES: tuple[str, ...] = ("metrics", "table", "separation", "ranking", "discrimination")
+VERDICT_TABLES: tuple[str, ...] = ("metrics", "table", "separation", "ranking", "discrimination", "headings")
 
 # Text columns: read as strings, an empty cell becomes "" rather than NaN.
 TEXT_COLUMNS = {"excluded", "reasons", "tests", "status", "source", "engine", "terrain",
