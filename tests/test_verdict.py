@@ -154,3 +154,20 @@ def test_the_heading_spread_is_each_gain_over_the_coulomb_gain_on_the_same_test(
     assert list(out.model) == ["p"] * 3
     np.testing.assert_allclose(out.gain_ratio, [0.2, 1.0, 0.3])
     assert heading_spread(pd.DataFrame(rows)[lambda f: f.engine != "coulomb"]).empty
+
+
+def test_the_headline_says_plainly_when_the_papers_order_is_not_decided_by_the_imu_scores():
+    from simpick.verdict import headline, paper_rows
+
+    weighted = _weighted().assign(total=[60.0, 49.0])  # the rest: 40 and 32; IMU 20 and 17 points
+    rank = ranking(weighted, None, None, WEIGHTS, STATS)
+    disc = pd.DataFrame([{"quantity": q, "engine": e, "score": s, "spread": 0.2, "half_width": 0.3,
+                          "separates": False, "n_runs": 6} for q in ("angular", "linear")
+                         for e, s in (("a", 1.0), ("b", 0.85))])
+    text = headline(pd.DataFrame(), paper_rows(rank, disc, WEIGHTS), rank, "test data", 6)
+    # IMU points differ by 3, the totals by 11: the order comes from the rest
+    assert "ranks a first: a 60.000, b 49.000" in text
+    assert ("decided by qualitative facts, real-time factor and CPU load" in text
+            and "0.85–1 (angular) and 0.85–1 (linear)" in text and "at most 3.00 points, less than the 11.00" in text)
+    close = ranking(_weighted(), None, None, WEIGHTS, STATS)  # totals 50 and 49: the IMU scores could swap them
+    assert "decided by" not in headline(pd.DataFrame(), paper_rows(close, disc, WEIGHTS), close, "test data", 6)
