@@ -454,5 +454,6 @@ def verdict_job(per_test: str, weighted: str, provenance: str, params: dict, out
     source = params.get("source_title") or params.get("source") or "real data"
     text = headline(table, separation, rank, source, n_runs)
     Path(outputs["headline"]).write_text(yaml.safe_dump(
-        {"source": params.get("source"), "n_runs": n_runs, "min_runs": min_runs, "level": level,
+        {"source": params.get("source"), "source_title": source, "n_runs": n_runs, "min_runs": min_runs,
+         "level": level,
          "paragraph": text}, sort_keys=False, allow_unicode=True))

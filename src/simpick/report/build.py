@@ -465,7 +465,11 @@ def _verdict(data: ReportData, engines: list[str]) -> dict[str, Any]:
     order = {e: i for i, e in enumerate(engines)}
     metrics = []
     for metric, g in table.groupby("metric", sort=False):
-        g = g.assign(_o=[(0 if _truth(e) else 1, order.get(m, len(order)), m) for e, m in zip(g.is_engine, g.model)])
+        # engines in the verdict's order (closest first), then the reference models
+        g = g.assign(_o=[(0 if _truth(e) else 1, _f(k) if not _isnan(k) else 0.0, order.get(m, len(order)), m)
+                         for e, k, m in zip(g.is_engine, g["rank"], g.model)])
+        if (g.n_runs.astype(float) == 0).all():  # not measured at all: one line says why
+            g = g.iloc[:1].assign(model="every model")
         rows = []
         for r in sorted(g.to_dict("records"), key=lambda r: r["_o"]):
             rows.append({"model": r["model"], "engine": bool(_truth(r["is_engine"])), "n_runs": int(_f(r["n_runs"]) or 0),
@@ -473,7 +477,7 @@ def _verdict(data: ReportData, engines: list[str]) -> dict[str, Any]:
                          "rank": None if _isnan(r["rank"]) else int(_f(r["rank"])),
                          "next": r.get("next") or "", "p": _f(r.get("p_to_next")),
                          "separates": _truth(r.get("separates_from_next")),
-                         "runs_needed": _f(r.get("runs_needed")), "note": r.get("note") or ""})
+                         "runs_needed": _runs_text(_f(r.get("runs_needed"))), "note": r.get("note") or ""})
         first = g.iloc[0]
         metrics.append({"metric": metric, "label": first["label"], "unit": first["unit"] or "", "rows": rows})
     seps = [{**r, "separates": _truth(r["separates"])} for r in separation.to_dict("records")]
@@ -493,7 +497,14 @@ def _verdict(data: ReportData, engines: list[str]) -> dict[str, Any]:
         headings.sort(key=lambda h: order.get(h["model"], len(order)))
     head = data.verdict_headline or {}
     return {"given": True, "headings": headings, "paragraph": head.get("paragraph"), "n_runs": head.get("n_runs"),
-            "source": head.get("source"), "metrics": metrics, "separation": seps, "ranking": ranking}
+            "source": head.get("source_title") or head.get("source"), "metrics": metrics, "separation": seps,
+            "ranking": ranking}
+
+
+def _runs_text(n: float) -> str:
+    from simpick.verdict import _runs_text as words
+
+    return words(n)
 
 
 def _f(x: Any) -> float:
