@@ -402,9 +402,10 @@ def verdict_source():
 
 
 def verdict_source_title():
-    kind = SOURCES[verdict_source()]["kind"]
-    if kind == "segments":
-        return f"committed constant-command segments of {config['real_data']['datasets'].get(DATASET, {}).get('label') or DATASET}"
+    """How the report names the verdict's real data."""
+    if SOURCES[verdict_source()]["kind"] == "segments":
+        label = (config["real_data"].get("datasets") or {}).get(DATASET, {}).get("label") or DATASET
+        return f"committed constant-command segments of {label}"
     return f"full replay of {verdict_source()}"
 
 

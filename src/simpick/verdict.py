@@ -411,7 +411,8 @@ def heading_spread(per_test: pd.DataFrame, reference: str = HEADING_REFERENCE) -
     return pd.DataFrame(rows, columns=HEADING_COLUMNS)
 
 
-def verdict_job(per_test: str, weighted: str, provenance: str, params: dict, outputs: dict) -> None:
+def verdict_job(per_test: str, weighted: str, provenance: str, params: dict, outputs: dict,
+                accuracy_tests: str | None = None) -> None:
     """results/verdict/: per-run metrics, the metric x model table, the separation table (simpick's
     metrics and the paper's scores and total), the paper's ranking with its interval over runs, the
     score discrimination, and the headline paragraph (headline.yaml) the report prints as is."""
@@ -438,8 +439,9 @@ def verdict_job(per_test: str, weighted: str, provenance: str, params: dict, out
     acc = prov.get("accuracy") or {}
     scored_tests = acc.get("tests") or None
     acc_per_test = None
-    if acc.get("set") not in (None, "lab") and acc.get("per_test_file") and Path(acc["per_test_file"]).is_file():
-        acc_per_test = pd.read_csv(acc["per_test_file"], dtype={"run": str, "test": str, "segment": str})
+    accuracy_tests = accuracy_tests or acc.get("per_test_file")  # the rule passes it; the record names it too
+    if acc.get("set") not in (None, "lab") and accuracy_tests and Path(accuracy_tests).is_file():
+        acc_per_test = pd.read_csv(accuracy_tests, dtype={"run": str, "test": str, "segment": str})
     scored = [e for e in engines if e in weighted_frame.index]
     disc = (score_discrimination(acc_per_test, scored, floor_models, scored_tests, params.get("statistics"),
                                  seed=seed) if acc_per_test is not None and not acc_per_test.empty
