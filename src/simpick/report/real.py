@@ -1,10 +1,10 @@
 """The report's real-robot parts: which data the accuracy scores rest on, and the section
 comparing every engine with the real Husky per terrain class (simpick.realdata's tables).
 
-Nothing here recomputes a study figure that a workflow rule already wrote, except the real
-robot's own yaw-rate gain per class (the mean over runs and its interval from
-``statistics.min_runs`` runs on, as simpick.realdata does per engine). The figures are drawn by
-the figure rules (simpick.report.draw); :func:`gain_panels` gives the yaw-rate-gain figure its data.
+Nothing here computes a statistic: the real robot's yaw-rate gain per class and its interval come
+from the summarise job's table, what the accuracy scores can tell apart from the verdict rule's
+(results/verdict/discrimination.csv). The figures are drawn by the figure rules
+(simpick.report.draw); :func:`gain_panels` gives the yaw-rate-gain figure its data.
 """
 
 from __future__ import annotations
