@@ -391,14 +391,14 @@ def accuracy_source():
         kind, source, dataset = "replay", REPLAY_SET.name, REPLAY_SET.name
     else:
         kind, source, dataset = "segments", "segments", DATASET
-    return {"reference": reference, "set": kind, "dataset": dataset,
+    return {"reference": reference, "set": kind, "dataset": dataset, "source": source,
             "errors": metrics_file(source, "imu_errors"), "per_test": metrics_file(source, "per_test")}
 
 
 def verdict_source():
     """The real data simpick's verdict rests on: the accuracy scores' real set, else the committed segments."""
     src = accuracy_source()
-    return src["per_test"].split("/")[-2] if src["set"] != "lab" else "segments"
+    return src["source"] if src["set"] != "lab" else "segments"
 
 
 def verdict_source_title():
