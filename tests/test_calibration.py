@@ -210,6 +210,10 @@ def test_the_summary_ranks_before_and_after_and_the_report_says_the_winner_chang
     assert (small.change_verdict == "too few runs (2 < 6)").sum() == 2  # the test set: 2 runs per engine
     assert set(small[small.set == "test"].winner_calibrated) == {"too few runs (2 < 6)"}
     # the same six runs under statistics.min_runs 7: nothing may be claimed any more
+    two = pd.concat([_evals().assign(terrain_class=c) for c in ("ice", "snow")])  # pooled: 12 test runs
+    pooled = summarise(two, best)
+    pooled = pooled[(pooled.terrain_class == "all classes") & (pooled.set == "test")].set_index("engine")
+    assert pooled.loc["a", "winner_calibrated"] == "a" and pooled.loc["a", "winner_configured"] == "b"
     strict = summarise(_evals(), best, {"min_runs": 7, "level": 0.95})
     assert strict.change_verdict.str.startswith("too few runs (6 < 7)").all() and strict.rank_configured.isna().all()
     section = calibration_section(summary, ["b", "a"], {})
@@ -302,6 +306,8 @@ def test_classes_too_small_for_an_interval_get_one_pooled_and_runs_are_named_by_
     assert pooled.change == pytest.approx(-0.3)
     assert pooled.change_low < -0.3 < pooled.change_high < 0  # an interval, and it excludes 0
     assert pooled.change_verdict == "improved" and bool(pooled.normalised)
+    # a pooled winner is judged on the same normalised objectives: one model alone is its own winner
+    assert pooled.winner_calibrated == "a"
     # pooling uses per-class normalised changes: snow's objective ten times larger changes nothing
     tenfold = pd.DataFrame(rows)
     tenfold.loc[tenfold.terrain_class == "snow", "objective"] *= 10

@@ -434,13 +434,15 @@ def _summary_row(g: pd.DataFrame, runs: pd.Series, min_runs: int, level: float) 
     return row
 
 
-def _normalised(g: pd.DataFrame) -> pd.DataFrame:
-    """Each class's objectives divided by that class's (engine's, set's) mean configured objective:
-    a change pooled across classes is then a share of each class's own error (the objective of
-    snow is about ten times asphalt's on the committed segments; unnormalised, snow would decide)."""
-    conf = g[g.variant == "configured"]
-    scale = conf.groupby("terrain_class")["objective"].mean()
-    return g.assign(objective=g.objective / g.terrain_class.map(scale))
+def _normalised(frame: pd.DataFrame) -> pd.DataFrame:
+    """Each class's objectives divided by that class's mean configured objective over every model
+    (per set): a change pooled across classes is then a share of the class's own error, and models
+    stay comparable (the objective of snow is about ten times asphalt's on the committed segments;
+    unnormalised, snow would decide every pooled figure)."""
+    conf = frame[frame.variant == "configured"]
+    scale = conf.groupby(["terrain_class", "set"])["objective"].mean()
+    keys = pd.MultiIndex.from_arrays([frame.terrain_class, frame.set])
+    return frame.assign(objective=frame.objective.to_numpy() / scale.reindex(keys).to_numpy())
 
 
 def _winners(out: pd.DataFrame, evals: pd.DataFrame, min_runs: int, level: float) -> pd.DataFrame:
@@ -464,14 +466,18 @@ def _winners(out: pd.DataFrame, evals: pd.DataFrame, min_runs: int, level: float
                 verdict = f"too few runs ({int(g.n_runs.min())} < {min_runs})"
             else:
                 best, second = ranked.engine.iloc[0], ranked.engine.iloc[1]
-                units = evals[(evals.set == set_) & (evals.variant == variant)]
+                units = evals[evals.set == set_]
                 if cls != POOLED:
                     units = units[units.terrain_class == cls]
+                else:  # normalised by each class's configured objective, as the pooled rows are
+                    units = _normalised(units)
+                units = units[units.variant == variant]
                 units = units.assign(key=units.terrain_class + "/" + units.unit.astype(str),
                                      runkey=units.terrain_class + "/" + units.run.astype(str))
-                if cls == POOLED:
-                    units = pd.concat([_normalised(u) for _, u in units.groupby("engine")])
                 wide = units.pivot_table(index="key", columns="engine", values="objective")
+                if best not in wide or second not in wide:
+                    out.loc[g.index, f"winner_{variant}"] = "no paired comparison"
+                    continue
                 run_of = units.drop_duplicates("key").set_index("key").runkey.reindex(wide.index)
                 t = paired_test(wide[best].to_numpy(), wide[second].to_numpy(), run_of.to_numpy(), min_runs, level)
                 verdict = best if t["verdict"] == "b" else f"{best} and {second} not separated (p {t['p_value']:.2g})"
@@ -486,8 +492,8 @@ def summarise(evals: pd.DataFrame, best: dict[tuple[str, str], dict], statistics
     runs), and the models' rank and winner in the class as configured and as calibrated (none below
     ``min_runs`` runs; a winner only where the paired test separates it from the runner-up).
     Then the same over every class pooled (terrain_class ``POOLED``), on per-class normalised
-    objectives (``normalised`` true: each class's objective over its mean as configured, so a
-    change is a share of each class's own error): a class has only a few runs (BorealTC 4-8, so 2-4
+    objectives (``normalised`` true: each class's objective over its mean as configured over every
+    model, so a change is a share of each class's own error): a class has only a few runs (BorealTC 4-8, so 2-4
     test runs), too few for an interval, while the runs of all classes together may be enough; a
     run is named by class and run there, since run numbers repeat across classes."""
     min_runs, level = _stats(statistics)
@@ -501,9 +507,9 @@ def summarise(evals: pd.DataFrame, best: dict[tuple[str, str], dict], statistics
                                                  (params.get("as_configured") or {}).items())
         rows.append(row)
     if evals.terrain_class.nunique() > 1:
-        for (engine, set_), g in evals.groupby(["engine", "set"], sort=True):
+        for (engine, set_), g in _normalised(evals).groupby(["engine", "set"], sort=True):
             # units are unique within a class only: pool under class-qualified names
-            g = _normalised(g).assign(unit=g.terrain_class + "/" + g.unit.astype(str))
+            g = g.assign(unit=g.terrain_class + "/" + g.unit.astype(str))
             rows.append({"terrain_class": POOLED, "engine": engine, "set": set_, "normalised": True,
                          **_summary_row(g, g.unit.str.rsplit("/", n=1).str[0] + "/" + g.run.astype(str),
                                         min_runs, level),
