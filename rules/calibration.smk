@@ -91,6 +91,7 @@ if CALIBRATION:
             units=f"{CAL_DIR}/units.csv",
             parameters=f"{CAL_DIR}/parameters.csv",
         params:
+            statistics=statistics_params(),
             code=code_version("calibration.py", "realmetrics.py"),
         log:
             f"{CAL_DIR}/logs/summary.log",

@@ -8,7 +8,8 @@ from simpick.config import timestep_label, validate_or_exit
 from simpick.robot import load_from_config
 
 
-validate_or_exit(config, files=workflow.configfiles)
+# the typed, validated settings (defaults filled in): what the statistics-bearing rules pass on
+SETTINGS = validate_or_exit(config, files=workflow.configfiles)
 
 # The study's robot, read again here (the config check above has read it and stopped on any
 # problem). The committed segments and a dataset folder were recorded on real_data.robot (BorealTC:
@@ -377,10 +378,10 @@ COMPARE_CODE = {"lab": ("workflow.py", "metrics.py", "traces.py", "reference.py"
 
 
 def statistics_params():
-    """How many independent runs a real-data interval or verdict needs, and at what level."""
-    from simpick.config import Statistics
-
-    return canonical(Statistics(**(config.get("statistics") or {})).model_dump())
+    """How many independent runs an interval, a verdict, a rank or an improvement needs, and at what
+    level: the validated ``statistics`` settings (SETTINGS), the one rule of every summary (real
+    data, calibration, sweep, verdict, report)."""
+    return canonical(SETTINGS.statistics.model_dump())
 
 
 def report_config():
@@ -409,8 +410,25 @@ def accuracy_source():
         kind, source, dataset = "replay", REPLAY_SET.name, REPLAY_SET.name
     else:
         kind, source, dataset = "segments", "segments", DATASET
-    return {"reference": reference, "set": kind, "dataset": dataset,
+    return {"reference": reference, "set": kind, "dataset": dataset, "source": source,
             "errors": metrics_file(source, "imu_errors"), "per_test": metrics_file(source, "per_test")}
+
+
+def verdict_source():
+    """The real data simpick's verdict rests on: the accuracy scores' real set, else the committed segments."""
+    src = accuracy_source()
+    return src["source"] if src["set"] != "lab" else "segments"
+
+
+def verdict_source_title():
+    """How the report names the verdict's real data."""
+    if SOURCES[verdict_source()]["kind"] == "segments":
+        label = (config["real_data"].get("datasets") or {}).get(DATASET, {}).get("label") or DATASET
+        return f"committed constant-command segments of {label}"
+    return f"full replay of {verdict_source()}"
+
+
+VERDICT_TABLES = ("metrics", "table", "separation", "ranking", "discrimination", "headings")
 
 
 def accuracy_errors():
@@ -438,6 +456,8 @@ def report_real_inputs(wildcards):
         inputs.update({f"replay_{table}": metrics_file(REPLAY_SET.name, table)
                        for table in ("per_test", "summary", "pairwise", "imu_errors")})
         inputs["replay_per_window"] = metrics_file(REPLAY_SET.name, "detail")
+    inputs.update({f"verdict_{t}": f"results/verdict/{t}.csv" for t in VERDICT_TABLES})
+    inputs["verdict_headline"] = "results/verdict/headline.yaml"
     if SWEEP:
         inputs["sweep"] = f"{SWEEP_DIR}/summary.csv"
     if CALIBRATION and CALIBRATION.get("enabled"):  # rules/calibration.smk

@@ -26,3 +26,48 @@ rule scores:
         "../envs/simpick.yaml"
     script:
         "../scripts/scores.py"
+
+
+# simpick's verdict beside the paper's method (simpick.verdict): per real run the yaw-rate gain
+# error, the heading error and (where a log measures it) the speed error, with intervals and paired
+# verdicts over runs; what the paper's accuracy scores separate; the weighted total with an interval
+# over real runs; the report's first paragraph. The report reads these tables and computes none.
+rule verdict:
+    input:
+        per_test=metrics_file(verdict_source(), "per_test"),
+        accuracy_tests=accuracy_source()["per_test"],
+        weighted="results/scores/weighted.csv",
+        provenance="results/scores/provenance.yaml",
+    output:
+        metrics=report("results/verdict/metrics.csv", category="Verdict"),
+        table=report("results/verdict/table.csv", category="Verdict"),
+        separation=report("results/verdict/separation.csv", category="Verdict"),
+        ranking=report("results/verdict/ranking.csv", category="Verdict"),
+        discrimination=report("results/verdict/discrimination.csv", category="Verdict"),
+        headings=report("results/verdict/headings.csv", category="Verdict"),
+        headline=report("results/verdict/headline.yaml", category="Verdict"),
+    params:
+        settings=canonical(
+            {
+                "engines": sorted(ENGINES),
+                "baselines": sorted(BASELINES),
+                "statistics": statistics_params(),
+                "weights": config["weights"],
+                "seed": config["seed"],
+                "source": verdict_source(),
+                "source_title": verdict_source_title(),
+            }
+        ),
+        code=code_version("verdict.py", "realmetrics.py", "scoring.py", "workflow.py"),
+    log:
+        "results/logs/verdict.log",
+    benchmark:
+        "results/benchmarks/verdict.tsv"
+    threads: 1
+    resources:
+        mem_mb=500,
+        runtime=10,
+    conda:
+        "../envs/simpick.yaml"
+    script:
+        "../scripts/verdict.py"

@@ -37,7 +37,8 @@ if SWEEP:
         output:
             f"{SWEEP_DIR}/summary.csv",
         params:
-            code=code_version("sweep.py"),
+            statistics=statistics_params(),
+            code=code_version("sweep.py", "realmetrics.py"),
         log:
             f"{SWEEP_DIR}/logs/summary.log",
         conda:

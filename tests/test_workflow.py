@@ -84,8 +84,9 @@ def test_weight_edit_reruns_only_scoring_and_report(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        # figure_contributions draws weight x score per metric: the one figure the weights reach
-        assert rules == ["all", "figure_contributions", "report", "report_pdf", "scores"]
+        # figure_contributions draws weight x score per metric: the one figure the weights reach; the
+        # verdict gives the weighted total its interval over real runs and says what decides the order
+        assert rules == ["all", "figure_contributions", "report", "report_pdf", "scores", "verdict"]
     finally:
         write_config(workdir, config)
 

@@ -75,6 +75,14 @@ OPTIONAL_INPUTS: tuple[str, ...] = (
     "replay_traces",
     "figures",
     "endpoints",
+    # simpick's verdict (rules/scores.smk rule verdict, simpick.verdict)
+    "verdict_metrics",
+    "verdict_table",
+    "verdict_separation",
+    "verdict_ranking",
+    "verdict_discrimination",
+    "verdict_headings",
+    "verdict_headline",
 )
 # Inputs that are lists of paths (the workflow script passes these as lists).
 LIST_INPUTS: tuple[str, ...] = ("cpu", "traces", "real_logs", "replay_traces", "figures")
