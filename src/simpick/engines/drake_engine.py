@@ -53,6 +53,13 @@ from simpick.imu import imu_from_kinematics
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 ROBOT_FRICTION = 1.0  # the robot's coefficient; the terrain's is chosen so that the combination is its mu
+# A wheel's compliant mesh is resolved to at most its radius / 8, so that a small wheel has as many
+# sides as the Husky's (0.02 m on r 0.165: 52 sides; r / 8: 51 and more). Drake's mesh has
+# 2 pi r / resolution sides: at a fixed 0.02 m a 33 mm wheel (TurtleBot3-like skid robot, issue 18)
+# was an 11-sided prism and the robot, driven straight at 0.2 m/s for 1.5 s, yawed 0.38 rad and
+# ended 5.0 cm sideways; at r / 4 (26 sides) 0.048 rad and 1.0 cm; at r / 8 0.023 rad and 0.75 cm,
+# as with point contact (0.028 rad, 0.9 cm).
+WHEEL_MESH_PER_RADIUS = 8
 
 
 class DrakeSettings(EngineSettings):
@@ -69,9 +76,10 @@ class DrakeSettings(EngineSettings):
     # Pa, the wheels' hydroelastic modulus ("hydroelastic" only): 1e7 rests base_link 0.5 mm low,
     # 1e6 2.3 mm (a tyre's deflection is of that order) with gains within 0.01 and 1.3-1.4x the time
     hydroelastic_modulus: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 1.0e7
-    # m, the resolution hint of the wheels' compliant mesh and of the terrain's spheres, for these
-    # at most a quarter of the radius ("hydroelastic" only): 2 cm gives a 52-sided wheel of radius
-    # 0.165 m; measured 5 mm: torque-bound acceleration 0.641 for 0.652 (Drake's default dissipation).
+    # m, the resolution hint of the wheels' compliant mesh (at most radius / WHEEL_MESH_PER_RADIUS)
+    # and of the terrain's spheres (at most a quarter of the radius) ("hydroelastic" only): 2 cm
+    # gives a 52-sided wheel of radius 0.165 m; measured 5 mm: torque-bound acceleration 0.641 for
+    # 0.652 (Drake's default dissipation).
     # 4 cm half-sunk stones meshed at 2 cm lifted an axle 37.8 mm, at r/4 38.6-38.7 mm (exact: 40)
     mesh_resolution: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 0.02
     # N m s/rad, derivative gain of the wheels' implicit PD controllers (proportional gain 0):
@@ -167,20 +175,23 @@ class DrakeEngine:
             except (RuntimeError, ValueError) as exc:
                 raise InputError(str(robot.urdf), f"Drake's URDF parser could not read the robot: {exc}") from None
             wheels = []
-            for name in robot.wheel_joints:
-                joint = plant.GetJointByName(name, instance)
-                actuator = plant.AddJointActuator(f"{name}_drive", joint, scenario.max_wheel_torque)
+            radius = {}  # wheel body name -> its radius, for the compliant mesh's resolution
+            for wheel in robot.driven:
+                joint = plant.GetJointByName(wheel.joint, instance)
+                actuator = plant.AddJointActuator(f"{wheel.joint}_drive", joint, scenario.max_wheel_torque)
                 actuator.set_controller_gains(PdControllerGains(p=0.0, d=settings.wheel_drive_damping))
                 wheels.append(joint)
+                radius[joint.child_body().name()] = wheel.radius
             for body in plant.GetBodyIndices(instance):
                 for geometry in plant.GetCollisionGeometriesForBody(plant.get_body(body)):
                     props = ProximityProperties()
-                    is_wheel = plant.get_body(body).name() in {j.child_body().name() for j in wheels}
+                    is_wheel = plant.get_body(body).name() in radius
                     AddContactMaterial(dissipation=settings.wheel_dissipation if is_wheel else None,
                                        friction=CoulombFriction(ROBOT_FRICTION, ROBOT_FRICTION), properties=props)
                     if hydro and is_wheel:
-                        AddCompliantHydroelasticProperties(settings.mesh_resolution, settings.hydroelastic_modulus,
-                                                           props)
+                        AddCompliantHydroelasticProperties(
+                            min(settings.mesh_resolution, radius[plant.get_body(body).name()] / WHEEL_MESH_PER_RADIUS),
+                            settings.hydroelastic_modulus, props)
                     scene_graph.AssignRole(plant.get_source_id(), geometry, props, RoleAssign.kReplace)
             robots.append((instance, wheels))
         plant.Finalize()
