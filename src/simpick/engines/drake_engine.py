@@ -120,8 +120,8 @@ class DrakeEngine:
         """(simulator, plant, plant context, per robot (model instance, wheel joints), state log or
         None): with ``record``, a logger samples the plant's state every step."""
         from pydrake.geometry import (AddCompliantHydroelasticProperties, AddContactMaterial,
-                                      AddRigidHydroelasticProperties, Box, HalfSpace, ProximityProperties,
-                                      RoleAssign, Sphere)
+                                      AddRigidHydroelasticProperties, Box, CollisionFilterDeclaration, HalfSpace,
+                                      ProximityProperties, RoleAssign, Sphere)
         from pydrake.math import RigidTransform, RotationMatrix
         from pydrake.multibody.parsing import Parser
         from pydrake.multibody.plant import (AddMultibodyPlantSceneGraph, ContactModel, CoulombFriction,
@@ -193,6 +193,12 @@ class DrakeEngine:
                             min(settings.mesh_resolution, radius[plant.get_body(body).name()] / WHEEL_MESH_PER_RADIUS),
                             settings.hydroelastic_modulus, props)
                     scene_graph.AssignRole(plant.get_source_id(), geometry, props, RoleAssign.kReplace)
+            # a robot's own links never touch each other, as in the other engines; Drake filters only
+            # bodies joined by a joint, so the diff-drive robot's caster wheel (the chassis's
+            # grandchild, its top level with the chassis's underside) was in contact with the chassis
+            bodies = [plant.get_body(b) for b in plant.GetBodyIndices(instance)]
+            scene_graph.collision_filter_manager().Apply(
+                CollisionFilterDeclaration().ExcludeWithin(plant.CollectRegisteredGeometries(bodies)))
             robots.append((instance, wheels))
         plant.Finalize()
         # the state after every step, sampled inside Drake (at 0, dt, 2 dt ...): the job advances once
