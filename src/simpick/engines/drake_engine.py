@@ -1,7 +1,11 @@
 """Drake (Toyota Research Institute) through ``pydrake``: a discrete-time MultibodyPlant.
 
-- robot: the scenario's URDF through Drake's parser (a free-floating base_link, continuous joints
-  as revolute joints); masses, inertias and collision shapes as the URDF gives them.
+- robot: the scenario's URDF through Drake's parser (a free-floating base link, continuous joints
+  as revolute joints); masses, inertias and collision shapes as the URDF gives them. Any
+  :class:`~simpick.robot.RobotSpec`: the driven wheels get actuators in command order (their
+  joint's own sign), casters and swivels stay free revolute joints, a skid is a base collision
+  with the robot's friction (point contact, not hydroelastic), and one robot's bodies never collide
+  with each other (a collision filter; Drake itself excludes only bodies joined by a joint).
 - wheels: one joint actuator per wheel joint with Drake's implicit PD control (proportional gain
   0, derivative gain ``wheel_drive_damping``) and effort limit ``scenario.max_wheel_torque``:
   the controller is solved inside the discrete contact problem, the counterpart of PhysX's

@@ -9,7 +9,10 @@
   rendering device exists ("failed to find a rendering device"), so it reads a temporary copy with
   the visuals stripped (collision mesh paths made absolute). Everything else (wheel joints, base
   link, masses, inertias, collision shapes) comes from the URDF as it is. SAPIEN turns a URDF
-  cylinder into a convex mesh.
+  cylinder into a convex mesh. Any :class:`~simpick.robot.RobotSpec`: the driven wheels get drives
+  in command order (their joint's own sign), casters and swivels are undriven articulation joints,
+  a skid is a base shape with the robot's friction, and one robot's links never collide with each
+  other (SAPIEN collision groups; PhysX itself excludes only a link and its parent).
 - wheels: PhysX articulation velocity drives (stiffness 0, damping ``wheel_drive_damping``, force
   limit ``scenario.max_wheel_torque``): the implicit drive Isaac Lab's ``ImplicitActuatorCfg``
   configures for wheels (its Jetbot: stiffness 0, damping 1e5).
