@@ -64,7 +64,7 @@ ROBOT_FRICTION = 1.0  # the robot's coefficient; the terrain's is chosen so that
 # ended 5.0 cm sideways; at r / 4 (26 sides) 0.048 rad and 1.0 cm; at r / 8 0.023 rad and 0.75 cm,
 # as with point contact (0.028 rad, 0.9 cm). The diff-drive robot's 50 mm wheel at 0.02 m (16 sides)
 # turned it at 0.876 of w at (0.5, 0.5) and rolled it at 0.943 of the wheel speed; at r / 8 0.993
-# and 0.996 (validation cases). The Jackal's (r 0.098 m, 31 -> 50 sides) gains moved by <= 0.004.
+# and 0.996 (validation cases). The Jackal's (r 0.098 m, 31 -> 51 sides) gains moved by <= 0.004.
 WHEEL_MESH_PER_RADIUS = 8
 
 
