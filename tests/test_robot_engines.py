@@ -5,12 +5,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
 from simpick.engines import ADAPTERS, get_engine
 from simpick.engines.base import Scenario
 from simpick.imu import euler_rpy
 from simpick.motions import constant_commands
 from simpick.robot import load_robot
+from simpick.validation import Setup, run_case
 
 from conftest import flat_terrain
 from test_robot import write_robot
@@ -46,6 +48,24 @@ def test_diff_drive_robot_drives_forward_and_turns_left(engine):
     # a left spin at 1 rad/s, with no-slip kinematics: within 20 % of 1 rad/s over the last half
     rate = (yaw[-1] - yaw[len(yaw) // 2]) / (0.001 * (len(yaw) - 1 - len(yaw) // 2))
     assert 0.8 < rate < 1.2, rate
+
+
+@pytest.mark.parametrize("engine", [
+    pytest.param(e, marks=[pytest.mark.xfail(strict=True, reason="ODE brakes the diff-drive robot at 2.00 m/s^2 "
+                                             "for 2.30 (README, validation on the diff-drive robot)")])
+    if e == "ode" else e for e in ADAPTERS])
+def test_a_caster_rolls_free_when_the_wheels_lock(engine):
+    """The diff-drive robot's locked-wheel slide (the validation case): its caster rolls and swivels
+    free, so only the driven wheels' share of the weight brakes it (2.30 m/s^2 at mu 0.3, not mu g).
+    PhysX gives every joint a friction coefficient of 0.05 unless told otherwise: the caster then
+    dragged, 2.449 m/s^2 (+6.3 %); with no joint friction 2.373 (+3.0 %)."""
+    config = yaml.safe_load((ROOT / "config" / "robots" / "diffbot.yaml").read_text())
+    bot = load_robot(ROOT / config["robot"]["urdf"])
+    setup = Setup(engine=engine, robot=bot, timestep=0.001, max_wheel_torque=config["robot"]["max_wheel_torque"],
+                  track=config["robot"]["track"], settings=config.get("engines", {}).get(engine) or {})
+    (check,) = run_case(setup, "slide_mu0.3", {"kind": "slide", "v": 0.5, "mu": 0.3})["checks"]
+    assert check["analytic_value"] == pytest.approx(2.30, abs=0.01)
+    assert check["engine_value"] == pytest.approx(check["analytic_value"], rel=0.05)  # the validation's tolerance
 
 
 @pytest.mark.parametrize("engine", list(ADAPTERS))
