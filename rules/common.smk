@@ -355,7 +355,7 @@ def compare_settings(source):
 
 
 COMPARE_CODE = {"lab": ("workflow.py", "metrics.py", "traces.py", "reference.py", "published.py"),
-                "segments": ("workflow.py", "metrics.py", "traces.py", "realdata.py", "realmetrics.py"),
+                "segments": ("workflow.py", "tables.py", "metrics.py", "traces.py", "realdata.py", "realmetrics.py"),
                 "replay": ("workflow.py", "metrics.py", "traces.py", "realdata.py", "realmetrics.py", "reallogs")}
 
 

@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 
 from simpick.watchdog import DEFAULT_TIMEOUT_S
-from simpick.workflow import write_csv
+from simpick.tables import write_csv
 
 SUMMARY_COLUMNS = ("terrain_class", "engine", "timestep", "n_segments", "n_failed", "n_compared", "excluded",
                    "error_angular", "error_linear", "gain_error", "real_time_factor", "steps_per_s")
