@@ -10,8 +10,6 @@ import json
 import sys
 from pathlib import Path
 
-import yaml
-
 from simpick.errors import InputError
 # the compare rows and the csv writer live in simpick.tables (shared with realdata, which this module imports)
 from simpick.tables import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, case_test, run_row, write_csv  # noqa: F401
@@ -20,7 +18,7 @@ from simpick.watchdog import DEFAULT_TIMEOUT_S
 
 def terrain_job(output: str, name: str, seed: int, spec: dict) -> None:
     from simpick import terrain
-    from simpick.simulate import stable_seed
+    from simpick.seeds import stable_seed
 
     spec = dict(spec)
     rule, friction = spec.pop("rule"), spec.pop("friction")
@@ -280,6 +278,7 @@ def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[st
     they rest on (:func:`score_provenance`; ``sources`` as it describes), which the report reads
     instead of working it out again."""
     import pandas as pd
+    import yaml
 
     from simpick import scoring
 
