@@ -14,7 +14,7 @@ if CALIBRATION:
             units=calibration_units(),
             test_fraction=canonical(CALIBRATION["test_fraction"]),
             seed=int(CALIBRATION["seed"]),
-            code=code_version("calibration.py"),
+            code=script_code("calibration_split"),
         log:
             f"{CAL_DIR}/logs/split.log",
         conda:
@@ -34,7 +34,7 @@ if CALIBRATION:
         params:
             case=lambda wc: real_params(wc.engine, wc.terrain_class),
             settings=lambda wc: calibration_settings(wc.engine),
-            code=lambda wc: engine_code(wc.engine, "calibration.py", "realdata.py", "realmetrics.py", "metrics.py"),
+            code=lambda wc: script_code("calibrate", engine_module(wc.engine)),
         wildcard_constraints:
             engine="|".join(CAL_MODELS),
             terrain_class="|".join(CAL_CLASSES),
@@ -64,7 +64,7 @@ if CALIBRATION:
         params:
             case=lambda wc: real_params(wc.engine, wc.terrain_class),
             settings=lambda wc: calibration_settings(wc.engine, search=False),
-            code=lambda wc: engine_code(wc.engine, "calibration.py", "realdata.py", "realmetrics.py", "metrics.py"),
+            code=lambda wc: script_code("calibration_evaluate", engine_module(wc.engine)),
         wildcard_constraints:
             engine="|".join(CAL_MODELS),
             terrain_class="|".join(CAL_CLASSES),
@@ -92,7 +92,7 @@ if CALIBRATION:
             parameters=f"{CAL_DIR}/parameters.csv",
         params:
             statistics=statistics_params(),
-            code=code_version("calibration.py", "realmetrics.py"),
+            code=script_code("calibration_summary"),
         log:
             f"{CAL_DIR}/logs/summary.log",
         conda:

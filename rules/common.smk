@@ -292,7 +292,7 @@ BATCHED = {"segments"}
 
 
 def simulate_units():
-    """(rule name, output patterns, what the rule fixes) of every rule of the simulate family: one
+    """(name, output patterns, fixed values) for each rule of the simulate family; one
     rule over the {source} wildcard for the one-case units, one per group of a batched source."""
     single = [s for s in SOURCES if s not in BATCHED]
     units = [("simulate", ["results/traces/{source}/{engine}/{group}/{name}.parquet"],
@@ -349,9 +349,10 @@ def case_params(source, engine, group, names):
 
 
 def case_code(source, engine):
-    """The library code a case runs: the simulation, the model's adapter, and how its kind drives it."""
-    more = {"lab": (), "segments": ("realdata.py",), "replay": ("realdata.py", "reallogs")}
-    return engine_code(engine, *more[SOURCES[source]["kind"]])
+    """The library code a case runs: simulate_job, the model's adapter, and how its kind is driven
+    (simpick.workflow.CASE_KINDS, whose other kinds' entries it does not run)."""
+    entry = dispatch_entry("simpick.workflow", "CASE_KINDS", SOURCES[source]["kind"])
+    return script_code("simulate", engine_module(engine), entry, opaque=("simpick.workflow:CASE_KINDS",))
 
 
 def compare_inputs(wildcards):
@@ -372,9 +373,15 @@ def compare_settings(source):
     return canonical({"track": config["robot"]["track"], "window": config["real_data"]["window"]})
 
 
-COMPARE_CODE = {"lab": ("workflow.py", "metrics.py", "traces.py", "reference.py", "published.py"),
-                "segments": ("workflow.py", "metrics.py", "traces.py", "realdata.py", "realmetrics.py"),
-                "replay": ("workflow.py", "metrics.py", "traces.py", "realdata.py", "realmetrics.py", "reallogs")}
+# compare_job picks one comparison by the source's kind: a job of one kind does not run the others.
+COMPARE_ENTRIES = {"lab": "simpick.workflow:lab_compare", "segments": "simpick.realdata:segment_compare",
+                   "replay": "simpick.realdata:replay_compare"}
+
+
+def compare_code(source):
+    kind = SOURCES[source]["kind"]
+    return script_code("compare", COMPARE_ENTRIES[kind],
+                       opaque=tuple(entry for other, entry in COMPARE_ENTRIES.items() if other != kind))
 
 
 def statistics_params():
@@ -485,20 +492,30 @@ def report_datasets():
 
 # --- library code as a rerun trigger ---
 # Snakemake reruns a job when its params change, not when imported library code does: each rule
-# carries the hash of the src/simpick files it runs (simpick.codeversion), so an edited metric or
-# engine adapter reruns what depends on it, and nothing else.
-from simpick.codeversion import code_version
-
-SIM_CODE = ("simulate.py", "imu.py", "health.py", "traces.py", "robot.py", "terrain.py", "motions.py",
-            "watchdog.py", "workflow.py", "engines/base.py", "engines/__init__.py")
-ENGINE_CODE = {"ode": ("engines/ode_engine.py", "engines/_ode.py"), "kinematic": ("engines/baselines.py",),
-               "coulomb": ("engines/baselines.py", "coulomb.py")}
+# carries the version of the code its job runs (simpick.codeversion): computed from the functions
+# its script calls and what they import and name, so an edited metric or engine adapter reruns
+# what runs it, and nothing else.
+from simpick.codeversion import dispatch_entry, job_code, script_roots
+from simpick.engines import ADAPTERS, REFERENCE_MODELS
 
 
-def engine_code(engine, *more):
-    """The code one engine's simulations run: the shared simulation code, its adapter, ``more``."""
-    own = ENGINE_CODE.get(engine, (f"engines/{engine}_engine.py",))
-    return code_version(*SIM_CODE, *own, *more)
+def script_code(script, *roots, opaque=()):
+    """The code version of a job of scripts/<script>.py: the simpick functions the script calls,
+    ``roots`` (modules or functions it reaches by name only: an engine adapter, a dispatch entry)
+    and what they use, less the ``opaque`` names (dispatch tables whose entry is a root)."""
+    path = os.path.join(workflow.basedir, "scripts", f"{script}.py")
+    return job_code(*script_roots(path), *roots, opaque=opaque)
+
+
+def figure_code(rule):
+    """A figure rule's code: figure_job and the drawing function simpick.report.draw.RULES gives it."""
+    entry = dispatch_entry("simpick.report.draw", "RULES", rule)
+    return script_code("figure", entry, opaque=("simpick.report.draw:RULES",))
+
+
+def engine_module(engine):
+    """The adapter module of a model (the registry imports it by name, so it is named here)."""
+    return {**ADAPTERS, **REFERENCE_MODELS}[engine].split(":")[0]
 
 
 # Calibration (rules/calibration.smk, config `calibration:`): units, settings and targets
@@ -544,3 +561,64 @@ if CALIBRATION:
     CALIBRATION_ALL = [f"{CAL_DIR}/summary.csv"] if CALIBRATION.get("enabled") else []
 else:
     CALIBRATION_ALL = []
+
+
+# --- the report's figures (rules/report.smk) ---
+
+FIGURES = "results/report/figures"
+# engine -> colour follows this list (simpick.report.draw.colors): sorted, so reordering the
+# config's engines neither recolours nor redraws a figure
+FIGURE_ENGINES = sorted(ENGINES) + sorted(BASELINES)
+
+
+def lab_figure_tests():
+    """The lab tests with an IMU-statistics figure: every simulated test, and every test the
+    paper gives a real reference for (drawn with the reference alone when no engine ran it)."""
+    from simpick.published import load_published
+    from simpick.reference import lab_reference
+
+    tests = [(t, m) for t in TERRAINS for m in MOTIONS]
+    return tests + [tm for tm in lab_reference(load_published(config["reference"]["published"])) if tm not in tests]
+
+
+LAB_FIGURE_TESTS = lab_figure_tests()
+
+
+def report_figures():
+    """Every figure file the report embeds (and the notes beside the replay figures)."""
+    out = [f"{FIGURES}/contributions.png", f"{FIGURES}/paths.png", f"{FIGURES}/validation_gain.png",
+           f"{FIGURES}/real_gain.png"]
+    out += [f"{FIGURES}/imu_stats/{t}/{m}.png" for t, m in LAB_FIGURE_TESTS]
+    out += expand(f"{FIGURES}/traces/{{terrain}}/{{motion}}.png", terrain=TERRAINS, motion=MOTIONS)
+    if SWEEP:
+        out.append(f"{FIGURES}/sweep.png")
+    if REPLAY_SET:
+        out += expand(f"{FIGURES}/replay/{{terrain_class}}.{{ext}}", terrain_class=REPLAY_SET.classes, ext=("png", "json"))
+    return out
+
+
+def lab_test_traces(wildcards):
+    return expand("results/traces/lab/{engine}/{terrain}/{motion}.parquet", engine=ENGINES,
+                  terrain=wildcards.terrain, motion=wildcards.motion)
+
+
+def real_gain_inputs(wildcards):
+    """The real-data tables whose yaw-rate gains the figure shows: the committed segments', and
+    the full replay's when a dataset folder is given."""
+    names = ("per_test", "summary", "pairwise")
+    inputs = {f"segments_{n}": metrics_file("segments", n) for n in names} if REAL_DATA_ROBOT else {}
+    if REPLAY_SET:
+        inputs.update({f"replay_{n}": metrics_file(REPLAY_SET.name, n) for n in names})
+    return inputs
+
+
+def replay_class_inputs(wildcards):
+    """One terrain class of the full replay: its canonical logs, every model's replay of them,
+    and the per-test table that picks the run drawn."""
+    runs = [run for c, run in RUNS if c == wildcards.terrain_class]
+    return {
+        "real_logs": [log for log in real_logs(REPLAY_SET.name) if f"/logs/{wildcards.terrain_class}/" in log],
+        "replay_traces": [f"results/traces/{REPLAY_SET.name}/{e}/{wildcards.terrain_class}/{run}.parquet"
+                          for e in REAL_MODELS for run in runs],
+        "replay_per_test": metrics_file(REPLAY_SET.name, "per_test"),
+    }

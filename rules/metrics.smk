@@ -14,7 +14,7 @@ rule compare:
     params:
         kind=lambda wc: SOURCES[wc.source]["kind"],
         settings=lambda wc: compare_settings(wc.source),
-        code=lambda wc: code_version(*COMPARE_CODE[SOURCES[wc.source]["kind"]]),
+        code=lambda wc: compare_code(wc.source),
     wildcard_constraints:
         source="|".join(re.escape(s) for s in SOURCES),
     log:
@@ -42,7 +42,7 @@ rule summarise:
         pairwise="results/metrics/{source}/pairwise.csv",
     params:
         settings=lambda wc: canonical({"group": SOURCES[wc.source]["group"], "statistics": statistics_params()}),
-        code=code_version("workflow.py", "metrics.py", "realdata.py", "realmetrics.py"),
+        code=script_code("summarise"),
     wildcard_constraints:
         source="|".join(re.escape(s) for s in SOURCES),
     log:

@@ -6,7 +6,7 @@ rule published_table11:
         comparison="results/published/table11_comparison.csv",
         worked_example="results/published/worked_example.json",
     params:
-        code=code_version("published.py"),
+        code=script_code("published"),
     log:
         "results/logs/published.log",
     conda:

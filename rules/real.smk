@@ -39,7 +39,7 @@ if REPLAY_SET:
                     "declared": replay_dataset()["declared"],
                 }
             ),
-            code=code_version("reallogs", "realdata.py"),
+            code=script_code("import_real"),
         wildcard_constraints:
             terrain_class="|".join(REPLAY_SET.classes),
             run="|".join(sorted({re.escape(run) for _, run in RUNS})),
@@ -66,7 +66,7 @@ if REPLAY_SET:
                     "source": replay_dataset()["source"],
                 }
             ),
-            code=code_version("realsegments.py", "realdata.py", "reallogs"),
+            code=script_code("real_segments"),
         log:
             f"results/logs/real/{REPLAY_SET.name}/real_segments.log",
         conda:
@@ -94,7 +94,7 @@ if REPLAY_SET:
                     "min_turn": config["real_data"]["segment_rules"]["min_turn"],
                 }
             ),
-            code=code_version("realturning.py", "coulomb.py", "reallogs"),
+            code=script_code("real_turning"),
         log:
             f"results/logs/real/{REPLAY_SET.name}/real_turning.log",
         conda:
@@ -149,7 +149,7 @@ if OWN_LOGS:
         params:
             entry=lambda wc: canonical(OWN_LOGS[wc.run]),
             track=canonical(config["robot"]["track"]),
-            code=code_version("reallogs", "realdata.py"),
+            code=script_code("import_own_log"),
         wildcard_constraints:
             terrain_class="|".join(sorted({re.escape(c) for c, _ in REPLAY_CASES["own"]})),
             run="|".join(sorted(re.escape(name) for name in OWN_LOGS)),

@@ -2,71 +2,11 @@
 # or terrain class for a family) from the tables into results/report/figures/, registered with
 # report() so `snakemake --report` shows it too; the report job only embeds the files. So a weight
 # edit redraws the one figure that shows the weights (figure_contributions), and a template edit
-# (src/simpick/report/templates, hashed by the report rules alone) redraws none.
-
-FIGURES = "results/report/figures"
-# engine -> colour follows this list (simpick.report.draw.colors): sorted, so reordering the
-# config's engines neither recolours nor redraws a figure
-FIGURE_ENGINES = sorted(ENGINES) + sorted(BASELINES)
-# what every figure job runs (simpick.report.draw: the data each figure shows; figures: the drawing)
-FIGURE_CODE = ("report/draw.py", "report/figures.py", "report/load.py", "scoring.py")
-
-
-def lab_figure_tests():
-    """The lab tests with an IMU-statistics figure: every simulated test, and every test the
-    paper gives a real reference for (drawn with the reference alone when no engine ran it)."""
-    from simpick.published import load_published
-    from simpick.reference import lab_reference
-
-    tests = [(t, m) for t in TERRAINS for m in MOTIONS]
-    return tests + [tm for tm in lab_reference(load_published(config["reference"]["published"])) if tm not in tests]
-
-
-LAB_FIGURE_TESTS = lab_figure_tests()
-
-
-def report_figures():
-    """Every figure file the report embeds (and the notes beside the replay figures)."""
-    out = [f"{FIGURES}/contributions.png", f"{FIGURES}/paths.png", f"{FIGURES}/validation_gain.png",
-           f"{FIGURES}/real_gain.png"]
-    out += [f"{FIGURES}/imu_stats/{t}/{m}.png" for t, m in LAB_FIGURE_TESTS]
-    out += expand(f"{FIGURES}/traces/{{terrain}}/{{motion}}.png", terrain=TERRAINS, motion=MOTIONS)
-    if SWEEP:
-        out.append(f"{FIGURES}/sweep.png")
-    if REPLAY_SET:
-        out += expand(f"{FIGURES}/replay/{{terrain_class}}.{{ext}}", terrain_class=REPLAY_SET.classes, ext=("png", "json"))
-    return out
-
-
-def lab_test_traces(wildcards):
-    return expand("results/traces/lab/{engine}/{terrain}/{motion}.parquet", engine=ENGINES,
-                  terrain=wildcards.terrain, motion=wildcards.motion)
-
-
-def real_gain_inputs(wildcards):
-    """The real-data tables whose yaw-rate gains the figure shows: the committed segments', and
-    the full replay's when a dataset folder is given."""
-    names = ("per_test", "summary", "pairwise")
-    inputs = {f"segments_{n}": metrics_file("segments", n) for n in names} if REAL_DATA_ROBOT else {}
-    if REPLAY_SET:
-        inputs.update({f"replay_{n}": metrics_file(REPLAY_SET.name, n) for n in names})
-    return inputs
-
-
-def replay_class_inputs(wildcards):
-    """One terrain class of the full replay: its canonical logs, every model's replay of them,
-    and the per-test table that picks the run drawn."""
-    runs = [run for c, run in RUNS if c == wildcards.terrain_class]
-    return {
-        "real_logs": [log for log in real_logs(REPLAY_SET.name) if f"/logs/{wildcards.terrain_class}/" in log],
-        "replay_traces": [f"results/traces/{REPLAY_SET.name}/{e}/{wildcards.terrain_class}/{run}.parquet"
-                          for e in REAL_MODELS for run in runs],
-        "replay_per_test": metrics_file(REPLAY_SET.name, "per_test"),
-    }
-
+# (src/simpick/report/templates, hashed by the report rules alone) redraws none. The figure
+# inputs (FIGURES, LAB_FIGURE_TESTS, report_figures ...) are in common.smk.
 
 # Figure rules: light jobs (one Matplotlib figure each), code= the drawing code they run and no
-# more, so an edit to the report's templates or context code reruns none of them.
+# more (common.smk: figure_code), so an edit to the report's templates or context code reruns none of them.
 
 rule figure_contributions:
     """The one weight-dependent figure: each engine's total split into weight x score."""
@@ -78,7 +18,7 @@ rule figure_contributions:
     params:
         weights=canonical(config["weights"]),
         engines=FIGURE_ENGINES,
-        code=code_version(*FIGURE_CODE),
+        code=figure_code("figure_contributions"),
     log:
         "results/logs/figures/contributions.log",
     threads: 1
@@ -102,7 +42,7 @@ rule figure_imu_stats:
                    category="Figures", subcategory="IMU statistics", labels={"test": "{lab_terrain}/{lab_motion}"}),
     params:
         engines=FIGURE_ENGINES,
-        code=code_version(*FIGURE_CODE),
+        code=figure_code("figure_imu_stats"),
     # its own wildcard names: a reference-only test's terrain is not one the study simulates
     wildcard_constraints:
         lab_terrain="|".join(re.escape(t) for t in dict.fromkeys(t for t, _ in LAB_FIGURE_TESTS)),
@@ -129,7 +69,7 @@ rule figure_traces:
                    category="Figures", subcategory="Traces", labels={"test": "{terrain}/{motion}"}),
     params:
         engines=FIGURE_ENGINES,
-        code=code_version(*FIGURE_CODE, "traces.py"),
+        code=figure_code("figure_traces"),
     log:
         "results/logs/figures/traces/{terrain}/{motion}.log",
     threads: 1
@@ -154,7 +94,7 @@ rule figure_paths:
         engines=FIGURE_ENGINES,
         # the strip geometry and commanded paths: the report's own slice of the config
         config=canonical(report_config()),
-        code=code_version(*FIGURE_CODE, "traces.py"),
+        code=figure_code("figure_paths"),
     log:
         "results/logs/figures/paths.log",
     threads: 1
@@ -177,7 +117,7 @@ rule figure_validation:
                    subcategory="Analytic mechanics"),
     params:
         engines=FIGURE_ENGINES,
-        code=code_version(*FIGURE_CODE, "report/validation.py", "validation.py"),
+        code=figure_code("figure_validation"),
     log:
         "results/logs/figures/validation_gain.log",
     threads: 1
@@ -201,7 +141,7 @@ rule figure_real_gain:
         engines=FIGURE_ENGINES,
         statistics=statistics_params(),
         real_data=canonical({"classes": config["real_data"]["classes"]}),
-        code=code_version(*FIGURE_CODE, "report/real.py", "realmetrics.py", "realdata.py"),
+        code=figure_code("figure_real_gain"),
     log:
         "results/logs/figures/real_gain.log",
     threads: 1
@@ -225,7 +165,7 @@ if SWEEP:
                        subcategory="Speed and accuracy"),
         params:
             engines=FIGURE_ENGINES,
-            code=code_version(*FIGURE_CODE, "report/sweep.py"),
+            code=figure_code("figure_sweep"),
         log:
             "results/logs/figures/sweep.log",
         threads: 1
@@ -248,7 +188,7 @@ if REPLAY_SET:
             png=report(f"{FIGURES}/real_turning.png", caption="captions/real_turning.rst", category="Figures",
                        subcategory="Real robot"),
         params:
-            code=code_version(*FIGURE_CODE),
+            code=figure_code("figure_real_turning"),
         log:
             "results/logs/figures/real_turning.log",
         threads: 1
@@ -272,7 +212,7 @@ if REPLAY_SET:
         params:
             engines=FIGURE_ENGINES,
             config=canonical({"robot": {"track": config["robot"]["track"]}}),
-            code=code_version(*FIGURE_CODE, "report/real.py", "realmetrics.py", "reallogs", "traces.py"),
+            code=figure_code("figure_replay"),
         wildcard_constraints:
             terrain_class="|".join(REPLAY_SET.classes),
         log:
@@ -311,7 +251,7 @@ rule report:
         endpoints=f"{FIGURES}/endpoints.csv",
     output:
         # report(): `snakemake --report` carries the study report (its figures are embedded in it)
-        html=report("results/report/report.html", category="Study report"),
+        html=report("results/report/report.html", caption="captions/report_html.rst", category="Study report"),
     params:
         weights=canonical(config["weights"]),
         # only the keys the report reads (strip geometry, commanded paths, test order): an edit
@@ -320,7 +260,7 @@ rule report:
         statistics=statistics_params(),
         engines=FIGURE_ENGINES,
         unavailable=canonical(UNAVAILABLE),  # configured engines this machine cannot run: listed, not dropped
-        code=code_version("report", "realdata.py", "realmetrics.py", "scoring.py", "metrics.py", "traces.py"),
+        code=script_code("report"),
         real_data=canonical(
             {
                 "dataset": DATASET,
@@ -345,9 +285,9 @@ rule report_pdf:
     input:
         "results/report/report.html",
     output:
-        report("results/report/report.pdf", category="Study report"),
+        report("results/report/report.pdf", caption="captions/report_pdf.rst", category="Study report"),
     params:
-        code=code_version("report"),
+        code=script_code("report_pdf"),
     log:
         "results/logs/report_pdf.log",
     benchmark:

@@ -9,15 +9,15 @@ rule scores:
         cpu=expand("results/cpu/{engine}.json", engine=ENGINES),
         qualitative=config["qualitative"],
     output:
-        scores=report("results/scores/scores.csv", category="Scores"),
-        weighted=report("results/scores/weighted.csv", category="Scores"),
-        provenance=report("results/scores/provenance.yaml", category="Scores"),
+        scores=report("results/scores/scores.csv", caption="captions/scores.rst", category="Scores"),
+        weighted=report("results/scores/weighted.csv", caption="captions/weighted.rst", category="Scores"),
+        provenance=report("results/scores/provenance.yaml", caption="captions/scores_provenance.rst", category="Scores"),
     params:
         engines=sorted(ENGINES),  # a reordered engines: block is not an edit
         weights=canonical(config["weights"]),
         accuracy=canonical({k: accuracy_source()[k] for k in ("reference", "set", "dataset")}),
         cpu_test=f"{config['cpu_load']['terrain']}/{config['cpu_load']['motion']}",
-        code=code_version("scoring.py", "workflow.py"),
+        code=script_code("scores"),
     log:
         "results/logs/scores.log",
     benchmark:
@@ -58,7 +58,7 @@ rule verdict:
                 "source_title": verdict_source_title(),
             }
         ),
-        code=code_version("verdict.py", "realmetrics.py", "scoring.py", "workflow.py"),
+        code=script_code("verdict"),
     log:
         "results/logs/verdict.log",
     benchmark:

@@ -46,7 +46,7 @@ rule cpu_load:
             wc.engine, config["cpu_load"]["terrain"], config["cpu_load"]["motion"]
         )
         | {"cpu_load": canonical(config["cpu_load"])},
-        code=lambda wc: engine_code(wc.engine, "cpuload.py"),
+        code=lambda wc: script_code("cpu_load", engine_module(wc.engine)),
     log:
         "results/logs/cpu_load/{engine}.log",
     benchmark:

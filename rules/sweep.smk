@@ -12,7 +12,7 @@ if SWEEP:
             f"{SWEEP_DIR}/runs/{{engine}}/{{terrain_class}}/{{dt}}.csv",
         params:
             case=lambda wc: sweep_params(wc.engine, wc.terrain_class, wc.dt),
-            code=lambda wc: engine_code(wc.engine, "realdata.py", "sweep.py", "metrics.py", "realmetrics.py"),
+            code=lambda wc: script_code("sweep_segments", engine_module(wc.engine)),
         wildcard_constraints:
             engine="|".join(ENGINES),
             terrain_class="|".join(SEGMENTS),
@@ -38,7 +38,7 @@ if SWEEP:
             f"{SWEEP_DIR}/summary.csv",
         params:
             statistics=statistics_params(),
-            code=code_version("sweep.py", "realmetrics.py"),
+            code=script_code("sweep_summary"),
         log:
             f"{SWEEP_DIR}/logs/summary.log",
         conda:

@@ -4,7 +4,7 @@ rule terrain:
     params:
         spec=lambda wc: canonical(config["terrains"][wc.terrain]),
         seed=lambda wc: canonical(config["seed"]),
-        code=code_version("terrain.py"),
+        code=script_code("terrain"),
     log:
         "results/logs/terrain/{terrain}.log",
     conda:

@@ -10,7 +10,7 @@ rule validate:
         "results/validation/{engine}/{case}.json",
     params:
         case=lambda wc: validation_params(wc.engine, wc.case),
-        code=lambda wc: engine_code(wc.engine, "validation.py", "coulomb.py"),
+        code=lambda wc: script_code("validate", engine_module(wc.engine)),
     log:
         "results/logs/validate/{engine}/{case}.log",
     benchmark:
@@ -34,7 +34,7 @@ rule validation_summary:
         gains="results/validation/gains.csv",
     params:
         tolerances=canonical(config["validation"]["tolerances"]),
-        code=code_version("validation.py", "coulomb.py"),
+        code=script_code("validation_summary"),
     log:
         "results/logs/validate/summary.log",
     conda:

@@ -46,7 +46,7 @@ import yaml
 
 from simpick.errors import InputError
 from simpick.watchdog import DEFAULT_TIMEOUT_S
-from simpick.workflow import write_csv
+from simpick.tables import write_csv
 
 FAILED_UNIT = 10.0  # objective counted for a unit the engine fails (10x the scale of either error)
 SPLIT_COLUMNS = ("terrain_class", "run", "unit", "set")

@@ -26,7 +26,7 @@ import yaml
 from simpick import metrics, realmetrics
 from simpick.errors import InputError
 from simpick.metrics import AXES
-from simpick.workflow import write_csv
+from simpick.tables import write_csv
 
 QUANTITIES = ("angular", "linear")
 
@@ -183,9 +183,9 @@ def segment_row(frame: pd.DataFrame, meta: dict, seg: pd.Series, track: float) -
 
 def segment_compare(segments_csv: str, traces: list[str], track: float):
     """Every simulated segment against its real window statistics (the committed table): per
-    test rows (segment_row), per axis rows (workflow.axis_rows) and each trace's run row."""
+    test rows (segment_row), per axis rows (tables.axis_rows) and each trace's run row."""
     from simpick.traces import read_trace
-    from simpick.workflow import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, run_row
+    from simpick.tables import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, run_row
 
     segments = load_segments(segments_csv).set_index("segment")
     rows, detail, runs = [], [], []
@@ -281,7 +281,7 @@ def replay_compare(logs: list[str], traces: list[str], params: dict):
     test = one run), and each trace's run row."""
     from simpick.reallogs import read_canonical
     from simpick.traces import read_trace
-    from simpick.workflow import RUN_COLUMNS, run_row
+    from simpick.tables import RUN_COLUMNS, run_row
 
     track, window_s = params["track"], params["window"]
     real = {}

@@ -22,7 +22,7 @@ import numpy as np
 import pandas as pd
 
 from simpick.watchdog import DEFAULT_TIMEOUT_S
-from simpick.workflow import write_csv
+from simpick.tables import write_csv
 
 SUMMARY_COLUMNS = ("terrain_class", "engine", "timestep", "n_segments", "n_failed", "n_compared", "n_runs",
                    "excluded", "error_angular", "error_angular_low", "error_angular_high", "error_linear",

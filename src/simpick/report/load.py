@@ -213,7 +213,7 @@ def figure_key(path: str | Path) -> str:
 def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = None) -> ReportData:
     """Read every input that is given; raise :class:`InputError` for a missing required one
     (``required``: the report's by default; a figure job names what it draws from)."""
-    from simpick.report import OPTIONAL_INPUTS, REQUIRED_INPUTS
+    from simpick.report.inputs import OPTIONAL_INPUTS, REQUIRED_INPUTS
 
     if required is None:
         required = REQUIRED_INPUTS
