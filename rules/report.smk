@@ -8,25 +8,30 @@
 # Figure rules: light jobs (one Matplotlib figure each), code= the drawing code they run and no
 # more (common.smk: figure_code), so an edit to the report's templates or context code reruns none of them.
 
+
 rule figure_contributions:
     """The one weight-dependent figure: each engine's total split into weight x score."""
     input:
         weighted="results/scores/weighted.csv",
     output:
-        png=report(f"{FIGURES}/contributions.png", caption="captions/contributions.rst", category="Figures",
-                   subcategory="Scores"),
-    params:
-        weights=canonical(config["weights"]),
-        engines=FIGURE_ENGINES,
-        code=figure_code("figure_contributions"),
+        png=report(
+            f"{FIGURES}/contributions.png",
+            caption="captions/contributions.rst",
+            category="Figures",
+            subcategory="Scores",
+        ),
     log:
         "results/logs/figures/contributions.log",
+    conda:
+        "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=300,
         runtime=5,
-    conda:
-        "../envs/simpick.yaml"
+    params:
+        weights=canonical(config["weights"]),
+        engines=FIGURE_ENGINES,
+        code=figure_code("figure_contributions"),
     script:
         "../scripts/figure.py"
 
@@ -38,23 +43,28 @@ rule figure_imu_stats:
         reference_stats=metrics_file("lab", "detail"),
         runs=metrics_file("lab", "runs"),
     output:
-        png=report(f"{FIGURES}/imu_stats/{{lab_terrain}}/{{lab_motion}}.png", caption="captions/imu_stats.rst",
-                   category="Figures", subcategory="IMU statistics", labels={"test": "{lab_terrain}/{lab_motion}"}),
-    params:
-        engines=FIGURE_ENGINES,
-        code=figure_code("figure_imu_stats"),
+        png=report(
+            f"{FIGURES}/imu_stats/{{lab_terrain}}/{{lab_motion}}.png",
+            caption="captions/imu_stats.rst",
+            category="Figures",
+            subcategory="IMU statistics",
+            labels={"test": "{lab_terrain}/{lab_motion}"},
+        ),
+    log:
+        "results/logs/figures/imu_stats/{lab_terrain}/{lab_motion}.log",
     # its own wildcard names: a reference-only test's terrain is not one the study simulates
     wildcard_constraints:
         lab_terrain="|".join(re.escape(t) for t in dict.fromkeys(t for t, _ in LAB_FIGURE_TESTS)),
         lab_motion="|".join(re.escape(m) for m in dict.fromkeys(m for _, m in LAB_FIGURE_TESTS)),
-    log:
-        "results/logs/figures/imu_stats/{lab_terrain}/{lab_motion}.log",
+    conda:
+        "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=300,
         runtime=5,
-    conda:
-        "../envs/simpick.yaml"
+    params:
+        engines=FIGURE_ENGINES,
+        code=figure_code("figure_imu_stats"),
     script:
         "../scripts/figure.py"
 
@@ -65,19 +75,24 @@ rule figure_traces:
         traces=lab_test_traces,
         runs=metrics_file("lab", "runs"),
     output:
-        png=report(f"{FIGURES}/traces/{{terrain}}/{{motion}}.png", caption="captions/traces.rst",
-                   category="Figures", subcategory="Traces", labels={"test": "{terrain}/{motion}"}),
-    params:
-        engines=FIGURE_ENGINES,
-        code=figure_code("figure_traces"),
+        png=report(
+            f"{FIGURES}/traces/{{terrain}}/{{motion}}.png",
+            caption="captions/traces.rst",
+            category="Figures",
+            subcategory="Traces",
+            labels={"test": "{terrain}/{motion}"},
+        ),
     log:
         "results/logs/figures/traces/{terrain}/{motion}.log",
+    conda:
+        "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=400,
         runtime=5,
-    conda:
-        "../envs/simpick.yaml"
+    params:
+        engines=FIGURE_ENGINES,
+        code=figure_code("figure_traces"),
     script:
         "../scripts/figure.py"
 
@@ -90,19 +105,19 @@ rule figure_paths:
     output:
         png=report(f"{FIGURES}/paths.png", caption="captions/paths.rst", category="Figures", subcategory="Traces"),
         endpoints=f"{FIGURES}/endpoints.csv",
+    log:
+        "results/logs/figures/paths.log",
+    conda:
+        "../envs/simpick.yaml"
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=5,
     params:
         engines=FIGURE_ENGINES,
         # the strip geometry and commanded paths: the report's own slice of the config
         config=canonical(report_config()),
         code=figure_code("figure_paths"),
-    log:
-        "results/logs/figures/paths.log",
-    threads: 1
-    resources:
-        mem_mb=400,
-        runtime=5,
-    conda:
-        "../envs/simpick.yaml"
     script:
         "../scripts/figure.py"
 
@@ -113,19 +128,23 @@ rule figure_validation:
     input:
         validation_gains="results/validation/gains.csv",
     output:
-        png=report(f"{FIGURES}/validation_gain.png", caption="captions/validation_gain.rst", category="Figures",
-                   subcategory="Analytic mechanics"),
-    params:
-        engines=FIGURE_ENGINES,
-        code=figure_code("figure_validation"),
+        png=report(
+            f"{FIGURES}/validation_gain.png",
+            caption="captions/validation_gain.rst",
+            category="Figures",
+            subcategory="Analytic mechanics",
+        ),
     log:
         "results/logs/figures/validation_gain.log",
+    conda:
+        "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=300,
         runtime=5,
-    conda:
-        "../envs/simpick.yaml"
+    params:
+        engines=FIGURE_ENGINES,
+        code=figure_code("figure_validation"),
     script:
         "../scripts/figure.py"
 
@@ -135,21 +154,22 @@ rule figure_real_gain:
     input:
         unpack(real_gain_inputs),
     output:
-        png=report(f"{FIGURES}/real_gain.png", caption="captions/real_gain.rst", category="Figures",
-                   subcategory="Real robot"),
+        png=report(
+            f"{FIGURES}/real_gain.png", caption="captions/real_gain.rst", category="Figures", subcategory="Real robot"
+        ),
+    log:
+        "results/logs/figures/real_gain.log",
+    conda:
+        "../envs/simpick.yaml"
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=5,
     params:
         engines=FIGURE_ENGINES,
         statistics=statistics_params(),
         real_data=canonical({"classes": config["real_data"]["classes"]}),
         code=figure_code("figure_real_gain"),
-    log:
-        "results/logs/figures/real_gain.log",
-    threads: 1
-    resources:
-        mem_mb=300,
-        runtime=5,
-    conda:
-        "../envs/simpick.yaml"
     script:
         "../scripts/figure.py"
 
@@ -161,19 +181,23 @@ if SWEEP:
         input:
             sweep=f"{SWEEP_DIR}/summary.csv",
         output:
-            png=report(f"{FIGURES}/sweep.png", caption="captions/sweep.rst", category="Figures",
-                       subcategory="Speed and accuracy"),
-        params:
-            engines=FIGURE_ENGINES,
-            code=figure_code("figure_sweep"),
+            png=report(
+                f"{FIGURES}/sweep.png",
+                caption="captions/sweep.rst",
+                category="Figures",
+                subcategory="Speed and accuracy",
+            ),
         log:
             "results/logs/figures/sweep.log",
+        conda:
+            "../envs/simpick.yaml"
         threads: 1
         resources:
             mem_mb=300,
             runtime=5,
-        conda:
-            "../envs/simpick.yaml"
+        params:
+            engines=FIGURE_ENGINES,
+            code=figure_code("figure_sweep"),
         script:
             "../scripts/figure.py"
 
@@ -185,18 +209,22 @@ if REPLAY_SET:
         input:
             windows=f"{REPLAY}/turning/windows.csv",
         output:
-            png=report(f"{FIGURES}/real_turning.png", caption="captions/real_turning.rst", category="Figures",
-                       subcategory="Real robot"),
-        params:
-            code=figure_code("figure_real_turning"),
+            png=report(
+                f"{FIGURES}/real_turning.png",
+                caption="captions/real_turning.rst",
+                category="Figures",
+                subcategory="Real robot",
+            ),
         log:
             "results/logs/figures/real_turning.log",
+        conda:
+            "../envs/simpick.yaml"
         threads: 1
         resources:
             mem_mb=300,
             runtime=5,
-        conda:
-            "../envs/simpick.yaml"
+        params:
+            code=figure_code("figure_real_turning"),
         script:
             "../scripts/figure.py"
 
@@ -206,23 +234,28 @@ if REPLAY_SET:
         input:
             unpack(replay_class_inputs),
         output:
-            png=report(f"{FIGURES}/replay/{{terrain_class}}.png", caption="captions/replay.rst",
-                       category="Figures", subcategory="Real robot", labels={"terrain class": "{terrain_class}"}),
+            png=report(
+                f"{FIGURES}/replay/{{terrain_class}}.png",
+                caption="captions/replay.rst",
+                category="Figures",
+                subcategory="Real robot",
+                labels={"terrain class": "{terrain_class}"},
+            ),
             notes=f"{FIGURES}/replay/{{terrain_class}}.json",
-        params:
-            engines=FIGURE_ENGINES,
-            config=canonical({"robot": {"track": config["robot"]["track"]}}),
-            code=figure_code("figure_replay"),
-        wildcard_constraints:
-            terrain_class="|".join(REPLAY_SET.classes),
         log:
             f"results/logs/figures/replay/{{terrain_class}}.log",
+        wildcard_constraints:
+            terrain_class="|".join(REPLAY_SET.classes),
+        conda:
+            "../envs/simpick.yaml"
         threads: 1
         resources:
             mem_mb=800,
             runtime=10,
-        conda:
-            "../envs/simpick.yaml"
+        params:
+            engines=FIGURE_ENGINES,
+            config=canonical({"robot": {"track": config["robot"]["track"]}}),
+            code=figure_code("figure_replay"),
         script:
             "../scripts/figure.py"
 
@@ -252,6 +285,12 @@ rule report:
     output:
         # report(): `snakemake --report` carries the study report (its figures are embedded in it)
         html=report("results/report/report.html", caption="captions/report_html.rst", category="Study report"),
+    log:
+        "results/logs/report.log",
+    benchmark:
+        "results/benchmarks/report.tsv"
+    conda:
+        "../envs/simpick.yaml"
     params:
         weights=canonical(config["weights"]),
         # only the keys the report reads (strip geometry, commanded paths, test order): an edit
@@ -270,12 +309,6 @@ rule report:
                 "segment_rules": config["real_data"]["segment_rules"],
             }
         ),
-    log:
-        "results/logs/report.log",
-    benchmark:
-        "results/benchmarks/report.tsv"
-    conda:
-        "../envs/simpick.yaml"
     script:
         "../scripts/report.py"
 
@@ -286,13 +319,13 @@ rule report_pdf:
         "results/report/report.html",
     output:
         report("results/report/report.pdf", caption="captions/report_pdf.rst", category="Study report"),
-    params:
-        code=script_code("report_pdf"),
     log:
         "results/logs/report_pdf.log",
     benchmark:
         "results/benchmarks/report_pdf.tsv"
     conda:
         "../envs/simpick.yaml"
+    params:
+        code=script_code("report_pdf"),
     script:
         "../scripts/report_pdf.py"

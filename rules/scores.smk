@@ -12,18 +12,18 @@ rule scores:
         scores=report("results/scores/scores.csv", caption="captions/scores.rst", category="Scores"),
         weighted=report("results/scores/weighted.csv", caption="captions/weighted.rst", category="Scores"),
         provenance=report("results/scores/provenance.yaml", caption="captions/scores_provenance.rst", category="Scores"),
-    params:
-        engines=sorted(ENGINES),  # a reordered engines: block is not an edit
-        weights=canonical(config["weights"]),
-        accuracy=canonical({k: accuracy_source()[k] for k in ("reference", "set", "dataset")}),
-        cpu_test=f"{config['cpu_load']['terrain']}/{config['cpu_load']['motion']}",
-        code=script_code("scores"),
     log:
         "results/logs/scores.log",
     benchmark:
         "results/benchmarks/scores.tsv"
     conda:
         "../envs/simpick.yaml"
+    params:
+        engines=sorted(ENGINES),  # a reordered engines: block is not an edit
+        weights=canonical(config["weights"]),
+        accuracy=canonical({k: accuracy_source()[k] for k in ("reference", "set", "dataset")}),
+        cpu_test=f"{config['cpu_load']['terrain']}/{config['cpu_load']['motion']}",
+        code=script_code("scores"),
     script:
         "../scripts/scores.py"
 
@@ -46,6 +46,16 @@ rule verdict:
         discrimination=report("results/verdict/discrimination.csv", category="Verdict"),
         headings=report("results/verdict/headings.csv", category="Verdict"),
         headline=report("results/verdict/headline.yaml", category="Verdict"),
+    log:
+        "results/logs/verdict.log",
+    benchmark:
+        "results/benchmarks/verdict.tsv"
+    conda:
+        "../envs/simpick.yaml"
+    threads: 1
+    resources:
+        mem_mb=500,
+        runtime=10,
     params:
         settings=canonical(
             {
@@ -59,15 +69,5 @@ rule verdict:
             }
         ),
         code=script_code("verdict"),
-    log:
-        "results/logs/verdict.log",
-    benchmark:
-        "results/benchmarks/verdict.tsv"
-    threads: 1
-    resources:
-        mem_mb=500,
-        runtime=10,
-    conda:
-        "../envs/simpick.yaml"
     script:
         "../scripts/verdict.py"
