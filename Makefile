@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed
 
-.PHONY: study test bench clean lock
+.PHONY: study test bench clean lock schema
 
 $(STAMP): pyproject.toml constraints.txt
 	@# ODE comes from the system (Debian libode8); headers for the binding's own tests
@@ -25,6 +25,10 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	$(VENV)/bin/python bench/run.py
+
+# The config's JSON schema from the pydantic models (tests/test_schema.py fails when it is stale).
+schema: $(STAMP)
+	$(VENV)/bin/python -m simpick.schema schemas/config.schema.json
 
 clean:
 	rm -rf results .snakemake

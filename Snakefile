@@ -41,6 +41,7 @@ include: "rules/report.smk"
 
 
 rule all:
+    default_target: True
     input:
         "results/validation/summary.csv",
         [metrics_file(source, table) for source in SOURCES for table in ("imu_errors", "summary")],
@@ -51,4 +52,3 @@ rule all:
         "results/published/table11.csv",
         "results/report/report.html",
         "results/report/report.pdf",
-    default_target: True

@@ -10,15 +10,15 @@ if CALIBRATION:
             config["real_data"]["segments"] if not REPLAY_SET else f"{REPLAY}/dataset.yaml",
         output:
             f"{CAL_DIR}/split.csv",
-        params:
-            units=calibration_units(),
-            test_fraction=canonical(CALIBRATION["test_fraction"]),
-            seed=int(CALIBRATION["seed"]),
-            code=code_version("calibration.py"),
         log:
             f"{CAL_DIR}/logs/split.log",
         conda:
             "../envs/simpick.yaml"
+        params:
+            units=calibration_units(),
+            test_fraction=canonical(CALIBRATION["test_fraction"]),
+            seed=int(CALIBRATION["seed"]),
+            code=script_code("calibration_split"),
         script:
             "../scripts/calibration_split.py"
 
@@ -31,24 +31,24 @@ if CALIBRATION:
         output:
             best=f"{CAL_DIR}/{{engine}}/{{terrain_class}}/best.yaml",
             trials=f"{CAL_DIR}/{{engine}}/{{terrain_class}}/trials.csv",
-        params:
-            case=lambda wc: real_params(wc.engine, wc.terrain_class),
-            settings=lambda wc: calibration_settings(wc.engine),
-            code=lambda wc: engine_code(wc.engine, "calibration.py", "realdata.py", "realmetrics.py", "metrics.py"),
-        wildcard_constraints:
-            engine="|".join(CAL_MODELS),
-            terrain_class="|".join(CAL_CLASSES),
         log:
             f"{CAL_DIR}/logs/{{engine}}/{{terrain_class}}/calibrate.log",
         benchmark:
             f"{CAL_DIR}/benchmarks/{{engine}}/{{terrain_class}}/calibrate.tsv"
+        wildcard_constraints:
+            engine="|".join(CAL_MODELS),
+            terrain_class="|".join(CAL_CLASSES),
+        conda:
+            "../envs/simpick.yaml"
         threads: 1
         resources:
             mem_mb=600,
             # DART, 12 trials over 2 segments of 5 s: about 2 min; a replayed class: up to an hour
             runtime=120,
-        conda:
-            "../envs/simpick.yaml"
+        params:
+            case=lambda wc: real_params(wc.engine, wc.terrain_class),
+            settings=lambda wc: calibration_settings(wc.engine),
+            code=lambda wc: script_code("calibrate", engine_module(wc.engine)),
         script:
             "../scripts/calibrate.py"
 
@@ -61,23 +61,23 @@ if CALIBRATION:
             urdf=config["robot"]["urdf"],
         output:
             f"{CAL_DIR}/{{engine}}/{{terrain_class}}/evaluation.csv",
-        params:
-            case=lambda wc: real_params(wc.engine, wc.terrain_class),
-            settings=lambda wc: calibration_settings(wc.engine, search=False),
-            code=lambda wc: engine_code(wc.engine, "calibration.py", "realdata.py", "realmetrics.py", "metrics.py"),
-        wildcard_constraints:
-            engine="|".join(CAL_MODELS),
-            terrain_class="|".join(CAL_CLASSES),
         log:
             f"{CAL_DIR}/logs/{{engine}}/{{terrain_class}}/evaluate.log",
         benchmark:
             f"{CAL_DIR}/benchmarks/{{engine}}/{{terrain_class}}/evaluate.tsv"
+        wildcard_constraints:
+            engine="|".join(CAL_MODELS),
+            terrain_class="|".join(CAL_CLASSES),
+        conda:
+            "../envs/simpick.yaml"
         threads: 1
         resources:
             mem_mb=600,
             runtime=60,
-        conda:
-            "../envs/simpick.yaml"
+        params:
+            case=lambda wc: real_params(wc.engine, wc.terrain_class),
+            settings=lambda wc: calibration_settings(wc.engine, search=False),
+            code=lambda wc: script_code("calibration_evaluate", engine_module(wc.engine)),
         script:
             "../scripts/calibration_evaluate.py"
 
@@ -90,12 +90,13 @@ if CALIBRATION:
             summary=f"{CAL_DIR}/summary.csv",
             units=f"{CAL_DIR}/units.csv",
             parameters=f"{CAL_DIR}/parameters.csv",
-        params:
-            code=code_version("calibration.py", "realmetrics.py"),
         log:
             f"{CAL_DIR}/logs/summary.log",
         conda:
             "../envs/simpick.yaml"
+        params:
+            statistics=statistics_params(),
+            code=script_code("calibration_summary"),
         script:
             "../scripts/calibration_summary.py"
 
@@ -103,4 +104,3 @@ if CALIBRATION:
         """The calibration alone (its section appears in the report with calibration.enabled)."""
         input:
             f"{CAL_DIR}/summary.csv",
-

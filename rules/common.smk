@@ -7,8 +7,8 @@ import sys
 from simpick.config import timestep_label, validate_or_exit
 from simpick.robot import load_from_config
 
-
-validate_or_exit(config, files=workflow.configfiles)
+# the typed, validated settings (defaults filled in): what the statistics-bearing rules pass on
+SETTINGS = validate_or_exit(config, files=workflow.configfiles)
 
 # The study's robot, read again here (the config check above has read it and stopped on any
 # problem). The committed segments and a dataset folder were recorded on real_data.robot (BorealTC:
@@ -117,9 +117,7 @@ def read_segments(path):
             by_class.setdefault(row["terrain_class"], []).append(row["segment"])
     unknown = sorted(set(by_class) - set(config["real_data"]["classes"]))
     if unknown:
-        raise WorkflowError(
-            f"{path}: terrain classes {unknown} have no entry under real_data.classes in the config"
-        )
+        raise WorkflowError(f"{path}: terrain classes {unknown} have no entry under real_data.classes in the config")
     return by_class
 
 
@@ -185,8 +183,6 @@ def replay_dataset():
     }
 
 
-
-
 def maintained_table(wildcards):
     """maintain_segments' inputs: the BorealTC folder's derived table. Asked for on any other
     dataset (or none), it stops the run while the DAG is built, before any job."""
@@ -233,13 +229,24 @@ def real_logs(source):
 # A dataset folder's derived segment table (rule real_segments, a checkpoint) is a source too,
 # "<dataset>-segments": its cases are known once the table is written (source_cases).
 SOURCES = {
-    "lab": {"kind": "lab", "models": ENGINES, "group": "terrain",
-            "cases": [(t, m) for t in TERRAINS for m in MOTIONS]},
-    **({"segments": {"kind": "segments", "models": REAL_MODELS, "group": "terrain_class",
-                     "cases": [(c, s) for c, ids in SEGMENTS.items() for s in ids],
-                     "table": config["real_data"]["segments"]}} if REAL_DATA_ROBOT else {}),
-    **{source: {"kind": "replay", "models": REAL_MODELS, "group": "terrain_class", "cases": cases}
-       for source, cases in REPLAY_CASES.items()},
+    "lab": {"kind": "lab", "models": ENGINES, "group": "terrain", "cases": [(t, m) for t in TERRAINS for m in MOTIONS]},
+    **(
+        {
+            "segments": {
+                "kind": "segments",
+                "models": REAL_MODELS,
+                "group": "terrain_class",
+                "cases": [(c, s) for c, ids in SEGMENTS.items() for s in ids],
+                "table": config["real_data"]["segments"],
+            }
+        }
+        if REAL_DATA_ROBOT
+        else {}
+    ),
+    **{
+        source: {"kind": "replay", "models": REAL_MODELS, "group": "terrain_class", "cases": cases}
+        for source, cases in REPLAY_CASES.items()
+    },
 }
 
 
@@ -249,8 +256,14 @@ SOURCES = {
 # same 18 segments x 6 models a second time (108 jobs of the full BorealTC replay).
 if REPLAY_SET and REPLAY_SET.name != DATASET:
     DERIVED = f"{REPLAY_SET.name}-segments"  # no dataset name ends so and is also replayed: one folder a run
-    SOURCES[DERIVED] = {"kind": "segments", "models": REAL_MODELS, "group": "terrain_class", "cases": None,
-                        "table": f"{REPLAY}/segments.csv", "classes": list(REPLAY_SET.classes)}
+    SOURCES[DERIVED] = {
+        "kind": "segments",
+        "models": REAL_MODELS,
+        "group": "terrain_class",
+        "cases": None,
+        "table": f"{REPLAY}/segments.csv",
+        "classes": list(REPLAY_SET.classes),
+    }
 
 
 def source_cases(source):
@@ -291,11 +304,14 @@ BATCHED = {"segments"}
 
 
 def simulate_units():
-    """(rule name, output patterns, what the rule fixes) of every rule of the simulate family: one
+    """(name, output patterns, fixed values) for each rule of the simulate family; one
     rule over the {source} wildcard for the one-case units, one per group of a batched source."""
     single = [s for s in SOURCES if s not in BATCHED]
-    units = [("simulate", ["results/traces/{source}/{engine}/{group}/{name}.parquet"],
-              {"sources": single})] if single else []
+    units = (
+        [("simulate", ["results/traces/{source}/{engine}/{group}/{name}.parquet"], {"sources": single})]
+        if single
+        else []
+    )
     for source in sorted(BATCHED & set(SOURCES)):
         groups = {}
         for group, name in SOURCES[source]["cases"]:
@@ -312,9 +328,11 @@ def one_case_constraints(sources):
     names = {n for s in known for _, n in s["cases"]}
     # a derived table's segment ids are known only after its checkpoint: any name, the source pins it
     unknown = len(known) < len(sources)
-    return {"source": "|".join(re.escape(s) for s in sources),
-            "group": "|".join(sorted(re.escape(g) for g in groups)),
-            "name": "[^/]+" if unknown else "|".join(sorted(re.escape(n) for n in names))}
+    return {
+        "source": "|".join(re.escape(s) for s in sources),
+        "group": "|".join(sorted(re.escape(g) for g in groups)),
+        "name": "[^/]+" if unknown else "|".join(sorted(re.escape(n) for n in names)),
+    }
 
 
 def unit(wildcards, fixed):
@@ -348,17 +366,20 @@ def case_params(source, engine, group, names):
 
 
 def case_code(source, engine):
-    """The library code a case runs: the simulation, the model's adapter, and how its kind drives it."""
-    more = {"lab": (), "segments": ("realdata.py",), "replay": ("realdata.py", "reallogs")}
-    return engine_code(engine, *more[SOURCES[source]["kind"]])
+    """The library code a case runs: simulate_job, the model's adapter, and how its kind is driven
+    (simpick.workflow.CASE_KINDS, whose other kinds' entries it does not run)."""
+    entry = dispatch_entry("simpick.workflow", "CASE_KINDS", SOURCES[source]["kind"])
+    return script_code("simulate", engine_module(engine), entry, opaque=("simpick.workflow:CASE_KINDS",))
 
 
 def compare_inputs(wildcards):
     """A source's traces and what they are compared with."""
     kind = SOURCES[wildcards.source]["kind"]
-    compared = {"lab": {"published": config["reference"]["published"]},
-                "segments": {"segments": SOURCES[wildcards.source].get("table")},
-                "replay": {"logs": real_logs(wildcards.source) if kind == "replay" else []}}[kind]
+    compared = {
+        "lab": {"published": config["reference"]["published"]},
+        "segments": {"segments": SOURCES[wildcards.source].get("table")},
+        "replay": {"logs": real_logs(wildcards.source) if kind == "replay" else []},
+    }[kind]
     return {"traces": source_traces(wildcards.source)} | compared
 
 
@@ -371,16 +392,28 @@ def compare_settings(source):
     return canonical({"track": config["robot"]["track"], "window": config["real_data"]["window"]})
 
 
-COMPARE_CODE = {"lab": ("workflow.py", "metrics.py", "traces.py", "reference.py", "published.py"),
-                "segments": ("workflow.py", "metrics.py", "traces.py", "realdata.py", "realmetrics.py"),
-                "replay": ("workflow.py", "metrics.py", "traces.py", "realdata.py", "realmetrics.py", "reallogs")}
+# compare_job picks one comparison by the source's kind: a job of one kind does not run the others.
+COMPARE_ENTRIES = {
+    "lab": "simpick.workflow:lab_compare",
+    "segments": "simpick.realdata:segment_compare",
+    "replay": "simpick.realdata:replay_compare",
+}
+
+
+def compare_code(source):
+    kind = SOURCES[source]["kind"]
+    return script_code(
+        "compare",
+        COMPARE_ENTRIES[kind],
+        opaque=tuple(entry for other, entry in COMPARE_ENTRIES.items() if other != kind),
+    )
 
 
 def statistics_params():
-    """How many independent runs a real-data interval or verdict needs, and at what level."""
-    from simpick.config import Statistics
-
-    return canonical(Statistics(**(config.get("statistics") or {})).model_dump())
+    """How many independent runs an interval, a verdict, a rank or an improvement needs, and at what
+    level: the validated ``statistics`` settings (SETTINGS), the one rule of every summary (real
+    data, calibration, sweep, verdict, report)."""
+    return canonical(SETTINGS.statistics.model_dump())
 
 
 def report_config():
@@ -389,9 +422,12 @@ def report_config():
     return {
         "terrains": config["terrains"],
         "motions": config["motions"],
-        "robot": {"track": config["robot"]["track"], "name": ROBOT.name,
-                  "label": config["robot"].get("label") or ROBOT.name,
-                  "real_data_robot": config["real_data"].get("robot") if not REAL_DATA_ROBOT else None},
+        "robot": {
+            "track": config["robot"]["track"],
+            "name": ROBOT.name,
+            "label": config["robot"].get("label") or ROBOT.name,
+            "real_data_robot": config["real_data"].get("robot") if not REAL_DATA_ROBOT else None,
+        },
     }
 
 
@@ -409,8 +445,31 @@ def accuracy_source():
         kind, source, dataset = "replay", REPLAY_SET.name, REPLAY_SET.name
     else:
         kind, source, dataset = "segments", "segments", DATASET
-    return {"reference": reference, "set": kind, "dataset": dataset,
-            "errors": metrics_file(source, "imu_errors"), "per_test": metrics_file(source, "per_test")}
+    return {
+        "reference": reference,
+        "set": kind,
+        "dataset": dataset,
+        "source": source,
+        "errors": metrics_file(source, "imu_errors"),
+        "per_test": metrics_file(source, "per_test"),
+    }
+
+
+def verdict_source():
+    """The real data simpick's verdict rests on: the accuracy scores' real set, else the committed segments."""
+    src = accuracy_source()
+    return src["source"] if src["set"] != "lab" else "segments"
+
+
+def verdict_source_title():
+    """How the report names the verdict's real data."""
+    if SOURCES[verdict_source()]["kind"] == "segments":
+        label = (config["real_data"].get("datasets") or {}).get(DATASET, {}).get("label") or DATASET
+        return f"committed constant-command segments of {label}"
+    return f"full replay of {verdict_source()}"
+
+
+VERDICT_TABLES = ("metrics", "table", "separation", "ranking", "discrimination", "headings")
 
 
 def accuracy_errors():
@@ -428,16 +487,26 @@ def report_real_inputs(wildcards):
     }
     if REAL_DATA_ROBOT:  # the committed segments are real_data.robot's
         inputs["segments"] = segments
-        inputs.update({f"segments_{table}": metrics_file("segments", table)
-                       for table in ("per_test", "summary", "pairwise", "imu_errors")})
+        inputs.update(
+            {
+                f"segments_{table}": metrics_file("segments", table)
+                for table in ("per_test", "summary", "pairwise", "imu_errors")
+            }
+        )
     if accuracy_source()["set"] != "lab":  # its per-test table: how much of each error a rigid model leaves
         inputs["accuracy_per_test"] = accuracy_source()["per_test"]
     if os.path.exists(provenance) and REAL_DATA_ROBOT:
         inputs["segments_provenance"] = provenance
     if REPLAY_SET:
-        inputs.update({f"replay_{table}": metrics_file(REPLAY_SET.name, table)
-                       for table in ("per_test", "summary", "pairwise", "imu_errors")})
+        inputs.update(
+            {
+                f"replay_{table}": metrics_file(REPLAY_SET.name, table)
+                for table in ("per_test", "summary", "pairwise", "imu_errors")
+            }
+        )
         inputs["replay_per_window"] = metrics_file(REPLAY_SET.name, "detail")
+    inputs.update({f"verdict_{t}": f"results/verdict/{t}.csv" for t in VERDICT_TABLES})
+    inputs["verdict_headline"] = "results/verdict/headline.yaml"
     if SWEEP:
         inputs["sweep"] = f"{SWEEP_DIR}/summary.csv"
     if CALIBRATION and CALIBRATION.get("enabled"):  # rules/calibration.smk
@@ -465,20 +534,30 @@ def report_datasets():
 
 # --- library code as a rerun trigger ---
 # Snakemake reruns a job when its params change, not when imported library code does: each rule
-# carries the hash of the src/simpick files it runs (simpick.codeversion), so an edited metric or
-# engine adapter reruns what depends on it, and nothing else.
-from simpick.codeversion import code_version
-
-SIM_CODE = ("simulate.py", "imu.py", "health.py", "traces.py", "robot.py", "terrain.py", "motions.py",
-            "watchdog.py", "workflow.py", "engines/base.py", "engines/__init__.py")
-ENGINE_CODE = {"ode": ("engines/ode_engine.py", "engines/_ode.py"), "kinematic": ("engines/baselines.py",),
-               "coulomb": ("engines/baselines.py", "coulomb.py")}
+# carries the version of the code its job runs (simpick.codeversion): computed from the functions
+# its script calls and what they import and name, so an edited metric or engine adapter reruns
+# what runs it, and nothing else.
+from simpick.codeversion import dispatch_entry, job_code, script_roots
+from simpick.engines import ADAPTERS, REFERENCE_MODELS
 
 
-def engine_code(engine, *more):
-    """The code one engine's simulations run: the shared simulation code, its adapter, ``more``."""
-    own = ENGINE_CODE.get(engine, (f"engines/{engine}_engine.py",))
-    return code_version(*SIM_CODE, *own, *more)
+def script_code(script, *roots, opaque=()):
+    """The code version of a job of scripts/<script>.py: the simpick functions the script calls,
+    ``roots`` (modules or functions it reaches by name only: an engine adapter, a dispatch entry)
+    and what they use, less the ``opaque`` names (dispatch tables whose entry is a root)."""
+    path = os.path.join(workflow.basedir, "scripts", f"{script}.py")
+    return job_code(*script_roots(path), *roots, opaque=opaque)
+
+
+def figure_code(rule):
+    """A figure rule's code: figure_job and the drawing function simpick.report.draw.RULES gives it."""
+    entry = dispatch_entry("simpick.report.draw", "RULES", rule)
+    return script_code("figure", entry, opaque=("simpick.report.draw:RULES",))
+
+
+def engine_module(engine):
+    """The adapter module of a model (the registry imports it by name, so it is named here)."""
+    return {**ADAPTERS, **REFERENCE_MODELS}[engine].split(":")[0]
 
 
 # Calibration (rules/calibration.smk, config `calibration:`): units, settings and targets
@@ -488,8 +567,12 @@ if CALIBRATION:
     from simpick.engines import get_engine as _get_engine
 
     CAL_SOURCE = "replay" if REPLAY_SET else "segments"
-    CAL_DIR = f"results/calibration/replay-{REPLAY_SET.name}" if REPLAY_SET else f"results/calibration/segments-{DATASET}"
-    CAL_MODELS = [m for m in (CALIBRATION.get("models") or REAL_MODELS) if m not in UNAVAILABLE and _get_engine(m).calibratable]
+    CAL_DIR = (
+        f"results/calibration/replay-{REPLAY_SET.name}" if REPLAY_SET else f"results/calibration/segments-{DATASET}"
+    )
+    CAL_MODELS = [
+        m for m in (CALIBRATION.get("models") or REAL_MODELS) if m not in UNAVAILABLE and _get_engine(m).calibratable
+    ]
     CAL_CLASSES = sorted({c for c, _ in RUNS}) if REPLAY_SET else sorted(SEGMENTS)
 
     def calibration_units():
@@ -509,13 +592,21 @@ if CALIBRATION:
         """What a class's errors depend on; with ``search`` also the optimiser's budget, seed and
         this model's bounds (so an evaluation does not rerun on a budget edit unless the best
         parameters change)."""
-        window = {"segment_seconds": CALIBRATION.get("segment_seconds")} if not REPLAY_SET else {
-            "replay_seconds": CALIBRATION.get("replay_seconds")}
+        window = (
+            {"segment_seconds": CALIBRATION.get("segment_seconds")}
+            if not REPLAY_SET
+            else {"replay_seconds": CALIBRATION.get("replay_seconds")}
+        )
         out = {"source": CAL_SOURCE, "scales": CALIBRATION["scales"], **window}
         if search:
-            out.update({"n_trials": CALIBRATION["n_trials"], "startup_trials": CALIBRATION["startup_trials"],
-                        "seed": CALIBRATION["seed"],
-                        "bounds": {engine: (CALIBRATION.get("bounds") or {}).get(engine) or {}}})
+            out.update(
+                {
+                    "n_trials": CALIBRATION["n_trials"],
+                    "startup_trials": CALIBRATION["startup_trials"],
+                    "seed": CALIBRATION["seed"],
+                    "bounds": {engine: (CALIBRATION.get("bounds") or {}).get(engine) or {}},
+                }
+            )
         return canonical(out)
 
     def calibration_outputs():
@@ -524,3 +615,77 @@ if CALIBRATION:
     CALIBRATION_ALL = [f"{CAL_DIR}/summary.csv"] if CALIBRATION.get("enabled") else []
 else:
     CALIBRATION_ALL = []
+
+
+# --- the report's figures (rules/report.smk) ---
+
+FIGURES = "results/report/figures"
+# engine -> colour follows this list (simpick.report.draw.colors): sorted, so reordering the
+# config's engines neither recolours nor redraws a figure
+FIGURE_ENGINES = sorted(ENGINES) + sorted(BASELINES)
+
+
+def lab_figure_tests():
+    """The lab tests with an IMU-statistics figure: every simulated test, and every test the
+    paper gives a real reference for (drawn with the reference alone when no engine ran it)."""
+    from simpick.published import load_published
+    from simpick.reference import lab_reference
+
+    tests = [(t, m) for t in TERRAINS for m in MOTIONS]
+    return tests + [tm for tm in lab_reference(load_published(config["reference"]["published"])) if tm not in tests]
+
+
+LAB_FIGURE_TESTS = lab_figure_tests()
+
+
+def report_figures():
+    """Every figure file the report embeds (and the notes beside the replay figures)."""
+    out = [
+        f"{FIGURES}/contributions.png",
+        f"{FIGURES}/paths.png",
+        f"{FIGURES}/validation_gain.png",
+        f"{FIGURES}/real_gain.png",
+    ]
+    out += [f"{FIGURES}/imu_stats/{t}/{m}.png" for t, m in LAB_FIGURE_TESTS]
+    out += expand(f"{FIGURES}/traces/{{terrain}}/{{motion}}.png", terrain=TERRAINS, motion=MOTIONS)
+    if SWEEP:
+        out.append(f"{FIGURES}/sweep.png")
+    if REPLAY_SET:
+        out += expand(
+            f"{FIGURES}/replay/{{terrain_class}}.{{ext}}", terrain_class=REPLAY_SET.classes, ext=("png", "json")
+        )
+    return out
+
+
+def lab_test_traces(wildcards):
+    return expand(
+        "results/traces/lab/{engine}/{terrain}/{motion}.parquet",
+        engine=ENGINES,
+        terrain=wildcards.terrain,
+        motion=wildcards.motion,
+    )
+
+
+def real_gain_inputs(wildcards):
+    """The real-data tables whose yaw-rate gains the figure shows: the committed segments', and
+    the full replay's when a dataset folder is given."""
+    names = ("per_test", "summary", "pairwise")
+    inputs = {f"segments_{n}": metrics_file("segments", n) for n in names} if REAL_DATA_ROBOT else {}
+    if REPLAY_SET:
+        inputs.update({f"replay_{n}": metrics_file(REPLAY_SET.name, n) for n in names})
+    return inputs
+
+
+def replay_class_inputs(wildcards):
+    """One terrain class of the full replay: its canonical logs, every model's replay of them,
+    and the per-test table that picks the run drawn."""
+    runs = [run for c, run in RUNS if c == wildcards.terrain_class]
+    return {
+        "real_logs": [log for log in real_logs(REPLAY_SET.name) if f"/logs/{wildcards.terrain_class}/" in log],
+        "replay_traces": [
+            f"results/traces/{REPLAY_SET.name}/{e}/{wildcards.terrain_class}/{run}.parquet"
+            for e in REAL_MODELS
+            for run in runs
+        ],
+        "replay_per_test": metrics_file(REPLAY_SET.name, "per_test"),
+    }

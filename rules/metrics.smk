@@ -11,22 +11,22 @@ rule compare:
         per_test="results/metrics/{source}/per_test.csv",
         detail="results/metrics/{source}/detail.csv",
         runs="results/metrics/{source}/runs.csv",
-    params:
-        kind=lambda wc: SOURCES[wc.source]["kind"],
-        settings=lambda wc: compare_settings(wc.source),
-        code=lambda wc: code_version(*COMPARE_CODE[SOURCES[wc.source]["kind"]]),
-    wildcard_constraints:
-        source="|".join(re.escape(s) for s in SOURCES),
     log:
         "results/logs/compare/{source}.log",
     benchmark:
         "results/benchmarks/compare/{source}.tsv"
+    wildcard_constraints:
+        source="|".join(re.escape(s) for s in SOURCES),
+    conda:
+        "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=1000,
         runtime=30,
-    conda:
-        "../envs/simpick.yaml"
+    params:
+        kind=lambda wc: SOURCES[wc.source]["kind"],
+        settings=lambda wc: compare_settings(wc.source),
+        code=lambda wc: compare_code(wc.source),
     script:
         "../scripts/compare.py"
 
@@ -40,20 +40,20 @@ rule summarise:
         rtf="results/metrics/{source}/rtf.csv",
         summary="results/metrics/{source}/summary.csv",
         pairwise="results/metrics/{source}/pairwise.csv",
-    params:
-        settings=lambda wc: canonical({"group": SOURCES[wc.source]["group"], "statistics": statistics_params()}),
-        code=code_version("workflow.py", "metrics.py", "realdata.py", "realmetrics.py"),
-    wildcard_constraints:
-        source="|".join(re.escape(s) for s in SOURCES),
     log:
         "results/logs/summarise/{source}.log",
     benchmark:
         "results/benchmarks/summarise/{source}.tsv"
+    wildcard_constraints:
+        source="|".join(re.escape(s) for s in SOURCES),
+    conda:
+        "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=400,
         runtime=10,
-    conda:
-        "../envs/simpick.yaml"
+    params:
+        settings=lambda wc: canonical({"group": SOURCES[wc.source]["group"], "statistics": statistics_params()}),
+        code=script_code("summarise"),
     script:
         "../scripts/summarise.py"

@@ -5,11 +5,11 @@ rule published_table11:
         table11="results/published/table11.csv",
         comparison="results/published/table11_comparison.csv",
         worked_example="results/published/worked_example.json",
-    params:
-        code=code_version("published.py"),
     log:
         "results/logs/published.log",
     conda:
         "../envs/simpick.yaml"
+    params:
+        code=script_code("published"),
     script:
         "../scripts/published.py"

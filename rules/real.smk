@@ -13,13 +13,13 @@ if REPLAY_SET:
         name is then refused before any job: simpick.datasets.open_dataset)."""
         output:
             f"{REPLAY}/dataset.yaml",
-        params:
-            dataset=canonical(replay_dataset()),
-        priority: 50
         log:
             f"results/logs/real/{REPLAY_SET.name}/dataset_manifest.log",
+        priority: 50
         conda:
             "../envs/simpick.yaml"
+        params:
+            dataset=canonical(replay_dataset()),
         script:
             "../scripts/dataset_manifest.py"
 
@@ -29,6 +29,13 @@ if REPLAY_SET:
             pro=lambda wc: str(REPLAY_SET.run(wc.terrain_class, wc.run).pro),
         output:
             f"{REPLAY}/logs/{{terrain_class}}/{{run}}.parquet",
+        log:
+            f"results/logs/real/{REPLAY_SET.name}/import/{{terrain_class}}/{{run}}.log",
+        wildcard_constraints:
+            terrain_class="|".join(REPLAY_SET.classes),
+            run="|".join(sorted({re.escape(run) for _, run in RUNS})),
+        conda:
+            "../envs/simpick.yaml"
         params:
             folder_class=lambda wc: REPLAY_SET.run(wc.terrain_class, wc.run).folder,
             settings=canonical(
@@ -39,14 +46,7 @@ if REPLAY_SET:
                     "declared": replay_dataset()["declared"],
                 }
             ),
-            code=code_version("reallogs", "realdata.py"),
-        wildcard_constraints:
-            terrain_class="|".join(REPLAY_SET.classes),
-            run="|".join(sorted({re.escape(run) for _, run in RUNS})),
-        log:
-            f"results/logs/real/{REPLAY_SET.name}/import/{{terrain_class}}/{{run}}.log",
-        conda:
-            "../envs/simpick.yaml"
+            code=script_code("import_real"),
         script:
             "../scripts/import_real.py"
 
@@ -58,6 +58,10 @@ if REPLAY_SET:
         output:
             csv=f"{REPLAY}/segments.csv",
             provenance=f"{REPLAY}/segments.provenance.yaml",
+        log:
+            f"results/logs/real/{REPLAY_SET.name}/real_segments.log",
+        conda:
+            "../envs/simpick.yaml"
         params:
             rules=canonical(
                 {
@@ -66,14 +70,9 @@ if REPLAY_SET:
                     "source": replay_dataset()["source"],
                 }
             ),
-            code=code_version("realsegments.py", "realdata.py", "reallogs"),
-        log:
-            f"results/logs/real/{REPLAY_SET.name}/real_segments.log",
-        conda:
-            "../envs/simpick.yaml"
+            code=script_code("real_segments"),
         script:
             "../scripts/real_segments.py"
-
 
     # How the real robot turns (issue 20, point 0): its yaw-rate gain in steady-command windows
     # against speed, turn radius and wheel-speed difference, beside the rigid-Coulomb prediction.
@@ -84,6 +83,10 @@ if REPLAY_SET:
         output:
             windows=f"{REPLAY}/turning/windows.csv",
             summary=f"{REPLAY}/turning/summary.csv",
+        log:
+            f"results/logs/real/{REPLAY_SET.name}/real_turning.log",
+        conda:
+            "../envs/simpick.yaml"
         params:
             settings=canonical(
                 {
@@ -94,11 +97,7 @@ if REPLAY_SET:
                     "min_turn": config["real_data"]["segment_rules"]["min_turn"],
                 }
             ),
-            code=code_version("realturning.py", "coulomb.py", "reallogs"),
-        log:
-            f"results/logs/real/{REPLAY_SET.name}/real_turning.log",
-        conda:
-            "../envs/simpick.yaml"
+            code=script_code("real_turning"),
         script:
             "../scripts/real_turning.py"
 
@@ -111,6 +110,10 @@ rule maintain_segments:
         unpack(maintained_table),
     output:
         f"{REAL}/maintain_segments.yaml",
+    log:
+        "results/logs/real/maintain_segments.log",
+    conda:
+        "../envs/simpick.yaml"
     params:
         committed=canonical(
             {
@@ -118,10 +121,6 @@ rule maintain_segments:
                 "provenance": config["real_data"]["segments"].replace(".csv", ".provenance.yaml"),
             }
         ),
-    log:
-        "results/logs/real/maintain_segments.log",
-    conda:
-        "../envs/simpick.yaml"
     script:
         "../scripts/maintain_segments.py"
 
@@ -146,16 +145,16 @@ if OWN_LOGS:
         its terrain class like a dataset folder's runs."""
         output:
             f"{OWN}/logs/{{terrain_class}}/{{run}}.parquet",
-        params:
-            entry=lambda wc: canonical(OWN_LOGS[wc.run]),
-            track=canonical(config["robot"]["track"]),
-            code=code_version("reallogs", "realdata.py"),
+        log:
+            "results/logs/real/own/import/{terrain_class}/{run}.log",
         wildcard_constraints:
             terrain_class="|".join(sorted({re.escape(c) for c, _ in REPLAY_CASES["own"]})),
             run="|".join(sorted(re.escape(name) for name in OWN_LOGS)),
-        log:
-            "results/logs/real/own/import/{terrain_class}/{run}.log",
         conda:
             "../envs/simpick.yaml"
+        params:
+            entry=lambda wc: canonical(OWN_LOGS[wc.run]),
+            track=canonical(config["robot"]["track"]),
+            code=script_code("import_own_log"),
         script:
             "../scripts/import_own_log.py"

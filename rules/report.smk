@@ -2,91 +2,36 @@
 # or terrain class for a family) from the tables into results/report/figures/, registered with
 # report() so `snakemake --report` shows it too; the report job only embeds the files. So a weight
 # edit redraws the one figure that shows the weights (figure_contributions), and a template edit
-# (src/simpick/report/templates, hashed by the report rules alone) redraws none.
-
-FIGURES = "results/report/figures"
-# engine -> colour follows this list (simpick.report.draw.colors): sorted, so reordering the
-# config's engines neither recolours nor redraws a figure
-FIGURE_ENGINES = sorted(ENGINES) + sorted(BASELINES)
-# what every figure job runs (simpick.report.draw: the data each figure shows; figures: the drawing)
-FIGURE_CODE = ("report/draw.py", "report/figures.py", "report/load.py", "scoring.py")
-
-
-def lab_figure_tests():
-    """The lab tests with an IMU-statistics figure: every simulated test, and every test the
-    paper gives a real reference for (drawn with the reference alone when no engine ran it)."""
-    from simpick.published import load_published
-    from simpick.reference import lab_reference
-
-    tests = [(t, m) for t in TERRAINS for m in MOTIONS]
-    return tests + [tm for tm in lab_reference(load_published(config["reference"]["published"])) if tm not in tests]
-
-
-LAB_FIGURE_TESTS = lab_figure_tests()
-
-
-def report_figures():
-    """Every figure file the report embeds (and the notes beside the replay figures)."""
-    out = [f"{FIGURES}/contributions.png", f"{FIGURES}/paths.png", f"{FIGURES}/validation_gain.png",
-           f"{FIGURES}/real_gain.png"]
-    out += [f"{FIGURES}/imu_stats/{t}/{m}.png" for t, m in LAB_FIGURE_TESTS]
-    out += expand(f"{FIGURES}/traces/{{terrain}}/{{motion}}.png", terrain=TERRAINS, motion=MOTIONS)
-    if SWEEP:
-        out.append(f"{FIGURES}/sweep.png")
-    if REPLAY_SET:
-        out += expand(f"{FIGURES}/replay/{{terrain_class}}.{{ext}}", terrain_class=REPLAY_SET.classes, ext=("png", "json"))
-    return out
-
-
-def lab_test_traces(wildcards):
-    return expand("results/traces/lab/{engine}/{terrain}/{motion}.parquet", engine=ENGINES,
-                  terrain=wildcards.terrain, motion=wildcards.motion)
-
-
-def real_gain_inputs(wildcards):
-    """The real-data tables whose yaw-rate gains the figure shows: the committed segments', and
-    the full replay's when a dataset folder is given."""
-    names = ("per_test", "summary", "pairwise")
-    inputs = {f"segments_{n}": metrics_file("segments", n) for n in names} if REAL_DATA_ROBOT else {}
-    if REPLAY_SET:
-        inputs.update({f"replay_{n}": metrics_file(REPLAY_SET.name, n) for n in names})
-    return inputs
-
-
-def replay_class_inputs(wildcards):
-    """One terrain class of the full replay: its canonical logs, every model's replay of them,
-    and the per-test table that picks the run drawn."""
-    runs = [run for c, run in RUNS if c == wildcards.terrain_class]
-    return {
-        "real_logs": [log for log in real_logs(REPLAY_SET.name) if f"/logs/{wildcards.terrain_class}/" in log],
-        "replay_traces": [f"results/traces/{REPLAY_SET.name}/{e}/{wildcards.terrain_class}/{run}.parquet"
-                          for e in REAL_MODELS for run in runs],
-        "replay_per_test": metrics_file(REPLAY_SET.name, "per_test"),
-    }
-
+# (src/simpick/report/templates, hashed by the report rules alone) redraws none. The figure
+# inputs (FIGURES, LAB_FIGURE_TESTS, report_figures ...) are in common.smk.
 
 # Figure rules: light jobs (one Matplotlib figure each), code= the drawing code they run and no
-# more, so an edit to the report's templates or context code reruns none of them.
+# more (common.smk: figure_code), so an edit to the report's templates or context code reruns none of them.
+
 
 rule figure_contributions:
     """The one weight-dependent figure: each engine's total split into weight x score."""
     input:
         weighted="results/scores/weighted.csv",
     output:
-        png=report(f"{FIGURES}/contributions.png", caption="captions/contributions.rst", category="Figures",
-                   subcategory="Scores"),
-    params:
-        weights=canonical(config["weights"]),
-        engines=FIGURE_ENGINES,
-        code=code_version(*FIGURE_CODE),
+        png=report(
+            f"{FIGURES}/contributions.png",
+            caption="captions/contributions.rst",
+            category="Figures",
+            subcategory="Scores",
+        ),
     log:
         "results/logs/figures/contributions.log",
+    conda:
+        "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=300,
         runtime=5,
-    conda:
-        "../envs/simpick.yaml"
+    params:
+        weights=canonical(config["weights"]),
+        engines=FIGURE_ENGINES,
+        code=figure_code("figure_contributions"),
     script:
         "../scripts/figure.py"
 
@@ -98,23 +43,28 @@ rule figure_imu_stats:
         reference_stats=metrics_file("lab", "detail"),
         runs=metrics_file("lab", "runs"),
     output:
-        png=report(f"{FIGURES}/imu_stats/{{lab_terrain}}/{{lab_motion}}.png", caption="captions/imu_stats.rst",
-                   category="Figures", subcategory="IMU statistics", labels={"test": "{lab_terrain}/{lab_motion}"}),
-    params:
-        engines=FIGURE_ENGINES,
-        code=code_version(*FIGURE_CODE),
+        png=report(
+            f"{FIGURES}/imu_stats/{{lab_terrain}}/{{lab_motion}}.png",
+            caption="captions/imu_stats.rst",
+            category="Figures",
+            subcategory="IMU statistics",
+            labels={"test": "{lab_terrain}/{lab_motion}"},
+        ),
+    log:
+        "results/logs/figures/imu_stats/{lab_terrain}/{lab_motion}.log",
     # its own wildcard names: a reference-only test's terrain is not one the study simulates
     wildcard_constraints:
         lab_terrain="|".join(re.escape(t) for t in dict.fromkeys(t for t, _ in LAB_FIGURE_TESTS)),
         lab_motion="|".join(re.escape(m) for m in dict.fromkeys(m for _, m in LAB_FIGURE_TESTS)),
-    log:
-        "results/logs/figures/imu_stats/{lab_terrain}/{lab_motion}.log",
+    conda:
+        "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=300,
         runtime=5,
-    conda:
-        "../envs/simpick.yaml"
+    params:
+        engines=FIGURE_ENGINES,
+        code=figure_code("figure_imu_stats"),
     script:
         "../scripts/figure.py"
 
@@ -125,19 +75,24 @@ rule figure_traces:
         traces=lab_test_traces,
         runs=metrics_file("lab", "runs"),
     output:
-        png=report(f"{FIGURES}/traces/{{terrain}}/{{motion}}.png", caption="captions/traces.rst",
-                   category="Figures", subcategory="Traces", labels={"test": "{terrain}/{motion}"}),
-    params:
-        engines=FIGURE_ENGINES,
-        code=code_version(*FIGURE_CODE, "traces.py"),
+        png=report(
+            f"{FIGURES}/traces/{{terrain}}/{{motion}}.png",
+            caption="captions/traces.rst",
+            category="Figures",
+            subcategory="Traces",
+            labels={"test": "{terrain}/{motion}"},
+        ),
     log:
         "results/logs/figures/traces/{terrain}/{motion}.log",
+    conda:
+        "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=400,
         runtime=5,
-    conda:
-        "../envs/simpick.yaml"
+    params:
+        engines=FIGURE_ENGINES,
+        code=figure_code("figure_traces"),
     script:
         "../scripts/figure.py"
 
@@ -150,19 +105,19 @@ rule figure_paths:
     output:
         png=report(f"{FIGURES}/paths.png", caption="captions/paths.rst", category="Figures", subcategory="Traces"),
         endpoints=f"{FIGURES}/endpoints.csv",
-    params:
-        engines=FIGURE_ENGINES,
-        # the strip geometry and commanded paths: the report's own slice of the config
-        config=canonical(report_config()),
-        code=code_version(*FIGURE_CODE, "traces.py"),
     log:
         "results/logs/figures/paths.log",
+    conda:
+        "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=400,
         runtime=5,
-    conda:
-        "../envs/simpick.yaml"
+    params:
+        engines=FIGURE_ENGINES,
+        # the strip geometry and commanded paths: the report's own slice of the config
+        config=canonical(report_config()),
+        code=figure_code("figure_paths"),
     script:
         "../scripts/figure.py"
 
@@ -173,19 +128,23 @@ rule figure_validation:
     input:
         validation_gains="results/validation/gains.csv",
     output:
-        png=report(f"{FIGURES}/validation_gain.png", caption="captions/validation_gain.rst", category="Figures",
-                   subcategory="Analytic mechanics"),
-    params:
-        engines=FIGURE_ENGINES,
-        code=code_version(*FIGURE_CODE, "report/validation.py", "validation.py"),
+        png=report(
+            f"{FIGURES}/validation_gain.png",
+            caption="captions/validation_gain.rst",
+            category="Figures",
+            subcategory="Analytic mechanics",
+        ),
     log:
         "results/logs/figures/validation_gain.log",
+    conda:
+        "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=300,
         runtime=5,
-    conda:
-        "../envs/simpick.yaml"
+    params:
+        engines=FIGURE_ENGINES,
+        code=figure_code("figure_validation"),
     script:
         "../scripts/figure.py"
 
@@ -195,21 +154,22 @@ rule figure_real_gain:
     input:
         unpack(real_gain_inputs),
     output:
-        png=report(f"{FIGURES}/real_gain.png", caption="captions/real_gain.rst", category="Figures",
-                   subcategory="Real robot"),
-    params:
-        engines=FIGURE_ENGINES,
-        statistics=statistics_params(),
-        real_data=canonical({"classes": config["real_data"]["classes"]}),
-        code=code_version(*FIGURE_CODE, "report/real.py", "realmetrics.py", "realdata.py"),
+        png=report(
+            f"{FIGURES}/real_gain.png", caption="captions/real_gain.rst", category="Figures", subcategory="Real robot"
+        ),
     log:
         "results/logs/figures/real_gain.log",
+    conda:
+        "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=300,
         runtime=5,
-    conda:
-        "../envs/simpick.yaml"
+    params:
+        engines=FIGURE_ENGINES,
+        statistics=statistics_params(),
+        real_data=canonical({"classes": config["real_data"]["classes"]}),
+        code=figure_code("figure_real_gain"),
     script:
         "../scripts/figure.py"
 
@@ -221,19 +181,23 @@ if SWEEP:
         input:
             sweep=f"{SWEEP_DIR}/summary.csv",
         output:
-            png=report(f"{FIGURES}/sweep.png", caption="captions/sweep.rst", category="Figures",
-                       subcategory="Speed and accuracy"),
-        params:
-            engines=FIGURE_ENGINES,
-            code=code_version(*FIGURE_CODE, "report/sweep.py"),
+            png=report(
+                f"{FIGURES}/sweep.png",
+                caption="captions/sweep.rst",
+                category="Figures",
+                subcategory="Speed and accuracy",
+            ),
         log:
             "results/logs/figures/sweep.log",
+        conda:
+            "../envs/simpick.yaml"
         threads: 1
         resources:
             mem_mb=300,
             runtime=5,
-        conda:
-            "../envs/simpick.yaml"
+        params:
+            engines=FIGURE_ENGINES,
+            code=figure_code("figure_sweep"),
         script:
             "../scripts/figure.py"
 
@@ -245,18 +209,22 @@ if REPLAY_SET:
         input:
             windows=f"{REPLAY}/turning/windows.csv",
         output:
-            png=report(f"{FIGURES}/real_turning.png", caption="captions/real_turning.rst", category="Figures",
-                       subcategory="Real robot"),
-        params:
-            code=code_version(*FIGURE_CODE),
+            png=report(
+                f"{FIGURES}/real_turning.png",
+                caption="captions/real_turning.rst",
+                category="Figures",
+                subcategory="Real robot",
+            ),
         log:
             "results/logs/figures/real_turning.log",
+        conda:
+            "../envs/simpick.yaml"
         threads: 1
         resources:
             mem_mb=300,
             runtime=5,
-        conda:
-            "../envs/simpick.yaml"
+        params:
+            code=figure_code("figure_real_turning"),
         script:
             "../scripts/figure.py"
 
@@ -266,23 +234,28 @@ if REPLAY_SET:
         input:
             unpack(replay_class_inputs),
         output:
-            png=report(f"{FIGURES}/replay/{{terrain_class}}.png", caption="captions/replay.rst",
-                       category="Figures", subcategory="Real robot", labels={"terrain class": "{terrain_class}"}),
+            png=report(
+                f"{FIGURES}/replay/{{terrain_class}}.png",
+                caption="captions/replay.rst",
+                category="Figures",
+                subcategory="Real robot",
+                labels={"terrain class": "{terrain_class}"},
+            ),
             notes=f"{FIGURES}/replay/{{terrain_class}}.json",
-        params:
-            engines=FIGURE_ENGINES,
-            config=canonical({"robot": {"track": config["robot"]["track"]}}),
-            code=code_version(*FIGURE_CODE, "report/real.py", "realmetrics.py", "reallogs", "traces.py"),
-        wildcard_constraints:
-            terrain_class="|".join(REPLAY_SET.classes),
         log:
             f"results/logs/figures/replay/{{terrain_class}}.log",
+        wildcard_constraints:
+            terrain_class="|".join(REPLAY_SET.classes),
+        conda:
+            "../envs/simpick.yaml"
         threads: 1
         resources:
             mem_mb=800,
             runtime=10,
-        conda:
-            "../envs/simpick.yaml"
+        params:
+            engines=FIGURE_ENGINES,
+            config=canonical({"robot": {"track": config["robot"]["track"]}}),
+            code=figure_code("figure_replay"),
         script:
             "../scripts/figure.py"
 
@@ -311,7 +284,13 @@ rule report:
         endpoints=f"{FIGURES}/endpoints.csv",
     output:
         # report(): `snakemake --report` carries the study report (its figures are embedded in it)
-        html=report("results/report/report.html", category="Study report"),
+        html=report("results/report/report.html", caption="captions/report_html.rst", category="Study report"),
+    log:
+        "results/logs/report.log",
+    benchmark:
+        "results/benchmarks/report.tsv"
+    conda:
+        "../envs/simpick.yaml"
     params:
         weights=canonical(config["weights"]),
         # only the keys the report reads (strip geometry, commanded paths, test order): an edit
@@ -320,7 +299,7 @@ rule report:
         statistics=statistics_params(),
         engines=FIGURE_ENGINES,
         unavailable=canonical(UNAVAILABLE),  # configured engines this machine cannot run: listed, not dropped
-        code=code_version("report", "realdata.py", "realmetrics.py", "scoring.py", "metrics.py", "traces.py"),
+        code=script_code("report"),
         real_data=canonical(
             {
                 "dataset": DATASET,
@@ -330,12 +309,6 @@ rule report:
                 "segment_rules": config["real_data"]["segment_rules"],
             }
         ),
-    log:
-        "results/logs/report.log",
-    benchmark:
-        "results/benchmarks/report.tsv"
-    conda:
-        "../envs/simpick.yaml"
     script:
         "../scripts/report.py"
 
@@ -345,14 +318,14 @@ rule report_pdf:
     input:
         "results/report/report.html",
     output:
-        report("results/report/report.pdf", category="Study report"),
-    params:
-        code=code_version("report"),
+        report("results/report/report.pdf", caption="captions/report_pdf.rst", category="Study report"),
     log:
         "results/logs/report_pdf.log",
     benchmark:
         "results/benchmarks/report_pdf.tsv"
     conda:
         "../envs/simpick.yaml"
+    params:
+        code=script_code("report_pdf"),
     script:
         "../scripts/report_pdf.py"

@@ -13,24 +13,28 @@ for _rule, _outputs, _fixed in simulate_units():
             unpack(lambda wc, fixed=_fixed: case_inputs(*[unit(wc, fixed)[i] for i in (0, 2, 3)])),
         output:
             _outputs,
-        params:
-            case=lambda wc, fixed=_fixed: case_params(*unit(wc, fixed)),
-            code=lambda wc, fixed=_fixed: case_code(unit(wc, fixed)[0], wc.engine),
-        wildcard_constraints:
-            **(one_case_constraints(_fixed["sources"]) if "sources" in _fixed else {}),
         log:
-            "results/logs/simulate/{source}/{engine}/{group}/{name}.log" if "sources" in _fixed
+            "results/logs/simulate/{source}/{engine}/{group}/{name}.log"
+            if "sources" in _fixed
             else f"results/logs/simulate/{_fixed['source']}/{{engine}}/{_fixed['group']}.log",
         benchmark:
-            ("results/benchmarks/simulate/{source}/{engine}/{group}/{name}.tsv" if "sources" in _fixed
-             else f"results/benchmarks/simulate/{_fixed['source']}/{{engine}}/{_fixed['group']}.tsv")
+            (
+                "results/benchmarks/simulate/{source}/{engine}/{group}/{name}.tsv"
+                if "sources" in _fixed
+                else f"results/benchmarks/simulate/{_fixed['source']}/{{engine}}/{_fixed['group']}.tsv"
+            )
+        wildcard_constraints:
+            **(one_case_constraints(_fixed["sources"]) if "sources" in _fixed else {}),
+        conda:
+            "../envs/simpick.yaml"
         threads: 1
         resources:
             mem_mb=lambda wc, fixed=_fixed: 800 if SOURCES[unit(wc, fixed)[0]]["kind"] == "replay" else 400,
             # each case is stopped by the watchdog at health.timeout (its hard fallback 30 s later)
             runtime=lambda wc, fixed=_fixed: len(unit(wc, fixed)[3]) * (1 + int(config["health"]["timeout"]) // 60),
-        conda:
-            "../envs/simpick.yaml"
+        params:
+            case=lambda wc, fixed=_fixed: case_params(*unit(wc, fixed)),
+            code=lambda wc, fixed=_fixed: case_code(unit(wc, fixed)[0], wc.engine),
         script:
             "../scripts/simulate.py"
 
@@ -41,21 +45,19 @@ rule cpu_load:
         urdf=config["robot"]["urdf"],
     output:
         "results/cpu/{engine}.json",
-    params:
-        case=lambda wc: simulation_params(
-            wc.engine, config["cpu_load"]["terrain"], config["cpu_load"]["motion"]
-        )
-        | {"cpu_load": canonical(config["cpu_load"])},
-        code=lambda wc: engine_code(wc.engine, "cpuload.py"),
     log:
         "results/logs/cpu_load/{engine}.log",
     benchmark:
         "results/benchmarks/cpu_load/{engine}.tsv"
+    conda:
+        "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=600,
         runtime=15,
-    conda:
-        "../envs/simpick.yaml"
+    params:
+        case=lambda wc: simulation_params(wc.engine, config["cpu_load"]["terrain"], config["cpu_load"]["motion"])
+        | {"cpu_load": canonical(config["cpu_load"])},
+        code=lambda wc: script_code("cpu_load", engine_module(wc.engine)),
     script:
         "../scripts/cpu_load.py"

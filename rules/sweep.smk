@@ -10,24 +10,24 @@ if SWEEP:
             urdf=config["robot"]["urdf"],
         output:
             f"{SWEEP_DIR}/runs/{{engine}}/{{terrain_class}}/{{dt}}.csv",
-        params:
-            case=lambda wc: sweep_params(wc.engine, wc.terrain_class, wc.dt),
-            code=lambda wc: engine_code(wc.engine, "realdata.py", "sweep.py", "metrics.py", "realmetrics.py"),
-        wildcard_constraints:
-            engine="|".join(ENGINES),
-            terrain_class="|".join(SEGMENTS),
-            dt="|".join(re.escape(label) for label in SWEEP_LABELS),
         log:
             f"{SWEEP_DIR}/logs/{{engine}}/{{terrain_class}}/{{dt}}.log",
         benchmark:
             f"results/benchmarks/sweeps/{SWEEP['name']}/{{engine}}/{{terrain_class}}/{{dt}}.tsv"
+        wildcard_constraints:
+            engine="|".join(ENGINES),
+            terrain_class="|".join(SEGMENTS),
+            dt="|".join(re.escape(label) for label in SWEEP_LABELS),
+        conda:
+            "../envs/simpick.yaml"
         threads: 1
         resources:
             mem_mb=400,
             # the 0.5 ms step doubles the segments' cost at 1 ms (DART's class job: about 1 min)
             runtime=30,
-        conda:
-            "../envs/simpick.yaml"
+        params:
+            case=lambda wc: sweep_params(wc.engine, wc.terrain_class, wc.dt),
+            code=lambda wc: script_code("sweep_segments", engine_module(wc.engine)),
         script:
             "../scripts/sweep_segments.py"
 
@@ -36,12 +36,13 @@ if SWEEP:
             sweep_runs(),
         output:
             f"{SWEEP_DIR}/summary.csv",
-        params:
-            code=code_version("sweep.py"),
         log:
             f"{SWEEP_DIR}/logs/summary.log",
         conda:
             "../envs/simpick.yaml"
+        params:
+            statistics=statistics_params(),
+            code=script_code("sweep_summary"),
         script:
             "../scripts/sweep_summary.py"
 

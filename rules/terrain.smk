@@ -1,13 +1,13 @@
 rule terrain:
     output:
         "results/terrains/{terrain}.json",
-    params:
-        spec=lambda wc: canonical(config["terrains"][wc.terrain]),
-        seed=lambda wc: canonical(config["seed"]),
-        code=code_version("terrain.py"),
     log:
         "results/logs/terrain/{terrain}.log",
     conda:
         "../envs/simpick.yaml"
+    params:
+        spec=lambda wc: canonical(config["terrains"][wc.terrain]),
+        seed=lambda wc: canonical(config["seed"]),
+        code=script_code("terrain"),
     script:
         "../scripts/terrain.py"

@@ -8,19 +8,19 @@ rule validate:
         urdf=config["robot"]["urdf"],
     output:
         "results/validation/{engine}/{case}.json",
-    params:
-        case=lambda wc: validation_params(wc.engine, wc.case),
-        code=lambda wc: engine_code(wc.engine, "validation.py", "coulomb.py"),
     log:
         "results/logs/validate/{engine}/{case}.log",
     benchmark:
         "results/benchmarks/validate/{engine}/{case}.tsv"
+    conda:
+        "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=400,
         runtime=lambda wc: 1 + int(config["health"]["timeout"]) // 60,
-    conda:
-        "../envs/simpick.yaml"
+    params:
+        case=lambda wc: validation_params(wc.engine, wc.case),
+        code=lambda wc: script_code("validate", engine_module(wc.engine)),
     script:
         "../scripts/validate.py"
 
@@ -32,12 +32,12 @@ rule validation_summary:
         summary="results/validation/summary.csv",
         # per engine, the yaw-rate gain left / right and its spread over start headings
         gains="results/validation/gains.csv",
-    params:
-        tolerances=canonical(config["validation"]["tolerances"]),
-        code=code_version("validation.py", "coulomb.py"),
     log:
         "results/logs/validate/summary.log",
     conda:
         "../envs/simpick.yaml"
+    params:
+        tolerances=canonical(config["validation"]["tolerances"]),
+        code=script_code("validation_summary"),
     script:
         "../scripts/validation_summary.py"

@@ -3,4 +3,4 @@ from simpick.workflow import logged
 
 with logged(snakemake.log[0]):
     summary_job(list(snakemake.input.evals), list(snakemake.input.bests), snakemake.input.split,
-                dict(snakemake.output))
+                dict(snakemake.output), snakemake.params.statistics)

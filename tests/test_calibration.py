@@ -197,11 +197,25 @@ def test_the_summary_ranks_before_and_after_and_the_report_says_the_winner_chang
     test = summary[summary.set == "test"].set_index("engine")
     assert test.loc["a", "rank_configured"] == 2 and test.loc["a", "rank_calibrated"] == 1
     assert test.loc["a", "change"] == pytest.approx(-0.5)
+    # six runs all changing the same way: the sign-flip test's smallest p, 2 / 2^6 = 0.031 < 0.05
+    assert test.loc["a", "change_p"] == pytest.approx(2 / 64) and test.loc["a", "change_verdict"] == "improved"
+    assert test.loc["b", "change_verdict"] == "worse"  # 0.8 -> 0.9 on every run
+    assert test.loc["a", "winner_configured"] == "b" and test.loc["a", "winner_calibrated"] == "a"
     assert test.loc["a", "parameters"] == "friction=0.2"
     assert test.loc["a", "objective_calibrated_low"] <= test.loc["a", "objective_calibrated"]
-    # fewer runs than statistics.min_runs (6): no interval
+    # fewer runs than statistics.min_runs (6): no interval, no rank, no winner, no improvement
     small = summarise(_evals()[_evals().unit.isin(["utest0", "utest1", "utrain0"])], best)
     assert small.objective_configured_low.isna().all()
+    assert small.rank_configured.isna().all() and small.rank_calibrated.isna().all()
+    assert (small.change_verdict == "too few runs (2 < 6)").sum() == 2  # the test set: 2 runs per engine
+    assert set(small[small.set == "test"].winner_calibrated) == {"too few runs (2 < 6)"}
+    # the same six runs under statistics.min_runs 7: nothing may be claimed any more
+    two = pd.concat([_evals().assign(terrain_class=c) for c in ("ice", "snow")])  # pooled: 12 test runs
+    pooled = summarise(two, best)
+    pooled = pooled[(pooled.terrain_class == "all classes") & (pooled.set == "test")].set_index("engine")
+    assert pooled.loc["a", "winner_calibrated"] == "a" and pooled.loc["a", "winner_configured"] == "b"
+    strict = summarise(_evals(), best, {"min_runs": 7, "level": 0.95})
+    assert strict.change_verdict.str.startswith("too few runs (6 < 7)").all() and strict.rank_configured.isna().all()
     section = calibration_section(summary, ["b", "a"], {})
     ice = section["classes"][0]
     assert ice["winner"] == {"configured": "b", "calibrated": "a"} and ice["winner_changes"]
@@ -235,6 +249,17 @@ def test_a_budget_edit_reruns_calibration_and_what_depends_on_it_nothing_else(tm
     assert run.returncode == 0, run.stderr[-3000:]
     best = yaml.safe_load((out / "kinematic/flooring/best.yaml").read_text())
     assert best["trials_run_now"] == 1 and best["n_trials"] == 3  # the journal's two trials were kept
+
+    # one statistics rule (issue 17): editing statistics.min_runs reruns the calibration summary and
+    # the real-data summaries, never a simulation or a calibration
+    run = snakemake(tmp_path, "results/metrics/segments/summary.csv")
+    assert run.returncode == 0, run.stderr[-3000:]
+    config["statistics"] = {"min_runs": 7, "level": 0.95}
+    write_config(tmp_path, config)
+    jobs = planned_jobs_for(tmp_path, "calibration")
+    assert sorted({rule for rule, _ in jobs}) == ["calibration", "calibration_summary"]
+    jobs = planned_jobs_for(tmp_path, "results/metrics/segments/summary.csv")
+    assert sorted({rule for rule, _ in jobs}) == ["summarise"]
 
 
 def planned_jobs_for(workdir, target):
@@ -280,6 +305,15 @@ def test_classes_too_small_for_an_interval_get_one_pooled_and_runs_are_named_by_
     # the paired change, calibrated - configured, per run: -0.4, -0.3, -0.35, -0.25, -0.3, -0.2
     assert pooled.change == pytest.approx(-0.3)
     assert pooled.change_low < -0.3 < pooled.change_high < 0  # an interval, and it excludes 0
+    assert pooled.change_verdict == "improved" and bool(pooled.normalised)
+    # a pooled winner is judged on the same normalised objectives: one model alone is its own winner
+    assert pooled.winner_calibrated == "a"
+    # pooling uses per-class normalised changes: snow's objective ten times larger changes nothing
+    tenfold = pd.DataFrame(rows)
+    tenfold.loc[tenfold.terrain_class == "snow", "objective"] *= 10
+    again = summarise(tenfold, {})
+    assert again[again.terrain_class == POOLED].change.iloc[0] == pytest.approx(-0.3)
+    assert again[again.terrain_class == "snow"].change.iloc[0] == pytest.approx(10 * -0.25)  # (-0.3 - 0.2) / 2, x10
     # the report puts the pooled block after the classes
     section = calibration_section(summary, ["a"], {})
     assert [c["terrain_class"] for c in section["classes"]] == ["asphalt", "ice", "snow", POOLED]

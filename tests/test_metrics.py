@@ -188,23 +188,6 @@ def test_cpu_load_runs_are_health_checked(tmp_path):
     assert any(r.startswith("average (1 robots): exploded") for r in bad["health"]["reasons"])
 
 
-def test_code_version_changes_with_the_code_it_covers(tmp_path):
-    from simpick.codeversion import code_version
-
-    (tmp_path / "pkg").mkdir()
-    (tmp_path / "a.py").write_text("x = 1\n")
-    (tmp_path / "b.py").write_text("y = 1\n")
-    (tmp_path / "pkg" / "c.py").write_text("z = 1\n")
-    before = code_version("a.py", "pkg", root=tmp_path)
-    assert code_version("pkg", "a.py", root=tmp_path) == before  # order of the names does not matter
-    (tmp_path / "b.py").write_text("y = 2\n")
-    assert code_version("a.py", "pkg", root=tmp_path) == before  # b.py is not covered
-    (tmp_path / "pkg" / "c.py").write_text("z = 2\n")
-    assert code_version("a.py", "pkg", root=tmp_path) != before
-    with pytest.raises(FileNotFoundError):
-        code_version("renamed.py", root=tmp_path)
-
-
 def test_every_rule_that_runs_library_code_carries_its_code_version():
     """Snakemake reruns on a params change, not on an edited import: src/ must be in the params."""
     import re

@@ -214,6 +214,9 @@ def test_replay_compare_and_summarise_against_hand_computed_values(tmp_path):
     # low-passed RMS: ax a constant 0.2 apart; yaw rate 0.1 + 0.1 sin: sqrt(0.1^2 + 0.1^2 / 2), the
     # 0.2 Hz wave kept by the 2 Hz low-pass (1 % for its gain and the filter's ends)
     np.testing.assert_allclose(windows.rmse_ax, 0.2, rtol=1e-3)
+    # verdict metrics per window: |0.4 - 0.6| gain; heading |0.2 - 0.3| rad/s x 10 s = 1 rad
+    np.testing.assert_allclose(windows.gain_error, 0.2, atol=1e-6)
+    np.testing.assert_allclose(windows.heading_error, 1.0, atol=1e-5)
     np.testing.assert_allclose(windows.rmse_yaw_rate, np.sqrt(0.015), rtol=0.01)
 
     per_test = pd.read_csv(outputs["per_test"], dtype={"run": str}).iloc[0]
@@ -268,6 +271,12 @@ def test_segment_compare_and_summarise_against_hand_computed_values(tmp_path):
     assert np.isnan(per_test.loc[("a", "flooring-straight"), "yaw_rate_gain_sim"])
     assert per_test.loc[("b", "flooring-straight"), "status"] == "failed"
     assert per_test.loc[("a", "flooring-turning"), "speed_sim"] == pytest.approx(0.3)
+    # simpick's verdict metrics: |gain_sim - gain_real| = |0.625 - 0.7|; heading over the 2 s window
+    # |0.25 - 0.3| x 2 = 0.1 rad (turning), |0 - 0| x 2 (straight); no gain error where not turning
+    assert per_test.loc[("a", "flooring-turning"), "gain_error"] == pytest.approx(0.075)
+    assert per_test.loc[("a", "flooring-turning"), "heading_error"] == pytest.approx(0.1)
+    assert per_test.loc[("a", "flooring-straight"), "heading_error"] == pytest.approx(0.0)
+    assert np.isnan(per_test.loc[("a", "flooring-straight"), "gain_error"])
 
     totals = pd.read_csv(outputs["imu_errors"]).set_index(["engine", "quantity"])
     # b failed the straight segment: it is left out of both engines' totals, and named
@@ -285,30 +294,49 @@ def test_segment_compare_and_summarise_against_hand_computed_values(tmp_path):
     assert pairwise.set_index("figure").loc["error_angular", "mean_a_minus_b"] == pytest.approx(0.05)
 
 
-def _unit_errors(errors: dict[str, list[float]]) -> pd.DataFrame:
-    rows = [{"engine": e, "terrain_class": "ice", "run": f"{i:02d}", "segment": f"ice-{i:02d}", "status": "ok",
-             "error_angular": v, "error_linear": v} for e, vals in errors.items() for i, v in enumerate(vals)]
-    return pd.DataFrame(rows)
+def test_every_real_case_starts_from_its_own_seeded_heading_the_same_for_every_model():
+    """Issue 17: no real-data case starts from a fixed heading. The heading derives from the config
+    seed and the case's names (not the model), so paired comparisons stay paired."""
+    from simpick.realdata import start_heading
+
+    cases = [("BorealTC", c, f"{r:02d}", f"{c}-seg{r}") for c in ("asphalt", "ice", "snow") for r in range(20)]
+    headings = np.array([start_heading(20220601, *case) for case in cases])
+    assert headings.min() >= 0 and headings.max() < 2 * np.pi
+    assert start_heading(20220601, *cases[0]) == headings[0]  # deterministic
+    assert start_heading(1, *cases[0]) != headings[0]  # the config seed moves it
+    assert len(np.unique(headings)) == len(cases)
+    # spread over the circle: 60 draws, every quadrant taken, none at the axis-aligned 0 for all
+    assert set(np.floor(headings / (np.pi / 2)).astype(int)) == {0, 1, 2, 3}
 
 
-def test_score_discrimination_splits_the_error_into_floor_and_engine():
-    from simpick.realdata import score_discrimination
+def test_a_replay_starts_from_its_seeded_heading_and_records_it():
+    from simpick.realdata import start_heading
 
-    a = [10.0, 20.0, 5.0, 30.0, 8.0, 12.0]
-    per_test = _unit_errors({"a": a, "b": [x + 1 for x in a], "k": a, "c": [x + 5 for x in a]})
-    d = score_discrimination(per_test, ["a", "b"], ["k", "c"])["angular"]
-    rows = {r["engine"]: r for r in d["rows"]}
-    assert d["floor"] == 85.0 and d["n_runs"] == 6  # the smaller reference total
-    assert rows["b"]["error"] == 91.0 and rows["b"]["engine_part"] == 6.0
-    assert rows["b"]["floor_share"] == pytest.approx(85 / 91) and rows["a"]["floor_share"] == 1.0
-    assert rows["b"]["score"] == pytest.approx(85 / 91) and d["spread"] == pytest.approx(6 / 91)
-    assert d["separates"] is True  # b is worse in every run: the score's interval stays below 1
+    params = {"engine": "kinematic", "engine_settings": {"track": 0.555}, "terrain_class": "flooring",
+              "class": {"friction": 0.6}, "physics": {"timestep": 0.002, "ground_friction": 0.6},
+              "robot": {"track": 0.555, "max_wheel_torque": 100.0}, "imu": CONFIG["imu"],
+              "health": CONFIG["health"], "seed": 7}
+    log = synthetic_log()
+    frame, meta = replay_log(log, str(ROOT / CONFIG["robot"]["urdf"]), params, duration=2.0)
+    expected = start_heading(7, "synthetic", "flooring", "00", "synthetic")
+    assert meta["start_heading_deg"] == pytest.approx(np.degrees(expected))
+    # the base's yaw at the first sample is the drawn heading (as an angle: mod 2 pi)
+    first = float(np.asarray(frame["yaw"])[0])
+    assert np.angle(np.exp(1j * (first - expected))) == pytest.approx(0.0, abs=1e-3)
 
-    # b better on some runs, worse on others, by more than the totals differ: no separation
-    noisy = _unit_errors({"a": a, "b": [x + s for x, s in zip(a, (6, -5, 4, -6, 5, -3))], "k": a})
-    d = score_discrimination(noisy, ["a", "b"], ["k"])["angular"]
-    assert d["spread"] == pytest.approx(1 - 85 / 86) and d["separates"] is False
 
-    # fewer runs than statistics.min_runs: no interval, no judgement
-    d = score_discrimination(_unit_errors({"a": a[:3], "b": a[:3], "k": a[:3]}), ["a", "b"], ["k"])["linear"]
-    assert d["separates"] is None and np.isnan(d["half_width"])
+def test_a_source_with_no_case_writes_its_tables_with_their_columns(tmp_path):
+    """Issue 21: a source with no cases (or none a model completed) is a normal outcome."""
+    from simpick.workflow import compare_job, summarise_job
+
+    for kind, inputs, params in (("segments", {"segments": str(ROOT / CONFIG["real_data"]["segments"])},
+                                  {"track": 0.555}),
+                                 ("replay", {"logs": []}, {"track": 0.555, "window": 10.0})):
+        out = {k: str(tmp_path / kind / f"{k}.csv")
+               for k in ("per_test", "detail", "runs", "summary", "pairwise", "imu_errors", "rtf")}
+        compare_job(kind, [], inputs, params, out)
+        summarise_job(out["per_test"], out["runs"], {"group": "terrain_class"}, out)
+        for name, path in out.items():
+            frame = pd.read_csv(path)
+            assert frame.empty and len(frame.columns) > 3, (kind, name)
+        assert {"gain_error", "heading_error", "start_heading_deg"} <= set(pd.read_csv(out["per_test"]).columns)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import html
 import json
 import math
 import re
@@ -482,6 +483,9 @@ def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
             row["yaw_rate_gain_sim"] = ((0.25 if e == "mujoco" else 0.05) + 0.01 * i
                                         if seg["kind"] == "turning" else float("nan"))
             row["speed_sim"] = seg["v"]
+            row["gain_error"] = (abs(row["yaw_rate_gain_sim"] - seg["yaw_rate_gain"]) if seg["kind"] == "turning"
+                                 else float("nan"))
+            row["heading_error"] = 0.05 * (i + 1) * (0.5 if e == "mujoco" else 1.0)
             rows.append(row)
     per_test = pd.DataFrame(rows)
     per_test["test"] = per_test["segment"]
@@ -552,9 +556,46 @@ def built_real(tmp_path_factory):
     inputs.update(real)
     inputs["accuracy_errors"] = real["segments_imu_errors"]
     inputs["accuracy_per_test"] = real["segments_per_test"]
+    inputs.update(write_verdict(root / "verdict", real["segments_per_test"], inputs["weighted"]))
     html, pdf = root / "out" / "report.html", root / "out" / "report.pdf"
     build_report(with_figures(inputs, _real_params(), root), _real_params(), html, pdf)
     return inputs, html.read_text(encoding="utf-8"), pdf
+
+
+def write_verdict(root: Path, per_test: str, weighted: str) -> dict:
+    """The verdict rule's tables (simpick.verdict.verdict_job) from the synthetic real data."""
+    from simpick.verdict import verdict_job
+
+    root.mkdir(parents=True, exist_ok=True)
+    provenance = root / "provenance.yaml"
+    provenance.write_text(yaml.safe_dump({"accuracy": {"set": "segments", "per_test_file": per_test}}))
+    outputs = {k: str(root / f"{k}.csv") for k in ("metrics", "table", "separation", "ranking", "discrimination",
+                                                    "headings")}
+    outputs["headline"] = str(root / "headline.yaml")
+    verdict_job(per_test, weighted, str(provenance),
+                {"engines": list(ENGINES), "baselines": [], "statistics": {"min_runs": 6, "level": 0.95},
+                 "weights": dict(DEFAULT_WEIGHTS), "seed": 3, "source": "segments", "source_title": "test segments"},
+                outputs)
+    return {f"verdict_{k}": v for k, v in outputs.items()}
+
+
+def test_the_report_opens_with_the_verdict_and_labels_the_papers_method(built_real):
+    """Issue 17: the first paragraph is the verdict rule's (results/verdict/headline.yaml), printed as
+    written; the paper's weighted table is labelled as the paper's method and carries its interval."""
+    inputs, text, _ = built_real
+    head = yaml.safe_load(Path(inputs["verdict_headline"]).read_text())
+    summary = re.search(r'<div class="summary".*?</div>', text, re.S).group(0)
+    first = re.search(r"<p[^>]*>(.*?)</p>", summary, re.S).group(1)
+    assert first.startswith("<b>Verdict.</b>") and head["paragraph"] in html.unescape(" ".join(first.split()))
+    assert "By the paper's method" in summary
+    assert "1. Ranking and weighted scores: the paper's method" in text
+    table = pd.read_csv(inputs["verdict_table"])
+    section = _section(text, 'id="verdict"', '<nav class="toc">')
+    for label in table.label.unique():
+        assert label in section
+    separation = pd.read_csv(inputs["verdict_separation"])
+    assert separation.statement.map(lambda st: st in html.unescape(section)).all()
+    assert "not measurable on this data" in section  # the speed error on BorealTC-like data
 
 
 def _section(text: str, start: str, end: str) -> str:
@@ -733,3 +774,22 @@ def test_the_summary_lists_engines_left_out_because_they_are_not_installed(tmp_p
     summary = re.search(r'<div class="summary".*?</div>', text, re.S).group(0)
     assert "Left out of this study" in summary and f"drake ({why})" in summary.replace("&#39;", "'")
     assert "Left out of this study" not in _render(inputs, _real_params())
+
+
+def test_a_real_source_with_no_case_is_said_not_a_crash(tmp_path, built_real):
+    """Issue 21: a replay source with no case (its compare and summarise tables with their columns and
+    no rows) renders, and the report says so."""
+    from simpick.workflow import compare_job, summarise_job
+
+    inputs, _, _ = built_real
+    out = {k: str(tmp_path / f"{k}.csv") for k in ("per_test", "detail", "runs", "summary", "pairwise", "imu_errors",
+                                                   "rtf")}
+    compare_job("replay", [], {"logs": []}, {"track": TRACK, "window": 10.0}, out)
+    summarise_job(out["per_test"], out["runs"], {"group": "terrain_class"}, out)
+    empty = {"replay_per_test": out["per_test"], "replay_summary": out["summary"],
+             "replay_pairwise": out["pairwise"], "replay_imu_errors": out["imu_errors"],
+             "replay_per_window": out["detail"]}
+    kept = {k: v for k, v in inputs.items() if not k.startswith("replay_") and k not in ("real_logs",)}
+    text = " ".join(_render({**kept, **empty}, _real_params()).split())
+    assert 'id="real-empty-replay"' in text and "<b>Full replay</b>: no case, the source yielded none" in text
+    assert 'id="real-asphalt-segments"' in text  # the segments are reported as before

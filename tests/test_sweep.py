@@ -102,11 +102,22 @@ def test_a_segment_failed_by_one_engine_is_left_out_for_all():
     assert out.loc["a", "n_compared"] == out.loc["b", "n_compared"] == 2
     assert out.loc["a", "excluded"] == out.loc["b", "excluded"] == "s1"
     assert out.loc["a", "error_angular"] == pytest.approx(2.0)  # s0 and s2, not s1 which it ran well
+    assert out.loc["a", "n_runs"] == 1 and np.isnan(out.loc["a", "error_angular_low"])  # 1 run < min_runs
     assert out.loc["b", "error_angular"] == pytest.approx(3.0)
     assert (out.loc["a", "n_failed"], out.loc["b", "n_failed"]) == (0, 1)
     # the real-time factor covers the segments every engine ran healthily: 2 s in 0.2 s, 2 s in 1.0 s
     assert out.loc["a", "real_time_factor"] == pytest.approx(10.0)
     assert out.loc["b", "real_time_factor"] == pytest.approx(2.0)
+
+
+def test_sweep_errors_are_means_over_runs_with_intervals_from_min_runs_on():
+    """Segments of one run are averaged first; an interval only from statistics.min_runs runs on."""
+    runs = _runs()
+    runs = runs[runs.engine == "a"].assign(run=["1", "1", "2"])  # s0 and s1 one run: (1 + 2) / 2, then 3
+    out = summarise(runs, {"min_runs": 2, "level": 0.95}).iloc[0]
+    assert out.n_runs == 2 and out.error_angular == pytest.approx((1.5 + 3.0) / 2)
+    assert out.error_angular_low <= out.error_angular <= out.error_angular_high
+    assert np.isnan(summarise(runs, {"min_runs": 3, "level": 0.95}).iloc[0].error_angular_low)
 
 
 def test_the_report_section_pivots_by_timestep(tmp_path):

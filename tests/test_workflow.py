@@ -3,7 +3,8 @@
 The contract (what a user relies on to iterate cheaply): nothing edited -> nothing runs;
 a weight edited -> only scoring, the one figure that shows the weights and the report; a report
 template edited -> only the report; one engine's settings edited -> only that engine's simulations
-and what depends on them.
+and what depends on them; a library module edited -> only the jobs whose functions reach it (their
+code versions are computed from the imports: simpick.codeversion) and what depends on them.
 """
 
 import pandas as pd
@@ -84,8 +85,9 @@ def test_weight_edit_reruns_only_scoring_and_report(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        # figure_contributions draws weight x score per metric: the one figure the weights reach
-        assert rules == ["all", "figure_contributions", "report", "report_pdf", "scores"]
+        # figure_contributions draws weight x score per metric: the one figure the weights reach; the
+        # verdict gives the weighted total its interval over real runs and says what decides the order
+        assert rules == ["all", "figure_contributions", "report", "report_pdf", "scores", "verdict"]
     finally:
         write_config(workdir, config)
 
@@ -107,6 +109,59 @@ def test_template_edit_reruns_only_the_report(study, tmp_path):
     template.write_text(template.read_text() + "\n{# edited #}\n")
     rules = sorted({rule for rule, _ in planned_jobs(workdir, env)})
     assert rules == ["all", "report", "report_pdf"]
+
+
+def edited_library(tmp_path, module: str, old: str, new: str) -> dict:
+    """A copy of src/simpick with one edit in ``module`` (first on PYTHONPATH, so the workflow's code
+    versions read it; simpick.codeversion), as the environment of a dry run. Tracked files are not touched."""
+    import shutil
+
+    from conftest import ROOT
+
+    copy = tmp_path / "src"
+    shutil.copytree(ROOT / "src" / "simpick", copy / "simpick", ignore=shutil.ignore_patterns("__pycache__"))
+    path = copy / "simpick" / module
+    text = path.read_text()
+    assert text.count(old) == 1, f"{module}: {old!r} is not there once"
+    path.write_text(text.replace(old, new))
+    return {"PYTHONPATH": str(copy)}
+
+
+SIMULATING = ("simulate", "cpu_load", "validate", "terrain")  # and the batched simulate_<source>_<group>
+
+
+def simulated(jobs):
+    return sorted((rule, w) for rule, w in jobs if rule in SIMULATING or rule.startswith("simulate_"))
+
+
+def test_a_segments_module_edit_reruns_the_segment_jobs_and_no_lab_job(study, tmp_path):
+    """realsegments.py is imported (inside functions) only on the segments' path: editing it reruns
+    every model's segment simulations and what depends on them (issue 21: no hand-kept list had it)."""
+    workdir, config = study
+    env = edited_library(tmp_path, "realsegments.py", "\nCOLUMNS = ", "\nEDITED = True\nCOLUMNS = ")
+    jobs = planned_jobs(workdir, env)
+    models = sorted([*config["engines"], *config["baselines"]])
+    assert simulated(jobs) == [("simulate_segments_flooring", f"engine={m}") for m in models]
+    assert ("compare", "source=segments") in jobs and ("summarise", "source=segments") in jobs
+    assert not [job for job in jobs if "source=lab" in job[1]], jobs  # no lab simulation or comparison
+    assert not {rule for rule, _ in jobs} & {"validation_summary", "published_table11"}
+
+
+def test_a_report_edit_simulates_nothing(study, tmp_path):
+    workdir, _ = study
+    env = edited_library(tmp_path, "report/build.py", "\nTEMPLATE = ", "\nEDITED = True\nTEMPLATE = ")
+    assert sorted({rule for rule, _ in planned_jobs(workdir, env)}) == ["all", "report", "report_pdf"]
+
+
+def test_an_rtf_edit_reruns_the_summaries_not_the_simulations(study, tmp_path):
+    """equal_rtf shares workflow.py with simulate_job, but no simulation runs it: only the jobs
+    whose functions reach it (summarise) and what depends on them rerun."""
+    workdir, _ = study
+    env = edited_library(tmp_path, "workflow.py", "    engines = sorted(runs.engine.unique())\n",
+                         "    engines = sorted(runs.engine.unique())  # edited\n    assert engines is not None\n")
+    jobs = planned_jobs(workdir, env)
+    assert simulated(jobs) == [] and not {rule for rule, _ in jobs} & {"compare", "validation_summary"}
+    assert {("summarise", "source=lab"), ("summarise", "source=segments")} <= set(jobs)
 
 
 def test_engine_edit_reruns_only_that_engine(study):

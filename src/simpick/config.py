@@ -471,10 +471,14 @@ def duplicate_keys(path: str | Path) -> list[str]:
     return found
 
 
-def validate_or_exit(config: dict, source: str = "config", files: list | tuple = ()) -> None:
+def validate_or_exit(config: dict, source: str = "config", files: list | tuple = ()) -> Study:
+    """The validated, typed study settings (defaults filled in); a bad config stops the run with
+    one line per problem. The rules pass slices of this object, not of the raw dict, to the jobs
+    (``statistics`` so far: every summary that gives an interval or a verdict reads it)."""
     found = [line for f in files for line in duplicate_keys(f)] + problems(config)
     if found:
         print(f"simpick: the {source} has {len(found)} problem(s):", file=sys.stderr)
         for line in found:
             print(f"  - {line}", file=sys.stderr)
         sys.exit(1)
+    return Study.model_validate(config)

@@ -26,7 +26,7 @@ import yaml
 from simpick import metrics, realmetrics
 from simpick.errors import InputError
 from simpick.metrics import AXES
-from simpick.workflow import write_csv
+from simpick.tables import write_csv
 
 QUANTITIES = ("angular", "linear")
 
@@ -96,15 +96,32 @@ def maintain_segments_job(derived_csv: str, derived_provenance: str, committed: 
           file=sys.stderr)
 
 
+def start_heading(seed: int, dataset: object, terrain_class: object, run: object, case: object) -> float:
+    """The start heading (rad, in [0, 2 pi)) of one real-data case: drawn uniformly from the config
+    seed and the case's names, the same for every model (so paired comparisons stay paired), a
+    different one for every case. Mechanics says a robot on isotropic flat ground turns the same
+    whichever way it faces; an engine that does not (PyBullet's gain has a 90-degree period, 0.10
+    along the world axes, 0.54 at 45 degrees: issue 17) then shows that as spread over the runs,
+    which every interval over runs carries, instead of a bias fixed by one chosen start (every case
+    started at heading 0, PyBullet's worst, before issue 17). One heading per case costs no extra
+    simulation; several per case would multiply the real-data simulation by their number."""
+    from simpick.simulate import stable_seed
+
+    u = stable_seed(int(seed), "start heading", str(dataset), str(terrain_class), str(run), str(case)) / 2.0 ** 32
+    return float(2.0 * np.pi * u)
+
+
 def simulate_segment(seg: pd.Series, urdf: str, params: dict) -> tuple[pd.DataFrame, dict]:
-    """One real segment's command driven on ``params["engine"]`` over its class's flat ground."""
+    """One real segment's command driven on ``params["engine"]`` over its class's flat ground,
+    from its seeded start heading (:func:`start_heading`)."""
     from simpick.health import HealthLimits
     from simpick.imu import ImuModel
     from simpick.simulate import Case, config_hash, run_case
 
     friction = params["class"]["friction"]
+    heading = start_heading(params["seed"], seg.dataset, seg.terrain_class, seg.run, seg.name)
     case = Case(engine=params["engine"], terrain=params["terrain_class"], motion=seg.name, v=float(seg.v),
-                w=float(seg.w), duration=float(seg.settle + seg.duration), start=(0.0, 0.0, 0.0))
+                w=float(seg.w), duration=float(seg.settle + seg.duration), start=(0.0, 0.0, heading))
     frame, meta = run_case(case, urdf=urdf, terrain=flat_terrain(params["terrain_class"], friction),
                            track=params["robot"]["track"], max_wheel_torque=params["robot"]["max_wheel_torque"],
                            timestep=params["physics"]["timestep"], ground_friction=friction,
@@ -112,6 +129,7 @@ def simulate_segment(seg: pd.Series, urdf: str, params: dict) -> tuple[pd.DataFr
                            seed=int(params["seed"]), limits=HealthLimits(**params["health"]),
                            robot_options=params["robot"])
     meta.update({"dataset": seg.dataset, "run": seg.run, "segment": seg.name,
+                 "start_heading_deg": float(np.degrees(heading)),
                  "window": [float(seg.settle), float(seg.settle + seg.duration)],
                  "friction_source": params["class"].get("source", ""),
                  "config_hash": config_hash(params)})
@@ -144,7 +162,7 @@ def segment_row(frame: pd.DataFrame, meta: dict, seg: pd.Series, track: float) -
     """One simulated segment against its real statistics: Eq. 7 errors, yaw-rate gain, speed."""
     row = {"engine": meta["engine"], "terrain_class": seg.terrain_class, "segment": seg.name, "run": seg.run,
            "kind": seg.kind, "status": meta["health"]["status"], "reasons": "; ".join(meta["health"]["reasons"]),
-           "yaw_rate_gain_real": seg.yaw_rate_gain}
+           "yaw_rate_gain_real": seg.yaw_rate_gain, "start_heading_deg": meta.get("start_heading_deg", float("nan"))}
     if row["status"] == "ok":
         window = compared_window(frame, meta)
         stats = metrics.trace_stats(window)
@@ -154,15 +172,20 @@ def segment_row(frame: pd.DataFrame, meta: dict, seg: pd.Series, track: float) -
         row["yaw_rate_gain_sim"] = (realmetrics.yaw_rate_gain(
             window.wz.to_numpy(), np.full(len(window), seg.v_left), np.full(len(window), seg.v_right), track)
             if seg.kind == "turning" else float("nan"))
+        row["gain_error"] = abs(row["yaw_rate_gain_sim"] - float(seg.yaw_rate_gain))  # NaN unless turning
+        # the table keeps the real window's mean gyro z: integrated over the window, the heading
+        # the real robot turned through; the simulated one's the same way
+        row["heading_error"] = realmetrics.heading_error(float(window.wz.mean()), float(seg.angular_z_mean),
+                                                         float(seg.duration))
         row["speed_sim"] = float(window.v_forward.mean())
     return row
 
 
 def segment_compare(segments_csv: str, traces: list[str], track: float):
     """Every simulated segment against its real window statistics (the committed table): per
-    test rows (segment_row), per axis rows (workflow.axis_rows) and each trace's run row."""
+    test rows (segment_row), per axis rows (tables.axis_rows) and each trace's run row."""
     from simpick.traces import read_trace
-    from simpick.workflow import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, run_row
+    from simpick.tables import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, run_row
 
     segments = load_segments(segments_csv).set_index("segment")
     rows, detail, runs = [], [], []
@@ -176,7 +199,21 @@ def segment_compare(segments_csv: str, traces: list[str], track: float):
                 for q in QUANTITIES}
         detail += axis_rows(meta, metrics.trace_stats(compared_window(frame, meta)) if ok else None,
                             real | {"source": str(seg.dataset)})
-    return pd.DataFrame(rows), pd.DataFrame(detail, columns=DETAIL_COLUMNS), pd.DataFrame(runs, columns=RUN_COLUMNS)
+    return (pd.DataFrame(rows, columns=SEGMENT_TEST_COLUMNS), pd.DataFrame(detail, columns=DETAIL_COLUMNS),
+            pd.DataFrame(runs, columns=RUN_COLUMNS))
+
+
+# the per-test tables' columns: written even when a source has no case (or none that a model completed),
+# so that every later job reads a table with its columns and no rows, a normal outcome (issue 21)
+SEGMENT_TEST_COLUMNS = ["engine", "terrain_class", "segment", "run", "kind", "status", "reasons", "yaw_rate_gain_real",
+                        "start_heading_deg", "error_angular", "error_linear", "yaw_rate_gain_sim", "gain_error",
+                        "heading_error", "speed_sim", "test"]
+WINDOW_FIGURES = ["yaw_rate_gain_real", "yaw_rate_gain_sim", "gain_error", "heading_error", "start_heading_deg",
+                  "rmse_yaw_rate", "rmse_ax", "psd_distance_az"]
+WINDOW_COLUMNS = ["engine", "terrain_class", "run", "status", "reasons", "window_start", "window_end", "imu_rate_hz",
+                  "error_angular", "error_linear", *WINDOW_FIGURES]
+REPLAY_TEST_COLUMNS = ["engine", "terrain_class", "run", "error_angular", "error_linear", *WINDOW_FIGURES, "status",
+                       "kind", "reasons", "real_imu_hz", "real_commands_hz", "sim_imu_hz", "segment", "test"]
 
 
 # --- full replay ----------------------------------------------------------------------------------
@@ -206,7 +243,8 @@ def log_imu_rate(log) -> float:
 
 
 def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> tuple[pd.DataFrame, dict]:
-    """Drive one engine with a real run's recorded wheel speeds (zero-order hold, from rest)."""
+    """Drive one engine with a real run's recorded wheel speeds (zero-order hold, from rest, from
+    the run's seeded start heading: :func:`start_heading`)."""
     from simpick.health import HealthLimits
     from simpick.imu import model_at_rate
     from simpick.robot import load_from_config
@@ -221,8 +259,10 @@ def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> t
     left, right = cmd.v_left.to_numpy()[held], cmd.v_right.to_numpy()[held]
     wheels = robot.joint_speeds(left, right)  # (steps, driven wheels): the Husky's [l, r, l, r] / radius
     friction = params["class"]["friction"]
+    heading = start_heading(params["seed"], log.meta.get("dataset"), params["terrain_class"], log.meta["run_id"],
+                            log.meta["name"])
     frame, meta = run_commands(params["engine"], wheels, robot=robot,
-                               terrain=flat_terrain(params["terrain_class"], friction), start=(0.0, 0.0, 0.0),
+                               terrain=flat_terrain(params["terrain_class"], friction), start=(0.0, 0.0, heading),
                                timestep=dt, ground_friction=friction, max_wheel_torque=params["robot"]["max_wheel_torque"],
                                engine_settings=params["engine_settings"],
                                imu=model_at_rate(params["imu"], log_imu_rate(log), dt),
@@ -230,7 +270,8 @@ def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> t
                                limits=HealthLimits(**params["health"]))
     meta.update({"terrain": params["terrain_class"], "motion": f"replay-{log.meta['run_id']}",
                  "dataset": log.meta.get("dataset"), "run": str(log.meta["run_id"]), "seed": params["seed"],
-                 "replay_of": log.meta.get("source_files"), "real_imu_rate_hz": log_imu_rate(log)})
+                 "replay_of": log.meta.get("source_files"), "real_imu_rate_hz": log_imu_rate(log),
+                 "start_heading_deg": float(np.degrees(heading))})
     return frame, meta
 
 
@@ -240,7 +281,7 @@ def replay_compare(logs: list[str], traces: list[str], params: dict):
     test = one run), and each trace's run row."""
     from simpick.reallogs import read_canonical
     from simpick.traces import read_trace
-    from simpick.workflow import RUN_COLUMNS, run_row
+    from simpick.tables import RUN_COLUMNS, run_row
 
     track, window_s = params["track"], params["window"]
     real = {}
@@ -261,7 +302,8 @@ def replay_compare(logs: list[str], traces: list[str], params: dict):
                       "real_commands_hz": (measured.get("commands") or {}).get("median_hz"),
                       "sim_imu_hz": meta.get("imu_rate_hz")})
         base = {"engine": meta["engine"], "terrain_class": key[0], "run": key[1],
-                "status": meta["health"]["status"], "reasons": "; ".join(meta["health"]["reasons"])}
+                "status": meta["health"]["status"], "reasons": "; ".join(meta["health"]["reasons"]),
+                "start_heading_deg": meta.get("start_heading_deg", float("nan"))}
         if base["status"] != "ok":
             rows.append(base)
             continue
@@ -283,31 +325,34 @@ def replay_compare(logs: list[str], traces: list[str], params: dict):
                 row[f"error_{q}"] = metrics.test_error(sim_stats[q], real_stats[q])
             row["yaw_rate_gain_real"] = realmetrics.yaw_rate_gain(real_frame.wz, v_left[sel], v_right[sel], track)
             row["yaw_rate_gain_sim"] = realmetrics.yaw_rate_gain(sim.wz[sel], v_left[sel], v_right[sel], track)
+            row["gain_error"] = abs(row["yaw_rate_gain_sim"] - row["yaw_rate_gain_real"])  # NaN where not turning
+            row["heading_error"] = realmetrics.heading_error(float(sim.wz[sel].mean()), float(real_frame.wz.mean()),
+                                                             float(sel.sum()) / rate)
             row["rmse_yaw_rate"] = realmetrics.aligned_rmse(real_frame.wz.to_numpy(), sim.wz[sel].to_numpy(), rate)
             row["rmse_ax"] = realmetrics.aligned_rmse(real_frame.ax.to_numpy(), sim.ax[sel].to_numpy(), rate)
             row["psd_distance_az"] = realmetrics.psd_distance(real_frame.az.to_numpy(), sim.az[sel].to_numpy(), rate)
             rows.append(row)
-    per_window = pd.DataFrame(rows)
+    per_window = pd.DataFrame(rows, columns=WINDOW_COLUMNS)
     # one test = one run: Eq. 7 sums the windows' errors, the other figures average over windows
     ok = per_window[per_window.status == "ok"]
     error_cols = [f"error_{q}" for q in QUANTITIES]
-    other = [c for c in ("yaw_rate_gain_real", "yaw_rate_gain_sim", "rmse_yaw_rate", "rmse_ax", "psd_distance_az")]
     per_run = (ok.groupby(["engine", "terrain_class", "run"])
-               .agg({**{c: "sum" for c in error_cols}, **{c: "mean" for c in other}}).reset_index())
+               .agg({**{c: "sum" for c in error_cols}, **{c: "mean" for c in WINDOW_FIGURES}}).reset_index())
     per_run["status"], per_run["kind"] = "ok", "replay"
     failed = per_window[per_window.status != "ok"][["engine", "terrain_class", "run", "status", "reasons"]]
-    per_test = pd.concat([per_run, failed], ignore_index=True)
+    per_test = pd.concat([frame for frame in (per_run, failed) if len(frame)] or [per_run], ignore_index=True)
     per_test = per_test.merge(pd.DataFrame(rates, columns=["engine", "terrain_class", "run", "real_imu_hz",
                                                            "real_commands_hz", "sim_imu_hz"]),
                               on=["engine", "terrain_class", "run"], how="left")
-    per_test["segment"] = per_test["terrain_class"] + "-" + per_test["run"]
+    per_test["segment"] = per_test["terrain_class"].astype(str) + "-" + per_test["run"].astype(str)
     per_test["test"] = per_test["segment"]
-    return per_test, per_window, pd.DataFrame(runs, columns=RUN_COLUMNS)
+    return per_test.reindex(columns=REPLAY_TEST_COLUMNS), per_window, pd.DataFrame(runs, columns=RUN_COLUMNS)
 
 
 # --- summaries shared by every source -------------------------------------------------------------------------
 
-FIGURES = ("error_angular", "error_linear", "yaw_rate_gain_sim", "rmse_yaw_rate", "rmse_ax", "psd_distance_az")
+FIGURES = ("error_angular", "error_linear", "yaw_rate_gain_sim", "gain_error", "heading_error", "rmse_yaw_rate",
+           "rmse_ax", "psd_distance_az")
 
 
 def summaries(per_test: pd.DataFrame, group: str, outputs: dict, statistics: dict | None = None) -> None:
@@ -319,15 +364,16 @@ def summaries(per_test: pd.DataFrame, group: str, outputs: dict, statistics: dic
     stats = {"min_runs": realmetrics.MIN_RUNS, "level": 0.95} | dict(statistics or {})
     min_runs, level = int(stats["min_runs"]), float(stats["level"])
     ok = per_test[per_test.status == "ok"]
+    shown = [fig for fig in FIGURES + ("yaw_rate_gain_real",) if fig in per_test]
     rows = []
     for (engine, cls), g in ok.groupby(["engine", group]):
         row = {"engine": engine, group: cls, "n_tests": len(g), "n_runs": int(g["run"].nunique())}
-        for fig in FIGURES + ("yaw_rate_gain_real",):
-            if fig in g:
-                mean, lo, hi, _ = realmetrics.mean_ci(g[fig].to_numpy(), g["run"].to_numpy(), min_runs, level)
-                row.update({fig: mean, f"{fig}_low": lo, f"{fig}_high": hi})
+        for fig in shown:
+            mean, lo, hi, _ = realmetrics.mean_ci(g[fig].to_numpy(float), g["run"].to_numpy(), min_runs, level)
+            row.update({fig: mean, f"{fig}_low": lo, f"{fig}_high": hi})
         rows.append(row)
-    summary = pd.DataFrame(rows)
+    summary = pd.DataFrame(rows, columns=["engine", group, "n_tests", "n_runs",
+                                          *[f"{fig}{end}" for fig in shown for end in ("", "_low", "_high")]])
     write_csv(summary, outputs["summary"])
 
     pairs = []
@@ -420,65 +466,3 @@ def import_own_job(entry: dict, output: str, track: float) -> None:
         log = read_bag(bag, entry["imu_topic"], entry["command_topic"], track=track, meta=meta, **options)
     log.meta.update(meta)
     write_canonical(log, output)
-
-
-# --- what the accuracy scores can tell apart -----------------------------------------------------
-
-def score_discrimination(per_test: pd.DataFrame, engines: list[str], floor_models: list[str],
-                         tests: list[str] | None = None, statistics: dict | None = None,
-                         resamples: int = 2000, seed: int = 0) -> dict:
-    """How much of each engine's Eq. 7 total is the engine, and whether its Eq. 8 score separates it.
-
-    - ``floor``: the smallest Eq. 7 total of the rigid reference models (``floor_models``, e.g.
-      kinematic and coulomb) over the same tests: the real vibration and sensor offsets no
-      rigid model produces. ``engine_part`` = E - floor (negative: closer than the reference
-      models), ``floor_share`` = floor / E.
-    - the score's uncertainty: the Eq. 8 scores recomputed over runs resampled with replacement
-      (each run's tests kept together, all engines resampled alike, seeded): a percentile
-      interval per engine, from ``statistics["min_runs"]`` runs on. The score ``separates``
-      the engines when its spread (largest minus smallest score) is larger than the half-width
-      of the widest interval; ``None`` when there are too few runs to say.
-
-    Returns {quantity: {"rows": [per engine], "spread", "half_width", "separates", "n_runs", "floor"}}.
-    """
-    from simpick.scoring import accuracy_scores
-
-    stats = {"min_runs": realmetrics.MIN_RUNS, "level": 0.95} | dict(statistics or {})
-    ok = per_test[per_test.status == "ok"]
-    if tests is not None:
-        ok = ok[ok.segment.isin(tests)]
-    ok = ok.assign(_unit=ok.terrain_class.astype(str) + "/" + ok.run.astype(str))
-    models = [m for m in engines + floor_models if m in set(ok.engine)]
-    out = {}
-    for q in QUANTITIES:
-        col = f"error_{q}"
-        if col not in ok or not models or not any(e in models for e in engines):
-            continue
-        wide = ok.pivot_table(index="_unit", columns="engine", values=col, aggfunc="sum")[models].dropna()
-        eng = [e for e in engines if e in wide.columns]
-        floors = [m for m in floor_models if m in wide.columns]
-        totals = wide.sum()
-        scores = accuracy_scores({e: float(totals[e]) for e in eng})
-        floor = float(totals[floors].min()) if floors else float("nan")
-        n_runs = len(wide)
-        low = {e: float("nan") for e in eng}
-        high = dict(low)
-        if n_runs >= max(int(stats["min_runs"]), 2):
-            rng = np.random.default_rng(seed)
-            values = wide[eng].to_numpy(float)
-            draws = values[rng.integers(0, n_runs, size=(resamples, n_runs))].sum(axis=1)  # (resamples, engines)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                boot = draws.min(axis=1, keepdims=True) / draws
-            alpha = (1 - float(stats["level"])) / 2
-            for i, e in enumerate(eng):
-                low[e], high[e] = (float(v) for v in np.nanquantile(boot[:, i], [alpha, 1 - alpha]))
-        rows = [{"engine": e, "error": float(totals[e]), "floor": floor, "engine_part": float(totals[e]) - floor,
-                 "floor_share": floor / float(totals[e]) if totals[e] > 0 else float("nan"),
-                 "score": scores[e], "score_low": low[e], "score_high": high[e]} for e in eng]
-        spread = max(scores.values()) - min(scores.values()) if scores else float("nan")
-        widths = [(high[e] - low[e]) / 2 for e in eng if np.isfinite(low[e])]
-        half = max(widths) if widths else float("nan")
-        out[q] = {"rows": rows, "spread": spread, "half_width": half, "n_runs": n_runs, "floor": floor,
-                  "floor_models": floors, "separates": (None if not widths else bool(spread > half)),
-                  "min_runs": int(stats["min_runs"])}
-    return out

@@ -42,6 +42,12 @@ def yaw_rate_gain(yaw_rate: np.ndarray, v_left: np.ndarray, v_right: np.ndarray,
     return float(np.dot(y, k) / np.dot(k, k))
 
 
+def heading_error(sim_mean_yaw_rate: float, real_mean_yaw_rate: float, duration: float) -> float:
+    """|integral of (simulated - real) gyro z| over a window (rad): the heading the simulated robot
+    gains or loses on the real one over ``duration`` s, from the two mean yaw rates."""
+    return float(abs(sim_mean_yaw_rate - real_mean_yaw_rate) * duration)
+
+
 def lowpass(signal: np.ndarray, rate_hz: float, cutoff_hz: float = LOWPASS_HZ) -> np.ndarray:
     """Zero-phase 4th-order Butterworth low-pass (the same filter on real and simulated data)."""
     from scipy.signal import butter, sosfiltfilt

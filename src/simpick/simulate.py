@@ -5,8 +5,6 @@ Kept free of Snakemake so tests and benchmarks call exactly what the workflow ca
 
 from __future__ import annotations
 
-import hashlib
-import json
 import platform
 from dataclasses import dataclass
 from pathlib import Path
@@ -21,17 +19,8 @@ from simpick.health import HealthLimits, check
 from simpick.imu import ImuModel, block_average, euler_rpy, interval_average, rotation_matrices, sensor_output
 from simpick.motions import constant_commands
 from simpick.robot import RobotSpec, load_from_config
+from simpick.seeds import config_hash, stable_seed  # noqa: F401 (re-exported: the jobs import them from here)
 from simpick.traces import write_trace
-
-
-def stable_seed(*parts: object) -> int:
-    """A seed derived from names, identical across runs and Python processes."""
-    digest = hashlib.sha256(json.dumps(parts, sort_keys=True, default=str).encode()).digest()
-    return int.from_bytes(digest[:4], "little")
-
-
-def config_hash(params: dict) -> str:
-    return hashlib.sha256(json.dumps(params, sort_keys=True).encode()).hexdigest()[:16]
 
 
 @dataclass(frozen=True)

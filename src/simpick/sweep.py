@@ -4,8 +4,9 @@ A sweep config (``config/sweeps/timestep.yaml``) names the timesteps; the workfl
 (``rules/sweep.smk``) runs one job per engine x terrain class x timestep, each driving every
 segment of the class and writing one row per segment: the real-data errors of
 :func:`simpick.realdata.segment_row`, the simulated and wall seconds, the health status.
-:func:`sweep_summary_job` then puts, per class, engine and timestep, the mean errors next to the
-real-time factor (simulated seconds / wall seconds of the stepping loop).
+:func:`sweep_summary_job` then puts, per class, engine and timestep, the mean errors over runs
+(with intervals from ``statistics.min_runs`` runs on) next to the real-time factor (simulated
+seconds / wall seconds of the stepping loop).
 
 Equal comparisons: at each class and timestep the errors are averaged over the segments every
 engine ran healthily; a segment any engine failed is left out for all and listed (errors and real-time factor alike, as
@@ -21,10 +22,12 @@ import numpy as np
 import pandas as pd
 
 from simpick.watchdog import DEFAULT_TIMEOUT_S
-from simpick.workflow import write_csv
+from simpick.tables import write_csv
 
-SUMMARY_COLUMNS = ("terrain_class", "engine", "timestep", "n_segments", "n_failed", "n_compared", "excluded",
-                   "error_angular", "error_linear", "gain_error", "real_time_factor", "steps_per_s")
+SUMMARY_COLUMNS = ("terrain_class", "engine", "timestep", "n_segments", "n_failed", "n_compared", "n_runs",
+                   "excluded", "error_angular", "error_angular_low", "error_angular_high", "error_linear",
+                   "error_linear_low", "error_linear_high", "gain_error", "gain_error_low", "gain_error_high",
+                   "real_time_factor", "steps_per_s")
 
 
 def sweep_job(segments_csv: str, urdf: str, params: dict, output: str, timeout: float = DEFAULT_TIMEOUT_S) -> None:
@@ -70,8 +73,14 @@ def hung_row(params: dict, seg: pd.Series, timeout: float) -> dict:
             "steps": 0, "sim_time": 0.0, "wall_time": np.nan}
 
 
-def summarise(runs: pd.DataFrame) -> pd.DataFrame:
-    """Per class, engine and timestep: errors over the segments every engine ran healthily, RTF."""
+def summarise(runs: pd.DataFrame, statistics: dict | None = None) -> pd.DataFrame:
+    """Per class, engine and timestep: errors over the segments every engine ran healthily, as the
+    real data's rule has it (simpick.realmetrics: a run's segments averaged first, the mean over
+    runs, a BCa interval only from ``statistics.min_runs`` runs on), and the real-time factor."""
+    from simpick.realmetrics import MIN_RUNS, mean_ci
+
+    st = {"min_runs": MIN_RUNS, "level": 0.95} | dict(statistics or {})
+    min_runs, level = int(st["min_runs"]), float(st["level"])
     out = []
     for (cls, dt), group in runs.groupby(["terrain_class", "timestep"], sort=True):
         bad = sorted(set(group.loc[group.status != "ok", "segment"]))
@@ -80,19 +89,21 @@ def summarise(runs: pd.DataFrame) -> pd.DataFrame:
             c = compared[compared.engine == engine]
             turning = c[c.kind == "turning"]
             wall = float(c.wall_time.sum())  # the same segments for every engine (workflow.equal_rtf's rule)
-            out.append({
-                "terrain_class": cls, "engine": engine, "timestep": dt, "n_segments": len(g),
-                "n_failed": int((g.status != "ok").sum()), "n_compared": len(c), "excluded": "; ".join(bad),
-                "error_angular": float(c.error_angular.mean()) if len(c) else np.nan,
-                "error_linear": float(c.error_linear.mean()) if len(c) else np.nan,
-                "gain_error": (float((turning.yaw_rate_gain_sim - turning.yaw_rate_gain_real).abs().mean())
-                               if len(turning) else np.nan),
-                "real_time_factor": float(c.sim_time.sum()) / wall if wall > 0 else np.nan,
-                "steps_per_s": float(c.steps.sum()) / wall if wall > 0 else np.nan,
-            })
+            row = {"terrain_class": cls, "engine": engine, "timestep": dt, "n_segments": len(g),
+                   "n_failed": int((g.status != "ok").sum()), "n_compared": len(c),
+                   "n_runs": int(c.run.astype(str).nunique()), "excluded": "; ".join(bad),
+                   "real_time_factor": float(c.sim_time.sum()) / wall if wall > 0 else np.nan,
+                   "steps_per_s": float(c.steps.sum()) / wall if wall > 0 else np.nan}
+            figures = {"error_angular": (c, c.error_angular), "error_linear": (c, c.error_linear),
+                       "gain_error": (turning, (turning.yaw_rate_gain_sim - turning.yaw_rate_gain_real).abs())}
+            for name, (frame, values) in figures.items():
+                mean, low, high, _ = (mean_ci(values.to_numpy(float), frame.run.astype(str).to_numpy(), min_runs, level)
+                                      if len(frame) else (np.nan, np.nan, np.nan, 0))
+                row.update({name: mean, f"{name}_low": low, f"{name}_high": high})
+            out.append(row)
     return pd.DataFrame(out, columns=list(SUMMARY_COLUMNS))
 
 
-def sweep_summary_job(inputs: list[str], output: str) -> None:
+def sweep_summary_job(inputs: list[str], output: str, statistics: dict | None = None) -> None:
     runs = pd.concat([pd.read_csv(p, dtype={"run": str}) for p in inputs], ignore_index=True)
-    write_csv(summarise(runs), output)
+    write_csv(summarise(runs, statistics), output)

@@ -10,21 +10,15 @@ import json
 import sys
 from pathlib import Path
 
-import yaml
-
 from simpick.errors import InputError
+# the compare rows and the csv writer live in simpick.tables (shared with realdata, which this module imports)
+from simpick.tables import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, case_test, run_row, write_csv  # noqa: F401
 from simpick.watchdog import DEFAULT_TIMEOUT_S
-
-
-def write_csv(frame, path: str | Path, index: bool = False) -> None:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    frame.to_csv(path, index=index, float_format="%.6g")
 
 
 def terrain_job(output: str, name: str, seed: int, spec: dict) -> None:
     from simpick import terrain
-    from simpick.simulate import stable_seed
+    from simpick.seeds import stable_seed
 
     spec = dict(spec)
     rule, friction = spec.pop("rule"), spec.pop("friction")
@@ -180,54 +174,6 @@ def cpu_job(output: str, terrain_file: str, urdf: str, params: dict, timeout: fl
 
 # --- one compare and one summarise step for every source --------------------------------------
 
-RUN_COLUMNS = ["engine", "terrain", "motion", "test", "sim_time", "wall_time", "cpu_time", "steps", "steps_per_s",
-               "real_time_factor", "status", "reasons", "engine_version", "config_hash"]
-
-
-def run_row(meta: dict) -> dict:
-    """What a trace's metadata says about its run: timing, health, versions (any source; a field
-    a hand-made trace lacks is left empty)."""
-    health, nan = meta["health"], float("nan")
-    steps, wall = meta.get("steps", nan), meta.get("wall_time", nan)
-    return {"engine": meta["engine"], "terrain": meta.get("terrain"), "motion": meta.get("motion"),
-            "test": case_test(meta), "sim_time": meta.get("sim_time", nan), "wall_time": wall,
-            "cpu_time": meta.get("cpu_time", nan), "steps": steps,
-            "steps_per_s": steps / wall if wall else nan, "real_time_factor": meta.get("real_time_factor"),
-            "status": health["status"], "reasons": "; ".join(health["reasons"]),
-            "engine_version": meta.get("engine_version", ""), "config_hash": meta.get("config_hash", "")}
-
-
-def case_test(meta: dict) -> str:
-    """The test a trace is of (TRACE_KEYS' ``test``; for a trace without it, its segment or terrain/motion)."""
-    return meta.get("test") or meta.get("segment") or f"{meta.get('terrain')}/{meta.get('motion')}"
-
-
-def axis_rows(meta: dict, stats: dict | None, reference: dict | None) -> list[dict]:
-    """Per quantity and axis: the simulated mean and range (``stats``, None for a failed run), the
-    reference's (None where the test has none) and the Eq. 7 axis errors between them."""
-    from simpick import metrics
-
-    nan = float("nan")
-    rows = []
-    for quantity in ("angular", "linear"):
-        errors = (metrics.axis_errors(stats[quantity], reference[quantity])
-                  if stats is not None and reference is not None else {})
-        for axis in metrics.AXES:
-            sim = stats[quantity][axis] if stats is not None else {"mean": nan, "range": nan}
-            ref = reference[quantity][axis] if reference is not None else {"mean": nan, "range": nan}
-            e = errors.get(axis) or {"range_error": nan, "mean_error": nan, "total_error": nan}
-            rows.append({"engine": meta["engine"], "terrain": meta.get("terrain"), "motion": meta.get("motion"),
-                         "test": case_test(meta), "quantity": quantity, "axis": axis, "mean": sim["mean"],
-                         "range": sim["range"], "status": meta["health"]["status"],
-                         "ref_mean": ref["mean"], "ref_range": ref["range"],
-                         "source": (reference or {}).get("source") or "", **e})
-    return rows
-
-
-DETAIL_COLUMNS = ["engine", "terrain", "motion", "test", "quantity", "axis", "mean", "range", "status", "ref_mean",
-                  "ref_range", "source", "range_error", "mean_error", "total_error"]
-
-
 def lab_compare(traces: list[str], published_file: str):
     """The lab tests against the paper's real statistics (simpick.reference): per engine, test,
     quantity and axis (``detail``), and Eq. 7 per test where the paper has a reference
@@ -334,6 +280,7 @@ def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[st
     they rest on (:func:`score_provenance`; ``sources`` as it describes), which the report reads
     instead of working it out again."""
     import pandas as pd
+    import yaml
 
     from simpick import scoring
 

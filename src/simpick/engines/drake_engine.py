@@ -1,7 +1,11 @@
 """Drake (Toyota Research Institute) through ``pydrake``: a discrete-time MultibodyPlant.
 
-- robot: the scenario's URDF through Drake's parser (a free-floating base_link, continuous joints
-  as revolute joints); masses, inertias and collision shapes as the URDF gives them.
+- robot: the scenario's URDF through Drake's parser (a free-floating base link, continuous joints
+  as revolute joints); masses, inertias and collision shapes as the URDF gives them. Any
+  :class:`~simpick.robot.RobotSpec`: the driven wheels get actuators in command order (their
+  joint's own sign), casters and swivels stay free revolute joints, a skid is a base collision
+  with the robot's friction (point contact, not hydroelastic), and one robot's bodies never collide
+  with each other (a collision filter; Drake itself excludes only bodies joined by a joint).
 - wheels: one joint actuator per wheel joint with Drake's implicit PD control (proportional gain
   0, derivative gain ``wheel_drive_damping``) and effort limit ``scenario.max_wheel_torque``:
   the controller is solved inside the discrete contact problem, the counterpart of PhysX's
@@ -53,6 +57,15 @@ from simpick.imu import imu_from_kinematics
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 ROBOT_FRICTION = 1.0  # the robot's coefficient; the terrain's is chosen so that the combination is its mu
+# A wheel's compliant mesh is resolved to at most its radius / 8, so that a small wheel has as many
+# sides as the Husky's (0.02 m on r 0.165: 52 sides; r / 8: 51 and more). Drake's mesh has
+# 2 pi r / resolution sides: at a fixed 0.02 m a 33 mm wheel (TurtleBot3-like skid robot, issue 18)
+# was an 11-sided prism and the robot, driven straight at 0.2 m/s for 1.5 s, yawed 0.38 rad and
+# ended 5.0 cm sideways; at r / 4 (26 sides) 0.048 rad and 1.0 cm; at r / 8 0.023 rad and 0.75 cm,
+# as with point contact (0.028 rad, 0.9 cm). The diff-drive robot's 50 mm wheel at 0.02 m (16 sides)
+# turned it at 0.876 of w at (0.5, 0.5) and rolled it at 0.943 of the wheel speed; at r / 8 0.993
+# and 0.996 (validation cases). The Jackal's (r 0.098 m, 31 -> 51 sides) gains moved by <= 0.004.
+WHEEL_MESH_PER_RADIUS = 8
 
 
 class DrakeSettings(EngineSettings):
@@ -69,9 +82,10 @@ class DrakeSettings(EngineSettings):
     # Pa, the wheels' hydroelastic modulus ("hydroelastic" only): 1e7 rests base_link 0.5 mm low,
     # 1e6 2.3 mm (a tyre's deflection is of that order) with gains within 0.01 and 1.3-1.4x the time
     hydroelastic_modulus: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 1.0e7
-    # m, the resolution hint of the wheels' compliant mesh and of the terrain's spheres, for these
-    # at most a quarter of the radius ("hydroelastic" only): 2 cm gives a 52-sided wheel of radius
-    # 0.165 m; measured 5 mm: torque-bound acceleration 0.641 for 0.652 (Drake's default dissipation).
+    # m, the resolution hint of the wheels' compliant mesh (at most radius / WHEEL_MESH_PER_RADIUS)
+    # and of the terrain's spheres (at most a quarter of the radius) ("hydroelastic" only): 2 cm
+    # gives a 52-sided wheel of radius 0.165 m; measured 5 mm: torque-bound acceleration 0.641 for
+    # 0.652 (Drake's default dissipation).
     # 4 cm half-sunk stones meshed at 2 cm lifted an axle 37.8 mm, at r/4 38.6-38.7 mm (exact: 40)
     mesh_resolution: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 0.02
     # N m s/rad, derivative gain of the wheels' implicit PD controllers (proportional gain 0):
@@ -112,8 +126,8 @@ class DrakeEngine:
         """(simulator, plant, plant context, per robot (model instance, wheel joints), state log or
         None): with ``record``, a logger samples the plant's state every step."""
         from pydrake.geometry import (AddCompliantHydroelasticProperties, AddContactMaterial,
-                                      AddRigidHydroelasticProperties, Box, HalfSpace, ProximityProperties,
-                                      RoleAssign, Sphere)
+                                      AddRigidHydroelasticProperties, Box, CollisionFilterDeclaration, HalfSpace,
+                                      ProximityProperties, RoleAssign, Sphere)
         from pydrake.math import RigidTransform, RotationMatrix
         from pydrake.multibody.parsing import Parser
         from pydrake.multibody.plant import (AddMultibodyPlantSceneGraph, ContactModel, CoulombFriction,
@@ -168,21 +182,30 @@ class DrakeEngine:
             except (RuntimeError, ValueError) as exc:
                 raise InputError(str(robot.urdf), f"Drake's URDF parser could not read the robot: {exc}") from None
             wheels = []
-            for name in robot.wheel_joints:
-                joint = plant.GetJointByName(name, instance)
-                actuator = plant.AddJointActuator(f"{name}_drive", joint, scenario.max_wheel_torque)
+            radius = {}  # wheel body name -> its radius, for the compliant mesh's resolution
+            for wheel in robot.driven:
+                joint = plant.GetJointByName(wheel.joint, instance)
+                actuator = plant.AddJointActuator(f"{wheel.joint}_drive", joint, scenario.max_wheel_torque)
                 actuator.set_controller_gains(PdControllerGains(p=0.0, d=settings.wheel_drive_damping))
                 wheels.append(joint)
+                radius[joint.child_body().name()] = wheel.radius
             for body in plant.GetBodyIndices(instance):
                 for geometry in plant.GetCollisionGeometriesForBody(plant.get_body(body)):
                     props = ProximityProperties()
-                    is_wheel = plant.get_body(body).name() in {j.child_body().name() for j in wheels}
+                    is_wheel = plant.get_body(body).name() in radius
                     AddContactMaterial(dissipation=settings.wheel_dissipation if is_wheel else None,
                                        friction=CoulombFriction(ROBOT_FRICTION, ROBOT_FRICTION), properties=props)
                     if hydro and is_wheel:
-                        AddCompliantHydroelasticProperties(settings.mesh_resolution, settings.hydroelastic_modulus,
-                                                           props)
+                        AddCompliantHydroelasticProperties(
+                            min(settings.mesh_resolution, radius[plant.get_body(body).name()] / WHEEL_MESH_PER_RADIUS),
+                            settings.hydroelastic_modulus, props)
                     scene_graph.AssignRole(plant.get_source_id(), geometry, props, RoleAssign.kReplace)
+            # a robot's own links never touch each other, as in the other engines; Drake filters only
+            # bodies joined by a joint, so the diff-drive robot's caster wheel (the chassis's
+            # grandchild, its top level with the chassis's underside) was in contact with the chassis
+            bodies = [plant.get_body(b) for b in plant.GetBodyIndices(instance)]
+            scene_graph.collision_filter_manager().Apply(
+                CollisionFilterDeclaration().ExcludeWithin(plant.CollectRegisteredGeometries(bodies)))
             robots.append((instance, wheels))
         plant.Finalize()
         # the state after every step, sampled inside Drake (at 0, dt, 2 dt ...): the job advances once

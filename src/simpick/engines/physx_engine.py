@@ -9,7 +9,10 @@
   rendering device exists ("failed to find a rendering device"), so it reads a temporary copy with
   the visuals stripped (collision mesh paths made absolute). Everything else (wheel joints, base
   link, masses, inertias, collision shapes) comes from the URDF as it is. SAPIEN turns a URDF
-  cylinder into a convex mesh.
+  cylinder into a convex mesh. Any :class:`~simpick.robot.RobotSpec`: the driven wheels get drives
+  in command order (their joint's own sign), casters and swivels are undriven articulation joints,
+  a skid is a base shape with the robot's friction, and one robot's links never collide with each
+  other (SAPIEN collision groups; PhysX itself excludes only a link and its parent).
 - wheels: PhysX articulation velocity drives (stiffness 0, damping ``wheel_drive_damping``, force
   limit ``scenario.max_wheel_torque``): the implicit drive Isaac Lab's ``ImplicitActuatorCfg``
   configures for wheels (its Jetbot: stiffness 0, damping 1e5).
@@ -20,9 +23,11 @@
 - IMU: none in PhysX; :func:`simpick.imu.imu_from_kinematics` from base_link kinematics. PhysX
   reports a link's velocity at its centre of mass, converted here to base_link's origin.
 
-Two corrections of ours (issue 19): PhysX gives every articulation link 0.05 /s of linear and
-angular damping by default (a robot coasting on frictionless ground lost 1.3 N of momentum), set
-to 0 here; and the wheel cylinders become turned convex prisms (``PhysxSettings.wheel_prisms``).
+Three corrections of ours (issues 19, 18): PhysX gives every articulation link 0.05 /s of linear
+and angular damping by default (a robot coasting on frictionless ground lost 1.3 N of momentum),
+set to 0 here; every articulation joint a friction coefficient of 0.05, which no URDF asks for (a
+caster dragged: the diff-drive robot's locked-wheel slide +6.3 % against +3.0 % without), set to 0;
+and the wheel cylinders become turned convex prisms (``PhysxSettings.wheel_prisms``).
 
 Skid-steer turning (issue 19). With the set-up Isaac Lab uses (TGS, 4 position / 0 velocity
 iterations, implicit velocity drives) the Husky turns at a yaw-rate gain of 0.103 at (v, w) =
@@ -245,6 +250,22 @@ class PhysxEngine:
                 for link in art.links:  # PhysX gives articulation links 0.05 /s damping by default
                     link.linear_damping = 0.0
                     link.angular_damping = 0.0
+                    # a robot's own links never touch each other, as in the other engines: PhysX
+                    # filters only parent and child links, and the diff-drive robot's caster wheel
+                    # (the chassis's grandchild) pushed on the chassis (impulses up to 0.28 N s a
+                    # step in a spin). Shapes sharing SAPIEN's "id group" (g3) and an "ignore
+                    # group" bit (g2) never collide; other robots and the terrain (g3 0) still do.
+                    for shape in link.collision_shapes:
+                        g0, g1, g2, _ = shape.get_collision_groups()
+                        shape.set_collision_groups([g0, g1, g2 | 1 << 31, i + 1])
+                for joint in art.active_joints:
+                    # PhysX gives every articulation joint a friction coefficient of 0.05 (a
+                    # resisting torque in proportion to the force through the joint); the URDF
+                    # gives none (SAPIEN's loader reads <dynamics friction> but never applies it, and
+                    # its N m have no counterpart in the coefficient). At 0.05 the diff-drive robot's
+                    # caster dragged: locked-wheel slide 2.449 m/s^2 for the analytic 2.303 (+6.3 %),
+                    # at 0 2.373 (+3.0 %); the Husky's torque-bound acceleration 0.7523 -> 0.7522
+                    joint.friction = 0.0
                 joints = {j.name: j for j in art.active_joints}
                 missing = [n for n in robot.wheel_joints if n not in joints]
                 if missing:

@@ -40,44 +40,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-REQUIRED_INPUTS: tuple[str, ...] = ("weighted", "runs")
-OPTIONAL_INPUTS: tuple[str, ...] = (
-    "sweep",
-    "calibration",
-    "trace_stats",
-    "reference_stats",
-    "imu_errors",
-    "per_test_errors",
-    "rtf",
-    "cpu",
-    "qualitative",
-    "table11",
-    "table11_comparison",
-    "worked_example",
-    "traces",
-    "accuracy_errors",
-    "accuracy_per_test",
-    "scores_provenance",
-    "validation",
-    "validation_gains",
-    "segments",
-    "segments_provenance",
-    "segments_per_test",
-    "segments_summary",
-    "segments_pairwise",
-    "segments_imu_errors",
-    "replay_per_window",
-    "replay_per_test",
-    "replay_summary",
-    "replay_pairwise",
-    "replay_imu_errors",
-    "real_logs",
-    "replay_traces",
-    "figures",
-    "endpoints",
-)
-# Inputs that are lists of paths (the workflow script passes these as lists).
-LIST_INPUTS: tuple[str, ...] = ("cpu", "traces", "real_logs", "replay_traces", "figures")
+from simpick.report.inputs import LIST_INPUTS, OPTIONAL_INPUTS, REQUIRED_INPUTS
 
 __all__ = ["build_report", "html_to_pdf", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
 

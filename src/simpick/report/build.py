@@ -447,6 +447,73 @@ def _worked(data: ReportData) -> dict[str, Any] | None:
             "blocks": blocks}
 
 
+def _truth(x: Any) -> bool | None:
+    """A separates cell read back from CSV: True, False, or None (empty: too few runs to say)."""
+    if x is None or _isnan(x) or str(x) == "":
+        return None
+    return str(x) in ("True", "true", "1", "1.0")
+
+
+def _verdict(data: ReportData, engines: list[str]) -> dict[str, Any]:
+    """simpick's verdict as the verdict rule wrote it (results/verdict/): the headline paragraph,
+    the metric x model table, per metric whether it separates, and the paper's total with its
+    interval over real runs. Nothing here is computed: the tables are printed."""
+    table, separation = data.verdict.get("table"), data.verdict.get("separation")
+    rank = data.verdict.get("ranking")
+    if table is None or separation is None:
+        return {"given": False}
+    order = {e: i for i, e in enumerate(engines)}
+    metrics = []
+    for metric, g in table.groupby("metric", sort=False):
+        # engines in the verdict's order (closest first), then the reference models
+        g = g.assign(_o=[(0 if _truth(e) else 1, _f(k) if not _isnan(k) else 0.0, order.get(m, len(order)), m)
+                         for e, k, m in zip(g.is_engine, g["rank"], g.model)])
+        if (g.n_runs.astype(float) == 0).all():  # not measured at all: one line says why
+            g = g.iloc[:1].assign(model="every model")
+        rows = []
+        for r in sorted(g.to_dict("records"), key=lambda r: r["_o"]):
+            rows.append({"model": r["model"], "engine": bool(_truth(r["is_engine"])), "n_runs": int(_f(r["n_runs"]) or 0),
+                         "mean": _f(r["mean"]), "low": _f(r["low"]), "high": _f(r["high"]),
+                         "rank": None if _isnan(r["rank"]) else int(_f(r["rank"])),
+                         "next": r.get("next") or "", "p": _f(r.get("p_to_next")),
+                         "separates": _truth(r.get("separates_from_next")),
+                         "runs_needed": _runs_text(_f(r.get("runs_needed"))), "note": r.get("note") or ""})
+        first = g.iloc[0]
+        metrics.append({"metric": metric, "label": first["label"], "unit": first["unit"] or "", "rows": rows})
+    seps = [{**r, "separates": _truth(r["separates"])} for r in separation.to_dict("records")]
+    ranking = {}
+    if rank is not None:
+        for r in rank.to_dict("records"):
+            ranking[str(r["engine"])] = {"low": _f(r["total_low"]), "high": _f(r["total_high"]),
+                                         "share_first": _f(r["share_first"]), "n_runs": int(_f(r["n_runs"]) or 0)}
+    headings = []
+    spread = data.verdict.get("headings")
+    if spread is not None and not spread.empty:
+        for model, g in spread.groupby("model", sort=False):
+            ratio = g.gain_ratio.astype(float)
+            headings.append({"model": model, "n": int(ratio.notna().sum()), "low": float(ratio.min()),
+                             "high": float(ratio.max()), "deg_low": float(g.start_heading_deg.min()),
+                             "deg_high": float(g.start_heading_deg.max())})
+        headings.sort(key=lambda h: order.get(h["model"], len(order)))
+    head = data.verdict_headline or {}
+    return {"given": True, "headings": headings, "paragraph": head.get("paragraph"), "n_runs": head.get("n_runs"),
+            "source": head.get("source_title") or head.get("source"), "metrics": metrics, "separation": seps,
+            "ranking": ranking}
+
+
+def _runs_text(n: float) -> str:
+    from simpick.verdict import _runs_text as words
+
+    return words(n)
+
+
+def _f(x: Any) -> float:
+    try:
+        return float(x)
+    except (TypeError, ValueError):
+        return float("nan")
+
+
 def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]:
     import yaml
 
@@ -507,6 +574,7 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         "accuracy_weight": weights["imu_angular"] + weights["imu_linear"],
         "tests": [test_label(t, m) for t, m in tests],
         "ranking": ranking,
+        "verdict": _verdict(data, engines),
         "contrib_uri": figures.data_uri(data.figures["contributions"]) if "contributions" in data.figures else None,
         "reference": _reference(data, tests),
         "qualitative": _qualitative(data, list(data.weighted.index)),

@@ -19,6 +19,14 @@ def _cell(row, fig: str, variant: str) -> dict:
             "high": get(f"{fig}_{variant}_high")}
 
 
+def _rank(value) -> int | None:
+    """A rank cell (NA or NaN below statistics.min_runs runs) as an int or None."""
+    try:
+        return None if pd.isna(value) else int(value)
+    except (TypeError, ValueError):
+        return None
+
+
 def _parameters(found: str, configured: str) -> list[dict]:
     """'friction=0.0573; cfm=6.03e-06' and its as-configured twin -> [{name, found, configured}]
     with 3 significant digits, one per line in the report."""
@@ -40,8 +48,9 @@ def _parameters(found: str, configured: str) -> list[dict]:
 
 def calibration_section(summary: pd.DataFrame | None, engines: list[str], colors: dict[str, str]) -> dict[str, Any]:
     """Per class and model: parameters found, train and test objective (as configured and as
-    calibrated, 95 % bootstrap intervals where there are enough units), the change, and the
-    ranking before and after; per class whether the test-set winner changes."""
+    calibrated, intervals from statistics.min_runs runs on), the change and its paired verdict,
+    and the ranking before and after (none below min_runs); per class the test-set winner as the
+    summary judged it, and whether it changes."""
     if summary is None or summary.empty:
         return {"given": False}
     order = {e: i for i, e in enumerate(engines)}
@@ -66,12 +75,18 @@ def calibration_section(summary: pd.DataFrame | None, engines: list[str], colors
                 "test_yaw": {v: _cell(test, "error_yaw_rate", v) for v in ("configured", "calibrated")} if test else None,
                 "change": _cell({"change_x": test.get("change"), "change_x_low": test.get("change_low"),
                                  "change_x_high": test.get("change_high")}, "change", "x") if test else None,
-                "rank_configured": test.get("rank_configured"), "rank_calibrated": test.get("rank_calibrated"),
+                "change_verdict": test.get("change_verdict") if test else None,
+                "rank_configured": _rank(test.get("rank_configured")),
+                "rank_calibrated": _rank(test.get("rank_calibrated")),
                 "failed": int((test.get("n_failed_configured") or 0) + (test.get("n_failed_calibrated") or 0)),
             })
+        # the winner as the summary judged it (simpick.calibration._winners): a model's name only
+        # where a paired test over at least statistics.min_runs runs separates it from the runner-up
         test = g[g.set == "test"]
-        winner = {v: (test.sort_values(f"objective_{v}").engine.iloc[0] if len(test) and
-                      test[f"objective_{v}"].notna().any() else None) for v in ("configured", "calibrated")}
+        winner = {v: (str(test[f"winner_{v}"].iloc[0]) if len(test) and f"winner_{v}" in test else None)
+                  for v in ("configured", "calibrated")}
+        named = {v: w for v, w in winner.items() if w and w in set(g.engine)}
         classes.append({"terrain_class": cls, "pooled": cls == POOLED, "rows": rows, "winner": winner,
-                        "winner_changes": winner["configured"] != winner["calibrated"]})
+                        "winner_changes": len(named) == 2 and named["configured"] != named["calibrated"],
+                        "winner_named": len(named) == 2})
     return {"given": True, "classes": classes}

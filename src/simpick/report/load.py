@@ -53,6 +53,17 @@ COLUMNS: dict[str, tuple[str, ...]] = {
     "replay_pairwise": ("terrain_class", "figure", "engine_a", "engine_b", "mean_a_minus_b", "low", "high",
                         "verdict"),
     "replay_imu_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
+    # simpick's verdict (simpick.verdict): the report prints these, it computes none of them
+    "verdict_table": ("metric", "label", "unit", "model", "is_engine", "n_runs", "mean", "low", "high", "rank",
+                      "next", "p_to_next", "separates_from_next", "runs_needed", "note"),
+    "verdict_separation": ("metric", "label", "method", "n_runs", "best", "second", "separates", "statement"),
+    "verdict_ranking": ("engine", "total", "total_low", "total_high", "share_first", "n_runs"),
+    "verdict_discrimination": ("quantity", "engine", "error", "floor", "engine_part", "floor_share", "score",
+                               "score_low", "score_high", "spread", "half_width", "separates", "n_runs",
+                               "floor_models"),
+    "verdict_metrics": ("run", "model", "metric", "value"),
+    "verdict_headings": ("model", "test", "start_heading_deg", "yaw_rate_gain_sim", "yaw_rate_gain_reference",
+                         "gain_ratio"),
     # where each lab run ended against the command (rule figure_paths, beside its figure)
     "endpoints": ("engine", "terrain", "motion", "t", "dist", "dyaw_deg", "v_cmd", "w_cmd", "v_mean", "w_mean"),
 }
@@ -60,12 +71,14 @@ COLUMNS: dict[str, tuple[str, ...]] = {
 # The real-data sets: one per way of comparing with the real robot (simpick.realdata).
 REAL_SETS: tuple[str, ...] = ("segments", "replay")
 REAL_TABLES: tuple[str, ...] = ("per_test", "summary", "pairwise", "imu_errors")
+VERDICT_TABLES: tuple[str, ...] = ("metrics", "table", "separation", "ranking", "discrimination", "headings")
 
 # Text columns: read as strings, an empty cell becomes "" rather than NaN.
 TEXT_COLUMNS = {"excluded", "reasons", "tests", "status", "source", "engine", "terrain",
                 "motion", "quantity", "axis", "unit", "engine_version", "config_hash",
                 "simulator", "metric", "terrain_class", "segment", "run", "kind", "figure",
-                "engine_a", "engine_b", "verdict", "dataset", "case", "kind", "error_kind"}
+                "engine_a", "engine_b", "verdict", "dataset", "case", "kind", "error_kind",
+                "model", "next", "note", "label", "method", "best", "second", "statement", "floor_models"}
 
 
 @dataclass
@@ -110,6 +123,9 @@ class ReportData:
     segments_provenance: dict | None = None
     real: dict[str, dict[str, pd.DataFrame]] = field(default_factory=dict)
     replay_per_window: pd.DataFrame | None = None
+    # simpick's verdict (results/verdict/: simpick.verdict), table name -> table, and its headline
+    verdict: dict[str, pd.DataFrame] = field(default_factory=dict)
+    verdict_headline: dict | None = None
     # real canonical logs and replay traces: paths only, read when the figures are drawn
     real_logs: list[str] | None = None
     replay_traces: list[str] | None = None
@@ -197,7 +213,7 @@ def figure_key(path: str | Path) -> str:
 def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = None) -> ReportData:
     """Read every input that is given; raise :class:`InputError` for a missing required one
     (``required``: the report's by default; a figure job names what it draws from)."""
-    from simpick.report import OPTIONAL_INPUTS, REQUIRED_INPUTS
+    from simpick.report.inputs import OPTIONAL_INPUTS, REQUIRED_INPUTS
 
     if required is None:
         required = REQUIRED_INPUTS
@@ -240,7 +256,15 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
                 sources[key] = str(p)
                 real.setdefault(set_, {})[table] = _csv(key, p)
     kw["real"] = real
-    for key in ("segments_provenance", "scores_provenance"):
+    verdict: dict[str, pd.DataFrame] = {}
+    for table in VERDICT_TABLES:
+        key = f"verdict_{table}"
+        if given(key):
+            p = _path(key, inputs[key])
+            sources[key] = str(p)
+            verdict[table] = _csv(key, p)
+    kw["verdict"] = verdict
+    for key in ("segments_provenance", "scores_provenance", "verdict_headline"):
         if given(key):
             p = _path(key, inputs[key])
             try:

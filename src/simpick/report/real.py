@@ -1,10 +1,10 @@
 """The report's real-robot parts: which data the accuracy scores rest on, and the section
 comparing every engine with the real Husky per terrain class (simpick.realdata's tables).
 
-Nothing here recomputes a study figure that a workflow rule already wrote, except the real
-robot's own yaw-rate gain per class (the mean over runs and its interval from
-``statistics.min_runs`` runs on, as simpick.realdata does per engine). The figures are drawn by
-the figure rules (simpick.report.draw); :func:`gain_panels` gives the yaw-rate-gain figure its data.
+Nothing here computes a statistic: the real robot's yaw-rate gain per class and its interval come
+from the summarise job's table, what the accuracy scores can tell apart from the verdict rule's
+(results/verdict/discrimination.csv). The figures are drawn by the figure rules
+(simpick.report.draw); :func:`gain_panels` gives the yaw-rate-gain figure its data.
 """
 
 from __future__ import annotations
@@ -132,19 +132,7 @@ def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], cl
     excluded = sorted(why)
     groups = group_tests(data, tests, classes) if kind != "lab" else []
     n_by_q = {q: sorted({int(x) for x in sel["n_tests"] if not _isnan(x)}) for q, sel in ie.groupby("quantity")}
-    discrimination = None
-    per_test = data.accuracy_per_test
-    if kind != "lab" and per_test is not None and "run" in per_test.columns:
-        from simpick.realdata import score_discrimination
-
-        scored = [e for e in engines if e in set(ie["engine"]) and e in set(data.weighted.index)]
-        floor_models = sorted(set(per_test["engine"]) - set(data.weighted.index))
-        if scored and floor_models:
-            discrimination = score_discrimination(per_test, scored, floor_models, tests=tests,
-                                                  statistics=statistics(params))
-            for d in discrimination.values():
-                shares = [r["floor_share"] for r in d["rows"] if not _isnan(r["floor_share"])]
-                d["engine_share_max"] = max(abs(1 - s) for s in shares) if shares else float("nan")
+    discrimination = _discrimination(data, statistics(params))
     n = len(tests)
     noun = {"segments": "constant-command segment", "replay": "replayed run", "own": "replayed own log"}.get(kind, "test")
     return {
@@ -157,6 +145,27 @@ def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], cl
         "unit_name": SET_UNITS.get(kind, "test"),
         "kind_title": SET_TITLES.get(kind, "lab tests"),
     }
+
+
+def _discrimination(data: ReportData, stats: Mapping[str, Any]) -> dict[str, Any] | None:
+    """What the paper's accuracy scores can tell apart, as the verdict rule wrote it
+    (results/verdict/discrimination.csv, simpick.verdict.score_discrimination): per quantity its rows."""
+    table = data.verdict.get("discrimination")
+    if table is None or table.empty:
+        return None
+    out = {}
+    for q, g in table.groupby("quantity", sort=False):
+        rows = g.to_dict("records")
+        first = rows[0]
+        sep = first.get("separates")
+        sep = None if _isnan(sep) or sep in ("", None) else str(sep) == "True"
+        shares = [_f(r["floor_share"]) for r in rows if not _isnan(r["floor_share"])]
+        out[str(q)] = {"rows": rows, "spread": _f(first["spread"]), "half_width": _f(first["half_width"]),
+                       "separates": sep, "n_runs": int(_f(first["n_runs"])), "floor": _f(first["floor"]),
+                       "floor_models": [m for m in str(first.get("floor_models") or "").split(";") if m],
+                       "min_runs": stats["min_runs"],
+                       "engine_share_max": max(abs(1 - x) for x in shares) if shares else float("nan")}
+    return out
 
 
 # --------------------------------------------------------------------------
@@ -182,22 +191,20 @@ def statistics(params: Mapping[str, Any]) -> dict[str, Any]:
 
 def _real_gain(per_test: pd.DataFrame | None, summary: pd.DataFrame | None, cls: str,
                stats: Mapping[str, Any] | None = None) -> tuple[dict | None, int]:
-    """The real robot's yaw-rate gain over the class's distinct tests: mean over runs, and its
-    interval where there are enough runs (``stats``)."""
-    from simpick.realmetrics import MIN_RUNS, mean_ci
-
-    stats = stats or {}
+    """The real robot's yaw-rate gain over the class's tests, as the summarise job wrote it (the
+    mean over runs and its interval from statistics.min_runs runs on, beside each model's row: the
+    row of the model that completed most tests), and the number of its distinct turning tests."""
+    n = 0
     if per_test is not None and "yaw_rate_gain_real" in per_test.columns:
         sel = per_test[per_test["terrain_class"] == cls].drop_duplicates("segment")
-        vals = np.array([_f(x) for x in sel["yaw_rate_gain_real"]])
-        runs = sel["run"].astype(str).to_numpy() if "run" in sel.columns else None
-        mean, lo, hi, n_runs = mean_ci(vals, runs, stats.get("min_runs", MIN_RUNS), stats.get("level", 0.95))
-        return {"mean": mean, "low": lo, "high": hi, "n_runs": n_runs}, int(np.isfinite(vals).sum())
+        n = int(np.isfinite([_f(x) for x in sel["yaw_rate_gain_real"]]).sum())
     if summary is not None and "yaw_rate_gain_real" in summary.columns:
         sel = summary[summary["terrain_class"] == cls]
         if len(sel):
-            return _cell(sel.iloc[0].to_dict(), "yaw_rate_gain_real"), -1
-    return None, 0
+            row = sel.sort_values("n_tests", ascending=False, kind="mergesort").iloc[0].to_dict()
+            cell = _cell(row, "yaw_rate_gain_real")
+            return {**cell, "n_runs": int(_f(row.get("n_runs"))) if not _isnan(row.get("n_runs")) else 0}, n
+    return None, n
 
 
 def _verdict(cls: str, fig: str, summary: pd.DataFrame | None, pairwise: pd.DataFrame | None,
@@ -449,6 +456,12 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
         if lacking:
             missing.append(f"{SET_TITLES[s]}: no {', '.join(f'{s}_{t}' for t in lacking)} input")
     given = bool(sets) or data.segments is not None
+    # a source with no case, or none that any model completed: a normal outcome, said, not a crash (issue 21)
+    empty = []
+    for s_ in sets:
+        pt = data.real[s_].get("per_test")
+        if pt is not None and not (pt["status"].astype(str).str.lower() == "ok").any():
+            empty.append({"set": s_, "title": SET_TITLES[s_], "n_rows": len(pt)})
     scored_set = acc.get("kind") if acc and acc.get("kind") in REAL_SETS else None
     stats = statistics(params)
     shown_classes, class_blocks, blocks_by_set = _blocks(data, {**params, "_scored_set": scored_set},
@@ -499,7 +512,7 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
             if ns:
                 n_small.setdefault(b["set"], []).append((item["cls"], min(ns)))
     return {
-        "given": given, "sets": sets, "missing": missing, "classes": class_blocks, "glance": glance,
+        "given": given, "sets": sets, "missing": missing, "empty": empty, "classes": class_blocks, "glance": glance,
         "tally": tally, "gain_uri": gain_uri, "segments": _segments_table(data, classes, engines),
         "provenance": {"derived_by": prov.get("derived_by"), "found": prov.get("segments_found"),
                        "kept": prov.get("segments_kept")},

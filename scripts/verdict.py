@@ -1,0 +1,6 @@
+from simpick.verdict import verdict_job
+from simpick.workflow import logged
+
+with logged(snakemake.log[0]):
+    verdict_job(snakemake.input.per_test, snakemake.input.weighted, snakemake.input.provenance,
+                snakemake.params.settings, dict(snakemake.output.items()), snakemake.input.accuracy_tests)

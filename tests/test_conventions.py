@@ -1,0 +1,105 @@
+"""Snakemake workflow catalogue conventions (issue 21): `snakemake --lint` and `snakefmt --check`
+clean, a caption for every output registered with report(), the .test configuration run end to
+end, a licence and citation metadata that say the same as pyproject.toml."""
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+import pandas as pd
+import pytest
+import yaml
+
+from conftest import ROOT, SNAKEMAKE, tiny_config, write_config
+
+RULE_FILES = [ROOT / "Snakefile", *sorted((ROOT / "rules").glob("*.smk"))]
+
+
+def run(args, cwd, **kwargs):
+    return subprocess.run(args, cwd=cwd, capture_output=True, text=True,
+                          env=os.environ | {"PYTHONHASHSEED": "0"}, **kwargs)
+
+
+@pytest.mark.parametrize("configfile", [None, "config/sweeps/timestep.yaml", ".test/config.yaml"])
+def test_snakemake_lint_is_clean(configfile, tmp_path):
+    """The default config (calibration's rules included), the sweep's and the .test one each
+    define a different set of rules; a lint is one line per rule or file, so none may appear."""
+    args = [*SNAKEMAKE, "--lint", "--snakefile", str(ROOT / "Snakefile"), "--directory", str(tmp_path)]
+    if configfile == ".test/config.yaml":
+        workdir = dot_test_copy(tmp_path)
+        args[-1] = str(workdir)
+    elif configfile:
+        merged = yaml.safe_load((ROOT / "config.yaml").read_text()) | yaml.safe_load((ROOT / configfile).read_text())
+        write_config(tmp_path, merged | tiny_paths(tmp_path))
+        args += ["--configfile", str(tmp_path / "config.yaml")]
+    else:
+        write_config(tmp_path, yaml.safe_load((ROOT / "config.yaml").read_text()) | tiny_paths(tmp_path))
+        args += ["--configfile", str(tmp_path / "config.yaml")]
+    out = run(args, ROOT)
+    assert out.returncode == 0, out.stderr[-3000:]
+    assert "Congratulations, your workflow is in a good condition!" in out.stdout + out.stderr, out.stdout + out.stderr
+
+
+def tiny_paths(workdir):
+    """The config keys that name files, made absolute (the lint runs in a scratch directory)."""
+    config = tiny_config()
+    return {"robot": config["robot"], "reference": config["reference"], "qualitative": config["qualitative"],
+            "real_data": config["real_data"] | {"segments": str(ROOT / config["real_data"]["segments"])}}
+
+
+def test_snakefmt_check_is_clean():
+    out = run([sys.executable, "-m", "snakefmt", "--check", *map(str, RULE_FILES)], ROOT)
+    assert out.returncode == 0, "run .venv/bin/snakefmt Snakefile rules/\n" + out.stderr[-3000:]
+
+
+def test_every_report_output_has_a_caption():
+    registered = 0
+    for path in RULE_FILES:
+        for call in re.finditer(r"report\((?P<args>[^()]*(?:\([^()]*\)[^()]*)*)\)", path.read_text()):
+            args = call.group("args")
+            if not args.strip() or "`" in args:  # prose mentions report() in comments
+                continue
+            registered += 1
+            caption = re.search(r'caption="([^"]+)"', args)
+            assert caption, f"{path.name}: report({args.strip()[:60]}...) has no caption="
+            assert (path.parent / caption.group(1)).is_file(), f"{path.name}: {caption.group(1)} does not exist"
+    assert registered >= 13
+
+
+def dot_test_copy(tmp_path):
+    """The .test configuration in a scratch directory beside a link to the project's resources/
+    (its paths are relative to .test/, the working directory: ../resources/...)."""
+    workdir = tmp_path / ".test"
+    shutil.copytree(ROOT / ".test", workdir, ignore=shutil.ignore_patterns("results", ".snakemake"))
+    (tmp_path / "resources").symlink_to(ROOT / "resources")
+    return workdir
+
+
+def test_the_dot_test_configuration_runs_end_to_end(tmp_path):
+    workdir = dot_test_copy(tmp_path)
+    out = run([*SNAKEMAKE, "--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir), "--cores", "2"], ROOT)
+    assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-3000:]
+    config = yaml.safe_load((ROOT / ".test/config.yaml").read_text())
+    weighted = pd.read_csv(workdir / "results/scores/weighted.csv", index_col="engine")
+    assert sorted(weighted.index) == sorted(config["engines"])
+    assert weighted["total"].gt(0).all()
+    per_test = pd.read_csv(workdir / "results/metrics/segments/per_test.csv")
+    assert sorted(per_test.engine) == sorted([*config["engines"], *config["baselines"]])
+    assert (workdir / "results/report/report.pdf").stat().st_size > 0
+    again = run([*SNAKEMAKE, "--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir), "-n"], ROOT)
+    assert "Nothing to be done" in again.stdout + again.stderr  # same code and config: nothing reruns
+
+
+def test_the_licence_and_citation_agree_with_the_package():
+    pyproject = (ROOT / "pyproject.toml").read_text()
+    assert re.search(r'^license = \{ text = "MIT" \}', pyproject, re.M)
+    assert (ROOT / "LICENSE").read_text().startswith("MIT License")
+    citation = yaml.safe_load((ROOT / "CITATION.cff").read_text())
+    assert citation["cff-version"] == "1.2.0" and citation["license"] == "MIT"
+    version = re.search(r'^version = "([^"]+)"', pyproject, re.M).group(1)
+    assert citation["version"] == version
+    (paper,) = citation["references"]
+    assert paper["doi"] == "10.1016/j.simpat.2022.102629" and paper["volume"] == 120 and paper["year"] == 2022
+    assert [a["family-names"] for a in paper["authors"]] == ["Farley", "Wang", "Marshall"]

@@ -1,0 +1,84 @@
+"""The README tells the truth about the workflow: every count it marks (<!-- n:KEY -->N<!-- /n -->)
+against the config and a dry run of the default study, its claim about declared resources against
+the rules, and its claim that scripts are thin against the scripts. When a case, an engine or a
+source is added, this test names the README's numbers to update."""
+
+import ast
+import collections
+import re
+
+import pandas as pd
+import pytest
+import yaml
+
+from conftest import ROOT, planned_jobs
+
+MARK = re.compile(r"<!-- n:(\w+) -->([^<]*)<!-- /n -->")
+
+
+@pytest.fixture(scope="module")
+def counts(tmp_path_factory):
+    """What the default config and its dry run say."""
+    workdir = tmp_path_factory.mktemp("readme")
+    (workdir / "resources").symlink_to(ROOT / "resources")
+    (workdir / "config.yaml").write_text((ROOT / "config.yaml").read_text())
+    jobs = collections.Counter(rule for rule, _ in planned_jobs(workdir))
+    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    segments = pd.read_csv(ROOT / config["real_data"]["segments"])
+    return {
+        "validation_cases": len(config["validation"]["cases"]),
+        "engines": len(config["engines"]),
+        "reference_models": len(config["baselines"]),
+        "terrains": len(config["terrains"]),
+        "motions": len(config["motions"]),
+        "lab_cases": jobs["simulate"],
+        "segments": len(segments),
+        "jobs": sum(jobs.values()),
+        "validate_jobs": jobs["validate"],
+        "segment_batches": sum(n for rule, n in jobs.items() if rule.startswith("simulate_segments_")),
+        "cpu_load_jobs": jobs["cpu_load"],
+    }
+
+
+def test_every_marked_count_is_the_workflows(counts):
+    marks = MARK.findall((ROOT / "README.md").read_text())
+    assert {key for key, _ in marks} == set(counts), "a README mark with no check, or a check with no mark"
+    wrong = sorted({f"{key}: README says {value}, the workflow has {counts[key]}"
+                    for key, value in marks if int(value) != counts[key]})
+    assert not wrong, "README.md is stale: " + "; ".join(wrong)
+    # the dry run agrees with the config it was made from
+    assert counts["lab_cases"] == counts["engines"] * counts["terrains"] * counts["motions"]
+    assert counts["validate_jobs"] == counts["validation_cases"] * counts["engines"]
+
+
+def rule_blocks():
+    """(rule name, text) of every rule in rules/*.smk; the simulate family's rule is stated in a loop."""
+    for smk in sorted((ROOT / "rules").glob("*.smk")):
+        for block in re.split(r"\n(?=\s*(?:rule|checkpoint)\b)", smk.read_text()):
+            m = re.match(r"\s*(?:rule|checkpoint)\s*(\w*):", block)
+            if m:
+                yield m.group(1) or "simulate", block
+
+
+def test_the_rules_that_declare_resources_are_the_ones_the_readme_names():
+    declared = {name for name, block in rule_blocks()
+                if "threads:" in block and "mem_mb=" in block and "runtime=" in block}
+    named = {"simulate", "validate", "cpu_load", "sweep_segments", "calibrate", "calibration_evaluate", "compare",
+             "summarise"}
+    figures = {name for name, _ in rule_blocks() if name.startswith("figure_")}
+    assert declared == named | figures
+    readme = (ROOT / "README.md").read_text()
+    section = readme[readme.index("## On a cluster"):]
+    assert all(f"`{name}`" in section for name in named) and "the figure rules declare" in section
+    profile = yaml.safe_load((ROOT / "profiles/slurm/config.yaml").read_text())
+    assert profile["default-resources"] == {"mem_mb": 400, "runtime": 10}  # the README states both
+
+
+def test_every_script_calls_one_job_function():
+    helpers = {"logged", "runtime_timeout", "LIST_INPUTS"}  # the log, the watchdog's limit, a constant
+    for script in sorted((ROOT / "scripts").glob("*.py")):
+        tree = ast.parse(script.read_text())
+        imported = [alias.name for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)
+                    and (node.module or "").startswith("simpick") for alias in node.names]
+        jobs = [name for name in imported if name not in helpers]
+        assert len(jobs) == 1, f"{script.name} calls {jobs}"
