@@ -25,7 +25,8 @@ import numpy as np
 from pydantic import Field
 
 import simpick
-from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
+                                  validated_commands)
 from simpick.imu import imu_from_kinematics
 
 
@@ -140,8 +141,7 @@ class CoulombModel(_ReferenceModel):
     # the same for every mu, METHOD.md s6). The loads come from the robot description.
     # The lateral/longitudinal ratio moves the steady gain (0.478 at 1, 0.78 at 0.5, 0.95 at 0.01):
     # from 0.3 (gain 0.88, above any real class) to 1.2 (0.36, below every hard-ground run: 0.41 at least).
-    calibratable = {"friction": FRICTION,
-                    "friction_ratio": Calibratable(0.3, 1.2, why="Coulomb gain 0.88 down to 0.41 (Husky loads)")}
+    calibratable = {"friction": FRICTION, "friction_ratio": FRICTION_RATIO}
 
     def targets(self, scenario, settings, left, right):
         from simpick.coulomb import CoulombTable, contact_layout

@@ -39,7 +39,8 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field, model_validator
 
-from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
+                                  validated_commands)
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 
@@ -130,6 +131,8 @@ class MujocoEngine:
         # issue 9 (config comment: parked creep 0.27 against 6.6 for MuJoCo's default contact).
         "wheel_friction_impedance": Calibratable(0.8, 0.995,
                                                  why="from MuJoCo-default-like creep (0.8) to near-rigid 0.995"),
+        # the turning parameter (issue 20): base.FRICTION_RATIO, the adapter's friction_ratio
+        "friction_ratio": FRICTION_RATIO,
     }
     name = "mujoco"
     settings_model = MujocoSettings

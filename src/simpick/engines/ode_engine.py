@@ -50,7 +50,8 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from simpick.engines import _ode
-from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
+                                  validated_commands)
 from simpick.errors import InputError, SimulationFailure
 from simpick.imu import imu_from_kinematics, matrices_to_quaternions, rotation_matrices
 
@@ -715,6 +716,8 @@ class OdeEngine:
         # Global constraint force mixing (the softness of every constraint, contacts included): two
         # decades either side of ODE's and Webots' default 1e-5 (the ODE manual: larger is softer).
         "cfm": Calibratable(1.0e-7, 1.0e-3, log=True, why="two decades either side of the 1e-5 default"),
+        # the turning parameter (issue 20): base.FRICTION_RATIO, the adapter's friction_ratio
+        "friction_ratio": FRICTION_RATIO,
     }
 
     def version(self) -> str:

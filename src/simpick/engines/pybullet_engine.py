@@ -41,7 +41,8 @@ from typing import Annotated
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
+                                  validated_commands)
 from simpick.imu import imu_from_kinematics, rotation_matrices
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, so no wheel starts inside the ground
@@ -123,6 +124,8 @@ class PyBulletEngine:
         # Torsional friction, m (x mu x normal force): 0 to 0.05 m, under half the wheel's
         # 0.114 m width, the largest lever a contact patch across the wheel could give.
         "spinning_friction": Calibratable(0.0, 0.05, why="0 to under half the 0.114 m wheel width"),
+        # the turning parameter (issue 20): base.FRICTION_RATIO, the adapter's friction_ratio
+        "friction_ratio": FRICTION_RATIO,
     }
     name = "pybullet"
     settings_model = PyBulletSettings
