@@ -140,7 +140,7 @@ class CoulombModel(_ReferenceModel):
     # command (mu g at every contact); the steady twist does not depend on it (Coulomb's gain is
     # the same for every mu, METHOD.md s6). The loads come from the robot description.
     # The lateral/longitudinal ratio moves the steady gain (0.478 at 1, 0.78 at 0.5, 0.95 at 0.01):
-    # from 0.3 (gain 0.88, above any real class) to 1.2 (0.36, below every hard-ground run: 0.41 at least).
+    # base.FRICTION_RATIO, 0.3-1.8 (gain 0.88 to 0).
     calibratable = {"friction": FRICTION, "friction_ratio": FRICTION_RATIO}
 
     def targets(self, scenario, settings, left, right):
