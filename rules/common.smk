@@ -505,6 +505,7 @@ def report_real_inputs(wildcards):
             }
         )
         inputs["replay_per_window"] = metrics_file(REPLAY_SET.name, "detail")
+        inputs["real_turning"] = f"{REPLAY}/turning/summary.csv"
     inputs.update({f"verdict_{t}": f"results/verdict/{t}.csv" for t in VERDICT_TABLES})
     inputs["verdict_headline"] = "results/verdict/headline.yaml"
     if SWEEP:
@@ -654,6 +655,7 @@ def report_figures():
         out += expand(
             f"{FIGURES}/replay/{{terrain_class}}.{{ext}}", terrain_class=REPLAY_SET.classes, ext=("png", "json")
         )
+        out.append(f"{FIGURES}/real_turning.png")
     return out
 
 

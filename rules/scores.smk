@@ -39,13 +39,17 @@ rule verdict:
         weighted="results/scores/weighted.csv",
         provenance="results/scores/provenance.yaml",
     output:
-        metrics=report("results/verdict/metrics.csv", category="Verdict"),
-        table=report("results/verdict/table.csv", category="Verdict"),
-        separation=report("results/verdict/separation.csv", category="Verdict"),
-        ranking=report("results/verdict/ranking.csv", category="Verdict"),
-        discrimination=report("results/verdict/discrimination.csv", category="Verdict"),
-        headings=report("results/verdict/headings.csv", category="Verdict"),
-        headline=report("results/verdict/headline.yaml", category="Verdict"),
+        metrics=report("results/verdict/metrics.csv", caption="captions/verdict_metrics.rst", category="Verdict"),
+        table=report("results/verdict/table.csv", caption="captions/verdict_table.rst", category="Verdict"),
+        separation=report(
+            "results/verdict/separation.csv", caption="captions/verdict_separation.rst", category="Verdict"
+        ),
+        ranking=report("results/verdict/ranking.csv", caption="captions/verdict_ranking.rst", category="Verdict"),
+        discrimination=report(
+            "results/verdict/discrimination.csv", caption="captions/verdict_discrimination.rst", category="Verdict"
+        ),
+        headings=report("results/verdict/headings.csv", caption="captions/verdict_headings.rst", category="Verdict"),
+        headline=report("results/verdict/headline.yaml", caption="captions/verdict_headline.rst", category="Verdict"),
     log:
         "results/logs/verdict.log",
     benchmark:

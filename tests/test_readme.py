@@ -64,7 +64,7 @@ def test_the_rules_that_declare_resources_are_the_ones_the_readme_names():
     declared = {name for name, block in rule_blocks()
                 if "threads:" in block and "mem_mb=" in block and "runtime=" in block}
     named = {"simulate", "validate", "cpu_load", "sweep_segments", "calibrate", "calibration_evaluate", "compare",
-             "summarise"}
+             "summarise", "verdict"}
     figures = {name for name, _ in rule_blocks() if name.startswith("figure_")}
     assert declared == named | figures
     readme = (ROOT / "README.md").read_text()

@@ -793,3 +793,22 @@ def test_a_real_source_with_no_case_is_said_not_a_crash(tmp_path, built_real):
     text = " ".join(_render({**kept, **empty}, _real_params()).split())
     assert 'id="real-empty-replay"' in text and "<b>Full replay</b>: no case, the source yielded none" in text
     assert 'id="real-asphalt-segments"' in text  # the segments are reported as before
+
+
+def test_how_the_real_robot_turns_is_shown_from_its_table(tmp_path, built_real):
+    """The replayed dataset's turning summary (rule real_turning) is rendered as a table, one row per class,
+    beside the Coulomb gain; without the table there is no such section."""
+    from simpick.realturning import SUMMARY_COLUMNS
+
+    inputs, _, _ = built_real
+    row = dict.fromkeys(SUMMARY_COLUMNS, float("nan"))
+    row.update({"terrain_class": "sandy_loam", "windows": 12, "runs": 3, "gain_median": 0.5857, "gain_q25": 0.54,
+                "gain_q75": 0.63, "run_gain_min": 0.555, "run_gain_max": 0.606, "rho_speed": 0.2,
+                "p_speed": 0.03, "coulomb_gain_min": 0.478, "coulomb_gain_max": 0.478})
+    table = tmp_path / "turning.csv"
+    pd.DataFrame([row], columns=SUMMARY_COLUMNS).to_csv(table, index=False)
+    text = " ".join(_render({**inputs, "real_turning": str(table)}, _real_params()).split())
+    section = re.search(r'<table class="data small" id="real-turning-table">.*?</table>', text).group(0)
+    assert "sandy loam" in section and "0.586 [0.540, 0.630]" in section and "0.555–0.606" in section
+    assert "one gain for this robot (0.478)" in text
+    assert 'id="real-turning"' not in " ".join(_render(inputs, _real_params()).split())

@@ -34,6 +34,7 @@ OPTIONAL_INPUTS: tuple[str, ...] = (
     "replay_summary",
     "replay_pairwise",
     "replay_imu_errors",
+    "real_turning",
     "real_logs",
     "replay_traces",
     "figures",

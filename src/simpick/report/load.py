@@ -123,6 +123,7 @@ class ReportData:
     segments_provenance: dict | None = None
     real: dict[str, dict[str, pd.DataFrame]] = field(default_factory=dict)
     replay_per_window: pd.DataFrame | None = None
+    real_turning: pd.DataFrame | None = None  # how the real robot turns (rule real_turning), per class
     # simpick's verdict (results/verdict/: simpick.verdict), table name -> table, and its headline
     verdict: dict[str, pd.DataFrame] = field(default_factory=dict)
     verdict_headline: dict | None = None
@@ -242,7 +243,7 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
                 kw[key] = _csv(key, p, index)
 
     for key in ("accuracy_errors", "accuracy_per_test", "segments", "replay_per_window", "validation",
-                "validation_gains", "sweep", "calibration"):
+                "validation_gains", "sweep", "calibration", "real_turning"):
         if given(key):
             p = _path(key, inputs[key])
             sources[key] = str(p)

@@ -490,6 +490,9 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
 
     gain_file = data.figures.get("real_gain")
     gain_uri = figures.data_uri(gain_file) if gain_file else None
+    turning_file = data.figures.get("real_turning")
+    turning = {"uri": figures.data_uri(turning_file) if turning_file else None,
+               "rows": data.real_turning.to_dict("records") if data.real_turning is not None else []}
 
     # the full replay's figures (rule figure_replay): the PNG and the notes the job wrote beside it
     pos = {c: i for i, c in enumerate(classes)}
@@ -513,7 +516,7 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
                 n_small.setdefault(b["set"], []).append((item["cls"], min(ns)))
     return {
         "given": given, "sets": sets, "missing": missing, "empty": empty, "classes": class_blocks, "glance": glance,
-        "tally": tally, "gain_uri": gain_uri, "segments": _segments_table(data, classes, engines),
+        "tally": tally, "gain_uri": gain_uri, "turning": turning, "segments": _segments_table(data, classes, engines),
         "provenance": {"derived_by": prov.get("derived_by"), "found": prov.get("segments_found"),
                        "kept": prov.get("segments_kept")},
         "replay": "replay" in sets, "replay_figs": replay_figs,
