@@ -135,12 +135,16 @@ SETTINGS = {"source": "replay", "replay_seconds": None, "scales": {"yaw_rate": 0
 
 
 def test_the_optimiser_recovers_a_known_friction_coefficient(tmp_path):
-    """The Coulomb model (the Engine interface, friction its only parameter) drives a synthetic log
-    at mu = 0.2 and is calibrated back from the configured 0.6: within 5 %."""
+    """The Coulomb model (the Engine interface) drives a synthetic log at mu = 0.2 and is calibrated
+    back from the configured 0.6: within 5 %. Its friction ratio (issue 20) is pinned at the log's 1
+    by a bounds override, so friction is the one free parameter (with both free, 30 trials found
+    mu 0.217)."""
     units = _synthetic_units("coulomb", 0.2)
-    values, history, facts = calibrate(units, ["s1"], URDF, _params("coulomb", 0.6), SETTINGS,
+    settings = dict(SETTINGS, bounds={"coulomb": {"friction_ratio": [0.999, 1.001]}})
+    values, history, facts = calibrate(units, ["s1"], URDF, _params("coulomb", 0.6), settings,
                                        tmp_path / "optuna.journal")
     assert values["friction"] == pytest.approx(0.2, rel=0.05)
+    assert values["friction_ratio"] == pytest.approx(1.0, abs=0.001)
     assert facts["best_objective"] < facts["configured_objective"]
     assert history.as_configured.iloc[0] and history.param_friction.iloc[0] == pytest.approx(0.6)
 
