@@ -60,7 +60,8 @@ def test_every_model_declares_parameters_its_settings_accept(name):
     assert space, f"{name} declares nothing to calibrate"
     if name in ADAPTERS:
         assert "friction" in space  # issue 11: at least the friction coefficient
-        assert len(space) <= 3  # friction plus up to two more
+        # friction plus up to two more, and the turning ratio where the adapter has one (issue 20)
+        assert len(set(space) - {"friction_ratio"}) <= 3
     model = get_engine(name).settings_model
     configured = model.of((CONFIG["engines"] | CONFIG["baselines"]).get(name), name)
     for pname, p in space.items():
@@ -134,12 +135,16 @@ SETTINGS = {"source": "replay", "replay_seconds": None, "scales": {"yaw_rate": 0
 
 
 def test_the_optimiser_recovers_a_known_friction_coefficient(tmp_path):
-    """The Coulomb model (the Engine interface, friction its only parameter) drives a synthetic log
-    at mu = 0.2 and is calibrated back from the configured 0.6: within 5 %."""
+    """The Coulomb model (the Engine interface) drives a synthetic log at mu = 0.2 and is calibrated
+    back from the configured 0.6: within 5 %. Its friction ratio (issue 20) is pinned at the log's 1
+    by a bounds override, so friction is the one free parameter (with both free, 30 trials found
+    mu 0.217)."""
     units = _synthetic_units("coulomb", 0.2)
-    values, history, facts = calibrate(units, ["s1"], URDF, _params("coulomb", 0.6), SETTINGS,
+    settings = dict(SETTINGS, bounds={"coulomb": {"friction_ratio": [0.999, 1.001]}})
+    values, history, facts = calibrate(units, ["s1"], URDF, _params("coulomb", 0.6), settings,
                                        tmp_path / "optuna.journal")
     assert values["friction"] == pytest.approx(0.2, rel=0.05)
+    assert values["friction_ratio"] == pytest.approx(1.0, abs=0.001)
     assert facts["best_objective"] < facts["configured_objective"]
     assert history.as_configured.iloc[0] and history.param_friction.iloc[0] == pytest.approx(0.6)
 
@@ -318,3 +323,20 @@ def test_classes_too_small_for_an_interval_get_one_pooled_and_runs_are_named_by_
     section = calibration_section(summary, ["a"], {})
     assert [c["terrain_class"] for c in section["classes"]] == ["asphalt", "ice", "snow", POOLED]
     assert section["classes"][-1]["pooled"] and not section["classes"][0]["pooled"]
+
+
+def test_the_objective_leaves_constant_acceleration_offsets_out():
+    """Issue 20: an accelerometer bias or a slope (a constant offset between real and simulated ax)
+    no engine can model does not count; the yaw-rate term keeps its weight."""
+    from simpick.calibration import objective_terms
+    from simpick.realmetrics import aligned_rmse
+
+    t = np.arange(0, 20, 0.01)
+    sim = 0.2 * np.sin(0.5 * t)
+    assert aligned_rmse(sim + 0.3, sim, 100.0) == pytest.approx(0.3, rel=1e-3)
+    assert aligned_rmse(sim + 0.3, sim, 100.0, offset_free=True) == pytest.approx(0.0, abs=1e-9)
+    # a real change the simulation misses still counts
+    assert aligned_rmse(sim + 0.3 + 0.1 * np.sign(np.sin(0.2 * t)), sim, 100.0, offset_free=True) > 0.05
+    scales = {"yaw_rate": 0.05, "accel_x": 0.05}
+    segment = {"status": "ok", "error_yaw_rate": 0.02, "error_accel_x": 0.11, "error_accel_x_offset_free": 0.0}
+    assert objective_terms(segment, scales) == pytest.approx(0.4)  # 0.02 / 0.05: the yaw rate alone

@@ -7,6 +7,7 @@ import pytest
 
 from simpick.coulomb import (ContactLayout, CoulombTable, contact_layout, equal_loads, mass_distribution,
                              steady_twist, yaw_rate_gain)
+from simpick.errors import InputError
 
 TRACK = 0.555
 
@@ -151,3 +152,129 @@ def test_a_skid_drags_with_the_ground_s_friction(tmp_path):
     assert braking_deceleration(spec, 0.3) == (pytest.approx(0.3 * 9.81), None)
     a, why = braking_deceleration(spec, 0.8)
     assert math.isnan(a) and "pitches onto its nose" in why
+
+
+# --- anisotropic (elliptic) friction (issue 20) ---------------------------------------------------
+
+def test_anisotropic_spin_matches_the_closed_form(robot):
+    # Four equal loads at (+-a, +-b), pure spin at rim speed u: by symmetry vx = vy = 0 and
+    # D(w) = 4 N sqrt((w b - u)^2 + r^2 (w a)^2) is least at w = u b / (b^2 + r^2 a^2); the
+    # commanded turn is 2 u / track, so gain = track b / (2 (b^2 + r^2 a^2)).
+    from simpick.coulomb import with_friction_ratio
+
+    equal = equal_loads(contact_layout(robot, points_per_wheel=1))
+    a, b = float(abs(equal.points[0, 0])), float(abs(equal.points[0, 1]))
+    for r in (1.0, 0.8, 0.63, 0.5, 0.2):
+        expected = TRACK * b / (2 * (b * b + r * r * a * a))
+        assert yaw_rate_gain(with_friction_ratio(equal, r), 0.0, 0.5, TRACK) == pytest.approx(expected, rel=1e-5), r
+
+
+def test_anisotropic_gain_is_monotone_in_the_ratio_and_has_both_limits(robot):
+    from simpick.coulomb import with_friction_ratio
+
+    husky = contact_layout(robot)
+    # r = 1 is today's isotropic solver, bit for bit
+    assert yaw_rate_gain(contact_layout(robot, friction_ratio=1.0), 0.5, 0.5, TRACK) == \
+        yaw_rate_gain(husky, 0.5, 0.5, TRACK) == pytest.approx(0.478, abs=0.001)
+    gains = [yaw_rate_gain(with_friction_ratio(husky, r), 0.5, 0.5, TRACK) for r in (1.2, 1.0, 0.8, 0.63, 0.5, 0.3)]
+    assert all(lo < hi for lo, hi in zip(gains, gains[1:])), gains  # less lateral friction turns more
+    # symmetric robot, equal loads, one point per wheel: r -> 0 turns as the contacts' no-slip
+    # kinematics (gain track / 2b), r -> 1 gives the isotropic 0.539
+    equal = equal_loads(contact_layout(robot, points_per_wheel=1))
+    b = float(abs(equal.points[0, 1]))
+    assert yaw_rate_gain(with_friction_ratio(equal, 1e-3), 0.5, 0.5, TRACK) == pytest.approx(TRACK / (2 * b), rel=1e-3)
+    assert yaw_rate_gain(with_friction_ratio(equal, 1 - 1e-6), 0.5, 0.5, TRACK) == pytest.approx(0.539, abs=0.001)
+
+
+def test_anisotropic_forces_balance_on_the_ellipse(robot):
+    # At the solution the elliptic friction forces F = -N (s_x, r^2 s_y) / sqrt(s_x^2 + r^2 s_y^2)
+    # (maximum dissipation on the ellipse) sum to zero force and zero yaw moment.
+    lay = contact_layout(robot, 1, friction_ratio=0.63)
+    u = np.array([0.2, 0.7, 0.2, 0.7])
+    vx, vy, wz = steady_twist(lay, u)
+    x, y = lay.points.T
+    sx, sy = vx - wz * y - u[lay.wheel], vy + wz * x
+    norm = np.sqrt(sx ** 2 + 0.63 ** 2 * sy ** 2)
+    fx, fy = -lay.loads * sx / norm, -lay.loads * 0.63 ** 2 * sy / norm
+    assert abs(fx.sum()) < 1e-4 * lay.loads.sum() and abs(fy.sum()) < 1e-4 * lay.loads.sum()
+    assert abs((x * fy - y * fx).sum()) < 1e-4 * lay.loads.sum()
+
+
+@pytest.mark.parametrize("bad", [0.0, -0.5, float("nan"), float("inf")])
+def test_bad_friction_ratio_is_refused(robot, bad):
+    from simpick.errors import InputError
+
+    with pytest.raises(InputError, match="friction_ratio"):
+        contact_layout(robot, friction_ratio=bad)
+
+
+def test_coulomb_baseline_turns_at_its_friction_ratio(robot):
+    """The ``coulomb`` reference model reads baselines.coulomb.friction_ratio (a calibratable
+    parameter): its steady yaw rate is the anisotropic solver's at that ratio."""
+    from conftest import drive
+    from simpick.calibration import parameter_space
+
+    assert "friction_ratio" in parameter_space("coulomb")
+    for r in (1.0, 0.63):
+        record = drive("coulomb", robot, v=0.5, w=0.5, ground=0.8, duration=2.0, timestep=0.01,
+                       settings={"friction_ratio": r})
+        expected = yaw_rate_gain(contact_layout(robot, friction_ratio=r), 0.5, 0.5, TRACK)
+        assert record.angular_velocity[-1, 2] / 0.5 == pytest.approx(expected, rel=2e-3), r
+    with pytest.raises(Exception, match="friction_ratio"):
+        drive("coulomb", robot, settings={"friction_ratio": -1.0})
+
+
+# --- slip compliance (issue 20) ----------------------------------------------------------------
+
+def _viscous_twist(layout, u, r=1.0):
+    """Independent viscous limit: every contact below saturation, force -s / k_i, so the twist is
+    the least-squares solution of s_i = 0 weighted by 1 / sqrt(k_i) (lateral rows by r as well)."""
+    x, y = layout.points.T
+    w = 1.0 / np.sqrt(layout.slip_compliance)
+    n = len(x)
+    a = np.zeros((2 * n, 3))
+    b = np.zeros(2 * n)
+    a[:n, 0], a[:n, 2], b[:n] = w, -w * y, w * np.asarray(u, dtype=float)[layout.wheel]
+    a[n:, 1], a[n:, 2] = w * r, w * r * x
+    return np.linalg.lstsq(a, b, rcond=None)[0]
+
+
+def test_slip_compliance_zero_is_rigid_coulomb_and_large_is_viscous(robot):
+    from simpick.coulomb import with_slip_compliance
+
+    one = contact_layout(robot, points_per_wheel=1)
+    u = one.rim_speeds(-0.1387, 0.1387)  # spin at w = 0.5
+    assert with_slip_compliance(one, 0.0).slip_compliance is None
+    np.testing.assert_array_equal(steady_twist(with_slip_compliance(one, 0.0), u), steady_twist(one, u))
+    soft = with_slip_compliance(one, 1.0)  # saturation slip mu N k ~ 100 m/s: all viscous
+    np.testing.assert_allclose(steady_twist(soft, u, mu=0.8), _viscous_twist(soft, u), atol=1e-6)
+    # viscous and equal compliance: the loads drop out, the gain is the equal-loads 0.539 (rigid 0.481)
+    assert yaw_rate_gain(soft, 0.0, 0.5, TRACK, mu=0.8) == pytest.approx(0.539, abs=0.001)
+    assert yaw_rate_gain(with_slip_compliance(one, 1e-7), 0.0, 0.5, TRACK, mu=0.8) == pytest.approx(0.481, abs=0.001)
+
+
+def test_compliant_gain_depends_on_the_command_size(robot):
+    """Not homogeneous any more: at 1e-4 (m/s)/N a slow spin is viscous, a fast one Coulomb."""
+    from simpick.coulomb import with_slip_compliance
+
+    lay = with_slip_compliance(contact_layout(robot, points_per_wheel=1), 1e-4)
+    gains = [yaw_rate_gain(lay, 0.0, w, TRACK, mu=0.8) for w in (0.01, 0.1, 0.5, 2.0)]
+    assert gains[0] == pytest.approx(0.539, abs=0.002) and gains[-1] == pytest.approx(0.481, abs=0.002)
+    assert all(a >= b - 1e-6 for a, b in zip(gains, gains[1:])), gains
+    with pytest.raises(InputError, match="slip_compliance"):
+        CoulombTable(lay, angles=8)
+    with pytest.raises(InputError, match="slip_compliance"):
+        with_slip_compliance(lay, -1.0)
+
+
+def test_ratio_for_gain_inverts_the_anisotropic_gain_and_the_ros_multiplier(robot):
+    from simpick.coulomb import ratio_for_gain, wheel_separation_multiplier
+
+    husky = contact_layout(robot)
+    r = ratio_for_gain(husky, 0.70, 0.5, 0.5, TRACK)
+    assert 0.6 < r < 0.66  # the notes' r ~ 0.63 for hard ground
+    assert yaw_rate_gain(contact_layout(robot, friction_ratio=r), 0.5, 0.5, TRACK) == pytest.approx(0.70, abs=1e-3)
+    assert math.isnan(ratio_for_gain(husky, 1.2, 0.5, 0.5, TRACK))  # above the frictionless-sideways limit
+    # Clearpath's Husky multiplier 1.875 on the 0.5708 m separation <=> a gain of 0.519 on track 0.555
+    assert wheel_separation_multiplier(0.5186, TRACK, 0.5708) == pytest.approx(1.875, abs=0.001)
+    assert wheel_separation_multiplier(1.0, 0.5708, 0.5708) == 1.0

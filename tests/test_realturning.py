@@ -1,5 +1,7 @@
 """The real robot's turning analysis (issue 20, point 0) on synthetic logs with known answers."""
 
+import math
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -89,3 +91,20 @@ def test_the_figure_job_draws_the_windows_or_says_there_are_none(tmp_path):
         png = tmp_path / f"{name}.png"
         figure_job("figure_real_turning", {"windows": str(table)}, {}, {}, {"png": str(png)})
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_equivalents_give_the_ros_multiplier_and_the_coulomb_ratio(robot):
+    import pandas as pd
+
+    from simpick.coulomb import contact_layout
+    from simpick.realturning import SUMMARY_COLUMNS, with_equivalents
+
+    summary = pd.DataFrame({"terrain_class": ["asphalt", "sandy_loam", "dry"], "gain_median": [0.70, 0.586, 0.99]})
+    out = with_equivalents(summary, contact_layout(robot), 0.555, robot.track)
+    assert robot.track == pytest.approx(0.5708, abs=1e-4)
+    # 0.555 / (0.70 x 0.5708); r between the solver's 0.601 at 0.8 and 0.705 at 0.63 (hard ground: 0.639),
+    # just above 0.8 for sandy loam (0.823)
+    assert out.separation_multiplier.tolist()[:2] == pytest.approx([1.389, 1.659], abs=0.001)
+    assert 0.63 < out.coulomb_ratio[0] < 0.65 and 0.8 < out.coulomb_ratio[1] < 0.85
+    assert math.isnan(out.coulomb_ratio[2])  # above what even frictionless sideways sliding gives
+    assert {"separation_multiplier", "coulomb_ratio"} <= set(SUMMARY_COLUMNS)

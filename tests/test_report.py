@@ -804,11 +804,13 @@ def test_how_the_real_robot_turns_is_shown_from_its_table(tmp_path, built_real):
     row = dict.fromkeys(SUMMARY_COLUMNS, float("nan"))
     row.update({"terrain_class": "sandy_loam", "windows": 12, "runs": 3, "gain_median": 0.5857, "gain_q25": 0.54,
                 "gain_q75": 0.63, "run_gain_min": 0.555, "run_gain_max": 0.606, "rho_speed": 0.2,
-                "p_speed": 0.03, "coulomb_gain_min": 0.478, "coulomb_gain_max": 0.478})
+                "p_speed": 0.03, "coulomb_gain_min": 0.478, "coulomb_gain_max": 0.478,
+                "separation_multiplier": 1.659, "coulomb_ratio": 0.823})
     table = tmp_path / "turning.csv"
     pd.DataFrame([row], columns=SUMMARY_COLUMNS).to_csv(table, index=False)
     text = " ".join(_render({**inputs, "real_turning": str(table)}, _real_params()).split())
     section = re.search(r'<table class="data small" id="real-turning-table">.*?</table>', text).group(0)
     assert "sandy loam" in section and "0.586 [0.540, 0.630]" in section and "0.555–0.606" in section
+    assert "1.659" in section and "0.823" in section  # the ROS multiplier and the Coulomb ratio (issue 20)
     assert "one gain for this robot (0.478)" in text
     assert 'id="real-turning"' not in " ".join(_render(inputs, _real_params()).split())

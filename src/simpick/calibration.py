@@ -20,6 +20,14 @@ has not seen, and at what cost (after Acosta, Posa et al. 2022, who did this for
   for the full replay, a run (RMS of the difference of the two signals after the same 2 Hz
   low-pass, :func:`simpick.realmetrics.aligned_rmse`, as the replay metrics). A unit the engine
   fails (health check) counts :data:`FAILED_UNIT` instead.
+  Constant offsets no engine can model (issue 20: an accelerometer bias, a slope's g sin(angle))
+  are removed from the longitudinal-acceleration term: on a replayed run it is the RMS of the
+  low-passed difference less its mean over the run; on a committed segment, whose real table
+  keeps only window means under a constant command (where the true acceleration is zero, so the
+  mean *is* the offset), nothing is left of it and the segment's objective is its yaw-rate term
+  alone. The yaw rate, and so the yaw-rate gain (yaw rate / commanded turn), then carries the
+  objective's weight on turning units; ``error_accel_x`` is reported as measured (offset
+  included) beside it.
 - **Optimiser**: Optuna's TPE sampler with a journal file as storage
   (``results/calibration/<source>/<engine>/<class>/optuna.journal``): an interrupted job resumes
   the finished trials from the file and runs only the missing ones. The sampler is seeded per
@@ -144,6 +152,7 @@ def segment_errors(seg: pd.Series, urdf: str, params: dict, window: float | None
         w = compared_window(pd.DataFrame(frame), meta)
         out["error_yaw_rate"] = abs(float(w.wz.mean()) - float(seg.angular_z_mean))
         out["error_accel_x"] = abs(float(w.ax.mean()) - float(seg.linear_x_mean))
+        out["error_accel_x_offset_free"] = 0.0  # a window mean less its mean (module docstring)
     return out
 
 
@@ -161,14 +170,18 @@ def replay_errors(log, urdf: str, params: dict, duration: float | None) -> dict:
         real = real_imu_at(log.imu, sim.time.to_numpy(), ("wz", "ax"))
         for col, key in (("wz", "error_yaw_rate"), ("ax", "error_accel_x")):
             out[key] = realmetrics.aligned_rmse(real[col], sim[col].to_numpy(), rate)
+        out["error_accel_x_offset_free"] = realmetrics.aligned_rmse(real["ax"], sim["ax"].to_numpy(), rate,
+                                                                    offset_free=True)
     return out
 
 
 def objective_terms(row: dict, scales: dict) -> float:
-    """One unit's contribution to the objective (dimensionless)."""
+    """One unit's contribution to the objective (dimensionless): the yaw-rate error and the
+    offset-free longitudinal-acceleration error (module docstring), each over its scale."""
     if row.get("status") != "ok" or not np.isfinite(row.get("error_yaw_rate", np.nan)):
         return FAILED_UNIT
-    return row["error_yaw_rate"] / scales["yaw_rate"] + row["error_accel_x"] / scales["accel_x"]
+    accel = row.get("error_accel_x_offset_free", row["error_accel_x"])
+    return row["error_yaw_rate"] / scales["yaw_rate"] + accel / scales["accel_x"]
 
 
 class Units:

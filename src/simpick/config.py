@@ -184,6 +184,9 @@ class ValidationCase(Strict):
     heading: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = 0.0
     duration: Positive | None = None
     cruise: Positive | None = None
+    # yaw_gain only: the wheels' lateral/longitudinal friction ratio (issue 20) given to the engine's
+    # friction_ratio setting; the analytic gain is the anisotropic Coulomb one at that ratio
+    friction_ratio: Annotated[float, Field(gt=0, le=2, allow_inf_nan=False)] | None = None
 
     @model_validator(mode="after")
     def needed(self):
@@ -194,6 +197,8 @@ class ValidationCase(Strict):
             raise ValueError(f"a {self.kind} case needs {missing}")
         if self.kind == "yaw_gain" and self.w == 0:
             raise ValueError("a yaw_gain case needs w != 0 (the gain is yaw rate / w)")
+        if self.friction_ratio is not None and self.kind != "yaw_gain":
+            raise ValueError("friction_ratio is a yaw_gain case's parameter only")
         if self.kind == "rest" and self.heading != 0:
             raise ValueError("a rest case takes no heading (parked on level ground, it would change nothing)")
         return self

@@ -21,6 +21,25 @@ without a swivel rolls freely but resists lateral slip; ``caster_friction`` repl
 sliding friction of that fraction of the ground's. For a two-wheel differential drive on
 frictionless casters no contact need slip, and the gain is 1 (up to the scuffing across each
 wheel's width).
+
+Anisotropic (elliptic) friction (issue 20): a wheel contact may resist sliding across the wheel
+less (or more) than along it, ``mu_lat = r mu_long`` in the wheel's frame (its rolling direction,
+here the base's x: no wheel is steered). The friction force is the one that maximises the
+dissipated power on the ellipse (F_long / mu_long)^2 + (F_lat / mu_lat)^2 <= N^2, so the contact
+dissipates ``mu_long N sqrt(s_long^2 + r^2 s_lat^2)`` and D stays convex and homogeneous: the same
+solver, with that norm. ``r = 1`` is isotropic Coulomb; ``r -> 0`` lets the contacts slide
+sideways freely (the gain tends to the no-slip kinematics of the contacts' lateral positions).
+For four equally loaded contacts at (+-a, +-b) a pure spin gives the closed form
+``w = u b / (b^2 + r^2 a^2)`` (tests/test_coulomb.py). Skids and ball casters have no wheel
+frame and stay isotropic.
+
+Slip compliance (issue 20; ODE's force-dependent slip, Gazebo's <slip1>/<slip2>): a contact point
+with compliance k ((m/s)/N) slides at k x its friction force until that force reaches Coulomb's
+bound, F = -min(rho / k, mu N) along the (elliptic) slip. Its dissipation potential is then the
+Huber function of the slip (quadratic rho^2 / 2k below the saturation slip c = k mu N, linear
+beyond), still convex: the same minimisation, but no longer homogeneous in the rim speeds, so the
+twist depends on the command's size and on mu (slow commands: the viscous limit, every contact
+below saturation, loads irrelevant; fast ones: Coulomb). :class:`CoulombTable` refuses it.
 """
 
 from __future__ import annotations
@@ -53,6 +72,11 @@ class ContactLayout:
     friction: np.ndarray | None = None
     # (n,) True where the wheel rolls freely (a passive wheel: friction across it only)
     free_roll: np.ndarray | None = None
+    # (n,) lateral / longitudinal friction ratio of each point in its wheel's frame (None: 1,
+    # isotropic); see the module docstring
+    lateral_ratio: np.ndarray | None = None
+    # (n,) slip compliance of each point, (m/s)/N (None: rigid Coulomb); see the module docstring
+    slip_compliance: np.ndarray | None = None
 
     def load_shares(self) -> np.ndarray:
         """Fraction of the weight on each wheel (command order, then casters)."""
@@ -70,7 +94,7 @@ def mass_distribution(urdf: str | Path) -> tuple[float, np.ndarray]:
 
 
 def contact_layout(robot: RobotSpec, points_per_wheel: int | None = None,
-                   caster_friction: float | None = None) -> ContactLayout:
+                   caster_friction: float | None = None, friction_ratio: float = 1.0) -> ContactLayout:
     """Wheel contact points and static loads of ``robot`` on flat ground.
 
     ``points_per_wheel``: None spreads pressure uniformly across each wheel's width (the line
@@ -118,20 +142,58 @@ def contact_layout(robot: RobotSpec, points_per_wheel: int | None = None,
         raise InputError(str(robot.source), f"the centre of mass ({com[0]:.3f}, {com[1]:.3f}) m lies outside the "
                          f"wheels' support polygon: wheels {lifted} would lift")
     casters = any(not w.driven for w in robot.wheels) or bool(robot.skids)
-    return ContactLayout(points=points, loads=loads, wheel=np.asarray(wheel), com=(com[0], com[1]), mass=mass,
+    layout = ContactLayout(points=points, loads=loads, wheel=np.asarray(wheel), com=(com[0], com[1]), mass=mass,
                          sides=tuple(sides), friction=np.asarray(friction) if casters else None,
                          free_roll=np.asarray(free) if casters else None)
+    return with_friction_ratio(layout, friction_ratio)
+
+
+def with_friction_ratio(layout: ContactLayout, ratio: float) -> ContactLayout:
+    """The same layout with every wheel contact's lateral/longitudinal friction ratio set to
+    ``ratio`` (skids stay isotropic); 1 gives back an isotropic layout."""
+    ratio = float(ratio)
+    if not (math.isfinite(ratio) and ratio > 0):
+        raise InputError("friction_ratio", f"{ratio!r} is not a positive finite number",
+                         "give the lateral/longitudinal friction ratio, e.g. 0.63 (1: isotropic)")
+    if ratio == 1.0:
+        lateral = None
+    else:
+        is_wheel = np.array([layout.sides[k] != "skid" for k in layout.wheel])
+        lateral = np.where(is_wheel, ratio, 1.0)
+    return ContactLayout(points=layout.points, loads=layout.loads, wheel=layout.wheel, com=layout.com,
+                         mass=layout.mass, sides=layout.sides, friction=layout.friction,
+                         free_roll=layout.free_roll, lateral_ratio=lateral, slip_compliance=layout.slip_compliance)
+
+
+def with_slip_compliance(layout: ContactLayout, per_wheel: float) -> ContactLayout:
+    """The same layout with every wheel's contact points sharing a slip compliance of
+    ``per_wheel`` (m/s)/N for the wheel as a whole: its n points in parallel each get n x that
+    (skids get the same per point). 0: rigid Coulomb. An engine with m contacts per wheel, each of
+    compliance k (ODE's contact_slip), has per_wheel = k / m."""
+    per_wheel = float(per_wheel)
+    if not (math.isfinite(per_wheel) and per_wheel >= 0):
+        raise InputError("slip_compliance", f"{per_wheel!r} is not a finite number >= 0",
+                         "give the wheel's slip compliance in (m/s)/N, 0 for rigid Coulomb")
+    compliance = None
+    if per_wheel > 0:
+        count = np.bincount(layout.wheel)
+        compliance = per_wheel * count[layout.wheel].astype(float)
+    return ContactLayout(points=layout.points, loads=layout.loads, wheel=layout.wheel, com=layout.com,
+                         mass=layout.mass, sides=layout.sides, friction=layout.friction,
+                         free_roll=layout.free_roll, lateral_ratio=layout.lateral_ratio, slip_compliance=compliance)
 
 
 def equal_loads(layout: ContactLayout) -> ContactLayout:
     """The same contact points with the weight shared equally (a centred centre of mass)."""
     loads = np.full(len(layout.loads), layout.loads.sum() / len(layout.loads))
     return ContactLayout(points=layout.points, loads=loads, wheel=layout.wheel, com=(0.0, 0.0), mass=layout.mass,
-                         sides=layout.sides, friction=layout.friction, free_roll=layout.free_roll)
+                         sides=layout.sides, friction=layout.friction, free_roll=layout.free_roll,
+                         lateral_ratio=layout.lateral_ratio, slip_compliance=layout.slip_compliance)
 
 
-def steady_twist(layout: ContactLayout, rim_speeds) -> np.ndarray:
-    """Body twist (vx, vy, wz) at the base frame under rim speeds per wheel (layout.sides) in m/s."""
+def steady_twist(layout: ContactLayout, rim_speeds, mu: float = 1.0) -> np.ndarray:
+    """Body twist (vx, vy, wz) at the base frame under rim speeds per wheel (layout.sides) in m/s.
+    ``mu``, the ground's friction coefficient, matters only with slip compliance."""
     from scipy.optimize import minimize
 
     u = np.asarray(rim_speeds, dtype=float)[layout.wheel]
@@ -143,25 +205,69 @@ def steady_twist(layout: ContactLayout, rim_speeds) -> np.ndarray:
     if layout.friction is not None:  # casters: their own friction (0: load, no force)
         weights = weights * layout.friction
     along = 1.0 if layout.free_roll is None else (~layout.free_roll).astype(float)
+    r2 = 1.0 if layout.lateral_ratio is None else layout.lateral_ratio ** 2  # elliptic friction
     eps = 1e-9  # slip speed (relative) below which |s| is rounded: keeps D differentiable
     un = u / scale
 
     def power(q):
         sx = (q[0] - q[2] * y - un) * along
         sy = q[1] + q[2] * x
-        norm = np.sqrt(sx * sx + sy * sy + eps * eps)
-        ex, ey = weights * sx / norm, weights * sy / norm
+        norm = np.sqrt(sx * sx + r2 * sy * sy + eps * eps)
+        ex, ey = weights * sx / norm, weights * r2 * sy / norm
         return float(weights @ norm), np.array([ex.sum(), ey.sum(), (ex * -y + ey * x).sum()])
 
+    if layout.slip_compliance is not None:  # Huber potential, saturation slip c = k mu N (relative units)
+        friction = 1.0 if layout.friction is None else layout.friction
+        saturation = layout.slip_compliance * float(mu) * layout.loads * friction / scale
+        saturation = np.maximum(saturation, 1e-300)
+
+        def power(q):  # noqa: F811 (the compliant potential replaces the rigid one)
+            sx = (q[0] - q[2] * y - un) * along
+            sy = q[1] + q[2] * x
+            norm = np.sqrt(sx * sx + r2 * sy * sy + eps * eps)
+            below = norm < saturation
+            value = np.where(below, norm * norm / (2 * saturation), norm - saturation / 2)
+            slope = np.where(below, 1.0 / saturation, 1.0 / norm)
+            ex, ey = weights * sx * slope, weights * r2 * sy * slope
+            return float(weights @ value), np.array([ex.sum(), ey.sum(), (ex * -y + ey * x).sum()])
+
     start = np.array([un.mean(), 0.0, 0.0])
-    result = minimize(power, start, jac=True, method="BFGS", options={"gtol": 1e-12, "maxiter": 500})
+    result = minimize(power, start, jac=True, method="BFGS",
+                      options={"gtol": 1e-12, "maxiter": 500 if layout.slip_compliance is None else 2000})
     return result.x * scale
 
 
-def yaw_rate_gain(layout: ContactLayout, v: float, w: float, track: float, wheel_radius: float | None = None) -> float:
-    """Steady yaw rate / commanded w under the paper's controller (Eq. 1, effective track)."""
+def yaw_rate_gain(layout: ContactLayout, v: float, w: float, track: float, wheel_radius: float | None = None,
+                  mu: float = 1.0) -> float:
+    """Steady yaw rate / commanded w under the paper's controller (Eq. 1, effective track);
+    ``mu`` matters only with slip compliance."""
     left, right = side_speeds(v, w, track)
-    return float(steady_twist(layout, layout.rim_speeds(left, right))[2] / w)
+    return float(steady_twist(layout, layout.rim_speeds(left, right), mu)[2] / w)
+
+
+def ratio_for_gain(layout: ContactLayout, gain: float, v: float, w: float, track: float,
+                   bounds: tuple[float, float] = (0.02, 2.0)) -> float:
+    """The lateral/longitudinal friction ratio at which the anisotropic Coulomb gain at (v, w) is
+    ``gain`` (the gain falls monotonically with the ratio); NaN when ``gain`` lies outside the
+    gains at ``bounds``."""
+    from scipy.optimize import brentq
+
+    def excess(r: float) -> float:
+        return yaw_rate_gain(with_friction_ratio(layout, r), v, w, track) - gain
+
+    lo, hi = excess(bounds[0]), excess(bounds[1])
+    if not (math.isfinite(gain) and lo >= 0 >= hi):
+        return math.nan
+    return float(brentq(excess, *bounds, xtol=1e-4))
+
+
+def wheel_separation_multiplier(gain: float, track: float, separation: float) -> float:
+    """What a ROS diff_drive_controller user sets as ``wheel_separation_multiplier`` for a robot
+    whose yaw rate is ``gain`` x (v_right - v_left) / ``track``: the controller commands
+    v_right - v_left = w x multiplier x ``separation`` (the wheels' geometric separation), so the
+    robot turns at w when multiplier = track / (gain x separation). Clearpath's 1.875 for the
+    Husky (separation 0.5708 m) is a gain of 0.519 against track 0.555."""
+    return float(track / (gain * separation)) if gain > 0 else math.inf
 
 
 class CoulombTable:
@@ -173,6 +279,9 @@ class CoulombTable:
     """
 
     def __init__(self, layout: ContactLayout, angles: int = 1440):
+        if layout.slip_compliance is not None:
+            raise InputError("slip_compliance", "a compliant layout's twist is not homogeneous in the rim speeds, "
+                             "so it cannot be tabled on the unit circle", "solve each command with steady_twist")
         self.angles = np.linspace(-math.pi, math.pi, angles + 1)
         self.twists = np.array([steady_twist(layout, layout.rim_speeds(math.cos(a), math.sin(a)))
                                 for a in self.angles])
@@ -225,4 +334,5 @@ def braking_deceleration(robot: RobotSpec, mu: float) -> tuple[float, str | None
 
 
 __all__ = ["ContactLayout", "CoulombTable", "braking_deceleration", "contact_layout", "equal_loads", "load_layout",
-           "mass_distribution", "steady_twist", "yaw_rate_gain"]
+           "mass_distribution", "ratio_for_gain", "steady_twist", "wheel_separation_multiplier", "with_friction_ratio",
+           "with_slip_compliance", "yaw_rate_gain"]

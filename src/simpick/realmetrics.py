@@ -58,12 +58,17 @@ def lowpass(signal: np.ndarray, rate_hz: float, cutoff_hz: float = LOWPASS_HZ) -
     return sosfiltfilt(sos, x, padlen=padlen) if len(x) > 1 else x
 
 
-def aligned_rmse(real: np.ndarray, sim: np.ndarray, rate_hz: float, cutoff_hz: float = LOWPASS_HZ) -> float:
-    """RMS difference of two equally sampled, time-aligned signals after the same low-pass."""
+def aligned_rmse(real: np.ndarray, sim: np.ndarray, rate_hz: float, cutoff_hz: float = LOWPASS_HZ,
+                 offset_free: bool = False) -> float:
+    """RMS difference of two equally sampled, time-aligned signals after the same low-pass;
+    ``offset_free``: of the difference less its mean (a constant offset between them, such as an
+    accelerometer bias or a slope's g sin(angle), does not count)."""
     n = min(len(real), len(sim))
     if n < 2:
         return float("nan")
     d = lowpass(real[:n], rate_hz, cutoff_hz) - lowpass(sim[:n], rate_hz, cutoff_hz)
+    if offset_free:
+        d = d - d.mean()
     return float(np.sqrt(np.mean(d * d)))
 
 

@@ -29,7 +29,7 @@ WINDOW_COLUMNS = ["dataset", "terrain_class", "run", "t_start", "t_end", "v_left
 SUMMARY_COLUMNS = ["terrain_class", "windows", "runs", "gain_median", "gain_q25", "gain_q75", "run_gain_min",
                    "run_gain_max", "left_gain_median", "right_gain_median", "spin_gain_median",
                    "moving_gain_median", "rho_speed", "p_speed", "rho_radius", "p_radius", "rho_difference",
-                   "p_difference", "coulomb_gain_min", "coulomb_gain_max"]
+                   "p_difference", "coulomb_gain_min", "coulomb_gain_max", "separation_multiplier", "coulomb_ratio"]
 SPIN_SPEED = 0.05  # m/s: below this mean side speed a turn is a spin on the spot (turn radius 0)
 
 
@@ -109,6 +109,20 @@ def turning_summary(windows: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=SUMMARY_COLUMNS)
 
 
+def with_equivalents(summary: pd.DataFrame, layout, track: float, separation: float) -> pd.DataFrame:
+    """The summary with, per class, what its median gain means for a user (issue 20):
+    ``separation_multiplier``, the ROS diff_drive_controller wheel_separation_multiplier that makes
+    a controller on the robot's geometric wheel separation turn it as commanded, and
+    ``coulomb_ratio``, the lateral/longitudinal friction ratio at which anisotropic Coulomb gives
+    that gain (the same at every command; NaN outside 0.02-2)."""
+    from simpick.coulomb import ratio_for_gain, wheel_separation_multiplier
+
+    out = summary.copy()
+    out["separation_multiplier"] = [wheel_separation_multiplier(g, track, separation) for g in out.gain_median]
+    out["coulomb_ratio"] = [ratio_for_gain(layout, g, 0.5, 0.5, track) for g in out.gain_median]
+    return out
+
+
 def turning_job(logs: list[str], urdf: str, params: dict, outputs: dict[str, str]) -> None:
     """Rule real_turning: the windows of every canonical log of a replayed dataset and their
     per-class summary, with the rigid-Coulomb gain of the study's robot at each command."""
@@ -130,4 +144,7 @@ def turning_job(logs: list[str], urdf: str, params: dict, outputs: dict[str, str
                               **options) for path in logs]
     windows = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=WINDOW_COLUMNS)
     write_csv(windows, outputs["windows"])
-    write_csv(turning_summary(windows), outputs["summary"])
+    from simpick.robot import load_robot
+
+    separation = load_robot(urdf).track  # the wheels' geometric separation (the controller's wheel_separation)
+    write_csv(with_equivalents(turning_summary(windows), layout, track, separation), outputs["summary"])

@@ -13,7 +13,10 @@ Case kinds (their parameters come from ``validation.cases`` in the config):
     steady yaw rate / commanded w over the second half of the run against
     :mod:`simpick.coulomb`'s quasi-static solution for this robot's contact layout and loads
     (the same for w and -w: mirroring a turn mirrors the COM offset, and the gain does not
-    depend on the offset's side).
+    depend on the offset's side). With ``friction_ratio`` r (issue 20) the engine's own
+    ``friction_ratio`` setting is set to r and the analytic value is the anisotropic (elliptic)
+    Coulomb gain at r; an engine without that setting skips the case, saying so. Such cases stay
+    out of the invariance checks and the gains table (which compare isotropic turning).
 ``straight``  (v, mu, heading) forward speed against measured wheel speed x radius (rolling
     without slip), and the heading drift (none expected).
 ``slide``     (v, mu, heading) cruise from start heading ``heading``, then every wheel commanded
@@ -42,7 +45,7 @@ from __future__ import annotations
 import json
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -136,14 +139,19 @@ def braking_deceleration(speed: np.ndarray, timestep: float) -> float:
 
 def _yaw_gain(setup: Setup, p: dict):
     v, w, mu, duration, heading = p["v"], p["w"], p["mu"], p.get("duration", 6.0), p.get("heading", 0.0)
+    ratio = p.get("friction_ratio")
+    if ratio is not None:  # the engine's anisotropic friction at this ratio (run_case checked it has one)
+        setup = replace(setup, settings={**dict(setup.settings), "friction_ratio": float(ratio)})
     record = get_engine(setup.engine).simulate(_scenario(setup, mu, heading=heading),
                                                _commands(setup, [(duration, v, w)]))
     half = record.steps // 2
     # body yaw rate: the angular velocity's component on the body z axis
     rate = np.einsum("nji,nj->ni", rotation_matrices(record.quaternion), record.angular_velocity)[:, 2]
     gain = rate[half:].mean() / w
-    analytic = yaw_rate_gain(contact_layout(setup.robot), v, w, setup.track)
-    return record, [_check("yaw_rate_gain", gain, analytic, v=v, w=w, mu=mu, heading=heading)]
+    layout = contact_layout(setup.robot, friction_ratio=1.0 if ratio is None else float(ratio))
+    analytic = yaw_rate_gain(layout, v, w, setup.track)
+    extra = {} if ratio is None else {"friction_ratio": float(ratio)}
+    return record, [_check("yaw_rate_gain", gain, analytic, v=v, w=w, mu=mu, heading=heading, **extra)]
 
 
 def _straight(setup: Setup, p: dict):
@@ -236,6 +244,10 @@ def run_case(setup: Setup, name: str, params: dict) -> dict:
         raise InputError(f"validation.cases.{name}.kind", f"{kind!r} is not a case kind", f"use one of {list(KINDS)}")
     engine = get_engine(setup.engine)
     reason = not_applicable(setup.robot, kind, params)
+    if reason is None and params.get("friction_ratio") is not None \
+            and "friction_ratio" not in engine.settings_model.model_fields:
+        reason = (f"{setup.engine} has no anisotropic wheel friction here (no friction_ratio setting: "
+                  "see the README's turning section)")
     if reason is not None:  # skipped, with the reason in the summary and the report
         return {"engine": setup.engine, "engine_version": engine.version(), "case": name, "kind": kind,
                 "params": params, "checks": [], "status": "skipped", "reasons": [f"not applicable: {reason}"],
@@ -282,7 +294,8 @@ def _row(engine: str, case: str, kind: str, quantity: str, value: float, analyti
             "engine_value": value, "analytic_value": analytic, "error": error, "error_kind": measure,
             "tolerance": float(tolerances[quantity]), "passed": passed, "status": status, "reasons": reasons,
             "v": extra.get("v"), "w": extra.get("w"), "mu": extra.get("mu"), "heading": extra.get("heading"),
-            "steps_per_s": extra.get("steps_per_s"), "covers": extra.get("covers", "")}
+            "steps_per_s": extra.get("steps_per_s"), "covers": extra.get("covers", ""),
+            "friction_ratio": extra.get("friction_ratio")}
 
 
 def _label(x: float) -> str:
@@ -295,7 +308,7 @@ def invariance_rows(rows: list[dict], tolerances: dict) -> list[dict]:
     import pandas as pd
 
     gains = pd.DataFrame([r for r in rows if r["quantity"] == "yaw_rate_gain" and r["w"] is not None
-                          and r["status"] != "skipped"])
+                          and r["status"] != "skipped" and r.get("friction_ratio") is None])
     if gains.empty:
         return []
     gains = gains.astype({"v": float, "w": float, "mu": float})
@@ -337,13 +350,14 @@ def summarise(results: list[dict], tolerances: dict[str, float]):
                          "passed": False, "status": "skipped", "reasons": "; ".join(result["reasons"]),
                          "v": result["params"].get("v"), "w": result["params"].get("w"),
                          "mu": result["params"].get("mu"), "heading": result["params"].get("heading"),
-                         "steps_per_s": None, "covers": ""})
+                         "steps_per_s": None, "covers": "",
+                         "friction_ratio": result["params"].get("friction_ratio")})
             continue
         for c in result["checks"]:
             rows.append(_row(result["engine"], result["case"], result["kind"], c["quantity"], c["engine_value"],
                              c["analytic_value"], tolerances, result["status"], "; ".join(result["reasons"]),
                              v=c.get("v"), w=c.get("w"), mu=c.get("mu"), heading=c.get("heading"),
-                             steps_per_s=result["steps_per_s"]))
+                             steps_per_s=result["steps_per_s"], friction_ratio=c.get("friction_ratio")))
     return pd.DataFrame(rows + invariance_rows(rows, tolerances))
 
 
@@ -358,6 +372,8 @@ def gain_table(summary):
     import pandas as pd
 
     gains = summary[(summary.quantity == "yaw_rate_gain") & summary.w.notna() & (summary.status != "skipped")]
+    if "friction_ratio" in gains:  # anisotropic cases: not the isotropic turning this table compares
+        gains = gains[gains.friction_ratio.isna()]
     rows = []
     if gains.empty:
         return pd.DataFrame(columns=list(GAIN_COLUMNS))

@@ -147,6 +147,13 @@ class Calibratable:
 # Vehicles, Table 1.4: 0.8-0.9); log scale, as the classes span a decade.
 FRICTION = Calibratable(0.05, 1.5, log=True, why="tyre on ice (Wong Table 1.4: 0.1) to above dry asphalt (0.9)")
 
+# The wheels' lateral/longitudinal friction ratio (issue 20), the parameter that moves a skid-steer
+# robot's turning (rigid Coulomb's gain does not depend on mu): for the Husky the anisotropic
+# Coulomb gain runs from 0.88 at 0.3 through 0.36 at 1.2 and 0.03 at 1.7 to none at 1.8 (the lateral
+# friction then outweighs the wheels' turning moment), around every real class's steady gain (0.70
+# hard ground: r 0.64; sandy loam 0.59: 0.82; snow's moving turns 0.38: 1.17, its spins 0.04: 1.68).
+FRICTION_RATIO = Calibratable(0.3, 1.8, why="anisotropic Coulomb gain 0.88 (r 0.3) to 0 (r 1.8), Husky loads")
+
 
 @runtime_checkable
 class Engine(Protocol):

@@ -25,7 +25,8 @@ import numpy as np
 from pydantic import Field
 
 import simpick
-from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
+                                  validated_commands)
 from simpick.imu import imu_from_kinematics
 
 
@@ -34,7 +35,13 @@ class _BaselineSettings(EngineSettings):
 
 
 class CoulombSettings(_BaselineSettings):
-    """config ``baselines.coulomb``: none; the loads and contact layout come from the robot description."""
+    """config ``baselines.coulomb``; the loads and contact layout come from the robot description."""
+
+    # Lateral / longitudinal friction ratio of every wheel contact, in the wheel's frame (elliptic
+    # anisotropic Coulomb, simpick.coulomb). 1: isotropic, today's model (gain 0.478 for the Husky).
+    # Issue 20: the real Husky's steady gain on hard ground (0.70, notes on BorealTC's 29 runs) is
+    # what r ~ 0.63 gives at every (v, w); sandy loam's 0.59 is r ~ 0.78.
+    friction_ratio: Annotated[float, Field(gt=0, le=2, allow_inf_nan=False)] = 1.0
 
 
 class KinematicSettings(_BaselineSettings):
@@ -132,14 +139,16 @@ class CoulombModel(_ReferenceModel):
     # Its one parameter: the friction coefficient, which bounds how fast the twist follows a new
     # command (mu g at every contact); the steady twist does not depend on it (Coulomb's gain is
     # the same for every mu, METHOD.md s6). The loads come from the robot description.
-    calibratable = {"friction": FRICTION}
+    # The lateral/longitudinal ratio moves the steady gain (0.478 at 1, 0.78 at 0.5, 0.95 at 0.01):
+    # base.FRICTION_RATIO, 0.3-1.8 (gain 0.88 to 0).
+    calibratable = {"friction": FRICTION, "friction_ratio": FRICTION_RATIO}
 
     def targets(self, scenario, settings, left, right):
         from simpick.coulomb import CoulombTable, contact_layout
 
         # Solve each distinct command once (replays hold each wheel-speed sample for many steps).
         pairs, inverse = np.unique(np.stack([left, right], axis=1), axis=0, return_inverse=True)
-        layout = contact_layout(scenario.robot)
+        layout = contact_layout(scenario.robot, friction_ratio=settings.friction_ratio)
         if len(pairs) <= 64:
             from simpick.coulomb import steady_twist
 

@@ -182,7 +182,10 @@ def _yaw(yaw: float) -> np.ndarray:
 
 class DartEngine:
     # dartpy 6.20 exposes one contact parameter per shape, the friction coefficient
-    # (DynamicsAspect get/setFrictionCoeff; no slip compliance, no secondary direction)
+    # (DynamicsAspect get/setFrictionCoeff; no slip compliance, no secondary direction). Issue 20:
+    # checked again, dartpy 6.20's DynamicsAspect has get/set FrictionCoeff and RestitutionCoeff
+    # only; DART's C++ primary/secondary coefficients and first friction direction are not bound,
+    # so no lateral/longitudinal ratio (NsgsFrictionSolver.Options.boxForAnisotropic has nothing to act on)
     calibratable = {"friction": FRICTION}
     name = "dart"
     settings_model = DartSettings

@@ -150,6 +150,7 @@ class DrakeEngine:
         def surface(mu: float, where: str, resolution: float | None = None) -> ProximityProperties:
             props = ProximityProperties()
             f = _terrain_friction(mu, where)
+            # Drake's CoulombFriction is isotropic (static, dynamic): no lateral/longitudinal ratio (issue 20)
             AddContactMaterial(friction=CoulombFriction(f, f), properties=props)
             if hydro:  # a sphere's rigid mesh needs a resolution; boxes and the half space are exact
                 AddRigidHydroelasticProperties(resolution, props) if resolution else AddRigidHydroelasticProperties(props)

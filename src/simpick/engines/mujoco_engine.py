@@ -37,9 +37,10 @@ import time
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import Field
+from pydantic import Field, model_validator
 
-from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
+                                  validated_commands)
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 
@@ -82,6 +83,28 @@ class MujocoSettings(EngineSettings):
     # impedance the wheel pairs' friction rows get via impratio, see _wheel_pairs: parked creep at
     # 0.8 atan(mu) 0.27 mm/s at 0.98, 0.71 at 0.95, 1.6 at 0.90 (MuJoCo's default contact: 6.6)
     wheel_friction_impedance: Annotated[float, Field(gt=0, lt=1)] = 0.98
+    # Issue 20: lateral / longitudinal friction ratio of the driven wheels' ground pairs (1: the
+    # default, isotropic, unchanged). A pair's friction[0] and [1] act along its contact frame's two
+    # tangents; MuJoCo orients them for a capsule on a plane along the capsule's axis, but fixes
+    # them to the world for a cylinder (measured, MuJoCo 4.0.0; google-deepmind/mujoco#67). So with
+    # r != 1 each driven wheel collides as a capsule of the wheel's radius whose segment spans the
+    # tyre's width (on flat ground the same two contacts at the tyre's edges as the cylinder; on
+    # terrain its rounded ends reach one radius beyond the tyre's sides), with friction
+    # [r mu (along the axle), mu (rolling)] under the elliptic cone: the elliptic Coulomb law in
+    # the wheel's frame. Needs wheel_contact "decoupled" and cone "elliptic". Measured (mu 0.8, 6 s,
+    # (0, 0.5) / (0.5, 0.5) / (0.5, -0.5), anisotropic Coulomb in brackets): r 0.9999 (capsule, nearly
+    # isotropic) 0.467 / 0.462 / 0.473 (0.478; the cylinder: the same), 0.8 0.584 / 0.581 / 0.589
+    # (0.601), 0.63 0.682 / 0.681 / 0.686 (0.705), 0.5 0.751 / 0.753 / 0.756 (0.781); the same from
+    # start headings 112.5 and -135 degrees.
+    friction_ratio: Annotated[float, Field(gt=0, le=2, allow_inf_nan=False)] = 1.0
+
+    @model_validator(mode="after")
+    def _ratio_needs_pairs(self):
+        if self.friction_ratio != 1.0 and (self.wheel_contact != "decoupled" or self.cone != "elliptic"):
+            raise ValueError(f"friction_ratio {self.friction_ratio} needs wheel_contact 'decoupled' and cone "
+                             f"'elliptic' (got {self.wheel_contact!r}, {self.cone!r}): anisotropy lives on the "
+                             "wheels' ground pairs, and only the elliptic cone gives the friction ellipse")
+        return self
 
 
 # MuJoCo's default contact reference (solref timeconst 0.02 s, dampratio 1) and the largest default
@@ -108,6 +131,8 @@ class MujocoEngine:
         # issue 9 (config comment: parked creep 0.27 against 6.6 for MuJoCo's default contact).
         "wheel_friction_impedance": Calibratable(0.8, 0.995,
                                                  why="from MuJoCo-default-like creep (0.8) to near-rigid 0.995"),
+        # the turning parameter (issue 20): base.FRICTION_RATIO, the adapter's friction_ratio
+        "friction_ratio": FRICTION_RATIO,
     }
     name = "mujoco"
     settings_model = MujocoSettings
@@ -231,11 +256,23 @@ class MujocoEngine:
         d = settings.wheel_contact_impedance
         df = settings.wheel_friction_impedance
         spec.option.impratio = ((1 - d) / d) / ((1 - df) / df)
+        ratio = settings.friction_ratio
         for k, body in enumerate(wheels):
             for g, geom in enumerate(body.geoms):
                 geom.name = geom.name or f"{prefix}wheel{k}_{g}"
                 geom.contype = geom.conaffinity = 0
+                if ratio != 1.0 and geom.type == mujoco.mjtGeom.mjGEOM_CYLINDER:
+                    geom.type = mujoco.mjtGeom.mjGEOM_CAPSULE  # same size: radius, half-width (see friction_ratio)
                 for ground, mu in grounds:
+                    if ratio != 1.0:  # capsule frame: tangent 1 along the axle, tangent 2 rolling
+                        spec.add_pair(geomname1=ground.name, geomname2=geom.name, condim=3,
+                                      friction=[ratio * mu, mu, 0.0, 0.0, 0.0], solref=[MUJOCO_TIMECONST, 1.0],
+                                      solimp=[d, d, 0.001, 0.5, 2.0],
+                                      solreffriction=[MUJOCO_TIMECONST * MUJOCO_DMAX / d, 1.0])
+                        continue
+                    # isotropic: friction[0] and [1] equal (for a cylinder on a plane the contact
+                    # frame is world-fixed, measured: rows (0, 0, 1), (0, 1, 0), (-1, 0, 0) at every
+                    # heading; see MujocoSettings.friction_ratio for the anisotropic pairs)
                     spec.add_pair(geomname1=ground.name, geomname2=geom.name, condim=3,
                                   friction=[mu, mu, 0.0, 0.0, 0.0], solref=[MUJOCO_TIMECONST, 1.0],
                                   solimp=[d, d, 0.001, 0.5, 2.0],

@@ -47,10 +47,11 @@ from dataclasses import dataclass, field
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from simpick.engines import _ode
-from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
+                                  validated_commands)
 from simpick.errors import InputError, SimulationFailure
 from simpick.imu import imu_from_kinematics, matrices_to_quaternions, rotation_matrices
 
@@ -141,6 +142,25 @@ class OdeSettings(EngineSettings):
     # dContactSlip1/2: a contact slides at slip x friction force); Gazebo exposes it as
     # <slip1>/<slip2> and users tune it for skid-steer turning. 0: off (ODE's default).
     contact_slip: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.0
+    # Issue 20: lateral / longitudinal friction ratio of the driven wheels' contacts, in each
+    # wheel's frame (longitudinal = the rolling direction, normal x the hinge axis). 1: isotropic
+    # (the default, today's behaviour, bit-identical). ODE's own anisotropy is mu along fdir1 and
+    # mu2 across it, each row bounded on its own: a box, not Coulomb's ellipse. With
+    # friction_direction "coulomb" the adapter gives a sliding wheel contact the elliptic force
+    # instead (simpick.coulomb): fdir1 along (s_long, r^2 s_lat) in the wheel frame, bounded by
+    # mu N |(s_long, r^2 s_lat)| / |(s_long, r s_lat)|, mu2 = 0; a sticking one gets the box (fdir1
+    # along the wheel, mu along it, r mu across). Measured (quick stepper, mu 0.8, 6 s, (v, w) =
+    # (0, 0.5) / (0.5, 0.5) / (0.5, -0.5), anisotropic Coulomb in brackets): r 1 0.488 / 0.484 / 0.483
+    # (0.478), 0.8 0.600 / 0.598 / 0.597 (0.601), 0.63 0.694 / 0.694 / 0.696 (0.705), 0.5 0.761 /
+    # 0.764 / 0.767 (0.781); the same 0.694-0.696 from start headings 112.5 and -135 degrees.
+    friction_ratio: Annotated[float, Field(gt=0, le=2, allow_inf_nan=False)] = 1.0
+
+    @model_validator(mode="after")
+    def _ratio_needs_coulomb(self):
+        if self.friction_ratio != 1.0 and self.friction_direction != "coulomb":
+            raise ValueError(f"friction_ratio {self.friction_ratio} needs friction_direction 'coulomb' (got "
+                             f"{self.friction_direction!r}): ODE's two rows alone form a box, not the ellipse")
+        return self
 
 
 
@@ -363,7 +383,7 @@ class _World:
                               for i in range(self.max_contacts))
                 self._keep.append(views)
                 buffers[mu] = (base + _ode.dContact.geom.offset,
-                               tuple(base + i * size for i in range(self.max_contacts)), views)
+                               tuple(base + i * size for i in range(self.max_contacts)), views, mu)
             return buffers[mu]
 
         def static(geom: int, mu: float) -> None:
@@ -387,6 +407,7 @@ class _World:
         model = read_urdf(scenario.robot)
         self.model = model
         self.robots = []  # per robot: (chassis body, [hinge joints], [wheel bodies])
+        self.axles: dict[int, tuple] = {}  # driven wheel body -> (its rotation matrix, hinge axis in body frame)
         self.recorded = scenario.recorded_robot
         torque = float(scenario.max_wheel_torque)
         for i, (x, y, yaw) in enumerate(scenario.starts):
@@ -448,6 +469,10 @@ class _World:
                 lib.dJointSetHingeAnchor(hinge, *link_pos)
                 lib.dJointSetHingeAxis(hinge, *(link_rot @ axis))
                 frames.append((link_pos, link_rot, body))
+            for (_xyz, _rot, axis, _part), wheel in zip(model.wheels, wheel_bodies):
+                # the hinge axis in the wheel body's frame (the body keeps its link's orientation)
+                self.axles[wheel] = ((_ode.dReal * 12).from_address(lib.dBodyGetRotation(wheel)),
+                                     tuple(float(a) for a in axis))
             self.robots.append((chassis, hinges, wheel_bodies))
         self.all_hinges = [h for _, hs, _ in self.robots for h in hs]
 
@@ -500,6 +525,9 @@ class _World:
         MU = _ode.dContact.surface.offset // real + _ode.dSurfaceParameters.mu.offset // real
         MU2 = _ode.dContact.surface.offset // real + _ode.dSurfaceParameters.mu2.offset // real
         sqrt, half = math.sqrt, math.sqrt(0.5)
+        ratio = self.settings.friction_ratio
+        axles = self.axles if ratio != 1.0 else {}  # empty: the isotropic path, unchanged
+        r2 = ratio * ratio
 
         if not self.slip_directions:
             def near(_data, g1, g2):
@@ -547,9 +575,43 @@ class _World:
                         c[F], c[F + 1], c[F + 2] = -ny * k, nx * k, 0.0
                     if coulomb and s2 <= min_slip2:  # sticking: the full pyramid holds it
                         c[MU2] = c[MU]
+                    if axles:
+                        wheel = axles.get(b1) or axles.get(b2)
+                        if wheel is not None:
+                            self._elliptic(c, wheel, contacts[3], nx, ny, nz, vx, vy, vz, s2 > min_slip2,
+                                           ratio, r2, F, MU, MU2)
+                        else:
+                            c[MU] = contacts[3]
+                            if s2 <= min_slip2:
+                                c[MU2] = c[MU]
                     attach(create(world, group, contacts[1][i]), b1, b2)
 
         return _ode.dNearCallback(near)
+
+    @staticmethod
+    def _elliptic(c, wheel, mu, nx, ny, nz, vx, vy, vz, sliding, ratio, r2, F, MU, MU2) -> None:
+        """A driven wheel's contact with friction ratio ``ratio`` (OdeSettings.friction_ratio):
+        sliding, the elliptic Coulomb force along fdir1 alone; sticking, the box in the wheel frame."""
+        R, (a0, a1, a2) = wheel
+        # world hinge axis (dMatrix3: 3 rows of 4), its part in the contact plane = lateral t
+        ax, ay, az = R[0] * a0 + R[1] * a1 + R[2] * a2, R[4] * a0 + R[5] * a1 + R[6] * a2, \
+            R[8] * a0 + R[9] * a1 + R[10] * a2
+        d = ax * nx + ay * ny + az * nz
+        tx, ty, tz = ax - d * nx, ay - d * ny, az - d * nz
+        k = 1.0 / math.sqrt(tx * tx + ty * ty + tz * tz)
+        tx, ty, tz = tx * k, ty * k, tz * k
+        lx, ly, lz = ny * tz - nz * ty, nz * tx - nx * tz, nx * ty - ny * tx  # rolling direction n x t
+        if sliding:
+            sl, st = vx * lx + vy * ly + vz * lz, vx * tx + vy * ty + vz * tz
+            fl, ft = sl, r2 * st
+            size = math.sqrt(fl * fl + ft * ft)
+            c[F], c[F + 1], c[F + 2] = (fl * lx + ft * tx) / size, (fl * ly + ft * ty) / size, \
+                (fl * lz + ft * tz) / size
+            c[MU] = mu * size / math.sqrt(sl * sl + r2 * st * st)
+            c[MU2] = 0.0
+        else:
+            c[F], c[F + 1], c[F + 2] = lx, ly, lz
+            c[MU], c[MU2] = mu, ratio * mu
 
     def _set_wheels(self, speeds) -> None:
         set_param, vel = self.lib.dJointSetHingeParam, _ode.dParamVel
@@ -654,6 +716,8 @@ class OdeEngine:
         # Global constraint force mixing (the softness of every constraint, contacts included): two
         # decades either side of ODE's and Webots' default 1e-5 (the ODE manual: larger is softer).
         "cfm": Calibratable(1.0e-7, 1.0e-3, log=True, why="two decades either side of the 1e-5 default"),
+        # the turning parameter (issue 20): base.FRICTION_RATIO, the adapter's friction_ratio
+        "friction_ratio": FRICTION_RATIO,
     }
 
     def version(self) -> str:

@@ -216,6 +216,8 @@ class PhysxEngine:
         scene = sapien.Scene([system])
 
         def material(mu: float):  # averaged with the robot's 0: the contact gets mu
+            # SAPIEN 3.0.3's PhysxMaterial has static, dynamic friction and restitution only: no
+            # anisotropic (lateral/longitudinal) friction to set (issue 20)
             return px.PhysxMaterial(2 * mu, 2 * mu, 0.0)
 
         terrain = scenario.terrain

@@ -41,7 +41,8 @@ from typing import Annotated
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
+                                  validated_commands)
 from simpick.imu import imu_from_kinematics, rotation_matrices
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, so no wheel starts inside the ground
@@ -71,6 +72,16 @@ class PyBulletSettings(EngineSettings):
     # ground's friction (robot spinning x ground mu), a torque of that x the normal force
     # resisting a contact's spin about its normal. 0: none (the set-up before issue 11).
     spinning_friction: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.0
+    # Issue 20: lateral / longitudinal friction ratio of the driven wheels: changeDynamics
+    # anisotropicFriction on each wheel link, in the link's local frame, with the component along
+    # the wheel's joint axis set to this ratio (Bullet's btCollisionObject::m_anisotropicFriction
+    # scales each friction direction's local components before the solve; it does not renormalise
+    # them). 1: not set (isotropic, the default). Measured (mu 0.8, 6 s, (0, 0.5) / (0.5, 0.5) /
+    # (0.5, -0.5), anisotropic Coulomb in brackets): r 1 0.375 / 0.372 / 0.278 (0.478), 0.8 0.518 /
+    # 0.517 / 0.456 (0.601), 0.63 0.618 / 0.620 / 0.600 (0.705), 0.5 0.651 / 0.657 / 0.657 (0.781):
+    # it raises the gain, but Bullet's world-aligned friction rows keep it low and heading-dependent
+    # (r 0.63, 4 s: 0.45 / 0.41 / 0.21 from headings 0 / 112.5 / -135 turning left).
+    friction_ratio: Annotated[float, Field(gt=0, le=2, allow_inf_nan=False)] = 1.0
 
 
 # getJointStates costs about half a Bullet step; wheel speeds are read every 10th step (the
@@ -113,6 +124,8 @@ class PyBulletEngine:
         # Torsional friction, m (x mu x normal force): 0 to 0.05 m, under half the wheel's
         # 0.114 m width, the largest lever a contact patch across the wheel could give.
         "spinning_friction": Calibratable(0.0, 0.05, why="0 to under half the 0.114 m wheel width"),
+        # the turning parameter (issue 20): base.FRICTION_RATIO, the adapter's friction_ratio
+        "friction_ratio": FRICTION_RATIO,
     }
     name = "pybullet"
     settings_model = PyBulletSettings
@@ -230,6 +243,11 @@ class PyBulletEngine:
                                   spinningFriction=settings.spinning_friction,
                                   restitution=0.0, linearDamping=0.0, angularDamping=0.0, **compliance,
                                   physicsClientId=cid)
+            if settings.friction_ratio != 1.0:
+                for joint in wheel_index:
+                    axis = np.abs(np.asarray(pb.getJointInfo(body, joint, physicsClientId=cid)[13], dtype=float))
+                    pb.changeDynamics(body, joint, physicsClientId=cid,
+                                      anisotropicFriction=(1.0 - (1.0 - settings.friction_ratio) * axis).tolist())
             bodies.append(body)
         return bodies, wheel_index
 
