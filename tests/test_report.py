@@ -814,3 +814,22 @@ def test_how_the_real_robot_turns_is_shown_from_its_table(tmp_path, built_real):
     assert "1.659" in section and "0.823" in section  # the ROS multiplier and the Coulomb ratio (issue 20)
     assert "one gain for this robot (0.478)" in text
     assert 'id="real-turning"' not in " ".join(_render(inputs, _real_params()).split())
+
+
+def test_the_summary_says_which_engines_pass_the_analytic_validation(tmp_path):
+    """The first box names, beside the verdict, the engines that pass every analytic case and how many
+    each other engine fails, so a ranking is never read without it."""
+    from simpick.validation import summarise
+
+    lab = write_synthetic_inputs(tmp_path / "in", seconds=1.0, failed=None)
+    engines = sorted(pd.read_csv(lab["weighted"]).engine)
+    check = {"quantity": "accel_z", "unit": "m/s^2", "error_kind": "absolute", "analytic_value": 9.81}
+    results = [{"engine": e, "case": "rest_mu0.8", "kind": "rest", "status": "ok", "reasons": [], "params": {},
+                "steps_per_s": 1000.0, "checks": [{**check, "engine_value": 9.81 if i else 9.0}]}
+               for i, e in enumerate(engines)]
+    table = tmp_path / "validation.csv"
+    summarise(results, {"accel_z": 0.05}).to_csv(table, index=False)
+    text = " ".join(_render({**lab, "accuracy_errors": lab["imu_errors"], "validation": str(table)},
+                            _real_params()).split())
+    line = re.search(r'<p id="validation-headline">.*?</p>', text).group(0)
+    assert f"<b>{engines[0]}</b> fails 1" in line and f"{engines[1]}" in line and "every case" in line
