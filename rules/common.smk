@@ -470,6 +470,8 @@ def verdict_source_title():
 
 
 VERDICT_TABLES = ("metrics", "table", "separation", "ranking", "discrimination", "headings")
+# simpick's verdict rests on real runs: none where the study's robot has no real data (real_data.robot)
+VERDICT = verdict_source() in SOURCES
 
 
 def accuracy_errors():
@@ -506,8 +508,9 @@ def report_real_inputs(wildcards):
         )
         inputs["replay_per_window"] = metrics_file(REPLAY_SET.name, "detail")
         inputs["real_turning"] = f"{REPLAY}/turning/summary.csv"
-    inputs.update({f"verdict_{t}": f"results/verdict/{t}.csv" for t in VERDICT_TABLES})
-    inputs["verdict_headline"] = "results/verdict/headline.yaml"
+    if VERDICT:
+        inputs.update({f"verdict_{t}": f"results/verdict/{t}.csv" for t in VERDICT_TABLES})
+        inputs["verdict_headline"] = "results/verdict/headline.yaml"
     if SWEEP:
         inputs["sweep"] = f"{SWEEP_DIR}/summary.csv"
     if CALIBRATION and CALIBRATION.get("enabled"):  # rules/calibration.smk

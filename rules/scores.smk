@@ -32,46 +32,50 @@ rule scores:
 # error, the heading error and (where a log measures it) the speed error, with intervals and paired
 # verdicts over runs; what the paper's accuracy scores separate; the weighted total with an interval
 # over real runs; the report's first paragraph. The report reads these tables and computes none.
-rule verdict:
-    input:
-        per_test=metrics_file(verdict_source(), "per_test"),
-        accuracy_tests=accuracy_source()["per_test"],
-        weighted="results/scores/weighted.csv",
-        provenance="results/scores/provenance.yaml",
-    output:
-        metrics=report("results/verdict/metrics.csv", caption="captions/verdict_metrics.rst", category="Verdict"),
-        table=report("results/verdict/table.csv", caption="captions/verdict_table.rst", category="Verdict"),
-        separation=report(
-            "results/verdict/separation.csv", caption="captions/verdict_separation.rst", category="Verdict"
-        ),
-        ranking=report("results/verdict/ranking.csv", caption="captions/verdict_ranking.rst", category="Verdict"),
-        discrimination=report(
-            "results/verdict/discrimination.csv", caption="captions/verdict_discrimination.rst", category="Verdict"
-        ),
-        headings=report("results/verdict/headings.csv", caption="captions/verdict_headings.rst", category="Verdict"),
-        headline=report("results/verdict/headline.yaml", caption="captions/verdict_headline.rst", category="Verdict"),
-    log:
-        "results/logs/verdict.log",
-    benchmark:
-        "results/benchmarks/verdict.tsv"
-    conda:
-        "../envs/simpick.yaml"
-    threads: 1
-    resources:
-        mem_mb=500,
-        runtime=10,
-    params:
-        settings=canonical(
-            {
-                "engines": sorted(ENGINES),
-                "baselines": sorted(BASELINES),
-                "statistics": statistics_params(),
-                "weights": config["weights"],
-                "seed": config["seed"],
-                "source": verdict_source(),
-                "source_title": verdict_source_title(),
-            }
-        ),
-        code=script_code("verdict"),
-    script:
-        "../scripts/verdict.py"
+if VERDICT:
+
+    rule verdict:
+        input:
+            per_test=metrics_file(verdict_source(), "per_test"),
+            accuracy_tests=accuracy_source()["per_test"],
+            weighted="results/scores/weighted.csv",
+            provenance="results/scores/provenance.yaml",
+        output:
+            metrics=report("results/verdict/metrics.csv", caption="captions/verdict_metrics.rst", category="Verdict"),
+            table=report("results/verdict/table.csv", caption="captions/verdict_table.rst", category="Verdict"),
+            separation=report(
+                "results/verdict/separation.csv", caption="captions/verdict_separation.rst", category="Verdict"
+            ),
+            ranking=report("results/verdict/ranking.csv", caption="captions/verdict_ranking.rst", category="Verdict"),
+            discrimination=report(
+                "results/verdict/discrimination.csv", caption="captions/verdict_discrimination.rst", category="Verdict"
+            ),
+            headings=report("results/verdict/headings.csv", caption="captions/verdict_headings.rst", category="Verdict"),
+            headline=report(
+                "results/verdict/headline.yaml", caption="captions/verdict_headline.rst", category="Verdict"
+            ),
+        log:
+            "results/logs/verdict.log",
+        benchmark:
+            "results/benchmarks/verdict.tsv"
+        conda:
+            "../envs/simpick.yaml"
+        threads: 1
+        resources:
+            mem_mb=500,
+            runtime=10,
+        params:
+            settings=canonical(
+                {
+                    "engines": sorted(ENGINES),
+                    "baselines": sorted(BASELINES),
+                    "statistics": statistics_params(),
+                    "weights": config["weights"],
+                    "seed": config["seed"],
+                    "source": verdict_source(),
+                    "source_title": verdict_source_title(),
+                }
+            ),
+            code=script_code("verdict"),
+        script:
+            "../scripts/verdict.py"
