@@ -199,7 +199,8 @@ def origin(element, where: str) -> tuple[np.ndarray, np.ndarray]:
     return _floats(o.get("xyz"), 3, f"{where} origin xyz"), rpy_matrix(_floats(o.get("rpy"), 3, f"{where} origin rpy"))
 
 
-def _joint_axis(joint, where: str) -> np.ndarray:
+def joint_axis(joint, where: str) -> np.ndarray:
+    """A joint's unit axis (URDF default x when absent); a zero axis is an InputError naming ``where``."""
     a = joint.find("axis")
     axis = _floats(a.get("xyz") if a is not None else None, 3, f"{where} axis", 0.0)
     if a is None:
@@ -400,7 +401,7 @@ def normalised_urdf(root, tree: _Tree, name: str) -> tuple[str, list[str]]:
         ET.SubElement(new, "parent", {"link": parent})
         ET.SubElement(new, "child", {"link": child})
         ET.SubElement(new, "origin", {"xyz": _fmt(pos), "rpy": _fmt(matrix_rpy(rot))})
-        ET.SubElement(new, "axis", {"xyz": _fmt(_joint_axis(j, jname))})
+        ET.SubElement(new, "axis", {"xyz": _fmt(joint_axis(j, jname))})
         for tag in ("limit", "dynamics"):
             if j.find(tag) is not None:
                 new.append(j.find(tag))
@@ -439,7 +440,7 @@ def _find_wheels(tree: _Tree, where: str, declared: Mapping[str, str] | None) ->
             raise InputError(jw, f"is {kind}: {what}, which simpick does not simulate (it studies rigid "
                              "wheeled bodies: driven and caster wheels on continuous joints)",
                              "make it a fixed joint in the description if it does not move while driving")
-        axis_local = _joint_axis(j, jw)
+        axis_local = joint_axis(j, jw)
         _, rot = tree.pose[child]
         axis = rot @ axis_local  # in the base frame
         link = tree.links[child]
@@ -661,4 +662,4 @@ def load_from_config(robot: Mapping[str, Any]) -> RobotSpec:
 
 
 __all__ = ["OVERRIDABLE", "RobotSpec", "SKID_REACH", "Skid", "Wheel", "load_from_config", "load_robot", "normalised_urdf",
-           "read_description", "rpy_matrix", "matrix_rpy"]
+           "read_description", "rpy_matrix", "matrix_rpy", "origin", "joint_axis"]

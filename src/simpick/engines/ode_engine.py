@@ -54,6 +54,7 @@ from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, Engine
                                   validated_commands)
 from simpick.errors import InputError, SimulationFailure
 from simpick.imu import imu_from_kinematics, matrices_to_quaternions, rotation_matrices
+from simpick.robot import joint_axis, origin, rpy_matrix
 
 LOG = logging.getLogger(__name__)
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
@@ -167,15 +168,6 @@ class OdeSettings(EngineSettings):
 
 # --- small rigid-body helpers ------------------------------------------------------------
 
-def _rpy_matrix(rpy) -> np.ndarray:
-    """URDF rpy (fixed-axis x, then y, then z) -> rotation matrix."""
-    r, p, y = rpy
-    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
-    return np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-                     [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-                     [-sp, cp * sr, cp * cr]])
-
-
 def _floats(text: str | None, n: int, default: float = 0.0) -> np.ndarray:
     if text is None:
         return np.full(n, default)
@@ -186,11 +178,8 @@ def _floats(text: str | None, n: int, default: float = 0.0) -> np.ndarray:
 
 
 def _origin(element) -> tuple[np.ndarray, np.ndarray]:
-    """(xyz, rotation) of an URDF <origin> child (identity when absent)."""
-    origin = element.find("origin") if element is not None else None
-    if origin is None:
-        return np.zeros(3), np.eye(3)
-    return _floats(origin.get("xyz"), 3), _rpy_matrix(_floats(origin.get("rpy"), 3))
+    """(xyz, rotation) of an URDF <origin> child (identity when absent): simpick.robot.origin."""
+    return origin(element, "the robot description")
 
 
 @dataclass
@@ -273,8 +262,7 @@ def read_urdf(robot) -> _RobotModel:
             return part
 
         def axis_of(joint) -> np.ndarray:
-            axis = _floats(joint.find("axis").get("xyz") if joint.find("axis") is not None else None, 3)
-            return axis / np.linalg.norm(axis)
+            return joint_axis(joint, f"{robot.urdf}: joint {joint.get('name')!r}")
 
         chassis = part_of(robot.base_link)
         wheels = []
@@ -412,7 +400,7 @@ class _World:
         torque = float(scenario.max_wheel_torque)
         for i, (x, y, yaw) in enumerate(scenario.starts):
             own = 1 << (i + 1)
-            yaw_rot = _rpy_matrix((0.0, 0.0, yaw))
+            yaw_rot = rpy_matrix((0.0, 0.0, yaw))
             base_pos = np.array([x, y, scenario.robot.base_height + SPAWN_CLEARANCE])
 
             def make_body(part: _Part, link_pos: np.ndarray, link_rot: np.ndarray) -> int:
@@ -443,17 +431,21 @@ class _World:
                     self.body_of[geom] = body
                 return body
 
+            def hinge_between(child, parent, anchor, axis):
+                hinge = lib.dJointCreateHinge(self.world, None)
+                # body1 = child, body2 = parent: ODE's hinge rate is (w1 - w2) . axis, so this
+                # order makes it the URDF joint velocity (child relative to parent).
+                lib.dJointAttach(hinge, child, parent)
+                lib.dJointSetHingeAnchor(hinge, *anchor)
+                lib.dJointSetHingeAxis(hinge, *axis)
+                return hinge
+
             chassis = make_body(model.chassis, base_pos, yaw_rot)
             hinges, wheel_bodies = [], []
             for xyz, rot, axis, part in model.wheels:
                 link_pos, link_rot = base_pos + yaw_rot @ xyz, yaw_rot @ rot
                 wheel = make_body(part, link_pos, link_rot)
-                hinge = lib.dJointCreateHinge(self.world, None)
-                # body1 = wheel, body2 = chassis: ODE's hinge rate is (w1 - w2) . axis, so this
-                # order makes it the URDF joint velocity (child relative to parent).
-                lib.dJointAttach(hinge, wheel, chassis)
-                lib.dJointSetHingeAnchor(hinge, *link_pos)
-                lib.dJointSetHingeAxis(hinge, *(link_rot @ axis))
+                hinge = hinge_between(wheel, chassis, link_pos, link_rot @ axis)
                 lib.dJointSetHingeParam(hinge, _ode.dParamVel, 0.0)
                 lib.dJointSetHingeParam(hinge, _ode.dParamFMax, torque)
                 hinges.append(hinge)
@@ -464,10 +456,7 @@ class _World:
                 parent_pos, parent_rot, parent_body = ((base_pos, yaw_rot, chassis) if parent < 0 else frames[parent])
                 link_pos, link_rot = parent_pos + parent_rot @ xyz, parent_rot @ rot
                 body = make_body(part, link_pos, link_rot)
-                hinge = lib.dJointCreateHinge(self.world, None)
-                lib.dJointAttach(hinge, body, parent_body)
-                lib.dJointSetHingeAnchor(hinge, *link_pos)
-                lib.dJointSetHingeAxis(hinge, *(link_rot @ axis))
+                hinge_between(body, parent_body, link_pos, link_rot @ axis)
                 frames.append((link_pos, link_rot, body))
             for (_xyz, _rot, axis, _part), wheel in zip(model.wheels, wheel_bodies):
                 # the hinge axis in the wheel body's frame (the body keeps its link's orientation)
