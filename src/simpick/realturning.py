@@ -130,7 +130,7 @@ def turning_job(logs: list[str], urdf: str, params: dict, outputs: dict[str, str
 
     from simpick.coulomb import load_layout, yaw_rate_gain
     from simpick.reallogs import read_canonical
-    from simpick.workflow import write_csv
+    from simpick.tables import write_csv
 
     track = float(params["track"])
     layout = load_layout(urdf)

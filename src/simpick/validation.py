@@ -406,7 +406,7 @@ def failures(summary) -> dict[str, list[str]]:
 
 
 def summarise_job(inputs: list[str], outputs: dict, tolerances: dict) -> None:
-    from simpick.workflow import write_csv
+    from simpick.tables import write_csv
 
     results = [json.loads(Path(p).read_text()) for p in inputs]
     summary = summarise(results, tolerances)

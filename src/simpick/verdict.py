@@ -38,7 +38,7 @@ import pandas as pd
 import yaml
 
 from simpick import realmetrics
-from simpick.workflow import write_csv
+from simpick.tables import write_csv
 
 METRICS = {
     "gain_error": {"label": "yaw-rate gain error", "unit": "", "tests": "turning tests",
