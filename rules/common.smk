@@ -6,6 +6,10 @@ import sys
 
 from simpick.config import timestep_label, validate_or_exit
 from simpick.robot import load_from_config
+from simpick.sources import entry as source_entry, module as source_module
+from simpick.sources import lab as lab_source, own as own_source, replay as replay_source, segments as segments_source
+from simpick.sources.base import canonical
+from simpick.sources import base as source_base
 
 # the typed, validated settings (defaults filled in): what the statistics-bearing rules pass on
 SETTINGS = validate_or_exit(config, files=workflow.configfiles)
@@ -44,43 +48,9 @@ wildcard_constraints:
     motion="|".join(MOTIONS),
 
 
-def canonical(value):
-    """Builtin types only, sorted keys, numbers as floats: Snakemake fingerprints params by
-    repr, so 4 and 4.0, or a reordered mapping, must not look like an edit."""
-    if isinstance(value, dict):
-        return {str(k): canonical(value[k]) for k in sorted(value)}
-    if isinstance(value, (list, tuple)):
-        return [canonical(v) for v in value]
-    if isinstance(value, bool) or value is None or isinstance(value, str):
-        return value
-    return float(value)
-
-
-def engine_params(engine):
-    """What every simulation on ``engine`` depends on, whatever it drives over."""
-    robot = {k: v for k, v in config["robot"].items() if k != "urdf"}
-    return canonical(
-        {
-            "engine": engine,
-            "engine_settings": (config["engines"] | (config.get("baselines") or {}))[engine] or {},
-            "physics": config["physics"],
-            "robot": robot,
-            "imu": config["imu"],
-            "health": config["health"],
-            "seed": config["seed"],
-        }
-    )
-
-
 def simulation_params(engine, terrain, motion_name):
-    """Everything one lab-study simulation depends on, and nothing else."""
-    return engine_params(engine) | canonical(
-        {
-            "terrain": terrain,
-            "motion_name": motion_name,
-            "motion": config["motions"][motion_name],
-        }
-    )
+    """Everything one lab-study simulation depends on (simpick.sources.lab; cpu_load's too)."""
+    return lab_source.lab_params(config, engine, terrain, motion_name)
 
 
 def validation_params(engine, case):
@@ -108,29 +78,16 @@ DATASET = config["real_data"]["dataset"]  # the committed segment table's datase
 REAL = f"results/real/{DATASET}"
 
 
-def read_segments(path):
-    """terrain class -> segment ids, from the committed table (plain csv: fast to parse).
-    The config check has made sure it exists; no run ever writes it."""
-    by_class = {}
-    with open(path, newline="") as handle:
-        for row in csv.DictReader(handle):
-            by_class.setdefault(row["terrain_class"], []).append(row["segment"])
-    unknown = sorted(set(by_class) - set(config["real_data"]["classes"]))
-    if unknown:
-        raise WorkflowError(f"{path}: terrain classes {unknown} have no entry under real_data.classes in the config")
-    return by_class
-
-
 def real_params(engine, terrain_class):
-    return engine_params(engine) | canonical(
-        {
-            "terrain_class": terrain_class,
-            "class": config["real_data"]["classes"][terrain_class],
-        }
-    )
+    return source_base.real_params(config, engine, terrain_class)
 
 
-SEGMENTS = read_segments(config["real_data"]["segments"])
+# terrain class -> segment ids of the committed table (the config check has made sure it exists;
+# no run ever writes it)
+try:
+    SEGMENTS = segments_source.by_class(config["real_data"]["segments"], config["real_data"]["classes"])
+except ValueError as _exc:
+    raise WorkflowError(str(_exc))
 
 
 # Speed-accuracy sweep (rules/sweep.smk): timesteps as wildcard labels ("0.5ms")
@@ -168,7 +125,7 @@ if config.get("borealtc_dir"):
         name=config.get("real_dataset"),
     )
 REPLAY = f"results/real/{REPLAY_SET.name}" if REPLAY_SET else None
-RUNS = [(r.terrain_class, r.run) for r in REPLAY_SET.runs] if REPLAY_SET else []
+RUNS = replay_source.cases(REPLAY_SET) if REPLAY_SET else []
 
 
 def replay_dataset():
@@ -213,38 +170,43 @@ OWN_LOGS = {entry["name"]: entry for entry in config.get("own_logs") or []}
 # No dataset is called "own" (simpick.datasets.RESERVED_NAMES).
 REPLAY_CASES = {REPLAY_SET.name: RUNS} if REPLAY_SET else {}
 if OWN_LOGS:
-    REPLAY_CASES["own"] = [(entry["terrain_class"], name) for name, entry in OWN_LOGS.items()]
+    REPLAY_CASES["own"] = own_source.cases(config)
 
 
 def real_logs(source):
-    return [f"results/real/{source}/logs/{c}/{run}.parquet" for c, run in REPLAY_CASES[source]]
+    return [source_base.log_path(source, c, run) for c, run in REPLAY_CASES[source]]
 
 
 # --- the case tables and the one simulate / compare / summarise path (rules/simulate.smk, metrics.smk) ---
 # A source yields a case table: engine-independent (group, name) rows, each one simulation per model
-# of the source. "lab": terrain x motion (config); "segments": terrain class x segment id (the
-# committed table); a dataset folder's name or "own": terrain class x run (its canonical logs). A
-# case's trace is results/traces/<source>/<model>/<group>/<name>.parquet; the source's tables lie in
+# of the source; its kind's module (simpick.sources: lab, segments, replay, own) says what a case's
+# simulation needs and how the source's traces are compared. "lab": terrain x motion (config);
+# "segments": terrain class x segment id (the committed table); a dataset folder's name or "own":
+# terrain class x run (its canonical logs). A case's trace is
+# results/traces/<source>/<model>/<group>/<name>.parquet; the source's tables lie in
 # results/metrics/<source>/. Sources "lab" and "segments" are no dataset's name (simpick.datasets.RESERVED_NAMES).
 # A dataset folder's derived segment table (rule real_segments, a checkpoint) is a source too,
 # "<dataset>-segments": its cases are known once the table is written (source_cases).
+def source_spec(kind, models, cases, **more):
+    return {"kind": kind, "models": models, "group": source_module(kind).GROUP, "cases": cases, **more}
+
+
 SOURCES = {
-    "lab": {"kind": "lab", "models": ENGINES, "group": "terrain", "cases": [(t, m) for t in TERRAINS for m in MOTIONS]},
+    "lab": source_spec("lab", ENGINES, lab_source.cases(config)),
     **(
         {
-            "segments": {
-                "kind": "segments",
-                "models": REAL_MODELS,
-                "group": "terrain_class",
-                "cases": [(c, s) for c, ids in SEGMENTS.items() for s in ids],
-                "table": config["real_data"]["segments"],
-            }
+            "segments": source_spec(
+                "segments",
+                REAL_MODELS,
+                [(c, s) for c, ids in SEGMENTS.items() for s in ids],
+                table=config["real_data"]["segments"],
+            )
         }
         if REAL_DATA_ROBOT
         else {}
     ),
     **{
-        source: {"kind": "replay", "models": REAL_MODELS, "group": "terrain_class", "cases": cases}
+        source: source_spec("own" if source == "own" else "replay", REAL_MODELS, cases)
         for source, cases in REPLAY_CASES.items()
     },
 }
@@ -256,14 +218,14 @@ SOURCES = {
 # same 18 segments x 6 models a second time (108 jobs of the full BorealTC replay).
 if REPLAY_SET and REPLAY_SET.name != DATASET:
     DERIVED = f"{REPLAY_SET.name}-segments"  # no dataset name ends so and is also replayed: one folder a run
-    SOURCES[DERIVED] = {
-        "kind": "segments",
-        "models": REAL_MODELS,
-        "group": "terrain_class",
-        "cases": None,
-        "table": f"{REPLAY}/segments.csv",
-        "classes": list(REPLAY_SET.classes),
-    }
+    SOURCES[DERIVED] = source_spec(
+        "segments", REAL_MODELS, None, table=f"{REPLAY}/segments.csv", classes=list(REPLAY_SET.classes)
+    )
+
+
+def source_of(source):
+    """The module of a source's kind (simpick.sources)."""
+    return source_module(SOURCES[source]["kind"])
 
 
 def source_cases(source):
@@ -343,70 +305,36 @@ def unit(wildcards, fixed):
 
 
 def case_inputs(source, group, names):
-    """The files a unit's cases read: the lab's terrain, the committed segment table, or the run's log."""
-    kind = SOURCES[source]["kind"]
-    urdf = {"urdf": config["robot"]["urdf"]}
-    if kind == "lab":
-        return urdf | {"terrain": f"results/terrains/{group}.json"}
-    if kind == "segments":
-        return urdf | {"segments": SOURCES[source]["table"]}
-    (name,) = names  # a replay is never batched: one log per job
-    return urdf | {"log": f"results/real/{source}/logs/{group}/{name}.parquet"}
+    """The files a unit's cases read (its source module's case_inputs)."""
+    return source_of(source).case_inputs(config, source, SOURCES[source], group, names)
 
 
 def case_params(source, engine, group, names):
     """Everything a unit's cases on one model depend on, and nothing else."""
-    kind = SOURCES[source]["kind"]
-    if kind == "lab":
-        (name,) = names
-        params = simulation_params(engine, group, name)
-    else:
-        params = real_params(engine, group)
-    return params | {"kind": kind, "source": source, "cases": list(names)}
+    return source_of(source).case_params(config, source, SOURCES[source], engine, group, names)
 
 
 def case_code(source, engine):
-    """The library code a case runs: simulate_job, the model's adapter, and how its kind is driven
-    (simpick.workflow.CASE_KINDS, whose other kinds' entries it does not run)."""
-    entry = dispatch_entry("simpick.workflow", "CASE_KINDS", SOURCES[source]["kind"])
-    return script_code("simulate", engine_module(engine), entry, opaque=("simpick.workflow:CASE_KINDS",))
+    """The library code a case runs: simulate_job, the model's adapter, and how its source drives it
+    (its module's prepare_case, which simulate_job imports by name: no other kind's code)."""
+    entry = source_entry(SOURCES[source]["kind"], "prepare_case")
+    return script_code("simulate", engine_module(engine), entry)
 
 
 def compare_inputs(wildcards):
     """A source's traces and what they are compared with."""
-    kind = SOURCES[wildcards.source]["kind"]
-    compared = {
-        "lab": {"published": config["reference"]["published"]},
-        "segments": {"segments": SOURCES[wildcards.source].get("table")},
-        "replay": {"logs": real_logs(wildcards.source) if kind == "replay" else []},
-    }[kind]
+    spec = SOURCES[wildcards.source]
+    compared = source_of(wildcards.source).compare_inputs(config, wildcards.source, spec, spec["cases"])
     return {"traces": source_traces(wildcards.source)} | compared
 
 
 def compare_settings(source):
-    kind = SOURCES[source]["kind"]
-    if kind == "lab":
-        return {}
-    if kind == "segments":
-        return canonical({"track": config["robot"]["track"]})
-    return canonical({"track": config["robot"]["track"], "window": config["real_data"]["window"]})
-
-
-# compare_job picks one comparison by the source's kind: a job of one kind does not run the others.
-COMPARE_ENTRIES = {
-    "lab": "simpick.workflow:lab_compare",
-    "segments": "simpick.realdata:segment_compare",
-    "replay": "simpick.realdata:replay_compare",
-}
+    return source_of(source).compare_settings(config)
 
 
 def compare_code(source):
-    kind = SOURCES[source]["kind"]
-    return script_code(
-        "compare",
-        COMPARE_ENTRIES[kind],
-        opaque=tuple(entry for other, entry in COMPARE_ENTRIES.items() if other != kind),
-    )
+    """compare_job and its source's comparison (imported by name: a job of one kind runs no other's)."""
+    return script_code("compare", source_entry(SOURCES[source]["kind"], "compare"))
 
 
 def statistics_params():

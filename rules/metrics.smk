@@ -1,5 +1,6 @@
 # One compare and one summarise family over the sources of rules/common.smk (SOURCES): a source's
-# traces against what they are compared with (simpick.workflow.compare_job: the paper's reference
+# traces against what they are compared with (simpick.workflow.compare_job, by the source's module in
+# simpick.sources: the paper's reference
 # statistics for the lab, each segment's real window statistics, the real log for a replay), then its
 # per-test rows summed and summarised (simpick.workflow.summarise_job), all in results/metrics/<source>/.
 
@@ -24,7 +25,7 @@ rule compare:
         mem_mb=1000,
         runtime=30,
     params:
-        kind=lambda wc: SOURCES[wc.source]["kind"],
+        kind=lambda wc: source_of(wc.source).DRIVEN,
         settings=lambda wc: compare_settings(wc.source),
         code=lambda wc: compare_code(wc.source),
     script:

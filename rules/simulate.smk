@@ -29,7 +29,7 @@ for _rule, _outputs, _fixed in simulate_units():
             "../envs/simpick.yaml"
         threads: 1
         resources:
-            mem_mb=lambda wc, fixed=_fixed: 800 if SOURCES[unit(wc, fixed)[0]]["kind"] == "replay" else 400,
+            mem_mb=lambda wc, fixed=_fixed: source_of(unit(wc, fixed)[0]).MEM_MB,
             # each case is stopped by the watchdog at health.timeout (its hard fallback 30 s later)
             runtime=lambda wc, fixed=_fixed: len(unit(wc, fixed)[3]) * (1 + int(config["health"]["timeout"]) // 60),
         params:

@@ -147,6 +147,24 @@ def test_a_segments_module_edit_reruns_the_segment_jobs_and_no_lab_job(study, tm
     assert not {rule for rule, _ in jobs} & {"validation_summary", "published_table11"}
 
 
+def test_a_source_module_edit_reruns_that_sources_jobs_only(study, tmp_path):
+    """simpick.sources.segments is reached only by the segment jobs (simulate_job and compare_job
+    import a kind's module by name): editing it reruns the segments' simulations, comparison and
+    what depends on them, and no lab job; editing the lab's module, no segment job (issue 21)."""
+    workdir, config = study
+    env = edited_library(tmp_path / "segments", "sources/segments.py", "\nMEM_MB = ", "\nEDITED = True\nMEM_MB = ")
+    jobs = planned_jobs(workdir, env)
+    models = sorted([*config["engines"], *config["baselines"]])
+    assert simulated(jobs) == [("simulate_segments_flooring", f"engine={m}") for m in models]
+    assert ("compare", "source=segments") in jobs
+    assert not [job for job in jobs if "source=lab" in job[1]], jobs
+    env = edited_library(tmp_path / "lab", "sources/lab.py", "\nMEM_MB = ", "\nEDITED = True\nMEM_MB = ")
+    jobs = planned_jobs(workdir, env)
+    assert {rule for rule, _ in simulated(jobs)} == {"simulate"}
+    assert ("compare", "source=lab") in jobs
+    assert not [job for job in jobs if "source=segments" in job[1] or job[0].startswith("simulate_")], jobs
+
+
 def test_a_report_edit_simulates_nothing(study, tmp_path):
     workdir, _ = study
     env = edited_library(tmp_path, "report/build.py", "\nTEMPLATE = ", "\nEDITED = True\nTEMPLATE = ")

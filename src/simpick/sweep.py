@@ -2,8 +2,9 @@
 
 A sweep config (``config/sweeps/timestep.yaml``) names the timesteps; the workflow
 (``rules/sweep.smk``) runs one job per engine x terrain class x timestep, each driving every
-segment of the class and writing one row per segment: the real-data errors of
-:func:`simpick.realdata.segment_row`, the simulated and wall seconds, the health status.
+segment of the class as the segments source does (:mod:`simpick.sources.segments`: the same
+simulation and the same per-segment comparison as the study's segment jobs) and writing one row per
+segment: its real-data errors, the simulated and wall seconds, the health status.
 :func:`sweep_summary_job` then puts, per class, engine and timestep, the mean errors over runs
 (with intervals from ``statistics.min_runs`` runs on) next to the real-time factor (simulated
 seconds / wall seconds of the stepping loop).
@@ -37,10 +38,10 @@ def sweep_job(segments_csv: str, urdf: str, params: dict, output: str, timeout: 
     runtime): a job still running then writes the rows it has and every segment not yet done as
     failed (hung), so the summary counts them as failed and leaves them out for every engine,
     instead of averaging a partial class."""
-    from simpick.realdata import class_segments, segment_row, simulate_segment
+    from simpick.sources import segments as source
     from simpick.watchdog import Watchdog
 
-    segments = class_segments(segments_csv, params["terrain_class"])
+    segments = source.class_table(segments_csv, params["terrain_class"])
     dt = float(params["physics"]["timestep"])
     rows: list[dict] = []
 
@@ -54,8 +55,8 @@ def sweep_job(segments_csv: str, urdf: str, params: dict, output: str, timeout: 
     with Watchdog(timeout, hung):
         for name in segments.index:
             seg = segments.loc[name]
-            frame, meta = simulate_segment(seg, urdf, params)
-            row = segment_row(pd.DataFrame(frame), meta, seg, params["robot"]["track"])
+            frame, meta = source.simulate(seg, urdf, params)
+            row = source.row(pd.DataFrame(frame), meta, seg, params["robot"]["track"])
             row.update({"timestep": dt, "steps": int(meta["steps"]), "sim_time": int(meta["steps"]) * dt,
                         "wall_time": float(meta["wall_time"])})
             rows.append(row)

@@ -11,8 +11,7 @@ import sys
 from pathlib import Path
 
 from simpick.errors import InputError
-# the compare rows and the csv writer live in simpick.tables (shared with realdata, which this module imports)
-from simpick.tables import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, case_test, run_row, write_csv  # noqa: F401
+from simpick.tables import write_csv
 from simpick.watchdog import DEFAULT_TIMEOUT_S
 
 
@@ -29,7 +28,7 @@ def terrain_job(output: str, name: str, seed: int, spec: dict) -> None:
 
 
 # --- one simulate path for every case ----------------------------------------------------------
-# A case is one row of a source's case table (rules/common.smk: the lab's terrain x motion, the
+# A case is one row of a source's case table (simpick.sources: the lab's terrain x motion, the
 # committed segments, a dataset folder's runs, the user's own logs): what is driven, never by which
 # engine. Every case is stepped by simulate_job under the watchdog and written as a trace whose
 # metadata names it the same way (TRACE_KEYS), whatever its source.
@@ -37,70 +36,21 @@ def terrain_job(output: str, name: str, seed: int, spec: dict) -> None:
 TRACE_KEYS = ("source", "test", "engine", "terrain", "motion", "dataset", "run", "segment", "window")
 
 
-def _lab_case(urdf: str, inputs: dict, params: dict, name: str):
-    """A lab test: the motion's constant command over the generated terrain strip."""
-    from simpick.health import HealthLimits
-    from simpick.imu import ImuModel
-    from simpick.simulate import Case, run_case
-
-    motion = params["motion"]
-    case = Case(engine=params["engine"], terrain=params["terrain"], motion=name,
-                v=motion["v"], w=motion["w"], duration=motion["duration"], start=tuple(motion["start"]))
-    which = {"terrain": case.terrain, "motion": case.motion, "test": f"{case.terrain}/{case.motion}"}
-
-    def run():
-        return run_case(case, urdf=urdf, terrain_file=inputs["terrain"], track=params["robot"]["track"],
-                        max_wheel_torque=params["robot"]["max_wheel_torque"],
-                        timestep=params["physics"]["timestep"], ground_friction=params["physics"]["ground_friction"],
-                        engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
-                        seed=int(params["seed"]), limits=HealthLimits(**params["health"]),
-                        robot_options=params["robot"])
-
-    return which, run
-
-
-def _segment_case(urdf: str, inputs: dict, params: dict, name: str):
-    """A committed segment: its constant command on its class's flat ground, compared in its window."""
-    from simpick.realdata import class_segments, simulate_segment
-
-    table = class_segments(inputs["segments"], params["terrain_class"])
-    if name not in table.index:
-        raise InputError(inputs["segments"], f"has no {params['terrain_class']} segment {name!r}", "rerun snakemake")
-    seg = table.loc[name]
-    which = {"terrain": params["terrain_class"], "motion": seg.name, "test": seg.name, "dataset": seg.dataset,
-             "run": str(seg.run), "segment": seg.name,
-             "window": [float(seg.settle), float(seg.settle + seg.duration)]}
-    return which, lambda: simulate_segment(seg, urdf, params)
-
-
-def _replay_case(urdf: str, inputs: dict, params: dict, name: str):
-    """A replay source's run (a dataset folder's or an own log) driven by its recorded wheel speeds."""
-    from simpick.realdata import replay_log
-    from simpick.reallogs import read_canonical
-
-    log = read_canonical(inputs["log"])
-    run = str(log.meta["run_id"])
-    which = {"terrain": params["terrain_class"], "motion": f"replay-{run}", "test": f"{params['terrain_class']}-{run}",
-             "dataset": log.meta.get("dataset"), "run": run}
-    return which, lambda: replay_log(log, urdf, params)
-
-
-CASE_KINDS = {"lab": _lab_case, "segments": _segment_case, "replay": _replay_case}
-
-
 def simulate_job(outputs: list[str], urdf: str, inputs: dict, params: dict) -> list[dict]:
     """A unit's cases (``params["cases"]``, one trace each in ``outputs``) on one model, each under
     the watchdog: a case still running after ``health.timeout`` s of wall time is written as a
     failed (hung) trace, and so are the unit's cases after it, which cannot run in the stopped
     process; the source's compare job lists them like any failed run. ``params["kind"]`` says how
-    a case is driven (lab, segments, replay); ``inputs`` holds the files it reads."""
+    a case is driven (lab, segments, replay: its simpick.sources module's ``prepare_case``, imported
+    by name); ``inputs`` holds the files it reads."""
+    from simpick import sources
     from simpick.simulate import config_hash
     from simpick.traces import write_trace
     from simpick.watchdog import Watchdog
 
     if len(outputs) != len(params["cases"]):
         raise ValueError(f"{len(params['cases'])} cases for {len(outputs)} outputs")
-    prepare = CASE_KINDS[params["kind"]]
+    prepare = sources.module(params["kind"]).prepare_case
     units = []
     for name, output in zip(params["cases"], outputs):
         described, run = prepare(urdf, inputs, params, name)
@@ -174,57 +124,16 @@ def cpu_job(output: str, terrain_file: str, urdf: str, params: dict, timeout: fl
 
 # --- one compare and one summarise step for every source --------------------------------------
 
-def lab_compare(traces: list[str], published_file: str):
-    """The lab tests against the paper's real statistics (simpick.reference): per engine, test,
-    quantity and axis (``detail``), and Eq. 7 per test where the paper has a reference
-    (``per_test``; a failed run of such a test is a failed row)."""
-    import pandas as pd
-
-    from simpick import metrics
-    from simpick.published import load_published
-    from simpick.reference import lab_reference
-    from simpick.traces import read_trace
-
-    reference = lab_reference(load_published(published_file))
-    detail, per_test, runs = [], [], []
-    for path in traces:
-        frame, meta = read_trace(path)
-        runs.append(run_row(meta))
-        ok = meta["health"]["status"] == "ok"
-        ref = reference.get((meta["terrain"], meta["motion"]))
-        rows = axis_rows(meta, metrics.trace_stats(frame) if ok else None, ref)
-        detail += rows
-        if ref is None:
-            continue
-        test = case_test(meta)
-        row = {"engine": meta["engine"], "terrain": meta["terrain"], "motion": meta["motion"], "test": test,
-               "run": test, "kind": "lab", "status": meta["health"]["status"],
-               "reasons": "; ".join(meta["health"]["reasons"])}
-        if ok:
-            row.update({f"error_{q}": sum(r["total_error"] for r in rows if r["quantity"] == q)
-                        for q in ("angular", "linear")})
-        per_test.append(row)
-    per_test = pd.DataFrame(per_test, columns=["engine", "terrain", "motion", "test", "run", "kind", "status",
-                                               "reasons", "error_angular", "error_linear"])
-    return per_test, pd.DataFrame(detail, columns=DETAIL_COLUMNS), pd.DataFrame(runs, columns=RUN_COLUMNS)
-
-
 def compare_job(kind: str, traces: list[str], inputs: dict, params: dict, outputs: dict[str, str]) -> None:
-    """One source's traces against what they are compared with: the paper's reference statistics
+    """One source's traces against what they are compared with, by its kind's module (simpick.sources,
+    imported by name: a job of one kind runs no other's comparison): the paper's reference statistics
     (lab), each segment's real window statistics (segments), the real log window by window
     (replay). Writes ``per_test`` (Eq. 7 per model and test: what scores and summaries use),
     ``detail`` (the rows a test's error sums: per axis, or per window for a replay) and ``runs``
     (each trace's timing and health)."""
-    if kind == "lab":
-        per_test, detail, runs = lab_compare(traces, inputs["published"])
-    elif kind == "segments":
-        from simpick.realdata import segment_compare
+    from simpick import sources
 
-        per_test, detail, runs = segment_compare(inputs["segments"], traces, params["track"])
-    else:
-        from simpick.realdata import replay_compare
-
-        per_test, detail, runs = replay_compare(list(inputs["logs"]), traces, params)
+    per_test, detail, runs = sources.module(kind).compare(traces, inputs, params)
     write_csv(per_test, outputs["per_test"])
     write_csv(detail, outputs["detail"])
     write_csv(runs, outputs["runs"])

@@ -1,0 +1,84 @@
+"""The interface every source module gives (:class:`Source`), and the parameters all share.
+
+Planning (``rules/common.smk``, at DAG time, from the raw config and the source's entry of
+``SOURCES``: ``spec``, with its ``cases`` and, for a segment table, its ``table``) and jobs (from
+``params``) meet here: a source module is a plain module with these names, checked by
+``tests/test_sources.py``.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Protocol, runtime_checkable
+
+
+@runtime_checkable
+class Source(Protocol):
+    """One kind of source (a module satisfies it: ``isinstance(simpick.sources.lab, Source)``)."""
+
+    KIND: str  # the kind's name (simpick.sources.KINDS)
+    DRIVEN: str  # the kind whose jobs simulate and compare its cases (params["kind"]): its own, or "replay"
+    GROUP: str  # the column that groups its cases in summaries: "terrain" (the lab) or "terrain_class"
+    MEM_MB: int  # memory of one simulate job of the kind (MB)
+
+    # --- planning: what a case's simulation and the source's comparison need ---
+    def case_inputs(self, config: dict, source: str, spec: dict, group: str, names: list[str]) -> dict: ...
+
+    def case_params(self, config: dict, source: str, spec: dict, engine: str, group: str,
+                    names: list[str]) -> dict: ...
+
+    def compare_inputs(self, config: dict, source: str, spec: dict, cases: list[tuple[str, str]]) -> dict: ...
+
+    def compare_settings(self, config: dict) -> dict: ...
+
+    # --- jobs: how a case is driven, and how its traces are compared with their reference ---
+    def prepare_case(self, urdf: str, inputs: dict, params: dict, name: str) -> tuple[dict, Any]: ...
+
+    def compare(self, traces: list[str], inputs: dict, params: dict) -> tuple[Any, Any, Any]: ...
+
+
+def canonical(value):
+    """Builtin types only, sorted keys, numbers as floats: Snakemake fingerprints params by
+    repr, so 4 and 4.0, or a reordered mapping, must not look like an edit."""
+    if isinstance(value, dict):
+        return {str(k): canonical(value[k]) for k in sorted(value)}
+    if isinstance(value, (list, tuple)):
+        return [canonical(v) for v in value]
+    if isinstance(value, bool) or value is None or isinstance(value, str):
+        return value
+    return float(value)
+
+
+def engine_params(config: dict, engine: str) -> dict:
+    """What every simulation on ``engine`` depends on, whatever it drives over."""
+    robot = {k: v for k, v in config["robot"].items() if k != "urdf"}
+    return canonical(
+        {
+            "engine": engine,
+            "engine_settings": (config["engines"] | (config.get("baselines") or {}))[engine] or {},
+            "physics": config["physics"],
+            "robot": robot,
+            "imu": config["imu"],
+            "health": config["health"],
+            "seed": config["seed"],
+        }
+    )
+
+
+def real_params(config: dict, engine: str, terrain_class: str) -> dict:
+    """What a real-data case on ``engine`` depends on: the engine's, and its terrain class's ground."""
+    return engine_params(config, engine) | canonical(
+        {
+            "terrain_class": terrain_class,
+            "class": config["real_data"]["classes"][terrain_class],
+        }
+    )
+
+
+def unit_params(params: dict, kind: str, source: str, names: list[str]) -> dict:
+    """A simulate job's parameters: its cases' and which source, kind and cases they are."""
+    return params | {"kind": kind, "source": source, "cases": list(names)}
+
+
+def log_path(source: str, group: str, name: str) -> str:
+    """Where a replayed source's canonical log of (terrain class, run) lies (rules/real.smk writes it)."""
+    return f"results/real/{source}/logs/{group}/{name}.parquet"
