@@ -201,3 +201,24 @@ def test_every_rule_that_runs_library_code_carries_its_code_version():
             if not m or m.group(1) in ("all", "sweep", "calibration", "maintain_segments", "dataset_manifest", "fetch_borealtc"):
                 continue
             assert "code=" in block, f"{smk.name}: rule {m.group(1)} has no code= param"
+
+
+def test_eq7_is_summed_one_way_whatever_the_order_of_the_rows():
+    """metrics.eq7_sum / eq7_per_run: the one aggregation of Eq. 7 (axes, windows, tests, runs);
+    exactly rounded, so a reordered table gives the same totals to the last bit."""
+    from simpick.metrics import eq7_per_run, eq7_sum
+
+    values = [1e16, 1.0, 1.0, 0.1, 0.2]
+    assert eq7_sum(values) == 1e16 + 2 == eq7_sum(reversed(values))
+    assert sum(values) == 1e16  # a left-to-right sum loses both 1.0
+    rows = pd.DataFrame({"engine": ["a"] * 5 + ["b"], "run": ["r1"] * 3 + ["r2"] * 2 + ["r1"],
+                         "error_angular": values + [2.0], "error_linear": [1.0] * 6})
+    out = eq7_per_run(rows, ["engine", "run"])
+    assert out.to_dict("records") == [
+        {"engine": "a", "run": "r1", "error_angular": 1e16 + 2, "error_linear": 3.0},
+        {"engine": "a", "run": "r2", "error_angular": eq7_sum([0.1, 0.2]), "error_linear": 2.0},
+        {"engine": "b", "run": "r1", "error_angular": 2.0, "error_linear": 1.0}]
+    shuffled = eq7_per_run(rows.sample(frac=1.0, random_state=3), ["engine", "run"])
+    pd.testing.assert_frame_equal(out, shuffled)
+    assert list(eq7_per_run(rows.iloc[:0], ["engine", "run"]).columns) == [
+        "engine", "run", "error_angular", "error_linear"]

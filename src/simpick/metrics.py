@@ -59,9 +59,26 @@ def axis_errors(sim: Mapping[str, Mapping[str, float]],
     return out
 
 
+def eq7_sum(errors: Iterable[float]) -> float:
+    """Eq. 7's one aggregation, wherever its errors are added up: axes into a test, a run's windows
+    or tests into the run, tests into an engine's total. Exactly rounded (math.fsum), so the order
+    of the rows cannot change a total."""
+    return math.fsum(float(e) for e in errors)
+
+
+def eq7_per_run(rows: pd.DataFrame, keys: list[str], quantities: Iterable[str] = ("angular", "linear")) -> pd.DataFrame:
+    """Eq. 7 per run (``keys``: e.g. engine, terrain class, run): the ``error_<quantity>`` of its
+    rows (windows, segments, tests) summed with :func:`eq7_sum`; one row per run, columns ``keys``
+    and the summed errors."""
+    cols = [f"error_{q}" for q in quantities]
+    if rows.empty:
+        return pd.DataFrame(columns=[*keys, *cols])
+    return rows.groupby(keys)[cols].agg(eq7_sum).reset_index()
+
+
 def test_error(sim: Mapping[str, Mapping[str, float]], real: Mapping[str, Mapping[str, float]]) -> float:
     """Eq. 7 for one test and one quantity: the sum of the per-axis errors."""
-    return math.fsum(e["total_error"] for e in axis_errors(sim, real).values())
+    return eq7_sum(e["total_error"] for e in axis_errors(sim, real).values())
 
 
 def real_time_factor(sim_times: Iterable[float], wall_times: Iterable[float]) -> float:
@@ -93,6 +110,6 @@ def eq7_totals(per_test: pd.DataFrame, engines: Iterable[str] | None = None) -> 
         good = ok[(ok.engine == engine) & ok.test.isin(common)]
         for quantity, unit in UNITS.items():
             rows.append({"engine": engine, "quantity": quantity,
-                         "error": math.fsum(good[f"error_{quantity}"]) if tests else float("nan"),
+                         "error": eq7_sum(good[f"error_{quantity}"]) if tests else float("nan"),
                          "unit": unit, "n_tests": len(tests), "tests": ";".join(tests), "excluded": excluded})
     return pd.DataFrame(rows, columns=["engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"])

@@ -335,9 +335,9 @@ def replay_compare(logs: list[str], traces: list[str], params: dict):
     per_window = pd.DataFrame(rows, columns=WINDOW_COLUMNS)
     # one test = one run: Eq. 7 sums the windows' errors, the other figures average over windows
     ok = per_window[per_window.status == "ok"]
-    error_cols = [f"error_{q}" for q in QUANTITIES]
-    per_run = (ok.groupby(["engine", "terrain_class", "run"])
-               .agg({**{c: "sum" for c in error_cols}, **{c: "mean" for c in WINDOW_FIGURES}}).reset_index())
+    keys = ["engine", "terrain_class", "run"]
+    per_run = metrics.eq7_per_run(ok, keys, QUANTITIES).merge(
+        ok.groupby(keys)[WINDOW_FIGURES].mean().reset_index(), on=keys)
     per_run["status"], per_run["kind"] = "ok", "replay"
     failed = per_window[per_window.status != "ok"][["engine", "terrain_class", "run", "status", "reasons"]]
     per_test = pd.concat([frame for frame in (per_run, failed) if len(frame)] or [per_run], ignore_index=True)

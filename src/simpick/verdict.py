@@ -38,6 +38,7 @@ import pandas as pd
 import yaml
 
 from simpick import realmetrics
+from simpick.metrics import eq7_sum
 from simpick.tables import write_csv
 
 METRICS = {
@@ -234,10 +235,10 @@ def score_discrimination(per_test: pd.DataFrame, engines: list[str], floor_model
         col = f"error_{q}"
         if col not in ok or not models or not any(e in models for e in engines):
             continue
-        wide = ok.pivot_table(index="_unit", columns="engine", values=col, aggfunc="sum")[models].dropna()
+        wide = ok.pivot_table(index="_unit", columns="engine", values=col, aggfunc=eq7_sum)[models].dropna()
         eng = [e for e in engines if e in wide.columns]
         floors = [m for m in floor_models if m in wide.columns]
-        totals = wide.sum()
+        totals = wide.agg(eq7_sum)
         scores = accuracy_scores({e: float(totals[e]) for e in eng})
         floor = float(totals[floors].min()) if floors else float("nan")
         n_runs = len(wide)
@@ -289,7 +290,7 @@ def ranking(weighted: pd.DataFrame, per_test: pd.DataFrame | None, tests: list[s
     if tests is not None:
         ok = ok[ok.test.astype(str).isin(set(map(str, tests)))]
     ok = ok.assign(_unit=run_key(ok))
-    walls = {q: ok.pivot_table(index="_unit", columns="engine", values=f"error_{q}", aggfunc="sum")
+    walls = {q: ok.pivot_table(index="_unit", columns="engine", values=f"error_{q}", aggfunc=eq7_sum)
              .reindex(columns=engines) for q in IMU_SCORES}
     units = sorted(set.intersection(*(set(v.dropna().index) for v in walls.values())))
     n = len(units)

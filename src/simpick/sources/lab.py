@@ -101,7 +101,7 @@ def compare(traces: list[str], inputs: dict, params: dict):
                "run": test, "kind": "lab", "status": meta["health"]["status"],
                "reasons": "; ".join(meta["health"]["reasons"])}
         if ok:
-            row.update({f"error_{q}": sum(r["total_error"] for r in rows if r["quantity"] == q)
+            row.update({f"error_{q}": metrics.eq7_sum(r["total_error"] for r in rows if r["quantity"] == q)
                         for q in ("angular", "linear")})
         per_test.append(row)
     return (pd.DataFrame(per_test, columns=PER_TEST_COLUMNS), pd.DataFrame(detail, columns=DETAIL_COLUMNS),
