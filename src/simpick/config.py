@@ -15,6 +15,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model
 
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.errors import validation_problems
+from simpick.realmetrics import LEVEL, MIN_RUNS
 from simpick.scoring import METRICS
 from simpick.terrain import RULES
 
@@ -279,8 +280,9 @@ class Accuracy(Strict):
 
 
 class Statistics(Strict):
-    min_runs: Annotated[int, Field(ge=2)] = 6
-    level: Annotated[float, Field(gt=0, lt=1)] = 0.95
+    # the defaults are simpick.realmetrics' (MIN_RUNS, LEVEL: stated once, there, with their reasons)
+    min_runs: Annotated[int, Field(ge=2)] = MIN_RUNS
+    level: Annotated[float, Field(gt=0, lt=1)] = LEVEL
 
     @model_validator(mode="after")
     def reachable(self):

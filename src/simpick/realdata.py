@@ -361,8 +361,7 @@ def summaries(per_test: pd.DataFrame, group: str, outputs: dict, statistics: dic
     its BCa bootstrap interval from ``statistics["min_runs"]`` runs on (``summary``); paired
     engine differences judged by a sign-flip permutation test over runs (``too few runs`` below
     the minimum; ``pairwise``). Per-test rows need engine, ``group``, test, run and status."""
-    stats = {"min_runs": realmetrics.MIN_RUNS, "level": 0.95} | dict(statistics or {})
-    min_runs, level = int(stats["min_runs"]), float(stats["level"])
+    min_runs, level = realmetrics.statistics_settings(statistics)
     ok = per_test[per_test.status == "ok"]
     shown = [fig for fig in FIGURES + ("yaw_rate_gain_real",) if fig in per_test]
     rows = []

@@ -103,7 +103,18 @@ def psd_distance(real: np.ndarray, sim: np.ndarray, rate_hz: float,
     return float(np.mean(np.abs(np.log10(p_sim[keep] + tiny) - np.log10(p_real[keep] + tiny))))
 
 
+# The statistics defaults, stated once: the config's ``statistics`` model (simpick.config.Statistics)
+# takes them as its defaults, the rules pass its validated slice to every job, and a job called with
+# none (a test, a script) gets them through statistics_settings.
 MIN_RUNS = 6  # the smallest n whose sign-flip test can reach p < 0.05 (2 / 2^6 = 0.031)
+LEVEL = 0.95  # confidence of the BCa intervals; verdicts need a sign-flip p below 1 - LEVEL
+
+
+def statistics_settings(statistics: dict | None = None) -> tuple[int, float]:
+    """(min_runs, level) of a job's ``statistics`` settings (the validated config slice); the
+    defaults above for a key it does not give."""
+    st = {"min_runs": MIN_RUNS, "level": LEVEL} | dict(statistics or {})
+    return int(st["min_runs"]), float(st["level"])
 
 
 def smallest_p(n: int) -> float:
@@ -140,7 +151,7 @@ def _bca(x: np.ndarray, level: float, seed: int) -> tuple[float, float]:
     return low, high
 
 
-def mean_ci(values, runs=None, min_runs: int = MIN_RUNS, level: float = 0.95,
+def mean_ci(values, runs=None, min_runs: int = MIN_RUNS, level: float = LEVEL,
             seed: int = 0) -> tuple[float, float, float, int]:
     """(mean, low, high, n_runs): mean over runs (each run's values averaged first) and its BCa
     bootstrap interval, NaN below ``min_runs`` runs."""
@@ -153,7 +164,7 @@ def mean_ci(values, runs=None, min_runs: int = MIN_RUNS, level: float = 0.95,
     return float(x.mean()), low, high, int(x.size)
 
 
-def paired_test(a, b, runs=None, min_runs: int = MIN_RUNS, level: float = 0.95, seed: int = 0) -> dict:
+def paired_test(a, b, runs=None, min_runs: int = MIN_RUNS, level: float = LEVEL, seed: int = 0) -> dict:
     """Is ``a`` really different from ``b``, over the runs both have (a pair per test)?
 
     Differences a - b are averaged per run; below ``min_runs`` runs the result has no p-value,

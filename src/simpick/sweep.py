@@ -78,10 +78,9 @@ def summarise(runs: pd.DataFrame, statistics: dict | None = None) -> pd.DataFram
     """Per class, engine and timestep: errors over the segments every engine ran healthily, as the
     real data's rule has it (simpick.realmetrics: a run's segments averaged first, the mean over
     runs, a BCa interval only from ``statistics.min_runs`` runs on), and the real-time factor."""
-    from simpick.realmetrics import MIN_RUNS, mean_ci
+    from simpick.realmetrics import mean_ci, statistics_settings
 
-    st = {"min_runs": MIN_RUNS, "level": 0.95} | dict(statistics or {})
-    min_runs, level = int(st["min_runs"]), float(st["level"])
+    min_runs, level = statistics_settings(statistics)
     out = []
     for (cls, dt), group in runs.groupby(["terrain_class", "timestep"], sort=True):
         bad = sorted(set(group.loc[group.status != "ok", "segment"]))

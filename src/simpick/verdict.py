@@ -65,8 +65,7 @@ POWER = 0.8  # runs_needed: the runs at which a difference of the observed size 
 
 
 def _stats(statistics: dict | None) -> tuple[int, float]:
-    st = {"min_runs": realmetrics.MIN_RUNS, "level": 0.95} | dict(statistics or {})
-    return int(st["min_runs"]), float(st["level"])
+    return realmetrics.statistics_settings(statistics)
 
 
 def run_key(frame: pd.DataFrame) -> pd.Series:

@@ -181,10 +181,10 @@ def _cell(row: Mapping[str, Any] | None, fig: str) -> dict[str, Any] | None:
 
 def statistics(params: Mapping[str, Any]) -> dict[str, Any]:
     """The config's statistics slice (minimum independent runs, level), with its defaults."""
-    from simpick.realmetrics import MIN_RUNS, smallest_p
+    from simpick.realmetrics import smallest_p, statistics_settings
 
-    st = {"min_runs": MIN_RUNS, "level": 0.95} | dict(params.get("statistics") or {})
-    st["min_runs"], st["level"] = int(st["min_runs"]), float(st["level"])
+    st = dict(params.get("statistics") or {})
+    st["min_runs"], st["level"] = statistics_settings(st)
     st["smallest_p_below"] = smallest_p(st["min_runs"] - 1)
     return st
 
