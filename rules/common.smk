@@ -515,6 +515,8 @@ def report_real_inputs(wildcards):
         inputs["sweep"] = f"{SWEEP_DIR}/summary.csv"
     if CALIBRATION and CALIBRATION.get("enabled"):  # rules/calibration.smk
         inputs["calibration"] = f"{CAL_DIR}/summary.csv"
+        inputs["calibration_turning"] = f"{CAL_DIR}/turning.csv"
+        inputs["calibration_target"] = f"{CAL_DIR}/target.csv"
     return inputs
 
 
