@@ -689,8 +689,9 @@ def target_table(evals: pd.DataFrame, turning: pd.DataFrame, engines: list[str],
                         f"p_vs_{name}": t["p_value"], f"lower_than_{name}": t["verdict"] == "b"})
         gains = turning[(turning.engine == engine) & (turning.variant == "calibrated")
                         & turning.terrain_class.isin(classes)]
-        off = [c for c in classes if c not in set(gains.terrain_class)
-               or not bool(gains.loc[gains.terrain_class == c, "within_tolerance"].iloc[0])]
+        off = [c if c in set(gains.terrain_class) else f"{c} (no held-out turning run)" for c in classes
+               if c not in set(gains.terrain_class) or not bool(gains.loc[gains.terrain_class == c,
+                                                                            "within_tolerance"].iloc[0])]
         row["worst_gain_ratio"] = (float(gains.gain_ratio.iloc[(gains.gain_ratio - 1).abs().argmax()])
                                    if len(gains) else math.nan)
         row["classes_off_gain"] = "; ".join(off)
