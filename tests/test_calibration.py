@@ -430,3 +430,16 @@ def test_the_report_shows_held_out_gains_multipliers_and_the_target():
     html = environment().from_string(wrapper).render(
         calibration=calibration_section(summarise(evals, best), ["e"], {}, None, unmet), colors={})
     assert "<b>No engine meets it.</b>" in html and "asphalt; ice" in html.replace("_", " ")
+
+
+def test_the_objective_gives_the_steady_gain_its_own_weight():
+    """Issue 20: a unit that turns under a steady command adds |gain error| / scales.yaw_rate_gain;
+    a unit without steady turning windows (gain error NaN) and a config without the scale do not."""
+    from simpick.calibration import objective_terms
+
+    row = {"status": "ok", "error_yaw_rate": 0.02, "error_accel_x": 0.1, "error_accel_x_offset_free": 0.05,
+           "gain_error": 0.2}
+    scales = {"yaw_rate": 0.05, "accel_x": 0.05, "yaw_rate_gain": 0.05}
+    assert objective_terms(row, scales) == pytest.approx(0.4 + 1.0 + 4.0)
+    assert objective_terms(row | {"gain_error": float("nan")}, scales) == pytest.approx(1.4)
+    assert objective_terms(row, {"yaw_rate": 0.05, "accel_x": 0.05}) == pytest.approx(1.4)

@@ -27,7 +27,8 @@ has not seen, and at what cost (after Acosta, Posa et al. 2022, who did this for
   mean *is* the offset), nothing is left of it and the segment's objective is its yaw-rate term
   alone. The yaw rate, and so the yaw-rate gain (yaw rate / commanded turn), then carries the
   objective's weight on turning units; ``error_accel_x`` is reported as measured (offset
-  included) beside it.
+  included) beside it. A unit that turns under a steady command adds its steady yaw-rate gain error
+  over ``scales.yaw_rate_gain`` (:func:`objective_terms`).
 - **Optimiser**: Optuna's TPE sampler with a journal file as storage
   (``results/calibration/<source>/<engine>/<class>/optuna.journal``): an interrupted job resumes
   the finished trials from the file and runs only the missing ones. The sampler is seeded per
@@ -59,7 +60,7 @@ from simpick.tables import write_csv
 FAILED_UNIT = 10.0  # objective counted for a unit the engine fails (10x the scale of either error)
 SPLIT_COLUMNS = ("terrain_class", "run", "unit", "set")
 EVAL_COLUMNS = ("engine", "terrain_class", "unit", "run", "set", "variant", "status", "error_yaw_rate",
-                "error_accel_x", "objective", "yaw_rate_gain_sim", "yaw_rate_gain_real", "gain_error")
+                "error_accel_x", "objective", "yaw_rate_gain_sim", "yaw_rate_gain_real", "gain_error", "gain_windows")
 
 
 # --- the split --------------------------------------------------------------------------------------
@@ -170,9 +171,18 @@ def _gains(sim_wz, real_gain: float, v_left, v_right, track: float) -> dict:
     return {"yaw_rate_gain_sim": sim_gain, "yaw_rate_gain_real": real_gain, "gain_error": abs(sim_gain - real_gain)}
 
 
-def replay_errors(log, urdf: str, params: dict, duration: float | None) -> dict:
+def steady_windows(log, track: float, steady: dict) -> pd.DataFrame:
+    """The log's steady-command turning windows (simpick.realturning.turning_windows with the real
+    turning analysis' ``steady`` settings: window, settle, tolerance, min_turn)."""
+    from simpick.realturning import turning_windows
+
+    return turning_windows(log, track, **{k: float(v) for k, v in steady.items()})
+
+
+def replay_errors(log, urdf: str, params: dict, duration: float | None, steady: dict | None = None) -> dict:
     """A replayed run: RMS difference of the low-passed yaw rate and longitudinal acceleration
-    (the replay metrics' rmse_yaw_rate and rmse_ax, over the first ``duration`` seconds)."""
+    (the replay metrics' rmse_yaw_rate and rmse_ax, over the first ``duration`` seconds), and the
+    steady yaw-rate gain, simulated and real, in its steady-command turning windows."""
     from simpick import realmetrics
     from simpick.realdata import real_imu_at, replay_log, trace_rate
 
@@ -186,26 +196,37 @@ def replay_errors(log, urdf: str, params: dict, duration: float | None) -> dict:
             out[key] = realmetrics.aligned_rmse(real[col], sim[col].to_numpy(), rate)
         out["error_accel_x_offset_free"] = realmetrics.aligned_rmse(real["ax"], sim["ax"].to_numpy(), rate,
                                                                     offset_free=True)
-        # the yaw-rate gain over the compared seconds, on the samples whose held wheel command turns
-        # (|kinematic yaw rate| > 0.05 rad/s; transients included, the same samples for both)
-        track = float(params["robot"]["track"])
-        cmd = log.wheel_commands(track)
-        t = sim.time.to_numpy()
-        held = np.clip(np.searchsorted(cmd.time.to_numpy(), t, side="right") - 1, 0, len(cmd) - 1)
-        v_left, v_right = cmd.v_left.to_numpy()[held], cmd.v_right.to_numpy()[held]
-        real_gain = realmetrics.yaw_rate_gain(np.asarray(real["wz"], float), v_left, v_right, track)
-        if np.isfinite(real_gain):
-            out.update(_gains(sim.wz.to_numpy(), real_gain, v_left, v_right, track))
+        # the steady yaw-rate gain (issue 20): in the log's steady-command turning windows inside the
+        # compared seconds (simpick.realturning.turning_windows, the real turning figure's windows), the
+        # mean yaw rate over the kinematic one, simulated and real, averaged over the run's windows.
+        # Not a fit over every turning sample: the real yaw rate lags a changed command by ~0.3 s, which
+        # would mix the response's lag into the gain of a run with many short turns
+        windows = steady_windows(log, float(params["robot"]["track"]), steady or {})
+        windows = windows[windows.t_end <= float(sim.time.iloc[-1])]
+        if len(windows):
+            t, wz = sim.time.to_numpy(), sim.wz.to_numpy()
+            sim_gains = [float(wz[(t >= w.t_start) & (t < w.t_end)].mean()) / w.w_kinematic
+                         for w in windows.itertuples()]
+            real_gain, sim_gain = float(windows.yaw_rate_gain.mean()), float(np.mean(sim_gains))
+            out.update({"yaw_rate_gain_sim": sim_gain, "yaw_rate_gain_real": real_gain,
+                        "gain_error": abs(sim_gain - real_gain), "gain_windows": len(windows)})
     return out
 
 
 def objective_terms(row: dict, scales: dict) -> float:
     """One unit's contribution to the objective (dimensionless): the yaw-rate error and the
-    offset-free longitudinal-acceleration error (module docstring), each over its scale."""
+    offset-free longitudinal-acceleration error (module docstring), each over its scale, plus, on a
+    unit that turns under a steady command, the steady yaw-rate gain error over
+    ``scales['yaw_rate_gain']`` (issue 20: the gain gets a weight of its own, not only through the
+    yaw rate, whose RMS over a whole run is dominated by transients)."""
     if row.get("status") != "ok" or not np.isfinite(row.get("error_yaw_rate", np.nan)):
         return FAILED_UNIT
     accel = row.get("error_accel_x_offset_free", row["error_accel_x"])
-    return row["error_yaw_rate"] / scales["yaw_rate"] + accel / scales["accel_x"]
+    total = row["error_yaw_rate"] / scales["yaw_rate"] + accel / scales["accel_x"]
+    gain = row.get("gain_error", math.nan)
+    if scales.get("yaw_rate_gain") and gain is not None and np.isfinite(gain):
+        total += gain / scales["yaw_rate_gain"]
+    return total
 
 
 class Units:
@@ -233,7 +254,7 @@ class Units:
     def errors(self, unit: str, urdf: str, params: dict, settings: dict) -> dict:
         if self.source == "segments":
             return segment_errors(self.segments.loc[unit], urdf, params, settings.get("segment_seconds"))
-        return replay_errors(self.logs[unit], urdf, params, settings.get("replay_seconds"))
+        return replay_errors(self.logs[unit], urdf, params, settings.get("replay_seconds"), settings.get("steady"))
 
 
 def evaluate(units: Units, ids: list[str], urdf: str, params: dict, settings: dict) -> list[dict]:

@@ -242,6 +242,7 @@ class Sweep(Strict):
 class CalibrationScales(Strict):
     yaw_rate: Positive  # rad/s
     accel_x: Positive  # m/s^2
+    yaw_rate_gain: Positive | None = None  # steady yaw-rate gain error (issue 20); None: no gain term
 
 
 class CalibrationTarget(Strict):
