@@ -86,16 +86,26 @@ if CALIBRATION:
             evals=calibration_outputs(),
             bests=[f"{CAL_DIR}/{e}/{c}/best.yaml" for e in CAL_MODELS for c in CAL_CLASSES],
             split=f"{CAL_DIR}/split.csv",
+            urdf=config["robot"]["urdf"],
         output:
             summary=f"{CAL_DIR}/summary.csv",
             units=f"{CAL_DIR}/units.csv",
             parameters=f"{CAL_DIR}/parameters.csv",
+            turning=f"{CAL_DIR}/turning.csv",
+            target=f"{CAL_DIR}/target.csv",
         log:
             f"{CAL_DIR}/logs/summary.log",
         conda:
             "../envs/simpick.yaml"
         params:
             statistics=statistics_params(),
+            turning=canonical(
+                {
+                    "track": config["robot"]["track"],
+                    "engines": ENGINES,
+                    "target": SETTINGS.calibration.target.model_dump(),
+                }
+            ),
             code=script_code("calibration_summary"),
         script:
             "../scripts/calibration_summary.py"

@@ -443,6 +443,8 @@ def report_real_inputs(wildcards):
         inputs["sweep"] = f"{SWEEP_DIR}/summary.csv"
     if CALIBRATION and CALIBRATION.get("enabled"):  # rules/calibration.smk
         inputs["calibration"] = f"{CAL_DIR}/summary.csv"
+        inputs["calibration_turning"] = f"{CAL_DIR}/turning.csv"
+        inputs["calibration_target"] = f"{CAL_DIR}/target.csv"
     return inputs
 
 
@@ -527,7 +529,12 @@ if CALIBRATION:
         window = (
             {"segment_seconds": CALIBRATION.get("segment_seconds")}
             if not REPLAY_SET
-            else {"replay_seconds": CALIBRATION.get("replay_seconds")}
+            else {
+                "replay_seconds": CALIBRATION.get("replay_seconds"),
+                # the steady-command turning windows of the real turning analysis (rule real_turning;
+                # window and settle: simpick.realturning.turning_windows' own)
+                "steady": {k: config["real_data"]["segment_rules"][k] for k in ("tolerance", "min_turn")},
+            }
         )
         out = {"source": CAL_SOURCE, "scales": CALIBRATION["scales"], **window}
         if search:

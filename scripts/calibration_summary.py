@@ -3,4 +3,5 @@ from simpick.workflow import logged
 
 with logged(snakemake.log[0]):
     summary_job(list(snakemake.input.evals), list(snakemake.input.bests), snakemake.input.split,
-                dict(snakemake.output), snakemake.params.statistics)
+                dict(snakemake.output), snakemake.params.statistics, snakemake.params.turning,
+                snakemake.input.urdf)

@@ -340,3 +340,106 @@ def test_the_objective_leaves_constant_acceleration_offsets_out():
     scales = {"yaw_rate": 0.05, "accel_x": 0.05}
     segment = {"status": "ok", "error_yaw_rate": 0.02, "error_accel_x": 0.11, "error_accel_x_offset_free": 0.0}
     assert objective_terms(segment, scales) == pytest.approx(0.4)  # 0.02 / 0.05: the yaw rate alone
+
+
+# ------------------------------------------------------------ issue 20: turning on held-out runs, the target
+
+def _turning_evals(cal_gain, cal_error, classes=("asphalt", "ice"), runs=4):
+    """Held-out runs of two classes whose real gain is 0.7: engine ``e`` as configured turns at the
+    Coulomb 0.48 (yaw-rate error 0.10 rad/s), as calibrated at ``cal_gain`` (error ``cal_error``);
+    the reference ``coulomb`` turns at 0.48 with error 0.10 (and is not calibrated better)."""
+    rows = []
+    for cls in classes:
+        for k in range(runs):
+            for engine, variant, gain, error in (("e", "configured", 0.48, 0.10), ("e", "calibrated", cal_gain, cal_error),
+                                                 ("coulomb", "configured", 0.48, 0.10),
+                                                 ("coulomb", "calibrated", 0.48, 0.10)):
+                rows.append({"engine": engine, "terrain_class": cls, "unit": f"{cls}-{k}", "run": f"{k:02d}",
+                             "set": "test", "variant": variant, "status": "ok", "error_yaw_rate": error + 0.001 * k,
+                             "error_accel_x": 0.1, "objective": error, "yaw_rate_gain_sim": gain + 0.002 * k,
+                             "yaw_rate_gain_real": 0.7, "gain_error": abs(gain + 0.002 * k - 0.7)})
+    return pd.DataFrame(rows)
+
+
+TARGET = {"classes": ["asphalt", "ice"], "gain_tolerance": 0.10, "reference": "coulomb"}
+
+
+def test_the_turning_table_gives_held_out_gains_errors_and_the_equivalent_multiplier():
+    from simpick.calibration import TARGET_POOL, turning_table
+    from simpick.coulomb import wheel_separation_multiplier
+
+    best = {("e", "ice"): {"parameters": {"friction_ratio": 0.63}}}
+    table = turning_table(_turning_evals(0.69, 0.03), best, 0.555, 0.5708, TARGET)
+    row = table[(table.terrain_class == "ice") & (table.engine == "e") & (table.variant == "calibrated")].iloc[0]
+    assert row.n_runs == 4 and row.gain_real == pytest.approx(0.7)
+    assert row.gain_sim == pytest.approx(0.69 + 0.003) and row.within_tolerance
+    assert row.separation_multiplier == pytest.approx(wheel_separation_multiplier(0.693, 0.555, 0.5708))
+    assert row.separation_multiplier_real == pytest.approx(0.555 / (0.7 * 0.5708))
+    assert row.parameters == "friction_ratio=0.63"
+    assert np.isnan(row.gain_error_low)  # 4 runs < statistics.min_runs: a range, no interval
+    assert row.gain_error_min == pytest.approx(0.01 - 0.006) and row.gain_error_max == pytest.approx(0.01)
+    conf = table[(table.terrain_class == "ice") & (table.engine == "e") & (table.variant == "configured")].iloc[0]
+    assert not conf.within_tolerance and conf.gain_error == pytest.approx(0.7 - 0.483)
+    pooled = table[(table.terrain_class == TARGET_POOL) & (table.engine == "e") & (table.variant == "calibrated")]
+    assert pooled.n_runs.iloc[0] == 8 and pooled.gain_error_low.notna().iloc[0]  # 8 runs: an interval
+
+
+def test_the_target_needs_both_paired_tests_and_the_gain_in_every_class():
+    from simpick.calibration import target_table, turning_table
+
+    def judge(cal_gain, cal_error, **kw):
+        evals = _turning_evals(cal_gain, cal_error, **kw)
+        target = target_table(evals, turning_table(evals, {}, 0.555, 0.5708, TARGET), ["e"], TARGET)
+        return target.set_index("engine")
+
+    met = judge(0.69, 0.03)
+    assert met.loc["e", "meets"] and met.loc["e", "best"] and not met.loc["coulomb", "best"]  # a reference is never best
+    assert met.loc["e", "p_vs_configured"] == pytest.approx(2 / 2 ** 8)  # 8 held-out runs, all lower
+    assert met.loc["e", "vs_reference"] == pytest.approx(-0.07)
+    assert not met.loc["coulomb", "meets"]  # its calibration changed nothing: not lower than itself
+    # the error falls, but the gain stays 20 % off the real robot's: not met, and the classes are named
+    off = judge(0.56, 0.05)
+    assert off.loc["e", "lower_than_configured"] and not off.loc["e", "meets"]
+    assert off.loc["e", "classes_off_gain"] == "asphalt; ice"
+    # the right gain but a higher error than rigid Coulomb's: not met
+    assert not judge(0.69, 0.2).loc["e", "meets"]
+    # too few held-out runs for a paired test (3 < statistics.min_runs 6): nothing is claimed
+    few = judge(0.69, 0.03, classes=("ice",), runs=3)
+    assert not few.loc["e", "meets"] and np.isnan(few.loc["e", "p_vs_configured"])
+
+
+def test_the_report_shows_held_out_gains_multipliers_and_the_target():
+    from simpick.calibration import target_table, turning_table
+    from simpick.report.build import environment
+    from simpick.report.calibration import calibration_section
+
+    evals = _turning_evals(0.69, 0.03)
+    best = {("e", "ice"): {"parameters": {"friction_ratio": 0.63}, "as_configured": {"friction_ratio": 1.0}}}
+    turning = turning_table(evals, best, 0.555, 0.5708, TARGET)
+    target = target_table(evals, turning, ["e"], TARGET)
+    section = calibration_section(summarise(evals, best), ["e", "coulomb"], {}, turning, target)
+    assert [c["terrain_class"] for c in section["turning"]] == ["asphalt", "ice", "target classes"]
+    wrapper = ('{% macro eng(e) %}<span class="engine">{{ e }}</span>{% endmacro %}'
+               '{% if calibration.given %}{% include "calibration_section.html.j2" %}{% endif %}')
+    html = environment().from_string(wrapper).render(calibration=section, colors={})
+    assert "<b>Met by e.</b>" in html and "Lowest calibrated error:" in html
+    assert "real gain 0.700, multiplier 1.389" in html  # 0.555 / (0.7 x 0.5708)
+    assert "0.483 → 0.693 ✓" in html  # ice: e as configured, as calibrated within 10 %
+    unmet = target_table(_turning_evals(0.56, 0.05), turning_table(_turning_evals(0.56, 0.05), {}, 0.555, 0.5708,
+                                                                   TARGET), ["e"], TARGET)
+    html = environment().from_string(wrapper).render(
+        calibration=calibration_section(summarise(evals, best), ["e"], {}, None, unmet), colors={})
+    assert "<b>No engine meets it.</b>" in html and "asphalt; ice" in html.replace("_", " ")
+
+
+def test_the_objective_gives_the_steady_gain_its_own_weight():
+    """Issue 20: a unit that turns under a steady command adds |gain error| / scales.yaw_rate_gain;
+    a unit without steady turning windows (gain error NaN) and a config without the scale do not."""
+    from simpick.calibration import objective_terms
+
+    row = {"status": "ok", "error_yaw_rate": 0.02, "error_accel_x": 0.1, "error_accel_x_offset_free": 0.05,
+           "gain_error": 0.2}
+    scales = {"yaw_rate": 0.05, "accel_x": 0.05, "yaw_rate_gain": 0.05}
+    assert objective_terms(row, scales) == pytest.approx(0.4 + 1.0 + 4.0)
+    assert objective_terms(row | {"gain_error": float("nan")}, scales) == pytest.approx(1.4)
+    assert objective_terms(row, {"yaw_rate": 0.05, "accel_x": 0.05}) == pytest.approx(1.4)

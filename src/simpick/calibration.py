@@ -27,7 +27,8 @@ has not seen, and at what cost (after Acosta, Posa et al. 2022, who did this for
   mean *is* the offset), nothing is left of it and the segment's objective is its yaw-rate term
   alone. The yaw rate, and so the yaw-rate gain (yaw rate / commanded turn), then carries the
   objective's weight on turning units; ``error_accel_x`` is reported as measured (offset
-  included) beside it.
+  included) beside it. A unit that turns under a steady command adds its steady yaw-rate gain error
+  over ``scales.yaw_rate_gain`` (:func:`objective_terms`).
 - **Optimiser**: Optuna's TPE sampler with a journal file as storage
   (``results/calibration/<source>/<engine>/<class>/optuna.journal``): an interrupted job resumes
   the finished trials from the file and runs only the missing ones. The sampler is seeded per
@@ -59,7 +60,7 @@ from simpick.tables import write_csv
 FAILED_UNIT = 10.0  # objective counted for a unit the engine fails (10x the scale of either error)
 SPLIT_COLUMNS = ("terrain_class", "run", "unit", "set")
 EVAL_COLUMNS = ("engine", "terrain_class", "unit", "run", "set", "variant", "status", "error_yaw_rate",
-                "error_accel_x", "objective")
+                "error_accel_x", "objective", "yaw_rate_gain_sim", "yaw_rate_gain_real", "gain_error", "gain_windows")
 
 
 # --- the split --------------------------------------------------------------------------------------
@@ -153,12 +154,35 @@ def segment_errors(seg: pd.Series, urdf: str, params: dict, window: float | None
         out["error_yaw_rate"] = abs(float(w.wz.mean()) - float(seg.angular_z_mean))
         out["error_accel_x"] = abs(float(w.ax.mean()) - float(seg.linear_x_mean))
         out["error_accel_x_offset_free"] = 0.0  # a window mean less its mean (module docstring)
+        if np.isfinite(float(seg.yaw_rate_gain)):  # a turning segment: the gain under its constant command
+            track = float(params["robot"]["track"])
+            n = len(w)
+            out.update(_gains(w.wz.to_numpy(), float(seg.yaw_rate_gain), np.full(n, float(seg.v_left)),
+                              np.full(n, float(seg.v_right)), track))
     return out
 
 
-def replay_errors(log, urdf: str, params: dict, duration: float | None) -> dict:
+def _gains(sim_wz, real_gain: float, v_left, v_right, track: float) -> dict:
+    """The simulated yaw-rate gain over the compared samples (simpick.realmetrics.yaw_rate_gain, the
+    verdict's definition) beside the real one on the same samples, and their absolute difference."""
+    from simpick import realmetrics
+
+    sim_gain = realmetrics.yaw_rate_gain(sim_wz, v_left, v_right, track)
+    return {"yaw_rate_gain_sim": sim_gain, "yaw_rate_gain_real": real_gain, "gain_error": abs(sim_gain - real_gain)}
+
+
+def steady_windows(log, track: float, steady: dict) -> pd.DataFrame:
+    """The log's steady-command turning windows (simpick.realturning.turning_windows with the real
+    turning analysis' ``steady`` settings: window, settle, tolerance, min_turn)."""
+    from simpick.realturning import turning_windows
+
+    return turning_windows(log, track, **{k: float(v) for k, v in steady.items()})
+
+
+def replay_errors(log, urdf: str, params: dict, duration: float | None, steady: dict | None = None) -> dict:
     """A replayed run: RMS difference of the low-passed yaw rate and longitudinal acceleration
-    (the replay metrics' rmse_yaw_rate and rmse_ax, over the first ``duration`` seconds)."""
+    (the replay metrics' rmse_yaw_rate and rmse_ax, over the first ``duration`` seconds), and the
+    steady yaw-rate gain, simulated and real, in its steady-command turning windows."""
     from simpick import realmetrics
     from simpick.realdata import real_imu_at, replay_log, trace_rate
 
@@ -172,16 +196,37 @@ def replay_errors(log, urdf: str, params: dict, duration: float | None) -> dict:
             out[key] = realmetrics.aligned_rmse(real[col], sim[col].to_numpy(), rate)
         out["error_accel_x_offset_free"] = realmetrics.aligned_rmse(real["ax"], sim["ax"].to_numpy(), rate,
                                                                     offset_free=True)
+        # the steady yaw-rate gain (issue 20): in the log's steady-command turning windows inside the
+        # compared seconds (simpick.realturning.turning_windows, the real turning figure's windows), the
+        # mean yaw rate over the kinematic one, simulated and real, averaged over the run's windows.
+        # Not a fit over every turning sample: the real yaw rate lags a changed command by ~0.3 s, which
+        # would mix the response's lag into the gain of a run with many short turns
+        windows = steady_windows(log, float(params["robot"]["track"]), steady or {})
+        windows = windows[windows.t_end <= float(sim.time.iloc[-1])]
+        if len(windows):
+            t, wz = sim.time.to_numpy(), sim.wz.to_numpy()
+            sim_gains = [float(wz[(t >= w.t_start) & (t < w.t_end)].mean()) / w.w_kinematic
+                         for w in windows.itertuples()]
+            real_gain, sim_gain = float(windows.yaw_rate_gain.mean()), float(np.mean(sim_gains))
+            out.update({"yaw_rate_gain_sim": sim_gain, "yaw_rate_gain_real": real_gain,
+                        "gain_error": abs(sim_gain - real_gain), "gain_windows": len(windows)})
     return out
 
 
 def objective_terms(row: dict, scales: dict) -> float:
     """One unit's contribution to the objective (dimensionless): the yaw-rate error and the
-    offset-free longitudinal-acceleration error (module docstring), each over its scale."""
+    offset-free longitudinal-acceleration error (module docstring), each over its scale, plus, on a
+    unit that turns under a steady command, the steady yaw-rate gain error over
+    ``scales['yaw_rate_gain']`` (issue 20: the gain gets a weight of its own, not only through the
+    yaw rate, whose RMS over a whole run is dominated by transients)."""
     if row.get("status") != "ok" or not np.isfinite(row.get("error_yaw_rate", np.nan)):
         return FAILED_UNIT
     accel = row.get("error_accel_x_offset_free", row["error_accel_x"])
-    return row["error_yaw_rate"] / scales["yaw_rate"] + accel / scales["accel_x"]
+    total = row["error_yaw_rate"] / scales["yaw_rate"] + accel / scales["accel_x"]
+    gain = row.get("gain_error", math.nan)
+    if scales.get("yaw_rate_gain") and gain is not None and np.isfinite(gain):
+        total += gain / scales["yaw_rate_gain"]
+    return total
 
 
 class Units:
@@ -209,7 +254,7 @@ class Units:
     def errors(self, unit: str, urdf: str, params: dict, settings: dict) -> dict:
         if self.source == "segments":
             return segment_errors(self.segments.loc[unit], urdf, params, settings.get("segment_seconds"))
-        return replay_errors(self.logs[unit], urdf, params, settings.get("replay_seconds"))
+        return replay_errors(self.logs[unit], urdf, params, settings.get("replay_seconds"), settings.get("steady"))
 
 
 def evaluate(units: Units, ids: list[str], urdf: str, params: dict, settings: dict) -> list[dict]:
@@ -533,7 +578,11 @@ def summarise(evals: pd.DataFrame, best: dict[tuple[str, str], dict], statistics
     return _winners(out, evals, min_runs, level)
 
 
-def summary_job(evals: list[str], bests: list[str], split: str, outputs: dict, statistics: dict | None = None) -> None:
+def summary_job(evals: list[str], bests: list[str], split: str, outputs: dict, statistics: dict | None = None,
+                turning: dict | None = None, urdf: str | None = None) -> None:
+    """Rule calibration_summary: the summary, the units, the parameters found and, with ``turning``
+    (the robot's track, the engines, calibration.target), the held-out turning table and the
+    target's verdict (issue 20); the wheels' geometric separation comes from ``urdf``."""
     frame = pd.concat([pd.read_csv(p, dtype={"run": str, "unit": str}) for p in evals], ignore_index=True)
     best = {}
     for path in bests:
@@ -548,3 +597,131 @@ def summary_job(evals: list[str], bests: list[str], split: str, outputs: dict, s
                             "train_objective_calibrated": b["best_objective"]}
                            for (e, c), b in sorted(best.items()) for k, v in b["parameters"].items()])
     write_csv(params, outputs["parameters"])
+    if "turning" in outputs:
+        from simpick.robot import load_robot
+
+        separation = load_robot(urdf).track  # the controller's wheel_separation (geometric)
+        table = turning_table(frame, best, float(turning["track"]), separation, turning["target"], statistics)
+        write_csv(table, outputs["turning"])
+        write_csv(target_table(frame, table, list(turning["engines"]), turning["target"], statistics),
+                  outputs["target"])
+
+
+# --- turning on held-out runs (issue 20) ----------------------------------------------------------------
+
+TARGET_POOL = "target classes"  # turning.csv's pooled rows: the held-out runs of calibration.target.classes
+TURNING_COLUMNS = ["terrain_class", "engine", "variant", "n_runs", "gain_real", "gain_sim", "gain_ratio",
+                   "within_tolerance", "gain_error", "gain_error_low", "gain_error_high", "gain_error_min",
+                   "gain_error_max", "error_yaw_rate", "separation_multiplier", "separation_multiplier_real",
+                   "parameters"]
+TARGET_COLUMNS = ["engine", "is_engine", "n_runs", "error_calibrated", "error_configured", "error_reference",
+                  "vs_configured", "vs_configured_low", "vs_configured_high", "p_vs_configured",
+                  "vs_reference", "vs_reference_low", "vs_reference_high", "p_vs_reference",
+                  "lower_than_configured", "lower_than_reference", "worst_gain_ratio", "classes_off_gain",
+                  "gain_within_tolerance", "meets", "best"]
+
+
+def _per_run(frame: pd.DataFrame, column: str) -> pd.Series:
+    """A figure averaged within each real run first (a run's segments are not independent), keyed
+    by class/run (run numbers repeat across classes)."""
+    ok = frame[frame.status == "ok"].dropna(subset=[column])
+    return ok.groupby(ok.terrain_class + "/" + ok.run.astype(str))[column].mean()
+
+
+def turning_table(evals: pd.DataFrame, best: dict[tuple[str, str], dict], track: float, separation: float,
+                  target: dict, statistics: dict | None = None) -> pd.DataFrame:
+    """Per terrain class, model and variant, on the held-out (test) runs that turn: the real and the
+    simulated yaw-rate gain (each averaged within a run, then over runs), their ratio and whether it
+    is within ``target['gain_tolerance']``, the gain error |sim - real| with its interval over runs
+    (none below ``statistics.min_runs``; the range over runs always), the yaw-rate error, and the
+    ``wheel_separation_multiplier`` a ROS diff_drive_controller user would set to turn this model
+    (and the real robot) as commanded (simpick.coulomb.wheel_separation_multiplier). Then the same
+    over the held-out runs of ``target['classes']`` together (``TARGET_POOL``)."""
+    from simpick.coulomb import wheel_separation_multiplier
+
+    min_runs, level = _stats(statistics)
+    test = evals[evals.set == "test"]
+    if "gain_error" not in test:
+        return pd.DataFrame(columns=TURNING_COLUMNS)
+    tol = float(target["gain_tolerance"])
+    classes = sorted(test.terrain_class.unique())
+    pools = [(cls, test[test.terrain_class == cls]) for cls in classes]
+    pools.append((TARGET_POOL, test[test.terrain_class.isin(target.get("classes") or classes)]))
+    rows = []
+    for cls, frame in pools:
+        for (engine, variant), g in frame.groupby(["engine", "variant"], sort=True):
+            gain_error, real, sim = (_per_run(g, c) for c in ("gain_error", "yaw_rate_gain_real", "yaw_rate_gain_sim"))
+            if gain_error.empty:
+                continue
+            mean, low, high = _ci(gain_error.to_numpy(), list(gain_error.index), min_runs, level)
+            g_real, g_sim = float(real.mean()), float(sim.mean())
+            ratio = g_sim / g_real if g_real else math.nan
+            params = best.get((engine, cls), {}) if variant == "calibrated" else {}
+            rows.append({
+                "terrain_class": cls, "engine": engine, "variant": variant, "n_runs": int(gain_error.size),
+                "gain_real": g_real, "gain_sim": g_sim, "gain_ratio": ratio,
+                "within_tolerance": bool(abs(ratio - 1) <= tol) if cls != TARGET_POOL else math.nan,
+                "gain_error": mean, "gain_error_low": low, "gain_error_high": high,
+                "gain_error_min": float(gain_error.min()), "gain_error_max": float(gain_error.max()),
+                "error_yaw_rate": float(_per_run(g, "error_yaw_rate").mean()),
+                "separation_multiplier": wheel_separation_multiplier(g_sim, track, separation),
+                "separation_multiplier_real": wheel_separation_multiplier(g_real, track, separation),
+                "parameters": "; ".join(f"{k}={v:.4g}" for k, v in (params.get("parameters") or {}).items()),
+            })
+    return pd.DataFrame(rows, columns=TURNING_COLUMNS)
+
+
+def target_table(evals: pd.DataFrame, turning: pd.DataFrame, engines: list[str], target: dict,
+                 statistics: dict | None = None) -> pd.DataFrame:
+    """Issue 20's target, per calibrated model, on the held-out runs of ``target['classes']``
+    together: its per-run yaw-rate error as calibrated against (a) its own as configured and (b) the
+    ``target['reference']`` model as configured (rigid Coulomb mechanics), each by the paired
+    sign-flip test over runs at ``statistics.level``; and per class whether its mean calibrated gain
+    is within ``target['gain_tolerance']`` of the real robot's. ``meets`` when all three hold; ``best``
+    marks the engine (a simulator, not a reference model) with the lowest mean calibrated error."""
+    from simpick.realmetrics import paired_test
+
+    min_runs, level = _stats(statistics)
+    classes = target.get("classes") or sorted(evals.terrain_class.unique())
+    test = evals[(evals.set == "test") & evals.terrain_class.isin(classes)]
+    if test.empty:
+        return pd.DataFrame(columns=TARGET_COLUMNS)
+    test = test.assign(key=test.terrain_class + "/" + test.unit.astype(str),
+                       runkey=test.terrain_class + "/" + test.run.astype(str))
+    ok = test[test.status == "ok"]
+    wide = ok.pivot_table(index="key", columns=["engine", "variant"], values="error_yaw_rate")
+    run_of = test.drop_duplicates("key").set_index("key").runkey
+    reference = (target["reference"], "configured")
+    rows = []
+    for engine in sorted(test.engine.unique()):
+        if (engine, "calibrated") not in wide:
+            continue
+        cal = wide[(engine, "calibrated")]
+        row = {"engine": engine, "is_engine": engine in engines,
+               "n_runs": int(run_of.reindex(cal.dropna().index).nunique()),
+               "error_calibrated": float(_per_run(ok[(ok.engine == engine) & (ok.variant == "calibrated")],
+                                                  "error_yaw_rate").mean())}
+        for name, col in (("configured", (engine, "configured")), ("reference", reference)):
+            other = wide[col] if col in wide else pd.Series(math.nan, index=wide.index)
+            row[f"error_{name}"] = float(_per_run(ok[(ok.engine == col[0]) & (ok.variant == col[1])],
+                                                  "error_yaw_rate").mean())
+            t = paired_test(cal.to_numpy(), other.to_numpy(), run_of.reindex(wide.index).to_numpy(), min_runs, level)
+            row.update({f"vs_{name}": t["mean"], f"vs_{name}_low": t["low"], f"vs_{name}_high": t["high"],
+                        f"p_vs_{name}": t["p_value"], f"lower_than_{name}": t["verdict"] == "b"})
+        gains = turning[(turning.engine == engine) & (turning.variant == "calibrated")
+                        & turning.terrain_class.isin(classes)]
+        off = [c if c in set(gains.terrain_class) else f"{c} (no held-out turning run)" for c in classes
+               if c not in set(gains.terrain_class) or not bool(gains.loc[gains.terrain_class == c,
+                                                                            "within_tolerance"].iloc[0])]
+        row["worst_gain_ratio"] = (float(gains.gain_ratio.iloc[(gains.gain_ratio - 1).abs().argmax()])
+                                   if len(gains) else math.nan)
+        row["classes_off_gain"] = "; ".join(off)
+        row["gain_within_tolerance"] = not off
+        row["meets"] = bool(row["lower_than_configured"] and row["lower_than_reference"] and not off)
+        rows.append(row)
+    out = pd.DataFrame(rows, columns=TARGET_COLUMNS)
+    sims = out[out.is_engine & out.error_calibrated.notna()]
+    out["best"] = False
+    if len(sims):
+        out.loc[sims.error_calibrated.idxmin(), "best"] = True
+    return out

@@ -243,6 +243,14 @@ class Sweep(Strict):
 class CalibrationScales(Strict):
     yaw_rate: Positive  # rad/s
     accel_x: Positive  # m/s^2
+    yaw_rate_gain: Positive | None = None  # steady yaw-rate gain error (issue 20); None: no gain term
+
+
+class CalibrationTarget(Strict):
+    """Issue 20's target on held-out runs (simpick.calibration.target_table)."""
+    classes: list[str] | None = None  # terrain classes judged together; None: every class calibrated
+    gain_tolerance: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = 0.10  # relative to the real gain
+    reference: str = "coulomb"  # the model whose as-configured error the calibrated engine must beat
 
 
 class Calibration(Strict):
@@ -257,6 +265,7 @@ class Calibration(Strict):
     scales: CalibrationScales
     models: list[str] | None = None  # engines and baselines to calibrate; None: every one in the study
     bounds: dict[str, dict[str, Annotated[list[Finite], Field(min_length=2, max_length=2)]]] = {}
+    target: CalibrationTarget = CalibrationTarget()
 
     @model_validator(mode="after")
     def known_parameters(self):
@@ -406,6 +415,14 @@ class Study(Strict):
             unknown = [m for m in self.calibration.models or [] if m not in known]
             if unknown:
                 raise ValueError(f"calibration.models: {unknown} are not in this study's engines or baselines {known}")
+            target = self.calibration.target
+            unknown = sorted(set(target.classes or []) - set(self.real_data.classes))
+            if unknown:
+                raise ValueError(f"calibration.target.classes: {unknown} are not under real_data.classes "
+                                 f"{sorted(self.real_data.classes)}; name classes from there, or null for all")
+            if target.reference not in known:
+                raise ValueError(f"calibration.target.reference: {target.reference!r} is not in this study's "
+                                 f"engines or baselines {known}")
         if self.accuracy.reference == "own" and not self.own_logs:
             raise ValueError("accuracy.reference is 'own' but own_logs is empty")
         for key, path in (("robot.urdf", self.robot.urdf), ("reference.published", self.reference.published),

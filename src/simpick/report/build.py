@@ -557,7 +557,8 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
                                          data.validation_gains),
         "sweep": sweep_section(data.sweep, engines, data.figures.get("sweep")),
         "calibration": calibration_section(data.calibration, engines + [e for e in (data.calibration.engine.unique()
-                                           if data.calibration is not None else []) if e not in engines], colors),
+                                           if data.calibration is not None else []) if e not in engines], colors,
+                                           data.calibration_turning, data.calibration_target),
         "title": params.get("title") or (f"simpick: which physics engine reproduces the {robot['label']} best?"
                                          if robot.get("label") else DEFAULT_TITLE),
         "robot": robot,

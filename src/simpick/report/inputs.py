@@ -7,6 +7,8 @@ REQUIRED_INPUTS: tuple[str, ...] = ("weighted", "runs")
 OPTIONAL_INPUTS: tuple[str, ...] = (
     "sweep",
     "calibration",
+    "calibration_turning",
+    "calibration_target",
     "trace_stats",
     "reference_stats",
     "imu_errors",

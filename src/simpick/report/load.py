@@ -32,6 +32,12 @@ COLUMNS: dict[str, tuple[str, ...]] = {
               "error_angular", "error_linear", "gain_error", "real_time_factor", "steps_per_s"),
     "calibration": ("terrain_class", "engine", "set", "n_units", "n_runs", "objective_configured",
                     "objective_calibrated", "change", "parameters", "rank_configured", "rank_calibrated"),
+    "calibration_turning": ("terrain_class", "engine", "variant", "n_runs", "gain_real", "gain_sim", "gain_ratio",
+                            "gain_error", "gain_error_low", "gain_error_high", "separation_multiplier",
+                            "separation_multiplier_real"),
+    "calibration_target": ("engine", "is_engine", "n_runs", "error_calibrated", "error_configured",
+                           "error_reference", "p_vs_configured", "p_vs_reference", "classes_off_gain", "meets",
+                           "best"),
     "validation": ("engine", "case", "kind", "quantity", "unit", "engine_value", "analytic_value", "error",
                    "error_kind", "tolerance", "passed", "status"),
     "validation_gains": ("engine", "v", "w", "mu", "analytic", "n_left", "left_mean", "left_min", "left_max",
@@ -118,6 +124,8 @@ class ReportData:
     sweep: pd.DataFrame | None = None
     # calibration on training runs, judged on test runs (rules/calibration.smk), when run
     calibration: pd.DataFrame | None = None
+    calibration_turning: pd.DataFrame | None = None  # held-out yaw-rate gains (issue 20)
+    calibration_target: pd.DataFrame | None = None  # issue 20's target, per calibrated model
     # real robot data: the committed segment table, and per set ("segments", "replay") its tables
     segments: pd.DataFrame | None = None
     segments_provenance: dict | None = None
@@ -243,7 +251,8 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
                 kw[key] = _csv(key, p, index)
 
     for key in ("accuracy_errors", "accuracy_per_test", "segments", "replay_per_window", "validation",
-                "validation_gains", "sweep", "calibration", "real_turning"):
+                "validation_gains", "sweep", "calibration", "calibration_turning", "calibration_target",
+                "real_turning"):
         if given(key):
             p = _path(key, inputs[key])
             sources[key] = str(p)
