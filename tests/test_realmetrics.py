@@ -109,5 +109,4 @@ def test_the_statistics_defaults_are_stated_once():
     src = Path(rm.__file__).parent
     restated = [str(p.relative_to(src)) for p in sorted(src.rglob("*.py")) if p.name != "realmetrics.py"
                 and re.search(r'"level":\s*0\.\d|"min_runs":\s*(MIN_RUNS|\d)', p.read_text())]
-    # calibration.py still restates them; it is being rewritten (issue 20) and should call statistics_settings
-    assert restated == ["calibration.py"], restated
+    assert restated == [], restated

@@ -436,10 +436,9 @@ def evaluate_job(inputs: dict, params: dict, settings: dict, output: str, timeou
 
 def _stats(statistics: dict | None) -> tuple[int, float]:
     """(min_runs, level) of the validated ``statistics`` settings (rules/common.smk statistics_params)."""
-    from simpick.realmetrics import MIN_RUNS
+    from simpick.realmetrics import statistics_settings
 
-    st = {"min_runs": MIN_RUNS, "level": 0.95} | dict(statistics or {})
-    return int(st["min_runs"]), float(st["level"])
+    return statistics_settings(statistics)
 
 
 def _ci(values, runs, min_runs: int, level: float) -> tuple[float, float, float]:
