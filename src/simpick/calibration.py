@@ -36,8 +36,8 @@ has not seen, and at what cost (after Acosta, Posa et al. 2022, who did this for
   an uninterrupted one would have. Trial 0 is always the as-configured engine, so the best
   parameters are never worse on the training units than the configured ones.
 
-Everything here drives the engines through :func:`simpick.realdata.simulate_segment` and
-:func:`simpick.realdata.replay_log`, the same paths as the study's real-data comparison.
+Everything here drives the engines through the source modules (:mod:`simpick.sources.segments`,
+:mod:`simpick.sources.replay`), the same paths as the study's real-data comparison.
 """
 
 from __future__ import annotations
@@ -142,12 +142,13 @@ def apply_parameters(params: dict, values: dict) -> dict:
 def segment_errors(seg: pd.Series, urdf: str, params: dict, window: float | None) -> dict:
     """A committed segment: |mean sim - mean real| of yaw rate and longitudinal acceleration over
     the first ``window`` seconds of its compared window (all of it when None)."""
-    from simpick.realdata import compared_window, simulate_segment
+    from simpick.realdata import compared_window
+    from simpick.sources import segments
 
     seg = seg.copy()
     if window is not None:
         seg["duration"] = min(float(seg.duration), float(window))
-    frame, meta = simulate_segment(seg, urdf, params)
+    frame, meta = segments.simulate(seg, urdf, params)
     out = {"status": meta["health"]["status"], "wall_time": float(meta["wall_time"]), "steps": int(meta["steps"])}
     if out["status"] == "ok":
         w = compared_window(pd.DataFrame(frame), meta)
@@ -184,9 +185,10 @@ def replay_errors(log, urdf: str, params: dict, duration: float | None, steady: 
     (the replay metrics' rmse_yaw_rate and rmse_ax, over the first ``duration`` seconds), and the
     steady yaw-rate gain, simulated and real, in its steady-command turning windows."""
     from simpick import realmetrics
-    from simpick.realdata import real_imu_at, replay_log, trace_rate
+    from simpick.realdata import real_imu_at, trace_rate
+    from simpick.sources import replay
 
-    frame, meta = replay_log(log, urdf, params, duration=duration)
+    frame, meta = replay.simulate(log, urdf, params, duration)
     out = {"status": meta["health"]["status"], "wall_time": float(meta["wall_time"]), "steps": int(meta["steps"])}
     if out["status"] == "ok":
         sim = pd.DataFrame(frame)
@@ -236,17 +238,17 @@ class Units:
                  terrain_class: str | None = None):
         self.source = source
         if source == "segments":
-            from simpick.realdata import class_segments
+            from simpick.sources import segments
 
-            self.segments = class_segments(segments_csv, terrain_class)
+            self.segments = segments.class_table(segments_csv, terrain_class)
             self.ids = [str(s) for s in self.segments.index]
             self.runs = {str(s): str(self.segments.loc[s, "run"]) for s in self.segments.index}
         else:
-            from simpick.reallogs import read_canonical
+            from simpick.sources import replay
 
             self.logs = {}
             for path in logs or []:
-                log = read_canonical(path)
+                log = replay.read_log(path)
                 self.logs[str(log.meta["run_id"])] = log
             self.ids = sorted(self.logs)
             self.runs = {r: r for r in self.ids}

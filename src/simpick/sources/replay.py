@@ -37,16 +37,28 @@ def compare_settings(config: dict) -> dict:
 
 # --- jobs ---
 
-def prepare_case(urdf: str, inputs: dict, params: dict, name: str):
-    """A replayed run (a dataset folder's or an own log) driven by its recorded wheel speeds."""
-    from simpick.realdata import replay_log
+def read_log(path: str):
+    """A canonical log (simpick.reallogs.read_canonical): what a replayed case is driven by."""
     from simpick.reallogs import read_canonical
 
-    log = read_canonical(inputs["log"])
+    return read_canonical(path)
+
+
+def simulate(log, urdf: str, params: dict, duration: float | None = None):
+    """One run driven by its recorded wheel speeds on ``params["engine"]``, the first ``duration``
+    seconds (all of it when None): simpick.realdata.replay_log. The calibration replays through here."""
+    from simpick.realdata import replay_log
+
+    return replay_log(log, urdf, params, duration=duration)
+
+
+def prepare_case(urdf: str, inputs: dict, params: dict, name: str):
+    """A replayed run (a dataset folder's or an own log) driven by its recorded wheel speeds."""
+    log = read_log(inputs["log"])
     run = str(log.meta["run_id"])
     which = {"terrain": params["terrain_class"], "motion": f"replay-{run}", "test": f"{params['terrain_class']}-{run}",
              "dataset": log.meta.get("dataset"), "run": run}
-    return which, lambda: replay_log(log, urdf, params)
+    return which, lambda: simulate(log, urdf, params)
 
 
 def compare(traces: list[str], inputs: dict, params: dict):
