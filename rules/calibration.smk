@@ -7,7 +7,7 @@ if CALIBRATION:
 
     rule calibration_split:
         input:
-            config["real_data"]["segments"] if not REPLAY_SET else f"{REPLAY}/dataset.yaml",
+            unpack(calibration_split_inputs),
         output:
             f"{CAL_DIR}/split.csv",
         log:
@@ -16,6 +16,7 @@ if CALIBRATION:
             "../envs/simpick.yaml"
         params:
             units=calibration_units(),
+            strata=calibration_strata(),
             test_fraction=canonical(CALIBRATION["test_fraction"]),
             seed=int(CALIBRATION["seed"]),
             code=script_code("calibration_split"),

@@ -510,11 +510,33 @@ if CALIBRATION:
     CAL_CLASSES = sorted({c for c, _ in RUNS}) if REPLAY_SET else sorted(SEGMENTS)
 
     def calibration_units():
-        """(terrain class, run, unit) of every real unit the split divides."""
+        """(terrain class, run, unit) of every real unit the split divides; a segment's with whether it
+        turns (the split stratifies by it; a replayed run's is read from its log by the split job)."""
         if REPLAY_SET:
             return [[c, run, run] for c, run in RUNS]
         with open(config["real_data"]["segments"], newline="") as handle:
-            return [[r["terrain_class"], r["run"], r["segment"]] for r in csv.DictReader(handle)]
+            return [
+                [r["terrain_class"], r["run"], r["segment"], r["kind"] == "turning"] for r in csv.DictReader(handle)
+            ]
+
+    def calibration_split_inputs(wildcards):
+        """The table the units come from; for a replay its logs too (which runs turn)."""
+        if REPLAY_SET:
+            return {
+                "dataset": f"{REPLAY}/dataset.yaml",
+                "logs": [f"{REPLAY}/logs/{c}/{run}.parquet" for c, run in RUNS],
+            }
+        return {"segments": config["real_data"]["segments"]}
+
+    def calibration_strata():
+        """How the split job tells a replayed run that turns: the calibration's steady windows within
+        its compared seconds (None for segments: their kind says it)."""
+        if not REPLAY_SET:
+            return None
+        settings = calibration_settings(None, search=False)
+        return canonical(
+            {"track": config["robot"]["track"], "steady": settings["steady"], "duration": settings["replay_seconds"]}
+        )
 
     def calibration_data(wildcards):
         """The real data a class's jobs read: the committed table, or the class's canonical logs."""

@@ -2,4 +2,5 @@ from simpick.calibration import split_job
 from simpick.workflow import logged
 
 with logged(snakemake.log[0]):
-    split_job(snakemake.params.units, snakemake.params.test_fraction, snakemake.params.seed, snakemake.output[0])
+    split_job(snakemake.params.units, snakemake.params.test_fraction, snakemake.params.seed, snakemake.output[0],
+              list(snakemake.input.get("logs", [])), snakemake.params.strata)

@@ -443,3 +443,19 @@ def test_the_objective_gives_the_steady_gain_its_own_weight():
     assert objective_terms(row, scales) == pytest.approx(0.4 + 1.0 + 4.0)
     assert objective_terms(row | {"gain_error": float("nan")}, scales) == pytest.approx(1.4)
     assert objective_terms(row, {"yaw_rate": 0.05, "accel_x": 0.05}) == pytest.approx(1.4)
+
+
+def test_a_stratified_split_puts_turning_runs_in_both_sets():
+    """Issue 20: where a class has two or more runs that turn, training and test each get some, so a
+    turning parameter is calibrated on turning runs; straight runs are split on their own."""
+    rows = [{"terrain_class": "sandy_loam", "run": f"{r:02d}", "unit": f"u{r}", "turns": r >= 4} for r in range(7)]
+    for seed in range(20):
+        split = split_runs(pd.DataFrame(rows), 0.5, seed)
+        sets = dict(zip(split.run, split.set))
+        turning = [sets[f"{r:02d}"] for r in range(4, 7)]
+        straight = [sets[f"{r:02d}"] for r in range(4)]
+        assert "train" in turning and "test" in turning, (seed, turning)
+        assert straight.count("test") == 2
+    # without the column, the split is the unstratified one (its seeds unchanged)
+    plain = split_runs(pd.DataFrame(rows).drop(columns="turns"), 0.5, 11)
+    assert len(plain) == 7 and set(plain.set) == {"train", "test"}

@@ -69,24 +69,57 @@ def split_runs(units: pd.DataFrame, test_fraction: float, seed: int) -> pd.DataF
     """Per terrain class, the runs shuffled by a seeded generator; ``round(test_fraction x n)``
     of them (at least 1, at most n - 1) are test runs, the rest training runs. A class with a
     single run keeps it for training (nothing to test on). Every unit of a run goes where its
-    run goes. ``units`` needs columns terrain_class, run, unit."""
+    run goes. ``units`` needs columns terrain_class, run, unit.
+
+    With a boolean column ``turns`` (a run turns under a steady command: issue 20), the runs that
+    turn and those that do not are split apart, each as above: the turning parameters are then
+    calibrated on turning runs and judged on others, where a class has two or more. (Unstratified,
+    the seed put every turning run of sandy loam in the test set and its training runs drove
+    straight: nothing constrained the friction ratio.)"""
     from simpick.simulate import stable_seed
 
     rows = []
+    stratified = "turns" in units
     for cls in sorted(units.terrain_class.unique()):
         g = units[units.terrain_class == cls]
-        runs = sorted(str(r) for r in g.run.unique())
-        order = np.random.default_rng(stable_seed(int(seed), "calibration-split", cls)).permutation(len(runs))
-        n_test = 0 if len(runs) < 2 else min(max(int(round(test_fraction * len(runs))), 1), len(runs) - 1)
-        test = {runs[i] for i in order[:n_test]}
+        if stratified:
+            turning = g.groupby(g.run.astype(str))["turns"].any()
+            strata = [(("turning",), sorted(turning.index[turning])), (("straight",), sorted(turning.index[~turning]))]
+        else:
+            strata = [((), sorted(str(r) for r in g.run.unique()))]
+        test = set()
+        for key, runs in strata:
+            order = np.random.default_rng(stable_seed(int(seed), "calibration-split", cls, *key)).permutation(len(runs))
+            n_test = 0 if len(runs) < 2 else min(max(int(round(test_fraction * len(runs))), 1), len(runs) - 1)
+            test |= {runs[i] for i in order[:n_test]}
         for r in g.sort_values(["run", "unit"]).itertuples():
             rows.append({"terrain_class": cls, "run": str(r.run), "unit": r.unit,
                          "set": "test" if str(r.run) in test else "train"})
     return pd.DataFrame(rows, columns=list(SPLIT_COLUMNS))
 
 
-def split_job(units: list[dict], test_fraction: float, seed: int, output: str) -> None:
-    frame = pd.DataFrame(units, columns=["terrain_class", "run", "unit"]).astype({"run": str})
+def run_turns(log, track: float, steady: dict, duration: float | None) -> bool:
+    """Whether a replayed run has a steady-command turning window within the compared seconds."""
+    windows = steady_windows(log, track, steady)
+    return bool(len(windows) and (duration is None or (windows.t_end <= float(duration)).any()))
+
+
+def split_job(units: list[dict], test_fraction: float, seed: int, output: str, logs: list[str] | None = None,
+              strata: dict | None = None) -> None:
+    """Rule calibration_split. ``units`` rows are (class, run, unit[, turns]); with ``logs`` (a
+    replay) each run's ``turns`` is read from its log under ``strata`` (track, steady, duration)."""
+    frame = pd.DataFrame(units).iloc[:, :4]
+    frame.columns = ["terrain_class", "run", "unit", "turns"][:frame.shape[1]]
+    frame = frame.astype({"run": str})
+    if logs:
+        from simpick.sources import replay
+
+        turns = {}
+        for path in logs:
+            log = replay.read_log(path)
+            key = (str(log.meta["terrain_class"]).lower(), str(log.meta["run_id"]))
+            turns[key] = run_turns(log, float(strata["track"]), strata["steady"], strata.get("duration"))
+        frame["turns"] = [turns.get((c, r), False) for c, r in zip(frame.terrain_class, frame.run)]
     write_csv(split_runs(frame, test_fraction, seed), output)
 
 
