@@ -3,6 +3,7 @@ from simpick.watchdog import runtime_timeout
 from simpick.workflow import logged
 
 with logged(snakemake.log[0]):
+    # the job's code version names its Optuna study: trials of older code are not resumed
     calibrate_job({k: (list(v) if k == "logs" else v) for k, v in snakemake.input.items()}, snakemake.params.case,
-                  snakemake.params.settings, dict(snakemake.output),
+                  snakemake.params.settings | {"code": snakemake.params.code}, dict(snakemake.output),
                   timeout=runtime_timeout(snakemake.resources.get("runtime")))

@@ -171,13 +171,20 @@ def test_an_interrupted_calibration_resumes_without_repeating_trials(tmp_path):
     from simpick.calibration import _storage, study_name
 
     storage = _storage(tmp_path / "b.journal")
-    optuna.load_study(study_name=study_name(params, settings), storage=storage).ask()  # stays RUNNING
+    optuna.load_study(study_name=study_name(params, settings, ["s1"]), storage=storage).ask()  # stays RUNNING
     calls.clear()
     _, resumed, facts = calibrate(units, ["s1"], URDF, params, settings, tmp_path / "b.journal", evaluate_fn=counting)
     assert len(calls) == 3 and facts["trials_run_now"] == 3  # only the missing trials ran
     # the resumed study proposed exactly what the uninterrupted one did
     np.testing.assert_allclose(resumed.param_friction.to_numpy(), whole.param_friction.to_numpy())
     np.testing.assert_allclose(resumed.objective.to_numpy(), whole.objective.to_numpy())
+    # another code version (or training set) is another study: none of these trials is reused
+    assert study_name(params, settings, ["s1"], "code-a") != study_name(params, settings, ["s1"], "code-b")
+    assert study_name(params, settings, ["s1"]) != study_name(params, settings, ["s1", "s2"])
+    calls.clear()
+    calibrate(units, ["s1"], URDF, params, dict(settings, n_trials=2, code="edited"), tmp_path / "b.journal",
+              evaluate_fn=counting)
+    assert len(calls) == 2
 
 
 # ------------------------------------------------------------ summary and report section

@@ -311,12 +311,18 @@ def _storage(path: Path):
     return JournalStorage(JournalFileBackend(str(path)))
 
 
-def study_name(params: dict, settings: dict) -> str:
+def study_name(params: dict, settings: dict, train: list[str] | None = None, code: str | None = None) -> str:
     """Names the study by everything its trials depend on except the budget, so raising
-    ``n_trials`` continues the same study and any other edit starts a new one."""
+    ``n_trials`` continues the same study and any other edit starts a new one: the parameters,
+    the settings, the training units (a new split) and the code version of the job (an edit to
+    the objective or an engine): a trial of another training set or code is never reused."""
     from simpick.simulate import config_hash
 
     keyed = {"params": params, "settings": {k: v for k, v in settings.items() if k != "n_trials"}}
+    if train is not None:
+        keyed["train"] = sorted(str(u) for u in train)
+    if code is not None:
+        keyed["code"] = str(code)
     return f"{params['engine']}-{params['terrain_class']}-{config_hash(keyed)}"
 
 
@@ -336,7 +342,7 @@ def calibrate(units: Units, train: list[str], urdf: str, params: dict, settings:
     if not space:
         raise InputError(f"engines.{params['engine']}", "declares no calibratable parameters")
     storage = _storage(journal)
-    name = study_name(params, settings)
+    name = study_name(params, settings, train, settings.get("code"))
     study = optuna.create_study(study_name=name, storage=storage, direction="minimize", load_if_exists=True)
     # a trial left RUNNING by a killed job never finishes: mark it failed (one job owns a study)
     for t in study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):
