@@ -420,7 +420,9 @@ class Study(Strict):
             if unknown:
                 raise ValueError(f"calibration.target.classes: {unknown} are not under real_data.classes "
                                  f"{sorted(self.real_data.classes)}; name classes from there, or null for all")
-            if target.reference not in known:
+            # a reference the config names must be in the study; the default (coulomb) where the study has it,
+            # else target.csv says the reference test could not be made
+            if target.reference not in known and "reference" in target.model_fields_set:
                 raise ValueError(f"calibration.target.reference: {target.reference!r} is not in this study's "
                                  f"engines or baselines {known}")
         if self.accuracy.reference == "own" and not self.own_logs:
