@@ -140,7 +140,9 @@ def test_the_optimiser_recovers_a_known_friction_coefficient(tmp_path):
     by a bounds override, so friction is the one free parameter (with both free, 30 trials found
     mu 0.217)."""
     units = _synthetic_units("coulomb", 0.2)
-    settings = dict(SETTINGS, bounds={"coulomb": {"friction_ratio": [0.999, 1.001]}})
+    # 40 trials: at 30 the result depended on the sampler's seed (0.214, 7 % off, once the study was named
+    # by its training units too)
+    settings = dict(SETTINGS, n_trials=40, bounds={"coulomb": {"friction_ratio": [0.999, 1.001]}})
     values, history, facts = calibrate(units, ["s1"], URDF, _params("coulomb", 0.6), settings,
                                        tmp_path / "optuna.journal")
     assert values["friction"] == pytest.approx(0.2, rel=0.05)
