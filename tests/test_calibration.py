@@ -465,6 +465,10 @@ def test_a_stratified_split_puts_turning_runs_in_both_sets():
         straight = [sets[f"{r:02d}"] for r in range(4)]
         assert "train" in turning and "test" in turning, (seed, turning)
         assert straight.count("test") == 2
+    # one turning and one straight run: split together, one of them held out
+    pair = split_runs(pd.DataFrame([{"terrain_class": "ice", "run": r, "unit": r, "turns": r == "01"}
+                                    for r in ("01", "02")]), 0.5, 11)
+    assert sorted(pair.set) == ["test", "train"]
     # without the column, the split is the unstratified one (its seeds unchanged)
     plain = split_runs(pd.DataFrame(rows).drop(columns="turns"), 0.5, 11)
     assert len(plain) == 7 and set(plain.set) == {"train", "test"}

@@ -85,6 +85,10 @@ def split_runs(units: pd.DataFrame, test_fraction: float, seed: int) -> pd.DataF
         if stratified:
             turning = g.groupby(g.run.astype(str))["turns"].any()
             strata = [(("turning",), sorted(turning.index[turning])), (("straight",), sorted(turning.index[~turning]))]
+            # a stratum of one run cannot be split: such runs are split together (a class of one turning
+            # and one straight run keeps a test run, as unstratified)
+            single = sorted(r for _, runs in strata if len(runs) == 1 for r in runs)
+            strata = [s for s in strata if len(s[1]) > 1] + ([(("rest",), single)] if single else [])
         else:
             strata = [((), sorted(str(r) for r in g.run.unique()))]
         test = set()
@@ -343,6 +347,9 @@ def calibrate(units: Units, train: list[str], urdf: str, params: dict, settings:
         raise InputError(f"engines.{params['engine']}", "declares no calibratable parameters")
     storage = _storage(journal)
     name = study_name(params, settings, train, settings.get("code"))
+    # the sampler's seed: from the parameters and settings alone, so an edit to unrelated code starts a
+    # new study (its name) that proposes the same trials as the old one did
+    seed_key = study_name(params, {k: v for k, v in settings.items() if k != "code"})
     study = optuna.create_study(study_name=name, storage=storage, direction="minimize", load_if_exists=True)
     # a trial left RUNNING by a killed job never finishes: mark it failed (one job owns a study)
     for t in study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):
@@ -367,7 +374,7 @@ def calibrate(units: Units, train: list[str], urdf: str, params: dict, settings:
 
     ran, start = 0, time.perf_counter()
     while done(study) < int(settings["n_trials"]):
-        sampler = optuna.samplers.TPESampler(seed=stable_seed(int(settings["seed"]), name, done(study)),
+        sampler = optuna.samplers.TPESampler(seed=stable_seed(int(settings["seed"]), seed_key, done(study)),
                                              n_startup_trials=int(settings["startup_trials"]))
         study = optuna.load_study(study_name=name, storage=storage, sampler=sampler)
         study.optimize(objective, n_trials=1)
