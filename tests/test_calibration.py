@@ -181,7 +181,7 @@ def test_an_interrupted_calibration_resumes_without_repeating_trials(tmp_path):
     np.testing.assert_allclose(resumed.param_friction.to_numpy(), whole.param_friction.to_numpy())
     np.testing.assert_allclose(resumed.objective.to_numpy(), whole.objective.to_numpy())
     # another code version (or training set) is another study: none of these trials is reused
-    assert study_name(params, settings, ["s1"], "code-a") != study_name(params, settings, ["s1"], "code-b")
+    assert study_name(params, settings | {"code": "a"}, ["s1"]) != study_name(params, settings | {"code": "b"}, ["s1"])
     assert study_name(params, settings, ["s1"]) != study_name(params, settings, ["s1", "s2"])
     calls.clear()
     calibrate(units, ["s1"], URDF, params, dict(settings, n_trials=2, code="edited"), tmp_path / "b.journal",

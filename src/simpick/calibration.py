@@ -59,8 +59,7 @@ from simpick.tables import write_csv
 
 FAILED_UNIT = 10.0  # objective counted for a unit the engine fails (10x the scale of either error)
 SPLIT_COLUMNS = ("terrain_class", "run", "unit", "set")
-EVAL_COLUMNS = ("engine", "terrain_class", "unit", "run", "set", "variant", "status", "error_yaw_rate",
-                "error_accel_x", "objective", "yaw_rate_gain_sim", "yaw_rate_gain_real", "gain_error", "gain_windows")
+
 
 
 # --- the split --------------------------------------------------------------------------------------
@@ -112,9 +111,8 @@ def split_job(units: list[dict], test_fraction: float, seed: int, output: str, l
               strata: dict | None = None) -> None:
     """Rule calibration_split. ``units`` rows are (class, run, unit[, turns]); with ``logs`` (a
     replay) each run's ``turns`` is read from its log under ``strata`` (track, steady, duration)."""
-    frame = pd.DataFrame(units).iloc[:, :4]
-    frame.columns = ["terrain_class", "run", "unit", "turns"][:frame.shape[1]]
-    frame = frame.astype({"run": str})
+    columns = ["terrain_class", "run", "unit", "turns"]
+    frame = pd.DataFrame(units, columns=columns[:len(units[0])] if units else columns[:3]).astype({"run": str})
     if logs:
         from simpick.sources import replay
 
@@ -193,20 +191,16 @@ def segment_errors(seg: pd.Series, urdf: str, params: dict, window: float | None
         out["error_accel_x"] = abs(float(w.ax.mean()) - float(seg.linear_x_mean))
         out["error_accel_x_offset_free"] = 0.0  # a window mean less its mean (module docstring)
         if np.isfinite(float(seg.yaw_rate_gain)):  # a turning segment: the gain under its constant command
-            track = float(params["robot"]["track"])
-            n = len(w)
-            out.update(_gains(w.wz.to_numpy(), float(seg.yaw_rate_gain), np.full(n, float(seg.v_left)),
-                              np.full(n, float(seg.v_right)), track))
+            kinematic = (float(seg.v_right) - float(seg.v_left)) / float(params["robot"]["track"])
+            out.update(_gain_figures(float(w.wz.mean()) / kinematic, float(seg.yaw_rate_gain), 1))
     return out
 
 
-def _gains(sim_wz, real_gain: float, v_left, v_right, track: float) -> dict:
-    """The simulated yaw-rate gain over the compared samples (simpick.realmetrics.yaw_rate_gain, the
-    verdict's definition) beside the real one on the same samples, and their absolute difference."""
-    from simpick import realmetrics
-
-    sim_gain = realmetrics.yaw_rate_gain(sim_wz, v_left, v_right, track)
-    return {"yaw_rate_gain_sim": sim_gain, "yaw_rate_gain_real": real_gain, "gain_error": abs(sim_gain - real_gain)}
+def _gain_figures(sim_gain: float, real_gain: float, windows: int) -> dict:
+    """A unit's steady yaw-rate gain, simulated and real (mean yaw rate over the kinematic one under a
+    steady command), their absolute difference and the number of steady windows behind them."""
+    return {"yaw_rate_gain_sim": sim_gain, "yaw_rate_gain_real": real_gain, "gain_error": abs(sim_gain - real_gain),
+            "gain_windows": windows}
 
 
 def steady_windows(log, track: float, steady: dict) -> pd.DataFrame:
@@ -246,9 +240,7 @@ def replay_errors(log, urdf: str, params: dict, duration: float | None, steady: 
             t, wz = sim.time.to_numpy(), sim.wz.to_numpy()
             sim_gains = [float(wz[(t >= w.t_start) & (t < w.t_end)].mean()) / w.w_kinematic
                          for w in windows.itertuples()]
-            real_gain, sim_gain = float(windows.yaw_rate_gain.mean()), float(np.mean(sim_gains))
-            out.update({"yaw_rate_gain_sim": sim_gain, "yaw_rate_gain_real": real_gain,
-                        "gain_error": abs(sim_gain - real_gain), "gain_windows": len(windows)})
+            out.update(_gain_figures(float(np.mean(sim_gains)), float(windows.yaw_rate_gain.mean()), len(windows)))
     return out
 
 
@@ -315,18 +307,16 @@ def _storage(path: Path):
     return JournalStorage(JournalFileBackend(str(path)))
 
 
-def study_name(params: dict, settings: dict, train: list[str] | None = None, code: str | None = None) -> str:
+def study_name(params: dict, settings: dict, train: list[str] | None = None) -> str:
     """Names the study by everything its trials depend on except the budget, so raising
     ``n_trials`` continues the same study and any other edit starts a new one: the parameters,
-    the settings, the training units (a new split) and the code version of the job (an edit to
-    the objective or an engine): a trial of another training set or code is never reused."""
+    the settings (with the job's code version, ``settings["code"]``: an edit to the objective or
+    an engine) and the training units (a new split): a trial of other units or code is never reused."""
     from simpick.simulate import config_hash
 
     keyed = {"params": params, "settings": {k: v for k, v in settings.items() if k != "n_trials"}}
     if train is not None:
         keyed["train"] = sorted(str(u) for u in train)
-    if code is not None:
-        keyed["code"] = str(code)
     return f"{params['engine']}-{params['terrain_class']}-{config_hash(keyed)}"
 
 
@@ -346,7 +336,7 @@ def calibrate(units: Units, train: list[str], urdf: str, params: dict, settings:
     if not space:
         raise InputError(f"engines.{params['engine']}", "declares no calibratable parameters")
     storage = _storage(journal)
-    name = study_name(params, settings, train, settings.get("code"))
+    name = study_name(params, settings, train)
     # the sampler's seed: from the parameters and settings alone, so an edit to unrelated code starts a
     # new study (its name) that proposes the same trials as the old one did
     seed_key = study_name(params, {k: v for k, v in settings.items() if k != "code"})

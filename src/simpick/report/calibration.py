@@ -85,7 +85,7 @@ def turning_rows(turning: pd.DataFrame | None, engines: list[str]) -> list[dict]
     return out
 
 
-def target_summary(target: pd.DataFrame | None, turning: pd.DataFrame | None) -> dict[str, Any] | None:
+def target_summary(target: pd.DataFrame | None) -> dict[str, Any] | None:
     """Issue 20's target as the summary judged it (simpick.calibration.target_table): the best
     calibrated engine, whether it meets the target, and every calibrated model's figures."""
     if target is None or target.empty:
@@ -148,4 +148,4 @@ def calibration_section(summary: pd.DataFrame | None, engines: list[str], colors
                         "winner_changes": len(named) == 2 and named["configured"] != named["calibrated"],
                         "winner_named": len(named) == 2})
     return {"given": True, "classes": classes, "turning": turning_rows(turning, engines),
-            "target": target_summary(target, turning)}
+            "target": target_summary(target)}
