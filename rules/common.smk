@@ -524,7 +524,7 @@ if CALIBRATION:
         if REPLAY_SET:
             return {
                 "dataset": f"{REPLAY}/dataset.yaml",
-                "logs": [f"{REPLAY}/logs/{c}/{run}.parquet" for c, run in RUNS],
+                "logs": [source_base.log_path(REPLAY_SET.name, c, run) for c, run in RUNS],
             }
         return {"segments": config["real_data"]["segments"]}
 
@@ -541,7 +541,11 @@ if CALIBRATION:
     def calibration_data(wildcards):
         """The real data a class's jobs read: the committed table, or the class's canonical logs."""
         if REPLAY_SET:
-            return {"logs": [f"{REPLAY}/logs/{c}/{run}.parquet" for c, run in RUNS if c == wildcards.terrain_class]}
+            return {
+                "logs": [
+                    source_base.log_path(REPLAY_SET.name, c, run) for c, run in RUNS if c == wildcards.terrain_class
+                ]
+            }
         return {"segments": config["real_data"]["segments"]}
 
     def calibration_settings(engine, search=True):
