@@ -1,5 +1,5 @@
 # simpick: the Farley, Wang & Marshall (2022) simulator study as a workflow.
-# Data flow (helpers, config slices and the case tables SOURCES in rules/common.smk):
+# Data flow (the plan of jobs and the case tables: simpick.plan, built in rules/common.smk as PLAN):
 # - one path per case: each source yields a case table (engine-independent rows) and every case goes
 #   through the same three families, over a {source} wildcard:
 #     simulate (a job per case x model, under the watchdog) -> results/traces/<source>/<model>/<group>/<case>.parquet
@@ -43,12 +43,4 @@ include: "rules/report.smk"
 rule all:
     default_target: True
     input:
-        "results/validation/summary.csv",
-        [metrics_file(source, table) for source in SOURCES for table in ("imu_errors", "summary")],
-        [f"{REPLAY}/segments.csv", f"{REPLAY}/dataset.yaml", f"{REPLAY}/turning/summary.csv"] if REPLAY_SET else [],
-        f"{SWEEP_DIR}/summary.csv" if SWEEP else [],
-        CALIBRATION_ALL,
-        "results/scores/weighted.csv",
-        "results/published/table11.csv",
-        "results/report/report.html",
-        "results/report/report.pdf",
+        PLAN.all_targets(),

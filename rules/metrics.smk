@@ -1,4 +1,4 @@
-# One compare and one summarise family over the sources of rules/common.smk (SOURCES): a source's
+# One compare and one summarise family over the study's sources (simpick.plan: PLAN.sources): a source's
 # traces against what they are compared with (simpick.workflow.compare_job, by the source's module in
 # simpick.sources: the paper's reference
 # statistics for the lab, each segment's real window statistics, the real log for a replay), then its
@@ -7,7 +7,7 @@
 
 rule compare:
     input:
-        unpack(compare_inputs),
+        unpack(PLAN.compare_inputs),
     output:
         per_test="results/metrics/{source}/per_test.csv",
         detail="results/metrics/{source}/detail.csv",
@@ -17,7 +17,7 @@ rule compare:
     benchmark:
         "results/benchmarks/compare/{source}.tsv"
     wildcard_constraints:
-        source="|".join(re.escape(s) for s in SOURCES),
+        source="|".join(re.escape(s) for s in PLAN.sources),
     conda:
         "../envs/simpick.yaml"
     threads: 1
@@ -25,9 +25,9 @@ rule compare:
         mem_mb=1000,
         runtime=30,
     params:
-        kind=lambda wc: source_of(wc.source).DRIVEN,
-        settings=lambda wc: compare_settings(wc.source),
-        code=lambda wc: compare_code(wc.source),
+        kind=lambda wc: PLAN.source_of(wc.source).DRIVEN,
+        settings=lambda wc: PLAN.compare_settings(wc.source),
+        code=lambda wc: PLAN.compare_code(wc.source),
     script:
         "../scripts/compare.py"
 
@@ -46,7 +46,7 @@ rule summarise:
     benchmark:
         "results/benchmarks/summarise/{source}.tsv"
     wildcard_constraints:
-        source="|".join(re.escape(s) for s in SOURCES),
+        source="|".join(re.escape(s) for s in PLAN.sources),
     conda:
         "../envs/simpick.yaml"
     threads: 1
@@ -54,7 +54,7 @@ rule summarise:
         mem_mb=400,
         runtime=10,
     params:
-        settings=lambda wc: canonical({"group": SOURCES[wc.source]["group"], "statistics": statistics_params()}),
-        code=script_code("summarise"),
+        settings=lambda wc: PLAN.summarise_settings(wc.source),
+        code=PLAN.script_code("summarise"),
     script:
         "../scripts/summarise.py"

@@ -10,6 +10,6 @@ rule published_table11:
     conda:
         "../envs/simpick.yaml"
     params:
-        code=script_code("published"),
+        code=PLAN.script_code("published"),
     script:
         "../scripts/published.py"

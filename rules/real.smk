@@ -3,50 +3,50 @@
 # folder's own segment table, and the maintainers' copy of it over the committed one (read, never
 # written by a run). Each kind of source has its import rule; from the canonical log (or the committed
 # table) on, every case goes through the one simulate, compare and summarise family (simulate.smk,
-# metrics.smk). Helpers (the case tables SOURCES, REPLAY_CASES) in common.smk.
+# metrics.smk). The case tables (PLAN.sources, PLAN.replay_cases): simpick.plan.
 
 
-if REPLAY_SET:
+if PLAN.replay_set:
 
     rule dataset_manifest:
         """Which folder results/real/<dataset>/ holds the results of (a second folder of the same
         name is then refused before any job: simpick.datasets.open_dataset)."""
         output:
-            f"{REPLAY}/dataset.yaml",
+            f"{PLAN.replay}/dataset.yaml",
         log:
-            f"results/logs/real/{REPLAY_SET.name}/dataset_manifest.log",
+            f"results/logs/real/{PLAN.replay_set.name}/dataset_manifest.log",
         priority: 50
         conda:
             "../envs/simpick.yaml"
         params:
-            dataset=canonical(replay_dataset()),
+            dataset=canonical(PLAN.replay_dataset()),
         script:
             "../scripts/dataset_manifest.py"
 
     rule import_real:
         input:
-            imu=lambda wc: str(REPLAY_SET.run(wc.terrain_class, wc.run).imu),
-            pro=lambda wc: str(REPLAY_SET.run(wc.terrain_class, wc.run).pro),
+            imu=lambda wc: str(PLAN.replay_set.run(wc.terrain_class, wc.run).imu),
+            pro=lambda wc: str(PLAN.replay_set.run(wc.terrain_class, wc.run).pro),
         output:
-            f"{REPLAY}/logs/{{terrain_class}}/{{run}}.parquet",
+            f"{PLAN.replay}/logs/{{terrain_class}}/{{run}}.parquet",
         log:
-            f"results/logs/real/{REPLAY_SET.name}/import/{{terrain_class}}/{{run}}.log",
+            f"results/logs/real/{PLAN.replay_set.name}/import/{{terrain_class}}/{{run}}.log",
         wildcard_constraints:
-            terrain_class="|".join(REPLAY_SET.classes),
-            run="|".join(sorted({re.escape(run) for _, run in RUNS})),
+            terrain_class="|".join(PLAN.replay_set.classes),
+            run="|".join(sorted({re.escape(run) for _, run in PLAN.runs})),
         conda:
             "../envs/simpick.yaml"
         params:
-            folder_class=lambda wc: REPLAY_SET.run(wc.terrain_class, wc.run).folder,
+            folder_class=lambda wc: PLAN.replay_set.run(wc.terrain_class, wc.run).folder,
             settings=canonical(
                 {
                     "track": config["robot"]["track"],
-                    "dataset": REPLAY_SET.name,
-                    "label": replay_dataset()["label"],
-                    "declared": replay_dataset()["declared"],
+                    "dataset": PLAN.replay_set.name,
+                    "label": PLAN.replay_dataset()["label"],
+                    "declared": PLAN.replay_dataset()["declared"],
                 }
             ),
-            code=script_code("import_real"),
+            code=PLAN.script_code("import_real"),
         script:
             "../scripts/import_real.py"
 
@@ -54,12 +54,12 @@ if REPLAY_SET:
     # ("<dataset>-segments", rules/common.smk) known only once it is written: a checkpoint.
     checkpoint real_segments:
         input:
-            logs=real_logs(REPLAY_SET.name),
+            logs=PLAN.real_logs(PLAN.replay_set.name),
         output:
-            csv=f"{REPLAY}/segments.csv",
-            provenance=f"{REPLAY}/segments.provenance.yaml",
+            csv=f"{PLAN.replay}/segments.csv",
+            provenance=f"{PLAN.replay}/segments.provenance.yaml",
         log:
-            f"results/logs/real/{REPLAY_SET.name}/real_segments.log",
+            f"results/logs/real/{PLAN.replay_set.name}/real_segments.log",
         conda:
             "../envs/simpick.yaml"
         params:
@@ -67,10 +67,10 @@ if REPLAY_SET:
                 {
                     "segment_rules": config["real_data"]["segment_rules"],
                     "track": config["robot"]["track"],
-                    "source": replay_dataset()["source"],
+                    "source": PLAN.replay_dataset()["source"],
                 }
             ),
-            code=script_code("real_segments"),
+            code=PLAN.script_code("real_segments"),
         script:
             "../scripts/real_segments.py"
 
@@ -78,13 +78,13 @@ if REPLAY_SET:
     # against speed, turn radius and wheel-speed difference, beside the rigid-Coulomb prediction.
     rule real_turning:
         input:
-            logs=real_logs(REPLAY_SET.name),
+            logs=PLAN.real_logs(PLAN.replay_set.name),
             urdf=config["robot"]["urdf"],
         output:
-            windows=f"{REPLAY}/turning/windows.csv",
-            summary=f"{REPLAY}/turning/summary.csv",
+            windows=f"{PLAN.replay}/turning/windows.csv",
+            summary=f"{PLAN.replay}/turning/summary.csv",
         log:
-            f"results/logs/real/{REPLAY_SET.name}/real_turning.log",
+            f"results/logs/real/{PLAN.replay_set.name}/real_turning.log",
         conda:
             "../envs/simpick.yaml"
         params:
@@ -97,7 +97,7 @@ if REPLAY_SET:
                     "min_turn": config["real_data"]["segment_rules"]["min_turn"],
                 }
             ),
-            code=script_code("real_turning"),
+            code=PLAN.script_code("real_turning"),
         script:
             "../scripts/real_turning.py"
 
@@ -107,9 +107,9 @@ if REPLAY_SET:
 # the job replaces them atomically, and its receipt (what changed) is the output.
 rule maintain_segments:
     input:
-        unpack(maintained_table),
+        unpack(PLAN.maintained_table),
     output:
-        f"{REAL}/maintain_segments.yaml",
+        f"{PLAN.real}/maintain_segments.yaml",
     log:
         "results/logs/real/maintain_segments.log",
     conda:
@@ -138,23 +138,23 @@ rule fetch_borealtc:
         "../scripts/fetch_borealtc.py"
 
 
-if OWN_LOGS:
+if PLAN.own_logs:
 
     rule import_own_log:
         """One of the user's logs (a mapped CSV or a ROS bag) to the canonical form, filed under
         its terrain class like a dataset folder's runs."""
         output:
-            f"{OWN}/logs/{{terrain_class}}/{{run}}.parquet",
+            f"{PLAN.own}/logs/{{terrain_class}}/{{run}}.parquet",
         log:
             "results/logs/real/own/import/{terrain_class}/{run}.log",
         wildcard_constraints:
-            terrain_class="|".join(sorted({re.escape(c) for c, _ in REPLAY_CASES["own"]})),
-            run="|".join(sorted(re.escape(name) for name in OWN_LOGS)),
+            terrain_class="|".join(sorted({re.escape(c) for c, _ in PLAN.replay_cases["own"]})),
+            run="|".join(sorted(re.escape(name) for name in PLAN.own_logs)),
         conda:
             "../envs/simpick.yaml"
         params:
-            entry=lambda wc: canonical(OWN_LOGS[wc.run]),
+            entry=lambda wc: canonical(PLAN.own_logs[wc.run]),
             track=canonical(config["robot"]["track"]),
-            code=script_code("import_own_log"),
+            code=PLAN.script_code("import_own_log"),
         script:
             "../scripts/import_own_log.py"

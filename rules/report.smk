@@ -3,10 +3,10 @@
 # report() so `snakemake --report` shows it too; the report job only embeds the files. So a weight
 # edit redraws the one figure that shows the weights (figure_contributions), and a template edit
 # (src/simpick/report/templates, hashed by the report rules alone) redraws none. The figure
-# inputs (FIGURES, LAB_FIGURE_TESTS, report_figures ...) are in common.smk.
+# inputs (PLAN.figures, PLAN.lab_figure_tests, PLAN.report_figures ...) are in simpick.plan.report.
 
 # Figure rules: light jobs (one Matplotlib figure each), code= the drawing code they run and no
-# more (common.smk: figure_code), so an edit to the report's templates or context code reruns none of them.
+# more (simpick.plan: PLAN.figure_code), so an edit to the report's templates or context code reruns none of them.
 
 
 rule figure_contributions:
@@ -15,7 +15,7 @@ rule figure_contributions:
         weighted="results/scores/weighted.csv",
     output:
         png=report(
-            f"{FIGURES}/contributions.png",
+            f"{PLAN.figures}/contributions.png",
             caption="captions/contributions.rst",
             category="Figures",
             subcategory="Scores",
@@ -30,8 +30,8 @@ rule figure_contributions:
         runtime=5,
     params:
         weights=canonical(config["weights"]),
-        engines=FIGURE_ENGINES,
-        code=figure_code("figure_contributions"),
+        engines=PLAN.figure_engines,
+        code=PLAN.figure_code("figure_contributions"),
     script:
         "../scripts/figure.py"
 
@@ -39,12 +39,12 @@ rule figure_contributions:
 rule figure_imu_stats:
     """One lab test: IMU mean and range per axis (paper Figures 7-8)."""
     input:
-        trace_stats=metrics_file("lab", "detail"),
-        reference_stats=metrics_file("lab", "detail"),
-        runs=metrics_file("lab", "runs"),
+        trace_stats=PLAN.metrics_file("lab", "detail"),
+        reference_stats=PLAN.metrics_file("lab", "detail"),
+        runs=PLAN.metrics_file("lab", "runs"),
     output:
         png=report(
-            f"{FIGURES}/imu_stats/{{lab_terrain}}/{{lab_motion}}.png",
+            f"{PLAN.figures}/imu_stats/{{lab_terrain}}/{{lab_motion}}.png",
             caption="captions/imu_stats.rst",
             category="Figures",
             subcategory="IMU statistics",
@@ -54,8 +54,8 @@ rule figure_imu_stats:
         "results/logs/figures/imu_stats/{lab_terrain}/{lab_motion}.log",
     # its own wildcard names: a reference-only test's terrain is not one the study simulates
     wildcard_constraints:
-        lab_terrain="|".join(re.escape(t) for t in dict.fromkeys(t for t, _ in LAB_FIGURE_TESTS)),
-        lab_motion="|".join(re.escape(m) for m in dict.fromkeys(m for _, m in LAB_FIGURE_TESTS)),
+        lab_terrain="|".join(re.escape(t) for t in dict.fromkeys(t for t, _ in PLAN.lab_figure_tests)),
+        lab_motion="|".join(re.escape(m) for m in dict.fromkeys(m for _, m in PLAN.lab_figure_tests)),
     conda:
         "../envs/simpick.yaml"
     threads: 1
@@ -63,8 +63,8 @@ rule figure_imu_stats:
         mem_mb=300,
         runtime=5,
     params:
-        engines=FIGURE_ENGINES,
-        code=figure_code("figure_imu_stats"),
+        engines=PLAN.figure_engines,
+        code=PLAN.figure_code("figure_imu_stats"),
     script:
         "../scripts/figure.py"
 
@@ -72,11 +72,11 @@ rule figure_imu_stats:
 rule figure_traces:
     """One lab test: every engine's IMU time series."""
     input:
-        traces=lab_test_traces,
-        runs=metrics_file("lab", "runs"),
+        traces=PLAN.lab_test_traces,
+        runs=PLAN.metrics_file("lab", "runs"),
     output:
         png=report(
-            f"{FIGURES}/traces/{{terrain}}/{{motion}}.png",
+            f"{PLAN.figures}/traces/{{terrain}}/{{motion}}.png",
             caption="captions/traces.rst",
             category="Figures",
             subcategory="Traces",
@@ -91,8 +91,8 @@ rule figure_traces:
         mem_mb=400,
         runtime=5,
     params:
-        engines=FIGURE_ENGINES,
-        code=figure_code("figure_traces"),
+        engines=PLAN.figure_engines,
+        code=PLAN.figure_code("figure_traces"),
     script:
         "../scripts/figure.py"
 
@@ -100,11 +100,11 @@ rule figure_traces:
 rule figure_paths:
     """Every lab test's top-down paths, and the table of where each run ended."""
     input:
-        traces=all_traces(),
-        runs=metrics_file("lab", "runs"),
+        traces=PLAN.source_traces("lab"),
+        runs=PLAN.metrics_file("lab", "runs"),
     output:
-        png=report(f"{FIGURES}/paths.png", caption="captions/paths.rst", category="Figures", subcategory="Traces"),
-        endpoints=f"{FIGURES}/endpoints.csv",
+        png=report(f"{PLAN.figures}/paths.png", caption="captions/paths.rst", category="Figures", subcategory="Traces"),
+        endpoints=f"{PLAN.figures}/endpoints.csv",
     log:
         "results/logs/figures/paths.log",
     conda:
@@ -114,10 +114,10 @@ rule figure_paths:
         mem_mb=400,
         runtime=5,
     params:
-        engines=FIGURE_ENGINES,
+        engines=PLAN.figure_engines,
         # the strip geometry and commanded paths: the report's own slice of the config
-        config=canonical(report_config()),
-        code=figure_code("figure_paths"),
+        config=canonical(PLAN.report_config()),
+        code=PLAN.figure_code("figure_paths"),
     script:
         "../scripts/figure.py"
 
@@ -129,7 +129,7 @@ rule figure_validation:
         validation_gains="results/validation/gains.csv",
     output:
         png=report(
-            f"{FIGURES}/validation_gain.png",
+            f"{PLAN.figures}/validation_gain.png",
             caption="captions/validation_gain.rst",
             category="Figures",
             subcategory="Analytic mechanics",
@@ -143,8 +143,8 @@ rule figure_validation:
         mem_mb=300,
         runtime=5,
     params:
-        engines=FIGURE_ENGINES,
-        code=figure_code("figure_validation"),
+        engines=PLAN.figure_engines,
+        code=PLAN.figure_code("figure_validation"),
     script:
         "../scripts/figure.py"
 
@@ -152,10 +152,13 @@ rule figure_validation:
 rule figure_real_gain:
     """Yaw-rate gain per terrain class: the real robot against every model."""
     input:
-        unpack(real_gain_inputs),
+        unpack(PLAN.real_gain_inputs),
     output:
         png=report(
-            f"{FIGURES}/real_gain.png", caption="captions/real_gain.rst", category="Figures", subcategory="Real robot"
+            f"{PLAN.figures}/real_gain.png",
+            caption="captions/real_gain.rst",
+            category="Figures",
+            subcategory="Real robot",
         ),
     log:
         "results/logs/figures/real_gain.log",
@@ -166,23 +169,23 @@ rule figure_real_gain:
         mem_mb=300,
         runtime=5,
     params:
-        engines=FIGURE_ENGINES,
-        statistics=statistics_params(),
+        engines=PLAN.figure_engines,
+        statistics=PLAN.statistics_params(),
         real_data=canonical({"classes": config["real_data"]["classes"]}),
-        code=figure_code("figure_real_gain"),
+        code=PLAN.figure_code("figure_real_gain"),
     script:
         "../scripts/figure.py"
 
 
-if SWEEP:
+if PLAN.sweep:
 
     rule figure_sweep:
         """The speed-accuracy sweep: real-data error against real-time factor per timestep."""
         input:
-            sweep=f"{SWEEP_DIR}/summary.csv",
+            sweep=f"{PLAN.sweep_dir}/summary.csv",
         output:
             png=report(
-                f"{FIGURES}/sweep.png",
+                f"{PLAN.figures}/sweep.png",
                 caption="captions/sweep.rst",
                 category="Figures",
                 subcategory="Speed and accuracy",
@@ -196,21 +199,21 @@ if SWEEP:
             mem_mb=300,
             runtime=5,
         params:
-            engines=FIGURE_ENGINES,
-            code=figure_code("figure_sweep"),
+            engines=PLAN.figure_engines,
+            code=PLAN.figure_code("figure_sweep"),
         script:
             "../scripts/figure.py"
 
 
-if REPLAY_SET:
+if PLAN.replay_set:
 
     rule figure_real_turning:
         """The real robot's yaw-rate gain against speed, turn radius and wheel-speed difference."""
         input:
-            windows=f"{REPLAY}/turning/windows.csv",
+            windows=f"{PLAN.replay}/turning/windows.csv",
         output:
             png=report(
-                f"{FIGURES}/real_turning.png",
+                f"{PLAN.figures}/real_turning.png",
                 caption="captions/real_turning.rst",
                 category="Figures",
                 subcategory="Real robot",
@@ -224,7 +227,7 @@ if REPLAY_SET:
             mem_mb=300,
             runtime=5,
         params:
-            code=figure_code("figure_real_turning"),
+            code=PLAN.figure_code("figure_real_turning"),
         script:
             "../scripts/figure.py"
 
@@ -232,20 +235,20 @@ if REPLAY_SET:
         """One terrain class of the full replay: a representative run against every model, and the
         mean vertical-acceleration spectra; the notes say which run and why."""
         input:
-            unpack(replay_class_inputs),
+            unpack(PLAN.replay_class_inputs),
         output:
             png=report(
-                f"{FIGURES}/replay/{{terrain_class}}.png",
+                f"{PLAN.figures}/replay/{{terrain_class}}.png",
                 caption="captions/replay.rst",
                 category="Figures",
                 subcategory="Real robot",
                 labels={"terrain class": "{terrain_class}"},
             ),
-            notes=f"{FIGURES}/replay/{{terrain_class}}.json",
+            notes=f"{PLAN.figures}/replay/{{terrain_class}}.json",
         log:
             f"results/logs/figures/replay/{{terrain_class}}.log",
         wildcard_constraints:
-            terrain_class="|".join(REPLAY_SET.classes),
+            terrain_class="|".join(PLAN.replay_set.classes),
         conda:
             "../envs/simpick.yaml"
         threads: 1
@@ -253,35 +256,35 @@ if REPLAY_SET:
             mem_mb=800,
             runtime=10,
         params:
-            engines=FIGURE_ENGINES,
+            engines=PLAN.figure_engines,
             config=canonical({"robot": {"track": config["robot"]["track"]}}),
-            code=figure_code("figure_replay"),
+            code=PLAN.figure_code("figure_replay"),
         script:
             "../scripts/figure.py"
 
 
 rule report:
     input:
-        unpack(report_real_inputs),
+        unpack(PLAN.report_real_inputs),
         weighted="results/scores/weighted.csv",
         scores_provenance="results/scores/provenance.yaml",
         validation="results/validation/summary.csv",
         validation_gains="results/validation/gains.csv",
         # the lab's per-axis table holds the simulated statistics, the paper's and the errors between
-        trace_stats=metrics_file("lab", "detail"),
-        reference_stats=metrics_file("lab", "detail"),
-        imu_errors=metrics_file("lab", "imu_errors"),
-        per_test_errors=metrics_file("lab", "detail"),
-        runs=metrics_file("lab", "runs"),
-        rtf=metrics_file("lab", "rtf"),
-        cpu=expand("results/cpu/{engine}.json", engine=ENGINES),
+        trace_stats=PLAN.metrics_file("lab", "detail"),
+        reference_stats=PLAN.metrics_file("lab", "detail"),
+        imu_errors=PLAN.metrics_file("lab", "imu_errors"),
+        per_test_errors=PLAN.metrics_file("lab", "detail"),
+        runs=PLAN.metrics_file("lab", "runs"),
+        rtf=PLAN.metrics_file("lab", "rtf"),
+        cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
         qualitative=config["qualitative"],
         table11="results/published/table11.csv",
         table11_comparison="results/published/table11_comparison.csv",
         worked_example="results/published/worked_example.json",
         # the figure rules' files, embedded (the report draws nothing itself)
-        figures=report_figures(),
-        endpoints=f"{FIGURES}/endpoints.csv",
+        figures=PLAN.report_figures(),
+        endpoints=f"{PLAN.figures}/endpoints.csv",
     output:
         # report(): `snakemake --report` carries the study report (its figures are embedded in it)
         html=report("results/report/report.html", caption="captions/report_html.rst", category="Study report"),
@@ -295,20 +298,12 @@ rule report:
         weights=canonical(config["weights"]),
         # only the keys the report reads (strip geometry, commanded paths, test order): an edit
         # elsewhere reaches it through its inputs or not at all
-        config=canonical(report_config()),
-        statistics=statistics_params(),
-        engines=FIGURE_ENGINES,
-        unavailable=canonical(UNAVAILABLE),  # configured engines this machine cannot run: listed, not dropped
-        code=script_code("report"),
-        real_data=canonical(
-            {
-                "dataset": DATASET,
-                "datasets": report_datasets(),
-                "classes": config["real_data"]["classes"],
-                "window": config["real_data"]["window"],
-                "segment_rules": config["real_data"]["segment_rules"],
-            }
-        ),
+        config=canonical(PLAN.report_config()),
+        statistics=PLAN.statistics_params(),
+        engines=PLAN.figure_engines,
+        unavailable=canonical(PLAN.unavailable),  # configured engines this machine cannot run: listed, not dropped
+        code=PLAN.script_code("report"),
+        real_data=PLAN.report_real_data(),
     script:
         "../scripts/report.py"
 
@@ -326,6 +321,6 @@ rule report_pdf:
     conda:
         "../envs/simpick.yaml"
     params:
-        code=script_code("report_pdf"),
+        code=PLAN.script_code("report_pdf"),
     script:
         "../scripts/report_pdf.py"

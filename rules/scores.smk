@@ -2,11 +2,11 @@
 # rest on (the report reads that file rather than working it out from the config again).
 rule scores:
     input:
-        imu_errors=accuracy_errors(),
-        accuracy_tests=accuracy_source()["per_test"],
-        runs=metrics_file("lab", "runs"),
-        rtf=metrics_file("lab", "rtf"),
-        cpu=expand("results/cpu/{engine}.json", engine=ENGINES),
+        imu_errors=PLAN.accuracy_errors(),
+        accuracy_tests=PLAN.accuracy_source()["per_test"],
+        runs=PLAN.metrics_file("lab", "runs"),
+        rtf=PLAN.metrics_file("lab", "rtf"),
+        cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
         qualitative=config["qualitative"],
     output:
         scores=report("results/scores/scores.csv", caption="captions/scores.rst", category="Scores"),
@@ -19,11 +19,11 @@ rule scores:
     conda:
         "../envs/simpick.yaml"
     params:
-        engines=sorted(ENGINES),  # a reordered engines: block is not an edit
+        engines=sorted(PLAN.engines),  # a reordered engines: block is not an edit
         weights=canonical(config["weights"]),
-        accuracy=canonical({k: accuracy_source()[k] for k in ("reference", "set", "dataset")}),
+        accuracy=canonical({k: PLAN.accuracy_source()[k] for k in ("reference", "set", "dataset")}),
         cpu_test=f"{config['cpu_load']['terrain']}/{config['cpu_load']['motion']}",
-        code=script_code("scores"),
+        code=PLAN.script_code("scores"),
     script:
         "../scripts/scores.py"
 
@@ -32,12 +32,12 @@ rule scores:
 # error, the heading error and (where a log measures it) the speed error, with intervals and paired
 # verdicts over runs; what the paper's accuracy scores separate; the weighted total with an interval
 # over real runs; the report's first paragraph. The report reads these tables and computes none.
-if VERDICT:
+if PLAN.verdict:
 
     rule verdict:
         input:
-            per_test=metrics_file(verdict_source(), "per_test"),
-            accuracy_tests=accuracy_source()["per_test"],
+            per_test=PLAN.metrics_file(PLAN.verdict_source(), "per_test"),
+            accuracy_tests=PLAN.accuracy_source()["per_test"],
             weighted="results/scores/weighted.csv",
             provenance="results/scores/provenance.yaml",
         output:
@@ -65,17 +65,7 @@ if VERDICT:
             mem_mb=500,
             runtime=10,
         params:
-            settings=canonical(
-                {
-                    "engines": sorted(ENGINES),
-                    "baselines": sorted(BASELINES),
-                    "statistics": statistics_params(),
-                    "weights": config["weights"],
-                    "seed": config["seed"],
-                    "source": verdict_source(),
-                    "source_title": verdict_source_title(),
-                }
-            ),
-            code=script_code("verdict"),
+            settings=PLAN.verdict_settings(),
+            code=PLAN.script_code("verdict"),
         script:
             "../scripts/verdict.py"

@@ -1,16 +1,16 @@
-# One simulate family for every source's cases (case tables: SOURCES in rules/common.smk): a job steps
+# One simulate family for every source's cases (case tables: PLAN.sources, simpick.plan): a job steps
 # its cases on one model, each under the watchdog (simpick.workflow.simulate_job; health.timeout), and
 # writes a trace per case. The unit is one case (rule `simulate`, over {source}), except for a batched
-# source (BATCHED: the committed segments, a job per terrain class sharing one import): Snakemake gives
+# source (simpick.plan.study.BATCHED: the committed segments, a job per terrain class sharing one import): Snakemake gives
 # a rule a fixed number of outputs, so the same rule is stated once per class (simulate_segments_<class>).
 # A dataset folder's derived segments are one job each: their ids exist only after the checkpoint.
-for _rule, _outputs, _fixed in simulate_units():
+for _rule, _outputs, _fixed in PLAN.simulate_units():
 
     rule:
         name:
             _rule
         input:
-            unpack(lambda wc, fixed=_fixed: case_inputs(*[unit(wc, fixed)[i] for i in (0, 2, 3)])),
+            unpack(lambda wc, fixed=_fixed: PLAN.case_inputs(*[PLAN.unit(wc, fixed)[i] for i in (0, 2, 3)])),
         output:
             _outputs,
         log:
@@ -24,17 +24,17 @@ for _rule, _outputs, _fixed in simulate_units():
                 else f"results/benchmarks/simulate/{_fixed['source']}/{{engine}}/{_fixed['group']}.tsv"
             )
         wildcard_constraints:
-            **(one_case_constraints(_fixed["sources"]) if "sources" in _fixed else {}),
+            **(PLAN.one_case_constraints(_fixed["sources"]) if "sources" in _fixed else {}),
         conda:
             "../envs/simpick.yaml"
         threads: 1
         resources:
-            mem_mb=lambda wc, fixed=_fixed: source_of(unit(wc, fixed)[0]).MEM_MB,
+            mem_mb=lambda wc, fixed=_fixed: PLAN.source_of(PLAN.unit(wc, fixed)[0]).MEM_MB,
             # each case is stopped by the watchdog at health.timeout (its hard fallback 30 s later)
-            runtime=lambda wc, fixed=_fixed: len(unit(wc, fixed)[3]) * (1 + int(config["health"]["timeout"]) // 60),
+            runtime=lambda wc, fixed=_fixed: PLAN.simulate_runtime(len(PLAN.unit(wc, fixed)[3])),
         params:
-            case=lambda wc, fixed=_fixed: case_params(*unit(wc, fixed)),
-            code=lambda wc, fixed=_fixed: case_code(unit(wc, fixed)[0], wc.engine),
+            case=lambda wc, fixed=_fixed: PLAN.case_params(*PLAN.unit(wc, fixed)),
+            code=lambda wc, fixed=_fixed: PLAN.case_code(PLAN.unit(wc, fixed)[0], wc.engine),
         script:
             "../scripts/simulate.py"
 
@@ -56,8 +56,7 @@ rule cpu_load:
         mem_mb=600,
         runtime=15,
     params:
-        case=lambda wc: simulation_params(wc.engine, config["cpu_load"]["terrain"], config["cpu_load"]["motion"])
-        | {"cpu_load": canonical(config["cpu_load"])},
-        code=lambda wc: script_code("cpu_load", engine_module(wc.engine)),
+        case=lambda wc: PLAN.cpu_load_params(wc.engine),
+        code=lambda wc: PLAN.script_code("cpu_load", PLAN.engine_module(wc.engine)),
     script:
         "../scripts/cpu_load.py"

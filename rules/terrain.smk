@@ -8,6 +8,6 @@ rule terrain:
     params:
         spec=lambda wc: canonical(config["terrains"][wc.terrain]),
         seed=lambda wc: canonical(config["seed"]),
-        code=script_code("terrain"),
+        code=PLAN.script_code("terrain"),
     script:
         "../scripts/terrain.py"

@@ -473,7 +473,7 @@ def evaluate_job(inputs: dict, params: dict, settings: dict, output: str, timeou
 # --- the summary ----------------------------------------------------------------------------------------
 
 def _stats(statistics: dict | None) -> tuple[int, float]:
-    """(min_runs, level) of the validated ``statistics`` settings (rules/common.smk statistics_params)."""
+    """(min_runs, level) of the validated ``statistics`` settings (simpick.plan: Plan.statistics_params)."""
     from simpick.realmetrics import statistics_settings
 
     return statistics_settings(statistics)

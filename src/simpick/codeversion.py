@@ -3,7 +3,7 @@
 Snakemake reruns a job when its params change, but it does not look into imported library
 code: an edited metric under src/simpick would silently keep serving results computed by the
 old code. Each rule therefore carries, as a param, a hash of the source files its job runs
-(``rules/common.smk``: ``job_code``). Those files are computed, not listed: starting from the
+(:meth:`simpick.plan.Plan.script_code`: ``job_code``). Those files are computed, not listed: starting from the
 functions the job's script calls (``"simpick.workflow:simulate_job"``) or a whole module (an
 engine adapter, which the registry imports by name), the source is read with :mod:`ast` and
 followed through every name a function uses: a function or class of its own module, an

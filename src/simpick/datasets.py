@@ -25,7 +25,7 @@ _FILE = re.compile(r"^(imu|pro)_(.*)\.csv$")
 RUN_ID = re.compile(r"^[A-Za-z0-9_-]+$", re.ASCII)
 CLASS_FOLDER = re.compile(r"^[A-Za-z0-9_]+$", re.ASCII)
 NAME = re.compile(r"^[A-Za-z0-9_.-]+$", re.ASCII)
-# source names of the case tables (rules/common.smk): results/traces/<source>/ and results/metrics/<source>/
+# source names of the case tables (simpick.plan): results/traces/<source>/ and results/metrics/<source>/
 RESERVED_NAMES = {"own": "results/real/own holds the results of own_logs",
                   "lab": "results/traces/lab and results/metrics/lab hold the lab study's",
                   "segments": "results/traces/segments and results/metrics/segments hold the committed segments'"}

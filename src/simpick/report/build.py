@@ -564,7 +564,7 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         "robot": robot,
         "generated": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
         "engines": engines,
-        # configured engines the machine could not run (rules/common.smk UNAVAILABLE): engine -> why
+        # configured engines the machine could not run (simpick.plan: Plan.unavailable): engine -> why
         "unavailable": dict(params.get("unavailable") or {}),
         "colors": colors,
         "weights": weights,

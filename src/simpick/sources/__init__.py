@@ -10,7 +10,7 @@ of the source and compared with its reference. Four kinds, one module each:
   speeds and compared with the real log window by window;
 - ``own`` (:mod:`simpick.sources.own`): the user's own logs, replayed like a dataset folder's runs.
 
-The workflow (``rules/common.smk``) plans through :func:`planner` (a source's cases, inputs and
+The plan (:mod:`simpick.plan`) reaches a kind through :func:`module` (a source's cases, inputs and
 parameters); a job reaches the code of its source's kind through :func:`module` by name, so a job's
 code version (:mod:`simpick.codeversion`) holds only its own kind's functions, which the rule names as
 roots (:func:`entry`): an edit to one source module reruns that source's jobs, no other's.

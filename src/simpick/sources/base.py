@@ -1,7 +1,7 @@
 """The interface every source module gives (:class:`Source`), and the parameters all share.
 
-Planning (``rules/common.smk``, at DAG time, from the raw config and the source's entry of
-``SOURCES``: ``spec``, with its ``cases`` and, for a segment table, its ``table``) and jobs (from
+Planning (:mod:`simpick.plan`, at DAG time, from the raw config and the source's entry of
+``Plan.sources``: ``spec``, with its ``cases`` and, for a segment table, its ``table``) and jobs (from
 ``params``) meet here: a source module is a plain module with these names, checked by
 ``tests/test_sources.py``.
 """

@@ -1,0 +1,116 @@
+"""The calibration's part of the plan (config ``calibration:``, rules/calibration.smk): its units,
+the settings its jobs depend on, and its outputs. A mixin of :class:`simpick.plan.Plan`."""
+
+from __future__ import annotations
+
+import csv
+
+from simpick.sources import base as source_base
+from simpick.sources.base import canonical
+
+
+class CalibrationPlanning:
+    def __init__(self):
+        self.calibration = self.config.get("calibration")
+        self.calibration_all = []
+        if not self.calibration:
+            return
+        from simpick.engines import get_engine
+
+        replay = self.replay_set
+        self.cal_source = "replay" if replay else "segments"
+        self.cal_dir = f"results/calibration/replay-{replay.name}" if replay else f"results/calibration/segments-{self.dataset}"
+        self.cal_models = [
+            m
+            for m in (self.calibration.get("models") or self.real_models)
+            if m not in self.unavailable and get_engine(m).calibratable
+        ]
+        self.cal_classes = sorted({c for c, _ in self.runs}) if replay else sorted(self.segments)
+        if self.calibration.get("enabled"):
+            self.calibration_all = [f"{self.cal_dir}/summary.csv"]
+
+    def calibration_units(self):
+        """(terrain class, run, unit) of every real unit the split divides; a segment's with whether it
+        turns (the split stratifies by it; a replayed run's is read from its log by the split job)."""
+        if self.replay_set:
+            return [[c, run, run] for c, run in self.runs]
+        with open(self.config["real_data"]["segments"], newline="") as handle:
+            return [[r["terrain_class"], r["run"], r["segment"], r["kind"] == "turning"] for r in csv.DictReader(handle)]
+
+    def calibration_split_inputs(self, wildcards=None):
+        """The table the units come from; for a replay its logs too (which runs turn)."""
+        if self.replay_set:
+            return {
+                "dataset": f"{self.replay}/dataset.yaml",
+                "logs": [source_base.log_path(self.replay_set.name, c, run) for c, run in self.runs],
+            }
+        return {"segments": self.config["real_data"]["segments"]}
+
+    def calibration_strata(self):
+        """How the split job tells a replayed run that turns: the calibration's steady windows within
+        its compared seconds (None for segments: their kind says it)."""
+        if not self.replay_set:
+            return None
+        settings = self.calibration_settings(None, search=False)
+        return canonical(
+            {
+                "track": self.config["robot"]["track"],
+                "steady": settings["steady"],
+                "duration": settings["replay_seconds"],
+            }
+        )
+
+    def calibration_data(self, wildcards):
+        """The real data a class's jobs read: the committed table, or the class's canonical logs."""
+        if self.replay_set:
+            return {
+                "logs": [
+                    source_base.log_path(self.replay_set.name, c, run)
+                    for c, run in self.runs
+                    if c == wildcards.terrain_class
+                ]
+            }
+        return {"segments": self.config["real_data"]["segments"]}
+
+    def calibration_settings(self, engine, search=True):
+        """What a class's errors depend on; with ``search`` also the optimiser's budget, seed and
+        this model's bounds (so an evaluation does not rerun on a budget edit unless the best
+        parameters change)."""
+        cal = self.calibration
+        window = (
+            {"segment_seconds": cal.get("segment_seconds")}
+            if not self.replay_set
+            else {
+                "replay_seconds": cal.get("replay_seconds"),
+                # the steady-command turning windows of the real turning analysis (rule real_turning;
+                # window and settle: simpick.realturning.turning_windows' own)
+                "steady": {k: self.config["real_data"]["segment_rules"][k] for k in ("tolerance", "min_turn")},
+            }
+        )
+        out = {"source": self.cal_source, "scales": cal["scales"], **window}
+        if search:
+            out.update(
+                {
+                    "n_trials": cal["n_trials"],
+                    "startup_trials": cal["startup_trials"],
+                    "seed": cal["seed"],
+                    "bounds": {engine: (cal.get("bounds") or {}).get(engine) or {}},
+                }
+            )
+        return canonical(out)
+
+    def calibration_outputs(self):
+        return [f"{self.cal_dir}/{e}/{c}/evaluation.csv" for e in self.cal_models for c in self.cal_classes]
+
+    def calibration_bests(self):
+        return [f"{self.cal_dir}/{e}/{c}/best.yaml" for e in self.cal_models for c in self.cal_classes]
+
+    def calibration_turning(self):
+        """What the summary's turning and target tables depend on."""
+        return canonical(
+            {
+                "track": self.config["robot"]["track"],
+                "engines": self.engines,
+                "target": self.settings.calibration.target.model_dump(),
+            }
+        )

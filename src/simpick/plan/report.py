@@ -1,0 +1,156 @@
+"""The report's part of the plan: its inputs, the figures it embeds, and the slices of the config it
+shows (rules/report.smk). A mixin of :class:`simpick.plan.Plan`."""
+
+from __future__ import annotations
+
+import os
+
+from simpick.sources.base import canonical
+
+FIGURES = "results/report/figures"
+# simpick's verdict tables (rule verdict), each an input of the report
+VERDICT_TABLES = ("metrics", "table", "separation", "ranking", "discrimination", "headings")
+
+
+class ReportPlanning:
+    def __init__(self):
+        self.figures = FIGURES
+        # engine -> colour follows this list (simpick.report.draw.colors): sorted, so reordering the
+        # config's engines neither recolours nor redraws a figure
+        self.figure_engines = sorted(self.engines) + sorted(self.baselines)
+        self.lab_figure_tests = self._lab_figure_tests()
+
+    def _lab_figure_tests(self):
+        """The lab tests with an IMU-statistics figure: every simulated test, and every test the
+        paper gives a real reference for (drawn with the reference alone when no engine ran it)."""
+        from simpick.published import load_published
+        from simpick.reference import lab_reference
+
+        tests = [(t, m) for t in self.terrains for m in self.motions]
+        published = lab_reference(load_published(self.config["reference"]["published"]))
+        return tests + [tm for tm in published if tm not in tests]
+
+    def report_config(self):
+        """The slice of the config the report shows and reads: terrains (strip geometry), motions
+        (commanded paths, test order) and the track."""
+        config = self.config
+        return {
+            "terrains": config["terrains"],
+            "motions": config["motions"],
+            "robot": {
+                "track": config["robot"]["track"],
+                "name": self.robot.name,
+                "label": config["robot"].get("label") or self.robot.name,
+                "real_data_robot": config["real_data"].get("robot") if not self.real_data_robot else None,
+            },
+        }
+
+    def report_real_data(self):
+        real_data = self.config["real_data"]
+        return canonical(
+            {
+                "dataset": self.dataset,
+                "datasets": self.report_datasets(),
+                "classes": real_data["classes"],
+                "window": real_data["window"],
+                "segment_rules": real_data["segment_rules"],
+            }
+        )
+
+    def report_real_inputs(self, wildcards=None):
+        """The real-robot inputs of the report: the accuracy scores' errors file, the committed
+        segments' comparison always, the full replay of the dataset folder when one is given."""
+        segments = self.config["real_data"]["segments"]
+        provenance = segments.replace(".csv", ".provenance.yaml")
+        inputs = {"accuracy_errors": self.accuracy_errors()}
+        if self.real_data_robot:  # the committed segments are real_data.robot's
+            inputs["segments"] = segments
+            inputs.update(
+                {
+                    f"segments_{table}": self.metrics_file("segments", table)
+                    for table in ("per_test", "summary", "pairwise", "imu_errors")
+                }
+            )
+        if self.accuracy_source()["set"] != "lab":  # its per-test table: how much of each error a rigid model leaves
+            inputs["accuracy_per_test"] = self.accuracy_source()["per_test"]
+        if os.path.exists(provenance) and self.real_data_robot:
+            inputs["segments_provenance"] = provenance
+        if self.replay_set:
+            name = self.replay_set.name
+            inputs.update(
+                {
+                    f"replay_{table}": self.metrics_file(name, table)
+                    for table in ("per_test", "summary", "pairwise", "imu_errors")
+                }
+            )
+            inputs["replay_per_window"] = self.metrics_file(name, "detail")
+            inputs["real_turning"] = f"{self.replay}/turning/summary.csv"
+        if self.verdict:
+            inputs.update({f"verdict_{t}": f"results/verdict/{t}.csv" for t in VERDICT_TABLES})
+            inputs["verdict_headline"] = "results/verdict/headline.yaml"
+        if self.sweep:
+            inputs["sweep"] = f"{self.sweep_dir}/summary.csv"
+        if self.calibration and self.calibration.get("enabled"):  # rules/calibration.smk
+            inputs["calibration"] = f"{self.cal_dir}/summary.csv"
+            inputs["calibration_turning"] = f"{self.cal_dir}/turning.csv"
+            inputs["calibration_target"] = f"{self.cal_dir}/target.csv"
+        return inputs
+
+    def report_datasets(self):
+        """Which dataset each real-data set comes from, and its declared rates (the report states them)."""
+        declared = self.config["real_data"].get("datasets") or {}
+        committed = declared.get(self.dataset) or {}
+        return canonical(
+            {
+                "segments": {
+                    "name": self.dataset,
+                    "label": committed.get("label") or self.dataset,
+                    "source": committed.get("source") or "",
+                    "declared": {k: committed[k] for k in ("imu_hz", "commands_hz") if committed.get(k)},
+                    "simulated_imu_hz": self.config["imu"]["rate_hz"],
+                },
+                "replay": self.replay_dataset() if self.replay_set else None,
+            }
+        )
+
+    def report_figures(self):
+        """Every figure file the report embeds (and the notes beside the replay figures)."""
+        fig = self.figures
+        out = [f"{fig}/contributions.png", f"{fig}/paths.png", f"{fig}/validation_gain.png", f"{fig}/real_gain.png"]
+        out += [f"{fig}/imu_stats/{t}/{m}.png" for t, m in self.lab_figure_tests]
+        out += [f"{fig}/traces/{t}/{m}.png" for t in self.terrains for m in self.motions]
+        if self.sweep:
+            out.append(f"{fig}/sweep.png")
+        if self.replay_set:
+            out += [f"{fig}/replay/{c}.{ext}" for c in self.replay_set.classes for ext in ("png", "json")]
+            out.append(f"{fig}/real_turning.png")
+        return out
+
+    def lab_test_traces(self, wildcards):
+        return [
+            f"results/traces/lab/{engine}/{wildcards.terrain}/{wildcards.motion}.parquet" for engine in self.engines
+        ]
+
+    def real_gain_inputs(self, wildcards=None):
+        """The real-data tables whose yaw-rate gains the figure shows: the committed segments', and
+        the full replay's when a dataset folder is given."""
+        names = ("per_test", "summary", "pairwise")
+        inputs = {f"segments_{n}": self.metrics_file("segments", n) for n in names} if self.real_data_robot else {}
+        if self.replay_set:
+            inputs.update({f"replay_{n}": self.metrics_file(self.replay_set.name, n) for n in names})
+        return inputs
+
+    def replay_class_inputs(self, wildcards):
+        """One terrain class of the full replay: its canonical logs, every model's replay of them,
+        and the per-test table that picks the run drawn."""
+        cls = wildcards.terrain_class
+        runs = [run for c, run in self.runs if c == cls]
+        return {
+            "real_logs": [log for log in self.real_logs(self.replay_set.name) if f"/logs/{cls}/" in log],
+            "replay_traces": [
+                f"results/traces/{self.replay_set.name}/{e}/{cls}/{run}.parquet"
+                for e in self.real_models
+                for run in runs
+            ],
+            "replay_per_test": self.metrics_file(self.replay_set.name, "per_test"),
+        }

@@ -1,0 +1,440 @@
+"""The study's plan: models, sources of cases, and what each job of the simulate, compare, summarise,
+validation, sweep and scores families depends on (:class:`Plan`).
+
+A source yields a case table: engine-independent (group, name) rows, each simulated once per model of
+the source; its kind's module (:mod:`simpick.sources`: lab, segments, replay, own) says what a case's
+simulation needs and how the source's traces are compared. ``lab``: terrain x motion (config);
+``segments``: terrain class x segment id (the committed table); a dataset folder's name or ``own``:
+terrain class x run (its canonical logs). A case's trace is
+``results/traces/<source>/<model>/<group>/<name>.parquet``; the source's tables lie in
+``results/metrics/<source>/``. A dataset folder's derived segment table (rule real_segments, a
+checkpoint) is a source too, ``<dataset>-segments``: its cases are known once the table is written.
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+import re
+import sys
+from typing import Callable
+
+from simpick.codeversion import dispatch_entry, job_code, script_roots
+from simpick.config import Study, timestep_label
+from simpick.engines import ADAPTERS, REFERENCE_MODELS, unavailable
+from simpick.plan.calibration import CalibrationPlanning
+from simpick.plan.report import ReportPlanning
+from simpick.robot import load_from_config
+from simpick.sources import base as source_base
+from simpick.sources import entry as source_entry
+from simpick.sources import lab as lab_source
+from simpick.sources import module as source_module
+from simpick.sources import own as own_source
+from simpick.sources import replay as replay_source
+from simpick.sources import segments as segments_source
+from simpick.sources.base import canonical
+
+# The unit of work of the simulate family: one case, except where a source's case table is batched
+# by group (the committed segments, per terrain class): 18 short runs, where a job per segment cost
+# about 1.2 s of fixed cost each (process, imports, robot) and the default study some 50 s more
+# on 2 cores than a job per class sharing one import (measured; see the commit that made this).
+BATCHED = {"segments"}
+
+
+class PlanError(ValueError):
+    """A config the study cannot be planned from (the rules stop before any job, naming it)."""
+
+
+class Plan(ReportPlanning, CalibrationPlanning):
+    """Everything the rules ask of a study, from its config (the raw dict Snakemake holds and the
+    validated :class:`simpick.config.Study`), worked out once at planning time.
+
+    ``basedir`` is the workflow's folder (scripts/ lie there); ``derived_table`` gives the path of
+    the dataset folder's derived segment table once its checkpoint has run (Snakemake's
+    ``checkpoints.real_segments.get().output.csv``).
+    """
+
+    def __init__(self, config: dict, settings: Study, basedir: str,
+                 derived_table: Callable[[], str] | None = None):
+        self.config = config
+        self.settings = settings
+        self.basedir = basedir
+        self._derived_table = derived_table
+
+        # The study's robot, read again here (the config check has read it and stopped on any
+        # problem). The committed segments and a dataset folder were recorded on real_data.robot
+        # (BorealTC: a Husky A200): they are compared with the study only when its robot is that one
+        # (else the config check has refused every part that rests on them).
+        self.robot = load_from_config(config["robot"])
+        self.real_data_robot = self.robot.name == (config["real_data"].get("robot") or self.robot.name)
+
+        # Engines this machine cannot run (simpick.engines.unavailable: not installed): the study
+        # runs without them, and its report lists them.
+        self.unavailable = unavailable(config["engines"])
+        self.engines = [e for e in config["engines"] if e not in self.unavailable]
+        if not self.engines:
+            raise PlanError(f"none of the configured engines can run here: {self.unavailable}")
+        # Reference models (kinematic, coulomb) join the real-data comparison only, never the scores.
+        self.baselines = list(config.get("baselines") or {})
+        self.real_models = self.engines + self.baselines
+        self.terrains = list(config["terrains"])
+        self.motions = list(config["motions"])
+        self.validation_cases = list(config["validation"]["cases"])
+
+        # --- real robot data ---
+        self.dataset = config["real_data"]["dataset"]  # the committed segment table's dataset
+        self.real = f"results/real/{self.dataset}"
+        # terrain class -> segment ids of the committed table (the config check has made sure it
+        # exists; no run ever writes it)
+        try:
+            self.segments = segments_source.by_class(config["real_data"]["segments"], config["real_data"]["classes"])
+        except ValueError as exc:
+            raise PlanError(str(exc)) from None
+
+        # Speed-accuracy sweep: timesteps as wildcard labels ("0.5ms")
+        self.sweep = config.get("sweep")
+        self.sweep_dir = f"results/sweeps/{self.sweep['name']}" if self.sweep else None
+        self.sweep_labels = [timestep_label(t) for t in self.sweep["timesteps"]] if self.sweep else []
+
+        # The full replay's dataset folder (--config borealtc_dir=PATH [real_dataset=NAME]), checked
+        # now: a folder that is not a dataset, an empty class folder, an unpaired file or a class with
+        # no ground model stops the run here with one `simpick:` line each, before any job.
+        self.replay_set = None
+        if config.get("borealtc_dir"):
+            from simpick.datasets import open_dataset_or_exit
+
+            self.replay_set = open_dataset_or_exit(
+                config["borealtc_dir"], classes=config["real_data"]["classes"], name=config.get("real_dataset")
+            )
+        self.replay = f"results/real/{self.replay_set.name}" if self.replay_set else None
+        self.runs = replay_source.cases(self.replay_set) if self.replay_set else []
+
+        self.own = "results/real/own"
+        self.own_logs = {entry["name"]: entry for entry in config.get("own_logs") or []}
+
+        # The replay sources and their case tables: a source is the dataset folder (its name) or the
+        # user's own logs ("own"); a case is one (terrain class, run) whose canonical log lies at
+        # results/real/<source>/logs/<class>/<run>.parquet. Each kind of source has its import rule
+        # (rules/real.smk); from the log on, every source is one entry of ``sources``.
+        # No dataset is called "own" (simpick.datasets.RESERVED_NAMES).
+        self.replay_cases = {self.replay_set.name: self.runs} if self.replay_set else {}
+        if self.own_logs:
+            self.replay_cases["own"] = own_source.cases(config)
+
+        self.sources = {"lab": self._spec("lab", self.engines, lab_source.cases(config))}
+        if self.real_data_robot:
+            self.sources["segments"] = self._spec(
+                "segments",
+                self.real_models,
+                [(c, s) for c, ids in self.segments.items() for s in ids],
+                table=config["real_data"]["segments"],
+            )
+        for source, cases in self.replay_cases.items():
+            self.sources[source] = self._spec("own" if source == "own" else "replay", self.real_models, cases)
+        # Not for the folder the committed table was derived from (dataset ``dataset``): its derived
+        # table is the committed one (maintain_segments keeps them equal; tests/test_realdata checks a
+        # fresh derivation against it), already simulated as source "segments"; as a source of its own
+        # it would simulate the same 18 segments x 6 models a second time (108 jobs of the full replay).
+        self.derived = None
+        if self.replay_set and self.replay_set.name != self.dataset:
+            self.derived = f"{self.replay_set.name}-segments"  # no dataset name ends so and is also replayed
+            self.sources[self.derived] = self._spec(
+                "segments",
+                self.real_models,
+                None,
+                table=f"{self.replay}/segments.csv",
+                classes=list(self.replay_set.classes),
+            )
+
+        # simpick's verdict rests on real runs: none where the study's robot has no real data
+        self.verdict = self.verdict_source() in self.sources
+        CalibrationPlanning.__init__(self)
+        ReportPlanning.__init__(self)
+
+    # --- sources ---
+
+    @staticmethod
+    def _spec(kind, models, cases, **more):
+        return {"kind": kind, "models": models, "group": source_module(kind).GROUP, "cases": cases, **more}
+
+    def source_of(self, source):
+        """The module of a source's kind (simpick.sources)."""
+        return source_module(self.sources[source]["kind"])
+
+    def source_cases(self, source):
+        """A source's (group, name) cases; a derived segment table's once its checkpoint has run."""
+        cases = self.sources[source]["cases"]
+        if cases is not None:
+            return cases
+        with open(self._derived_table(), newline="") as handle:
+            return [(row["terrain_class"], row["segment"]) for row in csv.DictReader(handle)]
+
+    def source_traces(self, source):
+        return [
+            f"results/traces/{source}/{model}/{group}/{name}.parquet"
+            for model in self.sources[source]["models"]
+            for group, name in self.source_cases(source)
+        ]
+
+    def real_logs(self, source):
+        return [source_base.log_path(source, c, run) for c, run in self.replay_cases[source]]
+
+    @staticmethod
+    def metrics_file(source, table):
+        return f"results/metrics/{source}/{table}.csv"
+
+    def replay_dataset(self):
+        """The replay dataset as the rules see it: name, label, source and declared rates."""
+        declared = (self.config["real_data"].get("datasets") or {}).get(self.replay_set.name) or {}
+        return {
+            "name": self.replay_set.name,
+            "folder": str(self.replay_set.folder),
+            "label": declared.get("label") or self.replay_set.name,
+            "source": declared.get("source") or f"dataset folder {self.replay_set.folder}",
+            "declared": {k: declared[k] for k in ("imu_hz", "commands_hz") if declared.get(k)},
+        }
+
+    def maintained_table(self, wildcards=None):
+        """maintain_segments' inputs: the BorealTC folder's derived table. Asked for on any other
+        dataset (or none), it stops the run while the DAG is built, before any job."""
+        if self.replay_set is None:
+            problem = (
+                "maintain_segments derives the committed segment table from the BorealTC folder "
+                "(fix: pass --config borealtc_dir=PATH/TO/borealtc)"
+            )
+        elif self.replay_set.name != self.dataset:
+            problem = (
+                f"maintain_segments rewrites {self.config['real_data']['segments']}, the table of dataset "
+                f"{self.dataset!r}, but {self.replay_set.folder} is dataset {self.replay_set.name!r} (fix: pass "
+                f"--config real_dataset={self.dataset} if that folder holds {self.dataset}; its own table is "
+                f"{self.replay}/segments.csv)"
+            )
+        else:
+            return {"csv": f"{self.replay}/segments.csv", "provenance": f"{self.replay}/segments.provenance.yaml"}
+        print(f"simpick: {problem}", file=sys.stderr)
+        sys.exit(1)
+
+    # --- the simulate family ---
+
+    def simulate_units(self):
+        """(name, output patterns, fixed values) for each rule of the simulate family; one rule over
+        the {source} wildcard for the one-case units, one per group of a batched source."""
+        single = [s for s in self.sources if s not in BATCHED]
+        units = (
+            [("simulate", ["results/traces/{source}/{engine}/{group}/{name}.parquet"], {"sources": single})]
+            if single
+            else []
+        )
+        for source in sorted(BATCHED & set(self.sources)):
+            groups = {}
+            for group, name in self.sources[source]["cases"]:
+                groups.setdefault(group, []).append(name)
+            for group, names in groups.items():
+                outputs = [f"results/traces/{source}/{{engine}}/{group}/{name}.parquet" for name in names]
+                units.append(
+                    (f"simulate_{source}_{group}", outputs, {"source": source, "group": group, "names": names})
+                )
+        return units
+
+    def one_case_constraints(self, sources):
+        known = [self.sources[s] for s in sources if self.sources[s]["cases"] is not None]
+        groups = {g for s in known for g, _ in s["cases"]} | {
+            g for s in sources for g in self.sources[s].get("classes", [])
+        }
+        names = {n for s in known for _, n in s["cases"]}
+        # a derived table's segment ids are known only after its checkpoint: any name, the source pins it
+        unknown = len(known) < len(sources)
+        return {
+            "source": "|".join(re.escape(s) for s in sources),
+            "group": "|".join(sorted(re.escape(g) for g in groups)),
+            "name": "[^/]+" if unknown else "|".join(sorted(re.escape(n) for n in names)),
+        }
+
+    @staticmethod
+    def unit(wildcards, fixed):
+        """source, engine, group and the case names of one simulate job."""
+        if "names" in fixed:
+            return fixed["source"], wildcards.engine, fixed["group"], list(fixed["names"])
+        return wildcards.source, wildcards.engine, wildcards.group, [wildcards.name]
+
+    def case_inputs(self, source, group, names):
+        """The files a unit's cases read (its source module's case_inputs)."""
+        return self.source_of(source).case_inputs(self.config, source, self.sources[source], group, names)
+
+    def case_params(self, source, engine, group, names):
+        """Everything a unit's cases on one model depend on, and nothing else."""
+        return self.source_of(source).case_params(self.config, source, self.sources[source], engine, group, names)
+
+    def case_code(self, source, engine):
+        """The library code a case runs: simulate_job, the model's adapter, and how its source drives
+        it (its module's prepare_case, which simulate_job imports by name: no other kind's code)."""
+        entry = source_entry(self.sources[source]["kind"], "prepare_case")
+        return self.script_code("simulate", self.engine_module(engine), entry)
+
+    def simulate_runtime(self, cases: int) -> int:
+        """Minutes for a job of ``cases`` cases: each is stopped by the watchdog at health.timeout
+        (its hard fallback 30 s later)."""
+        return cases * (1 + int(self.config["health"]["timeout"]) // 60)
+
+    def simulation_params(self, engine, terrain, motion_name):
+        """Everything one lab-study simulation depends on (simpick.sources.lab; cpu_load's too)."""
+        return lab_source.lab_params(self.config, engine, terrain, motion_name)
+
+    def cpu_load_params(self, engine):
+        cpu = self.config["cpu_load"]
+        return self.simulation_params(engine, cpu["terrain"], cpu["motion"]) | {"cpu_load": canonical(cpu)}
+
+    def real_params(self, engine, terrain_class):
+        return source_base.real_params(self.config, engine, terrain_class)
+
+    # --- compare and summarise ---
+
+    def compare_inputs(self, wildcards):
+        """A source's traces and what they are compared with."""
+        spec = self.sources[wildcards.source]
+        compared = self.source_of(wildcards.source).compare_inputs(self.config, wildcards.source, spec, spec["cases"])
+        return {"traces": self.source_traces(wildcards.source)} | compared
+
+    def compare_settings(self, source):
+        return self.source_of(source).compare_settings(self.config)
+
+    def compare_code(self, source):
+        """compare_job and its source's comparison (imported by name: a job of one kind runs no other's)."""
+        return self.script_code("compare", source_entry(self.sources[source]["kind"], "compare"))
+
+    def summarise_settings(self, source):
+        return canonical({"group": self.sources[source]["group"], "statistics": self.statistics_params()})
+
+    def statistics_params(self):
+        """How many independent runs an interval, a verdict, a rank or an improvement needs, and at
+        what level: the validated ``statistics`` settings, the one rule of every summary (real data,
+        calibration, sweep, verdict, report)."""
+        return canonical(self.settings.statistics.model_dump())
+
+    # --- validation against analytic mechanics ---
+
+    def validation_params(self, engine, case):
+        """What one validation run depends on: the engine's settings, the robot, the timestep and the
+        case (not the IMU model, the health limits or the tolerances)."""
+        config = self.config
+        return canonical(
+            {
+                "engine": engine,
+                "engine_settings": config["engines"][engine] or {},
+                "physics": {"timestep": config["physics"]["timestep"]},
+                "robot": {k: v for k, v in config["robot"].items() if k != "urdf"},
+                "case_name": case,
+                "case": {k: v for k, v in config["validation"]["cases"][case].items() if v is not None},
+            }
+        )
+
+    def validation_results(self):
+        return [f"results/validation/{e}/{c}.json" for e in self.engines for c in self.validation_cases]
+
+    # --- the sweep ---
+
+    def sweep_params(self, engine, terrain_class, label):
+        """A segment job's parameters with the physics timestep of the sweep point."""
+        params = self.real_params(engine, terrain_class)
+        dt = dict(zip(self.sweep_labels, self.sweep["timesteps"]))[label]
+        return canonical(params | {"physics": params["physics"] | {"timestep": float(dt)}})
+
+    def sweep_runs(self):
+        return [
+            f"{self.sweep_dir}/runs/{engine}/{cls}/{label}.csv"
+            for engine in self.engines
+            for cls in self.segments
+            for label in self.sweep_labels
+        ]
+
+    # --- what the scores and the verdict rest on ---
+
+    def accuracy_source(self):
+        """What the accuracy scores rest on (accuracy.reference in the config): the set of tests
+        (lab, segments, replay or own), its dataset, its Eq. 7 totals and the per-test table beside
+        them. Only the rules use this; the scores job records it in results/scores/provenance.yaml,
+        which is what the report reads."""
+        reference = self.config["accuracy"]["reference"]
+        if reference == "paper":
+            kind, source, dataset = "lab", "lab", None
+        elif reference == "own":
+            kind, source, dataset = "own", "own", "own"
+        elif self.replay_set:
+            kind, source, dataset = "replay", self.replay_set.name, self.replay_set.name
+        else:
+            kind, source, dataset = "segments", "segments", self.dataset
+        return {
+            "reference": reference,
+            "set": kind,
+            "dataset": dataset,
+            "source": source,
+            "errors": self.metrics_file(source, "imu_errors"),
+            "per_test": self.metrics_file(source, "per_test"),
+        }
+
+    def accuracy_errors(self):
+        """The Eq. 7 totals the accuracy scores rest on."""
+        return self.accuracy_source()["errors"]
+
+    def verdict_source(self):
+        """The real data simpick's verdict rests on: the accuracy scores' real set, else the committed
+        segments."""
+        src = self.accuracy_source()
+        return src["source"] if src["set"] != "lab" else "segments"
+
+    def verdict_source_title(self):
+        """How the report names the verdict's real data."""
+        if self.sources[self.verdict_source()]["kind"] == "segments":
+            label = (self.config["real_data"].get("datasets") or {}).get(self.dataset, {}).get("label") or self.dataset
+            return f"committed constant-command segments of {label}"
+        return f"full replay of {self.verdict_source()}"
+
+    def verdict_settings(self):
+        return canonical(
+            {
+                "engines": sorted(self.engines),
+                "baselines": sorted(self.baselines),
+                "statistics": self.statistics_params(),
+                "weights": self.config["weights"],
+                "seed": self.config["seed"],
+                "source": self.verdict_source(),
+                "source_title": self.verdict_source_title(),
+            }
+        )
+
+    def all_targets(self):
+        """What the default target asks for (rule all)."""
+        targets = ["results/validation/summary.csv"]
+        targets += [self.metrics_file(s, t) for s in self.sources for t in ("imu_errors", "summary")]
+        if self.replay_set:
+            targets += [f"{self.replay}/segments.csv", f"{self.replay}/dataset.yaml",
+                        f"{self.replay}/turning/summary.csv"]
+        if self.sweep:
+            targets.append(f"{self.sweep_dir}/summary.csv")
+        targets += self.calibration_all
+        targets += ["results/scores/weighted.csv", "results/published/table11.csv", "results/report/report.html",
+                    "results/report/report.pdf"]
+        return targets
+
+    # --- library code as a rerun trigger ---
+    # Snakemake reruns a job when its params change, not when imported library code does: each rule
+    # carries the version of the code its job runs (simpick.codeversion): computed from the functions
+    # its script calls and what they import and name, so an edited metric or engine adapter reruns
+    # what runs it, and nothing else.
+
+    def script_code(self, script, *roots, opaque=()):
+        """The code version of a job of scripts/<script>.py: the simpick functions the script calls,
+        ``roots`` (modules or functions it reaches by name only: an engine adapter, a dispatch entry)
+        and what they use, less the ``opaque`` names (dispatch tables whose entry is a root)."""
+        path = os.path.join(self.basedir, "scripts", f"{script}.py")
+        return job_code(*script_roots(path), *roots, opaque=opaque)
+
+    def figure_code(self, rule):
+        """A figure rule's code: figure_job and the drawing function simpick.report.draw.RULES gives it."""
+        entry = dispatch_entry("simpick.report.draw", "RULES", rule)
+        return self.script_code("figure", entry, opaque=("simpick.report.draw:RULES",))
+
+    @staticmethod
+    def engine_module(engine):
+        """The adapter module of a model (the registry imports it by name, so it is named here)."""
+        return {**ADAPTERS, **REFERENCE_MODELS}[engine].split(":")[0]
