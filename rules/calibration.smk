@@ -28,7 +28,7 @@ if PLAN.calibration:
         input:
             unpack(PLAN.calibration_data),
             split=f"{PLAN.cal_dir}/split.csv",
-            urdf=config["robot"]["urdf"],
+            urdf=PLAN.config["robot"]["urdf"],
         output:
             best=f"{PLAN.cal_dir}/{{engine}}/{{terrain_class}}/best.yaml",
             trials=f"{PLAN.cal_dir}/{{engine}}/{{terrain_class}}/trials.csv",
@@ -59,7 +59,7 @@ if PLAN.calibration:
             unpack(PLAN.calibration_data),
             split=f"{PLAN.cal_dir}/split.csv",
             best=f"{PLAN.cal_dir}/{{engine}}/{{terrain_class}}/best.yaml",
-            urdf=config["robot"]["urdf"],
+            urdf=PLAN.config["robot"]["urdf"],
         output:
             f"{PLAN.cal_dir}/{{engine}}/{{terrain_class}}/evaluation.csv",
         log:
@@ -87,7 +87,7 @@ if PLAN.calibration:
             evals=PLAN.calibration_outputs(),
             bests=PLAN.calibration_bests(),
             split=f"{PLAN.cal_dir}/split.csv",
-            urdf=config["robot"]["urdf"],
+            urdf=PLAN.config["robot"]["urdf"],
         output:
             summary=f"{PLAN.cal_dir}/summary.csv",
             units=f"{PLAN.cal_dir}/units.csv",

@@ -1,6 +1,6 @@
 rule published_table11:
     input:
-        config["reference"]["published"],
+        PLAN.config["reference"]["published"],
     output:
         table11="results/published/table11.csv",
         comparison="results/published/table11_comparison.csv",

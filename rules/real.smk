@@ -40,7 +40,7 @@ if PLAN.replay_set:
             folder_class=lambda wc: PLAN.replay_set.run(wc.terrain_class, wc.run).folder,
             settings=canonical(
                 {
-                    "track": config["robot"]["track"],
+                    "track": PLAN.config["robot"]["track"],
                     "dataset": PLAN.replay_set.name,
                     "label": PLAN.replay_dataset()["label"],
                     "declared": PLAN.replay_dataset()["declared"],
@@ -65,8 +65,8 @@ if PLAN.replay_set:
         params:
             rules=canonical(
                 {
-                    "segment_rules": config["real_data"]["segment_rules"],
-                    "track": config["robot"]["track"],
+                    "segment_rules": PLAN.config["real_data"]["segment_rules"],
+                    "track": PLAN.config["robot"]["track"],
                     "source": PLAN.replay_dataset()["source"],
                 }
             ),
@@ -79,7 +79,7 @@ if PLAN.replay_set:
     rule real_turning:
         input:
             logs=PLAN.real_logs(PLAN.replay_set.name),
-            urdf=config["robot"]["urdf"],
+            urdf=PLAN.config["robot"]["urdf"],
         output:
             windows=f"{PLAN.replay}/turning/windows.csv",
             summary=f"{PLAN.replay}/turning/summary.csv",
@@ -90,11 +90,11 @@ if PLAN.replay_set:
         params:
             settings=canonical(
                 {
-                    "track": config["robot"]["track"],
+                    "track": PLAN.config["robot"]["track"],
                     "window": 1.0,  # s: short enough for many windows a run, long for a mean of 100 samples
                     "settle": 0.5,  # s of held command before a window (wheel speeds settle in ~0.3 s)
-                    "tolerance": config["real_data"]["segment_rules"]["tolerance"],
-                    "min_turn": config["real_data"]["segment_rules"]["min_turn"],
+                    "tolerance": PLAN.config["real_data"]["segment_rules"]["tolerance"],
+                    "min_turn": PLAN.config["real_data"]["segment_rules"]["min_turn"],
                 }
             ),
             code=PLAN.script_code("real_turning"),
@@ -117,8 +117,8 @@ rule maintain_segments:
     params:
         committed=canonical(
             {
-                "csv": config["real_data"]["segments"],
-                "provenance": config["real_data"]["segments"].replace(".csv", ".provenance.yaml"),
+                "csv": PLAN.config["real_data"]["segments"],
+                "provenance": PLAN.config["real_data"]["segments"].replace(".csv", ".provenance.yaml"),
             }
         ),
     script:
@@ -154,7 +154,7 @@ if PLAN.own_logs:
             "../envs/simpick.yaml"
         params:
             entry=lambda wc: canonical(PLAN.own_logs[wc.run]),
-            track=canonical(config["robot"]["track"]),
+            track=canonical(PLAN.config["robot"]["track"]),
             code=PLAN.script_code("import_own_log"),
         script:
             "../scripts/import_own_log.py"

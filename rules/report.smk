@@ -29,7 +29,7 @@ rule figure_contributions:
         mem_mb=300,
         runtime=5,
     params:
-        weights=canonical(config["weights"]),
+        weights=canonical(PLAN.config["weights"]),
         engines=PLAN.figure_engines,
         code=PLAN.figure_code("figure_contributions"),
     script:
@@ -171,7 +171,7 @@ rule figure_real_gain:
     params:
         engines=PLAN.figure_engines,
         statistics=PLAN.statistics_params(),
-        real_data=canonical({"classes": config["real_data"]["classes"]}),
+        real_data=canonical({"classes": PLAN.config["real_data"]["classes"]}),
         code=PLAN.figure_code("figure_real_gain"),
     script:
         "../scripts/figure.py"
@@ -257,7 +257,7 @@ if PLAN.replay_set:
             runtime=10,
         params:
             engines=PLAN.figure_engines,
-            config=canonical({"robot": {"track": config["robot"]["track"]}}),
+            config=canonical({"robot": {"track": PLAN.config["robot"]["track"]}}),
             code=PLAN.figure_code("figure_replay"),
         script:
             "../scripts/figure.py"
@@ -278,7 +278,7 @@ rule report:
         runs=PLAN.metrics_file("lab", "runs"),
         rtf=PLAN.metrics_file("lab", "rtf"),
         cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
-        qualitative=config["qualitative"],
+        qualitative=PLAN.config["qualitative"],
         table11="results/published/table11.csv",
         table11_comparison="results/published/table11_comparison.csv",
         worked_example="results/published/worked_example.json",
@@ -295,7 +295,7 @@ rule report:
     conda:
         "../envs/simpick.yaml"
     params:
-        weights=canonical(config["weights"]),
+        weights=canonical(PLAN.config["weights"]),
         # only the keys the report reads (strip geometry, commanded paths, test order): an edit
         # elsewhere reaches it through its inputs or not at all
         config=canonical(PLAN.report_config()),

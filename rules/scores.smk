@@ -7,7 +7,7 @@ rule scores:
         runs=PLAN.metrics_file("lab", "runs"),
         rtf=PLAN.metrics_file("lab", "rtf"),
         cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
-        qualitative=config["qualitative"],
+        qualitative=PLAN.config["qualitative"],
     output:
         scores=report("results/scores/scores.csv", caption="captions/scores.rst", category="Scores"),
         weighted=report("results/scores/weighted.csv", caption="captions/weighted.rst", category="Scores"),
@@ -20,9 +20,9 @@ rule scores:
         "../envs/simpick.yaml"
     params:
         engines=sorted(PLAN.engines),  # a reordered engines: block is not an edit
-        weights=canonical(config["weights"]),
+        weights=canonical(PLAN.config["weights"]),
         accuracy=canonical({k: PLAN.accuracy_source()[k] for k in ("reference", "set", "dataset")}),
-        cpu_test=f"{config['cpu_load']['terrain']}/{config['cpu_load']['motion']}",
+        cpu_test=f"{PLAN.config['cpu_load']['terrain']}/{PLAN.config['cpu_load']['motion']}",
         code=PLAN.script_code("scores"),
     script:
         "../scripts/scores.py"

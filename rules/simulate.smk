@@ -41,8 +41,8 @@ for _rule, _outputs, _fixed in PLAN.simulate_units():
 
 rule cpu_load:
     input:
-        terrain=f"results/terrains/{config['cpu_load']['terrain']}.json",
-        urdf=config["robot"]["urdf"],
+        terrain=f"results/terrains/{PLAN.config['cpu_load']['terrain']}.json",
+        urdf=PLAN.config["robot"]["urdf"],
     output:
         "results/cpu/{engine}.json",
     log:

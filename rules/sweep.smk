@@ -6,8 +6,8 @@ if SWEEP:
 
     rule sweep_segments:
         input:
-            segments=config["real_data"]["segments"],
-            urdf=config["robot"]["urdf"],
+            segments=PLAN.config["real_data"]["segments"],
+            urdf=PLAN.config["robot"]["urdf"],
         output:
             f"{SWEEP_DIR}/runs/{{engine}}/{{terrain_class}}/{{dt}}.csv",
         log:

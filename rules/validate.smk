@@ -5,7 +5,7 @@
 
 rule validate:
     input:
-        urdf=config["robot"]["urdf"],
+        urdf=PLAN.config["robot"]["urdf"],
     output:
         "results/validation/{engine}/{case}.json",
     log:
@@ -17,7 +17,7 @@ rule validate:
     threads: 1
     resources:
         mem_mb=400,
-        runtime=lambda wc: 1 + int(config["health"]["timeout"]) // 60,
+        runtime=lambda wc: 1 + int(PLAN.config["health"]["timeout"]) // 60,
     params:
         case=lambda wc: validation_params(wc.engine, wc.case),
         code=lambda wc: script_code("validate", engine_module(wc.engine)),
@@ -37,7 +37,7 @@ rule validation_summary:
     conda:
         "../envs/simpick.yaml"
     params:
-        tolerances=canonical(config["validation"]["tolerances"]),
+        tolerances=canonical(PLAN.config["validation"]["tolerances"]),
         code=script_code("validation_summary"),
     script:
         "../scripts/validation_summary.py"

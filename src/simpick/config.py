@@ -17,7 +17,8 @@ from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.errors import validation_problems
 from simpick.realmetrics import LEVEL, MIN_RUNS
 from simpick.scoring import METRICS
-from simpick.terrain import RULES
+from simpick.terrain import RULES, TILES
+from simpick.validation import DEFAULT_HEADING
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
@@ -82,6 +83,7 @@ class Terrain(BaseModel):
     model_config = ConfigDict(extra="allow")  # the rule's own parameters
     rule: Literal[tuple(RULES)]  # type: ignore[valid-type]
     friction: Annotated[float, Field(ge=0, le=10, allow_inf_nan=False)]
+    tiles: Annotated[int, Field(ge=1, le=100)] = TILES  # the strip's length in 1 m tiles
 
 
 class Motion(Strict):
@@ -182,7 +184,7 @@ class ValidationCase(Strict):
     angle_factor: Positive | None = None
     # deg: yaw_gain, straight, slide: the robot's start heading; incline: the downhill direction
     # from the robot's back (the robot starts at heading 0); rest: refused (it would change nothing)
-    heading: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = 0.0
+    heading: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = DEFAULT_HEADING
     duration: Positive | None = None
     cruise: Positive | None = None
     # yaw_gain only: the wheels' lateral/longitudinal friction ratio (issue 20) given to the engine's
@@ -490,6 +492,22 @@ def duplicate_keys(path: str | Path) -> list[str]:
     except (OSError, yaml.YAMLError) as exc:
         found.append(f"{path}: cannot be read as YAML: {exc}")
     return found
+
+
+def plain(study: Study, config: dict) -> dict:
+    """The validated settings as plain data, every default filled in: what the plan reads and the
+    jobs receive (rules/common.smk), so a default lives in its model alone. The ``engines`` and
+    ``baselines`` blocks keep the configured entries, in the config's order, each with its adapter's
+    settings in full (an empty entry: the adapter's defaults)."""
+    data = study.model_dump(mode="json")
+    for section in ("engines", "baselines"):
+        block = getattr(study, section)
+        data[section] = {
+            name: (getattr(block, name) or get_engine(name).settings_model()).model_dump(mode="json")
+            for name in (config.get(section) or {})
+            if name in block.model_fields_set
+        }
+    return data
 
 
 def validate_or_exit(config: dict, source: str = "config", files: list | tuple = ()) -> Study:

@@ -21,6 +21,7 @@ from simpick.errors import InputError
 
 SCHEMA = "simpick.terrain/1"
 TILE = 1.0  # m
+TILES = 4  # a strip of four 1 m x 1 m tiles (paper s3.1.1): the terrains' default length
 
 
 def _tile_centres(tiles: int) -> list[float]:
@@ -85,7 +86,7 @@ def flat(rng: np.random.Generator, tiles: int) -> dict:
 RULES = {"flat": flat, "flat_tiles": flat_tiles, "plywood_layers": plywood_layers, "gravel_bed": gravel_bed}
 
 
-def generate(name: str, rule: str, seed: int, friction: float, tiles: int = 4, **params) -> dict:
+def generate(name: str, rule: str, seed: int, friction: float, tiles: int = TILES, **params) -> dict:
     """Build one terrain description; the same arguments always give the same description."""
     if rule not in RULES:
         raise InputError(f"terrains.{name}.rule", f"unknown rule {rule!r}", f"use one of {sorted(RULES)}")

@@ -60,6 +60,8 @@ from simpick.motions import side_speeds
 from simpick.robot import RobotSpec, load_from_config
 
 KINDS = ("yaw_gain", "straight", "slide", "incline", "rest")
+# deg: a case's start heading (the downhill direction of an incline) when it names none
+DEFAULT_HEADING = 0.0
 FLAT = {"schema": "simpick.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": 0.0}
 
 # Quantity -> (unit, how its error is measured): "relative" |e - a| / |a|, or "absolute" |e - a|.
@@ -92,7 +94,7 @@ class Setup:
     settings: dict
 
 
-def _scenario(setup: Setup, mu: float, gravity=(0.0, 0.0, -GRAVITY), heading: float = 0.0) -> Scenario:
+def _scenario(setup: Setup, mu: float, gravity=(0.0, 0.0, -GRAVITY), heading: float = DEFAULT_HEADING) -> Scenario:
     """``heading``: the robot's start yaw in degrees."""
     return Scenario(robot=setup.robot, terrain=dict(FLAT, friction=mu), ground_friction=mu,
                     timestep=setup.timestep, max_wheel_torque=setup.max_wheel_torque,
@@ -138,7 +140,7 @@ def braking_deceleration(speed: np.ndarray, timestep: float) -> float:
 
 
 def _yaw_gain(setup: Setup, p: dict):
-    v, w, mu, duration, heading = p["v"], p["w"], p["mu"], p.get("duration", 6.0), p.get("heading", 0.0)
+    v, w, mu, duration, heading = p["v"], p["w"], p["mu"], p.get("duration", 6.0), p.get("heading", DEFAULT_HEADING)
     ratio = p.get("friction_ratio")
     if ratio is not None:  # the engine's anisotropic friction at this ratio (run_case checked it has one)
         setup = replace(setup, settings={**dict(setup.settings), "friction_ratio": float(ratio)})
@@ -156,7 +158,7 @@ def _yaw_gain(setup: Setup, p: dict):
 
 def _straight(setup: Setup, p: dict):
     v, mu, duration = p["v"], p["mu"], p.get("duration", 6.0)
-    record = get_engine(setup.engine).simulate(_scenario(setup, mu, heading=p.get("heading", 0.0)),
+    record = get_engine(setup.engine).simulate(_scenario(setup, mu, heading=p.get("heading", DEFAULT_HEADING)),
                                                _commands(setup, [(duration, v, 0.0)]))
     half = record.steps // 2
     speed = body_velocity(record)[half:, 0].mean()
@@ -168,7 +170,7 @@ def _straight(setup: Setup, p: dict):
 
 
 def _slide(setup: Setup, p: dict):
-    v, mu, cruise, heading = p["v"], p["mu"], p.get("cruise", 2.0), p.get("heading", 0.0)
+    v, mu, cruise, heading = p["v"], p["mu"], p.get("cruise", 2.0), p.get("heading", DEFAULT_HEADING)
     record = get_engine(setup.engine).simulate(_scenario(setup, mu, heading=heading),
                                                _commands(setup, [(cruise, v, 0.0), (2.0, 0.0, 0.0)]))
     brake = int(round(cruise / setup.timestep))
@@ -183,7 +185,7 @@ def _incline(setup: Setup, p: dict):
     # downhill points along -(cos h, sin h); h = 0: along -x, the robot's back. h = 45 deg puts the
     # slope across the world axes, where an engine with world-aligned friction directions holds
     # up to sqrt(2) mu N (ODE's default pyramid did: parked at 1.2 atan(mu))
-    heading = math.radians(p.get("heading", 0.0))
+    heading = math.radians(p.get("heading", DEFAULT_HEADING))
     down = np.array([-math.cos(heading), -math.sin(heading)])
     horizontal = GRAVITY * math.sin(angle) * down
     gravity = (horizontal[0], horizontal[1], -GRAVITY * math.cos(angle))
@@ -313,7 +315,7 @@ def invariance_rows(rows: list[dict], tolerances: dict) -> list[dict]:
         return []
     gains = gains.astype({"v": float, "w": float, "mu": float})
     gains = gains.assign(ratio=gains.engine_value / gains.analytic_value, turn=np.sign(gains.w),
-                         speed=gains.w.abs(), heading=gains.heading.fillna(0.0))
+                         speed=gains.w.abs(), heading=gains.heading.fillna(DEFAULT_HEADING))
     out = []
     def status(cases) -> str:
         return "ok" if (cases.status == "ok").all() else "failed"
@@ -377,7 +379,7 @@ def gain_table(summary):
     rows = []
     if gains.empty:
         return pd.DataFrame(columns=list(GAIN_COLUMNS))
-    gains = gains.assign(speed=gains.w.abs(), heading=gains.heading.fillna(0.0))
+    gains = gains.assign(speed=gains.w.abs(), heading=gains.heading.fillna(DEFAULT_HEADING))
     for (engine, v, speed, mu), g in gains.groupby(["engine", "v", "speed", "mu"], sort=False):
         left, right = g[g.w > 0].engine_value, g[g.w < 0].engine_value
         analytic = float(g.analytic_value.mean())

@@ -21,7 +21,7 @@ def terrain_job(output: str, name: str, seed: int, spec: dict) -> None:
 
     spec = dict(spec)
     rule, friction = spec.pop("rule"), spec.pop("friction")
-    tiles = int(spec.pop("tiles", 4))
+    tiles = int(spec.pop("tiles", terrain.TILES))
     desc = terrain.generate(name, rule, stable_seed(int(seed), "terrain", name), friction, tiles, **spec)
     Path(output).parent.mkdir(parents=True, exist_ok=True)
     terrain.save(desc, output)

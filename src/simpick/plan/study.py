@@ -20,7 +20,7 @@ import sys
 from typing import Callable
 
 from simpick.codeversion import dispatch_entry, job_code, script_roots
-from simpick.config import Study, timestep_label
+from simpick.config import Study, plain, timestep_label
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, unavailable
 from simpick.plan.calibration import CalibrationPlanning
 from simpick.plan.report import ReportPlanning
@@ -46,8 +46,9 @@ class PlanError(ValueError):
 
 
 class Plan(ReportPlanning, CalibrationPlanning):
-    """Everything the rules ask of a study, from its config (the raw dict Snakemake holds and the
-    validated :class:`simpick.config.Study`), worked out once at planning time.
+    """Everything the rules ask of a study, from its validated config (:class:`simpick.config.Study`),
+    worked out once at planning time. ``config``: the raw dict Snakemake holds (its ``engines`` and
+    ``baselines`` order); ``self.config`` is the validated settings as plain data.
 
     ``basedir`` is the workflow's folder (scripts/ lie there); ``derived_table`` gives the path of
     the dataset folder's derived segment table once its checkpoint has run (Snakemake's
@@ -56,7 +57,9 @@ class Plan(ReportPlanning, CalibrationPlanning):
 
     def __init__(self, config: dict, settings: Study, basedir: str,
                  derived_table: Callable[[], str] | None = None):
-        self.config = config
+        # the validated settings as plain data (defaults filled in), not the raw dict: what the
+        # rules pass on and the jobs receive
+        self.config = config = plain(settings, config)
         self.settings = settings
         self.basedir = basedir
         self._derived_table = derived_table

@@ -23,6 +23,7 @@ import pandas as pd
 
 from simpick.report import figures
 from simpick.report.load import load_inputs
+from simpick.terrain import TILES
 
 
 def colors(engines: Sequence[str] | None, seen: Sequence[str] = ()) -> dict[str, str]:
@@ -98,7 +99,7 @@ def _strip(config: Mapping[str, Any], terrain: str):
     terrains = config.get("terrains") or {}
     if terrain not in terrains:
         return None
-    tiles = int((terrains[terrain] or {}).get("tiles", 4))
+    tiles = int((terrains[terrain] or {}).get("tiles", TILES))
     return (0.0, float(tiles), -0.5, 0.5)
 
 
