@@ -97,8 +97,8 @@ SWEEP_LABELS = [timestep_label(t) for t in SWEEP["timesteps"]] if SWEEP else []
 
 
 def sweep_params(engine, terrain_class, label):
-    """A segment job's parameters with the physics timestep of the sweep point."""
-    params = real_params(engine, terrain_class)
+    """The segments source's job of a class on ``engine`` (case_params) at the sweep point's timestep."""
+    params = case_params("segments", engine, terrain_class, SEGMENTS[terrain_class])
     dt = dict(zip(SWEEP_LABELS, SWEEP["timesteps"]))[label]
     return canonical(params | {"physics": params["physics"] | {"timestep": float(dt)}})
 

@@ -1,5 +1,6 @@
 # Speed-accuracy sweep (config `sweep:`, e.g. --configfile config/sweeps/timestep.yaml): every engine
-# over the committed real segments at each timestep, one job per engine x class x timestep.
+# over the committed real segments at each timestep, one job per engine x class x timestep, simulated,
+# compared and summarised by the segments source's own functions (simpick.sweep).
 # Target: `snakemake sweep`. Without a `sweep:` block these rules do not exist.
 
 if SWEEP:
@@ -23,11 +24,18 @@ if SWEEP:
         threads: 1
         resources:
             mem_mb=400,
-            # the 0.5 ms step doubles the segments' cost at 1 ms (DART's class job: about 1 min)
+            # the 0.5 ms step doubles the segments' cost at 1 ms (DART's class job: about 1 min); a
+            # hung case is stopped at health.timeout (5 min) and the cases after it are not run
             runtime=30,
         params:
             case=lambda wc: sweep_params(wc.engine, wc.terrain_class, wc.dt),
-            code=lambda wc: script_code("sweep_segments", engine_module(wc.engine)),
+            settings=compare_settings("segments"),
+            code=lambda wc: script_code(
+                "sweep_segments",
+                engine_module(wc.engine),
+                source_entry("segments", "prepare_case"),
+                source_entry("segments", "compare"),
+            ),
         script:
             "../scripts/sweep_segments.py"
 
