@@ -144,6 +144,22 @@ def test_the_sweep_has_no_aggregation_of_its_own():
         assert name not in text, name
 
 
+def test_a_sweep_job_reruns_with_the_segments_source_code():
+    """Its code version (rules/sweep.smk) follows the segments source's simulate, compare and
+    summarise code, and no other source's."""
+    from simpick import sources
+    from simpick.codeversion import job_files, script_roots
+
+    roots = (*script_roots(ROOT / "scripts" / "sweep_segments.py"), sources.entry("segments", "prepare_case"),
+             sources.entry("segments", "compare"))
+    files = {p.relative_to(ROOT / "src" / "simpick").as_posix() for p in job_files(*roots)}
+    assert {"sweep.py", "workflow.py", "realdata.py", "sources/segments.py", "metrics.py"} <= files
+    assert not files & {"sources/lab.py", "sources/replay.py", "calibration.py"}
+    summary = {p.relative_to(ROOT / "src" / "simpick").as_posix()
+               for p in job_files(*script_roots(ROOT / "scripts" / "sweep_summary.py"))}
+    assert {"sweep.py", "workflow.py", "realdata.py", "realmetrics.py", "metrics.py"} <= summary
+
+
 def test_the_sweep_at_the_studys_timestep_gives_the_segments_sources_figures(tmp_path):
     """The same traces (the segments source's simulate job at the study's timestep, one segment of
     one model failed) through the source's compare and summarise jobs, and through the sweep's
