@@ -25,7 +25,7 @@ if SWEEP:
         resources:
             mem_mb=400,
             # the 0.5 ms step doubles the segments' cost at 1 ms (DART's class job: about 1 min); a
-            # hung case is stopped at health.timeout (5 min) and the cases after it are not run
+            # hung case is stopped at health.timeout (300 s in config.yaml) and the cases after it are not run
             runtime=30,
         params:
             case=lambda wc: sweep_params(wc.engine, wc.terrain_class, wc.dt),
