@@ -27,13 +27,10 @@ except PlanError as _exc:
 for _engine, _why in PLAN.unavailable.items():
     print(f"simpick: engine {_engine!r} is left out of this study: {_why}", file=sys.stderr)
 
-# names the validation and sweep rules use
+# names the validation rules use
 ENGINES = PLAN.engines
-SEGMENTS = PLAN.segments
-SWEEP, SWEEP_DIR, SWEEP_LABELS = PLAN.sweep, PLAN.sweep_dir, PLAN.sweep_labels
 validation_params, validation_results = PLAN.validation_params, PLAN.validation_results
-sweep_params, sweep_runs = PLAN.sweep_params, PLAN.sweep_runs
-script_code, engine_module, statistics_params = PLAN.script_code, PLAN.engine_module, PLAN.statistics_params
+script_code, engine_module = PLAN.script_code, PLAN.engine_module
 
 
 wildcard_constraints:

@@ -81,33 +81,43 @@ def test_a_4ms_step_gives_a_100hz_imu_at_rest(robot):
     assert settled.wz.abs().max() < 0.01
 
 
-# ------------------------------------------------------------ summary: equal comparisons
+# ------------------------------------------------------------ summary: the segments source's rules
 
 def _runs():
+    """Two engines over three segments of one run; b diverged on s1."""
     rows = []
     for engine, errors, status in (("a", (1.0, 2.0, 3.0), ("ok", "ok", "ok")),
                                    ("b", (2.0, 9.0, 4.0), ("ok", "diverged", "ok"))):
         for k, (err, st) in enumerate(zip(errors, status)):
-            rows.append({"engine": engine, "terrain_class": "ice", "segment": f"s{k}", "run": "1", "kind": "straight",
-                         "status": st, "error_angular": err if st == "ok" else np.nan,
-                         "error_linear": 10 * err if st == "ok" else np.nan, "yaw_rate_gain_real": np.nan,
-                         "yaw_rate_gain_sim": np.nan, "timestep": 0.001, "steps": 1000, "sim_time": 1.0,
+            rows.append({"engine": engine, "terrain_class": "ice", "segment": f"s{k}", "test": f"s{k}", "run": "1",
+                         "kind": "straight", "status": st, "reasons": "" if st == "ok" else "diverged",
+                         "yaw_rate_gain_real": np.nan, "start_heading_deg": 0.0,
+                         "error_angular": err if st == "ok" else np.nan,
+                         "error_linear": 10 * err if st == "ok" else np.nan, "yaw_rate_gain_sim": np.nan,
+                         "gain_error": np.nan, "heading_error": 0.0, "speed_sim": 0.5, "timestep": 0.001,
+                         "steps": 1000, "sim_time": 1.0, "cpu_time": 0.1,
                          # a's run of s1 (which b failed) is slow: counted, it would pull a's RTF to 2.5
                          "wall_time": (1.0 if k == 1 else 0.1) if engine == "a" else 0.5})
     return pd.DataFrame(rows)
 
 
-def test_a_segment_failed_by_one_engine_is_left_out_for_all():
+def test_a_failed_segment_is_counted_and_never_averaged():
+    """As the segments source summarises: an engine's errors over the segments it ran healthily;
+    the Eq. 7 totals and the real-time factor over those every engine ran healthily (s1 left out
+    for all and listed)."""
     out = summarise(_runs()).set_index("engine")
-    assert out.loc["a", "n_compared"] == out.loc["b", "n_compared"] == 2
-    assert out.loc["a", "excluded"] == out.loc["b", "excluded"] == "s1"
-    assert out.loc["a", "error_angular"] == pytest.approx(2.0)  # s0 and s2, not s1 which it ran well
-    assert out.loc["a", "n_runs"] == 1 and np.isnan(out.loc["a", "error_angular_low"])  # 1 run < min_runs
-    assert out.loc["b", "error_angular"] == pytest.approx(3.0)
     assert (out.loc["a", "n_failed"], out.loc["b", "n_failed"]) == (0, 1)
+    assert (out.loc["a", "n_compared"], out.loc["b", "n_compared"]) == (3, 2)
+    assert out.loc["a", "error_angular"] == pytest.approx(2.0)  # one run: (1 + 2 + 3) / 3
+    assert out.loc["b", "error_angular"] == pytest.approx(3.0)  # (2 + 4) / 2: s1's 9 never counts
+    assert out.loc["a", "n_runs"] == 1 and np.isnan(out.loc["a", "error_angular_low"])  # 1 run < min_runs
+    assert out.loc["a", "excluded"] == out.loc["b", "excluded"] == "s1"
+    assert (out.loc["a", "n_common"], out.loc["b", "n_common"]) == (2, 2)
+    assert out.loc["a", "total_angular"] == pytest.approx(4.0) and out.loc["b", "total_linear"] == pytest.approx(60.0)
     # the real-time factor covers the segments every engine ran healthily: 2 s in 0.2 s, 2 s in 1.0 s
     assert out.loc["a", "real_time_factor"] == pytest.approx(10.0)
     assert out.loc["b", "real_time_factor"] == pytest.approx(2.0)
+    assert out.loc["a", "steps_per_s"] == pytest.approx(10_000.0)
 
 
 def test_sweep_errors_are_means_over_runs_with_intervals_from_min_runs_on():
@@ -118,6 +128,88 @@ def test_sweep_errors_are_means_over_runs_with_intervals_from_min_runs_on():
     assert out.n_runs == 2 and out.error_angular == pytest.approx((1.5 + 3.0) / 2)
     assert out.error_angular_low <= out.error_angular <= out.error_angular_high
     assert np.isnan(summarise(runs, {"min_runs": 3, "level": 0.95}).iloc[0].error_angular_low)
+
+
+def test_the_sweep_has_no_aggregation_of_its_own():
+    """Eq. 7 totals and per-run means come from the segments source's summarise step
+    (workflow.source_tables); sweep.py names none of the functions that compute them."""
+    import inspect
+
+    import simpick.sweep
+
+    text = inspect.getsource(simpick.sweep)
+    assert "source_tables" in text
+    for name in ("simpick.metrics", "realmetrics", "mean_ci", "per_run", "eq7_", "equal_rtf", ".mean(", "fsum",
+                 "test_error", "trace_stats"):
+        assert name not in text, name
+
+
+def test_a_sweep_job_reruns_with_the_segments_source_code():
+    """Its code version (rules/sweep.smk) follows the segments source's simulate, compare and
+    summarise code, and no other source's."""
+    from simpick import sources
+    from simpick.codeversion import job_files, script_roots
+
+    roots = (*script_roots(ROOT / "scripts" / "sweep_segments.py"), sources.entry("segments", "prepare_case"),
+             sources.entry("segments", "compare"))
+    files = {p.relative_to(ROOT / "src" / "simpick").as_posix() for p in job_files(*roots)}
+    assert {"sweep.py", "workflow.py", "realdata.py", "sources/segments.py", "metrics.py"} <= files
+    assert not files & {"sources/lab.py", "sources/replay.py", "calibration.py"}
+    summary = {p.relative_to(ROOT / "src" / "simpick").as_posix()
+               for p in job_files(*script_roots(ROOT / "scripts" / "sweep_summary.py"))}
+    assert {"sweep.py", "workflow.py", "realdata.py", "realmetrics.py", "metrics.py"} <= summary
+
+
+def test_the_sweep_at_the_studys_timestep_gives_the_segments_sources_figures(tmp_path):
+    """The same traces (the segments source's simulate job at the study's timestep, one segment of
+    one model failed) through the source's compare and summarise jobs, and through the sweep's
+    compare and summary: the same errors, intervals, run counts, Eq. 7 totals and real-time factor."""
+    from simpick.sources.base import real_params, unit_params
+    from simpick.sweep import compare_traces, sweep_summary_job
+    from simpick.tables import write_csv
+    from simpick.workflow import compare_job, simulate_job, summarise_job, write_hung_trace
+
+    config = tiny_config()
+    table = pd.read_csv(ROOT / config["real_data"]["segments"], dtype={"run": str})
+    table = table[table.terrain_class == "flooring"].assign(duration=1.0)  # 4 segments of 2 runs
+    table.to_csv(tmp_path / "segments.csv", index=False)
+    inputs = {"segments": str(tmp_path / "segments.csv"), "urdf": config["robot"]["urdf"]}
+    settings, statistics = {"track": config["robot"]["track"]}, {"min_runs": 2, "level": 0.9}
+    names = list(table.segment)
+    traces = {}
+    for model in ("mujoco", "coulomb"):
+        params = unit_params(real_params(config, model, "flooring"), "segments", "segments", names)
+        traces[model] = [str(tmp_path / model / f"{name}.parquet") for name in names]
+        simulate_job(traces[model], inputs["urdf"], inputs, params)
+    # MuJoCo's second segment (run 07's, which has two more) as its simulate job writes a hung case
+    which = {"source": "segments", "engine": "mujoco", "test": names[1], "terrain": "flooring", "segment": names[1],
+             "run": table.run.iloc[1], "motion": names[1], "dataset": table.dataset.iloc[1], "window": [1.0, 2.0]}
+    write_hung_trace(traces["mujoco"][1], which, params | {"engine": "mujoco"}, 1.0)
+    everything = traces["mujoco"] + traces["coulomb"]
+
+    out = {n: str(tmp_path / f"{n}.csv") for n in ("per_test", "detail", "runs", "imu_errors", "rtf", "summary",
+                                                   "pairwise")}
+    compare_job("segments", everything, inputs, settings, out)
+    summarise_job(out["per_test"], out["runs"], {"group": "terrain_class", "statistics": statistics}, out)
+    source = pd.read_csv(out["summary"]).set_index("engine")
+    totals = pd.read_csv(out["imu_errors"]).pivot(index="engine", columns="quantity", values="error")
+    rtf = pd.read_csv(out["rtf"]).set_index("engine").real_time_factor
+
+    write_csv(compare_traces(everything, inputs, params, settings), tmp_path / "rows.csv")  # as sweep_job
+    sweep_summary_job([str(tmp_path / "rows.csv")], str(tmp_path / "sweep.csv"), statistics)
+    sweep = pd.read_csv(tmp_path / "sweep.csv").set_index("engine")
+    assert (sweep.loc["mujoco", "n_failed"], sweep.loc["mujoco", "n_compared"]) == (1, 3)
+    assert sweep.loc["coulomb", "n_compared"] == 4 and (sweep.n_common == 3).all()
+    assert (sweep.timestep == config["physics"]["timestep"]).all()
+    for engine in ("mujoco", "coulomb"):
+        assert sweep.loc[engine, "n_runs"] == source.loc[engine, "n_runs"] == 2
+        for fig in ("error_angular", "error_linear", "gain_error"):
+            for end in ("", "_low", "_high"):
+                assert sweep.loc[engine, fig + end] == source.loc[engine, fig + end], fig + end
+        assert np.isfinite(sweep.loc[engine, "error_angular_low"])  # 2 runs >= min_runs: an interval
+        assert sweep.loc[engine, "total_angular"] == totals.loc[engine, "angular"]
+        assert sweep.loc[engine, "total_linear"] == totals.loc[engine, "linear"]
+        assert sweep.loc[engine, "real_time_factor"] == rtf.loc[engine]
 
 
 def test_the_report_section_pivots_by_timestep(tmp_path):

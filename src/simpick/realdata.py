@@ -356,11 +356,18 @@ FIGURES = ("error_angular", "error_linear", "yaw_rate_gain_sim", "gain_error", "
 
 
 def summaries(per_test: pd.DataFrame, group: str, outputs: dict, statistics: dict | None = None) -> None:
+    """:func:`summary_table` and :func:`pairwise_table` written to ``outputs["summary"]`` and
+    ``outputs["pairwise"]``."""
+    write_csv(summary_table(per_test, group, statistics), outputs["summary"])
+    write_csv(pairwise_table(per_test, group, statistics), outputs["pairwise"])
+
+
+def summary_table(per_test: pd.DataFrame, group: str, statistics: dict | None = None) -> pd.DataFrame:
     """Per engine and ``group`` (terrain class, or the lab's terrain): every figure's mean over
     runs (a run's tests averaged first: segments and windows of one run are not independent) with
-    its BCa bootstrap interval from ``statistics["min_runs"]`` runs on (``summary``); paired
-    engine differences judged by a sign-flip permutation test over runs (``too few runs`` below
-    the minimum; ``pairwise``). Per-test rows need engine, ``group``, test, run and status."""
+    its BCa bootstrap interval from ``statistics["min_runs"]`` runs on, over the tests the engine
+    ran healthily (a failed test is counted by the caller, never averaged in). Per-test rows need
+    engine, ``group``, test, run and status."""
     min_runs, level = realmetrics.statistics_settings(statistics)
     ok = per_test[per_test.status == "ok"]
     shown = [fig for fig in FIGURES + ("yaw_rate_gain_real",) if fig in per_test]
@@ -371,10 +378,16 @@ def summaries(per_test: pd.DataFrame, group: str, outputs: dict, statistics: dic
             mean, lo, hi, _ = realmetrics.mean_ci(g[fig].to_numpy(float), g["run"].to_numpy(), min_runs, level)
             row.update({fig: mean, f"{fig}_low": lo, f"{fig}_high": hi})
         rows.append(row)
-    summary = pd.DataFrame(rows, columns=["engine", group, "n_tests", "n_runs",
-                                          *[f"{fig}{end}" for fig in shown for end in ("", "_low", "_high")]])
-    write_csv(summary, outputs["summary"])
+    return pd.DataFrame(rows, columns=["engine", group, "n_tests", "n_runs",
+                                       *[f"{fig}{end}" for fig in shown for end in ("", "_low", "_high")]])
 
+
+def pairwise_table(per_test: pd.DataFrame, group: str, statistics: dict | None = None) -> pd.DataFrame:
+    """Per ``group`` and pair of engines: the paired difference of each Eq. 7 error over the tests
+    both ran healthily, judged by a sign-flip permutation test over runs (``too few runs`` below
+    ``statistics["min_runs"]``)."""
+    min_runs, level = realmetrics.statistics_settings(statistics)
+    ok = per_test[per_test.status == "ok"]
     pairs = []
     engines = sorted(ok.engine.unique())
     for cls, g in ok.groupby(group):
@@ -393,8 +406,8 @@ def summaries(per_test: pd.DataFrame, group: str, outputs: dict, statistics: dic
                     pairs.append({group: cls, "figure": fig, "engine_a": a, "engine_b": b,
                                   "mean_a_minus_b": t["mean"], "low": t["low"], "high": t["high"],
                                   "p_value": t["p_value"], "n_runs": t["n_runs"], "verdict": verdict})
-    write_csv(pd.DataFrame(pairs, columns=[group, "figure", "engine_a", "engine_b", "mean_a_minus_b",
-                                            "low", "high", "p_value", "n_runs", "verdict"]), outputs["pairwise"])
+    return pd.DataFrame(pairs, columns=[group, "figure", "engine_a", "engine_b", "mean_a_minus_b",
+                                        "low", "high", "p_value", "n_runs", "verdict"])
 
 
 # --- fetching the public dataset ------------------------------------------------------------------

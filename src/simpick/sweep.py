@@ -1,109 +1,106 @@
 """Speed-accuracy sweeps: every engine over the committed real segments at several physics timesteps.
 
 A sweep config (``config/sweeps/timestep.yaml``) names the timesteps; the workflow
-(``rules/sweep.smk``) runs one job per engine x terrain class x timestep, each driving every
-segment of the class as the segments source does (:mod:`simpick.sources.segments`: the same
-simulation and the same per-segment comparison as the study's segment jobs) and writing one row per
-segment: its real-data errors, the simulated and wall seconds, the health status.
-:func:`sweep_summary_job` then puts, per class, engine and timestep, the mean errors over runs
-(with intervals from ``statistics.min_runs`` runs on) next to the real-time factor (simulated
-seconds / wall seconds of the stepping loop).
+(``rules/sweep.smk``) runs one job per engine x terrain class x timestep. A job is the segments
+source's own path at that timestep: its class's segments simulated as the source's simulate job
+does (:func:`simpick.workflow.simulate_job`: the same cases, metadata, start headings and per-case
+watchdog), compared as its compare job does (:func:`simpick.sources.segments.compare`), one row
+per segment: its per-test row and its run's timing. :func:`summarise` then puts each class and
+timestep through the source's summarise step (:func:`simpick.workflow.source_tables`): Eq. 7 and
+the per-run aggregation are the source's, not restated here. At the study's own timestep a sweep
+point's figures are the segments source's figures.
 
-Equal comparisons: at each class and timestep the errors are averaged over the segments every
-engine ran healthily; a segment any engine failed is left out for all and listed (errors and real-time factor alike, as
-:func:`simpick.workflow.equal_rtf` for the lab study), and an engine's failed segments are
-counted, never averaged in.
+What each column follows (the source's rules): an engine's errors are its means over runs (a
+run's segments averaged first) of the segments it ran healthily, with intervals and ``n_runs``
+from the ``statistics`` settings; the Eq. 7 totals and the real-time factor cover the segments
+every engine ran healthily (a segment any engine failed is left out of them for all, and listed in
+``excluded``); an engine's failed segments (diverged, hung, not run) are counted in ``n_failed``,
+never averaged in.
 """
 
 from __future__ import annotations
 
-import sys
+import shutil
+import tempfile
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from simpick.watchdog import DEFAULT_TIMEOUT_S
 from simpick.tables import write_csv
 
+# a segment's timing, from its compare job's run row, beside its per-test row
+TIMING = ("sim_time", "wall_time", "cpu_time", "steps")
 SUMMARY_COLUMNS = ("terrain_class", "engine", "timestep", "n_segments", "n_failed", "n_compared", "n_runs",
                    "excluded", "error_angular", "error_angular_low", "error_angular_high", "error_linear",
                    "error_linear_low", "error_linear_high", "gain_error", "gain_error_low", "gain_error_high",
-                   "real_time_factor", "steps_per_s")
+                   "total_angular", "total_linear", "n_common", "real_time_factor", "steps_per_s")
 
 
-def sweep_job(segments_csv: str, urdf: str, params: dict, output: str, timeout: float = DEFAULT_TIMEOUT_S) -> None:
-    """Every segment of one class on one engine at ``params["physics"]["timestep"]``: one CSV row each.
+def sweep_job(inputs: dict, params: dict, settings: dict, output: str) -> None:
+    """Every segment of one class (``params["cases"]``) on one engine at ``params["physics"]["timestep"]``,
+    simulated and compared as the segments source's jobs do; one CSV row per segment
+    (:func:`compare_traces`). A case that hangs is written failed with the cases after it (the
+    simulate job's watchdog), and the rows are written before the process ends, so the summary
+    counts them as failed."""
+    from simpick.workflow import simulate_job
 
-    Under the watchdog (``timeout`` s of wall time, simpick.watchdog.runtime_timeout of the rule's
-    runtime): a job still running then writes the rows it has and every segment not yet done as
-    failed (hung), so the summary counts them as failed and leaves them out for every engine,
-    instead of averaging a partial class."""
-    from simpick.sources import segments as source
-    from simpick.watchdog import Watchdog
+    folder = tempfile.mkdtemp(prefix="simpick-sweep-")
+    traces = [str(Path(folder) / f"{name}.parquet") for name in params["cases"]]
 
-    segments = source.class_table(segments_csv, params["terrain_class"])
-    dt = float(params["physics"]["timestep"])
-    rows: list[dict] = []
+    def compare_and_write() -> None:
+        write_csv(compare_traces(traces, inputs, params, settings), output)
+        shutil.rmtree(folder, ignore_errors=True)
 
-    def hung() -> None:
-        done = len(rows)  # the rows finished so far (the main thread only appends whole rows)
-        left = [hung_row(params, segments.loc[name], timeout) for name in segments.index[done:]]
-        print(f"simpick: sweep {params['engine']} {params['terrain_class']} {dt:g} s: {len(left)} segment(s) "
-              f"not done: {left[0]['reasons'] if left else ''}", file=sys.stderr)
-        write_csv(pd.DataFrame(rows[:done] + left), output)
-
-    with Watchdog(timeout, hung):
-        for name in segments.index:
-            seg = segments.loc[name]
-            frame, meta = source.simulate(seg, urdf, params)
-            row = source.row(pd.DataFrame(frame), meta, seg, params["robot"]["track"])
-            row.update({"timestep": dt, "steps": int(meta["steps"]), "sim_time": int(meta["steps"]) * dt,
-                        "wall_time": float(meta["wall_time"])})
-            rows.append(row)
-    write_csv(pd.DataFrame(rows), output)
+    try:
+        simulate_job(traces, inputs["urdf"], inputs, params, after_hung=compare_and_write)
+        compare_and_write()
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
 
 
-def hung_row(params: dict, seg: pd.Series, timeout: float) -> dict:
-    """A segment the watchdog stopped, or never reached: failed, with the reason; no errors."""
-    from simpick.watchdog import hung_reason
+def compare_traces(traces: list[str], inputs: dict, params: dict, settings: dict) -> pd.DataFrame:
+    """A sweep point's traces compared by their source's compare (``params["kind"]``'s module, as
+    the compare job): its per-test rows with each run's timing (:data:`TIMING`) and the timestep."""
+    from simpick import sources
 
-    return {"engine": params["engine"], "terrain_class": seg.terrain_class, "segment": seg.name, "run": seg.run,
-            "kind": seg.kind, "status": "failed", "reasons": hung_reason(timeout),
-            "yaw_rate_gain_real": seg.yaw_rate_gain, "error_angular": np.nan, "error_linear": np.nan,
-            "yaw_rate_gain_sim": np.nan, "speed_sim": np.nan, "timestep": float(params["physics"]["timestep"]),
-            "steps": 0, "sim_time": 0.0, "wall_time": np.nan}
+    per_test, _, runs = sources.module(params["kind"]).compare(traces, inputs, settings)
+    timing = runs[["engine", "test", *TIMING]].astype({"test": str})
+    rows = per_test.astype({"test": str}).merge(timing, on=["engine", "test"], how="left", validate="one_to_one")
+    return rows.assign(timestep=float(params["physics"]["timestep"]))
 
 
-def summarise(runs: pd.DataFrame, statistics: dict | None = None) -> pd.DataFrame:
-    """Per class, engine and timestep: errors over the segments every engine ran healthily, as the
-    real data's rule has it (simpick.realmetrics: a run's segments averaged first, the mean over
-    runs, a BCa interval only from ``statistics.min_runs`` runs on), and the real-time factor."""
-    from simpick.realmetrics import mean_ci, statistics_settings
+def summarise(rows: pd.DataFrame, statistics: dict | None = None) -> pd.DataFrame:
+    """Per class, engine and timestep: the segments source's tables of those rows
+    (:func:`simpick.workflow.source_tables`) with the sweep's counts and the cost of a step."""
+    from simpick.realdata import SEGMENT_TEST_COLUMNS
+    from simpick.workflow import source_tables
 
-    min_runs, level = statistics_settings(statistics)
     out = []
-    for (cls, dt), group in runs.groupby(["terrain_class", "timestep"], sort=True):
-        bad = sorted(set(group.loc[group.status != "ok", "segment"]))
-        compared = group[~group.segment.isin(bad)]
+    for (cls, dt), group in rows.groupby(["terrain_class", "timestep"], sort=True):
+        tables = source_tables(group[SEGMENT_TEST_COLUMNS], group[["engine", "test", "status", *TIMING]],
+                               "terrain_class", statistics)
+        summary = tables["summary"].set_index("engine")
+        totals = tables["imu_errors"].pivot(index="engine", columns="quantity", values="error")
+        common = tables["imu_errors"].drop_duplicates("engine").set_index("engine")
+        rtf = tables["rtf"].set_index("engine").real_time_factor
         for engine, g in group.groupby("engine", sort=True):
-            c = compared[compared.engine == engine]
-            turning = c[c.kind == "turning"]
-            wall = float(c.wall_time.sum())  # the same segments for every engine (workflow.equal_rtf's rule)
-            row = {"terrain_class": cls, "engine": engine, "timestep": dt, "n_segments": len(g),
-                   "n_failed": int((g.status != "ok").sum()), "n_compared": len(c),
-                   "n_runs": int(c.run.astype(str).nunique()), "excluded": "; ".join(bad),
-                   "real_time_factor": float(c.sim_time.sum()) / wall if wall > 0 else np.nan,
-                   "steps_per_s": float(c.steps.sum()) / wall if wall > 0 else np.nan}
-            figures = {"error_angular": (c, c.error_angular), "error_linear": (c, c.error_linear),
-                       "gain_error": (turning, (turning.yaw_rate_gain_sim - turning.yaw_rate_gain_real).abs())}
-            for name, (frame, values) in figures.items():
-                mean, low, high, _ = (mean_ci(values.to_numpy(float), frame.run.astype(str).to_numpy(), min_runs, level)
-                                      if len(frame) else (np.nan, np.nan, np.nan, 0))
-                row.update({name: mean, f"{name}_low": low, f"{name}_high": high})
+            figures = summary.loc[engine] if engine in summary.index else pd.Series(dtype=float)
+            row = {"terrain_class": cls, "engine": engine, "timestep": float(dt), "n_segments": len(g),
+                   "n_failed": int((g.status != "ok").sum()),
+                   "n_compared": int(figures.get("n_tests", 0)), "n_runs": int(figures.get("n_runs", 0)),
+                   "excluded": common.loc[engine, "excluded"].replace(";", "; "),
+                   "total_angular": totals.loc[engine, "angular"], "total_linear": totals.loc[engine, "linear"],
+                   "n_common": int(common.loc[engine, "n_tests"]), "real_time_factor": rtf.loc[engine],
+                   # sim_time is steps x timestep: steps per wall second over the same segments
+                   "steps_per_s": rtf.loc[engine] / float(dt)}
+            row.update({f"{name}{end}": figures.get(f"{name}{end}", np.nan)
+                        for name in ("error_angular", "error_linear", "gain_error") for end in ("", "_low", "_high")})
             out.append(row)
     return pd.DataFrame(out, columns=list(SUMMARY_COLUMNS))
 
 
 def sweep_summary_job(inputs: list[str], output: str, statistics: dict | None = None) -> None:
-    runs = pd.concat([pd.read_csv(p, dtype={"run": str}) for p in inputs], ignore_index=True)
-    write_csv(summarise(runs, statistics), output)
+    rows = pd.concat([pd.read_csv(p, dtype={"run": str, "test": str, "segment": str}) for p in inputs],
+                     ignore_index=True)
+    write_csv(summarise(rows, statistics), output)

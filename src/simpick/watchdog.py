@@ -47,10 +47,10 @@ RUNTIME_SHARE = 0.9
 
 
 def runtime_timeout(runtime_min: float | None) -> float:
-    """The hang limit of a job that steps an engine many times (CPU load, a sweep point, a
-    calibration): 90 % of the runtime its rule declares, the wall time it is budgeted (and, on a
-    cluster, granted: profiles/slurm), so the job records itself as hung before a scheduler that
-    enforces that runtime kills it without a word."""
+    """The hang limit of a job that steps an engine many times (CPU load, a calibration; a sweep
+    point's cases each have the simulate job's ``health.timeout``): 90 % of the runtime its rule
+    declares, the wall time it is budgeted (and, on a cluster, granted: profiles/slurm), so the job
+    records itself as hung before a scheduler that enforces that runtime kills it without a word."""
     if runtime_min is None or float(runtime_min) <= 0:
         return DEFAULT_TIMEOUT_S
     return RUNTIME_SHARE * 60.0 * float(runtime_min)

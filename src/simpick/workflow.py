@@ -36,13 +36,14 @@ def terrain_job(output: str, name: str, seed: int, spec: dict) -> None:
 TRACE_KEYS = ("source", "test", "engine", "terrain", "motion", "dataset", "run", "segment", "window")
 
 
-def simulate_job(outputs: list[str], urdf: str, inputs: dict, params: dict) -> list[dict]:
+def simulate_job(outputs: list[str], urdf: str, inputs: dict, params: dict, after_hung=None) -> list[dict]:
     """A unit's cases (``params["cases"]``, one trace each in ``outputs``) on one model, each under
     the watchdog: a case still running after ``health.timeout`` s of wall time is written as a
     failed (hung) trace, and so are the unit's cases after it, which cannot run in the stopped
     process; the source's compare job lists them like any failed run. ``params["kind"]`` says how
     a case is driven (lab, segments, replay: its simpick.sources module's ``prepare_case``, imported
-    by name); ``inputs`` holds the files it reads."""
+    by name); ``inputs`` holds the files it reads. ``after_hung``: called once the hung traces are
+    written, before the process ends (a job that compares its own traces, the sweep, does so then)."""
     from simpick import sources
     from simpick.simulate import config_hash
     from simpick.traces import write_trace
@@ -63,6 +64,8 @@ def simulate_job(outputs: list[str], urdf: str, inputs: dict, params: dict) -> l
             write_hung_trace(units[i][2], units[i][0], params, timeout)
             for later, _, path in units[i + 1:]:
                 write_hung_trace(path, later, params, timeout, reason=f"not run: {units[i][0]['test']} hung before it")
+            if after_hung is not None:
+                after_hung()
 
         with Watchdog(timeout, hung):
             frame, meta = run()
@@ -140,21 +143,30 @@ def compare_job(kind: str, traces: list[str], inputs: dict, params: dict, output
 
 
 def summarise_job(per_test: str, runs: str, params: dict, outputs: dict[str, str]) -> None:
-    """A source's per-test rows summed and summarised, the same way for every source: Eq. 7
-    totals over the tests every model completed (``imu_errors``), the real-time factor over the
-    tests every model ran healthily (``rtf``), per model and group (terrain or terrain class)
-    means with intervals and paired verdicts over independent runs (``summary``, ``pairwise``:
-    simpick.realdata.summaries)."""
+    """A source's per-test rows summed and summarised (:func:`source_tables`), each table written
+    to its ``outputs`` entry."""
     import pandas as pd
-
-    from simpick import metrics
-    from simpick.realdata import summaries
 
     tests = pd.read_csv(per_test, dtype={"run": str, "test": str})
     run_table = pd.read_csv(runs, dtype={"terrain": str, "motion": str, "test": str})
-    write_csv(metrics.eq7_totals(tests, engines=run_table.engine.unique()), outputs["imu_errors"])
-    write_csv(equal_rtf(run_table), outputs["rtf"])
-    summaries(tests, params["group"], outputs, params.get("statistics"))
+    for name, table in source_tables(tests, run_table, params["group"], params.get("statistics")).items():
+        write_csv(table, outputs[name])
+
+
+def source_tables(tests, run_table, group: str, statistics: dict | None = None) -> dict:
+    """A source's per-test rows (its compare job's ``per_test``) and run rows (``runs``) summed and
+    summarised, the same way for every source and for the sweep at each timestep (simpick.sweep):
+    Eq. 7 totals over the tests every model completed (``imu_errors``), the real-time factor over
+    the tests every model ran healthily (``rtf``), per model and ``group`` (terrain or terrain
+    class) means with intervals and paired verdicts over independent runs (``summary``,
+    ``pairwise``: simpick.realdata.summary_table, pairwise_table)."""
+    from simpick import metrics
+    from simpick.realdata import pairwise_table, summary_table
+
+    return {"imu_errors": metrics.eq7_totals(tests, engines=run_table.engine.unique()),
+            "rtf": equal_rtf(run_table),
+            "summary": summary_table(tests, group, statistics),
+            "pairwise": pairwise_table(tests, group, statistics)}
 
 
 def equal_rtf(runs) -> "pd.DataFrame":

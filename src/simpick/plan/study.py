@@ -337,10 +337,20 @@ class Plan(ReportPlanning, CalibrationPlanning):
     # --- the sweep ---
 
     def sweep_params(self, engine, terrain_class, label):
-        """A segment job's parameters with the physics timestep of the sweep point."""
-        params = self.real_params(engine, terrain_class)
+        """The segments source's job of a class on ``engine`` (case_params) at the sweep point's timestep."""
+        params = self.case_params("segments", engine, terrain_class, self.segments[terrain_class])
         dt = dict(zip(self.sweep_labels, self.sweep["timesteps"]))[label]
         return canonical(params | {"physics": params["physics"] | {"timestep": float(dt)}})
+
+    def sweep_code(self, engine):
+        """A sweep point's code: its job, the model's adapter, and the segments source's simulate and
+        compare (the sweep runs them; no other source's)."""
+        return self.script_code(
+            "sweep_segments",
+            self.engine_module(engine),
+            source_entry("segments", "prepare_case"),
+            source_entry("segments", "compare"),
+        )
 
     def sweep_runs(self):
         return [

@@ -1,7 +1,8 @@
 """The segments source: constant-command segments of real runs (the committed table
 ``real_data.segments``, or the one derived from a dataset folder), each segment's command driven on
 its terrain class's flat ground and compared with the real window's statistics (simpick.realdata).
-The speed-accuracy sweep (simpick.sweep) simulates and compares its segments through this module."""
+The speed-accuracy sweep (simpick.sweep) runs this source's simulate, compare and summarise steps at
+each of its timesteps."""
 
 from __future__ import annotations
 
@@ -64,13 +65,6 @@ def simulate(seg, urdf: str, params: dict):
     from simpick.realdata import simulate_segment
 
     return simulate_segment(seg, urdf, params)
-
-
-def row(frame, meta: dict, seg, track: float) -> dict:
-    """One simulated segment against its real window statistics (simpick.realdata.segment_row)."""
-    from simpick.realdata import segment_row
-
-    return segment_row(frame, meta, seg, track)
 
 
 def prepare_case(urdf: str, inputs: dict, params: dict, name: str):
