@@ -53,23 +53,26 @@ def simulation_params(engine, terrain, motion_name):
     return lab_source.lab_params(config, engine, terrain, motion_name)
 
 
-def validation_params(engine, case):
-    """What one validation run depends on: the engine's settings, the robot, the timestep and
-    the case (not the IMU model, the health limits or the tolerances)."""
+def validation_params(engine):
+    """What an engine's validation job depends on: the engine's settings, the robot, the timestep
+    and the cases (not the IMU model, the health limits or the tolerances)."""
     return canonical(
         {
             "engine": engine,
             "engine_settings": config["engines"][engine] or {},
             "physics": {"timestep": config["physics"]["timestep"]},
             "robot": {k: v for k, v in config["robot"].items() if k != "urdf"},
-            "case_name": case,
-            "case": {k: v for k, v in config["validation"]["cases"][case].items() if v is not None},
+            "cases": {
+                name: {k: v for k, v in case.items() if v is not None}
+                for name, case in config["validation"]["cases"].items()
+            },
         }
     )
 
 
-def validation_results():
-    return expand("results/validation/{engine}/{case}.json", engine=ENGINES, case=VALIDATION_CASES)
+def validation_results(engines=None):
+    """Every case's record of ``engines`` (all; "{engine}": one job's outputs)."""
+    return expand("results/validation/{engine}/{case}.json", engine=engines or ENGINES, case=VALIDATION_CASES)
 
 
 # --- real robot data (rules/real.smk) ---

@@ -1,25 +1,30 @@
 # Engines against analytic mechanics (simpick.validation): every engine runs cases with known
 # answers on the study's robot and settings; the summary judges them against the config's
 # tolerances, so a tolerance edit reruns the summary and the report, not the engines.
+# One job per engine runs all its cases in one process (the robot and the engine's module loaded
+# once) and writes a record per case; its params hold every case, so editing a case reruns each
+# engine's job.
 
 
 rule validate:
     input:
         urdf=config["robot"]["urdf"],
     output:
-        "results/validation/{engine}/{case}.json",
+        validation_results("{engine}"),
     log:
-        "results/logs/validate/{engine}/{case}.log",
+        "results/logs/validate/{engine}.log",
     benchmark:
-        "results/benchmarks/validate/{engine}/{case}.tsv"
+        "results/benchmarks/validate/{engine}.tsv"
     conda:
         "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=400,
-        runtime=lambda wc: 1 + int(config["health"]["timeout"]) // 60,
+        # a case's share, as a lab case's: 1 + health.timeout // 60 min; the watchdog stops a case
+        # at 90 % of its share (simpick.validation.validate_job)
+        runtime=len(VALIDATION_CASES) * (1 + int(config["health"]["timeout"]) // 60),
     params:
-        case=lambda wc: validation_params(wc.engine, wc.case),
+        case=lambda wc: validation_params(wc.engine),
         code=lambda wc: script_code("validate", engine_module(wc.engine)),
     script:
         "../scripts/validate.py"

@@ -5,6 +5,7 @@ import subprocess
 import sys
 import textwrap
 
+import yaml
 
 from conftest import ROOT
 from simpick.traces import read_trace
@@ -40,7 +41,8 @@ def _run_hanging(tmp_path, name: str, job: str, output):
     script.write_text(HANGING_MODEL + textwrap.dedent(job) + '\nprint("not reached")\n')
     run = subprocess.run([sys.executable, str(script), str(ROOT / "config.yaml"), str(output)], cwd=ROOT,
                          capture_output=True, text=True, timeout=120,
-                         env={**os.environ, "PYTHONPATH": str(ROOT / "tests")})  # conftest's helpers
+                         # this tree's package and conftest's helpers
+                         env={**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT / "src"), str(ROOT / "tests")])})
     assert run.returncode == 0, run.stderr
     assert "not reached" not in run.stdout
     assert "hung: no result after 1 s" in run.stderr  # the job's log says why it stopped
@@ -104,6 +106,39 @@ def test_a_hung_case_of_a_batch_fails_it_and_the_cases_after_it(tmp_path):
     assert second["segment"] == "ice-turning-02-0009p46s" and second["health"]["status"] == "failed"
     assert second["health"]["reasons"] == ["not run: ice-straight-02-0020p23s hung before it"]
     assert sorted(first) == sorted(second)  # the same metadata layout
+
+
+def test_a_hung_validation_case_fails_it_and_the_cases_after_it(tmp_path):
+    """An engine's validation cases run in one job, each under the watchdog with its share of the
+    job's limit: the case that hangs and the ones after it are recorded failed, the ones before it
+    keep their results, and the summary lists every case."""
+    import json
+
+    from simpick.validation import failures, summarise
+
+    names = ["a_rest", "b_slide", "c_rest"]
+    _run_hanging(tmp_path, "validate", """
+        from simpick import validation
+        def hang(setup, params):
+            while True:
+                time.sleep(0.01)
+        validation.RUNNERS["slide"] = hang
+        rest = {"kind": "rest", "mu": 0.8, "duration": 1.2}
+        cases = {"a_rest": rest, "b_slide": {"kind": "slide", "v": 0.5, "mu": 0.3}, "c_rest": rest}
+        params = {"engine": "pybullet", "engine_settings": config["engines"]["pybullet"], "cases": cases,
+                  "physics": config["physics"], "robot": config["robot"]}
+        # three cases in a 3 s job: 1 s each
+        validation.validate_job([f"{out}/{name}.json" for name in cases], config["robot"]["urdf"], params,
+                                timeout=3.0)
+    """, tmp_path / "records")
+    records = [json.loads((tmp_path / "records" / f"{name}.json").read_text()) for name in names]
+    assert [r["status"] for r in records] == ["ok", "failed", "failed"]
+    assert records[1]["reasons"][0].startswith("hung: no result after 1 s") and records[1]["kind"] == "slide"
+    assert records[2]["reasons"] == ["not run: b_slide hung before it"]
+    tolerances = yaml.safe_load((ROOT / "config.yaml").read_text())["validation"]["tolerances"]
+    summary = summarise(records, tolerances)
+    assert set(summary.case) == set(names)
+    assert failures(summary) == {"pybullet": ["b_slide", "c_rest"]}
 
 
 # --- the other jobs that step an engine: CPU load, a sweep point, calibration -----------------------
