@@ -27,14 +27,8 @@ except PlanError as _exc:
 for _engine, _why in PLAN.unavailable.items():
     print(f"simpick: engine {_engine!r} is left out of this study: {_why}", file=sys.stderr)
 
-# names the validation rules use
-ENGINES = PLAN.engines
-validation_params, validation_results = PLAN.validation_params, PLAN.validation_results
-script_code, engine_module = PLAN.script_code, PLAN.engine_module
-
 
 wildcard_constraints:
     engine="|".join(PLAN.real_models),
-    case="|".join(re.escape(c) for c in PLAN.validation_cases),
     terrain="|".join(PLAN.terrains),
     motion="|".join(PLAN.motions),

@@ -1,33 +1,37 @@
 # Engines against analytic mechanics (simpick.validation): every engine runs cases with known
 # answers on the study's robot and settings; the summary judges them against the config's
 # tolerances, so a tolerance edit reruns the summary and the report, not the engines.
+# One job per engine runs all its cases in one process (the robot and the engine's module loaded
+# once) and writes a record per case; its params hold every case, so editing a case reruns each
+# engine's job.
 
 
 rule validate:
     input:
         urdf=PLAN.config["robot"]["urdf"],
     output:
-        "results/validation/{engine}/{case}.json",
+        PLAN.validation_results("{engine}"),
     log:
-        "results/logs/validate/{engine}/{case}.log",
+        "results/logs/validate/{engine}.log",
     benchmark:
-        "results/benchmarks/validate/{engine}/{case}.tsv"
+        "results/benchmarks/validate/{engine}.tsv"
     conda:
         "../envs/simpick.yaml"
     threads: 1
     resources:
         mem_mb=400,
-        runtime=lambda wc: 1 + int(PLAN.config["health"]["timeout"]) // 60,
+        # each case's share as a lab case's; the watchdog stops a case at 90 % of it (validate_job)
+        runtime=PLAN.validation_runtime(),
     params:
-        case=lambda wc: validation_params(wc.engine, wc.case),
-        code=lambda wc: script_code("validate", engine_module(wc.engine)),
+        case=lambda wc: PLAN.validation_params(wc.engine),
+        code=lambda wc: PLAN.script_code("validate", PLAN.engine_module(wc.engine)),
     script:
         "../scripts/validate.py"
 
 
 rule validation_summary:
     input:
-        validation_results(),
+        PLAN.validation_results(),
     output:
         summary="results/validation/summary.csv",
         # per engine, the yaw-rate gain left / right and its spread over start headings
@@ -38,6 +42,6 @@ rule validation_summary:
         "../envs/simpick.yaml"
     params:
         tolerances=canonical(PLAN.config["validation"]["tolerances"]),
-        code=script_code("validation_summary"),
+        code=PLAN.script_code("validation_summary"),
     script:
         "../scripts/validation_summary.py"

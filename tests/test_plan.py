@@ -32,7 +32,7 @@ def test_a_default_left_out_of_the_config_reaches_the_jobs_from_its_model(config
     plan = plan_of(config, tmp_path)
 
     assert {t: s["tiles"] for t, s in plan.config["terrains"].items()} == {"grass": TILES, "bumps": TILES}
-    case = plan.validation_params("ode", "gain_v0.5_w0.5_mu0.8")["case"]
+    case = plan.validation_params("ode")["cases"]["gain_v0.5_w0.5_mu0.8"]
     assert case["heading"] == DEFAULT_HEADING
     params = plan.simulation_params("ode", "grass", "straight")
     defaults = get_engine("ode").settings_model().model_dump(mode="json")

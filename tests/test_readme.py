@@ -48,7 +48,7 @@ def test_every_marked_count_is_the_workflows(counts):
     assert not wrong, "README.md is stale: " + "; ".join(wrong)
     # the dry run agrees with the config it was made from
     assert counts["lab_cases"] == counts["engines"] * counts["terrains"] * counts["motions"]
-    assert counts["validate_jobs"] == counts["validation_cases"] * counts["engines"]
+    assert counts["validate_jobs"] == counts["engines"]  # one job runs all of an engine's cases
 
 
 def rule_blocks():

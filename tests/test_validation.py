@@ -265,3 +265,60 @@ def test_the_lab_circle_starts_where_its_driven_arc_crosses_the_strip(robot):
     path = get_engine("coulomb").simulate(scenario, commands).position
     on_strip = (path[:, 0] > 0) & (path[:, 0] < 4) & (np.abs(path[:, 1]) < 0.5)
     assert np.linalg.norm(np.diff(path[on_strip, :2], axis=0), axis=1).sum() > 2.0
+
+
+# --- the workflow's job: one engine, every case, one process ----------------------------------------
+
+def _job_params(engine, cases):
+    return {"engine": engine, "engine_settings": CONFIG["engines"][engine] or {}, "physics": CONFIG["physics"],
+            "robot": {k: v for k, v in CONFIG["robot"].items() if k != "urdf"}, "cases": cases}
+
+
+SHORT_CASES = {"gain": {"kind": "yaw_gain", "v": 0.5, "w": -0.5, "mu": 0.8, "duration": 1.0},
+               "rest": {"kind": "rest", "mu": 0.8, "duration": 1.2}}
+
+
+def test_the_engine_job_writes_each_case_as_run_alone(tmp_path):
+    """All of an engine's cases in one process give the records each case gives alone (the engine
+    keeps no state from one case to the next), one file per case, named by it."""
+    import json
+
+    from simpick.validation import validate_job
+
+    outputs = [str(tmp_path / "pybullet" / f"{name}.json") for name in SHORT_CASES]
+    validate_job(outputs, ROOT / CONFIG["robot"]["urdf"], _job_params("pybullet", SHORT_CASES))
+    for name, path in zip(SHORT_CASES, outputs):
+        written = json.loads(open(path).read())
+        alone = run_case(_setup("pybullet"), name, SHORT_CASES[name])
+        assert written["case"] == name and written["status"] == "ok"
+        assert written["checks"] == alone["checks"] and written["steps"] == alone["steps"] > 0
+    with pytest.raises(ValueError, match="outputs for"):
+        validate_job(outputs[:1], ROOT / CONFIG["robot"]["urdf"], _job_params("pybullet", SHORT_CASES))
+
+
+def test_a_case_that_crashes_is_a_failed_row_and_the_next_case_runs(tmp_path, monkeypatch, capfd):
+    import json
+
+    from simpick import validation
+
+    def crash(setup, params):
+        raise RuntimeError("solver gave up")
+
+    monkeypatch.setitem(validation.RUNNERS, "yaw_gain", crash)
+    outputs = [str(tmp_path / f"{name}.json") for name in SHORT_CASES]
+    validation.validate_job(outputs, ROOT / CONFIG["robot"]["urdf"], _job_params("pybullet", SHORT_CASES))
+    gain, rest = (json.loads(open(p).read()) for p in outputs)
+    assert gain["status"] == "failed" and gain["reasons"] == ["crashed: RuntimeError: solver gave up"]
+    assert gain["checks"] == [] and gain["kind"] == "yaw_gain" and gain["params"]["w"] == -0.5
+    assert rest["status"] == "ok" and len(rest["checks"]) == 3
+    err = capfd.readouterr().err  # the job's log: the case, why, and the traceback
+    assert "simpick: validate pybullet gain: crashed" in err and "Traceback" in err
+    summary = summarise([gain, rest], TOLERANCES)
+    row = summary[summary.case == "gain"].iloc[0]
+    assert (row.quantity, row.status, row.passed) == ("yaw_rate_gain", "failed", False)
+    assert row.reasons == "crashed: RuntimeError: solver gave up"
+    assert failures(summary) == {"pybullet": ["gain"]}
+    # an invalid case kind is the config's error, not a failed run: it stops the job
+    with pytest.raises(InputError, match="validation.cases.bad.kind"):
+        validation.validate_job([str(tmp_path / "bad.json")], ROOT / CONFIG["robot"]["urdf"],
+                                _job_params("pybullet", {"bad": {"kind": "hover", "mu": 0.8}}))

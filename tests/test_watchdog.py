@@ -5,6 +5,7 @@ import subprocess
 import sys
 import textwrap
 
+import yaml
 
 from conftest import ROOT
 from simpick.traces import read_trace
@@ -40,9 +41,8 @@ def _run_hanging(tmp_path, name: str, job: str, output):
     script.write_text(HANGING_MODEL + textwrap.dedent(job) + '\nprint("not reached")\n')
     run = subprocess.run([sys.executable, str(script), str(ROOT / "config.yaml"), str(output)], cwd=ROOT,
                          capture_output=True, text=True, timeout=120,
-                         # conftest's helpers, and the caller's own path (a worktree's src) after them
-                         env={**os.environ, "PYTHONPATH": os.pathsep.join(
-                             [str(ROOT / "tests"), *filter(None, [os.environ.get("PYTHONPATH")])])})
+                         # this tree's package and conftest's helpers
+                         env={**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT / "src"), str(ROOT / "tests")])})
     assert run.returncode == 0, run.stderr
     assert "not reached" not in run.stdout
     assert "hung: no result after 1 s" in run.stderr  # the job's log says why it stopped
@@ -108,6 +108,39 @@ def test_a_hung_case_of_a_batch_fails_it_and_the_cases_after_it(tmp_path):
     assert sorted(first) == sorted(second)  # the same metadata layout
 
 
+def test_a_hung_validation_case_fails_it_and_the_cases_after_it(tmp_path):
+    """An engine's validation cases run in one job, each under the watchdog with its share of the
+    job's limit: the case that hangs and the ones after it are recorded failed, the ones before it
+    keep their results, and the summary lists every case."""
+    import json
+
+    from simpick.validation import failures, summarise
+
+    names = ["a_rest", "b_slide", "c_rest"]
+    _run_hanging(tmp_path, "validate", """
+        from simpick import validation
+        def hang(setup, params):
+            while True:
+                time.sleep(0.01)
+        validation.RUNNERS["slide"] = hang
+        rest = {"kind": "rest", "mu": 0.8, "duration": 1.2}
+        cases = {"a_rest": rest, "b_slide": {"kind": "slide", "v": 0.5, "mu": 0.3}, "c_rest": rest}
+        params = {"engine": "pybullet", "engine_settings": config["engines"]["pybullet"], "cases": cases,
+                  "physics": config["physics"], "robot": config["robot"]}
+        # three cases in a 3 s job: 1 s each
+        validation.validate_job([f"{out}/{name}.json" for name in cases], config["robot"]["urdf"], params,
+                                timeout=3.0)
+    """, tmp_path / "records")
+    records = [json.loads((tmp_path / "records" / f"{name}.json").read_text()) for name in names]
+    assert [r["status"] for r in records] == ["ok", "failed", "failed"]
+    assert records[1]["reasons"][0].startswith("hung: no result after 1 s") and records[1]["kind"] == "slide"
+    assert records[2]["reasons"] == ["not run: b_slide hung before it"]
+    tolerances = yaml.safe_load((ROOT / "config.yaml").read_text())["validation"]["tolerances"]
+    summary = summarise(records, tolerances)
+    assert set(summary.case) == set(names)
+    assert failures(summary) == {"pybullet": ["b_slide", "c_rest"]}
+
+
 # --- the other jobs that step an engine: CPU load, a sweep point, calibration -----------------------
 
 
@@ -144,21 +177,14 @@ def test_a_hung_sweep_point_records_every_segment_failed(tmp_path):
 
     output = tmp_path / "sweep.csv"
     _run_hanging(tmp_path, "sweep", """
-        import pandas as pd
         from simpick.sweep import sweep_job
-        segments = pd.read_csv(config["real_data"]["segments"])
-        params = {**real, "health": dict(config["health"], timeout=1.0), "kind": "segments", "source": "segments",
-                  "cases": list(segments.segment[segments.terrain_class == "flooring"])}
-        sweep_job({"segments": config["real_data"]["segments"], "urdf": config["robot"]["urdf"]}, params,
-                  {"track": config["robot"]["track"]}, out)
+        sweep_job(config["real_data"]["segments"], config["robot"]["urdf"], real, out, timeout=1.0)
     """, output)
     runs = pd.read_csv(output, dtype={"run": str})
     config = yaml.safe_load((ROOT / "config.yaml").read_text())
     segments = pd.read_csv(ROOT / config["real_data"]["segments"])
-    assert len(runs) == (segments.terrain_class == "flooring").sum() > 1
-    # the first case hung; the simulate job's watchdog writes the cases after it as not run
-    assert (runs.status == "failed").all() and runs.reasons.iloc[0].startswith("hung: no result after 1 s")
-    assert runs.reasons.iloc[1:].str.startswith("not run: ").all()
+    assert len(runs) == (segments.terrain_class == "flooring").sum() > 0
+    assert (runs.status == "failed").all() and runs.reasons.str.startswith("hung: no result after 1 s").all()
     # the summary counts them as failed and averages none of them
     summary = summarise(runs).iloc[0]
     assert summary.n_failed == summary.n_segments == len(runs) and summary.n_compared == 0

@@ -194,6 +194,8 @@ def test_engine_edit_reruns_only_that_engine(study):
         # the lab's 2 tests, one job each, and the segments' one class in one job
         assert sorted(w.split(",")[0] for rule, w in jobs if rule == "simulate") == ["source=lab"] * 2
         assert [rule for rule, _ in jobs if rule.startswith("simulate_")] == ["simulate_segments_flooring"]
+        # its validation cases, all in its one job, and no other engine's
+        assert [w for rule, w in jobs if rule == "validate"] == ["engine=mujoco"]
         assert not {rule for rule, _ in jobs} & {"terrain", "published_table11"}
     finally:
         write_config(workdir, config)

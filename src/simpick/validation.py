@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -58,6 +59,7 @@ from simpick.errors import InputError
 from simpick.imu import block_average, euler_rpy, rotation_matrices
 from simpick.motions import side_speeds
 from simpick.robot import RobotSpec, load_from_config
+from simpick.watchdog import DEFAULT_TIMEOUT_S
 
 KINDS = ("yaw_gain", "straight", "slide", "incline", "rest")
 # deg: a case's start heading (the downhill direction of an incline) when it names none
@@ -269,19 +271,73 @@ def run_case(setup: Setup, name: str, params: dict) -> dict:
             "wall_time": wall}
 
 
-def validate_job(output: str | Path, urdf: str | Path, params: dict) -> dict:
-    """The workflow's per-(engine, case) job: run and write the JSON record."""
+def failed_record(setup: Setup, version: str, name: str, params: dict, reason: str, wall: float = 0.0) -> dict:
+    """The record of a case that ended before it measured anything (hung, crashed, or not run
+    because a case before it hung): failed, no checks, the reason; the summary lists it as a
+    failed row of the case's first quantity (:data:`CASE_QUANTITY`)."""
+    return {"engine": setup.engine, "engine_version": version, "case": name, "kind": params["kind"],
+            "params": {k: v for k, v in params.items() if k != "kind"}, "checks": [], "status": "failed",
+            "reasons": [reason], "steps": 0, "sim_time": 0.0, "steps_per_s": None, "wall_time": float(wall)}
+
+
+def validate_job(outputs: list[str], urdf: str | Path, params: dict, timeout: float = DEFAULT_TIMEOUT_S) -> list[dict]:
+    """The workflow's per-engine job: every case of ``params["cases"]`` on one engine in one process
+    (the robot and the engine's module are loaded once), one JSON record per case in ``outputs``
+    (``.../{case}.json``), in the order of ``params["cases"]``.
+
+    ``timeout``: the job's hang limit in s of wall time (simpick.watchdog.runtime_timeout of the rule's
+    runtime), shared evenly by its cases: each case runs under the watchdog with ``timeout / cases``. A
+    case still running then is recorded as failed (hung) and the cases after it, which cannot run in the
+    stopped process, as failed (not run), so the summary lists every case. A case whose engine raises is
+    recorded as failed with the error (the traceback goes to the job's log) and the next case runs; a bad
+    case kind (InputError) still stops the job."""
+    import traceback
+
+    from simpick.watchdog import Watchdog, hung_reason
+
+    cases = params["cases"]
+    paths = {Path(p).stem: Path(p) for p in outputs}
+    if sorted(paths) != sorted(cases):
+        raise ValueError(f"validate_job: outputs for {sorted(paths)}, cases {sorted(cases)}")
     setup = Setup(engine=params["engine"], robot=load_from_config({**params["robot"], "urdf": urdf}),
                   timestep=params["physics"]["timestep"],
                   max_wheel_torque=params["robot"]["max_wheel_torque"], track=params["robot"]["track"],
                   settings=params["engine_settings"])
-    result = run_case(setup, params["case_name"], params["case"])
-    output = Path(output)
-    output.parent.mkdir(parents=True, exist_ok=True)
-    tmp = output.with_name(output.name + ".partial")
+    version = get_engine(setup.engine).version()  # before any case: the watchdog's records need it
+    limit = float(timeout) / len(cases)
+    names = list(cases)
+
+    def failed(name: str, reason: str, wall: float = 0.0) -> dict:
+        print(f"simpick: validate {setup.engine} {name}: {reason}", file=sys.stderr)
+        return failed_record(setup, version, name, cases[name], reason, wall)
+
+    results = []
+    for i, name in enumerate(names):
+        def hung(i: int = i) -> None:
+            _write_record(paths[names[i]], failed(names[i], hung_reason(limit), limit))
+            for later in names[i + 1:]:
+                _write_record(paths[later], failed(later, f"not run: {names[i]} hung before it"))
+
+        start = time.perf_counter()
+        with Watchdog(limit, hung):
+            try:
+                result = run_case(setup, name, cases[name])
+            except InputError:
+                raise
+            except Exception as exc:  # noqa: BLE001 - recorded as the case's failure; the others run on
+                traceback.print_exc()
+                result = failed(name, f"crashed: {type(exc).__name__}: {exc}", time.perf_counter() - start)
+        _write_record(paths[name], result)
+        results.append(result)
+    return results
+
+
+def _write_record(path: Path, result: dict) -> None:
+    """Atomically: a killed job leaves a temp file, never a truncated record."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".partial")
     tmp.write_text(json.dumps(result, indent=1, sort_keys=True, allow_nan=True))
-    tmp.replace(output)
-    return result
+    tmp.replace(path)
 
 
 def _row(engine: str, case: str, kind: str, quantity: str, value: float, analytic: float, tolerances: dict,
@@ -344,12 +400,13 @@ def summarise(results: list[dict], tolerances: dict[str, float]):
 
     rows = []
     for result in results:
-        if result["status"] == "skipped":  # not applicable to this robot: one row with the reason
+        if not result["checks"]:  # skipped (not applicable), or failed before it measured: one row, the reason
+            quantity = CASE_QUANTITY[result["kind"]]
             rows.append({"engine": result["engine"], "case": result["case"], "kind": result["kind"],
-                         "quantity": SKIPPED_QUANTITY[result["kind"]], "unit": QUANTITIES[SKIPPED_QUANTITY[result["kind"]]][0],
+                         "quantity": quantity, "unit": QUANTITIES[quantity][0],
                          "engine_value": math.nan, "analytic_value": math.nan, "error": math.nan,
-                         "error_kind": QUANTITIES[SKIPPED_QUANTITY[result["kind"]]][1], "tolerance": math.nan,
-                         "passed": False, "status": "skipped", "reasons": "; ".join(result["reasons"]),
+                         "error_kind": QUANTITIES[quantity][1], "tolerance": math.nan,
+                         "passed": False, "status": result["status"], "reasons": "; ".join(result["reasons"]),
                          "v": result["params"].get("v"), "w": result["params"].get("w"),
                          "mu": result["params"].get("mu"), "heading": result["params"].get("heading"),
                          "steps_per_s": None, "covers": "",
@@ -392,8 +449,9 @@ def gain_table(summary):
     return pd.DataFrame(rows, columns=list(GAIN_COLUMNS))
 
 
-SKIPPED_QUANTITY = {"yaw_gain": "yaw_rate_gain", "straight": "speed_over_wheel_speed", "slide": "deceleration",
-                    "incline": "slide_acceleration", "rest": "accel_z"}
+# the quantity under which a case without checks (skipped, or hung, crashed or not run) is listed
+CASE_QUANTITY = {"yaw_gain": "yaw_rate_gain", "straight": "speed_over_wheel_speed", "slide": "deceleration",
+                  "incline": "slide_acceleration", "rest": "accel_z"}
 
 
 def failures(summary) -> dict[str, list[str]]:

@@ -316,9 +316,9 @@ class Plan(ReportPlanning, CalibrationPlanning):
 
     # --- validation against analytic mechanics ---
 
-    def validation_params(self, engine, case):
-        """What one validation run depends on: the engine's settings, the robot, the timestep and the
-        case (not the IMU model, the health limits or the tolerances)."""
+    def validation_params(self, engine):
+        """What an engine's validation job depends on: the engine's settings, the robot, the timestep
+        and the cases (not the IMU model, the health limits or the tolerances)."""
         config = self.config
         return canonical(
             {
@@ -326,13 +326,22 @@ class Plan(ReportPlanning, CalibrationPlanning):
                 "engine_settings": config["engines"][engine] or {},
                 "physics": {"timestep": config["physics"]["timestep"]},
                 "robot": {k: v for k, v in config["robot"].items() if k != "urdf"},
-                "case_name": case,
-                "case": {k: v for k, v in config["validation"]["cases"][case].items() if v is not None},
+                "cases": {
+                    name: {k: v for k, v in case.items() if v is not None}
+                    for name, case in config["validation"]["cases"].items()
+                },
             }
         )
 
-    def validation_results(self):
-        return [f"results/validation/{e}/{c}.json" for e in self.engines for c in self.validation_cases]
+    def validation_results(self, engines=None):
+        """Every case's record of ``engines`` (all; ``"{engine}"``: one job's outputs)."""
+        engines = [engines] if isinstance(engines, str) else engines or self.engines
+        return [f"results/validation/{e}/{c}.json" for e in engines for c in self.validation_cases]
+
+    def validation_runtime(self):
+        """Minutes for an engine's validation job: a case's share as a lab case's (1 + health.timeout
+        // 60); the watchdog stops a case at 90 % of its share (simpick.validation.validate_job)."""
+        return self.simulate_runtime(len(self.validation_cases))
 
     # --- the sweep ---
 

@@ -66,7 +66,8 @@ def validation_section(summary: pd.DataFrame | None, engines: list[str], figure:
     rows = []
     for case in dict.fromkeys(summary.case):
         for quantity, g in summary[summary.case == case].groupby("quantity", sort=False):
-            ran = g[g.status != "skipped"]  # a case some engines skip: the analytic of one that ran
+            # a case some engines skip, or that hung or crashed on some: the analytic of one that ran
+            ran = g[g.analytic_value.notna()]
             first = ran.iloc[0] if len(ran) else g.iloc[0]
             cells = {}
             for e in present:
