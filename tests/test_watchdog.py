@@ -177,14 +177,21 @@ def test_a_hung_sweep_point_records_every_segment_failed(tmp_path):
 
     output = tmp_path / "sweep.csv"
     _run_hanging(tmp_path, "sweep", """
+        import pandas as pd
         from simpick.sweep import sweep_job
-        sweep_job(config["real_data"]["segments"], config["robot"]["urdf"], real, out, timeout=1.0)
+        segments = pd.read_csv(config["real_data"]["segments"])
+        params = {**real, "health": dict(config["health"], timeout=1.0), "kind": "segments", "source": "segments",
+                  "cases": list(segments.segment[segments.terrain_class == "flooring"])}
+        sweep_job({"segments": config["real_data"]["segments"], "urdf": config["robot"]["urdf"]}, params,
+                  {"track": config["robot"]["track"]}, out)
     """, output)
     runs = pd.read_csv(output, dtype={"run": str})
     config = yaml.safe_load((ROOT / "config.yaml").read_text())
     segments = pd.read_csv(ROOT / config["real_data"]["segments"])
-    assert len(runs) == (segments.terrain_class == "flooring").sum() > 0
-    assert (runs.status == "failed").all() and runs.reasons.str.startswith("hung: no result after 1 s").all()
+    assert len(runs) == (segments.terrain_class == "flooring").sum() > 1
+    # the first case hung; the simulate job's watchdog writes the cases after it as not run
+    assert (runs.status == "failed").all() and runs.reasons.iloc[0].startswith("hung: no result after 1 s")
+    assert runs.reasons.iloc[1:].str.startswith("not run: ").all()
     # the summary counts them as failed and averages none of them
     summary = summarise(runs).iloc[0]
     assert summary.n_failed == summary.n_segments == len(runs) and summary.n_compared == 0
