@@ -17,8 +17,8 @@ import yaml
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 
-from simpick.robot import load_robot  # noqa: E402
-from simpick.validation import Setup, run_case, summarise  # noqa: E402
+from simpick.inputs.robot import load_robot  # noqa: E402
+from simpick.studies.validation import Setup, run_case, summarise  # noqa: E402
 
 
 def main() -> None:

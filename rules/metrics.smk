@@ -1,8 +1,8 @@
 # One compare and one summarise family over the study's sources (simpick.plan: PLAN.sources): a source's
-# traces against what they are compared with (simpick.workflow.compare_job, by the source's module in
+# traces against what they are compared with (simpick.compare.jobs.compare_job, by the source's module in
 # simpick.sources: the paper's reference
 # statistics for the lab, each segment's real window statistics, the real log for a replay), then its
-# per-test rows summed and summarised (simpick.workflow.summarise_job), all in results/metrics/<source>/.
+# per-test rows summed and summarised (simpick.compare.jobs.summarise_job), all in results/metrics/<source>/.
 
 
 rule compare:

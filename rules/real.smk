@@ -10,7 +10,7 @@ if PLAN.replay_set:
 
     rule dataset_manifest:
         """Which folder results/real/<dataset>/ holds the results of (a second folder of the same
-        name is then refused before any job: simpick.datasets.open_dataset)."""
+        name is then refused before any job: simpick.real.datasets.open_dataset)."""
         output:
             f"{PLAN.replay}/dataset.yaml",
         log:

@@ -28,7 +28,7 @@ rule scores:
         "../scripts/scores.py"
 
 
-# simpick's verdict beside the paper's method (simpick.verdict): per real run the yaw-rate gain
+# simpick's verdict beside the paper's method (simpick.score.verdict): per real run the yaw-rate gain
 # error, the heading error and (where a log measures it) the speed error, with intervals and paired
 # verdicts over runs; what the paper's accuracy scores separate; the weighted total with an interval
 # over real runs; the report's first paragraph. The report reads these tables and computes none.

@@ -1,6 +1,6 @@
 # Speed-accuracy sweep (config `sweep:`, e.g. --configfile config/sweeps/timestep.yaml): every engine
 # over the committed real segments at each timestep, one job per engine x class x timestep, simulated,
-# compared and summarised by the segments source's own functions (simpick.sweep).
+# compared and summarised by the segments source's own functions (simpick.studies.sweep).
 # Target: `snakemake sweep`. Without a `sweep:` block these rules do not exist.
 
 if PLAN.sweep:

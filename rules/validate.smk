@@ -1,4 +1,4 @@
-# Engines against analytic mechanics (simpick.validation): every engine runs cases with known
+# Engines against analytic mechanics (simpick.studies.validation): every engine runs cases with known
 # answers on the study's robot and settings; the summary judges them against the config's
 # tolerances, so a tolerance edit reruns the summary and the report, not the engines.
 # One job per engine runs all its cases in one process (the robot and the engine's module loaded

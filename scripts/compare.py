@@ -1,4 +1,5 @@
-from simpick.workflow import compare_job, logged
+from simpick.compare.jobs import compare_job
+from simpick.joblog import logged
 
 with logged(snakemake.log[0]):
     compare_job(snakemake.params.kind, list(snakemake.input.traces), dict(snakemake.input.items()),

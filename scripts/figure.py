@@ -1,7 +1,8 @@
+from simpick.joblog import (
+    logged,  # one script for every figure rule: simpick.report.draw.RULES maps the rule to what it draws
+)
 from simpick.report.draw import figure_job
-from simpick.workflow import logged
 
-# one script for every figure rule: simpick.report.draw.RULES maps the rule to what it draws
 with logged(snakemake.log[0]):
     figure_job(snakemake.rule, {k: (list(v) if k in ("traces", "real_logs", "replay_traces") else v)
                                 for k, v in snakemake.input.items()},

@@ -1,6 +1,7 @@
 from pathlib import Path
 
-from simpick.workflow import logged, published_job
+from simpick.inputs.jobs import published_job
+from simpick.joblog import logged
 
 with logged(snakemake.log[0]):
     published_job(snakemake.input[0], str(Path(snakemake.output.table11).parent))

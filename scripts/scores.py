@@ -1,4 +1,5 @@
-from simpick.workflow import logged, scores_job
+from simpick.joblog import logged
+from simpick.score.jobs import scores_job
 
 with logged(snakemake.log[0]):
     scores_job(

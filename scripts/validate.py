@@ -1,6 +1,6 @@
-from simpick.validation import validate_job
-from simpick.watchdog import runtime_timeout
-from simpick.workflow import logged
+from simpick.joblog import logged
+from simpick.simulate.watchdog import runtime_timeout
+from simpick.studies.validation import validate_job
 
 with logged(snakemake.log[0]):
     validate_job(list(snakemake.output), snakemake.input.urdf, snakemake.params.case,

@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from simpick.robot import load_robot
+from simpick.inputs.robot import load_robot
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = ROOT.parent / "shared"
@@ -21,7 +21,7 @@ def robot():
 
 def flat_terrain(friction: float = 0.95) -> dict:
     """A terrain with no shapes: the robot drives on the ground plane alone."""
-    return {"schema": "simpick.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": friction}
+    return {"schema": "simpick.inputs.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": friction}
 
 
 def tile_terrain(friction: float, thickness: float = 0.01) -> dict:
@@ -35,7 +35,7 @@ def setup(robot, *, terrain=None, ground=0.95, torque=50.0, starts=((0.0, 0.0, 0
           duration=0.3, timestep=0.001, settings=None):
     """A scenario on flat ground (unless ``terrain`` is given) and its constant wheel commands."""
     from simpick.engines.base import Scenario
-    from simpick.motions import constant_commands
+    from simpick.inputs.motions import constant_commands
 
     scenario = Scenario(robot=robot, terrain=flat_terrain(ground) if terrain is None else terrain,
                         ground_friction=ground, timestep=timestep, max_wheel_torque=torque, starts=tuple(starts),

@@ -9,9 +9,16 @@ import pytest
 import yaml
 
 from conftest import ROOT, planned_jobs, snakemake, tiny_config, write_config
-from simpick.calibration import Units, apply_parameters, calibrate, evaluate, split_runs, summarise
 from simpick.config import problems
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
+from simpick.studies.calibration import (
+    Units,
+    apply_parameters,
+    calibrate,
+    evaluate,
+    split_runs,
+    summarise,
+)
 
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
 URDF = str(ROOT / "resources/robot/husky_a200.urdf")
@@ -114,8 +121,8 @@ def _params(engine, friction):
 def _synthetic_units(engine, friction):
     """A "real" log made by ``engine`` itself at ``friction``: the wheels swing between +-0.8 m/s
     every 2 s (so the robot accelerates at friction x g, a 2 Hz-visible square wave), then turn."""
-    from simpick.realdata import replay_log
-    from simpick.reallogs import RealLog
+    from simpick.real.logs import RealLog
+    from simpick.simulate.real import replay_log
 
     t = np.arange(0, 10.0, 1 / 6.5)
     v = np.where((t // 2) % 2 == 0, 0.8, -0.8)
@@ -170,7 +177,7 @@ def test_an_interrupted_calibration_resumes_without_repeating_trials(tmp_path):
 
     calibrate(units, ["s1"], URDF, params, dict(settings, n_trials=5), tmp_path / "b.journal", evaluate_fn=counting)
     assert len(calls) == 5
-    from simpick.calibration import _storage, study_name
+    from simpick.studies.calibration import _storage, study_name
 
     storage = _storage(tmp_path / "b.journal")
     optuna.load_study(study_name=study_name(params, settings, ["s1"]), storage=storage).ask()  # stays RUNNING
@@ -301,8 +308,8 @@ def test_the_calibration_template_renders_the_tables():
 def test_classes_too_small_for_an_interval_get_one_pooled_and_runs_are_named_by_class():
     """Three classes of 2 test runs each: no class reaches statistics.min_runs (6), all of them
     together do. Run numbers repeat across classes ("00", "01"); pooled they are 6 runs, not 2."""
-    from simpick.calibration import POOLED
     from simpick.report.calibration import calibration_section
+    from simpick.studies.calibration import POOLED
 
     rows = []
     for c, cls in enumerate(("asphalt", "ice", "snow")):
@@ -337,8 +344,8 @@ def test_classes_too_small_for_an_interval_get_one_pooled_and_runs_are_named_by_
 def test_the_objective_leaves_constant_acceleration_offsets_out():
     """Issue 20: an accelerometer bias or a slope (a constant offset between real and simulated ax)
     no engine can model does not count; the yaw-rate term keeps its weight."""
-    from simpick.calibration import objective_terms
-    from simpick.realmetrics import aligned_rmse
+    from simpick.compare.realmetrics import aligned_rmse
+    from simpick.studies.calibration import objective_terms
 
     t = np.arange(0, 20, 0.01)
     sim = 0.2 * np.sin(0.5 * t)
@@ -374,8 +381,8 @@ TARGET = {"classes": ["asphalt", "ice"], "gain_tolerance": 0.10, "reference": "c
 
 
 def test_the_turning_table_gives_held_out_gains_errors_and_the_equivalent_multiplier():
-    from simpick.calibration import TARGET_POOL, turning_table
     from simpick.coulomb import wheel_separation_multiplier
+    from simpick.studies.calibration import TARGET_POOL, turning_table
 
     best = {("e", "ice"): {"parameters": {"friction_ratio": 0.63}}}
     table = turning_table(_turning_evals(0.69, 0.03), best, 0.555, 0.5708, TARGET)
@@ -394,7 +401,7 @@ def test_the_turning_table_gives_held_out_gains_errors_and_the_equivalent_multip
 
 
 def test_the_target_needs_both_paired_tests_and_the_gain_in_every_class():
-    from simpick.calibration import target_table, turning_table
+    from simpick.studies.calibration import target_table, turning_table
 
     def judge(cal_gain, cal_error, **kw):
         evals = _turning_evals(cal_gain, cal_error, **kw)
@@ -418,9 +425,9 @@ def test_the_target_needs_both_paired_tests_and_the_gain_in_every_class():
 
 
 def test_the_report_shows_held_out_gains_multipliers_and_the_target():
-    from simpick.calibration import target_table, turning_table
     from simpick.report.build import environment
     from simpick.report.calibration import calibration_section
+    from simpick.studies.calibration import target_table, turning_table
 
     evals = _turning_evals(0.69, 0.03)
     best = {("e", "ice"): {"parameters": {"friction_ratio": 0.63}, "as_configured": {"friction_ratio": 1.0}}}
@@ -444,7 +451,7 @@ def test_the_report_shows_held_out_gains_multipliers_and_the_target():
 def test_the_objective_gives_the_steady_gain_its_own_weight():
     """Issue 20: a unit that turns under a steady command adds |gain error| / scales.yaw_rate_gain;
     a unit without steady turning windows (gain error NaN) and a config without the scale do not."""
-    from simpick.calibration import objective_terms
+    from simpick.studies.calibration import objective_terms
 
     row = {"status": "ok", "error_yaw_rate": 0.02, "error_accel_x": 0.1, "error_accel_x_offset_free": 0.05,
            "gain_error": 0.2}

@@ -3,7 +3,13 @@
 
 import pytest
 
-from simpick.codeversion import clear_cache, dispatch_entry, job_code, job_files, script_roots
+from simpick.codeversion import (
+    clear_cache,
+    dispatch_entry,
+    job_code,
+    job_files,
+    script_roots,
+)
 
 PACKAGE = {
     "simpick/__init__.py": "",
@@ -96,5 +102,5 @@ def test_a_root_that_does_not_exist_is_an_error(package):
 
 def test_a_script_names_the_functions_it_runs(tmp_path):
     script = tmp_path / "s.py"
-    script.write_text("from simpick.workflow import logged, simulate_job\nimport os\n")
-    assert script_roots(script) == ("simpick.workflow:logged", "simpick.workflow:simulate_job")
+    script.write_text("from simpick.joblog import logged\nfrom simpick.simulate.jobs import simulate_job\nimport os\n")
+    assert script_roots(script) == ("simpick.joblog:logged", "simpick.simulate.jobs:simulate_job")

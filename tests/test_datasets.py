@@ -5,11 +5,26 @@ import numpy as np
 import pytest
 import yaml
 
-from conftest import ROOT, SHARED, planned_jobs, snakemake, synthetic_run, tiny_config, write_config, write_dataset
-from simpick.datasets import DatasetProblems, dataset_name, find_runs, open_dataset, run_key
+from conftest import (
+    ROOT,
+    SHARED,
+    planned_jobs,
+    snakemake,
+    synthetic_run,
+    tiny_config,
+    write_config,
+    write_dataset,
+)
 from simpick.errors import InputError
-from simpick.imu import ImuModel, model_at_rate
-from simpick.reallogs import borealtc
+from simpick.real.datasets import (
+    DatasetProblems,
+    dataset_name,
+    find_runs,
+    open_dataset,
+    run_key,
+)
+from simpick.real.logs import borealtc
+from simpick.simulate.imu import ImuModel, model_at_rate
 
 BOREALTC = SHARED / "data" / "borealtc"
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
@@ -236,7 +251,7 @@ def test_bad_dataset_folder_stops_the_run_before_any_job(tmp_path, case, expecte
 
 
 def test_the_committed_tables_own_folder_is_not_simulated_a_second_time(tmp_path):
-    """The shared BorealTC folder's derived segment table is the committed one (test_realdata
+    """The shared BorealTC folder's derived segment table is the committed one (tests/test_realdata.py
     checks a fresh derivation against it): replaying that folder derives the table (a result) but
     simulates no source "<dataset>-segments" beside "segments", which holds the same cases."""
     config = tiny_config(tmp_path)

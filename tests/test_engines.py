@@ -26,10 +26,15 @@ from conftest import ROOT, drive, flat_terrain, setup, tile_terrain
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.engines.base import GRAVITY, Calibratable, Engine, EngineSettings
 from simpick.errors import InputError
-from simpick.health import HealthLimits, check
-from simpick.imu import block_average, euler_rpy, imu_from_kinematics, rotation_matrices
-from simpick.robot import load_robot
-from simpick.validation import body_velocity, braking_deceleration
+from simpick.inputs.robot import load_robot
+from simpick.simulate.health import HealthLimits, check
+from simpick.simulate.imu import (
+    block_average,
+    euler_rpy,
+    imu_from_kinematics,
+    rotation_matrices,
+)
+from simpick.studies.validation import body_velocity, braking_deceleration
 
 DT = 0.001
 
@@ -477,7 +482,7 @@ NATIVE_IMU_XFAIL = {
 
 @pytest.mark.parametrize("engine", every_engine_but(NATIVE_IMU_XFAIL))
 def test_the_accelerometer_agrees_with_the_kinematic_imu(engine):
-    """The record's IMU against simpick.imu.imu_from_kinematics of the record's own base
+    """The record's IMU against simpick.simulate.imu.imu_from_kinematics of the record's own base
     motion, mount and gravity, at the 100 Hz the study reads (turning from rest: acceleration,
     centripetal and lever-arm terms all present). MuJoCo's is its native accelerometer; the
     other engines' adapters build theirs with that function, so it checks their wiring (mount,
@@ -513,7 +518,7 @@ def test_every_engine_builds_and_steps_the_lab_gravel_strip(engine, robot):
     """The config's gravel strip (4 bed boxes, 485 stones) with the robot on it: the world builds and
     steps. Drake 1.51.1 crashed (segmentation fault) registering these stones after its ground half
     space (issue 19); the drake adapter registers the ground last."""
-    from simpick.terrain import generate
+    from simpick.inputs.terrain import generate
 
     spec = dict(CONFIG["terrains"]["gravel"])
     terrain = generate("gravel", seed=CONFIG["seed"], **spec)

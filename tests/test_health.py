@@ -6,7 +6,7 @@ import pytest
 from conftest import setup
 from simpick.engines import get_engine
 from simpick.engines.base import PhysicsRecord
-from simpick.health import HealthLimits, check
+from simpick.simulate.health import HealthLimits, check
 
 LIMITS = HealthLimits()
 N, DT = 3000, 0.001
@@ -95,7 +95,7 @@ def test_a_robot_spawned_inside_a_box_is_caught(engine, robot):
     # A 20 cm block where the robot stands: Bullet's rigid contacts eject the robot in one
     # step, a jump the check must catch. MuJoCo's soft contacts push it out over many steps
     # without any jump, which is a legitimate resolution rather than a failure to report.
-    block = {"schema": "simpick.terrain/1", "name": "block", "friction": 0.9, "spheres": [],
+    block = {"schema": "simpick.inputs.terrain/1", "name": "block", "friction": 0.9, "spheres": [],
              "boxes": [[0.0, 0.0, 0.1, 0.0, 0.6, 0.4, 0.2]]}
     scenario, commands = setup(robot, terrain=block, torque=100.0, v=0.0, duration=1.0)
     record = get_engine(engine).simulate(scenario, commands)

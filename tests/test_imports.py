@@ -7,7 +7,7 @@ from simpick.codeversion import cycles, import_graph, modules
 def test_the_package_has_no_import_cycle():
     graph = import_graph()
     assert len(graph) == len(modules()) > 40  # every module was read
-    assert "simpick.realdata" in graph["simpick.workflow"]  # function-level imports are edges too
+    assert "simpick.compare.real" in graph["simpick.compare.jobs"]  # function-level imports are edges too
     found = cycles(graph)
     assert not found, "import cycles in src/simpick (cut one import of each): " + "; ".join(
         " -> ".join(cycle) for cycle in found)
@@ -42,3 +42,29 @@ def test_a_submodule_importing_its_package_that_imports_it_is_a_cycle(tmp_path):
         "simpick/report/load.py": "def load():\n    from simpick.report import KEYS\n",
     })
     assert cycles(import_graph(pkg)) == [["simpick.report", "simpick.report.load", "simpick.report"]]
+
+
+# the packages of the data flow's stages (README "Layout"); a job function lives in one of them
+STAGES = ("inputs", "real", "simulate", "compare", "score", "studies", "report")
+
+
+def test_every_job_a_script_runs_lives_in_a_stage_package():
+    import ast
+
+    from conftest import ROOT
+
+    helpers = {"simpick.joblog", "simpick.simulate.watchdog"}  # the log wrapper, the watchdog's limit
+    found = {}
+    for script in sorted((ROOT / "scripts").glob("*.py")):
+        for node in ast.walk(ast.parse(script.read_text())):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("simpick") \
+                    and node.module not in helpers:
+                found[script.name] = node.module
+    assert len(found) == len(list((ROOT / "scripts").glob("*.py")))
+    outside = {name: module for name, module in found.items()
+               if module == "simpick" or module.split(".")[1] not in STAGES}
+    assert not outside, f"scripts running a job outside the stage packages {STAGES}: {outside}"
+    assert all((ROOT / "src" / "simpick" / stage / "__init__.py").exists() for stage in STAGES)
+    defined = [p.relative_to(ROOT / "src" / "simpick") for p in (ROOT / "src" / "simpick").rglob("*.py")
+               if any(line.startswith("def ") and "_job(" in line for line in p.read_text().splitlines())]
+    assert defined and all(len(p.parts) > 1 and p.parts[0] in STAGES for p in defined), defined

@@ -10,7 +10,7 @@ import pandas as pd
 import pytest
 
 from conftest import ROOT, snakemake, tiny_config, write_config
-from simpick.traces import read_trace
+from simpick.simulate.traces import read_trace
 
 
 def start(workdir):

@@ -5,10 +5,15 @@ import pandas as pd
 import pytest
 
 from conftest import ROOT
-from simpick import metrics
-from simpick.imu import ImuModel, block_average, imu_from_kinematics, sensor_output
-from simpick.published import load_published
-from simpick.reference import lab_reference, to_simpick_frame
+from simpick.compare import metrics
+from simpick.inputs.published import load_published
+from simpick.inputs.reference import lab_reference, to_simpick_frame
+from simpick.simulate.imu import (
+    ImuModel,
+    block_average,
+    imu_from_kinematics,
+    sensor_output,
+)
 
 
 def test_trimmed_range_uses_the_mean_of_each_one_percent_tail():
@@ -115,10 +120,9 @@ def test_a_general_rotation_is_refused():
 
 def test_lab_totals_leave_out_a_test_any_engine_failed(tmp_path):
     """A failed run must not make its engine look better: the test leaves every engine's total."""
-    from simpick.published import DEFAULT_PATH
-    from simpick.traces import COLUMNS, write_trace
-    from simpick.workflow import compare_job, summarise_job
-
+    from simpick.compare.jobs import compare_job, summarise_job
+    from simpick.inputs.published import DEFAULT_PATH
+    from simpick.simulate.traces import COLUMNS, write_trace
     paths = []
     for engine, status in (("a", "ok"), ("b", "failed")):
         frame = pd.DataFrame({c: np.linspace(0, 1, 200) for c in COLUMNS})
@@ -146,7 +150,7 @@ def test_lab_totals_leave_out_a_test_any_engine_failed(tmp_path):
 
 
 def test_rotation_matrices_and_quaternions_round_trip():
-    from simpick.imu import matrices_to_quaternions, rotation_matrices
+    from simpick.simulate.imu import matrices_to_quaternions, rotation_matrices
 
     rng = np.random.default_rng(3)
     q = rng.normal(size=(500, 4))
@@ -158,8 +162,7 @@ def test_rotation_matrices_and_quaternions_round_trip():
 
 def test_real_time_factor_covers_the_same_tests_for_every_engine():
     """Issue 13: an engine failing the slow terrain must not look faster for it."""
-    from simpick.workflow import equal_rtf
-
+    from simpick.compare.jobs import equal_rtf
     runs = pd.DataFrame({"engine": ["a", "a", "b", "b"], "terrain": ["grass", "gravel"] * 2,
                          "motion": ["straight"] * 4, "sim_time": [10.0, 10.0, 10.0, 10.0],
                          "wall_time": [1.0, 9.0, 2.0, 0.5], "status": ["ok", "ok", "ok", "failed"]})
@@ -170,9 +173,9 @@ def test_real_time_factor_covers_the_same_tests_for_every_engine():
 
 
 def test_cpu_load_runs_are_health_checked(tmp_path):
-    from simpick import terrain
-    from simpick.cpuload import measure
-    from simpick.health import HealthLimits
+    from simpick.inputs import terrain
+    from simpick.simulate.cpuload import measure
+    from simpick.simulate.health import HealthLimits
 
     path = tmp_path / "flat.json"
     terrain.save(terrain.generate("flat", "flat", 0, 0.8, tiles=0), path)
@@ -206,7 +209,7 @@ def test_every_rule_that_runs_library_code_carries_its_code_version():
 def test_eq7_is_summed_one_way_whatever_the_order_of_the_rows():
     """metrics.eq7_sum / eq7_per_run: the one aggregation of Eq. 7 (axes, windows, tests, runs);
     exactly rounded, so a reordered table gives the same totals to the last bit."""
-    from simpick.metrics import eq7_per_run, eq7_sum
+    from simpick.compare.metrics import eq7_per_run, eq7_sum
 
     values = [1e16, 1.0, 1.0, 0.1, 0.2]
     assert eq7_sum(values) == 1e16 + 2 == eq7_sum(reversed(values))

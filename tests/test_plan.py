@@ -10,9 +10,9 @@ import yaml
 from conftest import ROOT, tiny_config
 from simpick.config import Study, plain
 from simpick.engines import get_engine
+from simpick.inputs.terrain import TILES
 from simpick.plan import Plan
-from simpick.terrain import TILES
-from simpick.validation import DEFAULT_HEADING
+from simpick.studies.validation import DEFAULT_HEADING
 
 
 def plan_of(config: dict, tmp_path) -> Plan:

@@ -6,7 +6,8 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from simpick import metrics, scoring
+from simpick.compare import metrics
+from simpick.score import scoring
 
 finite = st.floats(min_value=-1e6, max_value=1e6, allow_nan=False, allow_infinity=False)
 series = st.lists(finite, min_size=1, max_size=400)

@@ -8,7 +8,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from simpick.published import (
+from simpick.inputs.published import (
     DEFAULT_PATH,
     axis_errors,
     load_published,
@@ -17,7 +17,7 @@ from simpick.published import (
     worked_example,
     write_outputs,
 )
-from simpick.scoring import DEFAULT_WEIGHTS, METRICS, qualitative_scores
+from simpick.score.scoring import DEFAULT_WEIGHTS, METRICS, qualitative_scores
 
 SIMS = ["CoppeliaSim", "Gazebo", "MORSE", "Webots"]
 

@@ -6,9 +6,9 @@ import pytest
 import yaml
 
 from conftest import ROOT, SHARED
-from simpick.realdata import load_segments, replay_log
-from simpick.reallogs import RealLog
-from simpick.realsegments import COLUMNS, find_segments
+from simpick.real.logs import RealLog
+from simpick.real.segments import COLUMNS, find_segments, load_segments
+from simpick.simulate.real import replay_log
 
 BOREALTC = SHARED / "data" / "borealtc"
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
@@ -51,7 +51,7 @@ def test_committed_segments_table_is_valid_and_covers_every_class():
 
 @needs_borealtc
 def test_committed_segments_match_a_fresh_derivation():
-    from simpick.realsegments import derive
+    from simpick.real.segments import derive
 
     rules = CONFIG["real_data"]["segment_rules"]
     fresh, _ = derive(BOREALTC, tolerance=rules["tolerance"], min_duration=rules["min_duration"],
@@ -65,7 +65,7 @@ def test_committed_segments_match_a_fresh_derivation():
 @needs_borealtc
 @pytest.mark.parametrize("engine", ["pybullet", "mujoco"])
 def test_replay_of_a_straight_run_covers_the_recorded_distance(engine):
-    from simpick.reallogs import borealtc
+    from simpick.real.logs import borealtc
 
     log = borealtc.read_run(BOREALTC / "FLOORING" / "imu_07.csv", BOREALTC / "FLOORING" / "pro_07.csv", "FLOORING")
     duration = 30.0
@@ -87,7 +87,7 @@ def test_replay_of_a_straight_run_covers_the_recorded_distance(engine):
 def test_own_csv_log_is_imported_replayed_and_compared_by_the_workflow(tmp_path):
     """A user's log in another layout (ms, deg/s, body commands) goes through the same replay."""
     from conftest import snakemake, tiny_config, write_config
-    from simpick.reallogs import borealtc, read_canonical
+    from simpick.real.logs import borealtc, read_canonical
 
     real = borealtc.read_run(BOREALTC / "FLOORING" / "imu_01.csv", BOREALTC / "FLOORING" / "pro_01.csv", "FLOORING")
     imu = real.imu[real.imu.time < 12.0]
@@ -126,8 +126,7 @@ def test_own_csv_log_is_imported_replayed_and_compared_by_the_workflow(tmp_path)
 
 def test_maintain_segments_replaces_the_committed_files_only_when_the_table_is_sound(tmp_path):
     from simpick.errors import InputError
-    from simpick.realdata import maintain_segments_job
-
+    from simpick.real.jobs import maintain_segments_job
     committed = {"csv": str(tmp_path / "committed.csv"), "provenance": str(tmp_path / "committed.provenance.yaml")}
     (tmp_path / "committed.csv").write_text("old table\n")
     (tmp_path / "committed.provenance.yaml").write_text("old: provenance\n")
@@ -153,7 +152,7 @@ def test_maintain_segments_replaces_the_committed_files_only_when_the_table_is_s
 def _segment_trace(path, engine, segment, wz, status="ok"):
     """A 3 s trace whose window (1, 3] has ax alternating 0.1 / 0.3 (mean 0.2, 1 %-trimmed range
     0.2), az 9.81, constant wz, everything else 0."""
-    from simpick.traces import COLUMNS, write_trace
+    from simpick.simulate.traces import COLUMNS, write_trace
 
     t = np.arange(1, 301) / 100.0
     frame = {c: np.zeros(t.size) for c in COLUMNS}
@@ -169,9 +168,9 @@ def test_replay_compare_and_summarise_against_hand_computed_values(tmp_path):
     """One run replayed by one engine, 20 s at 100 Hz, compared in two 10 s windows. Real: yaw
     rate 0.3 + 0.1 sin(2 pi t / 5) (whole periods per window: mean 0.3), forward acceleration 0.2; simulated: yaw rate 0.2, no forward acceleration;
     both +9.81 on z, the rest 0. Commands: 0.3 m/s, 0.5 rad/s kinematic."""
-    from simpick.workflow import compare_job, summarise_job
-    from simpick.reallogs import write_canonical
-    from simpick.traces import write_trace
+    from simpick.compare.jobs import compare_job, summarise_job
+    from simpick.real.logs import write_canonical
+    from simpick.simulate.traces import write_trace
 
     track, rate, seconds = 0.555, 100.0, 20.0
     t = np.round(np.arange(1, int(seconds * rate) + 1) / rate, 10)
@@ -185,7 +184,7 @@ def test_replay_compare_and_summarise_against_hand_computed_values(tmp_path):
     write_canonical(RealLog(imu=real_imu, commands=commands,
                             meta={"dataset": "test", "run_id": "01", "terrain_class": "FLOORING",
                                   "name": "FLOORING_01"}), log_path)
-    from simpick.traces import COLUMNS as TRACE_COLUMNS
+    from simpick.simulate.traces import COLUMNS as TRACE_COLUMNS
 
     sim = pd.DataFrame({c: zeros for c in TRACE_COLUMNS})
     sim["time"], sim["az"], sim["wz"] = t, 9.81, 0.2
@@ -231,8 +230,7 @@ def test_replay_compare_and_summarise_against_hand_computed_values(tmp_path):
 def test_segment_compare_and_summarise_against_hand_computed_values(tmp_path):
     """Eq. 7 per segment and per axis, yaw-rate gain, totals over the tests every engine
     completed, and no verdict from two runs."""
-    from simpick.workflow import compare_job, summarise_job
-
+    from simpick.compare.jobs import compare_job, summarise_job
     real = {"dataset": "test", "terrain_class": "flooring", "t_start": 0.0, "t_end": 3.0, "settle": 1.0,
             "duration": 2.0, "angular_x_mean": 0.0, "angular_x_range": 0.2, "angular_y_mean": 0.0,
             "angular_y_range": 0.2, "angular_z_range": 0.1, "linear_x_mean": 0.5, "linear_x_range": 1.0,
@@ -297,8 +295,7 @@ def test_segment_compare_and_summarise_against_hand_computed_values(tmp_path):
 def test_every_real_case_starts_from_its_own_seeded_heading_the_same_for_every_model():
     """Issue 17: no real-data case starts from a fixed heading. The heading derives from the config
     seed and the case's names (not the model), so paired comparisons stay paired."""
-    from simpick.realdata import start_heading
-
+    from simpick.simulate.real import start_heading
     cases = [("BorealTC", c, f"{r:02d}", f"{c}-seg{r}") for c in ("asphalt", "ice", "snow") for r in range(20)]
     headings = np.array([start_heading(20220601, *case) for case in cases])
     assert headings.min() >= 0 and headings.max() < 2 * np.pi
@@ -310,8 +307,7 @@ def test_every_real_case_starts_from_its_own_seeded_heading_the_same_for_every_m
 
 
 def test_a_replay_starts_from_its_seeded_heading_and_records_it():
-    from simpick.realdata import start_heading
-
+    from simpick.simulate.real import start_heading
     params = {"engine": "kinematic", "engine_settings": {"track": 0.555}, "terrain_class": "flooring",
               "class": {"friction": 0.6}, "physics": {"timestep": 0.002, "ground_friction": 0.6},
               "robot": {"track": 0.555, "max_wheel_torque": 100.0}, "imu": CONFIG["imu"],
@@ -327,8 +323,7 @@ def test_a_replay_starts_from_its_seeded_heading_and_records_it():
 
 def test_a_source_with_no_case_writes_its_tables_with_their_columns(tmp_path):
     """Issue 21: a source with no cases (or none a model completed) is a normal outcome."""
-    from simpick.workflow import compare_job, summarise_job
-
+    from simpick.compare.jobs import compare_job, summarise_job
     for kind, inputs, params in (("segments", {"segments": str(ROOT / CONFIG["real_data"]["segments"])},
                                   {"track": 0.555}),
                                  ("replay", {"logs": []}, {"track": 0.555, "window": 10.0})):

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from simpick import realmetrics as rm
+from simpick.compare import realmetrics as rm
 
 
 def test_yaw_rate_gain_recovers_a_known_slip():
@@ -97,7 +97,7 @@ def test_a_minimum_that_could_never_reach_the_level_is_refused():
 
 
 def test_the_statistics_defaults_are_stated_once():
-    """statistics.min_runs and level default in one place (simpick.realmetrics), which the config
+    """statistics.min_runs and level default in one place (simpick.compare.realmetrics), which the config
     model takes; the jobs read them through statistics_settings, never a restated literal."""
     import re
     from pathlib import Path

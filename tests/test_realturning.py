@@ -6,8 +6,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from simpick.reallogs.canonical import RealLog
-from simpick.realturning import WINDOW_COLUMNS, turning_summary, turning_windows
+from simpick.real.logs.canonical import RealLog
+from simpick.real.turning import WINDOW_COLUMNS, turning_summary, turning_windows
 
 TRACK = 0.555
 
@@ -97,7 +97,7 @@ def test_equivalents_give_the_ros_multiplier_and_the_coulomb_ratio(robot):
     import pandas as pd
 
     from simpick.coulomb import contact_layout
-    from simpick.realturning import SUMMARY_COLUMNS, with_equivalents
+    from simpick.real.turning import SUMMARY_COLUMNS, with_equivalents
 
     summary = pd.DataFrame({"terrain_class": ["asphalt", "sandy_loam", "dry"], "gain_median": [0.70, 0.586, 0.99]})
     out = with_equivalents(summary, contact_layout(robot), 0.555, robot.track)

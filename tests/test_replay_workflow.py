@@ -16,8 +16,15 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import ROOT, planned_jobs, snakemake, tiny_config, write_config, write_dataset
-from simpick.traces import read_metadata, read_trace
+from conftest import (
+    ROOT,
+    planned_jobs,
+    snakemake,
+    tiny_config,
+    write_config,
+    write_dataset,
+)
+from simpick.simulate.traces import read_metadata, read_trace
 
 COMMITTED = [ROOT / "resources" / "real" / "borealtc_segments.csv",
              ROOT / "resources" / "real" / "borealtc_segments.provenance.yaml"]

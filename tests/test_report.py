@@ -13,9 +13,9 @@ import pandas as pd
 import pytest
 import yaml
 
-from simpick.published import load_published, write_outputs
-from simpick.scoring import DEFAULT_WEIGHTS, METRICS, weighted_table
-from simpick.traces import write_trace
+from simpick.inputs.published import load_published, write_outputs
+from simpick.score.scoring import DEFAULT_WEIGHTS, METRICS, weighted_table
+from simpick.simulate.traces import write_trace
 
 ENGINES = ("pybullet", "mujoco")
 TERRAINS = ("grass", "bumps", "gravel")
@@ -172,7 +172,12 @@ def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | Non
     qpath = root / "qualitative.yaml"
     qpath.write_text(yaml.safe_dump(qual, sort_keys=False))
 
-    from simpick.scoring import accuracy_scores, efficiency_scores, qualitative_scores, real_time_factor_scores
+    from simpick.score.scoring import (
+        accuracy_scores,
+        efficiency_scores,
+        qualitative_scores,
+        real_time_factor_scores,
+    )
     err = pd.DataFrame(errors) if accuracy_errors is None else pd.read_csv(accuracy_errors)
     scores = pd.DataFrame({e: qualitative_scores(qual[e]) for e in ENGINES}).T
     scores["real_time_factor"] = pd.Series(real_time_factor_scores(dict(zip(rf.engine, rf.real_time_factor))))
@@ -185,8 +190,7 @@ def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | Non
     scores.index.name = "engine"
     weighted_table(scores, DEFAULT_WEIGHTS).to_csv(root / "weighted.csv", index_label="engine")
     # what the scores rest on, recorded as the scores job records it
-    from simpick.workflow import score_provenance
-
+    from simpick.score.jobs import score_provenance
     scored = str(accuracy_errors or root / "metrics" / "imu_errors.csv")
     accuracy = ({"reference": "real", "set": "segments", "dataset": "borealtc"} if accuracy_errors
                 else {"reference": "paper", "set": "lab", "dataset": None})
@@ -222,8 +226,17 @@ def draw_all(inputs: dict, params: dict, folder: Path) -> dict:
     """Every figure the given inputs allow, as the workflow's figure rules would draw them, into
     ``folder`` (named ``figures``); returns the report inputs that embed them (``figures``,
     ``endpoints``) added to ``inputs`` less ``traces``."""
-    from simpick.report.draw import (_tests, contributions, imu_stats, paths, real_gain, replay, sweep, traces,
-                                     validation)
+    from simpick.report.draw import (
+        _tests,
+        contributions,
+        imu_stats,
+        paths,
+        real_gain,
+        replay,
+        sweep,
+        traces,
+        validation,
+    )
 
     folder = Path(folder)
     out: list[str] = []
@@ -410,7 +423,7 @@ def test_missing_required_input_is_named(tmp_path):
 
 
 # --------------------------------------------------------------------------
-# Real robot data (rules/real.smk, simpick.realdata)
+# Real robot data (rules/real.smk, simpick.compare.real)
 # --------------------------------------------------------------------------
 
 REAL_CLASSES = {"asphalt": {"friction": 0.75, "source": "Wong, Table 1.4 (synthetic test)"},
@@ -420,7 +433,7 @@ TRACK = 0.555
 
 
 def _segment_rows() -> list[dict]:
-    from simpick.realsegments import COLUMNS as SEGMENT_COLUMNS
+    from simpick.real.segments import COLUMNS as SEGMENT_COLUMNS
 
     rows = []
     # asphalt: six segments from six runs (enough for a verdict); snow: four from two runs (too few)
@@ -453,9 +466,9 @@ def _imu_frame(seconds: float, gain: float, w_cmd: float, rough: float, rng) -> 
 
 def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
     """The real-data inputs of the report, in rules/real.smk's formats, from synthetic data."""
-    from simpick.metrics import eq7_totals
-    from simpick.realdata import replay_compare, summaries
-    from simpick.reallogs import RealLog, write_canonical
+    from simpick.compare.metrics import eq7_totals
+    from simpick.compare.real import replay_compare, summaries
+    from simpick.real.logs import RealLog, write_canonical
 
     rng = np.random.default_rng(11)
     root = Path(root)
@@ -512,7 +525,7 @@ def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
                                 "v_right": 0.3 + w_cmd * TRACK / 2 + 0 * tc})
             log = RealLog(imu=imu, commands=cmd, meta={"dataset": "BorealTC", "run_id": run,
                                                        "terrain_class": cls.upper(), "name": f"{cls.upper()}_{run}",
-                                                       # as an import measures them (reallogs.validate)
+                                                       # as an import measures them (real.logs.validate)
                                                        "rates": {"imu": {"median_hz": 100.0},
                                                                  "commands": {"median_hz": 6.5}}})
             path = root / "logs" / cls.upper() / f"{run}.parquet"
@@ -563,8 +576,8 @@ def built_real(tmp_path_factory):
 
 
 def write_verdict(root: Path, per_test: str, weighted: str) -> dict:
-    """The verdict rule's tables (simpick.verdict.verdict_job) from the synthetic real data."""
-    from simpick.verdict import verdict_job
+    """The verdict rule's tables (simpick.score.verdict.verdict_job) from the synthetic real data."""
+    from simpick.score.verdict import verdict_job
 
     root.mkdir(parents=True, exist_ok=True)
     provenance = root / "provenance.yaml"
@@ -703,10 +716,9 @@ def test_list_inputs_cover_the_lists():
 def test_the_lab_detail_table_gives_the_reports_three_lab_views(tmp_path):
     """results/metrics/lab/detail.csv (compare) holds per axis the simulated statistics, the paper's
     and the errors; the report reads trace_stats, reference_stats and per_test_errors from it."""
-    from simpick.published import DEFAULT_PATH
+    from simpick.compare.jobs import compare_job
+    from simpick.inputs.published import DEFAULT_PATH
     from simpick.report.load import load_inputs
-    from simpick.workflow import compare_job
-
     rng = np.random.default_rng(3)
     paths = []
     for engine, status in (("pybullet", "ok"), ("mujoco", "failed")):
@@ -779,8 +791,7 @@ def test_the_summary_lists_engines_left_out_because_they_are_not_installed(tmp_p
 def test_a_real_source_with_no_case_is_said_not_a_crash(tmp_path, built_real):
     """Issue 21: a replay source with no case (its compare and summarise tables with their columns and
     no rows) renders, and the report says so."""
-    from simpick.workflow import compare_job, summarise_job
-
+    from simpick.compare.jobs import compare_job, summarise_job
     inputs, _, _ = built_real
     out = {k: str(tmp_path / f"{k}.csv") for k in ("per_test", "detail", "runs", "summary", "pairwise", "imu_errors",
                                                    "rtf")}
@@ -798,7 +809,7 @@ def test_a_real_source_with_no_case_is_said_not_a_crash(tmp_path, built_real):
 def test_how_the_real_robot_turns_is_shown_from_its_table(tmp_path, built_real):
     """The replayed dataset's turning summary (rule real_turning) is rendered as a table, one row per class,
     beside the Coulomb gain; without the table there is no such section."""
-    from simpick.realturning import SUMMARY_COLUMNS
+    from simpick.real.turning import SUMMARY_COLUMNS
 
     inputs, _, _ = built_real
     row = dict.fromkeys(SUMMARY_COLUMNS, float("nan"))
@@ -819,7 +830,7 @@ def test_how_the_real_robot_turns_is_shown_from_its_table(tmp_path, built_real):
 def test_the_summary_says_which_engines_pass_the_analytic_validation(tmp_path):
     """The first box names, beside the verdict, the engines that pass every analytic case and how many
     each other engine fails, so a ranking is never read without it."""
-    from simpick.validation import summarise
+    from simpick.studies.validation import summarise
 
     lab = write_synthetic_inputs(tmp_path / "in", seconds=1.0, failed=None)
     engines = sorted(pd.read_csv(lab["weighted"]).engine)

@@ -1,4 +1,4 @@
-"""Reading any wheeled robot's description (simpick.robot, issue 18): wheel detection, sides and
+"""Reading any wheeled robot's description (simpick.inputs.robot, issue 18): wheel detection, sides and
 forward direction from geometry, the figures the study needs, and each refused layout."""
 
 import math
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from simpick.errors import InputError
-from simpick.robot import load_from_config, load_robot
+from simpick.inputs.robot import load_from_config, load_robot
 
 ROOT = Path(__file__).resolve().parents[1]
 ROBOTS = ROOT / "resources" / "robot"
@@ -230,7 +230,7 @@ def test_robot_configs_fit_their_robot(name):
     import yaml
 
     from simpick.coulomb import contact_layout, yaw_rate_gain
-    from simpick.motions import arc_start_over_strip
+    from simpick.inputs.motions import arc_start_over_strip
 
     base = yaml.safe_load((ROOT / "config.yaml").read_text())
     config = yaml.safe_load((ROOT / "config" / "robots" / f"{name}.yaml").read_text())

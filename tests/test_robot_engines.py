@@ -6,16 +6,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-
-from simpick.engines import ADAPTERS, get_engine
-from simpick.engines.base import Scenario
-from simpick.imu import euler_rpy
-from simpick.motions import constant_commands
-from simpick.robot import load_robot
-from simpick.validation import Setup, run_case
+from test_robot import write_robot
 
 from conftest import flat_terrain
-from test_robot import write_robot
+from simpick.engines import ADAPTERS, get_engine
+from simpick.engines.base import Scenario
+from simpick.inputs.motions import constant_commands
+from simpick.inputs.robot import load_robot
+from simpick.simulate.imu import euler_rpy
+from simpick.studies.validation import Setup, run_case
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -68,7 +68,7 @@ def test_own_logs_replay_on_the_robot_the_config_names(tmp_path):
     import numpy as np
     import pandas as pd
 
-    from simpick.traces import read_trace
+    from simpick.simulate.traces import read_trace
 
     t = np.arange(0.0, 12.0, 0.01)
     v = np.where(t < 6.0, 0.3, 0.2)

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from simpick.errors import InputError
-from simpick.reallogs import read_canonical, write_canonical
-from simpick.reallogs.rosbag import read_bag
+from simpick.real.logs import read_canonical, write_canonical
+from simpick.real.logs.rosbag import read_bag
 
 pytest.importorskip("rosbags")
 from rosbags.rosbag1 import Writer as Writer1  # noqa: E402

@@ -8,7 +8,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from simpick import scoring as sc
+from simpick.score import scoring as sc
 
 
 def test_metric_tables_are_consistent() -> None:
@@ -235,8 +235,7 @@ def test_scores_job_against_hand_computed_values(tmp_path) -> None:  # type: ign
 
     import yaml
 
-    from simpick.workflow import scores_job
-
+    from simpick.score.jobs import scores_job
     facts = {
         "a": {"free": True, "open_source": True, "ros": "none", "languages": ["Python"], "ui": "none",
               "model_formats": ["URDF"], "urdf_sdf_via_manual_plugin": False, "physics_engines": ["one"]},
@@ -277,8 +276,7 @@ def test_a_failed_cpu_run_is_not_scored(tmp_path) -> None:  # type: ignore[no-un
 
     import yaml
 
-    from simpick.workflow import scores_job
-
+    from simpick.score.jobs import scores_job
     fact = {"free": True, "open_source": True, "ros": "none", "languages": ["Python"], "ui": "none",
             "model_formats": ["URDF"], "urdf_sdf_via_manual_plugin": False, "physics_engines": ["one"]}
     (tmp_path / "facts.yaml").write_text(yaml.safe_dump({"a": fact, "b": fact}))
@@ -306,8 +304,7 @@ def test_scores_job_records_what_the_scores_rest_on(tmp_path) -> None:  # type: 
 
     import yaml
 
-    from simpick.workflow import scores_job
-
+    from simpick.score.jobs import scores_job
     fact = {"free": True, "open_source": True, "ros": "none", "languages": ["Python"], "ui": "none",
             "model_formats": ["URDF"], "urdf_sdf_via_manual_plugin": False, "physics_engines": ["one"]}
     (tmp_path / "facts.yaml").write_text(yaml.safe_dump({"a": fact, "b": fact}))

@@ -14,9 +14,8 @@ import time
 import pandas as pd
 import pytest
 
-from simpick.traces import read_trace
-
 from conftest import ROOT, snakemake, tiny_config, write_config
+from simpick.simulate.traces import read_trace
 
 REQUIRED = os.environ.get("SIMPICK_SLURM") == "1"
 

@@ -6,11 +6,10 @@ import shutil
 
 import pytest
 
+from conftest import ROOT
 from simpick import sources
 from simpick.codeversion import clear_cache, job_code, job_files
 from simpick.sources.base import Source
-
-from conftest import ROOT
 
 
 @pytest.mark.parametrize("kind", sorted(sources.KINDS))
@@ -37,7 +36,7 @@ def test_own_logs_run_the_replay_jobs():
 
 def roots(kind, step, root=None):
     """What rules/common.smk hashes for a kind's simulate (case_code, less the adapter) or compare job."""
-    job = {"prepare_case": "simpick.workflow:simulate_job", "compare": "simpick.workflow:compare_job"}[step]
+    job = {"prepare_case": "simpick.simulate.jobs:simulate_job", "compare": "simpick.compare.jobs:compare_job"}[step]
     return (job, sources.entry(kind, step))
 
 

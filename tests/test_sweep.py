@@ -9,10 +9,9 @@ import pytest
 import yaml
 
 from conftest import ROOT, drive, snakemake, tiny_config, write_config
-from simpick.config import problems
-from simpick.imu import block_average, interval_average
-from simpick.config import timestep_label
-from simpick.sweep import summarise
+from simpick.config import problems, timestep_label
+from simpick.simulate.imu import block_average, interval_average
+from simpick.studies.sweep import summarise
 
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
 SWEEP = yaml.safe_load((ROOT / "config" / "sweeps" / "timestep.yaml").read_text())
@@ -64,12 +63,12 @@ def test_interval_average_weighs_a_straddling_step_by_its_time():
 def test_a_4ms_step_gives_a_100hz_imu_at_rest(robot):
     """At rest the IMU reads g on z and nothing else; its samples are 10 ms apart although
     2.5 physics steps make one sample."""
-    from simpick.health import HealthLimits
-    from simpick.imu import ImuModel
-    from simpick.simulate import Case, run_case
+    from simpick.simulate.health import HealthLimits
+    from simpick.simulate.imu import ImuModel
+    from simpick.simulate.run import Case, run_case
 
     case = Case(engine="mujoco", terrain="flat", motion="rest", v=0.0, w=0.0, duration=2.0, start=(0.0, 0.0, 0.0))
-    terrain = {"schema": "simpick.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": 0.8}
+    terrain = {"schema": "simpick.inputs.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": 0.8}
     frame, meta = run_case(case, urdf=str(ROOT / "resources/robot/husky_a200.urdf"), terrain=terrain, track=0.555,
                            max_wheel_torque=100.0, timestep=0.004, ground_friction=0.8, engine_settings={},
                            imu=ImuModel(rate_hz=100.0), seed=0, limits=HealthLimits())
@@ -135,11 +134,11 @@ def test_the_sweep_has_no_aggregation_of_its_own():
     (workflow.source_tables); sweep.py names none of the functions that compute them."""
     import inspect
 
-    import simpick.sweep
+    import simpick.studies.sweep
 
-    text = inspect.getsource(simpick.sweep)
+    text = inspect.getsource(simpick.studies.sweep)
     assert "source_tables" in text
-    for name in ("simpick.metrics", "realmetrics", "mean_ci", "per_run", "eq7_", "equal_rtf", ".mean(", "fsum",
+    for name in ("simpick.compare.metrics", "realmetrics", "mean_ci", "per_run", "eq7_", "equal_rtf", ".mean(", "fsum",
                  "test_error", "trace_stats"):
         assert name not in text, name
 
@@ -153,22 +152,23 @@ def test_a_sweep_job_reruns_with_the_segments_source_code():
     roots = (*script_roots(ROOT / "scripts" / "sweep_segments.py"), sources.entry("segments", "prepare_case"),
              sources.entry("segments", "compare"))
     files = {p.relative_to(ROOT / "src" / "simpick").as_posix() for p in job_files(*roots)}
-    assert {"sweep.py", "workflow.py", "realdata.py", "sources/segments.py", "metrics.py"} <= files
-    assert not files & {"sources/lab.py", "sources/replay.py", "calibration.py"}
+    assert {"studies/sweep.py", "simulate/jobs.py", "simulate/real.py", "compare/real.py", "sources/segments.py",
+            "compare/metrics.py"} <= files
+    assert not files & {"sources/lab.py", "sources/replay.py", "studies/calibration.py"}
     summary = {p.relative_to(ROOT / "src" / "simpick").as_posix()
                for p in job_files(*script_roots(ROOT / "scripts" / "sweep_summary.py"))}
-    assert {"sweep.py", "workflow.py", "realdata.py", "realmetrics.py", "metrics.py"} <= summary
+    assert {"studies/sweep.py", "compare/jobs.py", "compare/real.py", "compare/realmetrics.py", "compare/metrics.py"} <= summary
 
 
 def test_the_sweep_at_the_studys_timestep_gives_the_segments_sources_figures(tmp_path):
     """The same traces (the segments source's simulate job at the study's timestep, one segment of
     one model failed) through the source's compare and summarise jobs, and through the sweep's
     compare and summary: the same errors, intervals, run counts, Eq. 7 totals and real-time factor."""
+    from simpick.compare.jobs import compare_job, summarise_job
+    from simpick.simulate.jobs import simulate_job, write_hung_trace
     from simpick.sources.base import real_params, unit_params
-    from simpick.sweep import compare_traces, sweep_summary_job
+    from simpick.studies.sweep import compare_traces, sweep_summary_job
     from simpick.tables import write_csv
-    from simpick.workflow import compare_job, simulate_job, summarise_job, write_hung_trace
-
     config = tiny_config()
     table = pd.read_csv(ROOT / config["real_data"]["segments"], dtype={"run": str})
     table = table[table.terrain_class == "flooring"].assign(duration=1.0)  # 4 segments of 2 runs

@@ -10,8 +10,8 @@ from conftest import ROOT
 from simpick.config import problems
 from simpick.engines import ADAPTERS, get_engine
 from simpick.errors import InputError
-from simpick.robot import load_robot
-from simpick.validation import Setup, run_case, summarise
+from simpick.inputs.robot import load_robot
+from simpick.studies.validation import Setup, run_case, summarise
 
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
 TOLERANCES = CONFIG["validation"]["tolerances"]
@@ -75,7 +75,7 @@ def test_an_engine_without_the_setting_skips_the_case_saying_why():
 
 
 def test_anisotropic_cases_stay_out_of_the_invariance_checks_and_gains_table():
-    from simpick.validation import gain_table
+    from simpick.studies.validation import gain_table
 
     def gain(case, w, value, **extra):
         return {"engine": "a", "case": case, "kind": "yaw_gain", "status": "ok", "reasons": [], "steps_per_s": 1.0,

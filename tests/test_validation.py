@@ -14,8 +14,8 @@ from conftest import ROOT, setup
 from simpick.config import problems
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.errors import InputError
-from simpick.robot import load_robot
-from simpick.validation import QUANTITIES, Setup, failures, run_case, summarise
+from simpick.inputs.robot import load_robot
+from simpick.studies.validation import QUANTITIES, Setup, failures, run_case, summarise
 
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
 TOLERANCES = CONFIG["validation"]["tolerances"]
@@ -93,7 +93,7 @@ def test_an_invariance_check_fails_when_one_of_its_cases_diverged():
 
 
 def test_gain_table_gives_left_right_and_the_spread_over_headings():
-    from simpick.validation import gain_table
+    from simpick.studies.validation import gain_table
 
     summary = summarise([gain("a", 0.5, 0.50), gain("a", 0.5, 0.46, heading=45.0), gain("a", -0.5, 0.30),
                          gain("a", -0.5, 0.32, heading=45.0), gain("a", 0.2, 0.47)], TOLERANCES)
@@ -111,7 +111,7 @@ def test_the_report_shows_left_right_and_headings_and_names_the_failed_check(tmp
     from test_report import PARAMS, _render, write_synthetic_inputs
 
     from simpick.report.draw import validation as draw_validation
-    from simpick.validation import gain_table
+    from simpick.studies.validation import gain_table
 
     summary = summarise([gain("pybullet", 0.5, 0.50), gain("pybullet", -0.5, 0.30),
                          gain("pybullet", 0.5, 0.46, heading=-135), gain("mujoco", 0.5, 0.462),
@@ -253,7 +253,7 @@ def test_engine_turns_alike_left_and_right_and_from_any_heading(engine):
 
 def test_the_lab_circle_starts_where_its_driven_arc_crosses_the_strip(robot):
     from simpick.coulomb import contact_layout, yaw_rate_gain
-    from simpick.motions import arc_start_over_strip
+    from simpick.inputs.motions import arc_start_over_strip
 
     circle = CONFIG["motions"]["circle"]
     gain = yaw_rate_gain(contact_layout(robot), circle["v"], circle["w"], CONFIG["robot"]["track"])
@@ -283,7 +283,7 @@ def test_the_engine_job_writes_each_case_as_run_alone(tmp_path):
     keeps no state from one case to the next), one file per case, named by it."""
     import json
 
-    from simpick.validation import validate_job
+    from simpick.studies.validation import validate_job
 
     outputs = [str(tmp_path / "pybullet" / f"{name}.json") for name in SHORT_CASES]
     validate_job(outputs, ROOT / CONFIG["robot"]["urdf"], _job_params("pybullet", SHORT_CASES))
@@ -299,7 +299,7 @@ def test_the_engine_job_writes_each_case_as_run_alone(tmp_path):
 def test_a_case_that_crashes_is_a_failed_row_and_the_next_case_runs(tmp_path, monkeypatch, capfd):
     import json
 
-    from simpick import validation
+    from simpick.studies import validation
 
     def crash(setup, params):
         raise RuntimeError("solver gave up")

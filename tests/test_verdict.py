@@ -1,4 +1,4 @@
-"""simpick's verdict (simpick.verdict): per-run metrics, intervals and separation over runs, the
+"""simpick's verdict (simpick.score.verdict): per-run metrics, intervals and separation over runs, the
 paper's accuracy scores' discrimination and its weighted total with an interval over runs."""
 
 import numpy as np
@@ -6,8 +6,15 @@ import pandas as pd
 import pytest
 import yaml
 
-from simpick.verdict import (METRICS, metric_table, ranking, runs_needed, score_discrimination, separation_rows,
-                             verdict_job)
+from simpick.score.verdict import (
+    METRICS,
+    metric_table,
+    ranking,
+    runs_needed,
+    score_discrimination,
+    separation_rows,
+    verdict_job,
+)
 
 STATS = {"min_runs": 6, "level": 0.95}
 
@@ -148,7 +155,7 @@ def test_the_heading_spread_is_each_gain_over_the_coulomb_gain_on_the_same_test(
         for model, g in gains.items():
             rows.append({"engine": model, "test": test, "terrain_class": "asphalt", "run": test, "status": "ok",
                          "start_heading_deg": heading, "yaw_rate_gain_sim": g})
-    from simpick.verdict import heading_spread
+    from simpick.score.verdict import heading_spread
 
     out = heading_spread(pd.DataFrame(rows)).set_index("test")
     assert list(out.model) == ["p"] * 3
@@ -157,7 +164,7 @@ def test_the_heading_spread_is_each_gain_over_the_coulomb_gain_on_the_same_test(
 
 
 def test_the_headline_says_plainly_when_the_papers_order_is_not_decided_by_the_imu_scores():
-    from simpick.verdict import headline, paper_rows
+    from simpick.score.verdict import headline, paper_rows
 
     weighted = _weighted().assign(total=[60.0, 49.0])  # the rest: 40 and 32; IMU 20 and 17 points
     rank = ranking(weighted, None, None, WEIGHTS, STATS)

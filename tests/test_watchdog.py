@@ -8,7 +8,7 @@ import textwrap
 import yaml
 
 from conftest import ROOT
-from simpick.traces import read_trace
+from simpick.simulate.traces import read_trace
 
 # A calibratable model (the Coulomb baseline's friction parameter) whose simulate never returns, and
 # the parameters of a flooring job with it; each test adds the job it stops.
@@ -52,7 +52,8 @@ def _run_hanging(tmp_path, name: str, job: str, output):
 def test_a_hung_engine_is_stopped_and_reported(tmp_path):
     output = tmp_path / "trace.parquet"
     _run_hanging(tmp_path, "hang", """
-        from simpick.workflow import simulate_job, terrain_job
+        from simpick.inputs.jobs import terrain_job
+        from simpick.simulate.jobs import simulate_job
         terrain_job(out + ".json", "grass", 1, config["terrains"]["grass"])
         params = {**real, "terrain": "grass", "motion_name": "straight", "motion": config["motions"]["straight"],
                   "health": dict(config["health"], timeout=1.0), "kind": "lab", "source": "lab",
@@ -72,8 +73,8 @@ def test_a_hung_replay_is_stopped_and_reported_like_a_run(tmp_path):
     output = tmp_path / "replay.parquet"
     _run_hanging(tmp_path, "hang_replay", """
         from pathlib import Path
-        from simpick.realdata import import_job
-        from simpick.workflow import simulate_job
+        from simpick.real.jobs import import_job
+        from simpick.simulate.jobs import simulate_job
         from conftest import write_dataset
         folder = write_dataset(Path(out + ".d"), {"FLOORING": ["7"]}, seconds=3.0)
         import_job(str(folder / "FLOORING" / "imu_7.csv"), str(folder / "FLOORING" / "pro_7.csv"), "FLOORING",
@@ -96,7 +97,7 @@ def test_a_hung_case_of_a_batch_fails_it_and_the_cases_after_it(tmp_path):
         params = {**real, "terrain_class": "ice", "class": config["real_data"]["classes"]["ice"],
                   "health": dict(config["health"], timeout=1.0), "kind": "segments", "source": "segments",
                   "cases": ["ice-straight-02-0020p23s", "ice-turning-02-0009p46s"]}
-        from simpick.workflow import simulate_job
+        from simpick.simulate.jobs import simulate_job
         simulate_job([out + "-a.parquet", out + "-b.parquet"], config["robot"]["urdf"],
                      {"segments": config["real_data"]["segments"]}, params)
     """, tmp_path / "t")
@@ -114,11 +115,11 @@ def test_a_hung_validation_case_fails_it_and_the_cases_after_it(tmp_path):
     keep their results, and the summary lists every case."""
     import json
 
-    from simpick.validation import failures, summarise
+    from simpick.studies.validation import failures, summarise
 
     names = ["a_rest", "b_slide", "c_rest"]
     _run_hanging(tmp_path, "validate", """
-        from simpick import validation
+        from simpick.studies import validation
         def hang(setup, params):
             while True:
                 time.sleep(0.01)
@@ -147,11 +148,11 @@ def test_a_hung_validation_case_fails_it_and_the_cases_after_it(tmp_path):
 def test_a_hung_cpu_load_job_is_recorded_failed_and_left_out_of_the_scores(tmp_path):
     import json
 
-    from simpick.workflow import score_provenance
-
+    from simpick.score.jobs import score_provenance
     output = tmp_path / "cpu" / "hanging.json"
     _run_hanging(tmp_path, "cpu", """
-        from simpick.workflow import cpu_job, terrain_job
+        from simpick.inputs.jobs import terrain_job
+        from simpick.simulate.jobs import cpu_job
         terrain_job(out + ".terrain.json", "grass", 1, config["terrains"]["grass"])
         params = {**real, "motion": config["motions"]["straight"], "cpu_load": config["cpu_load"]}
         cpu_job(out, out + ".terrain.json", config["robot"]["urdf"], params, timeout=1.0)
@@ -173,12 +174,12 @@ def test_a_hung_sweep_point_records_every_segment_failed(tmp_path):
     import pandas as pd
     import yaml
 
-    from simpick.sweep import summarise
+    from simpick.studies.sweep import summarise
 
     output = tmp_path / "sweep.csv"
     _run_hanging(tmp_path, "sweep", """
         import pandas as pd
-        from simpick.sweep import sweep_job
+        from simpick.studies.sweep import sweep_job
         segments = pd.read_csv(config["real_data"]["segments"])
         params = {**real, "health": dict(config["health"], timeout=1.0), "kind": "segments", "source": "segments",
                   "cases": list(segments.segment[segments.terrain_class == "flooring"])}
@@ -202,12 +203,12 @@ def test_a_hung_calibration_and_its_evaluation_are_recorded_failed(tmp_path):
     import pandas as pd
     import yaml
 
-    from simpick.calibration import summarise
+    from simpick.studies.calibration import summarise
 
     best, trials, evaluation = tmp_path / "best.yaml", tmp_path / "trials.csv", tmp_path / "evaluation.csv"
     setup = """
         import pandas as pd
-        from simpick.calibration import split_job
+        from simpick.studies.calibration import split_job
         segments = config["real_data"]["segments"]
         units = pd.read_csv(segments, dtype={"run": str})
         units = units[units.terrain_class == "flooring"]
@@ -216,7 +217,7 @@ def test_a_hung_calibration_and_its_evaluation_are_recorded_failed(tmp_path):
         inputs = {"split": split, "segments": segments, "urdf": config["robot"]["urdf"]}
     """
     _run_hanging(tmp_path, "calibrate", setup + f"""
-        from simpick.calibration import calibrate_job
+        from simpick.studies.calibration import calibrate_job
         calibrate_job(inputs, real, calibration, {{"best": out, "trials": {str(trials)!r}}}, timeout=1.0)
     """, best)
     record = yaml.safe_load(best.read_text())
@@ -225,7 +226,7 @@ def test_a_hung_calibration_and_its_evaluation_are_recorded_failed(tmp_path):
     assert trials.is_file()
 
     _run_hanging(tmp_path, "evaluate", setup + f"""
-        from simpick.calibration import evaluate_job
+        from simpick.studies.calibration import evaluate_job
         inputs["best"] = {str(best)!r}
         evaluate_job(inputs, real, calibration, out, timeout=1.0)
     """, evaluation)

@@ -11,9 +11,8 @@ import pandas as pd
 import pytest
 import yaml
 
-from simpick.traces import read_trace
-
 from conftest import planned_jobs, snakemake, tiny_config, write_config
+from simpick.simulate.traces import read_trace
 
 
 @pytest.fixture(scope="module")
@@ -135,10 +134,10 @@ def simulated(jobs):
 
 
 def test_a_segments_module_edit_reruns_the_segment_jobs_and_no_lab_job(study, tmp_path):
-    """realsegments.py is imported (inside functions) only on the segments' path: editing it reruns
+    """real/segments.py is imported (inside functions) only on the segments' path: editing it reruns
     every model's segment simulations and what depends on them (issue 21: no hand-kept list had it)."""
     workdir, config = study
-    env = edited_library(tmp_path, "realsegments.py", "\nCOLUMNS = ", "\nEDITED = True\nCOLUMNS = ")
+    env = edited_library(tmp_path, "real/segments.py", "\nCOLUMNS = ", "\nEDITED = True\nCOLUMNS = ")
     jobs = planned_jobs(workdir, env)
     models = sorted([*config["engines"], *config["baselines"]])
     assert simulated(jobs) == [("simulate_segments_flooring", f"engine={m}") for m in models]
@@ -172,10 +171,10 @@ def test_a_report_edit_simulates_nothing(study, tmp_path):
 
 
 def test_an_rtf_edit_reruns_the_summaries_not_the_simulations(study, tmp_path):
-    """equal_rtf shares workflow.py with simulate_job, but no simulation runs it: only the jobs
+    """equal_rtf shares compare/jobs.py with compare_job, but no simulation runs it: only the jobs
     whose functions reach it (summarise) and what depends on them rerun."""
     workdir, _ = study
-    env = edited_library(tmp_path, "workflow.py", "    engines = sorted(runs.engine.unique())\n",
+    env = edited_library(tmp_path, "compare/jobs.py", "    engines = sorted(runs.engine.unique())\n",
                          "    engines = sorted(runs.engine.unique())  # edited\n    assert engines is not None\n")
     jobs = planned_jobs(workdir, env)
     assert simulated(jobs) == [] and not {rule for rule, _ in jobs} & {"compare", "validation_summary"}
@@ -235,10 +234,10 @@ def test_a_new_engine_runs_only_its_own_simulations(tmp_path):
 
 
 def test_fetching_the_dataset_offline_says_how_to_use_a_local_copy(tmp_path, monkeypatch):
-    from simpick import realdata
     from simpick.errors import InputError
+    from simpick.real import jobs as realjobs
 
-    monkeypatch.setattr(realdata, "BOREALTC_ARCHIVES", ("http://127.0.0.1:9/BorealTC.zip",))
+    monkeypatch.setattr(realjobs, "BOREALTC_ARCHIVES", ("http://127.0.0.1:9/BorealTC.zip",))
     with pytest.raises(InputError, match=r"could not download BorealTC.*borealtc_dir=PATH"):
-        realdata.fetch_borealtc(tmp_path / "borealtc", timeout=2)
+        realjobs.fetch_borealtc(tmp_path / "borealtc", timeout=2)
     assert not (tmp_path / "borealtc").exists()

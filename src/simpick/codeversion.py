@@ -4,12 +4,12 @@ Snakemake reruns a job when its params change, but it does not look into importe
 code: an edited metric under src/simpick would silently keep serving results computed by the
 old code. Each rule therefore carries, as a param, a hash of the source files its job runs
 (:meth:`simpick.plan.Plan.script_code`: ``job_code``). Those files are computed, not listed: starting from the
-functions the job's script calls (``"simpick.workflow:simulate_job"``) or a whole module (an
+functions the job's script calls (``"simpick.simulate.jobs:simulate_job"``) or a whole module (an
 engine adapter, which the registry imports by name), the source is read with :mod:`ast` and
 followed through every name a function uses: a function or class of its own module, an
 import at the top of a module or inside a function, ``module.attribute``. A module that is
 imported at all brings what its top level imports (it runs when the module is loaded); a
-function brings only what it names. So editing ``realsegments.py``, which the segments' code
+function brings only what it names. So editing ``real/segments.py``, which the segments' code
 imports, reruns the segment jobs and not the lab simulations, and editing the report reruns
 no simulation.
 

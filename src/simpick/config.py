@@ -11,14 +11,22 @@ import sys
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    create_model,
+    field_validator,
+    model_validator,
+)
 
+from simpick.compare.realmetrics import LEVEL, MIN_RUNS
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.errors import validation_problems
-from simpick.realmetrics import LEVEL, MIN_RUNS
-from simpick.scoring import METRICS
-from simpick.terrain import RULES, TILES
-from simpick.validation import DEFAULT_HEADING
+from simpick.inputs.terrain import RULES, TILES
+from simpick.score.scoring import METRICS
+from simpick.studies.validation import DEFAULT_HEADING
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
@@ -40,7 +48,7 @@ class RobotWheel(Strict):
 
 
 class RobotOverrides(Strict):
-    """Figures that replace the description's (simpick.robot.OVERRIDABLE); the engines still
+    """Figures that replace the description's (simpick.inputs.robot.OVERRIDABLE); the engines still
     simulate the description, these feed the controller and the mechanics."""
     wheel_radius: Positive | None = None
     track: Positive | None = None
@@ -52,7 +60,7 @@ class RobotOverrides(Strict):
 
 
 class Robot(Strict):
-    urdf: str  # a URDF or xacro file (simpick.robot.load_robot)
+    urdf: str  # a URDF or xacro file (simpick.inputs.robot.load_robot)
     label: str | None = None  # the robot's name in the report (default: the URDF's <robot name>)
     track: Positive
     max_wheel_torque: Positive
@@ -213,7 +221,7 @@ class Validation(Strict):
 
     @model_validator(mode="after")
     def every_quantity(self):
-        from simpick.validation import QUANTITIES
+        from simpick.studies.validation import QUANTITIES
 
         unknown = sorted(set(self.tolerances) - set(QUANTITIES))
         missing = sorted(set(QUANTITIES) - set(self.tolerances))
@@ -249,7 +257,7 @@ class CalibrationScales(Strict):
 
 
 class CalibrationTarget(Strict):
-    """Issue 20's target on held-out runs (simpick.calibration.target_table)."""
+    """Issue 20's target on held-out runs (simpick.studies.calibration.target_table)."""
     classes: list[str] | None = None  # terrain classes judged together; None: every class calibrated
     gain_tolerance: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = 0.10  # relative to the real gain
     reference: str = "coulomb"  # the model whose as-configured error the calibrated engine must beat
@@ -291,13 +299,13 @@ class Accuracy(Strict):
 
 
 class Statistics(Strict):
-    # the defaults are simpick.realmetrics' (MIN_RUNS, LEVEL: stated once, there, with their reasons)
+    # the defaults are simpick.compare.realmetrics' (MIN_RUNS, LEVEL: stated once, there, with their reasons)
     min_runs: Annotated[int, Field(ge=2)] = MIN_RUNS
     level: Annotated[float, Field(gt=0, lt=1)] = LEVEL
 
     @model_validator(mode="after")
     def reachable(self):
-        from simpick.realmetrics import smallest_p
+        from simpick.compare.realmetrics import smallest_p
 
         if smallest_p(self.min_runs) >= 1 - self.level:
             raise ValueError(f"statistics.min_runs {self.min_runs}: a sign-flip test over {self.min_runs} runs "
@@ -307,7 +315,7 @@ class Statistics(Strict):
 
 
 def _runs_for(level: float) -> int:
-    from simpick.realmetrics import smallest_p
+    from simpick.compare.realmetrics import smallest_p
 
     n = 2
     while smallest_p(n) >= 1 - level:
@@ -436,7 +444,7 @@ class Study(Strict):
         # the robot is read here, at planning time: a description no job could read stops the run
         # before any job starts (and before Snakemake deletes any output to rerun it)
         from simpick.errors import InputError
-        from simpick.robot import load_from_config
+        from simpick.inputs.robot import load_from_config
 
         try:
             robot = load_from_config(self.robot.model_dump(exclude_none=True))

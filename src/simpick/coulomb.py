@@ -11,7 +11,7 @@ scales with the command and a replay needs the solution on one circle of (left, 
 commands only (:class:`CoulombTable`).
 
 The contact layout and loads come from the robot description (:func:`contact_layout`, through
-:class:`simpick.robot.RobotSpec`): each wheel's contact points across its width under its
+:class:`simpick.inputs.robot.RobotSpec`): each wheel's contact points across its width under its
 centre, and static loads from the whole robot's mass and centre of mass, shared among the
 contact points as a rigid body on equally stiff contacts does (the minimum-norm load set that
 balances weight and the two tipping moments: loads linear in position; exact for three
@@ -51,8 +51,8 @@ from pathlib import Path
 import numpy as np
 
 from simpick.errors import InputError
-from simpick.motions import side_speeds
-from simpick.robot import SKID_REACH, RobotSpec, load_robot
+from simpick.inputs.motions import side_speeds
+from simpick.inputs.robot import SKID_REACH, RobotSpec, load_robot
 
 GRAVITY = 9.81
 

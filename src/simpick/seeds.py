@@ -1,7 +1,7 @@
 """Seeds and fingerprints derived from names and parameters: identical across runs and processes.
 
 A module of its own (plain hashing, no numpy) so that a job that only needs a seed, such as the
-terrain job, does not import the simulation stack (simpick.simulate re-exports both).
+terrain job, does not import the simulation stack (simpick.simulate.run re-exports both).
 """
 
 from __future__ import annotations

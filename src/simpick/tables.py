@@ -1,6 +1,6 @@
 """The tables every compare step writes, and how a table is written.
 
-Shared by the job modules (:mod:`simpick.workflow`, :mod:`simpick.realdata`, calibration, sweep,
+Shared by the job modules (the ``jobs`` modules of each stage, the studies,
 validation) and depending on none of them, so that they need not import each other.
 """
 
@@ -42,7 +42,7 @@ def case_test(meta: dict) -> str:
 def axis_rows(meta: dict, stats: dict | None, reference: dict | None) -> list[dict]:
     """Per quantity and axis: the simulated mean and range (``stats``, None for a failed run), the
     reference's (None where the test has none) and the Eq. 7 axis errors between them."""
-    from simpick import metrics
+    from simpick.compare import metrics
 
     nan = float("nan")
     rows = []

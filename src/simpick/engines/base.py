@@ -16,14 +16,14 @@ from typing import Any, ClassVar, Protocol, Self, runtime_checkable
 import numpy as np
 from pydantic import BaseModel, ConfigDict, ValidationError, model_validator
 
-from simpick.robot import RobotSpec
+from simpick.inputs.robot import RobotSpec
 
 GRAVITY = 9.81  # m/s^2, the value every engine is given
 
 
 @dataclass(frozen=True)
 class Scenario:
-    # The robot, read once by simpick.robot.load_robot: an adapter loads ``robot.urdf`` (the file
+    # The robot, read once by simpick.inputs.robot.load_robot: an adapter loads ``robot.urdf`` (the file
     # to load, already normalised where needed), drives ``robot.wheel_joints`` (the driven wheels,
     # in command order) with velocity servos of at most ``max_wheel_torque``, leaves
     # ``robot.passive_joints`` (casters and their swivels) free, spawns ``robot.base_link`` at
@@ -98,7 +98,7 @@ class PhysicsRecord:
 
     ``imu_specific_force`` and ``imu_gyro`` are in the IMU (= body) frame. An engine with a
     native IMU fills them itself; others fill them with
-    :func:`simpick.imu.imu_from_kinematics` from the base kinematics.
+    :func:`simpick.simulate.imu.imu_from_kinematics` from the base kinematics.
     """
 
     time: np.ndarray  # (n,) s, time at the end of each step
@@ -131,7 +131,7 @@ def validated_commands(scenario: Scenario, wheel_commands) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Calibratable:
-    """A contact parameter a user tunes, with the bounds calibration searches (simpick.calibration).
+    """A contact parameter a user tunes, with the bounds calibration searches (simpick.studies.calibration).
 
     The name ``friction`` is the ground's Coulomb coefficient (``real_data.classes.<c>.friction``);
     any other name is one of the adapter's own settings. ``why`` gives the source of the bounds."""
@@ -166,7 +166,7 @@ class Engine(Protocol):
     # validated into this model by simpick.config, and simulate / bare_loop read
     # settings_model.of(scenario.settings, name)
     settings_model: type[EngineSettings]
-    # parameter name -> bounds: what calibration may tune on this engine (simpick.calibration);
+    # parameter name -> bounds: what calibration may tune on this engine (simpick.studies.calibration);
     # "friction" is the ground's coefficient, every other name a float field of settings_model
     calibratable: dict[str, Calibratable]
 

@@ -17,7 +17,7 @@
   the terrain's coefficient, the plane ``scenario.ground_friction``, the robot's shapes
   max(1, terrain, ground): the contact's mu is the terrain's (or ground's), and
   robot-robot contacts get 1.0 (PyBullet's 1.0 x 1.0) as long as no terrain exceeds 1.
-- IMU: DART has none; :func:`simpick.imu.imu_from_kinematics` from base_link kinematics.
+- IMU: DART has none; :func:`simpick.simulate.imu.imu_from_kinematics` from base_link kinematics.
 
 Measured with dartpy 6.20.0 on this project's machine (1 kHz, one robot; "flat": 4 s at
 0.5 m/s, mu 0.95; "gravel": 10 s at 0.5 m/s from x = -0.8 m over the 4-tile gravel strip of
@@ -129,9 +129,15 @@ from typing import Annotated, Literal, get_args
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import FRICTION, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import (
+    FRICTION,
+    EngineSettings,
+    PhysicsRecord,
+    Scenario,
+    validated_commands,
+)
 from simpick.errors import InputError
-from simpick.imu import imu_from_kinematics, matrices_to_quaternions
+from simpick.simulate.imu import imu_from_kinematics, matrices_to_quaternions
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 Detector = Literal["fcl", "ode", "bullet", "dart"]

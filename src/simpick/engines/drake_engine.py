@@ -2,7 +2,7 @@
 
 - robot: the scenario's URDF through Drake's parser (a free-floating base link, continuous joints
   as revolute joints); masses, inertias and collision shapes as the URDF gives them. Any
-  :class:`~simpick.robot.RobotSpec`: the driven wheels get actuators in command order (their
+  :class:`~simpick.inputs.robot.RobotSpec`: the driven wheels get actuators in command order (their
   joint's own sign), casters and swivels stay free revolute joints, a skid is a base collision
   with the robot's friction (point contact, not hydroelastic), and one robot's bodies never collide
   with each other (a collision filter; Drake itself excludes only bodies joined by a joint).
@@ -18,7 +18,7 @@
 - friction: Drake combines two coefficients as 2 a b / (a + b). The robot's shapes get 1, every
   ground or terrain shape mu / (2 - mu), so a wheel contact has exactly the terrain's (or the
   ground's) mu (below 2) and robot-robot contacts 1.0, as in PyBullet and DART.
-- IMU: none in Drake; :func:`simpick.imu.imu_from_kinematics` from base_link kinematics. The
+- IMU: none in Drake; :func:`simpick.simulate.imu.imu_from_kinematics` from base_link kinematics. The
   floating base's generalized velocity is the angular velocity and the velocity of base_link's
   origin, both in the world frame, read from the state vector after each step.
 
@@ -51,9 +51,16 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import (
+    FRICTION,
+    Calibratable,
+    EngineSettings,
+    PhysicsRecord,
+    Scenario,
+    validated_commands,
+)
 from simpick.errors import InputError
-from simpick.imu import imu_from_kinematics
+from simpick.simulate.imu import imu_from_kinematics
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 ROBOT_FRICTION = 1.0  # the robot's coefficient; the terrain's is chosen so that the combination is its mu
@@ -125,13 +132,25 @@ class DrakeEngine:
     def build(self, scenario: Scenario, record: bool = False):
         """(simulator, plant, plant context, per robot (model instance, wheel joints), state log or
         None): with ``record``, a logger samples the plant's state every step."""
-        from pydrake.geometry import (AddCompliantHydroelasticProperties, AddContactMaterial,
-                                      AddRigidHydroelasticProperties, Box, CollisionFilterDeclaration, HalfSpace,
-                                      ProximityProperties, RoleAssign, Sphere)
+        from pydrake.geometry import (
+            AddCompliantHydroelasticProperties,
+            AddContactMaterial,
+            AddRigidHydroelasticProperties,
+            Box,
+            CollisionFilterDeclaration,
+            HalfSpace,
+            ProximityProperties,
+            RoleAssign,
+            Sphere,
+        )
         from pydrake.math import RigidTransform, RotationMatrix
         from pydrake.multibody.parsing import Parser
-        from pydrake.multibody.plant import (AddMultibodyPlantSceneGraph, ContactModel, CoulombFriction,
-                                             DiscreteContactApproximation)
+        from pydrake.multibody.plant import (
+            AddMultibodyPlantSceneGraph,
+            ContactModel,
+            CoulombFriction,
+            DiscreteContactApproximation,
+        )
         from pydrake.multibody.tree import PdControllerGains
         from pydrake.systems.analysis import Simulator
         from pydrake.systems.framework import DiagramBuilder

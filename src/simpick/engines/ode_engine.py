@@ -50,11 +50,22 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from simpick.engines import _ode
-from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
-                                  validated_commands)
+from simpick.engines.base import (
+    FRICTION,
+    FRICTION_RATIO,
+    Calibratable,
+    EngineSettings,
+    PhysicsRecord,
+    Scenario,
+    validated_commands,
+)
 from simpick.errors import InputError, SimulationFailure
-from simpick.imu import imu_from_kinematics, matrices_to_quaternions, rotation_matrices
-from simpick.robot import joint_axis, origin, rpy_matrix
+from simpick.inputs.robot import joint_axis, origin, rpy_matrix
+from simpick.simulate.imu import (
+    imu_from_kinematics,
+    matrices_to_quaternions,
+    rotation_matrices,
+)
 
 LOG = logging.getLogger(__name__)
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
@@ -178,7 +189,7 @@ def _floats(text: str | None, n: int, default: float = 0.0) -> np.ndarray:
 
 
 def _origin(element) -> tuple[np.ndarray, np.ndarray]:
-    """(xyz, rotation) of an URDF <origin> child (identity when absent): simpick.robot.origin."""
+    """(xyz, rotation) of an URDF <origin> child (identity when absent): simpick.inputs.robot.origin."""
     return origin(element, "the robot description")
 
 
@@ -241,7 +252,7 @@ class _RobotModel:
 
 
 def read_urdf(robot) -> _RobotModel:
-    """Masses, inertias, collision shapes and joints of the robot (simpick.robot.RobotSpec):
+    """Masses, inertias, collision shapes and joints of the robot (simpick.inputs.robot.RobotSpec):
     each moving link with every link hung on it by fixed joints folded in."""
     try:
         root = ET.parse(robot.urdf).getroot()

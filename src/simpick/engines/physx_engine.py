@@ -9,7 +9,7 @@
   rendering device exists ("failed to find a rendering device"), so it reads a temporary copy with
   the visuals stripped (collision mesh paths made absolute). Everything else (wheel joints, base
   link, masses, inertias, collision shapes) comes from the URDF as it is. SAPIEN turns a URDF
-  cylinder into a convex mesh. Any :class:`~simpick.robot.RobotSpec`: the driven wheels get drives
+  cylinder into a convex mesh. Any :class:`~simpick.inputs.robot.RobotSpec`: the driven wheels get drives
   in command order (their joint's own sign), casters and swivels are undriven articulation joints,
   a skid is a base shape with the robot's friction, and one robot's links never collide with each
   other (SAPIEN collision groups; PhysX itself excludes only a link and its parent).
@@ -20,7 +20,7 @@
   mode; SAPIEN 3.0.3 does not expose another). The robot's shapes get 0 and every ground or
   terrain shape twice its coefficient, so a wheel contact has exactly the terrain's (or the
   ground's) mu; robot-robot contacts are frictionless. Static = dynamic coefficient.
-- IMU: none in PhysX; :func:`simpick.imu.imu_from_kinematics` from base_link kinematics. PhysX
+- IMU: none in PhysX; :func:`simpick.simulate.imu.imu_from_kinematics` from base_link kinematics. PhysX
   reports a link's velocity at its centre of mass, converted here to base_link's origin.
 
 Three corrections of ours (issues 19, 18): PhysX gives every articulation link 0.05 /s of linear
@@ -73,9 +73,15 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import FRICTION, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import (
+    FRICTION,
+    EngineSettings,
+    PhysicsRecord,
+    Scenario,
+    validated_commands,
+)
 from simpick.errors import InputError
-from simpick.imu import imu_from_kinematics, rotation_matrices
+from simpick.simulate.imu import imu_from_kinematics, rotation_matrices
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 # SAPIEN's plane collision has its normal along +x; this turns it onto +z (a -90 deg turn about y)

@@ -1,7 +1,7 @@
 """Bullet through PyBullet (the engine family of CoppeliaSim's Bullet 2.78 and of MORSE).
 
 Bullet has no IMU sensor, so the adapter records the base kinematics at every step and
-the shared :func:`simpick.imu.imu_from_kinematics` turns them into an IMU reading.
+the shared :func:`simpick.simulate.imu.imu_from_kinematics` turns them into an IMU reading.
 
 Two Bullet habits the adapter undoes:
 - the base pose and velocity PyBullet reports are those of the base's *principal inertial
@@ -41,9 +41,16 @@ from typing import Annotated
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
-                                  validated_commands)
-from simpick.imu import imu_from_kinematics, rotation_matrices
+from simpick.engines.base import (
+    FRICTION,
+    FRICTION_RATIO,
+    Calibratable,
+    EngineSettings,
+    PhysicsRecord,
+    Scenario,
+    validated_commands,
+)
+from simpick.simulate.imu import imu_from_kinematics, rotation_matrices
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, so no wheel starts inside the ground
 

@@ -83,7 +83,7 @@ class CalibrationPlanning:
             else {
                 "replay_seconds": cal.get("replay_seconds"),
                 # the steady-command turning windows of the real turning analysis (rule real_turning;
-                # window and settle: simpick.realturning.turning_windows' own)
+                # window and settle: simpick.real.turning.turning_windows' own)
                 "steady": {k: self.config["real_data"]["segment_rules"][k] for k in ("tolerance", "min_turn")},
             }
         )

@@ -23,8 +23,8 @@ class ReportPlanning:
     def _lab_figure_tests(self):
         """The lab tests with an IMU-statistics figure: every simulated test, and every test the
         paper gives a real reference for (drawn with the reference alone when no engine ran it)."""
-        from simpick.published import load_published
-        from simpick.reference import lab_reference
+        from simpick.inputs.published import load_published
+        from simpick.inputs.reference import lab_reference
 
         tests = [(t, m) for t in self.terrains for m in self.motions]
         published = lab_reference(load_published(self.config["reference"]["published"]))

@@ -22,9 +22,9 @@ from typing import Callable
 from simpick.codeversion import dispatch_entry, job_code, script_roots
 from simpick.config import Study, plain, timestep_label
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, unavailable
+from simpick.inputs.robot import load_from_config
 from simpick.plan.calibration import CalibrationPlanning
 from simpick.plan.report import ReportPlanning
-from simpick.robot import load_from_config
 from simpick.sources import base as source_base
 from simpick.sources import entry as source_entry
 from simpick.sources import lab as lab_source
@@ -104,7 +104,7 @@ class Plan(ReportPlanning, CalibrationPlanning):
         # no ground model stops the run here with one `simpick:` line each, before any job.
         self.replay_set = None
         if config.get("borealtc_dir"):
-            from simpick.datasets import open_dataset_or_exit
+            from simpick.real.datasets import open_dataset_or_exit
 
             self.replay_set = open_dataset_or_exit(
                 config["borealtc_dir"], classes=config["real_data"]["classes"], name=config.get("real_dataset")
@@ -119,7 +119,7 @@ class Plan(ReportPlanning, CalibrationPlanning):
         # user's own logs ("own"); a case is one (terrain class, run) whose canonical log lies at
         # results/real/<source>/logs/<class>/<run>.parquet. Each kind of source has its import rule
         # (rules/real.smk); from the log on, every source is one entry of ``sources``.
-        # No dataset is called "own" (simpick.datasets.RESERVED_NAMES).
+        # No dataset is called "own" (simpick.real.datasets.RESERVED_NAMES).
         self.replay_cases = {self.replay_set.name: self.runs} if self.replay_set else {}
         if self.own_logs:
             self.replay_cases["own"] = own_source.cases(config)
@@ -340,7 +340,7 @@ class Plan(ReportPlanning, CalibrationPlanning):
 
     def validation_runtime(self):
         """Minutes for an engine's validation job: a case's share as a lab case's (1 + health.timeout
-        // 60); the watchdog stops a case at 90 % of its share (simpick.validation.validate_job)."""
+        // 60); the watchdog stops a case at 90 % of its share (simpick.studies.validation.validate_job)."""
         return self.simulate_runtime(len(self.validation_cases))
 
     # --- the sweep ---

@@ -16,7 +16,7 @@ optional (a section whose input is absent says so instead of showing data)
     the JSON notes some write beside them), embedded by name (:func:`simpick.report.load.figure_key`);
     a figure that is not given is not shown. ``traces`` is read by the figure jobs, not the report.
     accuracy: ``scores_provenance`` (the scores job's record of what the scores rest on:
-    errors file, tests, exclusions and why; simpick.workflow.score_provenance),
+    errors file, tests, exclusions and why; simpick.score.jobs.score_provenance),
     ``accuracy_errors`` (the Eq. 7 totals it names; lab imu_errors layout) and
     ``accuracy_per_test`` (the real-data per-test table beside them)
     real robot data (rules/real.smk): ``segments`` (the committed segment table) and
@@ -53,11 +53,11 @@ def build_report(inputs: Mapping[str, Any], params: Mapping[str, Any],
     The workflow renders the PDF in a job of its own (:func:`html_to_pdf`), so that the HTML
     of a rerun is there before WeasyPrint has laid out the pages.
     """
-    from simpick.report.build import render_html
-    from simpick.report.load import load_inputs
-
     import sys
     import time
+
+    from simpick.report.build import render_html
+    from simpick.report.load import load_inputs
 
     start = time.perf_counter()
     data = load_inputs(inputs)

@@ -16,8 +16,13 @@ from simpick.report import figures
 from simpick.report.draw import test_label
 from simpick.report.draw import weights_of as _weights
 from simpick.report.load import ReportData
-from simpick.scoring import (DEFAULT_WEIGHTS, METRIC_LABELS, METRICS, QUALITATIVE_METRICS,
-                             QUANTITATIVE_METRICS)
+from simpick.score.scoring import (
+    DEFAULT_WEIGHTS,
+    METRIC_LABELS,
+    METRICS,
+    QUALITATIVE_METRICS,
+    QUANTITATIVE_METRICS,
+)
 
 TEMPLATE_DIR = Path(__file__).resolve().parent / "templates"
 TEMPLATE = "report.html.j2"
@@ -502,7 +507,7 @@ def _verdict(data: ReportData, engines: list[str]) -> dict[str, Any]:
 
 
 def _runs_text(n: float) -> str:
-    from simpick.verdict import _runs_text as words
+    from simpick.score.verdict import _runs_text as words
 
     return words(n)
 

@@ -7,7 +7,7 @@ from typing import Any
 
 import pandas as pd
 
-from simpick.calibration import POOLED, TARGET_POOL
+from simpick.studies.calibration import POOLED, TARGET_POOL
 
 
 def _cell(row, fig: str, variant: str) -> dict:
@@ -86,7 +86,7 @@ def turning_rows(turning: pd.DataFrame | None, engines: list[str]) -> list[dict]
 
 
 def target_summary(target: pd.DataFrame | None) -> dict[str, Any] | None:
-    """Issue 20's target as the summary judged it (simpick.calibration.target_table): the best
+    """Issue 20's target as the summary judged it (simpick.studies.calibration.target_table): the best
     calibrated engine, whether it meets the target, and every calibrated model's figures."""
     if target is None or target.empty:
         return None
@@ -138,7 +138,7 @@ def calibration_section(summary: pd.DataFrame | None, engines: list[str], colors
                 "rank_calibrated": _rank(test.get("rank_calibrated")),
                 "failed": int((test.get("n_failed_configured") or 0) + (test.get("n_failed_calibrated") or 0)),
             })
-        # the winner as the summary judged it (simpick.calibration._winners): a model's name only
+        # the winner as the summary judged it (simpick.studies.calibration._winners): a model's name only
         # where a paired test over at least statistics.min_runs runs separates it from the runner-up
         test = g[g.set == "test"]
         winner = {v: (str(test[f"winner_{v}"].iloc[0]) if len(test) and f"winner_{v}" in test else None)

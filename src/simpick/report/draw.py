@@ -21,9 +21,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from simpick.inputs.terrain import TILES
 from simpick.report import figures
 from simpick.report.load import load_inputs
-from simpick.terrain import TILES
 
 
 def colors(engines: Sequence[str] | None, seen: Sequence[str] = ()) -> dict[str, str]:
@@ -58,7 +58,7 @@ def test_label(terrain: str, motion: str) -> str:
 def weights_of(params: Mapping[str, Any]) -> dict[str, float]:
     """The weights in ``params`` (the paper's defaults when absent), one per metric."""
     from simpick.errors import InputError
-    from simpick.scoring import DEFAULT_WEIGHTS, METRICS
+    from simpick.score.scoring import DEFAULT_WEIGHTS, METRICS
 
     raw = params.get("weights")
     if raw is None:
@@ -114,7 +114,7 @@ def _commanded(config: Mapping[str, Any], motion: str):
 def contributions(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str) -> None:
     """Each engine's weighted total split into weight x score per metric: the one figure that
     depends on the weights."""
-    from simpick.scoring import METRIC_LABELS, METRICS
+    from simpick.score.scoring import METRIC_LABELS, METRICS
 
     data = load_inputs({"weighted": inputs["weighted"]}, required=("weighted",))
     figures.contributions_figure(data.weighted, weights_of(params), METRICS, METRIC_LABELS, output)
@@ -244,7 +244,7 @@ def real_gain(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str)
 
 
 def _read_real_series(path: str, track: float):
-    from simpick.reallogs import read_canonical
+    from simpick.real.logs import read_canonical
 
     log = read_canonical(path)
     imu = log.imu[["time", "ax", "ay", "az", "wx", "wy", "wz"]].copy()
@@ -262,7 +262,7 @@ def _rate(frame: pd.DataFrame) -> float:
 
 def _mean_psd(signals: list[tuple[np.ndarray, float]]):
     """Mean Welch PSD over runs (each at its own rate; runs on another grid are left out)."""
-    from simpick.realmetrics import psd, psd_segment
+    from simpick.compare.realmetrics import psd, psd_segment
 
     spectra = []
     for x, rate in signals:
@@ -287,9 +287,9 @@ def replay(inputs: Mapping[str, Any], params: Mapping[str, Any], cls: str, outpu
     """One terrain class of the full replay: time plots of one representative run and the mean
     vertical-acceleration spectra over the class's runs. ``notes`` (JSON) tells the report which
     run was drawn and why, what the spectra average over and what was left out."""
-    from simpick.realmetrics import LOWPASS_HZ, PSD_BAND_HZ
+    from simpick.compare.realmetrics import LOWPASS_HZ, PSD_BAND_HZ
     from simpick.report.real import TIME_PLOT_MAX_S
-    from simpick.traces import read_metadata, read_trace
+    from simpick.simulate.traces import read_metadata, read_trace
 
     cls = cls.lower()
     data = load_inputs(dict(inputs), required=("real_logs",))

@@ -357,12 +357,12 @@ def replay_figure(series: Sequence[tuple[str, str, pd.DataFrame]],
 
     Left: yaw rate (top) and longitudinal acceleration (bottom) of one run against time,
     each signal raw (faint) and low-passed at ``cutoff_hz`` (zero-phase Butterworth, the
-    filter of simpick.realmetrics); ``commanded`` (time, w) is the kinematic yaw rate of the
+    filter of simpick.compare.realmetrics); ``commanded`` (time, w) is the kinematic yaw rate of the
     recorded wheel commands. Right: Welch PSD of vertical acceleration, ``psd`` as
     (label, colour, f, power), with ``band`` shaded (the band of the PSD distance).
     ``series``: (label, colour, frame with time, wz, ax); the real robot first.
     """
-    from simpick.realmetrics import lowpass
+    from simpick.compare.realmetrics import lowpass
 
     plt = _plt()
     fig = plt.figure(figsize=(WIDTH_IN, 3.1))

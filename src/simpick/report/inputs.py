@@ -41,7 +41,7 @@ OPTIONAL_INPUTS: tuple[str, ...] = (
     "replay_traces",
     "figures",
     "endpoints",
-    # simpick's verdict (rules/scores.smk rule verdict, simpick.verdict)
+    # simpick's verdict (rules/scores.smk rule verdict, simpick.score.verdict)
     "verdict_metrics",
     "verdict_table",
     "verdict_separation",

@@ -12,7 +12,7 @@ import pandas as pd
 import yaml
 
 from simpick.errors import InputError
-from simpick.scoring import METRICS
+from simpick.score.scoring import METRICS
 
 COLUMNS: dict[str, tuple[str, ...]] = {
     "weighted": (*METRICS, "total", "excluded", "rank"),
@@ -42,7 +42,7 @@ COLUMNS: dict[str, tuple[str, ...]] = {
                    "error_kind", "tolerance", "passed", "status"),
     "validation_gains": ("engine", "v", "w", "mu", "analytic", "n_left", "left_mean", "left_min", "left_max",
                          "n_right", "right_mean", "right_min", "right_max", "spread", "headings"),
-    # real robot data (rules/real.smk, simpick.realdata)
+    # real robot data (rules/real.smk, simpick.compare.real)
     "accuracy_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
     "accuracy_per_test": ("engine", "terrain_class", "segment", "run", "status"),
     "segments": ("segment", "terrain_class", "run", "kind", "t_start", "t_end", "settle", "duration",
@@ -59,7 +59,7 @@ COLUMNS: dict[str, tuple[str, ...]] = {
     "replay_pairwise": ("terrain_class", "figure", "engine_a", "engine_b", "mean_a_minus_b", "low", "high",
                         "verdict"),
     "replay_imu_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
-    # simpick's verdict (simpick.verdict): the report prints these, it computes none of them
+    # simpick's verdict (simpick.score.verdict): the report prints these, it computes none of them
     "verdict_table": ("metric", "label", "unit", "model", "is_engine", "n_runs", "mean", "low", "high", "rank",
                       "next", "p_to_next", "separates_from_next", "runs_needed", "note"),
     "verdict_separation": ("metric", "label", "method", "n_runs", "best", "second", "separates", "statement"),
@@ -74,7 +74,7 @@ COLUMNS: dict[str, tuple[str, ...]] = {
     "endpoints": ("engine", "terrain", "motion", "t", "dist", "dyaw_deg", "v_cmd", "w_cmd", "v_mean", "w_mean"),
 }
 
-# The real-data sets: one per way of comparing with the real robot (simpick.realdata).
+# The real-data sets: one per way of comparing with the real robot (simpick.compare.real).
 REAL_SETS: tuple[str, ...] = ("segments", "replay")
 REAL_TABLES: tuple[str, ...] = ("per_test", "summary", "pairwise", "imu_errors")
 VERDICT_TABLES: tuple[str, ...] = ("metrics", "table", "separation", "ranking", "discrimination", "headings")
@@ -132,7 +132,7 @@ class ReportData:
     real: dict[str, dict[str, pd.DataFrame]] = field(default_factory=dict)
     replay_per_window: pd.DataFrame | None = None
     real_turning: pd.DataFrame | None = None  # how the real robot turns (rule real_turning), per class
-    # simpick's verdict (results/verdict/: simpick.verdict), table name -> table, and its headline
+    # simpick's verdict (results/verdict/: simpick.score.verdict), table name -> table, and its headline
     verdict: dict[str, pd.DataFrame] = field(default_factory=dict)
     verdict_headline: dict | None = None
     # real canonical logs and replay traces: paths only, read when the figures are drawn
@@ -194,7 +194,7 @@ def _csv(name: str, path: Path, index: str | None = None) -> pd.DataFrame:
     return df
 
 
-# The lab's per-axis table (results/metrics/lab/detail.csv: simpick.workflow.axis_rows) holds the
+# The lab's per-axis table (results/metrics/lab/detail.csv: simpick.sources.lab) holds the
 # simulated statistics, the paper's and the errors between them; the report reads three views of it.
 DETAIL_VIEWS = {
     "trace_stats": lambda d: d[["engine", "terrain", "motion", "quantity", "axis", "mean", "range", "status"]],
@@ -343,7 +343,7 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
         sources["worked_example"] = str(p)
 
     if given("traces"):
-        from simpick.traces import read_trace
+        from simpick.simulate.traces import read_trace
 
         traces = []
         for p in _paths("traces", inputs["traces"]):

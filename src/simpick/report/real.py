@@ -1,5 +1,5 @@
 """The report's real-robot parts: which data the accuracy scores rest on, and the section
-comparing every engine with the real Husky per terrain class (simpick.realdata's tables).
+comparing every engine with the real Husky per terrain class (simpick.compare.real's tables).
 
 Nothing here computes a statistic: the real robot's yaw-rate gain per class and its interval come
 from the summarise job's table, what the accuracy scores can tell apart from the verdict rule's
@@ -27,7 +27,7 @@ FIGURE_LABELS = {"error_angular": "angular velocity", "error_linear": "linear ac
                  "yaw_rate_gain": "yaw-rate gain"}
 FIGURE_UNITS = {"error_angular": "rad/s", "error_linear": "m/s²", "rmse_yaw_rate": "rad/s", "rmse_ax": "m/s²",
                 "psd_distance_az": "decades"}
-# Extra columns of the full replay's summary (simpick.realdata.FIGURES).
+# Extra columns of the full replay's summary (simpick.compare.real.FIGURES).
 REPLAY_EXTRA = (("rmse_yaw_rate", "RMSE yaw rate (rad/s)"), ("rmse_ax", "RMSE a<sub>x</sub> (m/s²)"),
                 ("psd_distance_az", "PSD distance a<sub>z</sub> (decades)"))
 REAL_TABLE_NAMES = ("per_test", "summary", "pairwise")
@@ -149,7 +149,7 @@ def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], cl
 
 def _discrimination(data: ReportData, stats: Mapping[str, Any]) -> dict[str, Any] | None:
     """What the paper's accuracy scores can tell apart, as the verdict rule wrote it
-    (results/verdict/discrimination.csv, simpick.verdict.score_discrimination): per quantity its rows."""
+    (results/verdict/discrimination.csv, simpick.score.verdict.score_discrimination): per quantity its rows."""
     table = data.verdict.get("discrimination")
     if table is None or table.empty:
         return None
@@ -181,7 +181,7 @@ def _cell(row: Mapping[str, Any] | None, fig: str) -> dict[str, Any] | None:
 
 def statistics(params: Mapping[str, Any]) -> dict[str, Any]:
     """The config's statistics slice (minimum independent runs, level), with its defaults."""
-    from simpick.realmetrics import smallest_p, statistics_settings
+    from simpick.compare.realmetrics import smallest_p, statistics_settings
 
     st = dict(params.get("statistics") or {})
     st["min_runs"], st["level"] = statistics_settings(st)
@@ -210,7 +210,7 @@ def _real_gain(per_test: pd.DataFrame | None, summary: pd.DataFrame | None, cls:
 def _verdict(cls: str, fig: str, summary: pd.DataFrame | None, pairwise: pd.DataFrame | None,
              engines: list[str]) -> dict[str, Any] | None:
     """The engine with the smallest mean error, and whether the paired 95 % intervals
-    against every other engine exclude zero (simpick.realdata's verdicts)."""
+    against every other engine exclude zero (simpick.compare.real's verdicts)."""
     if summary is None or fig not in summary.columns:
         return None
     sel = summary[summary["terrain_class"] == cls]
@@ -430,7 +430,7 @@ def datasets(data: ReportData, params: Mapping[str, Any]) -> list[dict[str, Any]
     replay = (data.real.get("replay") or {}).get("per_test")
     if replay is not None and "real_imu_hz" in replay:
         # the replay's per-test table carries each run's measured rates and each trace's IMU rate
-        # (simpick.realdata.replay_compare): the report reads no log or trace itself
+        # (simpick.compare.real.replay_compare): the report reads no log or trace itself
         d = declared.get("replay") or {}
         per_run = replay.drop_duplicates(["terrain_class", "run"])
         rows.append({"set": "replay", "title": SET_TITLES["replay"],

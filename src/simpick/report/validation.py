@@ -8,7 +8,7 @@ from typing import Any
 import pandas as pd
 
 from simpick.report import figures
-from simpick.validation import failures
+from simpick.studies.validation import failures
 
 
 def _present(summary: pd.DataFrame, engines: list[str]) -> list[str]:

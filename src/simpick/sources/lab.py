@@ -1,5 +1,5 @@
 """The lab source: the paper's tests (terrain x motion of the config) on generated terrain strips,
-compared with the paper's real statistics (Farley et al. 2022, Tables 8-9; simpick.reference)."""
+compared with the paper's real statistics (Farley et al. 2022, Tables 8-9; simpick.inputs.reference)."""
 
 from __future__ import annotations
 
@@ -49,9 +49,9 @@ def compare_settings(config: dict) -> dict:
 
 def prepare_case(urdf: str, inputs: dict, params: dict, name: str):
     """A lab test: the motion's constant command over the generated terrain strip."""
-    from simpick.health import HealthLimits
-    from simpick.imu import ImuModel
-    from simpick.simulate import Case, run_case
+    from simpick.simulate.health import HealthLimits
+    from simpick.simulate.imu import ImuModel
+    from simpick.simulate.run import Case, run_case
 
     motion = params["motion"]
     case = Case(engine=params["engine"], terrain=params["terrain"], motion=name,
@@ -74,16 +74,22 @@ PER_TEST_COLUMNS = ["engine", "terrain", "motion", "test", "run", "kind", "statu
 
 
 def compare(traces: list[str], inputs: dict, params: dict):
-    """The lab tests against the paper's real statistics (simpick.reference, ``inputs["published"]``):
+    """The lab tests against the paper's real statistics (simpick.inputs.reference, ``inputs["published"]``):
     per engine, test, quantity and axis (``detail``), and Eq. 7 per test where the paper has a
     reference (``per_test``; a failed run of such a test is a failed row)."""
     import pandas as pd
 
-    from simpick import metrics
-    from simpick.published import load_published
-    from simpick.reference import lab_reference
-    from simpick.tables import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, case_test, run_row
-    from simpick.traces import read_trace
+    from simpick.compare import metrics
+    from simpick.inputs.published import load_published
+    from simpick.inputs.reference import lab_reference
+    from simpick.simulate.traces import read_trace
+    from simpick.tables import (
+        DETAIL_COLUMNS,
+        RUN_COLUMNS,
+        axis_rows,
+        case_test,
+        run_row,
+    )
 
     reference = lab_reference(load_published(inputs["published"]))
     detail, per_test, runs = [], [], []

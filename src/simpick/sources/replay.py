@@ -1,6 +1,6 @@
-"""The replay source: every run of a dataset folder (BorealTC layout; simpick.datasets), imported to
+"""The replay source: every run of a dataset folder (BorealTC layout; simpick.real.datasets), imported to
 the canonical form (rules/real.smk), driven by its recorded wheel speeds and compared with the
-real log window by window (simpick.realdata.replay_compare)."""
+real log window by window (simpick.compare.real.replay_compare)."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ MEM_MB = 800  # a whole run's trace and log in memory
 # --- planning ---
 
 def cases(dataset) -> list[tuple[str, str]]:
-    """(terrain class, run) of every run of an opened dataset folder (simpick.datasets)."""
+    """(terrain class, run) of every run of an opened dataset folder (simpick.real.datasets)."""
     return [(r.terrain_class, r.run) for r in dataset.runs]
 
 
@@ -38,17 +38,16 @@ def compare_settings(config: dict) -> dict:
 # --- jobs ---
 
 def read_log(path: str):
-    """A canonical log (simpick.reallogs.read_canonical): what a replayed case is driven by."""
-    from simpick.reallogs import read_canonical
+    """A canonical log (simpick.real.logs.read_canonical): what a replayed case is driven by."""
+    from simpick.real.logs import read_canonical
 
     return read_canonical(path)
 
 
 def simulate(log, urdf: str, params: dict, duration: float | None = None):
     """One run driven by its recorded wheel speeds on ``params["engine"]``, the first ``duration``
-    seconds (all of it when None): simpick.realdata.replay_log. The calibration replays through here."""
-    from simpick.realdata import replay_log
-
+    seconds (all of it when None): simpick.simulate.real.replay_log. The calibration replays through here."""
+    from simpick.simulate.real import replay_log
     return replay_log(log, urdf, params, duration=duration)
 
 
@@ -62,7 +61,6 @@ def prepare_case(urdf: str, inputs: dict, params: dict, name: str):
 
 
 def compare(traces: list[str], inputs: dict, params: dict):
-    """Every replayed run against its real log, window by window (simpick.realdata.replay_compare)."""
-    from simpick.realdata import replay_compare
-
+    """Every replayed run against its real log, window by window (simpick.compare.real.replay_compare)."""
+    from simpick.compare.real import replay_compare
     return replay_compare(list(inputs["logs"]), traces, params)

@@ -1,7 +1,7 @@
 """The segments source: constant-command segments of real runs (the committed table
 ``real_data.segments``, or the one derived from a dataset folder), each segment's command driven on
-its terrain class's flat ground and compared with the real window's statistics (simpick.realdata).
-The speed-accuracy sweep (simpick.sweep) runs this source's simulate, compare and summarise steps at
+its terrain class's flat ground and compared with the real window's statistics (simpick.compare.real).
+The speed-accuracy sweep (simpick.studies.sweep) runs this source's simulate, compare and summarise steps at
 each of its timesteps."""
 
 from __future__ import annotations
@@ -55,15 +55,13 @@ def compare_settings(config: dict) -> dict:
 
 def class_table(table: str, terrain_class: str):
     """The segments of one terrain class (pandas, indexed by segment id)."""
-    from simpick.realdata import class_segments
-
+    from simpick.simulate.real import class_segments
     return class_segments(table, terrain_class)
 
 
 def simulate(seg, urdf: str, params: dict):
-    """One segment's command on ``params["engine"]`` (simpick.realdata.simulate_segment)."""
-    from simpick.realdata import simulate_segment
-
+    """One segment's command on ``params["engine"]`` (simpick.simulate.real.simulate_segment)."""
+    from simpick.simulate.real import simulate_segment
     return simulate_segment(seg, urdf, params)
 
 
@@ -82,7 +80,6 @@ def prepare_case(urdf: str, inputs: dict, params: dict, name: str):
 
 
 def compare(traces: list[str], inputs: dict, params: dict):
-    """Every simulated segment against its real window statistics (simpick.realdata.segment_compare)."""
-    from simpick.realdata import segment_compare
-
+    """Every simulated segment against its real window statistics (simpick.compare.real.segment_compare)."""
+    from simpick.compare.real import segment_compare
     return segment_compare(inputs["segments"], traces, params["track"])

@@ -1,0 +1,665 @@
+"""The robot description every engine loads, and the facts simpick reads from it.
+
+Any wheeled ground robot described by a URDF (or a xacro file, expanded with the ``xacro``
+package) can be studied. :func:`load_robot` reads the description once, at planning time and
+in every job, and returns a :class:`RobotSpec`: the one interface through which the engines,
+the controller, the IMU mount and the Coulomb model see the robot. Nothing else parses the URDF
+for robot facts (an adapter may read the file :attr:`RobotSpec.urdf` for the shapes and
+inertias its engine builds, as every engine's own URDF loader does).
+
+What is found and how:
+
+- **Wheels**: a ``continuous`` joint whose child link collides as a cylinder (its axis along the
+  joint axis) or a sphere. A wheel hanging on the base through fixed joints only is *driven*; one
+  below a continuous joint with a vertical axis (a swivel) is a *caster*, passive. The config may
+  instead name the driven joints (``robot.wheels``: joint and side); every other wheel is passive.
+- **Side and forward direction** from geometry: side is the sign of the wheel centre's y in the
+  base frame; the joint axis, expressed in the base frame through every joint origin's rotation,
+  gives ``axis_sign`` (+1 when a positive joint speed rolls the robot towards +x), so rotated or
+  mirrored joint frames all drive the robot forward.
+- **Base**: the URDF root link. A root without mass (a footprint) is fine: whenever the file is
+  not already in the form every engine reads alike (xacro, meshes, massless links), it is rewritten
+  (:func:`normalised_urdf`) with each link hung on a fixed joint fused into its parent: masses and
+  inertias combined, box/cylinder/sphere collisions kept, visuals and mesh collisions dropped (with a
+  note), into a file in the temporary folder named by its content hash. The Husky's file needs no
+  rewrite and is loaded as it is.
+- **Figures**: mass, centre of mass (whole robot, joints at zero), driven wheel radius, track
+  (mean left minus mean right wheel y), wheelbase (front-most minus rear-most driven axle), the
+  base's height above flat ground resting on its wheels, the IMU mount; each may be overridden in
+  the config (``robot.overrides``); the overridden values feed the controller and the mechanics,
+  the engines always simulate the description.
+
+Refused, with one message naming the joint or link: revolute, prismatic, planar or floating joints
+(steering, suspension, legs, arms), continuous joints whose child has no collision, wheel axes
+that are neither lateral nor (for a swivel) vertical, no driven wheels (tracks), a driven wheel
+count other than 2, 4 or 6 or unequal sides, a description that is not XML.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+import tempfile
+import xml.etree.ElementTree as ET
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from simpick.errors import InputError
+
+
+@dataclass(frozen=True)
+class Wheel:
+    """One wheel of the robot (driven or caster), in the base frame with every joint at zero."""
+
+    joint: str  # the continuous joint it spins about
+    link: str  # the joint's child link, which carries the collision
+    side: str  # "left" (y > 0) or "right" (y < 0); a caster on the centre line: "centre"
+    radius: float  # m, of the collision cylinder or sphere
+    width: float  # m, the cylinder's length; 0.0 for a sphere
+    shape: str  # "cylinder" or "sphere"
+    position: tuple[float, float, float]  # wheel centre in the base frame, m
+    axis_sign: int  # +1: a positive joint speed rolls the robot towards base +x; -1: towards -x
+    driven: bool  # True: velocity-servoed by the controller; False: passive (a caster)
+    swivel: str | None = None  # a caster's vertical continuous joint, if it has one
+
+
+@dataclass(frozen=True)
+class Skid:
+    """A collision shape of the base (a skid or ball caster fixed to it) that reaches the ground
+    when the robot rests on its wheels: it slides, with the friction the engines give the robot."""
+
+    link: str
+    shape: str  # "box", "sphere" or "cylinder"
+    position: tuple[float, float, float]  # lowest point (its shape's centre in x, y) in the base frame, m
+    clearance: float  # m above flat ground with the robot level on its wheels (<= SKID_REACH)
+
+
+# A base collision whose lowest point is within this of the ground (robot level on its wheels) is a
+# skid: TurtleBot3's box caster is 0.5 mm up and touches once the robot tips onto it.
+SKID_REACH = 0.005
+
+
+@dataclass(frozen=True)
+class RobotSpec:
+    """What simpick knows of the robot; every engine adapter reads the robot only through this.
+
+    Commands and measured wheel speeds are arrays over :attr:`driven` (joint speeds in rad/s,
+    in the joint's own sign: a mirrored wheel turns at minus its neighbour's speed), ordered front
+    to back, left before right (the Husky: FL, FR, RL, RR). Passive wheels (casters) are loaded
+    and left free, as the description says.
+    """
+
+    urdf: Path  # the file every engine loads (the user's own, or its normalised copy)
+    source: Path  # the file the config names (URDF or xacro)
+    name: str  # <robot name="...">
+    base_link: str  # the root link: the pose and velocity the study records are this frame's
+    wheels: tuple[Wheel, ...]  # driven wheels in command order, then passive ones
+    mass: float  # kg, whole robot
+    com: tuple[float, float, float]  # whole robot's centre of mass in the base frame, m
+    imu_link: str
+    imu_mount: tuple[float, float, float]  # IMU origin in the base frame, m (axes = base axes)
+    base_height: float  # base frame origin above flat ground when resting on the wheels, m
+    wheel_radius: float  # m, driven wheels' (they must agree to 1 mm)
+    track: float  # m, geometric: mean left minus mean right driven wheel y (not the controller's tau)
+    wheelbase: float  # m, front-most minus rear-most driven wheel x (0 for two driven wheels)
+    notes: tuple[str, ...] = ()  # what was assumed or dropped while reading the description
+    overridden: tuple[str, ...] = ()  # figures the config set instead of the description
+    skids: tuple[Skid, ...] = ()  # base shapes that reach the ground (sliding supports)
+
+    @property
+    def driven(self) -> tuple[Wheel, ...]:
+        return tuple(w for w in self.wheels if w.driven)
+
+    @property
+    def casters(self) -> tuple[Wheel, ...]:
+        return tuple(w for w in self.wheels if not w.driven)
+
+    @property
+    def wheel_joints(self) -> tuple[str, ...]:
+        """Driven wheel joints, in command order."""
+        return tuple(w.joint for w in self.driven)
+
+    @property
+    def passive_joints(self) -> tuple[str, ...]:
+        """Every continuous joint that no motor drives (caster wheels and swivels)."""
+        out = []
+        for w in self.casters:
+            out += [w.joint] + ([w.swivel] if w.swivel else [])
+        return tuple(out)
+
+    @property
+    def sides(self) -> tuple[str, ...]:
+        return tuple(w.side for w in self.driven)
+
+    @property
+    def wheel_count(self) -> int:
+        return len(self.driven)
+
+    def joint_speeds(self, left, right) -> np.ndarray:
+        """(..., n_driven) joint speeds, rad/s, for left and right rim speeds in m/s."""
+        left, right = np.asarray(left, dtype=float), np.asarray(right, dtype=float)
+        cols = [(left if w.side == "left" else right) * w.axis_sign / w.radius for w in self.driven]
+        return np.stack(np.broadcast_arrays(*cols), axis=-1)
+
+    def rim_speeds(self, joint_speeds) -> np.ndarray:
+        """(..., n_driven) forward rim speeds, m/s, from joint speeds (the inverse of the above)."""
+        signs = np.array([w.axis_sign * w.radius for w in self.driven])
+        return np.asarray(joint_speeds, dtype=float) * signs
+
+    def side_mean(self, joint_speeds, side: str) -> np.ndarray:
+        """Mean forward-signed angular speed (rad/s) of one side's driven wheels."""
+        cols = [i for i, w in enumerate(self.driven) if w.side == side]
+        signs = np.array([self.driven[i].axis_sign for i in cols], dtype=float)
+        return (np.asarray(joint_speeds, dtype=float)[..., cols] * signs).mean(axis=-1)
+
+
+# --- URDF geometry -------------------------------------------------------------------------
+
+def _floats(text: str | None, n: int, where: str, default: float = 0.0) -> np.ndarray:
+    if text is None:
+        return np.full(n, default)
+    try:
+        values = [float(v) for v in text.split()]
+    except ValueError:
+        values = []
+    if len(values) != n:
+        raise InputError(where, f"expected {n} numbers, got {text!r}")
+    return np.asarray(values)
+
+
+def rpy_matrix(rpy) -> np.ndarray:
+    """URDF rpy (fixed axes x, then y, then z) -> rotation matrix."""
+    r, p, y = rpy
+    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
+    return np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+                     [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+                     [-sp, cp * sr, cp * cr]])
+
+
+def matrix_rpy(m: np.ndarray) -> np.ndarray:
+    """Rotation matrix -> URDF rpy (the inverse of :func:`rpy_matrix`)."""
+    pitch = math.asin(max(-1.0, min(1.0, -m[2, 0])))
+    if abs(m[2, 0]) < 1 - 1e-12:
+        roll, yaw = math.atan2(m[2, 1], m[2, 2]), math.atan2(m[1, 0], m[0, 0])
+    else:  # gimbal lock: roll folded into yaw
+        roll, yaw = 0.0, math.atan2(-m[0, 1], m[1, 1])
+    return np.array([roll, pitch, yaw])
+
+
+def origin(element, where: str) -> tuple[np.ndarray, np.ndarray]:
+    """(xyz, rotation) of an element's <origin> child; identity when absent."""
+    o = element.find("origin") if element is not None else None
+    if o is None:
+        return np.zeros(3), np.eye(3)
+    return _floats(o.get("xyz"), 3, f"{where} origin xyz"), rpy_matrix(_floats(o.get("rpy"), 3, f"{where} origin rpy"))
+
+
+def joint_axis(joint, where: str) -> np.ndarray:
+    """A joint's unit axis (URDF default x when absent); a zero axis is an InputError naming ``where``."""
+    a = joint.find("axis")
+    axis = _floats(a.get("xyz") if a is not None else None, 3, f"{where} axis", 0.0)
+    if a is None:
+        axis = np.array([1.0, 0.0, 0.0])  # the URDF default
+    norm = np.linalg.norm(axis)
+    if norm == 0:
+        raise InputError(where, "the joint axis is zero")
+    return axis / norm
+
+
+@dataclass
+class _Tree:
+    root: Any
+    links: dict
+    joints: dict  # name -> element
+    child_joint: dict  # child link -> joint element
+    children: dict  # link -> [joint elements]
+    base: str
+    pose: dict  # link -> (position, rotation) in the base frame, joints at zero
+
+
+def _tree(root, where: str) -> _Tree:
+    links = {lk.get("name"): lk for lk in root.findall("link")}
+    joints = {j.get("name"): j for j in root.findall("joint")}
+    if not links:
+        raise InputError(where, "the description has no <link>: not a robot URDF")
+    child_joint, children = {}, {name: [] for name in links}
+    for name, j in joints.items():
+        parent, child = j.find("parent"), j.find("child")
+        if parent is None or child is None or parent.get("link") not in links or child.get("link") not in links:
+            raise InputError(f"{where}: joint {name!r}", "its parent or child link is missing from the description")
+        child_joint[child.get("link")] = j
+        children[parent.get("link")].append(j)
+    roots = [name for name in links if name not in child_joint]
+    if len(roots) != 1:
+        raise InputError(where, f"expected one root link, found {roots}")
+    pose = {roots[0]: (np.zeros(3), np.eye(3))}
+    stack = [roots[0]]
+    while stack:
+        name = stack.pop()
+        p, r = pose[name]
+        for j in children[name]:
+            xyz, rot = origin(j, f"{where}: joint {j.get('name')!r}")
+            child = j.find("child").get("link")
+            pose[child] = (p + r @ xyz, r @ rot)
+            stack.append(child)
+    return _Tree(root, links, joints, child_joint, children, roots[0], pose)
+
+
+def _inertial(link, where: str) -> tuple[float, np.ndarray, np.ndarray] | None:
+    """(mass, com, inertia about com) in the link frame, or None."""
+    inertial = link.find("inertial")
+    if inertial is None or inertial.find("mass") is None:
+        return None
+    mass = float(inertial.find("mass").get("value", "0"))
+    xyz, rot = origin(inertial, f"{where}: link {link.get('name')!r} inertial")
+    t = inertial.find("inertia")
+    g = {k: float(t.get(k, 0.0)) if t is not None else 0.0 for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")}
+    local = np.array([[g["ixx"], g["ixy"], g["ixz"]], [g["ixy"], g["iyy"], g["iyz"]], [g["ixz"], g["iyz"], g["izz"]]])
+    return mass, xyz, rot @ local @ rot.T
+
+
+def _wheel_shape(link, axis: np.ndarray, where: str) -> tuple[str, float, float] | None:
+    """("cylinder"|"sphere", radius, width) of a link's wheel collision, None if it has none;
+    refuses a cylinder not aligned with the joint axis (``axis`` in the link frame)."""
+    for collision in link.findall("collision"):
+        geometry = collision.find("geometry")
+        if geometry is None:
+            continue
+        _, rot = origin(collision, where)
+        cyl, sph = geometry.find("cylinder"), geometry.find("sphere")
+        if cyl is not None:
+            cyl_axis = rot @ np.array([0.0, 0.0, 1.0])
+            if abs(abs(cyl_axis @ axis) - 1) > 1e-3:
+                raise InputError(where, f"wheel link {link.get('name')!r}: its collision cylinder's axis "
+                                 f"{np.round(cyl_axis, 3).tolist()} is not the joint axis {np.round(axis, 3).tolist()}")
+            return "cylinder", float(cyl.get("radius")), float(cyl.get("length"))
+        if sph is not None:
+            return "sphere", float(sph.get("radius")), 0.0
+    return None
+
+
+def _has_collision(link) -> bool:
+    return link.find("collision") is not None
+
+
+# --- reading -------------------------------------------------------------------------------
+
+def read_description(path: str | Path) -> ET.Element:
+    """The description's XML root; a xacro file (``.xacro`` or a root holding xacro tags) is
+    expanded first. Anything unreadable raises InputError naming the file."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise InputError(str(path), f"cannot read the robot description: {exc}") from None
+    if path.suffix == ".xacro" or "xmlns:xacro" in text:
+        try:
+            import xacro
+        except ImportError:
+            raise InputError(str(path), "is a xacro file and the xacro package is not installed",
+                             "pip install xacro") from None
+        try:
+            text = xacro.process_file(str(path)).toprettyxml(indent="  ")
+        except Exception as exc:  # xacro raises its own and plain exceptions for bad input
+            raise InputError(str(path), f"xacro could not expand it: {exc}") from None
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError as exc:
+        raise InputError(str(path), f"cannot read the robot description: not XML ({exc})",
+                         "point robot.urdf to a URDF or xacro file") from None
+    if root.tag != "robot":
+        raise InputError(str(path), f"the root element is <{root.tag}>, not <robot>: not a URDF")
+    return root
+
+
+def _needs_rewrite(root, source: Path) -> bool:
+    """True unless every engine can load the file as it is: plain URDF, no meshes, every link
+    with a mass (Bullet gives a massless link 1 kg)."""
+    if source.suffix == ".xacro" or root.find(".//mesh") is not None:
+        return True
+    for link in root.findall("link"):
+        inertial = link.find("inertial")
+        if inertial is None or inertial.find("mass") is None or float(inertial.find("mass").get("value", 0)) <= 0:
+            return True
+    return False
+
+
+def normalised_urdf(root, tree: _Tree, name: str) -> tuple[str, list[str]]:
+    """The description with every fixed-joint child fused into its parent link (masses and
+    inertias combined, primitive collisions kept), visuals and meshes dropped; and notes."""
+    notes: list[str] = []
+    where = name
+
+    def body_of(link: str) -> str:  # the moving body a link belongs to
+        while link in tree.child_joint and tree.child_joint[link].get("type") == "fixed":
+            link = tree.child_joint[link].find("parent").get("link")
+        return link
+
+    def relative(link: str, body: str) -> tuple[np.ndarray, np.ndarray]:
+        (pb, rb), (pl, rl) = tree.pose[body], tree.pose[link]
+        return rb.T @ (pl - pb), rb.T @ rl
+
+    bodies = [lk for lk in tree.links if body_of(lk) == lk]
+    out = ET.Element("robot", {"name": name})
+    out.append(ET.Comment(" written by simpick.inputs.robot.normalised_urdf: fixed links fused, visuals dropped "))
+    for body in bodies:
+        mass, moment, parts = 0.0, np.zeros(3), []
+        collisions = []
+        for lk in tree.links:
+            if body_of(lk) != body:
+                continue
+            pos, rot = relative(lk, body)
+            inert = _inertial(tree.links[lk], where)
+            if inert is not None and inert[0] > 0:
+                m, c, inertia = inert
+                parts.append((m, pos + rot @ c, rot @ inertia @ rot.T))
+                mass += m
+                moment += m * (pos + rot @ c)
+            elif lk == body and inert is None and body != tree.base:
+                notes.append(f"link {lk!r} has no mass")
+            for collision in tree.links[lk].findall("collision"):
+                geometry = collision.find("geometry")
+                if geometry is None:
+                    continue
+                shape = next((g for g in geometry if g.tag in ("box", "cylinder", "sphere")), None)
+                if shape is None:
+                    notes.append(f"link {lk!r}: a {[g.tag for g in geometry]} collision was dropped "
+                                 "(only box, cylinder and sphere are simulated alike in every engine)")
+                    continue
+                xyz, r = origin(collision, f"{where}: link {lk!r} collision")
+                collisions.append((pos + rot @ xyz, rot @ r, shape))
+        link = ET.SubElement(out, "link", {"name": body})
+        if mass > 0:
+            com = moment / mass
+            inertia = np.zeros((3, 3))
+            for m, c, i in parts:
+                d = c - com
+                inertia += i + m * (d @ d * np.eye(3) - np.outer(d, d))
+            inertial = ET.SubElement(link, "inertial")
+            ET.SubElement(inertial, "origin", {"xyz": _fmt(com), "rpy": "0 0 0"})
+            ET.SubElement(inertial, "mass", {"value": repr(float(mass))})
+            ET.SubElement(inertial, "inertia", {k: repr(float(inertia[a, b])) for k, (a, b) in
+                                                 {"ixx": (0, 0), "ixy": (0, 1), "ixz": (0, 2), "iyy": (1, 1),
+                                                  "iyz": (1, 2), "izz": (2, 2)}.items()})
+        for xyz, r, shape in collisions:
+            col = ET.SubElement(link, "collision")
+            ET.SubElement(col, "origin", {"xyz": _fmt(xyz), "rpy": _fmt(matrix_rpy(r))})
+            geometry = ET.SubElement(col, "geometry")
+            geometry.append(ET.Element(shape.tag, dict(shape.attrib)))
+    for jname, j in tree.joints.items():
+        if j.get("type") == "fixed":
+            continue
+        child = j.find("child").get("link")
+        parent = body_of(j.find("parent").get("link"))
+        pos, rot = relative(child, parent)
+        new = ET.SubElement(out, "joint", {"name": jname, "type": j.get("type")})
+        ET.SubElement(new, "parent", {"link": parent})
+        ET.SubElement(new, "child", {"link": child})
+        ET.SubElement(new, "origin", {"xyz": _fmt(pos), "rpy": _fmt(matrix_rpy(rot))})
+        ET.SubElement(new, "axis", {"xyz": _fmt(joint_axis(j, jname))})
+        for tag in ("limit", "dynamics"):
+            if j.find(tag) is not None:
+                new.append(j.find(tag))
+    ET.indent(out)
+    return ET.tostring(out, encoding="unicode") + "\n", notes
+
+
+def _fmt(values) -> str:
+    return " ".join(repr(float(round(v, 12)) + 0.0) for v in values)
+
+
+def _write_cached(text: str) -> Path:
+    digest = hashlib.sha256(text.encode()).hexdigest()[:16]
+    folder = Path(tempfile.gettempdir()) / "simpick-robots"
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"{digest}.urdf"
+    if not path.is_file() or path.read_text() != text:
+        tmp = folder / f".{digest}.{os.getpid()}.tmp"
+        tmp.write_text(text)
+        tmp.replace(path)
+    return path
+
+
+def _find_wheels(tree: _Tree, where: str, declared: Mapping[str, str] | None) -> tuple[list[Wheel], list[str]]:
+    notes = []
+    wheels = []
+    for jname, j in tree.joints.items():
+        kind = j.get("type")
+        child = j.find("child").get("link")
+        jw = f"{where}: joint {jname!r}"
+        if kind == "fixed":
+            continue
+        if kind != "continuous":
+            holds_wheel = any(tree.joints[k].get("type") == "continuous" for k in _subtree_joints(tree, child))
+            what = "a steered or suspended wheel" if holds_wheel else "a steering, suspension, leg or arm joint"
+            raise InputError(jw, f"is {kind}: {what}, which simpick does not simulate (it studies rigid "
+                             "wheeled bodies: driven and caster wheels on continuous joints)",
+                             "make it a fixed joint in the description if it does not move while driving")
+        axis_local = joint_axis(j, jw)
+        _, rot = tree.pose[child]
+        axis = rot @ axis_local  # in the base frame
+        link = tree.links[child]
+        if abs(axis[2]) > 1 - 1e-3:  # a vertical continuous joint: a caster's swivel
+            if not any(tree.joints[k].get("type") == "continuous" for k in _subtree_joints(tree, child)):
+                raise InputError(jw, "spins about a vertical axis and carries no wheel: not a wheel or a caster swivel")
+            continue
+        shape = _wheel_shape(link, axis_local, jw)
+        if shape is None:
+            raise InputError(jw, f"is continuous but its child link {child!r} has no cylinder or sphere collision: "
+                             "a wheel needs one for the engines to roll on",
+                             "add a <collision> with a cylinder (axis along the joint) or a sphere")
+        if abs(axis[2]) > 1e-3 or abs(axis[0]) > 1e-3:
+            raise InputError(jw, f"spins about {np.round(axis, 3).tolist()} in the base frame: a wheel must spin "
+                             "about the base's y axis (a steered, cambered or omni wheel is not supported)")
+        kind_, radius, width = shape
+        position, _ = tree.pose[child]
+        # rolling without slip: the base moves at r w (a x z) for joint speed w about a
+        axis_sign = 1 if axis[1] > 0 else -1
+        swivel = None
+        parent = j.find("parent").get("link")
+        link_up = parent
+        while link_up in tree.child_joint:
+            pj = tree.child_joint[link_up]
+            if pj.get("type") == "continuous":
+                swivel = pj.get("name")
+                break
+            link_up = pj.find("parent").get("link")
+        y = float(position[1])
+        side = "left" if y > 1e-3 else "right" if y < -1e-3 else "centre"
+        if declared is not None:
+            driven = jname in declared
+            if driven:
+                side = declared[jname]
+        else:
+            # on a swivel, or on the centre line (a ball caster's spinning sphere): passive
+            driven = swivel is None and side != "centre"
+        if driven and side == "centre":
+            raise InputError(jw, f"a driven wheel on the centre line (y = {y:.4f} m): its side is unknown",
+                             "declare it under robot.wheels with its side")
+        wheels.append(Wheel(joint=jname, link=child, side=side, radius=radius, width=width, shape=kind_,
+                            position=tuple(float(v) for v in position), axis_sign=axis_sign, driven=driven,
+                            swivel=swivel))
+    if declared is not None:
+        missing = sorted(set(declared) - {w.joint for w in wheels})
+        if missing:
+            raise InputError("robot.wheels", f"joints {missing} are not wheel joints of {where} "
+                             f"(found: {[w.joint for w in wheels]})")
+    driven = [w for w in wheels if w.driven]
+    if not driven:
+        raise InputError(where, "no driven wheel found (a continuous joint on the base whose child collides as "
+                         "a cylinder or sphere); tracked and legged robots are not supported",
+                         "declare the driven joints under robot.wheels if the description has them")
+    left = [w for w in driven if w.side == "left"]
+    right = [w for w in driven if w.side == "right"]
+    if len(driven) not in (2, 4, 6) or len(left) != len(right):
+        raise InputError(where, f"{len(left)} left and {len(right)} right driven wheels "
+                         f"({[w.joint for w in driven]}): simpick drives 2, 4 or 6 wheels, as many on each side")
+    radii = [w.radius for w in driven]
+    if max(radii) - min(radii) > 1e-3:
+        raise InputError(where, f"driven wheel radii differ ({dict((w.joint, w.radius) for w in driven)}): "
+                         "a differential controller needs one radius")
+    # command order: front to back, left before right
+    driven.sort(key=lambda w: (-round(w.position[0], 4), w.side != "left"))
+    return driven + [w for w in wheels if not w.driven], notes
+
+
+def _find_skids(tree: _Tree, where: str, base_height: float) -> tuple[Skid, ...]:
+    """Collision shapes of links rigidly fixed to the base whose lowest point, the robot level on
+    its wheels, is within SKID_REACH of the ground."""
+    def on_base(link: str) -> bool:
+        while link in tree.child_joint:
+            joint = tree.child_joint[link]
+            if joint.get("type") != "fixed":
+                return False
+            link = joint.find("parent").get("link")
+        return True
+
+    found = []
+    for name, link in tree.links.items():
+        if not on_base(name):
+            continue
+        p, r = tree.pose[name]
+        for collision in link.findall("collision"):
+            geometry = collision.find("geometry")
+            if geometry is None:
+                continue
+            xyz, rot = origin(collision, f"{where}: link {name!r} collision")
+            centre, m = p + r @ xyz, r @ rot
+            box, sph, cyl = geometry.find("box"), geometry.find("sphere"), geometry.find("cylinder")
+            if box is not None:
+                half = _floats(box.get("size"), 3, f"{where}: link {name!r} box size") / 2
+                low, kind = centre[2] - float(np.abs(m[2]) @ half), "box"
+            elif sph is not None:
+                low, kind = centre[2] - float(sph.get("radius")), "sphere"
+            elif cyl is not None:
+                c = abs(m[2, 2])
+                low = centre[2] - (c * float(cyl.get("length")) / 2 + math.sqrt(max(0.0, 1 - c * c)) * float(cyl.get("radius")))
+                kind = "cylinder"
+            else:
+                continue
+            clearance = low + base_height
+            if clearance <= SKID_REACH:
+                found.append(Skid(link=name, shape=kind, position=(float(centre[0]), float(centre[1]), float(low)),
+                                  clearance=float(clearance)))
+    return tuple(found)
+
+
+def _subtree_joints(tree: _Tree, link: str) -> list[str]:
+    out, stack = [], [link]
+    while stack:
+        for j in tree.children[stack.pop()]:
+            out.append(j.get("name"))
+            stack.append(j.find("child").get("link"))
+    return out
+
+
+OVERRIDABLE = ("wheel_radius", "track", "wheelbase", "mass", "com", "base_height", "imu_mount")
+
+
+def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping[str, str] | None = None,
+               overrides: Mapping[str, Any] | None = None) -> RobotSpec:
+    """Read any wheeled robot's URDF or xacro; see the module docstring for the rules.
+
+    ``imu_link``: the link whose origin is the IMU (default: the first link with "imu" in its
+    name, else the base). ``wheels``: driven joint -> side ("left"/"right"), instead of finding
+    them. ``overrides``: figures from :data:`OVERRIDABLE` replacing the description's.
+    """
+    source = Path(urdf)
+    where = str(source)
+    root = read_description(source)
+    tree = _tree(root, where)
+    if wheels is not None:
+        bad = {j: s for j, s in wheels.items() if s not in ("left", "right")}
+        if bad:
+            raise InputError("robot.wheels", f"sides must be 'left' or 'right', got {bad}")
+    found, notes = _find_wheels(tree, where, wheels)
+
+    # mass and centre of mass of the whole robot, joints at zero
+    mass, moment = 0.0, np.zeros(3)
+    for name, link in tree.links.items():
+        inert = _inertial(link, where)
+        if inert is None:
+            continue
+        p, r = tree.pose[name]
+        mass += inert[0]
+        moment += inert[0] * (p + r @ inert[1])
+    if mass <= 0:
+        raise InputError(where, "no link has a mass: the robot's weight is unknown", "add <inertial> blocks")
+    com = moment / mass
+    # every rigid body an engine builds (the base, each moving link, with what is fixed to it) needs
+    # a mass: Bullet would give a massless one 1 kg, ODE refuses it
+    body_mass: dict[str, float] = {}
+    for name, link in tree.links.items():
+        body = name
+        while body in tree.child_joint and tree.child_joint[body].get("type") == "fixed":
+            body = tree.child_joint[body].find("parent").get("link")
+        inert = _inertial(link, where)
+        body_mass[body] = body_mass.get(body, 0.0) + (inert[0] if inert else 0.0)
+    massless = sorted(b for b, m in body_mass.items() if m <= 0)
+    if massless:
+        raise InputError(where, f"links {massless} (with the links fixed to them) have no mass: each moving "
+                         "part and the base needs one", "add an <inertial> with the part's mass")
+
+    if imu_link is None:
+        imu_link = next((n for n in tree.links if "imu" in n.lower()), tree.base)
+    elif imu_link not in tree.links:
+        raise InputError("robot.imu_link", f"{imu_link!r} is not a link of {where} (links: {sorted(tree.links)})")
+    imu_pos, imu_rot = tree.pose[imu_link]
+    if not np.allclose(imu_rot, np.eye(3), atol=1e-6):
+        notes.append(f"IMU link {imu_link!r} is rotated relative to the base; the simulated IMU's axes are "
+                     "the base's")
+
+    driven = [w for w in found if w.driven]
+    radius = driven[0].radius
+    # resting height: the lowest point of any wheel on the ground
+    base_height = max(w.radius - w.position[2] for w in found)
+    for w in found:
+        gap = (w.radius - w.position[2]) - base_height
+        if gap < -2e-3:
+            notes.append(f"wheel {w.joint!r} clears the ground by {-gap * 1000:.1f} mm at rest")
+    left = [w.position[1] for w in driven if w.side == "left"]
+    right = [w.position[1] for w in driven if w.side == "right"]
+    xs = [w.position[0] for w in driven]
+    figures = {"wheel_radius": radius, "track": float(np.mean(left) - np.mean(right)),
+               "wheelbase": float(max(xs) - min(xs)), "mass": float(mass), "com": tuple(float(c) for c in com),
+               "base_height": float(base_height), "imu_mount": tuple(float(c) for c in imu_pos)}
+    overridden = []
+    for key, value in (overrides or {}).items():
+        if value is None:
+            continue
+        if key not in OVERRIDABLE:
+            raise InputError(f"robot.overrides.{key}", f"unknown figure; overridable: {list(OVERRIDABLE)}")
+        figures[key] = tuple(float(v) for v in value) if key in ("com", "imu_mount") else float(value)
+        overridden.append(key)
+
+    skids = _find_skids(tree, where, float(base_height))
+    for s in skids:
+        notes.append(f"link {s.link!r}: a {s.shape} {s.clearance * 1000:.1f} mm above the ground at rest, a "
+                     "sliding support (skid) with the ground's friction")
+    file = source
+    if _needs_rewrite(root, source):
+        text, more = normalised_urdf(root, tree, root.get("name") or source.stem)
+        notes += more
+        file = _write_cached(text)
+        notes.append(f"loaded through a normalised copy ({file.name}): fixed links fused, visuals dropped")
+    return RobotSpec(urdf=file, source=source, name=root.get("name") or source.stem, base_link=tree.base,
+                     wheels=tuple(found), imu_link=imu_link, notes=tuple(notes), overridden=tuple(overridden),
+                     skids=skids, **figures)
+
+
+def load_from_config(robot: Mapping[str, Any]) -> RobotSpec:
+    """The robot as the config's ``robot`` block names it (urdf, imu_link, wheels, overrides)."""
+    wheels = robot.get("wheels")
+    if wheels is not None:
+        wheels = {w["joint"]: w["side"] for w in wheels}
+    overrides = {k: v for k, v in (robot.get("overrides") or {}).items() if v is not None}
+    return load_robot(robot["urdf"], imu_link=robot.get("imu_link"), wheels=wheels, overrides=overrides)
+
+
+__all__ = ["OVERRIDABLE", "RobotSpec", "SKID_REACH", "Skid", "Wheel", "load_from_config", "load_robot", "normalised_urdf",
+           "read_description", "rpy_matrix", "matrix_rpy", "origin", "joint_axis"]

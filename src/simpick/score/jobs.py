@@ -1,0 +1,130 @@
+"""The score stage's job: the paper's scores and weighted table, and the record of what they rest on.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from simpick.errors import InputError
+from simpick.tables import write_csv
+
+
+def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[str], qualitative: str,
+               weights: dict, outputs: dict[str, str], sources: dict | None = None) -> None:
+    """The scores and the weighted table; with ``outputs["provenance"]`` also the record of what
+    they rest on (:func:`score_provenance`; ``sources`` as it describes), which the report reads
+    instead of working it out again."""
+    import pandas as pd
+    import yaml
+
+    from simpick.score import scoring
+
+    try:
+        facts = yaml.safe_load(Path(qualitative).read_text())
+    except (OSError, yaml.YAMLError) as exc:
+        raise InputError(qualitative, f"cannot read qualitative facts: {exc}") from None
+    missing = [e for e in engines if e not in (facts or {})]
+    if missing:
+        raise InputError(qualitative, f"no facts for engines {missing}", "add a record per engine")
+    rows = {}
+    for engine in engines:
+        try:
+            rows[engine] = scoring.qualitative_scores(facts[engine])
+        except ValueError as exc:
+            raise InputError(f"{qualitative}: {engine}", str(exc)) from None
+
+    rtf_frame = pd.read_csv(rtf).set_index("engine")
+    errors = pd.read_csv(imu_errors)
+    cpu = {c["engine"]: c for c in (json.loads(Path(f).read_text()) for f in cpu_files)}
+    # a CPU run that failed its health check is not a load to compare: that engine's score is NaN
+    # (listed as excluded in the weighted table), the others are scored among themselves
+    cpu = {e: c for e, c in cpu.items() if (c.get("health") or {}).get("status", "ok") == "ok"}
+
+    def column(values: dict) -> dict:
+        return {e: values.get(e, float("nan")) for e in engines}
+
+    quantitative = {
+        "real_time_factor": scoring.real_time_factor_scores(column(rtf_frame.real_time_factor.to_dict())),
+        "cpu_average": scoring.efficiency_scores(column({e: c["average"]["load_percent"] for e, c in cpu.items()})),
+        "cpu_intense": scoring.efficiency_scores(column({e: c["intense"]["load_percent"] for e, c in cpu.items()})),
+    }
+    for quantity in ("angular", "linear"):
+        q = errors[errors.quantity == quantity].set_index("engine").error.to_dict()
+        quantitative[f"imu_{quantity}"] = scoring.accuracy_scores(column(q))
+    for metric, values in quantitative.items():
+        for engine in engines:
+            rows[engine][metric] = values.get(engine, float("nan"))
+    scores = pd.DataFrame.from_dict(rows, orient="index")[list(scoring.METRICS)]
+    scores.index.name = "engine"
+    write_csv(scores, outputs["scores"], index=True)
+    write_csv(scoring.weighted_table(scores, weights), outputs["weighted"], index=True)
+    if outputs.get("provenance"):
+        record = score_provenance(engines, imu_errors, rtf, cpu_files, sources or {})
+        Path(outputs["provenance"]).write_text(yaml.safe_dump(record, sort_keys=False))
+
+
+def _failures(path: str | None) -> dict[str, list[str]]:
+    """test -> "model: reasons" of every run in a per-test table (the lab runs.csv or a real-data
+    *_per_test.csv) that did not finish healthily."""
+    import pandas as pd
+
+    if not path:
+        return {}
+    frame = pd.read_csv(path, dtype=str, keep_default_na=False)
+    tests = frame["segment"] if "segment" in frame else frame["terrain"] + "/" + frame["motion"]
+    out: dict[str, list[str]] = {}
+    for test, row in zip(tests, frame.to_dict("records")):
+        if row.get("status", "ok") != "ok":
+            out.setdefault(test, []).append(f"{row['engine']} {row['status']}: {row.get('reasons') or 'no reason given'}")
+    return out
+
+
+def _split(cells) -> list[str]:
+    return sorted({t for cell in cells for t in str(cell).split(";") if t.strip() and t != "nan"})
+
+
+def score_provenance(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[str], sources: dict) -> dict:
+    """What the scores rest on, as results/scores/provenance.yaml records it: the errors file of
+    the accuracy scores, its tests and the tests left out (a test any model failed is left out
+    for all: metrics.eq7_totals) with the failures that left each out; the same for the
+    real-time factor (equal_rtf); which engines' CPU runs were scored and why the others were not.
+
+    ``sources``: ``accuracy`` (``reference``, ``set``: lab, segments, replay or own, ``dataset``),
+    ``accuracy_tests`` (the per-test table beside the errors file), ``runs`` (the lab runs.csv)
+    and ``cpu_test`` (the CPU runs' terrain/motion); each optional."""
+    import pandas as pd
+
+    errors = pd.read_csv(imu_errors, dtype=str, keep_default_na=False)
+    errors = errors[errors.engine.isin(engines)]
+    why = _failures(sources.get("accuracy_tests"))
+    lab_why = _failures(sources.get("runs"))
+
+    def left_out(tests: list[str], reasons: dict) -> list[dict]:
+        return [{"test": t, "why": "; ".join(reasons.get(t) or ["not completed by every model"])} for t in tests]
+
+    rtf_frame = pd.read_csv(rtf, dtype=str, keep_default_na=False)
+    cpu = [json.loads(Path(f).read_text()) for f in cpu_files]
+    failed_cpu = [c for c in cpu if (c.get("health") or {}).get("status", "ok") != "ok"]
+    return {
+        "accuracy": {
+            **dict(sources.get("accuracy") or {}),
+            "errors_file": str(imu_errors),
+            "per_test_file": sources.get("accuracy_tests"),
+            "engines": list(engines),
+            "tests": _split(errors.get("tests", [])),
+            "excluded": left_out(_split(errors.get("excluded", [])), why),
+        },
+        "real_time_factor": {
+            "file": str(rtf),
+            "tests": _split(rtf_frame.get("tests", [])),
+            "excluded": left_out(_split(rtf_frame.get("excluded", [])), lab_why),
+        },
+        "cpu": {
+            "files": [str(f) for f in cpu_files],
+            "test": sources.get("cpu_test"),
+            "engines": sorted(c["engine"] for c in cpu if c not in failed_cpu),
+            "excluded": [{"engine": c["engine"], "why": "; ".join(c["health"].get("reasons") or ["failed"])}
+                         for c in failed_cpu],
+        },
+    }

@@ -1,0 +1,102 @@
+"""The simulate stage's jobs: a unit of cases stepped on one model under the watchdog, one trace per
+case (whatever its source: :mod:`simpick.sources` says how a case is driven), and the CPU-load run.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S
+
+TRACE_KEYS = ("source", "test", "engine", "terrain", "motion", "dataset", "run", "segment", "window")
+
+
+def simulate_job(outputs: list[str], urdf: str, inputs: dict, params: dict, after_hung=None) -> list[dict]:
+    """A unit's cases (``params["cases"]``, one trace each in ``outputs``) on one model, each under
+    the watchdog: a case still running after ``health.timeout`` s of wall time is written as a
+    failed (hung) trace, and so are the unit's cases after it, which cannot run in the stopped
+    process; the source's compare job lists them like any failed run. ``params["kind"]`` says how
+    a case is driven (lab, segments, replay: its simpick.sources module's ``prepare_case``, imported
+    by name); ``inputs`` holds the files it reads. ``after_hung``: called once the hung traces are
+    written, before the process ends (a job that compares its own traces, the sweep, does so then)."""
+    from simpick import sources
+    from simpick.simulate.run import config_hash
+    from simpick.simulate.traces import write_trace
+    from simpick.simulate.watchdog import Watchdog
+
+    if len(outputs) != len(params["cases"]):
+        raise ValueError(f"{len(params['cases'])} cases for {len(outputs)} outputs")
+    prepare = sources.module(params["kind"]).prepare_case
+    units = []
+    for name, output in zip(params["cases"], outputs):
+        described, run = prepare(urdf, inputs, params, name)
+        which = {key: None for key in TRACE_KEYS} | described | {"source": params["source"], "engine": params["engine"]}
+        units.append((which, run, output))
+    timeout = params["health"]["timeout"]
+    done = []
+    for i, (which, run, output) in enumerate(units):
+        def hung(i=i):
+            write_hung_trace(units[i][2], units[i][0], params, timeout)
+            for later, _, path in units[i + 1:]:
+                write_hung_trace(path, later, params, timeout, reason=f"not run: {units[i][0]['test']} hung before it")
+            if after_hung is not None:
+                after_hung()
+
+        with Watchdog(timeout, hung):
+            frame, meta = run()
+        meta = meta | which | {"config_hash": config_hash(params)}
+        write_trace(frame, meta, output)
+        done.append(meta)
+    return done
+
+
+def write_hung_trace(output: str, which: dict, params: dict, timeout: float, reason: str | None = None) -> None:
+    """An empty trace whose health record says the engine hung (or ``reason``), so the run is
+    reported. ``which``: the metadata that names the case (TRACE_KEYS), so the job that compares
+    it finds it like any other."""
+    from simpick.simulate.run import config_hash
+    from simpick.simulate.traces import COLUMNS, write_trace
+    from simpick.simulate.watchdog import hung_reason
+
+    waited = 0.0 if reason else float(timeout)  # a case not run used no time
+    reason = reason or hung_reason(timeout)
+    print(f"simpick: {which['engine']} {which['source']} {which['test']}: {reason}", file=sys.stderr)
+    write_trace({c: [] for c in COLUMNS},
+                {"engine_version": "", **which,
+                 "timestep": params["physics"]["timestep"], "seed": params["seed"], "steps": 0, "sim_time": 0.0,
+                 "wall_time": waited, "cpu_time": float("nan"), "real_time_factor": None,
+                 "health": {"status": "failed", "reasons": [reason]}, "config_hash": config_hash(params)},
+                output)
+
+
+def cpu_job(output: str, terrain_file: str, urdf: str, params: dict, timeout: float = DEFAULT_TIMEOUT_S) -> None:
+    """The CPU-load measurement of one engine (simpick.simulate.cpuload), under the watchdog: still running
+    after ``timeout`` s of wall time (simpick.simulate.watchdog.runtime_timeout of the rule's runtime), the
+    job writes :func:`simpick.simulate.cpuload.hung_result` instead, which the scores leave out and name."""
+    from simpick.simulate.cpuload import hung_result, measure
+    from simpick.simulate.health import HealthLimits
+    from simpick.simulate.watchdog import Watchdog
+
+    def write(result: dict) -> None:
+        Path(output).parent.mkdir(parents=True, exist_ok=True)
+        Path(output).write_text(json.dumps(result, indent=1))
+
+    def hung() -> None:
+        result = hung_result(params, timeout)
+        print(f"simpick: cpu_load {params['engine']}: {result['health']['reasons'][0]}", file=sys.stderr)
+        write(result)
+
+    cpu = params["cpu_load"]
+    with Watchdog(timeout, hung):
+        result = measure(params["engine"], urdf=urdf, terrain_file=terrain_file, motion=params["motion"],
+                         timestep=params["physics"]["timestep"],
+                         ground_friction=params["physics"]["ground_friction"],
+                         max_wheel_torque=params["robot"]["max_wheel_torque"], track=params["robot"]["track"],
+                         engine_settings=params["engine_settings"], duration=cpu["duration"],
+                         repeats=int(cpu["repeats"]), robots_average=int(cpu["robots_average"]),
+                         robots_intense=int(cpu["robots_intense"]), spacing=cpu["spacing"],
+                         robot_options=params["robot"],
+                         limits=HealthLimits(**params["health"]) if params.get("health") else None)
+    write(result)

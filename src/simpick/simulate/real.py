@@ -1,0 +1,100 @@
+"""Driving an engine with real runs: a constant-command segment on its terrain class's flat ground, or
+a whole run replayed by its recorded wheel speeds, each from its seeded start heading.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from simpick.real.segments import load_segments
+
+
+def flat_terrain(name: str, friction: float) -> dict:
+    from simpick.inputs.terrain import generate
+
+    return generate(name, "flat", 0, friction, tiles=0)
+
+
+def start_heading(seed: int, dataset: object, terrain_class: object, run: object, case: object) -> float:
+    """The start heading (rad, in [0, 2 pi)) of one real-data case: drawn uniformly from the config
+    seed and the case's names, the same for every model (so paired comparisons stay paired), a
+    different one for every case. Mechanics says a robot on isotropic flat ground turns the same
+    whichever way it faces; an engine that does not (PyBullet's gain has a 90-degree period, 0.10
+    along the world axes, 0.54 at 45 degrees: issue 17) then shows that as spread over the runs,
+    which every interval over runs carries, instead of a bias fixed by one chosen start (every case
+    started at heading 0, PyBullet's worst, before issue 17). One heading per case costs no extra
+    simulation; several per case would multiply the real-data simulation by their number."""
+    from simpick.simulate.run import stable_seed
+
+    u = stable_seed(int(seed), "start heading", str(dataset), str(terrain_class), str(run), str(case)) / 2.0 ** 32
+    return float(2.0 * np.pi * u)
+
+
+def simulate_segment(seg: pd.Series, urdf: str, params: dict) -> tuple[pd.DataFrame, dict]:
+    """One real segment's command driven on ``params["engine"]`` over its class's flat ground,
+    from its seeded start heading (:func:`start_heading`)."""
+    from simpick.simulate.health import HealthLimits
+    from simpick.simulate.imu import ImuModel
+    from simpick.simulate.run import Case, config_hash, run_case
+
+    friction = params["class"]["friction"]
+    heading = start_heading(params["seed"], seg.dataset, seg.terrain_class, seg.run, seg.name)
+    case = Case(engine=params["engine"], terrain=params["terrain_class"], motion=seg.name, v=float(seg.v),
+                w=float(seg.w), duration=float(seg.settle + seg.duration), start=(0.0, 0.0, heading))
+    frame, meta = run_case(case, urdf=urdf, terrain=flat_terrain(params["terrain_class"], friction),
+                           track=params["robot"]["track"], max_wheel_torque=params["robot"]["max_wheel_torque"],
+                           timestep=params["physics"]["timestep"], ground_friction=friction,
+                           engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
+                           seed=int(params["seed"]), limits=HealthLimits(**params["health"]),
+                           robot_options=params["robot"])
+    meta.update({"dataset": seg.dataset, "run": seg.run, "segment": seg.name,
+                 "start_heading_deg": float(np.degrees(heading)),
+                 "window": [float(seg.settle), float(seg.settle + seg.duration)],
+                 "friction_source": params["class"].get("source", ""),
+                 "config_hash": config_hash(params)})
+    return frame, meta
+
+
+def class_segments(segments_csv: str, terrain_class: str) -> pd.DataFrame:
+    segments = load_segments(segments_csv)
+    return segments[segments.terrain_class == terrain_class].set_index("segment")
+
+
+def log_imu_rate(log) -> float:
+    """A real log's IMU rate (Hz): the reader's measured median rate, else from its times."""
+    rate = ((log.meta.get("rates") or {}).get("imu") or {}).get("median_hz")
+    return float(rate) if rate else float(1.0 / np.median(np.diff(log.imu["time"].to_numpy(dtype=float))))
+
+
+def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> tuple[pd.DataFrame, dict]:
+    """Drive one engine with a real run's recorded wheel speeds (zero-order hold, from rest, from
+    the run's seeded start heading: :func:`start_heading`)."""
+    from simpick.inputs.robot import load_from_config
+    from simpick.simulate.health import HealthLimits
+    from simpick.simulate.imu import model_at_rate
+    from simpick.simulate.run import run_commands, stable_seed
+
+    robot = load_from_config({**params["robot"], "urdf": urdf})
+    dt = params["physics"]["timestep"]
+    cmd = log.wheel_commands(params["robot"]["track"])
+    end = float(min(log.imu.time.iloc[-1], cmd.time.iloc[-1]))
+    t = dt * np.arange(int(round((end if duration is None else min(end, duration)) / dt)))
+    held = np.clip(np.searchsorted(cmd.time.to_numpy(), t, side="right") - 1, 0, len(cmd) - 1)
+    left, right = cmd.v_left.to_numpy()[held], cmd.v_right.to_numpy()[held]
+    wheels = robot.joint_speeds(left, right)  # (steps, driven wheels): the Husky's [l, r, l, r] / radius
+    friction = params["class"]["friction"]
+    heading = start_heading(params["seed"], log.meta.get("dataset"), params["terrain_class"], log.meta["run_id"],
+                            log.meta["name"])
+    frame, meta = run_commands(params["engine"], wheels, robot=robot,
+                               terrain=flat_terrain(params["terrain_class"], friction), start=(0.0, 0.0, heading),
+                               timestep=dt, ground_friction=friction, max_wheel_torque=params["robot"]["max_wheel_torque"],
+                               engine_settings=params["engine_settings"],
+                               imu=model_at_rate(params["imu"], log_imu_rate(log), dt),
+                               noise_seed=stable_seed(params["seed"], params["engine"], log.meta["name"]),
+                               limits=HealthLimits(**params["health"]))
+    meta.update({"terrain": params["terrain_class"], "motion": f"replay-{log.meta['run_id']}",
+                 "dataset": log.meta.get("dataset"), "run": str(log.meta["run_id"]), "seed": params["seed"],
+                 "replay_of": log.meta.get("source_files"), "real_imu_rate_hz": log_imu_rate(log),
+                 "start_heading_deg": float(np.degrees(heading))})
+    return frame, meta

@@ -1,0 +1,1 @@
+"""Studies beside the main flow: engines against analytic mechanics (validation), the timestep sweep, the calibration."""
