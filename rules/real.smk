@@ -51,7 +51,7 @@ if PLAN.replay_set:
             "../scripts/import_real.py"
 
     # The folder's own constant-command segments: a result, beside its replay, and a source of cases
-    # ("<dataset>-segments", rules/common.smk) known only once it is written: a checkpoint.
+    # ("<dataset>-segments", simpick.plan) known only once it is written: a checkpoint.
     checkpoint real_segments:
         input:
             logs=PLAN.real_logs(PLAN.replay_set.name),

@@ -777,7 +777,7 @@ def test_the_sample_rate_table_is_read_from_the_replay_table_not_the_logs(built_
 
 
 def test_the_summary_lists_engines_left_out_because_they_are_not_installed(tmp_path):
-    """An engine the machine cannot run (rules/common.smk UNAVAILABLE) is named in the summary with
+    """An engine the machine cannot run (simpick.plan: Plan.unavailable) is named in the summary with
     the reason, not dropped silently; with none left out there is no such line."""
     lab = write_synthetic_inputs(tmp_path / "in", seconds=1.0, failed=None)
     inputs = {**lab, "accuracy_errors": lab["imu_errors"]}

@@ -35,7 +35,7 @@ def test_own_logs_run_the_replay_jobs():
 
 
 def roots(kind, step, root=None):
-    """What rules/common.smk hashes for a kind's simulate (case_code, less the adapter) or compare job."""
+    """What the plan (simpick.plan) hashes for a kind's simulate (case_code, less the adapter) or compare job."""
     job = {"prepare_case": "simpick.simulate.jobs:simulate_job", "compare": "simpick.compare.jobs:compare_job"}[step]
     return (job, sources.entry(kind, step))
 
