@@ -59,6 +59,9 @@ def test_the_shipped_config_is_valid():
     (lambda c: c["real_data"].update(segments="gone.csv"), "real_data.segments: 'gone.csv' does not exist; restore it"),
     (lambda c: c["imu"].update(rate_hz="fast"), "imu.rate_hz: Input should be a valid number"),
     (lambda c: c.update(sede=1), "sede: Extra inputs are not permitted"),
+    (lambda c: c["validation"]["cases"].update(short={"kind": "rest", "mu": 0.8, "duration": 0.9}),
+     "validation.cases.short: a rest case measures after 1 s of settling: its duration must be at "
+     "least 1.1 s, got 0.9"),
     (lambda c: c["accuracy"].update(reference="vibes"), "accuracy.reference: Input should be 'real', 'paper' or 'own' (got 'vibes')"),
     (lambda c: c.update(own_logs=[{"name": "x", "terrain_class": "moon", "csv": "config.yaml", "mapping": {"a": 1}}]),
      "own_logs: terrain classes ['moon'] are not under real_data.classes"),

@@ -26,7 +26,7 @@ from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.errors import validation_problems
 from simpick.inputs.terrain import RULES, TILES
 from simpick.score.scoring import METRICS
-from simpick.studies.validation import DEFAULT_HEADING
+from simpick.studies.validation import DEFAULT_HEADING, MIN_MEASURED_S, SETTLE_S
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
@@ -212,6 +212,10 @@ class ValidationCase(Strict):
             raise ValueError("friction_ratio is a yaw_gain case's parameter only")
         if self.kind == "rest" and self.heading != 0:
             raise ValueError("a rest case takes no heading (parked on level ground, it would change nothing)")
+        if self.kind in ("incline", "rest") and self.duration is not None \
+                and self.duration < SETTLE_S + MIN_MEASURED_S:
+            raise ValueError(f"a {self.kind} case measures after {SETTLE_S:g} s of settling: its duration must be "
+                             f"at least {SETTLE_S + MIN_MEASURED_S:g} s, got {self.duration:g}")
         return self
 
 

@@ -65,6 +65,10 @@ from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S
 KINDS = ("yaw_gain", "straight", "slide", "incline", "rest")
 # deg: a case's start heading (the downhill direction of an incline) when it names none
 DEFAULT_HEADING = 0.0
+# s: a parked case (incline, rest) measures after the spawn drop and the servos' lock-up settle
+SETTLE_S = 1.0
+# s: the least it then measures (100 samples at 1 kHz: a slope fit and a creep speed need some)
+MIN_MEASURED_S = 0.1
 FLAT = {"schema": "simpick.inputs.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": 0.0}
 
 # Quantity -> (unit, how its error is measured): "relative" |e - a| / |a|, or "absolute" |e - a|.
@@ -194,7 +198,7 @@ def _incline(setup: Setup, p: dict):
     gravity = (horizontal[0], horizontal[1], -GRAVITY * math.cos(angle))
     record = get_engine(setup.engine).simulate(_scenario(setup, mu, gravity),
                                                _commands(setup, [(duration, 0.0, 0.0)]))
-    settle = int(round(1.0 / setup.timestep))  # spawn drop and servo lock-up
+    settle = int(round(SETTLE_S / setup.timestep))
     s = record.position[:, :2] @ down  # distance travelled downhill
     if factor < 1:
         creep = abs(s[-1] - s[settle]) / ((record.steps - 1 - settle) * setup.timestep)
@@ -213,7 +217,7 @@ def _rest(setup: Setup, p: dict):
     mu, duration = p["mu"], p.get("duration", 10.0)
     record = get_engine(setup.engine).simulate(_scenario(setup, mu), _commands(setup, [(duration, 0.0, 0.0)]))
     block = max(1, int(round(0.01 / setup.timestep)))  # the IMU's 100 Hz
-    settle = int(round(1.0 / setup.timestep))
+    settle = int(round(SETTLE_S / setup.timestep))
     accel = block_average(record.imu_specific_force[settle:], block)
     gyro = block_average(record.imu_gyro[settle:], block)
     creep = float(np.linalg.norm(record.position[-1, :2] - record.position[settle, :2]))
