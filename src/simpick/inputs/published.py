@@ -32,7 +32,7 @@ from simpick.score.scoring import (
     weighted_table,
 )
 
-DEFAULT_PATH = Path(__file__).resolve().parents[2] / "resources" / "published" / "farley2022.yaml"
+DEFAULT_PATH = Path(__file__).resolve().parents[3] / "resources" / "published" / "farley2022.yaml"
 
 TOP_LEVEL_KEYS = ("simulators", "table3", "table4", "table10", "table11", "worked_example")
 
