@@ -10,7 +10,6 @@ import pandas as pd
 
 from simpick.compare import metrics, realmetrics
 from simpick.compare.metrics import AXES
-from simpick.real.segments import load_segments
 from simpick.tables import write_csv
 
 QUANTITIES = ("angular", "linear")
@@ -59,6 +58,9 @@ def segment_row(frame: pd.DataFrame, meta: dict, seg: pd.Series, track: float) -
 def segment_compare(segments_csv: str, traces: list[str], track: float):
     """Every simulated segment against its real window statistics (the committed table): per
     test rows (segment_row), per axis rows (tables.axis_rows) and each trace's run row."""
+    # imported here, not at the top: a module-level import would put real/segments.py in the code
+    # version of every job of this module (the lab's and the replays' summaries too)
+    from simpick.real.segments import load_segments
     from simpick.simulate.traces import read_trace
     from simpick.tables import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, run_row
 

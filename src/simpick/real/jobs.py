@@ -11,7 +11,6 @@ from pathlib import Path
 import yaml
 
 from simpick.errors import InputError
-from simpick.real.segments import load_segments
 from simpick.tables import write_csv
 
 
@@ -39,6 +38,8 @@ def maintain_segments_job(derived_csv: str, derived_provenance: str, committed: 
 
     def digest(path) -> str | None:
         return hashlib.sha256(Path(path).read_bytes()).hexdigest() if Path(path).is_file() else None
+
+    from simpick.real.segments import load_segments
 
     load_segments(derived_csv)  # refuse a table the study could not read
     done = {}

@@ -7,8 +7,6 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from simpick.real.segments import load_segments
-
 
 def flat_terrain(name: str, friction: float) -> dict:
     from simpick.inputs.terrain import generate
@@ -57,6 +55,8 @@ def simulate_segment(seg: pd.Series, urdf: str, params: dict) -> tuple[pd.DataFr
 
 
 def class_segments(segments_csv: str, terrain_class: str) -> pd.DataFrame:
+    from simpick.real.segments import load_segments  # here, not at the top: only segment jobs read a table
+
     segments = load_segments(segments_csv)
     return segments[segments.terrain_class == terrain_class].set_index("segment")
 
