@@ -24,7 +24,6 @@ sys.path.insert(0, str(ROOT / "bench"))
 sys.path.insert(0, str(ROOT / "src"))
 
 from run import lab_scenarios  # noqa: E402
-
 from simpick.engines import get_engine  # noqa: E402
 
 

@@ -29,9 +29,9 @@ sys.path.insert(0, str(ROOT / "src"))
 
 from simpick.engines import get_engine  # noqa: E402
 from simpick.engines.base import Scenario  # noqa: E402
-from simpick.inputs.jobs import terrain_job  # noqa: E402
 from simpick.inputs.motions import constant_commands  # noqa: E402
 from simpick.inputs.robot import load_robot  # noqa: E402
+from simpick.inputs.jobs import terrain_job  # noqa: E402
 
 TARGETS = {  # issue 5, on a 2-core machine
     "job_vs_bare_ratio": (">=", 0.90),

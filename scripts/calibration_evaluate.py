@@ -1,6 +1,6 @@
-from simpick.joblog import logged
-from simpick.simulate.watchdog import runtime_timeout
 from simpick.studies.calibration import evaluate_job
+from simpick.simulate.watchdog import runtime_timeout
+from simpick.joblog import logged
 
 with logged(snakemake.log[0]):
     evaluate_job({k: (list(v) if k == "logs" else v) for k, v in snakemake.input.items()}, snakemake.params.case,

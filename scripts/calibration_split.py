@@ -1,5 +1,5 @@
-from simpick.joblog import logged
 from simpick.studies.calibration import split_job
+from simpick.joblog import logged
 
 with logged(snakemake.log[0]):
     split_job(snakemake.params.units, snakemake.params.test_fraction, snakemake.params.seed, snakemake.output[0],

@@ -1,5 +1,5 @@
-from simpick.joblog import logged
 from simpick.studies.calibration import summary_job
+from simpick.joblog import logged
 
 with logged(snakemake.log[0]):
     summary_job(list(snakemake.input.evals), list(snakemake.input.bests), snakemake.input.split,

@@ -1,7 +1,6 @@
-from simpick.joblog import (
-    logged,  # one script for every figure rule: simpick.report.draw.RULES maps the rule to what it draws
-)
+# one script for every figure rule: simpick.report.draw.RULES maps the rule to what it draws
 from simpick.report.draw import figure_job
+from simpick.joblog import logged
 
 with logged(snakemake.log[0]):
     figure_job(snakemake.rule, {k: (list(v) if k in ("traces", "real_logs", "replay_traces") else v)

@@ -1,5 +1,5 @@
-from simpick.joblog import logged
 from simpick.real.jobs import import_job
+from simpick.joblog import logged
 
 with logged(snakemake.log[0]):
     import_job(snakemake.input.imu, snakemake.input.pro, snakemake.params.folder_class, snakemake.output[0],

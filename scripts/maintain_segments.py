@@ -1,5 +1,5 @@
-from simpick.joblog import logged
 from simpick.real.jobs import maintain_segments_job
+from simpick.joblog import logged
 
 with logged(snakemake.log[0]):
     maintain_segments_job(snakemake.input.csv, snakemake.input.provenance, snakemake.params.committed,

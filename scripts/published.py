@@ -1,6 +1,7 @@
 from pathlib import Path
 
 from simpick.inputs.jobs import published_job
+
 from simpick.joblog import logged
 
 with logged(snakemake.log[0]):

@@ -1,5 +1,5 @@
-from simpick.joblog import logged
 from simpick.real.jobs import segments_job
+from simpick.joblog import logged
 
 with logged(snakemake.log[0]):
     segments_job(list(snakemake.input.logs), snakemake.output.csv, snakemake.output.provenance,

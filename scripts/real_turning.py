@@ -1,5 +1,5 @@
-from simpick.joblog import logged
 from simpick.real.turning import turning_job
+from simpick.joblog import logged
 
 with logged(snakemake.log[0]):
     turning_job(list(snakemake.input.logs), snakemake.input.urdf, snakemake.params.settings,

@@ -1,5 +1,5 @@
-from simpick.joblog import logged
 from simpick.report import html_to_pdf
+from simpick.joblog import logged
 
 with logged(snakemake.log[0]):
     html_to_pdf(snakemake.input[0], snakemake.output[0])

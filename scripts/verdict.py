@@ -1,5 +1,5 @@
-from simpick.joblog import logged
 from simpick.score.verdict import verdict_job
+from simpick.joblog import logged
 
 with logged(snakemake.log[0]):
     verdict_job(snakemake.input.per_test, snakemake.input.weighted, snakemake.input.provenance,

@@ -5,15 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from simpick.coulomb import (
-    ContactLayout,
-    CoulombTable,
-    contact_layout,
-    equal_loads,
-    mass_distribution,
-    steady_twist,
-    yaw_rate_gain,
-)
+from simpick.coulomb import (ContactLayout, CoulombTable, contact_layout, equal_loads, mass_distribution,
+                             steady_twist, yaw_rate_gain)
 from simpick.errors import InputError
 
 TRACK = 0.555
@@ -81,8 +74,8 @@ def test_table_interpolates_the_solver(robot):
 # --- any robot (issue 18): N contacts, casters, braking with casters -------------------------------
 
 def test_diff_drive_on_a_frictionless_caster_turns_without_slip():
-    from conftest import ROOT
     from simpick.inputs.robot import load_robot
+    from conftest import ROOT
 
     bot = load_robot(ROOT / "resources" / "robot" / "diffbot.urdf.xacro")
     one = contact_layout(bot, points_per_wheel=1)
@@ -110,9 +103,9 @@ def test_diff_drive_on_a_frictionless_caster_turns_without_slip():
 
 
 def test_braking_deceleration_with_casters_and_without():
-    from conftest import ROOT
     from simpick.coulomb import braking_deceleration
     from simpick.inputs.robot import load_robot
+    from conftest import ROOT
 
     husky = load_robot(ROOT / "resources" / "robot" / "husky_a200.urdf")
     assert braking_deceleration(husky, 0.3) == (pytest.approx(0.3 * 9.81), None)
@@ -128,9 +121,8 @@ def test_braking_deceleration_with_casters_and_without():
 
 
 def test_rotated_joints_give_the_same_layout_as_plain_ones(tmp_path):
-    from test_robot import four, write_robot
-
     from simpick.inputs.robot import load_robot
+    from test_robot import four, write_robot
 
     plain = contact_layout(load_robot(write_robot(tmp_path, four(), name="plain")))
     rotated = contact_layout(load_robot(write_robot(tmp_path, four(rotate_right=True), name="rotated")))
@@ -139,10 +131,9 @@ def test_rotated_joints_give_the_same_layout_as_plain_ones(tmp_path):
 
 
 def test_a_skid_drags_with_the_ground_s_friction(tmp_path):
-    from test_robot import write_skid_robot
-
     from simpick.coulomb import braking_deceleration
     from simpick.inputs.robot import load_robot
+    from test_robot import write_skid_robot
 
     spec = load_robot(write_skid_robot(tmp_path))
     one = contact_layout(spec, 1)

@@ -7,10 +7,10 @@ import yaml
 
 from conftest import ROOT
 from simpick.engines import ADAPTERS
-from simpick.inputs.jobs import terrain_job
 from simpick.simulate.imu import ImuModel
 from simpick.simulate.run import Case, run_case
 from simpick.simulate.traces import read_trace, write_trace
+from simpick.inputs.jobs import terrain_job
 
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
 

@@ -26,14 +26,9 @@ from conftest import ROOT, drive, flat_terrain, setup, tile_terrain
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.engines.base import GRAVITY, Calibratable, Engine, EngineSettings
 from simpick.errors import InputError
-from simpick.inputs.robot import load_robot
 from simpick.simulate.health import HealthLimits, check
-from simpick.simulate.imu import (
-    block_average,
-    euler_rpy,
-    imu_from_kinematics,
-    rotation_matrices,
-)
+from simpick.simulate.imu import block_average, euler_rpy, imu_from_kinematics, rotation_matrices
+from simpick.inputs.robot import load_robot
 from simpick.studies.validation import body_velocity, braking_deceleration
 
 DT = 0.001

@@ -6,14 +6,9 @@ import pytest
 
 from conftest import ROOT
 from simpick.compare import metrics
+from simpick.simulate.imu import ImuModel, block_average, imu_from_kinematics, sensor_output
 from simpick.inputs.published import load_published
 from simpick.inputs.reference import lab_reference, to_simpick_frame
-from simpick.simulate.imu import (
-    ImuModel,
-    block_average,
-    imu_from_kinematics,
-    sensor_output,
-)
 
 
 def test_trimmed_range_uses_the_mean_of_each_one_percent_tail():
@@ -120,9 +115,9 @@ def test_a_general_rotation_is_refused():
 
 def test_lab_totals_leave_out_a_test_any_engine_failed(tmp_path):
     """A failed run must not make its engine look better: the test leaves every engine's total."""
-    from simpick.compare.jobs import compare_job, summarise_job
     from simpick.inputs.published import DEFAULT_PATH
     from simpick.simulate.traces import COLUMNS, write_trace
+    from simpick.compare.jobs import compare_job, summarise_job
     paths = []
     for engine, status in (("a", "ok"), ("b", "failed")):
         frame = pd.DataFrame({c: np.linspace(0, 1, 200) for c in COLUMNS})

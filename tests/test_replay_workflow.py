@@ -16,14 +16,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import (
-    ROOT,
-    planned_jobs,
-    snakemake,
-    tiny_config,
-    write_config,
-    write_dataset,
-)
+from conftest import ROOT, planned_jobs, snakemake, tiny_config, write_config, write_dataset
 from simpick.simulate.traces import read_metadata, read_trace
 
 COMMITTED = [ROOT / "resources" / "real" / "borealtc_segments.csv",

@@ -6,15 +6,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from test_robot import write_robot
 
-from conftest import flat_terrain
 from simpick.engines import ADAPTERS, get_engine
 from simpick.engines.base import Scenario
+from simpick.simulate.imu import euler_rpy
 from simpick.inputs.motions import constant_commands
 from simpick.inputs.robot import load_robot
-from simpick.simulate.imu import euler_rpy
 from simpick.studies.validation import Setup, run_case
+
+from conftest import flat_terrain
+from test_robot import write_robot
 
 ROOT = Path(__file__).resolve().parents[1]
 

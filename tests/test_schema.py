@@ -7,8 +7,9 @@ import jsonschema
 import pytest
 import yaml
 
-from conftest import ROOT, tiny_config
 from simpick.schema import SCHEMA, schema_text
+
+from conftest import ROOT, tiny_config
 
 
 def validator():

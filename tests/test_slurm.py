@@ -14,8 +14,9 @@ import time
 import pandas as pd
 import pytest
 
-from conftest import ROOT, snakemake, tiny_config, write_config
 from simpick.simulate.traces import read_trace
+
+from conftest import ROOT, snakemake, tiny_config, write_config
 
 REQUIRED = os.environ.get("SIMPICK_SLURM") == "1"
 

@@ -6,15 +6,8 @@ import pandas as pd
 import pytest
 import yaml
 
-from simpick.score.verdict import (
-    METRICS,
-    metric_table,
-    ranking,
-    runs_needed,
-    score_discrimination,
-    separation_rows,
-    verdict_job,
-)
+from simpick.score.verdict import (METRICS, metric_table, ranking, runs_needed, score_discrimination, separation_rows,
+                             verdict_job)
 
 STATS = {"min_runs": 6, "level": 0.95}
 

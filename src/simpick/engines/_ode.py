@@ -20,16 +20,7 @@ import ctypes.util
 import os
 import re
 import subprocess
-from ctypes import (
-    POINTER,
-    Structure,
-    c_char_p,
-    c_double,
-    c_int,
-    c_uint,
-    c_ulong,
-    c_void_p,
-)
+from ctypes import POINTER, Structure, c_char_p, c_double, c_int, c_uint, c_ulong, c_void_p
 from pathlib import Path
 from types import SimpleNamespace
 

@@ -25,15 +25,8 @@ import numpy as np
 from pydantic import Field
 
 import simpick
-from simpick.engines.base import (
-    FRICTION,
-    FRICTION_RATIO,
-    Calibratable,
-    EngineSettings,
-    PhysicsRecord,
-    Scenario,
-    validated_commands,
-)
+from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
+                                  validated_commands)
 from simpick.simulate.imu import imu_from_kinematics
 
 

@@ -129,13 +129,7 @@ from typing import Annotated, Literal, get_args
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import (
-    FRICTION,
-    EngineSettings,
-    PhysicsRecord,
-    Scenario,
-    validated_commands,
-)
+from simpick.engines.base import FRICTION, EngineSettings, PhysicsRecord, Scenario, validated_commands
 from simpick.errors import InputError
 from simpick.simulate.imu import imu_from_kinematics, matrices_to_quaternions
 

@@ -51,14 +51,7 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import (
-    FRICTION,
-    Calibratable,
-    EngineSettings,
-    PhysicsRecord,
-    Scenario,
-    validated_commands,
-)
+from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
 from simpick.errors import InputError
 from simpick.simulate.imu import imu_from_kinematics
 
@@ -132,25 +125,13 @@ class DrakeEngine:
     def build(self, scenario: Scenario, record: bool = False):
         """(simulator, plant, plant context, per robot (model instance, wheel joints), state log or
         None): with ``record``, a logger samples the plant's state every step."""
-        from pydrake.geometry import (
-            AddCompliantHydroelasticProperties,
-            AddContactMaterial,
-            AddRigidHydroelasticProperties,
-            Box,
-            CollisionFilterDeclaration,
-            HalfSpace,
-            ProximityProperties,
-            RoleAssign,
-            Sphere,
-        )
+        from pydrake.geometry import (AddCompliantHydroelasticProperties, AddContactMaterial,
+                                      AddRigidHydroelasticProperties, Box, CollisionFilterDeclaration, HalfSpace,
+                                      ProximityProperties, RoleAssign, Sphere)
         from pydrake.math import RigidTransform, RotationMatrix
         from pydrake.multibody.parsing import Parser
-        from pydrake.multibody.plant import (
-            AddMultibodyPlantSceneGraph,
-            ContactModel,
-            CoulombFriction,
-            DiscreteContactApproximation,
-        )
+        from pydrake.multibody.plant import (AddMultibodyPlantSceneGraph, ContactModel, CoulombFriction,
+                                             DiscreteContactApproximation)
         from pydrake.multibody.tree import PdControllerGains
         from pydrake.systems.analysis import Simulator
         from pydrake.systems.framework import DiagramBuilder

@@ -39,15 +39,8 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field, model_validator
 
-from simpick.engines.base import (
-    FRICTION,
-    FRICTION_RATIO,
-    Calibratable,
-    EngineSettings,
-    PhysicsRecord,
-    Scenario,
-    validated_commands,
-)
+from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
+                                  validated_commands)
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 

@@ -50,22 +50,11 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from simpick.engines import _ode
-from simpick.engines.base import (
-    FRICTION,
-    FRICTION_RATIO,
-    Calibratable,
-    EngineSettings,
-    PhysicsRecord,
-    Scenario,
-    validated_commands,
-)
+from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
+                                  validated_commands)
 from simpick.errors import InputError, SimulationFailure
+from simpick.simulate.imu import imu_from_kinematics, matrices_to_quaternions, rotation_matrices
 from simpick.inputs.robot import joint_axis, origin, rpy_matrix
-from simpick.simulate.imu import (
-    imu_from_kinematics,
-    matrices_to_quaternions,
-    rotation_matrices,
-)
 
 LOG = logging.getLogger(__name__)
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines

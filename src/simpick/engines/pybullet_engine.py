@@ -41,15 +41,8 @@ from typing import Annotated
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import (
-    FRICTION,
-    FRICTION_RATIO,
-    Calibratable,
-    EngineSettings,
-    PhysicsRecord,
-    Scenario,
-    validated_commands,
-)
+from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
+                                  validated_commands)
 from simpick.simulate.imu import imu_from_kinematics, rotation_matrices
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, so no wheel starts inside the ground

@@ -13,8 +13,8 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from simpick.compare.metrics import AXES
 from simpick.errors import InputError
+from simpick.compare.metrics import AXES
 
 
 def to_simpick_frame(stats: Mapping[str, Mapping[str, float]], rotation: list[list[float]],

@@ -53,11 +53,11 @@ def build_report(inputs: Mapping[str, Any], params: Mapping[str, Any],
     The workflow renders the PDF in a job of its own (:func:`html_to_pdf`), so that the HTML
     of a rerun is there before WeasyPrint has laid out the pages.
     """
-    import sys
-    import time
-
     from simpick.report.build import render_html
     from simpick.report.load import load_inputs
+
+    import sys
+    import time
 
     start = time.perf_counter()
     data = load_inputs(inputs)

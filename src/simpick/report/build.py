@@ -16,13 +16,8 @@ from simpick.report import figures
 from simpick.report.draw import test_label
 from simpick.report.draw import weights_of as _weights
 from simpick.report.load import ReportData
-from simpick.score.scoring import (
-    DEFAULT_WEIGHTS,
-    METRIC_LABELS,
-    METRICS,
-    QUALITATIVE_METRICS,
-    QUANTITATIVE_METRICS,
-)
+from simpick.score.scoring import (DEFAULT_WEIGHTS, METRIC_LABELS, METRICS, QUALITATIVE_METRICS,
+                             QUANTITATIVE_METRICS)
 
 TEMPLATE_DIR = Path(__file__).resolve().parent / "templates"
 TEMPLATE = "report.html.j2"

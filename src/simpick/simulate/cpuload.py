@@ -19,9 +19,9 @@ import statistics
 import numpy as np
 import psutil
 
+from simpick.inputs import terrain as terrain_io
 from simpick.engines import get_engine
 from simpick.engines.base import Scenario
-from simpick.inputs import terrain as terrain_io
 from simpick.inputs.motions import constant_commands
 from simpick.inputs.robot import load_from_config
 

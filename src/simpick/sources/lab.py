@@ -82,14 +82,8 @@ def compare(traces: list[str], inputs: dict, params: dict):
     from simpick.compare import metrics
     from simpick.inputs.published import load_published
     from simpick.inputs.reference import lab_reference
+    from simpick.tables import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, case_test, run_row
     from simpick.simulate.traces import read_trace
-    from simpick.tables import (
-        DETAIL_COLUMNS,
-        RUN_COLUMNS,
-        axis_rows,
-        case_test,
-        run_row,
-    )
 
     reference = lab_reference(load_published(inputs["published"]))
     detail, per_test, runs = [], [], []
