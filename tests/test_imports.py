@@ -54,14 +54,12 @@ def test_every_job_a_script_runs_lives_in_a_stage_package():
     from conftest import ROOT
 
     helpers = {"simpick.joblog", "simpick.simulate.watchdog"}  # the log wrapper, the watchdog's limit
-    found = {}
-    for script in sorted((ROOT / "scripts").glob("*.py")):
-        for node in ast.walk(ast.parse(script.read_text())):
-            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("simpick") \
-                    and node.module not in helpers:
-                found[script.name] = node.module
-    assert len(found) == len(list((ROOT / "scripts").glob("*.py")))
-    outside = {name: module for name, module in found.items()
+    found = {script.name: [node.module for node in ast.walk(ast.parse(script.read_text()))
+                           if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("simpick")
+                           and node.module not in helpers]
+             for script in sorted((ROOT / "scripts").glob("*.py"))}
+    assert found and all(len(modules) == 1 for modules in found.values()), found  # one job module a script
+    outside = {name: module for name, (module,) in found.items()
                if module == "simpick" or module.split(".")[1] not in STAGES}
     assert not outside, f"scripts running a job outside the stage packages {STAGES}: {outside}"
     assert all((ROOT / "src" / "simpick" / stage / "__init__.py").exists() for stage in STAGES)

@@ -15,7 +15,7 @@ from simpick.plan import Plan
 from simpick.studies.validation import DEFAULT_HEADING
 
 
-def plan_of(config: dict, tmp_path) -> Plan:
+def plan_of(config: dict) -> Plan:
     return Plan(config, Study.model_validate(config), basedir=str(ROOT))
 
 
@@ -24,12 +24,12 @@ def config(tmp_path):
     return tiny_config(tmp_path)
 
 
-def test_a_default_left_out_of_the_config_reaches_the_jobs_from_its_model(config, tmp_path):
+def test_a_default_left_out_of_the_config_reaches_the_jobs_from_its_model(config):
     for spec in config["terrains"].values():
         spec.pop("tiles", None)
     config["validation"]["cases"]["gain_v0.5_w0.5_mu0.8"].pop("heading", None)
     config["engines"]["ode"] = None  # an empty entry: the adapter's defaults
-    plan = plan_of(config, tmp_path)
+    plan = plan_of(config)
 
     assert {t: s["tiles"] for t, s in plan.config["terrains"].items()} == {"grass": TILES, "bumps": TILES}
     case = plan.validation_params("ode")["cases"]["gain_v0.5_w0.5_mu0.8"]
@@ -40,18 +40,18 @@ def test_a_default_left_out_of_the_config_reaches_the_jobs_from_its_model(config
     assert params["engine_settings"]["erp"] == pytest.approx(defaults["erp"])
 
 
-def test_a_setting_written_as_a_string_reaches_the_job_as_its_type(config, tmp_path):
+def test_a_setting_written_as_a_string_reaches_the_job_as_its_type(config):
     # YAML 1.1 reads 5.0e3 as a string; the raw dict handed it on as one, the validated settings as a number
     config["engines"]["pybullet"] = yaml.safe_load("contact_damping: 5.0e3")
     assert config["engines"]["pybullet"]["contact_damping"] == "5.0e3"
-    params = plan_of(config, tmp_path).simulation_params("pybullet", "grass", "straight")
+    params = plan_of(config).simulation_params("pybullet", "grass", "straight")
     assert params["engine_settings"]["contact_damping"] == 5000.0
 
 
-def test_the_engines_keep_the_config_order_and_only_the_configured_ones(config, tmp_path):
+def test_the_engines_keep_the_config_order_and_only_the_configured_ones(config):
     config["engines"] = {"mujoco": None, "ode": {}, "pybullet": None}
     config["baselines"] = {"coulomb": None}
-    plan = plan_of(config, tmp_path)
+    plan = plan_of(config)
     assert plan.engines == ["mujoco", "ode", "pybullet"]
     assert plan.baselines == ["coulomb"]
     assert list(plain(Study.model_validate(config), config)["engines"]) == ["mujoco", "ode", "pybullet"]
@@ -59,9 +59,9 @@ def test_the_engines_keep_the_config_order_and_only_the_configured_ones(config, 
     assert plan.sources["segments"]["models"] == ["mujoco", "ode", "pybullet", "coulomb"]
 
 
-def test_the_plan_does_not_change_the_config_it_was_given(config, tmp_path):
+def test_the_plan_does_not_change_the_config_it_was_given(config):
     before = copy.deepcopy(config)
-    plan_of(config, tmp_path)
+    plan_of(config)
     assert config == before
 
 

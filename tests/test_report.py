@@ -432,6 +432,15 @@ REAL_FAILED = ("pybullet", "snow-turning-02-0003p00s")
 TRACK = 0.555
 
 
+def _write_summaries(per_test, outputs):
+    """The summarise step's summary and pairwise tables of ``per_test`` (per terrain class)."""
+    from simpick.compare.real import pairwise_table, summary_table
+    from simpick.tables import write_csv
+
+    write_csv(summary_table(per_test, "terrain_class"), outputs["summary"])
+    write_csv(pairwise_table(per_test, "terrain_class"), outputs["pairwise"])
+
+
 def _segment_rows() -> list[dict]:
     from simpick.real.segments import COLUMNS as SEGMENT_COLUMNS
 
@@ -467,7 +476,7 @@ def _imu_frame(seconds: float, gain: float, w_cmd: float, rough: float, rng) -> 
 def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
     """The real-data inputs of the report, in rules/real.smk's formats, from synthetic data."""
     from simpick.compare.metrics import eq7_totals
-    from simpick.compare.real import replay_compare, summaries
+    from simpick.compare.real import replay_compare
     from simpick.real.logs import RealLog, write_canonical
 
     rng = np.random.default_rng(11)
@@ -505,7 +514,7 @@ def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
     outputs = {k: str(root / "metrics" / f"segments_{k}.csv")
                for k in ("per_test", "summary", "pairwise", "imu_errors")}
     per_test.to_csv(outputs["per_test"], index=False)
-    summaries(per_test, "terrain_class", outputs)
+    _write_summaries(per_test, outputs)
     eq7_totals(per_test).to_csv(outputs["imu_errors"], index=False)
     inputs = {"segments": str(root / "segments.csv"),
               "segments_provenance": str(root / "segments.provenance.yaml"),
@@ -546,7 +555,7 @@ def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
     per_test, per_window, _ = replay_compare(logs, traces, {"track": TRACK, "window": 10.0})
     per_test.to_csv(outputs["per_test"], index=False)
     per_window.to_csv(outputs["per_window"], index=False)
-    summaries(per_test, "terrain_class", outputs)
+    _write_summaries(per_test, outputs)
     eq7_totals(per_test).to_csv(outputs["imu_errors"], index=False)
     inputs.update({f"replay_{k}": v for k, v in outputs.items()})
     inputs.update({"real_logs": logs, "replay_traces": traces})

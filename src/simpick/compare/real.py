@@ -177,13 +177,6 @@ FIGURES = ("error_angular", "error_linear", "yaw_rate_gain_sim", "gain_error", "
            "rmse_ax", "psd_distance_az")
 
 
-def summaries(per_test: pd.DataFrame, group: str, outputs: dict, statistics: dict | None = None) -> None:
-    """:func:`summary_table` and :func:`pairwise_table` written to ``outputs["summary"]`` and
-    ``outputs["pairwise"]``."""
-    write_csv(summary_table(per_test, group, statistics), outputs["summary"])
-    write_csv(pairwise_table(per_test, group, statistics), outputs["pairwise"])
-
-
 def summary_table(per_test: pd.DataFrame, group: str, statistics: dict | None = None) -> pd.DataFrame:
     """Per engine and ``group`` (terrain class, or the lab's terrain): every figure's mean over
     runs (a run's tests averaged first: segments and windows of one run are not independent) with
