@@ -11,14 +11,7 @@ import yaml
 from conftest import ROOT, planned_jobs, snakemake, tiny_config, write_config
 from simpick.config import problems
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
-from simpick.studies.calibration import (
-    Units,
-    apply_parameters,
-    calibrate,
-    evaluate,
-    split_runs,
-    summarise,
-)
+from simpick.studies.calibration import Units, apply_parameters, calibrate, evaluate, split_runs, summarise
 
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
 URDF = str(ROOT / "resources/robot/husky_a200.urdf")

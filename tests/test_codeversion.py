@@ -3,13 +3,7 @@
 
 import pytest
 
-from simpick.codeversion import (
-    clear_cache,
-    dispatch_entry,
-    job_code,
-    job_files,
-    script_roots,
-)
+from simpick.codeversion import clear_cache, dispatch_entry, job_code, job_files, script_roots
 
 PACKAGE = {
     "simpick/__init__.py": "",

@@ -5,24 +5,9 @@ import numpy as np
 import pytest
 import yaml
 
-from conftest import (
-    ROOT,
-    SHARED,
-    planned_jobs,
-    snakemake,
-    synthetic_run,
-    tiny_config,
-    write_config,
-    write_dataset,
-)
+from conftest import ROOT, SHARED, planned_jobs, snakemake, synthetic_run, tiny_config, write_config, write_dataset
 from simpick.errors import InputError
-from simpick.real.datasets import (
-    DatasetProblems,
-    dataset_name,
-    find_runs,
-    open_dataset,
-    run_key,
-)
+from simpick.real.datasets import DatasetProblems, dataset_name, find_runs, open_dataset, run_key
 from simpick.real.logs import borealtc
 from simpick.simulate.imu import ImuModel, model_at_rate
 

@@ -15,15 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from simpick.errors import InputError
-from simpick.real.logs import (
-    RealLog,
-    body_to_wheels,
-    borealtc,
-    csvlog,
-    read_canonical,
-    wheels_to_body,
-    write_canonical,
-)
+from simpick.real.logs import RealLog, body_to_wheels, borealtc, csvlog, read_canonical, wheels_to_body, write_canonical
 from simpick.real.logs.canonical import METADATA_KEY, SCHEMA
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -172,12 +172,7 @@ def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | Non
     qpath = root / "qualitative.yaml"
     qpath.write_text(yaml.safe_dump(qual, sort_keys=False))
 
-    from simpick.score.scoring import (
-        accuracy_scores,
-        efficiency_scores,
-        qualitative_scores,
-        real_time_factor_scores,
-    )
+    from simpick.score.scoring import accuracy_scores, efficiency_scores, qualitative_scores, real_time_factor_scores
     err = pd.DataFrame(errors) if accuracy_errors is None else pd.read_csv(accuracy_errors)
     scores = pd.DataFrame({e: qualitative_scores(qual[e]) for e in ENGINES}).T
     scores["real_time_factor"] = pd.Series(real_time_factor_scores(dict(zip(rf.engine, rf.real_time_factor))))

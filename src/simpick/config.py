@@ -11,15 +11,7 @@ import sys
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import (
-    BaseModel,
-    ConfigDict,
-    Field,
-    ValidationError,
-    create_model,
-    field_validator,
-    model_validator,
-)
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model, field_validator, model_validator
 
 from simpick.compare.realmetrics import LEVEL, MIN_RUNS
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
