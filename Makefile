@@ -1,9 +1,9 @@
-# The two entry points of the README. Both create .venv on first use.
+# The two entry points of the README (study, test). Each target creates .venv on first use.
 PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed
 
-.PHONY: study test bench clean lock schema
+.PHONY: study test test-fast docs bench clean lock schema
 
 $(STAMP): pyproject.toml constraints.txt
 	@# ODE comes from the system (Debian libode8); headers for the binding's own tests
@@ -22,6 +22,14 @@ study: $(STAMP)
 
 test: $(STAMP)
 	$(VENV)/bin/python -m pytest
+
+# The tests that start no Snakemake run (under 2 minutes on 2 cores); `make test` runs them all.
+test-fast: $(STAMP)
+	$(VENV)/bin/python -m pytest -m "not workflow"
+
+# The documentation site (docs/, mkdocs.yml) into site/
+docs: $(STAMP)
+	$(VENV)/bin/mkdocs build --strict
 
 bench: $(STAMP)
 	$(VENV)/bin/python bench/run.py

@@ -54,6 +54,39 @@ def drive(engine: str, robot, **kwargs):
 
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]
 
+# The fast tier (pytest -m "not workflow") must start no Snakemake run: a test that starts one
+# without the workflow marker fails, so the tier stays fast as tests are added.
+_RUNNING: list[pytest.Item] = []
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    _RUNNING.append(item)
+    try:
+        yield
+    finally:
+        _RUNNING.pop()
+
+
+def _starts_snakemake(args) -> bool:
+    words = args.split() if isinstance(args, str) else [str(a) for a in (args if isinstance(args, list | tuple)
+                                                                        else [args])]
+    return any(Path(word).name == "snakemake" for word in words)
+
+
+_popen_init = subprocess.Popen.__init__
+
+
+def _popen_init_checked(self, args, *rest, **kwargs):
+    if _RUNNING and _starts_snakemake(args) and _RUNNING[-1].get_closest_marker("workflow") is None:
+        self._child_created = False  # what Popen.__del__ reads of an object it never started
+        pytest.fail(f"{_RUNNING[-1].nodeid} starts Snakemake but is not marked @pytest.mark.workflow "
+                    "(the fast tier, pytest -m 'not workflow', must not run the workflow)", pytrace=False)
+    _popen_init(self, args, *rest, **kwargs)
+
+
+subprocess.Popen.__init__ = _popen_init_checked
+
 
 def tiny_config(workdir: Path | None = None) -> dict:
     """The default study cut down to seconds: 2 terrains x 1 short motion, 2 real segments."""

@@ -239,6 +239,7 @@ def test_the_summary_ranks_before_and_after_and_the_report_says_the_winner_chang
 
 # ------------------------------------------------------------ through the workflow: the rerun contract
 
+@pytest.mark.workflow
 def test_a_budget_edit_reruns_calibration_and_what_depends_on_it_nothing_else(tmp_path):
     config = tiny_config(tmp_path)
     config["engines"] = {"mujoco": config["engines"]["mujoco"]}

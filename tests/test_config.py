@@ -79,6 +79,7 @@ def test_a_key_given_twice_is_refused(tmp_path):
                                     "(YAML would silently keep the last one)"]
 
 
+@pytest.mark.workflow
 def test_snakemake_stops_with_the_message_and_no_traceback(tmp_path):
     config = tiny_config(tmp_path)
     config["motions"]["straight"]["duration"] = 0

@@ -1,6 +1,7 @@
-"""Snakemake workflow catalogue conventions (issue 21): `snakemake --lint` and `snakefmt --check`
-clean, a caption for every output registered with report(), the .test configuration run end to
-end, a licence and citation metadata that say the same as pyproject.toml."""
+"""Snakemake workflow catalogue conventions: `snakemake --lint` and `snakefmt --check` clean, the
+Python code clean under `ruff check` and `ruff format --check` (configured in pyproject.toml), a
+caption for every output registered with report(), the .test configuration run end to end, a
+licence and citation metadata that say the same as pyproject.toml."""
 
 import os
 import re
@@ -22,6 +23,7 @@ def run(args, cwd, **kwargs):
                           env=os.environ | {"PYTHONHASHSEED": "0"}, **kwargs)
 
 
+@pytest.mark.workflow
 @pytest.mark.parametrize("configfile", [None, "config/sweeps/timestep.yaml", ".test/config.yaml"])
 def test_snakemake_lint_is_clean(configfile, tmp_path):
     """The default config (calibration's rules included), the sweep's and the .test one each
@@ -54,6 +56,19 @@ def test_snakefmt_check_is_clean():
     assert out.returncode == 0, "run .venv/bin/snakefmt Snakefile rules/\n" + out.stderr[-3000:]
 
 
+PYTHON_TREES = ["src", "tests", "scripts", "bench"]
+
+
+def test_ruff_check_is_clean():
+    out = run([sys.executable, "-m", "ruff", "check", "--no-cache", *PYTHON_TREES], ROOT)
+    assert out.returncode == 0, "run .venv/bin/ruff check --fix src tests scripts bench\n" + out.stdout[-3000:]
+
+
+def test_ruff_format_check_is_clean():
+    out = run([sys.executable, "-m", "ruff", "format", "--check", "--no-cache", *PYTHON_TREES], ROOT)
+    assert out.returncode == 0, "run .venv/bin/ruff format src tests scripts bench\n" + out.stdout[-3000:]
+
+
 def test_every_report_output_has_a_caption():
     registered = 0
     for path in RULE_FILES:
@@ -77,6 +92,7 @@ def dot_test_copy(tmp_path):
     return workdir
 
 
+@pytest.mark.workflow
 def test_the_dot_test_configuration_runs_end_to_end(tmp_path):
     workdir = dot_test_copy(tmp_path)
     out = run([*SNAKEMAKE, "--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir), "--cores", "2"], ROOT)

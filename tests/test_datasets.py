@@ -201,6 +201,7 @@ def test_the_simulated_imu_is_read_out_at_the_real_rate():
 
 # ---------------------------------------------------------------- before any job (Snakemake)
 
+@pytest.mark.workflow
 @pytest.mark.parametrize("case, expected", [
     ("unknown_class", "terrain class 'concrete' has no ground model (fix: add it under real_data.classes"),
     ("unpaired", "imu_7.csv: has no partner pro_7.csv in"),
@@ -235,6 +236,7 @@ def test_bad_dataset_folder_stops_the_run_before_any_job(tmp_path, case, expecte
     assert not (tmp_path / "results").exists()  # no job ran
 
 
+@pytest.mark.workflow
 def test_the_committed_tables_own_folder_is_not_simulated_a_second_time(tmp_path):
     """The shared BorealTC folder's derived segment table is the committed one (tests/test_realdata.py
     checks a fresh derivation against it): replaying that folder derives the table (a result) but

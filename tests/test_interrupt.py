@@ -12,6 +12,8 @@ import pytest
 from conftest import ROOT, snakemake, tiny_config, write_config
 from simpick.simulate.traces import read_trace
 
+pytestmark = pytest.mark.workflow  # every test here runs Snakemake
+
 
 def start(workdir):
     cmd = [sys.executable, "-m", "snakemake", "--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir),

@@ -40,6 +40,7 @@ def counts(tmp_path_factory):
     }
 
 
+@pytest.mark.workflow
 def test_every_marked_count_is_the_workflows(counts):
     marks = MARK.findall((ROOT / "README.md").read_text())
     assert {key for key, _ in marks} == set(counts), "a README mark with no check, or a check with no mark"

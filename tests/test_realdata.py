@@ -83,6 +83,7 @@ def test_replay_of_a_straight_run_covers_the_recorded_distance(engine):
     assert travelled == pytest.approx(recorded, rel=0.04)
 
 
+@pytest.mark.workflow
 @needs_borealtc
 def test_own_csv_log_is_imported_replayed_and_compared_by_the_workflow(tmp_path):
     """A user's log in another layout (ms, deg/s, body commands) goes through the same replay."""

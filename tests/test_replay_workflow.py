@@ -19,6 +19,8 @@ import pytest
 from conftest import ROOT, planned_jobs, snakemake, tiny_config, write_config, write_dataset
 from simpick.simulate.traces import read_metadata, read_trace
 
+pytestmark = pytest.mark.workflow  # every test here runs Snakemake
+
 COMMITTED = [ROOT / "resources" / "real" / "borealtc_segments.csv",
              ROOT / "resources" / "real" / "borealtc_segments.provenance.yaml"]
 NAME = "husky_yard"  # from the folder "Husky Yard"

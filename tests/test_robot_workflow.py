@@ -8,6 +8,8 @@ import pytest
 
 from conftest import planned_jobs, snakemake, tiny_config, write_config
 
+pytestmark = pytest.mark.workflow  # every test here runs Snakemake
+
 ROOT = Path(__file__).resolve().parents[1]
 
 

@@ -18,6 +18,8 @@ from simpick.simulate.traces import read_trace
 
 from conftest import ROOT, snakemake, tiny_config, write_config
 
+pytestmark = pytest.mark.workflow  # every test here runs Snakemake
+
 REQUIRED = os.environ.get("SIMPICK_SLURM") == "1"
 
 

@@ -232,6 +232,7 @@ def test_the_report_section_pivots_by_timestep(tmp_path):
 
 # ------------------------------------------------------------ through the workflow
 
+@pytest.mark.workflow
 def test_a_tiny_sweep_runs_and_reruns_nothing(tmp_path):
     config = tiny_config(tmp_path)
     config["engines"] = {"mujoco": config["engines"]["mujoco"], "ode": config["engines"]["ode"]}

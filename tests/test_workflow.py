@@ -25,6 +25,7 @@ def study(tmp_path_factory):
     return workdir, config
 
 
+@pytest.mark.workflow
 def test_tiny_study_writes_every_output(study):
     workdir, config = study
     traces = sorted((workdir / "results" / "traces" / "lab").rglob("*.parquet"))
@@ -46,6 +47,7 @@ def test_tiny_study_writes_every_output(study):
     assert meta["units"]["ax"] == "m/s^2" and meta["steps"] == 1500
 
 
+@pytest.mark.workflow
 def test_validation_and_reference_models_are_in_the_study(study):
     workdir, config = study
     summary = pd.read_csv(workdir / "results/validation/summary.csv")
@@ -60,6 +62,7 @@ def test_validation_and_reference_models_are_in_the_study(study):
     assert ((kinematic.yaw_rate_gain_sim - 1).abs() < 0.02).all()  # no slip: yaw rate = commanded w
 
 
+@pytest.mark.workflow
 def test_tolerance_edit_rejudges_without_stepping_an_engine(study):
     workdir, config = study
     edited = yaml.safe_load(yaml.safe_dump(config))
@@ -72,11 +75,13 @@ def test_tolerance_edit_rejudges_without_stepping_an_engine(study):
         write_config(workdir, config)
 
 
+@pytest.mark.workflow
 def test_nothing_edited_nothing_runs(study):
     workdir, _ = study
     assert planned_jobs(workdir) == []
 
 
+@pytest.mark.workflow
 def test_weight_edit_reruns_only_scoring_and_report(study):
     workdir, config = study
     edited = yaml.safe_load(yaml.safe_dump(config))
@@ -91,6 +96,7 @@ def test_weight_edit_reruns_only_scoring_and_report(study):
         write_config(workdir, config)
 
 
+@pytest.mark.workflow
 def test_template_edit_reruns_only_the_report(study, tmp_path):
     """The figures are rules of their own that do not hash the report's templates: a template
     edit reruns the report and its PDF, no figure. The edit is made to a copy of the library
@@ -133,6 +139,7 @@ def simulated(jobs):
     return sorted((rule, w) for rule, w in jobs if rule in SIMULATING or rule.startswith("simulate_"))
 
 
+@pytest.mark.workflow
 def test_a_segments_module_edit_reruns_the_segment_jobs_and_no_lab_job(study, tmp_path):
     """real/segments.py is imported (inside functions) only on the segments' path: editing it reruns
     every model's segment simulations and what depends on them (issue 21: no hand-kept list had it)."""
@@ -146,6 +153,7 @@ def test_a_segments_module_edit_reruns_the_segment_jobs_and_no_lab_job(study, tm
     assert not {rule for rule, _ in jobs} & {"validation_summary", "published_table11"}
 
 
+@pytest.mark.workflow
 def test_a_source_module_edit_reruns_that_sources_jobs_only(study, tmp_path):
     """simpick.sources.segments is reached only by the segment jobs (simulate_job and compare_job
     import a kind's module by name): editing it reruns the segments' simulations, comparison and
@@ -164,12 +172,14 @@ def test_a_source_module_edit_reruns_that_sources_jobs_only(study, tmp_path):
     assert not [job for job in jobs if "source=segments" in job[1] or job[0].startswith("simulate_")], jobs
 
 
+@pytest.mark.workflow
 def test_a_report_edit_simulates_nothing(study, tmp_path):
     workdir, _ = study
     env = edited_library(tmp_path, "report/build.py", "\nTEMPLATE = ", "\nEDITED = True\nTEMPLATE = ")
     assert sorted({rule for rule, _ in planned_jobs(workdir, env)}) == ["all", "report", "report_pdf"]
 
 
+@pytest.mark.workflow
 def test_an_rtf_edit_reruns_the_summaries_not_the_simulations(study, tmp_path):
     """equal_rtf shares compare/jobs.py with compare_job, but no simulation runs it: only the jobs
     whose functions reach it (summarise) and what depends on them rerun."""
@@ -181,6 +191,7 @@ def test_an_rtf_edit_reruns_the_summaries_not_the_simulations(study, tmp_path):
     assert {("summarise", "source=lab"), ("summarise", "source=segments")} <= set(jobs)
 
 
+@pytest.mark.workflow
 def test_engine_edit_reruns_only_that_engine(study):
     workdir, config = study
     edited = yaml.safe_load(yaml.safe_dump(config))
@@ -200,6 +211,7 @@ def test_engine_edit_reruns_only_that_engine(study):
         write_config(workdir, config)
 
 
+@pytest.mark.workflow
 @pytest.mark.parametrize("key,value,message", [
     # 1/100 s is not a whole number of 3 ms steps (a check across keys: pydantic runs it only once
     # every field is valid, so it gets a config of its own)
@@ -218,6 +230,7 @@ def test_bad_config_is_refused_before_any_job(tmp_path, key, value, message):
     assert "Traceback" not in text
 
 
+@pytest.mark.workflow
 def test_a_new_engine_runs_only_its_own_simulations(tmp_path):
     config = tiny_config(tmp_path)
     newcomer = "ode"
