@@ -1,7 +1,8 @@
-# Calibration (issue 11, config `calibration:`): every real-data model calibrated per terrain class on
-# training runs, judged on held-out test runs as configured and as calibrated. Units are the committed
-# segments, or the full replay's runs when borealtc_dir is set. Target: `snakemake calibration`; with
-# calibration.enabled the default target and the report include it. Library: simpick.studies.calibration; its plan in simpick.plan.calibration.
+# Calibration (config `calibration:`): what an engine reaches once tuned to the real robot. Every
+# real-data model is calibrated per terrain class on training runs and judged on held-out test runs, as
+# configured and as calibrated. Units are the committed segments, or the full replay's runs when
+# borealtc_dir is set. Target: `snakemake calibration`; with calibration.enabled the default target and
+# the report include it. Library: simpick.studies.calibration; its plan in simpick.plan.calibration.
 
 if PLAN.calibration:
 

@@ -74,7 +74,7 @@ if PLAN.replay_set:
         script:
             "../scripts/real_segments.py"
 
-    # How the real robot turns (issue 20, point 0): its yaw-rate gain in steady-command windows
+    # How the real robot turns, the target an engine must meet: its yaw-rate gain in steady-command windows
     # against speed, turn radius and wheel-speed difference, beside the rigid-Coulomb prediction.
     rule real_turning:
         input:

@@ -30,134 +30,170 @@ class Strict(BaseModel):
 
 
 class Physics(Strict):
-    timestep: Positive
-    ground_friction: NonNegative
+    timestep: Positive = Field(description="s, the physics step of every engine (1 ms: the IMU's internal 1 kHz "
+                                           "sampling); must divide the IMU period into whole steps")
+    ground_friction: NonNegative = Field(description="Coulomb coefficient of the floor around the terrain strips")
 
 
 class RobotWheel(Strict):
-    joint: str
-    side: Literal["left", "right"]
+    joint: str = Field(description="a driven wheel's continuous joint, as the URDF names it")
+    side: Literal["left", "right"] = Field(description="the side of the robot the wheel is on")
 
 
 class RobotOverrides(Strict):
     """Figures that replace the description's (simpick.inputs.robot.OVERRIDABLE); the engines still
     simulate the description, these feed the controller and the mechanics."""
-    wheel_radius: Positive | None = None
-    track: Positive | None = None
-    wheelbase: NonNegative | None = None
-    mass: Positive | None = None
-    com: tuple[Finite, Finite, Finite] | None = None
-    base_height: Positive | None = None
-    imu_mount: tuple[Finite, Finite, Finite] | None = None
+    wheel_radius: Positive | None = Field(None, description="m; default: the wheel collision's radius")
+    track: Positive | None = Field(None, description="m between the left and right wheel centres; default: the "
+                                                     "description's")
+    wheelbase: NonNegative | None = Field(None, description="m between the front and rear axles; default: the "
+                                                            "description's")
+    mass: Positive | None = Field(None, description="kg, the whole robot; default: the sum of the links' masses")
+    com: tuple[Finite, Finite, Finite] | None = Field(None, description="m, the centre of mass in the base frame "
+                                                                       "(x forward, y left, z up)")
+    base_height: Positive | None = Field(None, description="m, the base frame's height above flat ground at rest")
+    imu_mount: tuple[Finite, Finite, Finite] | None = Field(None, description="m, the IMU's position in the base "
+                                                                             "frame")
 
 
 class Robot(Strict):
-    urdf: str  # a URDF or xacro file (simpick.inputs.robot.load_robot)
-    label: str | None = None  # the robot's name in the report (default: the URDF's <robot name>)
-    track: Positive
-    max_wheel_torque: Positive
-    imu_link: str | None = None  # default: the first link with "imu" in its name, else the base
-    wheels: list[RobotWheel] | None = None  # the driven joints and sides, instead of finding them
-    overrides: RobotOverrides | None = None
+    urdf: str = Field(description="the robot's URDF or xacro file (simpick.inputs.robot.load_robot), read once "
+                                  "at planning time")
+    label: str | None = Field(None, description="the robot's name in the report; default: the URDF's <robot name>")
+    track: Positive = Field(description="m, the effective track of the paper's controller (its Eq. 1): wheel "
+                                        "speeds from (v, w)")
+    max_wheel_torque: Positive = Field(description="N m per wheel, the bound of every engine's wheel servo")
+    imu_link: str | None = Field(None, description="the link the IMU is mounted on; default: the first link "
+                                                   "with 'imu' in its name, else the base")
+    wheels: list[RobotWheel] | None = Field(None, description="the driven joints and their sides, instead of "
+                                                              "finding them from the geometry")
+    overrides: RobotOverrides | None = Field(None, description="figures that replace the description's for the "
+                                                               "controller and the mechanics")
 
 
 class Imu(Strict):
-    rate_hz: Positive
-    accel_range: Positive
-    gyro_range: Positive
-    accel_noise_std: NonNegative = 0.0
-    gyro_noise_std: NonNegative = 0.0
+    """The simulated IMU (the paper's LORD MicroStrain 3DM-GX3-25)."""
+    rate_hz: Positive = Field(description="Hz, the rate of the lab traces (a real log's own rate is used for it)")
+    accel_range: Positive = Field(description="m/s^2, the accelerometer's clipping range (+-)")
+    gyro_range: Positive = Field(description="rad/s, the gyroscope's clipping range (+-)")
+    accel_noise_std: NonNegative = Field(0.0, description="m/s^2, standard deviation of the accelerometer's white "
+                                                          "noise (seeded)")
+    gyro_noise_std: NonNegative = Field(0.0, description="rad/s, standard deviation of the gyroscope's white "
+                                                         "noise (seeded)")
 
 
 class Health(Strict):
-    min_height: Finite
-    max_tilt: Positive
-    max_speed: Positive
-    max_velocity_jump: Positive
-    wheel_tracking: Positive
-    max_parked_speed: Positive
-    timeout: Positive
+    """Limits beyond which a run is recorded as failed, reported and left out of the scores."""
+    min_height: Finite = Field(description="m: the base below this height has fallen through the ground")
+    max_tilt: Positive = Field(description="rad of roll or pitch: beyond it the robot has flipped")
+    max_speed: Positive = Field(description="m/s: a base faster than this has exploded")
+    max_velocity_jump: Positive = Field(description="m/s change of the base velocity in one physics step: a jump")
+    wheel_tracking: Positive = Field(description="rad/s, mean wheel-speed error over a second: the wheels do not "
+                                                 "follow their command")
+    max_parked_speed: Positive = Field(description="m/s while every wheel is commanded to stop: the robot slides")
+    timeout: Positive = Field(description="s of wall time after which a simulation is stopped and recorded as hung")
 
 
 class Terrain(BaseModel):
+    """A lab terrain strip; the keys beyond these are its rule's own parameters (simpick.inputs.terrain)."""
     model_config = ConfigDict(extra="allow")  # the rule's own parameters
-    rule: Literal[tuple(RULES)]  # type: ignore[valid-type]
-    friction: Annotated[float, Field(ge=0, le=10, allow_inf_nan=False)]
-    tiles: Annotated[int, Field(ge=1, le=100)] = TILES  # the strip's length in 1 m tiles
+    rule: Literal[tuple(RULES)] = Field(description="how the strip is built: flat tiles, plywood layers or a "  # type: ignore[valid-type]
+                                                    "gravel bed")
+    friction: Annotated[float, Field(ge=0, le=10, allow_inf_nan=False)] = Field(
+        description="Coulomb coefficient of the strip's surface (the paper's values)")
+    tiles: Annotated[int, Field(ge=1, le=100)] = Field(TILES, description="the strip's length in 1 m x 1 m tiles")
 
 
 class Motion(Strict):
-    v: Finite
-    w: Finite
-    duration: Positive
-    start: tuple[Finite, Finite, Finite]
+    """An open-loop command held for the whole run, as the paper's controller drove it."""
+    v: Finite = Field(description="m/s, commanded forward speed")
+    w: Finite = Field(description="rad/s, commanded yaw rate (positive: left)")
+    duration: Positive = Field(description="s simulated")
+    start: tuple[Finite, Finite, Finite] = Field(description="x (m), y (m), yaw (rad) of the start, relative to the "
+                                                             "strip (which spans x 0..tiles m)")
 
 
 class CpuLoad(Strict):
-    terrain: str
-    motion: str
-    duration: Positive
-    repeats: Annotated[int, Field(ge=1)]
-    robots_average: Annotated[int, Field(ge=1)]
-    robots_intense: Annotated[int, Field(ge=1)]
-    spacing: Positive
+    """The paper's CPU-load scenarios: CPU seconds per simulated second, % of one core."""
+    terrain: str = Field(description="the lab terrain driven (one of terrains)")
+    motion: str = Field(description="the motion driven (one of motions)")
+    duration: Positive = Field(description="s simulated per repeat")
+    repeats: Annotated[int, Field(ge=1)] = Field(description="repeats per scenario; the median is reported")
+    robots_average: Annotated[int, Field(ge=1)] = Field(description="robots in one world, the paper's Scenario 1")
+    robots_intense: Annotated[int, Field(ge=1)] = Field(description="robots in one world, the paper's Scenario 2")
+    spacing: Positive = Field(description="m between robots in the convoy")
 
 
 class Reference(Strict):
-    published: str
+    published: str = Field(description="the paper's published figures (its Tables 3, 4, 6-11) as YAML")
 
 
 class SegmentRules(Strict):
-    tolerance: Positive
-    min_duration: Positive
-    max_duration: Positive
-    settle: NonNegative
-    min_turn: Positive
-    per_kind: Annotated[int, Field(ge=1)]
+    """How constant-command segments are cut from a real log."""
+    tolerance: Positive = Field(description="m/s: both wheel commands within this of constant")
+    min_duration: Positive = Field(description="s of constant command after settling, at least")
+    max_duration: Positive = Field(description="s compared at most (bounds the study's simulation time)")
+    settle: NonNegative = Field(description="s driven before the compared window, to reach the new speed")
+    min_turn: Positive = Field(description="rad/s of kinematic yaw rate above which a segment is turning")
+    per_kind: Annotated[int, Field(ge=1)] = Field(description="the longest straight and turning segments kept per "
+                                                              "terrain class")
 
 
 class TerrainClass(Strict):
-    friction: Annotated[float, Field(ge=0, le=10, allow_inf_nan=False)]
-    source: str
+    """A real terrain class as the engines see it: rigid flat ground with one friction coefficient."""
+    friction: Annotated[float, Field(ge=0, le=10, allow_inf_nan=False)] = Field(
+        description="Coulomb coefficient the engines give this class's ground")
+    source: str = Field(description="where the coefficient comes from (a handbook table, or 'assumption: ...')")
 
 
 class DeclaredDataset(Strict):
     """What is known of a dataset folder before reading it (all optional; rates are measured)."""
-    label: str | None = None
-    source: str | None = None
-    imu_hz: Positive | None = None
-    commands_hz: Positive | None = None
+    label: str | None = Field(None, description="the dataset's name in the report")
+    source: str | None = Field(None, description="where the data come from, with their licence")
+    imu_hz: Positive | None = Field(None, description="Hz the IMU is known to log at; a file more than 20 % off is "
+                                                      "refused")
+    commands_hz: Positive | None = Field(None, description="Hz the wheel commands are known to log at; a file more "
+                                                           "than 20 % off is refused")
 
 
 class RealData(Strict):
-    dataset: str
-    # the robot the committed segments and the dataset folders were recorded on, as its URDF names
-    # it (<robot name>): they are compared with the study only when robot.urdf is that robot
-    robot: str | None = None
-    segments: str
-    segment_rules: SegmentRules
-    window: Positive
-    classes: dict[str, TerrainClass]
-    datasets: dict[str, DeclaredDataset] = {}
+    dataset: str = Field(description="the dataset the committed segment table was derived from")
+    robot: str | None = Field(None, description="the robot (its URDF <robot name>) the committed segments and the "
+                                                "dataset folders were recorded on: they are compared with the "
+                                                "study only when robot.urdf is that robot")
+    segments: str = Field(description="the committed table of constant-command segments (read by every run, "
+                                      "written only by the maintain_segments rule)")
+    segment_rules: SegmentRules = Field(description="how segments are cut from a log")
+    window: Positive = Field(description="s: a full replay is compared in windows of this length")
+    classes: dict[str, TerrainClass] = Field(description="terrain class (a dataset's sub-folder, lower case) -> "
+                                                         "its ground model")
+    datasets: dict[str, DeclaredDataset] = Field({}, description="what is declared about a dataset folder, by "
+                                                                  "dataset name (rates are measured either way)")
 
 
 class OwnLog(Strict):
     """One of the user's own logs, replayed through every engine like a BorealTC run."""
-    name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")]
-    terrain_class: str
-    csv: str | None = None
-    commands_csv: str | None = None
-    mapping: dict[str, Any] | None = None
-    rosbag: str | None = None
-    imu_topic: str | None = None
-    command_topic: str | None = None
-    command_type: str | None = None
-    wheel_radius: Positive | None = None
-    left_joints: str | None = None
-    right_joints: str | None = None
-    frame_z: Literal["up", "down"] | None = None
-    imu_rate_hz: Positive | None = None
-    command_rate_hz: Positive | None = None
+    name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] = Field(
+        description="the log's name in results/real/own/ and the tables")
+    terrain_class: str = Field(description="the ground it was recorded on: one of real_data.classes")
+    csv: str | None = Field(None, description="a CSV holding the IMU (and the commands, unless commands_csv)")
+    commands_csv: str | None = Field(None, description="a second CSV holding the commands")
+    mapping: dict[str, Any] | None = Field(None, description="canonical quantity -> column, or {column, unit}; "
+                                                             "units such as ms, deg/s and g are converted")
+    rosbag: str | None = Field(None, description="a ROS 1 .bag or ROS 2 bag folder (read without ROS)")
+    imu_topic: str | None = Field(None, description="the bag's sensor_msgs/Imu topic")
+    command_topic: str | None = Field(None, description="the bag's command topic (Twist, Odometry or JointState)")
+    command_type: str | None = Field(None, description="the command topic's message type, where the bag does not "
+                                                       "say")
+    wheel_radius: Positive | None = Field(None, description="m, to turn JointState wheel speeds into commands")
+    left_joints: str | None = Field(None, description="JointState: a pattern matching the left wheel joints")
+    right_joints: str | None = Field(None, description="JointState: a pattern matching the right wheel joints")
+    frame_z: Literal["up", "down"] | None = Field(None, description="the IMU's z axis; down is turned to simpick's "
+                                                                    "z up")
+    imu_rate_hz: Positive | None = Field(None, description="Hz the IMU is known to log at (checked against the "
+                                                           "data)")
+    command_rate_hz: Positive | None = Field(None, description="Hz the commands are known to log at (checked "
+                                                               "against the data)")
 
     @model_validator(mode="after")
     def one_source(self):
@@ -177,19 +213,27 @@ class OwnLog(Strict):
 
 
 class ValidationCase(Strict):
-    kind: Literal["yaw_gain", "straight", "slide", "incline", "rest"]
-    v: Finite | None = None
-    w: Finite | None = None
-    mu: Annotated[float, Field(gt=0, le=10, allow_inf_nan=False)]
-    angle_factor: Positive | None = None
-    # deg: yaw_gain, straight, slide: the robot's start heading; incline: the downhill direction
-    # from the robot's back (the robot starts at heading 0); rest: refused (it would change nothing)
-    heading: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = DEFAULT_HEADING
-    duration: Positive | None = None
-    cruise: Positive | None = None
-    # yaw_gain only: the wheels' lateral/longitudinal friction ratio (issue 20) given to the engine's
-    # friction_ratio setting; the analytic gain is the anisotropic Coulomb one at that ratio
-    friction_ratio: Annotated[float, Field(gt=0, le=2, allow_inf_nan=False)] | None = None
+    """A case with a known mechanical answer (simpick.studies.validation documents the kinds)."""
+    kind: Literal["yaw_gain", "straight", "slide", "incline", "rest"] = Field(
+        description="yaw_gain: steady yaw rate / w against the Coulomb gain; straight: speed = wheel speed x "
+                    "radius; slide: locked-wheel deceleration mu g; incline: parked below atan(mu), sliding "
+                    "above; rest: accelerometer g, gyro 0, no creep")
+    v: Finite | None = Field(None, description="m/s, commanded forward speed (yaw_gain, straight, slide)")
+    w: Finite | None = Field(None, description="rad/s, commanded yaw rate (yaw_gain; positive: left)")
+    mu: Annotated[float, Field(gt=0, le=10, allow_inf_nan=False)] = Field(
+        description="Coulomb coefficient of the flat rigid ground")
+    angle_factor: Positive | None = Field(None, description="incline: the slope as a multiple of atan(mu) (below 1 "
+                                                            "it must hold, above it must slide)")
+    heading: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = Field(
+        DEFAULT_HEADING, description="deg; yaw_gain, straight, slide: the robot's start heading; incline: the "
+                                     "downhill direction from the robot's back (the robot starts at heading 0); "
+                                     "rest: refused (it would change nothing)")
+    duration: Positive | None = Field(None, description="s simulated; default: the kind's own")
+    cruise: Positive | None = Field(None, description="slide: s driven before the wheels lock; default: the kind's")
+    friction_ratio: Annotated[float, Field(gt=0, le=2, allow_inf_nan=False)] | None = Field(
+        None, description="yaw_gain only: the wheels' lateral/longitudinal friction ratio given to the engine's "
+                          "friction_ratio setting; the analytic gain is then the anisotropic Coulomb one (an "
+                          "engine without that setting skips the case)")
 
     @model_validator(mode="after")
     def needed(self):
@@ -212,8 +256,12 @@ class ValidationCase(Strict):
 
 
 class Validation(Strict):
-    cases: dict[Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")], ValidationCase]
-    tolerances: dict[str, NonNegative]
+    """Every engine against analytic mechanics before any real-data comparison."""
+    cases: dict[Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")], ValidationCase] = Field(
+        description="case name -> its kind and parameters; editing a case reruns every engine's validation job")
+    tolerances: dict[str, NonNegative] = Field(
+        description="quantity -> tolerance, one per quantity the cases measure; editing one reruns only the "
+                    "validation summary and the report")
 
     @model_validator(mode="after")
     def every_quantity(self):
@@ -233,9 +281,12 @@ def timestep_label(timestep: float) -> str:
 
 
 class Sweep(Strict):
-    name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")]
-    # s; 20 ms at most (a step that long skips whole contact events of a 0.33 m wheel at 1 m/s)
-    timesteps: Annotated[list[Annotated[float, Field(gt=0, le=0.02, allow_inf_nan=False)]], Field(min_length=1)]
+    """The speed-accuracy sweep: the committed segments at several physics steps."""
+    name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] = Field(
+        description="the sweep's folder under results/sweeps/")
+    timesteps: Annotated[list[Annotated[float, Field(gt=0, le=0.02, allow_inf_nan=False)]], Field(min_length=1)] = \
+        Field(description="s, the physics steps swept; 20 ms at most (a step that long skips whole contact events of "
+                          "a 0.33 m wheel at 1 m/s)")
 
     @field_validator("timesteps")
     @classmethod
@@ -247,31 +298,46 @@ class Sweep(Strict):
 
 
 class CalibrationScales(Strict):
-    yaw_rate: Positive  # rad/s
-    accel_x: Positive  # m/s^2
-    yaw_rate_gain: Positive | None = None  # steady yaw-rate gain error (issue 20); None: no gain term
+    """Each error of the objective is divided by its scale before they are summed, so the terms count alike."""
+    yaw_rate: Positive = Field(description="rad/s, the low-passed yaw-rate error's scale")
+    accel_x: Positive = Field(description="m/s^2, the low-passed longitudinal-acceleration error's scale")
+    yaw_rate_gain: Positive | None = Field(None, description="the steady yaw-rate gain error's scale, on units that "
+                                                             "turn under a steady command; null: no gain term")
 
 
 class CalibrationTarget(Strict):
-    """Issue 20's target on held-out runs (simpick.studies.calibration.target_table)."""
-    classes: list[str] | None = None  # terrain classes judged together; None: every class calibrated
-    gain_tolerance: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = 0.10  # relative to the real gain
-    reference: str = "coulomb"  # the model whose as-configured error the calibrated engine must beat
+    """What a calibrated engine must reach on held-out runs to turn like the real robot
+    (simpick.studies.calibration.target_table)."""
+    classes: list[str] | None = Field(None, description="terrain classes judged together; null: every class "
+                                                        "calibrated")
+    gain_tolerance: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = Field(
+        0.10, description="the calibrated mean yaw-rate gain within this fraction of the real robot's, per class")
+    reference: str = Field("coulomb", description="the model whose as-configured yaw-rate error the calibrated "
+                                                  "engine must beat (paired test over runs)")
 
 
 class Calibration(Strict):
-    """Issue 11: calibrate every real-data model on training runs, judge it on test runs."""
-    enabled: bool = False
-    test_fraction: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)]
-    seed: Annotated[int, Field(ge=0, lt=2**32)]
-    n_trials: Annotated[int, Field(ge=1)]
-    startup_trials: Annotated[int, Field(ge=1)]
-    segment_seconds: Positive | None = None
-    replay_seconds: Positive | None = None
-    scales: CalibrationScales
-    models: list[str] | None = None  # engines and baselines to calibrate; None: every one in the study
-    bounds: dict[str, dict[str, Annotated[list[Finite], Field(min_length=2, max_length=2)]]] = {}
-    target: CalibrationTarget = CalibrationTarget()
+    """Calibrate every real-data model on training runs and judge it on held-out runs: what a user who
+    tunes an engine to their robot and ground can expect."""
+    enabled: bool = Field(False, description="true: the default target and the report include the calibration; "
+                                             "`snakemake calibration` runs it either way")
+    test_fraction: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = Field(
+        description="share of each terrain class's runs held out (split by run, never within one)")
+    seed: Annotated[int, Field(ge=0, lt=2**32)] = Field(description="the split and the sampler derive from it")
+    n_trials: Annotated[int, Field(ge=1)] = Field(description="evaluations per model x class, each over all its "
+                                                             "training units; the first is the as-configured model")
+    startup_trials: Annotated[int, Field(ge=1)] = Field(description="random trials before the TPE sampler models "
+                                                                   "the history")
+    segment_seconds: Positive | None = Field(None, description="committed segments: the first seconds of each "
+                                                               "compared window")
+    replay_seconds: Positive | None = Field(None, description="full replay: the first seconds of each run")
+    scales: CalibrationScales = Field(description="the objective's scales")
+    models: list[str] | None = Field(None, description="engines and reference models to calibrate; null: every one "
+                                                       "of the study's that declares parameters")
+    bounds: dict[str, dict[str, Annotated[list[Finite], Field(min_length=2, max_length=2)]]] = Field(
+        {}, description="model -> parameter -> [low, high], overriding the bounds its adapter declares")
+    target: CalibrationTarget = Field(CalibrationTarget(), description="what a calibrated engine must reach on "
+                                                                       "held-out runs")
 
     @model_validator(mode="after")
     def known_parameters(self):
@@ -291,13 +357,19 @@ class Calibration(Strict):
 
 
 class Accuracy(Strict):
-    reference: Literal["real", "paper", "own"]
+    reference: Literal["real", "paper", "own"] = Field(
+        description="what the IMU accuracy scores rest on: real (BorealTC: the committed segments, or the full "
+                    "replay when borealtc_dir is set), paper (its one lab test, gravel/straight) or own (own_logs)")
 
 
 class Statistics(Strict):
-    # the defaults are simpick.compare.realmetrics' (MIN_RUNS, LEVEL: stated once, there, with their reasons)
-    min_runs: Annotated[int, Field(ge=2)] = MIN_RUNS
-    level: Annotated[float, Field(gt=0, lt=1)] = LEVEL
+    """How sure the real-data comparison may claim to be; the defaults are simpick.compare.realmetrics'
+    (MIN_RUNS, LEVEL: stated once, there, with their reasons)."""
+    min_runs: Annotated[int, Field(ge=2)] = Field(
+        MIN_RUNS, description="independent real runs below which a group gets no interval and no verdict, only "
+                              "'too few runs' (a sign-flip test over n runs cannot give p below 2/2^n)")
+    level: Annotated[float, Field(gt=0, lt=1)] = Field(
+        LEVEL, description="confidence of the BCa intervals; a verdict needs a sign-flip p below 1 - level")
 
     @model_validator(mode="after")
     def reachable(self):
@@ -322,7 +394,9 @@ def _runs_for(level: float) -> int:
 def _settings_block(section: str, registry: dict) -> type[BaseModel]:
     """The ``engines:`` or ``baselines:`` block: one optional entry per registered name, typed by
     that adapter's own settings model (an omitted or empty entry takes the model's defaults)."""
-    fields = {name: (get_engine(name).settings_model | None, None) for name in registry}
+    fields = {name: (get_engine(name).settings_model | None,
+                     Field(None, description=f"the {name} adapter's settings; omitted or empty: its defaults"))
+              for name in registry}
     return create_model(f"{section.capitalize()}Block", __base__=Strict, **fields)
 
 
@@ -331,28 +405,37 @@ BaselinesBlock = _settings_block("baselines", REFERENCE_MODELS)
 
 
 class Study(Strict):
-    seed: Annotated[int, Field(ge=0, lt=2**32)]
-    engines: EnginesBlock  # type: ignore[valid-type]
-    baselines: BaselinesBlock = BaselinesBlock()  # type: ignore[valid-type]
-    physics: Physics
-    robot: Robot
-    imu: Imu
-    health: Health
-    terrains: dict[str, Terrain]
-    motions: dict[str, Motion]
-    cpu_load: CpuLoad
-    validation: Validation
-    reference: Reference
-    accuracy: Accuracy
-    statistics: Statistics = Statistics()
-    borealtc_dir: str | None = None
-    real_dataset: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] | None = None
-    own_logs: list[OwnLog] = []
-    sweep: Sweep | None = None
-    calibration: Calibration | None = None
-    real_data: RealData
-    qualitative: str
-    weights: dict[str, NonNegative]
+    seed: Annotated[int, Field(ge=0, lt=2**32)] = Field(description="terrain layouts, IMU noise and the real "
+                                                                    "cases' start headings derive from it")
+    engines: EnginesBlock = Field(description="engine name -> its settings; editing one engine's settings reruns "  # type: ignore[valid-type]
+                                              "only that engine's jobs")
+    baselines: BaselinesBlock = Field(BaselinesBlock(), description="reference models (formulas, not simulators) "  # type: ignore[valid-type]
+                                                                    "beside the engines in the real-data comparison")
+    physics: Physics = Field(description="the physics step and the floor")
+    robot: Robot = Field(description="the robot studied")
+    imu: Imu = Field(description="the simulated IMU")
+    health: Health = Field(description="limits beyond which a run is recorded as failed")
+    terrains: dict[str, Terrain] = Field(description="lab terrain name -> its strip")
+    motions: dict[str, Motion] = Field(description="lab motion name -> its open-loop command")
+    cpu_load: CpuLoad = Field(description="the paper's CPU-load scenarios")
+    validation: Validation = Field(description="the cases with known mechanical answers and their tolerances")
+    reference: Reference = Field(description="the paper's published figures")
+    accuracy: Accuracy = Field(description="what the IMU accuracy scores rest on")
+    statistics: Statistics = Field(Statistics(), description="intervals and verdicts over independent real runs")
+    borealtc_dir: str | None = Field(None, description="a dataset folder in the BorealTC layout (one sub-folder per "
+                                                       "terrain class of imu_<run>.csv / pro_<run>.csv pairs): every "
+                                                       "run is replayed through every model")
+    real_dataset: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] | None = Field(
+        None, description="the replayed dataset's name (results/real/<name>/); default: its folder's name")
+    own_logs: list[OwnLog] = Field([], description="your robot's logs, replayed through every engine like BorealTC's")
+    sweep: Sweep | None = Field(None, description="a speed-accuracy sweep over physics steps (config/sweeps/)")
+    calibration: Calibration | None = Field(None, description="calibration on training runs, judged on held-out "
+                                                              "runs")
+    real_data: RealData = Field(description="the real data: the committed segments, terrain classes and datasets")
+    qualitative: str = Field(description="sourced qualitative facts per engine (licence, ROS, languages, ...) the "
+                                         "paper's qualitative scores rest on")
+    weights: dict[str, NonNegative] = Field(description="metric -> weight of the paper's weighted table (its "
+                                                        "section 4 defaults)")
 
     # Each entry's settings are checked by its adapter's model (the block's field types); these
     # name an unknown engine with what is available, where pydantic would only say "extra".
