@@ -102,7 +102,7 @@ if PLAN.replay_set:
             "../scripts/real_turning.py"
 
 
-# Maintainers only, on purpose (README "Real data"): the BorealTC folder's derived table over the
+# Maintainers only, on purpose (docs/real-data.md): the BorealTC folder's derived table over the
 # committed one. The committed files are never a rule's output, so no failed job can delete them;
 # the job replaces them atomically, and its receipt (what changed) is the output.
 rule maintain_segments:

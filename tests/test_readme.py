@@ -1,7 +1,7 @@
-"""The README tells the truth about the workflow: every count it marks (<!-- n:KEY -->N<!-- /n -->)
-against the config and a dry run of the default study, its claim about declared resources against
-the rules, and its claim that scripts are thin against the scripts. When a case, an engine or a
-source is added, this test names the README's numbers to update."""
+"""The README and the documentation pages tell the truth about the workflow: every count they mark
+(<!-- n:KEY -->N<!-- /n -->) against the config and a dry run of the default study, the claim about
+declared resources against the rules, and the claim that scripts are thin against the scripts. When a
+case, an engine or a source is added, this test names the numbers to update and where they are."""
 
 import ast
 import collections
@@ -40,13 +40,17 @@ def counts(tmp_path_factory):
     }
 
 
+PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+
+
 @pytest.mark.workflow
 def test_every_marked_count_is_the_workflows(counts):
-    marks = MARK.findall((ROOT / "README.md").read_text())
-    assert {key for key, _ in marks} == set(counts), "a README mark with no check, or a check with no mark"
-    wrong = sorted({f"{key}: README says {value}, the workflow has {counts[key]}"
-                    for key, value in marks if int(value) != counts[key]})
-    assert not wrong, "README.md is stale: " + "; ".join(wrong)
+    marks = [(page.relative_to(ROOT), key, value) for page in PAGES for key, value in MARK.findall(page.read_text())]
+    assert {key for _, key, _ in marks} == set(counts), "a mark with no check, or a check with no mark"
+    assert {"engines", "jobs", "lab_cases"} <= {key for page, key, _ in marks if page.name == "README.md"}
+    wrong = sorted({f"{page}: {key} is {value}, the workflow has {counts[key]}"
+                    for page, key, value in marks if int(value) != counts[key]})
+    assert not wrong, "stale counts: " + "; ".join(wrong)
     # the dry run agrees with the config it was made from
     assert counts["lab_cases"] == counts["engines"] * counts["terrains"] * counts["motions"]
     assert counts["validate_jobs"] == counts["engines"]  # one job runs all of an engine's cases
@@ -61,18 +65,19 @@ def rule_blocks():
                 yield m.group(1) or "simulate", block
 
 
-def test_the_rules_that_declare_resources_are_the_ones_the_readme_names():
+def test_the_rules_that_declare_resources_are_the_ones_the_docs_name():
     declared = {name for name, block in rule_blocks()
                 if "threads:" in block and "mem_mb=" in block and "runtime=" in block}
     named = {"simulate", "validate", "cpu_load", "sweep_segments", "calibrate", "calibration_evaluate", "compare",
              "summarise", "verdict"}
     figures = {name for name, _ in rule_blocks() if name.startswith("figure_")}
     assert declared == named | figures
-    readme = (ROOT / "README.md").read_text()
-    section = readme[readme.index("## On a cluster"):]
+    page = (ROOT / "docs/running.md").read_text()
+    section = page[page.index("## On a cluster"):]
     assert all(f"`{name}`" in section for name in named) and "the figure rules declare" in section
     profile = yaml.safe_load((ROOT / "profiles/slurm/config.yaml").read_text())
-    assert profile["default-resources"] == {"mem_mb": 400, "runtime": 10}  # the README states both
+    assert profile["default-resources"] == {"mem_mb": 400, "runtime": 10}  # docs/running.md states both
+    assert "(`mem_mb` 400, `runtime` 10 minutes" in section
 
 
 def test_every_script_calls_one_job_function():

@@ -1,0 +1,60 @@
+"""The documentation: the mkdocs site builds with --strict (every page in the navigation, every link and
+anchor resolves), the configuration page names every section of the config, and no document or config
+comment points to a tracker nobody outside can see."""
+
+import re
+import subprocess
+import sys
+
+import pytest
+import yaml
+
+from conftest import ROOT
+from simpick.config import Study
+
+
+def test_the_site_builds_strictly(tmp_path):
+    pytest.importorskip("mkdocs", reason="mkdocs is in the test extra: pip install -e '.[test]'")
+    out = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(tmp_path / "site")],
+                         cwd=ROOT, capture_output=True, text=True)
+    assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-3000:]
+    assert (tmp_path / "site" / "index.html").is_file()
+    nav = yaml.safe_load((ROOT / "mkdocs.yml").read_text())["nav"]
+    pages = {page for entry in nav for page in entry.values()}
+    assert pages == {p.name for p in (ROOT / "docs").glob("*.md")}, "a page missing from the navigation, or a stray"
+    for page in pages:
+        assert (tmp_path / "site" / ("" if page == "index.md" else page[:-3]) / "index.html").is_file(), page
+
+
+def test_the_readme_fits_on_a_screen_and_its_links_resolve():
+    readme = (ROOT / "README.md").read_text()
+    assert len(readme.splitlines()) < 150
+    for target in re.findall(r"\]\(([^)#]+)\)", readme):
+        if not target.startswith("http"):
+            assert (ROOT / target).exists(), f"README links to {target}, which does not exist"
+
+
+def test_the_configuration_page_names_every_section():
+    page = (ROOT / "docs" / "configuration.md").read_text()
+    missing = [name for name in Study.model_fields if f"`{name}`" not in page]
+    assert not missing, f"docs/configuration.md does not describe {missing}"
+
+
+# What the project's own documents, config and workflow files must not cite: "issue 17", "issues 17-20".
+TRACKER = re.compile(r"\bissues?\s+#?\d+|\bissue-\d+", re.IGNORECASE)
+DOCUMENTS = ["README.md", "CHANGELOG.md", "mkdocs.yml", "docs", "config.yaml", "config", ".test", "Snakefile",
+             "rules", "schemas", "profiles", "pyproject.toml", "Makefile"]
+
+
+def test_no_tracker_numbers_in_documents_config_or_rules():
+    found = []
+    for name in DOCUMENTS:
+        path = ROOT / name
+        files = [path] if path.is_file() else sorted(p for p in path.rglob("*") if p.is_file())
+        for file in files:
+            if file.suffix in (".png", ".pdf"):
+                continue
+            for number, line in enumerate(file.read_text().splitlines(), 1):
+                if TRACKER.search(line):
+                    found.append(f"{file.relative_to(ROOT)}:{number}: {line.strip()[:100]}")
+    assert not found, "say the reason, not a tracker number:\n" + "\n".join(found)
