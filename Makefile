@@ -23,9 +23,9 @@ study: $(STAMP)
 test: $(STAMP)
 	$(VENV)/bin/python -m pytest
 
-# The tests that start no Snakemake run (under 2 minutes on 2 cores); `make test` runs them all.
+# The tests that start no Snakemake run and step neither DART nor Drake; `make test` runs them all.
 test-fast: $(STAMP)
-	$(VENV)/bin/python -m pytest -m "not workflow"
+	$(VENV)/bin/python -m pytest -m "not workflow and not slow"
 
 # The documentation site (docs/, mkdocs.yml) into site/
 docs: $(STAMP)

@@ -87,6 +87,19 @@ def _popen_init_checked(self, args, *rest, **kwargs):
 
 subprocess.Popen.__init__ = _popen_init_checked
 
+# The two engines that step this robot at about real time (DART's NSGS friction solve, Drake's hydroelastic
+# contact: docs/benchmark.md) take half the CPU of the tests that start no workflow. A test run on either
+# is marked slow, so the fast tier (make test-fast: -m "not workflow and not slow") stays under two minutes
+# on two cores; the full suite (make test) runs them.
+SLOW_ENGINES = {"dart", "drake"}
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        params = item.callspec.params.values() if hasattr(item, "callspec") else ()
+        if item.path.name == "test_dart_engine.py" or any(isinstance(v, str) and v in SLOW_ENGINES for v in params):
+            item.add_marker(pytest.mark.slow)
+
 
 def tiny_config(workdir: Path | None = None) -> dict:
     """The default study cut down to seconds: 2 terrains x 1 short motion, 2 real segments."""

@@ -200,7 +200,7 @@ class OwnLog(Strict):
         if bool(self.csv) == bool(self.rosbag):
             raise ValueError(f"own log {self.name!r}: give exactly one of csv (with mapping) or rosbag")
         if self.csv and not self.mapping:
-            raise ValueError(f"own log {self.name!r}: a csv needs a column and unit mapping (see README)")
+            raise ValueError(f"own log {self.name!r}: a csv needs a column and unit mapping (docs/real-data.md)")
         if self.rosbag and not (self.imu_topic and self.command_topic):
             raise ValueError(f"own log {self.name!r}: a rosbag needs imu_topic and command_topic")
         for key in ("csv", "commands_csv"):
