@@ -69,6 +69,33 @@ def test_ruff_format_check_is_clean():
     assert out.returncode == 0, "run .venv/bin/ruff format src tests scripts bench\n" + out.stdout[-3000:]
 
 
+GUARDED = """
+import subprocess, sys
+import pytest
+
+def test_unmarked():
+    subprocess.run([sys.executable, "-m", "snakemake", "--version"], capture_output=True)
+
+@pytest.mark.workflow
+def test_marked():
+    assert subprocess.run([sys.executable, "-m", "snakemake", "--version"], capture_output=True).returncode == 0
+
+def test_other_commands():
+    assert subprocess.run([sys.executable, "-c", "pass"]).returncode == 0
+"""
+
+
+def test_a_test_that_starts_snakemake_unmarked_fails(tmp_path):
+    """The fast tier's guard (tests/conftest.py): a test that starts Snakemake must carry the workflow marker."""
+    (tmp_path / "test_guarded.py").write_text(GUARDED)
+    env = os.environ | {"PYTHONPATH": os.pathsep.join([str(ROOT / "tests"), os.environ.get("PYTHONPATH", "")])}
+    out = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "conftest", "-p", "no:cacheprovider",
+                          "-W", "ignore::pytest.PytestUnknownMarkWarning", "--rootdir", str(tmp_path), "-c", os.devnull,
+                          str(tmp_path / "test_guarded.py")], cwd=tmp_path, capture_output=True, text=True, env=env)
+    assert "1 failed, 2 passed" in out.stdout, out.stdout[-3000:] + out.stderr[-3000:]
+    assert "test_unmarked starts Snakemake but is not marked @pytest.mark.workflow" in out.stdout
+
+
 def test_every_report_output_has_a_caption():
     registered = 0
     for path in RULE_FILES:
