@@ -73,3 +73,22 @@ def test_no_tracker_numbers_in_documents_config_or_rules():
                 if TRACKER.search(line):
                     found.append(f"{file.relative_to(ROOT)}:{number}: {line.strip()[:100]}")
     assert not found, "say the reason, not a tracker number:\n" + "\n".join(found)
+
+
+def test_every_config_field_has_a_description():
+    """The config's models document themselves (the generated schema carries each description)."""
+    import inspect
+
+    from pydantic import BaseModel
+
+    from simpick import config
+
+    models = [m for m in vars(config).values() if inspect.isclass(m) and issubclass(m, BaseModel)]
+    missing = [
+        f"{m.__name__}.{name}"
+        for m in models
+        if m.__module__ == config.__name__
+        for name, field in m.model_fields.items()
+        if not field.description
+    ]
+    assert not missing, f"simpick.config: give these fields Field(description=...): {missing}"
