@@ -42,7 +42,7 @@ def test_the_configuration_page_names_every_section():
     assert not missing, f"docs/configuration.md does not describe {missing}"
 
 
-# What the project's own documents, config and workflow files must not cite: "issue 17", "issues 17-20".
+# What the project's own documents, config and workflow files must not cite: the word "issue" and a number.
 TRACKER = re.compile(r"\bissues?\s+#?\d+|\bissue-\d+", re.IGNORECASE)
 DOCUMENTS = [
     "README.md",
