@@ -172,7 +172,8 @@ def load_pickle(path: Path) -> tuple[pd.DataFrame, dict]:
                          "put DRIVE's slip_dataset_all.pkl there, as written by DRIVE's parser")
     try:
         frame = pd.read_pickle(io.BytesIO(data))
-    except Exception as exc:  # a broken pickle can raise anything; the file is what is wrong
+    except (pickle.UnpicklingError, EOFError, AttributeError, ImportError, IndexError, KeyError, TypeError,
+            ValueError, OSError) as exc:  # what a truncated, foreign or damaged pickle raises
         raise InputError(str(path), f"cannot be unpickled ({type(exc).__name__}: {exc})",
                          "download the file again from the DRIVE repository") from None
     if not isinstance(frame, pd.DataFrame):
@@ -265,7 +266,7 @@ def _update_rates(x: np.ndarray, y: np.ndarray, yaw: np.ndarray) -> tuple[np.nda
     """Per window, the mean body speed (vx, vy) and yaw rate between the first and the last ICP pose
     update (the ticks where the held pose changes): both poses are fresh to within one tick, so the
     interval is known, where the window's first sample is a held origin of unknown age."""
-    n_rows, n = x.shape
+    n_rows = len(x)
     vx, vy, wz = (np.full(n_rows, np.nan) for _ in range(3))
     changed = (np.diff(x, axis=1) != 0) | (np.diff(y, axis=1) != 0) | (np.diff(yaw, axis=1) != 0)
     for k in range(n_rows):
@@ -402,7 +403,7 @@ def read_session(folder: str | Path, *, terrain_class: str | None = None, gyro_s
     vx_s = np.nanmean(vx_w.reshape(n_steps, per_step)[:, 1:], axis=1)
     vy_s = np.nanmean(vy_w.reshape(n_steps, per_step)[:, 1:], axis=1)
     heading = Yaw.reshape(n_steps, per_step, n)
-    last = max(1, int(round(START_SECONDS / DT)))
+    last = max(1, round(START_SECONDS / DT))
     start = {  # the previous step's last START_SECONDS (steady: its command held 4 s), or step 0's own start
         "vx": np.r_[vx_w.reshape(n_steps, per_step)[0, 0], vx_w.reshape(n_steps, per_step)[:-1, -1]],
         "vy": np.r_[vy_w.reshape(n_steps, per_step)[0, 0], vy_w.reshape(n_steps, per_step)[:-1, -1]],
