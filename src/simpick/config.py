@@ -121,12 +121,28 @@ class TerrainClass(Strict):
     source: str
 
 
+class DriveSession(Strict):
+    """What the config says of one DRIVE session (by its folder name) over what its files say."""
+    terrain_class: str | None = None  # replaces the terrain of the session's metadata.yaml
+    gyro_sign: Literal[-1, 1] | None = None  # only where the data cannot fix it (refused where they contradict it)
+
+
 class DeclaredDataset(Strict):
     """What is known of a dataset folder before reading it (all optional; rates are measured)."""
+    # the folder's layout: "borealtc" (terrain-class folders of imu_/pro_ CSV pairs, simpick.real.datasets) or
+    # "drive" (DRIVE's calib_data folder of session pickles, simpick.real.logs.drive)
+    kind: Literal["borealtc", "drive"] = "borealtc"
     label: str | None = None
     source: str | None = None
     imu_hz: Positive | None = None
     commands_hz: Positive | None = None
+    sessions: dict[str, DriveSession] = {}  # drive only: per-session overrides, by session folder name
+
+    @model_validator(mode="after")
+    def sessions_of_drive(self):
+        if self.sessions and self.kind != "drive":
+            raise ValueError(f"sessions are overrides of DRIVE sessions; this dataset's kind is {self.kind!r}")
+        return self
 
 
 class RealData(Strict):
@@ -431,6 +447,13 @@ class Study(Strict):
             if target.reference not in known and "reference" in target.model_fields_set:
                 raise ValueError(f"calibration.target.reference: {target.reference!r} is not in this study's "
                                  f"engines or baselines {known}")
+        for name, declared in self.real_data.datasets.items():
+            unknown = sorted({o.terrain_class for o in declared.sessions.values() if o.terrain_class is not None}
+                             - set(self.real_data.classes))
+            if unknown:
+                raise ValueError(f"real_data.datasets.{name}.sessions: terrain classes {unknown} are not under "
+                                 f"real_data.classes {sorted(self.real_data.classes)}; add them there with a "
+                                 "friction and its source")
         if self.accuracy.reference == "own" and not self.own_logs:
             raise ValueError("accuracy.reference is 'own' but own_logs is empty")
         for key, path in (("robot.urdf", self.robot.urdf), ("reference.published", self.reference.published),

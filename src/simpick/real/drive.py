@@ -174,3 +174,30 @@ def replay_cases(data, *, min_turn: float = MIN_TURN) -> pd.DataFrame:
             "source_sha1": s.meta["source"]["git_blob_sha1"],
         }, columns=CASE_COLUMNS))
     return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=CASE_COLUMNS)
+
+
+def open_drive(folder, *, declared=None, classes=None, name: str = "drive"):
+    """The DRIVE dataset behind a folder the user named, read with the config's declaration of it
+    (``real_data.datasets.<name>``: its per-session overrides) and checked against the config's terrain
+    classes (``real_data.classes``; None: not checked). Every session whose terrain has no ground model is
+    one problem; they are raised together (:class:`~simpick.real.datasets.DatasetProblems`)."""
+    from simpick.errors import InputError
+    from simpick.real.datasets import DatasetProblems
+    from simpick.real.logs.drive import read_drive
+
+    declared = dict(declared or {})
+    kind = declared.get("kind", "drive")
+    if kind != "drive":
+        raise InputError(f"real_data.datasets.{name}.kind", f"is {kind!r}, not 'drive'",
+                         f"set kind: drive for the DRIVE folder {folder}")
+    overrides = {k: dict(v or {}) for k, v in (declared.get("sessions") or {}).items()}
+    dataset = read_drive(folder, sessions=overrides, declared_by=f"real_data.datasets.{name}.sessions in the config")
+    if classes is not None:
+        problems = [InputError(f"{s.folder}", f"terrain class {s.terrain_class!r} ({s.meta['terrain_source']}) has "
+                               "no ground model", f"add it under real_data.classes, e.g. real_data: {{classes: "
+                               f"{{{s.terrain_class}: {{friction: 0.6, source: \"where 0.6 comes from\"}}}}}}, or "
+                               f"declare the session's terrain_class under real_data.datasets.{name}.sessions."
+                               f"{s.name}") for s in dataset.sessions if s.terrain_class not in classes]
+        if problems:
+            raise DatasetProblems(problems)
+    return dataset
