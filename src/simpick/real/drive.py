@@ -42,7 +42,7 @@ TABLE_COLUMNS = ["terrain_class", "session", "steps", "gyro_sign", "turning_step
 CASE_COLUMNS = ["case", "dataset", "session", "terrain_class", "step", "start_from", "start_vx", "start_vy",
                 "start_wz", "start_wheel_left", "start_wheel_right", "cmd_left", "cmd_right", "steady_start",
                 "steady_end", "wheel_left", "wheel_right", "yaw_rate", "yaw_rate_icp", "v_icp", "heading_icp",
-                "gain", "source_sha1"]
+                "heading_gyro", "gain", "source_sha1"]
 
 
 def _sessions(data):
@@ -170,6 +170,7 @@ def replay_cases(data, *, min_turn: float = MIN_TURN) -> pd.DataFrame:
             "cmd_left": st.cmd_left, "cmd_right": st.cmd_right, "steady_start": st.steady_start,
             "steady_end": st.t_end, "wheel_left": st.wheel_left, "wheel_right": st.wheel_right,
             "yaw_rate": st.wz_gyro, "yaw_rate_icp": st.wz_icp, "v_icp": st.vx_icp, "heading_icp": st.heading_icp,
+            "heading_gyro": st.heading_gyro,
             "gain": (st.wz_gyro / w_kin).where(w_kin.abs() > min_turn),
             "source_sha1": s.meta["source"]["git_blob_sha1"],
         }, columns=CASE_COLUMNS))

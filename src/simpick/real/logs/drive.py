@@ -30,7 +30,10 @@ Quirks of DRIVE's files and what the reader does with each (all recorded in ``me
   and measures the steady speed and yaw rate between the first and the last pose update of
   each window (both about equally stale), not from DRIVE's smoothed derivative ``icp_vel_x_i``
   (kept as ``vx_icp_drive``; it reads 6-10 % lower on asphalt and gravel, its spline starting
-  from the held origin);
+  from the held origin); a step's ICP heading change over its steady part is that yaw rate times
+  the steady time (``heading_icp``; ``heading_gyro`` integrates the gyro). The composed poses
+  (``x_icp, y_icp, yaw_icp``) lose the motion between a window's last held pose and the next
+  window's origin (up to 10 % of a turn's heading): a trajectory to look at, not a target;
 * identical sessions under several folders: detected by a hash of the arrays
   (:func:`read_drive` keeps one, preferring the run that recorded the data over an
   execute-only run that carries a copy);
@@ -45,6 +48,7 @@ import hashlib
 import io
 import pickle
 import re
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -75,7 +79,7 @@ START_SECONDS = 0.5  # s at the end of the previous step averaged for a step's s
 SAMPLE_COLUMNS = ["step", "window", "sample", "time", "t_step", "steady", "cmd_left", "cmd_right", "wheel_left",
                   "wheel_right", "ax", "ay", "az", "wz", "x_icp", "y_icp", "yaw_icp", "vx_icp_drive", "vy_icp_drive"]
 STEP_COLUMNS = ["step", "t_start", "steady_start", "t_end", "cmd_left", "cmd_right", "cmd_early_samples",
-                "wheel_left", "wheel_right", "wz_gyro", "wz_icp", "vx_icp", "vy_icp", "vx_icp_drive", "heading_icp",
+                "wheel_left", "wheel_right", "wz_gyro", "wz_icp", "vx_icp", "vy_icp", "vx_icp_drive", "heading_icp", "heading_gyro",
                 "start_from", "start_vx", "start_vy", "start_wz", "start_wheel_left", "start_wheel_right"]
 
 
@@ -171,7 +175,9 @@ def load_pickle(path: Path) -> tuple[pd.DataFrame, dict]:
         raise InputError(str(path), "is not a pickle file (it does not start with a pickle protocol header)",
                          "put DRIVE's slip_dataset_all.pkl there, as written by DRIVE's parser")
     try:
-        frame = pd.read_pickle(io.BytesIO(data))
+        with warnings.catch_warnings():  # pickles of an older numpy name numpy.core, which still loads
+            warnings.simplefilter("ignore", DeprecationWarning)
+            frame = pd.read_pickle(io.BytesIO(data))
     except (pickle.UnpicklingError, EOFError, AttributeError, ImportError, IndexError, KeyError, TypeError,
             ValueError, OSError) as exc:  # what a truncated, foreign or damaged pickle raises
         raise InputError(str(path), f"cannot be unpickled ({type(exc).__name__}: {exc})",
@@ -402,7 +408,6 @@ def read_session(folder: str | Path, *, terrain_class: str | None = None, gyro_s
     early = ((cl[:, steady_slice] != cmd_l[:, None]) | (cr[:, steady_slice] != cmd_r[:, None])).sum(axis=1)
     vx_s = np.nanmean(vx_w.reshape(n_steps, per_step)[:, 1:], axis=1)
     vy_s = np.nanmean(vy_w.reshape(n_steps, per_step)[:, 1:], axis=1)
-    heading = Yaw.reshape(n_steps, per_step, n)
     last = max(1, round(START_SECONDS / DT))
     start = {  # the previous step's last START_SECONDS (steady: its command held 4 s), or step 0's own start
         "vx": np.r_[vx_w.reshape(n_steps, per_step)[0, 0], vx_w.reshape(n_steps, per_step)[:-1, -1]],
@@ -418,7 +423,8 @@ def read_session(folder: str | Path, *, terrain_class: str | None = None, gyro_s
         "wheel_left": wl[:, steady_slice].mean(axis=1), "wheel_right": wr[:, steady_slice].mean(axis=1),
         "wz_gyro": wz[:, steady_slice].mean(axis=1), "wz_icp": wz_icp, "vx_icp": vx_s, "vy_icp": vy_s,
         "vx_icp_drive": by_step(raw["icp_vel_x"])[:, steady_slice].mean(axis=1),
-        "heading_icp": heading[:, -1, -1] - heading[:, 1, 0],
+        "heading_icp": np.nansum(wz_w.reshape(n_steps, per_step)[:, 1:], axis=1) * window_s,
+        "heading_gyro": wz[:, steady_slice].sum(axis=1) * DT,
         "start_from": ["own first window (no previous step)"] + ["previous step's end"] * (n_steps - 1),
         "start_vx": start["vx"], "start_vy": start["vy"], "start_wz": start["wz"],
         "start_wheel_left": start["wl"], "start_wheel_right": start["wr"],
