@@ -145,6 +145,18 @@ def test_duplicates_are_found_by_content_and_the_recording_run_is_kept(tmp_path)
                                                                      "warthog_wheels_asphalt_b", True)
     kept = dataset.sessions[0].meta["source"]
     assert kept["git_blob_sha1"] != read_session(copy).meta["source"]["git_blob_sha1"]
+    # a copy under a folder labelled with another terrain: still one session, the disagreement reported
+    cut(tmp_path, name="warthog_wheels_gravel_c", metadata={"only_execute_trajectories": True,
+                                                          "metadata": {"robot": "warthog", "terrain": "gravel"}})
+    dataset = read_drive(tmp_path)
+    assert len(dataset.sessions) == 2
+    other = next(d for d in dataset.duplicates if d["session"] == "warthog_wheels_gravel_c")
+    assert (other["same_as"], other["labels_agree"], other["terrain"]) == ("warthog_wheels_asphalt_b", False,
+                                                                          "gravel")
+
+
+def test_a_drive_checkout_reads_as_its_calib_data(shared):
+    assert [s.content_hash for s in read_drive(DRIVE).sessions] == [s.content_hash for s in shared.sessions]
 
 
 def test_the_terrain_comes_from_metadata_and_a_disagreeing_folder_name_is_reported(tmp_path):
