@@ -288,3 +288,18 @@ def test_the_config_declares_drive_datasets():
     del config["real_data"]["datasets"]["borealtc"]["sessions"]
     assert any("drive.sessions: terrain classes ['gravel'] are not under real_data.classes" in p
                for p in problems(config))
+
+
+def test_the_tables_of_a_dataset(tmp_path):
+    cut(tmp_path / "data", name="warthog_wheels_asphalt_b")
+    cut(tmp_path / "data", name="warthog_wheels_asphalt_a", metadata={"only_execute_trajectories": True})
+    dataset = read_drive(tmp_path / "data")
+    outputs = {k: str(tmp_path / "out" / f"{k}.csv") for k in ("sessions", "steps", "turning", "cases")}
+    D.write_tables(dataset, outputs)
+    sessions = pd.read_csv(outputs["sessions"])
+    assert list(sessions.kept) == [True, False] and sessions.same_as.iloc[1] == "warthog_wheels_asphalt_b"
+    assert sessions.gyro_fixed_by.iloc[0] == "the ICP yaw rate" and sessions.steps.iloc[0] == 12
+    assert len(pd.read_csv(outputs["steps"])) == len(pd.read_csv(outputs["cases"])) == 12
+    assert list(pd.read_csv(outputs["turning"]).session) == ["warthog_wheels_asphalt_b", "all"]
+    with pytest.raises(ValueError, match="unknown DRIVE table"):
+        D.write_tables(dataset, {"gains": str(tmp_path / "x.csv")})

@@ -202,3 +202,46 @@ def open_drive(folder, *, declared=None, classes=None, name: str = "drive"):
         if problems:
             raise DatasetProblems(problems)
     return dataset
+
+
+SESSION_COLUMNS = ["session", "kept", "same_as", "robot", "terrain_class", "terrain_source", "metadata_terrain",
+                   "folder_names_terrain", "only_execute_trajectories", "steps", "gyro_sign", "gyro_fixed_by",
+                   "gyro_basis", "wheel_radius", "wheel_baseline", "geometry_source", "git_blob_sha1",
+                   "content_sha256", "quirks"]
+
+
+def session_table(dataset) -> pd.DataFrame:
+    """One row per session folder read: what was kept, where its terrain, gyro sign and geometry come from,
+    its file's identity and its quirks; a duplicate's row names the session kept in its place."""
+    rows = []
+    for s in dataset.sessions:
+        m = s.meta
+        rows.append({"session": s.name, "kept": True, "same_as": "", "robot": m.get("robot"),
+                     "terrain_class": s.terrain_class, "terrain_source": m["terrain_source"],
+                     "metadata_terrain": m.get("metadata_terrain"), "folder_names_terrain": m["folder_names_terrain"],
+                     "only_execute_trajectories": m["only_execute_trajectories"], "steps": m["steps"],
+                     "gyro_sign": m["gyro"]["sign"], "gyro_fixed_by": m["gyro"]["by"], "gyro_basis": m["gyro"]["basis"],
+                     "wheel_radius": m["geometry"]["wheel_radius"], "wheel_baseline": m["geometry"]["wheel_baseline"],
+                     "geometry_source": m["geometry"]["source"], "git_blob_sha1": m["source"]["git_blob_sha1"],
+                     "content_sha256": m["source"]["content_sha256"], "quirks": "; ".join(m["quirks"])})
+    for d in dataset.duplicates:
+        rows.append({"session": d["session"], "kept": False, "same_as": d["same_as"], "terrain_class": d["terrain"],
+                     "content_sha256": d["content_sha256"],
+                     "quirks": "same arrays as " + d["same_as"] + ("" if d["labels_agree"] else
+                                                                   f" (labelled {d['kept_terrain']} there)")})
+    return pd.DataFrame(rows, columns=SESSION_COLUMNS)
+
+
+def write_tables(dataset, outputs: dict[str, str], *, tolerance: float = SIMILAR) -> None:
+    """The DRIVE tables of a dataset read by :func:`open_drive`, to the paths the caller names (keys
+    ``sessions``, ``steps``, ``turning``, ``cases``; a key left out is not written)."""
+    from simpick.tables import write_csv
+
+    steps = step_table(dataset)
+    tables = {"sessions": lambda: session_table(dataset), "steps": lambda: steps,
+              "turning": lambda: turning_table(steps, tolerance), "cases": lambda: replay_cases(dataset)}
+    unknown = sorted(set(outputs) - set(tables))
+    if unknown:
+        raise ValueError(f"unknown DRIVE table(s) {unknown}; known: {sorted(tables)}")
+    for key, path in outputs.items():
+        write_csv(tables[key](), path)
