@@ -303,3 +303,41 @@ def test_the_tables_of_a_dataset(tmp_path):
     assert list(pd.read_csv(outputs["turning"]).session) == ["warthog_wheels_asphalt_b", "all"]
     with pytest.raises(ValueError, match="unknown DRIVE table"):
         D.write_tables(dataset, {"gains": str(tmp_path / "x.csv")})
+
+
+def _git_status() -> str:
+    import subprocess
+
+    run = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain"], capture_output=True, text=True,
+                         check=False)
+    if run.returncode != 0:
+        pytest.fail(f"this test checks the checkout with git, which failed here: {run.stderr.strip()}")
+    return run.stdout
+
+
+@pytest.mark.slow
+def test_the_workflow_writes_the_drive_tables_of_a_named_folder(tmp_path):
+    from conftest import snakemake, tiny_config, write_config
+
+    data = tmp_path / "calib_data"
+    cut(data, steps=12)
+    cut(data, GRAVEL, steps=12)
+    config = tiny_config(tmp_path)
+    config["drive_dir"] = str(data)
+    write_config(tmp_path, config)
+    before = _git_status()
+    targets = [f"results/drive/drive/{t}.csv" for t in ("sessions", "steps", "turning", "cases")]
+    run = snakemake(tmp_path, "--cores", "1", *targets)
+    assert run.returncode == 0, run.stderr[-3000:]
+    turning = pd.read_csv(tmp_path / targets[2])
+    assert set(turning.session) == {ASPHALT, GRAVEL, "all"}
+    assert len(pd.read_csv(tmp_path / targets[3])) == 24
+    # a broken file: the job fails with one line naming it; a folder without metadata: refused before any job
+    (data / GRAVEL / PICKLE).write_text("not a pickle\n")
+    run = snakemake(tmp_path, "--cores", "1", "--forceall", *targets)
+    assert run.returncode != 0 and f"simpick: {data / GRAVEL / PICKLE}: is not a pickle file" in run.stderr
+    (data / GRAVEL / "metadata.yaml").unlink()
+    run = snakemake(tmp_path, "--cores", "1", *targets)
+    assert run.returncode != 0 and f"simpick: {data / GRAVEL / 'metadata.yaml'}: missing" in run.stderr
+    assert "drive_tables" not in run.stdout
+    assert _git_status() == before

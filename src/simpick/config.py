@@ -364,6 +364,10 @@ class Study(Strict):
     borealtc_dir: str | None = None
     real_dataset: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] | None = None
     own_logs: list[OwnLog] = []
+    # DRIVE sessions (pickles: read only from a folder the user names, never a default path) and the entry
+    # of real_data.datasets (kind drive) that declares them
+    drive_dir: str | None = None
+    drive_dataset: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] = "drive"
     sweep: Sweep | None = None
     calibration: Calibration | None = None
     real_data: RealData
@@ -447,6 +451,15 @@ class Study(Strict):
             if target.reference not in known and "reference" in target.model_fields_set:
                 raise ValueError(f"calibration.target.reference: {target.reference!r} is not in this study's "
                                  f"engines or baselines {known}")
+        if self.drive_dir is not None:
+            if not Path(self.drive_dir).is_dir():
+                raise ValueError(f"drive_dir: {self.drive_dir!r} is not a folder; pass DRIVE's calib_data folder "
+                                 "(github.com/norlab-ulaval/DRIVE) or one session folder: --config drive_dir=PATH")
+            declared = self.real_data.datasets.get(self.drive_dataset)
+            if declared is None or declared.kind != "drive":
+                raise ValueError(f"drive_dataset {self.drive_dataset!r}: real_data.datasets has no entry of that name "
+                                 f"with kind: drive; declare it: real_data: {{datasets: {{{self.drive_dataset}: "
+                                 "{kind: drive, label: ..., source: ...}}}")
         for name, declared in self.real_data.datasets.items():
             unknown = sorted({o.terrain_class for o in declared.sessions.values() if o.terrain_class is not None}
                              - set(self.real_data.classes))

@@ -245,3 +245,28 @@ def write_tables(dataset, outputs: dict[str, str], *, tolerance: float = SIMILAR
         raise ValueError(f"unknown DRIVE table(s) {unknown}; known: {sorted(tables)}")
     for key, path in outputs.items():
         write_csv(tables[key](), path)
+
+
+def sessions_or_exit(folder) -> list:
+    """For the Snakefile: the session folders under ``folder`` (a directory listing: no pickle is read at
+    planning time), or one ``simpick:`` line per problem and exit 1 (no job runs)."""
+    import sys
+
+    from simpick.errors import InputError
+    from simpick.real.datasets import DatasetProblems
+    from simpick.real.logs.drive import find_sessions
+
+    try:
+        return find_sessions(folder)
+    except DatasetProblems as exc:
+        problems = exc.problems
+    except InputError as exc:
+        problems = [exc]
+    for problem in problems:
+        print(f"simpick: {problem}", file=sys.stderr)
+    sys.exit(1)
+
+
+def tables_job(folder: str, declared: dict, name: str, outputs: dict[str, str]) -> None:
+    """Rule drive_tables: the DRIVE folder the user named, read with its declaration, into its four tables."""
+    write_tables(open_drive(folder, declared=declared, name=name), outputs)
