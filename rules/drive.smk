@@ -9,7 +9,7 @@ if SETTINGS.drive_dir:
 
     DRIVE = f"results/drive/{SETTINGS.drive_dataset}"
     DRIVE_SESSIONS = sessions_or_exit(SETTINGS.drive_dir)
-    DRIVE_TARGETS = [f"{DRIVE}/{table}.csv" for table in ("sessions", "steps", "turning", "cases")]
+    DRIVE_TARGETS = [f"{DRIVE}/{table}.csv" for table in ("sessions", "steps", "turning", "bins", "cases")]
 
     rule drive_tables:
         input:
@@ -18,6 +18,7 @@ if SETTINGS.drive_dir:
             sessions=f"{DRIVE}/sessions.csv",
             steps=f"{DRIVE}/steps.csv",
             turning=f"{DRIVE}/turning.csv",
+            bins=f"{DRIVE}/bins.csv",
             cases=f"{DRIVE}/cases.csv",
         log:
             f"results/logs/drive/{SETTINGS.drive_dataset}/drive_tables.log",

@@ -294,13 +294,16 @@ def test_the_tables_of_a_dataset(tmp_path):
     cut(tmp_path / "data", name="warthog_wheels_asphalt_b")
     cut(tmp_path / "data", name="warthog_wheels_asphalt_a", metadata={"only_execute_trajectories": True})
     dataset = read_drive(tmp_path / "data")
-    outputs = {k: str(tmp_path / "out" / f"{k}.csv") for k in ("sessions", "steps", "turning", "cases")}
+    outputs = {k: str(tmp_path / "out" / f"{k}.csv") for k in ("sessions", "steps", "turning", "bins", "cases")}
     D.write_tables(dataset, outputs)
     sessions = pd.read_csv(outputs["sessions"])
     assert list(sessions.kept) == [True, False] and sessions.same_as.iloc[1] == "warthog_wheels_asphalt_b"
     assert sessions.gyro_fixed_by.iloc[0] == "the ICP yaw rate" and sessions.steps.iloc[0] == 12
     assert len(pd.read_csv(outputs["steps"])) == len(pd.read_csv(outputs["cases"])) == 12
     assert list(pd.read_csv(outputs["turning"]).session) == ["warthog_wheels_asphalt_b", "all"]
+    bins = pd.read_csv(outputs["bins"])
+    turning = D.step_table(dataset).turning.sum()
+    assert (bins.groupby("variable").steps.sum() == turning).all() and set(bins.variable) == set(D.BINS)
     with pytest.raises(ValueError, match="unknown DRIVE table"):
         D.write_tables(dataset, {"gains": str(tmp_path / "x.csv")})
 
@@ -326,12 +329,12 @@ def test_the_workflow_writes_the_drive_tables_of_a_named_folder(tmp_path):
     config["drive_dir"] = str(data)
     write_config(tmp_path, config)
     before = _git_status()
-    targets = [f"results/drive/drive/{t}.csv" for t in ("sessions", "steps", "turning", "cases")]
+    targets = [f"results/drive/drive/{t}.csv" for t in ("sessions", "steps", "turning", "bins", "cases")]
     run = snakemake(tmp_path, "--cores", "1", *targets)
     assert run.returncode == 0, run.stderr[-3000:]
     turning = pd.read_csv(tmp_path / targets[2])
     assert set(turning.session) == {ASPHALT, GRAVEL, "all"}
-    assert len(pd.read_csv(tmp_path / targets[3])) == 24
+    assert len(pd.read_csv(tmp_path / targets[4])) == 24
     # a broken file: the job fails with one line naming it; a folder without metadata: refused before any job
     (data / GRAVEL / PICKLE).write_text("not a pickle\n")
     run = snakemake(tmp_path, "--cores", "1", "--forceall", *targets)

@@ -151,6 +151,18 @@ def gain_bins(steps: pd.DataFrame, variable: str, edges) -> pd.DataFrame:
     return out.reset_index().assign(variable=variable, bin=lambda f: f["bin"].astype(str))
 
 
+BINS = {  # the gain against the command, per terrain: bin edges of each commanded variable (absolute values)
+    "v_cmd": [0.0, 0.5, 1.0, 2.0, 3.0, math.inf],  # m/s
+    "cmd_turn_radius": [0.0, 0.5, 1.0, 2.0, 5.0, math.inf],  # m (a spin is 0)
+    "cmd_wheel_speed_difference": [0.0, 1.0, 2.0, 4.0, math.inf],  # m/s at the rim
+}
+
+
+def gain_against_command(steps: pd.DataFrame) -> pd.DataFrame:
+    """:func:`gain_bins` of each variable of :data:`BINS`, in one table."""
+    return pd.concat([gain_bins(steps, v, edges) for v, edges in BINS.items()], ignore_index=True)
+
+
 def replay_cases(data, *, min_turn: float = MIN_TURN) -> pd.DataFrame:
     """One replay case per step of every session: where it starts (the previous step's end: ICP body
     velocity over that step's last steady window, gyro yaw rate and wheel speeds over its last 0.5 s; step 0
@@ -234,12 +246,13 @@ def session_table(dataset) -> pd.DataFrame:
 
 def write_tables(dataset, outputs: dict[str, str], *, tolerance: float = SIMILAR) -> None:
     """The DRIVE tables of a dataset read by :func:`open_drive`, to the paths the caller names (keys
-    ``sessions``, ``steps``, ``turning``, ``cases``; a key left out is not written)."""
+    ``sessions``, ``steps``, ``turning``, ``bins``, ``cases``; a key left out is not written)."""
     from simpick.tables import write_csv
 
     steps = step_table(dataset)
     tables = {"sessions": lambda: session_table(dataset), "steps": lambda: steps,
-              "turning": lambda: turning_table(steps, tolerance), "cases": lambda: replay_cases(dataset)}
+              "turning": lambda: turning_table(steps, tolerance), "bins": lambda: gain_against_command(steps),
+              "cases": lambda: replay_cases(dataset)}
     unknown = sorted(set(outputs) - set(tables))
     if unknown:
         raise ValueError(f"unknown DRIVE table(s) {unknown}; known: {sorted(tables)}")
