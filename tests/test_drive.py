@@ -344,3 +344,17 @@ def test_the_workflow_writes_the_drive_tables_of_a_named_folder(tmp_path):
     assert run.returncode != 0 and f"simpick: {data / GRAVEL / 'metadata.yaml'}: missing" in run.stderr
     assert "drive_tables" not in run.stdout
     assert _git_status() == before
+
+
+def test_the_config_names_a_drive_folder(tmp_path):
+    from simpick.config import problems
+
+    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config["drive_dir"] = str(tmp_path)
+    assert problems(config) == []
+    config["drive_dir"] = str(tmp_path / "nowhere")
+    assert any("drive_dir" in p and "is not a folder" in p for p in problems(config))
+    config.update(drive_dir=str(tmp_path), drive_dataset="borealtc")
+    assert any("drive_dataset 'borealtc'" in p and "kind: drive" in p for p in problems(config))
+    config.update(drive_dataset="drive", drive_dir=None, borealtc_dir=str(tmp_path), real_dataset="drive")
+    assert any("declared kind: drive" in p and "drive_dir instead" in p for p in problems(config))

@@ -460,6 +460,10 @@ class Study(Strict):
                 raise ValueError(f"drive_dataset {self.drive_dataset!r}: real_data.datasets has no entry of that name "
                                  f"with kind: drive; declare it: real_data: {{datasets: {{{self.drive_dataset}: "
                                  "{kind: drive, label: ..., source: ...}}}")
+        named = self.real_data.datasets.get(self.real_dataset) if self.real_dataset else None
+        if named is not None and named.kind == "drive":
+            raise ValueError(f"real_dataset {self.real_dataset!r} is declared kind: drive in real_data.datasets, but "
+                             "borealtc_dir reads the BorealTC layout; pass a DRIVE folder as drive_dir instead")
         for name, declared in self.real_data.datasets.items():
             unknown = sorted({o.terrain_class for o in declared.sessions.values() if o.terrain_class is not None}
                              - set(self.real_data.classes))
