@@ -185,6 +185,8 @@ def test_the_terrain_comes_from_metadata_and_a_disagreeing_folder_name_is_report
     (lambda f: f.assign(imu_acceleration_x_3=np.where(np.arange(len(f)) == 5, np.nan, f.imu_acceleration_x_3)),
      r"column 'imu_acceleration_x_3'.*not finite at row 5"),
     (lambda f: f.iloc[:-1], r"transitory_state_mask.*step at row 33 differs"),
+    (lambda f: f.assign(**{c: -f[c] for c in columns(f, "imu_acceleration_z")}),
+     r"columns imu_acceleration_\*.*not gravity along \+z"),
     (lambda f: f.iloc[1:], r"transitory_state_mask.*row 0 does not start a step"),
 ])
 def test_a_broken_dataset_names_the_file_and_the_column(tmp_path, edit, words):

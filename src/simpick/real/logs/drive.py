@@ -74,6 +74,7 @@ MASKS = ("transitory_state_mask", "steady_state_mask")
 GYRO_COPY = "icp_vel_yaw"  # a copy of imu_yaw in DRIVE's files: checked, never used
 MIN_SIGN_STEPS = 3  # steps turning faster than SIGN_TURN (ICP) needed to fix the gyro's sign
 SIGN_TURN = 0.2  # rad/s
+ACCEL_OK = (7.0, 13.0)  # m/s^2: the norm of the mean specific force (gravity; simpick.real.logs.validate's limits)
 MIN_SIGN_CORRELATION = 0.9
 START_SECONDS = 0.5  # s at the end of the previous step averaged for a step's start state
 SAMPLE_COLUMNS = ["step", "window", "sample", "time", "t_step", "steady", "cmd_left", "cmd_right", "wheel_left",
@@ -364,6 +365,13 @@ def read_session(folder: str | Path, *, terrain_class: str | None = None, gyro_s
                          f"steps of {per_step} windows of {window_s:g} s, but the session's DRIVE configuration "
                          f"({geometry['source']}) says step_len {geometry['step_len']:g} s",
                          "use the pickle and the configuration of the same session")
+    force = np.array([raw[f"imu_acceleration_{a}"].mean() for a in "xyz"])
+    norm = float(np.linalg.norm(force))
+    if not ACCEL_OK[0] <= norm <= ACCEL_OK[1] or force[2] < 0.5 * norm:
+        raise InputError(f"{path}: columns imu_acceleration_*",
+                         f"mean specific force ({force[0]:.2f}, {force[1]:.2f}, {force[2]:.2f}) m/s^2: not gravity "
+                         f"along +z (norm {ACCEL_OK[0]:g}-{ACCEL_OK[1]:g} m/s^2 expected, as in DRIVE's own files)",
+                         "use the pickle DRIVE's parser wrote (m/s^2, z up, gravity included)")
     arrays = {**raw, **masks}
     content = content_sha256(arrays)
 
