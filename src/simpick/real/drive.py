@@ -73,7 +73,8 @@ def step_table(data, *, min_turn: float = MIN_TURN, min_speed: float = MIN_SPEED
             "yaw_rate": st.wz_gyro, "yaw_rate_icp": st.wz_icp, "turning": turning,
             "gain": (st.wz_gyro / w_kin).where(turning), "gain_icp": (st.wz_icp / w_kin).where(turning),
             "v_icp": st.vx_icp, "v_icp_drive": st.vx_icp_drive,
-            "speed_ratio": (st.vx_icp / v_kin).where(moving), "speed_ratio_drive": (st.vx_icp_drive / v_kin).where(moving),
+            "speed_ratio": (st.vx_icp / v_kin).where(moving),
+            "speed_ratio_drive": (st.vx_icp_drive / v_kin).where(moving),
         }, columns=STEP_COLUMNS))
     return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=STEP_COLUMNS)
 

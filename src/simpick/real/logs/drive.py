@@ -80,8 +80,9 @@ START_SECONDS = 0.5  # s at the end of the previous step averaged for a step's s
 SAMPLE_COLUMNS = ["step", "window", "sample", "time", "t_step", "steady", "cmd_left", "cmd_right", "wheel_left",
                   "wheel_right", "ax", "ay", "az", "wz", "x_icp", "y_icp", "yaw_icp", "vx_icp_drive", "vy_icp_drive"]
 STEP_COLUMNS = ["step", "t_start", "steady_start", "t_end", "cmd_left", "cmd_right", "cmd_early_samples",
-                "wheel_left", "wheel_right", "wz_gyro", "wz_icp", "vx_icp", "vy_icp", "vx_icp_drive", "heading_icp", "heading_gyro",
-                "start_from", "start_vx", "start_vy", "start_wz", "start_wheel_left", "start_wheel_right"]
+                "wheel_left", "wheel_right", "wz_gyro", "wz_icp", "vx_icp", "vy_icp", "vx_icp_drive", "heading_icp",
+                "heading_gyro", "start_from", "start_vx", "start_vy", "start_wz", "start_wheel_left",
+                "start_wheel_right"]
 
 
 @dataclass
@@ -89,7 +90,17 @@ class DriveSession:
     """One DRIVE session. Units: s, rad/s (wheel speeds are wheel angular speeds, not rim
     speeds; multiply by ``meta["geometry"]["wheel_radius"]``), m/s, m/s^2, rad; body frame x
     forward, y left, z up. ``wz`` is the gyro yaw rate with its sign fixed; ``x_icp, y_icp,
-    yaw_icp`` the ICP pose in the step's start frame."""
+    yaw_icp`` the ICP pose in the step's start frame.
+
+    ``steps``, one row per step: ``t_start`` (s, session clock), ``steady_start``, ``t_end`` (s from the
+    step's start); ``cmd_left/right`` the command held over the steady part and ``cmd_early_samples`` how
+    many steady samples already hold the next one; steady means of the measured wheel speeds
+    (``wheel_left/right``), the gyro (``wz_gyro``), the ICP yaw rate and body velocity (``wz_icp``,
+    ``vx_icp``, ``vy_icp``; DRIVE's smoothed ``vx_icp_drive``) and the heading change over the steady part
+    (``heading_icp``, ``heading_gyro``); the state at the step's start (``start_*``): the previous step's
+    ICP body velocity over its last window and its gyro and wheel speeds over its last
+    :data:`START_SECONDS`, all measured while that step's command had been held for seconds (step 0: its
+    own first window and samples)."""
     name: str
     folder: Path
     samples: pd.DataFrame
