@@ -33,6 +33,7 @@ include: "rules/validate.smk"
 include: "rules/simulate.smk"
 include: "rules/metrics.smk"
 include: "rules/real.smk"
+include: "rules/drive.smk"
 include: "rules/sweep.smk"
 include: "rules/calibration.smk"
 include: "rules/scores.smk"
@@ -44,3 +45,4 @@ rule all:
     default_target: True
     input:
         PLAN.all_targets(),
+        DRIVE_TARGETS,

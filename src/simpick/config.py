@@ -146,14 +146,34 @@ class TerrainClass(Strict):
     source: str = Field(description="where the coefficient comes from (a handbook table, or 'assumption: ...')")
 
 
+class DriveSession(Strict):
+    """What the config says of one DRIVE session (by its folder name) over what its files say."""
+    terrain_class: str | None = Field(None, description="replaces the terrain of the session's metadata.yaml")
+    gyro_sign: Literal[-1, 1] | None = Field(None, description="the gyro's sign, only where the data cannot fix it "
+                                                               "(refused where they contradict it)")
+
+
 class DeclaredDataset(Strict):
     """What is known of a dataset folder before reading it (all optional; rates are measured)."""
+    # the folder's layout: "borealtc" (terrain-class folders of imu_/pro_ CSV pairs, simpick.real.datasets) or
+    # "drive" (DRIVE's calib_data folder of session pickles, simpick.real.logs.drive)
+    kind: Literal["borealtc", "drive"] = Field("borealtc", description="the folder's layout: 'borealtc' (terrain-class "
+                                               "folders of imu_/pro_ CSV pairs) or 'drive' (DRIVE's calib_data folder "
+                                               "of session pickles)")
     label: str | None = Field(None, description="the dataset's name in the report")
     source: str | None = Field(None, description="where the data come from, with their licence")
     imu_hz: Positive | None = Field(None, description="Hz the IMU is known to log at; a file more than 20 % off is "
                                                       "refused")
     commands_hz: Positive | None = Field(None, description="Hz the wheel commands are known to log at; a file more "
                                                            "than 20 % off is refused")
+    sessions: dict[str, DriveSession] = Field({}, description="DRIVE only: per-session overrides, by session folder "
+                                                             "name")
+
+    @model_validator(mode="after")
+    def sessions_of_drive(self):
+        if self.sessions and self.kind != "drive":
+            raise ValueError(f"sessions are overrides of DRIVE sessions; this dataset's kind is {self.kind!r}")
+        return self
 
 
 class RealData(Strict):
@@ -428,6 +448,11 @@ class Study(Strict):
     real_dataset: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] | None = Field(
         None, description="the replayed dataset's name (results/real/<name>/); default: its folder's name")
     own_logs: list[OwnLog] = Field([], description="your robot's logs, replayed through every engine like BorealTC's")
+    # DRIVE sessions are pickles: read only from a folder the user names, never a default path
+    drive_dir: str | None = Field(None, description="a DRIVE calib_data folder, one session folder or a DRIVE "
+                                                    "checkout (pickles: name only a folder you trust)")
+    drive_dataset: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] = Field(
+        "drive", description="the entry of real_data.datasets (kind drive) that declares the DRIVE sessions")
     sweep: Sweep | None = Field(None, description="a speed-accuracy sweep over physics steps (config/sweeps/)")
     calibration: Calibration | None = Field(None, description="calibration on training runs, judged on held-out "
                                                               "runs")
@@ -514,6 +539,26 @@ class Study(Strict):
             if target.reference not in known and "reference" in target.model_fields_set:
                 raise ValueError(f"calibration.target.reference: {target.reference!r} is not in this study's "
                                  f"engines or baselines {known}")
+        if self.drive_dir is not None:
+            if not Path(self.drive_dir).is_dir():
+                raise ValueError(f"drive_dir: {self.drive_dir!r} is not a folder; pass DRIVE's calib_data folder "
+                                 "(github.com/norlab-ulaval/DRIVE) or one session folder: --config drive_dir=PATH")
+            declared = self.real_data.datasets.get(self.drive_dataset)
+            if declared is None or declared.kind != "drive":
+                raise ValueError(f"drive_dataset {self.drive_dataset!r}: real_data.datasets has no entry of that name "
+                                 f"with kind: drive; declare it: real_data: {{datasets: {{{self.drive_dataset}: "
+                                 "{kind: drive, label: ..., source: ...}}}")
+        named = self.real_data.datasets.get(self.real_dataset) if self.real_dataset else None
+        if named is not None and named.kind == "drive":
+            raise ValueError(f"real_dataset {self.real_dataset!r} is declared kind: drive in real_data.datasets, but "
+                             "borealtc_dir reads the BorealTC layout; pass a DRIVE folder as drive_dir instead")
+        for name, declared in self.real_data.datasets.items():
+            unknown = sorted({o.terrain_class for o in declared.sessions.values() if o.terrain_class is not None}
+                             - set(self.real_data.classes))
+            if unknown:
+                raise ValueError(f"real_data.datasets.{name}.sessions: terrain classes {unknown} are not under "
+                                 f"real_data.classes {sorted(self.real_data.classes)}; add them there with a "
+                                 "friction and its source")
         if self.accuracy.reference == "own" and not self.own_logs:
             raise ValueError("accuracy.reference is 'own' but own_logs is empty")
         for key, path in (("robot.urdf", self.robot.urdf), ("reference.published", self.reference.published),

@@ -1,0 +1,286 @@
+"""What the DRIVE sessions say about the real robot, and the cases they give an engine to replay.
+
+DRIVE commands each wheel pair at random constant speeds for one step and measures the result
+(:mod:`simpick.real.logs.drive`), so its steps sample the whole command space (BorealTC's runs hold
+a few commands each). Per step, over its steady part:
+
+* the yaw-rate gain: the gyro yaw rate (sign fixed per file) over the kinematic yaw rate of the
+  measured wheels, ``w_kin = r (w_R - w_L) / B``, counted where ``|w_kin| > MIN_TURN``; the same with
+  the ICP yaw rate (``gain_icp``) checks the gyro against the lidar;
+* the forward-speed ratio: the lidar-ICP forward speed over the kinematic one
+  ``v_kin = r (w_L + w_R) / 2``, counted where ``|v_kin| > MIN_SPEED``.
+
+Repeatability: the real robot's gain differs between steps of the same command. DRIVE draws its
+commands at random, so no command repeats exactly; two turning steps are *similar* when both
+wheels' commanded speeds differ by at most ``tolerance`` (default :data:`SIMILAR`, 1 rad/s = 0.3 m/s
+at the Warthog's rim, under 4 % of its command range). Over all similar pairs of a group, the spread
+is the median |gain_i - gain_j| and the single-step standard deviation sqrt(mean((gain_i - gain_j)^2) / 2)
+(a pair's difference has twice one step's variance). It is the floor no model can beat.
+"""
+
+from __future__ import annotations
+
+import math
+from itertools import combinations
+
+import numpy as np
+import pandas as pd
+
+MIN_TURN = 0.2  # rad/s: the kinematic yaw rate above which a step counts as turning (as DRIVE's README)
+MIN_SPEED = 0.2  # m/s: the kinematic forward speed above which a step's speed ratio is counted
+SPIN_SPEED = 0.05  # m/s: below this commanded forward speed a turn is a spin on the spot (turn radius 0)
+SIMILAR = 1.0  # rad/s: two steps are of similar command when both wheels' commands differ by at most this
+
+STEP_COLUMNS = ["dataset", "session", "terrain_class", "gyro_sign", "step", "cmd_left", "cmd_right", "v_cmd", "w_cmd",
+                "cmd_turn_radius", "cmd_wheel_speed_difference", "wheel_left", "wheel_right", "v_kin", "w_kin",
+                "yaw_rate", "yaw_rate_icp", "turning", "gain", "gain_icp", "v_icp", "v_icp_drive", "speed_ratio",
+                "speed_ratio_drive"]
+TABLE_COLUMNS = ["terrain_class", "session", "steps", "gyro_sign", "turning_steps", "gain_median", "gain_q25",
+                 "gain_q75", "gain_icp_median", "similar_pairs", "repeat_median_abs_diff", "repeat_sd",
+                 "rho_speed", "p_speed", "rho_radius", "p_radius", "rho_difference", "p_difference", "speed_steps",
+                 "speed_ratio_median", "speed_ratio_q25", "speed_ratio_q75", "speed_ratio_drive_median"]
+CASE_COLUMNS = ["case", "dataset", "session", "terrain_class", "step", "start_from", "start_vx", "start_vy",
+                "start_wz", "start_wheel_left", "start_wheel_right", "cmd_left", "cmd_right", "steady_start",
+                "steady_end", "wheel_left", "wheel_right", "yaw_rate", "yaw_rate_icp", "v_icp", "heading_icp",
+                "heading_gyro", "gain", "source_sha1"]
+
+
+def _sessions(data):
+    return data.sessions if hasattr(data, "sessions") else tuple(data)
+
+
+def step_table(data, *, min_turn: float = MIN_TURN, min_speed: float = MIN_SPEED) -> pd.DataFrame:
+    """One row per step of every session (a :class:`~simpick.real.logs.drive.DriveDataset` or sessions):
+    the command (wheel angular speeds, rad/s, and the body twist they ask for), the measured wheels'
+    kinematic twist, the gyro and ICP yaw rates, the ICP forward speed, the gain and the speed ratio."""
+    frames = []
+    for s in _sessions(data):
+        g = s.meta["geometry"]
+        r, b = g["wheel_radius"], g["wheel_baseline"]
+        st = s.steps
+        v_cmd, w_cmd = r * (st.cmd_left + st.cmd_right) / 2, r * (st.cmd_right - st.cmd_left) / b
+        v_kin, w_kin = r * (st.wheel_left + st.wheel_right) / 2, r * (st.wheel_right - st.wheel_left) / b
+        turning = w_kin.abs() > min_turn
+        moving = v_kin.abs() > min_speed
+        with np.errstate(divide="ignore", invalid="ignore"):
+            radius = np.where(v_cmd.abs() < SPIN_SPEED, 0.0, (v_cmd / w_cmd).abs())
+        frames.append(pd.DataFrame({
+            "dataset": s.meta["dataset"], "session": s.name, "terrain_class": s.terrain_class,
+            "gyro_sign": s.meta["gyro"]["sign"], "step": st.step, "cmd_left": st.cmd_left, "cmd_right": st.cmd_right,
+            "v_cmd": v_cmd, "w_cmd": w_cmd, "cmd_turn_radius": radius,
+            "cmd_wheel_speed_difference": r * (st.cmd_right - st.cmd_left),
+            "wheel_left": st.wheel_left, "wheel_right": st.wheel_right, "v_kin": v_kin, "w_kin": w_kin,
+            "yaw_rate": st.wz_gyro, "yaw_rate_icp": st.wz_icp, "turning": turning,
+            "gain": (st.wz_gyro / w_kin).where(turning), "gain_icp": (st.wz_icp / w_kin).where(turning),
+            "v_icp": st.vx_icp, "v_icp_drive": st.vx_icp_drive,
+            "speed_ratio": (st.vx_icp / v_kin).where(moving),
+            "speed_ratio_drive": (st.vx_icp_drive / v_kin).where(moving),
+        }, columns=STEP_COLUMNS))
+    return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=STEP_COLUMNS)
+
+
+def similar_pairs(steps: pd.DataFrame, tolerance: float = SIMILAR) -> pd.DataFrame:
+    """Every pair of turning steps of one group whose commands are similar (both wheels within
+    ``tolerance`` rad/s), with the difference of their gains. Pairs are taken within a session and
+    terrain (the caller groups)."""
+    turning = steps[steps.turning & steps.gain.notna()]
+    rows = []
+    left, right, gain = (turning[c].to_numpy(float) for c in ("cmd_left", "cmd_right", "gain"))
+    ids = turning[["session", "step"]].to_numpy()
+    for i, j in combinations(range(len(turning)), 2):
+        if abs(left[i] - left[j]) <= tolerance and abs(right[i] - right[j]) <= tolerance:
+            rows.append({"session_a": ids[i][0], "step_a": ids[i][1], "session_b": ids[j][0], "step_b": ids[j][1],
+                         "gain_a": gain[i], "gain_b": gain[j], "difference": gain[i] - gain[j]})
+    return pd.DataFrame(rows, columns=["session_a", "step_a", "session_b", "step_b", "gain_a", "gain_b", "difference"])
+
+
+def repeatability(steps: pd.DataFrame, tolerance: float = SIMILAR) -> dict:
+    """The spread of the gain between steps of similar command (module doc): pairs, median |difference|,
+    single-step standard deviation."""
+    pairs = similar_pairs(steps, tolerance)
+    d = pairs["difference"].to_numpy(float)
+    return {"similar_pairs": len(d), "repeat_median_abs_diff": float(np.median(np.abs(d))) if len(d) else math.nan,
+            "repeat_sd": float(np.sqrt(np.mean(d ** 2) / 2)) if len(d) else math.nan}
+
+
+def _spearman(x, y) -> tuple[float, float]:
+    from scipy.stats import spearmanr
+
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    if len(x) < 4 or np.ptp(x) <= 1e-9 or np.ptp(y) <= 1e-9:  # a constant has no rank to correlate
+        return math.nan, math.nan
+    result = spearmanr(x, y)
+    return float(result.statistic), float(result.pvalue)
+
+
+def _summary(g: pd.DataFrame, tolerance: float) -> dict:
+    t = g[g.turning & g.gain.notna()]
+    m = g[g.speed_ratio.notna()]
+    row = {"steps": len(g), "turning_steps": len(t), "gain_median": t.gain.median(),
+           "gain_q25": t.gain.quantile(0.25), "gain_q75": t.gain.quantile(0.75),
+           "gain_icp_median": t.gain_icp.median(), **repeatability(g, tolerance), "speed_steps": len(m),
+           "speed_ratio_median": m.speed_ratio.median(), "speed_ratio_q25": m.speed_ratio.quantile(0.25),
+           "speed_ratio_q75": m.speed_ratio.quantile(0.75), "speed_ratio_drive_median": m.speed_ratio_drive.median()}
+    for name, column in (("speed", t.v_cmd.abs()), ("radius", t.cmd_turn_radius),
+                         ("difference", t.cmd_wheel_speed_difference.abs())):
+        row[f"rho_{name}"], row[f"p_{name}"] = _spearman(column, t.gain)
+    return row
+
+
+def turning_table(steps: pd.DataFrame, tolerance: float = SIMILAR) -> pd.DataFrame:
+    """Per terrain and session, then per terrain over its sessions (session "all"): the gain's median
+    and quartiles (gyro; and with the ICP yaw rate), its repeatability between similar commands, Spearman's
+    rank correlation (rho, p) of the gain with the commanded |speed|, turn radius and |wheel-speed
+    difference|, and the ICP forward speed over the kinematic one (ours; and DRIVE's smoothed one).
+    Similar pairs are sought within a session (per-session rows) or within a terrain (pooled rows)."""
+    rows = []
+    for terrain, by_terrain in steps.groupby("terrain_class", sort=True):
+        for session, g in by_terrain.groupby("session", sort=True):
+            rows.append({"terrain_class": terrain, "session": session, "gyro_sign": int(g.gyro_sign.iloc[0]),
+                         **_summary(g, tolerance)})
+        rows.append({"terrain_class": terrain, "session": "all", "gyro_sign": None, **_summary(by_terrain, tolerance)})
+    return pd.DataFrame(rows, columns=TABLE_COLUMNS)
+
+
+def gain_bins(steps: pd.DataFrame, variable: str, edges) -> pd.DataFrame:
+    """The gain per terrain in bins of one step variable (e.g. ``cmd_turn_radius``, ``v_cmd`` or
+    ``cmd_wheel_speed_difference``; absolute values): steps, median, quartiles per bin."""
+    t = steps[steps.turning & steps.gain.notna()].copy()
+    t["bin"] = pd.cut(t[variable].abs(), edges, include_lowest=True)
+    out = t.groupby(["terrain_class", "bin"], observed=True).gain.agg(
+        steps="size", gain_median="median", gain_q25=lambda x: x.quantile(0.25), gain_q75=lambda x: x.quantile(0.75))
+    return out.reset_index().assign(variable=variable, bin=lambda f: f["bin"].astype(str))
+
+
+BINS = {  # the gain against the command, per terrain: bin edges of each commanded variable (absolute values)
+    "v_cmd": [0.0, 0.5, 1.0, 2.0, 3.0, math.inf],  # m/s
+    "cmd_turn_radius": [0.0, 0.5, 1.0, 2.0, 5.0, math.inf],  # m (a spin is 0)
+    "cmd_wheel_speed_difference": [0.0, 1.0, 2.0, 4.0, math.inf],  # m/s at the rim
+}
+
+
+def gain_against_command(steps: pd.DataFrame) -> pd.DataFrame:
+    """:func:`gain_bins` of each variable of :data:`BINS`, in one table."""
+    return pd.concat([gain_bins(steps, v, edges) for v, edges in BINS.items()], ignore_index=True)
+
+
+def replay_cases(data, *, min_turn: float = MIN_TURN) -> pd.DataFrame:
+    """One replay case per step of every session: where it starts (the previous step's end: ICP body
+    velocity over that step's last steady window, gyro yaw rate and wheel speeds over its last 0.5 s; step 0
+    from its own start), what the wheels were told and did (command and steady measured wheel speeds, rad/s;
+    the engines replay the measured wheel speeds, :meth:`DriveSession.wheel_commands`), the steady window
+    compared (s from the step's start), and the real values an engine is compared with over it."""
+    frames = []
+    for s in _sessions(data):
+        st = s.steps
+        g = s.meta["geometry"]
+        w_kin = g["wheel_radius"] * (st.wheel_right - st.wheel_left) / g["wheel_baseline"]
+        frames.append(pd.DataFrame({
+            "case": [f"{s.name}/{k:03d}" for k in st.step], "dataset": s.meta["dataset"], "session": s.name,
+            "terrain_class": s.terrain_class, "step": st.step, "start_from": st.start_from,
+            "start_vx": st.start_vx, "start_vy": st.start_vy, "start_wz": st.start_wz,
+            "start_wheel_left": st.start_wheel_left, "start_wheel_right": st.start_wheel_right,
+            "cmd_left": st.cmd_left, "cmd_right": st.cmd_right, "steady_start": st.steady_start,
+            "steady_end": st.t_end, "wheel_left": st.wheel_left, "wheel_right": st.wheel_right,
+            "yaw_rate": st.wz_gyro, "yaw_rate_icp": st.wz_icp, "v_icp": st.vx_icp, "heading_icp": st.heading_icp,
+            "heading_gyro": st.heading_gyro,
+            "gain": (st.wz_gyro / w_kin).where(w_kin.abs() > min_turn),
+            "source_sha1": s.meta["source"]["git_blob_sha1"],
+        }, columns=CASE_COLUMNS))
+    return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=CASE_COLUMNS)
+
+
+def open_drive(folder, *, declared=None, classes=None, name: str = "drive"):
+    """The DRIVE dataset behind a folder the user named, read with the config's declaration of it
+    (``real_data.datasets.<name>``: its per-session overrides) and checked against the config's terrain
+    classes (``real_data.classes``; None: not checked). Every session whose terrain has no ground model is
+    one problem; they are raised together (:class:`~simpick.real.datasets.DatasetProblems`)."""
+    from simpick.errors import InputError
+    from simpick.real.datasets import DatasetProblems
+    from simpick.real.logs.drive import read_drive
+
+    declared = dict(declared or {})
+    kind = declared.get("kind", "drive")
+    if kind != "drive":
+        raise InputError(f"real_data.datasets.{name}.kind", f"is {kind!r}, not 'drive'",
+                         f"set kind: drive for the DRIVE folder {folder}")
+    overrides = {k: dict(v or {}) for k, v in (declared.get("sessions") or {}).items()}
+    dataset = read_drive(folder, sessions=overrides, declared_by=f"real_data.datasets.{name}.sessions in the config")
+    if classes is not None:
+        problems = [InputError(f"{s.folder}", f"terrain class {s.terrain_class!r} ({s.meta['terrain_source']}) has "
+                               "no ground model", f"add it under real_data.classes, e.g. real_data: {{classes: "
+                               f"{{{s.terrain_class}: {{friction: 0.6, source: \"where 0.6 comes from\"}}}}}}, or "
+                               f"declare the session's terrain_class under real_data.datasets.{name}.sessions."
+                               f"{s.name}") for s in dataset.sessions if s.terrain_class not in classes]
+        if problems:
+            raise DatasetProblems(problems)
+    return dataset
+
+
+SESSION_COLUMNS = ["session", "kept", "same_as", "robot", "terrain_class", "terrain_source", "metadata_terrain",
+                   "folder_names_terrain", "only_execute_trajectories", "steps", "gyro_sign", "gyro_fixed_by",
+                   "gyro_basis", "wheel_radius", "wheel_baseline", "geometry_source", "git_blob_sha1",
+                   "content_sha256", "quirks"]
+
+
+def session_table(dataset) -> pd.DataFrame:
+    """One row per session folder read: what was kept, where its terrain, gyro sign and geometry come from,
+    its file's identity and its quirks; a duplicate's row names the session kept in its place."""
+    rows = []
+    for s in dataset.sessions:
+        m = s.meta
+        rows.append({"session": s.name, "kept": True, "same_as": "", "robot": m.get("robot"),
+                     "terrain_class": s.terrain_class, "terrain_source": m["terrain_source"],
+                     "metadata_terrain": m.get("metadata_terrain"), "folder_names_terrain": m["folder_names_terrain"],
+                     "only_execute_trajectories": m["only_execute_trajectories"], "steps": m["steps"],
+                     "gyro_sign": m["gyro"]["sign"], "gyro_fixed_by": m["gyro"]["by"], "gyro_basis": m["gyro"]["basis"],
+                     "wheel_radius": m["geometry"]["wheel_radius"], "wheel_baseline": m["geometry"]["wheel_baseline"],
+                     "geometry_source": m["geometry"]["source"], "git_blob_sha1": m["source"]["git_blob_sha1"],
+                     "content_sha256": m["source"]["content_sha256"], "quirks": "; ".join(m["quirks"])})
+    for d in dataset.duplicates:
+        rows.append({"session": d["session"], "kept": False, "same_as": d["same_as"], "terrain_class": d["terrain"],
+                     "content_sha256": d["content_sha256"],
+                     "quirks": "same arrays as " + d["same_as"] + ("" if d["labels_agree"] else
+                                                                   f" (labelled {d['kept_terrain']} there)")})
+    return pd.DataFrame(rows, columns=SESSION_COLUMNS)
+
+
+def write_tables(dataset, outputs: dict[str, str], *, tolerance: float = SIMILAR) -> None:
+    """The DRIVE tables of a dataset read by :func:`open_drive`, to the paths the caller names (keys
+    ``sessions``, ``steps``, ``turning``, ``bins``, ``cases``; a key left out is not written)."""
+    from simpick.tables import write_csv
+
+    steps = step_table(dataset)
+    tables = {"sessions": lambda: session_table(dataset), "steps": lambda: steps,
+              "turning": lambda: turning_table(steps, tolerance), "bins": lambda: gain_against_command(steps),
+              "cases": lambda: replay_cases(dataset)}
+    unknown = sorted(set(outputs) - set(tables))
+    if unknown:
+        raise ValueError(f"unknown DRIVE table(s) {unknown}; known: {sorted(tables)}")
+    for key, path in outputs.items():
+        write_csv(tables[key](), path)
+
+
+def sessions_or_exit(folder) -> list:
+    """For the Snakefile: the session folders under ``folder`` (a directory listing: no pickle is read at
+    planning time), or one ``simpick:`` line per problem and exit 1 (no job runs)."""
+    import sys
+
+    from simpick.errors import InputError
+    from simpick.real.datasets import DatasetProblems
+    from simpick.real.logs.drive import find_sessions
+
+    try:
+        return find_sessions(folder)
+    except DatasetProblems as exc:
+        problems = exc.problems
+    except InputError as exc:
+        problems = [exc]
+    for problem in problems:
+        print(f"simpick: {problem}", file=sys.stderr)
+    sys.exit(1)
+
+
+def tables_job(folder: str, declared: dict, name: str, outputs: dict[str, str]) -> None:
+    """Rule drive_tables: the DRIVE folder the user named, read with its declaration, into its four tables."""
+    write_tables(open_drive(folder, declared=declared, name=name), outputs)
