@@ -195,8 +195,8 @@ def settings_sentence(outcomes: pd.DataFrame, answer: pd.DataFrame, calibration:
     if not np.isfinite(ratio) or ratio <= 0:
         return {"need": "settings", "text": f"{engine}'s turning against the real {robot} is not measured.",
                 "rests_on": []}
-    text = (f"To turn like the real {robot}: {engine} as configured turns at {_f(ratio)} of the real robot's yaw rate for the same "
-            f"wheel commands, so a simulated ROS diff_drive_controller needs the real robot's "
+    text = (f"To turn like the real {robot}: {engine} as configured turns at {_f(ratio)} of the real robot's yaw "
+            f"rate for the same wheel commands, so a simulated ROS diff_drive_controller needs the real robot's "
             f"wheel_separation_multiplier times {_f(1 / ratio)} (the yaw rate scales with it)")
     rests = [f"answer.csv: {engine} gain_ratio {_f(ratio)}"]
     cal = calibration[calibration.engine == engine] if len(calibration) else calibration
