@@ -104,7 +104,8 @@ def paired_comparison(engine, best, margin_value: float, level: float) -> dict:
     if d.size < 2:
         return out
     finite_margin = bool(np.isfinite(margin_value) and margin_value > 0)
-    if out["sd"] == 0:  # every run differs by the same amount: no spread to test against
+    if out["sd"] <= 1e-12 * max(1.0, abs(out["mean"])):  # every run differs by the same amount: no spread
+        out["sd"] = 0.0
         out.update(low=out["mean"], high=out["mean"], p_worse=0.0 if out["mean"] > 0 else 1.0)
         if finite_margin:
             out["p_equivalent"] = 0.0 if abs(out["mean"]) < margin_value else 1.0
