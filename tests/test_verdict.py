@@ -374,3 +374,28 @@ def test_the_mechanics_gate_counts_failed_cases_by_kind_and_ignores_skipped_ones
     assert table.loc["r", "mechanics"] == "fail" and "not validated" in table.loc["r", "mechanics_note"]
     assert recommendable(table.reset_index(), ["straight"]) == {"p": True, "q": True, "r": False}
     assert recommendable(table.reset_index(), ["invariance"])["p"] is False
+
+
+def test_per_class_verdicts_are_typed_columns_a_reader_takes_as_they_are():
+    from simpick.compare.real import CLASS_OUTCOMES, class_verdicts, pairwise_table, summary_table
+
+    rows = []
+    for cls, runs in (("x", 6), ("y", 3)):
+        for r in range(runs):
+            for engine, err in (("a", 1.0 + r), ("b", 2.0 + r)):
+                rows.append({"engine": engine, "terrain_class": cls, "run": f"{r}", "test": f"{cls}{r}",
+                             "status": "ok", "error_angular": err, "error_linear": 5.0 - err / 10})
+    tests = pd.DataFrame(rows)
+    pairwise = pairwise_table(tests, "terrain_class", STATS)
+    x = pairwise[(pairwise.terrain_class == "x") & (pairwise.figure == "error_angular")].iloc[0]
+    assert (x.outcome, x.closer, x.verdict, x.min_runs) == ("closer", "a", "a closer", 6)
+    y = pairwise[pairwise.terrain_class == "y"]
+    assert (y.outcome == "too few runs").all() and (y.closer.fillna("") == "").all()
+    summary = class_verdicts(summary_table(tests, "terrain_class", STATS), pairwise, "terrain_class")
+    s = summary.set_index(["terrain_class", "engine"])
+    assert s.loc[("x", "a"), "error_angular_closest"] and not s.loc[("x", "b"), "error_angular_closest"]
+    assert s.loc[("x", "a"), "error_angular_outcome"] == s.loc[("x", "b"), "error_angular_outcome"] == "clear"
+    assert s.loc[("y", "a"), "error_angular_outcome"] == "too few runs"
+    # error_linear: b has the smaller error in every run of x, and the test says so
+    assert s.loc[("x", "b"), "error_linear_closest"] and s.loc[("x", "b"), "error_linear_outcome"] == "clear"
+    assert set(summary.filter(like="_outcome").stack()) <= set(CLASS_OUTCOMES) | {""}
