@@ -19,7 +19,7 @@ import re
 import sys
 from typing import Callable
 
-from simpick.codeversion import dispatch_entry, job_code, script_roots
+from simpick.codeversion import job_code, modules, script_roots
 from simpick.config import Study, plain, timestep_label
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, unavailable
 from simpick.inputs.robot import load_from_config
@@ -272,7 +272,7 @@ class Plan(ReportPlanning, CalibrationPlanning):
         """The library code a case runs: simulate_job, the model's adapter, and how its source drives
         it (its module's prepare_case, which simulate_job imports by name: no other kind's code)."""
         entry = source_entry(self.sources[source]["kind"], "prepare_case")
-        return self.script_code("simulate", self.engine_module(engine), entry)
+        return self.script_code("simulate", *self.engine_modules(engine), entry)
 
     def simulate_runtime(self, cases: int) -> int:
         """Minutes for a job of ``cases`` cases: each is stopped by the watchdog at health.timeout
@@ -356,7 +356,7 @@ class Plan(ReportPlanning, CalibrationPlanning):
         compare (the sweep runs them; no other source's)."""
         return self.script_code(
             "sweep_segments",
-            self.engine_module(engine),
+            *self.engine_modules(engine),
             source_entry("segments", "prepare_case"),
             source_entry("segments", "compare"),
         )
@@ -440,23 +440,35 @@ class Plan(ReportPlanning, CalibrationPlanning):
 
     # --- library code as a rerun trigger ---
     # Snakemake reruns a job when its params change, not when imported library code does: each rule
-    # carries the version of the code its job runs (simpick.codeversion): computed from the functions
-    # its script calls and what they import and name, so an edited metric or engine adapter reruns
-    # what runs it, and nothing else.
+    # carries the version of the code its job can run (simpick.codeversion): the modules its script
+    # imports, what they import wherever the import stands, and what the job reaches by name only
+    # (a model's adapter, a source kind's module), which is declared here.
 
-    def script_code(self, script, *roots, opaque=()):
-        """The code version of a job of scripts/<script>.py: the simpick functions the script calls,
-        ``roots`` (modules or functions it reaches by name only: an engine adapter, a dispatch entry)
-        and what they use, less the ``opaque`` names (dispatch tables whose entry is a root)."""
+    def script_code(self, script, *roots):
+        """The code version of a job of scripts/<script>.py: the simpick modules the script imports,
+        ``roots`` (modules a job reaches by name only: :meth:`engine_modules`, a source kind's
+        module) and every module they import."""
         path = os.path.join(self.basedir, "scripts", f"{script}.py")
-        return job_code(*script_roots(path), *roots, opaque=opaque)
+        return job_code(*script_roots(path), *roots)
 
     def figure_code(self, rule):
-        """A figure rule's code: figure_job and the drawing function simpick.report.draw.RULES gives it."""
-        entry = dispatch_entry("simpick.report.draw", "RULES", rule)
-        return self.script_code("figure", entry, opaque=("simpick.report.draw:RULES",))
+        """A figure rule's code: that of scripts/figure.py, which holds every figure's drawing
+        (simpick.report.draw.RULES maps ``rule`` to its function), the same for every figure."""
+        return self.script_code("figure")
 
     @staticmethod
-    def engine_module(engine):
-        """The adapter module of a model (the registry imports it by name, so it is named here)."""
-        return {**ADAPTERS, **REFERENCE_MODELS}[engine].split(":")[0]
+    def engine_modules(engine):
+        """The modules of a model that the registry reaches by name only: its adapter (simpick.engines
+        ADAPTERS, REFERENCE_MODELS), every module of simpick.engines named after the engine
+        (``<engine>_*``, ``_<engine>*``, a ``<engine>`` package), and the engines' shared base and
+        runner. What these import counts too (simpick.codeversion); no other engine's adapter does."""
+        adapter = {**ADAPTERS, **REFERENCE_MODELS}[engine].split(":")[0]
+        found = {adapter}
+        for name in modules():
+            parts = name.split(".")
+            if parts[:2] != ["simpick", "engines"] or len(parts) < 3:
+                continue
+            stem = parts[2].lstrip("_")
+            if stem == engine or stem.startswith(f"{engine}_") or parts[2] in ("base", "runner"):
+                found.add(name)
+        return tuple(sorted(found))
