@@ -25,8 +25,9 @@ from simpick.engines import ADAPTERS, REFERENCE_MODELS, unavailable
 from simpick.inputs.robot import load_from_config
 from simpick.plan.calibration import CalibrationPlanning
 from simpick.plan.report import ReportPlanning
+from simpick.real.datasets import open_dataset_or_exit
+from simpick.simulate.jobs import PREPARE
 from simpick.sources import base as source_base
-from simpick.sources import entry as source_entry
 from simpick.sources import lab as lab_source
 from simpick.sources import module as source_module
 from simpick.sources import own as own_source
@@ -104,8 +105,6 @@ class Plan(ReportPlanning, CalibrationPlanning):
         # no ground model stops the run here with one `simpick:` line each, before any job.
         self.replay_set = None
         if config.get("borealtc_dir"):
-            from simpick.real.datasets import open_dataset_or_exit
-
             self.replay_set = open_dataset_or_exit(
                 config["borealtc_dir"], classes=config["real_data"]["classes"], name=config.get("real_dataset")
             )
@@ -269,10 +268,13 @@ class Plan(ReportPlanning, CalibrationPlanning):
         return self.source_of(source).case_params(self.config, source, self.sources[source], engine, group, names)
 
     def case_code(self, source, engine):
-        """The library code a case runs: simulate_job, the model's adapter, and how its source drives
-        it (its module's prepare_case, which simulate_job imports by name: no other kind's code)."""
-        entry = source_entry(self.sources[source]["kind"], "prepare_case")
-        return self.script_code("simulate", *self.engine_modules(engine), entry)
+        """The library code a case runs: simulate_job, the model's adapter, and how its source's kind
+        is driven (PREPARE, which simulate_job imports by name: no other kind's code)."""
+        return self.script_code("simulate", *self.engine_modules(engine), self.prepare_module(source))
+
+    def prepare_module(self, source):
+        """The module that drives a source's cases (simpick.simulate.jobs.PREPARE of its DRIVEN kind)."""
+        return PREPARE[self.source_of(source).DRIVEN].split(":")[0]
 
     def simulate_runtime(self, cases: int) -> int:
         """Minutes for a job of ``cases`` cases: each is stopped by the watchdog at health.timeout
@@ -302,8 +304,8 @@ class Plan(ReportPlanning, CalibrationPlanning):
         return self.source_of(source).compare_settings(self.config)
 
     def compare_code(self, source):
-        """compare_job and its source's comparison (imported by name: a job of one kind runs no other's)."""
-        return self.script_code("compare", source_entry(self.sources[source]["kind"], "compare"))
+        """compare_job and every kind's comparison (simpick.compare.kinds): the same for every source."""
+        return self.script_code("compare")
 
     def summarise_settings(self, source):
         return canonical({"group": self.sources[source]["group"], "statistics": self.statistics_params()})
@@ -352,13 +354,12 @@ class Plan(ReportPlanning, CalibrationPlanning):
         return canonical(params | {"physics": params["physics"] | {"timestep": float(dt)}})
 
     def sweep_code(self, engine):
-        """A sweep point's code: its job, the model's adapter, and the segments source's simulate and
-        compare (the sweep runs them; no other source's)."""
+        """A sweep point's code: its job (which runs the compare stage's code), the model's adapter,
+        and how the segments source's cases are driven (no other source's)."""
         return self.script_code(
             "sweep_segments",
             *self.engine_modules(engine),
-            source_entry("segments", "prepare_case"),
-            source_entry("segments", "compare"),
+            self.prepare_module("segments"),
         )
 
     def sweep_runs(self):

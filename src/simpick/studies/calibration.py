@@ -36,8 +36,8 @@ has not seen, and at what cost (after Acosta, Posa et al. 2022, who did this for
   an uninterrupted one would have. Trial 0 is always the as-configured engine, so the best
   parameters are never worse on the training units than the configured ones.
 
-Everything here drives the engines through the source modules (:mod:`simpick.sources.segments`,
-:mod:`simpick.sources.replay`), the same paths as the study's real-data comparison.
+Everything here drives the engines as the segments and replay sources' jobs do
+(:mod:`simpick.simulate.real`), the same paths as the study's real-data comparison.
 """
 
 from __future__ import annotations
@@ -54,6 +54,8 @@ import pandas as pd
 import yaml
 
 from simpick.errors import InputError
+from simpick.real.logs import read_canonical
+from simpick.simulate.real import class_segments, replay_log, simulate_segment
 from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S
 from simpick.tables import write_csv
 
@@ -114,11 +116,9 @@ def split_job(units: list[dict], test_fraction: float, seed: int, output: str, l
     columns = ["terrain_class", "run", "unit", "turns"]
     frame = pd.DataFrame(units, columns=columns[:len(units[0])] if units else columns[:3]).astype({"run": str})
     if logs:
-        from simpick.sources import replay
-
         turns = {}
         for path in logs:
-            log = replay.read_log(path)
+            log = read_canonical(path)
             key = (str(log.meta["terrain_class"]).lower(), str(log.meta["run_id"]))
             turns[key] = run_turns(log, float(strata["track"]), strata["steady"], strata.get("duration"))
         frame["turns"] = [turns.get((c, r), False) for c, r in zip(frame.terrain_class, frame.run)]
@@ -178,12 +178,10 @@ def segment_errors(seg: pd.Series, urdf: str, params: dict, window: float | None
     """A committed segment: |mean sim - mean real| of yaw rate and longitudinal acceleration over
     the first ``window`` seconds of its compared window (all of it when None)."""
     from simpick.compare.real import compared_window
-    from simpick.sources import segments
-
     seg = seg.copy()
     if window is not None:
         seg["duration"] = min(float(seg.duration), float(window))
-    frame, meta = segments.simulate(seg, urdf, params)
+    frame, meta = simulate_segment(seg, urdf, params)
     out = {"status": meta["health"]["status"], "wall_time": float(meta["wall_time"]), "steps": int(meta["steps"])}
     if out["status"] == "ok":
         w = compared_window(pd.DataFrame(frame), meta)
@@ -217,9 +215,7 @@ def replay_errors(log, urdf: str, params: dict, duration: float | None, steady: 
     steady yaw-rate gain, simulated and real, in its steady-command turning windows."""
     from simpick.compare import realmetrics
     from simpick.compare.real import real_imu_at, trace_rate
-    from simpick.sources import replay
-
-    frame, meta = replay.simulate(log, urdf, params, duration)
+    frame, meta = replay_log(log, urdf, params, duration=duration)
     out = {"status": meta["health"]["status"], "wall_time": float(meta["wall_time"]), "steps": int(meta["steps"])}
     if out["status"] == "ok":
         sim = pd.DataFrame(frame)
@@ -267,17 +263,13 @@ class Units:
                  terrain_class: str | None = None):
         self.source = source
         if source == "segments":
-            from simpick.sources import segments
-
-            self.segments = segments.class_table(segments_csv, terrain_class)
+            self.segments = class_segments(segments_csv, terrain_class)
             self.ids = [str(s) for s in self.segments.index]
             self.runs = {str(s): str(self.segments.loc[s, "run"]) for s in self.segments.index}
         else:
-            from simpick.sources import replay
-
             self.logs = {}
             for path in logs or []:
-                log = replay.read_log(path)
+                log = read_canonical(path)
                 self.logs[str(log.meta["run_id"])] = log
             self.ids = sorted(self.logs)
             self.runs = {r: r for r in self.ids}
