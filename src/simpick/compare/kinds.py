@@ -9,10 +9,10 @@ import pandas as pd
 
 from simpick.compare import metrics
 from simpick.compare.real import replay_compare, segment_compare
+from simpick.compare.rows import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, case_test, run_row
 from simpick.inputs.published import load_published
 from simpick.inputs.reference import lab_reference
 from simpick.simulate.traces import read_trace
-from simpick.tables import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, case_test, run_row
 
 PER_TEST_COLUMNS = ["engine", "terrain", "motion", "test", "run", "kind", "status", "reasons", "error_angular",
                     "error_linear"]

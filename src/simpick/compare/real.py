@@ -62,7 +62,7 @@ def segment_compare(segments_csv: str, traces: list[str], track: float):
     # version of every job of this module (the lab's and the replays' summaries too)
     from simpick.real.segments import load_segments
     from simpick.simulate.traces import read_trace
-    from simpick.tables import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, run_row
+    from simpick.compare.rows import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, run_row
 
     segments = load_segments(segments_csv).set_index("segment")
     rows, detail, runs = [], [], []
@@ -105,7 +105,7 @@ def replay_compare(logs: list[str], traces: list[str], params: dict):
     test = one run), and each trace's run row."""
     from simpick.real.logs import read_canonical
     from simpick.simulate.traces import read_trace
-    from simpick.tables import RUN_COLUMNS, run_row
+    from simpick.compare.rows import RUN_COLUMNS, run_row
 
     track, window_s = params["track"], params["window"]
     real = {}

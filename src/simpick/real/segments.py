@@ -15,9 +15,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from simpick.compare.metrics import AXES, trace_stats
-from simpick.compare.realmetrics import yaw_rate_gain
 from simpick.errors import InputError
+from simpick.imustats import AXES, trace_stats, yaw_rate_gain
 from simpick.real.logs import RealLog
 
 COLUMNS = (["segment", "dataset", "terrain_class", "run", "kind", "t_start", "t_end", "settle", "duration",

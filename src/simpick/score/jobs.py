@@ -1,4 +1,5 @@
-"""The score stage's job: the paper's scores and weighted table, and the record of what they rest on.
+"""The score stage's jobs: the paper's scores and weighted table, and the record of what they rest on;
+the paper's own published tables recomputed (Table 11).
 """
 
 from __future__ import annotations
@@ -7,6 +8,8 @@ import json
 from pathlib import Path
 
 from simpick.errors import InputError
+from simpick.inputs.published import load_published
+from simpick.score.published import write_outputs
 from simpick.tables import write_csv
 
 
@@ -128,3 +131,9 @@ def score_provenance(engines: list[str], imu_errors: str, rtf: str, cpu_files: l
                          for c in failed_cpu],
         },
     }
+
+
+def published_job(published_file: str, outdir: str) -> None:
+    """The paper's Table 11 recomputed from its own figures, the comparison with the printed scores
+    and the worked example of Eq. 7 (simpick.score.published)."""
+    write_outputs(load_published(published_file), outdir)
