@@ -97,5 +97,6 @@ def test_an_edit_to_how_one_kind_is_driven_changes_that_kinds_simulations_only(l
 
 
 def test_an_edit_to_a_comparison_changes_no_simulation(library):
-    changed = edited(library, "compare/kinds.py", "    reference = lab_reference(", "    reference = {} | lab_reference(")
+    changed = edited(library, "compare/kinds.py", "    reference = lab_reference(",
+                     "    reference = {} | lab_reference(")
     assert changed == [(k, "compare") for k in ("lab", "own", "replay", "segments")]

@@ -8,8 +8,8 @@ every job:
 
 1. **Roots**: the simpick modules the job's script imports (``scripts/<script>.py``), plus the
    modules the job reaches by name only, which the plan declares: a model's adapter modules
-   (:meth:`simpick.plan.Plan.engine_modules`: the registry imports an adapter by name) and a source
-   kind's module (:func:`simpick.sources.entry`).
+   (:meth:`simpick.plan.Plan.engine_modules`: the registry imports an adapter by name) and the
+   module that drives a source kind's cases (:data:`simpick.simulate.jobs.PREPARE`).
 2. **Files**: every module reachable from the roots through ``import`` statements, wherever the
    statement stands in a module (at the top or inside a function: both count the same), with the
    packages that hold them; plus the templates beside a reached module that names them (a folder

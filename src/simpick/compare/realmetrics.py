@@ -19,10 +19,16 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pandas as pd
 
 from simpick.imustats import yaw_rate_gain  # noqa: F401 - defined with the window statistics
+
+# scipy.signal and scipy.stats are imported inside the functions that use them: scipy.stats takes about
+# 2 s to import, and the planning (simpick.config: MIN_RUNS, LEVEL) and most jobs read this module
+# without them.
 
 LOWPASS_HZ = 2.0
 PSD_BAND_HZ = (1.0, 40.0)  # up to the Nyquist frequency where the IMU rate is below 80 Hz
@@ -125,7 +131,6 @@ def _bca(x: np.ndarray, level: float, seed: int) -> tuple[float, float]:
 
     if np.ptp(x) <= 1e-12 * max(1.0, float(np.abs(x).max())):  # every run the same: nothing to resample
         return float(x.mean()), float(x.mean())
-    import warnings
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # a degenerate BCa falls back to the percentile interval below

@@ -7,8 +7,12 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pandas as pd
+import yaml
+
 from simpick.errors import InputError
 from simpick.inputs.published import load_published
+from simpick.score import scoring
 from simpick.score.published import write_outputs
 from simpick.tables import write_csv
 
@@ -18,11 +22,6 @@ def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[st
     """The scores and the weighted table; with ``outputs["provenance"]`` also the record of what
     they rest on (:func:`score_provenance`; ``sources`` as it describes), which the report reads
     instead of working it out again."""
-    import pandas as pd
-    import yaml
-
-    from simpick.score import scoring
-
     try:
         facts = yaml.safe_load(Path(qualitative).read_text())
     except (OSError, yaml.YAMLError) as exc:
@@ -70,8 +69,6 @@ def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[st
 def _failures(path: str | None) -> dict[str, list[str]]:
     """test -> "model: reasons" of every run in a per-test table (the lab runs.csv or a real-data
     *_per_test.csv) that did not finish healthily."""
-    import pandas as pd
-
     if not path:
         return {}
     frame = pd.read_csv(path, dtype=str, keep_default_na=False)
@@ -96,8 +93,6 @@ def score_provenance(engines: list[str], imu_errors: str, rtf: str, cpu_files: l
     ``sources``: ``accuracy`` (``reference``, ``set``: lab, segments, replay or own, ``dataset``),
     ``accuracy_tests`` (the per-test table beside the errors file), ``runs`` (the lab runs.csv)
     and ``cpu_test`` (the CPU runs' terrain/motion); each optional."""
-    import pandas as pd
-
     errors = pd.read_csv(imu_errors, dtype=str, keep_default_na=False)
     errors = errors[errors.engine.isin(engines)]
     why = _failures(sources.get("accuracy_tests"))
