@@ -20,6 +20,8 @@ import yaml
 
 from simpick.errors import InputError
 from simpick.real.logs import borealtc, read_canonical, write_canonical
+from simpick.real.logs.csvlog import read_csv_log
+from simpick.real.logs.rosbag import read_bag
 from simpick.real.segments import derive_from_logs, load_segments
 from simpick.tables import write_csv
 
@@ -81,13 +83,9 @@ def import_own_job(entry: dict, output: str, track: float) -> None:
     meta = {"dataset": "own", "run_id": entry["name"], "terrain_class": entry["terrain_class"],
             "name": entry["name"]}
     if entry.get("csv"):
-        from simpick.real.logs.csvlog import read_csv_log
-
         mapping = {**entry["mapping"], "meta": {**entry["mapping"].get("meta", {}), **meta}}
         log = read_csv_log(entry["csv"], mapping, commands_path=entry.get("commands_csv"), track=track)
     else:
-        from simpick.real.logs.rosbag import read_bag
-
         bag = entry["rosbag"]
         options = {k: v for k, v in entry.items()
                    if k in ("command_type", "wheel_radius", "left_joints", "right_joints", "frame_z",

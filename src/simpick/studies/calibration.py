@@ -60,6 +60,7 @@ from simpick.compare.realmetrics import mean_ci, paired_test, statistics_setting
 from simpick.coulomb import wheel_separation_multiplier
 from simpick.engines import get_engine
 from simpick.errors import InputError
+from simpick.inputs.robot import load_robot
 from simpick.real.logs import read_canonical
 from simpick.real.turning import turning_windows
 from simpick.simulate.real import class_segments, replay_log, simulate_segment
@@ -606,8 +607,6 @@ def summary_job(evals: list[str], bests: list[str], split: str, outputs: dict, s
                            for (e, c), b in sorted(best.items()) for k, v in b["parameters"].items()])
     write_csv(params, outputs["parameters"])
     if "turning" in outputs:
-        from simpick.inputs.robot import load_robot
-
         separation = load_robot(urdf).track  # the controller's wheel_separation (geometric)
         table = turning_table(frame, best, float(turning["track"]), separation, turning["target"], statistics)
         write_csv(table, outputs["turning"])
