@@ -50,7 +50,7 @@ if PLAN.calibration:
         params:
             case=lambda wc: PLAN.real_params(wc.engine, wc.terrain_class),
             settings=lambda wc: PLAN.calibration_settings(wc.engine),
-            code=lambda wc: PLAN.script_code("calibrate", PLAN.engine_module(wc.engine)),
+            code=lambda wc: PLAN.script_code("calibrate", *PLAN.engine_modules(wc.engine)),
         script:
             "../scripts/calibrate.py"
 
@@ -79,7 +79,7 @@ if PLAN.calibration:
         params:
             case=lambda wc: PLAN.real_params(wc.engine, wc.terrain_class),
             settings=lambda wc: PLAN.calibration_settings(wc.engine, search=False),
-            code=lambda wc: PLAN.script_code("calibration_evaluate", PLAN.engine_module(wc.engine)),
+            code=lambda wc: PLAN.script_code("calibration_evaluate", *PLAN.engine_modules(wc.engine)),
         script:
             "../scripts/calibration_evaluate.py"
 

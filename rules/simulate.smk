@@ -57,6 +57,6 @@ rule cpu_load:
         runtime=15,
     params:
         case=lambda wc: PLAN.cpu_load_params(wc.engine),
-        code=lambda wc: PLAN.script_code("cpu_load", PLAN.engine_module(wc.engine)),
+        code=lambda wc: PLAN.script_code("cpu_load", *PLAN.engine_modules(wc.engine)),
     script:
         "../scripts/cpu_load.py"

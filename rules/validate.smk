@@ -24,7 +24,7 @@ rule validate:
         runtime=PLAN.validation_runtime(),
     params:
         case=lambda wc: PLAN.validation_params(wc.engine),
-        code=lambda wc: PLAN.script_code("validate", PLAN.engine_module(wc.engine)),
+        code=lambda wc: PLAN.script_code("validate", *PLAN.engine_modules(wc.engine)),
     script:
         "../scripts/validate.py"
 

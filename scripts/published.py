@@ -1,6 +1,6 @@
 from pathlib import Path
 
-from simpick.inputs.jobs import published_job
+from simpick.score.jobs import published_job
 
 from simpick.joblog import logged
 

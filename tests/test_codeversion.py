@@ -1,22 +1,25 @@
-"""A job's code version comes from the functions it runs and what they import and name
-(simpick.codeversion), read from the source: on a made-up package, which edits change it."""
+"""A job's code version is the code it can reach through import statements, wherever they stand
+(simpick.codeversion), hashed without comments, docstrings or the places of its imports: on a
+made-up package, which edits change it; on src/simpick, that moving imports changes none and that
+each model's jobs hold its own adapter only."""
+
+import ast
+import shutil
 
 import pytest
 
-from simpick.codeversion import clear_cache, dispatch_entry, job_code, job_files, script_roots
+from conftest import ROOT
+from simpick.codeversion import clear_cache, job_code, job_files, modules, script_roots
 
 PACKAGE = {
     "simpick/__init__.py": "",
     "simpick/io.py": "import json\n\n\ndef write(x):\n    return json.dumps(x)\n",
-    "simpick/physics.py": "G = 9.81\n\n\ndef fall(t):\n    return G * t * t / 2\n\n\ndef unused():\n    return 0\n",
+    "simpick/physics.py": '"""Falling."""\nG = 9.81\n\n\ndef fall(t):\n    return G * t * t / 2\n',
     "simpick/segments.py": "from simpick.physics import G\n\nCOLUMNS = ['a']\n",
-    "simpick/jobs.py": (
-        "from simpick.io import write\n\n\n"
-        "def _lab(t):\n    from simpick import physics\n    return physics.fall(t)\n\n\n"
-        "def _segments(t):\n    from simpick.segments import COLUMNS\n    return COLUMNS\n\n\n"
-        "KINDS = {'lab': _lab, 'segments': _segments}\n\n\n"
-        "def simulate_job(kind, t):\n    return write(KINDS[kind](t))\n\n\n"
-        "def rtf_job(x):\n    return write(x)\n"),
+    "simpick/lab.py": (
+        "import math\n\nfrom simpick.io import write\n\n\n"
+        "def run(t):\n    from simpick import physics\n\n    return write(math.floor(physics.fall(t)))\n"),
+    "simpick/rtf.py": "from simpick.io import write\n\n\ndef rtf_job(x):\n    return write(x)\n",
     "simpick/report/__init__.py": "",
     "simpick/report/build.py": "TEMPLATES = 'templates'\n\n\ndef render():\n    return TEMPLATES\n",
     "simpick/report/templates/page.j2": "{{ x }}\n",
@@ -41,11 +44,9 @@ def edit(package, name, old, new):
 
 
 def versions(package):
-    lab = dict(roots=("simpick.jobs:simulate_job", "simpick.jobs:_lab"), opaque=("simpick.jobs:KINDS",))
-    seg = dict(roots=("simpick.jobs:simulate_job", "simpick.jobs:_segments"), opaque=("simpick.jobs:KINDS",))
-    return {"lab": job_code(*lab["roots"], opaque=lab["opaque"], root=package),
-            "segments": job_code(*seg["roots"], opaque=seg["opaque"], root=package),
-            "rtf": job_code("simpick.jobs:rtf_job", root=package),
+    return {"lab": job_code("simpick.lab:run", root=package),
+            "segments": job_code("simpick.segments", root=package),
+            "rtf": job_code("simpick.rtf:rtf_job", root=package),
             "report": job_code("simpick.report.build:render", root=package)}
 
 
@@ -56,40 +57,46 @@ def changed(package, name, old, new):
     return sorted(k for k in before if before[k] != after[k])
 
 
-def test_files_follow_function_level_imports_and_module_attributes(package):
-    names = lambda *roots, **kw: [p.relative_to(package).as_posix() for p in job_files(*roots, root=package, **kw)]
-    assert names("simpick.jobs:_lab") == ["__init__.py", "io.py", "jobs.py", "physics.py"]
-    assert names("simpick.jobs:simulate_job", "simpick.jobs:_lab", opaque=("simpick.jobs:KINDS",)) == [
-        "__init__.py", "io.py", "jobs.py", "physics.py"]
-    # without the table opaque, the dispatch reaches every kind
-    assert "segments.py" in names("simpick.jobs:simulate_job")
+def test_files_follow_imports_wherever_they_stand(package):
+    names = lambda *roots: [p.relative_to(package).as_posix() for p in job_files(*roots, root=package)]
+    assert names("simpick.lab:run") == ["__init__.py", "io.py", "lab.py", "physics.py"]  # an import in a function
+    assert names("simpick.segments") == ["__init__.py", "physics.py", "segments.py"]
     assert names("simpick.report.build:render") == ["__init__.py", "report/__init__.py", "report/build.py",
                                                     "report/templates/page.j2"]
-    assert dispatch_entry("simpick.jobs", "KINDS", "segments", root=package) == "simpick.jobs:_segments"
 
 
-def test_an_edit_changes_the_versions_of_the_jobs_that_run_it_only(package):
-    # a module only the segments import: the segments' version alone
+def test_an_edit_changes_the_versions_of_the_jobs_that_can_reach_it_only(package):
     assert changed(package, "simpick/segments.py", "COLUMNS = ['a']", "COLUMNS = ['a', 'b']") == ["segments"]
-    # a function the lab reaches through a function-level import and an attribute
-    assert changed(package, "simpick/physics.py", "G * t * t / 2", "0.5 * G * t * t") == ["lab"]
-    # a function no job reaches: nobody
-    assert changed(package, "simpick/physics.py", "return 0\n", "return 1\n") == []
-    # a constant of a module both load (segments imports it at the top, the lab's fall reads it)
-    assert changed(package, "simpick/physics.py", "G = 9.81", "G = 9.80665") == ["lab", "segments"]
-    # one job function of a shared module: the other's version stays
-    assert changed(package, "simpick/jobs.py", "return write(x)", "return write([x])") == ["rtf"]
-    # the writer every job calls
-    assert changed(package, "simpick/io.py", "json.dumps(x)", "json.dumps(x, indent=1)") == ["lab", "rtf",
-                                                                                             "segments"]
+    # a module two jobs import: both
+    assert changed(package, "simpick/physics.py", "G * t * t / 2", "0.5 * G * t * t") == ["lab", "segments"]
+    # the writer the lab and the rtf job import
+    assert changed(package, "simpick/io.py", "json.dumps(x)", "json.dumps(x, indent=1)") == ["lab", "rtf"]
     assert changed(package, "simpick/report/templates/page.j2", "{{ x }}", "{{ y }}") == ["report"]
-    # a comment between definitions runs nothing
-    assert changed(package, "simpick/jobs.py", "KINDS = {", "# the kinds\nKINDS = {") == []
+    # a new import of the rtf job
+    assert changed(package, "simpick/rtf.py", "from simpick.io import write\n",
+                   "from simpick.io import write\nfrom simpick.segments import COLUMNS\n") == ["rtf"]
+
+
+def test_comments_docstrings_and_layout_change_no_version(package):
+    assert changed(package, "simpick/physics.py", "G = 9.81", "# gravity\nG = (\n    9.81\n)  # m/s^2") == []
+    assert changed(package, "simpick/physics.py", '"""Falling."""', '"""Falling bodies, at g."""') == []
+
+
+def test_moving_an_import_inside_a_module_changes_no_version(package):
+    before = versions(package)
+    # the lab's function-level import of simpick to the module's top, its top-level math into the function
+    edit(package, "simpick/lab.py", "    from simpick import physics\n\n", "")
+    edit(package, "simpick/lab.py", "import math\n\nfrom simpick.io import write\n",
+         "from simpick import physics\nfrom simpick.io import write\n")
+    edit(package, "simpick/lab.py", "def run(t):\n", "def run(t):\n    import math\n\n")
+    assert versions(package) == before
+    # taking an import away is a change
+    assert changed(package, "simpick/lab.py", "from simpick import physics\n", "") == ["lab"]
 
 
 def test_a_root_that_does_not_exist_is_an_error(package):
     with pytest.raises(KeyError, match="defines no 'simulate'"):
-        job_code("simpick.jobs:simulate", root=package)
+        job_code("simpick.lab:simulate", root=package)
     with pytest.raises(KeyError, match="no module 'simpick.gone'"):
         job_code("simpick.gone:f", root=package)
 
@@ -98,3 +105,76 @@ def test_a_script_names_the_functions_it_runs(tmp_path):
     script = tmp_path / "s.py"
     script.write_text("from simpick.joblog import logged\nfrom simpick.simulate.jobs import simulate_job\nimport os\n")
     assert script_roots(script) == ("simpick.joblog:logged", "simpick.simulate.jobs:simulate_job")
+
+
+# --- on src/simpick itself ---
+
+def script_versions(root):
+    """Every workflow script's version, with each model's adapter for the scripts that step one."""
+    from simpick.engines import ADAPTERS
+    from simpick.plan.study import Plan
+
+    found = {}
+    for script in sorted((ROOT / "scripts").glob("*.py")):
+        found[script.stem] = job_code(*script_roots(script), root=root)
+        for engine in ADAPTERS:
+            found[script.stem, engine] = job_code(*script_roots(script), *Plan.engine_modules(engine), root=root)
+    return found
+
+
+def hoist_imports(text: str) -> str:
+    """``text`` with every import inside a function or class moved to the module's top (where the
+    function keeps a statement besides it)."""
+    tree = ast.parse(text)
+    hoisted = []
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            rest = [s for s in node.body if not isinstance(s, (ast.Import, ast.ImportFrom))]
+            if rest and len(rest) < len(node.body):
+                hoisted += [s for s in node.body if isinstance(s, (ast.Import, ast.ImportFrom))]
+                node.body = rest
+    start = next((i for i, s in enumerate(tree.body) if not (isinstance(s, ast.Expr) or (
+        isinstance(s, ast.ImportFrom) and s.module == "__future__"))), len(tree.body))
+    tree.body[start:start] = hoisted
+    return ast.unparse(tree)
+
+
+def test_moving_the_imports_of_src_simpick_changes_no_code_version(tmp_path):
+    """Every function-level import of every module moved to its module's top (and the files
+    reformatted by ast.unparse, comments gone): no job's version changes."""
+    copy = tmp_path / "simpick"
+    shutil.copytree(ROOT / "src" / "simpick", copy, ignore=shutil.ignore_patterns("__pycache__"))
+    clear_cache()
+    try:
+        before = script_versions(copy)
+        moved = 0
+        for path in sorted(copy.rglob("*.py")):
+            text = path.read_text()
+            new = hoist_imports(text)
+            moved += new.count("\nimport ") + new.count("\nfrom ") - text.count("\nimport ") - text.count("\nfrom ")
+            path.write_text(new)
+        assert moved > 5  # some imports did stand inside functions
+        clear_cache()
+        assert script_versions(copy) == before
+    finally:
+        clear_cache()
+
+
+def test_each_models_jobs_hold_its_own_adapter_only():
+    """An edit to one engine's modules reruns that engine's jobs only: a simulate job's files hold no
+    other engine's adapter, and no report, scoring or planning code."""
+    from simpick.engines import ADAPTERS, REFERENCE_MODELS
+    from simpick.plan.study import Plan
+
+    src = ROOT / "src" / "simpick"
+    adapters = {name: spec.split(":")[0] for name, spec in {**ADAPTERS, **REFERENCE_MODELS}.items()}
+    assert len(modules()) > 40
+    for engine, adapter in adapters.items():
+        for step in ("simulate", "validate", "cpu_load", "calibrate"):
+            files = {p.relative_to(src).with_suffix("").as_posix().replace("/", ".")
+                     for p in job_files(*script_roots(ROOT / "scripts" / f"{step}.py"), *Plan.engine_modules(engine),
+                                        "simpick.sources.lab")}
+            assert adapter.removeprefix("simpick.") in files, (engine, step)
+            others = {m.removeprefix("simpick.") for e, m in adapters.items() if m != adapter}
+            assert not files & others, (engine, step, files & others)
+            assert not [f for f in files if f.split(".")[0] in ("report", "plan", "config", "schema")], files

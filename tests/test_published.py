@@ -8,15 +8,9 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from simpick.inputs.published import (
-    DEFAULT_PATH,
-    axis_errors,
-    load_published,
-    recompute_table11,
-    table11_comparison,
-    worked_example,
-    write_outputs,
-)
+from simpick.compare.metrics import axis_errors
+from simpick.inputs.published import DEFAULT_PATH, load_published
+from simpick.score.published import recompute_table11, table11_comparison, worked_example, write_outputs
 from simpick.score.scoring import DEFAULT_WEIGHTS, METRICS, qualitative_scores
 
 SIMS = ["CoppeliaSim", "Gazebo", "MORSE", "Webots"]

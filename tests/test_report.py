@@ -13,7 +13,8 @@ import pandas as pd
 import pytest
 import yaml
 
-from simpick.inputs.published import load_published, write_outputs
+from simpick.inputs.published import load_published
+from simpick.score.published import write_outputs
 from simpick.score.scoring import DEFAULT_WEIGHTS, METRICS, weighted_table
 from simpick.simulate.traces import write_trace
 

@@ -1,6 +1,7 @@
-"""A source is a module (simpick.sources, issue 21): every kind gives the same interface, and a
-job reaches only its own kind's code, so an edit to one source module changes no other source's
-code version (what reruns: tests/test_workflow.py)."""
+"""A source is a module (simpick.sources): every kind gives the same interface, read at planning
+time only; a simulate job reaches only its own kind's prepare code, so an edit to how one kind is
+driven changes no other kind's simulations, and an edit to a comparison changes no simulation
+(what reruns: tests/test_workflow.py)."""
 
 import shutil
 
@@ -17,7 +18,7 @@ def test_every_kind_gives_the_interface(kind):
     module = sources.module(kind)
     wanted = [n for n in (*Source.__annotations__, *vars(Source)) if not n.startswith("_")]
     assert isinstance(module, Source), [n for n in wanted if not hasattr(module, n)]
-    assert len(wanted) == 10
+    assert len(wanted) == 8
     assert module.KIND == kind
     assert sources.module(module.DRIVEN).DRIVEN == module.DRIVEN  # driven by a kind that drives itself
     assert module.GROUP in ("terrain", "terrain_class")
@@ -29,23 +30,37 @@ def test_an_unknown_kind_is_refused_by_name():
 
 
 def test_own_logs_run_the_replay_jobs():
-    assert sources.entry("own", "prepare_case") == "simpick.sources.replay:prepare_case"
-    assert sources.entry("own", "compare") == "simpick.sources.replay:compare"
-    assert sources.entry("lab", "compare") == "simpick.sources.lab:compare"
+    from simpick.compare.kinds import BY_KIND
+    from simpick.simulate.jobs import PREPARE
+
+    assert sources.module("own").DRIVEN == "replay"
+    # every kind a source is driven as has its prepare function and its comparison
+    driven = {sources.module(kind).DRIVEN for kind in sources.KINDS}
+    assert driven == set(PREPARE) == set(BY_KIND)
 
 
-def roots(kind, step, root=None):
+def roots(kind, step):
     """What the plan (simpick.plan) hashes for a kind's simulate (case_code, less the adapter) or compare job."""
-    job = {"prepare_case": "simpick.simulate.jobs:simulate_job", "compare": "simpick.compare.jobs:compare_job"}[step]
-    return (job, sources.entry(kind, step))
+    from simpick.simulate.jobs import PREPARE
+
+    if step == "compare":
+        return ("simpick.compare.jobs:compare_job",)
+    return ("simpick.simulate.jobs:simulate_job", PREPARE[sources.module(kind).DRIVEN])
 
 
-def test_a_job_reaches_its_own_source_module_only():
+def test_no_job_reaches_a_source_module():
+    """A source module is planning: what a job runs is its kind's prepare function and comparison."""
     src = ROOT / "src" / "simpick" / "sources"
     for kind in ("lab", "segments", "replay"):
         for step in ("prepare_case", "compare"):
-            files = {p.name for p in job_files(*roots(kind, step)) if p.parent == src}
-            assert files == {"__init__.py", "base.py", f"{kind}.py"}, (kind, step, files)
+            assert not [p for p in job_files(*roots(kind, step)) if p.parent == src], (kind, step)
+
+
+def test_a_lab_simulation_reaches_no_real_data_code():
+    files = {p.relative_to(ROOT / "src" / "simpick").parts[0] for p in job_files(*roots("lab", "prepare_case"))}
+    assert "real" not in files and "compare" not in files, files
+    files = {p.relative_to(ROOT / "src" / "simpick").as_posix() for p in job_files(*roots("segments", "prepare_case"))}
+    assert {"simulate/real.py", "real/segments.py"} <= files and "simulate/lab.py" not in files
 
 
 @pytest.fixture()
@@ -62,24 +77,26 @@ def versions(root):
             for kind in ("lab", "segments", "replay", "own") for step in ("prepare_case", "compare")}
 
 
-@pytest.mark.parametrize("kind", ["lab", "segments", "replay"])
-def test_an_edit_to_one_source_module_changes_that_sources_versions_only(library, kind):
+def edited(library, module, old, new):
     before = versions(library)
-    path = library / "sources" / f"{kind}.py"
+    path = library / module
     text = path.read_text()
-    path.write_text(text.replace("\nMEM_MB = ", "\nEDITED = True\nMEM_MB = ", 1))
-    assert path.read_text() != text
+    assert text.count(old) == 1, (module, old)
+    path.write_text(text.replace(old, new))
     clear_cache()
     after = versions(library)
-    changed = sorted({k for k in before if before[k] != after[k]})
-    driven_by = {"lab": ["lab"], "segments": ["segments"], "replay": ["own", "replay"]}[kind]
-    assert changed == [(k, step) for k in driven_by for step in ("compare", "prepare_case")]
+    return sorted({k for k in before if before[k] != after[k]})
+
+
+def test_an_edit_to_how_one_kind_is_driven_changes_that_kinds_simulations_only(library):
+    assert edited(library, "simulate/lab.py", "    motion = params[", "    motion = dict(params)[") == [
+        ("lab", "prepare_case")]
+    assert edited(library, "real/segments.py", "\nCOLUMNS = ", "\nEDITED = True\nCOLUMNS = ") == [
+        ("lab", "compare"), ("own", "compare"), ("own", "prepare_case"), ("replay", "compare"),
+        ("replay", "prepare_case"), ("segments", "compare"), ("segments", "prepare_case")]
 
 
 def test_an_edit_to_a_comparison_changes_no_simulation(library):
-    before = versions(library)
-    path = library / "sources" / "lab.py"
-    path.write_text(path.read_text().replace("    reference = lab_reference(", "    reference = (lab_reference)(", 1))
-    clear_cache()
-    after = versions(library)
-    assert sorted(k for k in before if before[k] != after[k]) == [("lab", "compare")]
+    changed = edited(library, "compare/kinds.py", "    reference = lab_reference(",
+                     "    reference = {} | lab_reference(")
+    assert changed == [(k, "compare") for k in ("lab", "own", "replay", "segments")]

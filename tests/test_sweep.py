@@ -144,17 +144,17 @@ def test_the_sweep_has_no_aggregation_of_its_own():
 
 
 def test_a_sweep_job_reruns_with_the_segments_source_code():
-    """Its code version (rules/sweep.smk) follows the segments source's simulate, compare and
-    summarise code, and no other source's."""
-    from simpick import sources
+    """Its code version (rules/sweep.smk) follows how the segments are driven, the compare stage's
+    code, and not how the lab is driven."""
     from simpick.codeversion import job_files, script_roots
+    from simpick.simulate.jobs import PREPARE
 
-    roots = (*script_roots(ROOT / "scripts" / "sweep_segments.py"), sources.entry("segments", "prepare_case"),
-             sources.entry("segments", "compare"))
+    roots = (*script_roots(ROOT / "scripts" / "sweep_segments.py"), PREPARE["segments"])
     files = {p.relative_to(ROOT / "src" / "simpick").as_posix() for p in job_files(*roots)}
-    assert {"studies/sweep.py", "simulate/jobs.py", "simulate/real.py", "compare/real.py", "sources/segments.py",
+    assert {"studies/sweep.py", "simulate/jobs.py", "simulate/real.py", "compare/real.py", "compare/kinds.py",
             "compare/metrics.py"} <= files
-    assert not files & {"sources/lab.py", "sources/replay.py", "studies/calibration.py"}
+    assert not files & {"simulate/lab.py", "studies/calibration.py"}
+    assert not [f for f in files if f.startswith("sources/")]
     summary = {p.relative_to(ROOT / "src" / "simpick").as_posix()
                for p in job_files(*script_roots(ROOT / "scripts" / "sweep_summary.py"))}
     assert {"studies/sweep.py", "compare/jobs.py", "compare/real.py", "compare/realmetrics.py", "compare/metrics.py"} <= summary

@@ -2,9 +2,10 @@
 
 The contract (what a user relies on to iterate cheaply): nothing edited -> nothing runs;
 a weight edited -> only scoring, the one figure that shows the weights and the report; a report
-template edited -> only the report; one engine's settings edited -> only that engine's simulations
-and what depends on them; a library module edited -> only the jobs whose functions reach it (their
-code versions are computed from the imports: simpick.codeversion) and what depends on them.
+template edited -> only the report and its figures; one engine's settings or code edited -> only that
+engine's simulations and what depends on them; a library module edited -> only the jobs that can import
+it (their code versions: the modules reachable through import statements, wherever they stand:
+simpick.codeversion) and what depends on them.
 """
 
 import pandas as pd
@@ -114,9 +115,10 @@ def test_margin_edit_reruns_only_the_verdict_and_the_report(study):
 
 @pytest.mark.workflow
 def test_template_edit_reruns_only_the_report(study, tmp_path):
-    """The figures are rules of their own that do not hash the report's templates: a template
-    edit reruns the report and its PDF, no figure. The edit is made to a copy of the library
-    (first on PYTHONPATH, so the workflow's code fingerprints read it), not to tracked files."""
+    """A template edit reruns the report, its PDF and the figures (the figure rules import the
+    report package, whose build module reads the templates), nothing else. The edit is made to a
+    copy of the library (first on PYTHONPATH, so the workflow's code fingerprints read it), not to
+    tracked files."""
     import shutil
 
     from conftest import ROOT
@@ -128,13 +130,20 @@ def test_template_edit_reruns_only_the_report(study, tmp_path):
     assert planned_jobs(workdir, env) == []  # the copy fingerprints like the original
     template = copy / "simpick" / "report" / "templates" / "report.html.j2"
     template.write_text(template.read_text() + "\n{# edited #}\n")
-    rules = sorted({rule for rule, _ in planned_jobs(workdir, env)})
-    assert rules == ["all", "report", "report_pdf"]
+    assert reporting_only(planned_jobs(workdir, env))
 
 
-def edited_library(tmp_path, module: str, old: str, new: str) -> dict:
+def reporting_only(jobs) -> bool:
+    """The jobs are the report's, its PDF's and figures' (at least the report), nothing else."""
+    rules = {rule for rule, _ in jobs}
+    return {"report", "report_pdf"} <= rules and all(r in ("all", "report", "report_pdf") or r.startswith("figure_")
+                                                       for r in rules)
+
+
+def edited_library(tmp_path, module: str, old: str | None, new: str) -> dict:
     """A copy of src/simpick with one edit in ``module`` (first on PYTHONPATH, so the workflow's code
-    versions read it; simpick.codeversion), as the environment of a dry run. Tracked files are not touched."""
+    versions read it; simpick.codeversion), as the environment of a dry run; ``old`` None appends ``new``.
+    Tracked files are not touched."""
     import shutil
 
     from conftest import ROOT
@@ -143,6 +152,9 @@ def edited_library(tmp_path, module: str, old: str, new: str) -> dict:
     shutil.copytree(ROOT / "src" / "simpick", copy / "simpick", ignore=shutil.ignore_patterns("__pycache__"))
     path = copy / "simpick" / module
     text = path.read_text()
+    if old is None:
+        path.write_text(text + new)
+        return {"PYTHONPATH": str(copy)}
     assert text.count(old) == 1, f"{module}: {old!r} is not there once"
     path.write_text(text.replace(old, new))
     return {"PYTHONPATH": str(copy)}
@@ -156,55 +168,83 @@ def simulated(jobs):
 
 
 @pytest.mark.workflow
-def test_a_segments_module_edit_reruns_the_segment_jobs_and_no_lab_job(study, tmp_path):
-    """real/segments.py is imported (inside functions) only on the segments' path: editing it reruns
-    every model's segment simulations and what depends on them (issue 21: no hand-kept list had it)."""
+def test_a_segments_module_edit_reruns_the_segment_jobs_and_no_lab_simulation(study, tmp_path):
+    """real/segments.py is imported by how the segments are driven (simulate.real) and by the
+    comparison (compare.real): editing it reruns every model's segment simulations and what depends
+    on them, and no lab simulation (the lab's comparison, which shares compare/, may rerun)."""
     workdir, config = study
     env = edited_library(tmp_path, "real/segments.py", "\nCOLUMNS = ", "\nEDITED = True\nCOLUMNS = ")
     jobs = planned_jobs(workdir, env)
     models = sorted([*config["engines"], *config["baselines"]])
     assert simulated(jobs) == [("simulate_segments_flooring", f"engine={m}") for m in models]
     assert ("compare", "source=segments") in jobs and ("summarise", "source=segments") in jobs
-    assert not [job for job in jobs if "source=lab" in job[1]], jobs  # no lab simulation or comparison
     assert not {rule for rule, _ in jobs} & {"validation_summary", "published_table11"}
 
 
 @pytest.mark.workflow
-def test_a_source_module_edit_reruns_that_sources_jobs_only(study, tmp_path):
-    """simpick.sources.segments is reached only by the segment jobs (simulate_job and compare_job
-    import a kind's module by name): editing it reruns the segments' simulations, comparison and
-    what depends on them, and no lab job; editing the lab's module, no segment job (issue 21)."""
+def test_how_one_kind_is_driven_reruns_that_kinds_simulations_only(study, tmp_path):
+    """simulate/real.py drives the segments (and replays), simulate/lab.py the lab tests (simulate_job
+    imports a kind's module by name): editing one reruns that kind's simulations and what depends on
+    them, no other kind's simulation. A source module (simpick.sources) is planning: no job imports it."""
     workdir, config = study
-    env = edited_library(tmp_path / "segments", "sources/segments.py", "\nMEM_MB = ", "\nEDITED = True\nMEM_MB = ")
+    env = edited_library(tmp_path / "segments", "simulate/real.py", None, "\nEDITED = True\n")
     jobs = planned_jobs(workdir, env)
     models = sorted([*config["engines"], *config["baselines"]])
     assert simulated(jobs) == [("simulate_segments_flooring", f"engine={m}") for m in models]
     assert ("compare", "source=segments") in jobs
     assert not [job for job in jobs if "source=lab" in job[1]], jobs
-    env = edited_library(tmp_path / "lab", "sources/lab.py", "\nMEM_MB = ", "\nEDITED = True\nMEM_MB = ")
+    env = edited_library(tmp_path / "lab", "simulate/lab.py", None, "\nEDITED = True\n")
     jobs = planned_jobs(workdir, env)
     assert {rule for rule, _ in simulated(jobs)} == {"simulate"}
     assert ("compare", "source=lab") in jobs
     assert not [job for job in jobs if "source=segments" in job[1] or job[0].startswith("simulate_")], jobs
+    env = edited_library(tmp_path / "source", "sources/segments.py", None, "\nEDITED = True\n")
+    assert planned_jobs(workdir, env) == []
 
 
 @pytest.mark.workflow
 def test_a_report_edit_simulates_nothing(study, tmp_path):
     workdir, _ = study
     env = edited_library(tmp_path, "report/build.py", "\nTEMPLATE = ", "\nEDITED = True\nTEMPLATE = ")
-    assert sorted({rule for rule, _ in planned_jobs(workdir, env)}) == ["all", "report", "report_pdf"]
+    assert reporting_only(planned_jobs(workdir, env))
 
 
 @pytest.mark.workflow
 def test_an_rtf_edit_reruns_the_summaries_not_the_simulations(study, tmp_path):
-    """equal_rtf shares compare/jobs.py with compare_job, but no simulation runs it: only the jobs
-    whose functions reach it (summarise) and what depends on them rerun."""
+    """equal_rtf lies in compare/jobs.py: the compare stage's jobs rerun (the whole module counts),
+    no simulation and no validation."""
     workdir, _ = study
     env = edited_library(tmp_path, "compare/jobs.py", "    engines = sorted(runs.engine.unique())\n",
                          "    engines = sorted(runs.engine.unique())  # edited\n    assert engines is not None\n")
     jobs = planned_jobs(workdir, env)
-    assert simulated(jobs) == [] and not {rule for rule, _ in jobs} & {"compare", "validation_summary"}
+    assert simulated(jobs) == [] and not {rule for rule, _ in jobs} & {"validation_summary", "validate"}
     assert {("summarise", "source=lab"), ("summarise", "source=segments")} <= set(jobs)
+
+
+@pytest.mark.workflow
+def test_moving_an_import_reruns_nothing(study, tmp_path):
+    """An import moved from the top of a module into the function that uses it: no job reruns."""
+    workdir, _ = study
+    env = edited_library(tmp_path, "compare/jobs.py", "from simpick.compare.kinds import BY_KIND\n", "")
+    path = tmp_path / "src" / "simpick" / "compare" / "jobs.py"
+    text = path.read_text()
+    anchor = "    per_test, detail, runs = BY_KIND[kind]("
+    assert text.count(anchor) == 1
+    path.write_text(text.replace(anchor, "    from simpick.compare.kinds import BY_KIND\n\n" + anchor))
+    assert planned_jobs(workdir, env) == []
+
+
+@pytest.mark.workflow
+def test_an_engine_code_edit_reruns_only_that_engine(study, tmp_path):
+    """An edit to one adapter module reruns that engine's simulations, validation and CPU load (and
+    what depends on them), no other model's."""
+    workdir, config = study
+    env = edited_library(tmp_path, "engines/mujoco_engine.py", None, "\nEDITED = True\n")
+    jobs = planned_jobs(workdir, env)
+    stepping = [(rule, w) for rule, w in jobs
+                if rule in ("simulate", "cpu_load", "validate") or rule.startswith("simulate_")]
+    assert stepping and all("engine=mujoco" in w for _, w in stepping), stepping
+    assert not {rule for rule, _ in jobs} & {"terrain", "published_table11"}
 
 
 @pytest.mark.workflow

@@ -1,27 +1,31 @@
-"""Which library code a job runs, found from the imports, and its fingerprint for the rule's params.
+"""Which library code a job runs, and its fingerprint for the rule's params.
 
-Snakemake reruns a job when its params change, but it does not look into imported library
-code: an edited metric under src/simpick would silently keep serving results computed by the
-old code. Each rule therefore carries, as a param, a hash of the source files its job runs
-(:meth:`simpick.plan.Plan.script_code`: ``job_code``). Those files are computed, not listed: starting from the
-functions the job's script calls (``"simpick.simulate.jobs:simulate_job"``) or a whole module (an
-engine adapter, which the registry imports by name), the source is read with :mod:`ast` and
-followed through every name a function uses: a function or class of its own module, an
-import at the top of a module or inside a function, ``module.attribute``. A module that is
-imported at all brings what its top level imports (it runs when the module is loaded); a
-function brings only what it names. So editing ``real/segments.py``, which the segments' code
-imports, reruns the segment jobs and not the lab simulations, and editing the report reruns
-no simulation.
+Snakemake reruns a job when its params change, but it does not look into imported library code:
+an edited metric under src/simpick would silently keep serving results computed by the old code.
+Each rule therefore carries, as a param, a hash of the source files its job can run
+(:meth:`simpick.plan.Plan.script_code`: :func:`job_code`). One rule says which files, the same for
+every job:
 
-Limits, on purpose: a name is followed wherever it occurs (a local variable that shadows a
-function counts as the function: a few files too many, never too few); a whole file is
-hashed, not the functions in it; code reached through ``importlib`` (the engine registry) or
-a dispatch table that the caller resolves itself (``opaque``) must be named as a root.
-Templates a module reads (a non-package folder beside it whose name the module's source
-states) count as part of it.
+1. **Roots**: the simpick modules the job's script imports (``scripts/<script>.py``), plus the
+   modules the job reaches by name only, which the plan declares: a model's adapter modules
+   (:meth:`simpick.plan.Plan.engine_modules`: the registry imports an adapter by name) and the
+   module that drives a source kind's cases (:data:`simpick.simulate.jobs.PREPARE`).
+2. **Files**: every module reachable from the roots through ``import`` statements, wherever the
+   statement stands in a module (at the top or inside a function: both count the same), with the
+   packages that hold them; plus the templates beside a reached module that names them (a folder
+   that is not a package, named by the module's source as a string: ``"templates"``).
+3. **Hash**: of each file, its syntax tree without comments, docstrings or the places of its
+   imports (the imports count as a sorted set of what they bind). Moving an import inside a module,
+   reformatting, or editing a comment or a docstring changes no version; editing code reruns every
+   job that can reach it.
 
-The same parse gives :func:`import_graph` (every import between simpick modules, at the top
-or inside functions), which ``tests/test_imports.py`` keeps free of cycles.
+A whole module counts, not the functions of it a job calls: a job whose module shares a file with
+another job's function reruns when that function is edited (a few reruns too many, never too
+few), and a maintainer can tell which jobs an edit reruns from the imports alone.
+
+The same parse gives :func:`import_graph` (every import between simpick modules, at the top or
+inside functions), which ``tests/test_imports.py`` keeps free of cycles and ``tests/test_layers.py``
+keeps in the order of the stages.
 """
 
 from __future__ import annotations
@@ -50,128 +54,95 @@ def modules(root: Path = ROOT) -> dict[str, Path]:
 
 
 class _Module:
-    """One parsed module: its top-level names (definitions and imports) and what loading it imports."""
+    """One parsed module: the simpick modules its import statements name, and its top-level names."""
 
     def __init__(self, name: str, path: Path, known: dict[str, Path]):
         self.name, self.path, self.known = name, path, known
         self.is_package = path.name == "__init__.py"
-        self.tree = ast.parse(path.read_bytes(), filename=str(path))
-        self.definitions: dict[str, ast.AST] = {}
-        self.imports: dict[str, tuple] = {}  # local name -> ("module", dotted) or ("name", module, name)
-        self.load_time: set[str] = set()  # simpick modules the top level imports
-        self.statements: list[ast.stmt] = []  # top-level statements that run on import and define nothing
         self.text = path.read_text()
-        self.lines = self.text.splitlines(keepends=True)
-        self._names: dict[int, tuple] = {}
-        for node in self.tree.body:
-            self._top_level(node)
-        self.load_text = "\n".join(self.load_time_code(node) for node in self.tree.body)
-
-    def source(self, node: ast.AST) -> str:
-        """A top-level statement's source lines (decorators included)."""
-        first = min([node.lineno] + [d.lineno for d in getattr(node, "decorator_list", [])])
-        return "".join(self.lines[first - 1:node.end_lineno])
-
-    def names(self, node: ast.AST) -> tuple[tuple, ...]:
-        """What ``node`` uses, computed once per node: ("load", module) for each simpick import in
-        it, ("attr", module, name) for ``module.name``, and ("module", m) / ("name", m, n) for each
-        other name, resolved by its own imports first, then the module's, then its definitions."""
-        key = id(node)
-        if key in self._names:
-            return self._names[key]
-        local, found, nodes = {}, [], list(ast.walk(node))
-        for child in nodes:
-            if isinstance(child, (ast.Import, ast.ImportFrom)):
-                for bound, target in self.bindings(child):
-                    local[bound] = target
-                    found.append(("load", target[1]))
-        as_base = set()
-        for child in nodes:
-            if isinstance(child, ast.Attribute) and isinstance(child.value, ast.Name):
-                target = local.get(child.value.id) or self.imports.get(child.value.id)
-                if target and target[0] == "module":
-                    as_base.add(id(child.value))
-                    found.append(("attr", target[1], child.attr))
-        for child in nodes:
-            if isinstance(child, ast.Name) and id(child) not in as_base:
-                target = local.get(child.id) or self.imports.get(child.id)
-                if target:
-                    found.append(target)
-                elif child.id in self.definitions:
-                    found.append(("name", self.name, child.id))
-        self._names[key] = tuple(dict.fromkeys(found))
-        return self._names[key]
-
-    def load_time_code(self, node: ast.stmt) -> str:
-        """The code of a top-level statement that runs when the module is imported: all of it but
-        a function's body (its decorators, defaults and annotations do run)."""
-        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
-            parts = [*node.decorator_list, node.args] + ([node.returns] if node.returns else [])
-            return f"def {node.name}: " + " ".join(ast.unparse(p) for p in parts)
-        return self.source(node)
-
-    def _top_level(self, node: ast.AST) -> None:
-        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
-            self.definitions[node.name] = node
-        elif isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign)):
-            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
-            for target in targets:
-                for name in ast.walk(target):
-                    if isinstance(name, ast.Name):
-                        self.definitions[name.id] = node
-        elif isinstance(node, (ast.Import, ast.ImportFrom)):
-            for local, target in self.bindings(node):
-                self.imports[local] = target
-                self.load_time.add(target[1])
-        elif isinstance(node, (ast.If, ast.Try, ast.With)):  # guarded imports and definitions
-            self.statements.append(node)
-            for child in ast.iter_child_nodes(node):
-                if isinstance(child, ast.stmt):
-                    self._top_level(child)
-                elif isinstance(child, ast.ExceptHandler):
-                    for stmt in child.body:
-                        self._top_level(stmt)
-        elif not isinstance(node, ast.Expr) or not isinstance(node.value, ast.Constant):  # not a docstring
-            self.statements.append(node)
+        self.tree = ast.parse(self.text, filename=str(path))
 
     def absolute(self, node: ast.ImportFrom) -> str:
+        """The dotted module an ``from ... import`` names, relative imports resolved."""
         if not node.level:
             return node.module or ""
         base = self.name.split(".") if self.is_package else self.name.split(".")[:-1]
         base = base[: len(base) - node.level + 1]
         return ".".join(base + ([node.module] if node.module else []))
 
-    def bindings(self, node: ast.Import | ast.ImportFrom) -> list[tuple[str, tuple]]:
-        """(local name, target) of each name an import statement binds to a simpick module or
-        one of its attributes; imports of other packages bind nothing here."""
-        out = []
+    def targets(self, node: ast.Import | ast.ImportFrom) -> set[str]:
+        """The simpick modules one import statement names: ``from simpick.x import y`` names
+        simpick.x.y where that is a module, else simpick.x (a package's parents load with it:
+        :func:`job_files` counts them)."""
         if isinstance(node, ast.Import):
-            for alias in node.names:
-                if alias.name.split(".")[0] != PACKAGE:
-                    continue
-                if alias.asname:
-                    out.append((alias.asname, ("module", alias.name)))
-                else:  # "import simpick.x" binds "simpick", and loads simpick.x
-                    out.append((PACKAGE, ("module", alias.name)))
-            return out
+            return {alias.name for alias in node.names if alias.name.split(".")[0] == PACKAGE}
         module = self.absolute(node)
         if module.split(".")[0] != PACKAGE:
-            return out
-        for alias in node.names:
-            if alias.name == "*":
-                continue
-            submodule = f"{module}.{alias.name}"
-            target = ("module", submodule) if submodule in self.known else ("name", module, alias.name)
-            out.append((alias.asname or alias.name, target))
-        return out
+            return set()
+        return {f"{module}.{a.name}" if f"{module}.{a.name}" in self.known else module for a in node.names}
 
-    def imported_modules(self) -> set[str]:
+    @functools.cached_property
+    def imported(self) -> frozenset[str]:
         """Every simpick module any import statement of this module names, wherever it stands."""
         found = set()
         for node in ast.walk(self.tree):
             if isinstance(node, (ast.Import, ast.ImportFrom)):
-                found.update(target[1] for _, target in self.bindings(node))
-        return {m for m in found if m in self.known}
+                found |= self.targets(node)
+        return frozenset(m for m in found if m in self.known)
+
+    @functools.cached_property
+    def defined(self) -> frozenset[str]:
+        """The names the module's top level binds (definitions, assignments, imports), guarded
+        ones included."""
+        names = set()
+        for node in self._top_statements(self.tree.body):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+                names.add(node.name)
+            elif isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign)):
+                for target in node.targets if isinstance(node, ast.Assign) else [node.target]:
+                    names |= {n.id for n in ast.walk(target) if isinstance(n, ast.Name)}
+            elif isinstance(node, (ast.Import, ast.ImportFrom)):
+                names |= {(a.asname or a.name).split(".")[0] for a in node.names}
+        return frozenset(names)
+
+    @staticmethod
+    def _top_statements(body):
+        for node in body:
+            yield node
+            if isinstance(node, (ast.If, ast.Try, ast.With)):
+                for field in ("body", "orelse", "finalbody"):
+                    yield from _Module._top_statements(getattr(node, field, []))
+                for handler in getattr(node, "handlers", []):
+                    yield from _Module._top_statements(handler.body)
+
+    @functools.cached_property
+    def code(self) -> str:
+        """What is hashed of the module: its syntax tree with docstrings and import statements taken
+        out, then the sorted set of what the imports bind. Comments and layout are not in a syntax
+        tree at all."""
+        tree = ast.parse(self.text)
+        bound = set()
+        for node in ast.walk(tree):
+            for field in ("body", "orelse", "finalbody"):
+                statements = getattr(node, field, None)
+                if not isinstance(statements, list):
+                    continue
+                kept = []
+                for i, stmt in enumerate(statements):
+                    if isinstance(stmt, ast.Import):
+                        bound |= {("import", a.name, a.asname or "") for a in stmt.names}
+                    elif isinstance(stmt, ast.ImportFrom):
+                        bound |= {("from", self.absolute(stmt), a.name, a.asname or "") for a in stmt.names}
+                    elif not (i == 0 and field == "body" and _is_docstring(node, stmt)):
+                        kept.append(stmt)
+                setattr(node, field, kept)
+        return ast.dump(tree) + "\n" + "\n".join(" ".join(b) for b in sorted(bound))
+
+
+def _is_docstring(parent: ast.AST, stmt: ast.stmt) -> bool:
+    return (isinstance(parent, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef))
+            and isinstance(stmt, ast.Expr) and isinstance(stmt.value, ast.Constant)
+            and isinstance(stmt.value.value, str))
 
 
 @functools.lru_cache(maxsize=None)
@@ -182,7 +153,7 @@ def _parse(name: str, root: Path = ROOT) -> _Module:
 
 def import_graph(root: Path = ROOT) -> dict[str, set[str]]:
     """module -> the simpick modules it imports (top level and inside functions alike)."""
-    return {name: _parse(name, root).imported_modules() - {name} for name in modules(root)}
+    return {name: set(_parse(name, root).imported) - {name} for name in modules(root)}
 
 
 def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
@@ -228,79 +199,6 @@ def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
     return found
 
 
-class _Closure:
-    """The code reached from the roots, following names (see the module docstring): the modules
-    loaded and, of each, the definitions used."""
-
-    def __init__(self, root: Path, opaque: frozenset[str]):
-        self.root, self.opaque = root, opaque
-        self.known = modules(root)
-        self.loaded: set[str] = set()
-        self.reached: set[tuple[str, str]] = set()  # (module, top-level name) whose code runs
-
-    def load(self, module: str) -> None:
-        """``module`` is imported: its parent packages, what its top level imports, and what its
-        top-level statements other than definitions (a registration call, say) name."""
-        if module in self.loaded or module not in self.known:
-            return
-        self.loaded.add(module)
-        parts = module.split(".")
-        for i in range(1, len(parts)):
-            self.load(".".join(parts[:i]))
-        parsed = _parse(module, self.root)
-        for target in parsed.load_time:
-            self.load(target)
-        for node in parsed.statements:
-            self.uses(parsed, node)
-
-    def follow(self, target: tuple) -> None:
-        if target[0] == "module":
-            self.whole(target[1])
-        else:
-            self.name(target[1], target[2])
-
-    def whole(self, module: str) -> None:
-        """A module used as a whole (a root, or passed around as an object): all its definitions."""
-        self.load(module)
-        if module in self.known:
-            for name in _parse(module, self.root).definitions:
-                self.name(module, name)
-
-    def name(self, module: str, name: str) -> None:
-        """``module.name`` is used: the module is loaded and, for a definition, what it names."""
-        if module not in self.known or (module, name) in self.reached:
-            return
-        self.load(module)
-        if f"{module}:{name}" in self.opaque:
-            return
-        parsed = _parse(module, self.root)
-        if name in parsed.definitions:
-            self.reached.add((module, name))
-            self.uses(parsed, parsed.definitions[name])
-        elif name in parsed.imports:  # re-exported
-            self.follow(parsed.imports[name])
-        elif f"{module}.{name}" in self.known:
-            self.whole(f"{module}.{name}")
-
-    def uses(self, parsed: _Module, node: ast.AST) -> None:
-        """Everything ``node`` names (:meth:`_Module.names`)."""
-        for action, *target in parsed.names(node):
-            if action == "load":
-                self.load(target[0])
-            elif action == "attr":
-                self.attribute(*target)
-            else:
-                self.follow((action, *target))
-
-    def attribute(self, module: str, attr: str) -> None:
-        """``module.attr``: a submodule, or a name of the module."""
-        if f"{module}.{attr}" in self.known:
-            self.load(module)
-            self.whole(f"{module}.{attr}")
-        else:
-            self.name(module, attr)
-
-
 @functools.lru_cache(maxsize=None)
 def data_files(module: str, root: Path = ROOT) -> frozenset[Path]:
     """The templates and other non-Python files a module reads: those in a folder beside it that
@@ -318,90 +216,68 @@ def data_files(module: str, root: Path = ROOT) -> frozenset[Path]:
     return frozenset(found)
 
 
-@functools.lru_cache(maxsize=None)
-def _reach(entry: str, opaque: frozenset[str], root: Path) -> tuple[frozenset[str], frozenset[tuple[str, str]]]:
-    """(modules loaded, definitions reached) from one root; a job's code is the union over its
-    roots (an engine adapter's closure is computed once, not once per script that steps it)."""
+def _root_module(entry: str, root: Path) -> str:
+    """The module of a root (``"module"`` or ``"module:name"``); a module or a name that does not
+    exist is an error, so a renamed job function cannot silently drop out of the fingerprint."""
     known = modules(root)
     module, _, name = entry.partition(":")
     if module not in known:
         raise KeyError(f"code version: no module {module!r} under {root}")
-    parsed = _parse(module, root)
-    if name and not (name in parsed.definitions or name in parsed.imports or f"{module}.{name}" in known):
+    if name and name not in _parse(module, root).defined and f"{module}.{name}" not in known:
         raise KeyError(f"code version: {module} defines no {name!r}")
-    closure = _Closure(root, opaque)
-    if name:
-        closure.name(module, name)
-    else:
-        closure.whole(module)
-    return frozenset(closure.loaded), frozenset(closure.reached)
+    return module
 
 
 @functools.lru_cache(maxsize=None)
-def _closure(roots: tuple[str, ...], opaque: frozenset[str], root: Path) -> tuple[list[str], list[tuple[str, str]]]:
-    """(modules loaded, definitions reached), sorted, from every root."""
-    loaded, reached = set(), set()
-    for entry in roots:
-        more_loaded, more_reached = _reach(entry, opaque, root)
-        loaded |= more_loaded
-        reached |= more_reached
-    return sorted(loaded), sorted(reached)
+def _reached(roots: tuple[str, ...], root: Path) -> tuple[str, ...]:
+    """The modules reachable from ``roots`` through import statements, with their packages, sorted."""
+    known = modules(root)
+    seen, todo = set(), [_root_module(entry, root) for entry in roots]
+    while todo:
+        module = todo.pop()
+        if module in seen or module not in known:
+            continue
+        seen.add(module)
+        parts = module.split(".")
+        todo += [".".join(parts[:i]) for i in range(1, len(parts))]  # its packages load first
+        todo += _parse(module, root).imported
+    return tuple(sorted(seen))
 
 
-def job_files(*roots: str, opaque: tuple[str, ...] = (), root: Path | str = ROOT) -> list[Path]:
-    """The source files (and templates) a job runs code of, from ``roots``: ``"module:function"``
-    (or a class or constant) or ``"module"`` (all of it). A root that does not exist is an error,
-    so a renamed job function cannot silently drop out of the fingerprint."""
+def job_files(*roots: str, root: Path | str = ROOT) -> list[Path]:
+    """The source files (and templates) of the code a job can run, from ``roots``: ``"module"`` or
+    ``"module:name"`` (the module; the name must exist in it)."""
     root = Path(root)
-    loaded, _ = _closure(tuple(sorted(set(roots))), frozenset(opaque), root)
-    files = {_parse(m, root).path for m in loaded}
-    for module in loaded:
+    reached = _reached(tuple(sorted(set(roots))), root)
+    files = {_parse(m, root).path for m in reached}
+    for module in reached:
         files |= data_files(module, root)
     return sorted(files)
 
 
-@functools.lru_cache(maxsize=None)
-def _text(module: str, name: str | None, root: Path) -> bytes:
-    """What is hashed of a module: its load-time code (``name`` None) or one definition's source."""
-    parsed = _parse(module, root)
-    text = parsed.load_text if name is None else parsed.source(parsed.definitions[name])
-    return f"{module}:{name or ''}".encode() + b"\0" + text.encode() + b"\0"
+def job_code(*roots: str, root: Path | str = ROOT) -> str:
+    """sha256 (16 hex digits) of the code a job can run (:func:`job_files`; each module as
+    :attr:`_Module.code`, each template as its bytes); computed once per set of roots in a process
+    (the planning of 1000 jobs asks for the same few versions again and again)."""
+    return _job_code(tuple(sorted(set(roots))), Path(root))
 
 
 @functools.lru_cache(maxsize=None)
-def _data(path: Path, root: Path) -> bytes:
-    return path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0"
-
-
-def job_code(*roots: str, opaque: tuple[str, ...] = (), root: Path | str = ROOT) -> str:
-    """sha256 (16 hex digits) of the code a job runs (:func:`_job_code`); computed once per set of
-    roots in a process (the planning of 1000 jobs asks for the same few versions again and again)."""
-    return _job_code(tuple(sorted(set(roots))), tuple(sorted(set(opaque))), Path(root))
+def _job_code(roots: tuple[str, ...], root: Path) -> str:
+    reached = _reached(roots, root)
+    digest = hashlib.sha256()
+    for module in reached:
+        digest.update(module.encode() + b"\0" + _parse(module, root).code.encode() + b"\0")
+    for module in reached:
+        for path in sorted(data_files(module, root)):  # templates
+            digest.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()[:16]
 
 
 def clear_cache() -> None:
     """Forget every parsed module and version (for a process that edits the sources it reads)."""
-    for cached in (modules, _parse, _reach, _closure, _text, _data, data_files, script_roots, dispatch_entry,
-                   _job_code):
+    for cached in (modules, _parse, _reached, _job_code, data_files, script_roots):
         cached.cache_clear()
-
-
-@functools.lru_cache(maxsize=None)
-def _job_code(roots: tuple[str, ...], opaque: tuple[str, ...], root: Path) -> str:
-    """sha256 (16 hex digits) of the code a job runs: of every module it loads, the code that runs
-    on import (imports, constants, class bodies, decorators; not function bodies), and the source
-    of every function it reaches (:class:`_Closure`), plus the templates beside those modules.
-    Editing a function that no job of a rule reaches leaves that rule's version as it is."""
-    loaded, reached = _closure(roots, frozenset(opaque), root)
-    digest = hashlib.sha256()
-    for module in loaded:
-        digest.update(_text(module, None, root))
-    for module, name in reached:
-        digest.update(_text(module, name, root))
-    for module in loaded:
-        for path in sorted(data_files(module, root)):  # templates
-            digest.update(_data(path, root))
-    return digest.hexdigest()[:16]
 
 
 @functools.lru_cache(maxsize=None)
@@ -415,24 +291,3 @@ def script_roots(script: Path | str) -> tuple[str, ...]:
         elif isinstance(node, ast.Import):
             roots += [alias.name for alias in node.names if alias.name.split(".")[0] == PACKAGE]
     return tuple(roots)
-
-
-@functools.lru_cache(maxsize=None)
-def dispatch_entry(module: str, table: str, key: str, root: Path | str = ROOT) -> str:
-    """``"module:function"`` of the function that the dispatch table ``module.table`` (a dict
-    literal) holds under ``key`` (the first name of the entry), read from the source: a job that
-    takes one entry names it as a root and the table as opaque."""
-    root = Path(root)
-    parsed = _parse(module, root)
-    node = parsed.definitions.get(table)
-    value = getattr(node, "value", None)
-    if not isinstance(value, ast.Dict):
-        raise KeyError(f"code version: {module}.{table} is not a dict literal")
-    for k, v in zip(value.keys, value.values):
-        if isinstance(k, ast.Constant) and k.value == key:
-            name = next((n.id for n in ast.walk(v) if isinstance(n, ast.Name)), None)
-            if name is None:
-                break
-            target = parsed.imports.get(name)
-            return f"{target[1]}:{target[2]}" if target and target[0] == "name" else f"{module}:{name}"
-    raise KeyError(f"code version: {module}.{table} has no function under {key!r}")

@@ -1,22 +1,25 @@
 """The compare stage's jobs, the same for every source: its traces against their reference (by its
-kind's module in :mod:`simpick.sources`), then its per-test rows summed (Eq. 7) and summarised.
+kind's comparison: :mod:`simpick.compare.kinds`), then its per-test rows summed (Eq. 7) and summarised.
 """
 
 from __future__ import annotations
 
+import pandas as pd
+
+from simpick.compare import metrics
+from simpick.compare.kinds import BY_KIND
+from simpick.compare.real import class_verdicts, pairwise_table, summary_table
 from simpick.tables import write_csv
 
 
 def compare_job(kind: str, traces: list[str], inputs: dict, params: dict, outputs: dict[str, str]) -> None:
-    """One source's traces against what they are compared with, by its kind's module (simpick.sources,
-    imported by name: a job of one kind runs no other's comparison): the paper's reference statistics
+    """One source's traces against what they are compared with, by its kind's comparison
+    (:data:`simpick.compare.kinds.BY_KIND`; ``kind`` is the source's DRIVEN kind): the paper's reference statistics
     (lab), each segment's real window statistics (segments), the real log window by window
     (replay). Writes ``per_test`` (Eq. 7 per model and test: what scores and summaries use),
     ``detail`` (the rows a test's error sums: per axis, or per window for a replay) and ``runs``
     (each trace's timing and health)."""
-    from simpick import sources
-
-    per_test, detail, runs = sources.module(kind).compare(traces, inputs, params)
+    per_test, detail, runs = BY_KIND[kind](traces, inputs, params)
     write_csv(per_test, outputs["per_test"])
     write_csv(detail, outputs["detail"])
     write_csv(runs, outputs["runs"])
@@ -25,8 +28,6 @@ def compare_job(kind: str, traces: list[str], inputs: dict, params: dict, output
 def summarise_job(per_test: str, runs: str, params: dict, outputs: dict[str, str]) -> None:
     """A source's per-test rows summed and summarised (:func:`source_tables`), each table written
     to its ``outputs`` entry."""
-    import pandas as pd
-
     tests = pd.read_csv(per_test, dtype={"run": str, "test": str})
     run_table = pd.read_csv(runs, dtype={"terrain": str, "motion": str, "test": str})
     for name, table in source_tables(tests, run_table, params["group"], params.get("statistics")).items():
@@ -40,8 +41,6 @@ def source_tables(tests, run_table, group: str, statistics: dict | None = None) 
     the tests every model ran healthily (``rtf``), per model and ``group`` (terrain or terrain
     class) means with intervals and paired verdicts over independent runs (``summary``,
     ``pairwise``: simpick.compare.real.summary_table, pairwise_table)."""
-    from simpick.compare import metrics
-    from simpick.compare.real import class_verdicts, pairwise_table, summary_table
     pairwise = pairwise_table(tests, group, statistics)
     return {"imu_errors": metrics.eq7_totals(tests, engines=run_table.engine.unique()),
             "rtf": equal_rtf(run_table),
@@ -49,14 +48,10 @@ def source_tables(tests, run_table, group: str, statistics: dict | None = None) 
             "pairwise": pairwise}
 
 
-def equal_rtf(runs) -> "pd.DataFrame":
+def equal_rtf(runs) -> pd.DataFrame:
     """Eq. 2 per engine over the same tests for every engine: a test any engine failed is left
     out for all (an engine failing the slowest terrain would otherwise look faster) and named
     in ``excluded``; an engine with no run of a test leaves that test out too."""
-    import pandas as pd
-
-    from simpick.compare import metrics
-
     if "test" not in runs:  # a run table without the test column (TRACE_KEYS) names it by terrain/motion
         runs = runs.assign(test=runs.terrain + "/" + runs.motion)
     runs = runs.assign(test=runs.test.astype(str))

@@ -1,4 +1,5 @@
-"""The paper's quantitative metrics (Farley et al. 2022, section 3.3).
+"""The paper's quantitative metrics (Farley et al. 2022, section 3.3); the window statistics (Eq. 5-6)
+are defined in :mod:`simpick.imustats`, which the real data's segments share.
 
 Eq. 5: per-axis mean. Eq. 6: range, which the paper takes as (mean of the top 1 % of
 samples) - (mean of the bottom 1 %), to discount the odd erratic sample. Eq. 7: the IMU
@@ -12,37 +13,10 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping
 
-import numpy as np
 import pandas as pd
 
-from simpick.simulate.traces import IMU_AXES
-
-TRIM_FRACTION = 0.01
-AXES = ("x", "y", "z")
-
-
-def trimmed_range(values: Iterable[float], fraction: float = TRIM_FRACTION) -> float:
-    """Mean of the top ``fraction`` of samples minus mean of the bottom ``fraction``.
-
-    The tail holds max(1, round(fraction * n)) samples, so short series still have one.
-    """
-    x = np.asarray(values, dtype=float)
-    if x.size == 0 or not np.isfinite(x).all():
-        raise ValueError("trimmed_range needs a non-empty series of finite values")
-    k = max(1, int(round(fraction * x.size)))
-    ordered = np.sort(x)
-    return float(ordered[-k:].mean() - ordered[:k].mean())
-
-
-def axis_stats(values: Iterable[float], fraction: float = TRIM_FRACTION) -> dict[str, float]:
-    x = np.asarray(values, dtype=float)
-    return {"mean": float(x.mean()), "range": trimmed_range(x, fraction)}
-
-
-def trace_stats(frame: pd.DataFrame) -> dict[str, dict[str, dict[str, float]]]:
-    """{'linear'|'angular': {axis: {'mean', 'range'}}} of an IMU trace."""
-    return {quantity: {axis: axis_stats(frame[col]) for axis, col in zip(AXES, cols)}
-            for quantity, cols in IMU_AXES.items()}
+# Eq. 5-6, part of the paper's metrics (metrics.trace_stats for the comparison's callers)
+from simpick.imustats import AXES, TRIM_FRACTION, axis_stats, trace_stats, trimmed_range  # noqa: F401
 
 
 def axis_errors(sim: Mapping[str, Mapping[str, float]],

@@ -10,7 +10,10 @@ import pandas as pd
 
 from simpick.compare import metrics, realmetrics
 from simpick.compare.metrics import AXES
-from simpick.tables import write_csv
+from simpick.compare.rows import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, run_row
+from simpick.real.logs import read_canonical
+from simpick.real.segments import load_segments
+from simpick.simulate.traces import read_trace
 
 QUANTITIES = ("angular", "linear")
 
@@ -57,13 +60,7 @@ def segment_row(frame: pd.DataFrame, meta: dict, seg: pd.Series, track: float) -
 
 def segment_compare(segments_csv: str, traces: list[str], track: float):
     """Every simulated segment against its real window statistics (the committed table): per
-    test rows (segment_row), per axis rows (tables.axis_rows) and each trace's run row."""
-    # imported here, not at the top: a module-level import would put real/segments.py in the code
-    # version of every job of this module (the lab's and the replays' summaries too)
-    from simpick.real.segments import load_segments
-    from simpick.simulate.traces import read_trace
-    from simpick.tables import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, run_row
-
+    test rows (segment_row), per axis rows (compare.rows.axis_rows) and each trace's run row."""
     segments = load_segments(segments_csv).set_index("segment")
     rows, detail, runs = [], [], []
     for path in traces:
@@ -103,10 +100,6 @@ def replay_compare(logs: list[str], traces: list[str], params: dict):
     """Every replay trace against its real log, window by window: Eq. 7 errors, yaw-rate gains,
     aligned errors, PSD distance (the per-window rows), summed per run (the per-test rows: one
     test = one run), and each trace's run row."""
-    from simpick.real.logs import read_canonical
-    from simpick.simulate.traces import read_trace
-    from simpick.tables import RUN_COLUMNS, run_row
-
     track, window_s = params["track"], params["window"]
     real = {}
     for path in logs:

@@ -19,27 +19,20 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pandas as pd
+
+from simpick.imustats import yaw_rate_gain  # noqa: F401 - defined with the window statistics
+
+# scipy.signal and scipy.stats are imported inside the functions that use them: scipy.stats takes about
+# 2 s to import, and the planning (simpick.config: MIN_RUNS, LEVEL) and most jobs read this module
+# without them.
 
 LOWPASS_HZ = 2.0
 PSD_BAND_HZ = (1.0, 40.0)  # up to the Nyquist frequency where the IMU rate is below 80 Hz
 PSD_SEGMENT_S = 2.56  # Welch segment: 256 samples at 100 Hz, the same resolution at any rate
-
-
-def yaw_rate_gain(yaw_rate: np.ndarray, v_left: np.ndarray, v_right: np.ndarray, track: float,
-                  min_kinematic: float = 0.05) -> float:
-    """Least-squares gain through the origin of measured over kinematic yaw rate.
-
-    Only samples whose kinematic yaw rate exceeds ``min_kinematic`` rad/s count; NaN if none.
-    """
-    kinematic = (np.asarray(v_right, float) - np.asarray(v_left, float)) / track
-    yaw = np.asarray(yaw_rate, float)
-    turning = np.abs(kinematic) > min_kinematic
-    if not turning.any():
-        return float("nan")
-    k, y = kinematic[turning], yaw[turning]
-    return float(np.dot(y, k) / np.dot(k, k))
 
 
 def heading_error(sim_mean_yaw_rate: float, real_mean_yaw_rate: float, duration: float) -> float:
@@ -138,7 +131,6 @@ def _bca(x: np.ndarray, level: float, seed: int) -> tuple[float, float]:
 
     if np.ptp(x) <= 1e-12 * max(1.0, float(np.abs(x).max())):  # every run the same: nothing to resample
         return float(x.mean()), float(x.mean())
-    import warnings
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # a degenerate BCa falls back to the percentile interval below

@@ -14,7 +14,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from simpick.errors import InputError
-from simpick.compare.metrics import AXES
+from simpick.imustats import AXES
 
 
 def to_simpick_frame(stats: Mapping[str, Mapping[str, float]], rotation: list[list[float]],

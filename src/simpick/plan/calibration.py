@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 
+from simpick.engines import get_engine
 from simpick.sources import base as source_base
 from simpick.sources.base import canonical
 
@@ -15,7 +16,6 @@ class CalibrationPlanning:
         self.calibration_all = []
         if not self.calibration:
             return
-        from simpick.engines import get_engine
 
         replay = self.replay_set
         self.cal_source = "replay" if replay else "segments"

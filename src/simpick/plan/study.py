@@ -19,14 +19,15 @@ import re
 import sys
 from typing import Callable
 
-from simpick.codeversion import dispatch_entry, job_code, script_roots
+from simpick.codeversion import job_code, modules, script_roots
 from simpick.config import Study, plain, timestep_label
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, unavailable
 from simpick.inputs.robot import load_from_config
 from simpick.plan.calibration import CalibrationPlanning
 from simpick.plan.report import ReportPlanning
+from simpick.real.datasets import open_dataset_or_exit
+from simpick.simulate.jobs import PREPARE
 from simpick.sources import base as source_base
-from simpick.sources import entry as source_entry
 from simpick.sources import lab as lab_source
 from simpick.sources import module as source_module
 from simpick.sources import own as own_source
@@ -104,8 +105,6 @@ class Plan(ReportPlanning, CalibrationPlanning):
         # no ground model stops the run here with one `simpick:` line each, before any job.
         self.replay_set = None
         if config.get("borealtc_dir"):
-            from simpick.real.datasets import open_dataset_or_exit
-
             self.replay_set = open_dataset_or_exit(
                 config["borealtc_dir"], classes=config["real_data"]["classes"], name=config.get("real_dataset")
             )
@@ -269,10 +268,13 @@ class Plan(ReportPlanning, CalibrationPlanning):
         return self.source_of(source).case_params(self.config, source, self.sources[source], engine, group, names)
 
     def case_code(self, source, engine):
-        """The library code a case runs: simulate_job, the model's adapter, and how its source drives
-        it (its module's prepare_case, which simulate_job imports by name: no other kind's code)."""
-        entry = source_entry(self.sources[source]["kind"], "prepare_case")
-        return self.script_code("simulate", self.engine_module(engine), entry)
+        """The library code a case runs: simulate_job, the model's adapter, and how its source's kind
+        is driven (PREPARE, which simulate_job imports by name: no other kind's code)."""
+        return self.script_code("simulate", *self.engine_modules(engine), self.prepare_module(source))
+
+    def prepare_module(self, source):
+        """The module that drives a source's cases (simpick.simulate.jobs.PREPARE of its DRIVEN kind)."""
+        return PREPARE[self.source_of(source).DRIVEN].split(":")[0]
 
     def simulate_runtime(self, cases: int) -> int:
         """Minutes for a job of ``cases`` cases: each is stopped by the watchdog at health.timeout
@@ -302,8 +304,8 @@ class Plan(ReportPlanning, CalibrationPlanning):
         return self.source_of(source).compare_settings(self.config)
 
     def compare_code(self, source):
-        """compare_job and its source's comparison (imported by name: a job of one kind runs no other's)."""
-        return self.script_code("compare", source_entry(self.sources[source]["kind"], "compare"))
+        """compare_job and every kind's comparison (simpick.compare.kinds): the same for every source."""
+        return self.script_code("compare")
 
     def summarise_settings(self, source):
         return canonical({"group": self.sources[source]["group"], "statistics": self.statistics_params()})
@@ -352,13 +354,12 @@ class Plan(ReportPlanning, CalibrationPlanning):
         return canonical(params | {"physics": params["physics"] | {"timestep": float(dt)}})
 
     def sweep_code(self, engine):
-        """A sweep point's code: its job, the model's adapter, and the segments source's simulate and
-        compare (the sweep runs them; no other source's)."""
+        """A sweep point's code: its job (which runs the compare stage's code), the model's adapter,
+        and how the segments source's cases are driven (no other source's)."""
         return self.script_code(
             "sweep_segments",
-            self.engine_module(engine),
-            source_entry("segments", "prepare_case"),
-            source_entry("segments", "compare"),
+            *self.engine_modules(engine),
+            self.prepare_module("segments"),
         )
 
     def sweep_runs(self):
@@ -461,23 +462,35 @@ class Plan(ReportPlanning, CalibrationPlanning):
 
     # --- library code as a rerun trigger ---
     # Snakemake reruns a job when its params change, not when imported library code does: each rule
-    # carries the version of the code its job runs (simpick.codeversion): computed from the functions
-    # its script calls and what they import and name, so an edited metric or engine adapter reruns
-    # what runs it, and nothing else.
+    # carries the version of the code its job can run (simpick.codeversion): the modules its script
+    # imports, what they import wherever the import stands, and what the job reaches by name only
+    # (a model's adapter, a source kind's module), which is declared here.
 
-    def script_code(self, script, *roots, opaque=()):
-        """The code version of a job of scripts/<script>.py: the simpick functions the script calls,
-        ``roots`` (modules or functions it reaches by name only: an engine adapter, a dispatch entry)
-        and what they use, less the ``opaque`` names (dispatch tables whose entry is a root)."""
+    def script_code(self, script, *roots):
+        """The code version of a job of scripts/<script>.py: the simpick modules the script imports,
+        ``roots`` (modules a job reaches by name only: :meth:`engine_modules`, a source kind's
+        module) and every module they import."""
         path = os.path.join(self.basedir, "scripts", f"{script}.py")
-        return job_code(*script_roots(path), *roots, opaque=opaque)
+        return job_code(*script_roots(path), *roots)
 
     def figure_code(self, rule):
-        """A figure rule's code: figure_job and the drawing function simpick.report.draw.RULES gives it."""
-        entry = dispatch_entry("simpick.report.draw", "RULES", rule)
-        return self.script_code("figure", entry, opaque=("simpick.report.draw:RULES",))
+        """A figure rule's code: that of scripts/figure.py, which holds every figure's drawing
+        (simpick.report.draw.RULES maps ``rule`` to its function), the same for every figure."""
+        return self.script_code("figure")
 
     @staticmethod
-    def engine_module(engine):
-        """The adapter module of a model (the registry imports it by name, so it is named here)."""
-        return {**ADAPTERS, **REFERENCE_MODELS}[engine].split(":")[0]
+    def engine_modules(engine):
+        """The modules of a model that the registry reaches by name only: its adapter (simpick.engines
+        ADAPTERS, REFERENCE_MODELS), every module of simpick.engines named after the engine
+        (``<engine>_*``, ``_<engine>*``, a ``<engine>`` package), and the engines' shared base and
+        runner. What these import counts too (simpick.codeversion); no other engine's adapter does."""
+        adapter = {**ADAPTERS, **REFERENCE_MODELS}[engine].split(":")[0]
+        found = {adapter}
+        for name in modules():
+            parts = name.split(".")
+            if parts[:2] != ["simpick", "engines"] or len(parts) < 3:
+                continue
+            stem = parts[2].lstrip("_")
+            if stem == engine or stem.startswith(f"{engine}_") or parts[2] in ("base", "runner"):
+                found.add(name)
+        return tuple(sorted(found))

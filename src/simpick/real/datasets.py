@@ -19,6 +19,8 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
+import yaml
+
 from simpick.errors import InputError
 
 _FILE = re.compile(r"^(imu|pro)_(.*)\.csv$")
@@ -186,8 +188,6 @@ def unknown_classes(runs: Iterable[Run], classes: Mapping) -> list[InputError]:
 
 def previous_folder(manifest: str | Path) -> str | None:
     """The folder whose results a dataset's results folder already holds (its manifest), if any."""
-    import yaml
-
     try:
         data = yaml.safe_load(Path(manifest).read_text())
     except (OSError, yaml.YAMLError):

@@ -21,10 +21,16 @@ is the median |gain_i - gain_j| and the single-step standard deviation sqrt(mean
 from __future__ import annotations
 
 import math
+import sys
 from itertools import combinations
 
 import numpy as np
 import pandas as pd
+
+from simpick.errors import InputError
+from simpick.real.datasets import DatasetProblems
+from simpick.real.logs.drive import find_sessions, read_drive
+from simpick.tables import write_csv
 
 MIN_TURN = 0.2  # rad/s: the kinematic yaw rate above which a step counts as turning (as DRIVE's README)
 MIN_SPEED = 0.2  # m/s: the kinematic forward speed above which a step's speed ratio is counted
@@ -195,10 +201,6 @@ def open_drive(folder, *, declared=None, classes=None, name: str = "drive"):
     (``real_data.datasets.<name>``: its per-session overrides) and checked against the config's terrain
     classes (``real_data.classes``; None: not checked). Every session whose terrain has no ground model is
     one problem; they are raised together (:class:`~simpick.real.datasets.DatasetProblems`)."""
-    from simpick.errors import InputError
-    from simpick.real.datasets import DatasetProblems
-    from simpick.real.logs.drive import read_drive
-
     declared = dict(declared or {})
     kind = declared.get("kind", "drive")
     if kind != "drive":
@@ -248,8 +250,6 @@ def session_table(dataset) -> pd.DataFrame:
 def write_tables(dataset, outputs: dict[str, str], *, tolerance: float = SIMILAR) -> None:
     """The DRIVE tables of a dataset read by :func:`open_drive`, to the paths the caller names (keys
     ``sessions``, ``steps``, ``turning``, ``bins``, ``cases``; a key left out is not written)."""
-    from simpick.tables import write_csv
-
     steps = step_table(dataset)
     tables = {"sessions": lambda: session_table(dataset), "steps": lambda: steps,
               "turning": lambda: turning_table(steps, tolerance), "bins": lambda: gain_against_command(steps),
@@ -264,12 +264,6 @@ def write_tables(dataset, outputs: dict[str, str], *, tolerance: float = SIMILAR
 def sessions_or_exit(folder) -> list:
     """For the Snakefile: the session folders under ``folder`` (a directory listing: no pickle is read at
     planning time), or one ``simpick:`` line per problem and exit 1 (no job runs)."""
-    import sys
-
-    from simpick.errors import InputError
-    from simpick.real.datasets import DatasetProblems
-    from simpick.real.logs.drive import find_sessions
-
     try:
         return find_sessions(folder)
     except DatasetProblems as exc:

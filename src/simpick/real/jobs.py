@@ -5,20 +5,29 @@ BorealTC's table over the committed one, and the BorealTC download.
 
 from __future__ import annotations
 
+import hashlib
+import io
+import os
+import shutil
 import sys
+import tempfile
+import urllib.error
+import urllib.request
+import zipfile
 from pathlib import Path
 
 import yaml
 
 from simpick.errors import InputError
+from simpick.real.logs import borealtc, read_canonical, write_canonical
+from simpick.real.logs.csvlog import read_csv_log
+from simpick.real.logs.rosbag import read_bag
+from simpick.real.segments import derive_from_logs, load_segments
 from simpick.tables import write_csv
 
 
 def segments_job(logs: list[str], output_csv: str, output_provenance: str, params: dict) -> None:
     """The constant-command segments of a dataset's imported runs (a result, never the committed table)."""
-    from simpick.real.logs import read_canonical
-    from simpick.real.segments import derive_from_logs
-
     rules = params["segment_rules"]
     table, provenance = derive_from_logs((read_canonical(p) for p in logs), tolerance=rules["tolerance"],
                                          min_duration=rules["min_duration"], max_duration=rules["max_duration"],
@@ -33,13 +42,8 @@ def maintain_segments_job(derived_csv: str, derived_provenance: str, committed: 
     """The maintainer's deliberate step: the derived table (and provenance) over the committed
     ones. Each file is written beside its target and renamed over it, so a failure leaves the
     committed file as it was; the receipt (a result) says what changed."""
-    import hashlib
-    import os
-
     def digest(path) -> str | None:
         return hashlib.sha256(Path(path).read_bytes()).hexdigest() if Path(path).is_file() else None
-
-    from simpick.real.segments import load_segments
 
     load_segments(derived_csv)  # refuse a table the study could not read
     done = {}
@@ -66,8 +70,6 @@ def dataset_manifest_job(dataset: dict, output: str) -> None:
 
 def import_job(imu: str, pro: str, terrain_class: str, output: str, params: dict) -> None:
     """One run of a dataset folder -> canonical log (rates measured, checked against any declared)."""
-    from simpick.real.logs import borealtc, write_canonical
-
     declared = params["declared"]
     log = borealtc.read_run(imu, pro, terrain_class, track=params["track"],
                             imu_rate_hz=declared.get("imu_hz"), command_rate_hz=declared.get("commands_hz"),
@@ -78,18 +80,12 @@ def import_job(imu: str, pro: str, terrain_class: str, output: str, params: dict
 
 def import_own_job(entry: dict, output: str, track: float) -> None:
     """One of the user's logs (config ``own_logs``: a mapped CSV or a ROS bag) -> canonical form."""
-    from simpick.real.logs import write_canonical
-
     meta = {"dataset": "own", "run_id": entry["name"], "terrain_class": entry["terrain_class"],
             "name": entry["name"]}
     if entry.get("csv"):
-        from simpick.real.logs.csvlog import read_csv_log
-
         mapping = {**entry["mapping"], "meta": {**entry["mapping"].get("meta", {}), **meta}}
         log = read_csv_log(entry["csv"], mapping, commands_path=entry.get("commands_csv"), track=track)
     else:
-        from simpick.real.logs.rosbag import read_bag
-
         bag = entry["rosbag"]
         options = {k: v for k, v in entry.items()
                    if k in ("command_type", "wheel_radius", "left_joints", "right_joints", "frame_z",
@@ -109,13 +105,6 @@ def fetch_borealtc(dest: str | Path, timeout: float = 30.0) -> Path:
     Offline (or if the repository moved) this raises an InputError that says how to use a
     local copy instead, rather than a network traceback.
     """
-    import io
-    import shutil
-    import tempfile
-    import urllib.error
-    import urllib.request
-    import zipfile
-
     dest = Path(dest)
     errors = []
     for url in BOREALTC_ARCHIVES:

@@ -15,10 +15,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from simpick.compare.metrics import AXES, trace_stats
-from simpick.compare.realmetrics import yaw_rate_gain
 from simpick.errors import InputError
-from simpick.real.logs import RealLog
+from simpick.imustats import AXES, trace_stats, yaw_rate_gain
+from simpick.real.logs import RealLog, borealtc
 
 COLUMNS = (["segment", "dataset", "terrain_class", "run", "kind", "t_start", "t_end", "settle", "duration",
             "v_left", "v_right", "v", "w", "yaw_rate_gain"]
@@ -91,8 +90,6 @@ def derive(folder: str | Path, *, tolerance: float, min_duration: float, max_dur
            min_turn: float, per_kind: int, track: float, source: str = BOREALTC_SOURCE,
            **read_options) -> tuple[pd.DataFrame, dict]:
     """Segments table and its provenance from a dataset folder (BorealTC layout)."""
-    from simpick.real.logs import borealtc
-
     logs = (borealtc.read_run(imu, pro, cls, track=track, **read_options)
             for cls, _, imu, pro in borealtc.discover(folder))
     return derive_from_logs(logs, tolerance=tolerance, min_duration=min_duration, max_duration=max_duration,

@@ -20,9 +20,15 @@ so a correlation is read together with the run-to-run spread).
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 import pandas as pd
+
+from simpick.coulomb import load_layout, ratio_for_gain, wheel_separation_multiplier, yaw_rate_gain
+from simpick.inputs.robot import load_robot
+from simpick.real.logs import read_canonical
+from simpick.tables import write_csv
 
 WINDOW_COLUMNS = ["dataset", "terrain_class", "run", "t_start", "t_end", "v_left", "v_right", "v", "w_kinematic",
                   "wheel_speed_difference", "turn_radius", "yaw_rate", "yaw_rate_gain", "coulomb_gain"]
@@ -77,7 +83,7 @@ def turning_windows(log, track: float, *, window: float = 1.0, settle: float = 0
 
 
 def _spearman(x: pd.Series, y: pd.Series) -> tuple[float, float]:
-    from scipy.stats import spearmanr
+    from scipy.stats import spearmanr  # about 2 s to import: only where needed (simpick.compare.realmetrics)
 
     if len(x) < 4 or np.ptp(x) <= 1e-9 or np.ptp(y) <= 1e-9:  # a constant has no rank to correlate
         return math.nan, math.nan
@@ -115,8 +121,6 @@ def with_equivalents(summary: pd.DataFrame, layout, track: float, separation: fl
     a controller on the robot's geometric wheel separation turn it as commanded, and
     ``coulomb_ratio``, the lateral/longitudinal friction ratio at which anisotropic Coulomb gives
     that gain (the same at every command; NaN outside 0.02-2)."""
-    from simpick.coulomb import ratio_for_gain, wheel_separation_multiplier
-
     out = summary.copy()
     out["separation_multiplier"] = [wheel_separation_multiplier(g, track, separation) for g in out.gain_median]
     out["coulomb_ratio"] = [ratio_for_gain(layout, g, 0.5, 0.5, track) for g in out.gain_median]
@@ -126,12 +130,6 @@ def with_equivalents(summary: pd.DataFrame, layout, track: float, separation: fl
 def turning_job(logs: list[str], urdf: str, params: dict, outputs: dict[str, str]) -> None:
     """Rule real_turning: the windows of every canonical log of a replayed dataset and their
     per-class summary, with the rigid-Coulomb gain of the study's robot at each command."""
-    from functools import lru_cache
-
-    from simpick.coulomb import load_layout, yaw_rate_gain
-    from simpick.real.logs import read_canonical
-    from simpick.tables import write_csv
-
     track = float(params["track"])
     layout = load_layout(urdf)
 
@@ -144,7 +142,6 @@ def turning_job(logs: list[str], urdf: str, params: dict, outputs: dict[str, str
                               **options) for path in logs]
     windows = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=WINDOW_COLUMNS)
     write_csv(windows, outputs["windows"])
-    from simpick.inputs.robot import load_robot
 
     separation = load_robot(urdf).track  # the wheels' geometric separation (the controller's wheel_separation)
     write_csv(with_equivalents(turning_summary(windows), layout, track, separation), outputs["summary"])

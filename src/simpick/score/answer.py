@@ -22,7 +22,7 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from simpick.score.output import write_csv
+from simpick.tables import write_csv
 from simpick.score.verdict import (METRICS, SEPARATION_COLUMNS, paper_rows, ranking, read_per_test, run_key,
                                    separation_rows)
 

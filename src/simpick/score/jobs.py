@@ -1,4 +1,5 @@
-"""The score stage's job: the paper's scores and weighted table, and the record of what they rest on.
+"""The score stage's jobs: the paper's scores and weighted table, and the record of what they rest on;
+the paper's own published tables recomputed (Table 11).
 """
 
 from __future__ import annotations
@@ -6,9 +7,15 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pandas as pd
+import yaml
+
 from simpick.errors import InputError
+from simpick.inputs.published import load_published
+from simpick.score import scoring
 from simpick.score.contributions import contributions, drivers
-from simpick.score.output import write_csv
+from simpick.tables import write_csv
+from simpick.score.published import write_outputs
 
 
 def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[str], qualitative: str,
@@ -16,11 +23,6 @@ def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[st
     """The scores and the weighted table; with ``outputs["provenance"]`` also the record of what
     they rest on (:func:`score_provenance`; ``sources`` as it describes), which the report reads
     instead of working it out again."""
-    import pandas as pd
-    import yaml
-
-    from simpick.score import scoring
-
     try:
         facts = yaml.safe_load(Path(qualitative).read_text())
     except (OSError, yaml.YAMLError) as exc:
@@ -73,8 +75,6 @@ def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[st
 def _failures(path: str | None) -> dict[str, list[str]]:
     """test -> "model: reasons" of every run in a per-test table (the lab runs.csv or a real-data
     *_per_test.csv) that did not finish healthily."""
-    import pandas as pd
-
     if not path:
         return {}
     frame = pd.read_csv(path, dtype=str, keep_default_na=False)
@@ -99,8 +99,6 @@ def score_provenance(engines: list[str], imu_errors: str, rtf: str, cpu_files: l
     ``sources``: ``accuracy`` (``reference``, ``set``: lab, segments, replay or own, ``dataset``),
     ``accuracy_tests`` (the per-test table beside the errors file), ``runs`` (the lab runs.csv)
     and ``cpu_test`` (the CPU runs' terrain/motion); each optional."""
-    import pandas as pd
-
     errors = pd.read_csv(imu_errors, dtype=str, keep_default_na=False)
     errors = errors[errors.engine.isin(engines)]
     why = _failures(sources.get("accuracy_tests"))
@@ -134,3 +132,9 @@ def score_provenance(engines: list[str], imu_errors: str, rtf: str, cpu_files: l
                          for c in failed_cpu],
         },
     }
+
+
+def published_job(published_file: str, outdir: str) -> None:
+    """The paper's Table 11 recomputed from its own figures, the comparison with the printed scores
+    and the worked example of Eq. 7 (simpick.score.published)."""
+    write_outputs(load_published(published_file), outdir)

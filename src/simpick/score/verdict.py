@@ -42,7 +42,7 @@ from simpick.compare import realmetrics
 from simpick.compare.metrics import eq7_sum
 from simpick.score.equivalence import outcomes_table
 from simpick.score.mechanics import mechanics_table
-from simpick.score.output import write_csv
+from simpick.tables import write_csv
 
 METRICS = {
     "gain_error": {"label": "yaw-rate gain error", "unit": "", "tests": "turning tests",

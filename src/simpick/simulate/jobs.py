@@ -4,11 +4,25 @@ case (whatever its source: :mod:`simpick.sources` says how a case is driven), an
 
 from __future__ import annotations
 
+import importlib
 import json
 import sys
 from pathlib import Path
 
-from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S
+from simpick.simulate.cpuload import hung_result, measure
+from simpick.simulate.health import HealthLimits
+from simpick.simulate.run import config_hash
+from simpick.simulate.traces import COLUMNS, write_trace
+from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
+
+# How a case of each kind is driven (a source's DRIVEN kind, simpick.sources): "module:function" of
+# its prepare function, imported by name when a job runs, so that a lab job loads none of the real
+# data's code (simpick.real); the plan names the module as part of the job's code version.
+PREPARE = {
+    "lab": "simpick.simulate.lab:prepare_case",
+    "segments": "simpick.simulate.real:prepare_segment",
+    "replay": "simpick.simulate.real:prepare_replay",
+}
 
 TRACE_KEYS = ("source", "test", "engine", "terrain", "motion", "dataset", "run", "segment", "window")
 
@@ -18,17 +32,13 @@ def simulate_job(outputs: list[str], urdf: str, inputs: dict, params: dict, afte
     the watchdog: a case still running after ``health.timeout`` s of wall time is written as a
     failed (hung) trace, and so are the unit's cases after it, which cannot run in the stopped
     process; the source's compare job lists them like any failed run. ``params["kind"]`` says how
-    a case is driven (lab, segments, replay: its simpick.sources module's ``prepare_case``, imported
-    by name); ``inputs`` holds the files it reads. ``after_hung``: called once the hung traces are
+    a case is driven (lab, segments, replay: its :data:`PREPARE` function, imported by name);
+    ``inputs`` holds the files it reads. ``after_hung``: called once the hung traces are
     written, before the process ends (a job that compares its own traces, the sweep, does so then)."""
-    from simpick import sources
-    from simpick.simulate.run import config_hash
-    from simpick.simulate.traces import write_trace
-    from simpick.simulate.watchdog import Watchdog
-
     if len(outputs) != len(params["cases"]):
         raise ValueError(f"{len(params['cases'])} cases for {len(outputs)} outputs")
-    prepare = sources.module(params["kind"]).prepare_case
+    module, _, function = PREPARE[params["kind"]].partition(":")
+    prepare = getattr(importlib.import_module(module), function)
     units = []
     for name, output in zip(params["cases"], outputs):
         described, run = prepare(urdf, inputs, params, name)
@@ -56,10 +66,6 @@ def write_hung_trace(output: str, which: dict, params: dict, timeout: float, rea
     """An empty trace whose health record says the engine hung (or ``reason``), so the run is
     reported. ``which``: the metadata that names the case (TRACE_KEYS), so the job that compares
     it finds it like any other."""
-    from simpick.simulate.run import config_hash
-    from simpick.simulate.traces import COLUMNS, write_trace
-    from simpick.simulate.watchdog import hung_reason
-
     waited = 0.0 if reason else float(timeout)  # a case not run used no time
     reason = reason or hung_reason(timeout)
     print(f"simpick: {which['engine']} {which['source']} {which['test']}: {reason}", file=sys.stderr)
@@ -75,10 +81,6 @@ def cpu_job(output: str, terrain_file: str, urdf: str, params: dict, timeout: fl
     """The CPU-load measurement of one engine (simpick.simulate.cpuload), under the watchdog: still running
     after ``timeout`` s of wall time (simpick.simulate.watchdog.runtime_timeout of the rule's runtime), the
     job writes :func:`simpick.simulate.cpuload.hung_result` instead, which the scores leave out and name."""
-    from simpick.simulate.cpuload import hung_result, measure
-    from simpick.simulate.health import HealthLimits
-    from simpick.simulate.watchdog import Watchdog
-
     def write(result: dict) -> None:
         Path(output).parent.mkdir(parents=True, exist_ok=True)
         Path(output).write_text(json.dumps(result, indent=1))

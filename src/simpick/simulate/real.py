@@ -1,5 +1,6 @@
 """Driving an engine with real runs: a constant-command segment on its terrain class's flat ground, or
-a whole run replayed by its recorded wheel speeds, each from its seeded start heading.
+a whole run replayed by its recorded wheel speeds, each from its seeded start heading; the cases of
+the segments and replay sources (simpick.sources: :func:`prepare_segment`, :func:`prepare_replay`).
 """
 
 from __future__ import annotations
@@ -7,10 +8,17 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from simpick.errors import InputError
+from simpick.inputs.robot import load_from_config
+from simpick.inputs.terrain import generate
+from simpick.real.logs import read_canonical
+from simpick.real.segments import load_segments
+from simpick.simulate.health import HealthLimits
+from simpick.simulate.imu import ImuModel, model_at_rate
+from simpick.simulate.run import Case, config_hash, run_case, run_commands, stable_seed
+
 
 def flat_terrain(name: str, friction: float) -> dict:
-    from simpick.inputs.terrain import generate
-
     return generate(name, "flat", 0, friction, tiles=0)
 
 
@@ -23,8 +31,6 @@ def start_heading(seed: int, dataset: object, terrain_class: object, run: object
     which every interval over runs carries, instead of a bias fixed by one chosen start (every case
     started at heading 0, PyBullet's worst, before issue 17). One heading per case costs no extra
     simulation; several per case would multiply the real-data simulation by their number."""
-    from simpick.simulate.run import stable_seed
-
     u = stable_seed(int(seed), "start heading", str(dataset), str(terrain_class), str(run), str(case)) / 2.0 ** 32
     return float(2.0 * np.pi * u)
 
@@ -32,10 +38,6 @@ def start_heading(seed: int, dataset: object, terrain_class: object, run: object
 def simulate_segment(seg: pd.Series, urdf: str, params: dict) -> tuple[pd.DataFrame, dict]:
     """One real segment's command driven on ``params["engine"]`` over its class's flat ground,
     from its seeded start heading (:func:`start_heading`)."""
-    from simpick.simulate.health import HealthLimits
-    from simpick.simulate.imu import ImuModel
-    from simpick.simulate.run import Case, config_hash, run_case
-
     friction = params["class"]["friction"]
     heading = start_heading(params["seed"], seg.dataset, seg.terrain_class, seg.run, seg.name)
     case = Case(engine=params["engine"], terrain=params["terrain_class"], motion=seg.name, v=float(seg.v),
@@ -55,8 +57,6 @@ def simulate_segment(seg: pd.Series, urdf: str, params: dict) -> tuple[pd.DataFr
 
 
 def class_segments(segments_csv: str, terrain_class: str) -> pd.DataFrame:
-    from simpick.real.segments import load_segments  # here, not at the top: only segment jobs read a table
-
     segments = load_segments(segments_csv)
     return segments[segments.terrain_class == terrain_class].set_index("segment")
 
@@ -70,11 +70,6 @@ def log_imu_rate(log) -> float:
 def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> tuple[pd.DataFrame, dict]:
     """Drive one engine with a real run's recorded wheel speeds (zero-order hold, from rest, from
     the run's seeded start heading: :func:`start_heading`)."""
-    from simpick.inputs.robot import load_from_config
-    from simpick.simulate.health import HealthLimits
-    from simpick.simulate.imu import model_at_rate
-    from simpick.simulate.run import run_commands, stable_seed
-
     robot = load_from_config({**params["robot"], "urdf": urdf})
     dt = params["physics"]["timestep"]
     cmd = log.wheel_commands(params["robot"]["track"])
@@ -98,3 +93,26 @@ def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> t
                  "replay_of": log.meta.get("source_files"), "real_imu_rate_hz": log_imu_rate(log),
                  "start_heading_deg": float(np.degrees(heading))})
     return frame, meta
+
+
+def prepare_segment(urdf: str, inputs: dict, params: dict, name: str):
+    """A segment of the table (the segments source): its constant command on its class's flat
+    ground, compared in its window."""
+    table = class_segments(inputs["segments"], params["terrain_class"])
+    if name not in table.index:
+        raise InputError(inputs["segments"], f"has no {params['terrain_class']} segment {name!r}", "rerun snakemake")
+    seg = table.loc[name]
+    which = {"terrain": params["terrain_class"], "motion": seg.name, "test": seg.name, "dataset": seg.dataset,
+             "run": str(seg.run), "segment": seg.name,
+             "window": [float(seg.settle), float(seg.settle + seg.duration)]}
+    return which, lambda: simulate_segment(seg, urdf, params)
+
+
+def prepare_replay(urdf: str, inputs: dict, params: dict, name: str):
+    """A replayed run (the replay source: a dataset folder's or an own log) driven by its recorded
+    wheel speeds."""
+    log = read_canonical(inputs["log"])
+    run = str(log.meta["run_id"])
+    which = {"terrain": params["terrain_class"], "motion": f"replay-{run}", "test": f"{params['terrain_class']}-{run}",
+             "dataset": log.meta.get("dataset"), "run": run}
+    return which, lambda: replay_log(log, urdf, params)

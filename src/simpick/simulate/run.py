@@ -20,7 +20,6 @@ from simpick.simulate.imu import ImuModel, block_average, euler_rpy, interval_av
 from simpick.inputs.motions import constant_commands
 from simpick.inputs.robot import RobotSpec, load_from_config
 from simpick.seeds import config_hash, stable_seed  # noqa: F401 (re-exported: the jobs import them from here)
-from simpick.simulate.traces import write_trace
 
 
 @dataclass(frozen=True)
@@ -122,10 +121,3 @@ def run_case(case: Case, *, urdf: str | Path, terrain_file: str | Path | None = 
     metadata.update({"terrain": case.terrain, "motion": case.motion, "seed": seed,
                      "command": {"v": case.v, "w": case.w, "track": track}})
     return frame, metadata
-
-
-def simulate_to_file(case: Case, output: str | Path, *, params: dict, **kwargs) -> dict:
-    frame, metadata = run_case(case, **kwargs)
-    metadata["config_hash"] = config_hash(params)
-    write_trace(frame, metadata, output)
-    return metadata

@@ -37,7 +37,6 @@ UNITS = {
     "wheel_fl": "rad/s", "wheel_fr": "rad/s", "wheel_rl": "rad/s", "wheel_rr": "rad/s",
 }
 COLUMNS = list(UNITS)
-IMU_AXES = {"linear": ["ax", "ay", "az"], "angular": ["wx", "wy", "wz"]}
 FRAME = "body: x forward, y left, z up (REP-103); accelerometer = specific force (REP-145)"
 
 

@@ -1,7 +1,10 @@
 """Sources of cases: one module per kind of source, behind one interface (:class:`base.Source`).
 
 A source yields a case table: engine-independent (group, name) rows, each simulated once per model
-of the source and compared with its reference. Four kinds, one module each:
+of the source and compared with its reference. A source module says, at planning time, what its
+cases are and what their jobs read and depend on; the jobs drive a case by its kind's function in
+the simulate stage (:data:`simpick.simulate.jobs.PREPARE`) and compare its traces by its kind's
+function in the compare stage (:data:`simpick.compare.kinds.BY_KIND`). Four kinds, one module each:
 
 - ``lab`` (:mod:`simpick.sources.lab`): the paper's tests, terrain x motion, against its Table 8/9;
 - ``segments`` (:mod:`simpick.sources.segments`): constant-command segments of real runs (the
@@ -11,19 +14,18 @@ of the source and compared with its reference. Four kinds, one module each:
 - ``own`` (:mod:`simpick.sources.own`): the user's own logs, replayed like a dataset folder's runs.
 
 The plan (:mod:`simpick.plan`) reaches a kind through :func:`module` (a source's cases, inputs and
-parameters); a job reaches the code of its source's kind through :func:`module` by name, so a job's
-code version (:mod:`simpick.codeversion`) holds only its own kind's functions, which the rule names as
-roots (:func:`entry`): an edit to one source module reruns that source's jobs, no other's.
+parameters); no job imports this package.
 
-A new kind of source is a module here with the names of :class:`base.Source`, an entry in
-:data:`KINDS`, and, if its cases come from a new kind of input, an import rule (``rules/real.smk``).
+A new kind of source is a module here with the names of :class:`base.Source` and an entry in
+:data:`KINDS`; a new way of driving or comparing its cases, an entry in ``PREPARE`` and ``BY_KIND``;
+if its cases come from a new kind of input, an import rule (``rules/real.smk``).
 """
 
 from __future__ import annotations
 
 import importlib
 
-# kind -> module; only these names are imported, by name (not at load time: see the module docstring)
+# kind -> module, imported by name when the plan asks for a kind
 KINDS = {
     "lab": "simpick.sources.lab",
     "segments": "simpick.sources.segments",
@@ -39,9 +41,3 @@ def module(kind: str):
     except KeyError:
         raise ValueError(f"no source kind {kind!r}; known: {sorted(KINDS)}") from None
 
-
-def entry(kind: str, function: str) -> str:
-    """``"module:function"`` of the job-side function a kind's jobs run (``prepare_case``,
-    ``compare``): the root of their code version. A kind whose cases are driven as another
-    kind's (own logs are replayed) names that kind as its ``DRIVEN``: its jobs run that module."""
-    return f"{KINDS[module(kind).DRIVEN]}:{function}"

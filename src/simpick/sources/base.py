@@ -8,7 +8,7 @@ Planning (:mod:`simpick.plan`, at DAG time, from the raw config and the source's
 
 from __future__ import annotations
 
-from typing import Any, Protocol, runtime_checkable
+from typing import Protocol, runtime_checkable
 
 
 @runtime_checkable
@@ -16,7 +16,8 @@ class Source(Protocol):
     """One kind of source (a module satisfies it: ``isinstance(simpick.sources.lab, Source)``)."""
 
     KIND: str  # the kind's name (simpick.sources.KINDS)
-    DRIVEN: str  # the kind whose jobs simulate and compare its cases (params["kind"]): its own, or "replay"
+    DRIVEN: str  # the kind whose jobs simulate and compare its cases (params["kind"]: simpick.simulate.jobs.PREPARE,
+    # simpick.compare.kinds.BY_KIND): its own, or "replay"
     GROUP: str  # the column that groups its cases in summaries: "terrain" (the lab) or "terrain_class"
     MEM_MB: int  # memory of one simulate job of the kind (MB)
 
@@ -30,10 +31,6 @@ class Source(Protocol):
 
     def compare_settings(self, config: dict) -> dict: ...
 
-    # --- jobs: how a case is driven, and how its traces are compared with their reference ---
-    def prepare_case(self, urdf: str, inputs: dict, params: dict, name: str) -> tuple[dict, Any]: ...
-
-    def compare(self, traces: list[str], inputs: dict, params: dict) -> tuple[Any, Any, Any]: ...
 
 
 def canonical(value):

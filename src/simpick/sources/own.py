@@ -4,15 +4,13 @@ dataset folder's runs: its jobs are the replay source's (``DRIVEN``)."""
 
 from __future__ import annotations
 
-from simpick.sources.replay import (  # noqa: F401 - the replay's planning and jobs are the own logs'
+from simpick.sources.replay import (  # noqa: F401 - the replay's planning is the own logs'
     GROUP,
     MEM_MB,
     case_inputs,
     case_params,
-    compare,
     compare_inputs,
     compare_settings,
-    prepare_case,
 )
 
 KIND = "own"

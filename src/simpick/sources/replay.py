@@ -33,34 +33,3 @@ def compare_inputs(config: dict, source: str, spec: dict, cases: list[tuple[str,
 
 def compare_settings(config: dict) -> dict:
     return canonical({"track": config["robot"]["track"], "window": config["real_data"]["window"]})
-
-
-# --- jobs ---
-
-def read_log(path: str):
-    """A canonical log (simpick.real.logs.read_canonical): what a replayed case is driven by."""
-    from simpick.real.logs import read_canonical
-
-    return read_canonical(path)
-
-
-def simulate(log, urdf: str, params: dict, duration: float | None = None):
-    """One run driven by its recorded wheel speeds on ``params["engine"]``, the first ``duration``
-    seconds (all of it when None): simpick.simulate.real.replay_log. The calibration replays through here."""
-    from simpick.simulate.real import replay_log
-    return replay_log(log, urdf, params, duration=duration)
-
-
-def prepare_case(urdf: str, inputs: dict, params: dict, name: str):
-    """A replayed run (a dataset folder's or an own log) driven by its recorded wheel speeds."""
-    log = read_log(inputs["log"])
-    run = str(log.meta["run_id"])
-    which = {"terrain": params["terrain_class"], "motion": f"replay-{run}", "test": f"{params['terrain_class']}-{run}",
-             "dataset": log.meta.get("dataset"), "run": run}
-    return which, lambda: simulate(log, urdf, params)
-
-
-def compare(traces: list[str], inputs: dict, params: dict):
-    """Every replayed run against its real log, window by window (simpick.compare.real.replay_compare)."""
-    from simpick.compare.real import replay_compare
-    return replay_compare(list(inputs["logs"]), traces, params)

@@ -49,37 +49,3 @@ def compare_inputs(config: dict, source: str, spec: dict, cases: list[tuple[str,
 
 def compare_settings(config: dict) -> dict:
     return canonical({"track": config["robot"]["track"]})
-
-
-# --- jobs ---
-
-def class_table(table: str, terrain_class: str):
-    """The segments of one terrain class (pandas, indexed by segment id)."""
-    from simpick.simulate.real import class_segments
-    return class_segments(table, terrain_class)
-
-
-def simulate(seg, urdf: str, params: dict):
-    """One segment's command on ``params["engine"]`` (simpick.simulate.real.simulate_segment)."""
-    from simpick.simulate.real import simulate_segment
-    return simulate_segment(seg, urdf, params)
-
-
-def prepare_case(urdf: str, inputs: dict, params: dict, name: str):
-    """A segment of the table: its constant command on its class's flat ground, compared in its window."""
-    from simpick.errors import InputError
-
-    table = class_table(inputs["segments"], params["terrain_class"])
-    if name not in table.index:
-        raise InputError(inputs["segments"], f"has no {params['terrain_class']} segment {name!r}", "rerun snakemake")
-    seg = table.loc[name]
-    which = {"terrain": params["terrain_class"], "motion": seg.name, "test": seg.name, "dataset": seg.dataset,
-             "run": str(seg.run), "segment": seg.name,
-             "window": [float(seg.settle), float(seg.settle + seg.duration)]}
-    return which, lambda: simulate(seg, urdf, params)
-
-
-def compare(traces: list[str], inputs: dict, params: dict):
-    """Every simulated segment against its real window statistics (simpick.compare.real.segment_compare)."""
-    from simpick.compare.real import segment_compare
-    return segment_compare(inputs["segments"], traces, params["track"])

@@ -36,8 +36,8 @@ has not seen, and at what cost (after Acosta, Posa et al. 2022, who did this for
   an uninterrupted one would have. Trial 0 is always the as-configured engine, so the best
   parameters are never worse on the training units than the configured ones.
 
-Everything here drives the engines through the source modules (:mod:`simpick.sources.segments`,
-:mod:`simpick.sources.replay`), the same paths as the study's real-data comparison.
+Everything here drives the engines as the segments and replay sources' jobs do
+(:mod:`simpick.simulate.real`), the same paths as the study's real-data comparison.
 """
 
 from __future__ import annotations
@@ -47,14 +47,25 @@ import json
 import math
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import yaml
 
+from simpick.compare import realmetrics
+from simpick.compare.real import compared_window, real_imu_at, trace_rate
+from simpick.compare.realmetrics import mean_ci, paired_test, statistics_settings
+from simpick.coulomb import wheel_separation_multiplier
+from simpick.engines import get_engine
 from simpick.errors import InputError
-from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S
+from simpick.inputs.robot import load_robot
+from simpick.real.logs import read_canonical
+from simpick.real.turning import turning_windows
+from simpick.simulate.real import class_segments, replay_log, simulate_segment
+from simpick.simulate.run import config_hash, stable_seed
+from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
 from simpick.tables import write_csv
 
 FAILED_UNIT = 10.0  # objective counted for a unit the engine fails (10x the scale of either error)
@@ -75,8 +86,6 @@ def split_runs(units: pd.DataFrame, test_fraction: float, seed: int) -> pd.DataF
     calibrated on turning runs and judged on others, where a class has two or more. (Unstratified,
     the seed put every turning run of sandy loam in the test set and its training runs drove
     straight: nothing constrained the friction ratio.)"""
-    from simpick.simulate.run import stable_seed
-
     rows = []
     stratified = "turns" in units
     for cls in sorted(units.terrain_class.unique()):
@@ -114,11 +123,9 @@ def split_job(units: list[dict], test_fraction: float, seed: int, output: str, l
     columns = ["terrain_class", "run", "unit", "turns"]
     frame = pd.DataFrame(units, columns=columns[:len(units[0])] if units else columns[:3]).astype({"run": str})
     if logs:
-        from simpick.sources import replay
-
         turns = {}
         for path in logs:
-            log = replay.read_log(path)
+            log = read_canonical(path)
             key = (str(log.meta["terrain_class"]).lower(), str(log.meta["run_id"]))
             turns[key] = run_turns(log, float(strata["track"]), strata["steady"], strata.get("duration"))
         frame["turns"] = [turns.get((c, r), False) for c, r in zip(frame.terrain_class, frame.run)]
@@ -134,10 +141,6 @@ def read_split(path: str, terrain_class: str) -> pd.DataFrame:
 
 def parameter_space(engine: str, overrides: dict | None = None) -> dict:
     """name -> Calibratable: what the adapter declares, with the config's bounds overrides."""
-    from dataclasses import replace
-
-    from simpick.engines import get_engine
-
     space = dict(get_engine(engine).calibratable)
     for name, bounds in (overrides or {}).items():
         if name not in space:
@@ -149,8 +152,6 @@ def parameter_space(engine: str, overrides: dict | None = None) -> dict:
 
 def configured_values(params: dict, space: dict) -> dict:
     """The as-configured value of each parameter (clipped into its bounds)."""
-    from simpick.engines import get_engine
-
     engine = params["engine"]
     settings = get_engine(engine).settings_model.of(params.get("engine_settings"), engine)
     out = {}
@@ -177,13 +178,10 @@ def apply_parameters(params: dict, values: dict) -> dict:
 def segment_errors(seg: pd.Series, urdf: str, params: dict, window: float | None) -> dict:
     """A committed segment: |mean sim - mean real| of yaw rate and longitudinal acceleration over
     the first ``window`` seconds of its compared window (all of it when None)."""
-    from simpick.compare.real import compared_window
-    from simpick.sources import segments
-
     seg = seg.copy()
     if window is not None:
         seg["duration"] = min(float(seg.duration), float(window))
-    frame, meta = segments.simulate(seg, urdf, params)
+    frame, meta = simulate_segment(seg, urdf, params)
     out = {"status": meta["health"]["status"], "wall_time": float(meta["wall_time"]), "steps": int(meta["steps"])}
     if out["status"] == "ok":
         w = compared_window(pd.DataFrame(frame), meta)
@@ -206,8 +204,6 @@ def _gain_figures(sim_gain: float, real_gain: float, windows: int) -> dict:
 def steady_windows(log, track: float, steady: dict) -> pd.DataFrame:
     """The log's steady-command turning windows (simpick.real.turning.turning_windows with the real
     turning analysis' ``steady`` settings: window, settle, tolerance, min_turn)."""
-    from simpick.real.turning import turning_windows
-
     return turning_windows(log, track, **{k: float(v) for k, v in steady.items()})
 
 
@@ -215,11 +211,7 @@ def replay_errors(log, urdf: str, params: dict, duration: float | None, steady: 
     """A replayed run: RMS difference of the low-passed yaw rate and longitudinal acceleration
     (the replay metrics' rmse_yaw_rate and rmse_ax, over the first ``duration`` seconds), and the
     steady yaw-rate gain, simulated and real, in its steady-command turning windows."""
-    from simpick.compare import realmetrics
-    from simpick.compare.real import real_imu_at, trace_rate
-    from simpick.sources import replay
-
-    frame, meta = replay.simulate(log, urdf, params, duration)
+    frame, meta = replay_log(log, urdf, params, duration=duration)
     out = {"status": meta["health"]["status"], "wall_time": float(meta["wall_time"]), "steps": int(meta["steps"])}
     if out["status"] == "ok":
         sim = pd.DataFrame(frame)
@@ -267,17 +259,13 @@ class Units:
                  terrain_class: str | None = None):
         self.source = source
         if source == "segments":
-            from simpick.sources import segments
-
-            self.segments = segments.class_table(segments_csv, terrain_class)
+            self.segments = class_segments(segments_csv, terrain_class)
             self.ids = [str(s) for s in self.segments.index]
             self.runs = {str(s): str(self.segments.loc[s, "run"]) for s in self.segments.index}
         else:
-            from simpick.sources import replay
-
             self.logs = {}
             for path in logs or []:
-                log = replay.read_log(path)
+                log = read_canonical(path)
                 self.logs[str(log.meta["run_id"])] = log
             self.ids = sorted(self.logs)
             self.runs = {r: r for r in self.ids}
@@ -312,8 +300,6 @@ def study_name(params: dict, settings: dict, train: list[str] | None = None) -> 
     ``n_trials`` continues the same study and any other edit starts a new one: the parameters,
     the settings (with the job's code version, ``settings["code"]``: an edit to the objective or
     an engine) and the training units (a new split): a trial of other units or code is never reused."""
-    from simpick.simulate.run import config_hash
-
     keyed = {"params": params, "settings": {k: v for k, v in settings.items() if k != "n_trials"}}
     if train is not None:
         keyed["train"] = sorted(str(u) for u in train)
@@ -326,10 +312,8 @@ def calibrate(units: Units, train: list[str], urdf: str, params: dict, settings:
 
     Returns the best parameter values, the trial history and run facts (trials run now, wall s).
     """
-    import optuna
+    import optuna  # only a search imports it (the report reads this module's constants)
     from optuna.trial import TrialState
-
-    from simpick.simulate.run import stable_seed
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     space = parameter_space(params["engine"], (settings.get("bounds") or {}).get(params["engine"]))
@@ -395,8 +379,6 @@ def calibrate_job(inputs: dict, params: dict, settings: dict, outputs: dict, tim
     runtime): a study still running then writes best.yaml with ``status: failed`` and the reason
     and no parameters (the journal keeps the finished trials, so a rerun resumes), and the
     evaluation reports every calibrated unit of the class as failed instead of inventing a best."""
-    from simpick.simulate.watchdog import Watchdog, hung_reason
-
     split = read_split(inputs["split"], params["terrain_class"])
     units = Units(settings["source"], inputs.get("segments"), inputs.get("logs"), params["terrain_class"])
     train = [u for u in split[split.set == "train"].unit if u in units.ids]
@@ -436,8 +418,6 @@ def evaluate_job(inputs: dict, params: dict, settings: dict, output: str, timeou
 
     Under the watchdog (``timeout``, as :func:`calibrate_job`): a job still running then writes
     the rows it has and every unit not yet evaluated as failed with the reason."""
-    from simpick.simulate.watchdog import Watchdog, hung_reason
-
     split = read_split(inputs["split"], params["terrain_class"])
     units = Units(settings["source"], inputs.get("segments"), inputs.get("logs"), params["terrain_class"])
     best = yaml.safe_load(Path(inputs["best"]).read_text())
@@ -474,16 +454,12 @@ def evaluate_job(inputs: dict, params: dict, settings: dict, output: str, timeou
 
 def _stats(statistics: dict | None) -> tuple[int, float]:
     """(min_runs, level) of the validated ``statistics`` settings (simpick.plan: Plan.statistics_params)."""
-    from simpick.compare.realmetrics import statistics_settings
-
     return statistics_settings(statistics)
 
 
 def _ci(values, runs, min_runs: int, level: float) -> tuple[float, float, float]:
     """(mean, low, high) over runs (a run's units averaged first): the real-data statistics'
     rule (simpick.compare.realmetrics.mean_ci), so no interval below ``min_runs`` runs."""
-    from simpick.compare.realmetrics import mean_ci
-
     values = np.asarray(values, float)
     if len(values) == 0:
         return (math.nan, math.nan, math.nan)
@@ -506,8 +482,6 @@ def _summary_row(g: pd.DataFrame, runs: pd.Series, min_runs: int, level: float) 
     """One engine and set over the units in ``g`` (as configured and as calibrated), with intervals
     over the independent runs named by ``runs`` (one key per unit), and the change (calibrated
     minus configured, per unit) judged by a paired test over runs."""
-    from simpick.compare.realmetrics import paired_test
-
     conf = g[g.variant == "configured"].set_index("unit")
     cal = g[g.variant == "calibrated"].set_index("unit")
     run_of = dict(zip(g.unit, runs))
@@ -544,8 +518,6 @@ def _winners(out: pd.DataFrame, evals: pd.DataFrame, min_runs: int, level: float
     """Per class (and pooled) and set: the model with the smallest mean objective as configured and
     as calibrated, named only where a paired test over runs separates it from the runner-up
     (otherwise ``no separation`` or ``too few runs``); ranks only from ``min_runs`` runs on."""
-    from simpick.compare.realmetrics import paired_test
-
     for variant in ("configured", "calibrated"):
         out[f"rank_{variant}"] = pd.array([pd.NA] * len(out), dtype="Int64")
         out[f"winner_{variant}"] = ""
@@ -635,8 +607,6 @@ def summary_job(evals: list[str], bests: list[str], split: str, outputs: dict, s
                            for (e, c), b in sorted(best.items()) for k, v in b["parameters"].items()])
     write_csv(params, outputs["parameters"])
     if "turning" in outputs:
-        from simpick.inputs.robot import load_robot
-
         separation = load_robot(urdf).track  # the controller's wheel_separation (geometric)
         table = turning_table(frame, best, float(turning["track"]), separation, turning["target"], statistics)
         write_csv(table, outputs["turning"])
@@ -674,8 +644,6 @@ def turning_table(evals: pd.DataFrame, best: dict[tuple[str, str], dict], track:
     ``wheel_separation_multiplier`` a ROS diff_drive_controller user would set to turn this model
     (and the real robot) as commanded (simpick.coulomb.wheel_separation_multiplier). Then the same
     over the held-out runs of ``target['classes']`` together (``TARGET_POOL``)."""
-    from simpick.coulomb import wheel_separation_multiplier
-
     min_runs, level = _stats(statistics)
     test = evals[evals.set == "test"]
     if "gain_error" not in test:
@@ -716,8 +684,6 @@ def target_table(evals: pd.DataFrame, turning: pd.DataFrame, engines: list[str],
     sign-flip test over runs at ``statistics.level``; and per class whether its mean calibrated gain
     is within ``target['gain_tolerance']`` of the real robot's. ``meets`` when all three hold; ``best``
     marks the engine (a simulator, not a reference model) with the lowest mean calibrated error."""
-    from simpick.compare.realmetrics import paired_test
-
     min_runs, level = _stats(statistics)
     classes = target.get("classes") or sorted(evals.terrain_class.unique())
     test = evals[(evals.set == "test") & evals.terrain_class.isin(classes)]

@@ -27,6 +27,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from simpick.compare.jobs import source_tables
+from simpick.compare.kinds import BY_KIND
+from simpick.compare.real import SEGMENT_TEST_COLUMNS
+from simpick.simulate.jobs import simulate_job
 from simpick.tables import write_csv
 
 # a segment's timing, from its compare job's run row, beside its per-test row
@@ -43,7 +47,6 @@ def sweep_job(inputs: dict, params: dict, settings: dict, output: str) -> None:
     (:func:`compare_traces`). A case that hangs is written failed with the cases after it (the
     simulate job's watchdog), and the rows are written before the process ends, so the summary
     counts them as failed."""
-    from simpick.simulate.jobs import simulate_job
     folder = tempfile.mkdtemp(prefix="simpick-sweep-")
     traces = [str(Path(folder) / f"{name}.parquet") for name in params["cases"]]
 
@@ -59,11 +62,9 @@ def sweep_job(inputs: dict, params: dict, settings: dict, output: str) -> None:
 
 
 def compare_traces(traces: list[str], inputs: dict, params: dict, settings: dict) -> pd.DataFrame:
-    """A sweep point's traces compared by their source's compare (``params["kind"]``'s module, as
-    the compare job): its per-test rows with each run's timing (:data:`TIMING`) and the timestep."""
-    from simpick import sources
-
-    per_test, _, runs = sources.module(params["kind"]).compare(traces, inputs, settings)
+    """A sweep point's traces compared by their kind's comparison (simpick.compare.kinds, as the
+    compare job): its per-test rows with each run's timing (:data:`TIMING`) and the timestep."""
+    per_test, _, runs = BY_KIND[params["kind"]](traces, inputs, settings)
     timing = runs[["engine", "test", *TIMING]].astype({"test": str})
     rows = per_test.astype({"test": str}).merge(timing, on=["engine", "test"], how="left", validate="one_to_one")
     return rows.assign(timestep=float(params["physics"]["timestep"]))
@@ -72,8 +73,6 @@ def compare_traces(traces: list[str], inputs: dict, params: dict, settings: dict
 def summarise(rows: pd.DataFrame, statistics: dict | None = None) -> pd.DataFrame:
     """Per class, engine and timestep: the segments source's tables of those rows
     (:func:`simpick.compare.jobs.source_tables`) with the sweep's counts and the cost of a step."""
-    from simpick.compare.jobs import source_tables
-    from simpick.compare.real import SEGMENT_TEST_COLUMNS
     out = []
     for (cls, dt), group in rows.groupby(["terrain_class", "timestep"], sort=True):
         tables = source_tables(group[SEGMENT_TEST_COLUMNS], group[["engine", "test", "status", *TIMING]],

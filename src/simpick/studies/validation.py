@@ -42,15 +42,18 @@ headings): results/validation/gains.csv, which the report and its gain figure re
 
 from __future__ import annotations
 
+import argparse
 import json
 import math
 import sys
 import time
+import traceback
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
 
 import numpy as np
+import pandas as pd
+import yaml
 
 from simpick.coulomb import braking_deceleration as coulomb_braking
 from simpick.coulomb import contact_layout, yaw_rate_gain
@@ -60,7 +63,8 @@ from simpick.errors import InputError
 from simpick.inputs.motions import side_speeds
 from simpick.inputs.robot import RobotSpec, load_from_config
 from simpick.simulate.imu import block_average, euler_rpy, rotation_matrices
-from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S
+from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
+from simpick.tables import write_csv
 
 KINDS = ("yaw_gain", "straight", "slide", "incline", "rest")
 # deg: a case's start heading (the downhill direction of an incline) when it names none
@@ -86,7 +90,6 @@ QUANTITIES = {
     "turn_asymmetry": ("1", "absolute"),
     "heading_spread": ("1", "absolute"),
 }
-INVARIANCE = ("turn_asymmetry", "heading_spread")
 
 
 @dataclass(frozen=True)
@@ -296,10 +299,6 @@ def validate_job(outputs: list[str], urdf: str | Path, params: dict, timeout: fl
     stopped process, as failed (not run), so the summary lists every case. A case whose engine raises is
     recorded as failed with the error (the traceback goes to the job's log) and the next case runs; a bad
     case kind (InputError) still stops the job."""
-    import traceback
-
-    from simpick.simulate.watchdog import Watchdog, hung_reason
-
     cases = params["cases"]
     paths = {Path(p).stem: Path(p) for p in outputs}
     if sorted(paths) != sorted(cases):
@@ -368,8 +367,6 @@ def _label(x: float) -> str:
 def invariance_rows(rows: list[dict], tolerances: dict) -> list[dict]:
     """The turn_asymmetry and heading_spread checks of every engine, from its yaw_rate_gain rows
     (see the module docstring). A group's check fails when any of its cases failed."""
-    import pandas as pd
-
     gains = pd.DataFrame([r for r in rows if r["quantity"] == "yaw_rate_gain" and r["w"] is not None
                           and r["status"] != "skipped" and r.get("friction_ratio") is None])
     if gains.empty:
@@ -401,8 +398,6 @@ def invariance_rows(rows: list[dict], tolerances: dict) -> list[dict]:
 def summarise(results: list[dict], tolerances: dict[str, float]):
     """One row per (engine, case, quantity): values, error and pass/fail under ``tolerances``;
     then the invariance checks (:func:`invariance_rows`)."""
-    import pandas as pd
-
     rows = []
     for result in results:
         if not result["checks"]:  # skipped (not applicable), or failed before it measured: one row, the reason
@@ -433,8 +428,6 @@ def gain_table(summary):
     """Per engine and (v, |w|, mu): the Coulomb gain and the engine's gain turning left (w > 0)
     and right (w < 0): mean, min and max over the start headings; over both, min, max and the
     spread max - min relative to the Coulomb gain."""
-    import pandas as pd
-
     gains = summary[(summary.quantity == "yaw_rate_gain") & summary.w.notna() & (summary.status != "skipped")]
     if "friction_ratio" in gains:  # anisotropic cases: not the isotropic turning this table compares
         gains = gains[gains.friction_ratio.isna()]
@@ -471,8 +464,6 @@ def failures(summary) -> dict[str, list[str]]:
 
 
 def summarise_job(inputs: list[str], outputs: dict, tolerances: dict) -> None:
-    from simpick.tables import write_csv
-
     results = [json.loads(Path(p).read_text()) for p in inputs]
     summary = summarise(results, tolerances)
     write_csv(summary, outputs["summary"])
@@ -481,10 +472,6 @@ def summarise_job(inputs: list[str], outputs: dict, tolerances: dict) -> None:
 
 def main(argv: list[str] | None = None) -> None:
     """``python -m simpick.studies.validation ENGINE [CASE ...]``: run the config's cases and print them."""
-    import argparse
-
-    import yaml
-
     parser = argparse.ArgumentParser(description=main.__doc__)
     parser.add_argument("engine")
     parser.add_argument("cases", nargs="*")
@@ -505,7 +492,6 @@ def main(argv: list[str] | None = None) -> None:
     cases = config["validation"]["cases"]
     results = [run_case(setup, name, cases[name]) for name in (args.cases or cases)]
     summary = summarise(results, config["validation"]["tolerances"])
-    import pandas as pd
 
     with pd.option_context("display.width", 200, "display.max_columns", 20):
         print(summary[["case", "quantity", "engine_value", "analytic_value", "error", "tolerance", "passed",

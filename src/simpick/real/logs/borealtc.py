@@ -23,7 +23,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from simpick.errors import InputError
+from simpick.real.datasets import find_runs
 from simpick.real.logs import validate as V
 from simpick.real.logs.assemble import finish, source_columns
 from simpick.real.logs.canonical import DEFAULT_TRACK, RealLog
@@ -45,8 +45,6 @@ def discover(folder: str | Path) -> list[tuple[str, str, Path, Path]]:
     Every problem of the folder (see :func:`simpick.real.datasets.scan`: not a dataset, an empty
     class folder, an imu file without its pro partner ...) is an InputError naming it.
     """
-    from simpick.real.datasets import find_runs
-
     return [(r.folder, r.run, r.imu, r.pro) for r in find_runs(folder)]
 
 
@@ -71,8 +69,3 @@ def read_run(imu_csv: str | Path, pro_csv: str | Path, terrain_class: str, *,
               **({"license": "CC0-1.0"} if dataset == DATASET else {}),
               "source_columns": {"imu": IMU_MAP, "commands": PRO_MAP}},
     )
-
-
-def read_all(folder: str | Path, **kwargs) -> dict[str, RealLog]:
-    """Every run of ``discover(folder)``, keyed "<CLASS>_<XX>"."""
-    return {f"{cls}_{run}": read_run(imu, pro, cls, **kwargs) for cls, run, imu, pro in discover(folder)}

@@ -55,8 +55,10 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import yaml
 
 from simpick.errors import InputError
+from simpick.real.datasets import DatasetProblems
 
 DATASET = "DRIVE"
 PICKLE = Path("model_training_datasets") / "slip_dataset_all.pkl"
@@ -140,8 +142,6 @@ def find_sessions(folder: str | Path) -> list[Path]:
     """The session folders under ``folder``: one session folder itself (it holds metadata.yaml), a
     ``calib_data/`` folder, or a DRIVE checkout holding ``calib_data/``. A sub-folder is a session
     when it holds metadata.yaml or the dataset pickle; one with only one of the two is refused."""
-    from simpick.real.datasets import DatasetProblems
-
     folder = Path(folder)
     if not folder.is_dir():
         raise InputError(str(folder), "DRIVE folder not found" if not folder.exists() else "is a file, not a folder",
@@ -201,8 +201,6 @@ def load_pickle(path: Path) -> tuple[pd.DataFrame, dict]:
 
 
 def read_metadata(folder: Path) -> dict:
-    import yaml
-
     path = folder / METADATA
     try:
         data = yaml.safe_load(path.read_text())
@@ -217,8 +215,6 @@ def read_metadata(folder: Path) -> dict:
 def read_geometry(folder: Path, wheel_radius: float | None, wheel_baseline: float | None) -> dict:
     """Wheel radius and baseline from the session's own DRIVE configuration (the figures DRIVE used to
     turn body commands into wheel commands), unless the caller gives them."""
-    import yaml
-
     found = {}
     for path in sorted((folder / "config_file_used").glob("*.yaml")):
         try:

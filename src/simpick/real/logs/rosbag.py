@@ -81,7 +81,7 @@ def read_bag(path: str | Path, imu_topic: str, command_topic: str, command_type:
     "twist_stamped", "odometry", "joint_state". ``frame_z="down"`` turns an x forward,
     y right, z down IMU into z up (180 deg about x: y, z negated; w negated too).
     """
-    from rosbags.highlevel import AnyReader, AnyReaderError
+    from rosbags.highlevel import AnyReader, AnyReaderError  # only a bag reads it (the CSV logs do not)
     from rosbags.typesys import Stores, get_typestore
 
     path = Path(path)
