@@ -27,7 +27,8 @@ from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.engines.base import GRAVITY, Calibratable, Engine, EngineSettings
 from simpick.errors import InputError
 from simpick.simulate.health import HealthLimits, check
-from simpick.simulate.imu import block_average, euler_rpy, imu_from_kinematics, rotation_matrices
+from simpick.engines.kinematics import euler_rpy, imu_from_kinematics, rotation_matrices
+from simpick.simulate.imu import block_average
 from simpick.inputs.robot import load_robot
 from simpick.studies.validation import body_velocity, braking_deceleration
 
@@ -477,7 +478,7 @@ NATIVE_IMU_XFAIL = {
 
 @pytest.mark.parametrize("engine", every_engine_but(NATIVE_IMU_XFAIL))
 def test_the_accelerometer_agrees_with_the_kinematic_imu(engine):
-    """The record's IMU against simpick.simulate.imu.imu_from_kinematics of the record's own base
+    """The record's IMU against simpick.engines.kinematics.imu_from_kinematics of the record's own base
     motion, mount and gravity, at the 100 Hz the study reads (turning from rest: acceleration,
     centripetal and lever-arm terms all present). MuJoCo's is its native accelerometer; the
     other engines' adapters build theirs with that function, so it checks their wiring (mount,

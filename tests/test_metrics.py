@@ -6,7 +6,8 @@ import pytest
 
 from conftest import ROOT
 from simpick.compare import metrics
-from simpick.simulate.imu import ImuModel, block_average, imu_from_kinematics, sensor_output
+from simpick.engines.kinematics import imu_from_kinematics
+from simpick.simulate.imu import ImuModel, block_average, sensor_output
 from simpick.inputs.published import load_published
 from simpick.inputs.reference import lab_reference, to_simpick_frame
 
@@ -145,7 +146,7 @@ def test_lab_totals_leave_out_a_test_any_engine_failed(tmp_path):
 
 
 def test_rotation_matrices_and_quaternions_round_trip():
-    from simpick.simulate.imu import matrices_to_quaternions, rotation_matrices
+    from simpick.engines.kinematics import matrices_to_quaternions, rotation_matrices
 
     rng = np.random.default_rng(3)
     q = rng.normal(size=(500, 4))

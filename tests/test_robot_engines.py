@@ -9,7 +9,7 @@ import yaml
 
 from simpick.engines import ADAPTERS, get_engine
 from simpick.engines.base import Scenario
-from simpick.simulate.imu import euler_rpy
+from simpick.engines.kinematics import euler_rpy
 from simpick.inputs.motions import constant_commands
 from simpick.inputs.robot import load_robot
 from simpick.studies.validation import Setup, run_case

@@ -53,7 +53,7 @@ from simpick.engines import _ode
 from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
                                   validated_commands)
 from simpick.errors import InputError, SimulationFailure
-from simpick.simulate.imu import imu_from_kinematics, matrices_to_quaternions, rotation_matrices
+from simpick.engines.kinematics import imu_from_kinematics, matrices_to_quaternions, rotation_matrices
 from simpick.inputs.robot import joint_axis, origin, rpy_matrix
 
 LOG = logging.getLogger(__name__)
@@ -327,8 +327,8 @@ class _World:
             # measured fastest on the gravel strip: 25 500 steps/s against 10 300 with
             # 1.6 m cells and 7 300 for a hash space, whose table is rebuilt every step).
             terrain = scenario.terrain
-            xs = [b[0] for b in terrain["boxes"]] + [p[0] for p in terrain["spheres"]] + [st[0] for st in scenario.starts]
-            ys = [b[1] for b in terrain["boxes"]] + [p[1] for p in terrain["spheres"]] + [st[1] for st in scenario.starts]
+            xs = [b[0] for b in terrain.boxes] + [p[0] for p in terrain.spheres] + [st[0] for st in scenario.starts]
+            ys = [b[1] for b in terrain.boxes] + [p[1] for p in terrain.spheres] + [st[1] for st in scenario.starts]
             margin = 10.0
             centre = _ode.dVector3((min(xs) + max(xs)) / 2, (min(ys) + max(ys)) / 2, 0.0)
             extent = _ode.dVector3(max(xs) - min(xs) + 2 * margin, max(ys) - min(ys) + 2 * margin, 2 * margin)
@@ -381,15 +381,15 @@ class _World:
 
         static(lib.dCreatePlane(self.space, 0.0, 0.0, 1.0, 0.0), scenario.ground_friction)
         terrain = scenario.terrain
-        for x, y, z, yaw, sx, sy, sz in terrain["boxes"]:
+        for x, y, z, yaw, sx, sy, sz in terrain.boxes:
             geom = lib.dCreateBox(self.space, sx, sy, sz)
             lib.dGeomSetPosition(geom, x, y, z)
             lib.dGeomSetQuaternion(geom, _ode.dQuaternion(math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)))
-            static(geom, terrain["friction"])
-        for x, y, z, r in terrain["spheres"]:
+            static(geom, terrain.friction)
+        for x, y, z, r in terrain.spheres:
             geom = lib.dCreateSphere(self.space, r)
             lib.dGeomSetPosition(geom, x, y, z)
-            static(geom, terrain["friction"])
+            static(geom, terrain.friction)
         self.robot_contacts = contacts_for(ROBOT_ROBOT_FRICTION)
 
         model = read_urdf(scenario.robot)

@@ -16,7 +16,8 @@ from simpick.inputs import terrain as terrain_io
 from simpick.engines import get_engine
 from simpick.engines.base import PhysicsRecord, Scenario
 from simpick.simulate.health import HealthLimits, check
-from simpick.simulate.imu import ImuModel, block_average, euler_rpy, interval_average, rotation_matrices, sensor_output
+from simpick.engines.kinematics import euler_rpy, rotation_matrices
+from simpick.simulate.imu import ImuModel, block_average, interval_average, sensor_output
 from simpick.inputs.motions import constant_commands
 from simpick.inputs.robot import RobotSpec, load_from_config
 from simpick.seeds import config_hash, stable_seed  # noqa: F401 (re-exported: the jobs import them from here)
