@@ -38,18 +38,21 @@ count other than 2, 4 or 6 or unequal sides, a description that is not XML.
 from __future__ import annotations
 
 import hashlib
+import logging
 import math
 import os
 import tempfile
 import xml.etree.ElementTree as ET
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from simpick.errors import InputError
+
+LOG = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -77,6 +80,72 @@ class Skid:
     shape: str  # "box", "sphere" or "cylinder"
     position: tuple[float, float, float]  # lowest point (its shape's centre in x, y) in the base frame, m
     clearance: float  # m above flat ground with the robot level on its wheels (<= SKID_REACH)
+
+
+@dataclass
+class Body:
+    """A rigid body as an engine builds it, in the frame of its (main) URDF link: a moving link
+    with every link hung on it by fixed joints folded in."""
+
+    link: str
+    mass: float = 0.0
+    com: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))  # about com, link axes
+    shapes: list = field(default_factory=list)  # (kind, dims, position, rotation) in the link frame
+
+    def add(self, link, position: np.ndarray, rotation: np.ndarray, where: str) -> None:
+        """Fold ``link`` (placed at position/rotation in this body's frame) into the body."""
+        name = f"{where}: link {link.get('name')!r}"
+        inertial = link.find("inertial")
+        if inertial is not None and inertial.find("mass") is not None:
+            xyz, rot = origin(inertial, f"{name} inertial")
+            m = float(inertial.find("mass").get("value"))
+            t = inertial.find("inertia")
+            g = {k: float(t.get(k, 0.0)) if t is not None else 0.0 for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")}
+            local = np.array([[g["ixx"], g["ixy"], g["ixz"]], [g["ixy"], g["iyy"], g["iyz"]],
+                              [g["ixz"], g["iyz"], g["izz"]]])
+            r = rotation @ rot
+            self._combine(m, position + rotation @ xyz, r @ local @ r.T)
+        for collision in link.findall("collision"):
+            geometry = collision.find("geometry")
+            if geometry is None:
+                continue
+            xyz, rot = origin(collision, f"{name} collision")
+            box, cyl, sph = geometry.find("box"), geometry.find("cylinder"), geometry.find("sphere")
+            if box is not None:
+                shape = ("box", tuple(_floats(box.get("size"), 3, f"{name} box size")))
+            elif cyl is not None:
+                shape = ("cylinder", (float(cyl.get("radius")), float(cyl.get("length"))))
+            elif sph is not None:
+                shape = ("sphere", (float(sph.get("radius")),))
+            else:  # a mesh: dropped, as normalised_urdf drops it (with its note)
+                continue
+            self.shapes.append((*shape, position + rotation @ xyz, rotation @ rot))
+
+    def _combine(self, m: float, c: np.ndarray, inertia: np.ndarray) -> None:
+        total = self.mass + m
+        com = (self.mass * self.com + m * c) / total
+
+        def shifted(mass, at, tensor):
+            d = at - com
+            return tensor + mass * (d @ d * np.eye(3) - np.outer(d, d))
+
+        self.inertia = shifted(self.mass, self.com, self.inertia) + shifted(m, c, inertia)
+        self.mass, self.com = total, com
+
+
+@dataclass(frozen=True)
+class RigidModel:
+    """The robot as rigid bodies and moving joints, every fixed-joint chain folded into the moving
+    link above it (its base included): what an engine that builds bodies itself needs."""
+
+    chassis: Body  # the base with everything fixed to it
+    # driven wheels in command order: (joint position in the chassis frame, joint rotation, axis
+    # in the wheel link frame, Body)
+    wheels: tuple
+    # every other moving link (casters, swivels), parents before children: (joint position and
+    # rotation in the parent body's frame, axis, Body, parent: -1 the chassis, else an index into this)
+    passive: tuple = ()
 
 
 # A base collision whose lowest point is within this of the ground (robot level on its wheels) is a
@@ -110,6 +179,9 @@ class RobotSpec:
     notes: tuple[str, ...] = ()  # what was assumed or dropped while reading the description
     overridden: tuple[str, ...] = ()  # figures the config set instead of the description
     skids: tuple[Skid, ...] = ()  # base shapes that reach the ground (sliding supports)
+    # the rigid bodies and moving joints, fixed-joint chains folded (for an adapter that builds the
+    # robot body by body rather than through its engine's URDF loader: ODE)
+    rigid: RigidModel | None = field(default=None, compare=False, repr=False)
 
     @property
     def driven(self) -> tuple[Wheel, ...]:
@@ -211,6 +283,31 @@ def joint_axis(joint, where: str) -> np.ndarray:
     return axis / norm
 
 
+# Real descriptions carry rounded angles (rpy="3.14 0 0" for pi, 1.5708 for pi/2): a joint origin's
+# rotation or a joint axis within this of a right-angle one is snapped to it and reported, so the
+# rounding of a maker's file never decides whether simpick can study the robot.
+SNAP_TOLERANCE_DEG = 0.5
+
+
+def _snapped_rotation(rot: np.ndarray) -> tuple[np.ndarray, float] | None:
+    """The right-angle rotation (a signed permutation) within SNAP_TOLERANCE_DEG of ``rot`` and the
+    angle between them (degrees), or None when there is none."""
+    target = np.round(rot)
+    if not (np.allclose(target @ target.T, np.eye(3)) and np.linalg.det(target) > 0):
+        return None
+    angle = math.degrees(math.acos(max(-1.0, min(1.0, (np.trace(target.T @ rot) - 1) / 2))))
+    return (target, angle) if angle <= SNAP_TOLERANCE_DEG else None
+
+
+def _snapped_axis(axis: np.ndarray) -> tuple[np.ndarray, float] | None:
+    """The coordinate axis (signed) within SNAP_TOLERANCE_DEG of the unit ``axis``, and the angle."""
+    i = int(np.argmax(np.abs(axis)))
+    target = np.zeros(3)
+    target[i] = math.copysign(1.0, axis[i])
+    angle = math.degrees(math.acos(max(-1.0, min(1.0, float(target @ axis)))))
+    return (target, angle) if angle <= SNAP_TOLERANCE_DEG else None
+
+
 @dataclass
 class _Tree:
     root: Any
@@ -220,6 +317,9 @@ class _Tree:
     children: dict  # link -> [joint elements]
     base: str
     pose: dict  # link -> (position, rotation) in the base frame, joints at zero
+    origins: dict  # joint name -> (xyz, rotation) of its origin, a rounded right angle snapped
+    notes: list  # what was snapped
+    axes: dict = field(default_factory=dict)  # joint name -> its snapped axis (wheels only, _find_wheels)
 
 
 def _tree(root, where: str) -> _Tree:
@@ -237,17 +337,27 @@ def _tree(root, where: str) -> _Tree:
     roots = [name for name in links if name not in child_joint]
     if len(roots) != 1:
         raise InputError(where, f"expected one root link, found {roots}")
+    origins, notes = {}, []
+    for name, j in joints.items():
+        xyz, rot = origin(j, f"{where}: joint {name!r}")
+        snap = _snapped_rotation(rot)
+        if snap is not None and snap[1] > 1e-7:
+            rot = snap[0]
+            notes.append(f"joint {name!r}: origin rpy {j.find('origin').get('rpy')!r} is {snap[1]:.3f} deg from a "
+                         f"right angle (within {SNAP_TOLERANCE_DEG} deg), snapped to rpy "
+                         f"{_fmt(np.round(matrix_rpy(rot), 6))}")
+        origins[name] = (xyz, rot)
     pose = {roots[0]: (np.zeros(3), np.eye(3))}
     stack = [roots[0]]
     while stack:
         name = stack.pop()
         p, r = pose[name]
         for j in children[name]:
-            xyz, rot = origin(j, f"{where}: joint {j.get('name')!r}")
+            xyz, rot = origins[j.get("name")]
             child = j.find("child").get("link")
             pose[child] = (p + r @ xyz, r @ rot)
             stack.append(child)
-    return _Tree(root, links, joints, child_joint, children, roots[0], pose)
+    return _Tree(root, links, joints, child_joint, children, roots[0], pose, origins, notes)
 
 
 def _inertial(link, where: str) -> tuple[float, np.ndarray, np.ndarray] | None:
@@ -317,11 +427,17 @@ def read_description(path: str | Path) -> ET.Element:
     return root
 
 
-def _needs_rewrite(root, source: Path) -> bool:
+def _needs_rewrite(root, source: Path, tree: _Tree) -> bool:
     """True unless every engine can load the file as it is: plain URDF, no meshes, every link
-    with a mass (Bullet gives a massless link 1 kg)."""
-    if source.suffix == ".xacro" or root.find(".//mesh") is not None:
+    with a mass (Bullet gives a massless link 1 kg), no angle snapped, and every moving joint hung
+    on a moving link or the base (not on a link fixed below one, such as a chassis link: engines
+    fold such chains each their own way, so they all get the folded form)."""
+    if source.suffix == ".xacro" or root.find(".//mesh") is not None or tree.notes or tree.axes:
         return True
+    for j in tree.joints.values():
+        parent = j.find("parent").get("link")
+        if j.get("type") != "fixed" and parent in tree.child_joint and tree.child_joint[parent].get("type") == "fixed":
+            return True
     for link in root.findall("link"):
         inertial = link.find("inertial")
         if inertial is None or inertial.find("mass") is None or float(inertial.find("mass").get("value", 0)) <= 0:
@@ -401,7 +517,8 @@ def normalised_urdf(root, tree: _Tree, name: str) -> tuple[str, list[str]]:
         ET.SubElement(new, "parent", {"link": parent})
         ET.SubElement(new, "child", {"link": child})
         ET.SubElement(new, "origin", {"xyz": _fmt(pos), "rpy": _fmt(matrix_rpy(rot))})
-        ET.SubElement(new, "axis", {"xyz": _fmt(joint_axis(j, jname))})
+        axis = tree.axes.get(jname)
+        ET.SubElement(new, "axis", {"xyz": _fmt(joint_axis(j, jname) if axis is None else axis)})
         for tag in ("limit", "dynamics"):
             if j.find(tag) is not None:
                 new.append(j.find(tag))
@@ -441,6 +558,11 @@ def _find_wheels(tree: _Tree, where: str, declared: Mapping[str, str] | None) ->
                              "wheeled bodies: driven and caster wheels on continuous joints)",
                              "make it a fixed joint in the description if it does not move while driving")
         axis_local = joint_axis(j, jw)
+        snap = _snapped_axis(axis_local)
+        if snap is not None and snap[1] > 1e-7:
+            tree.notes.append(f"joint {jname!r}: axis {j.find('axis').get('xyz')!r} is {snap[1]:.3f} deg from "
+                         f"{_fmt(snap[0])} (within {SNAP_TOLERANCE_DEG} deg), snapped")
+            axis_local = tree.axes[jname] = snap[0]
         _, rot = tree.pose[child]
         axis = rot @ axis_local  # in the base frame
         link = tree.links[child]
@@ -558,6 +680,63 @@ def _subtree_joints(tree: _Tree, link: str) -> list[str]:
     return out
 
 
+def _rigid_model(tree: _Tree, where: str, wheels: list[Wheel], snapped_axes: dict) -> RigidModel:
+    """The bodies and moving joints of ``tree``: each moving link with every link hung on it by
+    fixed joints folded in (breadth first, in the description's joint order)."""
+    def body_of(link: str) -> tuple[str, np.ndarray, np.ndarray]:
+        """The moving link ``link`` belongs to, and ``link``'s frame in that link's frame."""
+        pos, rot = np.zeros(3), np.eye(3)
+        chain = []
+        while link in tree.child_joint and tree.child_joint[link].get("type") == "fixed":
+            chain.append(tree.child_joint[link])
+            link = tree.child_joint[link].find("parent").get("link")
+        for joint in reversed(chain):
+            xyz, r = tree.origins[joint.get("name")]
+            pos, rot = pos + rot @ xyz, rot @ r
+        return link, pos, rot
+
+    def body(link_name: str) -> Body:
+        part = Body(link_name)
+        queue = [(link_name, np.zeros(3), np.eye(3))]
+        while queue:
+            name, pos, rot = queue.pop(0)
+            part.add(tree.links[name], pos, rot, where)
+            for joint in tree.children[name]:
+                if joint.get("type") == "fixed":
+                    xyz, r = tree.origins[joint.get("name")]
+                    queue.append((joint.find("child").get("link"), pos + rot @ xyz, rot @ r))
+        return part
+
+    def mount(joint) -> tuple[str, np.ndarray, np.ndarray, np.ndarray]:
+        name = joint.get("name")
+        parent, pos, rot = body_of(joint.find("parent").get("link"))
+        xyz, r = tree.origins[name]
+        if parent != joint.find("parent").get("link"):  # hung on a fixed chain: the chain folded in
+            xyz, r = pos + rot @ xyz, rot @ r
+        axis = snapped_axes.get(name)
+        return parent, xyz, r, axis if axis is not None else joint_axis(joint, f"{where}: joint {name!r}")
+
+    driven = []
+    for wheel in (w for w in wheels if w.driven):
+        _, xyz, r, axis = mount(tree.joints[wheel.joint])
+        driven.append((xyz, r, axis, body(wheel.link)))
+    passive, index = [], {}
+    moving = [w for w in wheels if not w.driven]
+    names = []
+    for w in moving:
+        names += [w.joint] + ([w.swivel] if w.swivel else [])
+    for name in names[::-1]:  # (caster joint, its swivel): the swivel first
+        joint = tree.joints[name]
+        parent, xyz, r, axis = mount(joint)
+        if parent != tree.base and parent not in index:
+            raise InputError(f"{where}: joint {name!r}", f"hangs on {parent!r}, which is neither the base nor a "
+                             "caster's swivel link")
+        child = joint.find("child").get("link")
+        index[child] = len(passive)
+        passive.append((xyz, r, axis, body(child), -1 if parent == tree.base else index[parent]))
+    return RigidModel(body(tree.base), tuple(driven), tuple(passive))
+
+
 OVERRIDABLE = ("wheel_radius", "track", "wheelbase", "mass", "com", "base_height", "imu_mount")
 
 
@@ -578,6 +757,7 @@ def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping
         if bad:
             raise InputError("robot.wheels", f"sides must be 'left' or 'right', got {bad}")
     found, notes = _find_wheels(tree, where, wheels)
+    notes = tree.notes + notes
 
     # mass and centre of mass of the whole robot, joints at zero
     mass, moment = 0.0, np.zeros(3)
@@ -642,14 +822,17 @@ def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping
         notes.append(f"link {s.link!r}: a {s.shape} {s.clearance * 1000:.1f} mm above the ground at rest, a "
                      "sliding support (skid) with the ground's friction")
     file = source
-    if _needs_rewrite(root, source):
+    rigid = _rigid_model(tree, where, found, tree.axes)
+    for note in tree.notes:
+        LOG.warning("%s: %s", where, note)
+    if _needs_rewrite(root, source, tree):
         text, more = normalised_urdf(root, tree, root.get("name") or source.stem)
         notes += more
         file = _write_cached(text)
         notes.append(f"loaded through a normalised copy ({file.name}): fixed links fused, visuals dropped")
     return RobotSpec(urdf=file, source=source, name=root.get("name") or source.stem, base_link=tree.base,
                      wheels=tuple(found), imu_link=imu_link, notes=tuple(notes), overridden=tuple(overridden),
-                     skids=skids, **figures)
+                     skids=skids, rigid=rigid, **figures)
 
 
 def load_from_config(robot: Mapping[str, Any]) -> RobotSpec:
