@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 import yaml
 
+from conformance import check_adapter
 from conftest import ROOT, drive, flat_terrain, setup, tile_terrain
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.engines.base import GRAVITY, Calibratable, Engine, EngineSettings
@@ -54,6 +55,12 @@ def engine(request):
 
 def test_version_is_reported(engine):
     assert get_engine(engine).version()
+
+
+def test_every_engine_passes_the_runner_conformance_check(engine, robot):
+    """tests/conformance.py: the primitives (build, set targets, step, read), the runner's record
+    (shapes, rest height, command change), determinism and the bare loop."""
+    check_adapter(engine, robot)
 
 
 @pytest.mark.parametrize("name", sorted(ADAPTERS) + sorted(REFERENCE_MODELS))
