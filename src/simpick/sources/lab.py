@@ -49,9 +49,8 @@ def compare_settings(config: dict) -> dict:
 
 def prepare_case(urdf: str, inputs: dict, params: dict, name: str):
     """A lab test: the motion's constant command over the generated terrain strip."""
-    from simpick.simulate.health import HealthLimits
-    from simpick.simulate.imu import ImuModel
-    from simpick.simulate.run import Case, run_case
+    from simpick.inputs.terrain import load
+    from simpick.simulate.run import Case, Recording, run_case, scenario_from
 
     motion = params["motion"]
     case = Case(engine=params["engine"], terrain=params["terrain"], motion=name,
@@ -59,12 +58,8 @@ def prepare_case(urdf: str, inputs: dict, params: dict, name: str):
     which = {"terrain": case.terrain, "motion": case.motion, "test": f"{case.terrain}/{case.motion}"}
 
     def run():
-        return run_case(case, urdf=urdf, terrain_file=inputs["terrain"], track=params["robot"]["track"],
-                        max_wheel_torque=params["robot"]["max_wheel_torque"],
-                        timestep=params["physics"]["timestep"], ground_friction=params["physics"]["ground_friction"],
-                        engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
-                        seed=int(params["seed"]), limits=HealthLimits(**params["health"]),
-                        robot_options=params["robot"])
+        scenario = scenario_from(params, urdf, load(inputs["terrain"]))
+        return run_case(case, scenario, params["robot"]["track"], Recording.from_params(params))
 
     return which, run
 
