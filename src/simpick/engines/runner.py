@@ -45,7 +45,7 @@ def simulate(adapter: Any, scenario: Scenario, wheel_commands) -> PhysicsRecord:
             states = rollout(commands)
             wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
         else:
-            targets, step, read = world.set_wheel_targets, world.step, world.read
+            targets, step, read, keep = world.set_wheel_targets, world.step, world.read, samples.append
             logs = getattr(world, "logs_states", False)
             spans = command_spans(commands)
             cpu0, wall0 = time.process_time(), time.perf_counter()
@@ -56,7 +56,7 @@ def simulate(adapter: Any, scenario: Scenario, wheel_commands) -> PhysicsRecord:
                 else:
                     for _ in range(end - first):
                         step()
-                        samples.append(read())
+                        keep(read())
             wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
             finish = getattr(world, "states", None)
             states = finish(samples) if finish is not None else BaseStates.stacked(samples)
