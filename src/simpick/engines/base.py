@@ -104,9 +104,9 @@ class PhysicsRecord:
     """The recorded robot (``Scenario.recorded_robot``, robot 0 unless told otherwise) at every
     physics step; quantities in the world frame unless noted.
 
-    ``imu_specific_force`` and ``imu_gyro`` are in the IMU (= body) frame. An engine with a
-    native IMU fills them itself; others fill them with
-    :func:`simpick.simulate.imu.imu_from_kinematics` from the base kinematics.
+    ``imu_specific_force`` and ``imu_gyro`` are in the IMU (= body) frame: the engine's own sensor
+    where its world reads one (:attr:`BaseStates.specific_force`), else
+    :func:`simpick.engines.kinematics.imu_from_kinematics` of the base kinematics (the runner).
     """
 
     time: np.ndarray  # (n,) s, time at the end of each step
