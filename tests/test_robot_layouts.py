@@ -66,8 +66,8 @@ FOOTPRINT = ("<link name='base_footprint'/>"  # the ground-level root of a Turtl
 # tilted 0.23 degree
 ROUNDED = (f"<link name='base_link'>{_inertial(15.0, '0 0 0.05', 0.3)}<collision><origin xyz='0 0 0.06'/>"
            "<geometry><box size='0.5 0.4 0.12'/></geometry></collision></link>"
-           + _wheels("base_link", 0.0, rpy={"front_right_wheel_joint": "3.14 0 0", "rear_right_wheel_joint": "3.14 0 0"},
-                     axis={"rear_left_wheel_joint": "0 1 0.004"}))
+           + _wheels("base_link", 0.0, axis={"rear_left_wheel_joint": "0 1 0.004"},
+                     rpy={"front_right_wheel_joint": "3.14 0 0", "rear_right_wheel_joint": "3.14 0 0"}))
 LAYOUTS = {"chassis": CHASSIS, "footprint": FOOTPRINT, "rounded": ROUNDED}
 
 

@@ -19,7 +19,7 @@ from simpick.engines.kinematics import matrices_to_quaternions, rotation_matrice
 from simpick.engines.ode_contacts import near_callback
 from simpick.engines.ode_settings import OdeSettings
 from simpick.errors import InputError, SimulationFailure
-from simpick.inputs.robot import Body, rpy_matrix
+from simpick.inputs.urdf import Body, rpy_matrix
 
 LOG = logging.getLogger(__name__)
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines

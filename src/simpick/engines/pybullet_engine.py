@@ -262,7 +262,8 @@ class PyBulletWorld:
         pb, cid, body = self.pb, self.cid, self.body0
         wheels = (pb.getJointStates(body, self.wheel_index, physicsClientId=cid)
                   if self.k % WHEEL_SAMPLE_EVERY == 0 else None)
-        return pb.getBasePositionAndOrientation(body, physicsClientId=cid), pb.getBaseVelocity(body, physicsClientId=cid), wheels
+        return (pb.getBasePositionAndOrientation(body, physicsClientId=cid), pb.getBaseVelocity(body, physicsClientId=cid),
+                wheels)
 
     def states(self, samples: list) -> BaseStates:
         steps = len(samples)
