@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import logging
 import math
+import xml.etree.ElementTree as ET
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -443,14 +444,16 @@ def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping
         notes.append(f"link {s.link!r}: a {s.shape} {s.clearance * 1000:.1f} mm above the ground at rest, a "
                      "sliding support (skid) with the ground's friction")
     file = source
-    rigid = _rigid_model(tree, where, found, tree.axes)
     for note in tree.notes:
         LOG.warning("%s: %s", where, note)
+    # the rigid bodies of the file every engine loads: the description, or its normalised copy
+    rigid = _rigid_model(tree, where, found, tree.axes)
     if needs_rewrite(root, source, tree):
         text, more = normalised_urdf(root, tree, root.get("name") or source.stem)
         notes += more
         file = write_cached(text)
         notes.append(f"loaded through a normalised copy ({file.name}): fixed links fused, visuals dropped")
+        rigid = _rigid_model(tree_of(ET.fromstring(text), str(file)), str(file), found, {})
     return RobotSpec(urdf=file, source=source, name=root.get("name") or source.stem, base_link=tree.base,
                      wheels=tuple(found), imu_link=imu_link, notes=tuple(notes), overridden=tuple(overridden),
                      skids=skids, rigid=rigid, **figures)
