@@ -31,10 +31,9 @@ def run(scenario, commands, collide: bool):
     import dartpy as dart
 
     engine = get_engine("dart")
-    world, robots = engine.build(scenario)
-    for (_, wheels), speeds in zip(robots, commands[0]):
-        for joint, w in zip(wheels, speeds.tolist()):
-            joint.setCommand(0, w)
+    built = engine.build(scenario)
+    built.set_wheel_targets(commands[0])
+    world = built.world
     solver = world.getConstraintSolver()
     lcp = solver.getBoxedLcpSolver()
     if hasattr(lcp, "resetStats"):

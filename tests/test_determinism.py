@@ -7,8 +7,11 @@ import yaml
 
 from conftest import ROOT
 from simpick.engines import ADAPTERS
+from simpick.engines.base import Scenario
+from simpick.inputs.robot import load_robot
+from simpick.inputs.terrain import load
 from simpick.simulate.imu import ImuModel
-from simpick.simulate.run import Case, run_case
+from simpick.simulate.run import Case, Recording, run_case
 from simpick.simulate.traces import read_trace, write_trace
 from simpick.inputs.jobs import terrain_job
 
@@ -24,9 +27,10 @@ def gravel(tmp_path, seed):
 def trace(engine, terrain_file, seed):
     case = Case(engine=engine, terrain="gravel", motion="straight", v=0.5, w=0.0, duration=1.0,
                 start=(-0.8, 0.0, 0.0))
-    frame, meta = run_case(case, urdf=ROOT / CONFIG["robot"]["urdf"], terrain_file=terrain_file, track=0.555,
-                           max_wheel_torque=50.0, timestep=0.001, ground_friction=0.8, engine_settings={},
-                           imu=ImuModel(accel_noise_std=0.01, gyro_noise_std=0.001), seed=seed)
+    scenario = Scenario(robot=load_robot(ROOT / CONFIG["robot"]["urdf"]), terrain=load(terrain_file),
+                        ground_friction=0.8, timestep=0.001, max_wheel_torque=50.0, starts=(case.start,))
+    frame, meta = run_case(case, scenario, 0.555,
+                           Recording(imu=ImuModel(accel_noise_std=0.01, gyro_noise_std=0.001), seed=seed))
     return pd.DataFrame(frame), meta
 
 

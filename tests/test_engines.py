@@ -22,12 +22,14 @@ import numpy as np
 import pytest
 import yaml
 
+from conformance import check_adapter
 from conftest import ROOT, drive, flat_terrain, setup, tile_terrain
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.engines.base import GRAVITY, Calibratable, Engine, EngineSettings
 from simpick.errors import InputError
 from simpick.simulate.health import HealthLimits, check
-from simpick.simulate.imu import block_average, euler_rpy, imu_from_kinematics, rotation_matrices
+from simpick.engines.kinematics import euler_rpy, imu_from_kinematics, rotation_matrices
+from simpick.simulate.imu import block_average
 from simpick.inputs.robot import load_robot
 from simpick.studies.validation import body_velocity, braking_deceleration
 
@@ -53,6 +55,12 @@ def engine(request):
 
 def test_version_is_reported(engine):
     assert get_engine(engine).version()
+
+
+def test_every_engine_passes_the_runner_conformance_check(engine, robot):
+    """tests/conformance.py: the primitives (build, set targets, step, read), the runner's record
+    (shapes, rest height, command change), determinism and the bare loop."""
+    check_adapter(engine, robot)
 
 
 @pytest.mark.parametrize("name", sorted(ADAPTERS) + sorted(REFERENCE_MODELS))
@@ -477,7 +485,7 @@ NATIVE_IMU_XFAIL = {
 
 @pytest.mark.parametrize("engine", every_engine_but(NATIVE_IMU_XFAIL))
 def test_the_accelerometer_agrees_with_the_kinematic_imu(engine):
-    """The record's IMU against simpick.simulate.imu.imu_from_kinematics of the record's own base
+    """The record's IMU against simpick.engines.kinematics.imu_from_kinematics of the record's own base
     motion, mount and gravity, at the 100 Hz the study reads (turning from rest: acceleration,
     centripetal and lever-arm terms all present). MuJoCo's is its native accelerometer; the
     other engines' adapters build theirs with that function, so it checks their wiring (mount,

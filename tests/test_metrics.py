@@ -6,7 +6,8 @@ import pytest
 
 from conftest import ROOT
 from simpick.compare import metrics
-from simpick.simulate.imu import ImuModel, block_average, imu_from_kinematics, sensor_output
+from simpick.engines.kinematics import imu_from_kinematics
+from simpick.simulate.imu import ImuModel, block_average, sensor_output
 from simpick.inputs.published import load_published
 from simpick.inputs.reference import lab_reference, to_simpick_frame
 
@@ -145,7 +146,7 @@ def test_lab_totals_leave_out_a_test_any_engine_failed(tmp_path):
 
 
 def test_rotation_matrices_and_quaternions_round_trip():
-    from simpick.simulate.imu import matrices_to_quaternions, rotation_matrices
+    from simpick.engines.kinematics import matrices_to_quaternions, rotation_matrices
 
     rng = np.random.default_rng(3)
     q = rng.normal(size=(500, 4))
@@ -174,14 +175,15 @@ def test_cpu_load_runs_are_health_checked(tmp_path):
 
     path = tmp_path / "flat.json"
     terrain.save(terrain.generate("flat", "flat", 0, 0.8, tiles=0), path)
-    common = dict(urdf=str(ROOT / "resources/robot/husky_a200.urdf"), terrain_file=str(path),
-                  motion={"v": 0.5, "w": 0.0, "start": [0.0, 0.0, 0.0]}, timestep=0.001, ground_friction=0.8,
-                  max_wheel_torque=100.0, track=0.555, engine_settings={}, duration=0.3, repeats=1,
-                  robots_average=1, robots_intense=2, spacing=1.2)
-    ok = measure("mujoco", **common, limits=HealthLimits())
+    params = {"engine": "mujoco", "physics": {"timestep": 0.001, "ground_friction": 0.8},
+              "robot": {"max_wheel_torque": 100.0, "track": 0.555}, "engine_settings": {},
+              "motion": {"v": 0.5, "w": 0.0, "start": [0.0, 0.0, 0.0]},
+              "cpu_load": {"duration": 0.3, "repeats": 1, "robots_average": 1, "robots_intense": 2, "spacing": 1.2}}
+    common = dict(params=params, urdf=str(ROOT / "resources/robot/husky_a200.urdf"), terrain_file=str(path))
+    ok = measure(**common, limits=HealthLimits())
     assert ok["health"] == {"status": "ok", "reasons": [], "checked": True}
     # limits no real run can meet: the measurement is failed, with the reason
-    bad = measure("mujoco", **common, limits=HealthLimits(max_speed=0.01))
+    bad = measure(**common, limits=HealthLimits(max_speed=0.01))
     assert bad["health"]["status"] == "failed"
     assert any(r.startswith("average (1 robots): exploded") for r in bad["health"]["reasons"])
 

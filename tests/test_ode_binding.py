@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from conftest import drive, flat_terrain, tile_terrain
-from simpick.engines import _ode, ode_engine
+from simpick.engines import _ode
 from simpick.errors import InputError
 
 try:
@@ -234,8 +234,8 @@ def _speed(record, t: float) -> float:
     return float(np.linalg.norm(record.linear_velocity[int(t / DT) - 1, :2]))
 
 
-def test_urdf_reading_folds_the_imu_into_the_chassis(robot):
-    model = ode_engine.read_urdf(robot)
+def test_the_loader_folds_the_imu_into_the_chassis(robot):
+    model = robot.rigid  # the loader's rigid bodies, which the ODE adapter builds
     chassis = model.chassis
     assert math.isclose(chassis.mass, 46.034 + 0.018)
     com = (46.034 * np.array([-0.00065, -0.085, 0.062]) + 0.018 * np.array([0.19, 0.0, 0.149])) / chassis.mass

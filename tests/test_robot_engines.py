@@ -9,7 +9,7 @@ import yaml
 
 from simpick.engines import ADAPTERS, get_engine
 from simpick.engines.base import Scenario
-from simpick.simulate.imu import euler_rpy
+from simpick.engines.kinematics import euler_rpy
 from simpick.inputs.motions import constant_commands
 from simpick.inputs.robot import load_robot
 from simpick.studies.validation import Setup, run_case
@@ -108,8 +108,9 @@ def _self_contacts(engine: str, scenario: Scenario, speeds: np.ndarray, seconds:
     """Pairs of links of one robot that touch while it drives, from the engine's own contacts."""
     adapter, pairs = get_engine(engine), set()
     if engine == "physx":
-        scene, robots = adapter.build(scenario)
-        adapter._command(robots, speeds[None])
+        world = adapter.build(scenario)
+        world.set_wheel_targets(speeds[None])
+        scene = world.scene
         for _ in range(round(seconds / scenario.timestep)):
             scene.step()
             for contact in scene.get_contacts():
@@ -117,8 +118,9 @@ def _self_contacts(engine: str, scenario: Scenario, speeds: np.ndarray, seconds:
                 if "terrain" not in names:
                     pairs.add(tuple(sorted(names)))
     else:  # drake
-        simulator, plant, context, robots, _ = adapter.build(scenario)
-        adapter._command(plant, context, robots, speeds[None])
+        world = adapter.build(scenario)
+        world.set_wheel_targets(speeds[None])
+        simulator, plant, context = world.simulator, world.plant, world.context
         for k in range(1, 31):  # the contact results every 1/30 of the run
             simulator.AdvanceTo(k * seconds / 30)
             results = plant.get_contact_results_output_port().Eval(context)

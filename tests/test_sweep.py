@@ -65,13 +65,15 @@ def test_a_4ms_step_gives_a_100hz_imu_at_rest(robot):
     2.5 physics steps make one sample."""
     from simpick.simulate.health import HealthLimits
     from simpick.simulate.imu import ImuModel
-    from simpick.simulate.run import Case, run_case
+    from simpick.engines.base import Scenario
+    from simpick.inputs.robot import load_robot
+    from simpick.simulate.run import Case, Recording, run_case
 
     case = Case(engine="mujoco", terrain="flat", motion="rest", v=0.0, w=0.0, duration=2.0, start=(0.0, 0.0, 0.0))
     terrain = {"schema": "simpick.inputs.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": 0.8}
-    frame, meta = run_case(case, urdf=str(ROOT / "resources/robot/husky_a200.urdf"), terrain=terrain, track=0.555,
-                           max_wheel_torque=100.0, timestep=0.004, ground_friction=0.8, engine_settings={},
-                           imu=ImuModel(rate_hz=100.0), seed=0, limits=HealthLimits())
+    scenario = Scenario(robot=load_robot(ROOT / "resources/robot/husky_a200.urdf"), terrain=terrain,
+                        ground_friction=0.8, timestep=0.004, max_wheel_torque=100.0, starts=(case.start,))
+    frame, meta = run_case(case, scenario, 0.555, Recording(imu=ImuModel(rate_hz=100.0), limits=HealthLimits(), seed=0))
     frame = pd.DataFrame(frame)
     np.testing.assert_allclose(np.diff(frame.time), 0.01, atol=1e-12)
     assert len(frame) == 200 and meta["imu_rate_hz"] == 100.0

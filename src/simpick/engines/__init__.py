@@ -1,8 +1,11 @@
 """Registry of physics engine adapters, keyed by the name used in config and paths.
 
 Adapters are imported only when asked for, so a job that runs MuJoCo never imports
-PyBullet. Adding an engine: one module implementing :class:`~simpick.engines.base.Engine`
-(its settings model included: the config check takes it from there) and one line here.
+PyBullet. Adding an engine: one module with a subclass of :class:`simpick.engines.runner.Adapter`
+(its settings model, ``calibratable``, ``version()`` and ``build(scenario)`` returning a world with the
+primitives of :class:`simpick.engines.base.World`; the config check takes the settings model from
+there, the runner does the rest) and a line here and in ``REQUIREMENTS``; tests/conformance.py
+checks it.
 """
 
 from __future__ import annotations

@@ -1,22 +1,25 @@
-"""The one interface every physics engine adapter implements.
+"""The interface every physics engine adapter implements, and the types it works with.
 
-An adapter builds a world from a :class:`Scenario` (robot URDF, engine-neutral terrain,
-timestep, start poses) and steps it under open-loop wheel-speed commands, returning a
-:class:`PhysicsRecord` at the physics rate. Everything after that (IMU filtering, noise,
-health checks, trace files, metrics) is shared code, so adding an engine means writing one
-module and one registry line.
+An adapter (one module per engine) provides *primitives*: it builds a :class:`World` from a
+:class:`Scenario` (robot, engine-neutral :class:`~simpick.inputs.terrain.Terrain`, timestep, start
+poses, its settings), sets wheel-speed targets, steps and reads the recorded robot's base state.
+The one run loop over those primitives, :mod:`simpick.engines.runner`, does everything else for
+every engine: command validation, command changes, timing, recording, the IMU from kinematics, the
+:class:`PhysicsRecord` and the bare loop of the benchmark. Adding an engine means one module with
+its settings model, ``build`` and a world class, and one registry line (:mod:`simpick.engines`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, ClassVar, Protocol, Self, runtime_checkable
+from typing import Any, ClassVar, NamedTuple, Protocol, Self, runtime_checkable
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, ValidationError, model_validator
 
 from simpick.inputs.robot import RobotSpec
+from simpick.inputs.terrain import Terrain
 
 GRAVITY = 9.81  # m/s^2, the value every engine is given
 
@@ -29,7 +32,8 @@ class Scenario:
     # ``robot.passive_joints`` (casters and their swivels) free, spawns ``robot.base_link`` at
     # ``robot.base_height`` and reports that link's pose. See RobotSpec for every field.
     robot: RobotSpec
-    terrain: dict
+    # static shapes with the terrain's friction; a terrain file's dict is read into one on creation
+    terrain: Terrain
     ground_friction: float
     timestep: float  # s
     max_wheel_torque: float  # N m, per wheel
@@ -44,6 +48,10 @@ class Scenario:
     # records). The world is built the same whichever it is, so running one scenario once per
     # index gives every robot's state at the same steps (the multi-robot conformance tests).
     recorded_robot: int = 0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.terrain, Terrain):
+            object.__setattr__(self, "terrain", Terrain.of(self.terrain))
 
 
 class EngineSettings(BaseModel):
@@ -96,9 +104,9 @@ class PhysicsRecord:
     """The recorded robot (``Scenario.recorded_robot``, robot 0 unless told otherwise) at every
     physics step; quantities in the world frame unless noted.
 
-    ``imu_specific_force`` and ``imu_gyro`` are in the IMU (= body) frame. An engine with a
-    native IMU fills them itself; others fill them with
-    :func:`simpick.simulate.imu.imu_from_kinematics` from the base kinematics.
+    ``imu_specific_force`` and ``imu_gyro`` are in the IMU (= body) frame: the engine's own sensor
+    where its world reads one (:attr:`BaseStates.specific_force`), else
+    :func:`simpick.engines.kinematics.imu_from_kinematics` of the base kinematics (the runner).
     """
 
     time: np.ndarray  # (n,) s, time at the end of each step
@@ -155,6 +163,63 @@ FRICTION = Calibratable(0.05, 1.5, log=True, why="tyre on ice (Wong Table 1.4: 0
 FRICTION_RATIO = Calibratable(0.3, 1.8, why="anisotropic Coulomb gain 0.88 (r 0.3) to 0 (r 1.8), Husky loads")
 
 
+class BaseState(NamedTuple):
+    """The recorded robot after one step (world frame): what :meth:`World.read` may return."""
+
+    position: Any  # (3,) base_link origin, m
+    quaternion: Any  # (4,) w, x, y, z of base_link
+    linear_velocity: Any  # (3,) of base_link's origin, m/s
+    angular_velocity: Any  # (3,) rad/s
+    wheel_speed: Any  # (driven wheels,) joint speeds, rad/s, in command order
+
+
+@dataclass
+class BaseStates:
+    """The recorded robot at every step of a run, arrays of :class:`BaseState`'s fields with a
+    leading step axis; ``specific_force`` and ``gyro`` (body frame) only from an engine's own IMU."""
+
+    position: np.ndarray  # (n, 3)
+    quaternion: np.ndarray  # (n, 4) unit, w x y z
+    linear_velocity: np.ndarray  # (n, 3)
+    angular_velocity: np.ndarray  # (n, 3)
+    wheel_speed: np.ndarray  # (n, driven wheels)
+    specific_force: np.ndarray | None = None  # (n, 3) m/s^2, +g on z at rest
+    gyro: np.ndarray | None = None  # (n, 3) rad/s
+
+    @classmethod
+    def stacked(cls, states: list[BaseState]) -> BaseStates:
+        """The arrays of per-step :class:`BaseState` samples."""
+        return cls(*(np.array([s[i] for s in states], dtype=float).reshape(len(states), -1) for i in range(5)))
+
+
+@runtime_checkable
+class World(Protocol):
+    """One built world (:meth:`Adapter.build`): terrain and ``len(scenario.starts)`` robots, every
+    wheel target 0, nothing stepped yet. The runner (:mod:`simpick.engines.runner`) drives it:
+
+    - ``set_wheel_targets(speeds)``: (robots, driven wheels) joint speeds, rad/s, in the order of
+      ``scenario.robot.wheel_joints``, held until the next call (called when the command changes);
+    - ``step(n)``: ``n`` physics steps of ``scenario.timestep``;
+    - ``read()``: the recorded robot (``scenario.recorded_robot``) after the last step, cheaply:
+      a :class:`BaseState`, or any sample the world's own ``states`` turns into arrays;
+    - ``states(samples) -> BaseStates`` (optional; without it the samples must be BaseStates):
+      the arrays of the run from the samples ``read`` returned, one per step, so conversions
+      (a centre of mass back to base_link, a rotation matrix to a quaternion) run once, vectorised.
+
+    Optional fast paths: a world whose ``logs_states`` is True records its own state every step
+    (Drake's logger): the runner then steps each span of one command with one ``step(n)``, never
+    calls ``read``, and asks ``states([])`` at the end. A world with ``rollout(commands) ->
+    BaseStates`` steps the whole (steps, robots, wheels) command array itself (MuJoCo's rollout in C,
+    its accelerometer and gyro in the result). ``close()`` (optional) frees the engine's objects.
+    """
+
+    def set_wheel_targets(self, speeds: np.ndarray) -> None: ...
+
+    def step(self, n: int = 1) -> None: ...
+
+    def read(self) -> Any: ...
+
+
 @runtime_checkable
 class Engine(Protocol):
     """What the workflow and the shared code use of an adapter (or a reference model).
@@ -172,6 +237,9 @@ class Engine(Protocol):
 
     def version(self) -> str:
         """The engine's own version string, for provenance."""
+
+    # An engine adapter (simpick.engines.runner.Adapter) also has build(scenario) -> World, and
+    # its simulate and bare_loop are the runner's; a reference model computes its record itself.
 
     def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
         """Step the world; ``wheel_commands`` is (steps, robots, driven wheels) joint speeds in

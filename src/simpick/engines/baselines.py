@@ -13,7 +13,7 @@ Both follow a changing command no faster than friction allows: the twist moves t
 target so that no wheel contact's velocity changes by more than ``mu g`` per second (the
 largest acceleration friction can give a contact point), instead of jumping, which would put
 an unbounded spike into the accelerometer. The IMU reading is derived from the planar
-motion by :func:`simpick.simulate.imu.imu_from_kinematics`, as for the engines without an IMU.
+motion by :func:`simpick.engines.kinematics.imu_from_kinematics`, as for the engines without an IMU.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from pydantic import Field
 import simpick
 from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
                                   validated_commands)
-from simpick.simulate.imu import imu_from_kinematics
+from simpick.engines.kinematics import imu_from_kinematics
 
 
 class _BaselineSettings(EngineSettings):

@@ -17,7 +17,7 @@
   the terrain's coefficient, the plane ``scenario.ground_friction``, the robot's shapes
   max(1, terrain, ground): the contact's mu is the terrain's (or ground's), and
   robot-robot contacts get 1.0 (PyBullet's 1.0 x 1.0) as long as no terrain exceeds 1.
-- IMU: DART has none; :func:`simpick.simulate.imu.imu_from_kinematics` from base_link kinematics.
+- IMU: DART has none; :func:`simpick.engines.kinematics.imu_from_kinematics` from base_link kinematics.
 
 Measured with dartpy 6.20.0 on this project's machine (1 kHz, one robot; "flat": 4 s at
 0.5 m/s, mu 0.95; "gravel": 10 s at 0.5 m/s from x = -0.8 m over the 4-tile gravel strip of
@@ -123,15 +123,15 @@ from __future__ import annotations
 
 import importlib.metadata
 import math
-import time
 from typing import Annotated, Literal, get_args
 
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import FRICTION, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import FRICTION, BaseStates, EngineSettings, Scenario
+from simpick.engines.kinematics import matrices_to_quaternions
+from simpick.engines.runner import Adapter
 from simpick.errors import InputError
-from simpick.simulate.imu import imu_from_kinematics, matrices_to_quaternions
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 Detector = Literal["fcl", "ode", "bullet", "dart"]
@@ -180,7 +180,7 @@ def _yaw(yaw: float) -> np.ndarray:
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
-class DartEngine:
+class DartEngine(Adapter):
     # dartpy 6.20 exposes one contact parameter per shape, the friction coefficient
     # (DynamicsAspect get/setFrictionCoeff; no slip compliance, no secondary direction). Issue 20:
     # checked again, dartpy 6.20's DynamicsAspect has get/set FrictionCoeff and RestitutionCoeff
@@ -206,8 +206,8 @@ class DartEngine:
             return detector
         return c.DARTCollisionDetector()  # "dart"
 
-    def build(self, scenario: Scenario):
-        """World, robot skeletons and per robot the four wheel joints (in simpick's order)."""
+    def build(self, scenario: Scenario) -> DartWorld:
+        """The DART world, its robot skeletons and per robot the driven wheel joints (in simpick's order)."""
         import dartpy as dart
 
         settings = DartSettings.of(scenario.settings, self.name)
@@ -226,7 +226,7 @@ class DartEngine:
         # "dantzig": DART's default primary solver (with PGS as its fallback), left as it is
 
         terrain = scenario.terrain
-        robot_mu = max(1.0, float(terrain["friction"]), float(scenario.ground_friction))
+        robot_mu = max(1.0, float(terrain.friction), float(scenario.ground_friction))
 
         def static_skeleton(name: str):
             skel = dart.dynamics.Skeleton(name)
@@ -246,11 +246,11 @@ class DartEngine:
         ground, body = static_skeleton("terrain")
         add_shape(body, dart.dynamics.PlaneShape(np.array([0.0, 0.0, 1.0]), 0.0),
                   _isometry(dart, [0, 0, 0]), scenario.ground_friction)
-        for x, y, z, yaw, sx, sy, sz in terrain["boxes"]:
+        for x, y, z, yaw, sx, sy, sz in terrain.boxes:
             add_shape(body, dart.dynamics.BoxShape(np.array([sx, sy, sz])),
-                      _isometry(dart, [x, y, z], _yaw(yaw)), terrain["friction"])
-        for x, y, z, r in terrain["spheres"]:
-            add_shape(body, dart.dynamics.SphereShape(r), _isometry(dart, [x, y, z]), terrain["friction"])
+                      _isometry(dart, [x, y, z], _yaw(yaw)), terrain.friction)
+        for x, y, z, r in terrain.spheres:
+            add_shape(body, dart.dynamics.SphereShape(r), _isometry(dart, [x, y, z]), terrain.friction)
         world.addSkeleton(ground)
 
         robot = scenario.robot
@@ -279,57 +279,39 @@ class DartEngine:
                 wheels.append(joint)
             world.addSkeleton(skel)
             robots.append((skel, wheels))
-        return world, robots
+        return DartWorld(world, robots, scenario)
 
-    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
-        wheel_commands = validated_commands(scenario, wheel_commands)
-        world, robots = self.build(scenario)
-        for (_, wheels), speeds in zip(robots, wheel_commands[0]):
-            for joint, w in zip(wheels, speeds.tolist()):
-                joint.setCommand(0, w)
-        step = world.step
-        start = time.perf_counter()
-        for _ in range(wheel_commands.shape[0]):
-            step(False)
-        return time.perf_counter() - start
 
-    def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
-        wheel_commands = validated_commands(scenario, wheel_commands)
-        world, robots = self.build(scenario)
-        steps = wheel_commands.shape[0]
-        dt = scenario.timestep
+class DartWorld:
+    """One DART world (simpick.engines.base.World). base_link's world pose and the world-frame
+    velocity of its origin come straight from the body node, independent of the FreeJoint's
+    coordinate convention (in dartpy 6.20 its generalized velocity is angular in the body frame
+    but linear in the world frame)."""
+
+    def __init__(self, world, robots: list, scenario: Scenario):
+        self.world, self.robots = world, robots
         skel0, wheels0 = robots[scenario.recorded_robot]
-        base = skel0.getBodyNode(scenario.robot.base_link)
-        wheel_dofs = [j.getIndexInSkeleton(0) for j in wheels0]
-        all_wheels = [j for _, ws in robots for j in ws]
-        changes = np.flatnonzero(np.any(np.diff(wheel_commands, axis=0, prepend=np.nan) != 0, axis=(1, 2)))
-        change_set = set(changes.tolist())
-        pose = np.empty((steps, 4, 4))
-        velocity = np.empty((steps, 3))
-        omega = np.empty((steps, 3))
-        joint_speed = np.empty((steps, skel0.getNumDofs()))
-        # base_link's world pose and the world-frame velocity of its origin straight from the
-        # body node, independent of the FreeJoint's coordinate convention (in dartpy 6.20 its
-        # generalized velocity is angular in the body frame but linear in the world frame).
-        get_pose, get_v, get_w = base.getWorldTransform, base.getLinearVelocity, base.getAngularVelocity
-        get_dq, step = skel0.getVelocities, world.step
+        self.skel0, self.base = skel0, skel0.getBodyNode(scenario.robot.base_link)
+        self.wheel_dofs = [j.getIndexInSkeleton(0) for j in wheels0]
+        self.all_wheels = [j for _, ws in robots for j in ws]
 
-        cpu0, wall0 = time.process_time(), time.perf_counter()
-        for k in range(steps):
-            if k in change_set:
-                for joint, w in zip(all_wheels, wheel_commands[k].ravel().tolist()):
-                    joint.setCommand(0, w)
+    def set_wheel_targets(self, speeds: np.ndarray) -> None:
+        for joint, w in zip(self.all_wheels, speeds.ravel().tolist()):
+            joint.setCommand(0, w)
+
+    def step(self, n: int = 1) -> None:
+        step = self.world.step
+        for _ in range(n):
             step(False)  # False: keep the servo commands (DART resets them after a step by default)
-            pose[k] = get_pose().matrix()
-            velocity[k] = get_v()
-            omega[k] = get_w()
-            joint_speed[k] = get_dq()
-        wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
 
-        quat = matrices_to_quaternions(pose[:, :3, :3])
-        specific_force, gyro = imu_from_kinematics(quat, velocity, omega, scenario.robot.imu_mount, dt, scenario.gravity)
-        return PhysicsRecord(time=dt * np.arange(1, steps + 1), position=pose[:, :3, 3].copy(), quaternion=quat,
-                             linear_velocity=velocity, angular_velocity=omega,
-                             wheel_speed=joint_speed[:, wheel_dofs],
-                             imu_specific_force=specific_force, imu_gyro=gyro,
-                             wall_time=wall, cpu_time=cpu, steps=steps)
+    def read(self) -> tuple:
+        base = self.base
+        return base.getWorldTransform().matrix(), base.getLinearVelocity(), base.getAngularVelocity(), \
+            self.skel0.getVelocities()
+
+    def states(self, samples: list) -> BaseStates:
+        pose = np.array([s[0] for s in samples], dtype=float).reshape(len(samples), 4, 4)
+        velocity, omega, joint_speed = (np.array([s[i] for s in samples], dtype=float).reshape(len(samples), -1)
+                                        for i in (1, 2, 3))
+        return BaseStates(position=pose[:, :3, 3].copy(), quaternion=matrices_to_quaternions(pose[:, :3, :3]),
+                          linear_velocity=velocity, angular_velocity=omega, wheel_speed=joint_speed[:, self.wheel_dofs])

@@ -18,7 +18,7 @@
 - friction: Drake combines two coefficients as 2 a b / (a + b). The robot's shapes get 1, every
   ground or terrain shape mu / (2 - mu), so a wheel contact has exactly the terrain's (or the
   ground's) mu (below 2) and robot-robot contacts 1.0, as in PyBullet and DART.
-- IMU: none in Drake; :func:`simpick.simulate.imu.imu_from_kinematics` from base_link kinematics. The
+- IMU: none in Drake; :func:`simpick.engines.kinematics.imu_from_kinematics` from base_link kinematics. The
   floating base's generalized velocity is the angular velocity and the velocity of base_link's
   origin, both in the world frame, read from the state vector after each step.
 
@@ -45,15 +45,14 @@ from __future__ import annotations
 
 import importlib.metadata
 import logging
-import time
 from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import FRICTION, BaseStates, Calibratable, EngineSettings, Scenario
+from simpick.engines.runner import Adapter
 from simpick.errors import InputError
-from simpick.simulate.imu import imu_from_kinematics
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 ROBOT_FRICTION = 1.0  # the robot's coefficient; the terrain's is chosen so that the combination is its mu
@@ -108,7 +107,7 @@ def _terrain_friction(mu: float, where: str) -> float:
     return mu * ROBOT_FRICTION / (2 * ROBOT_FRICTION - mu)
 
 
-class DrakeEngine:
+class DrakeEngine(Adapter):
     calibratable = {
         "friction": FRICTION,
         # Tyre stiffness (hydroelastic): from a soft 1e5 Pa (a few cm of sag) to a near-rigid 1e8;
@@ -122,9 +121,8 @@ class DrakeEngine:
     def version(self) -> str:
         return importlib.metadata.version("drake")
 
-    def build(self, scenario: Scenario, record: bool = False):
-        """(simulator, plant, plant context, per robot (model instance, wheel joints), state log or
-        None): with ``record``, a logger samples the plant's state every step."""
+    def build(self, scenario: Scenario) -> DrakeWorld:
+        """The simulator of the plant, a logger sampling the plant's state every step."""
         from pydrake.geometry import (AddCompliantHydroelasticProperties, AddContactMaterial,
                                       AddRigidHydroelasticProperties, Box, CollisionFilterDeclaration, HalfSpace,
                                       ProximityProperties, RoleAssign, Sphere)
@@ -158,11 +156,11 @@ class DrakeEngine:
 
         world = plant.world_body()
         terrain = scenario.terrain
-        mu = float(terrain["friction"])
-        for k, (x, y, z, yaw, sx, sy, sz) in enumerate(terrain["boxes"]):
+        mu = float(terrain.friction)
+        for k, (x, y, z, yaw, sx, sy, sz) in enumerate(terrain.boxes):
             plant.RegisterCollisionGeometry(world, RigidTransform(RotationMatrix.MakeZRotation(yaw), [x, y, z]),
                                             Box(sx, sy, sz), f"box{k}", surface(mu, "terrain friction"))
-        for k, (x, y, z, r) in enumerate(terrain["spheres"]):
+        for k, (x, y, z, r) in enumerate(terrain.spheres):
             plant.RegisterCollisionGeometry(world, RigidTransform([x, y, z]), Sphere(r), f"sphere{k}",
                                             surface(mu, "terrain friction", min(settings.mesh_resolution, r / 4)))
         # The ground plane last: with the HalfSpace registered first, registering the gravel strip's
@@ -208,9 +206,9 @@ class DrakeEngine:
                 CollisionFilterDeclaration().ExcludeWithin(plant.CollectRegisteredGeometries(bodies)))
             robots.append((instance, wheels))
         plant.Finalize()
-        # the state after every step, sampled inside Drake (at 0, dt, 2 dt ...): the job advances once
+        # the state after every step, sampled inside Drake (at 0, dt, 2 dt ...): the runner advances once
         # per command change instead of once per step (per-step AdvanceTo ran at 0.6x the bare loop)
-        logger = LogVectorOutput(plant.get_state_output_port(), builder, scenario.timestep) if record else None
+        logger = LogVectorOutput(plant.get_state_output_port(), builder, scenario.timestep)
         diagram = builder.Build()
         level = drake_log.level
         drake_log.setLevel(logging.ERROR)  # "half spaces are not supported for deformable contact": none here
@@ -225,29 +223,20 @@ class DrakeEngine:
             simulator.Initialize()
         finally:
             drake_log.setLevel(level)
-        return simulator, plant, context, robots, logger
+        return DrakeWorld(simulator, plant, context, robots, logger, scenario)
 
-    @staticmethod
-    def _command(plant, context, robots, speeds) -> None:
-        for (instance, _), robot_speeds in zip(robots, speeds):
-            # desired state of the PD-controlled actuators: positions (ignored, gain 0), then speeds
-            plant.get_desired_state_input_port(instance).FixValue(
-                context, np.concatenate([np.zeros(len(robot_speeds)), robot_speeds]))
 
-    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
-        wheel_commands = validated_commands(scenario, wheel_commands)
-        simulator, plant, context, robots, _ = self.build(scenario)
-        self._command(plant, context, robots, wheel_commands[0])
-        end = wheel_commands.shape[0] * scenario.timestep
-        start = time.perf_counter()
-        simulator.AdvanceTo(end)
-        return time.perf_counter() - start
+class DrakeWorld:
+    """One Drake simulator (simpick.engines.base.World) whose logger records the plant's state every
+    step (``logs_states``): the runner advances it once per command change. The floating base's
+    generalized velocity is the angular velocity and the velocity of base_link's origin, both in the
+    world frame."""
 
-    def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
-        wheel_commands = validated_commands(scenario, wheel_commands)
-        simulator, plant, context, robots, logger = self.build(scenario, record=True)
-        steps = wheel_commands.shape[0]
-        dt = scenario.timestep
+    logs_states = True
+
+    def __init__(self, simulator, plant, context, robots: list, logger, scenario: Scenario):
+        self.simulator, self.plant, self.context, self.robots, self.logger = simulator, plant, context, robots, logger
+        self.dt, self.k = scenario.timestep, 0
         instance, wheels = robots[scenario.recorded_robot]
         base = plant.GetBodyByName(scenario.robot.base_link, instance)
         if not base.is_floating_base_body():
@@ -255,25 +244,30 @@ class DrakeEngine:
         q0, v0 = base.floating_positions_start(), base.floating_velocities_start_in_v()
         nq = plant.num_positions()
         wheel_v = [nq + j.velocity_start() for j in wheels]
-        columns = np.r_[q0:q0 + 7, nq + v0:nq + v0 + 6, wheel_v]  # quaternion w x y z, position; w, v; wheels
-        changes = np.flatnonzero(np.any(np.diff(wheel_commands, axis=0, prepend=np.nan) != 0, axis=(1, 2)))
-        ends = list(changes[1:]) + [steps]
+        self.columns = np.r_[q0:q0 + 7, nq + v0:nq + v0 + 6, wheel_v]  # quaternion w x y z, position; w, v; wheels
 
-        cpu0, wall0 = time.process_time(), time.perf_counter()
-        for k, end in zip(changes, ends):
-            self._command(plant, context, robots, wheel_commands[k])
-            simulator.AdvanceTo(end * dt)
-        wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+    def set_wheel_targets(self, speeds: np.ndarray) -> None:
+        for (instance, _), robot_speeds in zip(self.robots, speeds):
+            # desired state of the PD-controlled actuators: positions (ignored, gain 0), then speeds
+            self.plant.get_desired_state_input_port(instance).FixValue(
+                self.context, np.concatenate([np.zeros(len(robot_speeds)), robot_speeds]))
 
-        log = logger.FindLog(simulator.get_context())
-        if log.num_samples() != steps + 1:  # one sample at t = 0, then one after each step
-            raise RuntimeError(f"drake: logged {log.num_samples()} states for {steps} steps")
-        state = log.data().T[1:, columns]
+    def step(self, n: int = 1) -> None:
+        self.k += n
+        self.simulator.AdvanceTo(self.k * self.dt)
+
+    def _state(self) -> np.ndarray:
+        log = self.logger.FindLog(self.simulator.get_context())
+        if log.num_samples() != self.k + 1:  # one sample at t = 0, then one after each step
+            raise RuntimeError(f"drake: logged {log.num_samples()} states for {self.k} steps")
+        return log.data().T[1:, self.columns]
+
+    def read(self) -> tuple:
+        return tuple(self._state()[-1])
+
+    def states(self, samples: list) -> BaseStates:
+        state = self._state()
         quat = state[:, 0:4] / np.linalg.norm(state[:, 0:4], axis=1, keepdims=True)
         quat *= np.where(quat[:, :1] < 0, -1.0, 1.0)
-        omega, velocity = state[:, 7:10], state[:, 10:13]
-        specific_force, gyro = imu_from_kinematics(quat, velocity, omega, scenario.robot.imu_mount, dt, scenario.gravity)
-        return PhysicsRecord(time=dt * np.arange(1, steps + 1), position=state[:, 4:7].copy(), quaternion=quat,
-                             linear_velocity=velocity, angular_velocity=omega, wheel_speed=state[:, 13:].copy(),
-                             imu_specific_force=specific_force, imu_gyro=gyro,
-                             wall_time=wall, cpu_time=cpu, steps=steps)
+        return BaseStates(position=state[:, 4:7].copy(), quaternion=quat, linear_velocity=state[:, 10:13],
+                          angular_velocity=state[:, 7:10], wheel_speed=state[:, 13:].copy())

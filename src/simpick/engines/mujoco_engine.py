@@ -33,14 +33,13 @@ from __future__ import annotations
 
 import importlib.metadata
 import math
-import time
 from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import Field, model_validator
 
-from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
-                                  validated_commands)
+from simpick.engines.base import FRICTION, FRICTION_RATIO, BaseState, BaseStates, Calibratable, EngineSettings, Scenario
+from simpick.engines.runner import Adapter
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 
@@ -119,7 +118,7 @@ def _yaw_quat(yaw: float) -> list[float]:
     return [math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)]
 
 
-class MujocoEngine:
+class MujocoEngine(Adapter):
     calibratable = {
         "friction": FRICTION,
         # Contact softness (solimp d of the wheel pairs): 0.005-0.1 is the range the adapter was
@@ -140,8 +139,11 @@ class MujocoEngine:
     def version(self) -> str:
         return importlib.metadata.version("mujoco")
 
-    def build(self, scenario: Scenario):
-        """Compile the world; returns (model, per-robot actuator count)."""
+    def build(self, scenario: Scenario) -> MujocoWorld:
+        return MujocoWorld(self.compile(scenario), len(scenario.robot.wheel_joints))
+
+    def compile(self, scenario: Scenario):
+        """The compiled MjModel of the scenario's world."""
         import mujoco
 
         settings = MujocoSettings.of(scenario.settings, self.name)
@@ -165,12 +167,12 @@ class MujocoEngine:
         floor = world.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1])
         surface(floor, scenario.ground_friction)
         terrain = scenario.terrain
-        for x, y, z, yaw, sx, sy, sz in terrain["boxes"]:
+        for x, y, z, yaw, sx, sy, sz in terrain.boxes:
             surface(world.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[sx / 2, sy / 2, sz / 2],
-                                   pos=[x, y, z], quat=_yaw_quat(yaw)), terrain["friction"])
-        for x, y, z, r in terrain["spheres"]:
+                                   pos=[x, y, z], quat=_yaw_quat(yaw)), terrain.friction)
+        for x, y, z, r in terrain.spheres:
             surface(world.add_geom(type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[r, 0, 0], pos=[x, y, z]),
-                    terrain["friction"])
+                    terrain.friction)
 
         robot = scenario.robot
         for i, (x, y, yaw) in enumerate(scenario.starts):
@@ -278,50 +280,60 @@ class MujocoEngine:
                                   solimp=[d, d, 0.001, 0.5, 2.0],
                                   solreffriction=[MUJOCO_TIMECONST * MUJOCO_DMAX / d, 1.0])
 
-    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
+
+class MujocoWorld:
+    """One compiled MuJoCo world and its data (simpick.engines.base.World); its record comes from
+    MuJoCo's own sensors, the accelerometer and gyro included, stepped in C by ``rollout``."""
+
+    def __init__(self, model, wheels: int):
         import mujoco
+        from mujoco import rollout  # imported here, not in the timed rollout
 
-        model = self.build(scenario)
-        data = mujoco.MjData(model)
-        data.ctrl[:] = wheel_commands[0].reshape(-1)
-        start = time.perf_counter()
-        mujoco.mj_step(model, data, nstep=wheel_commands.shape[0])
-        return time.perf_counter() - start
+        self.mujoco, self.model, self.data, self.wheels = mujoco, model, mujoco.MjData(model), wheels
+        self.rollout_module = rollout
 
-    def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
-        wheel_commands = validated_commands(scenario, wheel_commands)
-        import mujoco
-        from mujoco import rollout
+    def set_wheel_targets(self, speeds: np.ndarray) -> None:
+        self.data.ctrl[:] = speeds.reshape(-1)
 
-        model = self.build(scenario)
-        data = mujoco.MjData(model)
+    def step(self, n: int = 1) -> None:
+        self.mujoco.mj_step(self.model, self.data, nstep=n)
+
+    def _columns(self, sensordata: np.ndarray) -> dict[str, np.ndarray]:
+        columns, start = {}, 0
+        for name, width in SENSORS:
+            width = self.wheels if width is None else width
+            columns[name] = sensordata[..., start:start + width]
+            start += width
+        return columns
+
+    def read(self) -> BaseState:
+        # MuJoCo evaluates sensors at the start of a step: mj_forward evaluates them at the state
+        # the last step reached (it changes no state, so the next step is the same)
+        self.mujoco.mj_forward(self.model, self.data)
+        c = self._columns(self.data.sensordata.copy())
+        return BaseState(c["pos"], c["quat"], c["linvel"], c["angvel"], c["wheels"])
+
+    def rollout(self, commands: np.ndarray) -> BaseStates:
+        """The whole run in C (mujoco.rollout), the sensors recorded there."""
+        mujoco, rollout = self.mujoco, self.rollout_module
+        model, data = self.model, self.data
         state_spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
         initial = np.empty(mujoco.mj_stateSize(model, state_spec))
         mujoco.mj_getState(model, data, initial, state_spec)
-        steps = wheel_commands.shape[0]
+        steps = commands.shape[0]
         # One extra step so that the sensors of the last real step's end state get evaluated.
-        padded = np.concatenate([wheel_commands, wheel_commands[-1:]], axis=0)
+        padded = np.concatenate([commands, commands[-1:]], axis=0)
         control = np.ascontiguousarray(padded.reshape(1, steps + 1, -1), dtype=np.float64)
-
-        cpu0, wall0 = time.process_time(), time.perf_counter()
         _, sensordata = rollout.rollout(model, data, initial[None], control)
-        wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+        columns = self._columns(sensordata[0])
 
-        columns, start = {}, 0
-        for name, width in SENSORS:
-            width = len(scenario.robot.wheel_joints) if width is None else width
-            columns[name] = sensordata[0, :, start:start + width]
-            start += width
         # MuJoCo evaluates sensors at the start of each step: row k + 1 holds the state at
         # the end of step k, as every engine's record does, while the accelerometer's row k
         # is the acceleration *during* step k.
         def after_step(a: np.ndarray) -> np.ndarray:
             return a[1:]
 
-        return PhysicsRecord(
-            time=scenario.timestep * np.arange(1, steps + 1),
-            position=after_step(columns["pos"]), quaternion=after_step(columns["quat"]),
-            linear_velocity=after_step(columns["linvel"]), angular_velocity=after_step(columns["angvel"]),
-            wheel_speed=after_step(columns["wheels"]),
-            imu_specific_force=columns["accel"][:-1].copy(), imu_gyro=after_step(columns["gyro"]),
-            wall_time=wall, cpu_time=cpu, steps=steps)
+        return BaseStates(position=after_step(columns["pos"]), quaternion=after_step(columns["quat"]),
+                          linear_velocity=after_step(columns["linvel"]), angular_velocity=after_step(columns["angvel"]),
+                          wheel_speed=after_step(columns["wheels"]),
+                          specific_force=columns["accel"][:-1].copy(), gyro=after_step(columns["gyro"]))

@@ -20,7 +20,7 @@
   mode; SAPIEN 3.0.3 does not expose another). The robot's shapes get 0 and every ground or
   terrain shape twice its coefficient, so a wheel contact has exactly the terrain's (or the
   ground's) mu; robot-robot contacts are frictionless. Static = dynamic coefficient.
-- IMU: none in PhysX; :func:`simpick.simulate.imu.imu_from_kinematics` from base_link kinematics. PhysX
+- IMU: none in PhysX; :func:`simpick.engines.kinematics.imu_from_kinematics` from base_link kinematics. PhysX
   reports a link's velocity at its centre of mass, converted here to base_link's origin.
 
 Three corrections of ours (issues 19, 18): PhysX gives every articulation link 0.05 /s of linear
@@ -64,7 +64,6 @@ from __future__ import annotations
 import importlib.metadata
 import math
 import tempfile
-import time
 import warnings
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -73,9 +72,10 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import FRICTION, EngineSettings, PhysicsRecord, Scenario, validated_commands
+from simpick.engines.base import FRICTION, BaseStates, EngineSettings, Scenario
+from simpick.engines.kinematics import rotation_matrices
+from simpick.engines.runner import Adapter
 from simpick.errors import InputError
-from simpick.simulate.imu import imu_from_kinematics, rotation_matrices
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 # SAPIEN's plane collision has its normal along +x; this turns it onto +z (a -90 deg turn about y)
@@ -185,7 +185,7 @@ def _yaw_quat(yaw: float) -> list[float]:
     return [math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)]
 
 
-class PhysxEngine:
+class PhysxEngine(Adapter):
     # SAPIEN 3.0.3 exposes one contact parameter that matters here, the friction coefficient
     # (no material damping, so no tunable compliant contact)
     calibratable = {"friction": FRICTION}
@@ -196,8 +196,8 @@ class PhysxEngine:
         sapien = _quiet_import()
         return f"{importlib.metadata.version('sapien')} ({sapien.physx.version()})"
 
-    def build(self, scenario: Scenario):
-        """Scene, and per robot (articulation, its four wheel joints in simpick's order)."""
+    def build(self, scenario: Scenario) -> PhysxWorld:
+        """The scene, and per robot (articulation, its driven wheel joints in simpick's order)."""
         sapien = _quiet_import()
         px = sapien.physx
         settings = PhysxSettings.of(scenario.settings, self.name)
@@ -223,11 +223,11 @@ class PhysxEngine:
         terrain = scenario.terrain
         ground = scene.create_actor_builder()
         ground.add_plane_collision(sapien.Pose(q=list(PLANE_UP)), material=material(scenario.ground_friction))
-        shape_material = material(float(terrain["friction"]))
-        for x, y, z, yaw, sx, sy, sz in terrain["boxes"]:
+        shape_material = material(float(terrain.friction))
+        for x, y, z, yaw, sx, sy, sz in terrain.boxes:
             ground.add_box_collision(sapien.Pose([x, y, z], _yaw_quat(yaw)), half_size=[sx / 2, sy / 2, sz / 2],
                                      material=shape_material)
-        for x, y, z, r in terrain["spheres"]:
+        for x, y, z, r in terrain.spheres:
             ground.add_sphere_collision(sapien.Pose([x, y, z]), radius=r, material=shape_material)
         ground.build_static(name="terrain")
 
@@ -275,63 +275,42 @@ class PhysxEngine:
                     joint.set_drive_properties(0.0, settings.wheel_drive_damping, scenario.max_wheel_torque, "force")
                     joint.set_drive_velocity_target(0.0)
                 robots.append((art, wheels))
-        return scene, robots
+        return PhysxWorld(scene, robots, scenario)
 
-    @staticmethod
-    def _command(robots, speeds) -> None:
-        for (_, wheels), robot_speeds in zip(robots, speeds):
+
+class PhysxWorld:
+    """One SAPIEN scene (simpick.engines.base.World). PhysX gives the centre of mass's velocity;
+    base_link's origin moves at v - w x (R c)."""
+
+    def __init__(self, scene, robots: list, scenario: Scenario):
+        self.scene, self.robots = scene, robots
+        art, wheels = robots[scenario.recorded_robot]
+        self.art, self.base = art, art.find_link_by_name(scenario.robot.base_link)
+        if self.base is None:
+            raise InputError(str(scenario.robot.urdf), f"no link {scenario.robot.base_link!r} in the articulation")
+        order = [j.name for j in art.active_joints]
+        self.wheel_dofs = [order.index(j.name) for j in wheels]
+        self.com = np.asarray(self.base.cmass_local_pose.p, dtype=float)  # centre of mass in base_link
+
+    def set_wheel_targets(self, speeds: np.ndarray) -> None:
+        for (_, wheels), robot_speeds in zip(self.robots, speeds):
             for joint, w in zip(wheels, robot_speeds.tolist()):
                 joint.set_drive_velocity_target(w)
 
-    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
-        wheel_commands = validated_commands(scenario, wheel_commands)
-        scene, robots = self.build(scenario)
-        self._command(robots, wheel_commands[0])
-        step = scene.step
-        start = time.perf_counter()
-        for _ in range(wheel_commands.shape[0]):
+    def step(self, n: int = 1) -> None:
+        step = self.scene.step
+        for _ in range(n):
             step()
-        return time.perf_counter() - start
 
-    def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
-        wheel_commands = validated_commands(scenario, wheel_commands)
-        scene, robots = self.build(scenario)
-        steps = wheel_commands.shape[0]
-        dt = scenario.timestep
-        art, wheels = robots[scenario.recorded_robot]
-        base = art.find_link_by_name(scenario.robot.base_link)
-        if base is None:
-            raise InputError(str(scenario.robot.urdf), f"no link {scenario.robot.base_link!r} in the articulation")
-        order = [j.name for j in art.active_joints]
-        wheel_dofs = [order.index(j.name) for j in wheels]
-        com = np.asarray(base.cmass_local_pose.p, dtype=float)  # centre of mass in base_link
-        changes = set(np.flatnonzero(np.any(np.diff(wheel_commands, axis=0, prepend=np.nan) != 0, axis=(1, 2))).tolist())
-        position = np.empty((steps, 3))
-        quat = np.empty((steps, 4))
-        v_com = np.empty((steps, 3))
-        omega = np.empty((steps, 3))
-        wheel_speed = np.empty((steps, len(wheel_dofs)))
+    def read(self) -> tuple:
+        pose, base = self.base.entity_pose, self.base
+        return pose.p, pose.q, base.linear_velocity, base.angular_velocity, self.art.qvel[self.wheel_dofs]
 
-        step = scene.step
-        cpu0, wall0 = time.process_time(), time.perf_counter()
-        for k in range(steps):
-            if k in changes:
-                self._command(robots, wheel_commands[k])
-            step()
-            pose = base.entity_pose
-            position[k] = pose.p
-            quat[k] = pose.q  # w, x, y, z
-            v_com[k] = base.linear_velocity
-            omega[k] = base.angular_velocity
-            wheel_speed[k] = art.qvel[wheel_dofs]
-        wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
-
+    def states(self, samples: list) -> BaseStates:
+        position, quat, v_com, omega, wheel_speed = (np.array([s[i] for s in samples], dtype=float)
+                                                     .reshape(len(samples), -1) for i in range(5))
         quat /= np.linalg.norm(quat, axis=1, keepdims=True)
         quat *= np.where(quat[:, :1] < 0, -1.0, 1.0)
-        # PhysX gives the centre of mass's velocity; base_link's origin moves at v - w x (R c)
-        velocity = v_com - np.cross(omega, rotation_matrices(quat) @ com)
-        specific_force, gyro = imu_from_kinematics(quat, velocity, omega, scenario.robot.imu_mount, dt, scenario.gravity)
-        return PhysicsRecord(time=dt * np.arange(1, steps + 1), position=position, quaternion=quat,
-                             linear_velocity=velocity, angular_velocity=omega, wheel_speed=wheel_speed,
-                             imu_specific_force=specific_force, imu_gyro=gyro,
-                             wall_time=wall, cpu_time=cpu, steps=steps)
+        velocity = v_com - np.cross(omega, rotation_matrices(quat) @ self.com)
+        return BaseStates(position=position, quaternion=quat, linear_velocity=velocity, angular_velocity=omega,
+                          wheel_speed=wheel_speed)

@@ -1,7 +1,7 @@
 """Bullet through PyBullet (the engine family of CoppeliaSim's Bullet 2.78 and of MORSE).
 
 Bullet has no IMU sensor, so the adapter records the base kinematics at every step and
-the shared :func:`simpick.simulate.imu.imu_from_kinematics` turns them into an IMU reading.
+the runner's :func:`simpick.engines.kinematics.imu_from_kinematics` turns them into an IMU reading.
 
 Two Bullet habits the adapter undoes:
 - the base pose and velocity PyBullet reports are those of the base's *principal inertial
@@ -35,15 +35,14 @@ the right of the wheel centres.
 from __future__ import annotations
 
 import importlib.metadata
-import time
 from typing import Annotated
 
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
-                                  validated_commands)
-from simpick.simulate.imu import imu_from_kinematics, rotation_matrices
+from simpick.engines.base import FRICTION, FRICTION_RATIO, BaseStates, Calibratable, EngineSettings, Scenario
+from simpick.engines.kinematics import rotation_matrices
+from simpick.engines.runner import Adapter
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, so no wheel starts inside the ground
 
@@ -113,7 +112,7 @@ def _quat_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
                      aw * bz + ax * by - ay * bx + az * bw], -1)
 
 
-class PyBulletEngine:
+class PyBulletEngine(Adapter):
     calibratable = {
         "friction": FRICTION,
         # Contact softness: 2e5 N/m is ~0.7 mm static sag per wheel; at 1e5 the loads oscillate in a
@@ -133,33 +132,16 @@ class PyBulletEngine:
     def version(self) -> str:
         return importlib.metadata.version("pybullet")
 
-    def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
-        wheel_commands = validated_commands(scenario, wheel_commands)
-        import pybullet as pb
-
-        client = pb.connect(pb.DIRECT)
-        try:
-            return self._run(pb, client, scenario, wheel_commands)
-        finally:
-            pb.disconnect(client)
-
-    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
+    def build(self, scenario: Scenario) -> PyBulletWorld:
         import pybullet as pb
 
         cid = pb.connect(pb.DIRECT)
         try:
             bodies, wheel_index = self._build_world(pb, cid, scenario)
-            for i, body in enumerate(bodies):
-                pb.setJointMotorControlArray(body, wheel_index, pb.VELOCITY_CONTROL,
-                                             targetVelocities=wheel_commands[0, i].tolist(),
-                                             forces=[scenario.max_wheel_torque] * 4, physicsClientId=cid)
-            step = pb.stepSimulation
-            start = time.perf_counter()
-            for _ in range(wheel_commands.shape[0]):
-                step(physicsClientId=cid)
-            return time.perf_counter() - start
-        finally:
+        except BaseException:
             pb.disconnect(cid)
+            raise
+        return PyBulletWorld(pb, cid, bodies, wheel_index, scenario)
 
     def _build_terrain(self, pb, cid: int, scenario: Scenario) -> None:
         ground = pb.createMultiBody(0, pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=cid),
@@ -194,14 +176,14 @@ class PyBulletEngine:
         # (m/s^2 and rad/s; accelerometer ranges are 20-40 m/s^2). The validation cases have no
         # terrain bodies, only the plane, which stays as it was: their values are unchanged.
         static = {"useMaximalCoordinates": True, "physicsClientId": cid}
-        asleep = {"lateralFriction": terrain["friction"], "activationState": pb.ACTIVATION_STATE_SLEEP,
+        asleep = {"lateralFriction": terrain.friction, "activationState": pb.ACTIVATION_STATE_SLEEP,
                   "physicsClientId": cid}
-        for x, y, z, yaw, sx, sy, sz in terrain["boxes"]:
+        for x, y, z, yaw, sx, sy, sz in terrain.boxes:
             shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[sx / 2, sy / 2, sz / 2], physicsClientId=cid)
             body = pb.createMultiBody(0, shape, basePosition=[x, y, z],
                                       baseOrientation=pb.getQuaternionFromEuler([0, 0, yaw]), **static)
             pb.changeDynamics(body, -1, **asleep)
-        for x, y, z, r in terrain["spheres"]:
+        for x, y, z, r in terrain.spheres:
             shape = pb.createCollisionShape(pb.GEOM_SPHERE, radius=r, physicsClientId=cid)
             body = pb.createMultiBody(0, shape, basePosition=[x, y, z], **static)
             pb.changeDynamics(body, -1, **asleep)
@@ -251,50 +233,57 @@ class PyBulletEngine:
             bodies.append(body)
         return bodies, wheel_index
 
-    def _run(self, pb, cid: int, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
-        bodies, wheel_index = self._build_world(pb, cid, scenario)
-        robot = scenario.robot
-        steps, n_robots = wheel_commands.shape[:2]
-        dt = scenario.timestep
-        n_wheels = len(wheel_index)
-        torque = [scenario.max_wheel_torque] * n_wheels
-        # per step, PyBullet's tuples are kept as they come and made arrays once after the loop: four
-        # numpy row assignments a step cost ~3 us, a tenth of a grass step (job/bare 0.87, issue 12)
-        poses, velocities = [], []
-        wheels = np.full((steps, n_wheels), np.nan)
-        body0 = bodies[scenario.recorded_robot]
-        get_pose, get_vel, get_joints = pb.getBasePositionAndOrientation, pb.getBaseVelocity, pb.getJointStates
-        set_motors, step = pb.setJointMotorControlArray, pb.stepSimulation
-        changes = np.flatnonzero(np.any(np.diff(wheel_commands, axis=0, prepend=np.nan) != 0, axis=(1, 2)))
-        change_set = set(changes.tolist())
 
-        cpu0, wall0 = time.process_time(), time.perf_counter()
-        for k in range(steps):
-            if k in change_set:
-                for i, body in enumerate(bodies):
-                    set_motors(body, wheel_index, pb.VELOCITY_CONTROL,
-                               targetVelocities=wheel_commands[k, i].tolist(), forces=torque, physicsClientId=cid)
+class PyBulletWorld:
+    """One PyBullet client (simpick.engines.base.World). Per step, PyBullet's tuples are kept as they
+    come and made arrays once after the run: four numpy row assignments a step cost ~3 us, a tenth
+    of a grass step (job/bare 0.87, issue 12)."""
+
+    def __init__(self, pb, cid: int, bodies: list[int], wheel_index: list[int], scenario: Scenario):
+        self.pb, self.cid, self.bodies, self.wheel_index = pb, cid, bodies, wheel_index
+        self.body0 = bodies[scenario.recorded_robot]
+        self.torque = [scenario.max_wheel_torque] * len(wheel_index)
+        self.k = 0  # steps taken
+
+    def set_wheel_targets(self, speeds: np.ndarray) -> None:
+        pb, cid = self.pb, self.cid
+        for i, body in enumerate(self.bodies):
+            pb.setJointMotorControlArray(body, self.wheel_index, pb.VELOCITY_CONTROL,
+                                         targetVelocities=speeds[i].tolist(), forces=self.torque, physicsClientId=cid)
+
+    def step(self, n: int = 1) -> None:
+        step, cid = self.pb.stepSimulation, self.cid
+        for _ in range(n):
             step(physicsClientId=cid)
-            poses.append(get_pose(body0, physicsClientId=cid))
-            velocities.append(get_vel(body0, physicsClientId=cid))
-            if k % WHEEL_SAMPLE_EVERY == WHEEL_SAMPLE_EVERY - 1:
-                wheels[k] = [s[1] for s in get_joints(body0, wheel_index, physicsClientId=cid)]
-        wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
-        com, com_q = (np.array([p[j] for p in poses], dtype=float).reshape(steps, -1) for j in (0, 1))
-        com_v, omega = (np.array([v[j] for v in velocities], dtype=float).reshape(steps, 3) for j in (0, 1))
+        self.k += n
+
+    def read(self) -> tuple:
+        """(pose, velocity, wheel joint states or None): the wheels every WHEEL_SAMPLE_EVERY steps."""
+        pb, cid, body = self.pb, self.cid, self.body0
+        wheels = (pb.getJointStates(body, self.wheel_index, physicsClientId=cid)
+                  if self.k % WHEEL_SAMPLE_EVERY == 0 else None)
+        return (pb.getBasePositionAndOrientation(body, physicsClientId=cid), pb.getBaseVelocity(body, physicsClientId=cid),
+                wheels)
+
+    def states(self, samples: list) -> BaseStates:
+        steps = len(samples)
+        com, com_q = (np.array([s[0][j] for s in samples], dtype=float).reshape(steps, -1) for j in (0, 1))
+        com_v, omega = (np.array([s[1][j] for s in samples], dtype=float).reshape(steps, 3) for j in (0, 1))
+        wheels = np.full((steps, len(self.wheel_index)), np.nan)
+        for k, s in enumerate(samples):
+            if s[2] is not None:
+                wheels[k] = [j[1] for j in s[2]]
         wheels = _hold(wheels)
 
         # From the principal inertial frame back to base_link.
-        info = pb.getDynamicsInfo(body0, -1, physicsClientId=cid)
+        info = self.pb.getDynamicsInfo(self.body0, -1, physicsClientId=self.cid)
         local_pos = np.asarray(info[3]); local_q = _xyzw_to_wxyz(np.asarray(info[4]))
         local_q_inv = local_q * np.array([1, -1, -1, -1])
         quat = _quat_multiply(_xyzw_to_wxyz(com_q), local_q_inv)
         quat /= np.linalg.norm(quat, axis=1, keepdims=True)
         offset = rotation_matrices(quat) @ local_pos
-        position = com - offset
-        velocity = com_v - np.cross(omega, offset)
-        specific_force, gyro = imu_from_kinematics(quat, velocity, omega, robot.imu_mount, dt, scenario.gravity)
-        return PhysicsRecord(time=dt * np.arange(1, steps + 1), position=position, quaternion=quat,
-                             linear_velocity=velocity, angular_velocity=omega, wheel_speed=wheels,
-                             imu_specific_force=specific_force, imu_gyro=gyro,
-                             wall_time=wall, cpu_time=cpu, steps=steps)
+        return BaseStates(position=com - offset, quaternion=quat, linear_velocity=com_v - np.cross(omega, offset),
+                          angular_velocity=omega, wheel_speed=wheels)
+
+    def close(self) -> None:
+        self.pb.disconnect(self.cid)

@@ -19,7 +19,7 @@ What is found and how:
   mirrored joint frames all drive the robot forward.
 - **Base**: the URDF root link. A root without mass (a footprint) is fine: whenever the file is
   not already in the form every engine reads alike (xacro, meshes, massless links), it is rewritten
-  (:func:`normalised_urdf`) with each link hung on a fixed joint fused into its parent: masses and
+  (:func:`simpick.inputs.urdf.normalised_urdf`) with each link hung on a fixed joint fused into its parent: masses and
   inertias combined, box/cylinder/sphere collisions kept, visuals and mesh collisions dropped (with a
   note), into a file in the temporary folder named by its content hash. The Husky's file needs no
   rewrite and is loaded as it is.
@@ -37,19 +37,23 @@ count other than 2, 4 or 6 or unequal sides, a description that is not XML.
 
 from __future__ import annotations
 
-import hashlib
+import logging
 import math
-import os
-import tempfile
 import xml.etree.ElementTree as ET
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from simpick.errors import InputError
+from simpick.inputs.urdf import (SNAP_TOLERANCE_DEG, Body, RigidModel, Tree, floats, fmt, inertial, joint_axis,
+                                 needs_rewrite, normalised_urdf, origin, read_description, snapped_axis, tree_of,
+                                 wheel_shape, write_cached)
+
+LOG = logging.getLogger(__name__)
+
 
 
 @dataclass(frozen=True)
@@ -79,7 +83,6 @@ class Skid:
     clearance: float  # m above flat ground with the robot level on its wheels (<= SKID_REACH)
 
 
-# A base collision whose lowest point is within this of the ground (robot level on its wheels) is a
 # skid: TurtleBot3's box caster is 0.5 mm up and touches once the robot tips onto it.
 SKID_REACH = 0.005
 
@@ -110,6 +113,9 @@ class RobotSpec:
     notes: tuple[str, ...] = ()  # what was assumed or dropped while reading the description
     overridden: tuple[str, ...] = ()  # figures the config set instead of the description
     skids: tuple[Skid, ...] = ()  # base shapes that reach the ground (sliding supports)
+    # the rigid bodies and moving joints, fixed-joint chains folded (for an adapter that builds the
+    # robot body by body rather than through its engine's URDF loader: ODE)
+    rigid: RigidModel | None = field(default=None, compare=False, repr=False)
 
     @property
     def driven(self) -> tuple[Wheel, ...]:
@@ -158,274 +164,7 @@ class RobotSpec:
         return (np.asarray(joint_speeds, dtype=float)[..., cols] * signs).mean(axis=-1)
 
 
-# --- URDF geometry -------------------------------------------------------------------------
-
-def _floats(text: str | None, n: int, where: str, default: float = 0.0) -> np.ndarray:
-    if text is None:
-        return np.full(n, default)
-    try:
-        values = [float(v) for v in text.split()]
-    except ValueError:
-        values = []
-    if len(values) != n:
-        raise InputError(where, f"expected {n} numbers, got {text!r}")
-    return np.asarray(values)
-
-
-def rpy_matrix(rpy) -> np.ndarray:
-    """URDF rpy (fixed axes x, then y, then z) -> rotation matrix."""
-    r, p, y = rpy
-    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
-    return np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-                     [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-                     [-sp, cp * sr, cp * cr]])
-
-
-def matrix_rpy(m: np.ndarray) -> np.ndarray:
-    """Rotation matrix -> URDF rpy (the inverse of :func:`rpy_matrix`)."""
-    pitch = math.asin(max(-1.0, min(1.0, -m[2, 0])))
-    if abs(m[2, 0]) < 1 - 1e-12:
-        roll, yaw = math.atan2(m[2, 1], m[2, 2]), math.atan2(m[1, 0], m[0, 0])
-    else:  # gimbal lock: roll folded into yaw
-        roll, yaw = 0.0, math.atan2(-m[0, 1], m[1, 1])
-    return np.array([roll, pitch, yaw])
-
-
-def origin(element, where: str) -> tuple[np.ndarray, np.ndarray]:
-    """(xyz, rotation) of an element's <origin> child; identity when absent."""
-    o = element.find("origin") if element is not None else None
-    if o is None:
-        return np.zeros(3), np.eye(3)
-    return _floats(o.get("xyz"), 3, f"{where} origin xyz"), rpy_matrix(_floats(o.get("rpy"), 3, f"{where} origin rpy"))
-
-
-def joint_axis(joint, where: str) -> np.ndarray:
-    """A joint's unit axis (URDF default x when absent); a zero axis is an InputError naming ``where``."""
-    a = joint.find("axis")
-    axis = _floats(a.get("xyz") if a is not None else None, 3, f"{where} axis", 0.0)
-    if a is None:
-        axis = np.array([1.0, 0.0, 0.0])  # the URDF default
-    norm = np.linalg.norm(axis)
-    if norm == 0:
-        raise InputError(where, "the joint axis is zero")
-    return axis / norm
-
-
-@dataclass
-class _Tree:
-    root: Any
-    links: dict
-    joints: dict  # name -> element
-    child_joint: dict  # child link -> joint element
-    children: dict  # link -> [joint elements]
-    base: str
-    pose: dict  # link -> (position, rotation) in the base frame, joints at zero
-
-
-def _tree(root, where: str) -> _Tree:
-    links = {lk.get("name"): lk for lk in root.findall("link")}
-    joints = {j.get("name"): j for j in root.findall("joint")}
-    if not links:
-        raise InputError(where, "the description has no <link>: not a robot URDF")
-    child_joint, children = {}, {name: [] for name in links}
-    for name, j in joints.items():
-        parent, child = j.find("parent"), j.find("child")
-        if parent is None or child is None or parent.get("link") not in links or child.get("link") not in links:
-            raise InputError(f"{where}: joint {name!r}", "its parent or child link is missing from the description")
-        child_joint[child.get("link")] = j
-        children[parent.get("link")].append(j)
-    roots = [name for name in links if name not in child_joint]
-    if len(roots) != 1:
-        raise InputError(where, f"expected one root link, found {roots}")
-    pose = {roots[0]: (np.zeros(3), np.eye(3))}
-    stack = [roots[0]]
-    while stack:
-        name = stack.pop()
-        p, r = pose[name]
-        for j in children[name]:
-            xyz, rot = origin(j, f"{where}: joint {j.get('name')!r}")
-            child = j.find("child").get("link")
-            pose[child] = (p + r @ xyz, r @ rot)
-            stack.append(child)
-    return _Tree(root, links, joints, child_joint, children, roots[0], pose)
-
-
-def _inertial(link, where: str) -> tuple[float, np.ndarray, np.ndarray] | None:
-    """(mass, com, inertia about com) in the link frame, or None."""
-    inertial = link.find("inertial")
-    if inertial is None or inertial.find("mass") is None:
-        return None
-    mass = float(inertial.find("mass").get("value", "0"))
-    xyz, rot = origin(inertial, f"{where}: link {link.get('name')!r} inertial")
-    t = inertial.find("inertia")
-    g = {k: float(t.get(k, 0.0)) if t is not None else 0.0 for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")}
-    local = np.array([[g["ixx"], g["ixy"], g["ixz"]], [g["ixy"], g["iyy"], g["iyz"]], [g["ixz"], g["iyz"], g["izz"]]])
-    return mass, xyz, rot @ local @ rot.T
-
-
-def _wheel_shape(link, axis: np.ndarray, where: str) -> tuple[str, float, float] | None:
-    """("cylinder"|"sphere", radius, width) of a link's wheel collision, None if it has none;
-    refuses a cylinder not aligned with the joint axis (``axis`` in the link frame)."""
-    for collision in link.findall("collision"):
-        geometry = collision.find("geometry")
-        if geometry is None:
-            continue
-        _, rot = origin(collision, where)
-        cyl, sph = geometry.find("cylinder"), geometry.find("sphere")
-        if cyl is not None:
-            cyl_axis = rot @ np.array([0.0, 0.0, 1.0])
-            if abs(abs(cyl_axis @ axis) - 1) > 1e-3:
-                raise InputError(where, f"wheel link {link.get('name')!r}: its collision cylinder's axis "
-                                 f"{np.round(cyl_axis, 3).tolist()} is not the joint axis {np.round(axis, 3).tolist()}")
-            return "cylinder", float(cyl.get("radius")), float(cyl.get("length"))
-        if sph is not None:
-            return "sphere", float(sph.get("radius")), 0.0
-    return None
-
-
-def _has_collision(link) -> bool:
-    return link.find("collision") is not None
-
-
-# --- reading -------------------------------------------------------------------------------
-
-def read_description(path: str | Path) -> ET.Element:
-    """The description's XML root; a xacro file (``.xacro`` or a root holding xacro tags) is
-    expanded first. Anything unreadable raises InputError naming the file."""
-    path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as exc:
-        raise InputError(str(path), f"cannot read the robot description: {exc}") from None
-    if path.suffix == ".xacro" or "xmlns:xacro" in text:
-        try:
-            import xacro
-        except ImportError:
-            raise InputError(str(path), "is a xacro file and the xacro package is not installed",
-                             "pip install xacro") from None
-        try:
-            text = xacro.process_file(str(path)).toprettyxml(indent="  ")
-        except Exception as exc:  # xacro raises its own and plain exceptions for bad input
-            raise InputError(str(path), f"xacro could not expand it: {exc}") from None
-    try:
-        root = ET.fromstring(text)
-    except ET.ParseError as exc:
-        raise InputError(str(path), f"cannot read the robot description: not XML ({exc})",
-                         "point robot.urdf to a URDF or xacro file") from None
-    if root.tag != "robot":
-        raise InputError(str(path), f"the root element is <{root.tag}>, not <robot>: not a URDF")
-    return root
-
-
-def _needs_rewrite(root, source: Path) -> bool:
-    """True unless every engine can load the file as it is: plain URDF, no meshes, every link
-    with a mass (Bullet gives a massless link 1 kg)."""
-    if source.suffix == ".xacro" or root.find(".//mesh") is not None:
-        return True
-    for link in root.findall("link"):
-        inertial = link.find("inertial")
-        if inertial is None or inertial.find("mass") is None or float(inertial.find("mass").get("value", 0)) <= 0:
-            return True
-    return False
-
-
-def normalised_urdf(root, tree: _Tree, name: str) -> tuple[str, list[str]]:
-    """The description with every fixed-joint child fused into its parent link (masses and
-    inertias combined, primitive collisions kept), visuals and meshes dropped; and notes."""
-    notes: list[str] = []
-    where = name
-
-    def body_of(link: str) -> str:  # the moving body a link belongs to
-        while link in tree.child_joint and tree.child_joint[link].get("type") == "fixed":
-            link = tree.child_joint[link].find("parent").get("link")
-        return link
-
-    def relative(link: str, body: str) -> tuple[np.ndarray, np.ndarray]:
-        (pb, rb), (pl, rl) = tree.pose[body], tree.pose[link]
-        return rb.T @ (pl - pb), rb.T @ rl
-
-    bodies = [lk for lk in tree.links if body_of(lk) == lk]
-    out = ET.Element("robot", {"name": name})
-    out.append(ET.Comment(" written by simpick.inputs.robot.normalised_urdf: fixed links fused, visuals dropped "))
-    for body in bodies:
-        mass, moment, parts = 0.0, np.zeros(3), []
-        collisions = []
-        for lk in tree.links:
-            if body_of(lk) != body:
-                continue
-            pos, rot = relative(lk, body)
-            inert = _inertial(tree.links[lk], where)
-            if inert is not None and inert[0] > 0:
-                m, c, inertia = inert
-                parts.append((m, pos + rot @ c, rot @ inertia @ rot.T))
-                mass += m
-                moment += m * (pos + rot @ c)
-            elif lk == body and inert is None and body != tree.base:
-                notes.append(f"link {lk!r} has no mass")
-            for collision in tree.links[lk].findall("collision"):
-                geometry = collision.find("geometry")
-                if geometry is None:
-                    continue
-                shape = next((g for g in geometry if g.tag in ("box", "cylinder", "sphere")), None)
-                if shape is None:
-                    notes.append(f"link {lk!r}: a {[g.tag for g in geometry]} collision was dropped "
-                                 "(only box, cylinder and sphere are simulated alike in every engine)")
-                    continue
-                xyz, r = origin(collision, f"{where}: link {lk!r} collision")
-                collisions.append((pos + rot @ xyz, rot @ r, shape))
-        link = ET.SubElement(out, "link", {"name": body})
-        if mass > 0:
-            com = moment / mass
-            inertia = np.zeros((3, 3))
-            for m, c, i in parts:
-                d = c - com
-                inertia += i + m * (d @ d * np.eye(3) - np.outer(d, d))
-            inertial = ET.SubElement(link, "inertial")
-            ET.SubElement(inertial, "origin", {"xyz": _fmt(com), "rpy": "0 0 0"})
-            ET.SubElement(inertial, "mass", {"value": repr(float(mass))})
-            ET.SubElement(inertial, "inertia", {k: repr(float(inertia[a, b])) for k, (a, b) in
-                                                 {"ixx": (0, 0), "ixy": (0, 1), "ixz": (0, 2), "iyy": (1, 1),
-                                                  "iyz": (1, 2), "izz": (2, 2)}.items()})
-        for xyz, r, shape in collisions:
-            col = ET.SubElement(link, "collision")
-            ET.SubElement(col, "origin", {"xyz": _fmt(xyz), "rpy": _fmt(matrix_rpy(r))})
-            geometry = ET.SubElement(col, "geometry")
-            geometry.append(ET.Element(shape.tag, dict(shape.attrib)))
-    for jname, j in tree.joints.items():
-        if j.get("type") == "fixed":
-            continue
-        child = j.find("child").get("link")
-        parent = body_of(j.find("parent").get("link"))
-        pos, rot = relative(child, parent)
-        new = ET.SubElement(out, "joint", {"name": jname, "type": j.get("type")})
-        ET.SubElement(new, "parent", {"link": parent})
-        ET.SubElement(new, "child", {"link": child})
-        ET.SubElement(new, "origin", {"xyz": _fmt(pos), "rpy": _fmt(matrix_rpy(rot))})
-        ET.SubElement(new, "axis", {"xyz": _fmt(joint_axis(j, jname))})
-        for tag in ("limit", "dynamics"):
-            if j.find(tag) is not None:
-                new.append(j.find(tag))
-    ET.indent(out)
-    return ET.tostring(out, encoding="unicode") + "\n", notes
-
-
-def _fmt(values) -> str:
-    return " ".join(repr(float(round(v, 12)) + 0.0) for v in values)
-
-
-def _write_cached(text: str) -> Path:
-    digest = hashlib.sha256(text.encode()).hexdigest()[:16]
-    folder = Path(tempfile.gettempdir()) / "simpick-robots"
-    folder.mkdir(parents=True, exist_ok=True)
-    path = folder / f"{digest}.urdf"
-    if not path.is_file() or path.read_text() != text:
-        tmp = folder / f".{digest}.{os.getpid()}.tmp"
-        tmp.write_text(text)
-        tmp.replace(path)
-    return path
-
-
-def _find_wheels(tree: _Tree, where: str, declared: Mapping[str, str] | None) -> tuple[list[Wheel], list[str]]:
+def _find_wheels(tree: Tree, where: str, declared: Mapping[str, str] | None) -> tuple[list[Wheel], list[str]]:
     notes = []
     wheels = []
     for jname, j in tree.joints.items():
@@ -441,6 +180,11 @@ def _find_wheels(tree: _Tree, where: str, declared: Mapping[str, str] | None) ->
                              "wheeled bodies: driven and caster wheels on continuous joints)",
                              "make it a fixed joint in the description if it does not move while driving")
         axis_local = joint_axis(j, jw)
+        snap = snapped_axis(axis_local)
+        if snap is not None and snap[1] > 1e-7:
+            tree.notes.append(f"joint {jname!r}: axis {j.find('axis').get('xyz')!r} is {snap[1]:.3f} deg from "
+                         f"{fmt(snap[0])} (within {SNAP_TOLERANCE_DEG} deg), snapped")
+            axis_local = tree.axes[jname] = snap[0]
         _, rot = tree.pose[child]
         axis = rot @ axis_local  # in the base frame
         link = tree.links[child]
@@ -448,7 +192,7 @@ def _find_wheels(tree: _Tree, where: str, declared: Mapping[str, str] | None) ->
             if not any(tree.joints[k].get("type") == "continuous" for k in _subtree_joints(tree, child)):
                 raise InputError(jw, "spins about a vertical axis and carries no wheel: not a wheel or a caster swivel")
             continue
-        shape = _wheel_shape(link, axis_local, jw)
+        shape = wheel_shape(link, axis_local, jw)
         if shape is None:
             raise InputError(jw, f"is continuous but its child link {child!r} has no cylinder or sphere collision: "
                              "a wheel needs one for the engines to roll on",
@@ -508,7 +252,7 @@ def _find_wheels(tree: _Tree, where: str, declared: Mapping[str, str] | None) ->
     return driven + [w for w in wheels if not w.driven], notes
 
 
-def _find_skids(tree: _Tree, where: str, base_height: float) -> tuple[Skid, ...]:
+def _find_skids(tree: Tree, where: str, base_height: float) -> tuple[Skid, ...]:
     """Collision shapes of links rigidly fixed to the base whose lowest point, the robot level on
     its wheels, is within SKID_REACH of the ground."""
     def on_base(link: str) -> bool:
@@ -532,7 +276,7 @@ def _find_skids(tree: _Tree, where: str, base_height: float) -> tuple[Skid, ...]
             centre, m = p + r @ xyz, r @ rot
             box, sph, cyl = geometry.find("box"), geometry.find("sphere"), geometry.find("cylinder")
             if box is not None:
-                half = _floats(box.get("size"), 3, f"{where}: link {name!r} box size") / 2
+                half = floats(box.get("size"), 3, f"{where}: link {name!r} box size") / 2
                 low, kind = centre[2] - float(np.abs(m[2]) @ half), "box"
             elif sph is not None:
                 low, kind = centre[2] - float(sph.get("radius")), "sphere"
@@ -549,13 +293,70 @@ def _find_skids(tree: _Tree, where: str, base_height: float) -> tuple[Skid, ...]
     return tuple(found)
 
 
-def _subtree_joints(tree: _Tree, link: str) -> list[str]:
+def _subtree_joints(tree: Tree, link: str) -> list[str]:
     out, stack = [], [link]
     while stack:
         for j in tree.children[stack.pop()]:
             out.append(j.get("name"))
             stack.append(j.find("child").get("link"))
     return out
+
+
+def _rigid_model(tree: Tree, where: str, wheels: list[Wheel], snapped_axes: dict) -> RigidModel:
+    """The bodies and moving joints of ``tree``: each moving link with every link hung on it by
+    fixed joints folded in (breadth first, in the description's joint order)."""
+    def body_of(link: str) -> tuple[str, np.ndarray, np.ndarray]:
+        """The moving link ``link`` belongs to, and ``link``'s frame in that link's frame."""
+        pos, rot = np.zeros(3), np.eye(3)
+        chain = []
+        while link in tree.child_joint and tree.child_joint[link].get("type") == "fixed":
+            chain.append(tree.child_joint[link])
+            link = tree.child_joint[link].find("parent").get("link")
+        for joint in reversed(chain):
+            xyz, r = tree.origins[joint.get("name")]
+            pos, rot = pos + rot @ xyz, rot @ r
+        return link, pos, rot
+
+    def body(link_name: str) -> Body:
+        part = Body(link_name)
+        queue = [(link_name, np.zeros(3), np.eye(3))]
+        while queue:
+            name, pos, rot = queue.pop(0)
+            part.add(tree.links[name], pos, rot, where)
+            for joint in tree.children[name]:
+                if joint.get("type") == "fixed":
+                    xyz, r = tree.origins[joint.get("name")]
+                    queue.append((joint.find("child").get("link"), pos + rot @ xyz, rot @ r))
+        return part
+
+    def mount(joint) -> tuple[str, np.ndarray, np.ndarray, np.ndarray]:
+        name = joint.get("name")
+        parent, pos, rot = body_of(joint.find("parent").get("link"))
+        xyz, r = tree.origins[name]
+        if parent != joint.find("parent").get("link"):  # hung on a fixed chain: the chain folded in
+            xyz, r = pos + rot @ xyz, rot @ r
+        axis = snapped_axes.get(name)
+        return parent, xyz, r, axis if axis is not None else joint_axis(joint, f"{where}: joint {name!r}")
+
+    driven = []
+    for wheel in (w for w in wheels if w.driven):
+        _, xyz, r, axis = mount(tree.joints[wheel.joint])
+        driven.append((xyz, r, axis, body(wheel.link)))
+    passive, index = [], {}
+    moving = [w for w in wheels if not w.driven]
+    names = []
+    for w in moving:
+        names += [w.joint] + ([w.swivel] if w.swivel else [])
+    for name in names[::-1]:  # (caster joint, its swivel): the swivel first
+        joint = tree.joints[name]
+        parent, xyz, r, axis = mount(joint)
+        if parent != tree.base and parent not in index:
+            raise InputError(f"{where}: joint {name!r}", f"hangs on {parent!r}, which is neither the base nor a "
+                             "caster's swivel link")
+        child = joint.find("child").get("link")
+        index[child] = len(passive)
+        passive.append((xyz, r, axis, body(child), -1 if parent == tree.base else index[parent]))
+    return RigidModel(body(tree.base), tuple(driven), tuple(passive))
 
 
 OVERRIDABLE = ("wheel_radius", "track", "wheelbase", "mass", "com", "base_height", "imu_mount")
@@ -572,17 +373,18 @@ def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping
     source = Path(urdf)
     where = str(source)
     root = read_description(source)
-    tree = _tree(root, where)
+    tree = tree_of(root, where)
     if wheels is not None:
         bad = {j: s for j, s in wheels.items() if s not in ("left", "right")}
         if bad:
             raise InputError("robot.wheels", f"sides must be 'left' or 'right', got {bad}")
     found, notes = _find_wheels(tree, where, wheels)
+    notes = tree.notes + notes
 
     # mass and centre of mass of the whole robot, joints at zero
     mass, moment = 0.0, np.zeros(3)
     for name, link in tree.links.items():
-        inert = _inertial(link, where)
+        inert = inertial(link, where)
         if inert is None:
             continue
         p, r = tree.pose[name]
@@ -598,7 +400,7 @@ def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping
         body = name
         while body in tree.child_joint and tree.child_joint[body].get("type") == "fixed":
             body = tree.child_joint[body].find("parent").get("link")
-        inert = _inertial(link, where)
+        inert = inertial(link, where)
         body_mass[body] = body_mass.get(body, 0.0) + (inert[0] if inert else 0.0)
     massless = sorted(b for b, m in body_mass.items() if m <= 0)
     if massless:
@@ -642,14 +444,19 @@ def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping
         notes.append(f"link {s.link!r}: a {s.shape} {s.clearance * 1000:.1f} mm above the ground at rest, a "
                      "sliding support (skid) with the ground's friction")
     file = source
-    if _needs_rewrite(root, source):
+    for note in tree.notes:
+        LOG.warning("%s: %s", where, note)
+    # the rigid bodies of the file every engine loads: the description, or its normalised copy
+    rigid = _rigid_model(tree, where, found, tree.axes)
+    if needs_rewrite(root, source, tree):
         text, more = normalised_urdf(root, tree, root.get("name") or source.stem)
         notes += more
-        file = _write_cached(text)
+        file = write_cached(text)
         notes.append(f"loaded through a normalised copy ({file.name}): fixed links fused, visuals dropped")
+        rigid = _rigid_model(tree_of(ET.fromstring(text), str(file)), str(file), found, {})
     return RobotSpec(urdf=file, source=source, name=root.get("name") or source.stem, base_link=tree.base,
                      wheels=tuple(found), imu_link=imu_link, notes=tuple(notes), overridden=tuple(overridden),
-                     skids=skids, **figures)
+                     skids=skids, rigid=rigid, **figures)
 
 
 def load_from_config(robot: Mapping[str, Any]) -> RobotSpec:
@@ -661,5 +468,5 @@ def load_from_config(robot: Mapping[str, Any]) -> RobotSpec:
     return load_robot(robot["urdf"], imu_link=robot.get("imu_link"), wheels=wheels, overrides=overrides)
 
 
-__all__ = ["OVERRIDABLE", "RobotSpec", "SKID_REACH", "Skid", "Wheel", "load_from_config", "load_robot", "normalised_urdf",
-           "read_description", "rpy_matrix", "matrix_rpy", "origin", "joint_axis"]
+__all__ = ["OVERRIDABLE", "RobotSpec", "SKID_REACH", "SNAP_TOLERANCE_DEG", "Skid", "Wheel", "load_from_config",
+           "load_robot"]

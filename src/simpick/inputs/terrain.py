@@ -13,7 +13,10 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -22,6 +25,56 @@ from simpick.errors import InputError
 SCHEMA = "simpick.inputs.terrain/1"
 TILE = 1.0  # m
 TILES = 4  # a strip of four 1 m x 1 m tiles (paper s3.1.1): the terrains' default length
+
+
+class Box(NamedTuple):
+    """A static box: centre (m), yaw about z (rad), full size (m)."""
+
+    x: float
+    y: float
+    z: float
+    yaw: float
+    size_x: float
+    size_y: float
+    size_z: float
+
+
+class Sphere(NamedTuple):
+    """A static sphere: centre and radius, m."""
+
+    x: float
+    y: float
+    z: float
+    radius: float
+
+
+@dataclass(frozen=True)
+class Terrain:
+    """The terrain an engine builds: static shapes on the ground plane z = 0, all with one friction
+    coefficient (the plane's own is ``Scenario.ground_friction``). :meth:`of` reads a terrain file's
+    dict (:func:`load`, :func:`generate`); the shapes are typed rows, so an adapter unpacks
+    ``for x, y, z, yaw, sx, sy, sz in terrain.boxes``."""
+
+    friction: float
+    boxes: tuple[Box, ...] = ()
+    spheres: tuple[Sphere, ...] = ()
+    name: str = "flat"
+    seed: int | None = None  # the seed the shapes were drawn with (None: no random layout)
+
+    @classmethod
+    def of(cls, value: Terrain | Mapping) -> Terrain:
+        """``value`` itself, or the Terrain of a terrain file's dict (its schema keys ignored)."""
+        if isinstance(value, Terrain):
+            return value
+        return cls(friction=float(value["friction"]),
+                   boxes=tuple(Box(*(float(v) for v in row)) for row in value.get("boxes", ())),
+                   spheres=tuple(Sphere(*(float(v) for v in row)) for row in value.get("spheres", ())),
+                   name=str(value.get("name", "flat")), seed=value.get("seed"))
+
+    @classmethod
+    def flat(cls, friction: float, name: str = "flat") -> Terrain:
+        """No shapes: the robot drives on the ground plane alone."""
+        return cls(friction=float(friction), name=name)
 
 
 def _tile_centres(tiles: int) -> list[float]:

@@ -13,6 +13,7 @@ counted. The median over repeats is reported with every repeat, so the spread sh
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import statistics
 
@@ -21,9 +22,7 @@ import psutil
 
 from simpick.inputs import terrain as terrain_io
 from simpick.engines import get_engine
-from simpick.engines.base import Scenario
 from simpick.inputs.motions import constant_commands
-from simpick.inputs.robot import load_from_config
 
 DEFINITION = ("CPU load = process CPU time (user + system) spent stepping / simulated time, "
               "in % of one core: the load the engine would put on one core if paced to real time. "
@@ -36,28 +35,29 @@ def convoy(robots: int, start: tuple[float, float, float], spacing: float) -> tu
     return tuple((x - i * spacing, y, yaw) for i in range(robots))
 
 
-def measure(engine_name: str, *, urdf: str, terrain_file: str, motion: dict, timestep: float,
-            ground_friction: float, max_wheel_torque: float, track: float, engine_settings: dict,
-            duration: float, repeats: int, robots_average: int, robots_intense: int,
-            spacing: float, limits=None, robot_options: dict | None = None) -> dict:
-    """CPU load per scenario; with ``limits`` (a :class:`simpick.simulate.health.HealthLimits`) every
-    repeat is health-checked like a simulation job (on the lead robot, the one the engine
-    records), and a failed repeat fails the measurement (``health``), so the scores leave it out."""
+def measure(params: dict, urdf: str, terrain_file: str, limits=None) -> dict:
+    """CPU load per scenario of the job's params (``engine``, ``physics``, ``robot``, ``engine_settings``,
+    ``motion`` and the ``cpu_load`` block: duration, repeats, robots_average, robots_intense, spacing).
+    With ``limits`` (a :class:`simpick.simulate.health.HealthLimits`) every repeat is health-checked like
+    a simulation job (on the lead robot, the one the engine records), and a failed repeat fails the
+    measurement (``health``), so the scores leave it out."""
     from simpick.simulate.health import check
+    from simpick.simulate.run import scenario_from
 
+    engine_name, cpu, motion = params["engine"], params["cpu_load"], params["motion"]
     engine = get_engine(engine_name)
-    robot = load_from_config({**(robot_options or {}), "urdf": urdf})
-    terrain = terrain_io.load(terrain_file)
+    base = scenario_from(params, urdf, terrain_io.load(terrain_file))
+    timestep, duration = base.timestep, cpu["duration"]
     result = {"engine": engine_name, "engine_version": engine.version(), "definition": DEFINITION,
               "cpu_count": psutil.cpu_count(), "affinity": sorted(os.sched_getaffinity(0))}
     all_reasons: list[str] = []
-    for scenario_name, robots in (("average", robots_average), ("intense", robots_intense)):
-        scenario = Scenario(robot=robot, terrain=terrain, ground_friction=ground_friction,
-                            timestep=timestep, max_wheel_torque=max_wheel_torque,
-                            starts=convoy(robots, tuple(motion["start"]), spacing), settings=engine_settings)
-        commands = constant_commands(motion["v"], motion["w"], duration, timestep, track, robot, robots)
+    for scenario_name in ("average", "intense"):
+        robots = int(cpu[f"robots_{scenario_name}"])
+        scenario = dataclasses.replace(base, starts=convoy(robots, tuple(motion["start"]), cpu["spacing"]))
+        commands = constant_commands(motion["v"], motion["w"], duration, timestep, params["robot"]["track"],
+                                     scenario.robot, robots)
         loads, reasons = [], []
-        for _ in range(repeats):
+        for _ in range(int(cpu["repeats"])):
             record = engine.simulate(scenario, commands)
             loads.append(100.0 * record.cpu_time / (record.steps * timestep))
             if limits is not None:

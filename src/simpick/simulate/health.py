@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from simpick.engines.base import PhysicsRecord
-from simpick.simulate.imu import euler_rpy
+from simpick.engines.kinematics import euler_rpy
 
 
 @dataclass(frozen=True)

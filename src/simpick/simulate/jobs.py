@@ -90,15 +90,7 @@ def cpu_job(output: str, terrain_file: str, urdf: str, params: dict, timeout: fl
         print(f"simpick: cpu_load {params['engine']}: {result['health']['reasons'][0]}", file=sys.stderr)
         write(result)
 
-    cpu = params["cpu_load"]
     with Watchdog(timeout, hung):
-        result = measure(params["engine"], urdf=urdf, terrain_file=terrain_file, motion=params["motion"],
-                         timestep=params["physics"]["timestep"],
-                         ground_friction=params["physics"]["ground_friction"],
-                         max_wheel_torque=params["robot"]["max_wheel_torque"], track=params["robot"]["track"],
-                         engine_settings=params["engine_settings"], duration=cpu["duration"],
-                         repeats=int(cpu["repeats"]), robots_average=int(cpu["robots_average"]),
-                         robots_intense=int(cpu["robots_intense"]), spacing=cpu["spacing"],
-                         robot_options=params["robot"],
+        result = measure(params, urdf, terrain_file,
                          limits=HealthLimits(**params["health"]) if params.get("health") else None)
     write(result)

@@ -3,9 +3,8 @@ generated terrain strip of its terrain."""
 
 from __future__ import annotations
 
-from simpick.simulate.health import HealthLimits
-from simpick.simulate.imu import ImuModel
-from simpick.simulate.run import Case, run_case
+from simpick.inputs.terrain import load
+from simpick.simulate.run import Case, Recording, run_case, scenario_from
 
 
 def prepare_case(urdf: str, inputs: dict, params: dict, name: str):
@@ -16,11 +15,7 @@ def prepare_case(urdf: str, inputs: dict, params: dict, name: str):
     which = {"terrain": case.terrain, "motion": case.motion, "test": f"{case.terrain}/{case.motion}"}
 
     def run():
-        return run_case(case, urdf=urdf, terrain_file=inputs["terrain"], track=params["robot"]["track"],
-                        max_wheel_torque=params["robot"]["max_wheel_torque"],
-                        timestep=params["physics"]["timestep"], ground_friction=params["physics"]["ground_friction"],
-                        engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
-                        seed=int(params["seed"]), limits=HealthLimits(**params["health"]),
-                        robot_options=params["robot"])
+        scenario = scenario_from(params, urdf, load(inputs["terrain"]))
+        return run_case(case, scenario, params["robot"]["track"], Recording.from_params(params))
 
     return which, run

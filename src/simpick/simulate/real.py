@@ -9,13 +9,11 @@ import numpy as np
 import pandas as pd
 
 from simpick.errors import InputError
-from simpick.inputs.robot import load_from_config
 from simpick.inputs.terrain import generate
 from simpick.real.logs import read_canonical
 from simpick.real.segments import load_segments
-from simpick.simulate.health import HealthLimits
-from simpick.simulate.imu import ImuModel, model_at_rate
-from simpick.simulate.run import Case, config_hash, run_case, run_commands, stable_seed
+from simpick.simulate.imu import model_at_rate
+from simpick.simulate.run import Case, Recording, config_hash, run_case, run_commands, scenario_from, stable_seed
 
 
 def flat_terrain(name: str, friction: float) -> dict:
@@ -42,12 +40,8 @@ def simulate_segment(seg: pd.Series, urdf: str, params: dict) -> tuple[pd.DataFr
     heading = start_heading(params["seed"], seg.dataset, seg.terrain_class, seg.run, seg.name)
     case = Case(engine=params["engine"], terrain=params["terrain_class"], motion=seg.name, v=float(seg.v),
                 w=float(seg.w), duration=float(seg.settle + seg.duration), start=(0.0, 0.0, heading))
-    frame, meta = run_case(case, urdf=urdf, terrain=flat_terrain(params["terrain_class"], friction),
-                           track=params["robot"]["track"], max_wheel_torque=params["robot"]["max_wheel_torque"],
-                           timestep=params["physics"]["timestep"], ground_friction=friction,
-                           engine_settings=params["engine_settings"], imu=ImuModel(**params["imu"]),
-                           seed=int(params["seed"]), limits=HealthLimits(**params["health"]),
-                           robot_options=params["robot"])
+    scenario = scenario_from(params, urdf, flat_terrain(params["terrain_class"], friction), ground_friction=friction)
+    frame, meta = run_case(case, scenario, params["robot"]["track"], Recording.from_params(params))
     meta.update({"dataset": seg.dataset, "run": seg.run, "segment": seg.name,
                  "start_heading_deg": float(np.degrees(heading)),
                  "window": [float(seg.settle), float(seg.settle + seg.duration)],
@@ -70,24 +64,21 @@ def log_imu_rate(log) -> float:
 def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> tuple[pd.DataFrame, dict]:
     """Drive one engine with a real run's recorded wheel speeds (zero-order hold, from rest, from
     the run's seeded start heading: :func:`start_heading`)."""
-    robot = load_from_config({**params["robot"], "urdf": urdf})
     dt = params["physics"]["timestep"]
     cmd = log.wheel_commands(params["robot"]["track"])
     end = float(min(log.imu.time.iloc[-1], cmd.time.iloc[-1]))
     t = dt * np.arange(int(round((end if duration is None else min(end, duration)) / dt)))
     held = np.clip(np.searchsorted(cmd.time.to_numpy(), t, side="right") - 1, 0, len(cmd) - 1)
     left, right = cmd.v_left.to_numpy()[held], cmd.v_right.to_numpy()[held]
-    wheels = robot.joint_speeds(left, right)  # (steps, driven wheels): the Husky's [l, r, l, r] / radius
     friction = params["class"]["friction"]
     heading = start_heading(params["seed"], log.meta.get("dataset"), params["terrain_class"], log.meta["run_id"],
                             log.meta["name"])
-    frame, meta = run_commands(params["engine"], wheels, robot=robot,
-                               terrain=flat_terrain(params["terrain_class"], friction), start=(0.0, 0.0, heading),
-                               timestep=dt, ground_friction=friction, max_wheel_torque=params["robot"]["max_wheel_torque"],
-                               engine_settings=params["engine_settings"],
-                               imu=model_at_rate(params["imu"], log_imu_rate(log), dt),
-                               noise_seed=stable_seed(params["seed"], params["engine"], log.meta["name"]),
-                               limits=HealthLimits(**params["health"]))
+    scenario = scenario_from(params, urdf, flat_terrain(params["terrain_class"], friction), ((0.0, 0.0, heading),),
+                             ground_friction=friction)
+    wheels = scenario.robot.joint_speeds(left, right)  # (steps, driven wheels): the Husky's [l, r, l, r] / radius
+    recording = Recording.from_params(params, imu=model_at_rate(params["imu"], log_imu_rate(log), dt))
+    frame, meta = run_commands(params["engine"], wheels, scenario, recording,
+                               stable_seed(params["seed"], params["engine"], log.meta["name"]))
     meta.update({"terrain": params["terrain_class"], "motion": f"replay-{log.meta['run_id']}",
                  "dataset": log.meta.get("dataset"), "run": str(log.meta["run_id"]), "seed": params["seed"],
                  "replay_of": log.meta.get("source_files"), "real_imu_rate_hz": log_imu_rate(log),

@@ -5,21 +5,25 @@ Kept free of Snakemake so tests and benchmarks call exactly what the workflow ca
 
 from __future__ import annotations
 
+import dataclasses
 import platform
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 import simpick
-from simpick.inputs import terrain as terrain_io
 from simpick.engines import get_engine
 from simpick.engines.base import PhysicsRecord, Scenario
-from simpick.simulate.health import HealthLimits, check
-from simpick.simulate.imu import ImuModel, block_average, euler_rpy, interval_average, rotation_matrices, sensor_output
+from simpick.engines.kinematics import euler_rpy, rotation_matrices
 from simpick.inputs.motions import constant_commands
 from simpick.inputs.robot import RobotSpec, load_from_config
+from simpick.inputs.terrain import Terrain
 from simpick.seeds import config_hash, stable_seed  # noqa: F401 (re-exported: the jobs import them from here)
+from simpick.simulate.health import HealthLimits, check
+from simpick.simulate.imu import ImuModel, block_average, interval_average, sensor_output
 
 
 @dataclass(frozen=True)
@@ -79,23 +83,52 @@ def to_trace(record: PhysicsRecord, commands: np.ndarray, timestep: float, imu: 
     return frame
 
 
-def run_commands(engine_name: str, commands: np.ndarray, *, robot: RobotSpec, terrain: dict,
-                 start: tuple[float, float, float], timestep: float, ground_friction: float,
-                 max_wheel_torque: float, engine_settings: dict, imu: ImuModel, noise_seed: int,
-                 limits: HealthLimits) -> tuple[dict[str, np.ndarray], dict]:
-    """Drive robot 0 with ``commands`` (steps, driven wheels) joint speeds; returns the trace and its metadata."""
+@dataclass(frozen=True)
+class Recording:
+    """How a run becomes a trace: the simulated IMU, the health limits it is checked against and the
+    study seed its noise derives from."""
+
+    imu: ImuModel
+    limits: HealthLimits = HealthLimits()
+    seed: int = 0
+
+    @classmethod
+    def from_params(cls, params: Mapping[str, Any], imu: ImuModel | None = None) -> Recording:
+        """From a job's params (``imu``, ``health``, ``seed``); ``imu``: another sensor model (a replay's
+        at the real log's rate)."""
+        limits = HealthLimits(**params["health"]) if params.get("health") else HealthLimits()
+        return cls(imu=ImuModel(**params["imu"]) if imu is None else imu, limits=limits, seed=int(params["seed"]))
+
+
+def scenario_from(params: Mapping[str, Any], urdf: str | Path, terrain: Terrain | Mapping,
+                  starts=((0.0, 0.0, 0.0),), *, ground_friction: float | None = None) -> Scenario:
+    """A job's params read once into the typed :class:`~simpick.engines.base.Scenario` its engine
+    builds: the robot (``params["robot"]``: its options, ``max_wheel_torque``; the description ``urdf``),
+    ``terrain`` (a Terrain or a terrain file's dict), the physics (``timestep``, ``ground_friction``
+    unless the case sets its own) and ``engine_settings``."""
+    robot = load_from_config({**params["robot"], "urdf": urdf})
+    physics = params["physics"]
+    return Scenario(robot=robot, terrain=Terrain.of(terrain),
+                    ground_friction=physics["ground_friction"] if ground_friction is None else ground_friction,
+                    timestep=physics["timestep"], max_wheel_torque=params["robot"]["max_wheel_torque"],
+                    starts=tuple(tuple(start) for start in starts), settings=params["engine_settings"])
+
+
+def run_commands(engine_name: str, commands: np.ndarray, scenario: Scenario, recording: Recording,
+                 noise_seed: int) -> tuple[dict[str, np.ndarray], dict]:
+    """Drive the scenario's robot 0 with ``commands`` (steps, driven wheels) joint speeds; returns the
+    trace and its metadata."""
     engine = get_engine(engine_name)
-    scenario = Scenario(robot=robot, terrain=terrain, ground_friction=ground_friction, timestep=timestep,
-                        max_wheel_torque=max_wheel_torque, starts=(tuple(start),), settings=engine_settings)
     commands = commands.reshape(len(commands), 1, -1)
     record = engine.simulate(scenario, commands)
-    health = check(record, limits, commands[:, 0])
-    frame = to_trace(record, commands, timestep, imu, np.random.default_rng(noise_seed), robot)
+    health = check(record, recording.limits, commands[:, 0])
+    timestep, imu = scenario.timestep, recording.imu
+    frame = to_trace(record, commands, timestep, imu, np.random.default_rng(noise_seed), scenario.robot)
     sim_time = record.steps * timestep
     metadata = {
         "engine": engine_name, "engine_version": engine.version(), "timestep": timestep,
-        "imu_rate_hz": imu.rate_hz, "noise_seed": noise_seed, "terrain_seed": terrain.get("seed"),
-        "ground_friction": ground_friction, "terrain_friction": terrain.get("friction"),
+        "imu_rate_hz": imu.rate_hz, "noise_seed": noise_seed, "terrain_seed": scenario.terrain.seed,
+        "ground_friction": scenario.ground_friction, "terrain_friction": scenario.terrain.friction,
         "steps": record.steps, "sim_time": sim_time, "wall_time": record.wall_time, "cpu_time": record.cpu_time,
         "real_time_factor": sim_time / record.wall_time if record.wall_time > 0 else None,
         "health": health.as_dict(), "simpick_version": simpick.__version__, "python": platform.python_version(),
@@ -103,21 +136,13 @@ def run_commands(engine_name: str, commands: np.ndarray, *, robot: RobotSpec, te
     return frame, metadata
 
 
-def run_case(case: Case, *, urdf: str | Path, terrain_file: str | Path | None = None, terrain: dict | None = None,
-             track: float, max_wheel_torque: float, timestep: float, ground_friction: float,
-             engine_settings: dict, imu: ImuModel, seed: int,
-             limits: HealthLimits = HealthLimits(), robot_options: dict | None = None
-             ) -> tuple[dict[str, np.ndarray], dict]:
-    """One constant-command case; the terrain comes from a file or, already loaded, as a dict.
-    ``robot_options``: the config's ``robot`` block (imu_link, wheels, overrides)."""
-    robot = load_from_config({**(robot_options or {}), "urdf": urdf})
-    terrain = terrain if terrain is not None else terrain_io.load(terrain_file)
-    commands = constant_commands(case.v, case.w, case.duration, timestep, track, robot)[:, 0]
-    noise_seed = stable_seed(seed, case.engine, case.terrain, case.motion)
-    frame, metadata = run_commands(case.engine, commands, robot=robot, terrain=terrain, start=case.start,
-                                   timestep=timestep, ground_friction=ground_friction,
-                                   max_wheel_torque=max_wheel_torque, engine_settings=engine_settings, imu=imu,
-                                   noise_seed=noise_seed, limits=limits)
-    metadata.update({"terrain": case.terrain, "motion": case.motion, "seed": seed,
+def run_case(case: Case, scenario: Scenario, track: float, recording: Recording) -> tuple[dict[str, np.ndarray], dict]:
+    """One constant-command case on ``scenario`` (its robot started at ``case.start``); ``track``: the
+    controller's effective track, m (the config's ``robot.track``)."""
+    scenario = dataclasses.replace(scenario, starts=(tuple(case.start),))
+    commands = constant_commands(case.v, case.w, case.duration, scenario.timestep, track, scenario.robot)[:, 0]
+    noise_seed = stable_seed(recording.seed, case.engine, case.terrain, case.motion)
+    frame, metadata = run_commands(case.engine, commands, scenario, recording, noise_seed)
+    metadata.update({"terrain": case.terrain, "motion": case.motion, "seed": recording.seed,
                      "command": {"v": case.v, "w": case.w, "track": track}})
     return frame, metadata

@@ -62,7 +62,8 @@ from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario
 from simpick.errors import InputError
 from simpick.inputs.motions import side_speeds
 from simpick.inputs.robot import RobotSpec, load_from_config
-from simpick.simulate.imu import block_average, euler_rpy, rotation_matrices
+from simpick.engines.kinematics import euler_rpy, rotation_matrices
+from simpick.simulate.imu import block_average
 from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
 from simpick.tables import write_csv
 
