@@ -49,16 +49,7 @@ LAYERS = (
 # (importing module, imported module): why it is still there. Known imports against the order, to
 # be removed by moving what they need; an entry that no longer occurs fails the test too, so the
 # list only shrinks.
-ALLOWED = {
-    # the engines compute the IMU from kinematics with simulate.imu, while simulate drives the engines:
-    # the one engine runner (engines/runner.py) is to own that, with the IMU model below the engines
-    ("simpick.engines.baselines", "simpick.simulate.imu"): "IMU from kinematics, to move under engines",
-    ("simpick.engines.dart_engine", "simpick.simulate.imu"): "IMU from kinematics, to move under engines",
-    ("simpick.engines.drake_engine", "simpick.simulate.imu"): "IMU from kinematics, to move under engines",
-    ("simpick.engines.ode_engine", "simpick.simulate.imu"): "IMU from kinematics, to move under engines",
-    ("simpick.engines.physx_engine", "simpick.simulate.imu"): "IMU from kinematics, to move under engines",
-    ("simpick.engines.pybullet_engine", "simpick.simulate.imu"): "IMU from kinematics, to move under engines",
-}
+ALLOWED: dict[tuple[str, str], str] = {}
 
 
 def layer_of(module: str) -> int:
