@@ -5,6 +5,7 @@ from __future__ import annotations
 
 REQUIRED_INPUTS: tuple[str, ...] = ("weighted", "runs")
 OPTIONAL_INPUTS: tuple[str, ...] = (
+    "contributions",
     "sweep",
     "calibration",
     "calibration_turning",
@@ -49,6 +50,9 @@ OPTIONAL_INPUTS: tuple[str, ...] = (
     "verdict_discrimination",
     "verdict_headings",
     "verdict_headline",
+    "verdict_outcomes",
+    "verdict_answer",
+    "verdict_sentences",
 )
 # Inputs that are lists of paths (the workflow script passes these as lists).
 LIST_INPUTS: tuple[str, ...] = ("cpu", "traces", "real_logs", "replay_traces", "figures")
