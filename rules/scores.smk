@@ -11,7 +11,6 @@ rule scores:
     output:
         scores=report("results/scores/scores.csv", caption="captions/scores.rst", category="Scores"),
         weighted=report("results/scores/weighted.csv", caption="captions/weighted.rst", category="Scores"),
-        contributions=report("results/scores/contributions.csv", caption="captions/contributions.rst", category="Scores"),
         provenance=report("results/scores/provenance.yaml", caption="captions/scores_provenance.rst", category="Scores"),
     log:
         "results/logs/scores.log",

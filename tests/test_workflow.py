@@ -67,7 +67,7 @@ def test_tolerance_edit_rejudges_without_stepping_an_engine(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        assert rules == ["all", "figure_validation", "report", "validation_summary"]
+        assert rules == ["all", "figure_validation", "report", "report_pdf", "validation_summary"]
     finally:
         write_config(workdir, config)
 
@@ -84,9 +84,9 @@ def test_weight_edit_reruns_only_scoring_and_report(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        # no figure shows the weights (the page draws weight x score from the scores job's table); the
-        # verdict gives the weighted total its interval over real runs
-        assert rules == ["all", "report", "scores", "verdict"]
+        # figure_contributions draws weight x score per metric: the one figure the weights reach; the
+        # verdict gives the weighted total its interval over real runs and says what decides the order
+        assert rules == ["all", "figure_contributions", "report", "report_pdf", "scores", "verdict"]
     finally:
         write_config(workdir, config)
 
@@ -107,7 +107,7 @@ def test_template_edit_reruns_only_the_report(study, tmp_path):
     template = copy / "simpick" / "report" / "templates" / "report.html.j2"
     template.write_text(template.read_text() + "\n{# edited #}\n")
     rules = sorted({rule for rule, _ in planned_jobs(workdir, env)})
-    assert rules == ["all", "report"]
+    assert rules == ["all", "report", "report_pdf"]
 
 
 def edited_library(tmp_path, module: str, old: str, new: str) -> dict:
@@ -167,7 +167,7 @@ def test_a_source_module_edit_reruns_that_sources_jobs_only(study, tmp_path):
 def test_a_report_edit_simulates_nothing(study, tmp_path):
     workdir, _ = study
     env = edited_library(tmp_path, "report/build.py", "\nTEMPLATE = ", "\nEDITED = True\nTEMPLATE = ")
-    assert sorted({rule for rule, _ in planned_jobs(workdir, env)}) == ["all", "report"]
+    assert sorted({rule for rule, _ in planned_jobs(workdir, env)}) == ["all", "report", "report_pdf"]
 
 
 def test_an_rtf_edit_reruns_the_summaries_not_the_simulations(study, tmp_path):

@@ -58,12 +58,7 @@ def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[st
     scores = pd.DataFrame.from_dict(rows, orient="index")[list(scoring.METRICS)]
     scores.index.name = "engine"
     write_csv(scores, outputs["scores"], index=True)
-    weighted = scoring.weighted_table(scores, weights)
-    write_csv(weighted, outputs["weighted"], index=True)
-    if outputs.get("contributions"):  # the weighted table cell by cell, for the report to show as written
-        from simpick.score.contributions import contributions_table
-
-        write_csv(contributions_table(weighted, weights), outputs["contributions"])
+    write_csv(scoring.weighted_table(scores, weights), outputs["weighted"], index=True)
     if outputs.get("provenance"):
         record = score_provenance(engines, imu_errors, rtf, cpu_files, sources or {})
         Path(outputs["provenance"]).write_text(yaml.safe_dump(record, sort_keys=False))
