@@ -272,6 +272,7 @@ rule report:
         unpack(PLAN.report_real_inputs),
         weighted="results/scores/weighted.csv",
         contributions="results/scores/contributions.csv",
+        drivers="results/scores/drivers.csv",
         scores_provenance="results/scores/provenance.yaml",
         validation="results/validation/summary.csv",
         validation_gains="results/validation/gains.csv",

@@ -14,7 +14,7 @@ import pytest
 import yaml
 
 from simpick.inputs.published import load_published, write_outputs
-from simpick.score.contributions import contributions_table
+from simpick.score.contributions import contributions, drivers
 from simpick.score.scoring import DEFAULT_WEIGHTS, METRICS, weighted_table
 from simpick.simulate.traces import write_trace
 
@@ -186,7 +186,9 @@ def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | Non
     scores.index.name = "engine"
     weighted = weighted_table(scores, DEFAULT_WEIGHTS)
     weighted.to_csv(root / "weighted.csv", index_label="engine", float_format="%.17g")
-    contributions_table(weighted, DEFAULT_WEIGHTS).to_csv(root / "contributions.csv", index=False, float_format="%.17g")
+    cells = contributions(weighted, DEFAULT_WEIGHTS)
+    cells.to_csv(root / "contributions.csv", index=False, float_format="%.17g")
+    drivers(cells).to_csv(root / "drivers.csv", index=False, float_format="%.17g")
     # what the scores rest on, recorded as the scores job records it
     from simpick.score.jobs import score_provenance
     scored = str(accuracy_errors or root / "metrics" / "imu_errors.csv")
@@ -201,6 +203,7 @@ def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | Non
     return {
         "weighted": str(root / "weighted.csv"),
         "contributions": str(root / "contributions.csv"),
+        "drivers": str(root / "drivers.csv"),
         "scores_provenance": str(root / "provenance.yaml"),
         "accuracy_errors": scored,
         "trace_stats": str(root / "metrics" / "trace_stats.csv"),
@@ -332,8 +335,12 @@ def test_ranking_table_has_engines_and_totals(built):
     # the weighted table's cells are the scores job's (contributions.csv), shown as written
     cells = pd.read_csv(inputs["contributions"])
     wtable = re.search(r'<table[^>]*id="weighted-table".*?</table>', text, re.S).group(0)
-    for r in cells[cells.measured].itertuples():
-        assert f"{r.weighted:.3f}" in wtable
+    for r in cells[~cells.excluded].itertuples():
+        assert f"{r.points:.3f}" in wtable
+    # what puts the leader ahead, as drivers.csv says
+    gap = re.search(r'<p id="ranking-gap">(.*?)</p>', text, re.S).group(1)
+    lead = pd.read_csv(inputs["drivers"]).sort_values("order").iloc[0]
+    assert f"{lead.gap:.3f} points" in gap and f"+{lead.difference:.3f}" in gap
     assert "Your priorities: the paper's weighted method" in text
 
 
@@ -579,20 +586,23 @@ def built_real(tmp_path_factory):
 
 
 def write_verdict(root: Path, per_test: str, weighted: str) -> dict:
-    """The verdict rule's tables (simpick.score.verdict.verdict_job) from the synthetic real data."""
-    from simpick.score.verdict import verdict_job
+    """The verdict's tables the report reads: the per-run metrics (simpick.score.verdict), what the
+    paper's accuracy scores separate, a headline, and the answer's tables (:func:`write_answer`)."""
+    from simpick.score.verdict import METRICS as VERDICT_METRICS
+    from simpick.score.verdict import per_run_values, read_per_test, score_discrimination
 
     root.mkdir(parents=True, exist_ok=True)
-    provenance = root / "provenance.yaml"
-    provenance.write_text(yaml.safe_dump({"accuracy": {"set": "segments", "per_test_file": per_test}}))
-    outputs = {k: str(root / f"{k}.csv") for k in ("metrics", "table", "separation", "ranking", "discrimination",
-                                                    "headings")}
-    outputs["headline"] = str(root / "headline.yaml")
-    verdict_job(per_test, weighted, str(provenance),
-                {"engines": list(ENGINES), "baselines": [], "statistics": {"min_runs": 6, "level": 0.95},
-                 "weights": dict(DEFAULT_WEIGHTS), "seed": 3, "source": "segments", "source_title": "test segments"},
-                outputs)
-    out = {f"verdict_{k}": v for k, v in outputs.items()}
+    tests = read_per_test(per_test)
+    long = [{"run": run, "model": m, "metric": metric, "value": v} for metric in VERDICT_METRICS
+            for run, row in per_run_values(tests, metric).iterrows() for m, v in row.items() if np.isfinite(v)]
+    pd.DataFrame(long, columns=["run", "model", "metric", "value"]).to_csv(root / "metrics.csv", index=False)
+    score_discrimination(tests, list(ENGINES), [], statistics={"min_runs": 6, "level": 0.95}, resamples=200,
+                         seed=3).to_csv(root / "discrimination.csv", index=False, float_format="%.17g")
+    (root / "headline.yaml").write_text(yaml.safe_dump({"paragraph": "Closest to the real Husky: mujoco.",
+                                                        "n_runs": 8, "source": "segments",
+                                                        "source_title": "test segments"}))
+    out = {"verdict_metrics": str(root / "metrics.csv"), "verdict_discrimination": str(root / "discrimination.csv"),
+           "verdict_headline": str(root / "headline.yaml")}
     out.update(write_answer(root))
     return out
 
@@ -727,7 +737,7 @@ def test_the_report_package_computes_no_total_or_verdict():
     forbidden = {
         r"weights?\s*\[[^\]]*\]\s*\*|\*\s*weights?\s*\[": "a weight multiplied",
         r"\.mul\(": "a column multiplied (a weighted total)",
-        r"weighted_table|contributions_table": "the scores job's functions called",
+        r"weighted_table|contributions\(|drivers\(": "the scores job's functions called",
         r"closer\"|\" closer|startswith\(\"too few": "a verdict read from its wording",
         r"p_value\s*<|p_worse\s*<|p_equivalent\s*<|<\s*1\s*-\s*level": "a p-value compared",
         r"recomputed_total|mismatched": "a total recomputed",

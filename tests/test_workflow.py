@@ -67,7 +67,7 @@ def test_tolerance_edit_rejudges_without_stepping_an_engine(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        assert rules == ["all", "figure_validation", "report", "report_pdf", "validation_summary"]
+        assert rules == ["all", "figure_validation", "report", "validation_summary"]
     finally:
         write_config(workdir, config)
 
@@ -84,10 +84,10 @@ def test_weight_edit_reruns_only_scoring_and_report(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        # figure_contributions draws weight x score per metric: the one figure the weights reach; the
+        # no figure shows the weights (the page draws weight x score from the scores' contributions); the
         # answer gives the weighted total its interval over real runs and flags it; the verdict's tests
         # (each engine against the best) read no weight and do not rerun
-        assert rules == ["all", "answer", "figure_contributions", "report", "report_pdf", "scores"]
+        assert rules == ["all", "answer", "report", "scores"]
     finally:
         write_config(workdir, config)
 
@@ -100,9 +100,9 @@ def test_margin_edit_reruns_only_the_verdict_and_the_report(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        # the margin reaches the verdict's rule through its params; the answer and the report read its
-        # outcomes: no score, no simulation, no figure
-        assert rules == ["all", "answer", "report", "report_pdf", "verdict"]
+        # the margin reaches the verdict's rule through its params; the answer, the answer's figure (the
+        # margin shaded) and the report read its outcomes: no score, no simulation, no other figure
+        assert rules == ["all", "answer", "figure_answer", "report", "verdict"]
     finally:
         write_config(workdir, config)
 
@@ -123,7 +123,7 @@ def test_template_edit_reruns_only_the_report(study, tmp_path):
     template = copy / "simpick" / "report" / "templates" / "report.html.j2"
     template.write_text(template.read_text() + "\n{# edited #}\n")
     rules = sorted({rule for rule, _ in planned_jobs(workdir, env)})
-    assert rules == ["all", "report", "report_pdf"]
+    assert rules == ["all", "report"]
 
 
 def edited_library(tmp_path, module: str, old: str, new: str) -> dict:
@@ -183,7 +183,7 @@ def test_a_source_module_edit_reruns_that_sources_jobs_only(study, tmp_path):
 def test_a_report_edit_simulates_nothing(study, tmp_path):
     workdir, _ = study
     env = edited_library(tmp_path, "report/build.py", "\nTEMPLATE = ", "\nEDITED = True\nTEMPLATE = ")
-    assert sorted({rule for rule, _ in planned_jobs(workdir, env)}) == ["all", "report", "report_pdf"]
+    assert sorted({rule for rule, _ in planned_jobs(workdir, env)}) == ["all", "report"]
 
 
 def test_an_rtf_edit_reruns_the_summaries_not_the_simulations(study, tmp_path):

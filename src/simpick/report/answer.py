@@ -76,7 +76,7 @@ def answer_section(answer: pd.DataFrame | None, outcomes: pd.DataFrame | None, s
     """The first page's table, sentences and figure. ``sections``: the anchors the report has,
     so that a sentence cites only a figure that is there."""
     if answer is None:
-        return {"given": False}
+        return {"given": False, "flagged": [], "rows": [], "metrics": [], "sentences": []}
     metrics = _metrics(outcomes, answer)
     order = {e: i for i, e in enumerate(engines)}
     rows = []

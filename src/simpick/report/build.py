@@ -162,14 +162,29 @@ def _ranking(data: ReportData, weights: dict[str, float]) -> dict[str, Any]:
         for m in dict.fromkeys(c["metric"]):
             first = c[c["metric"] == m].iloc[0]
             metric_rows.append({"key": m, "label": first["label"], "weight": first["weight"], "group": first["group"],
-                                "cells": [{"score": cells[(e, m)]["score"], "weighted": cells[(e, m)]["weighted"],
-                                           "nan": not cells[(e, m)]["measured"]} if (e, m) in cells else
+                                "cells": [{"score": cells[(e, m)]["score"], "weighted": cells[(e, m)]["points"],
+                                           "nan": bool(cells[(e, m)]["excluded"])} if (e, m) in cells else
                                           {"score": None, "weighted": None, "nan": True} for e in w.index]})
         for e in w.index:
-            bars.append({"engine": e, "parts": [{"metric": r["metric"], "label": r["label"], "weighted": r["weighted"]}
+            bars.append({"engine": e, "parts": [{"metric": r["metric"], "label": r["label"], "weighted": r["points"]}
                                                  for r in c[c["engine"] == e].to_dict("records")]})
+        for r in rows:
+            sel = c[c["engine"] == r["engine"]]
+            r["share"] = sel["share"].iloc[0] if len(sel) else None
+    gap = None
+    d = data.drivers
+    if d is not None and len(rows) >= 2 and len(d):
+        second = d[d["engine"] == rows[1]["engine"]]
+        if len(second):
+            # the drivers table orders the metrics by how far each puts the leader ahead (order 1 first)
+            second = second.sort_values("order", kind="mergesort")
+            gap = {"leader": second["leader"].iloc[0], "second": rows[1]["engine"], "value": second["gap"].iloc[0],
+                   "drivers": [(r["label"], r["difference"]) for r in second.head(3).to_dict("records")
+                               if r["difference"] > 0],
+                   "against": [(r["label"], r["difference"]) for r in second.iloc[::-1].head(3).to_dict("records")
+                               if r["difference"] < 0]}
     return {"rows": rows, "metric_rows": metric_rows, "bars": bars, "max_total": sum(weights.values()),
-            "engines": list(w.index), "given": c is not None}
+            "engines": list(w.index), "given": c is not None, "gap": gap}
 
 
 def _qualitative(data: ReportData, engines: list[str]) -> dict[str, Any] | None:

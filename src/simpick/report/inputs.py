@@ -6,6 +6,7 @@ from __future__ import annotations
 REQUIRED_INPUTS: tuple[str, ...] = ("weighted", "runs")
 OPTIONAL_INPUTS: tuple[str, ...] = (
     "contributions",
+    "drivers",
     "sweep",
     "calibration",
     "calibration_turning",

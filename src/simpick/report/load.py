@@ -69,7 +69,10 @@ COLUMNS: dict[str, tuple[str, ...]] = {
                                "floor_models"),
     "verdict_metrics": ("run", "model", "metric", "value"),
     # the paper's weighted table cell by cell (simpick.score.contributions)
-    "contributions": ("engine", "rank", "total", "metric", "label", "group", "weight", "score", "measured", "weighted"),
+    "contributions": ("engine", "rank", "total", "share", "metric", "label", "group", "weight", "score", "points",
+                      "excluded"),
+    # what puts the leader ahead of each engine, metric by metric (simpick.score.contributions.drivers)
+    "drivers": ("engine", "leader", "gap", "metric", "label", "difference", "order"),
     # the answer: every engine against the best per real-data metric, and the first page's row per engine
     "verdict_outcomes": ("metric", "label", "unit", "engine", "n_runs", "mean", "low", "high", "best", "is_best",
                          "diff_to_best", "diff_low", "diff_high", "margin", "margin_basis", "p_worse", "p_equivalent",
@@ -97,8 +100,10 @@ TEXT_COLUMNS = {"excluded", "reasons", "tests", "status", "source", "engine", "t
                 "engine_a", "engine_b", "verdict", "dataset", "case", "kind", "error_kind",
                 "model", "next", "note", "label", "method", "best", "second", "statement", "floor_models",
                 "outcome", "margin_basis", "group", "mechanics", "mechanics_note", "paper_flag"}
-# Bool columns: True/False in the CSV, read as bool (an empty cell as False).
-BOOL_COLUMNS = {"is_best", "recommendable", "matches", "measured"}
+# Bool columns per table: True/False in the CSV, read as bool (an empty cell as False); in every table a
+# summary's <figure>_closest (simpick.compare.real.class_verdicts).
+BOOL_COLUMNS = {"contributions": {"excluded"}, "verdict_outcomes": {"is_best", "recommendable"},
+                "table11_comparison": {"matches"}}
 
 
 @dataclass
@@ -116,6 +121,7 @@ class ReportData:
     weighted: pd.DataFrame
     runs: pd.DataFrame
     contributions: pd.DataFrame | None = None  # the weighted table cell by cell (results/scores/contributions.csv)
+    drivers: pd.DataFrame | None = None  # what puts the leader ahead of each engine (results/scores/drivers.csv)
     trace_stats: pd.DataFrame | None = None
     reference_stats: pd.DataFrame | None = None
     imu_errors: pd.DataFrame | None = None
@@ -189,11 +195,12 @@ def _csv(name: str, path: Path, index: str | None = None) -> pd.DataFrame:
         head = pd.read_csv(path, nrows=0)
     except (pd.errors.EmptyDataError, pd.errors.ParserError, UnicodeDecodeError) as exc:
         raise InputError(str(path), f"not a readable CSV: {exc}") from None
-    dtypes = {c: "string" for c in head.columns if c in TEXT_COLUMNS or c.endswith("_outcome")}
+    bools = {c for c in head.columns if c in BOOL_COLUMNS.get(name, ()) or c.endswith("_closest")}
+    dtypes = {c: "string" for c in head.columns if (c in TEXT_COLUMNS or c.endswith("_outcome")) and c not in bools}
     df = pd.read_csv(path, dtype=dtypes, keep_default_na=True)
     for c in dtypes:
         df[c] = df[c].fillna("").astype(str)
-    for c in BOOL_COLUMNS & set(df.columns):
+    for c in bools:
         df[c] = df[c].astype(str).str.strip().str.lower().isin(["true", "1", "1.0"])
     have = set(df.columns)
     missing = [c for c in COLUMNS.get(name, ()) if c not in have]
@@ -268,7 +275,7 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
             else:
                 kw[key] = _csv(key, p, index)
 
-    for key in ("contributions", "accuracy_errors", "accuracy_per_test", "segments", "replay_per_window", "validation",
+    for key in ("contributions", "drivers", "accuracy_errors", "accuracy_per_test", "segments", "replay_per_window", "validation",
                 "validation_gains", "sweep", "calibration", "calibration_turning", "calibration_target",
                 "real_turning"):
         if given(key):
