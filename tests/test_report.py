@@ -434,12 +434,14 @@ TRACK = 0.555
 
 
 def _write_summaries(per_test, outputs):
-    """The summarise step's summary and pairwise tables of ``per_test`` (per terrain class)."""
-    from simpick.compare.real import pairwise_table, summary_table
+    """The summarise step's summary (with each class's closest engine and outcome) and pairwise tables
+    of ``per_test`` (per terrain class), as simpick.compare.jobs.source_tables writes them."""
+    from simpick.compare.real import class_verdicts, pairwise_table, summary_table
     from simpick.tables import write_csv
 
-    write_csv(summary_table(per_test, "terrain_class"), outputs["summary"])
-    write_csv(pairwise_table(per_test, "terrain_class"), outputs["pairwise"])
+    pairwise = pairwise_table(per_test, "terrain_class")
+    write_csv(class_verdicts(summary_table(per_test, "terrain_class"), pairwise, "terrain_class"), outputs["summary"])
+    write_csv(pairwise, outputs["pairwise"])
 
 
 def _segment_rows() -> list[dict]:
@@ -676,12 +678,14 @@ def test_the_first_page_is_the_answer_per_engine(built_real):
     for r in answer.itertuples():
         assert r.engine in table
         assert f"{r.paper_total:.3f} ({r.paper_rank})" in table
-    rows = {e: re.search(rf"<tr[^>]*><td><span class=\"engine\">.*?{e}</span></td>.*?</tr>", table, re.S).group(0)
-            for e in answer.engine}
+    body_rows = table.split("<tbody>")[1].split("<tr")[1:]
+    rows = {e: next(r for r in body_rows if f"</span>{e}</span></td>" in r) for e in answer.engine}
     assert "fails 14 of 20" in rows["pybullet"] and "⚑ fails mechanics (14 of 20 cases)" in rows["pybullet"]
     assert "passes" in rows["mujoco"] and "⚑" not in rows["mujoco"]
     assert "worse" in rows["pybullet"] and "+0.165 [+0.120, +0.210]" in rows["pybullet"]
-    assert "undetermined" in rows["pybullet"] and "margin ±0.010" in rows["pybullet"]
+    assert "undetermined" in rows["pybullet"] and "margin ±0.010" in table.split("<tbody>")[0]
+    # engines that pass the mechanics first
+    assert table.index("</span>mujoco</span>") < table.index("</span>pybullet</span>")
     assert "0.16" in rows["pybullet"] and "95.2" in rows["pybullet"] and "812" in rows["mujoco"]
     section = _section(text, 'id="answer"', "</section>")
     assert "The paper's total</b> is the paper's weighted method" in section
@@ -757,19 +761,26 @@ def test_real_section_has_per_class_tables_and_the_appendix_its_raw_tables(built
     assert pdf.read_bytes()[:4] == b"%PDF"
     sec = _section(text, '<h2 id="real">', '<h2 id="health"')
     assert "the engines against the real Husky per terrain class" in sec
+    # per class at a glance in the section, from the summary's typed columns (closest engine, outcome)
+    glance = re.search(r'<table[^>]*id="real-glance".*?</table>', sec, re.S).group(0)
+    summary = pd.read_csv(inputs["segments_summary"])
+    for r in summary[summary.error_angular_closest].itertuples():
+        row = next(x for x in glance.split("<tr>")[1:] if f"<td>{r.terrain_class.replace('_', ' ')}</td>" in x)
+        assert f"</span>{r.engine}</span>" in row.split("</td>")[3] and r.error_angular_outcome in row
+    # each class's table, the replay plots, the paired differences and the segments: appendix D
+    appendix = _section(text, 'id="real-appendix"', 'id="paper"')
     for cls in REAL_CLASSES:
-        table = re.search(rf'<table[^>]*id="real-{cls}-segments".*?</table>', sec, re.S).group(0)
+        table = re.search(rf'<table[^>]*id="real-{cls}-segments".*?</table>', appendix, re.S).group(0)
         assert "real robot" in table and all(e in table for e in ENGINES)
         if cls == "asphalt":
             assert "[" in table  # six runs: intervals
         else:
             assert "[" not in table and "no interval" in table  # two runs: none
-        assert re.search(rf'<table[^>]*id="real-{cls}-replay"', sec)
-    asphalt = _section(sec, 'id="real-asphalt"', "</div>")
+        assert re.search(rf'<table[^>]*id="real-{cls}-replay"', appendix)
+    asphalt = _section(appendix, 'id="real-asphalt"', "</div>")
     assert "from 6 runs" in asphalt
-    # no paragraph of numbers per class: its paired differences are a table in the appendix
-    assert "Closest:" not in sec and 'href="#real-pairwise"' in asphalt
-    appendix = _section(text, 'id="real-appendix"', 'id="paper"')
+    # no paragraph of numbers per class: its paired differences are a table
+    assert "Closest:" not in text and 'href="#real-pairwise"' in asphalt
     pairs = re.search(r'<table[^>]*id="real-pairwise-segments".*?</table>', appendix, re.S).group(0)
     written = pd.read_csv(inputs["segments_pairwise"])
     assert pairs.count("<tr>") - 1 == len(written)  # every row, as written
@@ -782,12 +793,12 @@ def test_real_section_has_per_class_tables_and_the_appendix_its_raw_tables(built
     assert seg_table.count("straight-01-0001p00s") == 1 and "straight-05-0001p00s" in seg_table
     assert "failed" in seg_table
     for cls in REAL_CLASSES:
-        assert f'id="replay-{cls}"' in sec
+        assert f'id="replay-{cls}"' in appendix
     assert "rigid flat ground with one friction coefficient" in sec
     assert "sinkage" in sec.lower()
     for c in REAL_CLASSES.values():
         assert c["source"] in sec
-    assert "slides while commanded to stand still" in sec  # the failed segment is named
+    assert "slides while commanded to stand still" in appendix  # the failed segment is named
 
 
 def test_summary_names_the_accuracy_data(built_real):
@@ -811,7 +822,7 @@ def test_summary_names_the_accuracy_data(built_real):
     listed = re.search(r'<p class="note" id="accuracy-tests">.*?</p>', text, re.S).group(0)
     assert f"The {len(tests)} constant-command segments the accuracy scores cover" in listed
     assert all(t[len(t.split("-", 1)[0]) + 1:] in listed for t in tests)
-    lab = _section(text, 'id="lab-imu"', '<h2 id="real">')
+    lab = _section(text, 'id="lab-imu"', '<h3>IMU statistics per lab test</h3>')
     assert "Lab study: gravel/straight against the paper" in lab and "Not in the accuracy scores" in lab
 
 

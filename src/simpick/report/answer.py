@@ -18,6 +18,7 @@ import pandas as pd
 
 # The real-data metrics in the order the answer shows them (outcomes.csv's ``metric`` column).
 METRIC_ORDER = ("gain_error", "heading_error", "speed_error")
+OUTCOME_ORDER = ("best", "equivalent", "undetermined", "too few runs", "worse", "not measurable")
 OUTCOME_CLASS = {"best": "best", "equivalent": "equivalent", "worse": "worse", "undetermined": "undetermined",
                  "too few runs": "undetermined", "not measurable": "unmeasured"}
 # Each user need, the section of the report its sentence rests on (its figure), and that figure's name.
@@ -76,8 +77,13 @@ def answer_section(answer: pd.DataFrame | None, outcomes: pd.DataFrame | None, s
     """The first page's table, sentences and figure. ``sections``: the anchors the report has,
     so that a sentence cites only a figure that is there."""
     if answer is None:
-        return {"given": False, "flagged": [], "rows": [], "metrics": [], "sentences": []}
+        return {"given": False, "flagged": [], "rows": [], "metrics": [], "sentences": [], "by_engine": {},
+                "unmeasured": []}
     metrics = _metrics(outcomes, answer)
+    # a metric no engine could be measured on gets a line under the table, not a column of dashes
+    unmeasured = [m for m in metrics if all(str(v) in ("not measurable", "", "nan")
+                                            for v in answer[f"{m['key']}_outcome"])]
+    metrics = [m for m in metrics if m not in unmeasured]
     order = {e: i for i, e in enumerate(engines)}
     rows = []
     for r in answer.to_dict("records"):
@@ -94,22 +100,28 @@ def answer_section(answer: pd.DataFrame | None, outcomes: pd.DataFrame | None, s
             "mechanics_failed": None if failed is None else int(failed),
             "mechanics_cases": None if _value(r.get("mechanics_cases")) is None else int(float(r["mechanics_cases"])),
             "mechanics_note": str(r.get("mechanics_note") or ""), "cells": cells,
+            # the note's kinds ("yaw gain (12), incline (2)") under the count the cell already shows
+            "mechanics_kinds": str(r.get("mechanics_note") or "").split(": ", 1)[-1],
             "gain_ratio": _value(r.get("gain_ratio")), "gain_ratio_calibrated": _value(r.get("gain_ratio_calibrated")),
             "rtf": _value(r.get("rtf")), "cpu_average": _value(r.get("cpu_average")),
             "cpu_intense": _value(r.get("cpu_intense")), "paper_total": _value(r.get("paper_total")),
             "paper_rank": None if _value(r.get("paper_rank")) is None else int(float(r["paper_rank"])),
             "paper_flag": str(r.get("paper_flag") or ""),
         })
-    # the verdict's row order when it has one that names every engine; else the report's engine order
-    if not all(r["engine"] in order for r in rows):
-        order = {r["engine"]: i for i, r in enumerate(rows)}
-    rows.sort(key=lambda r: order.get(r["engine"], len(order)))
+    # engines that pass the mechanics first, each group in the order of its outcomes on the first metric
+    # (best, equivalent, undetermined, worse), then by the paper's rank: the table reads from the pick down
+    first = metrics[0]["key"] if metrics else None
+    rank = {o: i for i, o in enumerate(OUTCOME_ORDER)}
+    rows.sort(key=lambda r: (not r["passes"], rank.get(r["cells"][first]["outcome"], len(rank)) if first else 0,
+                             r["paper_rank"] if r["paper_rank"] is not None else len(rows),
+                             order.get(r["engine"], len(order))))
     said = []
     for s in (sentences or {}).get("sentences") or []:
         need = str(s.get("need") or "")
         said.append({"need": need, "title": NEED_TITLES.get(need, need), "text": str(s.get("text") or ""),
                      "rests_on": [str(x) for x in s.get("rests_on") or []],
                      "figure": _figure_ref(need, s, sections)})
-    return {"given": True, "metrics": metrics, "rows": rows, "sentences": said, "figure_uri": figure_uri,
+    return {"given": True, "metrics": metrics, "unmeasured": unmeasured, "rows": rows,
+            "by_engine": {r["engine"]: r for r in rows}, "sentences": said, "figure_uri": figure_uri,
             "calibrated": any(r["gain_ratio_calibrated"] is not None for r in rows),
             "flagged": [r for r in rows if r["paper_flag"]]}

@@ -474,7 +474,7 @@ def answer_figure(metrics: Sequence[dict], colors: Mapping[str, str], path: str 
     plt = _plt()
     shown = [m for m in metrics if m["engines"]]
     n = max((len(m["engines"]) for m in shown), default=1)
-    fig, axs = plt.subplots(2, max(len(shown), 1), figsize=(WIDTH_IN, 0.36 * n * 2 + 1.1), squeeze=False)
+    fig, axs = plt.subplots(2, max(len(shown), 1), figsize=(WIDTH_IN, 0.14 * n * 2 + 1.0), squeeze=False)
     for col, m in enumerate(shown):
         rows = m["engines"]
         y = np.arange(len(rows))[::-1]

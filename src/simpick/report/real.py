@@ -407,6 +407,28 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
     shown_classes, class_blocks, blocks_by_set = _blocks(data, {**params, "_scored_set": scored_set},
                                                          engines, classes)
 
+    # at a glance: per class and error, the closest engine and the class's typed outcome, as the summarise
+    # job wrote them (simpick.compare.real.class_verdicts: <figure>_closest, <figure>_outcome)
+    glance = []
+    for s_ in sets:
+        summary = data.real[s_].get("summary")
+        if summary is None or not any(f"{f}_closest" in summary.columns for f in ERROR_FIGURES):
+            continue
+        rows = []
+        for cls in shown_classes:
+            sel = summary[summary["terrain_class"] == cls]
+            if sel.empty:
+                continue
+            cells = {}
+            for f in ERROR_FIGURES:
+                closest = sel[sel[f"{f}_closest"]] if f"{f}_closest" in sel.columns else sel.iloc[0:0]
+                cells[f] = ({"engine": closest["engine"].iloc[0], "outcome": closest[f"{f}_outcome"].iloc[0]}
+                            if len(closest) else None)
+            runs = sel["n_runs"].max() if "n_runs" in sel.columns else None
+            rows.append({"cls": cls, "label": cls.replace("_", " "), "cells": cells,
+                         "n_runs": None if _isnan(runs) else int(runs)})
+        glance.append({"set": s_, "title": SET_TITLES[s_], "rows": rows, "scored": s_ == scored_set})
+
     # the paired differences per class, as the compare job wrote them (pairwise.csv), for the appendix
     pairwise = []
     for s_ in sets:
@@ -448,7 +470,7 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
             if ns:
                 n_small.setdefault(b["set"], []).append((item["cls"], min(ns)))
     return {
-        "given": given, "sets": sets, "missing": missing, "empty": empty, "classes": class_blocks, "pairwise": pairwise,
+        "given": given, "sets": sets, "missing": missing, "empty": empty, "classes": class_blocks, "pairwise": pairwise, "glance": glance,
         "gain_uri": gain_uri, "turning": turning, "segments": _segments_table(data, classes, engines),
         "provenance": {"derived_by": prov.get("derived_by"), "found": prov.get("segments_found"),
                        "kept": prov.get("segments_kept")},
