@@ -50,9 +50,7 @@ if PLAN.verdict:
         output:
             metrics=report("results/verdict/metrics.csv", caption="captions/verdict_metrics.rst", category="Verdict"),
             table=report("results/verdict/table.csv", caption="captions/verdict_table.rst", category="Verdict"),
-            outcomes=report(
-                "results/verdict/outcomes.csv", caption="captions/verdict_outcomes.rst", category="Verdict"
-            ),
+            outcomes=report("results/verdict/outcomes.csv", caption="captions/verdict_outcomes.rst", category="Verdict"),
             mechanics=report(
                 "results/verdict/mechanics.csv", caption="captions/verdict_mechanics.rst", category="Verdict"
             ),
@@ -99,9 +97,7 @@ if PLAN.verdict:
                 "results/verdict/separation.csv", caption="captions/verdict_separation.rst", category="Verdict"
             ),
             answer=report("results/verdict/answer.csv", caption="captions/verdict_answer.rst", category="Verdict"),
-            answer_yaml=report(
-                "results/verdict/answer.yaml", caption="captions/verdict_answer.rst", category="Verdict"
-            ),
+            answer_yaml=report("results/verdict/answer.yaml", caption="captions/verdict_answer.rst", category="Verdict"),
             headline=report(
                 "results/verdict/headline.yaml", caption="captions/verdict_headline.rst", category="Verdict"
             ),

@@ -399,3 +399,31 @@ def test_per_class_verdicts_are_typed_columns_a_reader_takes_as_they_are():
     # error_linear: b has the smaller error in every run of x, and the test says so
     assert s.loc[("x", "b"), "error_linear_closest"] and s.loc[("x", "b"), "error_linear_outcome"] == "clear"
     assert set(summary.filter(like="_outcome").stack()) <= set(CLASS_OUTCOMES) | {""}
+
+
+def test_the_answer_takes_the_calibrated_gain_ratio_from_the_calibrations_turning_table(tmp_path):
+    from simpick.score.answer import answer_table, calibrated, settings_sentence
+    from simpick.score.mechanics import mechanics_table
+
+    turning = tmp_path / "turning.csv"
+    pd.DataFrame([
+        {"terrain_class": "target classes", "engine": "a", "variant": "calibrated", "n_runs": 6, "gain_ratio": 0.97,
+         "parameters": "friction_ratio=0.62"},
+        {"terrain_class": "target classes", "engine": "a", "variant": "configured", "n_runs": 6, "gain_ratio": 0.7,
+         "parameters": ""},
+        {"terrain_class": "ice", "engine": "a", "variant": "calibrated", "n_runs": 2, "gain_ratio": 0.5,
+         "parameters": "friction_ratio=0.62"},
+    ]).to_csv(turning, index=False)
+    cal = calibrated(str(turning))
+    assert list(cal.engine) == ["a"] and cal.gain_ratio.iloc[0] == 0.97
+    assert calibrated(None).empty and calibrated(str(tmp_path / "none.csv")).empty
+    outcomes = _outcomes({"a": BEST, "b": [x + 0.2 for x in BEST]})
+    outcomes = outcomes.reset_index()
+    weighted = pd.DataFrame({"total": [40.0, 30.0], "rank": [1, 2]}, index=pd.Index(["b", "a"], name="engine"))
+    mechanics = mechanics_table(_validation(engines=["a", "b"]), ["a", "b"])
+    answer = answer_table(outcomes, mechanics, weighted, ["a", "b"], {"a": 0.8, "b": 0.5}, cal, {"a": 1.0}, {})
+    row = answer.set_index("engine").loc["a"]
+    assert (row.gain_ratio, row.gain_ratio_calibrated, row.paper_rank, row.gain_error_outcome) == (0.8, 0.97, 2, "best")
+    assert np.isnan(answer.set_index("engine").loc["b", "gain_ratio_calibrated"])
+    said = settings_sentence(outcomes, answer, cal, "robot")
+    assert "times 1.25" in said["text"] and "(friction_ratio=0.62), it turns at 0.97" in said["text"]

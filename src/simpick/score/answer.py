@@ -22,9 +22,9 @@ import numpy as np
 import pandas as pd
 import yaml
 
+from simpick.score.output import write_csv
 from simpick.score.verdict import (METRICS, SEPARATION_COLUMNS, paper_rows, ranking, read_per_test, run_key,
                                    separation_rows)
-from simpick.score.output import write_csv
 
 ANSWER_COLUMNS = ["engine", "mechanics", "mechanics_failed", "mechanics_cases", "mechanics_note",
                   *[f"{m}_{k}" for m in METRICS for k in ("outcome", "diff", "low", "high", "margin")],

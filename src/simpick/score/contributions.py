@@ -11,7 +11,6 @@ import pandas as pd
 
 from simpick.score.scoring import METRIC_LABELS, METRICS, QUALITATIVE_METRICS
 
-
 CONTRIBUTION_COLUMNS = ["engine", "rank", "total", "share", "metric", "label", "group", "weight", "score", "points",
                         "excluded"]
 DRIVER_COLUMNS = ["engine", "leader", "gap", "metric", "label", "difference", "order"]
