@@ -23,6 +23,7 @@ import statistics
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 import yaml
@@ -30,7 +31,7 @@ import yaml
 ROOT = Path(__file__).resolve().parents[1]
 SNAKEMAKE = Path(sys.executable).with_name("snakemake")
 # the rules of the weight path that keep a benchmark file (rules/scores.smk, rules/report.smk)
-BENCHMARKS = ("scores", "verdict", "report", "report_pdf")
+BENCHMARKS = ("scores", "verdict", "answer", "report", "report_pdf")
 
 
 def _run(config: Path, cores: int, log: Path) -> tuple[float, list[str]]:
@@ -46,11 +47,12 @@ def _run(config: Path, cores: int, log: Path) -> tuple[float, list[str]]:
     return float(timing.read_text().split()[-1]), rules
 
 
-def _job_seconds() -> dict[str, float]:
+def _job_seconds(since: float) -> dict[str, float]:
+    """rule -> seconds of its job, for the jobs of this run (a benchmark file written since ``since``)."""
     out = {}
     for rule in BENCHMARKS:
         path = ROOT / "results" / "benchmarks" / f"{rule}.tsv"
-        if path.is_file():
+        if path.is_file() and path.stat().st_mtime >= since:
             lines = path.read_text().splitlines()
             if len(lines) > 1:
                 out[rule] = float(lines[1].split("\t")[0])
@@ -77,10 +79,10 @@ def main(argv: list[str] | None = None) -> None:
             config["weights"][args.weight] = base + i + 1
             edited = Path(tmp) / f"edited{i}.yaml"
             edited.write_text(yaml.safe_dump(config, sort_keys=False))
-            load = os.getloadavg()[0]
+            load, start = os.getloadavg()[0], time.time()
             wall, rules = _run(edited, args.cores, Path(tmp) / f"run{i}.log")
             rows.append({"repeat": i + 1, "wall_s": wall, "load_1min": load, "jobs": " ".join(sorted(rules)),
-                         **{f"{k}_s": v for k, v in _job_seconds().items()}})
+                         **{f"{k}_s": v for k, v in _job_seconds(start).items()}})
             print(rows[-1], flush=True)
         config["weights"][args.weight] = base  # back to the study's own weights (not timed)
         restore = Path(tmp) / "restore.yaml"
