@@ -119,10 +119,10 @@ def test_each_path_of_answers_leads_to_the_engines_that_meet_them(study):
     leaf = walk(tree, {"open_source": "Yes", "ros": "No", "mechanics": "Yes",
                        "close_gain_error": "Yes (the best, or equivalent to it)"})
     assert leaf["kind"] == "question" and leaf["question"] == "real_time_factor"
-    assert [a["label"] for a in leaf["answers"]] == ["At least 930 x real time", "No need"]
+    assert [a["label"] for a in leaf["answers"]] == ["At least 500 x real time", "No need"]
     assert walk(tree, {"open_source": "Yes", "ros": "No",
                        "mechanics": "Yes", "close_gain_error": "Yes (the best, or equivalent to it)",
-                       "real_time_factor": "At least 930 x real time"})["engines"] == ["breeze"]
+                       "real_time_factor": "At least 500 x real time"})["engines"] == ["breeze"]
     # the equivalent group: anvil (best) and breeze (equivalent), none separated by CPU at 5 robots
     group = walk(tree, {"open_source": "Yes", "ros": "No", "mechanics": "Yes",
                         "close_gain_error": "Yes (the best, or equivalent to it)", "real_time_factor": "No need"})

@@ -53,6 +53,7 @@ class Fact:
 class Option:
     label: str
     keeps: tuple[str, ...]
+    short: str = ""  # the label as the printed figure's edges show it (the label itself if empty)
 
 
 @dataclass(eq=False)
@@ -70,7 +71,8 @@ class Question:
 def _binary(key: str, text: str, rests_on: str, facts: dict[str, Fact], yes: str = "Yes",
             no: str = "No") -> Question:
     def options(candidates: Sequence[str]) -> list[Option]:
-        return [Option(yes, tuple(e for e in candidates if facts[e].value is True)), Option(no, tuple(candidates))]
+        return [Option(yes, tuple(e for e in candidates if facts[e].value is True), "Yes"),
+                Option(no, tuple(candidates), "No")]
 
     return Question(key, text, rests_on, facts, options)
 
@@ -131,10 +133,12 @@ def qualitative_questions(facts: Mapping[str, Mapping], engines: Sequence[str], 
     ros = {e: fact(e, "ros", facts[e]["ros"], ROS_TEXT[facts[e]["ros"]]) for e in engines}
 
     def ros_options(candidates: Sequence[str]) -> list[Option]:
-        return [Option("Yes, out of the box", tuple(e for e in candidates if ros[e].value == "out_of_the_box")),
+        return [Option("Yes, out of the box", tuple(e for e in candidates if ros[e].value == "out_of_the_box"),
+                       "out of the box"),
                 Option("Yes; an official plugin built by hand will do",
-                       tuple(e for e in candidates if ros[e].value in ("out_of_the_box", "official_plugin"))),
-                Option("No", tuple(candidates))]
+                       tuple(e for e in candidates if ros[e].value in ("out_of_the_box", "official_plugin")),
+                       "a plugin will do"),
+                Option("No", tuple(candidates), "No")]
 
     return [
         _binary("free", "Must it be free to use?", path, free),
@@ -175,7 +179,7 @@ def mechanics_question(summary_path: str, engines: Sequence[str]) -> Question:
         facts[engine] = Fact(False, f"fails {len(bad)} of {cases} analytic cases: {named}",
                              f"{summary_path}: {engine} ({', '.join(bad)})")
     checked = ", ".join(KIND_TEXT.get(k, k) for k in kinds)
-    return _binary("mechanics", f"Must it follow analytic mechanics ({checked})?", summary_path, facts)
+    return _binary("mechanics", "Must it follow analytic mechanics?", f"{summary_path} (cases: {checked})", facts)
 
 
 def _fmt(x: float, digits: int = 3) -> str:
@@ -217,34 +221,57 @@ def closeness_questions(outcomes_path: str, engines: Sequence[str]) -> list[Ques
     return questions
 
 
-def _floor_2(x: float) -> float:
-    """x rounded down to two significant figures (a threshold the engine it came from meets)."""
-    if x <= 0:
-        return 0.0
-    step = 10.0 ** (math.floor(math.log10(x)) - 1)
-    return math.floor(x / step + 1e-9) * step
+# Real-time factors measured on a shared machine scatter by tens of percent between runs; two
+# engines closer than this ratio are one speed class to a user choosing by speed.
+SPEED_CLASS_RATIO = 1.5
+# at most this many speed classes at a node: the few answers a reader can take in at once
+SPEED_CLASSES = 3
+
+
+def _round_down(x: float, above: float) -> float:
+    """A round threshold in (above, x]: the largest 1, 2 or 5 x 10^k that is, else x to two
+    significant figures."""
+    k = math.floor(math.log10(x))
+    for step in (5, 2, 1):
+        for scale in (10.0 ** k, 10.0 ** (k - 1)):
+            if above < step * scale <= x:
+                return step * scale
+    scale = 10.0 ** (k - 1)
+    return math.floor(x / scale + 1e-9) * scale
 
 
 def speed_question(rtf_path: str, engines: Sequence[str]) -> Question:
     """The real-time factor needed on one core (results/metrics/lab/rtf.csv: simulated over wall
-    time over the lab tests, one robot, one process). The answers at a node are the candidates'
-    own factors rounded down to two figures, so each answer keeps a different set."""
+    time over the lab tests, one robot, one process). The answers at a node split its candidates
+    into speed classes at the largest gaps between their factors (at least SPEED_CLASS_RATIO),
+    with a round threshold in each gap; an engine without a measured factor meets none."""
     frame = _read_csv(rtf_path, ("engine", "real_time_factor"), "the real-time factors").set_index("engine")
     facts = {}
     for engine in engines:
         value = float(frame.real_time_factor.get(engine, math.nan))
         text = f"real-time factor {_fmt(value)} on one core" if math.isfinite(value) else "real-time factor not measured"
-        facts[engine] = Fact(value if math.isfinite(value) else None, text, f"{rtf_path}: {engine}")
+        facts[engine] = Fact(value if math.isfinite(value) and value > 0 else None, text, f"{rtf_path}: {engine}")
 
     def options(candidates: Sequence[str]) -> list[Option]:
         measured = sorted({facts[e].value for e in candidates if facts[e].value is not None}, reverse=True)
-        out: list[Option] = []
-        for value in measured:
-            threshold = _floor_2(value)
+        gaps = sorted(((measured[i] / measured[i + 1], i) for i in range(len(measured) - 1)
+                       if measured[i] / measured[i + 1] >= SPEED_CLASS_RATIO), reverse=True)[:SPEED_CLASSES - 1]
+        thresholds = [_round_down(measured[i], measured[i + 1]) for _, i in gaps]
+        if measured and measured[0] >= 1.0 > measured[-1]:
+            thresholds.append(1.0)  # keeping pace with the clock (hardware in the loop, ROS time) is a need of its own
+        thresholds = sorted(set(thresholds), reverse=True)
+        if measured and any(facts[e].value is None for e in candidates):
+            thresholds.append(_round_down(measured[-1], 0.0))  # measured at all: those without a factor go
+        out = []
+        for threshold in thresholds:
             keeps = tuple(e for e in candidates if facts[e].value is not None and facts[e].value >= threshold)
-            if keeps != tuple(candidates) and (not out or keeps != out[-1].keeps):
-                out.append(Option(f"At least {threshold:g} x real time", keeps))
-        return [*out, Option("No need", tuple(candidates))]
+            if out and out[-1].keeps == keeps:  # the same engines: the lower threshold, the one more needs meet
+                out.pop()
+            if threshold == 1.0:
+                out.append(Option("At least real time", keeps, "\u2265 real time"))
+            else:
+                out.append(Option(f"At least {threshold:g} x real time", keeps, f"\u2265 {threshold:g}\u00d7"))
+        return [*out, Option("No need", tuple(candidates), "no need")]
 
     return Question("real_time_factor", "Which real-time factor do you need on one core?", rtf_path, facts, options)
 
@@ -314,7 +341,8 @@ def build_tree(questions: Sequence[Question], engines: Sequence[str]) -> dict:
                         step = {"question": q.key, "answer": o.label}
                         children[o.keeps] = node(o.keeps, remaining[i + 1:], [*path, step])
                     dropped = [e for e in candidates if e not in o.keeps]
-                    answers.append({"label": o.label, "next": children[o.keeps], "keeps": list(o.keeps),
+                    answers.append({"label": o.label, "short": o.short or o.label, "next": children[o.keeps],
+                                    "keeps": list(o.keeps),
                                     "drops": [{"engine": e, "why": q.facts[e].text} for e in dropped]})
                 nodes[nid] = {"id": nid, "kind": "question", "question": q.key, "text": q.text,
                               "candidates": list(candidates), "answers": answers}
