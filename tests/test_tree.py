@@ -99,7 +99,7 @@ def study(tmp_path):
 def test_the_tree_asks_only_the_questions_that_split_the_engines(study):
     tree = read_tree(study["tree"])
     asked = [q["key"] for q in tree["questions"] if q["asked"]]
-    assert asked == ["open_source", "ros", "mechanics", "close_gain_error", "real_time_factor", "cpu"]
+    assert asked == ["open_source", "ros", "closeness", "mechanics", "real_time_factor", "cpu"]
     assert [q["key"] for q in tree["not_asked"]] == ["free"]
     assert tree["not_asked"][0]["why"] == "every engine meets it"
     root = tree["nodes"][tree["root"]]
@@ -114,30 +114,30 @@ def test_each_path_of_answers_leads_to_the_engines_that_meet_them(study):
     open_ros = walk(tree, {"open_source": "Yes", "ros": "Yes, out of the box"})
     assert open_ros["kind"] == "question" and open_ros["candidates"] == ["comet"]
     # comet is the only open-source engine with ROS out of the box, and it fails mechanics
-    leaf = walk(tree, {"open_source": "Yes", "ros": "Yes, out of the box", "mechanics": "Yes"})
+    assert walk(tree, {"open_source": "Yes", "ros": "Yes, out of the box"})["question"] == "closeness"
+    leaf = walk(tree, {"open_source": "Yes", "ros": "Yes, out of the box", "closeness": "No", "mechanics": "Yes"})
     assert leaf == {**leaf, "kind": "leaf", "engines": []}
     leaf = walk(tree, {"open_source": "Yes", "ros": "No", "mechanics": "Yes",
-                       "close_gain_error": "Yes (the best, or equivalent to it)"})
+                       "closeness": "Yes, on its yaw-rate gain error"})
     assert leaf["kind"] == "question" and leaf["question"] == "real_time_factor"
     assert [a["label"] for a in leaf["answers"]] == ["At least 500 x real time", "No need"]
     assert walk(tree, {"open_source": "Yes", "ros": "No",
-                       "mechanics": "Yes", "close_gain_error": "Yes (the best, or equivalent to it)",
+                       "mechanics": "Yes", "closeness": "Yes, on its yaw-rate gain error",
                        "real_time_factor": "At least 500 x real time"})["engines"] == ["breeze"]
     # the equivalent group: anvil (best) and breeze (equivalent), none separated by CPU at 5 robots
     group = walk(tree, {"open_source": "Yes", "ros": "No", "mechanics": "Yes",
-                        "close_gain_error": "Yes (the best, or equivalent to it)", "real_time_factor": "No need"})
+                        "closeness": "Yes, on its yaw-rate gain error", "real_time_factor": "No need"})
     assert group["kind"] == "leaf" and group["engines"] == ["anvil", "breeze"]
-    assert [s["question"] for s in group["path"]] == ["open_source", "ros", "mechanics", "close_gain_error",
-                                                      "real_time_factor"]
+    assert [s["question"] for s in group["path"]] == ["open_source", "ros", "closeness", "real_time_factor"]
 
 
 def test_an_engine_that_fails_mechanics_is_not_close_whatever_its_figure(study):
     tree = read_tree(study["tree"])
-    close = next(q for q in tree["questions"] if q["key"] == "close_gain_error")
-    assert close["facts"]["comet"]["value"] is False  # its outcome is "equivalent", yet it fails mechanics
+    close = next(q for q in tree["questions"] if q["key"] == "closeness")
+    assert close["facts"]["comet"]["value"] == {"gain_error": False}  # "equivalent", yet it fails mechanics
     assert "fails the mechanics" in close["facts"]["comet"]["text"]
-    assert close["facts"]["breeze"]["value"] is True and "margin 0.02" in close["facts"]["breeze"]["text"]
-    assert close["facts"]["ember"]["value"] is False and "about 40 runs would decide" in close["facts"]["ember"]["text"]
+    assert close["facts"]["breeze"]["value"] == {"gain_error": True} and "margin 0.02" in close["facts"]["breeze"]["text"]
+    assert close["facts"]["ember"]["value"] == {"gain_error": False} and "about 40 runs would decide" in close["facts"]["ember"]["text"]
     mechanics = next(q for q in tree["questions"] if q["key"] == "mechanics")
     assert mechanics["facts"]["comet"]["text"] == "fails 3 of 6 analytic cases: turning (3)"  # the skipped case not counted
     assert mechanics["facts"]["comet"]["source"].endswith("comet (turn_0, turn_1, turn_2)")
@@ -161,11 +161,17 @@ def test_every_leaf_is_reached_and_every_engine_in_some_leaf(study):
     targets = {a["next"] for n in tree["nodes"].values() if n["kind"] == "question" for a in n["answers"]}
     assert targets | {tree["root"]} == set(tree["nodes"])
     assert {e for leaf in leaves for e in leaf["engines"]} == set(FACTS)
-    for leaf in leaves:  # a leaf's engines meet every answer on its path
+    for leaf in leaves:  # a leaf's engines are kept by every answer on its path, and only they
+        node = tree["nodes"][tree["root"]]
         for step in leaf["path"]:
+            answer = next(a for a in node["answers"] if a["label"] == step["answer"])
+            assert set(leaf["engines"]) <= set(answer["keeps"]), (step, leaf)
+            node = tree["nodes"][answer["next"]]
+        assert node is tree["nodes"][leaf["id"]] and answer["keeps"] == leaf["engines"]
+    for leaf in leaves:
+        for step in (s for s in leaf["path"] if s["answer"] == "Yes"):
             q = next(q for q in tree["questions"] if q["key"] == step["question"])
-            if step["answer"].startswith("Yes") and q["key"] != "ros":
-                assert all(q["facts"][e]["value"] is True for e in leaf["engines"]), (step, leaf)
+            assert all(q["facts"][e]["value"] is True for e in leaf["engines"]), (step, leaf)
 
 
 def test_another_study_gives_another_tree(tmp_path, study):
@@ -178,13 +184,13 @@ def test_another_study_gives_another_tree(tmp_path, study):
     first = read_tree(study["tree"])
     assert other["nodes"][other["root"]]["question"] == "ros"
     assert "open_source" in [q["key"] for q in other["not_asked"]]
-    leaf = walk(other, {"ros": "Yes, out of the box", "mechanics": "Yes"})
+    leaf = walk(other, {"ros": "Yes, out of the box", "closeness": "No", "mechanics": "Yes"})
     assert leaf["kind"] != "leaf" or leaf["engines"]  # no longer empty
     assert other["nodes"] != first["nodes"]
     # without the verdict (a study without real data) there is no closeness question
     paths = make_study(tmp_path / "lab_only", facts, outcomes=False)
     decision_tree_job(list(facts), paths["inputs"], paths["tree"])
-    assert not any(q["key"].startswith("close_") for q in read_tree(paths["tree"])["questions"])
+    assert "closeness" not in [q["key"] for q in read_tree(paths["tree"])["questions"]]
 
 
 def test_the_weights_order_a_leaf_and_so_change_the_pick(study):
@@ -226,3 +232,36 @@ def test_the_tree_logic_names_no_engine():
 def test_build_tree_is_deterministic(study):
     questions = study_questions(list(FACTS), study["inputs"])
     assert build_tree(questions, list(FACTS)) == build_tree(study_questions(list(FACTS), study["inputs"]), list(FACTS))
+
+
+def test_speed_answers_are_classes_at_the_gaps_and_keeping_pace_with_the_clock(tmp_path):
+    from simpick.score.tree import speed_question
+
+    factors = {"a": 19.8, "b": 18.5, "c": 9.16, "d": 8.4, "e": 1.25, "f": 0.82, "g": math.nan}
+    write_csv(pd.DataFrame({"engine": list(factors), "real_time_factor": list(factors.values())}), tmp_path / "rtf.csv")
+    question = speed_question(str(tmp_path / "rtf.csv"), list(factors))
+    options = question.options(list(factors))
+    # the two largest gaps (8.4 -> 1.25, 18.5 -> 9.16), real time (1.25 -> 0.82), the measured, no need
+    assert [(o.label, o.keeps) for o in options] == [
+        ("At least 10 x real time", ("a", "b")), ("At least 5 x real time", ("a", "b", "c", "d")),
+        ("At least real time", ("a", "b", "c", "d", "e")), ("At least 0.5 x real time", ("a", "b", "c", "d", "e", "f")),
+        ("No need", tuple(factors))]
+    assert question.facts["g"].text == "real-time factor not measured"
+    # close factors are one class: nothing to ask
+    assert [o.label for o in question.options(["a", "b"])] == ["No need"]
+
+
+def test_the_printed_tree_draws_every_leaf_at_a4_width(study):
+    from simpick.report.tree_figure import WIDTH, draw_tree, layout
+
+    tree = read_tree(study["tree"])
+    totals = pd.read_csv(study["weighted"], index_col="engine")["total"].to_dict()
+    fig = draw_tree(tree, totals)
+    _, leaves, _ = layout(tree)
+    assert fig.get_size_inches()[0] == WIDTH <= 7.5
+    texts = [t.get_text() for t in fig.axes[0].texts]
+    empty = sum(not tree["nodes"][n]["engines"] for n in leaves)
+    assert texts.count("no engine meets these answers") == empty > 0
+    picks = [leaf_order(tree["nodes"][n]["engines"], totals)[0] for n in leaves if tree["nodes"][n]["engines"]]
+    assert sorted(t.split()[0].rstrip("\u2020") for t in texts if t.split() and t.split()[0].rstrip("\u2020") in FACTS) \
+        == sorted(picks)

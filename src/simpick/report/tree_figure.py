@@ -72,8 +72,13 @@ def draw_tree(tree: dict, totals: dict[str, float]):
         ax.text(x, y, textwrap.fill(node["text"], wrap), fontsize=FONT, va="center", ha="left",
                 bbox={"boxstyle": "round,pad=0.25", "fc": "#eef3fb", "ec": "#5577aa", "lw": 0.6})
         labels: dict[str, list[str]] = {}
+        full: dict[str, list[str]] = {}
         for answer in node["answers"]:
             labels.setdefault(answer["next"], []).append(answer.get("short") or answer["label"])
+            full.setdefault(answer["next"], []).append(answer["label"])
+        for child, names in full.items():  # several kinds of yes that keep the same engines: one "Yes"
+            if len(names) > 1 and all(n.startswith("Yes") for n in names):
+                labels[child] = ["Yes"]
         elbow = x + 0.66 * column
         for child, names in labels.items():
             cx, cy = xy(child)

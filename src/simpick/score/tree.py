@@ -7,8 +7,8 @@ analytic mechanics checks (results/validation/summary.csv), the real-data verdic
 (results/verdict/outcomes.csv: best, equivalent to the best, worse, undetermined), the lab's
 real-time factor (results/metrics/lab/rtf.csv) and the CPU load (results/cpu/<engine>.json).
 
-The questions are requirements, asked in a fixed order (licence, ROS, mechanics, closeness to the
-real robot per real-data metric, speed, CPU): each answer keeps the engines that meet it. A
+The questions are requirements, asked in a fixed order (licence, ROS, closeness to the real robot
+per real-data metric, mechanics, speed, CPU): each answer keeps the engines that meet it. A
 question is asked at a node only where some answer would change the engines left there, so
 another robot, other data or another set of engines gives another tree; a leaf is the engines
 that every answer on its path kept (none, one, or a group no remaining question separates).
@@ -186,22 +186,26 @@ def _fmt(x: float, digits: int = 3) -> str:
     return "nan" if x is None or not math.isfinite(float(x)) else f"{float(x):.{digits}g}"
 
 
-def closeness_questions(outcomes_path: str, engines: Sequence[str]) -> list[Question]:
-    """Per real-data metric of the verdict (results/verdict/outcomes.csv): must it be as close to
-    the real robot as the best engine? Yes keeps the best and those shown equivalent to it, among
-    the engines that pass the mechanics the metric depends on (the verdict vouches for no other)."""
+def closeness_question(outcomes_path: str, engines: Sequence[str]) -> Question | None:
+    """Must it be as close to the real robot as the best engine (results/verdict/outcomes.csv)? On
+    a metric, an engine is close when it is the verdict's best or equivalent to it and passes the
+    mechanics the metric depends on (the verdict vouches for no other). The answers: close on every
+    metric, close on one named metric (each that some engine is close on), or no need; answers
+    that keep the same engines lead to the same place. None where no engine is close on any."""
     columns = ("metric", "label", "unit", "engine", "n_runs", "mean", "best", "outcome", "diff_to_best", "diff_low",
                "diff_high", "margin", "runs_needed", "recommendable")
     outcomes = _read_csv(outcomes_path, columns, "the verdict's outcomes")
-    questions = []
+    close: dict[str, dict[str, bool]] = {e: {} for e in engines}
+    texts: dict[str, list[str]] = {e: [] for e in engines}
+    labels: dict[str, str] = {}
     for metric, rows in outcomes.groupby("metric", sort=False):
         rows = rows.set_index("engine")
         label, unit = str(rows.label.iloc[0]), rows.unit.iloc[0]
         unit = "" if not isinstance(unit, str) or not unit or unit == "1" else f" {unit}"
-        facts = {}
+        verdicts = {}
         for engine in engines:
             if engine not in rows.index:
-                facts[engine] = Fact(False, f"{label}: not in the verdict", outcomes_path)
+                verdicts[engine] = (False, f"{label}: not in the verdict")
                 continue
             r = rows.loc[engine]
             recommendable = str(r.recommendable).strip().lower() in ("true", "1")
@@ -211,14 +215,33 @@ def closeness_questions(outcomes_path: str, engines: Sequence[str]) -> list[Ques
                 text += (f" (difference to the best, {r.best}: {_fmt(r.diff_to_best, 2)} "
                          f"[{_fmt(r.diff_low, 2)}, {_fmt(r.diff_high, 2)}], margin {_fmt(r.margin, 2)})")
             if outcome == "undetermined" and not (isinstance(r.runs_needed, float) and math.isnan(r.runs_needed)):
-                text += f"; about {_fmt(r.runs_needed)} runs would decide"
+                text += f", about {_fmt(r.runs_needed)} runs would decide"
             if not recommendable:
-                text += "; fails the mechanics this metric depends on"
-            facts[engine] = Fact(outcome in CLOSE_OUTCOMES and recommendable, f"{text}; {int(r.n_runs)} runs",
-                                 f"{outcomes_path}: {metric} {engine}")
-        questions.append(_binary(f"close_{metric}", f"Must its {label.lower()} be as small as the best engine's?",
-                                 outcomes_path, facts, yes="Yes (the best, or equivalent to it)"))
-    return questions
+                text += ", fails the mechanics this metric depends on"
+            verdicts[engine] = (outcome in CLOSE_OUTCOMES and recommendable, f"{text}, {int(r.n_runs)} runs")
+        for engine, (is_close, text) in verdicts.items():
+            texts[engine].append(text)
+        if any(is_close for is_close, _ in verdicts.values()):  # a metric nobody is close on is no answer
+            labels[metric] = label
+            for engine, (is_close, _) in verdicts.items():
+                close[engine][metric] = is_close
+    if not labels:
+        return None
+    facts = {e: Fact({m: close[e][m] for m in labels}, "; ".join(texts[e]),
+                     f"{outcomes_path}: {', '.join(outcomes.metric.unique())} {e}") for e in engines}
+
+    def options(candidates: Sequence[str]) -> list[Option]:
+        out = []
+        if len(labels) > 1:
+            out.append(Option("Yes, on every measure", tuple(e for e in candidates if all(facts[e].value.values())),
+                              "on every measure"))
+        for metric, label in labels.items():
+            out.append(Option(f"Yes, on its {label.lower()}", tuple(e for e in candidates if facts[e].value[metric]),
+                              label.lower()))
+        return [*out, Option("No", tuple(candidates), "No")]
+
+    return Question("closeness", "Must it be as close to the real robot as the best engine?",
+                    outcomes_path, facts, options)
 
 
 # Real-time factors measured on a shared machine scatter by tens of percent between runs; two
@@ -318,10 +341,10 @@ def build_tree(questions: Sequence[Question], engines: Sequence[str]) -> dict:
     engines = tuple(engines)
     asked, not_asked = [], []
     for q in questions:
-        yes = q.options(engines)[0].keeps
-        if not yes:
+        options = q.options(engines)
+        if not any(o.keeps for o in options[:-1]):  # the last answer is always "no need"
             not_asked.append({"key": q.key, "question": q.text, "why": "no engine meets it"})
-        elif all(o.keeps == engines for o in q.options(engines)):
+        elif all(o.keeps == engines for o in options):
             not_asked.append({"key": q.key, "question": q.text, "why": "every engine meets it"})
         else:
             asked.append(q)
@@ -368,9 +391,12 @@ def study_questions(engines: Sequence[str], inputs: Mapping[str, Any]) -> list[Q
     ``qualitative``, ``validation`` (summary.csv), ``rtf``, ``cpu`` (a list of JSON files) and
     optionally ``outcomes`` (the verdict's, where the study has real data)."""
     questions = qualitative_questions(_read_yaml(inputs["qualitative"]), engines, inputs["qualitative"])
+    # closeness before mechanics: its "yes" keeps only engines that pass the mechanics its metric
+    # depends on, so the mechanics question is left to the branches where it still says something
+    closeness = closeness_question(inputs["outcomes"], engines) if inputs.get("outcomes") else None
+    if closeness is not None:
+        questions.append(closeness)
     questions.append(mechanics_question(inputs["validation"], engines))
-    if inputs.get("outcomes"):
-        questions += closeness_questions(inputs["outcomes"], engines)
     questions.append(speed_question(inputs["rtf"], engines))
     cpu = cpu_question(list(inputs.get("cpu") or []), engines)
     if cpu is not None:
