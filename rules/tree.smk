@@ -7,11 +7,11 @@
 
 rule decision_tree:
     input:
+        **({"outcomes": "results/verdict/outcomes.csv"} if PLAN.verdict else {}),
         qualitative=PLAN.config["qualitative"],
         validation="results/validation/summary.csv",
         rtf=PLAN.metrics_file("lab", "rtf"),
         cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
-        **({"outcomes": "results/verdict/outcomes.csv"} if PLAN.verdict else {}),
     output:
         tree=report("results/verdict/tree.json", caption="captions/tree.rst", category="Verdict"),
     log:
@@ -35,7 +35,9 @@ rule figure_tree:
         tree="results/verdict/tree.json",
         weighted="results/scores/weighted.csv",
     output:
-        png=report(f"{PLAN.figures}/tree.png", caption="captions/tree_figure.rst", category="Figures", subcategory="Verdict"),
+        png=report(
+            f"{PLAN.figures}/tree.png", caption="captions/tree_figure.rst", category="Figures", subcategory="Verdict"
+        ),
     log:
         "results/logs/figures/tree.log",
     conda:

@@ -99,7 +99,8 @@ def draw_tree(tree: dict, totals: dict[str, float]):
 
         ax.text(x, y - 0.045, name(ordered[0]), fontsize=FONT + 0.5, va="center", fontweight="bold")
         if len(ordered) > 1:
-            ax.text(x, y + 0.085, textwrap.shorten("then " + ", ".join(name(e) for e in ordered[1:]), int(leaf_width * chars),
+            rest = "then " + ", ".join(name(e) for e in ordered[1:])
+            ax.text(x, y + 0.085, textwrap.shorten(rest, int(leaf_width * chars),
                                                    placeholder="..."), fontsize=FONT - 1, va="center",
                     color="#333333")
     ax.text(0.05, 0.15, "Decision tree from the study's evidence: each answer keeps the engines that meet it",

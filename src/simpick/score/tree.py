@@ -272,7 +272,8 @@ def speed_question(rtf_path: str, engines: Sequence[str]) -> Question:
     facts = {}
     for engine in engines:
         value = float(frame.real_time_factor.get(engine, math.nan))
-        text = f"real-time factor {_fmt(value)} on one core" if math.isfinite(value) else "real-time factor not measured"
+        measured = math.isfinite(value)
+        text = f"real-time factor {_fmt(value)} on one core" if measured else "real-time factor not measured"
         facts[engine] = Fact(value if math.isfinite(value) and value > 0 else None, text, f"{rtf_path}: {engine}")
 
     def options(candidates: Sequence[str]) -> list[Option]:
@@ -449,6 +450,7 @@ def walk(tree: dict, answers: Mapping[str, str]) -> dict:
         label = answers[node["question"]]
         chosen = [a for a in node["answers"] if a["label"] == label]
         if not chosen:
-            raise KeyError(f"{node['question']}: no answer {label!r} (answers: {[a['label'] for a in node['answers']]})")
+            known = [a["label"] for a in node["answers"]]
+            raise KeyError(f"{node['question']}: no answer {label!r} (answers: {known})")
         node = tree["nodes"][chosen[0]["next"]]
     return node

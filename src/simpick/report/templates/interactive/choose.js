@@ -14,7 +14,9 @@
     Object.keys(attrs || {}).forEach(function (k) {
       if (k === "text") { node.textContent = attrs[k]; } else { node.setAttribute(k, attrs[k]); }
     });
-    (children || []).forEach(function (c) { node.appendChild(typeof c === "string" ? document.createTextNode(c) : c); });
+    (children || []).forEach(function (c) {
+      node.appendChild(typeof c === "string" ? document.createTextNode(c) : c);
+    });
     return node;
   }
 
@@ -89,7 +91,9 @@
     var table = document.getElementById("sc-weights");
     Array.prototype.forEach.call(table.querySelectorAll("input[data-metric]"), function (input) {
       var key = input.getAttribute("data-metric");
-      if (parseFloat(input.value) !== weights[key] && document.activeElement !== input) { input.value = String(weights[key]); }
+      if (parseFloat(input.value) !== weights[key] && document.activeElement !== input) {
+        input.value = String(weights[key]);
+      }
       input.className = weights[key] !== data.weights[key] ? "sc-changed" : "";
     });
     var sum = data.metrics.reduce(function (a, m) { return a + weights[m.key]; }, 0);
@@ -191,7 +195,9 @@
       } else {
         pick.appendChild(document.createTextNode(" (the only engine that meets every answer)"));
       }
-      if (data.flags[ordered[0]]) { pick.appendChild(el("span", {"class": "sc-flag", text: " " + data.flags[ordered[0]]})); }
+      if (data.flags[ordered[0]]) {
+        pick.appendChild(el("span", {"class": "sc-flag", text: " " + data.flags[ordered[0]]}));
+      }
       box.appendChild(pick);
       var leaf = el("ol", {"class": "sc-leaf", id: "sc-leaf"});
       ordered.forEach(function (e) { leaf.appendChild(el("li", {"data-engine": e, text: e})); });
@@ -201,7 +207,9 @@
     }
     if (dropped.length) {
       var list = el("ul", {"class": "sc-dropped"});
-      dropped.forEach(function (d) { list.appendChild(el("li", {text: d.engine + " left out by \u201c" + d.answer + "\u201d: " + d.why})); });
+      dropped.forEach(function (d) {
+        list.appendChild(el("li", {text: d.engine + " left out by \u201c" + d.answer + "\u201d: " + d.why}));
+      });
       box.appendChild(el("p", {text: "Left out on the way:"}));
       box.appendChild(list);
     }
