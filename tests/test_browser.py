@@ -112,7 +112,9 @@ def test_the_page_totals_at_the_study_weights_are_those_of_weighted_csv(page, st
     ranks = page.eval_on_selector_all(".sc-engine-rank", "cells => cells.map(c => [c.dataset.engine, c.textContent])")
     for engine, text in ranks:
         assert int(text.split()[0]) == weighted.loc[engine, "rank"]
-    assert "fails 3 of 6 analytic cases" in dict(ranks)["comet"]  # the paper's rank flagged where mechanics fail
+    # the paper's rank flagged where mechanics fail, and why
+    assert [e for e, text in ranks if text.endswith("\u2020")] == ["comet"]
+    assert "\u2020 fails analytic mechanics: comet fails 3 of 6 analytic cases" in page.inner_text("#sc-ranking")
 
 
 def test_a_weight_edit_recomputes_the_totals_and_reorders_the_leaf(page, study):

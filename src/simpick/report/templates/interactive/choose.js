@@ -106,18 +106,27 @@
     Array.prototype.forEach.call(table.querySelectorAll(".sc-engine-rank"), function (cell) {
       var e = cell.getAttribute("data-engine");
       cell.textContent = String(t[e].rank);
-      if (data.flags[e]) { cell.appendChild(el("span", {"class": "sc-flag", text: " (" + data.flags[e] + ")"})); }
+      if (data.flags[e]) {
+        cell.appendChild(el("span", {"class": "sc-flag", title: data.flags[e], text: " \u2020"}));
+      }
     });
   }
 
   function renderRanking(t) {
     var ranking = document.getElementById("sc-ranking");
-    ranking.textContent = "Ranking by the paper's method: ";
+    ranking.textContent = "";
+    var flagged = data.engines.filter(function (e) { return data.flags[e]; });
+    if (flagged.length) {
+      ranking.appendChild(el("span", {"class": "sc-flag", text: "\u2020 fails analytic mechanics: " +
+        flagged.map(function (e) { return e + " " + data.flags[e]; }).join("; ") + "."}));
+      ranking.appendChild(el("br"));
+    }
+    ranking.appendChild(document.createTextNode("Ranking by the paper's method: "));
     byTotal(data.engines, t).forEach(function (e, i) {
       if (i) { ranking.appendChild(document.createTextNode(", ")); }
       ranking.appendChild(el("span", {"class": "sc-ranked", "data-engine": e,
-                                      text: t[e].rank + ". " + e + " " + t[e].total.toFixed(3) +
-                                            (data.flags[e] ? " (" + data.flags[e] + ")" : "")}));
+                                      text: t[e].rank + ". " + e + (data.flags[e] ? "\u2020" : "") + " " +
+                                            t[e].total.toFixed(3)}));
     });
   }
 
