@@ -12,6 +12,11 @@ rule scores:
         scores=report("results/scores/scores.csv", caption="captions/scores.rst", category="Scores"),
         weighted=report("results/scores/weighted.csv", caption="captions/weighted.rst", category="Scores"),
         provenance=report("results/scores/provenance.yaml", caption="captions/scores_provenance.rst", category="Scores"),
+        # per engine and metric: weight, score, points; and what puts the leader ahead of each engine
+        contributions=report(
+            "results/scores/contributions.csv", caption="captions/scores_contributions.rst", category="Scores"
+        ),
+        drivers=report("results/scores/drivers.csv", caption="captions/scores_contributions.rst", category="Scores"),
     log:
         "results/logs/scores.log",
     benchmark:
@@ -29,31 +34,30 @@ rule scores:
 
 
 # simpick's verdict beside the paper's method (simpick.score.verdict): per real run the yaw-rate gain
-# error, the heading error and (where a log measures it) the speed error, with intervals and paired
-# verdicts over runs; what the paper's accuracy scores separate; the weighted total with an interval
-# over real runs; the report's first paragraph. The report reads these tables and computes none.
+# error, the heading error and (where a log measures it) the speed error, with intervals; every engine
+# against the best (outcomes.csv: worse, equivalent within the config's margin, or undetermined;
+# simpick.score.equivalence) behind the mechanics gate of the validation (mechanics.csv); what the
+# paper's accuracy scores separate. It reads no weight: a weight edit does not rerun these tests, a
+# margin edit reruns them and the answer, not the scores.
 if PLAN.verdict:
 
     rule verdict:
         input:
             per_test=PLAN.metrics_file(PLAN.verdict_source(), "per_test"),
             accuracy_tests=PLAN.accuracy_source()["per_test"],
-            weighted="results/scores/weighted.csv",
-            provenance="results/scores/provenance.yaml",
+            accuracy_errors=PLAN.accuracy_errors(),
+            validation="results/validation/summary.csv",
         output:
             metrics=report("results/verdict/metrics.csv", caption="captions/verdict_metrics.rst", category="Verdict"),
             table=report("results/verdict/table.csv", caption="captions/verdict_table.rst", category="Verdict"),
-            separation=report(
-                "results/verdict/separation.csv", caption="captions/verdict_separation.rst", category="Verdict"
+            outcomes=report("results/verdict/outcomes.csv", caption="captions/verdict_outcomes.rst", category="Verdict"),
+            mechanics=report(
+                "results/verdict/mechanics.csv", caption="captions/verdict_mechanics.rst", category="Verdict"
             ),
-            ranking=report("results/verdict/ranking.csv", caption="captions/verdict_ranking.rst", category="Verdict"),
             discrimination=report(
                 "results/verdict/discrimination.csv", caption="captions/verdict_discrimination.rst", category="Verdict"
             ),
             headings=report("results/verdict/headings.csv", caption="captions/verdict_headings.rst", category="Verdict"),
-            headline=report(
-                "results/verdict/headline.yaml", caption="captions/verdict_headline.rst", category="Verdict"
-            ),
         log:
             "results/logs/verdict.log",
         benchmark:
@@ -69,3 +73,46 @@ if PLAN.verdict:
             code=PLAN.script_code("verdict"),
         script:
             "../scripts/verdict.py"
+
+    # The answer (simpick.score.answer): one row per engine and a sentence per need, the paper's
+    # weighted total with its interval over real runs, the separation table and the report's first
+    # paragraph. The weights reach it: it is what a weight edit reruns besides the scores and the
+    # report, kept small (a resampled total, no test).
+    rule answer:
+        input:
+            unpack(PLAN.answer_inputs),
+            per_test=PLAN.metrics_file(PLAN.verdict_source(), "per_test"),
+            accuracy_tests=PLAN.accuracy_source()["per_test"],
+            weighted="results/scores/weighted.csv",
+            provenance="results/scores/provenance.yaml",
+            table="results/verdict/table.csv",
+            discrimination="results/verdict/discrimination.csv",
+            outcomes="results/verdict/outcomes.csv",
+            mechanics="results/verdict/mechanics.csv",
+            rtf=PLAN.metrics_file("lab", "rtf"),
+            cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
+        output:
+            ranking=report("results/verdict/ranking.csv", caption="captions/verdict_ranking.rst", category="Verdict"),
+            separation=report(
+                "results/verdict/separation.csv", caption="captions/verdict_separation.rst", category="Verdict"
+            ),
+            answer=report("results/verdict/answer.csv", caption="captions/verdict_answer.rst", category="Verdict"),
+            answer_yaml=report("results/verdict/answer.yaml", caption="captions/verdict_answer.rst", category="Verdict"),
+            headline=report(
+                "results/verdict/headline.yaml", caption="captions/verdict_headline.rst", category="Verdict"
+            ),
+        log:
+            "results/logs/answer.log",
+        benchmark:
+            "results/benchmarks/answer.tsv"
+        conda:
+            "../envs/simpick.yaml"
+        threads: 1
+        resources:
+            mem_mb=400,
+            runtime=5,
+        params:
+            settings=PLAN.answer_settings(),
+            code=PLAN.script_code("answer"),
+        script:
+            "../scripts/answer.py"

@@ -1,6 +1,5 @@
-from simpick.score.verdict import verdict_job
 from simpick.joblog import logged
+from simpick.score.verdict import verdict_job
 
 with logged(snakemake.log[0]):
-    verdict_job(snakemake.input.per_test, snakemake.input.weighted, snakemake.input.provenance,
-                snakemake.params.settings, dict(snakemake.output.items()), snakemake.input.accuracy_tests)
+    verdict_job(dict(snakemake.input.items()), snakemake.params.settings, dict(snakemake.output.items()))

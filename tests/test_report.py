@@ -573,27 +573,46 @@ def built_real(tmp_path_factory):
     inputs.update(real)
     inputs["accuracy_errors"] = real["segments_imu_errors"]
     inputs["accuracy_per_test"] = real["segments_per_test"]
-    inputs.update(write_verdict(root / "verdict", real["segments_per_test"], inputs["weighted"]))
+    inputs.update(write_verdict(root / "verdict", real["segments_per_test"], inputs["weighted"], inputs))
     html, pdf = root / "out" / "report.html", root / "out" / "report.pdf"
     build_report(with_figures(inputs, _real_params(), root), _real_params(), html, pdf)
     return inputs, html.read_text(encoding="utf-8"), pdf
 
 
-def write_verdict(root: Path, per_test: str, weighted: str) -> dict:
-    """The verdict rule's tables (simpick.score.verdict.verdict_job) from the synthetic real data."""
+def write_verdict(root: Path, per_test: str, weighted: str, inputs: dict | None = None) -> dict:
+    """The verdict and answer rules' tables (simpick.score.verdict.verdict_job, simpick.score.answer.answer_job)
+    from the synthetic real data; every engine passes a one-case validation."""
+    from simpick.score.answer import answer_job
     from simpick.score.verdict import verdict_job
 
+    inputs = inputs or {}
     root.mkdir(parents=True, exist_ok=True)
     provenance = root / "provenance.yaml"
     provenance.write_text(yaml.safe_dump({"accuracy": {"set": "segments", "per_test_file": per_test}}))
-    outputs = {k: str(root / f"{k}.csv") for k in ("metrics", "table", "separation", "ranking", "discrimination",
+    validation = root / "validation.csv"
+    pd.DataFrame({"engine": list(ENGINES), "case": "gain", "kind": "yaw_gain", "passed": True,
+                  "status": "ok"}).to_csv(validation, index=False)
+    errors = root / "imu_errors.csv"
+    pd.DataFrame({"engine": list(ENGINES), "quantity": "angular", "error": 1.0, "tests": ""}).to_csv(errors, index=False)
+    outputs = {k: str(root / f"{k}.csv") for k in ("metrics", "table", "outcomes", "mechanics", "discrimination",
                                                     "headings")}
-    outputs["headline"] = str(root / "headline.yaml")
-    verdict_job(per_test, weighted, str(provenance),
-                {"engines": list(ENGINES), "baselines": [], "statistics": {"min_runs": 6, "level": 0.95},
-                 "weights": dict(DEFAULT_WEIGHTS), "seed": 3, "source": "segments", "source_title": "test segments"},
-                outputs)
-    return {f"verdict_{k}": v for k, v in outputs.items()}
+    statistics = {"min_runs": 6, "level": 0.95}
+    verdict = {"margins": {m: {"basis": "absolute", "value": 0.05} for m in ("gain_error", "heading_error",
+                                                                           "speed_error")},
+               "mechanics": {"gain_error": ["yaw_gain"], "heading_error": ["yaw_gain"], "speed_error": ["straight"]}}
+    verdict_job({"per_test": per_test, "accuracy_tests": per_test, "accuracy_errors": str(errors),
+                 "validation": str(validation)},
+                {"engines": list(ENGINES), "baselines": [], "statistics": statistics, "seed": 3,
+                 "accuracy_set": "segments", "verdict": verdict}, outputs)
+    answers = {k: str(root / f"{k}.csv") for k in ("ranking", "separation", "answer")}
+    answers |= {"answer_yaml": str(root / "answer.yaml"), "headline": str(root / "headline.yaml")}
+    answer_job({"per_test": per_test, "accuracy_tests": per_test, "weighted": weighted, "provenance": str(provenance),
+                **{k: outputs[k] for k in ("table", "discrimination", "outcomes", "mechanics")},
+                "rtf": inputs.get("rtf") or str(root / "rtf.csv"), "cpu": inputs.get("cpu") or []},
+               {"engines": list(ENGINES), "statistics": statistics, "weights": dict(DEFAULT_WEIGHTS), "seed": 3,
+                "source": "segments", "source_title": "test segments", "robot": "test robot"}, answers)
+    known = ("metrics", "table", "separation", "ranking", "discrimination", "headings", "headline")  # the report's
+    return {f"verdict_{k}": v for k, v in (outputs | answers).items() if k in known}
 
 
 def test_the_report_opens_with_the_verdict_and_labels_the_papers_method(built_real):

@@ -252,7 +252,7 @@ def test_scores_job_against_hand_computed_values(tmp_path) -> None:  # type: ign
         cpu.append(tmp_path / f"{engine}.json")
         cpu[-1].write_text(json.dumps({"engine": engine, "average": {"load_percent": average},
                                        "intense": {"load_percent": intense}}))
-    outputs = {"scores": str(tmp_path / "scores.csv"), "weighted": str(tmp_path / "weighted.csv")}
+    outputs = {k: str(tmp_path / f"{k}.csv") for k in ("scores", "weighted", "contributions", "drivers")}
     scores_job(["a", "b"], str(tmp_path / "errors.csv"), str(tmp_path / "rtf.csv"), [str(p) for p in cpu],
                str(tmp_path / "facts.yaml"), dict(sc.DEFAULT_WEIGHTS), outputs)
 
@@ -269,6 +269,23 @@ def test_scores_job_against_hand_computed_values(tmp_path) -> None:  # type: ign
     # b: 6 + 3 x 0.667 + 6 + 4 + 3 + 4 + 2 x 0.5 + 2 + 10 + 10
     assert b.total == pytest.approx(6 + 2.001 + 6 + 4 + 3 + 4 + 1 + 2 + 20, abs=1e-5)
     assert list(weighted.index) == ["b", "a"] and (b["rank"], a["rank"]) == (1, 2)
+    # written at full precision: the exact score, not 6 significant figures
+    assert a.imu_angular == 0.5 / 0.55
+
+    # the total taken apart: weight x score per metric, summing to the total; the leader's lead per metric
+    parts = pd.read_csv(outputs["contributions"])
+    assert len(parts) == 2 * len(sc.METRICS)
+    for engine, g in parts.groupby("engine"):
+        assert g.points.sum() == pytest.approx(weighted.loc[engine, "total"], abs=1e-12)
+        assert g["share"].iloc[0] == pytest.approx(weighted.loc[engine, "total"] / 56)
+    a_ros = parts[(parts.engine == "a") & (parts.metric == "ros")].iloc[0]
+    assert (a_ros.weight, a_ros.score, a_ros.points, a_ros.label) == (6.0, 0.0, 0.0, "ROS integration")
+    drivers = pd.read_csv(outputs["drivers"])
+    assert set(drivers.engine) == {"a"} and (drivers.leader == "b").all()
+    assert drivers.difference.sum() == pytest.approx(b.total - a.total, abs=1e-12) == drivers.gap.iloc[0]
+    first = drivers.sort_values("order").iloc[0]  # ROS: 6 points to b, none to a, the largest lead
+    assert (first.metric, first.difference, first.order) == ("ros", 6.0, 1)
+    assert drivers.sort_values("order").difference.is_monotonic_decreasing
 
 
 def test_a_failed_cpu_run_is_not_scored(tmp_path) -> None:  # type: ignore[no-untyped-def]

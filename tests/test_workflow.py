@@ -85,8 +85,24 @@ def test_weight_edit_reruns_only_scoring_and_report(study):
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
         # figure_contributions draws weight x score per metric: the one figure the weights reach; the
-        # verdict gives the weighted total its interval over real runs and says what decides the order
-        assert rules == ["all", "figure_contributions", "report", "report_pdf", "scores", "verdict"]
+        # answer gives the weighted total its interval over real runs and flags it; the verdict's tests
+        # (each engine against the best) read no weight and do not rerun
+        assert rules == ["all", "answer", "figure_contributions", "report", "report_pdf", "scores"]
+    finally:
+        write_config(workdir, config)
+
+
+@pytest.mark.slow  # starts Snakemake (a dry run on the module's study)
+def test_margin_edit_reruns_only_the_verdict_and_the_report(study):
+    workdir, config = study
+    edited = yaml.safe_load(yaml.safe_dump(config))
+    edited.setdefault("verdict", {}).setdefault("margins", {})["heading_error"] = {"basis": "absolute", "value": 0.2}
+    write_config(workdir, edited)
+    try:
+        rules = sorted({rule for rule, _ in planned_jobs(workdir)})
+        # the margin reaches the verdict's rule through its params; the answer and the report read its
+        # outcomes: no score, no simulation, no figure
+        assert rules == ["all", "answer", "report", "report_pdf", "verdict"]
     finally:
         write_config(workdir, config)
 

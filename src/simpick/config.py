@@ -310,6 +310,54 @@ class Statistics(Strict):
         return self
 
 
+VERDICT_METRICS = ("gain_error", "heading_error", "speed_error")
+# the kinds of validation case (simpick.studies.validation) a metric's mechanics can rest on; "invariance":
+# the checks made across yaw-gain cases (left against right turns, start headings)
+CASE_KINDS = Literal["yaw_gain", "straight", "slide", "incline", "rest", "invariance"]
+# the real robot's own figure behind a metric, which a margin measured from the data is taken from
+REAL_FIGURE = {"gain_error": "yaw_rate_gain_real"}
+
+
+class Margin(Strict):
+    """A practical margin of one verdict metric: differences to the best engine smaller than this
+    are of no practical consequence (simpick.score.equivalence.margin)."""
+    basis: Literal["absolute", "real_spread", "real_fraction"] = Field(
+        description="absolute: `value` in the metric's unit; real_spread: `value` x the real robot's own "
+                    "run-to-run spread of the figure behind the metric (pooled within-class standard deviation "
+                    "over runs); real_fraction: `value` x the real robot's mean of that figure")
+    value: Positive = Field(description="the margin (absolute) or the factor (real_spread, real_fraction)")
+
+
+class VerdictMargins(Strict):
+    gain_error: Margin = Margin(basis="real_spread", value=1.0)
+    heading_error: Margin = Margin(basis="absolute", value=0.05)
+    speed_error: Margin = Margin(basis="absolute", value=0.05)
+
+    @model_validator(mode="after")
+    def measurable(self):
+        for metric in VERDICT_METRICS:
+            basis = getattr(self, metric).basis
+            if basis != "absolute" and metric not in REAL_FIGURE:
+                raise ValueError(f"{metric}: basis {basis!r} needs the real robot's own figure behind the metric, "
+                                 f"which only {sorted(REAL_FIGURE)} has; use basis: absolute with a value in "
+                                 "the metric's unit")
+        return self
+
+
+class VerdictMechanics(Strict):
+    gain_error: list[CASE_KINDS] = ["yaw_gain", "invariance"]
+    heading_error: list[CASE_KINDS] = ["yaw_gain", "invariance", "straight"]
+    speed_error: list[CASE_KINDS] = ["straight"]
+
+
+class Verdict(Strict):
+    """simpick's verdict on the real data: each engine against the best (simpick.score.equivalence)."""
+    margins: VerdictMargins = Field(VerdictMargins(), description="the practical margin of each metric")
+    mechanics: VerdictMechanics = Field(
+        VerdictMechanics(), description="the validation case kinds each metric depends on: an engine failing "
+                                        "one is shown with a flag and never named best on that metric")
+
+
 def _runs_for(level: float) -> int:
     from simpick.compare.realmetrics import smallest_p
 
@@ -345,6 +393,7 @@ class Study(Strict):
     reference: Reference
     accuracy: Accuracy
     statistics: Statistics = Statistics()
+    verdict: Verdict = Verdict()
     borealtc_dir: str | None = None
     real_dataset: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] | None = None
     own_logs: list[OwnLog] = []

@@ -41,11 +41,12 @@ def source_tables(tests, run_table, group: str, statistics: dict | None = None) 
     class) means with intervals and paired verdicts over independent runs (``summary``,
     ``pairwise``: simpick.compare.real.summary_table, pairwise_table)."""
     from simpick.compare import metrics
-    from simpick.compare.real import pairwise_table, summary_table
+    from simpick.compare.real import class_verdicts, pairwise_table, summary_table
+    pairwise = pairwise_table(tests, group, statistics)
     return {"imu_errors": metrics.eq7_totals(tests, engines=run_table.engine.unique()),
             "rtf": equal_rtf(run_table),
-            "summary": summary_table(tests, group, statistics),
-            "pairwise": pairwise_table(tests, group, statistics)}
+            "summary": class_verdicts(summary_table(tests, group, statistics), pairwise, group),
+            "pairwise": pairwise}
 
 
 def equal_rtf(runs) -> "pd.DataFrame":

@@ -215,11 +215,62 @@ def pairwise_table(per_test: pd.DataFrame, group: str, statistics: dict | None =
                         continue
                     t = realmetrics.paired_test(wide[(fig, a)], wide[(fig, b)], run_of.reindex(wide.index).to_numpy(),
                                                 min_runs, level)
-                    verdict = {"a": f"{b} closer", "b": f"{a} closer"}.get(t["verdict"], t["verdict"])
+                    closer = {"a": b, "b": a}.get(t["verdict"], "")
+                    outcome = "closer" if closer else t["verdict"]
+                    verdict = f"{closer} closer" if closer else t["verdict"]
                     if verdict == "too few runs":
                         verdict = f"too few runs ({t['n_runs']} < {min_runs})"
                     pairs.append({group: cls, "figure": fig, "engine_a": a, "engine_b": b,
                                   "mean_a_minus_b": t["mean"], "low": t["low"], "high": t["high"],
-                                  "p_value": t["p_value"], "n_runs": t["n_runs"], "verdict": verdict})
+                                  "p_value": t["p_value"], "n_runs": t["n_runs"], "verdict": verdict,
+                                  "outcome": outcome, "closer": closer, "min_runs": min_runs})
     return pd.DataFrame(pairs, columns=[group, "figure", "engine_a", "engine_b", "mean_a_minus_b",
-                                        "low", "high", "p_value", "n_runs", "verdict"])
+                                        "low", "high", "p_value", "n_runs", "verdict", "outcome", "closer",
+                                        "min_runs"])
+
+
+# A pair's typed outcome (pairwise_table's ``outcome``; ``closer`` names the engine where it is "closer"),
+# and a class's (class_verdicts' ``<figure>_outcome``): the engine with the smallest mean of a figure is
+# "clear" when the paired test puts it closer than every other engine; otherwise why not.
+PAIR_OUTCOMES = ("closer", "no clear difference", "too few runs")
+CLASS_OUTCOMES = ("clear", "not separated", "too few runs", "intervals disagree", "only one engine",
+                  "no paired comparison")
+
+
+def class_verdicts(summary: pd.DataFrame, pairwise: pd.DataFrame, group: str) -> pd.DataFrame:
+    """The summary with, per figure it holds, ``<figure>_closest`` (the engine with the smallest mean
+    in its ``group``; ties to the first name) and ``<figure>_outcome`` (one of ``CLASS_OUTCOMES``,
+    the same on every row of the group): whether the pairwise tests separate that engine from every
+    other, so that a reader takes the verdict from the table and derives none."""
+    out = summary.copy()
+    figures = [f for f in FIGURES + ("yaw_rate_gain_real",) if f in summary and f not in
+               ("yaw_rate_gain_sim", "yaw_rate_gain_real")]
+    for fig in figures:
+        closest, outcome = pd.Series(False, index=out.index), pd.Series("", index=out.index, dtype=object)
+        for cls, sel in out.groupby(group):
+            means = pd.to_numeric(sel[fig], errors="coerce")
+            means = means[np.isfinite(means)]
+            if means.empty:
+                continue
+            best_index = min(means.index, key=lambda i: (means[i], str(out.at[i, "engine"])))
+            best = out.at[best_index, "engine"]
+            others = [e for e in sel.loc[means.index, "engine"] if e != best]
+            pw = pairwise[(pairwise[group] == cls) & (pairwise.figure == fig)] if len(pairwise) else pairwise
+            pairs = pw[(pw.engine_a == best) | (pw.engine_b == best)] if len(pw) else pw
+            kinds = set(pairs.outcome) if len(pairs) else set()
+            if not others:
+                verdict = "only one engine"
+            elif len(pairs) == 0:
+                verdict = "no paired comparison"
+            elif len(pairs) >= len(others) and kinds == {"closer"} and set(pairs.closer) == {best}:
+                verdict = "clear"
+            elif "too few runs" in kinds:
+                verdict = "too few runs"
+            elif any(c and c != best for c in pairs.closer):
+                verdict = "intervals disagree"
+            else:
+                verdict = "not separated"
+            closest[best_index] = True
+            outcome[sel.index] = verdict
+        out[f"{fig}_closest"], out[f"{fig}_outcome"] = closest, outcome
+    return out

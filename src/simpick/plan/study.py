@@ -412,17 +412,38 @@ class Plan(ReportPlanning, CalibrationPlanning):
         return f"full replay of {self.verdict_source()}"
 
     def verdict_settings(self):
+        """What the verdict's tests depend on: no weight (a weight edit reruns the answer, not them)."""
         return canonical(
             {
                 "engines": sorted(self.engines),
                 "baselines": sorted(self.baselines),
                 "statistics": self.statistics_params(),
+                "seed": self.config["seed"],
+                "accuracy_set": self.accuracy_source()["set"],
+                "verdict": self.config["verdict"],
+            }
+        )
+
+    def answer_settings(self):
+        """What the answer and the paper's ranking with its interval depend on: the weights, and
+        the words the sentences use."""
+        return canonical(
+            {
+                "engines": sorted(self.engines),
+                "statistics": self.statistics_params(),
                 "weights": self.config["weights"],
                 "seed": self.config["seed"],
                 "source": self.verdict_source(),
                 "source_title": self.verdict_source_title(),
+                "robot": self.config["robot"].get("label") or self.robot.name,
             }
         )
+
+    def answer_inputs(self, wildcards=None):
+        """The calibration's turning table where the calibration is part of the study."""
+        if self.calibration and self.calibration.get("enabled"):
+            return {"calibration_turning": f"{self.cal_dir}/turning.csv"}
+        return {}
 
     def all_targets(self):
         """What the default target asks for (rule all)."""

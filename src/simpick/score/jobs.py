@@ -7,7 +7,8 @@ import json
 from pathlib import Path
 
 from simpick.errors import InputError
-from simpick.tables import write_csv
+from simpick.score.contributions import contributions, drivers
+from simpick.score.output import write_csv
 
 
 def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[str], qualitative: str,
@@ -58,7 +59,12 @@ def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[st
     scores = pd.DataFrame.from_dict(rows, orient="index")[list(scoring.METRICS)]
     scores.index.name = "engine"
     write_csv(scores, outputs["scores"], index=True)
-    write_csv(scoring.weighted_table(scores, weights), outputs["weighted"], index=True)
+    weighted = scoring.weighted_table(scores, weights)
+    write_csv(weighted, outputs["weighted"], index=True)
+    if outputs.get("contributions"):
+        contribution = contributions(weighted, weights)
+        write_csv(contribution, outputs["contributions"])
+        write_csv(drivers(contribution), outputs["drivers"])
     if outputs.get("provenance"):
         record = score_provenance(engines, imu_errors, rtf, cpu_files, sources or {})
         Path(outputs["provenance"]).write_text(yaml.safe_dump(record, sort_keys=False))

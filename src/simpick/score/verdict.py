@@ -1,4 +1,4 @@
-"""simpick's verdict: which engine reproduces the real robot best, and how sure that is (issue 17).
+"""simpick's verdict: which engine reproduces the real robot best, and how sure that is.
 
 The paper's accuracy scores (Eq. 7 sums, Eq. 8 min/E) are kept exactly as it defines them, in
 the weighted table (simpick.score.scoring). On real Husky data they cannot separate engines: Eq. 7 sums
@@ -18,14 +18,16 @@ mobile-robot user needs from an engine, per real run:
 
 Every figure is averaged within a run first (segments and windows of one run are not independent)
 and pooled over every real run of the source (terrain classes together: runs are independent).
-Intervals (BCa over runs) and verdicts (exact sign-flip test of paired per-run differences) follow
-the validated ``statistics`` settings: none below ``min_runs`` runs. An engine is named closest on a
-metric only where the paired test separates it from the next; otherwise the table says which
-engines cannot be told apart and roughly how many runs would tell them apart at the observed spread.
+Intervals are BCa over runs, from the validated ``statistics.min_runs`` runs on. Two views of the
+engines: each against the best, the one a user acts on (outcomes.csv: worse, equivalent within a
+practical margin, or undetermined; simpick.score.equivalence, behind the mechanics gate of
+simpick.score.mechanics), and each against the next in the order of the means (table.csv: an exact
+sign-flip test of paired per-run differences, with roughly how many runs would separate the two).
 
-The paper's weighted total gets an interval too: the runs resampled with replacement (each run's
-tests together, every engine alike), the Eq. 7 totals and Eq. 8 scores recomputed per draw, the
-rest of the total (qualitative facts, RTF, CPU) held as measured.
+The paper's weighted total gets an interval too (:func:`ranking`, run by simpick.score.answer:
+the weights reach it): the runs resampled with replacement (each run's tests together, every engine
+alike), the Eq. 7 totals and Eq. 8 scores recomputed per draw, the rest of the total (qualitative
+facts, RTF, CPU) held as measured.
 """
 
 from __future__ import annotations
@@ -35,11 +37,12 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-import yaml
 
 from simpick.compare import realmetrics
 from simpick.compare.metrics import eq7_sum
-from simpick.tables import write_csv
+from simpick.score.equivalence import outcomes_table
+from simpick.score.mechanics import mechanics_table
+from simpick.score.output import write_csv
 
 METRICS = {
     "gain_error": {"label": "yaw-rate gain error", "unit": "", "tests": "turning tests",
@@ -354,38 +357,6 @@ def paper_rows(rank: pd.DataFrame, discrimination: pd.DataFrame, weights: dict) 
     return out
 
 
-def headline(table: pd.DataFrame, separation: list[dict], rank: pd.DataFrame, source: str, n_runs: int) -> str:
-    """The report's first paragraph, from the tables alone."""
-    simpick_rows = [s for s in separation if s["method"] == "simpick"]
-    named = [s for s in simpick_rows if s["separates"] is True]
-    parts = []
-    if named:
-        parts.append("Closest to the real Husky, where the evidence separates engines: "
-                     + "; ".join(s["statement"] for s in named) + ".")
-    else:
-        parts.append(f"On the {source} ({n_runs} real runs), no engine is separated from the next on any of "
-                     f"simpick's measures of how the robot moves.")
-    rest = [s for s in simpick_rows if s["separates"] is not True]
-    if rest:
-        parts.append(" ".join(s["statement"][0].upper() + s["statement"][1:] + "." for s in rest))
-    paper = [s for s in separation if s["method"] == "paper"]
-    total = next((s for s in paper if s["metric"] == "total"), None)
-    scores = [s for s in paper if s["metric"] != "total"]
-    if total:
-        parts.append("The paper's method (Eq. 7/8 and its weighted table, shown as the paper defines it) ranks "
-                     f"{total['best']} first: {total['totals']} (intervals over the real runs).")
-        r = rank.sort_values("total", ascending=False)
-        imu_spread = float(r.imu_points.max() - r.imu_points.min())
-        gap = float(r.total.iloc[0] - r.total.iloc[1]) if len(r) > 1 else float("nan")
-        if scores and np.isfinite(gap) and imu_spread < gap:
-            ranges = " and ".join(f"{_fmt(s['low'])}–{_fmt(s['high'])} ({s['quantity']})" for s in scores)
-            parts.append(f"That order is decided by qualitative facts, real-time factor and CPU load, not by how the "
-                         f"engines move the robot: the IMU accuracy scores are {ranges} for every engine, so they "
-                         f"move the totals by at most {imu_spread:.2f} points, less than the {gap:.2f} between the "
-                         f"first two.")
-    return " ".join(parts)
-
-
 HEADING_COLUMNS = ["model", "test", "terrain_class", "run", "start_heading_deg", "yaw_rate_gain_sim",
                    "yaw_rate_gain_reference", "gain_ratio"]
 HEADING_REFERENCE = "coulomb"  # heading-independent by construction: the same command's gain on any heading
@@ -411,51 +382,59 @@ def heading_spread(per_test: pd.DataFrame, reference: str = HEADING_REFERENCE) -
     return pd.DataFrame(rows, columns=HEADING_COLUMNS)
 
 
-def verdict_job(per_test: str, weighted: str, provenance: str, params: dict, outputs: dict,
-                accuracy_tests: str | None = None) -> None:
-    """results/verdict/: per-run metrics, the metric x model table, the separation table (simpick's
-    metrics and the paper's scores and total), the paper's ranking with its interval over runs, the
-    score discrimination, and the headline paragraph (headline.yaml) the report prints as is."""
-    min_runs, level = _stats(params.get("statistics"))
-    engines, floor_models = list(params["engines"]), list(params.get("baselines") or [])
-    seed = int(params.get("seed", 0))
-    tests = pd.read_csv(per_test, dtype={"run": str, "test": str, "segment": str})
+def scored_tests(imu_errors: str, engines: list[str]) -> list[str] | None:
+    """The tests the accuracy scores rest on, as the Eq. 7 totals file lists them (the scores
+    record the same list in their provenance)."""
+    errors = pd.read_csv(imu_errors, dtype=str, keep_default_na=False)
+    errors = errors[errors.engine.isin(engines)]
+    tests = sorted({t for cell in errors.get("tests", []) for t in str(cell).split(";") if t.strip() and t != "nan"})
+    return tests or None
+
+
+def read_per_test(path: str) -> pd.DataFrame:
+    tests = pd.read_csv(path, dtype={"run": str, "test": str, "segment": str})
     for col in ("engine", "terrain_class", "run", "status", "test"):
         if col not in tests:
             tests[col] = pd.Series(dtype=str)
-    long = []
+    return tests
+
+
+def verdict_job(inputs: dict, params: dict, outputs: dict) -> None:
+    """results/verdict/: per-run metrics, the metric x model table (each engine against the next),
+    each engine against the best (outcomes.csv: simpick.score.equivalence) with the mechanics gate
+    it rests on (mechanics.csv: simpick.score.mechanics), the heading spread and what the paper's
+    accuracy scores separate (discrimination). Nothing here reads the weights: a weight edit does
+    not rerun these tests (the weighted ranking and the answer are rule ``answer``'s).
+
+    ``inputs``: ``per_test`` (the verdict's real data), ``validation`` (the validation summary),
+    ``accuracy_tests`` and ``accuracy_errors`` (the accuracy scores' per-test table and Eq. 7
+    totals); ``params``: engines, baselines, statistics, seed, ``accuracy_set`` (lab, segments,
+    replay or own) and ``verdict`` (the config's margins and mechanics)."""
+    statistics = params.get("statistics")
+    engines, floor_models = list(params["engines"]), list(params.get("baselines") or [])
+    seed = int(params.get("seed", 0))
+    tests = read_per_test(inputs["per_test"])
+    long, walls = [], {}
     for metric in METRICS:
-        wide = per_run_values(tests, metric)
+        walls[metric] = wide = per_run_values(tests, metric)
         for run, row in wide.iterrows():
             long += [{"run": run, "model": m, "metric": metric, "value": v} for m, v in row.items() if np.isfinite(v)]
     write_csv(pd.DataFrame(long, columns=["run", "model", "metric", "value"]), outputs["metrics"])
-    table = metric_table(tests, engines, params.get("statistics"), seed)
-    write_csv(table, outputs["table"])
+    write_csv(metric_table(tests, engines, statistics, seed), outputs["table"])
     if outputs.get("headings"):
         write_csv(heading_spread(tests), outputs["headings"])
 
-    weighted_frame = pd.read_csv(weighted, index_col=0)
-    prov = yaml.safe_load(Path(provenance).read_text()) or {}
-    acc = prov.get("accuracy") or {}
-    scored_tests = acc.get("tests") or None
-    acc_per_test = None
-    accuracy_tests = accuracy_tests or acc.get("per_test_file")  # the rule passes it; the record names it too
-    if acc.get("set") not in (None, "lab") and accuracy_tests and Path(accuracy_tests).is_file():
-        acc_per_test = pd.read_csv(accuracy_tests, dtype={"run": str, "test": str, "segment": str})
-    scored = [e for e in engines if e in weighted_frame.index]
-    disc = (score_discrimination(acc_per_test, scored, floor_models, scored_tests, params.get("statistics"),
-                                 seed=seed) if acc_per_test is not None and not acc_per_test.empty
-            else pd.DataFrame(columns=DISCRIMINATION_COLUMNS))
+    mechanics = mechanics_table(pd.read_csv(inputs["validation"]), engines)
+    write_csv(mechanics, outputs["mechanics"])
+    absent = {"speed_error": NO_SPEED}
+    outcomes = outcomes_table(walls, tests, engines, METRICS, mechanics, params["verdict"], statistics, seed, absent)
+    write_csv(outcomes, outputs["outcomes"])
+
+    disc = pd.DataFrame(columns=DISCRIMINATION_COLUMNS)
+    if params.get("accuracy_set") not in (None, "lab") and Path(inputs["accuracy_tests"]).is_file():
+        acc_per_test = read_per_test(inputs["accuracy_tests"])
+        scored = [e for e in engines if e in set(acc_per_test.engine)]
+        if len(acc_per_test) and scored:
+            disc = score_discrimination(acc_per_test, scored, floor_models,
+                                        scored_tests(inputs["accuracy_errors"], scored), statistics, seed=seed)
     write_csv(disc, outputs["discrimination"])
-    rank = ranking(weighted_frame.loc[scored], acc_per_test, scored_tests, params["weights"],
-                   params.get("statistics"), seed=seed)
-    write_csv(rank, outputs["ranking"])
-    separation = separation_rows(table, min_runs) + paper_rows(rank, disc, params["weights"])
-    write_csv(pd.DataFrame(separation, columns=SEPARATION_COLUMNS), outputs["separation"])
-    n_runs = int(run_key(tests[tests.status == "ok"]).nunique()) if len(tests) else 0
-    source = params.get("source_title") or params.get("source") or "real data"
-    text = headline(table, separation, rank, source, n_runs)
-    Path(outputs["headline"]).write_text(yaml.safe_dump(
-        {"source": params.get("source"), "source_title": source, "n_runs": n_runs, "min_runs": min_runs,
-         "level": level,
-         "paragraph": text}, sort_keys=False, allow_unicode=True))
