@@ -1,13 +1,17 @@
 # The decision tree after the paper's Figure 9 (simpick.score.tree), from the study's own tables:
-# the sourced qualitative facts, the analytic mechanics checks, the real-data verdict's outcomes
-# (where the study has real data), the lab's real-time factor and the CPU load. The weights only
+# the sourced qualitative facts, the analytic mechanics checks, the real-data verdict's outcomes and
+# mechanics gate (where the study has real data), the lab's real-time factor and the CPU load. The weights only
 # order the engines within a leaf (the figure and the report do that from weighted.csv), so a
 # weight edit does not rerun decision_tree.
 
 
 rule decision_tree:
     input:
-        **({"outcomes": "results/verdict/outcomes.csv"} if PLAN.verdict else {}),
+        **(
+            {"outcomes": "results/verdict/outcomes.csv", "mechanics": "results/verdict/mechanics.csv"}
+            if PLAN.verdict
+            else {}
+        ),
         qualitative=PLAN.config["qualitative"],
         validation="results/validation/summary.csv",
         rtf=PLAN.metrics_file("lab", "rtf"),

@@ -77,6 +77,12 @@ def make_study(folder, facts=None, weights=None, outcomes=True) -> dict:
                          "mechanics_note": "", "recommendable": not f["fails"]})
         pd.DataFrame(rows).to_csv(folder / "outcomes.csv", index=False, float_format="%.17g")
         inputs["outcomes"] = str(folder / "outcomes.csv")
+        write_csv(pd.DataFrame([{"engine": e, "mechanics": "fail" if f["fails"] else "pass",
+                                 "mechanics_failed": f["fails"], "mechanics_cases": 6,
+                                 "mechanics_note": f"fails {f['fails']} of 6 analytic cases: yaw gain ({f['fails']})"
+                                 if f["fails"] else "passes all 6 analytic cases"} for e, f in facts.items()]),
+                  folder / "mechanics.csv")
+        inputs["mechanics"] = str(folder / "mechanics.csv")
     scores = pd.DataFrame({e: {m: 0.5 for m in scoring.METRICS} for e in facts}).T
     for e, f in facts.items():
         scores.loc[e, "open_source"] = float(f["open_source"])
@@ -141,9 +147,20 @@ def test_an_engine_that_fails_mechanics_is_not_close_whatever_its_figure(study):
     assert close["facts"]["ember"]["value"] == {"gain_error": False}
     assert "about 40 runs would decide" in close["facts"]["ember"]["text"]
     mechanics = next(q for q in tree["questions"] if q["key"] == "mechanics")
+    # the verdict's gate, in its words
+    assert mechanics["facts"]["comet"]["text"] == "fails 3 of 6 analytic cases: yaw gain (3)"
+    assert mechanics["facts"]["comet"]["source"].endswith("mechanics.csv: comet")
+
+
+def test_without_the_verdict_the_mechanics_come_from_the_validation_summary(tmp_path):
+    paths = make_study(tmp_path, outcomes=False)
+    decision_tree_job(list(FACTS), paths["inputs"], paths["tree"])
+    mechanics = next(q for q in read_tree(paths["tree"])["questions"] if q["key"] == "mechanics")
     # the skipped case is no failure and not counted
     assert mechanics["facts"]["comet"]["text"] == "fails 3 of 6 analytic cases: turning (3)"
     assert mechanics["facts"]["comet"]["source"].endswith("comet (turn_0, turn_1, turn_2)")
+    assert mechanics["facts"]["anvil"] == {**mechanics["facts"]["anvil"], "value": True,
+                                           "text": "passes all 6 analytic cases"}
 
 
 def test_every_fact_names_its_source(study):

@@ -182,6 +182,22 @@ def mechanics_question(summary_path: str, engines: Sequence[str]) -> Question:
     return _binary("mechanics", "Must it follow analytic mechanics?", f"{summary_path} (cases: {checked})", facts)
 
 
+def verdict_mechanics_question(mechanics_path: str, engines: Sequence[str], cases: str) -> Question:
+    """The mechanics question from the verdict's gate (results/verdict/mechanics.csv: one row per
+    engine, ``mechanics`` pass or fail and the note the answer table shows), so the tree and the
+    report's first table say the same; ``cases`` names what the validation checks."""
+    frame = _read_csv(mechanics_path, ("engine", "mechanics", "mechanics_note"), "the verdict's mechanics gate")
+    frame = frame.set_index("engine")
+    facts = {}
+    for engine in engines:
+        if engine not in frame.index:
+            facts[engine] = Fact(False, "not checked against mechanics", mechanics_path)
+            continue
+        row = frame.loc[engine]
+        facts[engine] = Fact(str(row.mechanics) == "pass", str(row.mechanics_note), f"{mechanics_path}: {engine}")
+    return _binary("mechanics", "Must it follow analytic mechanics?", f"{mechanics_path} ({cases})", facts)
+
+
 def _fmt(x: float, digits: int = 3) -> str:
     return "nan" if x is None or not math.isfinite(float(x)) else f"{float(x):.{digits}g}"
 
@@ -389,15 +405,18 @@ def build_tree(questions: Sequence[Question], engines: Sequence[str]) -> dict:
 
 def study_questions(engines: Sequence[str], inputs: Mapping[str, Any]) -> list[Question]:
     """Every question from the study's tables, in the order they are asked. ``inputs``:
-    ``qualitative``, ``validation`` (summary.csv), ``rtf``, ``cpu`` (a list of JSON files) and
-    optionally ``outcomes`` (the verdict's, where the study has real data)."""
+    ``qualitative``, ``validation`` (summary.csv), ``rtf``, ``cpu`` (a list of JSON files) and,
+    where the study has real data, the verdict's ``outcomes`` and ``mechanics``."""
     questions = qualitative_questions(_read_yaml(inputs["qualitative"]), engines, inputs["qualitative"])
     # closeness before mechanics: its "yes" keeps only engines that pass the mechanics its metric
     # depends on, so the mechanics question is left to the branches where it still says something
     closeness = closeness_question(inputs["outcomes"], engines) if inputs.get("outcomes") else None
     if closeness is not None:
         questions.append(closeness)
-    questions.append(mechanics_question(inputs["validation"], engines))
+    mechanics = mechanics_question(inputs["validation"], engines)
+    if inputs.get("mechanics"):  # the verdict's gate, where the study has one: the words of the answer table
+        mechanics = verdict_mechanics_question(inputs["mechanics"], engines, mechanics.rests_on)
+    questions.append(mechanics)
     questions.append(speed_question(inputs["rtf"], engines))
     cpu = cpu_question(list(inputs.get("cpu") or []), engines)
     if cpu is not None:
