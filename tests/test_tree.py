@@ -285,3 +285,23 @@ def test_the_printed_tree_draws_every_leaf_at_a4_width(study):
     picks = [leaf_order(tree["nodes"][n]["engines"], totals)[0] for n in leaves if tree["nodes"][n]["engines"]]
     names = [t.split()[0].rstrip("\u2020") for t in texts if t.split()]
     assert sorted(n for n in names if n in FACTS) == sorted(picks)
+
+
+def test_the_rules_plan_the_tree_from_the_study_and_the_figure_from_the_weights(tmp_path):
+    """A dry run: rule decision_tree reads the verdict's outcomes and gate with the lab's tables, and
+    figure_tree the weighted table (so a weight edit reaches the figure, not the tree)."""
+    from conftest import snakemake, tiny_config, write_config
+
+    write_config(tmp_path, tiny_config(tmp_path))
+    out = snakemake(tmp_path, "-n", "--rerun-triggers", "mtime", "--", "results/verdict/tree.json",
+                    "results/report/figures/tree.png")
+    assert out.returncode == 0, out.stderr[-3000:]
+    text = out.stdout + out.stderr
+    jobs = {block.split(":")[0].split()[-1]: block for block in text.split("\nrule ")[1:]}
+    assert {"decision_tree", "figure_tree", "verdict", "scores", "validation_summary"} <= set(jobs)
+    tree_inputs = jobs["decision_tree"].split("input:")[1].split("\n")[0]
+    for needed in ("results/verdict/outcomes.csv", "results/verdict/mechanics.csv", "results/validation/summary.csv",
+                   "rtf.csv", "results/cpu/", "qualitative.yaml"):
+        assert needed in tree_inputs, needed
+    assert "weighted.csv" not in tree_inputs
+    assert "results/scores/weighted.csv" in jobs["figure_tree"].split("input:")[1].split("\n")[0]
