@@ -22,10 +22,6 @@ rule decision_tree:
         "results/logs/decision_tree.log",
     conda:
         "../envs/simpick.yaml"
-    threads: 1
-    resources:
-        mem_mb=300,
-        runtime=5,
     params:
         engines=sorted(PLAN.engines),  # a reordered engines: block is not an edit
         code=PLAN.script_code("decision_tree"),
