@@ -3,12 +3,13 @@
 The paper closes with a tree of questions ("do you need ROS?", ...) whose leaves are simulators,
 drawn from the authors' experience. Here every answer rests on a fact a rule wrote or a sourced
 record: the qualitative facts (resources/engines/qualitative.yaml, each with its source), the
-analytic mechanics checks (results/validation/summary.csv), the real-data verdict
-(results/verdict/outcomes.csv: best, equivalent to the best, worse, undetermined), the lab's
-real-time factor (results/metrics/lab/rtf.csv) and the CPU load (results/cpu/<engine>.json).
+analytic mechanics checks (the verdict's gate, results/verdict/mechanics.csv, or without real data
+results/validation/summary.csv), the real-data verdict (results/verdict/outcomes.csv: best,
+equivalent to the best, worse, undetermined), the lab's real-time factor
+(results/metrics/lab/rtf.csv) and the CPU load (results/cpu/<engine>.json).
 
 The questions are requirements, asked in a fixed order (licence, ROS, closeness to the real robot
-per real-data metric, mechanics, speed, CPU): each answer keeps the engines that meet it. A
+on the verdict's metrics, mechanics, speed, CPU): each answer keeps the engines that meet it. A
 question is asked at a node only where some answer would change the engines left there, so
 another robot, other data or another set of engines gives another tree; a leaf is the engines
 that every answer on its path kept (none, one, or a group no remaining question separates).
