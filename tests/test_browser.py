@@ -140,6 +140,23 @@ def test_a_weight_edit_recomputes_the_totals_and_reorders_the_leaf(page, study):
     assert page.get_attribute("#sc-pick", "data-engine") == leaf_order(["anvil", "breeze"], totals)[0]
 
 
+def test_the_whole_tree_lists_every_leaf_ordered_by_the_weights(page, study):
+    tree = read_tree(study["tree"])
+    leaves = {n["id"]: n["engines"] for n in tree["nodes"].values() if n["kind"] == "leaf"}
+    totals = pd.read_csv(study["weighted"], index_col="engine")["total"].to_dict()
+
+    def shown():
+        return dict(page.eval_on_selector_all(
+            "#sc-outline .sc-outline-leaf", "spans => spans.map(s => [s.dataset.leaf, s.dataset.engines])"))
+
+    assert shown() == {i: " ".join(leaf_order(e, totals)) for i, e in leaves.items()}
+    page.fill('input[data-metric="real_time_factor"]', "100")
+    scores = pd.read_csv(study["weighted"], index_col="engine")[list(scoring.METRICS)]
+    faster = scoring.weighted_table(scores, {**WEIGHTS, "real_time_factor": 100.0})["total"].to_dict()
+    assert shown() == {i: " ".join(leaf_order(e, faster)) for i, e in leaves.items()} != \
+        {i: " ".join(leaf_order(e, totals)) for i, e in leaves.items()}
+
+
 def test_the_page_needs_no_network_and_hides_in_print(study):
     """Nothing is loaded from elsewhere; in print (WeasyPrint, the report's PDF) the interactive part
     is left out, where the static figure of the tree stands for it."""

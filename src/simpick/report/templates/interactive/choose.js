@@ -224,9 +224,37 @@
     }
   }
 
+  // The whole tree at once, each leaf's engines by the weighted total at the current weights.
+  function renderOutline(t) {
+    var box = document.getElementById("sc-outline");
+    box.textContent = "";
+    function branch(id) {
+      var node = tree.nodes[id];
+      if (node.kind === "leaf") {
+        if (!node.engines.length) {
+          return el("span", {"class": "sc-none sc-outline-leaf", "data-leaf": id, "data-engines": "", text: "none"});
+        }
+        var ordered = byTotal(node.engines, t);
+        var named = ordered.map(function (e) { return e + (data.flags[e] ? "\u2020" : ""); });
+        return el("span", {"class": "sc-outline-leaf", "data-leaf": id, "data-engines": ordered.join(" ")},
+                  [el("strong", {text: named[0]}), named.length > 1 ? " (then " + named.slice(1).join(", ") + ")" : ""]);
+      }
+      var list = el("ul");
+      var seen = {};
+      node.answers.forEach(function (a) {
+        if (seen[a.next]) { seen[a.next].firstChild.textContent += " / " + a.label; return; }
+        var item = el("li", {}, [el("em", {text: a.label}), " \u2192 ", branch(a.next)]);
+        seen[a.next] = item;
+        list.appendChild(item);
+      });
+      return el("span", {}, [node.text, list]);
+    }
+    box.appendChild(branch(tree.root));
+  }
+
   function update(treeOnly) {
     var t = totals();
-    if (!treeOnly) { refreshWeights(t); renderRanking(t); }
+    if (!treeOnly) { refreshWeights(t); renderRanking(t); renderOutline(t); }
     renderPath();
     renderCurrent(t);
   }
