@@ -237,7 +237,8 @@
         var ordered = byTotal(node.engines, t);
         var named = ordered.map(function (e) { return e + (data.flags[e] ? "\u2020" : ""); });
         return el("span", {"class": "sc-outline-leaf", "data-leaf": id, "data-engines": ordered.join(" ")},
-                  [el("strong", {text: named[0]}), named.length > 1 ? " (then " + named.slice(1).join(", ") + ")" : ""]);
+                  [el("strong", {text: named[0]}),
+                   named.length > 1 ? " (then " + named.slice(1).join(", ") + ")" : ""]);
       }
       var list = el("ul");
       var seen = {};
