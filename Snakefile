@@ -36,6 +36,7 @@ include: "rules/real.smk"
 include: "rules/sweep.smk"
 include: "rules/calibration.smk"
 include: "rules/scores.smk"
+include: "rules/tree.smk"
 include: "rules/published.smk"
 include: "rules/report.smk"
 
