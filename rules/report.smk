@@ -273,6 +273,8 @@ rule report:
         weighted="results/scores/weighted.csv",
         contributions="results/scores/contributions.csv",
         drivers="results/scores/drivers.csv",
+        # the decision tree's data: the page's interactive section answers it (rules/tree.smk)
+        tree="results/verdict/tree.json",
         scores_provenance="results/scores/provenance.yaml",
         validation="results/validation/summary.csv",
         validation_gains="results/validation/gains.csv",

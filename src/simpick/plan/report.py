@@ -120,6 +120,7 @@ class ReportPlanning:
         out = [f"{fig}/paths.png", f"{fig}/validation_gain.png", f"{fig}/real_gain.png"]
         if self.verdict:
             out.append(f"{fig}/answer.png")
+        out.append(f"{fig}/tree.png")  # rules/tree.smk: the decision tree for print
         out += [f"{fig}/imu_stats/{t}/{m}.png" for t, m in self.lab_figure_tests]
         out += [f"{fig}/traces/{t}/{m}.png" for t in self.terrains for m in self.motions]
         if self.sweep:

@@ -475,7 +475,7 @@ def _verdict(data: ReportData, engines: list[str]) -> dict[str, Any]:
             first = rows[0]
             metrics.append({"metric": metric, "label": first["label"], "unit": first["unit"] or "",
                             "margin": first["margin"], "basis": first["margin_basis"], "best": first["best"],
-                            "rows": rows})
+                            "unmeasured": all(r["outcome"] == "not measurable" for r in rows), "rows": rows})
     ranking = {}
     if rank is not None:
         for r in rank.to_dict("records"):
@@ -483,6 +483,14 @@ def _verdict(data: ReportData, engines: list[str]) -> dict[str, Any]:
                                          "share_first": r["share_first"], "n_runs": r["n_runs"]}
     return {"given": True, "paragraph": head.get("paragraph"), "n_runs": head.get("n_runs"),
             "source": head.get("source_title") or head.get("source"), "metrics": metrics, "ranking": ranking}
+
+
+def _interactive(data: ReportData, weights: dict[str, float]) -> str | None:
+    if data.tree is None:
+        return None
+    from simpick.report.interactive import choose_fragment
+
+    return choose_fragment(data.tree, data.weighted, weights)
 
 
 def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]:
@@ -535,8 +543,9 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
                                  engines, figures.data_uri(data.figures["answer"]) if "answer" in data.figures else None,
                                  sections),
         "tree_uri": tree_uri,
-        # the decision tree's interactive partial (templates/interactive/) fills its section when it is there
-        "tree_interactive": (TEMPLATE_DIR / "interactive" / "tree.html.j2").is_file(),
+        # the decision tree and the adjustable weights, answered in the browser (simpick.report.interactive):
+        # one self-contained fragment, hidden in print where figures/tree.png stands for it
+        "interactive": _interactive(data, weights),
         "validation": validation_section(data.validation, engines, data.figures.get("validation_gain"),
                                          data.validation_gains),
         "sweep": sweep_section(data.sweep, engines, data.figures.get("sweep")),

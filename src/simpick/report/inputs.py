@@ -54,6 +54,8 @@ OPTIONAL_INPUTS: tuple[str, ...] = (
     "verdict_outcomes",
     "verdict_answer",
     "verdict_sentences",
+    # the decision tree (rules/tree.smk): its data for the interactive section, figures/tree.png for print
+    "tree",
 )
 # Inputs that are lists of paths (the workflow script passes these as lists).
 LIST_INPUTS: tuple[str, ...] = ("cpu", "traces", "real_logs", "replay_traces", "figures")

@@ -157,6 +157,7 @@ class ReportData:
     verdict: dict[str, pd.DataFrame] = field(default_factory=dict)
     verdict_headline: dict | None = None
     verdict_sentences: dict | None = None  # answer.yaml: one sentence per user need
+    tree: dict | None = None  # the decision tree (results/verdict/tree.json: simpick.score.tree)
     # real canonical logs and replay traces: paths only, read when the figures are drawn
     real_logs: list[str] | None = None
     replay_traces: list[str] | None = None
@@ -355,6 +356,13 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
             q = q["engines"]
         kw["qualitative"] = {str(k): v for k, v in q.items() if isinstance(v, dict)}
         sources["qualitative"] = str(p)
+
+    if given("tree"):
+        from simpick.score.tree import read_tree
+
+        p = _path("tree", inputs["tree"])
+        kw["tree"] = read_tree(str(p))
+        sources["tree"] = str(p)
 
     if given("worked_example"):
         p = _path("worked_example", inputs["worked_example"])
