@@ -590,8 +590,7 @@ def built_real(tmp_path_factory):
 def write_verdict(root: Path, per_test: str, weighted: str) -> dict:
     """The verdict's tables the report reads: the per-run metrics (simpick.score.verdict), what the
     paper's accuracy scores separate, a headline, and the answer's tables (:func:`write_answer`)."""
-    from simpick.score.verdict import METRICS as VERDICT_METRICS
-    from simpick.score.verdict import per_run_values, read_per_test, score_discrimination
+    from simpick.score.verdict import METRICS as VERDICT_METRICS, per_run_values, read_per_test, score_discrimination
 
     root.mkdir(parents=True, exist_ok=True)
     tests = read_per_test(per_test)

@@ -209,7 +209,7 @@ def _real_gain(per_test: pd.DataFrame | None, summary: pd.DataFrame | None, cls:
 
 def _set_block(set_: str, tables: Mapping[str, pd.DataFrame], cls: str, engines: list[str],
                stats: Mapping[str, Any] | None = None) -> dict[str, Any]:
-    summary, pairwise, per_test = tables.get("summary"), tables.get("pairwise"), tables.get("per_test")
+    summary, per_test = tables.get("summary"), tables.get("per_test")
     real_gain, n_gain = _real_gain(per_test, summary, cls, stats)
     n_class = n_runs_class = None
     if per_test is not None:
@@ -404,8 +404,7 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
             empty.append({"set": s_, "title": SET_TITLES[s_], "n_rows": len(pt)})
     scored_set = acc.get("kind") if acc and acc.get("kind") in REAL_SETS else None
     stats = statistics(params)
-    shown_classes, class_blocks, blocks_by_set = _blocks(data, {**params, "_scored_set": scored_set},
-                                                         engines, classes)
+    shown_classes, class_blocks, _ = _blocks(data, {**params, "_scored_set": scored_set}, engines, classes)
 
     # at a glance: per class and error, the closest engine and the class's typed outcome, as the summarise
     # job wrote them (simpick.compare.real.class_verdicts: <figure>_closest, <figure>_outcome)
