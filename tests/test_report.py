@@ -997,3 +997,24 @@ def test_the_summary_says_which_engines_pass_the_analytic_validation(tmp_path):
                             _real_params()).split())
     line = re.search(r'<p id="validation-headline">.*?</p>', text).group(0)
     assert f"<b>{engines[0]}</b> fails 1" in line and f"{engines[1]}" in line and "every case" in line
+
+
+def test_the_decision_tree_is_interactive_on_screen_and_a_figure_in_print(tmp_path, built_real):
+    """With the decision tree (rule decision_tree's tree.json) the page carries its interactive section
+    (self-contained, hidden in print) right after the answer; without tree.png the print shows neither."""
+    from simpick.score.tree import decision_tree_job
+
+    inputs, _, _ = built_real
+    validation = tmp_path / "validation.csv"
+    pd.DataFrame({"engine": list(ENGINES), "case": "gain", "kind": "yaw_gain", "quantity": "yaw_rate_gain",
+                  "passed": [True, False], "status": "ok"}).to_csv(validation, index=False)
+    tree = tmp_path / "tree.json"
+    decision_tree_job(list(ENGINES), {"qualitative": inputs["qualitative"], "validation": str(validation),
+                                      "rtf": inputs["rtf"], "cpu": inputs["cpu"],
+                                      "outcomes": inputs["verdict_outcomes"]}, str(tree))
+    text = _render({**inputs, "tree": str(tree)}, _real_params())
+    section = _section(text, 'id="decision-tree"', "</section>\n\n")
+    assert 'class="screen-only"' in section and 'id="simpick-choose"' in section
+    assert text.index('id="answer"') < text.index('id="simpick-choose"') < text.index('id="priorities"')
+    assert ".screen-only { display: none; }" in text  # hidden in print
+    assert not re.search(r"<script\b[^>]*\bsrc=", text, re.I)
