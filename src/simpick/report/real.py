@@ -435,12 +435,26 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
         if pw is None or pw.empty:
             continue
         pos = {c: i for i, c in enumerate(classes)}
-        rows = sorted(pw.to_dict("records"), key=lambda r: (pos.get(r["terrain_class"], len(pos)), r["figure"]))
+        # the pairs with each class's closest engine (the summary's <figure>_closest), where the summary names
+        # one: the comparisons its outcome rests on; every pair stays in pairwise.csv
+        summary = data.real[s_].get("summary")
+        closest = set()
+        if summary is not None:
+            for f in ERROR_FIGURES:
+                if f"{f}_closest" in summary.columns:
+                    sel = summary[summary[f"{f}_closest"]]
+                    closest |= {(c, f, e) for c, e in zip(sel["terrain_class"], sel["engine"])}
+        records = pw.to_dict("records")
+        if closest:
+            records = [r for r in records if (r["terrain_class"], r["figure"], r["engine_a"]) in closest
+                       or (r["terrain_class"], r["figure"], r["engine_b"]) in closest]
+        rows = sorted(records, key=lambda r: (pos.get(r["terrain_class"], len(pos)), r["figure"]))
         for r in rows:
             r["figure_label"] = FIGURE_LABELS.get(r["figure"], r["figure"])
             r.setdefault("n_runs", float("nan"))
             r.setdefault("p_value", float("nan"))
-        pairwise.append({"set": s_, "title": SET_TITLES[s_], "rows": rows})
+        pairwise.append({"set": s_, "title": SET_TITLES[s_], "rows": rows, "with_closest": bool(closest),
+                         "n_all": len(pw)})
 
     gain_file = data.figures.get("real_gain")
     gain_uri = figures.data_uri(gain_file) if gain_file else None
