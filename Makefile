@@ -9,6 +9,9 @@ $(STAMP): pyproject.toml constraints.txt
 	@# ODE comes from the system (Debian libode8); headers for the binding's own tests
 	ldconfig -p | grep -q 'libode\.so\.8' || { apt-get update && apt-get install -y --no-install-recommends libode8 libode-dev; } || \
 	  { echo "simpick: install ODE 0.16 first: apt-get install libode8 libode-dev (as root)"; exit 1; }
+	@# the browser the interactive report's test drives (tests/test_browser.py): the system's Chromium
+	command -v chromium >/dev/null || { apt-get update && apt-get install -y chromium; } || \
+	  { echo "simpick: install Chromium first: apt-get install chromium (as root)"; exit 1; }
 	$(PYTHON) -m venv $(VENV)
 	$(VENV)/bin/pip install --quiet --upgrade pip
 	$(VENV)/bin/pip install --quiet -c constraints.txt -e '.[test]'

@@ -37,6 +37,7 @@ include: "rules/drive.smk"
 include: "rules/sweep.smk"
 include: "rules/calibration.smk"
 include: "rules/scores.smk"
+include: "rules/tree.smk"
 include: "rules/published.smk"
 include: "rules/report.smk"
 

@@ -1,39 +1,43 @@
 # The study report. Every figure is drawn by a rule of its own (one job per figure, or per test
 # or terrain class for a family) from the tables into results/report/figures/, registered with
-# report() so `snakemake --report` shows it too; the report job only embeds the files. So a weight
-# edit redraws the one figure that shows the weights (figure_contributions), and a template edit
-# (src/simpick/report/templates, hashed by the report rules alone) redraws none. The figure
+# report() so `snakemake --report` shows it too; the report job only embeds the files. No figure
+# shows the weights (the page draws the weighted contributions from results/scores/contributions.csv),
+# so a weight edit redraws none, and a template edit (src/simpick/report/templates, hashed by the
+# report rule alone) redraws none either. The figure
 # inputs (PLAN.figures, PLAN.lab_figure_tests, PLAN.report_figures ...) are in simpick.plan.report.
 
 # Figure rules: light jobs (one Matplotlib figure each), code= the drawing code they run and no
 # more (simpick.plan: PLAN.figure_code), so an edit to the report's templates or context code reruns none of them.
 
 
-rule figure_contributions:
-    """The one weight-dependent figure: each engine's total split into weight x score."""
-    input:
-        weighted="results/scores/weighted.csv",
-    output:
-        png=report(
-            f"{PLAN.figures}/contributions.png",
-            caption="captions/contributions.rst",
-            category="Figures",
-            subcategory="Scores",
-        ),
-    log:
-        "results/logs/figures/contributions.log",
-    conda:
-        "../envs/simpick.yaml"
-    threads: 1
-    resources:
-        mem_mb=300,
-        runtime=5,
-    params:
-        weights=canonical(PLAN.config["weights"]),
-        engines=PLAN.figure_engines,
-        code=PLAN.figure_code("figure_contributions"),
-    script:
-        "../scripts/figure.py"
+if PLAN.verdict:
+
+    rule figure_answer:
+        """The first page's figure: per engine the per-run values of each real-data metric and the
+        interval of its difference to the best engine, the practical margin shaded."""
+        input:
+            outcomes="results/verdict/outcomes.csv",
+            metrics="results/verdict/metrics.csv",
+        output:
+            png=report(
+                f"{PLAN.figures}/answer.png",
+                caption="captions/answer.rst",
+                category="Figures",
+                subcategory="Verdict",
+            ),
+        log:
+            "results/logs/figures/answer.log",
+        conda:
+            "../envs/simpick.yaml"
+        threads: 1
+        resources:
+            mem_mb=300,
+            runtime=5,
+        params:
+            engines=PLAN.figure_engines,
+            code=PLAN.figure_code("figure_answer"),
+        script:
+            "../scripts/figure.py"
 
 
 rule figure_imu_stats:
@@ -267,6 +271,10 @@ rule report:
     input:
         unpack(PLAN.report_real_inputs),
         weighted="results/scores/weighted.csv",
+        contributions="results/scores/contributions.csv",
+        drivers="results/scores/drivers.csv",
+        # the decision tree's data: the page's interactive section answers it (rules/tree.smk)
+        tree="results/verdict/tree.json",
         scores_provenance="results/scores/provenance.yaml",
         validation="results/validation/summary.csv",
         validation_gains="results/validation/gains.csv",
@@ -286,8 +294,10 @@ rule report:
         figures=PLAN.report_figures(),
         endpoints=f"{PLAN.figures}/endpoints.csv",
     output:
-        # report(): `snakemake --report` carries the study report (its figures are embedded in it)
+        # report(): `snakemake --report` carries the study report (its figures are embedded in it).
+        # The HTML and its PDF in one job: one process start and one context less on every rerun.
         html=report("results/report/report.html", caption="captions/report_html.rst", category="Study report"),
+        pdf=report("results/report/report.pdf", caption="captions/report_pdf.rst", category="Study report"),
     log:
         "results/logs/report.log",
     benchmark:
@@ -306,21 +316,3 @@ rule report:
         real_data=PLAN.report_real_data(),
     script:
         "../scripts/report.py"
-
-
-rule report_pdf:
-    """The PDF in a job of its own: after a weight edit the HTML is there ~3 s sooner."""
-    input:
-        "results/report/report.html",
-    output:
-        report("results/report/report.pdf", caption="captions/report_pdf.rst", category="Study report"),
-    log:
-        "results/logs/report_pdf.log",
-    benchmark:
-        "results/benchmarks/report_pdf.tsv"
-    conda:
-        "../envs/simpick.yaml"
-    params:
-        code=PLAN.script_code("report_pdf"),
-    script:
-        "../scripts/report_pdf.py"

@@ -3,4 +3,4 @@ from simpick.joblog import logged
 
 with logged(snakemake.log[0]):
     inputs = {key: (list(value) if key in LIST_INPUTS else value) for key, value in snakemake.input.items()}
-    build_report(inputs, dict(snakemake.params.items()), snakemake.output.html)
+    build_report(inputs, dict(snakemake.params.items()), snakemake.output.html, snakemake.output.pdf)

@@ -71,7 +71,10 @@ def test_tolerance_edit_rejudges_without_stepping_an_engine(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        assert rules == ["all", "figure_validation", "report", "report_pdf", "validation_summary"]
+        # the validation is re-judged; the verdict's mechanics gate rests on it (and the answer, its
+        # figure, the decision tree and its figure on the verdict): no engine steps, no lab or real-data job
+        assert rules == ["all", "answer", "decision_tree", "figure_answer", "figure_tree", "figure_validation",
+                         "report", "validation_summary", "verdict"]
     finally:
         write_config(workdir, config)
 
@@ -90,10 +93,10 @@ def test_weight_edit_reruns_only_scoring_and_report(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        # figure_contributions draws weight x score per metric: the one figure the weights reach; the
-        # answer gives the weighted total its interval over real runs and flags it; the verdict's tests
-        # (each engine against the best) read no weight and do not rerun
-        assert rules == ["all", "answer", "figure_contributions", "report", "report_pdf", "scores"]
+        # the page draws weight x score from the scores' contributions (no figure of them); the answer gives
+        # the weighted total its interval over real runs and flags it; the printed tree orders each leaf's
+        # engines by the weighted total; the verdict's tests (each engine against the best) read no weight
+        assert rules == ["all", "answer", "figure_tree", "report", "scores"]
     finally:
         write_config(workdir, config)
 
@@ -106,9 +109,10 @@ def test_margin_edit_reruns_only_the_verdict_and_the_report(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        # the margin reaches the verdict's rule through its params; the answer and the report read its
-        # outcomes: no score, no simulation, no figure
-        assert rules == ["all", "answer", "report", "report_pdf", "verdict"]
+        # the margin reaches the verdict's rule through its params; the answer, the answer's figure (the
+        # margin shaded), the decision tree and its figure, and the report read its outcomes: no score, no
+        # simulation, no other figure
+        assert rules == ["all", "answer", "decision_tree", "figure_answer", "figure_tree", "report", "verdict"]
     finally:
         write_config(workdir, config)
 
@@ -134,10 +138,9 @@ def test_template_edit_reruns_only_the_report(study, tmp_path):
 
 
 def reporting_only(jobs) -> bool:
-    """The jobs are the report's, its PDF's and figures' (at least the report), nothing else."""
+    """The jobs are the report's (HTML and PDF in one job) and figures' (at least the report), nothing else."""
     rules = {rule for rule, _ in jobs}
-    return {"report", "report_pdf"} <= rules and all(r in ("all", "report", "report_pdf") or r.startswith("figure_")
-                                                       for r in rules)
+    return "report" in rules and all(r in ("all", "report") or r.startswith("figure_") for r in rules)
 
 
 def edited_library(tmp_path, module: str, old: str | None, new: str) -> dict:

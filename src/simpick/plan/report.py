@@ -9,7 +9,7 @@ from simpick.sources.base import canonical
 
 FIGURES = "results/report/figures"
 # simpick's verdict tables (rule verdict), each an input of the report
-VERDICT_TABLES = ("metrics", "table", "separation", "ranking", "discrimination", "headings")
+VERDICT_TABLES = ("metrics", "table", "separation", "ranking", "discrimination", "headings", "outcomes", "answer")
 
 
 class ReportPlanning:
@@ -88,6 +88,7 @@ class ReportPlanning:
         if self.verdict:
             inputs.update({f"verdict_{t}": f"results/verdict/{t}.csv" for t in VERDICT_TABLES})
             inputs["verdict_headline"] = "results/verdict/headline.yaml"
+            inputs["verdict_sentences"] = "results/verdict/answer.yaml"
         if self.sweep:
             inputs["sweep"] = f"{self.sweep_dir}/summary.csv"
         if self.calibration and self.calibration.get("enabled"):  # rules/calibration.smk
@@ -116,7 +117,10 @@ class ReportPlanning:
     def report_figures(self):
         """Every figure file the report embeds (and the notes beside the replay figures)."""
         fig = self.figures
-        out = [f"{fig}/contributions.png", f"{fig}/paths.png", f"{fig}/validation_gain.png", f"{fig}/real_gain.png"]
+        out = [f"{fig}/paths.png", f"{fig}/validation_gain.png", f"{fig}/real_gain.png"]
+        if self.verdict:
+            out.append(f"{fig}/answer.png")
+        out.append(f"{fig}/tree.png")  # rules/tree.smk: the decision tree for print
         out += [f"{fig}/imu_stats/{t}/{m}.png" for t, m in self.lab_figure_tests]
         out += [f"{fig}/traces/{t}/{m}.png" for t in self.terrains for m in self.motions]
         if self.sweep:

@@ -43,21 +43,18 @@ from typing import Any
 
 from simpick.report.inputs import LIST_INPUTS, OPTIONAL_INPUTS, REQUIRED_INPUTS
 
-__all__ = ["build_report", "html_to_pdf", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
+__all__ = ["build_report", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
 
 
 def build_report(inputs: Mapping[str, Any], params: Mapping[str, Any],
                  html_path: str | Path, pdf_path: str | Path | None = None) -> None:
-    """Write the HTML report to ``html_path`` and, if ``pdf_path`` is given, the same document as PDF.
-
-    The workflow renders the PDF in a job of its own (:func:`html_to_pdf`), so that the HTML
-    of a rerun is there before WeasyPrint has laid out the pages.
-    """
-    from simpick.report.build import render_html
-    from simpick.report.load import load_inputs
-
+    """Write the HTML report to ``html_path`` and, if ``pdf_path`` is given, the same document as PDF
+    (one job: the PDF is laid out from the HTML just rendered, with no second process or read)."""
     import sys
     import time
+
+    from simpick.report.build import render_html, write_pdf
+    from simpick.report.load import load_inputs
 
     start = time.perf_counter()
     data = load_inputs(inputs)
@@ -70,17 +67,5 @@ def build_report(inputs: Mapping[str, Any], params: Mapping[str, Any],
     tmp.replace(html_path)
     print(f"report: HTML {rendered - start:.1f} s", file=sys.stderr)
     if pdf_path is not None:
-        html_to_pdf(html_path, pdf_path)
-
-
-def html_to_pdf(html_path: str | Path, pdf_path: str | Path) -> None:
-    """The report's PDF from its HTML (figures are embedded, so the HTML alone suffices)."""
-    import sys
-    import time
-
-    from simpick.report.build import write_pdf
-
-    start = time.perf_counter()
-    html_path = Path(html_path)
-    write_pdf(html_path.read_text(encoding="utf-8"), pdf_path, base_url=str(html_path.parent))
-    print(f"report: PDF {time.perf_counter() - start:.1f} s", file=sys.stderr)
+        write_pdf(html, pdf_path, base_url=str(html_path.parent))
+        print(f"report: PDF {time.perf_counter() - rendered:.1f} s", file=sys.stderr)

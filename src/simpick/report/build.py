@@ -9,8 +9,6 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-import pandas as pd
 
 from simpick.report import figures
 from simpick.report.draw import test_label
@@ -28,6 +26,9 @@ ROS_TEXT = {"out_of_the_box": "out of the box", "official_plugin": "official plu
 UI_TEXT = {"full": "full", "partial": "partial", "visualization": "visualization only", "none": "none"}
 FACT_ROWS = ("free", "open_source", "ros", "languages", "ui", "model_formats", "physics_engines")
 QUANTITY_UNITS = {"angular": "rad/s", "linear": "m/s²"}
+# one colour per metric of the paper's weighted table (qualitative in darker, quantitative in distinct hues)
+METRIC_PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
+                  "#bcbd22", "#17becf", "#aec7e8", "#ffbb78")
 
 
 # --------------------------------------------------------------------------
@@ -68,6 +69,14 @@ def fmt_num(x: Any) -> str:
         return "–"
     v = float(x)
     return f"{v:.0f}" if v == round(v) else fmt(v, 2)
+
+
+def fmt_sig(x: Any) -> str:
+    """A measurement spanning orders of magnitude (a real-time factor): 3 significant figures."""
+    if _isnan(x):
+        return "–"
+    v = float(x)
+    return f"{v:.3g}" if abs(v) < 1000 else f"{v:,.0f}".replace(",", "\u2009")
 
 
 def fmt_int(x: Any) -> str:
@@ -137,42 +146,45 @@ def _engine_order(data: ReportData) -> list[str]:
 
 
 def _ranking(data: ReportData, weights: dict[str, float]) -> dict[str, Any]:
+    """The paper's ranking and weighted table as the scores job wrote them: totals and ranks from
+    weighted.csv, every weight x score cell from contributions.csv (simpick.score.contributions)."""
     w = data.weighted
-    scores = w[list(METRICS)].astype(float)
-    recomputed = scores.fillna(0.0).mul(pd.Series(weights), axis=1).sum(axis=1)
     rows = []
     for e in w.index:
         excluded = [m for m in str(w.loc[e, "excluded"]).split(",") if m.strip()]
-        rows.append({
-            "engine": e,
-            "rank": int(w.loc[e, "rank"]) if not _isnan(w.loc[e, "rank"]) else None,
-            "total": float(w.loc[e, "total"]),
-            "share": float(w.loc[e, "total"]) / sum(weights.values()) if sum(weights.values()) else float("nan"),
-            "excluded": [METRIC_LABELS.get(m.strip(), m.strip()) for m in excluded],
-            "recomputed_total": float(recomputed.loc[e]),
-        })
-    # The CSV holds 6 significant figures: allow for that before crying wolf.
-    mismatched = [r for r in rows if abs(r["total"] - r["recomputed_total"]) > 1e-3]
-    metric_rows = []
-    for m in METRICS:
-        cells = []
+        rows.append({"engine": e, "rank": int(w.loc[e, "rank"]) if not _isnan(w.loc[e, "rank"]) else None,
+                     "total": float(w.loc[e, "total"]),
+                     "excluded": [METRIC_LABELS.get(m.strip(), m.strip()) for m in excluded]})
+    metric_rows, bars = [], []
+    c = data.contributions
+    if c is not None:
+        cells = {(r["engine"], r["metric"]): r for r in c.to_dict("records")}
+        for m in dict.fromkeys(c["metric"]):
+            first = c[c["metric"] == m].iloc[0]
+            metric_rows.append({"key": m, "label": first["label"], "weight": first["weight"], "group": first["group"],
+                                "cells": [{"score": cells[(e, m)]["score"], "weighted": cells[(e, m)]["points"],
+                                           "nan": bool(cells[(e, m)]["excluded"])} if (e, m) in cells else
+                                          {"score": None, "weighted": None, "nan": True} for e in w.index]})
         for e in w.index:
-            s = scores.loc[e, m]
-            cells.append({"score": s, "weighted": weights[m] * (0.0 if _isnan(s) else s), "nan": _isnan(s)})
-        metric_rows.append({"key": m, "label": METRIC_LABELS.get(m, m), "weight": weights[m],
-                            "group": "qualitative" if m in QUALITATIVE_METRICS else "quantitative",
-                            "cells": cells})
+            bars.append({"engine": e, "parts": [{"metric": r["metric"], "label": r["label"], "weighted": r["points"]}
+                                                 for r in c[c["engine"] == e].to_dict("records")]})
+        for r in rows:
+            sel = c[c["engine"] == r["engine"]]
+            r["share"] = sel["share"].iloc[0] if len(sel) else None
     gap = None
-    if len(rows) >= 2:
-        a, b = rows[0]["engine"], rows[1]["engine"]
-        diffs = {m: weights[m] * (np.nan_to_num(scores.loc[a, m]) - np.nan_to_num(scores.loc[b, m]))
-                 for m in METRICS}
-        drivers = sorted(((METRIC_LABELS[m], d) for m, d in diffs.items() if d > 1e-9), key=lambda x: -x[1])
-        against = sorted(((METRIC_LABELS[m], -d) for m, d in diffs.items() if d < -1e-9), key=lambda x: -x[1])
-        gap = {"leader": a, "second": b, "value": rows[0]["total"] - rows[1]["total"],
-               "drivers": drivers[:3], "against": against[:3]}
-    return {"rows": rows, "metric_rows": metric_rows, "mismatched": mismatched, "gap": gap,
-            "max_total": sum(weights.values()), "engines": list(w.index)}
+    d = data.drivers
+    if d is not None and len(rows) >= 2 and len(d):
+        second = d[d["engine"] == rows[1]["engine"]]
+        if len(second):
+            # the drivers table orders the metrics by how far each puts the leader ahead (order 1 first)
+            second = second.sort_values("order", kind="mergesort")
+            gap = {"leader": second["leader"].iloc[0], "second": rows[1]["engine"], "value": second["gap"].iloc[0],
+                   "drivers": [(r["label"], r["difference"]) for r in second.head(3).to_dict("records")
+                               if r["difference"] > 0],
+                   "against": [(r["label"], r["difference"]) for r in second.iloc[::-1].head(3).to_dict("records")
+                               if r["difference"] < 0]}
+    return {"rows": rows, "metric_rows": metric_rows, "bars": bars, "max_total": sum(weights.values()),
+            "engines": list(w.index), "given": c is not None, "gap": gap}
 
 
 def _qualitative(data: ReportData, engines: list[str]) -> dict[str, Any] | None:
@@ -447,77 +459,45 @@ def _worked(data: ReportData) -> dict[str, Any] | None:
             "blocks": blocks}
 
 
-def _truth(x: Any) -> bool | None:
-    """A separates cell read back from CSV: True, False, or None (empty: too few runs to say)."""
-    if x is None or _isnan(x) or str(x) == "":
-        return None
-    return str(x) in ("True", "true", "1", "1.0")
-
-
 def _verdict(data: ReportData, engines: list[str]) -> dict[str, Any]:
-    """simpick's verdict as the verdict rule wrote it (results/verdict/): the headline paragraph,
-    the metric x model table, per metric whether it separates, and the paper's total with its
-    interval over real runs. Nothing here is computed: the tables are printed."""
-    table, separation = data.verdict.get("table"), data.verdict.get("separation")
-    rank = data.verdict.get("ranking")
-    if table is None or separation is None:
-        return {"given": False}
+    """simpick's verdict tables beside the answer (results/verdict/): the outcomes of every engine
+    against the best per metric, the headline paragraph, and the paper's total with its interval
+    over real runs. Nothing here is computed: the tables are printed."""
+    outcomes, rank = data.verdict.get("outcomes"), data.verdict.get("ranking")
+    head = data.verdict_headline or {}
+    if outcomes is None and not head:
+        return {"given": False, "ranking": {}, "metrics": []}
     order = {e: i for i, e in enumerate(engines)}
     metrics = []
-    for metric, g in table.groupby("metric", sort=False):
-        # engines in the verdict's order (closest first), then the reference models
-        g = g.assign(_o=[(0 if _truth(e) else 1, _f(k) if not _isnan(k) else 0.0, order.get(m, len(order)), m)
-                         for e, k, m in zip(g.is_engine, g["rank"], g.model)])
-        if (g.n_runs.astype(float) == 0).all():  # not measured at all: one line says why
-            g = g.iloc[:1].assign(model="every model")
-        rows = []
-        for r in sorted(g.to_dict("records"), key=lambda r: r["_o"]):
-            rows.append({"model": r["model"], "engine": bool(_truth(r["is_engine"])), "n_runs": int(_f(r["n_runs"]) or 0),
-                         "mean": _f(r["mean"]), "low": _f(r["low"]), "high": _f(r["high"]),
-                         "rank": None if _isnan(r["rank"]) else int(_f(r["rank"])),
-                         "next": r.get("next") or "", "p": _f(r.get("p_to_next")),
-                         "separates": _truth(r.get("separates_from_next")),
-                         "runs_needed": _runs_text(_f(r.get("runs_needed"))), "note": r.get("note") or ""})
-        first = g.iloc[0]
-        metrics.append({"metric": metric, "label": first["label"], "unit": first["unit"] or "", "rows": rows})
-    seps = [{**r, "separates": _truth(r["separates"])} for r in separation.to_dict("records")]
+    if outcomes is not None:
+        for metric, g in outcomes.groupby("metric", sort=False):
+            rows = sorted(g.to_dict("records"), key=lambda r: order.get(r["engine"], len(order)))
+            first = rows[0]
+            metrics.append({"metric": metric, "label": first["label"], "unit": first["unit"] or "",
+                            "margin": first["margin"], "basis": first["margin_basis"], "best": first["best"],
+                            "unmeasured": all(r["outcome"] == "not measurable" for r in rows), "rows": rows})
     ranking = {}
     if rank is not None:
         for r in rank.to_dict("records"):
-            ranking[str(r["engine"])] = {"low": _f(r["total_low"]), "high": _f(r["total_high"]),
-                                         "share_first": _f(r["share_first"]), "n_runs": int(_f(r["n_runs"]) or 0)}
-    headings = []
-    spread = data.verdict.get("headings")
-    if spread is not None and not spread.empty:
-        for model, g in spread.groupby("model", sort=False):
-            ratio = g.gain_ratio.astype(float)
-            headings.append({"model": model, "n": int(ratio.notna().sum()), "low": float(ratio.min()),
-                             "high": float(ratio.max()), "deg_low": float(g.start_heading_deg.min()),
-                             "deg_high": float(g.start_heading_deg.max())})
-        headings.sort(key=lambda h: order.get(h["model"], len(order)))
-    head = data.verdict_headline or {}
-    return {"given": True, "headings": headings, "paragraph": head.get("paragraph"), "n_runs": head.get("n_runs"),
-            "source": head.get("source_title") or head.get("source"), "metrics": metrics, "separation": seps,
-            "ranking": ranking}
+            ranking[str(r["engine"])] = {"low": r["total_low"], "high": r["total_high"],
+                                         "share_first": r["share_first"], "n_runs": r["n_runs"]}
+    return {"given": True, "paragraph": head.get("paragraph"), "n_runs": head.get("n_runs"),
+            "source": head.get("source_title") or head.get("source"), "metrics": metrics, "ranking": ranking}
 
 
-def _runs_text(n: float) -> str:
-    from simpick.score.verdict import _runs_text as words
+def _interactive(data: ReportData, weights: dict[str, float]) -> str | None:
+    if data.tree is None:
+        return None
+    from simpick.report.interactive import choose_fragment
 
-    return words(n)
-
-
-def _f(x: Any) -> float:
-    try:
-        return float(x)
-    except (TypeError, ValueError):
-        return float("nan")
+    return choose_fragment(data.tree, data.weighted, weights)
 
 
 def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]:
     import yaml
 
     from simpick.report import provenance, real
+    from simpick.report.answer import answer_section
     from simpick.report.draw import colors as draw_colors
 
     config = dict(params.get("config") or {})
@@ -552,7 +532,20 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     from simpick.report.sweep import sweep_section
     from simpick.report.validation import validation_section
 
+    verdict = _verdict(data, engines)
+    tree_uri = figures.data_uri(data.figures["tree"]) if "tree" in data.figures else None
+    # the anchors a sentence of the answer may cite: only sections this report shows
+    sections = {"answer-figure"} if "answer" in data.figures else set()
+    sections |= {"quantitative", "validation"} | ({"calibration"} if data.calibration is not None else set())
+    sections |= {"real"} if real_data["given"] else set()
     return {
+        "answer": answer_section(data.verdict.get("answer"), data.verdict.get("outcomes"), data.verdict_sentences,
+                                 engines, figures.data_uri(data.figures["answer"]) if "answer" in data.figures else None,
+                                 sections),
+        "tree_uri": tree_uri,
+        # the decision tree and the adjustable weights, answered in the browser (simpick.report.interactive):
+        # one self-contained fragment, hidden in print where figures/tree.png stands for it
+        "interactive": _interactive(data, weights),
         "validation": validation_section(data.validation, engines, data.figures.get("validation_gain"),
                                          data.validation_gains),
         "sweep": sweep_section(data.sweep, engines, data.figures.get("sweep")),
@@ -569,14 +562,14 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         "colors": colors,
         "weights": weights,
         "metrics": list(METRICS),
+        "metric_colors": {m: METRIC_PALETTE[i % len(METRIC_PALETTE)] for i, m in enumerate(METRICS)},
         "labels": METRIC_LABELS,
         "qualitative_metrics": list(QUALITATIVE_METRICS),
         "quantitative_metrics": list(QUANTITATIVE_METRICS),
         "accuracy_weight": weights["imu_angular"] + weights["imu_linear"],
         "tests": [test_label(t, m) for t, m in tests],
         "ranking": ranking,
-        "verdict": _verdict(data, engines),
-        "contrib_uri": figures.data_uri(data.figures["contributions"]) if "contributions" in data.figures else None,
+        "verdict": verdict,
         "reference": _reference(data, tests),
         "qualitative": _qualitative(data, list(data.weighted.index)),
         "rtf_rows": rtf_rows,
@@ -617,7 +610,7 @@ def environment():
         lstrip_blocks=True,
     )
     env.filters.update(f3=fmt, f=fmt, num=fmt_num, int=fmt_int, signed=fmt_signed, yesno=fmt_yes_no,
-                       isnan=_isnan, soft_lower=soft_lower)
+                       isnan=_isnan, soft_lower=soft_lower, sig3=fmt_sig)
     env.tests["nan"] = _isnan
     return env
 

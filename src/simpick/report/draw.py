@@ -1,8 +1,8 @@
 """The figure jobs: each figure rule (rules/report.smk) draws one figure, or one figure of a
 family over a wildcard, from the workflow's tables and traces into results/report/figures/.
 
-The report job only embeds these files, so a weight edit redraws the one figure that shows the
-weights (the weighted contributions) and a template edit redraws none. Every job writes its
+The report job only embeds these files; no figure shows the weights (the page draws the weighted
+contributions itself from the scores job's table), so neither a weight edit nor a template edit redraws one. Every job writes its
 file: with nothing to draw, a small panel says why (:func:`simpick.report.figures.nothing_to_draw`).
 
 Engine colours come from ``engines`` (the study's engines, then its baselines, each sorted by
@@ -109,15 +109,6 @@ def _commanded(config: Mapping[str, Any], motion: str):
         return figures.commanded_path(spec["start"], float(spec["v"]), float(spec["w"]), float(spec["duration"]))
     except (TypeError, KeyError, ValueError):
         return None
-
-
-def contributions(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str) -> None:
-    """Each engine's weighted total split into weight x score per metric: the one figure that
-    depends on the weights."""
-    from simpick.score.scoring import METRIC_LABELS, METRICS
-
-    data = load_inputs({"weighted": inputs["weighted"]}, required=("weighted",))
-    figures.contributions_figure(data.weighted, weights_of(params), METRICS, METRIC_LABELS, output)
 
 
 def imu_stats(inputs: Mapping[str, Any], params: Mapping[str, Any], terrain: str, motion: str, output: str) -> None:
@@ -387,8 +378,44 @@ def real_turning(inputs: Mapping[str, Any], params: Mapping[str, Any], output: s
         figures.turning_figure(windows, output)
 
 
+def answer(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str) -> None:
+    """The first page's figure: per real-data metric and engine, the values on every real run and
+    the difference to the best engine with its interval, the margin shaded (the verdict's tables:
+    outcomes.csv and the per-run metrics.csv)."""
+    data = load_inputs({"verdict_outcomes": inputs["outcomes"], "verdict_metrics": inputs["metrics"]},
+                       required=())
+    outcomes, per_run = data.verdict["outcomes"], data.verdict["metrics"]
+    seen = list(dict.fromkeys(outcomes["engine"]))
+    engines = _order(params.get("engines"), seen)
+    panels = []
+    for metric, g in outcomes.groupby("metric", sort=False):
+        rows = {r["engine"]: r for r in g.to_dict("records")}
+        runs = per_run[per_run["metric"] == metric]
+        measured = [e for e in engines if e in rows and str(rows[e]["outcome"]) != "not measurable"]
+        first = g.iloc[0]
+        panels.append({
+            "label": str(first["label"]), "unit": str(first["unit"]), "margin": _value(first["margin"]),
+            "engines": [{"engine": e, "values": [_value(v) for v in runs.loc[runs["model"] == e, "value"]],
+                         "mean": _value(rows[e]["mean"]), "diff": _value(rows[e]["diff_to_best"]),
+                         "low": _value(rows[e]["diff_low"]), "high": _value(rows[e]["diff_high"]),
+                         "outcome": str(rows[e]["outcome"]), "is_best": bool(rows[e]["is_best"]),
+                         "recommendable": bool(rows[e]["recommendable"])} for e in measured]})
+    if not any(p["engines"] for p in panels):
+        figures.nothing_to_draw(output, "no real-data metric was measured for any engine")
+        return
+    figures.answer_figure(panels, colors(params.get("engines"), seen), output)
+
+
+def _value(x: Any) -> float | None:
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        return None
+    return v if math.isfinite(v) else None
+
+
 RULES = {
-    "figure_contributions": (contributions, (), ("png",)),
+    "figure_answer": (answer, (), ("png",)),
     "figure_imu_stats": (imu_stats, ("lab_terrain", "lab_motion"), ("png",)),
     "figure_traces": (traces, ("terrain", "motion"), ("png",)),
     "figure_paths": (paths, (), ("png", "endpoints")),

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 REQUIRED_INPUTS: tuple[str, ...] = ("weighted", "runs")
 OPTIONAL_INPUTS: tuple[str, ...] = (
+    "contributions",
+    "drivers",
     "sweep",
     "calibration",
     "calibration_turning",
@@ -49,6 +51,11 @@ OPTIONAL_INPUTS: tuple[str, ...] = (
     "verdict_discrimination",
     "verdict_headings",
     "verdict_headline",
+    "verdict_outcomes",
+    "verdict_answer",
+    "verdict_sentences",
+    # the decision tree (rules/tree.smk): its data for the interactive section, figures/tree.png for print
+    "tree",
 )
 # Inputs that are lists of paths (the workflow script passes these as lists).
 LIST_INPUTS: tuple[str, ...] = ("cpu", "traces", "real_logs", "replay_traces", "figures")

@@ -68,6 +68,19 @@ COLUMNS: dict[str, tuple[str, ...]] = {
                                "score_low", "score_high", "spread", "half_width", "separates", "n_runs",
                                "floor_models"),
     "verdict_metrics": ("run", "model", "metric", "value"),
+    # the paper's weighted table cell by cell (simpick.score.contributions)
+    "contributions": ("engine", "rank", "total", "share", "metric", "label", "group", "weight", "score", "points",
+                      "excluded"),
+    # what puts the leader ahead of each engine, metric by metric (simpick.score.contributions.drivers)
+    "drivers": ("engine", "leader", "gap", "metric", "label", "difference", "order"),
+    # the answer: every engine against the best per real-data metric, and the first page's row per engine
+    "verdict_outcomes": ("metric", "label", "unit", "engine", "n_runs", "mean", "low", "high", "best", "is_best",
+                         "diff_to_best", "diff_low", "diff_high", "margin", "margin_basis", "p_worse", "p_equivalent",
+                         "outcome", "runs_needed", "mechanics", "mechanics_failed", "mechanics_note",
+                         "recommendable"),
+    "verdict_answer": ("engine", "mechanics", "mechanics_failed", "mechanics_cases", "mechanics_note", "gain_ratio",
+                       "gain_ratio_calibrated", "rtf", "cpu_average", "cpu_intense", "paper_total", "paper_rank",
+                       "paper_flag"),
     "verdict_headings": ("model", "test", "start_heading_deg", "yaw_rate_gain_sim", "yaw_rate_gain_reference",
                          "gain_ratio"),
     # where each lab run ended against the command (rule figure_paths, beside its figure)
@@ -77,14 +90,20 @@ COLUMNS: dict[str, tuple[str, ...]] = {
 # The real-data sets: one per way of comparing with the real robot (simpick.compare.real).
 REAL_SETS: tuple[str, ...] = ("segments", "replay")
 REAL_TABLES: tuple[str, ...] = ("per_test", "summary", "pairwise", "imu_errors")
-VERDICT_TABLES: tuple[str, ...] = ("metrics", "table", "separation", "ranking", "discrimination", "headings")
+VERDICT_TABLES: tuple[str, ...] = ("metrics", "table", "separation", "ranking", "discrimination", "headings",
+                                   "outcomes", "answer")
 
 # Text columns: read as strings, an empty cell becomes "" rather than NaN.
 TEXT_COLUMNS = {"excluded", "reasons", "tests", "status", "source", "engine", "terrain",
                 "motion", "quantity", "axis", "unit", "engine_version", "config_hash",
                 "simulator", "metric", "terrain_class", "segment", "run", "kind", "figure",
                 "engine_a", "engine_b", "verdict", "dataset", "case", "kind", "error_kind",
-                "model", "next", "note", "label", "method", "best", "second", "statement", "floor_models"}
+                "model", "next", "note", "label", "method", "best", "second", "statement", "floor_models",
+                "outcome", "margin_basis", "group", "mechanics", "mechanics_note", "paper_flag"}
+# Bool columns per table: True/False in the CSV, read as bool (an empty cell as False); in every table a
+# summary's <figure>_closest (simpick.compare.real.class_verdicts).
+BOOL_COLUMNS = {"contributions": {"excluded"}, "verdict_outcomes": {"is_best", "recommendable"},
+                "table11_comparison": {"matches"}}
 
 
 @dataclass
@@ -101,6 +120,8 @@ class Trace:
 class ReportData:
     weighted: pd.DataFrame
     runs: pd.DataFrame
+    contributions: pd.DataFrame | None = None  # the weighted table cell by cell (results/scores/contributions.csv)
+    drivers: pd.DataFrame | None = None  # what puts the leader ahead of each engine (results/scores/drivers.csv)
     trace_stats: pd.DataFrame | None = None
     reference_stats: pd.DataFrame | None = None
     imu_errors: pd.DataFrame | None = None
@@ -135,6 +156,8 @@ class ReportData:
     # simpick's verdict (results/verdict/: simpick.score.verdict), table name -> table, and its headline
     verdict: dict[str, pd.DataFrame] = field(default_factory=dict)
     verdict_headline: dict | None = None
+    verdict_sentences: dict | None = None  # answer.yaml: one sentence per user need
+    tree: dict | None = None  # the decision tree (results/verdict/tree.json: simpick.score.tree)
     # real canonical logs and replay traces: paths only, read when the figures are drawn
     real_logs: list[str] | None = None
     replay_traces: list[str] | None = None
@@ -173,10 +196,13 @@ def _csv(name: str, path: Path, index: str | None = None) -> pd.DataFrame:
         head = pd.read_csv(path, nrows=0)
     except (pd.errors.EmptyDataError, pd.errors.ParserError, UnicodeDecodeError) as exc:
         raise InputError(str(path), f"not a readable CSV: {exc}") from None
-    dtypes = {c: "string" for c in head.columns if c in TEXT_COLUMNS}
+    bools = {c for c in head.columns if c in BOOL_COLUMNS.get(name, ()) or c.endswith("_closest")}
+    dtypes = {c: "string" for c in head.columns if (c in TEXT_COLUMNS or c.endswith("_outcome")) and c not in bools}
     df = pd.read_csv(path, dtype=dtypes, keep_default_na=True)
     for c in dtypes:
         df[c] = df[c].fillna("").astype(str)
+    for c in bools:
+        df[c] = df[c].astype(str).str.strip().str.lower().isin(["true", "1", "1.0"])
     have = set(df.columns)
     missing = [c for c in COLUMNS.get(name, ()) if c not in have]
     if missing:
@@ -250,7 +276,7 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
             else:
                 kw[key] = _csv(key, p, index)
 
-    for key in ("accuracy_errors", "accuracy_per_test", "segments", "replay_per_window", "validation",
+    for key in ("contributions", "drivers", "accuracy_errors", "accuracy_per_test", "segments", "replay_per_window", "validation",
                 "validation_gains", "sweep", "calibration", "calibration_turning", "calibration_target",
                 "real_turning"):
         if given(key):
@@ -274,7 +300,7 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
             sources[key] = str(p)
             verdict[table] = _csv(key, p)
     kw["verdict"] = verdict
-    for key in ("segments_provenance", "scores_provenance", "verdict_headline"):
+    for key in ("segments_provenance", "scores_provenance", "verdict_headline", "verdict_sentences"):
         if given(key):
             p = _path(key, inputs[key])
             try:
@@ -305,9 +331,6 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
     for col in ("engine_version", "config_hash"):
         if runs is not None and col not in runs.columns:
             runs[col] = ""
-    if "table11_comparison" in kw:
-        cmp_ = kw["table11_comparison"]
-        cmp_["matches"] = cmp_["matches"].astype(str).str.lower().isin(["true", "1"])
 
     if given("cpu"):
         cpu = []
@@ -333,6 +356,13 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
             q = q["engines"]
         kw["qualitative"] = {str(k): v for k, v in q.items() if isinstance(v, dict)}
         sources["qualitative"] = str(p)
+
+    if given("tree"):
+        from simpick.score.tree import read_tree
+
+        p = _path("tree", inputs["tree"])
+        kw["tree"] = read_tree(str(p))
+        sources["tree"] = str(p)
 
     if given("worked_example"):
         p = _path("worked_example", inputs["worked_example"])

@@ -207,67 +207,9 @@ def _real_gain(per_test: pd.DataFrame | None, summary: pd.DataFrame | None, cls:
     return None, n
 
 
-def _verdict(cls: str, fig: str, summary: pd.DataFrame | None, pairwise: pd.DataFrame | None,
-             engines: list[str]) -> dict[str, Any] | None:
-    """The engine with the smallest mean error, and whether the paired 95 % intervals
-    against every other engine exclude zero (simpick.compare.real's verdicts)."""
-    if summary is None or fig not in summary.columns:
-        return None
-    sel = summary[summary["terrain_class"] == cls]
-    means = {r["engine"]: _f(r[fig]) for r in sel.to_dict("records") if not _isnan(r[fig])}
-    if not means:
-        return None
-    order = {e: i for i, e in enumerate(engines)}
-    best = min(means, key=lambda e: (means[e], order.get(e, len(order))))
-    pairs = []
-    if pairwise is not None:
-        pw = pairwise[(pairwise["terrain_class"] == cls) & (pairwise["figure"] == fig)]
-        pairs = [r for r in pw.to_dict("records") if best in (r["engine_a"], r["engine_b"])]
-    others = [e for e in means if e != best]
-    verdicts = [str(r["verdict"]) for r in pairs]
-    clear = bool(others) and len(pairs) >= len(others) and all(v == f"{best} closer" for v in verdicts)
-    n_runs = sorted({int(_f(r["n_runs"])) for r in pairs if "n_runs" in r and not _isnan(r["n_runs"])})
-    if not others:
-        reason = "only one engine"
-    elif clear:
-        reason = ""
-    elif not pairs:
-        reason = "no paired comparison"
-    elif any(v.startswith("too few") for v in verdicts):
-        reason = (f"too few runs ({', '.join(map(str, n_runs))} independent run{'s' if n_runs != [1] else ''})"
-                  if n_runs else "too few runs")
-    elif any(v.endswith(" closer") and v != f"{best} closer" for v in verdicts):
-        reason = "the paired intervals disagree with the means"
-    else:
-        reason = "the 95 % interval of the difference includes 0"
-    diffs = []
-    for r in pairs:
-        sign = 1.0 if r["engine_a"] == best else -1.0
-        other = r["engine_b"] if r["engine_a"] == best else r["engine_a"]
-        lo, hi = sign * _f(r["low"]), sign * _f(r["high"])
-        diffs.append({"other": other, "mean": sign * _f(r["mean_a_minus_b"]), "low": min(lo, hi),
-                      "high": max(lo, hi), "verdict": r["verdict"], "p_value": _f(r.get("p_value")),
-                      "n_runs": _f(r.get("n_runs"))})
-    return {"figure": fig, "label": FIGURE_LABELS[fig], "unit": FIGURE_UNITS[fig], "engine": best,
-            "is_clear": clear, "too_few": reason.startswith("too few"), "reason": reason, "diffs": diffs,
-            "n_engines": len(means), "n_runs": n_runs}
-
-
-def _gain_closest(real_gain: dict | None, rows: list[dict]) -> dict[str, Any] | None:
-    if real_gain is None or _isnan(real_gain["mean"]):
-        return None
-    gaps = {r["engine"]: abs(r["gain"]["mean"] - real_gain["mean"]) for r in rows
-            if r.get("gain") and not _isnan(r["gain"]["mean"])}
-    if not gaps:
-        return None
-    best = min(gaps, key=gaps.get)
-    sim = next(r["gain"]["mean"] for r in rows if r["engine"] == best)
-    return {"engine": best, "gap": gaps[best], "gaps": gaps, "sim": sim}
-
-
 def _set_block(set_: str, tables: Mapping[str, pd.DataFrame], cls: str, engines: list[str],
                stats: Mapping[str, Any] | None = None) -> dict[str, Any]:
-    summary, pairwise, per_test = tables.get("summary"), tables.get("pairwise"), tables.get("per_test")
+    summary, per_test = tables.get("summary"), tables.get("per_test")
     real_gain, n_gain = _real_gain(per_test, summary, cls, stats)
     n_class = n_runs_class = None
     if per_test is not None:
@@ -295,13 +237,11 @@ def _set_block(set_: str, tables: Mapping[str, pd.DataFrame], cls: str, engines:
         bad = per_test[(per_test["terrain_class"] == cls) & (per_test["status"].str.lower() != "ok")]
         failed = [{"engine": r["engine"], "test": r["segment"], "status": r["status"], "reasons": r["reasons"]}
                   for r in bad.to_dict("records")]
-    verdicts = [v for v in (_verdict(cls, f, summary, pairwise, engines) for f in ERROR_FIGURES) if v]
     extra = [(f, label) for f, label in REPLAY_EXTRA
              if summary is not None and f in summary.columns]
     return {"set": set_, "title": SET_TITLES.get(set_, set_), "unit": SET_UNITS.get(set_, "test"),
             "real_gain": real_gain, "n_gain_real": n_gain, "n_class": n_class, "n_runs": n_runs_class,
-            "rows": rows,
-            "verdicts": verdicts, "gain_closest": _gain_closest(real_gain, rows), "failed": failed,
+            "rows": rows, "failed": failed,
             "extra": extra, "given": summary is not None}
 
 
@@ -464,29 +404,57 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
             empty.append({"set": s_, "title": SET_TITLES[s_], "n_rows": len(pt)})
     scored_set = acc.get("kind") if acc and acc.get("kind") in REAL_SETS else None
     stats = statistics(params)
-    shown_classes, class_blocks, blocks_by_set = _blocks(data, {**params, "_scored_set": scored_set},
-                                                         engines, classes)
+    shown_classes, class_blocks, _ = _blocks(data, {**params, "_scored_set": scored_set}, engines, classes)
 
-    # at a glance: the verdicts of every class, and a tally per engine
+    # at a glance: per class and error, the closest engine and the class's typed outcome, as the summarise
+    # job wrote them (simpick.compare.real.class_verdicts: <figure>_closest, <figure>_outcome)
     glance = []
-    tally: dict[str, dict[str, int]] = {}
-    for s in sets:
+    for s_ in sets:
+        summary = data.real[s_].get("summary")
+        if summary is None or not any(f"{f}_closest" in summary.columns for f in ERROR_FIGURES):
+            continue
         rows = []
-        counts = {"by_engine": {}, "unclear": 0, "too_few": 0, "n": 0}
-        for b in blocks_by_set[s]:
-            vs = {v["figure"]: v for v in b["block"]["verdicts"]}
-            rows.append({"cls": b["cls"], "label": b["cls"].replace("_", " "), "verdicts": vs,
-                         "gain": b["block"]["gain_closest"], "real_gain": b["block"]["real_gain"]})
-            for v in vs.values():
-                counts["n"] += 1
-                if v["is_clear"]:
-                    counts["by_engine"][v["engine"]] = counts["by_engine"].get(v["engine"], 0) + 1
-                elif v.get("too_few"):
-                    counts["too_few"] += 1
-                else:
-                    counts["unclear"] += 1
-        glance.append({"set": s, "title": SET_TITLES[s], "rows": rows, "scored": s == scored_set})
-        tally[s] = counts
+        for cls in shown_classes:
+            sel = summary[summary["terrain_class"] == cls]
+            if sel.empty:
+                continue
+            cells = {}
+            for f in ERROR_FIGURES:
+                closest = sel[sel[f"{f}_closest"]] if f"{f}_closest" in sel.columns else sel.iloc[0:0]
+                cells[f] = ({"engine": closest["engine"].iloc[0], "outcome": closest[f"{f}_outcome"].iloc[0]}
+                            if len(closest) else None)
+            runs = sel["n_runs"].max() if "n_runs" in sel.columns else None
+            rows.append({"cls": cls, "label": cls.replace("_", " "), "cells": cells,
+                         "n_runs": None if _isnan(runs) else int(runs)})
+        glance.append({"set": s_, "title": SET_TITLES[s_], "rows": rows, "scored": s_ == scored_set})
+
+    # the paired differences per class, as the compare job wrote them (pairwise.csv), for the appendix
+    pairwise = []
+    for s_ in sets:
+        pw = data.real[s_].get("pairwise")
+        if pw is None or pw.empty:
+            continue
+        pos = {c: i for i, c in enumerate(classes)}
+        # the pairs with each class's closest engine (the summary's <figure>_closest), where the summary names
+        # one: the comparisons its outcome rests on; every pair stays in pairwise.csv
+        summary = data.real[s_].get("summary")
+        closest = set()
+        if summary is not None:
+            for f in ERROR_FIGURES:
+                if f"{f}_closest" in summary.columns:
+                    sel = summary[summary[f"{f}_closest"]]
+                    closest |= {(c, f, e) for c, e in zip(sel["terrain_class"], sel["engine"])}
+        records = pw.to_dict("records")
+        if closest:
+            records = [r for r in records if (r["terrain_class"], r["figure"], r["engine_a"]) in closest
+                       or (r["terrain_class"], r["figure"], r["engine_b"]) in closest]
+        rows = sorted(records, key=lambda r: (pos.get(r["terrain_class"], len(pos)), r["figure"]))
+        for r in rows:
+            r["figure_label"] = FIGURE_LABELS.get(r["figure"], r["figure"])
+            r.setdefault("n_runs", float("nan"))
+            r.setdefault("p_value", float("nan"))
+        pairwise.append({"set": s_, "title": SET_TITLES[s_], "rows": rows, "with_closest": bool(closest),
+                         "n_all": len(pw)})
 
     gain_file = data.figures.get("real_gain")
     gain_uri = figures.data_uri(gain_file) if gain_file else None
@@ -515,8 +483,8 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
             if ns:
                 n_small.setdefault(b["set"], []).append((item["cls"], min(ns)))
     return {
-        "given": given, "sets": sets, "missing": missing, "empty": empty, "classes": class_blocks, "glance": glance,
-        "tally": tally, "gain_uri": gain_uri, "turning": turning, "segments": _segments_table(data, classes, engines),
+        "given": given, "sets": sets, "missing": missing, "empty": empty, "classes": class_blocks, "pairwise": pairwise, "glance": glance,
+        "gain_uri": gain_uri, "turning": turning, "segments": _segments_table(data, classes, engines),
         "provenance": {"derived_by": prov.get("derived_by"), "found": prov.get("segments_found"),
                        "kept": prov.get("segments_kept")},
         "replay": "replay" in sets, "replay_figs": replay_figs,

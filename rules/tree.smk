@@ -1,0 +1,52 @@
+# The decision tree after the paper's Figure 9 (simpick.score.tree), from the study's own tables:
+# the sourced qualitative facts, the analytic mechanics checks, the real-data verdict's outcomes and
+# mechanics gate (where the study has real data), the lab's real-time factor and the CPU load. The weights only
+# order the engines within a leaf (the figure and the report do that from weighted.csv), so a
+# weight edit does not rerun decision_tree.
+
+
+rule decision_tree:
+    input:
+        **(
+            {"outcomes": "results/verdict/outcomes.csv", "mechanics": "results/verdict/mechanics.csv"}
+            if PLAN.verdict
+            else {}
+        ),
+        qualitative=PLAN.config["qualitative"],
+        validation="results/validation/summary.csv",
+        rtf=PLAN.metrics_file("lab", "rtf"),
+        cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
+    output:
+        tree=report("results/verdict/tree.json", caption="captions/tree.rst", category="Verdict"),
+    log:
+        "results/logs/decision_tree.log",
+    conda:
+        "../envs/simpick.yaml"
+    params:
+        engines=sorted(PLAN.engines),  # a reordered engines: block is not an edit
+        code=PLAN.script_code("decision_tree"),
+    script:
+        "../scripts/decision_tree.py"
+
+
+rule figure_tree:
+    """The decision tree for the PDF, each leaf's engines ordered by the paper's weighted total."""
+    input:
+        tree="results/verdict/tree.json",
+        weighted="results/scores/weighted.csv",
+    output:
+        png=report(
+            f"{PLAN.figures}/tree.png", caption="captions/tree_figure.rst", category="Figures", subcategory="Verdict"
+        ),
+    log:
+        "results/logs/figures/tree.log",
+    conda:
+        "../envs/simpick.yaml"
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=5,
+    params:
+        code=PLAN.script_code("tree_figure"),
+    script:
+        "../scripts/tree_figure.py"

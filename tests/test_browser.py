@@ -1,0 +1,174 @@
+"""The report's interactive part in a real browser (headless Chromium through Playwright): answering
+the decision tree's questions gives the pick, and the page's weighted totals at the study's weights
+are those of weighted.csv. The page is built from a made-up study's tables (test_tree.make_study).
+
+Chromium comes from the system (Debian's chromium, which `make test` installs); a machine without
+it fails here, with the fix, rather than skipping."""
+
+from pathlib import Path
+
+import pandas as pd
+import pytest
+from test_tree import FACTS, WEIGHTS, make_study
+
+from simpick.report.interactive import choose_page
+from simpick.score import scoring
+from simpick.score.tree import decision_tree_job, leaf_order, read_tree, walk
+
+CHROMIUM = "/usr/bin/chromium"
+ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+        "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+
+
+@pytest.fixture(scope="module")
+def browser():
+    if not Path(CHROMIUM).exists():
+        pytest.fail(f"no Chromium at {CHROMIUM}: install it with `apt-get install chromium` (as root; make test does)",
+                    pytrace=False)
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        pytest.fail("the Python package playwright is missing: pip install -c constraints.txt -e '.[test]'",
+                    pytrace=False)
+    with sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        yield browser
+        browser.close()
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("study")
+    paths = make_study(folder)
+    decision_tree_job(list(FACTS), paths["inputs"], paths["tree"])
+    page = folder / "page.html"
+    page.write_text(choose_page(read_tree(paths["tree"]), pd.read_csv(paths["weighted"]), WEIGHTS))
+    return {**paths, "page": page}
+
+
+@pytest.fixture
+def page(browser, study):
+    context = browser.new_context()
+    # nothing leaves the page: any request other than the file itself fails the test
+    requests = []
+    context.on("request", lambda r: requests.append(r.url) if not r.url.startswith("file://") else None)
+    page = context.new_page()
+    errors = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.goto(study["page"].as_uri())
+    page.wait_for_selector("#simpick-choose[data-ready=true]")
+    yield page
+    assert not errors, errors
+    assert not requests, requests
+    context.close()
+
+
+def answer(page, question: str, label: str) -> None:
+    page.click(f'#sc-current button[data-question="{question}"][data-answer="{label}"]')
+
+
+def test_the_questions_lead_to_the_pick(page, study):
+    tree = read_tree(study["tree"])
+    totals = pd.read_csv(study["weighted"], index_col="engine")["total"].to_dict()
+    answers = {"open_source": "Yes", "ros": "No", "closeness": "Yes, on its yaw-rate gain error",
+               "real_time_factor": "No need"}
+    leaf = walk(tree, answers)
+    assert leaf["kind"] == "leaf" and len(leaf["engines"]) > 1
+    for question, label in answers.items():
+        assert page.get_attribute("#sc-current .sc-question", "data-question") == question
+        answer(page, question, label)
+    expected = leaf_order(leaf["engines"], totals)
+    assert page.get_attribute("#sc-pick", "data-engine") == expected[0]
+    assert page.eval_on_selector_all("#sc-leaf li", "items => items.map(i => i.dataset.engine)") == expected
+    evidence = page.inner_text(".sc-evidence")
+    assert "real-time factor 930 on one core" in evidence and "rtf.csv: breeze" in evidence
+    assert "dune left out by" in page.inner_text(".sc-dropped")
+
+
+def test_an_answer_no_engine_meets_says_so_and_can_be_changed(page):
+    answer(page, "open_source", "Yes")
+    answer(page, "ros", "Yes, out of the box")
+    answer(page, "closeness", "No")
+    answer(page, "mechanics", "Yes")
+    assert page.get_attribute("#sc-pick", "data-engine") == ""
+    assert "No engine of this study meets all these answers" in page.inner_text("#sc-current")
+    assert "comet left out by" in page.inner_text(".sc-dropped")
+    page.click("#sc-path li:nth-child(4) .sc-back")  # change the mechanics answer
+    answer(page, "mechanics", "No")
+    assert page.get_attribute("#sc-current .sc-question", "data-question") == "cpu"  # comet runs 5 robots at 150 %
+    answer(page, "cpu", "No")
+    assert page.get_attribute("#sc-pick", "data-engine") == "comet"
+    assert "fails 3 of 6 analytic cases" in page.inner_text("#sc-pick")  # the pick carries its flag
+
+
+def test_the_page_totals_at_the_study_weights_are_those_of_weighted_csv(page, study):
+    weighted = pd.read_csv(study["weighted"], index_col="engine")
+    shown = page.eval_on_selector_all(
+        ".sc-engine-total", "cells => cells.map(c => [c.dataset.engine, Number(c.dataset.total), c.textContent])")
+    assert sorted(e for e, _, _ in shown) == sorted(weighted.index)
+    for engine, total, text in shown:
+        assert total == pytest.approx(weighted.loc[engine, "total"], rel=1e-5)  # the CSV keeps 6 figures
+        assert text == f"{weighted.loc[engine, 'total']:.3f}"
+    ranks = page.eval_on_selector_all(".sc-engine-rank", "cells => cells.map(c => [c.dataset.engine, c.textContent])")
+    for engine, text in ranks:
+        assert int(text.split()[0]) == weighted.loc[engine, "rank"]
+    # the paper's rank flagged where mechanics fail, and why
+    assert [e for e, text in ranks if text.endswith("\u2020")] == ["comet"]
+    assert "\u2020 fails analytic mechanics: comet fails 3 of 6 analytic cases" in page.inner_text("#sc-ranking")
+
+
+def test_a_weight_edit_recomputes_the_totals_and_reorders_the_leaf(page, study):
+    scores = pd.read_csv(study["weighted"], index_col="engine")[list(scoring.METRICS)]
+    weights = {**WEIGHTS, "real_time_factor": 0.0, "imu_angular": 300.0}
+    expected = scoring.weighted_table(scores, weights)
+    for metric in ("real_time_factor", "imu_angular"):
+        page.fill(f'input[data-metric="{metric}"]', str(weights[metric]))
+    shown = dict(page.eval_on_selector_all(".sc-engine-total",
+                                           "cells => cells.map(c => [c.dataset.engine, Number(c.dataset.total)])"))
+    for engine in expected.index:
+        assert shown[engine] == pytest.approx(expected.loc[engine, "total"], rel=1e-5)
+    for question, label in {"open_source": "Yes", "ros": "No", "closeness": "Yes, on its yaw-rate gain error",
+                            "real_time_factor": "No need"}.items():
+        answer(page, question, label)
+    assert page.get_attribute("#sc-pick", "data-engine") == leaf_order(["anvil", "breeze"],
+                                                                       expected["total"].to_dict())[0] == "anvil"
+    page.fill('input[data-metric="real_time_factor"]', "100")  # speed first: the faster engine is the pick
+    assert page.get_attribute("#sc-pick", "data-engine") == "breeze"
+    page.click("#sc-reset")
+    assert float(page.input_value('input[data-metric="real_time_factor"]')) == WEIGHTS["real_time_factor"]
+    totals = pd.read_csv(study["weighted"], index_col="engine")["total"].to_dict()
+    assert page.get_attribute("#sc-pick", "data-engine") == leaf_order(["anvil", "breeze"], totals)[0]
+
+
+def test_the_whole_tree_lists_every_leaf_ordered_by_the_weights(page, study):
+    tree = read_tree(study["tree"])
+    leaves = {n["id"]: n["engines"] for n in tree["nodes"].values() if n["kind"] == "leaf"}
+    totals = pd.read_csv(study["weighted"], index_col="engine")["total"].to_dict()
+
+    def shown():
+        return dict(page.eval_on_selector_all(
+            "#sc-outline .sc-outline-leaf", "spans => spans.map(s => [s.dataset.leaf, s.dataset.engines])"))
+
+    assert shown() == {i: " ".join(leaf_order(e, totals)) for i, e in leaves.items()}
+    page.fill('input[data-metric="real_time_factor"]', "100")
+    scores = pd.read_csv(study["weighted"], index_col="engine")[list(scoring.METRICS)]
+    faster = scoring.weighted_table(scores, {**WEIGHTS, "real_time_factor": 100.0})["total"].to_dict()
+    assert shown() == {i: " ".join(leaf_order(e, faster)) for i, e in leaves.items()} != \
+        {i: " ".join(leaf_order(e, totals)) for i, e in leaves.items()}
+
+
+def test_the_page_needs_no_network_and_hides_in_print(study):
+    """Nothing is loaded from elsewhere; in print (WeasyPrint, the report's PDF) the interactive part
+    is left out, where the static figure of the tree stands for it."""
+    import weasyprint
+
+    html = study["page"].read_text()
+    assert "<script src" not in html and "<link" not in html and "@import" not in html
+
+    def texts(box):
+        return ([box.text] if getattr(box, "text", None) else []) + [t for c in getattr(box, "children", None) or []
+                                                                     for t in texts(c)]
+
+    printed = weasyprint.HTML(string=html.replace("<body>", "<body><p>printed beside it</p>")).render()
+    words = " ".join(t for page in printed.pages for t in texts(page._page_box))
+    assert "printed beside it" in words and "Pick an engine" not in words and "Ranking" not in words
