@@ -24,6 +24,7 @@ sys.path.insert(0, str(ROOT / "bench"))
 sys.path.insert(0, str(ROOT / "src"))
 
 from run import lab_scenarios  # noqa: E402
+
 from simpick.engines import get_engine  # noqa: E402
 
 
@@ -75,10 +76,13 @@ def main() -> None:
             sweeps = stats.numIterations / stats.numSolves
             capped = stats.numAcceptedAtCap / stats.numSolves
         med = {k: statistics.median(v) for k, v in rows.items()}
-        print(f"{name:7s} step {med['nsgs']:6.0f} us ({1e6 / med['nsgs']:5.0f}/s)  with Dantzig {med['dantzig']:5.0f} us"
-              f"  -> friction-cone solve ~{med['nsgs'] - med['dantzig']:4.0f} us"
-              f"  collision query {med['collide']:4.0f} us  NSGS sweeps/step {sweeps:4.1f} (at cap {capped:.0%})"
-              f"  contacts/step {contacts:.1f}  n {args.repeats}", flush=True)
+        print(
+            f"{name:7s} step {med['nsgs']:6.0f} us ({1e6 / med['nsgs']:5.0f}/s)  with Dantzig {med['dantzig']:5.0f} us"
+            f"  -> friction-cone solve ~{med['nsgs'] - med['dantzig']:4.0f} us"
+            f"  collision query {med['collide']:4.0f} us  NSGS sweeps/step {sweeps:4.1f} (at cap {capped:.0%})"
+            f"  contacts/step {contacts:.1f}  n {args.repeats}",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

@@ -24,6 +24,7 @@ sys.path.insert(0, str(ROOT / "src"))
 sys.path.insert(0, str(ROOT / "bench"))
 
 from run import lab_scenarios  # noqa: E402 - the benchmark's own lab scenarios, so the figures compare
+
 from simpick.engines import get_engine  # noqa: E402
 
 

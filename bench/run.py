@@ -29,9 +29,9 @@ sys.path.insert(0, str(ROOT / "src"))
 
 from simpick.engines import get_engine  # noqa: E402
 from simpick.engines.base import Scenario  # noqa: E402
+from simpick.inputs.jobs import terrain_job  # noqa: E402
 from simpick.inputs.motions import constant_commands  # noqa: E402
 from simpick.inputs.robot import load_robot  # noqa: E402
-from simpick.inputs.jobs import terrain_job  # noqa: E402
 
 TARGETS = {  # issue 5, on a 2-core machine
     "job_vs_bare_ratio": (">=", 0.90),
@@ -57,24 +57,40 @@ def spread(values: list[float]) -> dict:
     return {"median": statistics.median(values), "min": min(values), "max": max(values), "n": len(values)}
 
 
-def lab_scenarios(config: dict, engine: str, terrains: list[str] | None = None, duration: float | None = None,
-                  overrides: dict | None = None):
+def lab_scenarios(
+    config: dict,
+    engine: str,
+    terrains: list[str] | None = None,
+    duration: float | None = None,
+    overrides: dict | None = None,
+):
     """(terrain, scenario, commands) of the straight lab motion on each terrain for ``engine``, its
     config settings updated with ``overrides`` (bench/engine_speed.py tries settings this way)."""
     robot = load_robot(ROOT / config["robot"]["urdf"])
     motion = config["motions"]["straight"]
     dt = config["physics"]["timestep"]
-    commands = constant_commands(motion["v"], motion["w"], duration or motion["duration"], dt,
-                                 config["robot"]["track"], robot.wheel_radius)
+    commands = constant_commands(
+        motion["v"], motion["w"], duration or motion["duration"], dt, config["robot"]["track"], robot.wheel_radius
+    )
     settings = {**(config["engines"].get(engine) or {}), **(overrides or {})}
     with tempfile.TemporaryDirectory() as tmp:
         for name in terrains or list(config["terrains"]):
             path = Path(tmp) / f"{name}.json"
             terrain_job(str(path), name, config["seed"], config["terrains"][name])
             terrain = yaml.safe_load(path.read_text())
-            yield name, Scenario(robot=robot, terrain=terrain, ground_friction=config["physics"]["ground_friction"],
-                                 timestep=dt, max_wheel_torque=config["robot"]["max_wheel_torque"],
-                                 starts=(tuple(motion["start"]),), settings=settings), commands
+            yield (
+                name,
+                Scenario(
+                    robot=robot,
+                    terrain=terrain,
+                    ground_friction=config["physics"]["ground_friction"],
+                    timestep=dt,
+                    max_wheel_torque=config["robot"]["max_wheel_torque"],
+                    starts=(tuple(motion["start"]),),
+                    settings=settings,
+                ),
+                commands,
+            )
 
 
 def engine_throughput(config: dict, repeats: int) -> list[dict]:
@@ -90,9 +106,17 @@ def engine_throughput(config: dict, repeats: int) -> list[dict]:
             b, j = spread(bare), spread(job)
             rows.append({"measure": "steps_per_s_bare", "engine": engine_name, "terrain": terrain_name, **b})
             rows.append({"measure": "steps_per_s_job", "engine": engine_name, "terrain": terrain_name, **j})
-            rows.append({"measure": "job_vs_bare_ratio", "engine": engine_name, "terrain": terrain_name,
-                         "median": j["median"] / b["median"], "min": j["min"] / b["max"],
-                         "max": j["max"] / b["min"], "n": repeats})
+            rows.append(
+                {
+                    "measure": "job_vs_bare_ratio",
+                    "engine": engine_name,
+                    "terrain": terrain_name,
+                    "median": j["median"] / b["median"],
+                    "min": j["min"] / b["max"],
+                    "max": j["max"] / b["min"],
+                    "n": repeats,
+                }
+            )
     # the table's order: terrain by terrain, the engines in config order within each
     terrains, engines = list(config["terrains"]), list(config["engines"])
     return sorted(rows, key=lambda r: (terrains.index(r["terrain"]), engines.index(r["engine"])))
@@ -110,8 +134,9 @@ def copy_project(dest: Path) -> None:
 
 def snakemake(workdir: Path, *args: str) -> float:
     start = time.perf_counter()
-    run = subprocess.run([str(ROOT / ".venv/bin/snakemake"), "--cores", "2", *args], cwd=workdir,
-                         capture_output=True, text=True)
+    run = subprocess.run(
+        [str(ROOT / ".venv/bin/snakemake"), "--cores", "2", *args], cwd=workdir, capture_output=True, text=True
+    )
     wall = time.perf_counter() - start
     if run.returncode != 0:
         raise RuntimeError(f"snakemake {' '.join(args)} failed:\n{run.stderr[-3000:]}")
@@ -138,7 +163,9 @@ def pipeline(repeats: int) -> list[dict]:
             bench = list((work / "results/benchmarks/simulate/lab").rglob("*.tsv"))
             runs = pd.read_csv(work / "results/metrics/lab/runs.csv")
             for path in bench:
-                engine, terrain, motion = path.relative_to(work / "results/benchmarks/simulate/lab").with_suffix("").parts
+                engine, terrain, motion = (
+                    path.relative_to(work / "results/benchmarks/simulate/lab").with_suffix("").parts
+                )
                 b = pd.read_csv(path, sep="\t").iloc[0]
                 r = runs[(runs.engine == engine) & (runs.terrain == terrain) & (runs.motion == motion)].iloc[0]
                 job_rows.append({"engine": engine, "wall": b["s"], "stepping": r.wall_time, "rss": b["max_rss"]})
@@ -174,8 +201,7 @@ def lab_rtf(rows: list[dict], config: dict) -> list[dict]:
         rates = [r["median"] for r in job if r["engine"] == engine]
         # every terrain is driven for the same simulated time: harmonic mean of the rates
         rtf = len(rates) / sum(1 / r for r in rates) * dt
-        out.append({"measure": "rtf_lab_study", "engine": engine,
-                    "median": rtf, "n": len(rates)})
+        out.append({"measure": "rtf_lab_study", "engine": engine, "median": rtf, "n": len(rates)})
     return out
 
 
@@ -194,16 +220,21 @@ def machine() -> str:
         cpu = next(line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name"))
     except (OSError, StopIteration):
         pass
-    return (f"{cpu}, {psutil.cpu_count()} cores, {psutil.virtual_memory().total / 2**30:.0f} GiB, "
-            f"Python {platform.python_version()}, {platform.system()} {platform.release()}")
+    return (
+        f"{cpu}, {psutil.cpu_count()} cores, {psutil.virtual_memory().total / 2**30:.0f} GiB, "
+        f"Python {platform.python_version()}, {platform.system()} {platform.release()}"
+    )
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--pipeline-repeats", type=int, default=2)
-    parser.add_argument("--only", choices=("engines", "pipeline"),
-                        help="measure one part again, keeping the other part's rows from bench/results.csv")
+    parser.add_argument(
+        "--only",
+        choices=("engines", "pipeline"),
+        help="measure one part again, keeping the other part's rows from bench/results.csv",
+    )
     args = parser.parse_args()
     config = yaml.safe_load((ROOT / "config.yaml").read_text())
     rows: list[dict] = []
@@ -222,19 +253,29 @@ def main() -> None:
     table["target"] = [verdict(r) for r in table.to_dict("records")]
     table.to_csv(ROOT / "bench/results.csv", index=False, float_format="%.4g")
 
-    lines = [f"Measured {time.strftime('%Y-%m-%d')} on {machine()}.", "",
-             "| measure | engine | terrain | median | min | max | n | target |", "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        f"Measured {time.strftime('%Y-%m-%d')} on {machine()}.",
+        "",
+        "| measure | engine | terrain | median | min | max | n | target |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for r in table.fillna("").to_dict("records"):
         fmt = lambda v: f"{v:.3g}" if isinstance(v, float) else str(v)  # noqa: E731
-        lines.append(f"| {r['measure']} | {r.get('engine', '')} | {r.get('terrain', '')} | {fmt(r['median'])} | "
-                     f"{fmt(r.get('min', ''))} | {fmt(r.get('max', ''))} | {fmt(r.get('n', ''))} | {r['target']} |")
+        lines.append(
+            f"| {r['measure']} | {r.get('engine', '')} | {r.get('terrain', '')} | {fmt(r['median'])} | "
+            f"{fmt(r.get('min', ''))} | {fmt(r.get('max', ''))} | {fmt(r.get('n', ''))} | {r['target']} |"
+        )
     text = "\n".join(lines) + "\n"
     (ROOT / "bench/RESULTS.md").write_text("# simpick benchmark\n\n" + text)
     readme = ROOT / "README.md"
     body = readme.read_text()
     if "<!-- bench:start -->" in body:
-        body = re.sub(r"<!-- bench:start -->.*<!-- bench:end -->",
-                      lambda _: "<!-- bench:start -->\n" + text + "<!-- bench:end -->", body, flags=re.S)
+        body = re.sub(
+            r"<!-- bench:start -->.*<!-- bench:end -->",
+            lambda _: "<!-- bench:start -->\n" + text + "<!-- bench:end -->",
+            body,
+            flags=re.S,
+        )
         readme.write_text(body)
     print(text)
 

@@ -29,15 +29,23 @@ def main() -> None:
     args = parser.parse_args()
     config = yaml.safe_load((ROOT / "config.yaml").read_text())
     overrides = {k: yaml.safe_load(v) for k, v in (s.split("=", 1) for s in args.set)}
-    setup = Setup(engine=args.engine, robot=load_robot(ROOT / config["robot"]["urdf"]),
-                  timestep=config["physics"]["timestep"], max_wheel_torque=config["robot"]["max_wheel_torque"],
-                  track=config["robot"]["track"], settings={**(config["engines"][args.engine] or {}), **overrides})
+    setup = Setup(
+        engine=args.engine,
+        robot=load_robot(ROOT / config["robot"]["urdf"]),
+        timestep=config["physics"]["timestep"],
+        max_wheel_torque=config["robot"]["max_wheel_torque"],
+        track=config["robot"]["track"],
+        settings={**(config["engines"][args.engine] or {}), **overrides},
+    )
     cases = config["validation"]["cases"]
     results = [run_case(setup, name, cases[name]) for name in (args.cases or cases)]
     summary = summarise(results, config["validation"]["tolerances"])
     pd.set_option("display.width", 200)
-    print(summary[["case", "quantity", "engine_value", "analytic_value", "error", "tolerance", "passed",
-                   "steps_per_s"]].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    print(
+        summary[
+            ["case", "quantity", "engine_value", "analytic_value", "error", "tolerance", "passed", "steps_per_s"]
+        ].to_string(index=False, float_format=lambda v: f"{v:.4g}")
+    )
     print("passed", int(summary.passed.sum()), "of", len(summary))
 
 

@@ -37,8 +37,18 @@ BENCHMARKS = ("scores", "verdict", "answer", "report", "report_pdf")
 def _run(config: Path, cores: int, log: Path) -> tuple[float, list[str]]:
     """Wall seconds of one Snakemake run (GNU time's %e) and the rules of the jobs it ran."""
     timing = log.with_suffix(".time")
-    cmd = ["/usr/bin/time", "-f", "%e", "-o", str(timing), str(SNAKEMAKE), "--cores", str(cores),
-           "--configfile", str(config)]
+    cmd = [
+        "/usr/bin/time",
+        "-f",
+        "%e",
+        "-o",
+        str(timing),
+        str(SNAKEMAKE),
+        "--cores",
+        str(cores),
+        "--configfile",
+        str(config),
+    ]
     with open(log, "w") as fh:
         done = subprocess.run(cmd, cwd=ROOT, stdout=fh, stderr=subprocess.STDOUT, env=os.environ.copy(), check=False)
     if done.returncode:
@@ -66,8 +76,12 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--weight", default="ui", help="the weight to edit (a key of the config's weights)")
     parser.add_argument("--cores", type=int, default=2)
     parser.add_argument("--out", type=Path, help="also write the table as CSV here")
-    parser.add_argument("--workdir", type=Path, default=ROOT,
-                        help="the study's folder (a checkout with its results/; default: this repository)")
+    parser.add_argument(
+        "--workdir",
+        type=Path,
+        default=ROOT,
+        help="the study's folder (a checkout with its results/; default: this repository)",
+    )
     args = parser.parse_args(argv)
     ROOT = args.workdir.resolve()
 
@@ -81,16 +95,25 @@ def main(argv: list[str] | None = None) -> None:
             edited.write_text(yaml.safe_dump(config, sort_keys=False))
             load, start = os.getloadavg()[0], time.time()
             wall, rules = _run(edited, args.cores, Path(tmp) / f"run{i}.log")
-            rows.append({"repeat": i + 1, "wall_s": wall, "load_1min": load, "jobs": " ".join(sorted(rules)),
-                         **{f"{k}_s": v for k, v in _job_seconds(start).items()}})
+            rows.append(
+                {
+                    "repeat": i + 1,
+                    "wall_s": wall,
+                    "load_1min": load,
+                    "jobs": " ".join(sorted(rules)),
+                    **{f"{k}_s": v for k, v in _job_seconds(start).items()},
+                }
+            )
             print(rows[-1], flush=True)
         config["weights"][args.weight] = base  # back to the study's own weights (not timed)
         restore = Path(tmp) / "restore.yaml"
         restore.write_text(yaml.safe_dump(config, sort_keys=False))
         _run(restore, args.cores, Path(tmp) / "restore.log")
     walls = [r["wall_s"] for r in rows]
-    print(f"weight-edit rerun, {args.cores} cores: median {statistics.median(walls):.2f} s "
-          f"(min {min(walls):.2f}, max {max(walls):.2f}, n {len(walls)})")
+    print(
+        f"weight-edit rerun, {args.cores} cores: median {statistics.median(walls):.2f} s "
+        f"(min {min(walls):.2f}, max {max(walls):.2f}, n {len(walls)})"
+    )
     for key in sorted({k for r in rows for k in r if k.endswith("_s") and k != "wall_s"}):
         vals = [r[key] for r in rows if key in r]
         print(f"  {key[:-2]} job: median {statistics.median(vals):.2f} s")

@@ -1,8 +1,12 @@
 # one script for every figure rule: simpick.report.draw.RULES maps the rule to what it draws
-from simpick.report.draw import figure_job
 from simpick.joblog import logged
+from simpick.report.draw import figure_job
 
 with logged(snakemake.log[0]):
-    figure_job(snakemake.rule, {k: (list(v) if k in ("traces", "real_logs", "replay_traces") else v)
-                                for k, v in snakemake.input.items()},
-               dict(snakemake.params.items()), dict(snakemake.wildcards.items()), dict(snakemake.output.items()))
+    figure_job(
+        snakemake.rule,
+        {k: (list(v) if k in ("traces", "real_logs", "replay_traces") else v) for k, v in snakemake.input.items()},
+        dict(snakemake.params.items()),
+        dict(snakemake.wildcards.items()),
+        dict(snakemake.output.items()),
+    )

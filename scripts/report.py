@@ -1,5 +1,5 @@
-from simpick.report import LIST_INPUTS, build_report
 from simpick.joblog import logged
+from simpick.report import LIST_INPUTS, build_report
 
 with logged(snakemake.log[0]):
     inputs = {key: (list(value) if key in LIST_INPUTS else value) for key, value in snakemake.input.items()}

@@ -3,5 +3,9 @@ from simpick.simulate.watchdog import runtime_timeout
 from simpick.studies.validation import validate_job
 
 with logged(snakemake.log[0]):
-    validate_job(list(snakemake.output), snakemake.input.urdf, snakemake.params.case,
-                 timeout=runtime_timeout(snakemake.resources.get("runtime")))
+    validate_job(
+        list(snakemake.output),
+        snakemake.input.urdf,
+        snakemake.params.case,
+        timeout=runtime_timeout(snakemake.resources.get("runtime")),
+    )

@@ -25,8 +25,14 @@ def check_adapter(name: str, robot: RobotSpec) -> None:
     shapes, a record at rest at the robot's resting height, and the same record twice."""
     adapter = get_engine(name)
     assert isinstance(adapter, Adapter), f"{name}: an engine adapter subclasses simpick.engines.runner.Adapter"
-    scenario = Scenario(robot=robot, terrain=Terrain.flat(0.8), ground_friction=0.8, timestep=DT,
-                        max_wheel_torque=100.0, starts=((0.0, 0.0, 0.0), (3.0, 0.0, 0.0)))
+    scenario = Scenario(
+        robot=robot,
+        terrain=Terrain.flat(0.8),
+        ground_friction=0.8,
+        timestep=DT,
+        max_wheel_torque=100.0,
+        starts=((0.0, 0.0, 0.0), (3.0, 0.0, 0.0)),
+    )
     wheels = len(robot.wheel_joints)
 
     # the primitives, as the runner calls them
@@ -46,8 +52,13 @@ def check_adapter(name: str, robot: RobotSpec) -> None:
             assert all(isinstance(s, BaseState) for s in samples)
         # a world that logs its own state returns every step, else one row per read
         rows = 8 if getattr(world, "logs_states", False) else 4
-        for field, width in (("position", 3), ("quaternion", 4), ("linear_velocity", 3), ("angular_velocity", 3),
-                             ("wheel_speed", wheels)):
+        for field, width in (
+            ("position", 3),
+            ("quaternion", 4),
+            ("linear_velocity", 3),
+            ("angular_velocity", 3),
+            ("wheel_speed", wheels),
+        ):
             value = getattr(states, field)
             assert value.shape == (rows, width), (name, field, value.shape)
             assert np.isfinite(value).all(), (name, field)
@@ -63,8 +74,15 @@ def check_adapter(name: str, robot: RobotSpec) -> None:
     record = adapter.simulate(scenario, commands)
     assert isinstance(record, PhysicsRecord) and record.steps == 1000
     np.testing.assert_array_equal(record.time, DT * np.arange(1, 1001))
-    for field, width in (("position", 3), ("quaternion", 4), ("linear_velocity", 3), ("angular_velocity", 3),
-                         ("wheel_speed", wheels), ("imu_specific_force", 3), ("imu_gyro", 3)):
+    for field, width in (
+        ("position", 3),
+        ("quaternion", 4),
+        ("linear_velocity", 3),
+        ("angular_velocity", 3),
+        ("wheel_speed", wheels),
+        ("imu_specific_force", 3),
+        ("imu_gyro", 3),
+    ):
         value = getattr(record, field)
         assert value.shape == (1000, width), (name, field, value.shape)
         assert np.isfinite(value).all(), (name, field)

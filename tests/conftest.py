@@ -31,15 +31,32 @@ def tile_terrain(friction: float, thickness: float = 0.01) -> dict:
     return terrain
 
 
-def setup(robot, *, terrain=None, ground=0.95, torque=50.0, starts=((0.0, 0.0, 0.0),), v=0.5, w=0.0,
-          duration=0.3, timestep=0.001, settings=None):
+def setup(
+    robot,
+    *,
+    terrain=None,
+    ground=0.95,
+    torque=50.0,
+    starts=((0.0, 0.0, 0.0),),
+    v=0.5,
+    w=0.0,
+    duration=0.3,
+    timestep=0.001,
+    settings=None,
+):
     """A scenario on flat ground (unless ``terrain`` is given) and its constant wheel commands."""
     from simpick.engines.base import Scenario
     from simpick.inputs.motions import constant_commands
 
-    scenario = Scenario(robot=robot, terrain=flat_terrain(ground) if terrain is None else terrain,
-                        ground_friction=ground, timestep=timestep, max_wheel_torque=torque, starts=tuple(starts),
-                        settings=settings or {})
+    scenario = Scenario(
+        robot=robot,
+        terrain=flat_terrain(ground) if terrain is None else terrain,
+        ground_friction=ground,
+        timestep=timestep,
+        max_wheel_torque=torque,
+        starts=tuple(starts),
+        settings=settings or {},
+    )
     return scenario, constant_commands(v, w, duration, timestep, 0.555, robot.wheel_radius, len(starts))
 
 
@@ -69,8 +86,11 @@ def pytest_runtest_protocol(item, nextitem):
 
 
 def _starts_snakemake(args) -> bool:
-    words = args.split() if isinstance(args, str) else [str(a) for a in (args if isinstance(args, list | tuple)
-                                                                        else [args])]
+    words = (
+        args.split()
+        if isinstance(args, str)
+        else [str(a) for a in (args if isinstance(args, list | tuple) else [args])]
+    )
     return any(Path(word).name == "snakemake" for word in words)
 
 
@@ -80,8 +100,11 @@ _popen_init = subprocess.Popen.__init__
 def _popen_init_checked(self, args, *rest, **kwargs):
     if _RUNNING and _starts_snakemake(args) and _RUNNING[-1].get_closest_marker("workflow") is None:
         self._child_created = False  # what Popen.__del__ reads of an object it never started
-        pytest.fail(f"{_RUNNING[-1].nodeid} starts Snakemake but is not marked @pytest.mark.workflow "
-                    "(the fast tier, pytest -m 'not workflow', must not run the workflow)", pytrace=False)
+        pytest.fail(
+            f"{_RUNNING[-1].nodeid} starts Snakemake but is not marked @pytest.mark.workflow "
+            "(the fast tier, pytest -m 'not workflow', must not run the workflow)",
+            pytrace=False,
+        )
     _popen_init(self, args, *rest, **kwargs)
 
 
@@ -126,10 +149,20 @@ def tiny_config(workdir: Path | None = None) -> dict:
 
 
 def snakemake(workdir: Path, *args: str, env: dict | None = None) -> subprocess.CompletedProcess:
-    cmd = SNAKEMAKE + ["--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir),
-                       "--configfile", str(workdir / "config.yaml"), "--cores", "2", *args]
-    return subprocess.run(cmd, capture_output=True, text=True, cwd=workdir,
-                          env=os.environ | {"PYTHONHASHSEED": "0"} | (env or {}))
+    cmd = SNAKEMAKE + [
+        "--snakefile",
+        str(ROOT / "Snakefile"),
+        "--directory",
+        str(workdir),
+        "--configfile",
+        str(workdir / "config.yaml"),
+        "--cores",
+        "2",
+        *args,
+    ]
+    return subprocess.run(
+        cmd, capture_output=True, text=True, cwd=workdir, env=os.environ | {"PYTHONHASHSEED": "0"} | (env or {})
+    )
 
 
 def planned_jobs(workdir: Path, env: dict | None = None) -> list[tuple[str, str]]:
@@ -152,8 +185,10 @@ def write_config(workdir: Path, config: dict) -> None:
 
 # --- dataset folders in the BorealTC layout, made up in the test ---
 
-def synthetic_run(seconds: float = 12.0, imu_hz: float = 100.0, cmd_hz: float = 6.5, seed: int = 0,
-                  gain: float = 0.6) -> tuple[pd.DataFrame, pd.DataFrame]:
+
+def synthetic_run(
+    seconds: float = 12.0, imu_hz: float = 100.0, cmd_hz: float = 6.5, seed: int = 0, gain: float = 0.6
+) -> tuple[pd.DataFrame, pd.DataFrame]:
     """One run as (imu, pro) frames in BorealTC's columns: 0.3 m/s straight, then a left turn
     (wheels 0.1 / 0.4 m/s) whose measured yaw rate is ``gain`` x the commanded one."""
     import numpy as np
@@ -162,15 +197,23 @@ def synthetic_run(seconds: float = 12.0, imu_hz: float = 100.0, cmd_hz: float = 
     tp = np.arange(int(round(seconds * cmd_hz))) / cmd_hz
     turning = tp >= seconds / 2
     vel_l, vel_r = np.where(turning, 0.1, 0.3), np.where(turning, 0.4, 0.3)
-    pro = pd.DataFrame({"time": tp, "curL": 5 + rng.random(len(tp)), "curR": 5 + rng.random(len(tp)),
-                        "velL": vel_l, "velR": vel_r})
+    pro = pd.DataFrame(
+        {"time": tp, "curL": 5 + rng.random(len(tp)), "curR": 5 + rng.random(len(tp)), "velL": vel_l, "velR": vel_r}
+    )
     ti = np.arange(int(round(seconds * imu_hz))) / imu_hz
     held = np.clip(np.searchsorted(tp, ti, side="right") - 1, 0, len(tp) - 1)
     n = len(ti)
-    imu = pd.DataFrame({"time": ti, "wx": 0.01 * rng.standard_normal(n), "wy": 0.01 * rng.standard_normal(n),
-                        "wz": gain * (vel_r - vel_l)[held] / 0.555 + 0.01 * rng.standard_normal(n),
-                        "ax": 0.2 * rng.standard_normal(n), "ay": 0.2 * rng.standard_normal(n),
-                        "az": 9.81 + 0.2 * rng.standard_normal(n)})
+    imu = pd.DataFrame(
+        {
+            "time": ti,
+            "wx": 0.01 * rng.standard_normal(n),
+            "wy": 0.01 * rng.standard_normal(n),
+            "wz": gain * (vel_r - vel_l)[held] / 0.555 + 0.01 * rng.standard_normal(n),
+            "ax": 0.2 * rng.standard_normal(n),
+            "ay": 0.2 * rng.standard_normal(n),
+            "az": 9.81 + 0.2 * rng.standard_normal(n),
+        }
+    )
     return imu, pro
 
 
@@ -183,5 +226,3 @@ def write_dataset(root: Path, runs: dict[str, list[str]], **options) -> Path:
             imu.to_csv(root / cls / f"imu_{run}.csv", index=False)
             pro.to_csv(root / cls / f"pro_{run}.csv", index=False)
     return root
-
-

@@ -9,27 +9,38 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
-from test_tree import FACTS, WEIGHTS, make_study
 
 from simpick.report.interactive import choose_page
 from simpick.score import scoring
 from simpick.score.tree import decision_tree_job, leaf_order, read_tree, walk
+from test_tree import FACTS, WEIGHTS, make_study
 
 CHROMIUM = "/usr/bin/chromium"
-ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-        "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
 
 
 @pytest.fixture(scope="module")
 def browser():
     if not Path(CHROMIUM).exists():
-        pytest.fail(f"no Chromium at {CHROMIUM}: install it with `apt-get install chromium` (as root; make test does)",
-                    pytrace=False)
+        pytest.fail(
+            f"no Chromium at {CHROMIUM}: install it with `apt-get install chromium` (as root; make test does)",
+            pytrace=False,
+        )
     try:
         from playwright.sync_api import sync_playwright
     except ImportError:
-        pytest.fail("the Python package playwright is missing: pip install -c constraints.txt -e '.[test]'",
-                    pytrace=False)
+        pytest.fail(
+            "the Python package playwright is missing: pip install -c constraints.txt -e '.[test]'", pytrace=False
+        )
     with sync_playwright() as playwright:
         browser = playwright.chromium.launch(executable_path=CHROMIUM, args=ARGS)
         yield browser
@@ -70,8 +81,12 @@ def answer(page, question: str, label: str) -> None:
 def test_the_questions_lead_to_the_pick(page, study):
     tree = read_tree(study["tree"])
     totals = pd.read_csv(study["weighted"], index_col="engine")["total"].to_dict()
-    answers = {"open_source": "Yes", "ros": "No", "closeness": "Yes, on its yaw-rate gain error",
-               "real_time_factor": "No need"}
+    answers = {
+        "open_source": "Yes",
+        "ros": "No",
+        "closeness": "Yes, on its yaw-rate gain error",
+        "real_time_factor": "No need",
+    }
     leaf = walk(tree, answers)
     assert leaf["kind"] == "leaf" and len(leaf["engines"]) > 1
     for question, label in answers.items():
@@ -104,7 +119,8 @@ def test_an_answer_no_engine_meets_says_so_and_can_be_changed(page):
 def test_the_page_totals_at_the_study_weights_are_those_of_weighted_csv(page, study):
     weighted = pd.read_csv(study["weighted"], index_col="engine")
     shown = page.eval_on_selector_all(
-        ".sc-engine-total", "cells => cells.map(c => [c.dataset.engine, Number(c.dataset.total), c.textContent])")
+        ".sc-engine-total", "cells => cells.map(c => [c.dataset.engine, Number(c.dataset.total), c.textContent])"
+    )
     assert sorted(e for e, _, _ in shown) == sorted(weighted.index)
     for engine, total, text in shown:
         assert total == pytest.approx(weighted.loc[engine, "total"], rel=1e-5)  # the CSV keeps 6 figures
@@ -123,15 +139,25 @@ def test_a_weight_edit_recomputes_the_totals_and_reorders_the_leaf(page, study):
     expected = scoring.weighted_table(scores, weights)
     for metric in ("real_time_factor", "imu_angular"):
         page.fill(f'input[data-metric="{metric}"]', str(weights[metric]))
-    shown = dict(page.eval_on_selector_all(".sc-engine-total",
-                                           "cells => cells.map(c => [c.dataset.engine, Number(c.dataset.total)])"))
+    shown = dict(
+        page.eval_on_selector_all(
+            ".sc-engine-total", "cells => cells.map(c => [c.dataset.engine, Number(c.dataset.total)])"
+        )
+    )
     for engine in expected.index:
         assert shown[engine] == pytest.approx(expected.loc[engine, "total"], rel=1e-5)
-    for question, label in {"open_source": "Yes", "ros": "No", "closeness": "Yes, on its yaw-rate gain error",
-                            "real_time_factor": "No need"}.items():
+    for question, label in {
+        "open_source": "Yes",
+        "ros": "No",
+        "closeness": "Yes, on its yaw-rate gain error",
+        "real_time_factor": "No need",
+    }.items():
         answer(page, question, label)
-    assert page.get_attribute("#sc-pick", "data-engine") == leaf_order(["anvil", "breeze"],
-                                                                       expected["total"].to_dict())[0] == "anvil"
+    assert (
+        page.get_attribute("#sc-pick", "data-engine")
+        == leaf_order(["anvil", "breeze"], expected["total"].to_dict())[0]
+        == "anvil"
+    )
     page.fill('input[data-metric="real_time_factor"]', "100")  # speed first: the faster engine is the pick
     assert page.get_attribute("#sc-pick", "data-engine") == "breeze"
     page.click("#sc-reset")
@@ -146,15 +172,21 @@ def test_the_whole_tree_lists_every_leaf_ordered_by_the_weights(page, study):
     totals = pd.read_csv(study["weighted"], index_col="engine")["total"].to_dict()
 
     def shown():
-        return dict(page.eval_on_selector_all(
-            "#sc-outline .sc-outline-leaf", "spans => spans.map(s => [s.dataset.leaf, s.dataset.engines])"))
+        return dict(
+            page.eval_on_selector_all(
+                "#sc-outline .sc-outline-leaf", "spans => spans.map(s => [s.dataset.leaf, s.dataset.engines])"
+            )
+        )
 
     assert shown() == {i: " ".join(leaf_order(e, totals)) for i, e in leaves.items()}
     page.fill('input[data-metric="real_time_factor"]', "100")
     scores = pd.read_csv(study["weighted"], index_col="engine")[list(scoring.METRICS)]
     faster = scoring.weighted_table(scores, {**WEIGHTS, "real_time_factor": 100.0})["total"].to_dict()
-    assert shown() == {i: " ".join(leaf_order(e, faster)) for i, e in leaves.items()} != \
-        {i: " ".join(leaf_order(e, totals)) for i, e in leaves.items()}
+    assert (
+        shown()
+        == {i: " ".join(leaf_order(e, faster)) for i, e in leaves.items()}
+        != {i: " ".join(leaf_order(e, totals)) for i, e in leaves.items()}
+    )
 
 
 def test_the_page_needs_no_network_and_hides_in_print(study):
@@ -166,8 +198,9 @@ def test_the_page_needs_no_network_and_hides_in_print(study):
     assert "<script src" not in html and "<link" not in html and "@import" not in html
 
     def texts(box):
-        return ([box.text] if getattr(box, "text", None) else []) + [t for c in getattr(box, "children", None) or []
-                                                                     for t in texts(c)]
+        return ([box.text] if getattr(box, "text", None) else []) + [
+            t for c in getattr(box, "children", None) or [] for t in texts(c)
+        ]
 
     printed = weasyprint.HTML(string=html.replace("<body>", "<body><p>printed beside it</p>")).render()
     words = " ".join(t for page in printed.pages for t in texts(page._page_box))

@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from conftest import ROOT, planned_jobs, snakemake, tiny_config, write_config
+from conftest import ROOT, snakemake, tiny_config, write_config
 from simpick.config import problems
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.studies.calibration import Units, apply_parameters, calibrate, evaluate, split_runs, summarise
@@ -18,6 +18,7 @@ URDF = str(ROOT / "resources/robot/husky_a200.urdf")
 
 
 # ------------------------------------------------------------ the split
+
 
 def _units():
     rows = []
@@ -35,12 +36,14 @@ def test_the_split_is_by_run_and_deterministic():
     # every unit of a run goes where its run goes
     assert (a.groupby(["terrain_class", "run"])["set"].nunique() == 1).all()
     runs = a.drop_duplicates(["terrain_class", "run"]).groupby(["terrain_class", "set"]).size()
-    assert runs[("ice", "test")] == 2 and runs[("ice", "train")] == 3   # round(0.5 x 5) = 2 (banker's)
+    assert runs[("ice", "test")] == 2 and runs[("ice", "train")] == 3  # round(0.5 x 5) = 2 (banker's)
     assert runs[("snow", "test")] == 1 and runs[("snow", "train")] == 1
     assert ("asphalt", "test") not in runs  # a single run: training only
     # the seed matters: over a few seeds the ice test runs differ
-    tests = {tuple(sorted(split_runs(_units(), 0.5, seed=s).query("terrain_class == 'ice' and set == 'test'")
-                          .run.unique())) for s in range(6)}
+    tests = {
+        tuple(sorted(split_runs(_units(), 0.5, seed=s).query("terrain_class == 'ice' and set == 'test'").run.unique()))
+        for s in range(6)
+    }
     assert len(tests) > 1
 
 
@@ -53,6 +56,7 @@ def test_the_committed_segments_split_keeps_each_run_whole():
 
 
 # ------------------------------------------------------------ the declared parameters
+
 
 @pytest.mark.parametrize("name", sorted(ADAPTERS) + sorted(REFERENCE_MODELS))
 def test_every_model_declares_parameters_its_settings_accept(name):
@@ -80,12 +84,15 @@ def test_apply_parameters_sets_friction_on_the_class_and_the_rest_as_settings():
     assert params["class"]["friction"] == 0.6  # the input is left alone
 
 
-@pytest.mark.parametrize("bounds, expected", [
-    ({"dart": {"cfm": [0.1, 1.0]}}, "bounds.dart.cfm: dart declares no calibratable parameter 'cfm'"),
-    ({"ode": {"friction": [0.5, 0.1]}}, "bounds.ode.friction: low 0.5 must be below high 0.1"),
-    ({"ode": {"cfm": [0.0, 1e-3]}}, "bounds.ode.cfm: searched on a log scale, low must be > 0"),
-    ({"gazebo": {"friction": [0.1, 1.0]}}, "bounds.gazebo: unknown engine"),
-])
+@pytest.mark.parametrize(
+    "bounds, expected",
+    [
+        ({"dart": {"cfm": [0.1, 1.0]}}, "bounds.dart.cfm: dart declares no calibratable parameter 'cfm'"),
+        ({"ode": {"friction": [0.5, 0.1]}}, "bounds.ode.friction: low 0.5 must be below high 0.1"),
+        ({"ode": {"cfm": [0.0, 1e-3]}}, "bounds.ode.cfm: searched on a log scale, low must be > 0"),
+        ({"gazebo": {"friction": [0.1, 1.0]}}, "bounds.gazebo: unknown engine"),
+    ],
+)
 def test_bad_calibration_bounds_are_named(bounds, expected):
     config = copy.deepcopy(CONFIG)
     config["calibration"]["bounds"] = bounds
@@ -104,11 +111,19 @@ def test_bad_calibration_settings_are_named():
 
 # ------------------------------------------------------------ recovering a known friction coefficient
 
+
 def _params(engine, friction):
-    return {"engine": engine, "engine_settings": (CONFIG["engines"] | CONFIG["baselines"])[engine] or {},
-            "physics": CONFIG["physics"], "robot": {k: v for k, v in CONFIG["robot"].items() if k != "urdf"},
-            "imu": CONFIG["imu"], "health": CONFIG["health"], "seed": CONFIG["seed"], "terrain_class": "test",
-            "class": {"friction": friction, "source": "test"}}
+    return {
+        "engine": engine,
+        "engine_settings": (CONFIG["engines"] | CONFIG["baselines"])[engine] or {},
+        "physics": CONFIG["physics"],
+        "robot": {k: v for k, v in CONFIG["robot"].items() if k != "urdf"},
+        "imu": CONFIG["imu"],
+        "health": CONFIG["health"],
+        "seed": CONFIG["seed"],
+        "terrain_class": "test",
+        "class": {"friction": friction, "source": "test"},
+    }
 
 
 def _synthetic_units(engine, friction):
@@ -121,17 +136,31 @@ def _synthetic_units(engine, friction):
     v = np.where((t // 2) % 2 == 0, 0.8, -0.8)
     left, right = np.where(t >= 8, 0.1, v), np.where(t >= 8, 0.5, v)
     commands = pd.DataFrame({"time": t, "v_left": left, "v_right": right})
-    seed = RealLog(imu=pd.DataFrame({"time": np.arange(0, 10.0, 0.01)}), commands=commands,
-                   meta={"name": "synthetic", "run_id": "s1", "terrain_class": "test", "dataset": "synthetic"})
+    seed = RealLog(
+        imu=pd.DataFrame({"time": np.arange(0, 10.0, 0.01)}),
+        commands=commands,
+        meta={"name": "synthetic", "run_id": "s1", "terrain_class": "test", "dataset": "synthetic"},
+    )
     frame, _ = replay_log(seed, URDF, _params(engine, friction))
     imu = pd.DataFrame({c: np.asarray(frame[c]) for c in ("time", "ax", "ay", "az", "wx", "wy", "wz")})
     units = Units("replay", logs=[])
-    units.logs, units.ids, units.runs = {"s1": RealLog(imu=imu, commands=commands, meta=seed.meta)}, ["s1"], {"s1": "s1"}
+    units.logs, units.ids, units.runs = (
+        {"s1": RealLog(imu=imu, commands=commands, meta=seed.meta)},
+        ["s1"],
+        {"s1": "s1"},
+    )
     return units
 
 
-SETTINGS = {"source": "replay", "replay_seconds": None, "scales": {"yaw_rate": 0.05, "accel_x": 0.05},
-            "n_trials": 30, "startup_trials": 6, "seed": 3, "bounds": {}}
+SETTINGS = {
+    "source": "replay",
+    "replay_seconds": None,
+    "scales": {"yaw_rate": 0.05, "accel_x": 0.05},
+    "n_trials": 30,
+    "startup_trials": 6,
+    "seed": 3,
+    "bounds": {},
+}
 
 
 def test_the_optimiser_recovers_a_known_friction_coefficient(tmp_path):
@@ -143,8 +172,9 @@ def test_the_optimiser_recovers_a_known_friction_coefficient(tmp_path):
     # 40 trials: at 30 the result depended on the sampler's seed (0.214, 7 % off, once the study was named
     # by its training units too)
     settings = dict(SETTINGS, n_trials=40, bounds={"coulomb": {"friction_ratio": [0.999, 1.001]}})
-    values, history, facts = calibrate(units, ["s1"], URDF, _params("coulomb", 0.6), settings,
-                                       tmp_path / "optuna.journal")
+    values, history, facts = calibrate(
+        units, ["s1"], URDF, _params("coulomb", 0.6), settings, tmp_path / "optuna.journal"
+    )
     assert values["friction"] == pytest.approx(0.2, rel=0.05)
     assert values["friction_ratio"] == pytest.approx(1.0, abs=0.001)
     assert facts["best_objective"] < facts["configured_objective"]
@@ -152,6 +182,7 @@ def test_the_optimiser_recovers_a_known_friction_coefficient(tmp_path):
 
 
 # ------------------------------------------------------------ an interrupted calibration resumes
+
 
 def test_an_interrupted_calibration_resumes_without_repeating_trials(tmp_path):
     units = _synthetic_units("coulomb", 0.2)
@@ -184,12 +215,20 @@ def test_an_interrupted_calibration_resumes_without_repeating_trials(tmp_path):
     assert study_name(params, settings | {"code": "a"}, ["s1"]) != study_name(params, settings | {"code": "b"}, ["s1"])
     assert study_name(params, settings, ["s1"]) != study_name(params, settings, ["s1", "s2"])
     calls.clear()
-    calibrate(units, ["s1"], URDF, params, dict(settings, n_trials=2, code="edited"), tmp_path / "b.journal",
-              evaluate_fn=counting)
+    calibrate(
+        units,
+        ["s1"],
+        URDF,
+        params,
+        dict(settings, n_trials=2, code="edited"),
+        tmp_path / "b.journal",
+        evaluate_fn=counting,
+    )
     assert len(calls) == 2
 
 
 # ------------------------------------------------------------ summary and report section
+
 
 def _evals():
     rows = []
@@ -197,9 +236,20 @@ def _evals():
         for set_ in ("train", "test"):
             for k in range(6):  # 6 runs: the real-data statistics' minimum for an interval
                 for variant, value in (("configured", conf), ("calibrated", cal)):
-                    rows.append({"engine": engine, "terrain_class": "ice", "unit": f"u{set_}{k}", "run": f"{set_}{k}",
-                                 "set": set_, "variant": variant, "status": "ok", "error_yaw_rate": value / 20,
-                                 "error_accel_x": value / 20, "objective": value + 0.01 * k})
+                    rows.append(
+                        {
+                            "engine": engine,
+                            "terrain_class": "ice",
+                            "unit": f"u{set_}{k}",
+                            "run": f"{set_}{k}",
+                            "set": set_,
+                            "variant": variant,
+                            "status": "ok",
+                            "error_yaw_rate": value / 20,
+                            "error_accel_x": value / 20,
+                            "objective": value + 0.01 * k,
+                        }
+                    )
     return pd.DataFrame(rows)
 
 
@@ -239,6 +289,7 @@ def test_the_summary_ranks_before_and_after_and_the_report_says_the_winner_chang
 
 # ------------------------------------------------------------ through the workflow: the rerun contract
 
+
 @pytest.mark.workflow
 def test_a_budget_edit_reruns_calibration_and_what_depends_on_it_nothing_else(tmp_path):
     config = tiny_config(tmp_path)
@@ -258,8 +309,12 @@ def test_a_budget_edit_reruns_calibration_and_what_depends_on_it_nothing_else(tm
     config["calibration"]["n_trials"] = 3
     write_config(tmp_path, config)
     jobs = planned_jobs_for(tmp_path, "calibration")
-    assert sorted({rule for rule, _ in jobs}) == ["calibrate", "calibration", "calibration_evaluate",
-                                                 "calibration_summary"]
+    assert sorted({rule for rule, _ in jobs}) == [
+        "calibrate",
+        "calibration",
+        "calibration_evaluate",
+        "calibration_summary",
+    ]
     run = snakemake(tmp_path, "calibration")
     assert run.returncode == 0, run.stderr[-3000:]
     best = yaml.safe_load((out / "kinematic/flooring/best.yaml").read_text())
@@ -291,8 +346,10 @@ def test_the_calibration_template_renders_the_tables():
 
     best = {("a", "ice"): {"parameters": {"friction": 0.2}, "as_configured": {"friction": 0.1}}}
     section = calibration_section(summarise(_evals(), best), ["b", "a"], {})
-    wrapper = ('{% macro eng(e) %}<span class="engine">{{ e }}</span>{% endmacro %}'
-               '{% if calibration.given %}{% include "calibration_section.html.j2" %}{% endif %}')
+    wrapper = (
+        '{% macro eng(e) %}<span class="engine">{{ e }}</span>{% endmacro %}'
+        '{% if calibration.given %}{% include "calibration_section.html.j2" %}{% endif %}'
+    )
     html = environment().from_string(wrapper).render(calibration=section, colors={})
     assert "the test winner changes from b to a" in html
     assert "friction: <b>0.2</b> (0.1)" in html  # found, and as configured in brackets
@@ -309,9 +366,20 @@ def test_classes_too_small_for_an_interval_get_one_pooled_and_runs_are_named_by_
     for c, cls in enumerate(("asphalt", "ice", "snow")):
         for k in range(2):
             for variant, value in (("configured", 1.0), ("calibrated", 0.6 + 0.1 * k + 0.05 * c)):
-                rows.append({"engine": "a", "terrain_class": cls, "unit": f"seg{k}", "run": f"{k:02d}",
-                             "set": "test", "variant": variant, "status": "ok", "error_yaw_rate": value / 20,
-                             "error_accel_x": value / 20, "objective": value})
+                rows.append(
+                    {
+                        "engine": "a",
+                        "terrain_class": cls,
+                        "unit": f"seg{k}",
+                        "run": f"{k:02d}",
+                        "set": "test",
+                        "variant": variant,
+                        "status": "ok",
+                        "error_yaw_rate": value / 20,
+                        "error_accel_x": value / 20,
+                        "objective": value,
+                    }
+                )
     summary = summarise(pd.DataFrame(rows), {})
     per_class = summary[summary.terrain_class != POOLED]
     assert per_class.change_low.isna().all() and (per_class.n_runs == 2).all()
@@ -354,6 +422,7 @@ def test_the_objective_leaves_constant_acceleration_offsets_out():
 
 # ------------------------------------------------------------ issue 20: turning on held-out runs, the target
 
+
 def _turning_evals(cal_gain, cal_error, classes=("asphalt", "ice"), runs=4):
     """Held-out runs of two classes whose real gain is 0.7: engine ``e`` as configured turns at the
     Coulomb 0.48 (yaw-rate error 0.10 rad/s), as calibrated at ``cal_gain`` (error ``cal_error``);
@@ -361,13 +430,29 @@ def _turning_evals(cal_gain, cal_error, classes=("asphalt", "ice"), runs=4):
     rows = []
     for cls in classes:
         for k in range(runs):
-            for engine, variant, gain, error in (("e", "configured", 0.48, 0.10), ("e", "calibrated", cal_gain, cal_error),
-                                                 ("coulomb", "configured", 0.48, 0.10),
-                                                 ("coulomb", "calibrated", 0.48, 0.10)):
-                rows.append({"engine": engine, "terrain_class": cls, "unit": f"{cls}-{k}", "run": f"{k:02d}",
-                             "set": "test", "variant": variant, "status": "ok", "error_yaw_rate": error + 0.001 * k,
-                             "error_accel_x": 0.1, "objective": error, "yaw_rate_gain_sim": gain + 0.002 * k,
-                             "yaw_rate_gain_real": 0.7, "gain_error": abs(gain + 0.002 * k - 0.7)})
+            for engine, variant, gain, error in (
+                ("e", "configured", 0.48, 0.10),
+                ("e", "calibrated", cal_gain, cal_error),
+                ("coulomb", "configured", 0.48, 0.10),
+                ("coulomb", "calibrated", 0.48, 0.10),
+            ):
+                rows.append(
+                    {
+                        "engine": engine,
+                        "terrain_class": cls,
+                        "unit": f"{cls}-{k}",
+                        "run": f"{k:02d}",
+                        "set": "test",
+                        "variant": variant,
+                        "status": "ok",
+                        "error_yaw_rate": error + 0.001 * k,
+                        "error_accel_x": 0.1,
+                        "objective": error,
+                        "yaw_rate_gain_sim": gain + 0.002 * k,
+                        "yaw_rate_gain_real": 0.7,
+                        "gain_error": abs(gain + 0.002 * k - 0.7),
+                    }
+                )
     return pd.DataFrame(rows)
 
 
@@ -403,8 +488,10 @@ def test_the_target_needs_both_paired_tests_and_the_gain_in_every_class():
         return target.set_index("engine")
 
     met = judge(0.69, 0.03)
-    assert met.loc["e", "meets"] and met.loc["e", "best"] and not met.loc["coulomb", "best"]  # a reference is never best
-    assert met.loc["e", "p_vs_configured"] == pytest.approx(2 / 2 ** 8)  # 8 held-out runs, all lower
+    assert (
+        met.loc["e", "meets"] and met.loc["e", "best"] and not met.loc["coulomb", "best"]
+    )  # a reference is never best
+    assert met.loc["e", "p_vs_configured"] == pytest.approx(2 / 2**8)  # 8 held-out runs, all lower
     assert met.loc["e", "vs_reference"] == pytest.approx(-0.07)
     assert not met.loc["coulomb", "meets"]  # its calibration changed nothing: not lower than itself
     # the error falls, but the gain stays 20 % off the real robot's: not met, and the classes are named
@@ -429,16 +516,22 @@ def test_the_report_shows_held_out_gains_multipliers_and_the_target():
     target = target_table(evals, turning, ["e"], TARGET)
     section = calibration_section(summarise(evals, best), ["e", "coulomb"], {}, turning, target)
     assert [c["terrain_class"] for c in section["turning"]] == ["asphalt", "ice", "target classes"]
-    wrapper = ('{% macro eng(e) %}<span class="engine">{{ e }}</span>{% endmacro %}'
-               '{% if calibration.given %}{% include "calibration_section.html.j2" %}{% endif %}')
+    wrapper = (
+        '{% macro eng(e) %}<span class="engine">{{ e }}</span>{% endmacro %}'
+        '{% if calibration.given %}{% include "calibration_section.html.j2" %}{% endif %}'
+    )
     html = environment().from_string(wrapper).render(calibration=section, colors={})
     assert "<b>Met by e.</b>" in html and "Lowest calibrated error:" in html
     assert "real gain 0.700, multiplier 1.389" in html  # 0.555 / (0.7 x 0.5708)
     assert "0.483 → 0.693 ✓" in html  # ice: e as configured, as calibrated within 10 %
-    unmet = target_table(_turning_evals(0.56, 0.05), turning_table(_turning_evals(0.56, 0.05), {}, 0.555, 0.5708,
-                                                                   TARGET), ["e"], TARGET)
-    html = environment().from_string(wrapper).render(
-        calibration=calibration_section(summarise(evals, best), ["e"], {}, None, unmet), colors={})
+    unmet = target_table(
+        _turning_evals(0.56, 0.05), turning_table(_turning_evals(0.56, 0.05), {}, 0.555, 0.5708, TARGET), ["e"], TARGET
+    )
+    html = (
+        environment()
+        .from_string(wrapper)
+        .render(calibration=calibration_section(summarise(evals, best), ["e"], {}, None, unmet), colors={})
+    )
     assert "<b>No engine meets it.</b>" in html and "asphalt; ice" in html.replace("_", " ")
 
 
@@ -447,8 +540,13 @@ def test_the_objective_gives_the_steady_gain_its_own_weight():
     a unit without steady turning windows (gain error NaN) and a config without the scale do not."""
     from simpick.studies.calibration import objective_terms
 
-    row = {"status": "ok", "error_yaw_rate": 0.02, "error_accel_x": 0.1, "error_accel_x_offset_free": 0.05,
-           "gain_error": 0.2}
+    row = {
+        "status": "ok",
+        "error_yaw_rate": 0.02,
+        "error_accel_x": 0.1,
+        "error_accel_x_offset_free": 0.05,
+        "gain_error": 0.2,
+    }
     scales = {"yaw_rate": 0.05, "accel_x": 0.05, "yaw_rate_gain": 0.05}
     assert objective_terms(row, scales) == pytest.approx(0.4 + 1.0 + 4.0)
     assert objective_terms(row | {"gain_error": float("nan")}, scales) == pytest.approx(1.4)
@@ -467,8 +565,9 @@ def test_a_stratified_split_puts_turning_runs_in_both_sets():
         assert "train" in turning and "test" in turning, (seed, turning)
         assert straight.count("test") == 2
     # one turning and one straight run: split together, one of them held out
-    pair = split_runs(pd.DataFrame([{"terrain_class": "ice", "run": r, "unit": r, "turns": r == "01"}
-                                    for r in ("01", "02")]), 0.5, 11)
+    pair = split_runs(
+        pd.DataFrame([{"terrain_class": "ice", "run": r, "unit": r, "turns": r == "01"} for r in ("01", "02")]), 0.5, 11
+    )
     assert sorted(pair.set) == ["test", "train"]
     # without the column, the split is the unstratified one (its seeds unchanged)
     plain = split_runs(pd.DataFrame(rows).drop(columns="turns"), 0.5, 11)

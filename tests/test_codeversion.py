@@ -18,7 +18,8 @@ PACKAGE = {
     "simpick/segments.py": "from simpick.physics import G\n\nCOLUMNS = ['a']\n",
     "simpick/lab.py": (
         "import math\n\nfrom simpick.io import write\n\n\n"
-        "def run(t):\n    from simpick import physics\n\n    return write(math.floor(physics.fall(t)))\n"),
+        "def run(t):\n    from simpick import physics\n\n    return write(math.floor(physics.fall(t)))\n"
+    ),
     "simpick/rtf.py": "from simpick.io import write\n\n\ndef rtf_job(x):\n    return write(x)\n",
     "simpick/report/__init__.py": "",
     "simpick/report/build.py": "TEMPLATES = 'templates'\n\n\ndef render():\n    return TEMPLATES\n",
@@ -44,10 +45,12 @@ def edit(package, name, old, new):
 
 
 def versions(package):
-    return {"lab": job_code("simpick.lab:run", root=package),
-            "segments": job_code("simpick.segments", root=package),
-            "rtf": job_code("simpick.rtf:rtf_job", root=package),
-            "report": job_code("simpick.report.build:render", root=package)}
+    return {
+        "lab": job_code("simpick.lab:run", root=package),
+        "segments": job_code("simpick.segments", root=package),
+        "rtf": job_code("simpick.rtf:rtf_job", root=package),
+        "report": job_code("simpick.report.build:render", root=package),
+    }
 
 
 def changed(package, name, old, new):
@@ -58,11 +61,17 @@ def changed(package, name, old, new):
 
 
 def test_files_follow_imports_wherever_they_stand(package):
-    names = lambda *roots: [p.relative_to(package).as_posix() for p in job_files(*roots, root=package)]
+    def names(*roots):
+        return [p.relative_to(package).as_posix() for p in job_files(*roots, root=package)]
+
     assert names("simpick.lab:run") == ["__init__.py", "io.py", "lab.py", "physics.py"]  # an import in a function
     assert names("simpick.segments") == ["__init__.py", "physics.py", "segments.py"]
-    assert names("simpick.report.build:render") == ["__init__.py", "report/__init__.py", "report/build.py",
-                                                    "report/templates/page.j2"]
+    assert names("simpick.report.build:render") == [
+        "__init__.py",
+        "report/__init__.py",
+        "report/build.py",
+        "report/templates/page.j2",
+    ]
 
 
 def test_an_edit_changes_the_versions_of_the_jobs_that_can_reach_it_only(package):
@@ -73,8 +82,12 @@ def test_an_edit_changes_the_versions_of_the_jobs_that_can_reach_it_only(package
     assert changed(package, "simpick/io.py", "json.dumps(x)", "json.dumps(x, indent=1)") == ["lab", "rtf"]
     assert changed(package, "simpick/report/templates/page.j2", "{{ x }}", "{{ y }}") == ["report"]
     # a new import of the rtf job
-    assert changed(package, "simpick/rtf.py", "from simpick.io import write\n",
-                   "from simpick.io import write\nfrom simpick.segments import COLUMNS\n") == ["rtf"]
+    assert changed(
+        package,
+        "simpick/rtf.py",
+        "from simpick.io import write\n",
+        "from simpick.io import write\nfrom simpick.segments import COLUMNS\n",
+    ) == ["rtf"]
 
 
 def test_comments_docstrings_and_layout_change_no_version(package):
@@ -86,8 +99,12 @@ def test_moving_an_import_inside_a_module_changes_no_version(package):
     before = versions(package)
     # the lab's function-level import of simpick to the module's top, its top-level math into the function
     edit(package, "simpick/lab.py", "    from simpick import physics\n\n", "")
-    edit(package, "simpick/lab.py", "import math\n\nfrom simpick.io import write\n",
-         "from simpick import physics\nfrom simpick.io import write\n")
+    edit(
+        package,
+        "simpick/lab.py",
+        "import math\n\nfrom simpick.io import write\n",
+        "from simpick import physics\nfrom simpick.io import write\n",
+    )
     edit(package, "simpick/lab.py", "def run(t):\n", "def run(t):\n    import math\n\n")
     assert versions(package) == before
     # taking an import away is a change
@@ -108,6 +125,7 @@ def test_a_script_names_the_functions_it_runs(tmp_path):
 
 
 # --- on src/simpick itself ---
+
 
 def script_versions(root):
     """Every workflow script's version, with each model's adapter for the scripts that step one."""
@@ -133,8 +151,14 @@ def hoist_imports(text: str) -> str:
             if rest and len(rest) < len(node.body):
                 hoisted += [s for s in node.body if isinstance(s, (ast.Import, ast.ImportFrom))]
                 node.body = rest
-    start = next((i for i, s in enumerate(tree.body) if not (isinstance(s, ast.Expr) or (
-        isinstance(s, ast.ImportFrom) and s.module == "__future__"))), len(tree.body))
+    start = next(
+        (
+            i
+            for i, s in enumerate(tree.body)
+            if not (isinstance(s, ast.Expr) or (isinstance(s, ast.ImportFrom) and s.module == "__future__"))
+        ),
+        len(tree.body),
+    )
     tree.body[start:start] = hoisted
     return ast.unparse(tree)
 
@@ -171,9 +195,12 @@ def test_each_models_jobs_hold_its_own_adapter_only():
     assert len(modules()) > 40
     for engine, adapter in adapters.items():
         for step in ("simulate", "validate", "cpu_load", "calibrate"):
-            files = {p.relative_to(src).with_suffix("").as_posix().replace("/", ".")
-                     for p in job_files(*script_roots(ROOT / "scripts" / f"{step}.py"), *Plan.engine_modules(engine),
-                                        "simpick.sources.lab")}
+            files = {
+                p.relative_to(src).with_suffix("").as_posix().replace("/", ".")
+                for p in job_files(
+                    *script_roots(ROOT / "scripts" / f"{step}.py"), *Plan.engine_modules(engine), "simpick.sources.lab"
+                )
+            }
             assert adapter.removeprefix("simpick.") in files, (engine, step)
             others = {m.removeprefix("simpick.") for e, m in adapters.items() if m != adapter}
             assert not files & others, (engine, step, files & others)

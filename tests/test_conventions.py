@@ -19,8 +19,9 @@ RULE_FILES = [ROOT / "Snakefile", *sorted((ROOT / "rules").glob("*.smk"))]
 
 
 def run(args, cwd, **kwargs):
-    return subprocess.run(args, cwd=cwd, capture_output=True, text=True,
-                          env=os.environ | {"PYTHONHASHSEED": "0"}, **kwargs)
+    return subprocess.run(
+        args, cwd=cwd, capture_output=True, text=True, env=os.environ | {"PYTHONHASHSEED": "0"}, **kwargs
+    )
 
 
 @pytest.mark.workflow
@@ -47,8 +48,12 @@ def test_snakemake_lint_is_clean(configfile, tmp_path):
 def tiny_paths(workdir):
     """The config keys that name files, made absolute (the lint runs in a scratch directory)."""
     config = tiny_config()
-    return {"robot": config["robot"], "reference": config["reference"], "qualitative": config["qualitative"],
-            "real_data": config["real_data"] | {"segments": str(ROOT / config["real_data"]["segments"])}}
+    return {
+        "robot": config["robot"],
+        "reference": config["reference"],
+        "qualitative": config["qualitative"],
+        "real_data": config["real_data"] | {"segments": str(ROOT / config["real_data"]["segments"])},
+    }
 
 
 def test_snakefmt_check_is_clean():
@@ -89,9 +94,29 @@ def test_a_test_that_starts_snakemake_unmarked_fails(tmp_path):
     """The fast tier's guard (tests/conftest.py): a test that starts Snakemake must carry the workflow marker."""
     (tmp_path / "test_guarded.py").write_text(GUARDED)
     env = os.environ | {"PYTHONPATH": os.pathsep.join([str(ROOT / "tests"), os.environ.get("PYTHONPATH", "")])}
-    out = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "conftest", "-p", "no:cacheprovider",
-                          "-W", "ignore::pytest.PytestUnknownMarkWarning", "--rootdir", str(tmp_path), "-c", os.devnull,
-                          str(tmp_path / "test_guarded.py")], cwd=tmp_path, capture_output=True, text=True, env=env)
+    out = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pytest",
+            "-q",
+            "-p",
+            "conftest",
+            "-p",
+            "no:cacheprovider",
+            "-W",
+            "ignore::pytest.PytestUnknownMarkWarning",
+            "--rootdir",
+            str(tmp_path),
+            "-c",
+            os.devnull,
+            str(tmp_path / "test_guarded.py"),
+        ],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        env=env,
+    )
     assert "1 failed, 2 passed" in out.stdout, out.stdout[-3000:] + out.stderr[-3000:]
     assert "test_unmarked starts Snakemake but is not marked @pytest.mark.workflow" in out.stdout
 

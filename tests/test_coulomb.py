@@ -5,8 +5,15 @@ import math
 import numpy as np
 import pytest
 
-from simpick.coulomb import (ContactLayout, CoulombTable, contact_layout, equal_loads, mass_distribution,
-                             steady_twist, yaw_rate_gain)
+from simpick.coulomb import (
+    ContactLayout,
+    CoulombTable,
+    contact_layout,
+    equal_loads,
+    mass_distribution,
+    steady_twist,
+    yaw_rate_gain,
+)
 from simpick.errors import InputError
 
 TRACK = 0.555
@@ -16,8 +23,13 @@ def test_two_wheels_on_one_axle_turn_without_slip():
     # Contacts only on the axle (x = 0): no lateral slip, so yaw rate = (u_r - u_l) / (2 b) exactly.
     b = 0.2854
     # wheel order FL, FR, RL, RR -> contacts at left, right, left, right
-    axle = ContactLayout(points=np.array([(0, b), (0, -b), (0, b), (0, -b)]), loads=np.ones(4),
-                         wheel=np.arange(4), com=(0.0, 0.0), mass=1.0)
+    axle = ContactLayout(
+        points=np.array([(0, b), (0, -b), (0, b), (0, -b)]),
+        loads=np.ones(4),
+        wheel=np.arange(4),
+        com=(0.0, 0.0),
+        mass=1.0,
+    )
     assert yaw_rate_gain(axle, 0.5, 0.5, TRACK) == pytest.approx(TRACK / (2 * b), rel=1e-6)
 
 
@@ -67,15 +79,17 @@ def test_table_interpolates_the_solver(robot):
     lay = contact_layout(robot, 1)
     table = CoulombTable(lay, angles=720)
     for left, right in [(0.36, 0.64), (-0.14, 0.14), (0.5, 0.5), (0.2, -0.05)]:
-        np.testing.assert_allclose(table.twist([left], [right])[0], steady_twist(lay, [left, right] * 2),
-                                   atol=2e-3 * math.hypot(left, right))
+        np.testing.assert_allclose(
+            table.twist([left], [right])[0], steady_twist(lay, [left, right] * 2), atol=2e-3 * math.hypot(left, right)
+        )
 
 
 # --- any robot (issue 18): N contacts, casters, braking with casters -------------------------------
 
+
 def test_diff_drive_on_a_frictionless_caster_turns_without_slip():
-    from simpick.inputs.robot import load_robot
     from conftest import ROOT
+    from simpick.inputs.robot import load_robot
 
     bot = load_robot(ROOT / "resources" / "robot" / "diffbot.urdf.xacro")
     one = contact_layout(bot, points_per_wheel=1)
@@ -98,14 +112,16 @@ def test_diff_drive_on_a_frictionless_caster_turns_without_slip():
     for k in (1.0, 2.0):
         need = math.hypot(k * n_c * abs(x_c) / bot.track, k * n_c / 2)
         assert (need < n_w) == (k == 1.0)
-    assert yaw_rate_gain(contact_layout(bot, 1, caster_friction=1.0), 0.0, 1.0, bot.track) == pytest.approx(1.0, abs=1e-6)
+    assert yaw_rate_gain(contact_layout(bot, 1, caster_friction=1.0), 0.0, 1.0, bot.track) == pytest.approx(
+        1.0, abs=1e-6
+    )
     assert yaw_rate_gain(contact_layout(bot, 1, caster_friction=2.0), 0.0, 1.0, bot.track) < 0.95
 
 
 def test_braking_deceleration_with_casters_and_without():
+    from conftest import ROOT
     from simpick.coulomb import braking_deceleration
     from simpick.inputs.robot import load_robot
-    from conftest import ROOT
 
     husky = load_robot(ROOT / "resources" / "robot" / "husky_a200.urdf")
     assert braking_deceleration(husky, 0.3) == (pytest.approx(0.3 * 9.81), None)
@@ -143,8 +159,9 @@ def test_a_skid_drags_with_the_ground_s_friction(tmp_path):
     assert one.load_shares()[2] == pytest.approx(spec.com[0] / x_s, rel=1e-9)
     # the skid drags: spinning in place, the wheels must slip and the robot turns slower than
     # no-slip kinematics; every contact slides when the wheels lock: mu g
-    assert yaw_rate_gain(one, 0.0, 1.0, spec.track) < yaw_rate_gain(contact_layout(spec, 1, caster_friction=0.0),
-                                                                      0.0, 1.0, spec.track)
+    assert yaw_rate_gain(one, 0.0, 1.0, spec.track) < yaw_rate_gain(
+        contact_layout(spec, 1, caster_friction=0.0), 0.0, 1.0, spec.track
+    )
     # its centre of mass 0.03 m behind the axle, 0.04 m up: the centre of pressure moves 0.3 x 0.04 m
     # forward when braking at mu 0.3, still behind the axle: mu g. At mu 0.8 it passes the axle
     h = spec.com[2] + spec.base_height
@@ -155,6 +172,7 @@ def test_a_skid_drags_with_the_ground_s_friction(tmp_path):
 
 
 # --- anisotropic (elliptic) friction (issue 20) ---------------------------------------------------
+
 
 def test_anisotropic_spin_matches_the_closed_form(robot):
     # Four equal loads at (+-a, +-b), pure spin at rim speed u: by symmetry vx = vy = 0 and
@@ -174,8 +192,11 @@ def test_anisotropic_gain_is_monotone_in_the_ratio_and_has_both_limits(robot):
 
     husky = contact_layout(robot)
     # r = 1 is today's isotropic solver, bit for bit
-    assert yaw_rate_gain(contact_layout(robot, friction_ratio=1.0), 0.5, 0.5, TRACK) == \
-        yaw_rate_gain(husky, 0.5, 0.5, TRACK) == pytest.approx(0.478, abs=0.001)
+    assert (
+        yaw_rate_gain(contact_layout(robot, friction_ratio=1.0), 0.5, 0.5, TRACK)
+        == yaw_rate_gain(husky, 0.5, 0.5, TRACK)
+        == pytest.approx(0.478, abs=0.001)
+    )
     gains = [yaw_rate_gain(with_friction_ratio(husky, r), 0.5, 0.5, TRACK) for r in (1.2, 1.0, 0.8, 0.63, 0.5, 0.3)]
     assert all(lo < hi for lo, hi in zip(gains, gains[1:])), gains  # less lateral friction turns more
     # symmetric robot, equal loads, one point per wheel: r -> 0 turns as the contacts' no-slip
@@ -194,8 +215,8 @@ def test_anisotropic_forces_balance_on_the_ellipse(robot):
     vx, vy, wz = steady_twist(lay, u)
     x, y = lay.points.T
     sx, sy = vx - wz * y - u[lay.wheel], vy + wz * x
-    norm = np.sqrt(sx ** 2 + 0.63 ** 2 * sy ** 2)
-    fx, fy = -lay.loads * sx / norm, -lay.loads * 0.63 ** 2 * sy / norm
+    norm = np.sqrt(sx**2 + 0.63**2 * sy**2)
+    fx, fy = -lay.loads * sx / norm, -lay.loads * 0.63**2 * sy / norm
     assert abs(fx.sum()) < 1e-4 * lay.loads.sum() and abs(fy.sum()) < 1e-4 * lay.loads.sum()
     assert abs((x * fy - y * fx).sum()) < 1e-4 * lay.loads.sum()
 
@@ -216,8 +237,9 @@ def test_coulomb_baseline_turns_at_its_friction_ratio(robot):
 
     assert "friction_ratio" in parameter_space("coulomb")
     for r in (1.0, 0.63):
-        record = drive("coulomb", robot, v=0.5, w=0.5, ground=0.8, duration=2.0, timestep=0.01,
-                       settings={"friction_ratio": r})
+        record = drive(
+            "coulomb", robot, v=0.5, w=0.5, ground=0.8, duration=2.0, timestep=0.01, settings={"friction_ratio": r}
+        )
         expected = yaw_rate_gain(contact_layout(robot, friction_ratio=r), 0.5, 0.5, TRACK)
         assert record.angular_velocity[-1, 2] / 0.5 == pytest.approx(expected, rel=2e-3), r
     with pytest.raises(Exception, match="friction_ratio"):
@@ -225,6 +247,7 @@ def test_coulomb_baseline_turns_at_its_friction_ratio(robot):
 
 
 # --- slip compliance (issue 20) ----------------------------------------------------------------
+
 
 def _viscous_twist(layout, u, r=1.0):
     """Independent viscous limit: every contact below saturation, force -s / k_i, so the twist is

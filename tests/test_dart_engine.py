@@ -45,8 +45,7 @@ def test_wheel_torque_bound_limits_the_acceleration(robot):
 
 
 def test_robots_collide_with_each_other(robot):
-    record_a = simulate(robot, terrain=flat_terrain(0.95), starts=((0.0, 0.0, 0.0), (1.6, 0.0, np.pi)),
-                        duration=2.5)
+    record_a = simulate(robot, terrain=flat_terrain(0.95), starts=((0.0, 0.0, 0.0), (1.6, 0.0, np.pi)), duration=2.5)
     # robot 0 drives +x into robot 1 coming the other way; chassis are 0.99 m long, so their
     # centres cannot come closer than that while they push against each other
     assert record_a.position[:, 0].max() < 1.6 / 2 - 0.3
@@ -61,8 +60,13 @@ def test_unknown_setting_and_detector_are_refused(robot):
 
 @pytest.mark.parametrize("detector", dart_engine.DETECTORS)
 def test_every_detector_rests_the_robot_at_its_height(robot, detector):
-    record = simulate(robot, terrain=flat_terrain(), v=0.0, duration=0.5,
-                      settings={"collision_detector": detector, "lcp_solver": "dantzig"})
+    record = simulate(
+        robot,
+        terrain=flat_terrain(),
+        v=0.0,
+        duration=0.5,
+        settings={"collision_detector": detector, "lcp_solver": "dantzig"},
+    )
     assert abs(record.position[-1, 2] - robot.base_height) < 0.001
 
 

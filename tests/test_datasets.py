@@ -25,11 +25,17 @@ def problems(folder, classes=CLASSES, **kwargs) -> list[str]:
 
 # ---------------------------------------------------------------- layout
 
+
 def test_any_run_numbering_in_natural_order(tmp_path):
     write_dataset(tmp_path / "yard", {"ICE": ["12", "1", "7", "01"], "SNOW": ["3"]}, seconds=2.0)
     runs = find_runs(tmp_path / "yard")
-    assert [(r.terrain_class, r.run) for r in runs] == [("ice", "01"), ("ice", "1"), ("ice", "7"), ("ice", "12"),
-                                                         ("snow", "3")]
+    assert [(r.terrain_class, r.run) for r in runs] == [
+        ("ice", "01"),
+        ("ice", "1"),
+        ("ice", "7"),
+        ("ice", "12"),
+        ("snow", "3"),
+    ]
     assert runs[0].folder == "ICE" and runs[0].imu.name == "imu_01.csv" and runs[0].pro.name == "pro_01.csv"
     assert sorted(["10", "9", "b", "2a"], key=run_key) == ["2a", "9", "10", "b"]
 
@@ -59,30 +65,40 @@ def test_unpaired_file_is_named_with_its_missing_partner(tmp_path):
     (root / "ICE" / "pro_2.csv").unlink()
     (root / "ICE" / "pro_9.csv").write_text("time\n0\n")
     lines = problems(root)
-    assert lines == [f"{root / 'ICE' / 'imu_2.csv'}: has no partner pro_2.csv in {root / 'ICE'} "
-                     "(fix: restore the missing file or remove this one)",
-                     f"{root / 'ICE' / 'pro_9.csv'}: has no partner imu_9.csv in {root / 'ICE'} "
-                     "(fix: restore the missing file or remove this one)"]
+    assert lines == [
+        f"{root / 'ICE' / 'imu_2.csv'}: has no partner pro_2.csv in {root / 'ICE'} "
+        "(fix: restore the missing file or remove this one)",
+        f"{root / 'ICE' / 'pro_9.csv'}: has no partner imu_9.csv in {root / 'ICE'} "
+        "(fix: restore the missing file or remove this one)",
+    ]
 
 
 def test_empty_class_folder_is_refused(tmp_path):
     root = write_dataset(tmp_path / "yard", {"ICE": ["1"]}, seconds=2.0)
     (root / "SNOW").mkdir()
     (root / "SNOW" / "README").write_text("to do")
-    assert problems(root) == [f"{root / 'SNOW'}: terrain-class folder holds no imu_<run>.csv / pro_<run>.csv "
-                              "pair (fix: add its runs or remove the folder)"]
+    assert problems(root) == [
+        f"{root / 'SNOW'}: terrain-class folder holds no imu_<run>.csv / pro_<run>.csv "
+        "pair (fix: add its runs or remove the folder)"
+    ]
 
 
-@pytest.mark.parametrize("case, words", [
-    ("missing", "dataset folder not found"),
-    ("empty", "is empty: no terrain-class sub-folders"),
-    ("not_a_dataset", "is not a dataset folder: none of its 2 sub-folder(s) holds"),
-    ("class_folder", "it looks like one terrain-class folder, not a dataset (fix: pass its parent folder"),
-    ("bad_class_name", "terrain-class folder name 'Dirt Road' may hold only letters, digits and '_' "
-                       "(fix: rename the folder, e.g. to DIRT_ROAD)"),
-    ("bad_run_id", "run id 'run 3' may hold only letters"),
-    ("same_class_twice", "terrain class 'ice' appears twice"),
-])
+@pytest.mark.parametrize(
+    "case, words",
+    [
+        ("missing", "dataset folder not found"),
+        ("empty", "is empty: no terrain-class sub-folders"),
+        ("not_a_dataset", "is not a dataset folder: none of its 2 sub-folder(s) holds"),
+        ("class_folder", "it looks like one terrain-class folder, not a dataset (fix: pass its parent folder"),
+        (
+            "bad_class_name",
+            "terrain-class folder name 'Dirt Road' may hold only letters, digits and '_' "
+            "(fix: rename the folder, e.g. to DIRT_ROAD)",
+        ),
+        ("bad_run_id", "run id 'run 3' may hold only letters"),
+        ("same_class_twice", "terrain class 'ice' appears twice"),
+    ],
+)
 def test_folders_that_are_not_datasets(tmp_path, case, words):
     root = tmp_path / "data"
     if case == "empty":
@@ -130,13 +146,15 @@ def test_the_shared_borealtc_folder_is_a_dataset():
     dataset = open_dataset(BOREALTC, classes=CLASSES, results="/nonexistent")
     assert dataset.name == "borealtc" and dataset.classes == ["asphalt", "flooring", "ice", "sandy_loam", "snow"]
     assert len(dataset.runs) == len(list(BOREALTC.glob("*/imu_*.csv"))) == 29
-    log = borealtc.read_run(dataset.runs[0].imu, dataset.runs[0].pro, dataset.runs[0].folder,
-                            imu_rate_hz=100, command_rate_hz=6.5)
+    log = borealtc.read_run(
+        dataset.runs[0].imu, dataset.runs[0].pro, dataset.runs[0].folder, imu_rate_hz=100, command_rate_hz=6.5
+    )
     assert log.meta["rates"]["imu"]["median_hz"] == pytest.approx(100.0)
     assert log.meta["rates"]["commands"]["median_hz"] == pytest.approx(6.5)
 
 
 # ---------------------------------------------------------------- rates
+
 
 def write_pair(folder, imu, pro, run="1"):
     folder.mkdir(parents=True, exist_ok=True)
@@ -160,30 +178,44 @@ def test_a_declared_rate_the_data_contradict_is_refused(tmp_path):
     by = "real_data.datasets.yard in the config"
     with pytest.raises(InputError) as info:
         borealtc.read_run(imu, pro, "CONCRETE", imu_rate_hz=100, declared_by=by)
-    assert str(info.value) == (f"{imu}: column 'time': measured IMU sample rate 50 Hz (median interval 0.02 s) "
-                               f"contradicts the declared 100 Hz of {by} (-50 %) "
-                               "(fix: correct the declared rate, or check the time unit (s, ms, ns))")
-    with pytest.raises(InputError, match=r"pro_1\.csv: column 'time': measured command sample rate 15 Hz .*"
-                                         r"declared 6\.5 Hz"):
+    assert str(info.value) == (
+        f"{imu}: column 'time': measured IMU sample rate 50 Hz (median interval 0.02 s) "
+        f"contradicts the declared 100 Hz of {by} (-50 %) "
+        "(fix: correct the declared rate, or check the time unit (s, ms, ns))"
+    )
+    with pytest.raises(
+        InputError,
+        match=r"pro_1\.csv: column 'time': measured command sample rate 15 Hz .*"
+        r"declared 6\.5 Hz",
+    ):
         borealtc.read_run(imu, pro, "CONCRETE", command_rate_hz=6.5, declared_by=by)
 
 
 def test_gaps_jitter_and_duplicates_name_the_rows(tmp_path):
     imu, pro = synthetic_run(imu_hz=50.0, cmd_hz=15.0)
     gap = imu[(imu.time < 3.0) | (imu.time >= 5.0)]  # 2 s missing
-    with pytest.raises(InputError, match=r"imu_1\.csv: column 'time': the IMU stream stops for 2\.02 s "
-                                         r"\(101 median intervals\) between row 150 \(line 151\) \(time 2\.98\) "
-                                         r"and row 151 \(line 152\) \(time 5\)"):
+    with pytest.raises(
+        InputError,
+        match=r"imu_1\.csv: column 'time': the IMU stream stops for 2\.02 s "
+        r"\(101 median intervals\) between row 150 \(line 151\) \(time 2\.98\) "
+        r"and row 151 \(line 152\) \(time 5\)",
+    ):
         borealtc.read_run(*write_pair(tmp_path / "A", gap, pro), "A")
     jitter = pro.copy()
     jitter["time"] = np.cumsum(np.random.default_rng(1).choice([0.02, 0.1], len(pro)))
-    with pytest.raises(InputError, match=r"pro_1\.csv: column 'time': the command stream has no steady rate: "
-                                         r"\d+ % of its sample intervals"):
+    with pytest.raises(
+        InputError,
+        match=r"pro_1\.csv: column 'time': the command stream has no steady rate: "
+        r"\d+ % of its sample intervals",
+    ):
         borealtc.read_run(*write_pair(tmp_path / "B", imu, jitter), "B")
     dup = imu.copy()
     dup.loc[10, "time"] = dup.loc[9, "time"]
-    with pytest.raises(InputError, match=r"imu_1\.csv: column 'time': time is not strictly increasing: "
-                                         r"0\.18 at row 11 \(line 12\) duplicates"):
+    with pytest.raises(
+        InputError,
+        match=r"imu_1\.csv: column 'time': time is not strictly increasing: "
+        r"0\.18 at row 11 \(line 12\) duplicates",
+    ):
         borealtc.read_run(*write_pair(tmp_path / "C", dup, pro), "C")
     few = imu.drop(index=range(20, 24))  # 0.1 s: a harmless hole, interpolated over
     borealtc.read_run(*write_pair(tmp_path / "D", few, pro), "D")
@@ -201,14 +233,18 @@ def test_the_simulated_imu_is_read_out_at_the_real_rate():
 
 # ---------------------------------------------------------------- before any job (Snakemake)
 
+
 @pytest.mark.workflow
-@pytest.mark.parametrize("case, expected", [
-    ("unknown_class", "terrain class 'concrete' has no ground model (fix: add it under real_data.classes"),
-    ("unpaired", "imu_7.csv: has no partner pro_7.csv in"),
-    ("empty_class_folder", "terrain-class folder holds no imu_<run>.csv / pro_<run>.csv pair"),
-    ("not_a_dataset", "is not a dataset folder: none of its 1 sub-folder(s)"),
-    ("maintain_other_dataset", "segments.csv, the table of dataset 'borealtc', but"),
-])
+@pytest.mark.parametrize(
+    "case, expected",
+    [
+        ("unknown_class", "terrain class 'concrete' has no ground model (fix: add it under real_data.classes"),
+        ("unpaired", "imu_7.csv: has no partner pro_7.csv in"),
+        ("empty_class_folder", "terrain-class folder holds no imu_<run>.csv / pro_<run>.csv pair"),
+        ("not_a_dataset", "is not a dataset folder: none of its 1 sub-folder(s)"),
+        ("maintain_other_dataset", "segments.csv, the table of dataset 'borealtc', but"),
+    ],
+)
 def test_bad_dataset_folder_stops_the_run_before_any_job(tmp_path, case, expected):
     folder = tmp_path / "yard"
     if case == "unknown_class":

@@ -8,12 +8,12 @@ import yaml
 from conftest import ROOT
 from simpick.engines import ADAPTERS
 from simpick.engines.base import Scenario
+from simpick.inputs.jobs import terrain_job
 from simpick.inputs.robot import load_robot
 from simpick.inputs.terrain import load
 from simpick.simulate.imu import ImuModel
 from simpick.simulate.run import Case, Recording, run_case
 from simpick.simulate.traces import read_trace, write_trace
-from simpick.inputs.jobs import terrain_job
 
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
 
@@ -25,12 +25,18 @@ def gravel(tmp_path, seed):
 
 
 def trace(engine, terrain_file, seed):
-    case = Case(engine=engine, terrain="gravel", motion="straight", v=0.5, w=0.0, duration=1.0,
-                start=(-0.8, 0.0, 0.0))
-    scenario = Scenario(robot=load_robot(ROOT / CONFIG["robot"]["urdf"]), terrain=load(terrain_file),
-                        ground_friction=0.8, timestep=0.001, max_wheel_torque=50.0, starts=(case.start,))
-    frame, meta = run_case(case, scenario, 0.555,
-                           Recording(imu=ImuModel(accel_noise_std=0.01, gyro_noise_std=0.001), seed=seed))
+    case = Case(engine=engine, terrain="gravel", motion="straight", v=0.5, w=0.0, duration=1.0, start=(-0.8, 0.0, 0.0))
+    scenario = Scenario(
+        robot=load_robot(ROOT / CONFIG["robot"]["urdf"]),
+        terrain=load(terrain_file),
+        ground_friction=0.8,
+        timestep=0.001,
+        max_wheel_torque=50.0,
+        starts=(case.start,),
+    )
+    frame, meta = run_case(
+        case, scenario, 0.555, Recording(imu=ImuModel(accel_noise_std=0.01, gyro_noise_std=0.001), seed=seed)
+    )
     return pd.DataFrame(frame), meta
 
 

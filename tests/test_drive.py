@@ -13,8 +13,8 @@ import numpy as np
 import pandas as pd
 import pytest
 import yaml
-from conftest import ROOT, SHARED
 
+from conftest import ROOT, SHARED
 from simpick.errors import InputError
 from simpick.real import drive as D
 from simpick.real.datasets import DatasetProblems
@@ -25,7 +25,8 @@ CALIB = DRIVE / "calib_data"
 ASPHALT = "warthog_wheels_asphalt"
 GRAVEL = "warthog_wheels_gravel_2024_8_6_11h37s32"
 pytestmark = pytest.mark.skipif(
-    not CALIB.is_dir(), reason=f"DRIVE sessions not present at {CALIB} (the shared data folder; see its README)")
+    not CALIB.is_dir(), reason=f"DRIVE sessions not present at {CALIB} (the shared data folder; see its README)"
+)
 
 # DRIVE's README ("Sessions"): steps, terrain, gyro sign, gain (steps with |w_kin| > 0.2 rad/s)
 README = {
@@ -49,7 +50,7 @@ def cut(root, source=ASPHALT, *, steps=12, name=None, edit=None, metadata=None):
     (dst / "metadata.yaml").write_text(yaml.safe_dump(md))
     with warnings.catch_warnings():  # DRIVE's pickles name numpy.core (an older numpy's), which still loads
         warnings.simplefilter("ignore", DeprecationWarning)
-        frame = pd.read_pickle(src / PICKLE).iloc[:3 * steps].copy()
+        frame = pd.read_pickle(src / PICKLE).iloc[: 3 * steps].copy()
     (edit or (lambda f: f))(frame).to_pickle(dst / PICKLE)
     return dst
 
@@ -109,7 +110,10 @@ def test_the_lidar_speed_is_below_the_kinematic_speed(steps):
 
 def test_a_flipped_gyro_is_fixed_and_recorded(tmp_path):
     plain = read_session(cut(tmp_path / "a"))
-    flip = lambda f: f.assign(**{c: -f[c] for c in columns(f, "imu_yaw") + columns(f, "icp_vel_yaw")})
+
+    def flip(f):
+        return f.assign(**{c: -f[c] for c in columns(f, "imu_yaw") + columns(f, "icp_vel_yaw")})
+
     flipped = read_session(cut(tmp_path / "b", edit=flip))
     assert (plain.meta["gyro"]["sign"], flipped.meta["gyro"]["sign"]) == (1, -1)
     assert flipped.meta["gyro"]["by"] == "the ICP yaw rate"
@@ -141,18 +145,23 @@ def test_duplicates_are_found_by_content_and_the_recording_run_is_kept(tmp_path)
     dataset = read_drive(tmp_path)
     assert [s.name for s in dataset.sessions] == ["warthog_wheels_asphalt_b", GRAVEL]
     (dup,) = dataset.duplicates
-    assert (dup["session"], dup["same_as"], dup["labels_agree"]) == ("warthog_wheels_asphalt_a",
-                                                                     "warthog_wheels_asphalt_b", True)
+    assert (dup["session"], dup["same_as"], dup["labels_agree"]) == (
+        "warthog_wheels_asphalt_a",
+        "warthog_wheels_asphalt_b",
+        True,
+    )
     kept = dataset.sessions[0].meta["source"]
     assert kept["git_blob_sha1"] != read_session(copy).meta["source"]["git_blob_sha1"]
     # a copy under a folder labelled with another terrain: still one session, the disagreement reported
-    cut(tmp_path, name="warthog_wheels_gravel_c", metadata={"only_execute_trajectories": True,
-                                                          "metadata": {"robot": "warthog", "terrain": "gravel"}})
+    cut(
+        tmp_path,
+        name="warthog_wheels_gravel_c",
+        metadata={"only_execute_trajectories": True, "metadata": {"robot": "warthog", "terrain": "gravel"}},
+    )
     dataset = read_drive(tmp_path)
     assert len(dataset.sessions) == 2
     other = next(d for d in dataset.duplicates if d["session"] == "warthog_wheels_gravel_c")
-    assert (other["same_as"], other["labels_agree"], other["terrain"]) == ("warthog_wheels_asphalt_b", False,
-                                                                          "gravel")
+    assert (other["same_as"], other["labels_agree"], other["terrain"]) == ("warthog_wheels_asphalt_b", False, "gravel")
 
 
 def test_a_drive_checkout_reads_as_its_calib_data(shared):
@@ -178,17 +187,24 @@ def test_the_terrain_comes_from_metadata_and_a_disagreeing_folder_name_is_report
         D.open_drive(tmp_path, declared={"sessions": {"nope": {"terrain_class": "grass"}}})
 
 
-@pytest.mark.parametrize(("edit", "words"), [
-    (lambda f: f.drop(columns=["icp_yaw_7"]), r"column 'icp_yaw_7': missing"),
-    (lambda f: f.drop(columns=columns(f, "imu_yaw")), r"column 'imu_yaw_0': missing"),
-    (lambda f: f.drop(columns=["steady_state_mask"]), r"column 'steady_state_mask': missing"),
-    (lambda f: f.assign(imu_acceleration_x_3=np.where(np.arange(len(f)) == 5, np.nan, f.imu_acceleration_x_3)),
-     r"column 'imu_acceleration_x_3'.*not finite at row 5"),
-    (lambda f: f.iloc[:-1], r"transitory_state_mask.*step at row 33 differs"),
-    (lambda f: f.assign(**{c: -f[c] for c in columns(f, "imu_acceleration_z")}),
-     r"columns imu_acceleration_\*.*not gravity along \+z"),
-    (lambda f: f.iloc[1:], r"transitory_state_mask.*row 0 does not start a step"),
-])
+@pytest.mark.parametrize(
+    ("edit", "words"),
+    [
+        (lambda f: f.drop(columns=["icp_yaw_7"]), r"column 'icp_yaw_7': missing"),
+        (lambda f: f.drop(columns=columns(f, "imu_yaw")), r"column 'imu_yaw_0': missing"),
+        (lambda f: f.drop(columns=["steady_state_mask"]), r"column 'steady_state_mask': missing"),
+        (
+            lambda f: f.assign(imu_acceleration_x_3=np.where(np.arange(len(f)) == 5, np.nan, f.imu_acceleration_x_3)),
+            r"column 'imu_acceleration_x_3'.*not finite at row 5",
+        ),
+        (lambda f: f.iloc[:-1], r"transitory_state_mask.*step at row 33 differs"),
+        (
+            lambda f: f.assign(**{c: -f[c] for c in columns(f, "imu_acceleration_z")}),
+            r"columns imu_acceleration_\*.*not gravity along \+z",
+        ),
+        (lambda f: f.iloc[1:], r"transitory_state_mask.*row 0 does not start a step"),
+    ],
+)
 def test_a_broken_dataset_names_the_file_and_the_column(tmp_path, edit, words):
     folder = cut(tmp_path, edit=edit)
     with pytest.raises(InputError, match=words) as info:
@@ -288,8 +304,9 @@ def test_the_config_declares_drive_datasets():
     config["real_data"]["datasets"]["drive"]["sessions"] = {"y": {"terrain_class": "gravel"}}
     assert any("borealtc: sessions are overrides of DRIVE sessions" in p for p in problems(config))
     del config["real_data"]["datasets"]["borealtc"]["sessions"]
-    assert any("drive.sessions: terrain classes ['gravel'] are not under real_data.classes" in p
-               for p in problems(config))
+    assert any(
+        "drive.sessions: terrain classes ['gravel'] are not under real_data.classes" in p for p in problems(config)
+    )
 
 
 def test_the_tables_of_a_dataset(tmp_path):
@@ -313,8 +330,7 @@ def test_the_tables_of_a_dataset(tmp_path):
 def _git_status() -> str:
     import subprocess
 
-    run = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain"], capture_output=True, text=True,
-                         check=False)
+    run = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain"], capture_output=True, text=True, check=False)
     if run.returncode != 0:
         pytest.fail(f"this test checks the checkout with git, which failed here: {run.stderr.strip()}")
     return run.stdout

@@ -26,11 +26,11 @@ from conformance import check_adapter
 from conftest import ROOT, drive, flat_terrain, setup, tile_terrain
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.engines.base import GRAVITY, Calibratable, Engine, EngineSettings
-from simpick.errors import InputError
-from simpick.simulate.health import HealthLimits, check
 from simpick.engines.kinematics import euler_rpy, imu_from_kinematics, rotation_matrices
-from simpick.simulate.imu import block_average
+from simpick.errors import InputError
 from simpick.inputs.robot import load_robot
+from simpick.simulate.health import HealthLimits, check
+from simpick.simulate.imu import block_average
 from simpick.studies.validation import body_velocity, braking_deceleration
 
 DT = 0.001
@@ -44,8 +44,10 @@ def every_engine_but(known: dict[str, str]) -> list:
     """Every engine as a test parameter, those named in ``known`` as strict expected failures with
     the measured reason given there (an engine that starts passing fails the suite until it is
     taken off the list)."""
-    return [pytest.param(e, marks=[pytest.mark.xfail(reason=known[e], strict=True)] if e in known else [])
-            for e in sorted(ADAPTERS)]
+    return [
+        pytest.param(e, marks=[pytest.mark.xfail(reason=known[e], strict=True)] if e in known else [])
+        for e in sorted(ADAPTERS)
+    ]
 
 
 @pytest.fixture(params=sorted(ADAPTERS))
@@ -103,11 +105,17 @@ def test_a_bad_setting_names_its_config_key_and_value():
     assert pybullet.of({"contact_stiffness": "1.0e6"}, "pybullet").contact_stiffness == 1.0e6
     with pytest.raises(InputError, match=r"engines\.pybullet\.solver_iterations: .*\(got 0\)"):
         pybullet.of({"solver_iterations": 0}, "pybullet")
-    with pytest.raises(InputError, match=r"engines\.mujoco\.cone: Input should be 'elliptic' or 'pyramidal' "
-                                         r"\(got 'round'\)"):
+    with pytest.raises(
+        InputError,
+        match=r"engines\.mujoco\.cone: Input should be 'elliptic' or 'pyramidal' "
+        r"\(got 'round'\)",
+    ):
         get_engine("mujoco").settings_model.of({"cone": "round"}, "mujoco")
-    with pytest.raises(InputError, match=r"baselines\.kinematic: unknown setting\(s\) \['width'\]; "
-                                         r"accepted: \['track'\]"):
+    with pytest.raises(
+        InputError,
+        match=r"baselines\.kinematic: unknown setting\(s\) \['width'\]; "
+        r"accepted: \['track'\]",
+    ):
         get_engine("kinematic").settings_model.of({"width": 1.0}, "kinematic")
 
 
@@ -139,11 +147,11 @@ def test_straight_on_high_friction_tracks_the_command(engine, robot):
 # (README "Engines against analytic mechanics"). PyBullet 0.075 (gain 0.15): see the reason.
 LEFT_TURN_XFAIL = {
     "pybullet": "Bullet's multibody friction rows are fixed to the world axes (btPlaneSpace1; bullet3 PR #4539): "
-                "starting along the x axis the Husky turns at 0.075 rad/s for 0.5 commanded (gain 0.15, Coulomb "
-                "0.478); tests/test_validation.py and the README explain it",
+    "starting along the x axis the Husky turns at 0.075 rad/s for 0.5 commanded (gain 0.15, Coulomb "
+    "0.478); tests/test_validation.py and the README explain it",
     "physx": "PhysX's friction is a box (two rows per anchor, each clamped to mu N on its own, along tangents from "
-             "the bodies' linear velocities), so a skidding wheel keeps full lateral friction: the Husky turns at "
-             "0.050 rad/s for 0.5 commanded (gain 0.10, Coulomb 0.478); physx_engine docstring",
+    "the bodies' linear velocities), so a skidding wheel keeps full lateral friction: the Husky turns at "
+    "0.050 rad/s for 0.5 commanded (gain 0.10, Coulomb 0.478); physx_engine docstring",
 }
 
 
@@ -200,15 +208,19 @@ CHASSIS = (0.9874, 0.5709)  # m, the URDF's lower chassis box (the widest part),
 def _mass_properties(urdf: Path) -> tuple[float, np.ndarray]:
     """Total mass and centre of mass (in base_link) of a robot whose links hang on base_link."""
     root = ET.parse(urdf).getroot()
-    at = {j.find("child").get("link"): np.array([float(v) for v in j.find("origin").get("xyz").split()])
-          for j in root.iter("joint")}
+    at = {
+        j.find("child").get("link"): np.array([float(v) for v in j.find("origin").get("xyz").split()])
+        for j in root.iter("joint")
+    }
     mass, moment = 0.0, np.zeros(3)
     for link in root.iter("link"):
         inertial = link.find("inertial")
         m = float(inertial.find("mass").get("value"))
         mass += m
-        moment += m * (at.get(link.get("name"), np.zeros(3))
-                       + np.array([float(v) for v in inertial.find("origin").get("xyz").split()]))
+        moment += m * (
+            at.get(link.get("name"), np.zeros(3))
+            + np.array([float(v) for v in inertial.find("origin").get("xyz").split()])
+        )
     return mass, moment / mass
 
 
@@ -258,10 +270,13 @@ def test_terrain_patch_friction_and_ground_friction_each_brake_at_mu_g(engine, r
     patch that takes the ground's friction, or the robot's own, instead of its own."""
     patch, ground = 0.3, 0.8
     decelerations = {}
-    for where, start, body in (("patch", (0.0, 0.0, 0.0), dataclasses.replace(robot, base_height=robot.base_height + 0.01)),
-                               ("ground", (10.0, 0.0, 0.0), robot)):
-        scenario, commands = setup(body, terrain=tile_terrain(patch), ground=ground, torque=TORQUE, v=1.0,
-                                   duration=2.0, starts=(start,))
+    for where, start, body in (
+        ("patch", (0.0, 0.0, 0.0), dataclasses.replace(robot, base_height=robot.base_height + 0.01)),
+        ("ground", (10.0, 0.0, 0.0), robot),
+    ):
+        scenario, commands = setup(
+            body, terrain=tile_terrain(patch), ground=ground, torque=TORQUE, v=1.0, duration=2.0, starts=(start,)
+        )
         brake = 1000
         commands[brake:] = 0.0  # every wheel commanded to stop after 1 s at 1 m/s
         record = get_engine(engine).simulate(scenario, commands)
@@ -273,8 +288,8 @@ def test_terrain_patch_friction_and_ground_friction_each_brake_at_mu_g(engine, r
 
 TORQUE_BOUND_XFAIL = {
     "physx": "the wheel is a convex polygon (SAPIEN cooks at most 64 sides; 4 turned 64-sided prisms): every "
-             "vertex landing is an inelastic impact, measured 0.752 m/s^2 for the analytic 0.768 (-2.1 %; 8 prisms "
-             "0.757, but overlapping patches then brake at 1.06 mu g); PhysxSettings.wheel_prisms",
+    "vertex landing is an inelastic impact, measured 0.752 m/s^2 for the analytic 0.768 (-2.1 %; 8 prisms "
+    "0.757, but overlapping patches then brake at 1.06 mu g); PhysxSettings.wheel_prisms",
 }
 
 
@@ -287,7 +302,7 @@ def test_wheel_torque_bound_sets_the_acceleration(engine, robot):
     tau = 2.0
     mass, _ = _mass_properties(robot.urdf)
     r = robot.wheel_radius
-    analytic = 4 * tau / (r * (mass + 4 * _wheel_spin_inertia(robot.urdf) / r ** 2))
+    analytic = 4 * tau / (r * (mass + 4 * _wheel_spin_inertia(robot.urdf) / r**2))
     record = get_engine(engine).simulate(*setup(robot, torque=tau, ground=0.95, v=1.0, duration=0.6))
     speed = body_velocity(record)[:, 0]
     late = slice(100, None)  # after the spawn drop settles
@@ -303,8 +318,9 @@ def test_two_robots_pushing_head_on_do_not_interpenetrate(engine, robot):
     """Two Huskies 1.6 m apart drive into each other at 0.5 m/s and keep pushing (each up to
     mu m g = 530 N) on high friction: the chassis stay apart and both runs stay healthy, with
     the per-step velocity change bounded by the 1 m/s closing speed (an elastic exchange)."""
-    scenario, commands = setup(robot, torque=TORQUE, ground=0.95, v=0.5, duration=1.5,
-                               starts=((0.0, 0.0, 0.0), (1.6, 0.0, math.pi)))
+    scenario, commands = setup(
+        robot, torque=TORQUE, ground=0.95, v=0.5, duration=1.5, starts=((0.0, 0.0, 0.0), (1.6, 0.0, math.pi))
+    )
     records = _both_robots(engine, scenario, commands)
     # rigid boxes: no overlap. 10 mm allows the softest contact: MuJoCo's default contact between the
     # chassis geoms, measured 7.0 mm under the push (PyBullet 1.3 mm, DART 0.7, ODE 0.1); a robot
@@ -326,8 +342,15 @@ def test_a_robot_coasting_into_a_parked_one_conserves_momentum(engine, robot):
     thickness = 0.002
     terrain["boxes"] = [[-2.05, 0.0, thickness / 2, 0.0, 0.9, 2.0, thickness]]  # x -2.5 .. -1.6
     body = dataclasses.replace(robot, base_height=robot.base_height + thickness)
-    scenario, commands = setup(body, terrain=terrain, ground=0.0, torque=TORQUE, v=0.5, duration=2.6,
-                               starts=((-2.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
+    scenario, commands = setup(
+        body,
+        terrain=terrain,
+        ground=0.0,
+        torque=TORQUE,
+        v=0.5,
+        duration=2.6,
+        starts=((-2.0, 0.0, 0.0), (0.0, 0.0, 0.0)),
+    )
     commands[:, 1] = 0.0  # robot 1 parked
     striker, target = _both_robots(engine, scenario, commands)
     _, com = _mass_properties(robot.urdf)
@@ -338,7 +361,7 @@ def test_a_robot_coasting_into_a_parked_one_conserves_momentum(engine, robot):
     v_striker, v_target = momentum_velocity(striker), momentum_velocity(target)
     hit = int(np.argmax(np.linalg.norm(v_target[:, :2], axis=1) > 0.01))
     assert 1500 < hit < 2400, hit  # off the tile at ~1.3 s, then 0.35 m coasting at ~0.47 m/s
-    before = v_striker[hit - 100:hit - 1, :2].mean(axis=0)
+    before = v_striker[hit - 100 : hit - 1, :2].mean(axis=0)
     after_striker, after_target = v_striker[-100:, :2].mean(axis=0), v_target[-100:, :2].mean(axis=0)
     # equal masses: the velocities add up to the striker's before. 1 %: no external force, so exact
     # up to roundoff; measured within 0.01 % on every engine
@@ -425,7 +448,7 @@ def test_on_ice_the_wheels_spin_and_the_robot_accelerates_at_mu_g(engine, robot)
     assert (wheel_rim > 2 * speed[at].mean()).all()  # slip: rims 0.6 m/s, ground ~0.25 (analytic 2.4x)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _turn(engine: str):
     """(0.5, 0.5) on mu 0.95 for 3 s at the study's torque bound, shared by the IMU tests."""
     robot = load_robot(ROOT / "resources" / "robot" / "husky_a200.urdf")
@@ -434,16 +457,16 @@ def _turn(engine: str):
 
 STEADY_TURN_XFAIL = {
     "pybullet": "not a steady turn: Bullet's world-fixed friction rows make the yaw rate depend on the heading "
-                "(see LEFT_TURN_XFAIL), measured 0.055 -> 0.101 rad/s in 0.25 s blocks over 1-3 s; ay then "
-                "reads 0.0414 m/s^2 for v x yaw rate 0.0383 (+8 %; the difference is the dv_y/dt and yaw "
-                "acceleration terms, the IMU itself is consistent)",
+    "(see LEFT_TURN_XFAIL), measured 0.055 -> 0.101 rad/s in 0.25 s blocks over 1-3 s; ay then "
+    "reads 0.0414 m/s^2 for v x yaw rate 0.0383 (+8 %; the difference is the dv_y/dt and yaw "
+    "acceleration terms, the IMU itself is consistent)",
     "dart": "not a steady turn: DART's NSGS friction solve picks among the non-unique contact forces of the "
-            "four-wheeled rigid robot (dart_engine docstring), so the yaw rate jumps between 0.208 and 0.263 "
-            "rad/s in 0.25 s blocks over 1-3 s and the base slides sideways at 0.02-0.03 m/s; ay reads 0.1213 "
-            "m/s^2 for v x yaw rate 0.1286 (-5.7 %, the dv_y/dt and yaw acceleration terms)",
+    "four-wheeled rigid robot (dart_engine docstring), so the yaw rate jumps between 0.208 and 0.263 "
+    "rad/s in 0.25 s blocks over 1-3 s and the base slides sideways at 0.02-0.03 m/s; ay reads 0.1213 "
+    "m/s^2 for v x yaw rate 0.1286 (-5.7 %, the dv_y/dt and yaw acceleration terms)",
     "physx": "a steady turn, but hardly a turn: PhysX's box friction (LEFT_TURN_XFAIL) holds the yaw rate at "
-             "0.043-0.045 rad/s in 0.25 s blocks over 1-3 s, so v x yaw rate is 0.027 m/s^2, below the 0.1 a real "
-             "turn gives",
+    "0.043-0.045 rad/s in 0.25 s blocks over 1-3 s, so v x yaw rate is 0.027 m/s^2, below the 0.1 a real "
+    "turn gives",
 }
 
 
@@ -476,10 +499,10 @@ def test_steady_turn_reads_lateral_acceleration_v_times_yaw_rate(engine):
 
 NATIVE_IMU_XFAIL = {
     "mujoco": "MuJoCo's accelerometer reads the acceleration of mj_forward, before the implicitfast integrator's "
-              "implicit velocity-derivative terms (the saturated wheel servos) correct the step, so while the robot "
-              "starts it differs from the velocity change the base actually undergoes: up to 0.51 m/s^2 at 100 Hz "
-              "in the first 0.27 s (27 of 300 samples over 1e-3), 3.6e-4 after 0.3 s; with integrator euler "
-              "0.001 at most",
+    "implicit velocity-derivative terms (the saturated wheel servos) correct the step, so while the robot "
+    "starts it differs from the velocity change the base actually undergoes: up to 0.51 m/s^2 at 100 Hz "
+    "in the first 0.27 s (27 of 300 samples over 1e-3), 3.6e-4 after 0.3 s; with integrator euler "
+    "0.001 at most",
 }
 
 
@@ -491,8 +514,9 @@ def test_the_accelerometer_agrees_with_the_kinematic_imu(engine):
     other engines' adapters build theirs with that function, so it checks their wiring (mount,
     gravity, frames)."""
     robot, record = _turn(engine)
-    force, gyro = imu_from_kinematics(record.quaternion, record.linear_velocity, record.angular_velocity,
-                                      robot.imu_mount, DT)
+    force, gyro = imu_from_kinematics(
+        record.quaternion, record.linear_velocity, record.angular_velocity, robot.imu_mount, DT
+    )
     native = block_average(record.imu_specific_force, 10)
     kinematic = block_average(force, 10)
     # 1e-3 m/s^2: a fifth of the modelled sensor's noise per sample (config imu.accel_noise_std
@@ -526,8 +550,9 @@ def test_every_engine_builds_and_steps_the_lab_gravel_strip(engine, robot):
     spec = dict(CONFIG["terrains"]["gravel"])
     terrain = generate("gravel", seed=CONFIG["seed"], **spec)
     assert len(terrain["spheres"]) > 400  # the strip that crashed, not a smaller one
-    scenario, commands = setup(robot, terrain=terrain, ground=0.8, torque=TORQUE, v=0.5, duration=0.05,
-                               starts=((2.0, 0.0, 0.0),))
+    scenario, commands = setup(
+        robot, terrain=terrain, ground=0.8, torque=TORQUE, v=0.5, duration=0.05, starts=((2.0, 0.0, 0.0),)
+    )
     scenario = dataclasses.replace(scenario, robot=dataclasses.replace(robot, base_height=robot.base_height + 0.1))
     record = get_engine(engine).simulate(scenario, commands)
     assert record.steps == 50 and np.isfinite(record.position).all()

@@ -15,11 +15,19 @@ N, DT = 3000, 0.001
 def resting() -> PhysicsRecord:
     """A healthy robot standing still for 3 s."""
     z = np.zeros((N, 3))
-    return PhysicsRecord(time=DT * np.arange(1, N + 1), position=np.tile([0, 0, 0.132], (N, 1)),
-                         quaternion=np.tile([1.0, 0, 0, 0], (N, 1)), linear_velocity=z.copy(),
-                         angular_velocity=z.copy(), wheel_speed=np.zeros((N, 4)),
-                         imu_specific_force=np.tile([0, 0, 9.81], (N, 1)), imu_gyro=z.copy(),
-                         wall_time=0.1, cpu_time=0.1, steps=N)
+    return PhysicsRecord(
+        time=DT * np.arange(1, N + 1),
+        position=np.tile([0, 0, 0.132], (N, 1)),
+        quaternion=np.tile([1.0, 0, 0, 0], (N, 1)),
+        linear_velocity=z.copy(),
+        angular_velocity=z.copy(),
+        wheel_speed=np.zeros((N, 4)),
+        imu_specific_force=np.tile([0, 0, 9.81], (N, 1)),
+        imu_gyro=z.copy(),
+        wall_time=0.1,
+        cpu_time=0.1,
+        steps=N,
+    )
 
 
 def reasons(record, commands=None):
@@ -95,8 +103,13 @@ def test_a_robot_spawned_inside_a_box_is_caught(engine, robot):
     # A 20 cm block where the robot stands: Bullet's rigid contacts eject the robot in one
     # step, a jump the check must catch. MuJoCo's soft contacts push it out over many steps
     # without any jump, which is a legitimate resolution rather than a failure to report.
-    block = {"schema": "simpick.inputs.terrain/1", "name": "block", "friction": 0.9, "spheres": [],
-             "boxes": [[0.0, 0.0, 0.1, 0.0, 0.6, 0.4, 0.2]]}
+    block = {
+        "schema": "simpick.inputs.terrain/1",
+        "name": "block",
+        "friction": 0.9,
+        "spheres": [],
+        "boxes": [[0.0, 0.0, 0.1, 0.0, 0.6, 0.4, 0.2]],
+    }
     scenario, commands = setup(robot, terrain=block, torque=100.0, v=0.0, duration=1.0)
     record = get_engine(engine).simulate(scenario, commands)
     health = check(record, LIMITS, commands[:, 0])

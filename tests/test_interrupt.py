@@ -16,12 +16,29 @@ pytestmark = pytest.mark.workflow  # every test here runs Snakemake
 
 
 def start(workdir):
-    cmd = [sys.executable, "-m", "snakemake", "--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir),
-           "--configfile", str(workdir / "config.yaml"), "--cores", "2"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "snakemake",
+        "--snakefile",
+        str(ROOT / "Snakefile"),
+        "--directory",
+        str(workdir),
+        "--configfile",
+        str(workdir / "config.yaml"),
+        "--cores",
+        "2",
+    ]
     # SIGINT as a user's Ctrl-C delivers it: a process started in the background by a non-interactive
     # shell (nohup, a CI runner's job) inherits SIGINT ignored, and Snakemake would then run on to the end
-    return subprocess.Popen(cmd, cwd=workdir, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    return subprocess.Popen(
+        cmd,
+        cwd=workdir,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
 
 
 def traces(workdir):
@@ -71,5 +88,7 @@ def test_killed_and_restarted_run_equals_an_uninterrupted_one(how, reference, tm
     got = pd.read_csv(tmp_path / "results/scores/weighted.csv", index_col="engine")
     qualitative = [c for c in ref.columns if not c.startswith(("real_time", "cpu_"))]
     # rows are in rank order, and the rank includes the timing scores: compare engine by engine
-    pd.testing.assert_frame_equal(ref[qualitative].drop(columns=["total", "rank"]).sort_index(),
-                                  got[qualitative].drop(columns=["total", "rank"]).sort_index())
+    pd.testing.assert_frame_equal(
+        ref[qualitative].drop(columns=["total", "rank"]).sort_index(),
+        got[qualitative].drop(columns=["total", "rank"]).sort_index(),
+    )

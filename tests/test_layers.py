@@ -30,8 +30,7 @@ from conftest import ROOT
 from simpick.codeversion import modules
 
 LAYERS = (
-    ("core", ("simpick", "simpick.errors", "simpick.seeds", "simpick.tables", "simpick.joblog",
-              "simpick.imustats")),
+    ("core", ("simpick", "simpick.errors", "simpick.seeds", "simpick.tables", "simpick.joblog", "simpick.imustats")),
     ("inputs", ("simpick.inputs",)),
     ("mechanics", ("simpick.coulomb",)),
     ("real", ("simpick.real",)),
@@ -104,7 +103,8 @@ def test_no_module_imports_from_a_higher_layer():
     new = {pair: lines for pair, lines in found.items() if pair not in ALLOWED}
     assert not new, "imports against the layers (tests/test_layers.py):\n" + "\n".join(
         f"  {a} (line {', '.join(map(str, lines))}, {LAYERS[layer_of(a)][0]}) imports {b} ({LAYERS[layer_of(b)][0]})"
-        for (a, b), lines in sorted(new.items()))
+        for (a, b), lines in sorted(new.items())
+    )
     gone = sorted(set(ALLOWED) - set(found))
     assert not gone, f"no longer imported, remove from ALLOWED: {gone}"
 

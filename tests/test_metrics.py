@@ -7,9 +7,9 @@ import pytest
 from conftest import ROOT
 from simpick.compare import metrics
 from simpick.engines.kinematics import imu_from_kinematics
-from simpick.simulate.imu import ImuModel, block_average, sensor_output
 from simpick.inputs.published import load_published
 from simpick.inputs.reference import lab_reference, to_simpick_frame
+from simpick.simulate.imu import ImuModel, block_average, sensor_output
 
 
 def test_trimmed_range_uses_the_mean_of_each_one_percent_tail():
@@ -51,7 +51,9 @@ def test_trace_stats_on_a_known_trace():
     stats = metrics.trace_stats(frame)
     assert stats["linear"]["z"] == {"mean": pytest.approx(9.81), "range": pytest.approx(0.0)}
     assert stats["angular"]["z"]["mean"] == pytest.approx(0.0, abs=1e-12)
-    assert stats["angular"]["z"]["range"] == pytest.approx(2 * (1 - 4.5 * 2 / 999), rel=1e-9)  # top 10 samples average 1 - 4.5 steps
+    assert stats["angular"]["z"]["range"] == pytest.approx(
+        2 * (1 - 4.5 * 2 / 999), rel=1e-9
+    )  # top 10 samples average 1 - 4.5 steps
 
 
 def test_real_time_factor_is_total_sim_over_total_wall():
@@ -83,8 +85,7 @@ def test_block_average_and_saturation():
     x = np.arange(25, dtype=float).reshape(-1, 1)
     assert block_average(x, 10)[:, 0].tolist() == [4.5, 14.5]  # the incomplete block is dropped
     model = ImuModel(accel_range=10.0, gyro_range=1.0)
-    a, g = sensor_output(np.array([[20.0, -20.0, 5.0]]), np.array([[2.0, -2.0, 0.5]]), model,
-                         np.random.default_rng(0))
+    a, g = sensor_output(np.array([[20.0, -20.0, 5.0]]), np.array([[2.0, -2.0, 0.5]]), model, np.random.default_rng(0))
     assert a.tolist() == [[10.0, -10.0, 5.0]] and g.tolist() == [[1.0, -1.0, 0.5]]
 
 
@@ -116,16 +117,27 @@ def test_a_general_rotation_is_refused():
 
 def test_lab_totals_leave_out_a_test_any_engine_failed(tmp_path):
     """A failed run must not make its engine look better: the test leaves every engine's total."""
+    from simpick.compare.jobs import compare_job, summarise_job
     from simpick.inputs.published import DEFAULT_PATH
     from simpick.simulate.traces import COLUMNS, write_trace
-    from simpick.compare.jobs import compare_job, summarise_job
+
     paths = []
     for engine, status in (("a", "ok"), ("b", "failed")):
         frame = pd.DataFrame({c: np.linspace(0, 1, 200) for c in COLUMNS})
         frame["time"] = np.arange(1, 201) * 0.01
-        meta = {"engine": engine, "engine_version": "1", "terrain": "gravel", "motion": "straight", "steps": 2000,
-                "sim_time": 2.0, "wall_time": 0.1, "cpu_time": 0.1, "real_time_factor": 20.0, "config_hash": "x",
-                "health": {"status": status, "reasons": [] if status == "ok" else ["flipped"]}}
+        meta = {
+            "engine": engine,
+            "engine_version": "1",
+            "terrain": "gravel",
+            "motion": "straight",
+            "steps": 2000,
+            "sim_time": 2.0,
+            "wall_time": 0.1,
+            "cpu_time": 0.1,
+            "real_time_factor": 20.0,
+            "config_hash": "x",
+            "health": {"status": status, "reasons": [] if status == "ok" else ["flipped"]},
+        }
         path = tmp_path / f"{engine}.parquet"
         write_trace(frame, meta, path)
         paths.append(str(path))
@@ -159,13 +171,23 @@ def test_rotation_matrices_and_quaternions_round_trip():
 def test_real_time_factor_covers_the_same_tests_for_every_engine():
     """Issue 13: an engine failing the slow terrain must not look faster for it."""
     from simpick.compare.jobs import equal_rtf
-    runs = pd.DataFrame({"engine": ["a", "a", "b", "b"], "terrain": ["grass", "gravel"] * 2,
-                         "motion": ["straight"] * 4, "sim_time": [10.0, 10.0, 10.0, 10.0],
-                         "wall_time": [1.0, 9.0, 2.0, 0.5], "status": ["ok", "ok", "ok", "failed"]})
+
+    runs = pd.DataFrame(
+        {
+            "engine": ["a", "a", "b", "b"],
+            "terrain": ["grass", "gravel"] * 2,
+            "motion": ["straight"] * 4,
+            "sim_time": [10.0, 10.0, 10.0, 10.0],
+            "wall_time": [1.0, 9.0, 2.0, 0.5],
+            "status": ["ok", "ok", "ok", "failed"],
+        }
+    )
     rtf = equal_rtf(runs).set_index("engine")
     assert rtf.loc["a", "real_time_factor"] == pytest.approx(10.0)  # grass only, not 20 / 10
     assert rtf.loc["b", "real_time_factor"] == pytest.approx(5.0)
-    assert (rtf.n_runs == 1).all() and (rtf.excluded == "gravel/straight").all() and (rtf.tests == "grass/straight").all()
+    assert (
+        (rtf.n_runs == 1).all() and (rtf.excluded == "gravel/straight").all() and (rtf.tests == "grass/straight").all()
+    )
 
 
 def test_cpu_load_runs_are_health_checked(tmp_path):
@@ -175,10 +197,14 @@ def test_cpu_load_runs_are_health_checked(tmp_path):
 
     path = tmp_path / "flat.json"
     terrain.save(terrain.generate("flat", "flat", 0, 0.8, tiles=0), path)
-    params = {"engine": "mujoco", "physics": {"timestep": 0.001, "ground_friction": 0.8},
-              "robot": {"max_wheel_torque": 100.0, "track": 0.555}, "engine_settings": {},
-              "motion": {"v": 0.5, "w": 0.0, "start": [0.0, 0.0, 0.0]},
-              "cpu_load": {"duration": 0.3, "repeats": 1, "robots_average": 1, "robots_intense": 2, "spacing": 1.2}}
+    params = {
+        "engine": "mujoco",
+        "physics": {"timestep": 0.001, "ground_friction": 0.8},
+        "robot": {"max_wheel_torque": 100.0, "track": 0.555},
+        "engine_settings": {},
+        "motion": {"v": 0.5, "w": 0.0, "start": [0.0, 0.0, 0.0]},
+        "cpu_load": {"duration": 0.3, "repeats": 1, "robots_average": 1, "robots_intense": 2, "spacing": 1.2},
+    }
     common = dict(params=params, urdf=str(ROOT / "resources/robot/husky_a200.urdf"), terrain_file=str(path))
     ok = measure(**common, limits=HealthLimits())
     assert ok["health"] == {"status": "ok", "reasons": [], "checked": True}
@@ -198,7 +224,14 @@ def test_every_rule_that_runs_library_code_carries_its_code_version():
             m = re.match(r"\s*rule (\w+):", block)
             # targets and the maintainer's copy of a derived table run no library code of their own;
             # a download is not redone for a code edit
-            if not m or m.group(1) in ("all", "sweep", "calibration", "maintain_segments", "dataset_manifest", "fetch_borealtc"):
+            if not m or m.group(1) in (
+                "all",
+                "sweep",
+                "calibration",
+                "maintain_segments",
+                "dataset_manifest",
+                "fetch_borealtc",
+            ):
                 continue
             assert "code=" in block, f"{smk.name}: rule {m.group(1)} has no code= param"
 
@@ -211,14 +244,25 @@ def test_eq7_is_summed_one_way_whatever_the_order_of_the_rows():
     values = [1e16, 1.0, 1.0, 0.1, 0.2]
     assert eq7_sum(values) == 1e16 + 2 == eq7_sum(reversed(values))
     assert sum(values) == 1e16  # a left-to-right sum loses both 1.0
-    rows = pd.DataFrame({"engine": ["a"] * 5 + ["b"], "run": ["r1"] * 3 + ["r2"] * 2 + ["r1"],
-                         "error_angular": values + [2.0], "error_linear": [1.0] * 6})
+    rows = pd.DataFrame(
+        {
+            "engine": ["a"] * 5 + ["b"],
+            "run": ["r1"] * 3 + ["r2"] * 2 + ["r1"],
+            "error_angular": values + [2.0],
+            "error_linear": [1.0] * 6,
+        }
+    )
     out = eq7_per_run(rows, ["engine", "run"])
     assert out.to_dict("records") == [
         {"engine": "a", "run": "r1", "error_angular": 1e16 + 2, "error_linear": 3.0},
         {"engine": "a", "run": "r2", "error_angular": eq7_sum([0.1, 0.2]), "error_linear": 2.0},
-        {"engine": "b", "run": "r1", "error_angular": 2.0, "error_linear": 1.0}]
+        {"engine": "b", "run": "r1", "error_angular": 2.0, "error_linear": 1.0},
+    ]
     shuffled = eq7_per_run(rows.sample(frac=1.0, random_state=3), ["engine", "run"])
     pd.testing.assert_frame_equal(out, shuffled)
     assert list(eq7_per_run(rows.iloc[:0], ["engine", "run"]).columns) == [
-        "engine", "run", "error_angular", "error_linear"]
+        "engine",
+        "run",
+        "error_angular",
+        "error_linear",
+    ]

@@ -26,8 +26,9 @@ except _ode.OdeUnavailable as exc:  # pragma: no cover - depends on the machine
     pytest.skip(f"ODE not installed: {exc}", allow_module_level=True)
 
 HEADERS = _ode.HEADER_DIR
-needs_headers = pytest.mark.skipif(not (HEADERS / "common.h").is_file(),
-                                   reason="ODE headers missing: apt-get install libode-dev")
+needs_headers = pytest.mark.skipif(
+    not (HEADERS / "common.h").is_file(), reason="ODE headers missing: apt-get install libode-dev"
+)
 
 STRUCTS = {
     "dMass": (_ode.dMass, ["mass", "c", "I"]),
@@ -35,14 +36,42 @@ STRUCTS = {
     "dContactGeom": (_ode.dContactGeom, [f[0] for f in _ode.dContactGeom._fields_]),
     "dContact": (_ode.dContact, ["surface", "geom", "fdir1"]),
 }
-ENUMS = ["dParamLoStop", "dParamHiStop", "dParamVel", "dParamLoVel", "dParamHiVel", "dParamFMax",
-         "dParamFudgeFactor", "dParamBounce", "dParamCFM", "dParamStopERP", "dParamStopCFM",
-         "dParamSuspensionERP", "dParamSuspensionCFM", "dParamERP",
-         "dContactMu2", "dContactFDir1", "dContactBounce", "dContactSoftERP", "dContactSoftCFM",
-         "dContactSlip1", "dContactSlip2", "dContactRolling", "dContactApprox0", "dContactApprox1_1",
-         "dContactApprox1_2", "dContactApprox1_N", "dContactApprox1",
-         "dSphereClass", "dBoxClass", "dCapsuleClass", "dCylinderClass", "dPlaneClass",
-         "dJointTypeHinge", "dJointTypeContact"]
+ENUMS = [
+    "dParamLoStop",
+    "dParamHiStop",
+    "dParamVel",
+    "dParamLoVel",
+    "dParamHiVel",
+    "dParamFMax",
+    "dParamFudgeFactor",
+    "dParamBounce",
+    "dParamCFM",
+    "dParamStopERP",
+    "dParamStopCFM",
+    "dParamSuspensionERP",
+    "dParamSuspensionCFM",
+    "dParamERP",
+    "dContactMu2",
+    "dContactFDir1",
+    "dContactBounce",
+    "dContactSoftERP",
+    "dContactSoftCFM",
+    "dContactSlip1",
+    "dContactSlip2",
+    "dContactRolling",
+    "dContactApprox0",
+    "dContactApprox1_1",
+    "dContactApprox1_2",
+    "dContactApprox1_N",
+    "dContactApprox1",
+    "dSphereClass",
+    "dBoxClass",
+    "dCapsuleClass",
+    "dCylinderClass",
+    "dPlaneClass",
+    "dJointTypeHinge",
+    "dJointTypeContact",
+]
 
 
 def _enum_body(text: str, first_name: str) -> list[str]:
@@ -74,8 +103,8 @@ def _sequential(entries: list[str]) -> dict[str, int]:
 @needs_headers
 def test_joint_parameter_numbers_match_common_h():
     text = (HEADERS / "common.h").read_text()
-    macro = text[text.index("#define D_ALL_PARAM_NAMES(start)"):]
-    macro = re.sub(r"/\*.*?\*/", "", macro[:macro.index("#define D_ALL_PARAM_NAMES_X")], flags=re.S)
+    macro = text[text.index("#define D_ALL_PARAM_NAMES(start)") :]
+    macro = re.sub(r"/\*.*?\*/", "", macro[: macro.index("#define D_ALL_PARAM_NAMES_X")], flags=re.S)
     names = re.findall(r"\b(dParam\w+)\b", macro)
     assert names[0] == "dParamLoStop" and "dParamFMax" in names
     for index, name in enumerate(names):  # D_ALL_PARAM_NAMES(0): dParamLoStop = 0, then +1 each
@@ -106,8 +135,8 @@ def test_geom_classes_and_joint_types_match_headers():
 @needs_headers
 def test_struct_fields_follow_the_header_order():
     contact = (HEADERS / "contact.h").read_text()
-    surface = contact[contact.index("typedef struct dSurfaceParameters"):]
-    surface = re.sub(r"/\*.*?\*/", "", surface[:surface.index("} dSurfaceParameters;")], flags=re.S)
+    surface = contact[contact.index("typedef struct dSurfaceParameters") :]
+    surface = re.sub(r"/\*.*?\*/", "", surface[: surface.index("} dSurfaceParameters;")], flags=re.S)
     declared = [n for decl in re.findall(r"(?:int|dReal)\s+([^;]+);", surface) for n in re.split(r"\s*,\s*", decl)]
     assert declared == STRUCTS["dSurfaceParameters"][1]
     assert "dReal mass;" in (HEADERS / "mass.h").read_text()
@@ -155,8 +184,8 @@ def test_mass_helpers_give_the_textbook_inertia():
     assert m.mass == 12.0
     assert np.allclose([m.I[0], m.I[5], m.I[10]], [2 * 2 + 3 * 3, 1 + 9, 1 + 4])
     LIB.dMassSetCylinderTotal(ctypes.byref(m), 2.637, 3, 0.1651, 0.1143)  # axis z
-    assert math.isclose(m.I[10], 0.5 * 2.637 * 0.1651 ** 2)
-    assert math.isclose(m.I[0], 2.637 * (3 * 0.1651 ** 2 + 0.1143 ** 2) / 12)
+    assert math.isclose(m.I[10], 0.5 * 2.637 * 0.1651**2)
+    assert math.isclose(m.I[0], 2.637 * (3 * 0.1651**2 + 0.1143**2) / 12)
     LIB.dMassSetParameters(ctypes.byref(m), 3.0, 0, 0, 0, 1.0, 2.0, 3.0, 0.1, 0.2, 0.3)
     assert m.I[1] == 0.1 and m.I[4] == 0.1 and m.I[2] == 0.2 and m.I[6] == 0.3 and LIB.dMassCheck(ctypes.byref(m))
 
@@ -198,8 +227,9 @@ def test_collide_fills_contacts_in_place_and_sphere_rests_on_plane():
         LIB.dGeomSetPosition(sphere, 1.0, 2.0, 0.4)
         assert LIB.dGeomGetClass(sphere) == _ode.dSphereClass and LIB.dGeomGetClass(plane) == _ode.dPlaneClass
         contacts = (_ode.dContact * 4)()
-        n = LIB.dCollide(sphere, plane, 4, ctypes.addressof(contacts) + _ode.dContact.geom.offset,
-                         ctypes.sizeof(_ode.dContact))
+        n = LIB.dCollide(
+            sphere, plane, 4, ctypes.addressof(contacts) + _ode.dContact.geom.offset, ctypes.sizeof(_ode.dContact)
+        )
         assert n == 1
         geom = contacts[0].geom
         assert math.isclose(geom.depth, 0.1) and list(geom.normal)[:3] == [0, 0, 1]
@@ -250,7 +280,7 @@ def test_the_loader_folds_the_imu_into_the_chassis(robot):
     assert abs(chassis.inertia[0, 1] - -0.02364) < 5e-4  # the IMU hardly moves it
     assert [s[0] for s in chassis.shapes] == ["box", "box"]
     assert len(model.wheels) == 4
-    for xyz, rot, axis, wheel in model.wheels:
+    for _xyz, _rot, axis, wheel in model.wheels:
         assert np.allclose(axis, [0, 1, 0]) and math.isclose(wheel.mass, 2.637)
         kind, (radius, length), _, shape_rot = wheel.shapes[0]
         assert kind == "cylinder" and radius == 0.1651 and length == 0.1143

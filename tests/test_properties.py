@@ -7,7 +7,6 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from simpick.compare import metrics
-
 from simpick.score import scoring
 
 finite = st.floats(min_value=-1e6, max_value=1e6, allow_nan=False, allow_infinity=False)
@@ -31,8 +30,11 @@ def test_range_is_never_negative_and_never_exceeds_max_minus_min(values):
     assert r <= max(values) - min(values) + 1e-6 * (1 + abs(max(values)) + abs(min(values)))
 
 
-@given(st.dictionaries(st.sampled_from("xyz"), st.fixed_dictionaries({"mean": finite, "range": positive}),
-                       min_size=3, max_size=3))
+@given(
+    st.dictionaries(
+        st.sampled_from("xyz"), st.fixed_dictionaries({"mean": finite, "range": positive}), min_size=3, max_size=3
+    )
+)
 def test_error_against_itself_is_zero(stats):
     assert metrics.test_error(stats, stats) == 0.0
 
@@ -40,8 +42,11 @@ def test_error_against_itself_is_zero(stats):
 @given(st.dictionaries(st.text(min_size=1, max_size=5), positive, min_size=1, max_size=6))
 @settings(max_examples=200)
 def test_scores_lie_in_zero_one_and_the_best_scores_one(values):
-    for fn, best in ((scoring.accuracy_scores, min), (scoring.efficiency_scores, min),
-                     (scoring.real_time_factor_scores, max)):
+    for fn, best in (
+        (scoring.accuracy_scores, min),
+        (scoring.efficiency_scores, min),
+        (scoring.real_time_factor_scores, max),
+    ):
         scores = fn(values)
         assert all(0.0 <= s <= 1.0 + 1e-12 for s in scores.values())
         winner = best(values, key=values.get)

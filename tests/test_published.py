@@ -56,9 +56,7 @@ def test_table11_shape(t11: pd.DataFrame) -> None:
     assert list(t11.columns) == [*METRICS, "total", "total_from_published_scores", "published_total"]
 
 
-@pytest.mark.parametrize(
-    ("sim", "expected"), [("CoppeliaSim", 49.100), ("Gazebo", 49.087), ("Webots", 44.226)]
-)
+@pytest.mark.parametrize(("sim", "expected"), [("CoppeliaSim", 49.100), ("Gazebo", 49.087), ("Webots", 44.226)])
 def test_totals_from_published_scores(t11: pd.DataFrame, sim: str, expected: float) -> None:
     assert t11.loc[sim, "total_from_published_scores"] == pytest.approx(expected, abs=5e-4)
     assert t11.loc[sim, "published_total"] == expected

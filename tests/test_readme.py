@@ -48,8 +48,13 @@ def test_every_marked_count_is_the_workflows(counts):
     marks = [(page.relative_to(ROOT), key, value) for page in PAGES for key, value in MARK.findall(page.read_text())]
     assert {key for _, key, _ in marks} == set(counts), "a mark with no check, or a check with no mark"
     assert {"engines", "jobs", "lab_cases"} <= {key for page, key, _ in marks if page.name == "README.md"}
-    wrong = sorted({f"{page}: {key} is {value}, the workflow has {counts[key]}"
-                    for page, key, value in marks if int(value) != counts[key]})
+    wrong = sorted(
+        {
+            f"{page}: {key} is {value}, the workflow has {counts[key]}"
+            for page, key, value in marks
+            if int(value) != counts[key]
+        }
+    )
     assert not wrong, "stale counts: " + "; ".join(wrong)
     # the dry run agrees with the config it was made from
     assert counts["lab_cases"] == counts["engines"] * counts["terrains"] * counts["motions"]
@@ -66,14 +71,24 @@ def rule_blocks():
 
 
 def test_the_rules_that_declare_resources_are_the_ones_the_docs_name():
-    declared = {name for name, block in rule_blocks()
-                if "threads:" in block and "mem_mb=" in block and "runtime=" in block}
-    named = {"simulate", "validate", "cpu_load", "sweep_segments", "calibrate", "calibration_evaluate", "compare",
-             "summarise", "verdict"}
+    declared = {
+        name for name, block in rule_blocks() if "threads:" in block and "mem_mb=" in block and "runtime=" in block
+    }
+    named = {
+        "simulate",
+        "validate",
+        "cpu_load",
+        "sweep_segments",
+        "calibrate",
+        "calibration_evaluate",
+        "compare",
+        "summarise",
+        "verdict",
+    }
     figures = {name for name, _ in rule_blocks() if name.startswith("figure_")}
     assert declared == named | figures
     page = (ROOT / "docs/running.md").read_text()
-    section = page[page.index("## On a cluster"):]
+    section = page[page.index("## On a cluster") :]
     assert all(f"`{name}`" in section for name in named) and "the figure rules declare" in section
     profile = yaml.safe_load((ROOT / "profiles/slurm/config.yaml").read_text())
     assert profile["default-resources"] == {"mem_mb": 400, "runtime": 10}  # docs/running.md states both
@@ -84,7 +99,11 @@ def test_every_script_calls_one_job_function():
     helpers = {"logged", "runtime_timeout", "LIST_INPUTS"}  # the log, the watchdog's limit, a constant
     for script in sorted((ROOT / "scripts").glob("*.py")):
         tree = ast.parse(script.read_text())
-        imported = [alias.name for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)
-                    and (node.module or "").startswith("simpick") for alias in node.names]
+        imported = [
+            alias.name
+            for node in ast.walk(tree)
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("simpick")
+            for alias in node.names
+        ]
         jobs = [name for name in imported if name not in helpers]
         assert len(jobs) == 1, f"{script.name} calls {jobs}"

@@ -24,13 +24,17 @@ def synthetic_log() -> RealLog:
     tc = np.arange(0, 20, 1 / 6.5)
     w = np.where(tc >= 10, 0.4, 0.0)
     commands = pd.DataFrame({"time": tc, "v_left": 0.3 - w * 0.555 / 2, "v_right": 0.3 + w * 0.555 / 2})
-    return RealLog(imu=imu, commands=commands, meta={"dataset": "synthetic", "run_id": "00",
-                                                      "terrain_class": "FLOOR", "name": "synthetic"})
+    return RealLog(
+        imu=imu,
+        commands=commands,
+        meta={"dataset": "synthetic", "run_id": "00", "terrain_class": "FLOOR", "name": "synthetic"},
+    )
 
 
 def test_segments_are_found_classified_and_measured():
-    rows = find_segments(synthetic_log(), tolerance=0.02, min_duration=4.0, max_duration=6.0, settle=1.0,
-                         min_turn=0.1, track=0.555)
+    rows = find_segments(
+        synthetic_log(), tolerance=0.02, min_duration=4.0, max_duration=6.0, settle=1.0, min_turn=0.1, track=0.555
+    )
     assert [r["kind"] for r in rows] == ["straight", "turning"]
     straight, turning = rows
     assert straight["duration"] == pytest.approx(6.0, abs=0.2)  # capped at max_duration
@@ -54,12 +58,20 @@ def test_committed_segments_match_a_fresh_derivation():
     from simpick.real.segments import derive
 
     rules = CONFIG["real_data"]["segment_rules"]
-    fresh, _ = derive(BOREALTC, tolerance=rules["tolerance"], min_duration=rules["min_duration"],
-                      max_duration=rules["max_duration"], settle=rules["settle"], min_turn=rules["min_turn"],
-                      per_kind=rules["per_kind"], track=CONFIG["robot"]["track"])
+    fresh, _ = derive(
+        BOREALTC,
+        tolerance=rules["tolerance"],
+        min_duration=rules["min_duration"],
+        max_duration=rules["max_duration"],
+        settle=rules["settle"],
+        min_turn=rules["min_turn"],
+        per_kind=rules["per_kind"],
+        track=CONFIG["robot"]["track"],
+    )
     committed = load_segments(ROOT / CONFIG["real_data"]["segments"])
-    pd.testing.assert_frame_equal(fresh.reset_index(drop=True), committed[fresh.columns].reset_index(drop=True),
-                                  check_dtype=False, rtol=1e-5)
+    pd.testing.assert_frame_equal(
+        fresh.reset_index(drop=True), committed[fresh.columns].reset_index(drop=True), check_dtype=False, rtol=1e-5
+    )
 
 
 @needs_borealtc
@@ -69,9 +81,17 @@ def test_replay_of_a_straight_run_covers_the_recorded_distance(engine):
 
     log = borealtc.read_run(BOREALTC / "FLOORING" / "imu_07.csv", BOREALTC / "FLOORING" / "pro_07.csv", "FLOORING")
     duration = 30.0
-    params = {"engine": engine, "engine_settings": CONFIG["engines"][engine], "physics": CONFIG["physics"],
-              "robot": CONFIG["robot"], "imu": CONFIG["imu"], "health": CONFIG["health"], "seed": 1,
-              "terrain_class": "flooring", "class": {"friction": 0.9}}
+    params = {
+        "engine": engine,
+        "engine_settings": CONFIG["engines"][engine],
+        "physics": CONFIG["physics"],
+        "robot": CONFIG["robot"],
+        "imu": CONFIG["imu"],
+        "health": CONFIG["health"],
+        "seed": 1,
+        "terrain_class": "flooring",
+        "class": {"friction": 0.9},
+    }
     frame, meta = replay_log(log, str(ROOT / CONFIG["robot"]["urdf"]), params, duration=duration)
     assert meta["health"]["status"] == "ok", meta["health"]
     cmd = log.wheel_commands()
@@ -94,18 +114,41 @@ def test_own_csv_log_is_imported_replayed_and_compared_by_the_workflow(tmp_path)
     imu = real.imu[real.imu.time < 12.0]
     body = real.body_commands()
     held = np.clip(np.searchsorted(body.time, imu.time, side="right") - 1, 0, len(body) - 1)
-    own = pd.DataFrame({"t_ms": imu.time * 1000, "acc_x": imu.ax, "acc_y": imu.ay, "acc_z": imu.az,
-                        "gyro_x": np.degrees(imu.wx), "gyro_y": np.degrees(imu.wy), "gyro_z": np.degrees(imu.wz),
-                        "cmd_v": body.v.to_numpy()[held], "cmd_w": body.w.to_numpy()[held]})
+    own = pd.DataFrame(
+        {
+            "t_ms": imu.time * 1000,
+            "acc_x": imu.ax,
+            "acc_y": imu.ay,
+            "acc_z": imu.az,
+            "gyro_x": np.degrees(imu.wx),
+            "gyro_y": np.degrees(imu.wy),
+            "gyro_z": np.degrees(imu.wz),
+            "cmd_v": body.v.to_numpy()[held],
+            "cmd_w": body.w.to_numpy()[held],
+        }
+    )
     own.to_csv(tmp_path / "mine.csv", index=False)
     deg = {"unit": "deg/s"}
     config = tiny_config(tmp_path)
     config["engines"] = {k: config["engines"][k] for k in ("mujoco", "pybullet")}
-    config["own_logs"] = [{
-        "name": "mine", "terrain_class": "flooring", "csv": str(tmp_path / "mine.csv"),
-        "mapping": {"time": {"column": "t_ms", "unit": "ms"}, "ax": "acc_x", "ay": "acc_y", "az": "acc_z",
-                    "wx": {"column": "gyro_x", **deg}, "wy": {"column": "gyro_y", **deg},
-                    "wz": {"column": "gyro_z", **deg}, "v": "cmd_v", "w": "cmd_w"}}]
+    config["own_logs"] = [
+        {
+            "name": "mine",
+            "terrain_class": "flooring",
+            "csv": str(tmp_path / "mine.csv"),
+            "mapping": {
+                "time": {"column": "t_ms", "unit": "ms"},
+                "ax": "acc_x",
+                "ay": "acc_y",
+                "az": "acc_z",
+                "wx": {"column": "gyro_x", **deg},
+                "wy": {"column": "gyro_y", **deg},
+                "wz": {"column": "gyro_z", **deg},
+                "v": "cmd_v",
+                "w": "cmd_w",
+            },
+        }
+    ]
     config["accuracy"]["reference"] = "own"
     write_config(tmp_path, config)
     run = snakemake(tmp_path, "results/metrics/own/summary.csv", "results/scores/weighted.csv")
@@ -128,6 +171,7 @@ def test_own_csv_log_is_imported_replayed_and_compared_by_the_workflow(tmp_path)
 def test_maintain_segments_replaces_the_committed_files_only_when_the_table_is_sound(tmp_path):
     from simpick.errors import InputError
     from simpick.real.jobs import maintain_segments_job
+
     committed = {"csv": str(tmp_path / "committed.csv"), "provenance": str(tmp_path / "committed.provenance.yaml")}
     (tmp_path / "committed.csv").write_text("old table\n")
     (tmp_path / "committed.provenance.yaml").write_text("old: provenance\n")
@@ -135,14 +179,16 @@ def test_maintain_segments_replaces_the_committed_files_only_when_the_table_is_s
     broken.write_text("segment,dataset\nx,y\n")
     (tmp_path / "derived.provenance.yaml").write_text("new: provenance\n")
     with pytest.raises(InputError, match="columns .* are missing"):
-        maintain_segments_job(str(broken), str(tmp_path / "derived.provenance.yaml"), committed,
-                              str(tmp_path / "receipt.yaml"))
+        maintain_segments_job(
+            str(broken), str(tmp_path / "derived.provenance.yaml"), committed, str(tmp_path / "receipt.yaml")
+        )
     assert (tmp_path / "committed.csv").read_text() == "old table\n"  # a failure leaves it as it was
 
     derived = tmp_path / "derived.csv"
     derived.write_bytes((ROOT / CONFIG["real_data"]["segments"]).read_bytes())
-    maintain_segments_job(str(derived), str(tmp_path / "derived.provenance.yaml"), committed,
-                          str(tmp_path / "receipt.yaml"))
+    maintain_segments_job(
+        str(derived), str(tmp_path / "derived.provenance.yaml"), committed, str(tmp_path / "receipt.yaml")
+    )
     assert (tmp_path / "committed.csv").read_bytes() == derived.read_bytes()
     assert (tmp_path / "committed.provenance.yaml").read_text() == "new: provenance\n"
     receipt = yaml.safe_load((tmp_path / "receipt.yaml").read_text())
@@ -157,17 +203,26 @@ def _segment_trace(path, engine, segment, wz, status="ok"):
 
     t = np.arange(1, 301) / 100.0
     frame = {c: np.zeros(t.size) for c in COLUMNS}
-    frame.update(time=t, ax=np.where(np.arange(t.size) % 2 == 0, 0.1, 0.3), az=np.full(t.size, 9.81),
-                 wz=np.full(t.size, wz), v_forward=np.full(t.size, 0.3))
+    frame.update(
+        time=t,
+        ax=np.where(np.arange(t.size) % 2 == 0, 0.1, 0.3),
+        az=np.full(t.size, 9.81),
+        wz=np.full(t.size, wz),
+        v_forward=np.full(t.size, 0.3),
+    )
     reasons = [] if status == "ok" else ["slid while parked"]
-    write_trace(frame, {"engine": engine, "segment": segment, "window": [1.0, 3.0],
-                        "health": {"status": status, "reasons": reasons}}, path)
+    write_trace(
+        frame,
+        {"engine": engine, "segment": segment, "window": [1.0, 3.0], "health": {"status": status, "reasons": reasons}},
+        path,
+    )
     return str(path)
 
 
 def test_replay_compare_and_summarise_against_hand_computed_values(tmp_path):
     """One run replayed by one engine, 20 s at 100 Hz, compared in two 10 s windows. Real: yaw
-    rate 0.3 + 0.1 sin(2 pi t / 5) (whole periods per window: mean 0.3), forward acceleration 0.2; simulated: yaw rate 0.2, no forward acceleration;
+    rate 0.3 + 0.1 sin(2 pi t / 5) (whole periods per window: mean 0.3), forward acceleration 0.2; simulated:
+    yaw rate 0.2, no forward acceleration;
     both +9.81 on z, the rest 0. Commands: 0.3 m/s, 0.5 rad/s kinematic."""
     from simpick.compare.jobs import compare_job, summarise_job
     from simpick.real.logs import write_canonical
@@ -176,24 +231,50 @@ def test_replay_compare_and_summarise_against_hand_computed_values(tmp_path):
     track, rate, seconds = 0.555, 100.0, 20.0
     t = np.round(np.arange(1, int(seconds * rate) + 1) / rate, 10)
     zeros = np.zeros(t.size)
-    real_imu = pd.DataFrame({"time": t, "ax": zeros + 0.2, "ay": zeros, "az": zeros + 9.81, "wx": zeros,
-                             "wy": zeros, "wz": 0.3 + 0.1 * np.sin(2 * np.pi * t / 5.0)})
+    real_imu = pd.DataFrame(
+        {
+            "time": t,
+            "ax": zeros + 0.2,
+            "ay": zeros,
+            "az": zeros + 9.81,
+            "wx": zeros,
+            "wy": zeros,
+            "wz": 0.3 + 0.1 * np.sin(2 * np.pi * t / 5.0),
+        }
+    )
     tc = np.arange(0.0, seconds + 1.0, 0.1)
-    commands = pd.DataFrame({"time": tc, "v_left": 0.3 - 0.5 * track / 2 + 0 * tc,
-                             "v_right": 0.3 + 0.5 * track / 2 + 0 * tc})
+    commands = pd.DataFrame(
+        {"time": tc, "v_left": 0.3 - 0.5 * track / 2 + 0 * tc, "v_right": 0.3 + 0.5 * track / 2 + 0 * tc}
+    )
     log_path = tmp_path / "logs" / "FLOORING" / "01.parquet"
-    write_canonical(RealLog(imu=real_imu, commands=commands,
-                            meta={"dataset": "test", "run_id": "01", "terrain_class": "FLOORING",
-                                  "name": "FLOORING_01"}), log_path)
+    write_canonical(
+        RealLog(
+            imu=real_imu,
+            commands=commands,
+            meta={"dataset": "test", "run_id": "01", "terrain_class": "FLOORING", "name": "FLOORING_01"},
+        ),
+        log_path,
+    )
     from simpick.simulate.traces import COLUMNS as TRACE_COLUMNS
 
     sim = pd.DataFrame({c: zeros for c in TRACE_COLUMNS})
     sim["time"], sim["az"], sim["wz"] = t, 9.81, 0.2
     trace = tmp_path / "replay" / "a" / "flooring" / "01.parquet"
-    write_trace(sim, {"engine": "a", "terrain": "flooring", "run": "01", "imu_rate_hz": rate,
-                      "health": {"status": "ok", "reasons": []}}, trace)
-    outputs = {k: str(tmp_path / f"{k}.csv")
-               for k in ("per_test", "detail", "runs", "summary", "pairwise", "imu_errors", "rtf")}
+    write_trace(
+        sim,
+        {
+            "engine": "a",
+            "terrain": "flooring",
+            "run": "01",
+            "imu_rate_hz": rate,
+            "health": {"status": "ok", "reasons": []},
+        },
+        trace,
+    )
+    outputs = {
+        k: str(tmp_path / f"{k}.csv")
+        for k in ("per_test", "detail", "runs", "summary", "pairwise", "imu_errors", "rtf")
+    }
     compare_job("replay", [str(trace)], {"logs": [str(log_path)]}, {"track": track, "window": 10.0}, outputs)
     summarise_job(outputs["per_test"], outputs["runs"], {"group": "terrain_class"}, outputs)
 
@@ -225,31 +306,79 @@ def test_replay_compare_and_summarise_against_hand_computed_values(tmp_path):
     assert per_test.error_linear == pytest.approx(0.4)
     assert per_test.yaw_rate_gain_sim == pytest.approx(0.4) and per_test.segment == "flooring-01"
     totals = pd.read_csv(outputs["imu_errors"]).set_index("quantity")
-    assert totals.loc["angular", "error"] == pytest.approx(2 * (0.1 + trimmed), abs=1e-5) and totals.loc["linear", "error"] == pytest.approx(0.4)
+    assert totals.loc["angular", "error"] == pytest.approx(2 * (0.1 + trimmed), abs=1e-5) and totals.loc[
+        "linear", "error"
+    ] == pytest.approx(0.4)
 
 
 def test_segment_compare_and_summarise_against_hand_computed_values(tmp_path):
     """Eq. 7 per segment and per axis, yaw-rate gain, totals over the tests every engine
     completed, and no verdict from two runs."""
     from simpick.compare.jobs import compare_job, summarise_job
-    real = {"dataset": "test", "terrain_class": "flooring", "t_start": 0.0, "t_end": 3.0, "settle": 1.0,
-            "duration": 2.0, "angular_x_mean": 0.0, "angular_x_range": 0.2, "angular_y_mean": 0.0,
-            "angular_y_range": 0.2, "angular_z_range": 0.1, "linear_x_mean": 0.5, "linear_x_range": 1.0,
-            "linear_y_mean": 0.1, "linear_y_range": 0.4, "linear_z_mean": 9.8, "linear_z_range": 2.0}
-    rows = [dict(real, segment="flooring-straight", run="01", kind="straight", v_left=0.3, v_right=0.3, v=0.3,
-                 w=0.0, yaw_rate_gain=float("nan"), angular_z_mean=0.0),
-            dict(real, segment="flooring-turning", run="02", kind="turning", v_left=0.2, v_right=0.4, v=0.3,
-                 w=0.4, yaw_rate_gain=0.7, angular_z_mean=0.3)]
+
+    real = {
+        "dataset": "test",
+        "terrain_class": "flooring",
+        "t_start": 0.0,
+        "t_end": 3.0,
+        "settle": 1.0,
+        "duration": 2.0,
+        "angular_x_mean": 0.0,
+        "angular_x_range": 0.2,
+        "angular_y_mean": 0.0,
+        "angular_y_range": 0.2,
+        "angular_z_range": 0.1,
+        "linear_x_mean": 0.5,
+        "linear_x_range": 1.0,
+        "linear_y_mean": 0.1,
+        "linear_y_range": 0.4,
+        "linear_z_mean": 9.8,
+        "linear_z_range": 2.0,
+    }
+    rows = [
+        dict(
+            real,
+            segment="flooring-straight",
+            run="01",
+            kind="straight",
+            v_left=0.3,
+            v_right=0.3,
+            v=0.3,
+            w=0.0,
+            yaw_rate_gain=float("nan"),
+            angular_z_mean=0.0,
+        ),
+        dict(
+            real,
+            segment="flooring-turning",
+            run="02",
+            kind="turning",
+            v_left=0.2,
+            v_right=0.4,
+            v=0.3,
+            w=0.4,
+            yaw_rate_gain=0.7,
+            angular_z_mean=0.3,
+        ),
+    ]
     pd.DataFrame(rows)[COLUMNS].to_csv(tmp_path / "segments.csv", index=False)
-    traces = [_segment_trace(tmp_path / "a-s.parquet", "a", "flooring-straight", 0.0),
-              _segment_trace(tmp_path / "a-t.parquet", "a", "flooring-turning", 0.25),
-              _segment_trace(tmp_path / "b-s.parquet", "b", "flooring-straight", 0.0, status="failed"),
-              _segment_trace(tmp_path / "b-t.parquet", "b", "flooring-turning", 0.3)]
-    outputs = {k: str(tmp_path / f"{k}.csv")
-               for k in ("per_test", "detail", "runs", "summary", "pairwise", "imu_errors", "rtf")}
+    traces = [
+        _segment_trace(tmp_path / "a-s.parquet", "a", "flooring-straight", 0.0),
+        _segment_trace(tmp_path / "a-t.parquet", "a", "flooring-turning", 0.25),
+        _segment_trace(tmp_path / "b-s.parquet", "b", "flooring-straight", 0.0, status="failed"),
+        _segment_trace(tmp_path / "b-t.parquet", "b", "flooring-turning", 0.3),
+    ]
+    outputs = {
+        k: str(tmp_path / f"{k}.csv")
+        for k in ("per_test", "detail", "runs", "summary", "pairwise", "imu_errors", "rtf")
+    }
     compare_job("segments", traces, {"segments": str(tmp_path / "segments.csv")}, {"track": 0.5}, outputs)
-    summarise_job(outputs["per_test"], outputs["runs"],
-                  {"group": "terrain_class", "statistics": {"min_runs": 6, "level": 0.95}}, outputs)
+    summarise_job(
+        outputs["per_test"],
+        outputs["runs"],
+        {"group": "terrain_class", "statistics": {"min_runs": 6, "level": 0.95}},
+        outputs,
+    )
 
     detail = pd.read_csv(outputs["detail"]).set_index(["engine", "test", "quantity", "axis"])
     x = detail.loc[("a", "flooring-turning", "linear", "x")]
@@ -297,6 +426,7 @@ def test_every_real_case_starts_from_its_own_seeded_heading_the_same_for_every_m
     """Issue 17: no real-data case starts from a fixed heading. The heading derives from the config
     seed and the case's names (not the model), so paired comparisons stay paired."""
     from simpick.simulate.real import start_heading
+
     cases = [("BorealTC", c, f"{r:02d}", f"{c}-seg{r}") for c in ("asphalt", "ice", "snow") for r in range(20)]
     headings = np.array([start_heading(20220601, *case) for case in cases])
     assert headings.min() >= 0 and headings.max() < 2 * np.pi
@@ -309,10 +439,18 @@ def test_every_real_case_starts_from_its_own_seeded_heading_the_same_for_every_m
 
 def test_a_replay_starts_from_its_seeded_heading_and_records_it():
     from simpick.simulate.real import start_heading
-    params = {"engine": "kinematic", "engine_settings": {"track": 0.555}, "terrain_class": "flooring",
-              "class": {"friction": 0.6}, "physics": {"timestep": 0.002, "ground_friction": 0.6},
-              "robot": {"track": 0.555, "max_wheel_torque": 100.0}, "imu": CONFIG["imu"],
-              "health": CONFIG["health"], "seed": 7}
+
+    params = {
+        "engine": "kinematic",
+        "engine_settings": {"track": 0.555},
+        "terrain_class": "flooring",
+        "class": {"friction": 0.6},
+        "physics": {"timestep": 0.002, "ground_friction": 0.6},
+        "robot": {"track": 0.555, "max_wheel_torque": 100.0},
+        "imu": CONFIG["imu"],
+        "health": CONFIG["health"],
+        "seed": 7,
+    }
     log = synthetic_log()
     frame, meta = replay_log(log, str(ROOT / CONFIG["robot"]["urdf"]), params, duration=2.0)
     expected = start_heading(7, "synthetic", "flooring", "00", "synthetic")
@@ -325,11 +463,15 @@ def test_a_replay_starts_from_its_seeded_heading_and_records_it():
 def test_a_source_with_no_case_writes_its_tables_with_their_columns(tmp_path):
     """Issue 21: a source with no cases (or none a model completed) is a normal outcome."""
     from simpick.compare.jobs import compare_job, summarise_job
-    for kind, inputs, params in (("segments", {"segments": str(ROOT / CONFIG["real_data"]["segments"])},
-                                  {"track": 0.555}),
-                                 ("replay", {"logs": []}, {"track": 0.555, "window": 10.0})):
-        out = {k: str(tmp_path / kind / f"{k}.csv")
-               for k in ("per_test", "detail", "runs", "summary", "pairwise", "imu_errors", "rtf")}
+
+    for kind, inputs, params in (
+        ("segments", {"segments": str(ROOT / CONFIG["real_data"]["segments"])}, {"track": 0.555}),
+        ("replay", {"logs": []}, {"track": 0.555, "window": 10.0}),
+    ):
+        out = {
+            k: str(tmp_path / kind / f"{k}.csv")
+            for k in ("per_test", "detail", "runs", "summary", "pairwise", "imu_errors", "rtf")
+        }
         compare_job(kind, [], inputs, params, out)
         summarise_job(out["per_test"], out["runs"], {"group": "terrain_class"}, out)
         for name, path in out.items():

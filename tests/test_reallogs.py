@@ -23,34 +23,45 @@ BOREALTC = ROOT.parent / "shared" / "data" / "borealtc"
 needs_borealtc = pytest.mark.skipif(
     not BOREALTC.is_dir(),
     reason=f"BorealTC data not present at {BOREALTC} (download data/borealtc from "
-           "github.com/norlab-ulaval/BorealTC to run these tests)")
+    "github.com/norlab-ulaval/BorealTC to run these tests)",
+)
 
 
 # ---------------------------------------------------------------- synthetic runs
 
-def synthetic(seconds: float = 12.0, turn: tuple[float, float] = (0.1, 0.4), gain: float = 0.6,
-              seed: int = 0) -> tuple[pd.DataFrame, pd.DataFrame]:
+
+def synthetic(
+    seconds: float = 12.0, turn: tuple[float, float] = (0.1, 0.4), gain: float = 0.6, seed: int = 0
+) -> tuple[pd.DataFrame, pd.DataFrame]:
     """A BorealTC-shaped run: 100 Hz IMU, 6.5 Hz wheels; straight, then a left turn."""
     rng = np.random.default_rng(seed)
     tp = np.arange(0, seconds, 1 / 6.5)
     half = tp >= seconds / 2
     vel_l = np.where(half, turn[0], 0.3)
     vel_r = np.where(half, turn[1], 0.3)
-    pro = pd.DataFrame({"time": tp, "curL": 5 + rng.random(len(tp)), "curR": 5 + rng.random(len(tp)),
-                        "velL": vel_l, "velR": vel_r})
+    pro = pd.DataFrame(
+        {"time": tp, "curL": 5 + rng.random(len(tp)), "curR": 5 + rng.random(len(tp)), "velL": vel_l, "velR": vel_r}
+    )
     ti = np.arange(0, int(seconds * 100)) / 100.0
     yaw_cmd = np.interp(ti, tp, (vel_r - vel_l) / 0.555)
     n = len(ti)
-    imu = pd.DataFrame({"time": ti,
-                        "wx": 0.01 * rng.standard_normal(n), "wy": 0.01 * rng.standard_normal(n),
-                        "wz": gain * yaw_cmd + 0.01 * rng.standard_normal(n),
-                        "ax": 0.2 * rng.standard_normal(n), "ay": 0.2 * rng.standard_normal(n),
-                        "az": 9.81 + 0.2 * rng.standard_normal(n)})
+    imu = pd.DataFrame(
+        {
+            "time": ti,
+            "wx": 0.01 * rng.standard_normal(n),
+            "wy": 0.01 * rng.standard_normal(n),
+            "wz": gain * yaw_cmd + 0.01 * rng.standard_normal(n),
+            "ax": 0.2 * rng.standard_normal(n),
+            "ay": 0.2 * rng.standard_normal(n),
+            "az": 9.81 + 0.2 * rng.standard_normal(n),
+        }
+    )
     return imu, pro
 
 
-def write_run(folder: Path, imu: pd.DataFrame | str | None = None, pro: pd.DataFrame | str | None = None,
-              run: str = "00") -> tuple[Path, Path]:
+def write_run(
+    folder: Path, imu: pd.DataFrame | str | None = None, pro: pd.DataFrame | str | None = None, run: str = "00"
+) -> tuple[Path, Path]:
     folder.mkdir(parents=True, exist_ok=True)
     good_imu, good_pro = synthetic()
     paths = []
@@ -65,8 +76,17 @@ def write_run(folder: Path, imu: pd.DataFrame | str | None = None, pro: pd.DataF
     return paths[0], paths[1]
 
 
-def expect_error(imu=None, pro=None, *, tmp: Path, file: str, column: str | None = None,
-                 row: str | None = None, words: tuple[str, ...] = (), **options) -> InputError:
+def expect_error(
+    imu=None,
+    pro=None,
+    *,
+    tmp: Path,
+    file: str,
+    column: str | None = None,
+    row: str | None = None,
+    words: tuple[str, ...] = (),
+    **options,
+) -> InputError:
     imu_path, pro_path = write_run(tmp / "ASPHALT", imu, pro)
     with pytest.raises(InputError) as info:
         borealtc.read_run(imu_path, pro_path, "ASPHALT", **options)
@@ -84,6 +104,7 @@ def expect_error(imu=None, pro=None, *, tmp: Path, file: str, column: str | None
 
 # ---------------------------------------------------------------- BorealTC (real data)
 
+
 @needs_borealtc
 def test_discover_finds_every_run_of_the_five_classes():
     runs = borealtc.discover(BOREALTC)
@@ -99,8 +120,7 @@ def test_discover_finds_every_run_of_the_five_classes():
 
 @needs_borealtc
 def test_asphalt_00_rates_gravity_and_yaw_sign():
-    log = borealtc.read_run(BOREALTC / "ASPHALT" / "imu_00.csv", BOREALTC / "ASPHALT" / "pro_00.csv",
-                            "ASPHALT")
+    log = borealtc.read_run(BOREALTC / "ASPHALT" / "imu_00.csv", BOREALTC / "ASPHALT" / "pro_00.csv", "ASPHALT")
     assert list(log.imu.columns) == ["time", "ax", "ay", "az", "wx", "wy", "wz"]
     assert list(log.commands.columns)[:3] == ["time", "v_left", "v_right"]
     assert log.command_kind == "wheels"
@@ -130,8 +150,7 @@ def test_every_borealtc_run_reads_and_none_contradicts_the_frame():
 
 @needs_borealtc
 def test_canonical_round_trip_of_real_run(tmp_path):
-    log = borealtc.read_run(BOREALTC / "ASPHALT" / "imu_00.csv", BOREALTC / "ASPHALT" / "pro_00.csv",
-                            "ASPHALT")
+    log = borealtc.read_run(BOREALTC / "ASPHALT" / "imu_00.csv", BOREALTC / "ASPHALT" / "pro_00.csv", "ASPHALT")
     path = write_canonical(log, tmp_path / "ASPHALT_00.parquet")
     assert [p.name for p in tmp_path.iterdir()] == ["ASPHALT_00.parquet"]  # no temp file left
     back = read_canonical(path)
@@ -144,6 +163,7 @@ def test_canonical_round_trip_of_real_run(tmp_path):
 
 
 # ---------------------------------------------------------------- BorealTC layout (synthetic)
+
 
 def test_synthetic_run_reads(tmp_path):
     imu, pro = write_run(tmp_path / "ICE")
@@ -181,6 +201,7 @@ def test_contradicting_yaw_sign_is_reported_not_flipped(tmp_path):
 
 # ---------------------------------------------------------------- malformed logs
 
+
 def test_missing_file(tmp_path):
     imu, pro = write_run(tmp_path / "ICE")
     with pytest.raises(InputError, match=r"pro_00\.csv.*not found"):
@@ -191,8 +212,7 @@ def test_missing_file(tmp_path):
 
 def test_missing_column(tmp_path):
     imu, _ = synthetic()
-    err = expect_error(imu.drop(columns=["wz"]), tmp=tmp_path, file="imu", column="wz",
-                       words=("missing",))
+    err = expect_error(imu.drop(columns=["wz"]), tmp=tmp_path, file="imu", column="wz", words=("missing",))
     assert "columns present" in err.problem
 
 
@@ -247,8 +267,7 @@ def test_non_numeric_cell(tmp_path):
     imu, _ = synthetic()
     imu = imu.astype({"az": object})
     imu.loc[20, "az"] = "9.8O"
-    expect_error(imu, tmp=tmp_path, file="imu", column="az", row="row 21 (line 22)",
-                 words=("non-numeric", "9.8O"))
+    expect_error(imu, tmp=tmp_path, file="imu", column="az", row="row 21 (line 22)", words=("non-numeric", "9.8O"))
 
 
 def test_row_with_extra_fields_names_the_line(tmp_path):
@@ -300,8 +319,7 @@ def test_gravity_removed_or_z_down(tmp_path):
 def test_wheel_speed_not_in_m_per_s(tmp_path):
     _, pro = synthetic()
     pro["velL"] = pro["velL"] * 1000  # mm/s
-    expect_error(pro=pro, tmp=tmp_path, file="pro", column="velL", row="row 1 (line 2)",
-                 words=("exceeds",))
+    expect_error(pro=pro, tmp=tmp_path, file="pro", column="velL", row="row 1 (line 2)", words=("exceeds",))
 
 
 def test_sample_rate_mismatch(tmp_path):
@@ -309,8 +327,15 @@ def test_sample_rate_mismatch(tmp_path):
     imu, pro = synthetic()
     imu["time"] = imu["time"] * 1.5  # 66.7 Hz against the declared 100 Hz
     pro["time"] = pro["time"] * 1.5
-    expect_error(imu, pro, tmp=tmp_path, file="imu", column="time",
-                 words=("measured IMU sample rate 66.67 Hz", "declared 100 Hz of real_data.datasets.x"), **declared)
+    expect_error(
+        imu,
+        pro,
+        tmp=tmp_path,
+        file="imu",
+        column="time",
+        words=("measured IMU sample rate 66.67 Hz", "declared 100 Hz of real_data.datasets.x"),
+        **declared,
+    )
     imu, pro = synthetic()
     pro["time"] = pro["time"] * 0.5  # 13 Hz against 6.5 Hz
     expect_error(imu, pro, tmp=tmp_path, file="pro", column="time", words=("13 Hz", "declared 6.5 Hz"), **declared)
@@ -325,31 +350,74 @@ def test_streams_that_do_not_overlap(tmp_path):
 
 # ---------------------------------------------------------------- property test
 
-_TOKENS = st.sampled_from(["time", "wx", "wy", "wz", "ax", "ay", "az", "curL", "curR", "velL", "velR",
-                           "0", "0.01", "9.81", "-1e3", "1e400", "nan", "NaN", "inf", "-inf", "",
-                           "abc", "True", '"', '"a,b"', " ", "\t", "1,2", "0x1f", "é", "\\", "#"])
+_TOKENS = st.sampled_from(
+    [
+        "time",
+        "wx",
+        "wy",
+        "wz",
+        "ax",
+        "ay",
+        "az",
+        "curL",
+        "curR",
+        "velL",
+        "velR",
+        "0",
+        "0.01",
+        "9.81",
+        "-1e3",
+        "1e400",
+        "nan",
+        "NaN",
+        "inf",
+        "-inf",
+        "",
+        "abc",
+        "True",
+        '"',
+        '"a,b"',
+        " ",
+        "\t",
+        "1,2",
+        "0x1f",
+        "é",
+        "\\",
+        "#",
+    ]
+)
 _LINE = st.lists(_TOKENS, min_size=0, max_size=9).map(",".join)
 _CSV_TEXT = st.one_of(
     st.lists(_LINE, min_size=0, max_size=12).map("\n".join),
-    st.builds(lambda head, rows: "\n".join(["time,wx,wy,wz,ax,ay,az", *rows]), _LINE,
-              st.lists(_LINE, max_size=12)),
+    st.builds(lambda head, rows: "\n".join(["time,wx,wy,wz,ax,ay,az", *rows]), _LINE, st.lists(_LINE, max_size=12)),
     st.text(max_size=200),
 )
-_MAPPING = {"time": {"column": "time", "unit": "s"}, "ax": "ax", "ay": "ay", "az": "az",
-            "wx": "wx", "wy": "wy", "wz": "wz", "v_left": "velL", "v_right": "velR"}
+_MAPPING = {
+    "time": {"column": "time", "unit": "s"},
+    "ax": "ax",
+    "ay": "ay",
+    "az": "az",
+    "wx": "wx",
+    "wy": "wy",
+    "wz": "wz",
+    "v_left": "velL",
+    "v_right": "velR",
+}
 
 
 _VALID = {"imu": synthetic()[0].to_csv(index=False), "pro": synthetic()[1].to_csv(index=False)}
 _VALID["csvlog"] = pd.concat([synthetic()[0], synthetic()[1].drop(columns="time")], axis=1).to_csv(index=False)
-_EDIT = st.tuples(st.integers(0, 10**6),
-                  st.sampled_from(["", ",", "\n", "x", "nan", "inf", "9", "-", ".", "e", "1e9", '"', "0.01,"]),
-                  st.integers(0, 30))
+_EDIT = st.tuples(
+    st.integers(0, 10**6),
+    st.sampled_from(["", ",", "\n", "x", "nan", "inf", "9", "-", ".", "e", "1e9", '"', "0.01,"]),
+    st.integers(0, 30),
+)
 
 
 def _mutate(text: str, edits: list[tuple[int, str, int]]) -> str:
     for pos, new, length in edits:
         p = pos % (len(text) + 1)
-        text = text[:p] + new + text[p + length:]
+        text = text[:p] + new + text[p + length :]
     return text
 
 
@@ -357,8 +425,9 @@ def _mutate(text: str, edits: list[tuple[int, str, int]]) -> str:
 @given(data=st.data(), which=st.sampled_from(["imu", "pro", "csvlog"]))
 def test_random_malformed_csv_only_raises_input_error(data, which):
     """Random CSV-like text, or a valid file with random edits: an InputError or a clean log."""
-    text = data.draw(st.one_of(_CSV_TEXT, st.lists(_EDIT, min_size=1, max_size=4).map(
-        lambda edits: _mutate(_VALID[which], edits))))
+    text = data.draw(
+        st.one_of(_CSV_TEXT, st.lists(_EDIT, min_size=1, max_size=4).map(lambda edits: _mutate(_VALID[which], edits)))
+    )
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp) / "SNOW"
         if which == "csvlog":
@@ -380,25 +449,39 @@ def test_random_malformed_csv_only_raises_input_error(data, which):
 
 # ---------------------------------------------------------------- generic CSV with a mapping
 
+
 def _raw_log(n: int = 600, rate: float = 100.0) -> pd.DataFrame:
     rng = np.random.default_rng(3)
     t = np.arange(n) / rate
-    return pd.DataFrame({"t_ms": np.round(t * 1000).astype(int),
-                         "acc_x": 0.02 * rng.standard_normal(n), "acc_y": 0.03 + 0.0 * t,
-                         "acc_z": -1.0 + 0.01 * rng.standard_normal(n),
-                         "gyro_x": 1.0 + 0 * t, "gyro_y": -2.0 + 0 * t, "gyro_z": -17.0 + 0 * t,
-                         "left_mm_s": 100.0 + 0 * t, "right_mm_s": 400.0 + 0 * t})
+    return pd.DataFrame(
+        {
+            "t_ms": np.round(t * 1000).astype(int),
+            "acc_x": 0.02 * rng.standard_normal(n),
+            "acc_y": 0.03 + 0.0 * t,
+            "acc_z": -1.0 + 0.01 * rng.standard_normal(n),
+            "gyro_x": 1.0 + 0 * t,
+            "gyro_y": -2.0 + 0 * t,
+            "gyro_z": -17.0 + 0 * t,
+            "left_mm_s": 100.0 + 0 * t,
+            "right_mm_s": 400.0 + 0 * t,
+        }
+    )
 
 
-MAPPING = {"time": {"column": "t_ms", "unit": "ms"},
-           "ax": {"column": "acc_x", "unit": "g"}, "ay": {"column": "acc_y", "unit": "g"},
-           "az": {"column": "acc_z", "unit": "g"},
-           "wx": {"column": "gyro_x", "unit": "deg/s"}, "wy": {"column": "gyro_y", "unit": "deg/s"},
-           "wz": {"column": "gyro_z", "unit": "deg/s"},
-           "v_left": {"column": "left_mm_s", "unit": "mm/s"},
-           "v_right": {"column": "right_mm_s", "unit": "mm/s"},
-           "frame": {"z": "down"}, "rates": {"imu": 100},
-           "meta": {"dataset": "bench", "run_id": "r1", "terrain_class": "grass"}}
+MAPPING = {
+    "time": {"column": "t_ms", "unit": "ms"},
+    "ax": {"column": "acc_x", "unit": "g"},
+    "ay": {"column": "acc_y", "unit": "g"},
+    "az": {"column": "acc_z", "unit": "g"},
+    "wx": {"column": "gyro_x", "unit": "deg/s"},
+    "wy": {"column": "gyro_y", "unit": "deg/s"},
+    "wz": {"column": "gyro_z", "unit": "deg/s"},
+    "v_left": {"column": "left_mm_s", "unit": "mm/s"},
+    "v_right": {"column": "right_mm_s", "unit": "mm/s"},
+    "frame": {"z": "down"},
+    "rates": {"imu": 100},
+    "meta": {"dataset": "bench", "run_id": "r1", "terrain_class": "grass"},
+}
 
 
 def test_csv_mapping_converts_units_and_frame(tmp_path):
@@ -443,8 +526,7 @@ def test_csv_two_files_body_twist(tmp_path):
     cmd = pd.DataFrame({"stamp": np.arange(0, 6.0, 0.2), "lin": 0.5, "ang": -20.0})
     cmd.to_csv(tmp_path / "cmd.csv", index=False)
     mapping = {k: v for k, v in MAPPING.items() if k not in ("v_left", "v_right")}
-    mapping.update(v="lin", w={"column": "ang", "unit": "deg/s"},
-                   commands_time={"column": "stamp", "unit": "s"})
+    mapping.update(v="lin", w={"column": "ang", "unit": "deg/s"}, commands_time={"column": "stamp", "unit": "s"})
     mapping["frame"] = {"z": "down"}
     log = csvlog.read_csv_log(tmp_path / "imu.csv", mapping, commands_path=tmp_path / "cmd.csv")
     assert log.command_kind == "body"
@@ -484,13 +566,17 @@ def test_csv_wrong_declared_units_are_caught(tmp_path):
 
 # ---------------------------------------------------------------- canonical form
 
+
 def _small_log(kind: str = "wheels") -> RealLog:
     imu, pro = synthetic(seconds=4.0)
     commands = pro.rename(columns={"velL": "v_left", "velR": "v_right"})[["time", "v_left", "v_right"]]
     if kind == "body":
         commands = wheels_to_body(commands)
-    return RealLog(imu=imu[["time", "ax", "ay", "az", "wx", "wy", "wz"]], commands=commands,
-                   meta={"dataset": "synthetic", "run_id": "x", "numbers": (1, 2)})
+    return RealLog(
+        imu=imu[["time", "ax", "ay", "az", "wx", "wy", "wz"]],
+        commands=commands,
+        meta={"dataset": "synthetic", "run_id": "x", "numbers": (1, 2)},
+    )
 
 
 def test_track_conversions_round_trip():

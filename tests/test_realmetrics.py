@@ -79,7 +79,7 @@ def test_windows_of_one_run_are_not_independent_samples():
 def test_the_sign_flip_test_is_exact_and_its_smallest_p_sets_the_minimum():
     assert rm.smallest_p(5) == pytest.approx(0.0625) and rm.smallest_p(6) == pytest.approx(0.03125)
     t = rm.paired_test(np.arange(6) + 1.0, np.zeros(6), min_runs=6)
-    assert t["p_value"] == pytest.approx(2 / 2 ** 6) and t["verdict"] == "a"
+    assert t["p_value"] == pytest.approx(2 / 2**6) and t["verdict"] == "a"
     # with min_runs lowered to 5, five same-sign runs still cannot reach 5 %
     t = rm.paired_test(np.arange(5) + 1.0, np.zeros(5), min_runs=5)
     assert t["p_value"] == pytest.approx(0.0625) and t["verdict"] == "no clear difference"
@@ -107,6 +107,9 @@ def test_the_statistics_defaults_are_stated_once():
     assert rm.statistics_settings() == (Statistics().min_runs, Statistics().level) == (rm.MIN_RUNS, rm.LEVEL)
     assert rm.statistics_settings({"min_runs": 8}) == (8, rm.LEVEL)
     src = Path(rm.__file__).parent
-    restated = [str(p.relative_to(src)) for p in sorted(src.rglob("*.py")) if p.name != "realmetrics.py"
-                and re.search(r'"level":\s*0\.\d|"min_runs":\s*(MIN_RUNS|\d)', p.read_text())]
+    restated = [
+        str(p.relative_to(src))
+        for p in sorted(src.rglob("*.py"))
+        if p.name != "realmetrics.py" and re.search(r'"level":\s*0\.\d|"min_runs":\s*(MIN_RUNS|\d)', p.read_text())
+    ]
     assert restated == [], restated

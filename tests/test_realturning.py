@@ -28,8 +28,9 @@ def synthetic_log(pieces, gain_of, run="01", terrain_class="ASPHALT", imu_hz=100
     wz = np.array([gain_of((a + b) / 2, c) for a, b, c in zip(vl, vr, w)]) * w
     imu = pd.DataFrame({"time": t_imu, "ax": 0.0, "ay": 0.0, "az": 9.81, "wx": 0.0, "wy": 0.0, "wz": wz})
     commands = pd.DataFrame({"time": t_cmd, "v_left": side(t_cmd, 1), "v_right": side(t_cmd, 2)})
-    return RealLog(imu=imu, commands=commands,
-                   meta={"dataset": "synthetic", "run_id": run, "terrain_class": terrain_class})
+    return RealLog(
+        imu=imu, commands=commands, meta={"dataset": "synthetic", "run_id": run, "terrain_class": terrain_class}
+    )
 
 
 def test_constant_gain_is_found_in_every_steady_window_and_a_step_is_left_out():
@@ -63,10 +64,8 @@ def test_a_gain_that_grows_with_speed_is_correlated_and_a_constant_one_is_not():
 
 
 def test_runs_spread_and_coulomb_prediction():
-    a = turning_windows(synthetic_log([(6.0, 0.1, 0.4)], lambda v, w: 0.6, run="01"), TRACK,
-                        coulomb=lambda v, w: 0.478)
-    b = turning_windows(synthetic_log([(6.0, 0.1, 0.4)], lambda v, w: 0.7, run="02"), TRACK,
-                        coulomb=lambda v, w: 0.478)
+    a = turning_windows(synthetic_log([(6.0, 0.1, 0.4)], lambda v, w: 0.6, run="01"), TRACK, coulomb=lambda v, w: 0.478)
+    b = turning_windows(synthetic_log([(6.0, 0.1, 0.4)], lambda v, w: 0.7, run="02"), TRACK, coulomb=lambda v, w: 0.478)
     summary = turning_summary(pd.concat([a, b])).iloc[0]
     assert summary["runs"] == 2
     assert summary["run_gain_min"] == pytest.approx(0.6) and summary["run_gain_max"] == pytest.approx(0.7)
@@ -75,16 +74,18 @@ def test_runs_spread_and_coulomb_prediction():
 
 def test_body_twist_logs_have_no_wheel_windows():
     log = synthetic_log([(4.0, 0.1, 0.4)], lambda v, w: 0.6)
-    body = RealLog(imu=log.imu, commands=pd.DataFrame({"time": log.commands["time"], "v": 0.25, "w": 0.5}),
-                   meta=log.meta)
+    body = RealLog(
+        imu=log.imu, commands=pd.DataFrame({"time": log.commands["time"], "v": 0.25, "w": 0.5}), meta=log.meta
+    )
     assert turning_windows(body, TRACK).empty
 
 
 def test_the_figure_job_draws_the_windows_or_says_there_are_none(tmp_path):
     from simpick.report.draw import figure_job
 
-    windows = turning_windows(synthetic_log([(6.0, 0.1, 0.4), (6.0, -0.2, 0.2)], lambda v, w: 0.6), TRACK,
-                              coulomb=lambda v, w: 0.478)
+    windows = turning_windows(
+        synthetic_log([(6.0, 0.1, 0.4), (6.0, -0.2, 0.2)], lambda v, w: 0.6), TRACK, coulomb=lambda v, w: 0.478
+    )
     for name, frame in (("some", windows), ("none", windows.iloc[0:0])):
         table = tmp_path / f"{name}.csv"
         frame.to_csv(table, index=False)

@@ -21,8 +21,10 @@ from simpick.simulate.traces import read_metadata, read_trace
 
 pytestmark = pytest.mark.workflow  # every test here runs Snakemake
 
-COMMITTED = [ROOT / "resources" / "real" / "borealtc_segments.csv",
-             ROOT / "resources" / "real" / "borealtc_segments.provenance.yaml"]
+COMMITTED = [
+    ROOT / "resources" / "real" / "borealtc_segments.csv",
+    ROOT / "resources" / "real" / "borealtc_segments.provenance.yaml",
+]
 NAME = "husky_yard"  # from the folder "Husky Yard"
 ENGINES = ("mujoco", "pybullet")
 OUT = f"results/real/{NAME}"
@@ -44,8 +46,9 @@ def fingerprints() -> dict:
 @pytest.fixture(scope="module")
 def replay(tmp_path_factory):
     workdir = tmp_path_factory.mktemp("replay")
-    folder = write_dataset(workdir / "Husky Yard", {"CONCRETE": ["1", "12"], "FLOORING": ["7"]},
-                           imu_hz=50.0, cmd_hz=15.0)
+    folder = write_dataset(
+        workdir / "Husky Yard", {"CONCRETE": ["1", "12"], "FLOORING": ["7"]}, imu_hz=50.0, cmd_hz=15.0
+    )
     config = tiny_config()
     config["engines"] = {k: config["engines"][k] for k in ENGINES}
     config["real_data"]["segments"] = str(COMMITTED[0])  # the committed table itself, by absolute path
@@ -63,15 +66,20 @@ def test_replay_of_another_dataset_succeeds_under_its_own_name(replay):
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     models = (*ENGINES, *tiny_config()["baselines"])  # the reference models are replayed beside the engines
     out = workdir / OUT
-    for path in ("dataset.yaml", "segments.csv", "segments.provenance.yaml", "logs/concrete/12.parquet",
-                 "logs/flooring/7.parquet"):
+    for path in (
+        "dataset.yaml",
+        "segments.csv",
+        "segments.provenance.yaml",
+        "logs/concrete/12.parquet",
+        "logs/flooring/7.parquet",
+    ):
         assert (out / path).is_file(), path
     for table in ("summary", "imu_errors", "pairwise", "rtf", "detail", "runs"):
         assert (workdir / METRICS / f"{table}.csv").is_file(), table
     per_test = pd.read_csv(workdir / METRICS / "per_test.csv", dtype={"run": str})
     assert sorted(zip(per_test.terrain_class, per_test.run, per_test.engine)) == sorted(
-        (c, r, e) for c, r in (("concrete", "1"), ("concrete", "12"), ("flooring", "7"))
-        for e in models)
+        (c, r, e) for c, r in (("concrete", "1"), ("concrete", "12"), ("flooring", "7")) for e in models
+    )
     assert (per_test.status == "ok").all() and per_test.error_angular.gt(0).all()
     # the committed segments were compared too, under their own dataset
     assert len(list((workdir / "results/traces/segments").rglob("*.parquet"))) == len(models) * 18
@@ -96,8 +104,8 @@ def test_simulated_imu_is_compared_at_the_logs_50_hz(replay):
 def test_report_names_the_dataset_and_its_rates(replay):
     workdir, folder, _, _ = replay
     html = (workdir / "results" / "report" / "report.html").read_text()
-    table = html[html.index('id="real-datasets"'):]
-    table = table[:table.index("</table>")]
+    table = html[html.index('id="real-datasets"') :]
+    table = table[: table.index("</table>")]
     assert "Husky yard" in table and str(folder.resolve()) in table and "3 runs" in table
     assert "50 Hz" in table and "15 Hz" in table and "IMU 50 Hz, wheels 15 Hz" in table
     assert "BorealTC" in table and "IMU 100 Hz, wheels 6.5 Hz" in table

@@ -26,11 +26,15 @@ FAILED = ("mujoco", "bumps", "circle")
 
 CONFIG = {
     "seed": 1,
-    "terrains": {"grass": {"rule": "flat_tiles", "friction": 0.2},
-                 "bumps": {"rule": "plywood_layers", "friction": 0.95},
-                 "gravel": {"rule": "gravel_bed", "friction": 0.55}},
-    "motions": {"straight": {"v": 0.5, "w": 0.0, "duration": 10.0, "start": [-0.8, 0.0, 0.0]},
-                "circle": {"v": 0.5, "w": 0.5, "duration": 12.6, "start": [2.0, -1.0, 0.0]}},
+    "terrains": {
+        "grass": {"rule": "flat_tiles", "friction": 0.2},
+        "bumps": {"rule": "plywood_layers", "friction": 0.95},
+        "gravel": {"rule": "gravel_bed", "friction": 0.55},
+    },
+    "motions": {
+        "straight": {"v": 0.5, "w": 0.0, "duration": 10.0, "start": [-0.8, 0.0, 0.0]},
+        "circle": {"v": 0.5, "w": 0.5, "duration": 12.6, "start": [2.0, -1.0, 0.0]},
+    },
     "weights": dict(DEFAULT_WEIGHTS),
 }
 
@@ -50,28 +54,38 @@ def _trace(engine: str, terrain: str, motion: str, seconds: float, rng: np.rando
     rough = {"grass": 0.05, "bumps": 1.5, "gravel": 0.8}[terrain] * (1.2 if engine == "pybullet" else 1.0)
     on_strip = ((x > 0) & (x < 4) & (np.abs(y) < 0.5)).astype(float)
     noise = lambda s: rng.normal(0.0, s, n)  # noqa: E731
-    frame = pd.DataFrame({
-        "time": t,
-        "ax": noise(0.05) + on_strip * noise(rough),
-        "ay": v * w + noise(0.05) + on_strip * noise(rough * 0.7),
-        "az": 9.81 + noise(0.05) + on_strip * noise(rough * 1.3),
-        "wx": noise(0.004) + on_strip * noise(rough * 0.1),
-        "wy": noise(0.004) + on_strip * noise(rough * 0.12),
-        "wz": w + noise(0.004) + on_strip * noise(rough * 0.03),
-        "x": x, "y": y, "z": 0.13228 + on_strip * 0.02,
-        "roll": on_strip * noise(0.01), "pitch": on_strip * noise(0.01), "yaw": yaw,
-        "vx": v * np.cos(yaw), "vy": v * np.sin(yaw), "vz": np.zeros(n),
-        "v_forward": np.full(n, v), "yaw_rate": np.full(n, w),
-        "cmd_left": np.full(n, (v - w * 0.555 / 2) / 0.1651),
-        "cmd_right": np.full(n, (v + w * 0.555 / 2) / 0.1651),
-    })
+    frame = pd.DataFrame(
+        {
+            "time": t,
+            "ax": noise(0.05) + on_strip * noise(rough),
+            "ay": v * w + noise(0.05) + on_strip * noise(rough * 0.7),
+            "az": 9.81 + noise(0.05) + on_strip * noise(rough * 1.3),
+            "wx": noise(0.004) + on_strip * noise(rough * 0.1),
+            "wy": noise(0.004) + on_strip * noise(rough * 0.12),
+            "wz": w + noise(0.004) + on_strip * noise(rough * 0.03),
+            "x": x,
+            "y": y,
+            "z": 0.13228 + on_strip * 0.02,
+            "roll": on_strip * noise(0.01),
+            "pitch": on_strip * noise(0.01),
+            "yaw": yaw,
+            "vx": v * np.cos(yaw),
+            "vy": v * np.sin(yaw),
+            "vz": np.zeros(n),
+            "v_forward": np.full(n, v),
+            "yaw_rate": np.full(n, w),
+            "cmd_left": np.full(n, (v - w * 0.555 / 2) / 0.1651),
+            "cmd_right": np.full(n, (v + w * 0.555 / 2) / 0.1651),
+        }
+    )
     for wheel in ("wheel_fl", "wheel_fr", "wheel_rl", "wheel_rr"):
         frame[wheel] = frame["cmd_left"] if wheel.endswith("l") else frame["cmd_right"]
     return frame
 
 
-def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | None = FAILED,
-                           accuracy_errors: str | Path | None = None) -> dict:
+def write_synthetic_inputs(
+    root: Path, seconds: float = 3.0, failed: tuple | None = FAILED, accuracy_errors: str | Path | None = None
+) -> dict:
     """Write every report input under ``root``; returns the ``inputs`` dict.
 
     ``accuracy_errors``: an Eq. 7 totals file the accuracy scores are computed from instead of
@@ -88,37 +102,80 @@ def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | Non
             status = "failed" if bad else "ok"
             reasons = "base_link below the ground at t=2.31 s (fell through)" if bad else ""
             wall = seconds / (3.1 if e == "mujoco" else 1.7)
-            runs.append({"engine": e, "terrain": t, "motion": m, "sim_time": seconds, "wall_time": wall,
-                         "cpu_time": wall * 0.98, "steps": int(seconds * 1000),
-                         "steps_per_s": seconds * 1000 / wall, "real_time_factor": seconds / wall,
-                         "status": status, "reasons": reasons,
-                         "engine_version": "3.2.6" if e == "pybullet" else "3.3.0",
-                         "config_hash": "ab12cd34" if e == "pybullet" else "ef56ab78"})
+            runs.append(
+                {
+                    "engine": e,
+                    "terrain": t,
+                    "motion": m,
+                    "sim_time": seconds,
+                    "wall_time": wall,
+                    "cpu_time": wall * 0.98,
+                    "steps": int(seconds * 1000),
+                    "steps_per_s": seconds * 1000 / wall,
+                    "real_time_factor": seconds / wall,
+                    "status": status,
+                    "reasons": reasons,
+                    "engine_version": "3.2.6" if e == "pybullet" else "3.3.0",
+                    "config_hash": "ab12cd34" if e == "pybullet" else "ef56ab78",
+                }
+            )
             frame = _trace(e, t, m, seconds, rng)
             for q, cols in (("angular", ("wx", "wy", "wz")), ("linear", ("ax", "ay", "az"))):
                 for axis, c in zip("xyz", cols):
                     vals = np.sort(frame[c].to_numpy())
                     k = max(1, round(0.01 * vals.size))
-                    stats.append({"engine": e, "terrain": t, "motion": m, "quantity": q, "axis": axis,
-                                  "mean": float(vals.mean()), "range": float(vals[-k:].mean() - vals[:k].mean()),
-                                  "status": status})
+                    stats.append(
+                        {
+                            "engine": e,
+                            "terrain": t,
+                            "motion": m,
+                            "quantity": q,
+                            "axis": axis,
+                            "mean": float(vals.mean()),
+                            "range": float(vals[-k:].mean() - vals[:k].mean()),
+                            "status": status,
+                        }
+                    )
             if not bad:
                 path = root / "traces" / e / t / f"{m}.parquet"
-                write_trace(frame, {"engine": e, "engine_version": runs[-1]["engine_version"], "terrain": t,
-                                    "motion": m, "timestep": 0.001, "seed": 1, "wall_time": wall,
-                                    "cpu_time": wall, "steps": int(seconds * 1000),
-                                    "health": {"status": "ok", "reasons": []}}, path)
+                write_trace(
+                    frame,
+                    {
+                        "engine": e,
+                        "engine_version": runs[-1]["engine_version"],
+                        "terrain": t,
+                        "motion": m,
+                        "timestep": 0.001,
+                        "seed": 1,
+                        "wall_time": wall,
+                        "cpu_time": wall,
+                        "steps": int(seconds * 1000),
+                        "health": {"status": "ok", "reasons": []},
+                    },
+                    path,
+                )
                 traces.append(str(path))
     pd.DataFrame(runs).to_csv(root / "metrics" / "runs.csv", index=False)
     pd.DataFrame(stats).to_csv(root / "metrics" / "trace_stats.csv", index=False)
 
     ref = []
-    real = {"angular": {"x": (0.78, -0.11), "y": (1.2, 0.01), "z": (0.45, -0.06)},
-            "linear": {"x": (12.2, -0.18), "y": (11.3, -0.10), "z": (11.8, 11.5)}}
+    real = {
+        "angular": {"x": (0.78, -0.11), "y": (1.2, 0.01), "z": (0.45, -0.06)},
+        "linear": {"x": (12.2, -0.18), "y": (11.3, -0.10), "z": (11.8, 11.5)},
+    }
     for q, axes in real.items():
         for axis, (rng_, mean) in axes.items():
-            ref.append({"terrain": "gravel", "motion": "straight", "quantity": q, "axis": axis,
-                        "mean": mean, "range": rng_, "source": "Farley et al. 2022, Tables 6-7"})
+            ref.append(
+                {
+                    "terrain": "gravel",
+                    "motion": "straight",
+                    "quantity": q,
+                    "axis": axis,
+                    "mean": mean,
+                    "range": rng_,
+                    "source": "Farley et al. 2022, Tables 6-7",
+                }
+            )
     pd.DataFrame(ref).to_csv(root / "metrics" / "reference_stats.csv", index=False)
 
     st = pd.DataFrame(stats)
@@ -127,54 +184,115 @@ def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | Non
         for q in ("angular", "linear"):
             total = 0.0
             for axis in "xyz":
-                s = st[(st.engine == e) & (st.terrain == "gravel") & (st.motion == "straight")
-                       & (st.quantity == q) & (st.axis == axis)].iloc[0]
+                s = st[
+                    (st.engine == e)
+                    & (st.terrain == "gravel")
+                    & (st.motion == "straight")
+                    & (st.quantity == q)
+                    & (st.axis == axis)
+                ].iloc[0]
                 rr, mm = real[q][axis]
                 re_, me = abs(s["range"] - rr), abs(s["mean"] - mm)
-                per_test.append({"engine": e, "terrain": "gravel", "motion": "straight", "quantity": q,
-                                 "axis": axis, "range_error": re_, "mean_error": me, "total_error": re_ + me})
+                per_test.append(
+                    {
+                        "engine": e,
+                        "terrain": "gravel",
+                        "motion": "straight",
+                        "quantity": q,
+                        "axis": axis,
+                        "range_error": re_,
+                        "mean_error": me,
+                        "total_error": re_ + me,
+                    }
+                )
                 total += re_ + me
-            errors.append({"engine": e, "quantity": q, "error": total, "unit": "rad/s" if q == "angular" else "m/s^2",
-                           "n_tests": 1, "tests": "gravel/straight", "excluded": ""})
+            errors.append(
+                {
+                    "engine": e,
+                    "quantity": q,
+                    "error": total,
+                    "unit": "rad/s" if q == "angular" else "m/s^2",
+                    "n_tests": 1,
+                    "tests": "gravel/straight",
+                    "excluded": "",
+                }
+            )
     pd.DataFrame(per_test).to_csv(root / "metrics" / "per_test_errors.csv", index=False)
     pd.DataFrame(errors).to_csv(root / "metrics" / "imu_errors.csv", index=False)
 
     rf = pd.DataFrame(runs)
-    rf = rf[rf.status == "ok"].groupby("engine").agg(sim_time=("sim_time", "sum"), wall_time=("wall_time", "sum"),
-                                                    n_runs=("sim_time", "size")).reset_index()
+    rf = (
+        rf[rf.status == "ok"]
+        .groupby("engine")
+        .agg(sim_time=("sim_time", "sum"), wall_time=("wall_time", "sum"), n_runs=("sim_time", "size"))
+        .reset_index()
+    )
     rf["real_time_factor"] = rf.sim_time / rf.wall_time
-    rf[["engine", "sim_time", "wall_time", "real_time_factor", "n_runs"]].to_csv(root / "metrics" / "rtf.csv", index=False)
+    rf[["engine", "sim_time", "wall_time", "real_time_factor", "n_runs"]].to_csv(
+        root / "metrics" / "rtf.csv", index=False
+    )
 
     cpu = []
     for e, avg, intense in (("pybullet", 31.0, 97.0), ("mujoco", 18.5, 62.0)):
         p = root / "cpu" / f"{e}.json"
         p.parent.mkdir(parents=True, exist_ok=True)
-        p.write_text(json.dumps({
-            "engine": e,
-            "definition": "CPU seconds per simulated second, % of one core; median of 5 repeats, bumps/straight, 10 s.",
-            "average": {"robots": 1, "load_percent": avg, "repeats_percent": [avg - 1, avg, avg + 0.5, avg, avg + 2]},
-            "intense": {"robots": 5, "load_percent": intense,
-                        "repeats_percent": [intense - 3, intense, intense + 1, intense, intense + 4]},
-        }))
+        p.write_text(
+            json.dumps(
+                {
+                    "engine": e,
+                    "definition": (
+                        "CPU seconds per simulated second, % of one core; median of 5 repeats, bumps/straight, 10 s."
+                    ),
+                    "average": {
+                        "robots": 1,
+                        "load_percent": avg,
+                        "repeats_percent": [avg - 1, avg, avg + 0.5, avg, avg + 2],
+                    },
+                    "intense": {
+                        "robots": 5,
+                        "load_percent": intense,
+                        "repeats_percent": [intense - 3, intense, intense + 1, intense, intense + 4],
+                    },
+                }
+            )
+        )
         cpu.append(str(p))
 
     qual = {
-        "pybullet": {"free": True, "open_source": True, "ros": "none", "languages": ["Python", "C/C++"],
-                     "ui": "visualization", "model_formats": ["URDF", "SDF", "MJCF"],
-                     "urdf_sdf_via_manual_plugin": False, "physics_engines": ["Bullet"],
-                     "paper_simulators": ["CoppeliaSim", "MORSE"],
-                     "sources": {"free": "https://github.com/bulletphysics/bullet3/blob/master/LICENSE.txt",
-                                 "ros": "No official ROS package (checked index.ros.org)"},
-                     "notes": {"ui": "The example browser shows the world; there is no editor."}},
-        "mujoco": {"free": True, "open_source": True, "ros": "none", "languages": ["C/C++", "Python", "C#"],
-                   "ui": "partial", "model_formats": ["MJCF", "URDF"], "urdf_sdf_via_manual_plugin": False,
-                   "physics_engines": ["MuJoCo"], "paper_simulators": [],
-                   "sources": {"free": "https://github.com/google-deepmind/mujoco/blob/main/LICENSE"}},
+        "pybullet": {
+            "free": True,
+            "open_source": True,
+            "ros": "none",
+            "languages": ["Python", "C/C++"],
+            "ui": "visualization",
+            "model_formats": ["URDF", "SDF", "MJCF"],
+            "urdf_sdf_via_manual_plugin": False,
+            "physics_engines": ["Bullet"],
+            "paper_simulators": ["CoppeliaSim", "MORSE"],
+            "sources": {
+                "free": "https://github.com/bulletphysics/bullet3/blob/master/LICENSE.txt",
+                "ros": "No official ROS package (checked index.ros.org)",
+            },
+            "notes": {"ui": "The example browser shows the world; there is no editor."},
+        },
+        "mujoco": {
+            "free": True,
+            "open_source": True,
+            "ros": "none",
+            "languages": ["C/C++", "Python", "C#"],
+            "ui": "partial",
+            "model_formats": ["MJCF", "URDF"],
+            "urdf_sdf_via_manual_plugin": False,
+            "physics_engines": ["MuJoCo"],
+            "paper_simulators": [],
+            "sources": {"free": "https://github.com/google-deepmind/mujoco/blob/main/LICENSE"},
+        },
     }
     qpath = root / "qualitative.yaml"
     qpath.write_text(yaml.safe_dump(qual, sort_keys=False))
 
     from simpick.score.scoring import accuracy_scores, efficiency_scores, qualitative_scores, real_time_factor_scores
+
     err = pd.DataFrame(errors) if accuracy_errors is None else pd.read_csv(accuracy_errors)
     scores = pd.DataFrame({e: qualitative_scores(qual[e]) for e in ENGINES}).T
     scores["real_time_factor"] = pd.Series(real_time_factor_scores(dict(zip(rf.engine, rf.real_time_factor))))
@@ -192,12 +310,26 @@ def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | Non
     drivers(cells).to_csv(root / "drivers.csv", index=False, float_format="%.17g")
     # what the scores rest on, recorded as the scores job records it
     from simpick.score.jobs import score_provenance
+
     scored = str(accuracy_errors or root / "metrics" / "imu_errors.csv")
-    accuracy = ({"reference": "real", "set": "segments", "dataset": "borealtc"} if accuracy_errors
-                else {"reference": "paper", "set": "lab", "dataset": None})
-    record = score_provenance(ENGINES, scored, str(root / "metrics" / "rtf.csv"), cpu, {
-        "accuracy": accuracy, "runs": str(root / "metrics" / "runs.csv"),
-        "accuracy_tests": scored.replace("imu_errors", "per_test") if accuracy_errors else str(root / "metrics" / "runs.csv")})
+    accuracy = (
+        {"reference": "real", "set": "segments", "dataset": "borealtc"}
+        if accuracy_errors
+        else {"reference": "paper", "set": "lab", "dataset": None}
+    )
+    record = score_provenance(
+        ENGINES,
+        scored,
+        str(root / "metrics" / "rtf.csv"),
+        cpu,
+        {
+            "accuracy": accuracy,
+            "runs": str(root / "metrics" / "runs.csv"),
+            "accuracy_tests": scored.replace("imu_errors", "per_test")
+            if accuracy_errors
+            else str(root / "metrics" / "runs.csv"),
+        },
+    )
     (root / "provenance.yaml").write_text(yaml.safe_dump(record, sort_keys=False))
 
     pub = write_outputs(load_published(), root / "published")
@@ -222,7 +354,12 @@ def write_synthetic_inputs(root: Path, seconds: float = 3.0, failed: tuple | Non
     }
 
 
-PARAMS = {"weights": dict(DEFAULT_WEIGHTS), "config": CONFIG, "title": "Synthetic test report", "engines": list(ENGINES)}
+PARAMS = {
+    "weights": dict(DEFAULT_WEIGHTS),
+    "config": CONFIG,
+    "title": "Synthetic test report",
+    "engines": list(ENGINES),
+}
 
 
 def draw_all(inputs: dict, params: dict, folder: Path) -> dict:
@@ -252,8 +389,9 @@ def draw_all(inputs: dict, params: dict, folder: Path) -> dict:
 
     report = {k: v for k, v in inputs.items() if k != "traces"}
     if inputs.get("verdict_outcomes"):
-        answer({"outcomes": inputs["verdict_outcomes"], "metrics": inputs["verdict_metrics"]}, params,
-               path("answer.png"))
+        answer(
+            {"outcomes": inputs["verdict_outcomes"], "metrics": inputs["verdict_metrics"]}, params, path("answer.png")
+        )
 
     def pairs(key: str) -> list[tuple[str, str]]:
         if not inputs.get(key):
@@ -276,8 +414,11 @@ def draw_all(inputs: dict, params: dict, folder: Path) -> dict:
         validation(inputs, params, path("validation_gain.png"))
     if inputs.get("sweep"):
         sweep(inputs, params, path("sweep.png"))
-    real_keys = {k: v for k, v in inputs.items() if k.startswith(("segments_", "replay_")) and k != "replay_traces"
-                 and not k.endswith("provenance")}
+    real_keys = {
+        k: v
+        for k, v in inputs.items()
+        if k.startswith(("segments_", "replay_")) and k != "replay_traces" and not k.endswith("provenance")
+    }
     if real_keys:
         real_gain(real_keys, params, path("real_gain.png"))
     if inputs.get("real_logs") and inputs.get("replay_traces"):
@@ -428,8 +569,10 @@ def test_missing_required_input_is_named(tmp_path):
 # Real robot data (rules/real.smk, simpick.compare.real)
 # --------------------------------------------------------------------------
 
-REAL_CLASSES = {"asphalt": {"friction": 0.75, "source": "Wong, Table 1.4 (synthetic test)"},
-                "snow": {"friction": 0.2, "source": "assumption for the test; sinkage not modelled"}}
+REAL_CLASSES = {
+    "asphalt": {"friction": 0.75, "source": "Wong, Table 1.4 (synthetic test)"},
+    "snow": {"friction": 0.2, "source": "assumption for the test; sinkage not modelled"},
+}
 REAL_FAILED = ("pybullet", "snow-turning-02-0003p00s")
 TRACK = 0.555
 
@@ -452,19 +595,38 @@ def _segment_rows() -> list[dict]:
     # asphalt: six segments from six runs (enough for a verdict); snow: four from two runs (too few)
     more = (("straight", "03", 4.0, 0.5, 0.5), ("turning", "04", 5.0, 0.2, 0.4))
     for cls in REAL_CLASSES:
-        for kind, run, t0, vl, vr in (("straight", "01", 1.0, 0.4, 0.4), ("straight", "02", 2.0, 0.3, 0.31),
-                                      ("turning", "01", 12.0, 0.1, 0.3), ("turning", "02", 3.0, -0.1, 0.1),
-                                      *(more if cls == "asphalt" else ())):
+        for kind, run, t0, vl, vr in (
+            ("straight", "01", 1.0, 0.4, 0.4),
+            ("straight", "02", 2.0, 0.3, 0.31),
+            ("turning", "01", 12.0, 0.1, 0.3),
+            ("turning", "02", 3.0, -0.1, 0.1),
+            *(more if cls == "asphalt" else ()),
+        ):
             if cls == "asphalt":
                 run = {("straight", 1.0): "05", ("turning", 12.0): "06", ("turning", 3.0): "01"}.get((kind, t0), run)
             seg = f"{cls}-{kind}-{run}-{t0:07.2f}s".replace(".", "p")
             w = (vr - vl) / TRACK
             row = {c: 0.0 for c in SEGMENT_COLUMNS}
-            row.update({"segment": seg, "dataset": "BorealTC", "terrain_class": cls, "run": run, "kind": kind,
-                        "t_start": t0, "t_end": t0 + 6.0, "settle": 1.0, "duration": 6.0, "v_left": vl,
-                        "v_right": vr, "v": (vl + vr) / 2, "w": w,
-                        "yaw_rate_gain": (0.7 if cls == "asphalt" else 0.2) if kind == "turning" else float("nan"),
-                        "linear_z_mean": 9.8, "linear_z_range": 4.0 if cls == "asphalt" else 12.0})
+            row.update(
+                {
+                    "segment": seg,
+                    "dataset": "BorealTC",
+                    "terrain_class": cls,
+                    "run": run,
+                    "kind": kind,
+                    "t_start": t0,
+                    "t_end": t0 + 6.0,
+                    "settle": 1.0,
+                    "duration": 6.0,
+                    "v_left": vl,
+                    "v_right": vr,
+                    "v": (vl + vr) / 2,
+                    "w": w,
+                    "yaw_rate_gain": (0.7 if cls == "asphalt" else 0.2) if kind == "turning" else float("nan"),
+                    "linear_z_mean": 9.8,
+                    "linear_z_range": 4.0 if cls == "asphalt" else 12.0,
+                }
+            )
             rows.append(row)
     return rows
 
@@ -472,9 +634,17 @@ def _segment_rows() -> list[dict]:
 def _imu_frame(seconds: float, gain: float, w_cmd: float, rough: float, rng) -> pd.DataFrame:
     t = np.arange(0.01, seconds + 1e-9, 0.01)
     n = t.size
-    return pd.DataFrame({"time": t, "ax": rng.normal(0, rough, n), "ay": rng.normal(0, rough, n),
-                         "az": 9.81 + rng.normal(0, rough, n), "wx": rng.normal(0, 0.01, n),
-                         "wy": rng.normal(0, 0.01, n), "wz": gain * w_cmd + rng.normal(0, 0.01, n)})
+    return pd.DataFrame(
+        {
+            "time": t,
+            "ax": rng.normal(0, rough, n),
+            "ay": rng.normal(0, rough, n),
+            "az": 9.81 + rng.normal(0, rough, n),
+            "wx": rng.normal(0, 0.01, n),
+            "wy": rng.normal(0, 0.01, n),
+            "wz": gain * w_cmd + rng.normal(0, 0.01, n),
+        }
+    )
 
 
 def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
@@ -488,41 +658,62 @@ def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
     (root / "metrics").mkdir(parents=True, exist_ok=True)
     segments = pd.DataFrame(_segment_rows())
     segments.to_csv(root / "segments.csv", index=False)
-    (root / "segments.provenance.yaml").write_text(yaml.safe_dump({
-        "dataset": "BorealTC (synthetic stand-in for the test)", "derived_by": "the report test",
-        "segments_found": 12, "segments_kept": len(segments)}))
+    (root / "segments.provenance.yaml").write_text(
+        yaml.safe_dump(
+            {
+                "dataset": "BorealTC (synthetic stand-in for the test)",
+                "derived_by": "the report test",
+                "segments_found": 12,
+                "segments_kept": len(segments),
+            }
+        )
+    )
     rows = []
     for e in ENGINES:
         for i, seg in enumerate(segments.to_dict("records")):
             asphalt = seg["terrain_class"] == "asphalt"
-            row = {"engine": e, "terrain_class": seg["terrain_class"], "segment": seg["segment"], "run": seg["run"],
-                   "kind": seg["kind"], "status": "ok", "reasons": "", "yaw_rate_gain_real": seg["yaw_rate_gain"]}
+            row = {
+                "engine": e,
+                "terrain_class": seg["terrain_class"],
+                "segment": seg["segment"],
+                "run": seg["run"],
+                "kind": seg["kind"],
+                "status": "ok",
+                "reasons": "",
+                "yaw_rate_gain_real": seg["yaw_rate_gain"],
+            }
             if (e, seg["segment"]) == REAL_FAILED:
                 row.update(status="failed", reasons="slides while commanded to stand still")
                 rows.append(row)
                 continue
             # asphalt: mujoco clearly closer in angular velocity; snow: mixed
             base = 0.3 + 0.05 * i
-            row["error_angular"] = (base * (0.6 if e == "mujoco" and asphalt else 1.0)
-                                    + (0.02 * (-1) ** i if not asphalt else 0))
+            row["error_angular"] = base * (0.6 if e == "mujoco" and asphalt else 1.0) + (
+                0.02 * (-1) ** i if not asphalt else 0
+            )
             row["error_linear"] = 10.0 + i + (0.5 * (-1) ** i if e == "mujoco" else 0.0)
-            row["yaw_rate_gain_sim"] = ((0.25 if e == "mujoco" else 0.05) + 0.01 * i
-                                        if seg["kind"] == "turning" else float("nan"))
+            row["yaw_rate_gain_sim"] = (
+                (0.25 if e == "mujoco" else 0.05) + 0.01 * i if seg["kind"] == "turning" else float("nan")
+            )
             row["speed_sim"] = seg["v"]
-            row["gain_error"] = (abs(row["yaw_rate_gain_sim"] - seg["yaw_rate_gain"]) if seg["kind"] == "turning"
-                                 else float("nan"))
+            row["gain_error"] = (
+                abs(row["yaw_rate_gain_sim"] - seg["yaw_rate_gain"]) if seg["kind"] == "turning" else float("nan")
+            )
             row["heading_error"] = 0.05 * (i + 1) * (0.5 if e == "mujoco" else 1.0)
             rows.append(row)
     per_test = pd.DataFrame(rows)
     per_test["test"] = per_test["segment"]
-    outputs = {k: str(root / "metrics" / f"segments_{k}.csv")
-               for k in ("per_test", "summary", "pairwise", "imu_errors")}
+    outputs = {
+        k: str(root / "metrics" / f"segments_{k}.csv") for k in ("per_test", "summary", "pairwise", "imu_errors")
+    }
     per_test.to_csv(outputs["per_test"], index=False)
     _write_summaries(per_test, outputs)
     eq7_totals(per_test).to_csv(outputs["imu_errors"], index=False)
-    inputs = {"segments": str(root / "segments.csv"),
-              "segments_provenance": str(root / "segments.provenance.yaml"),
-              **{f"segments_{k}": v for k, v in outputs.items()}}
+    inputs = {
+        "segments": str(root / "segments.csv"),
+        "segments_provenance": str(root / "segments.provenance.yaml"),
+        **{f"segments_{k}": v for k, v in outputs.items()},
+    }
     if not replay:
         return inputs
 
@@ -534,13 +725,21 @@ def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
             imu = _imu_frame(seconds, 0.7 if cls == "asphalt" else 0.2, w_cmd, rough, rng)
             imu["time"] -= 0.01
             tc = np.arange(0.0, seconds, 1 / 6.5)
-            cmd = pd.DataFrame({"time": tc, "v_left": 0.3 - w_cmd * TRACK / 2 + 0 * tc,
-                                "v_right": 0.3 + w_cmd * TRACK / 2 + 0 * tc})
-            log = RealLog(imu=imu, commands=cmd, meta={"dataset": "BorealTC", "run_id": run,
-                                                       "terrain_class": cls.upper(), "name": f"{cls.upper()}_{run}",
-                                                       # as an import measures them (real.logs.validate)
-                                                       "rates": {"imu": {"median_hz": 100.0},
-                                                                 "commands": {"median_hz": 6.5}}})
+            cmd = pd.DataFrame(
+                {"time": tc, "v_left": 0.3 - w_cmd * TRACK / 2 + 0 * tc, "v_right": 0.3 + w_cmd * TRACK / 2 + 0 * tc}
+            )
+            log = RealLog(
+                imu=imu,
+                commands=cmd,
+                meta={
+                    "dataset": "BorealTC",
+                    "run_id": run,
+                    "terrain_class": cls.upper(),
+                    "name": f"{cls.upper()}_{run}",
+                    # as an import measures them (real.logs.validate)
+                    "rates": {"imu": {"median_hz": 100.0}, "commands": {"median_hz": 6.5}},
+                },
+            )
             path = root / "logs" / cls.upper() / f"{run}.parquet"
             write_canonical(log, path)
             logs.append(str(path))
@@ -550,12 +749,24 @@ def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
                 for c in sim.columns:
                     frame[c] = sim[c].to_numpy()
                 tpath = root / "replay" / e / cls / f"{run}.parquet"
-                write_trace(frame, {"engine": e, "terrain": cls, "motion": f"replay-{run}", "run": run,
-                                    "dataset": "BorealTC", "imu_rate_hz": 100.0,
-                                    "health": {"status": "ok", "reasons": []}}, tpath)
+                write_trace(
+                    frame,
+                    {
+                        "engine": e,
+                        "terrain": cls,
+                        "motion": f"replay-{run}",
+                        "run": run,
+                        "dataset": "BorealTC",
+                        "imu_rate_hz": 100.0,
+                        "health": {"status": "ok", "reasons": []},
+                    },
+                    tpath,
+                )
                 traces.append(str(tpath))
-    outputs = {k: str(root / "metrics" / f"replay_{k}.csv")
-               for k in ("per_window", "per_test", "summary", "pairwise", "imu_errors")}
+    outputs = {
+        k: str(root / "metrics" / f"replay_{k}.csv")
+        for k in ("per_window", "per_test", "summary", "pairwise", "imu_errors")
+    }
     per_test, per_window, _ = replay_compare(logs, traces, {"track": TRACK, "window": 10.0})
     per_test.to_csv(outputs["per_test"], index=False)
     per_window.to_csv(outputs["per_window"], index=False)
@@ -567,9 +778,15 @@ def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
 
 
 def _real_params() -> dict:
-    return {**PARAMS,
-            "real_data": {"dataset": "borealtc", "classes": REAL_CLASSES, "window": 10.0,
-                          "segment_rules": {"settle": 1.0, "per_kind": 2}}}
+    return {
+        **PARAMS,
+        "real_data": {
+            "dataset": "borealtc",
+            "classes": REAL_CLASSES,
+            "window": 10.0,
+            "segment_rules": {"settle": 1.0, "per_kind": 2},
+        },
+    }
 
 
 @pytest.fixture(scope="module")
@@ -591,20 +808,37 @@ def built_real(tmp_path_factory):
 def write_verdict(root: Path, per_test: str, weighted: str) -> dict:
     """The verdict's tables the report reads: the per-run metrics (simpick.score.verdict), what the
     paper's accuracy scores separate, a headline, and the answer's tables (:func:`write_answer`)."""
-    from simpick.score.verdict import METRICS as VERDICT_METRICS, per_run_values, read_per_test, score_discrimination
+    from simpick.score.verdict import METRICS as VERDICT_METRICS
+    from simpick.score.verdict import per_run_values, read_per_test, score_discrimination
 
     root.mkdir(parents=True, exist_ok=True)
     tests = read_per_test(per_test)
-    long = [{"run": run, "model": m, "metric": metric, "value": v} for metric in VERDICT_METRICS
-            for run, row in per_run_values(tests, metric).iterrows() for m, v in row.items() if np.isfinite(v)]
+    long = [
+        {"run": run, "model": m, "metric": metric, "value": v}
+        for metric in VERDICT_METRICS
+        for run, row in per_run_values(tests, metric).iterrows()
+        for m, v in row.items()
+        if np.isfinite(v)
+    ]
     pd.DataFrame(long, columns=["run", "model", "metric", "value"]).to_csv(root / "metrics.csv", index=False)
-    score_discrimination(tests, list(ENGINES), [], statistics={"min_runs": 6, "level": 0.95}, resamples=200,
-                         seed=3).to_csv(root / "discrimination.csv", index=False, float_format="%.17g")
-    (root / "headline.yaml").write_text(yaml.safe_dump({"paragraph": "Closest to the real Husky: mujoco.",
-                                                        "n_runs": 8, "source": "segments",
-                                                        "source_title": "test segments"}))
-    out = {"verdict_metrics": str(root / "metrics.csv"), "verdict_discrimination": str(root / "discrimination.csv"),
-           "verdict_headline": str(root / "headline.yaml")}
+    score_discrimination(
+        tests, list(ENGINES), [], statistics={"min_runs": 6, "level": 0.95}, resamples=200, seed=3
+    ).to_csv(root / "discrimination.csv", index=False, float_format="%.17g")
+    (root / "headline.yaml").write_text(
+        yaml.safe_dump(
+            {
+                "paragraph": "Closest to the real Husky: mujoco.",
+                "n_runs": 8,
+                "source": "segments",
+                "source_title": "test segments",
+            }
+        )
+    )
+    out = {
+        "verdict_metrics": str(root / "metrics.csv"),
+        "verdict_discrimination": str(root / "discrimination.csv"),
+        "verdict_headline": str(root / "headline.yaml"),
+    }
     out.update(write_answer(root))
     return out
 
@@ -615,54 +849,141 @@ OUTCOMES = [
     # metric, engine, mean, low, high, is_best, diff, diff_low, diff_high, p_worse, p_eq, outcome, runs_needed,
     # mechanics, failed, recommendable
     ("gain_error", "mujoco", 0.2215, 0.20, 0.24, True, 0.0, 0.0, 0.0, None, None, "best", None, "pass", 0, True),
-    ("gain_error", "pybullet", 0.3861, 0.35, 0.42, False, 0.1646, 0.12, 0.21, 0.004, 0.99, "worse", None, "fail", 14,
-     False),
+    (
+        "gain_error",
+        "pybullet",
+        0.3861,
+        0.35,
+        0.42,
+        False,
+        0.1646,
+        0.12,
+        0.21,
+        0.004,
+        0.99,
+        "worse",
+        None,
+        "fail",
+        14,
+        False,
+    ),
     ("heading_error", "mujoco", 0.052, 0.04, 0.06, True, 0.0, 0.0, 0.0, None, None, "best", None, "pass", 0, True),
-    ("heading_error", "pybullet", 0.058, 0.045, 0.07, False, 0.006, -0.004, 0.017, 0.2, 0.3, "undetermined", 41.0,
-     "fail", 14, False),
+    (
+        "heading_error",
+        "pybullet",
+        0.058,
+        0.045,
+        0.07,
+        False,
+        0.006,
+        -0.004,
+        0.017,
+        0.2,
+        0.3,
+        "undetermined",
+        41.0,
+        "fail",
+        14,
+        False,
+    ),
 ]
-MARGINS = {"gain_error": (0.02, "a tenth of the real robot's run-to-run spread"),
-           "heading_error": (0.01, "the validation's heading tolerance")}
+MARGINS = {
+    "gain_error": (0.02, "a tenth of the real robot's run-to-run spread"),
+    "heading_error": (0.01, "the validation's heading tolerance"),
+}
 LABELS = {"gain_error": ("yaw-rate gain error", "1"), "heading_error": ("heading error", "rad")}
 
 
 def write_answer(root: Path) -> dict:
     rows = []
     for m, e, mean, lo, hi, best, d, dl, dh, pw, pe, outcome, need, mech, failed, rec in OUTCOMES:
-        rows.append({"metric": m, "label": LABELS[m][0], "unit": LABELS[m][1], "engine": e, "n_runs": 9,
-                     "mean": mean, "low": lo, "high": hi, "best": "mujoco", "is_best": best, "diff_to_best": d,
-                     "diff_low": dl, "diff_high": dh, "margin": MARGINS[m][0], "margin_basis": MARGINS[m][1],
-                     "p_worse": pw, "p_equivalent": pe, "outcome": outcome, "runs_needed": need, "mechanics": mech,
-                     "mechanics_failed": failed,
-                     "mechanics_note": "fails 14 of 20 analytic cases: yaw gain (12), incline (2)" if failed else "",
-                     "recommendable": rec})
+        rows.append(
+            {
+                "metric": m,
+                "label": LABELS[m][0],
+                "unit": LABELS[m][1],
+                "engine": e,
+                "n_runs": 9,
+                "mean": mean,
+                "low": lo,
+                "high": hi,
+                "best": "mujoco",
+                "is_best": best,
+                "diff_to_best": d,
+                "diff_low": dl,
+                "diff_high": dh,
+                "margin": MARGINS[m][0],
+                "margin_basis": MARGINS[m][1],
+                "p_worse": pw,
+                "p_equivalent": pe,
+                "outcome": outcome,
+                "runs_needed": need,
+                "mechanics": mech,
+                "mechanics_failed": failed,
+                "mechanics_note": "fails 14 of 20 analytic cases: yaw gain (12), incline (2)" if failed else "",
+                "recommendable": rec,
+            }
+        )
     pd.DataFrame(rows).to_csv(root / "outcomes.csv", index=False, float_format="%.17g")
     answer = []
     for e, total, rank in (("mujoco", 44.226, 2), ("pybullet", 48.123, 1)):
-        row = {"engine": e, "mechanics": "pass" if e == "mujoco" else "fail",
-               "mechanics_failed": 0 if e == "mujoco" else 14, "mechanics_cases": 20,
-               "mechanics_note": "" if e == "mujoco" else "fails 14 of 20 analytic cases: yaw gain (12), incline (2)"}
+        row = {
+            "engine": e,
+            "mechanics": "pass" if e == "mujoco" else "fail",
+            "mechanics_failed": 0 if e == "mujoco" else 14,
+            "mechanics_cases": 20,
+            "mechanics_note": "" if e == "mujoco" else "fails 14 of 20 analytic cases: yaw gain (12), incline (2)",
+        }
         for r in rows:
             if r["engine"] == e:
-                row.update({f"{r['metric']}_outcome": r["outcome"], f"{r['metric']}_diff": r["diff_to_best"],
-                            f"{r['metric']}_low": r["diff_low"], f"{r['metric']}_high": r["diff_high"],
-                            f"{r['metric']}_margin": r["margin"]})
-        row.update({"gain_ratio": 0.93 if e == "mujoco" else 0.16, "gain_ratio_calibrated": None,
-                    "rtf": 812.5 if e == "mujoco" else 95.25, "cpu_average": 41.0, "cpu_intense": 62.0,
-                    "paper_total": total, "paper_rank": rank,
-                    "paper_flag": "" if e == "mujoco" else "fails mechanics (14 of 20 cases)"})
+                row.update(
+                    {
+                        f"{r['metric']}_outcome": r["outcome"],
+                        f"{r['metric']}_diff": r["diff_to_best"],
+                        f"{r['metric']}_low": r["diff_low"],
+                        f"{r['metric']}_high": r["diff_high"],
+                        f"{r['metric']}_margin": r["margin"],
+                    }
+                )
+        row.update(
+            {
+                "gain_ratio": 0.93 if e == "mujoco" else 0.16,
+                "gain_ratio_calibrated": None,
+                "rtf": 812.5 if e == "mujoco" else 95.25,
+                "cpu_average": 41.0,
+                "cpu_intense": 62.0,
+                "paper_total": total,
+                "paper_rank": rank,
+                "paper_flag": "" if e == "mujoco" else "fails mechanics (14 of 20 cases)",
+            }
+        )
         answer.append(row)
     pd.DataFrame(answer).to_csv(root / "answer.csv", index=False, float_format="%.17g")
-    sentences = {"sentences": [
-        {"need": "closest", "text": "mujoco is closest to the real robot on yaw-rate gain error.",
-         "rests_on": ["outcomes.csv: gain_error mujoco best"]},
-        {"need": "fastest", "text": "mujoco is the fastest engine that passes the mechanics (real-time factor 812).",
-         "rests_on": ["answer.csv: rtf"]},
-        {"need": "avoid", "text": "Avoid pybullet: it fails 14 of the 20 analytic cases.",
-         "rests_on": ["answer.csv: mechanics pybullet"]}]}
+    sentences = {
+        "sentences": [
+            {
+                "need": "closest",
+                "text": "mujoco is closest to the real robot on yaw-rate gain error.",
+                "rests_on": ["outcomes.csv: gain_error mujoco best"],
+            },
+            {
+                "need": "fastest",
+                "text": "mujoco is the fastest engine that passes the mechanics (real-time factor 812).",
+                "rests_on": ["answer.csv: rtf"],
+            },
+            {
+                "need": "avoid",
+                "text": "Avoid pybullet: it fails 14 of the 20 analytic cases.",
+                "rests_on": ["answer.csv: mechanics pybullet"],
+            },
+        ]
+    }
     (root / "answer.yaml").write_text(yaml.safe_dump(sentences, sort_keys=False))
-    return {"verdict_outcomes": str(root / "outcomes.csv"), "verdict_answer": str(root / "answer.csv"),
-            "verdict_sentences": str(root / "answer.yaml")}
+    return {
+        "verdict_outcomes": str(root / "outcomes.csv"),
+        "verdict_answer": str(root / "answer.csv"),
+        "verdict_sentences": str(root / "answer.yaml"),
+    }
 
 
 def test_the_first_page_is_the_answer_per_engine(built_real):
@@ -670,9 +991,13 @@ def test_the_first_page_is_the_answer_per_engine(built_real):
     engine, its outcomes, intervals and margins, the paper's total labelled and flagged, the sentences
     of answer.yaml each citing a figure, and the answer's figure beside them."""
     inputs, text, _ = built_real
-    body = text[text.index("<body>"):]
-    assert body.index('id="answer"') < body.index('id="decision-tree"') < body.index('id="priorities"') \
+    body = text[text.index("<body>") :]
+    assert (
+        body.index('id="answer"')
+        < body.index('id="decision-tree"')
+        < body.index('id="priorities"')
         < body.index('id="evidence"')
+    )
     table = re.search(r'<table[^>]*id="answer-table".*?</table>', text, re.S).group(0)
     answer = pd.read_csv(inputs["verdict_answer"])
     for r in answer.itertuples():
@@ -692,7 +1017,7 @@ def test_the_first_page_is_the_answer_per_engine(built_real):
     sentences = yaml.safe_load(Path(inputs["verdict_sentences"]).read_text())["sentences"]
     for s in sentences:
         item = re.search(rf'<li id="need-{s["need"]}">(.*?)</li>', section, re.S).group(1)
-        assert s["text"] in html.unescape(item) and "<a href=\"#" in item
+        assert s["text"] in html.unescape(item) and '<a href="#' in item
     assert 'href="#answer-figure">Figure 1</a>' in section
     assert re.search(r'<figure class="answer-figure" id="answer-figure">\s*<img src="data:image/png;base64,', section)
 
@@ -741,8 +1066,11 @@ def test_the_report_package_computes_no_total_or_verdict():
     # recomputes the paper's totals in the reader's browser at the weights the reader sets, by the scores
     # job's formula (tested in a browser against weighted.csv at the config's weights)
     interactive = {folder / "interactive.py", *(folder / "templates" / "interactive").rglob("*")}
-    sources = {p: p.read_text(encoding="utf-8") for p in sorted(folder.rglob("*"))
-               if p.suffix in (".py", ".j2") and p not in interactive}
+    sources = {
+        p: p.read_text(encoding="utf-8")
+        for p in sorted(folder.rglob("*"))
+        if p.suffix in (".py", ".j2") and p not in interactive
+    }
     forbidden = {
         r"weights?\s*\[[^\]]*\]\s*\*|\*\s*weights?\s*\[": "a weight multiplied",
         r"\.mul\(": "a column multiplied (a weighted total)",
@@ -751,14 +1079,18 @@ def test_the_report_package_computes_no_total_or_verdict():
         r"p_value\s*<|p_worse\s*<|p_equivalent\s*<|<\s*1\s*-\s*level": "a p-value compared",
         r"recomputed_total|mismatched": "a total recomputed",
     }
-    found = [f"{path.relative_to(ROOT)}: {why} ({m.group(0)!r})" for path, text in sources.items()
-             for pattern, why in forbidden.items() for m in re.finditer(pattern, text)]
+    found = [
+        f"{path.relative_to(ROOT)}: {why} ({m.group(0)!r})"
+        for path, text in sources.items()
+        for pattern, why in forbidden.items()
+        for m in re.finditer(pattern, text)
+    ]
     assert not found, found
 
 
 def _section(text: str, start: str, end: str) -> str:
     i = text.index(start)
-    return text[i:text.index(end, i)]
+    return text[i : text.index(end, i)]
 
 
 def test_real_section_has_per_class_tables_and_the_appendix_its_raw_tables(built_real):
@@ -789,10 +1121,17 @@ def test_real_section_has_per_class_tables_and_the_appendix_its_raw_tables(built
     pairs = re.search(r'<table[^>]*id="real-pairwise-segments".*?</table>', appendix, re.S).group(0)
     written = pd.read_csv(inputs["segments_pairwise"])
     summary = pd.read_csv(inputs["segments_summary"])
-    closest = {(r.terrain_class, f, r.engine) for f in ("error_angular", "error_linear")
-               for r in summary[summary[f"{f}_closest"]].itertuples()}
-    kept = written[[(c, f, a) in closest or (c, f, b) in closest for c, f, a, b in
-                    zip(written.terrain_class, written.figure, written.engine_a, written.engine_b)]]
+    closest = {
+        (r.terrain_class, f, r.engine)
+        for f in ("error_angular", "error_linear")
+        for r in summary[summary[f"{f}_closest"]].itertuples()
+    }
+    kept = written[
+        [
+            (c, f, a) in closest or (c, f, b) in closest
+            for c, f, a, b in zip(written.terrain_class, written.figure, written.engine_a, written.engine_b)
+        ]
+    ]
     assert 0 < len(kept) and pairs.count("<tr>") - 1 == len(kept)  # the pairs with the closest, as written
     for verdict in kept.verdict.unique():
         assert html.escape(verdict) in pairs
@@ -814,8 +1153,7 @@ def test_real_section_has_per_class_tables_and_the_appendix_its_raw_tables(built
 def test_summary_names_the_accuracy_data(built_real):
     inputs, text, _ = built_real
     summary = re.search(r'<div class="summary".*?</div>', text, re.S).group(0)
-    errors = pd.read_csv(inputs["segments_imu_errors"], dtype={"tests": str, "excluded": str},
-                         keep_default_na=False)
+    errors = pd.read_csv(inputs["segments_imu_errors"], dtype={"tests": str, "excluded": str}, keep_default_na=False)
     tests = sorted({t for ts in errors["tests"] for t in ts.split(";") if t})
     excluded = sorted({t for ts in errors["excluded"] for t in ts.split(";") if t})
     assert excluded == [REAL_FAILED[1]]
@@ -823,7 +1161,7 @@ def test_summary_names_the_accuracy_data(built_real):
     assert f"{len(tests)} constant-command segments" in summary
     for t in tests:  # listed per class without the class prefix
         cls = t.split("-", 1)[0]
-        assert t[len(cls) + 1:] in summary
+        assert t[len(cls) + 1 :] in summary
     assert "Left out because an engine failed it" in summary and REAL_FAILED[1] in summary
     assert inputs["segments_imu_errors"] in summary
     assert "gravel/straight" in summary and "not in the accuracy scores" in summary
@@ -831,8 +1169,8 @@ def test_summary_names_the_accuracy_data(built_real):
     # the IMU-error section lists the same tests, and the lab comparison is labelled apart
     listed = re.search(r'<p class="note" id="accuracy-tests">.*?</p>', text, re.S).group(0)
     assert f"The {len(tests)} constant-command segments the accuracy scores cover" in listed
-    assert all(t[len(t.split("-", 1)[0]) + 1:] in listed for t in tests)
-    lab = _section(text, 'id="lab-imu"', '<h3>IMU statistics per lab test</h3>')
+    assert all(t[len(t.split("-", 1)[0]) + 1 :] in listed for t in tests)
+    lab = _section(text, 'id="lab-imu"', "<h3>IMU statistics per lab test</h3>")
     assert "Lab study: gravel/straight against the paper" in lab and "Not in the accuracy scores" in lab
 
 
@@ -878,31 +1216,52 @@ def test_the_lab_detail_table_gives_the_reports_three_lab_views(tmp_path):
     from simpick.compare.jobs import compare_job
     from simpick.inputs.published import DEFAULT_PATH
     from simpick.report.load import load_inputs
+
     rng = np.random.default_rng(3)
     paths = []
     for engine, status in (("pybullet", "ok"), ("mujoco", "failed")):
         for terrain in ("gravel", "grass"):
             path = tmp_path / f"{engine}-{terrain}.parquet"
-            write_trace(_trace(engine, terrain, "straight", 3.0, rng),
-                        {"engine": engine, "terrain": terrain, "motion": "straight", "steps": 3000, "sim_time": 3.0,
-                         "wall_time": 0.5, "cpu_time": 0.5, "real_time_factor": 6.0, "engine_version": "1",
-                         "config_hash": "x", "health": {"status": status, "reasons": [] if status == "ok" else ["flipped"]}},
-                        path)
+            write_trace(
+                _trace(engine, terrain, "straight", 3.0, rng),
+                {
+                    "engine": engine,
+                    "terrain": terrain,
+                    "motion": "straight",
+                    "steps": 3000,
+                    "sim_time": 3.0,
+                    "wall_time": 0.5,
+                    "cpu_time": 0.5,
+                    "real_time_factor": 6.0,
+                    "engine_version": "1",
+                    "config_hash": "x",
+                    "health": {"status": status, "reasons": [] if status == "ok" else ["flipped"]},
+                },
+                path,
+            )
             paths.append(str(path))
     outputs = {k: str(tmp_path / f"{k}.csv") for k in ("per_test", "detail", "runs")}
     compare_job("lab", paths, {"published": str(DEFAULT_PATH)}, {}, outputs)
-    weighted = weighted_table(pd.DataFrame({m: [1.0, 0.5] for m in METRICS}, index=["pybullet", "mujoco"]),
-                              DEFAULT_WEIGHTS)
+    weighted = weighted_table(
+        pd.DataFrame({m: [1.0, 0.5] for m in METRICS}, index=["pybullet", "mujoco"]), DEFAULT_WEIGHTS
+    )
     weighted.index.name = "engine"
     weighted.to_csv(tmp_path / "weighted.csv")
-    data = load_inputs({"weighted": str(tmp_path / "weighted.csv"), "runs": outputs["runs"],
-                        **{k: outputs["detail"] for k in ("trace_stats", "reference_stats", "per_test_errors")}})
+    data = load_inputs(
+        {
+            "weighted": str(tmp_path / "weighted.csv"),
+            "runs": outputs["runs"],
+            **{k: outputs["detail"] for k in ("trace_stats", "reference_stats", "per_test_errors")},
+        }
+    )
     assert len(data.trace_stats) == 4 * 6 and set(data.trace_stats.status) == {"ok", "failed"}
     assert data.trace_stats[data.trace_stats.status == "failed"]["mean"].isna().all()
     # the paper has a reference for gravel/straight only: 6 axes, once whatever the engines
     assert len(data.reference_stats) == 6 and set(data.reference_stats.terrain) == {"gravel"}
     ref = data.reference_stats.set_index(["quantity", "axis"])
-    assert ref.loc[("linear", "z"), "mean"] == pytest.approx(11.50) and ref.loc[("linear", "z"), "range"] == pytest.approx(11.80)
+    assert ref.loc[("linear", "z"), "mean"] == pytest.approx(11.50) and ref.loc[
+        ("linear", "z"), "range"
+    ] == pytest.approx(11.80)
     # errors only where a healthy run meets a reference
     errors = data.per_test_errors
     assert len(errors) == 6 and set(errors.engine) == {"pybullet"} and set(errors.terrain) == {"gravel"}
@@ -931,8 +1290,12 @@ def test_the_sample_rate_table_is_read_from_the_replay_table_not_the_logs(built_
     # the same row from the tables alone: no logs, no traces given
     tables_only = {k: v for k, v in inputs.items() if k not in ("real_logs", "replay_traces", "traces", "figures")}
     row = next(r for r in datasets(load_inputs(tables_only), _real_params()) if r["set"] == "replay")
-    assert (row["n"], row["imu"], row["commands"], row["simulated"]) == (f"{len(runs)} runs", "100 Hz", "6.5 Hz",
-                                                                       "100 Hz")
+    assert (row["n"], row["imu"], row["commands"], row["simulated"]) == (
+        f"{len(runs)} runs",
+        "100 Hz",
+        "6.5 Hz",
+        "100 Hz",
+    )
 
 
 def test_the_summary_lists_engines_left_out_because_they_are_not_installed(tmp_path):
@@ -951,14 +1314,21 @@ def test_a_real_source_with_no_case_is_said_not_a_crash(tmp_path, built_real):
     """Issue 21: a replay source with no case (its compare and summarise tables with their columns and
     no rows) renders, and the report says so."""
     from simpick.compare.jobs import compare_job, summarise_job
+
     inputs, _, _ = built_real
-    out = {k: str(tmp_path / f"{k}.csv") for k in ("per_test", "detail", "runs", "summary", "pairwise", "imu_errors",
-                                                   "rtf")}
+    out = {
+        k: str(tmp_path / f"{k}.csv")
+        for k in ("per_test", "detail", "runs", "summary", "pairwise", "imu_errors", "rtf")
+    }
     compare_job("replay", [], {"logs": []}, {"track": TRACK, "window": 10.0}, out)
     summarise_job(out["per_test"], out["runs"], {"group": "terrain_class"}, out)
-    empty = {"replay_per_test": out["per_test"], "replay_summary": out["summary"],
-             "replay_pairwise": out["pairwise"], "replay_imu_errors": out["imu_errors"],
-             "replay_per_window": out["detail"]}
+    empty = {
+        "replay_per_test": out["per_test"],
+        "replay_summary": out["summary"],
+        "replay_pairwise": out["pairwise"],
+        "replay_imu_errors": out["imu_errors"],
+        "replay_per_window": out["detail"],
+    }
     kept = {k: v for k, v in inputs.items() if not k.startswith("replay_") and k not in ("real_logs",)}
     text = " ".join(_render({**kept, **empty}, _real_params()).split())
     assert 'id="real-empty-replay"' in text and "<b>Full replay</b>: no case, the source yielded none" in text
@@ -972,10 +1342,24 @@ def test_how_the_real_robot_turns_is_shown_from_its_table(tmp_path, built_real):
 
     inputs, _, _ = built_real
     row = dict.fromkeys(SUMMARY_COLUMNS, float("nan"))
-    row.update({"terrain_class": "sandy_loam", "windows": 12, "runs": 3, "gain_median": 0.5857, "gain_q25": 0.54,
-                "gain_q75": 0.63, "run_gain_min": 0.555, "run_gain_max": 0.606, "rho_speed": 0.2,
-                "p_speed": 0.03, "coulomb_gain_min": 0.478, "coulomb_gain_max": 0.478,
-                "separation_multiplier": 1.659, "coulomb_ratio": 0.823})
+    row.update(
+        {
+            "terrain_class": "sandy_loam",
+            "windows": 12,
+            "runs": 3,
+            "gain_median": 0.5857,
+            "gain_q25": 0.54,
+            "gain_q75": 0.63,
+            "run_gain_min": 0.555,
+            "run_gain_max": 0.606,
+            "rho_speed": 0.2,
+            "p_speed": 0.03,
+            "coulomb_gain_min": 0.478,
+            "coulomb_gain_max": 0.478,
+            "separation_multiplier": 1.659,
+            "coulomb_ratio": 0.823,
+        }
+    )
     table = tmp_path / "turning.csv"
     pd.DataFrame([row], columns=SUMMARY_COLUMNS).to_csv(table, index=False)
     text = " ".join(_render({**inputs, "real_turning": str(table)}, _real_params()).split())
@@ -994,13 +1378,24 @@ def test_the_summary_says_which_engines_pass_the_analytic_validation(tmp_path):
     lab = write_synthetic_inputs(tmp_path / "in", seconds=1.0, failed=None)
     engines = sorted(pd.read_csv(lab["weighted"]).engine)
     check = {"quantity": "accel_z", "unit": "m/s^2", "error_kind": "absolute", "analytic_value": 9.81}
-    results = [{"engine": e, "case": "rest_mu0.8", "kind": "rest", "status": "ok", "reasons": [], "params": {},
-                "steps_per_s": 1000.0, "checks": [{**check, "engine_value": 9.81 if i else 9.0}]}
-               for i, e in enumerate(engines)]
+    results = [
+        {
+            "engine": e,
+            "case": "rest_mu0.8",
+            "kind": "rest",
+            "status": "ok",
+            "reasons": [],
+            "params": {},
+            "steps_per_s": 1000.0,
+            "checks": [{**check, "engine_value": 9.81 if i else 9.0}],
+        }
+        for i, e in enumerate(engines)
+    ]
     table = tmp_path / "validation.csv"
     summarise(results, {"accel_z": 0.05}).to_csv(table, index=False)
-    text = " ".join(_render({**lab, "accuracy_errors": lab["imu_errors"], "validation": str(table)},
-                            _real_params()).split())
+    text = " ".join(
+        _render({**lab, "accuracy_errors": lab["imu_errors"], "validation": str(table)}, _real_params()).split()
+    )
     line = re.search(r'<p id="validation-headline">.*?</p>', text).group(0)
     assert f"<b>{engines[0]}</b> fails 1" in line and f"{engines[1]}" in line and "every case" in line
 
@@ -1012,12 +1407,28 @@ def test_the_decision_tree_is_interactive_on_screen_and_a_figure_in_print(tmp_pa
 
     inputs, _, _ = built_real
     validation = tmp_path / "validation.csv"
-    pd.DataFrame({"engine": list(ENGINES), "case": "gain", "kind": "yaw_gain", "quantity": "yaw_rate_gain",
-                  "passed": [True, False], "status": "ok"}).to_csv(validation, index=False)
+    pd.DataFrame(
+        {
+            "engine": list(ENGINES),
+            "case": "gain",
+            "kind": "yaw_gain",
+            "quantity": "yaw_rate_gain",
+            "passed": [True, False],
+            "status": "ok",
+        }
+    ).to_csv(validation, index=False)
     tree = tmp_path / "tree.json"
-    decision_tree_job(list(ENGINES), {"qualitative": inputs["qualitative"], "validation": str(validation),
-                                      "rtf": inputs["rtf"], "cpu": inputs["cpu"],
-                                      "outcomes": inputs["verdict_outcomes"]}, str(tree))
+    decision_tree_job(
+        list(ENGINES),
+        {
+            "qualitative": inputs["qualitative"],
+            "validation": str(validation),
+            "rtf": inputs["rtf"],
+            "cpu": inputs["cpu"],
+            "outcomes": inputs["verdict_outcomes"],
+        },
+        str(tree),
+    )
     text = _render({**inputs, "tree": str(tree)}, _real_params())
     section = _section(text, 'id="decision-tree"', "</section>\n\n")
     assert 'class="screen-only"' in section and 'id="simpick-choose"' in section

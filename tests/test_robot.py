@@ -17,26 +17,30 @@ CYLINDER_ALONG_Y = '<origin xyz="0 0 0" rpy="1.5707963267948966 0 0"/>'
 
 
 def _link(name, mass=1.0, collision=""):
-    return (f'<link name="{name}"><inertial><origin xyz="0 0 0"/><mass value="{mass}"/>'
-            f'<inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>{collision}</link>')
+    return (
+        f'<link name="{name}"><inertial><origin xyz="0 0 0"/><mass value="{mass}"/>'
+        f'<inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>{collision}</link>'
+    )
 
 
 def _wheel_collision(radius=0.1, width=0.05, rpy="1.5707963267948966 0 0", shape="cylinder"):
-    geometry = (f'<cylinder radius="{radius}" length="{width}"/>' if shape == "cylinder"
-                else f'<sphere radius="{radius}"/>')
+    geometry = (
+        f'<cylinder radius="{radius}" length="{width}"/>' if shape == "cylinder" else f'<sphere radius="{radius}"/>'
+    )
     return f'<collision><origin xyz="0 0 0" rpy="{rpy}"/><geometry>{geometry}</geometry></collision>'
 
 
 def _joint(name, parent, child, xyz, rpy="0 0 0", axis="0 1 0", kind="continuous"):
     axis_tag = f'<axis xyz="{axis}"/>' if axis else ""
-    return (f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
-            f'<origin xyz="{xyz}" rpy="{rpy}"/>{axis_tag}</joint>')
+    return (
+        f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+        f'<origin xyz="{xyz}" rpy="{rpy}"/>{axis_tag}</joint>'
+    )
 
 
 def write_robot(tmp_path, wheels, extra="", name="testbot", base_mass=10.0):
     """A box on wheels: ``wheels`` maps joint name -> (x, y, z, rpy, axis) of a 0.1 m wheel."""
-    parts = [_link("base_link", base_mass,
-                   '<collision><geometry><box size="0.6 0.4 0.1"/></geometry></collision>')]
+    parts = [_link("base_link", base_mass, '<collision><geometry><box size="0.6 0.4 0.1"/></geometry></collision>')]
     for joint, (x, y, z, rpy, axis) in wheels.items():
         link = joint.replace("_joint", "")
         # the wheel link's cylinder lies along the joint axis, in the link's own frame
@@ -52,15 +56,24 @@ def four(rotate_right=False):
     """Husky-like layout; ``rotate_right``: both right joints turned by pi about z (axis +y in the
     joint frame, so -y in the base frame: a mirrored wheel)."""
     r = "0 0 3.141592653589793" if rotate_right else "0 0 0"
-    return {"fl_joint": (0.25, 0.3, 0.0, "0 0 0", "0 1 0"), "fr_joint": (0.25, -0.3, 0.0, r, "0 1 0"),
-            "rl_joint": (-0.25, 0.3, 0.0, "0 0 0", "0 1 0"), "rr_joint": (-0.25, -0.3, 0.0, r, "0 1 0")}
+    return {
+        "fl_joint": (0.25, 0.3, 0.0, "0 0 0", "0 1 0"),
+        "fr_joint": (0.25, -0.3, 0.0, r, "0 1 0"),
+        "rl_joint": (-0.25, 0.3, 0.0, "0 0 0", "0 1 0"),
+        "rr_joint": (-0.25, -0.3, 0.0, r, "0 1 0"),
+    }
 
 
 # --- the robots in the repository ----------------------------------------------------------------
 
+
 def test_husky_is_read_as_before_and_loaded_as_it_is(robot):
-    assert robot.wheel_joints == ("front_left_wheel_joint", "front_right_wheel_joint",
-                                  "rear_left_wheel_joint", "rear_right_wheel_joint")
+    assert robot.wheel_joints == (
+        "front_left_wheel_joint",
+        "front_right_wheel_joint",
+        "rear_left_wheel_joint",
+        "rear_right_wheel_joint",
+    )
     assert robot.sides == ("left", "right", "left", "right")
     assert [w.axis_sign for w in robot.driven] == [1, 1, 1, 1]
     assert robot.urdf == robot.source  # no rewrite: every engine loads the file itself
@@ -109,6 +122,7 @@ def test_diff_drive_xacro_with_footprint_mirrored_wheel_and_caster():
 
 # --- layouts found from geometry ------------------------------------------------------------------
 
+
 def test_rotated_right_joints_drive_forward(tmp_path):
     spec = load_robot(write_robot(tmp_path, four(rotate_right=True)))
     assert spec.wheel_joints == ("fl_joint", "fr_joint", "rl_joint", "rr_joint")
@@ -124,8 +138,11 @@ def test_joint_axis_minus_y_is_mirrored(tmp_path):
 
 
 def test_six_wheels_in_command_order(tmp_path):
-    wheels = {f"{pos}{side}_joint": (x, y, 0.0, "0 0 0", "0 1 0")
-              for pos, x in (("f", 0.4), ("m", 0.0), ("r", -0.4)) for side, y in (("l", 0.3), ("r", -0.3))}
+    wheels = {
+        f"{pos}{side}_joint": (x, y, 0.0, "0 0 0", "0 1 0")
+        for pos, x in (("f", 0.4), ("m", 0.0), ("r", -0.4))
+        for side, y in (("l", 0.3), ("r", -0.3))
+    }
     spec = load_robot(write_robot(tmp_path, dict(reversed(list(wheels.items())))))
     assert spec.wheel_joints == ("fl_joint", "fr_joint", "ml_joint", "mr_joint", "rl_joint", "rr_joint")
     assert spec.wheelbase == pytest.approx(0.8)
@@ -133,16 +150,24 @@ def test_six_wheels_in_command_order(tmp_path):
 
 def test_figures_overridden_and_wheels_declared(tmp_path):
     path = write_robot(tmp_path, four())
-    spec = load_from_config({"urdf": str(path), "overrides": {"wheel_radius": 0.12, "mass": 20.0},
-                             "wheels": [{"joint": "fl_joint", "side": "left"}, {"joint": "fr_joint", "side": "right"}]})
+    spec = load_from_config(
+        {
+            "urdf": str(path),
+            "overrides": {"wheel_radius": 0.12, "mass": 20.0},
+            "wheels": [{"joint": "fl_joint", "side": "left"}, {"joint": "fr_joint", "side": "right"}],
+        }
+    )
     assert spec.wheel_radius == 0.12 and spec.mass == 20.0 and set(spec.overridden) == {"wheel_radius", "mass"}
     assert spec.wheel_joints == ("fl_joint", "fr_joint")
     assert {w.joint for w in spec.casters} == {"rl_joint", "rr_joint"}
 
 
 def test_imu_link_from_config_or_base(tmp_path):
-    path = write_robot(tmp_path, four(), extra=_link("sensor", 0.01) + _joint("s", "base_link", "sensor", "0.1 0 0.2",
-                                                                              axis="", kind="fixed"))
+    path = write_robot(
+        tmp_path,
+        four(),
+        extra=_link("sensor", 0.01) + _joint("s", "base_link", "sensor", "0.1 0 0.2", axis="", kind="fixed"),
+    )
     assert load_robot(path).imu_link == "base_link"  # no link named *imu*
     assert load_robot(path, imu_link="sensor").imu_mount == pytest.approx((0.1, 0.0, 0.2))
     with pytest.raises(InputError, match="robot.imu_link: 'nowhere' is not a link"):
@@ -151,20 +176,37 @@ def test_imu_link_from_config_or_base(tmp_path):
 
 # --- refused, each with the joint or link named ------------------------------------------------------
 
-@pytest.mark.parametrize("extra,message", [
-    (_link("steer", 0.1) + _joint("steer_joint", "base_link", "steer", "0.5 0 0", axis="0 0 1", kind="revolute")
-     + _link("steered_wheel", 0.3, _wheel_collision()) + _joint("steered_joint", "steer", "steered_wheel", "0 0 0"),
-     "joint 'steer_joint': is revolute: a steered or suspended wheel"),
-    (_link("leg", 0.1) + _joint("knee", "base_link", "leg", "0.5 0 0", kind="prismatic"),
-     "joint 'knee': is prismatic: a steering, suspension, leg or arm joint"),
-    (_link("bare", 0.1) + _joint("bare_joint", "base_link", "bare", "0.5 0.2 0"),
-     "joint 'bare_joint': is continuous but its child link 'bare' has no cylinder or sphere collision"),
-    (_link("tilted", 0.1, _wheel_collision(rpy="0 1.5707963267948966 0"))
-     + _joint("tilted_joint", "base_link", "tilted", "0.5 0.2 0"),
-     "collision cylinder's axis"),
-    (_link("fan", 0.1, _wheel_collision(rpy="0 1.5707963267948966 0")) + _joint("fan_joint", "base_link", "fan", "0 0 0.2", axis="1 0 0"),
-     "joint 'fan_joint': spins about [1.0, 0.0, 0.0] in the base frame"),
-])
+
+@pytest.mark.parametrize(
+    "extra,message",
+    [
+        (
+            _link("steer", 0.1)
+            + _joint("steer_joint", "base_link", "steer", "0.5 0 0", axis="0 0 1", kind="revolute")
+            + _link("steered_wheel", 0.3, _wheel_collision())
+            + _joint("steered_joint", "steer", "steered_wheel", "0 0 0"),
+            "joint 'steer_joint': is revolute: a steered or suspended wheel",
+        ),
+        (
+            _link("leg", 0.1) + _joint("knee", "base_link", "leg", "0.5 0 0", kind="prismatic"),
+            "joint 'knee': is prismatic: a steering, suspension, leg or arm joint",
+        ),
+        (
+            _link("bare", 0.1) + _joint("bare_joint", "base_link", "bare", "0.5 0.2 0"),
+            "joint 'bare_joint': is continuous but its child link 'bare' has no cylinder or sphere collision",
+        ),
+        (
+            _link("tilted", 0.1, _wheel_collision(rpy="0 1.5707963267948966 0"))
+            + _joint("tilted_joint", "base_link", "tilted", "0.5 0.2 0"),
+            "collision cylinder's axis",
+        ),
+        (
+            _link("fan", 0.1, _wheel_collision(rpy="0 1.5707963267948966 0"))
+            + _joint("fan_joint", "base_link", "fan", "0 0 0.2", axis="1 0 0"),
+            "joint 'fan_joint': spins about [1.0, 0.0, 0.0] in the base frame",
+        ),
+    ],
+)
 def test_unsupported_parts_are_named(tmp_path, extra, message):
     with pytest.raises(InputError, match=message.replace("[", r"\[").replace("]", r"\]").replace("(", r"\(")):
         load_robot(write_robot(tmp_path, four(), extra=extra))
@@ -190,10 +232,13 @@ def test_unequal_radii_are_refused(tmp_path):
         load_robot(path)
 
 
-@pytest.mark.parametrize("text,message", [
-    ("this is not XML", "cannot read the robot description: not XML"),
-    ('<?xml version="1.0"?><sdf version="1.6"/>', "the root element is <sdf>, not <robot>"),
-])
+@pytest.mark.parametrize(
+    "text,message",
+    [
+        ("this is not XML", "cannot read the robot description: not XML"),
+        ('<?xml version="1.0"?><sdf version="1.6"/>', "the root element is <sdf>, not <robot>"),
+    ],
+)
 def test_not_a_urdf_is_refused(tmp_path, text, message):
     path = tmp_path / "robot.urdf"
     path.write_text(text)
@@ -207,11 +252,13 @@ def test_declared_wheel_must_exist(tmp_path):
 
 
 def test_normalised_copy_fuses_fixed_links_and_drops_meshes(tmp_path):
-    extra = ('<link name="lidar"><visual><geometry><mesh filename="package://x/lidar.stl"/></geometry></visual>'
-             '<collision><geometry><mesh filename="package://x/lidar.stl"/></geometry></collision>'
-             '<inertial><origin xyz="0 0 0.1"/><mass value="2.0"/><inertia ixx="0.001" iyy="0.001" izz="0.001"/>'
-             '</inertial></link>' + _joint("lidar_joint", "base_link", "lidar", "0.2 0 0.1", "0 0 1.0", axis="",
-                                           kind="fixed"))
+    extra = (
+        '<link name="lidar"><visual><geometry><mesh filename="package://x/lidar.stl"/></geometry></visual>'
+        '<collision><geometry><mesh filename="package://x/lidar.stl"/></geometry></collision>'
+        '<inertial><origin xyz="0 0 0.1"/><mass value="2.0"/><inertia ixx="0.001" iyy="0.001" izz="0.001"/>'
+        "</inertial></link>"
+        + _joint("lidar_joint", "base_link", "lidar", "0.2 0 0.1", "0 0 1.0", axis="", kind="fixed")
+    )
     spec = load_robot(write_robot(tmp_path, four(), extra=extra))
     assert spec.urdf != spec.source and any("collision was dropped" in n for n in spec.notes)
     text = spec.urdf.read_text()
@@ -240,7 +287,9 @@ def test_robot_configs_fit_their_robot(name):
     circle = base["motions"]["circle"]
     gain = yaw_rate_gain(contact_layout(spec), circle["v"], circle["w"], config["robot"]["track"])
     start = config["motions"]["circle"]["start"]
-    assert arc_start_over_strip(circle["v"], circle["w"], gain, (1.5, -0.2), start[0]) == pytest.approx(start, abs=0.005)
+    assert arc_start_over_strip(circle["v"], circle["w"], gain, (1.5, -0.2), start[0]) == pytest.approx(
+        start, abs=0.005
+    )
     husky = load_robot(ROBOTS / "husky_a200.urdf")
     rim = base["health"]["wheel_tracking"] * husky.wheel_radius
     assert config["health"]["wheel_tracking"] * spec.wheel_radius == pytest.approx(rim, rel=0.01)
@@ -251,10 +300,12 @@ def write_skid_robot(tmp_path):
     turned by -1.57 rad (not quite pi/2) about x spinning about their z, a box skid behind the axle
     fixed to the base 0.5 mm above the ground, an IMU link without mass, mesh visuals; the body's
     centre of mass 0.03 m behind the axle, so that the skid carries a third of the weight."""
-    wheel = ('<link name="{n}"><visual><geometry><mesh filename="package://tb/{n}.stl"/></geometry></visual>'
-             '<collision><geometry><cylinder length="0.018" radius="0.033"/></geometry></collision>'
-             '<inertial><mass value="0.0285"/><inertia ixx="1.1e-05" iyy="1.1e-05" izz="2.1e-05" ixy="0" ixz="0" '
-             'iyz="0"/></inertial></link>')
+    wheel = (
+        '<link name="{n}"><visual><geometry><mesh filename="package://tb/{n}.stl"/></geometry></visual>'
+        '<collision><geometry><cylinder length="0.018" radius="0.033"/></geometry></collision>'
+        '<inertial><mass value="0.0285"/><inertia ixx="1.1e-05" iyy="1.1e-05" izz="2.1e-05" ixy="0" ixz="0" '
+        'iyz="0"/></inertial></link>'
+    )
     text = f"""<?xml version="1.0"?><robot name="tb_like">
       <link name="base_footprint"/>
       {_joint("base_joint", "base_footprint", "base_link", "0 0 0.010", axis="", kind="fixed")}
@@ -295,12 +346,19 @@ def test_joint_frames_turned_by_half_pi_spinning_about_x(tmp_path):
     """Joint origins turned by +pi/2 about z (left) and -pi/2 (right), each spinning about its
     own x: base +y on the left, base -y on the right (mirrored)."""
     half = "0 0 1.5707963267948966"
-    wheels = {"fl_joint": (0.25, 0.3, 0.0, half, "1 0 0"), "fr_joint": (0.25, -0.3, 0.0, "0 0 -1.5707963267948966", "1 0 0"),
-              "rl_joint": (-0.25, 0.3, 0.0, half, "1 0 0"), "rr_joint": (-0.25, -0.3, 0.0, "0 0 -1.5707963267948966", "1 0 0")}
+    wheels = {
+        "fl_joint": (0.25, 0.3, 0.0, half, "1 0 0"),
+        "fr_joint": (0.25, -0.3, 0.0, "0 0 -1.5707963267948966", "1 0 0"),
+        "rl_joint": (-0.25, 0.3, 0.0, half, "1 0 0"),
+        "rr_joint": (-0.25, -0.3, 0.0, "0 0 -1.5707963267948966", "1 0 0"),
+    }
     path = write_robot(tmp_path, wheels)
     # the wheel links' cylinders along the joint axis (x in the link frame)
-    path.write_text(path.read_text().replace('rpy="1.5707963267948966 0 0"/><geometry><cylinder',
-                                             'rpy="0 1.5707963267948966 0"/><geometry><cylinder'))
+    path.write_text(
+        path.read_text().replace(
+            'rpy="1.5707963267948966 0 0"/><geometry><cylinder', 'rpy="0 1.5707963267948966 0"/><geometry><cylinder'
+        )
+    )
     spec = load_robot(path)
     assert spec.wheel_joints == ("fl_joint", "fr_joint", "rl_joint", "rr_joint")
     assert [w.axis_sign for w in spec.driven] == [1, -1, 1, -1]
@@ -308,8 +366,11 @@ def test_joint_frames_turned_by_half_pi_spinning_about_x(tmp_path):
 
 
 def test_a_massless_moving_part_is_refused(tmp_path):
-    extra = ('<link name="swivel"/>' + _joint("swivel_joint", "base_link", "swivel", "-0.4 0 0", axis="0 0 1")
-             + _link("caster", 0.1, _wheel_collision(radius=0.05)) + _joint("caster_joint", "swivel", "caster",
-                                                                            "-0.02 0 -0.05"))
+    extra = (
+        '<link name="swivel"/>'
+        + _joint("swivel_joint", "base_link", "swivel", "-0.4 0 0", axis="0 0 1")
+        + _link("caster", 0.1, _wheel_collision(radius=0.05))
+        + _joint("caster_joint", "swivel", "caster", "-0.02 0 -0.05")
+    )
     with pytest.raises(InputError, match=r"links \['swivel'\] \(with the links fixed to them\) have no mass"):
         load_robot(write_robot(tmp_path, four(), extra=extra))

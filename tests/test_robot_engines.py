@@ -7,22 +7,27 @@ import numpy as np
 import pytest
 import yaml
 
+from conftest import flat_terrain
 from simpick.engines import ADAPTERS, get_engine
 from simpick.engines.base import Scenario
 from simpick.engines.kinematics import euler_rpy
 from simpick.inputs.motions import constant_commands
 from simpick.inputs.robot import load_robot
 from simpick.studies.validation import Setup, run_case
-
-from conftest import flat_terrain
 from test_robot import write_robot
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def _drive(engine, robot, v, w, track, duration=1.5, torque=5.0):
-    scenario = Scenario(robot=robot, terrain=flat_terrain(0.8), ground_friction=0.8, timestep=0.001,
-                        max_wheel_torque=torque, starts=((0.0, 0.0, 0.0),))
+    scenario = Scenario(
+        robot=robot,
+        terrain=flat_terrain(0.8),
+        ground_friction=0.8,
+        timestep=0.001,
+        max_wheel_torque=torque,
+        starts=((0.0, 0.0, 0.0),),
+    )
     commands = constant_commands(v, w, duration, 0.001, track, robot)
     return get_engine(engine).simulate(scenario, commands), commands
 
@@ -50,10 +55,24 @@ def test_diff_drive_robot_drives_forward_and_turns_left(engine):
     assert 0.8 < rate < 1.2, rate
 
 
-@pytest.mark.parametrize("engine", [
-    pytest.param(e, marks=[pytest.mark.xfail(strict=True, reason="ODE brakes the diff-drive robot at 2.00 m/s^2 "
-                                             "for 2.30 (README, validation on the diff-drive robot)")])
-    if e == "ode" else e for e in ADAPTERS])
+@pytest.mark.parametrize(
+    "engine",
+    [
+        pytest.param(
+            e,
+            marks=[
+                pytest.mark.xfail(
+                    strict=True,
+                    reason="ODE brakes the diff-drive robot at 2.00 m/s^2 "
+                    "for 2.30 (README, validation on the diff-drive robot)",
+                )
+            ],
+        )
+        if e == "ode"
+        else e
+        for e in ADAPTERS
+    ],
+)
 def test_a_caster_rolls_free_when_the_wheels_lock(engine):
     """The diff-drive robot's locked-wheel slide (the validation case): its caster rolls and swivels
     free, so only the driven wheels' share of the weight brakes it (2.30 m/s^2 at mu 0.3, not mu g).
@@ -61,8 +80,14 @@ def test_a_caster_rolls_free_when_the_wheels_lock(engine):
     dragged, 2.449 m/s^2 (+6.3 %); with no joint friction 2.373 (+3.0 %)."""
     config = yaml.safe_load((ROOT / "config" / "robots" / "diffbot.yaml").read_text())
     bot = load_robot(ROOT / config["robot"]["urdf"])
-    setup = Setup(engine=engine, robot=bot, timestep=0.001, max_wheel_torque=config["robot"]["max_wheel_torque"],
-                  track=config["robot"]["track"], settings=config.get("engines", {}).get(engine) or {})
+    setup = Setup(
+        engine=engine,
+        robot=bot,
+        timestep=0.001,
+        max_wheel_torque=config["robot"]["max_wheel_torque"],
+        track=config["robot"]["track"],
+        settings=config.get("engines", {}).get(engine) or {},
+    )
     (check,) = run_case(setup, "slide_mu0.3", {"kind": "slide", "v": 0.5, "mu": 0.3})["checks"]
     assert check["analytic_value"] == pytest.approx(2.30, abs=0.01)
     assert check["engine_value"] == pytest.approx(check["analytic_value"], rel=0.05)  # the validation's tolerance
@@ -70,8 +95,11 @@ def test_a_caster_rolls_free_when_the_wheels_lock(engine):
 
 @pytest.mark.parametrize("engine", list(ADAPTERS))
 def test_six_wheels_with_mirrored_joints(engine, tmp_path):
-    wheels = {f"{pos}{side}_joint": (x, y, 0.0, "0 0 3.141592653589793" if y < 0 else "0 0 0", "0 1 0")
-              for pos, x in (("f", 0.35), ("m", 0.0), ("r", -0.35)) for side, y in (("l", 0.3), ("r", -0.3))}
+    wheels = {
+        f"{pos}{side}_joint": (x, y, 0.0, "0 0 3.141592653589793" if y < 0 else "0 0 0", "0 1 0")
+        for pos, x in (("f", 0.35), ("m", 0.0), ("r", -0.35))
+        for side, y in (("l", 0.3), ("r", -0.3))
+    }
     robot = load_robot(write_robot(tmp_path, wheels, name="six"))
     assert [w.axis_sign for w in robot.driven] == [1, -1] * 3
     record, _ = _drive(engine, robot, 0.5, 0.0, robot.track, duration=1.0, torque=20.0)
@@ -90,8 +118,15 @@ def test_skid_robot_rests_and_drives_forward(engine, tmp_path):
 
     robot = load_robot(write_skid_robot(tmp_path))
     settings = {"wheel_servo_kp": 0.5} if engine == "mujoco" else {}
-    scenario = Scenario(robot=robot, terrain=flat_terrain(0.8), ground_friction=0.8, timestep=0.001,
-                        max_wheel_torque=1.0, starts=((0.0, 0.0, 0.0),), settings=settings)
+    scenario = Scenario(
+        robot=robot,
+        terrain=flat_terrain(0.8),
+        ground_friction=0.8,
+        timestep=0.001,
+        max_wheel_torque=1.0,
+        starts=((0.0, 0.0, 0.0),),
+        settings=settings,
+    )
     commands = constant_commands(0.2, 0.0, 1.5, 0.001, robot.track, robot)
     record = get_engine(engine).simulate(scenario, commands)
     x, y = record.position[-1, :2]
@@ -139,6 +174,12 @@ def test_a_robot_s_own_links_never_touch(engine):
     caster wheel, the chassis's grandchild, whose top is level with the chassis's underside, was in
     contact with it in both while the robot spun (the caster swivelling under the chassis)."""
     bot = load_robot(ROOT / "resources" / "robot" / "diffbot.urdf.xacro")
-    scenario = Scenario(robot=bot, terrain=flat_terrain(0.8), ground_friction=0.8, timestep=0.001,
-                        max_wheel_torque=5.0, starts=((0.0, 0.0, 0.0),))
+    scenario = Scenario(
+        robot=bot,
+        terrain=flat_terrain(0.8),
+        ground_friction=0.8,
+        timestep=0.001,
+        max_wheel_torque=5.0,
+        starts=((0.0, 0.0, 0.0),),
+    )
     assert _self_contacts(engine, scenario, bot.joint_speeds(-0.3, 0.3), 1.5) == set()

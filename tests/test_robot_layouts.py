@@ -21,19 +21,25 @@ WHEEL_R, WHEEL_W = 0.1, 0.06
 
 
 def _inertial(mass, xyz="0 0 0", i=0.02):
-    return (f'<inertial><origin xyz="{xyz}" rpy="0 0 0"/><mass value="{mass}"/>'
-            f'<inertia ixx="{i}" iyy="{i}" izz="{i}" ixy="0" ixz="0" iyz="0"/></inertial>')
+    return (
+        f'<inertial><origin xyz="{xyz}" rpy="0 0 0"/><mass value="{mass}"/>'
+        f'<inertia ixx="{i}" iyy="{i}" izz="{i}" ixy="0" ixz="0" iyz="0"/></inertial>'
+    )
 
 
 def _wheel_link(name, rpy="1.5707963267948966 0 0"):
-    return (f'<link name="{name}">{_inertial(0.8, i=0.003)}<collision><origin xyz="0 0 0" rpy="{rpy}"/>'
-            f'<geometry><cylinder radius="{WHEEL_R}" length="{WHEEL_W}"/></geometry></collision></link>')
+    return (
+        f'<link name="{name}">{_inertial(0.8, i=0.003)}<collision><origin xyz="0 0 0" rpy="{rpy}"/>'
+        f'<geometry><cylinder radius="{WHEEL_R}" length="{WHEEL_W}"/></geometry></collision></link>'
+    )
 
 
 def _joint(name, parent, child, xyz, rpy="0 0 0", axis="0 1 0", kind="continuous"):
     axis_tag = f'<axis xyz="{axis}"/>' if kind != "fixed" else ""
-    return (f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
-            f'<origin xyz="{xyz}" rpy="{rpy}"/>{axis_tag}</joint>')
+    return (
+        f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+        f'<origin xyz="{xyz}" rpy="{rpy}"/>{axis_tag}</joint>'
+    )
 
 
 def _wheels(parent, z, rpy=None, axis=None):
@@ -41,33 +47,48 @@ def _wheels(parent, z, rpy=None, axis=None):
     joint name -> the joint's origin rpy / axis where it is not the plain one."""
     rpy, axis = rpy or {}, axis or {}
     parts = []
-    for name, x, y in (("front_left", 0.2, 0.25), ("front_right", 0.2, -0.25),
-                       ("rear_left", -0.2, 0.25), ("rear_right", -0.2, -0.25)):
+    for name, x, y in (
+        ("front_left", 0.2, 0.25),
+        ("front_right", 0.2, -0.25),
+        ("rear_left", -0.2, 0.25),
+        ("rear_right", -0.2, -0.25),
+    ):
         joint = f"{name}_wheel_joint"
         parts.append(_wheel_link(f"{name}_wheel"))
-        parts.append(_joint(joint, parent, f"{name}_wheel", f"{x} {y} {z}", rpy.get(joint, "0 0 0"),
-                            axis.get(joint, "0 1 0")))
+        parts.append(
+            _joint(joint, parent, f"{name}_wheel", f"{x} {y} {z}", rpy.get(joint, "0 0 0"), axis.get(joint, "0 1 0"))
+        )
     return "".join(parts)
 
 
-CHASSIS = ("<link name='base_link'/>"  # massless root, as in a Jackal-like description
-           f"<link name='chassis_link'>{_inertial(15.0, '0 0 0.05', 0.3)}<collision><origin xyz='0 0 0.06'/>"
-           "<geometry><box size='0.5 0.4 0.12'/></geometry></collision></link>"
-           + _joint("chassis_joint", "base_link", "chassis_link", "0 0 0", kind="fixed")
-           + f"<link name='imu_link'>{_inertial(0.02, i=1e-5)}</link>"
-           + _joint("imu_joint", "chassis_link", "imu_link", "0.1 0 0.1", kind="fixed")
-           + _wheels("chassis_link", 0.0))
-FOOTPRINT = ("<link name='base_footprint'/>"  # the ground-level root of a TurtleBot-like description
-             f"<link name='base_link'>{_inertial(15.0, '0 0 0.05', 0.3)}<collision><origin xyz='0 0 0.06'/>"
-             "<geometry><box size='0.5 0.4 0.12'/></geometry></collision></link>"
-             + _joint("base_joint", "base_footprint", "base_link", f"0 0 {WHEEL_R}", kind="fixed")
-             + _wheels("base_link", 0.0))
+CHASSIS = (
+    "<link name='base_link'/>"  # massless root, as in a Jackal-like description
+    f"<link name='chassis_link'>{_inertial(15.0, '0 0 0.05', 0.3)}<collision><origin xyz='0 0 0.06'/>"
+    "<geometry><box size='0.5 0.4 0.12'/></geometry></collision></link>"
+    + _joint("chassis_joint", "base_link", "chassis_link", "0 0 0", kind="fixed")
+    + f"<link name='imu_link'>{_inertial(0.02, i=1e-5)}</link>"
+    + _joint("imu_joint", "chassis_link", "imu_link", "0.1 0 0.1", kind="fixed")
+    + _wheels("chassis_link", 0.0)
+)
+FOOTPRINT = (
+    "<link name='base_footprint'/>"  # the ground-level root of a TurtleBot-like description
+    f"<link name='base_link'>{_inertial(15.0, '0 0 0.05', 0.3)}<collision><origin xyz='0 0 0.06'/>"
+    "<geometry><box size='0.5 0.4 0.12'/></geometry></collision></link>"
+    + _joint("base_joint", "base_footprint", "base_link", f"0 0 {WHEEL_R}", kind="fixed")
+    + _wheels("base_link", 0.0)
+)
 # the right wheels mirrored by a rounded pi about x (their axis then points to -y), and one left axis
 # tilted 0.23 degree
-ROUNDED = (f"<link name='base_link'>{_inertial(15.0, '0 0 0.05', 0.3)}<collision><origin xyz='0 0 0.06'/>"
-           "<geometry><box size='0.5 0.4 0.12'/></geometry></collision></link>"
-           + _wheels("base_link", 0.0, axis={"rear_left_wheel_joint": "0 1 0.004"},
-                     rpy={"front_right_wheel_joint": "3.14 0 0", "rear_right_wheel_joint": "3.14 0 0"}))
+ROUNDED = (
+    f"<link name='base_link'>{_inertial(15.0, '0 0 0.05', 0.3)}<collision><origin xyz='0 0 0.06'/>"
+    "<geometry><box size='0.5 0.4 0.12'/></geometry></collision></link>"
+    + _wheels(
+        "base_link",
+        0.0,
+        axis={"rear_left_wheel_joint": "0 1 0.004"},
+        rpy={"front_right_wheel_joint": "3.14 0 0", "rear_right_wheel_joint": "3.14 0 0"},
+    )
+)
 LAYOUTS = {"chassis": CHASSIS, "footprint": FOOTPRINT, "rounded": ROUNDED}
 
 
@@ -84,8 +105,12 @@ def layout(request, tmp_path_factory):
 
 def test_the_loader_reads_each_layout(layout):
     name, robot = layout
-    assert robot.wheel_joints == ("front_left_wheel_joint", "front_right_wheel_joint",
-                                  "rear_left_wheel_joint", "rear_right_wheel_joint")
+    assert robot.wheel_joints == (
+        "front_left_wheel_joint",
+        "front_right_wheel_joint",
+        "rear_left_wheel_joint",
+        "rear_right_wheel_joint",
+    )
     assert robot.track == pytest.approx(0.5) and robot.wheelbase == pytest.approx(0.4)
     assert robot.wheel_radius == WHEEL_R
     # the rigid model every body-by-body engine builds: one chassis with everything fixed to it

@@ -21,8 +21,10 @@ def test_a_urdf_that_is_not_xml_stops_the_run_and_deletes_nothing(tmp_path, dry)
     config["robot"]["urdf"] = str(broken)
     write_config(tmp_path, config)
     # a previous study's results, which a run that plans jobs would delete before rerunning them
-    kept = [tmp_path / "results" / "validation" / "pybullet" / "rest_mu0.8.json",
-            tmp_path / "results" / "traces" / "lab" / "mujoco" / "grass" / "straight.parquet"]
+    kept = [
+        tmp_path / "results" / "validation" / "pybullet" / "rest_mu0.8.json",
+        tmp_path / "results" / "traces" / "lab" / "mujoco" / "grass" / "straight.parquet",
+    ]
     for path in kept:
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text("previous result")
@@ -38,9 +40,12 @@ def test_an_unsupported_layout_is_named_at_planning_time(tmp_path):
     config = tiny_config(tmp_path)
     text = (ROOT / "resources" / "robot" / "husky_a200.urdf").read_text()
     config["robot"]["urdf"] = str(tmp_path / "steered.urdf")
-    (tmp_path / "steered.urdf").write_text(text.replace(
-        '<joint name="front_left_wheel_joint" type="continuous">',
-        '<joint name="front_left_wheel_joint" type="revolute">'))
+    (tmp_path / "steered.urdf").write_text(
+        text.replace(
+            '<joint name="front_left_wheel_joint" type="continuous">',
+            '<joint name="front_left_wheel_joint" type="revolute">',
+        )
+    )
     write_config(tmp_path, config)
     run = snakemake(tmp_path, "-n")
     assert run.returncode != 0
@@ -49,13 +54,19 @@ def test_an_unsupported_layout_is_named_at_planning_time(tmp_path):
 
 def test_another_robot_plans_no_real_data_and_refuses_resting_on_it(tmp_path):
     config = tiny_config(tmp_path)
-    config["robot"].update(urdf=str(ROOT / "resources" / "robot" / "jackal.urdf"), label="Clearpath Jackal",
-                           track=0.37559, max_wheel_torque=20.0)
+    config["robot"].update(
+        urdf=str(ROOT / "resources" / "robot" / "jackal.urdf"),
+        label="Clearpath Jackal",
+        track=0.37559,
+        max_wheel_torque=20.0,
+    )
     write_config(tmp_path, config)  # accuracy.reference is still 'real': the Husky's data
     run = snakemake(tmp_path, "-n")
     assert run.returncode != 0
-    assert "accuracy.reference is 'real', but the real data (real_data.dataset 'borealtc') were recorded on " \
-           "robot 'husky_a200', not on this study's 'jackal'" in run.stdout + run.stderr
+    assert (
+        "accuracy.reference is 'real', but the real data (real_data.dataset 'borealtc') were recorded on "
+        "robot 'husky_a200', not on this study's 'jackal'" in run.stdout + run.stderr
+    )
     config["accuracy"]["reference"] = "paper"
     write_config(tmp_path, config)
     jobs = planned_jobs(tmp_path)
@@ -75,8 +86,19 @@ def test_own_logs_replay_on_the_robot_the_config_names(tmp_path):
     t = np.arange(0.0, 12.0, 0.01)
     v = np.where(t < 6.0, 0.3, 0.2)
     w = np.where(t < 6.0, 0.0, 0.5)
-    log = pd.DataFrame({"time": t, "ax": 0.0, "ay": 0.0, "az": 9.81, "wx": 0.0, "wy": 0.0,
-                        "wz": np.where(t < 6.0, 0.0, 0.45), "v": v, "w": w})
+    log = pd.DataFrame(
+        {
+            "time": t,
+            "ax": 0.0,
+            "ay": 0.0,
+            "az": 9.81,
+            "wx": 0.0,
+            "wy": 0.0,
+            "wz": np.where(t < 6.0, 0.0, 0.45),
+            "v": v,
+            "w": w,
+        }
+    )
     log.to_csv(tmp_path / "bot.csv", index=False)
     import yaml
 
@@ -86,8 +108,14 @@ def test_own_logs_replay_on_the_robot_the_config_names(tmp_path):
         config[block].update(robot[block])
     config["robot"]["urdf"] = str(ROOT / robot["robot"]["urdf"])
     config["engines"] = {"mujoco": config["engines"]["mujoco"] | robot["engines"]["mujoco"]}
-    config["own_logs"] = [{"name": "bot", "terrain_class": "flooring", "csv": str(tmp_path / "bot.csv"),
-                           "mapping": {k: k for k in ("time", "ax", "ay", "az", "wx", "wy", "wz", "v", "w")}}]
+    config["own_logs"] = [
+        {
+            "name": "bot",
+            "terrain_class": "flooring",
+            "csv": str(tmp_path / "bot.csv"),
+            "mapping": {k: k for k in ("time", "ax", "ay", "az", "wx", "wy", "wz", "v", "w")},
+        }
+    ]
     config["accuracy"]["reference"] = "own"
     write_config(tmp_path, config)
     run = snakemake(tmp_path, "results/metrics/own/summary.csv")

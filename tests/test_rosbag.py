@@ -25,8 +25,9 @@ def imu_values(k: int) -> tuple[tuple[float, float, float], tuple[float, float, 
     return (0.01 * k / N_IMU, -0.05, 9.81 + 0.001 * k), (0.002, -0.003, 0.2 + 0.0001 * k)
 
 
-def write_bag(path: Path, ros: int, command: str = "twist", *, imu_stamps: list[int] | None = None,
-              zero_stamps: bool = False) -> Path:
+def write_bag(
+    path: Path, ros: int, command: str = "twist", *, imu_stamps: list[int] | None = None, zero_stamps: bool = False
+) -> Path:
     ts = get_typestore(Stores.ROS2_HUMBLE if ros == 2 else Stores.ROS1_NOETIC)
     T = ts.types
     Time, Header = T["builtin_interfaces/msg/Time"], T["std_msgs/msg/Header"]
@@ -43,8 +44,11 @@ def write_bag(path: Path, ros: int, command: str = "twist", *, imu_stamps: list[
         return Vec(x=float(x), y=float(y), z=float(z))
 
     writer = Writer2(path, version=9) if ros == 2 else Writer1(path)
-    cmd_type = {"twist": Twist.__msgtype__, "odometry": "nav_msgs/msg/Odometry",
-                "joint_state": "sensor_msgs/msg/JointState"}[command]
+    cmd_type = {
+        "twist": Twist.__msgtype__,
+        "odometry": "nav_msgs/msg/Odometry",
+        "joint_state": "sensor_msgs/msg/JointState",
+    }[command]
     with writer:
         c_imu = writer.add_connection("/imu/data", Imu.__msgtype__, typestore=ts)
         c_cmd = writer.add_connection("/cmd", cmd_type, typestore=ts)
@@ -53,10 +57,15 @@ def write_bag(path: Path, ros: int, command: str = "twist", *, imu_stamps: list[
         stamps = imu_stamps or [T0 + k * 10_000_000 for k in range(N_IMU)]
         for k, t in enumerate(stamps):
             acc, gyr = imu_values(k)
-            msg = Imu(header=header(t, k, "imu_link"), orientation=Quat(x=0.0, y=0.0, z=0.0, w=1.0),
-                      orientation_covariance=np.zeros(9), angular_velocity=vec(*gyr),
-                      angular_velocity_covariance=np.zeros(9), linear_acceleration=vec(*acc),
-                      linear_acceleration_covariance=np.zeros(9))
+            msg = Imu(
+                header=header(t, k, "imu_link"),
+                orientation=Quat(x=0.0, y=0.0, z=0.0, w=1.0),
+                orientation_covariance=np.zeros(9),
+                angular_velocity=vec(*gyr),
+                angular_velocity_covariance=np.zeros(9),
+                linear_acceleration=vec(*acc),
+                linear_acceleration_covariance=np.zeros(9),
+            )
             writer.write(c_imu, T0 + k * 10_000_000 + 500_000, serialize(msg, Imu.__msgtype__))
             if k % 10 == 5:  # 10 Hz commands, 50 ms after the IMU
                 j = k // 10
@@ -68,19 +77,26 @@ def write_bag(path: Path, ros: int, command: str = "twist", *, imu_stamps: list[
                     Cov = T["geometry_msgs/msg/TwistWithCovariance"]
                     Pose = T["geometry_msgs/msg/PoseWithCovariance"]
                     msg = T["nav_msgs/msg/Odometry"](
-                        header=header(t_cmd, j, "odom"), child_frame_id="base_link",
-                        pose=Pose(pose=T["geometry_msgs/msg/Pose"](
-                            position=T["geometry_msgs/msg/Point"](x=0.0, y=0.0, z=0.0),
-                            orientation=Quat(x=0.0, y=0.0, z=0.0, w=1.0)), covariance=np.zeros(36)),
-                        twist=Cov(twist=Twist(linear=vec(v, 0, 0), angular=vec(0, 0, w)),
-                                  covariance=np.zeros(36)))
+                        header=header(t_cmd, j, "odom"),
+                        child_frame_id="base_link",
+                        pose=Pose(
+                            pose=T["geometry_msgs/msg/Pose"](
+                                position=T["geometry_msgs/msg/Point"](x=0.0, y=0.0, z=0.0),
+                                orientation=Quat(x=0.0, y=0.0, z=0.0, w=1.0),
+                            ),
+                            covariance=np.zeros(36),
+                        ),
+                        twist=Cov(twist=Twist(linear=vec(v, 0, 0), angular=vec(0, 0, w)), covariance=np.zeros(36)),
+                    )
                 else:  # Husky wheel joints, rad/s; radius 0.1651 m
                     left, right = (v - 0.1) / 0.1651, (v + 0.1) / 0.1651
                     msg = T["sensor_msgs/msg/JointState"](
                         header=header(t_cmd, j, ""),
                         name=["front_left_wheel", "front_right_wheel", "rear_left_wheel", "rear_right_wheel"],
-                        position=np.zeros(4), velocity=np.array([left, right, left, right]),
-                        effort=np.zeros(4))
+                        position=np.zeros(4),
+                        velocity=np.array([left, right, left, right]),
+                        effort=np.zeros(4),
+                    )
                 writer.write(c_cmd, t_cmd + 1_000_000, serialize(msg, cmd_type))
     return path
 

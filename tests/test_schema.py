@@ -7,9 +7,8 @@ import jsonschema
 import pytest
 import yaml
 
-from simpick.schema import SCHEMA, schema_text
-
 from conftest import ROOT, tiny_config
+from simpick.schema import SCHEMA, schema_text
 
 
 def validator():

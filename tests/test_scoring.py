@@ -30,9 +30,7 @@ def test_bool_scores() -> None:
         sc.score_bool("yes")  # type: ignore[arg-type]
 
 
-@pytest.mark.parametrize(
-    ("support", "expected"), [("out_of_the_box", 1.0), ("official_plugin", 0.8), ("none", 0.0)]
-)
+@pytest.mark.parametrize(("support", "expected"), [("out_of_the_box", 1.0), ("official_plugin", 0.8), ("none", 0.0)])
 def test_ros(support: str, expected: float) -> None:
     assert sc.score_ros(support) == expected
 
@@ -164,9 +162,7 @@ def test_missing_values_are_excluded() -> None:
     assert all(math.isnan(v) for v in all_nan.values())
 
 
-@pytest.mark.parametrize(
-    "fn", [sc.real_time_factor_scores, sc.efficiency_scores, sc.accuracy_scores]
-)
+@pytest.mark.parametrize("fn", [sc.real_time_factor_scores, sc.efficiency_scores, sc.accuracy_scores])
 def test_negative_and_infinite_inputs_raise(fn) -> None:  # type: ignore[no-untyped-def]
     with pytest.raises(ValueError, match="negative"):
         fn({"a": 1.0, "b": -0.1})
@@ -236,25 +232,50 @@ def test_scores_job_against_hand_computed_values(tmp_path) -> None:  # type: ign
     import yaml
 
     from simpick.score.jobs import scores_job
+
     facts = {
-        "a": {"free": True, "open_source": True, "ros": "none", "languages": ["Python"], "ui": "none",
-              "model_formats": ["URDF"], "urdf_sdf_via_manual_plugin": False, "physics_engines": ["one"]},
-        "b": {"free": False, "open_source": False, "ros": "out_of_the_box", "languages": ["C++", "Python"],
-              "ui": "full", "model_formats": ["URDF", "SDF", "MJCF"], "urdf_sdf_via_manual_plugin": False,
-              "physics_engines": ["one", "two"]},
+        "a": {
+            "free": True,
+            "open_source": True,
+            "ros": "none",
+            "languages": ["Python"],
+            "ui": "none",
+            "model_formats": ["URDF"],
+            "urdf_sdf_via_manual_plugin": False,
+            "physics_engines": ["one"],
+        },
+        "b": {
+            "free": False,
+            "open_source": False,
+            "ros": "out_of_the_box",
+            "languages": ["C++", "Python"],
+            "ui": "full",
+            "model_formats": ["URDF", "SDF", "MJCF"],
+            "urdf_sdf_via_manual_plugin": False,
+            "physics_engines": ["one", "two"],
+        },
     }
     (tmp_path / "facts.yaml").write_text(yaml.safe_dump(facts))
-    pd.DataFrame({"engine": ["a", "a", "b", "b"], "quantity": ["angular", "linear"] * 2,
-                  "error": [0.55, 3.61, 0.5, 3.61]}).to_csv(tmp_path / "errors.csv", index=False)
+    pd.DataFrame(
+        {"engine": ["a", "a", "b", "b"], "quantity": ["angular", "linear"] * 2, "error": [0.55, 3.61, 0.5, 3.61]}
+    ).to_csv(tmp_path / "errors.csv", index=False)
     pd.DataFrame({"engine": ["a", "b"], "real_time_factor": [10.0, 40.0]}).to_csv(tmp_path / "rtf.csv", index=False)
     cpu = []
     for engine, average, intense in (("a", 50.0, 200.0), ("b", 100.0, 100.0)):
         cpu.append(tmp_path / f"{engine}.json")
-        cpu[-1].write_text(json.dumps({"engine": engine, "average": {"load_percent": average},
-                                       "intense": {"load_percent": intense}}))
+        cpu[-1].write_text(
+            json.dumps({"engine": engine, "average": {"load_percent": average}, "intense": {"load_percent": intense}})
+        )
     outputs = {k: str(tmp_path / f"{k}.csv") for k in ("scores", "weighted", "contributions", "drivers")}
-    scores_job(["a", "b"], str(tmp_path / "errors.csv"), str(tmp_path / "rtf.csv"), [str(p) for p in cpu],
-               str(tmp_path / "facts.yaml"), dict(sc.DEFAULT_WEIGHTS), outputs)
+    scores_job(
+        ["a", "b"],
+        str(tmp_path / "errors.csv"),
+        str(tmp_path / "rtf.csv"),
+        [str(p) for p in cpu],
+        str(tmp_path / "facts.yaml"),
+        dict(sc.DEFAULT_WEIGHTS),
+        outputs,
+    )
 
     weighted = pd.read_csv(outputs["weighted"], index_col="engine")
     a, b = weighted.loc["a"], weighted.loc["b"]
@@ -294,21 +315,45 @@ def test_a_failed_cpu_run_is_not_scored(tmp_path) -> None:  # type: ignore[no-un
     import yaml
 
     from simpick.score.jobs import scores_job
-    fact = {"free": True, "open_source": True, "ros": "none", "languages": ["Python"], "ui": "none",
-            "model_formats": ["URDF"], "urdf_sdf_via_manual_plugin": False, "physics_engines": ["one"]}
+
+    fact = {
+        "free": True,
+        "open_source": True,
+        "ros": "none",
+        "languages": ["Python"],
+        "ui": "none",
+        "model_formats": ["URDF"],
+        "urdf_sdf_via_manual_plugin": False,
+        "physics_engines": ["one"],
+    }
     (tmp_path / "facts.yaml").write_text(yaml.safe_dump({"a": fact, "b": fact}))
-    pd.DataFrame({"engine": ["a", "a", "b", "b"], "quantity": ["angular", "linear"] * 2,
-                  "error": [1.0, 1.0, 1.0, 1.0]}).to_csv(tmp_path / "errors.csv", index=False)
+    pd.DataFrame(
+        {"engine": ["a", "a", "b", "b"], "quantity": ["angular", "linear"] * 2, "error": [1.0, 1.0, 1.0, 1.0]}
+    ).to_csv(tmp_path / "errors.csv", index=False)
     pd.DataFrame({"engine": ["a", "b"], "real_time_factor": [1.0, 1.0]}).to_csv(tmp_path / "rtf.csv", index=False)
     cpu = []
     for engine, load, status in (("a", 50.0, "ok"), ("b", 10.0, "failed")):  # b fell through: cheap, not good
         cpu.append(str(tmp_path / f"{engine}.json"))
-        Path(cpu[-1]).write_text(json.dumps({"engine": engine, "average": {"load_percent": load},
-                                             "intense": {"load_percent": load},
-                                             "health": {"status": status, "reasons": ["fell through"]}}))
+        Path(cpu[-1]).write_text(
+            json.dumps(
+                {
+                    "engine": engine,
+                    "average": {"load_percent": load},
+                    "intense": {"load_percent": load},
+                    "health": {"status": status, "reasons": ["fell through"]},
+                }
+            )
+        )
     outputs = {"scores": str(tmp_path / "scores.csv"), "weighted": str(tmp_path / "weighted.csv")}
-    scores_job(["a", "b"], str(tmp_path / "errors.csv"), str(tmp_path / "rtf.csv"), cpu,
-               str(tmp_path / "facts.yaml"), dict(sc.DEFAULT_WEIGHTS), outputs)
+    scores_job(
+        ["a", "b"],
+        str(tmp_path / "errors.csv"),
+        str(tmp_path / "rtf.csv"),
+        cpu,
+        str(tmp_path / "facts.yaml"),
+        dict(sc.DEFAULT_WEIGHTS),
+        outputs,
+    )
     weighted = pd.read_csv(outputs["weighted"], index_col="engine")
     assert weighted.loc["a", "cpu_average"] == 1.0 and math.isnan(weighted.loc["b", "cpu_average"])
     assert weighted.loc["b", "excluded"] == "cpu_average,cpu_intense"
@@ -322,31 +367,84 @@ def test_scores_job_records_what_the_scores_rest_on(tmp_path) -> None:  # type: 
     import yaml
 
     from simpick.score.jobs import scores_job
-    fact = {"free": True, "open_source": True, "ros": "none", "languages": ["Python"], "ui": "none",
-            "model_formats": ["URDF"], "urdf_sdf_via_manual_plugin": False, "physics_engines": ["one"]}
+
+    fact = {
+        "free": True,
+        "open_source": True,
+        "ros": "none",
+        "languages": ["Python"],
+        "ui": "none",
+        "model_formats": ["URDF"],
+        "urdf_sdf_via_manual_plugin": False,
+        "physics_engines": ["one"],
+    }
     (tmp_path / "facts.yaml").write_text(yaml.safe_dump({"a": fact, "b": fact}))
-    pd.DataFrame({"engine": ["a", "a", "b", "b", "kinematic", "kinematic"], "quantity": ["angular", "linear"] * 3,
-                  "error": [1.0] * 6, "tests": ["ice-1;snow-2"] * 6, "excluded": ["ice-3"] * 6}
-                 ).to_csv(tmp_path / "errors.csv", index=False)
-    pd.DataFrame({"engine": ["a", "b", "kinematic"], "segment": ["ice-3"] * 3, "status": ["ok", "failed", "ok"],
-                  "reasons": ["", "diverged", ""]}).to_csv(tmp_path / "per_test.csv", index=False)
-    pd.DataFrame({"engine": ["a", "b"], "terrain": ["bumps", "bumps"], "motion": ["circle"] * 2,
-                  "status": ["failed", "ok"], "reasons": ["fell through", ""]}).to_csv(tmp_path / "runs.csv", index=False)
-    pd.DataFrame({"engine": ["a", "b"], "real_time_factor": [1.0, 2.0], "tests": ["grass/straight"] * 2,
-                  "excluded": ["bumps/circle"] * 2}).to_csv(tmp_path / "rtf.csv", index=False)
+    pd.DataFrame(
+        {
+            "engine": ["a", "a", "b", "b", "kinematic", "kinematic"],
+            "quantity": ["angular", "linear"] * 3,
+            "error": [1.0] * 6,
+            "tests": ["ice-1;snow-2"] * 6,
+            "excluded": ["ice-3"] * 6,
+        }
+    ).to_csv(tmp_path / "errors.csv", index=False)
+    pd.DataFrame(
+        {
+            "engine": ["a", "b", "kinematic"],
+            "segment": ["ice-3"] * 3,
+            "status": ["ok", "failed", "ok"],
+            "reasons": ["", "diverged", ""],
+        }
+    ).to_csv(tmp_path / "per_test.csv", index=False)
+    pd.DataFrame(
+        {
+            "engine": ["a", "b"],
+            "terrain": ["bumps", "bumps"],
+            "motion": ["circle"] * 2,
+            "status": ["failed", "ok"],
+            "reasons": ["fell through", ""],
+        }
+    ).to_csv(tmp_path / "runs.csv", index=False)
+    pd.DataFrame(
+        {
+            "engine": ["a", "b"],
+            "real_time_factor": [1.0, 2.0],
+            "tests": ["grass/straight"] * 2,
+            "excluded": ["bumps/circle"] * 2,
+        }
+    ).to_csv(tmp_path / "rtf.csv", index=False)
     cpu = []
     for engine, status in (("a", "ok"), ("b", "failed")):
         cpu.append(str(tmp_path / f"{engine}.json"))
-        Path(cpu[-1]).write_text(json.dumps({"engine": engine, "average": {"load_percent": 10.0},
-                                             "intense": {"load_percent": 10.0},
-                                             "health": {"status": status, "reasons": ["jumped"]}}))
-    outputs = {k: str(tmp_path / f"{k}.{'yaml' if k == 'provenance' else 'csv'}")
-               for k in ("scores", "weighted", "provenance")}
+        Path(cpu[-1]).write_text(
+            json.dumps(
+                {
+                    "engine": engine,
+                    "average": {"load_percent": 10.0},
+                    "intense": {"load_percent": 10.0},
+                    "health": {"status": status, "reasons": ["jumped"]},
+                }
+            )
+        )
+    outputs = {
+        k: str(tmp_path / f"{k}.{'yaml' if k == 'provenance' else 'csv'}") for k in ("scores", "weighted", "provenance")
+    }
     accuracy = {"reference": "real", "set": "segments", "dataset": "borealtc"}
-    scores_job(["a", "b"], str(tmp_path / "errors.csv"), str(tmp_path / "rtf.csv"), cpu, str(tmp_path / "facts.yaml"),
-               dict(sc.DEFAULT_WEIGHTS), outputs,
-               {"accuracy": accuracy, "accuracy_tests": str(tmp_path / "per_test.csv"),
-                "runs": str(tmp_path / "runs.csv"), "cpu_test": "grass/straight"})
+    scores_job(
+        ["a", "b"],
+        str(tmp_path / "errors.csv"),
+        str(tmp_path / "rtf.csv"),
+        cpu,
+        str(tmp_path / "facts.yaml"),
+        dict(sc.DEFAULT_WEIGHTS),
+        outputs,
+        {
+            "accuracy": accuracy,
+            "accuracy_tests": str(tmp_path / "per_test.csv"),
+            "runs": str(tmp_path / "runs.csv"),
+            "cpu_test": "grass/straight",
+        },
+    )
     record = yaml.safe_load(Path(outputs["provenance"]).read_text())
     acc = record["accuracy"]
     assert {k: acc[k] for k in accuracy} == accuracy and acc["errors_file"] == str(tmp_path / "errors.csv")

@@ -14,9 +14,8 @@ import time
 import pandas as pd
 import pytest
 
-from simpick.simulate.traces import read_trace
-
 from conftest import ROOT, snakemake, tiny_config, write_config
+from simpick.simulate.traces import read_trace
 
 pytestmark = pytest.mark.workflow  # every test here runs Snakemake
 
@@ -40,16 +39,26 @@ def runs(tmp_path_factory):
     problem = _slurm_up()
     if problem:
         if REQUIRED:
-            pytest.fail(f"SIMPICK_SLURM=1 but SLURM is not usable: {problem}; start it with cluster/local-slurm.sh start")
+            pytest.fail(
+                f"SIMPICK_SLURM=1 but SLURM is not usable: {problem}; start it with cluster/local-slurm.sh start"
+            )
         pytest.skip(f"no SLURM here ({problem}); cluster/local-slurm.sh start, then SIMPICK_SLURM=1")
     out = {}
     for how in ("local", "slurm"):
         workdir = tmp_path_factory.mktemp(how)
         write_config(workdir, tiny_config(workdir))
-        extra = () if how == "local" else (
-            "--profile", str(ROOT / "profiles" / "slurm"),
-            # the test cluster has no accounting database and no accounts (cluster/local-slurm.sh)
-            "--slurm-status-command", "squeue", "--slurm-no-account")
+        extra = (
+            ()
+            if how == "local"
+            else (
+                "--profile",
+                str(ROOT / "profiles" / "slurm"),
+                # the test cluster has no accounting database and no accounts (cluster/local-slurm.sh)
+                "--slurm-status-command",
+                "squeue",
+                "--slurm-no-account",
+            )
+        )
         start = time.perf_counter()
         run = snakemake(workdir, *extra)
         assert run.returncode == 0, how + ":\n" + run.stdout[-3000:] + run.stderr[-3000:]
@@ -76,10 +85,15 @@ def test_slurm_results_equal_the_local_ones(runs):
         pd.testing.assert_frame_equal(a, b, check_exact=True, obj=str(path))
         assert meta_a["steps"] == meta_b["steps"] and meta_a["config_hash"] == meta_b["config_hash"]
     # figures computed from the traces; timing columns (steps_per_s, wall) legitimately differ
-    for path, keys, values in (("results/validation/summary.csv", ["engine", "case", "quantity"],
-                                ["engine_value", "analytic_value", "passed"]),
-                               ("results/metrics/lab/imu_errors.csv", None, None),
-                               ("results/metrics/segments/per_test.csv", None, None)):
+    for path, keys, values in (
+        (
+            "results/validation/summary.csv",
+            ["engine", "case", "quantity"],
+            ["engine_value", "analytic_value", "passed"],
+        ),
+        ("results/metrics/lab/imu_errors.csv", None, None),
+        ("results/metrics/segments/per_test.csv", None, None),
+    ):
         a, b = pd.read_csv(local / path), pd.read_csv(slurm / path)
         if keys:
             a, b = a.set_index(keys)[values].sort_index(), b.set_index(keys)[values].sort_index()

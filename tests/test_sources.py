@@ -73,8 +73,11 @@ def library(tmp_path):
 
 
 def versions(root):
-    return {(kind, step): job_code(*roots(kind, step), root=root)
-            for kind in ("lab", "segments", "replay", "own") for step in ("prepare_case", "compare")}
+    return {
+        (kind, step): job_code(*roots(kind, step), root=root)
+        for kind in ("lab", "segments", "replay", "own")
+        for step in ("prepare_case", "compare")
+    }
 
 
 def edited(library, module, old, new):
@@ -90,13 +93,21 @@ def edited(library, module, old, new):
 
 def test_an_edit_to_how_one_kind_is_driven_changes_that_kinds_simulations_only(library):
     assert edited(library, "simulate/lab.py", "    motion = params[", "    motion = dict(params)[") == [
-        ("lab", "prepare_case")]
+        ("lab", "prepare_case")
+    ]
     assert edited(library, "real/segments.py", "\nCOLUMNS = ", "\nEDITED = True\nCOLUMNS = ") == [
-        ("lab", "compare"), ("own", "compare"), ("own", "prepare_case"), ("replay", "compare"),
-        ("replay", "prepare_case"), ("segments", "compare"), ("segments", "prepare_case")]
+        ("lab", "compare"),
+        ("own", "compare"),
+        ("own", "prepare_case"),
+        ("replay", "compare"),
+        ("replay", "prepare_case"),
+        ("segments", "compare"),
+        ("segments", "prepare_case"),
+    ]
 
 
 def test_an_edit_to_a_comparison_changes_no_simulation(library):
-    changed = edited(library, "compare/kinds.py", "    reference = lab_reference(",
-                     "    reference = {} | lab_reference(")
+    changed = edited(
+        library, "compare/kinds.py", "    reference = lab_reference(", "    reference = {} | lab_reference("
+    )
     assert changed == [(k, "compare") for k in ("lab", "own", "replay", "segments")]

@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from conftest import ROOT, drive, snakemake, tiny_config, write_config
+from conftest import ROOT, snakemake, tiny_config, write_config
 from simpick.config import problems, timestep_label
 from simpick.simulate.imu import block_average, interval_average
 from simpick.studies.sweep import summarise
@@ -28,14 +28,17 @@ def test_the_shipped_sweep_config_is_valid():
     assert SWEEP["sweep"]["timesteps"] == [0.0005, 0.001, 0.002, 0.004]
 
 
-@pytest.mark.parametrize("sweep, expected", [
-    ({"name": "t", "timesteps": [0.001, 0.001]}, "timesteps must be distinct"),
-    ({"name": "t", "timesteps": [0.05]}, "sweep.timesteps.0: Input should be less than or equal to 0.02"),
-    ({"name": "t", "timesteps": [0]}, "sweep.timesteps.0: Input should be greater than 0"),
-    ({"name": "t", "timesteps": []}, "sweep.timesteps: List should have at least 1 item"),
-    ({"name": "my sweep", "timesteps": [0.001]}, "sweep.name: String should match pattern"),
-    ({"timesteps": [0.001]}, "sweep.name: Field required"),
-])
+@pytest.mark.parametrize(
+    "sweep, expected",
+    [
+        ({"name": "t", "timesteps": [0.001, 0.001]}, "timesteps must be distinct"),
+        ({"name": "t", "timesteps": [0.05]}, "sweep.timesteps.0: Input should be less than or equal to 0.02"),
+        ({"name": "t", "timesteps": [0]}, "sweep.timesteps.0: Input should be greater than 0"),
+        ({"name": "t", "timesteps": []}, "sweep.timesteps: List should have at least 1 item"),
+        ({"name": "my sweep", "timesteps": [0.001]}, "sweep.name: String should match pattern"),
+        ({"timesteps": [0.001]}, "sweep.name: Field required"),
+    ],
+)
 def test_a_bad_sweep_is_named(sweep, expected):
     assert expected in with_sweep(sweep)
 
@@ -46,6 +49,7 @@ def test_labels_name_the_sweep_files():
 
 
 # ------------------------------------------------------------ the IMU at any timestep
+
 
 def test_interval_average_is_the_block_average_where_the_period_is_whole_steps():
     x = np.random.default_rng(1).normal(size=(1000, 3))
@@ -63,16 +67,22 @@ def test_interval_average_weighs_a_straddling_step_by_its_time():
 def test_a_4ms_step_gives_a_100hz_imu_at_rest(robot):
     """At rest the IMU reads g on z and nothing else; its samples are 10 ms apart although
     2.5 physics steps make one sample."""
-    from simpick.simulate.health import HealthLimits
-    from simpick.simulate.imu import ImuModel
     from simpick.engines.base import Scenario
     from simpick.inputs.robot import load_robot
+    from simpick.simulate.health import HealthLimits
+    from simpick.simulate.imu import ImuModel
     from simpick.simulate.run import Case, Recording, run_case
 
     case = Case(engine="mujoco", terrain="flat", motion="rest", v=0.0, w=0.0, duration=2.0, start=(0.0, 0.0, 0.0))
     terrain = {"schema": "simpick.inputs.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": 0.8}
-    scenario = Scenario(robot=load_robot(ROOT / "resources/robot/husky_a200.urdf"), terrain=terrain,
-                        ground_friction=0.8, timestep=0.004, max_wheel_torque=100.0, starts=(case.start,))
+    scenario = Scenario(
+        robot=load_robot(ROOT / "resources/robot/husky_a200.urdf"),
+        terrain=terrain,
+        ground_friction=0.8,
+        timestep=0.004,
+        max_wheel_torque=100.0,
+        starts=(case.start,),
+    )
     frame, meta = run_case(case, scenario, 0.555, Recording(imu=ImuModel(rate_hz=100.0), limits=HealthLimits(), seed=0))
     frame = pd.DataFrame(frame)
     np.testing.assert_allclose(np.diff(frame.time), 0.01, atol=1e-12)
@@ -84,21 +94,41 @@ def test_a_4ms_step_gives_a_100hz_imu_at_rest(robot):
 
 # ------------------------------------------------------------ summary: the segments source's rules
 
+
 def _runs():
     """Two engines over three segments of one run; b diverged on s1."""
     rows = []
-    for engine, errors, status in (("a", (1.0, 2.0, 3.0), ("ok", "ok", "ok")),
-                                   ("b", (2.0, 9.0, 4.0), ("ok", "diverged", "ok"))):
+    for engine, errors, status in (
+        ("a", (1.0, 2.0, 3.0), ("ok", "ok", "ok")),
+        ("b", (2.0, 9.0, 4.0), ("ok", "diverged", "ok")),
+    ):
         for k, (err, st) in enumerate(zip(errors, status)):
-            rows.append({"engine": engine, "terrain_class": "ice", "segment": f"s{k}", "test": f"s{k}", "run": "1",
-                         "kind": "straight", "status": st, "reasons": "" if st == "ok" else "diverged",
-                         "yaw_rate_gain_real": np.nan, "start_heading_deg": 0.0,
-                         "error_angular": err if st == "ok" else np.nan,
-                         "error_linear": 10 * err if st == "ok" else np.nan, "yaw_rate_gain_sim": np.nan,
-                         "gain_error": np.nan, "heading_error": 0.0, "speed_sim": 0.5, "timestep": 0.001,
-                         "steps": 1000, "sim_time": 1.0, "cpu_time": 0.1,
-                         # a's run of s1 (which b failed) is slow: counted, it would pull a's RTF to 2.5
-                         "wall_time": (1.0 if k == 1 else 0.1) if engine == "a" else 0.5})
+            rows.append(
+                {
+                    "engine": engine,
+                    "terrain_class": "ice",
+                    "segment": f"s{k}",
+                    "test": f"s{k}",
+                    "run": "1",
+                    "kind": "straight",
+                    "status": st,
+                    "reasons": "" if st == "ok" else "diverged",
+                    "yaw_rate_gain_real": np.nan,
+                    "start_heading_deg": 0.0,
+                    "error_angular": err if st == "ok" else np.nan,
+                    "error_linear": 10 * err if st == "ok" else np.nan,
+                    "yaw_rate_gain_sim": np.nan,
+                    "gain_error": np.nan,
+                    "heading_error": 0.0,
+                    "speed_sim": 0.5,
+                    "timestep": 0.001,
+                    "steps": 1000,
+                    "sim_time": 1.0,
+                    "cpu_time": 0.1,
+                    # a's run of s1 (which b failed) is slow: counted, it would pull a's RTF to 2.5
+                    "wall_time": (1.0 if k == 1 else 0.1) if engine == "a" else 0.5,
+                }
+            )
     return pd.DataFrame(rows)
 
 
@@ -140,8 +170,18 @@ def test_the_sweep_has_no_aggregation_of_its_own():
 
     text = inspect.getsource(simpick.studies.sweep)
     assert "source_tables" in text
-    for name in ("simpick.compare.metrics", "realmetrics", "mean_ci", "per_run", "eq7_", "equal_rtf", ".mean(", "fsum",
-                 "test_error", "trace_stats"):
+    for name in (
+        "simpick.compare.metrics",
+        "realmetrics",
+        "mean_ci",
+        "per_run",
+        "eq7_",
+        "equal_rtf",
+        ".mean(",
+        "fsum",
+        "test_error",
+        "trace_stats",
+    ):
         assert name not in text, name
 
 
@@ -153,13 +193,27 @@ def test_a_sweep_job_reruns_with_the_segments_source_code():
 
     roots = (*script_roots(ROOT / "scripts" / "sweep_segments.py"), PREPARE["segments"])
     files = {p.relative_to(ROOT / "src" / "simpick").as_posix() for p in job_files(*roots)}
-    assert {"studies/sweep.py", "simulate/jobs.py", "simulate/real.py", "compare/real.py", "compare/kinds.py",
-            "compare/metrics.py"} <= files
+    assert {
+        "studies/sweep.py",
+        "simulate/jobs.py",
+        "simulate/real.py",
+        "compare/real.py",
+        "compare/kinds.py",
+        "compare/metrics.py",
+    } <= files
     assert not files & {"simulate/lab.py", "studies/calibration.py"}
     assert not [f for f in files if f.startswith("sources/")]
-    summary = {p.relative_to(ROOT / "src" / "simpick").as_posix()
-               for p in job_files(*script_roots(ROOT / "scripts" / "sweep_summary.py"))}
-    assert {"studies/sweep.py", "compare/jobs.py", "compare/real.py", "compare/realmetrics.py", "compare/metrics.py"} <= summary
+    summary = {
+        p.relative_to(ROOT / "src" / "simpick").as_posix()
+        for p in job_files(*script_roots(ROOT / "scripts" / "sweep_summary.py"))
+    }
+    assert {
+        "studies/sweep.py",
+        "compare/jobs.py",
+        "compare/real.py",
+        "compare/realmetrics.py",
+        "compare/metrics.py",
+    } <= summary
 
 
 def test_the_sweep_at_the_studys_timestep_gives_the_segments_sources_figures(tmp_path):
@@ -171,6 +225,7 @@ def test_the_sweep_at_the_studys_timestep_gives_the_segments_sources_figures(tmp
     from simpick.sources.base import real_params, unit_params
     from simpick.studies.sweep import compare_traces, sweep_summary_job
     from simpick.tables import write_csv
+
     config = tiny_config()
     table = pd.read_csv(ROOT / config["real_data"]["segments"], dtype={"run": str})
     table = table[table.terrain_class == "flooring"].assign(duration=1.0)  # 4 segments of 2 runs
@@ -184,13 +239,24 @@ def test_the_sweep_at_the_studys_timestep_gives_the_segments_sources_figures(tmp
         traces[model] = [str(tmp_path / model / f"{name}.parquet") for name in names]
         simulate_job(traces[model], inputs["urdf"], inputs, params)
     # MuJoCo's second segment (run 07's, which has two more) as its simulate job writes a hung case
-    which = {"source": "segments", "engine": "mujoco", "test": names[1], "terrain": "flooring", "segment": names[1],
-             "run": table.run.iloc[1], "motion": names[1], "dataset": table.dataset.iloc[1], "window": [1.0, 2.0]}
+    which = {
+        "source": "segments",
+        "engine": "mujoco",
+        "test": names[1],
+        "terrain": "flooring",
+        "segment": names[1],
+        "run": table.run.iloc[1],
+        "motion": names[1],
+        "dataset": table.dataset.iloc[1],
+        "window": [1.0, 2.0],
+    }
     write_hung_trace(traces["mujoco"][1], which, params | {"engine": "mujoco"}, 1.0)
     everything = traces["mujoco"] + traces["coulomb"]
 
-    out = {n: str(tmp_path / f"{n}.csv") for n in ("per_test", "detail", "runs", "imu_errors", "rtf", "summary",
-                                                   "pairwise")}
+    out = {
+        n: str(tmp_path / f"{n}.csv")
+        for n in ("per_test", "detail", "runs", "imu_errors", "rtf", "summary", "pairwise")
+    }
     compare_job("segments", everything, inputs, settings, out)
     summarise_job(out["per_test"], out["runs"], {"group": "terrain_class", "statistics": statistics}, out)
     source = pd.read_csv(out["summary"]).set_index("engine")
@@ -233,6 +299,7 @@ def test_the_report_section_pivots_by_timestep(tmp_path):
 
 
 # ------------------------------------------------------------ through the workflow
+
 
 @pytest.mark.workflow
 def test_a_tiny_sweep_runs_and_reruns_nothing(tmp_path):

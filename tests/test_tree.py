@@ -15,16 +15,51 @@ from simpick.tables import write_csv
 
 # Made-up engines, so that nothing in the tree's logic can lean on a real engine's name.
 FACTS = {
-    "anvil": {"free": True, "open_source": True, "ros": "none", "rtf": 300.0, "cpu": 40.0, "fails": 0,
-              "gain": ("best", 0.20)},
-    "breeze": {"free": True, "open_source": True, "ros": "official_plugin", "rtf": 930.0, "cpu": 15.0, "fails": 0,
-               "gain": ("equivalent", 0.21)},
-    "comet": {"free": True, "open_source": True, "ros": "out_of_the_box", "rtf": 55.0, "cpu": 150.0, "fails": 3,
-              "gain": ("equivalent", 0.19)},
-    "dune": {"free": True, "open_source": False, "ros": "out_of_the_box", "rtf": 2100.0, "cpu": 5.0, "fails": 0,
-             "gain": ("worse", 0.35)},
-    "ember": {"free": True, "open_source": True, "ros": "none", "rtf": 120.0, "cpu": 60.0, "fails": 0,
-              "gain": ("undetermined", 0.24)},
+    "anvil": {
+        "free": True,
+        "open_source": True,
+        "ros": "none",
+        "rtf": 300.0,
+        "cpu": 40.0,
+        "fails": 0,
+        "gain": ("best", 0.20),
+    },
+    "breeze": {
+        "free": True,
+        "open_source": True,
+        "ros": "official_plugin",
+        "rtf": 930.0,
+        "cpu": 15.0,
+        "fails": 0,
+        "gain": ("equivalent", 0.21),
+    },
+    "comet": {
+        "free": True,
+        "open_source": True,
+        "ros": "out_of_the_box",
+        "rtf": 55.0,
+        "cpu": 150.0,
+        "fails": 3,
+        "gain": ("equivalent", 0.19),
+    },
+    "dune": {
+        "free": True,
+        "open_source": False,
+        "ros": "out_of_the_box",
+        "rtf": 2100.0,
+        "cpu": 5.0,
+        "fails": 0,
+        "gain": ("worse", 0.35),
+    },
+    "ember": {
+        "free": True,
+        "open_source": True,
+        "ros": "none",
+        "rtf": 120.0,
+        "cpu": 60.0,
+        "fails": 0,
+        "gain": ("undetermined", 0.24),
+    },
 }
 
 WEIGHTS = dict(scoring.DEFAULT_WEIGHTS)
@@ -35,53 +70,137 @@ def make_study(folder, facts=None, weights=None, outcomes=True) -> dict:
     FACTS), written as the study's rules write them; returns the inputs and output paths."""
     facts = facts or FACTS
     folder.mkdir(parents=True, exist_ok=True)
-    qualitative = {e: {"free": f["free"], "open_source": f["open_source"], "ros": f["ros"],
-                       "languages": ["C/C++", "Python"], "ui": "partial", "model_formats": ["URDF", "SDF", "MJCF"],
-                       "urdf_sdf_via_manual_plugin": False, "physics_engines": [e],
-                       "sources": {"open_source": f"https://example.org/{e}", "ros": f"https://example.org/{e}/ros"}}
-                   for e, f in facts.items()}
+    qualitative = {
+        e: {
+            "free": f["free"],
+            "open_source": f["open_source"],
+            "ros": f["ros"],
+            "languages": ["C/C++", "Python"],
+            "ui": "partial",
+            "model_formats": ["URDF", "SDF", "MJCF"],
+            "urdf_sdf_via_manual_plugin": False,
+            "physics_engines": [e],
+            "sources": {"open_source": f"https://example.org/{e}", "ros": f"https://example.org/{e}/ros"},
+        }
+        for e, f in facts.items()
+    }
     (folder / "qualitative.yaml").write_text(yaml.safe_dump(qualitative))
     rows = []
     for e, f in facts.items():
         for i in range(5):
-            rows.append({"engine": e, "case": f"turn_{i}", "kind": "yaw_gain", "quantity": "yaw_rate_gain",
-                         "passed": i >= f["fails"], "status": "ok"})
-        rows.append({"engine": e, "case": "slide", "kind": "slide", "quantity": "deceleration", "passed": True,
-                     "status": "ok"})
-        rows.append({"engine": e, "case": "incline", "kind": "incline", "quantity": "slide_acceleration",
-                     "passed": False, "status": "skipped"})
+            rows.append(
+                {
+                    "engine": e,
+                    "case": f"turn_{i}",
+                    "kind": "yaw_gain",
+                    "quantity": "yaw_rate_gain",
+                    "passed": i >= f["fails"],
+                    "status": "ok",
+                }
+            )
+        rows.append(
+            {"engine": e, "case": "slide", "kind": "slide", "quantity": "deceleration", "passed": True, "status": "ok"}
+        )
+        rows.append(
+            {
+                "engine": e,
+                "case": "incline",
+                "kind": "incline",
+                "quantity": "slide_acceleration",
+                "passed": False,
+                "status": "skipped",
+            }
+        )
     write_csv(pd.DataFrame(rows), folder / "validation_summary.csv")
-    write_csv(pd.DataFrame([{"engine": e, "sim_time": 40.0, "wall_time": 40.0 / f["rtf"], "real_time_factor": f["rtf"],
-                             "n_runs": 6, "tests": "", "excluded": ""} for e, f in facts.items()]), folder / "rtf.csv")
+    write_csv(
+        pd.DataFrame(
+            [
+                {
+                    "engine": e,
+                    "sim_time": 40.0,
+                    "wall_time": 40.0 / f["rtf"],
+                    "real_time_factor": f["rtf"],
+                    "n_runs": 6,
+                    "tests": "",
+                    "excluded": "",
+                }
+                for e, f in facts.items()
+            ]
+        ),
+        folder / "rtf.csv",
+    )
     cpu = []
     for e, f in facts.items():
         path = folder / f"cpu_{e}.json"
-        path.write_text(json.dumps({"engine": e, "average": {"robots": 1, "load_percent": f["cpu"] / 5},
-                                    "intense": {"robots": 5, "load_percent": f["cpu"]},
-                                    "health": {"status": "ok", "reasons": []}}))
+        path.write_text(
+            json.dumps(
+                {
+                    "engine": e,
+                    "average": {"robots": 1, "load_percent": f["cpu"] / 5},
+                    "intense": {"robots": 5, "load_percent": f["cpu"]},
+                    "health": {"status": "ok", "reasons": []},
+                }
+            )
+        )
         cpu.append(str(path))
-    inputs = {"qualitative": str(folder / "qualitative.yaml"), "validation": str(folder / "validation_summary.csv"),
-              "rtf": str(folder / "rtf.csv"), "cpu": cpu}
+    inputs = {
+        "qualitative": str(folder / "qualitative.yaml"),
+        "validation": str(folder / "validation_summary.csv"),
+        "rtf": str(folder / "rtf.csv"),
+        "cpu": cpu,
+    }
     if outcomes:
         best = min((f["gain"][1], e) for e, f in facts.items() if f["gain"][0] == "best")[1]
         rows = []
         for e, f in facts.items():
             outcome, mean = f["gain"]
             diff = mean - facts[best]["gain"][1]
-            rows.append({"metric": "gain_error", "label": "Yaw-rate gain error", "unit": "1", "engine": e, "n_runs": 9,
-                         "mean": mean, "low": mean - 0.01, "high": mean + 0.01, "best": best, "is_best": e == best,
-                         "diff_to_best": diff, "diff_low": diff - 0.004, "diff_high": diff + 0.004, "margin": 0.02,
-                         "margin_basis": "the real robot's run-to-run spread", "p_worse": 0.5, "p_equivalent": 0.01,
-                         "outcome": outcome, "runs_needed": 40 if outcome == "undetermined" else math.nan,
-                         "mechanics": "fail" if f["fails"] else "pass", "mechanics_failed": f["fails"],
-                         "mechanics_note": "", "recommendable": not f["fails"]})
+            rows.append(
+                {
+                    "metric": "gain_error",
+                    "label": "Yaw-rate gain error",
+                    "unit": "1",
+                    "engine": e,
+                    "n_runs": 9,
+                    "mean": mean,
+                    "low": mean - 0.01,
+                    "high": mean + 0.01,
+                    "best": best,
+                    "is_best": e == best,
+                    "diff_to_best": diff,
+                    "diff_low": diff - 0.004,
+                    "diff_high": diff + 0.004,
+                    "margin": 0.02,
+                    "margin_basis": "the real robot's run-to-run spread",
+                    "p_worse": 0.5,
+                    "p_equivalent": 0.01,
+                    "outcome": outcome,
+                    "runs_needed": 40 if outcome == "undetermined" else math.nan,
+                    "mechanics": "fail" if f["fails"] else "pass",
+                    "mechanics_failed": f["fails"],
+                    "mechanics_note": "",
+                    "recommendable": not f["fails"],
+                }
+            )
         pd.DataFrame(rows).to_csv(folder / "outcomes.csv", index=False, float_format="%.17g")
         inputs["outcomes"] = str(folder / "outcomes.csv")
-        write_csv(pd.DataFrame([{"engine": e, "mechanics": "fail" if f["fails"] else "pass",
-                                 "mechanics_failed": f["fails"], "mechanics_cases": 6,
-                                 "mechanics_note": f"fails {f['fails']} of 6 analytic cases: yaw gain ({f['fails']})"
-                                 if f["fails"] else "passes all 6 analytic cases"} for e, f in facts.items()]),
-                  folder / "mechanics.csv")
+        write_csv(
+            pd.DataFrame(
+                [
+                    {
+                        "engine": e,
+                        "mechanics": "fail" if f["fails"] else "pass",
+                        "mechanics_failed": f["fails"],
+                        "mechanics_cases": 6,
+                        "mechanics_note": f"fails {f['fails']} of 6 analytic cases: yaw gain ({f['fails']})"
+                        if f["fails"]
+                        else "passes all 6 analytic cases",
+                    }
+                    for e, f in facts.items()
+                ]
+            ),
+            folder / "mechanics.csv",
+        )
         inputs["mechanics"] = str(folder / "mechanics.csv")
     scores = pd.DataFrame({e: {m: 0.5 for m in scoring.METRICS} for e in facts}).T
     for e, f in facts.items():
@@ -123,16 +242,32 @@ def test_each_path_of_answers_leads_to_the_engines_that_meet_them(study):
     assert walk(tree, {"open_source": "Yes", "ros": "Yes, out of the box"})["question"] == "closeness"
     leaf = walk(tree, {"open_source": "Yes", "ros": "Yes, out of the box", "closeness": "No", "mechanics": "Yes"})
     assert leaf == {**leaf, "kind": "leaf", "engines": []}
-    leaf = walk(tree, {"open_source": "Yes", "ros": "No", "mechanics": "Yes",
-                       "closeness": "Yes, on its yaw-rate gain error"})
+    leaf = walk(
+        tree, {"open_source": "Yes", "ros": "No", "mechanics": "Yes", "closeness": "Yes, on its yaw-rate gain error"}
+    )
     assert leaf["kind"] == "question" and leaf["question"] == "real_time_factor"
     assert [a["label"] for a in leaf["answers"]] == ["At least 500 x real time", "No need"]
-    assert walk(tree, {"open_source": "Yes", "ros": "No",
-                       "mechanics": "Yes", "closeness": "Yes, on its yaw-rate gain error",
-                       "real_time_factor": "At least 500 x real time"})["engines"] == ["breeze"]
+    assert walk(
+        tree,
+        {
+            "open_source": "Yes",
+            "ros": "No",
+            "mechanics": "Yes",
+            "closeness": "Yes, on its yaw-rate gain error",
+            "real_time_factor": "At least 500 x real time",
+        },
+    )["engines"] == ["breeze"]
     # the equivalent group: anvil (best) and breeze (equivalent), none separated by CPU at 5 robots
-    group = walk(tree, {"open_source": "Yes", "ros": "No", "mechanics": "Yes",
-                        "closeness": "Yes, on its yaw-rate gain error", "real_time_factor": "No need"})
+    group = walk(
+        tree,
+        {
+            "open_source": "Yes",
+            "ros": "No",
+            "mechanics": "Yes",
+            "closeness": "Yes, on its yaw-rate gain error",
+            "real_time_factor": "No need",
+        },
+    )
     assert group["kind"] == "leaf" and group["engines"] == ["anvil", "breeze"]
     assert [s["question"] for s in group["path"]] == ["open_source", "ros", "closeness", "real_time_factor"]
 
@@ -159,8 +294,11 @@ def test_without_the_verdict_the_mechanics_come_from_the_validation_summary(tmp_
     # the skipped case is no failure and not counted
     assert mechanics["facts"]["comet"]["text"] == "fails 3 of 6 analytic cases: turning (3)"
     assert mechanics["facts"]["comet"]["source"].endswith("comet (turn_0, turn_1, turn_2)")
-    assert mechanics["facts"]["anvil"] == {**mechanics["facts"]["anvil"], "value": True,
-                                           "text": "passes all 6 analytic cases"}
+    assert mechanics["facts"]["anvil"] == {
+        **mechanics["facts"]["anvil"],
+        "value": True,
+        "text": "passes all 6 analytic cases",
+    }
 
 
 def test_every_fact_names_its_source(study):
@@ -263,9 +401,12 @@ def test_speed_answers_are_classes_at_the_gaps_and_keeping_pace_with_the_clock(t
     options = question.options(list(factors))
     # the two largest gaps (8.4 -> 1.25, 18.5 -> 9.16), real time (1.25 -> 0.82), the measured, no need
     assert [(o.label, o.keeps) for o in options] == [
-        ("At least 10 x real time", ("a", "b")), ("At least 5 x real time", ("a", "b", "c", "d")),
-        ("At least real time", ("a", "b", "c", "d", "e")), ("At least 0.5 x real time", ("a", "b", "c", "d", "e", "f")),
-        ("No need", tuple(factors))]
+        ("At least 10 x real time", ("a", "b")),
+        ("At least 5 x real time", ("a", "b", "c", "d")),
+        ("At least real time", ("a", "b", "c", "d", "e")),
+        ("At least 0.5 x real time", ("a", "b", "c", "d", "e", "f")),
+        ("No need", tuple(factors)),
+    ]
     assert question.facts["g"].text == "real-time factor not measured"
     # close factors are one class: nothing to ask
     assert [o.label for o in question.options(["a", "b"])] == ["No need"]
@@ -293,15 +434,28 @@ def test_the_rules_plan_the_tree_from_the_study_and_the_figure_from_the_weights(
     from conftest import snakemake, tiny_config, write_config
 
     write_config(tmp_path, tiny_config(tmp_path))
-    out = snakemake(tmp_path, "-n", "--rerun-triggers", "mtime", "--", "results/verdict/tree.json",
-                    "results/report/figures/tree.png")
+    out = snakemake(
+        tmp_path,
+        "-n",
+        "--rerun-triggers",
+        "mtime",
+        "--",
+        "results/verdict/tree.json",
+        "results/report/figures/tree.png",
+    )
     assert out.returncode == 0, out.stderr[-3000:]
     text = out.stdout + out.stderr
     jobs = {block.split(":")[0].split()[-1]: block for block in text.split("\nrule ")[1:]}
     assert {"decision_tree", "figure_tree", "verdict", "scores", "validation_summary"} <= set(jobs)
     tree_inputs = jobs["decision_tree"].split("input:")[1].split("\n")[0]
-    for needed in ("results/verdict/outcomes.csv", "results/verdict/mechanics.csv", "results/validation/summary.csv",
-                   "rtf.csv", "results/cpu/", "qualitative.yaml"):
+    for needed in (
+        "results/verdict/outcomes.csv",
+        "results/verdict/mechanics.csv",
+        "results/validation/summary.csv",
+        "rtf.csv",
+        "results/cpu/",
+        "qualitative.yaml",
+    ):
         assert needed in tree_inputs, needed
     assert "weighted.csv" not in tree_inputs
     assert "results/scores/weighted.csv" in jobs["figure_tree"].split("input:")[1].split("\n")[0]

@@ -9,8 +9,15 @@ import pandas as pd
 import pytest
 import yaml
 
-from simpick.score.verdict import (METRICS, metric_table, ranking, runs_needed, score_discrimination, separation_rows,
-                             verdict_job)
+from simpick.score.verdict import (
+    METRICS,
+    metric_table,
+    ranking,
+    runs_needed,
+    score_discrimination,
+    separation_rows,
+    verdict_job,
+)
 
 STATS = {"min_runs": 6, "level": 0.95}
 
@@ -21,8 +28,16 @@ def _tests(values: dict[str, list[float]], metric: str = "heading_error", per_ru
     for engine, vals in values.items():
         for i, v in enumerate(vals):
             run = i // per_run
-            rows.append({"engine": engine, "terrain_class": "ice" if run % 2 else "snow", "run": f"{run:02d}",
-                         "test": f"t{i}", "status": "ok", metric: v})
+            rows.append(
+                {
+                    "engine": engine,
+                    "terrain_class": "ice" if run % 2 else "snow",
+                    "run": f"{run:02d}",
+                    "test": f"t{i}",
+                    "status": "ok",
+                    metric: v,
+                }
+            )
     return pd.DataFrame(rows)
 
 
@@ -66,8 +81,19 @@ def test_below_min_runs_nothing_is_separated_or_ranked_as_closest():
 
 
 def _unit_errors(errors: dict[str, list[float]]) -> pd.DataFrame:
-    rows = [{"engine": e, "terrain_class": "ice", "run": f"{i:02d}", "test": f"ice-{i:02d}", "status": "ok",
-             "error_angular": v, "error_linear": v} for e, vals in errors.items() for i, v in enumerate(vals)]
+    rows = [
+        {
+            "engine": e,
+            "terrain_class": "ice",
+            "run": f"{i:02d}",
+            "test": f"ice-{i:02d}",
+            "status": "ok",
+            "error_angular": v,
+            "error_linear": v,
+        }
+        for e, vals in errors.items()
+        for i, v in enumerate(vals)
+    ]
     return pd.DataFrame(rows)
 
 
@@ -92,8 +118,10 @@ def test_score_discrimination_splits_the_error_into_floor_and_engine():
 
 def _weighted() -> pd.DataFrame:
     # totals: a = 30 + 10 x 1 + 10 x 1 = 50; b = 32 + 10 x 0.9 + 10 x 0.8 = 49
-    return pd.DataFrame({"imu_angular": [1.0, 0.9], "imu_linear": [1.0, 0.8], "total": [50.0, 49.0],
-                         "rank": [1, 2]}, index=pd.Index(["a", "b"], name="engine"))
+    return pd.DataFrame(
+        {"imu_angular": [1.0, 0.9], "imu_linear": [1.0, 0.8], "total": [50.0, 49.0], "rank": [1, 2]},
+        index=pd.Index(["a", "b"], name="engine"),
+    )
 
 
 WEIGHTS = {"imu_angular": 10, "imu_linear": 10}
@@ -114,11 +142,18 @@ def test_the_papers_total_gets_an_interval_over_runs_with_the_rest_held_as_measu
     assert ranking(_weighted(), None, None, WEIGHTS, STATS).total_low.isna().all()
 
 
-VERDICT_SETTINGS = {"margins": {"gain_error": {"basis": "absolute", "value": 0.05},
-                                 "heading_error": {"basis": "absolute", "value": 0.05},
-                                 "speed_error": {"basis": "absolute", "value": 0.05}},
-                    "mechanics": {"gain_error": ["yaw_gain", "invariance"],
-                                  "heading_error": ["yaw_gain", "invariance", "straight"], "speed_error": ["straight"]}}
+VERDICT_SETTINGS = {
+    "margins": {
+        "gain_error": {"basis": "absolute", "value": 0.05},
+        "heading_error": {"basis": "absolute", "value": 0.05},
+        "speed_error": {"basis": "absolute", "value": 0.05},
+    },
+    "mechanics": {
+        "gain_error": ["yaw_gain", "invariance"],
+        "heading_error": ["yaw_gain", "invariance", "straight"],
+        "speed_error": ["straight"],
+    },
+}
 
 
 def _validation(failing: dict[str, list[str]] | None = None, engines=("a", "b")) -> pd.DataFrame:
@@ -127,8 +162,15 @@ def _validation(failing: dict[str, list[str]] | None = None, engines=("a", "b"))
     rows = []
     for e in engines:
         for case, kind in (("gain", "yaw_gain"), ("straight", "straight"), ("incline", "incline")):
-            rows.append({"engine": e, "case": case, "kind": kind, "passed": kind not in (failing or {}).get(e, []),
-                         "status": "ok"})
+            rows.append(
+                {
+                    "engine": e,
+                    "case": case,
+                    "kind": kind,
+                    "passed": kind not in (failing or {}).get(e, []),
+                    "status": "ok",
+                }
+            )
     return pd.DataFrame(rows)
 
 
@@ -144,16 +186,33 @@ def test_the_verdict_and_answer_jobs_write_every_table_and_the_headline(tmp_path
     per_test = tmp_path / "per_test.csv"
     frame.to_csv(per_test, index=False)
     errors = tmp_path / "imu_errors.csv"
-    pd.DataFrame({"engine": ["a", "b"], "quantity": "angular", "error": 1.0,
-                  "tests": ";".join(sorted(frame.test.unique()))}).to_csv(errors, index=False)
+    pd.DataFrame(
+        {"engine": ["a", "b"], "quantity": "angular", "error": 1.0, "tests": ";".join(sorted(frame.test.unique()))}
+    ).to_csv(errors, index=False)
     validation = tmp_path / "validation.csv"
     _validation({"b": ["incline"]}).to_csv(validation, index=False)
-    verdict_out = {k: str(tmp_path / "verdict" / f"{k}.csv")
-                   for k in ("metrics", "table", "discrimination", "headings", "outcomes", "mechanics")}
-    params = {"engines": ["a", "b"], "baselines": ["k"], "statistics": STATS, "seed": 1, "accuracy_set": "segments",
-              "verdict": VERDICT_SETTINGS}
-    verdict_job({"per_test": str(per_test), "accuracy_tests": str(per_test), "accuracy_errors": str(errors),
-                 "validation": str(validation)}, params, verdict_out)
+    verdict_out = {
+        k: str(tmp_path / "verdict" / f"{k}.csv")
+        for k in ("metrics", "table", "discrimination", "headings", "outcomes", "mechanics")
+    }
+    params = {
+        "engines": ["a", "b"],
+        "baselines": ["k"],
+        "statistics": STATS,
+        "seed": 1,
+        "accuracy_set": "segments",
+        "verdict": VERDICT_SETTINGS,
+    }
+    verdict_job(
+        {
+            "per_test": str(per_test),
+            "accuracy_tests": str(per_test),
+            "accuracy_errors": str(errors),
+            "validation": str(validation),
+        },
+        params,
+        verdict_out,
+    )
     outcomes = pd.read_csv(verdict_out["outcomes"]).set_index(["metric", "engine"])
     assert outcomes.loc[("heading_error", "a"), "outcome"] == "best"
     assert outcomes.loc[("heading_error", "b"), "outcome"] == "worse"  # 0.2 rad worse in every run
@@ -169,17 +228,38 @@ def test_the_verdict_and_answer_jobs_write_every_table_and_the_headline(tmp_path
     cpu = []
     for e, load in (("a", 10.0), ("b", 5.0)):
         cpu.append(tmp_path / f"{e}.json")
-        cpu[-1].write_text(json.dumps({"engine": e, "average": {"load_percent": load},
-                                       "intense": {"load_percent": 3 * load}}))
+        cpu[-1].write_text(
+            json.dumps({"engine": e, "average": {"load_percent": load}, "intense": {"load_percent": 3 * load}})
+        )
     answer_out = {k: str(tmp_path / "verdict" / f"{k}.csv") for k in ("ranking", "separation", "answer")}
-    answer_out |= {"answer_yaml": str(tmp_path / "verdict" / "answer.yaml"),
-                   "headline": str(tmp_path / "verdict" / "headline.yaml")}
-    answer_job({"per_test": str(per_test), "accuracy_tests": str(per_test), "weighted": str(weighted),
-                "provenance": str(provenance), "table": verdict_out["table"],
-                "discrimination": verdict_out["discrimination"], "outcomes": verdict_out["outcomes"],
-                "mechanics": verdict_out["mechanics"], "rtf": str(rtf), "cpu": [str(c) for c in cpu]},
-               {"engines": ["a", "b"], "statistics": STATS, "weights": WEIGHTS, "seed": 1, "source": "segments",
-                "source_title": "test segments", "robot": "test robot"}, answer_out)
+    answer_out |= {
+        "answer_yaml": str(tmp_path / "verdict" / "answer.yaml"),
+        "headline": str(tmp_path / "verdict" / "headline.yaml"),
+    }
+    answer_job(
+        {
+            "per_test": str(per_test),
+            "accuracy_tests": str(per_test),
+            "weighted": str(weighted),
+            "provenance": str(provenance),
+            "table": verdict_out["table"],
+            "discrimination": verdict_out["discrimination"],
+            "outcomes": verdict_out["outcomes"],
+            "mechanics": verdict_out["mechanics"],
+            "rtf": str(rtf),
+            "cpu": [str(c) for c in cpu],
+        },
+        {
+            "engines": ["a", "b"],
+            "statistics": STATS,
+            "weights": WEIGHTS,
+            "seed": 1,
+            "source": "segments",
+            "source_title": "test segments",
+            "robot": "test robot",
+        },
+        answer_out,
+    )
     separation = pd.read_csv(answer_out["separation"]).set_index("metric")
     assert set(METRICS) <= set(separation.index) and {"imu_angular", "imu_linear", "total"} <= set(separation.index)
     assert separation.loc["total", "method"] == "paper"
@@ -193,8 +273,10 @@ def test_the_verdict_and_answer_jobs_write_every_table_and_the_headline(tmp_path
     said = {s["need"]: s for s in yaml.safe_load(Path(answer_out["answer_yaml"]).read_text())["sentences"]}
     assert list(said) == ["closest", "fastest", "settings", "avoid"] and all(s["rests_on"] for s in said.values())
     # b is faster but fails the mechanics: a is the fastest that passes
-    assert said["fastest"]["text"].startswith("Fastest among the engines that pass the mechanics: a, real-time "
-                                              "factor 2") and "b runs faster but fails the mechanics" in said["fastest"]["text"]
+    assert (
+        said["fastest"]["text"].startswith("Fastest among the engines that pass the mechanics: a, real-time factor 2")
+        and "b runs faster but fails the mechanics" in said["fastest"]["text"]
+    )
     assert "times 1.2 " in said["settings"]["text"]  # the real robot's multiplier x 0.6 / 0.5
     assert said["avoid"]["text"].startswith("Avoid b: fails 1 of 3 analytic cases: incline (1)")
     head = yaml.safe_load(Path(answer_out["headline"]).read_text())
@@ -204,11 +286,23 @@ def test_the_verdict_and_answer_jobs_write_every_table_and_the_headline(tmp_path
 
 def test_the_heading_spread_is_each_gain_over_the_coulomb_gain_on_the_same_test():
     rows = []
-    for test, heading, gains in (("t0", 0.0, {"p": 0.1, "coulomb": 0.5}), ("t1", 45.0, {"p": 0.5, "coulomb": 0.5}),
-                                 ("t2", 90.0, {"p": 0.12, "coulomb": 0.4})):
+    for test, heading, gains in (
+        ("t0", 0.0, {"p": 0.1, "coulomb": 0.5}),
+        ("t1", 45.0, {"p": 0.5, "coulomb": 0.5}),
+        ("t2", 90.0, {"p": 0.12, "coulomb": 0.4}),
+    ):
         for model, g in gains.items():
-            rows.append({"engine": model, "test": test, "terrain_class": "asphalt", "run": test, "status": "ok",
-                         "start_heading_deg": heading, "yaw_rate_gain_sim": g})
+            rows.append(
+                {
+                    "engine": model,
+                    "test": test,
+                    "terrain_class": "asphalt",
+                    "run": test,
+                    "status": "ok",
+                    "start_heading_deg": heading,
+                    "yaw_rate_gain_sim": g,
+                }
+            )
     from simpick.score.verdict import heading_spread
 
     out = heading_spread(pd.DataFrame(rows)).set_index("test")
@@ -223,19 +317,27 @@ def test_the_headline_says_plainly_when_the_papers_order_is_not_decided_by_the_i
 
     weighted = _weighted().assign(total=[60.0, 49.0])  # the rest: 40 and 32; IMU 20 and 17 points
     rank = ranking(weighted, None, None, WEIGHTS, STATS)
-    disc = pd.DataFrame([{"quantity": q, "engine": e, "score": s, "spread": 0.2, "half_width": 0.3,
-                          "separates": False, "n_runs": 6} for q in ("angular", "linear")
-                         for e, s in (("a", 1.0), ("b", 0.85))])
+    disc = pd.DataFrame(
+        [
+            {"quantity": q, "engine": e, "score": s, "spread": 0.2, "half_width": 0.3, "separates": False, "n_runs": 6}
+            for q in ("angular", "linear")
+            for e, s in (("a", 1.0), ("b", 0.85))
+        ]
+    )
     text = headline([], paper_rows(rank, disc, WEIGHTS), rank)
     # IMU points differ by 3, the totals by 11: the order comes from the rest
     assert "ranks a first: a 60.000, b 49.000" in text
-    assert ("decided by qualitative facts, real-time factor and CPU load" in text
-            and "0.85–1 (angular) and 0.85–1 (linear)" in text and "at most 3.00 points, less than the 11.00" in text)
+    assert (
+        "decided by qualitative facts, real-time factor and CPU load" in text
+        and "0.85–1 (angular) and 0.85–1 (linear)" in text
+        and "at most 3.00 points, less than the 11.00" in text
+    )
     close = ranking(_weighted(), None, None, WEIGHTS, STATS)  # totals 50 and 49: the IMU scores could swap them
     assert "decided by" not in headline([], paper_rows(close, disc, WEIGHTS), close)
 
 
 # --- every engine against the best: outcomes on data whose answer is known -------------------------------
+
 
 def _gain_tests(values: dict[str, list[float]]) -> pd.DataFrame:
     """One turning test per run and engine with the gain error given (runs alternate two classes)."""
@@ -244,8 +346,9 @@ def _gain_tests(values: dict[str, list[float]]) -> pd.DataFrame:
     return frame
 
 
-def _outcomes(values: dict[str, list[float]], failing: dict[str, list[str]] | None = None,
-              settings: dict | None = None) -> pd.DataFrame:
+def _outcomes(
+    values: dict[str, list[float]], failing: dict[str, list[str]] | None = None, settings: dict | None = None
+) -> pd.DataFrame:
     from simpick.score.equivalence import outcomes_table
     from simpick.score.mechanics import mechanics_table
     from simpick.score.verdict import per_run_values
@@ -312,8 +415,16 @@ def test_too_few_runs_and_a_metric_the_data_cannot_measure():
     from simpick.score.mechanics import mechanics_table
 
     frame = _gain_tests({"a": BEST})
-    table = outcomes_table({}, frame, ["a"], METRICS, mechanics_table(_validation(engines=["a"]), ["a"]),
-                           VERDICT_SETTINGS, STATS, absent={"speed_error": "no measured speed"})
+    table = outcomes_table(
+        {},
+        frame,
+        ["a"],
+        METRICS,
+        mechanics_table(_validation(engines=["a"]), ["a"]),
+        VERDICT_SETTINGS,
+        STATS,
+        absent={"speed_error": "no measured speed"},
+    )
     speed = table[table.metric == "speed_error"].iloc[0]
     assert speed.outcome == "not measurable" and speed.note == "no measured speed" and speed.n_runs == 0
 
@@ -326,14 +437,16 @@ def test_holm_tost_and_the_interval_are_the_libraries():
 
     rng = np.random.default_rng(11)
     best = np.array(BEST)
-    values = {"best": list(best)} | {e: list(best + rng.normal(mu, 0.02, 8))
-                                     for e, mu in (("b", 0.01), ("c", 0.03), ("d", 0.06))}
+    values = {"best": list(best)} | {
+        e: list(best + rng.normal(mu, 0.02, 8)) for e, mu in (("b", 0.01), ("c", 0.03), ("d", 0.06))
+    }
     out = _outcomes(values)
     raw = [ttest_rel(values[e], best, alternative="greater").pvalue for e in ("b", "c", "d")]
     np.testing.assert_allclose(out.loc[["b", "c", "d"], "p_worse"], multipletests(raw, method="holm")[1], rtol=1e-12)
     for e in ("b", "c", "d"):
-        assert out.loc[e, "p_equivalent"] == pytest.approx(ttost_paired(np.array(values[e]), best, -0.05, 0.05)[0],
-                                                           rel=1e-12)
+        assert out.loc[e, "p_equivalent"] == pytest.approx(
+            ttost_paired(np.array(values[e]), best, -0.05, 0.05)[0], rel=1e-12
+        )
         ci = ttest_rel(values[e], best).confidence_interval(0.95)
         assert (out.loc[e, "diff_low"], out.loc[e, "diff_high"]) == pytest.approx((ci.low, ci.high), rel=1e-12)
 
@@ -343,8 +456,13 @@ def test_a_margin_from_the_real_robots_own_run_to_run_spread():
 
     # class x: runs at 0.5 and 0.7 (variance 0.02, 1 dof); class y: 0.3, 0.3, 0.6 (0.03, 2 dof); class z one run
     rows = [("x", "1", 0.5), ("x", "2", 0.7), ("y", "1", 0.3), ("y", "2", 0.3), ("y", "3", 0.6), ("z", "1", 0.9)]
-    frame = pd.DataFrame([{"engine": e, "terrain_class": c, "run": r, "test": f"{c}{r}", "status": "ok",
-                           "yaw_rate_gain_real": g} for c, r, g in rows for e in ("a", "b")])
+    frame = pd.DataFrame(
+        [
+            {"engine": e, "terrain_class": c, "run": r, "test": f"{c}{r}", "status": "ok", "yaw_rate_gain_real": g}
+            for c, r, g in rows
+            for e in ("a", "b")
+        ]
+    )
     value, basis = margin(frame, "gain_error", {"basis": "real_spread", "value": 1.0})
     assert value == pytest.approx(np.sqrt((0.02 * 1 + 0.03 * 2) / 3))
     assert "over 5 runs in 2 terrain classes" in basis
@@ -357,19 +475,22 @@ def test_a_margin_from_the_real_robots_own_run_to_run_spread():
 def test_the_mechanics_gate_counts_failed_cases_by_kind_and_ignores_skipped_ones():
     from simpick.score.mechanics import mechanics_table, recommendable
 
-    summary = pd.DataFrame([
-        {"engine": "p", "case": "g1", "kind": "yaw_gain", "passed": False, "status": "ok"},
-        {"engine": "p", "case": "g1", "kind": "yaw_gain", "passed": False, "status": "ok"},  # a second quantity
-        {"engine": "p", "case": "g2", "kind": "yaw_gain", "passed": False, "status": "ok"},
-        {"engine": "p", "case": "i1", "kind": "incline", "passed": False, "status": "ok"},
-        {"engine": "p", "case": "s1", "kind": "straight", "passed": True, "status": "ok"},
-        {"engine": "p", "case": "r1", "kind": "yaw_gain", "passed": False, "status": "skipped"},
-        {"engine": "p", "case": "left_right", "kind": "invariance", "passed": False, "status": "ok"},
-        {"engine": "q", "case": "g1", "kind": "yaw_gain", "passed": True, "status": "ok"},
-    ])
+    summary = pd.DataFrame(
+        [
+            {"engine": "p", "case": "g1", "kind": "yaw_gain", "passed": False, "status": "ok"},
+            {"engine": "p", "case": "g1", "kind": "yaw_gain", "passed": False, "status": "ok"},  # a second quantity
+            {"engine": "p", "case": "g2", "kind": "yaw_gain", "passed": False, "status": "ok"},
+            {"engine": "p", "case": "i1", "kind": "incline", "passed": False, "status": "ok"},
+            {"engine": "p", "case": "s1", "kind": "straight", "passed": True, "status": "ok"},
+            {"engine": "p", "case": "r1", "kind": "yaw_gain", "passed": False, "status": "skipped"},
+            {"engine": "p", "case": "left_right", "kind": "invariance", "passed": False, "status": "ok"},
+            {"engine": "q", "case": "g1", "kind": "yaw_gain", "passed": True, "status": "ok"},
+        ]
+    )
     table = mechanics_table(summary, ["p", "q", "r"]).set_index("engine")
-    assert table.loc["p", "mechanics_note"] == ("fails 3 of 4 analytic cases: yaw gain (2), incline (1); fails 1 "
-                                                "turn symmetry and heading check")
+    assert table.loc["p", "mechanics_note"] == (
+        "fails 3 of 4 analytic cases: yaw gain (2), incline (1); fails 1 turn symmetry and heading check"
+    )
     assert table.loc["p", "mechanics_failed"] == 3 and table.loc["q", "mechanics"] == "pass"
     assert table.loc["r", "mechanics"] == "fail" and "not validated" in table.loc["r", "mechanics_note"]
     assert recommendable(table.reset_index(), ["straight"]) == {"p": True, "q": True, "r": False}
@@ -383,8 +504,17 @@ def test_per_class_verdicts_are_typed_columns_a_reader_takes_as_they_are():
     for cls, runs in (("x", 6), ("y", 3)):
         for r in range(runs):
             for engine, err in (("a", 1.0 + r), ("b", 2.0 + r)):
-                rows.append({"engine": engine, "terrain_class": cls, "run": f"{r}", "test": f"{cls}{r}",
-                             "status": "ok", "error_angular": err, "error_linear": 5.0 - err / 10})
+                rows.append(
+                    {
+                        "engine": engine,
+                        "terrain_class": cls,
+                        "run": f"{r}",
+                        "test": f"{cls}{r}",
+                        "status": "ok",
+                        "error_angular": err,
+                        "error_linear": 5.0 - err / 10,
+                    }
+                )
     tests = pd.DataFrame(rows)
     pairwise = pairwise_table(tests, "terrain_class", STATS)
     x = pairwise[(pairwise.terrain_class == "x") & (pairwise.figure == "error_angular")].iloc[0]
@@ -406,14 +536,34 @@ def test_the_answer_takes_the_calibrated_gain_ratio_from_the_calibrations_turnin
     from simpick.score.mechanics import mechanics_table
 
     turning = tmp_path / "turning.csv"
-    pd.DataFrame([
-        {"terrain_class": "target classes", "engine": "a", "variant": "calibrated", "n_runs": 6, "gain_ratio": 0.97,
-         "parameters": "friction_ratio=0.62"},
-        {"terrain_class": "target classes", "engine": "a", "variant": "configured", "n_runs": 6, "gain_ratio": 0.7,
-         "parameters": ""},
-        {"terrain_class": "ice", "engine": "a", "variant": "calibrated", "n_runs": 2, "gain_ratio": 0.5,
-         "parameters": "friction_ratio=0.62"},
-    ]).to_csv(turning, index=False)
+    pd.DataFrame(
+        [
+            {
+                "terrain_class": "target classes",
+                "engine": "a",
+                "variant": "calibrated",
+                "n_runs": 6,
+                "gain_ratio": 0.97,
+                "parameters": "friction_ratio=0.62",
+            },
+            {
+                "terrain_class": "target classes",
+                "engine": "a",
+                "variant": "configured",
+                "n_runs": 6,
+                "gain_ratio": 0.7,
+                "parameters": "",
+            },
+            {
+                "terrain_class": "ice",
+                "engine": "a",
+                "variant": "calibrated",
+                "n_runs": 2,
+                "gain_ratio": 0.5,
+                "parameters": "friction_ratio=0.62",
+            },
+        ]
+    ).to_csv(turning, index=False)
     cal = calibrated(str(turning))
     assert list(cal.engine) == ["a"] and cal.gain_ratio.iloc[0] == 0.97
     assert calibrated(None).empty and calibrated(str(tmp_path / "none.csv")).empty

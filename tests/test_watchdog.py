@@ -39,19 +39,29 @@ def _run_hanging(tmp_path, name: str, job: str, output):
     """Run ``job`` (after HANGING_MODEL) in a process of its own: the watchdog ends the process."""
     script = tmp_path / f"{name}.py"
     script.write_text(HANGING_MODEL + textwrap.dedent(job) + '\nprint("not reached")\n')
-    run = subprocess.run([sys.executable, str(script), str(ROOT / "config.yaml"), str(output)], cwd=ROOT,
-                         capture_output=True, text=True, timeout=120,
-                         # this tree's package and conftest's helpers
-                         env={**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT / "src"), str(ROOT / "tests")])})
+    run = subprocess.run(
+        [sys.executable, str(script), str(ROOT / "config.yaml"), str(output)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        # this tree's package and conftest's helpers
+        env={**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT / "src"), str(ROOT / "tests")])},
+    )
     assert run.returncode == 0, run.stderr
     assert "not reached" not in run.stdout
     assert "hung: no result after 1 s" in run.stderr  # the job's log says why it stopped
 
+
 # --- simulate_job: a lab case, a replay, a batch of segments --------------------------------------
+
 
 def test_a_hung_engine_is_stopped_and_reported(tmp_path):
     output = tmp_path / "trace.parquet"
-    _run_hanging(tmp_path, "hang", """
+    _run_hanging(
+        tmp_path,
+        "hang",
+        """
         from simpick.inputs.jobs import terrain_job
         from simpick.simulate.jobs import simulate_job
         terrain_job(out + ".json", "grass", 1, config["terrains"]["grass"])
@@ -59,19 +69,29 @@ def test_a_hung_engine_is_stopped_and_reported(tmp_path):
                   "health": dict(config["health"], timeout=1.0), "kind": "lab", "source": "lab",
                   "cases": ["straight"]}
         simulate_job([out], config["robot"]["urdf"], {"terrain": out + ".json"}, params)
-    """, output)
+    """,
+        output,
+    )
     frame, meta = read_trace(output)
     assert len(frame) == 0
     assert meta["health"]["status"] == "failed"
     assert "hung: no result after 1 s" in meta["health"]["reasons"][0]
-    assert (meta["source"], meta["test"], meta["terrain"], meta["motion"]) == ("lab", "grass/straight", "grass", "straight")
+    assert (meta["source"], meta["test"], meta["terrain"], meta["motion"]) == (
+        "lab",
+        "grass/straight",
+        "grass",
+        "straight",
+    )
 
 
 def test_a_hung_replay_is_stopped_and_reported_like_a_run(tmp_path):
     """A replay (a dataset's run or an own log) steps an engine too: the same watchdog, and the
     failed trace names its terrain class and run so the source's compare job lists it."""
     output = tmp_path / "replay.parquet"
-    _run_hanging(tmp_path, "hang_replay", """
+    _run_hanging(
+        tmp_path,
+        "hang_replay",
+        """
         from pathlib import Path
         from simpick.real.jobs import import_job
         from simpick.simulate.jobs import simulate_job
@@ -83,7 +103,9 @@ def test_a_hung_replay_is_stopped_and_reported_like_a_run(tmp_path):
         params = {**real, "health": dict(config["health"], timeout=1.0), "kind": "replay", "source": "yard",
                   "cases": ["7"]}
         simulate_job([out], config["robot"]["urdf"], {"log": out + ".log.parquet"}, params)
-    """, output)
+    """,
+        output,
+    )
     frame, meta = read_trace(output)
     assert len(frame) == 0
     assert (meta["engine"], meta["terrain"], meta["run"], meta["source"]) == ("hanging", "flooring", "7", "yard")
@@ -93,14 +115,19 @@ def test_a_hung_replay_is_stopped_and_reported_like_a_run(tmp_path):
 def test_a_hung_case_of_a_batch_fails_it_and_the_cases_after_it(tmp_path):
     """The committed segments run a class per job: when one case hangs, the watchdog ends the
     process, so the cases after it are written as failed (not run) traces, never left missing."""
-    _run_hanging(tmp_path, "hang_batch", """
+    _run_hanging(
+        tmp_path,
+        "hang_batch",
+        """
         params = {**real, "terrain_class": "ice", "class": config["real_data"]["classes"]["ice"],
                   "health": dict(config["health"], timeout=1.0), "kind": "segments", "source": "segments",
                   "cases": ["ice-straight-02-0020p23s", "ice-turning-02-0009p46s"]}
         from simpick.simulate.jobs import simulate_job
         simulate_job([out + "-a.parquet", out + "-b.parquet"], config["robot"]["urdf"],
                      {"segments": config["real_data"]["segments"]}, params)
-    """, tmp_path / "t")
+    """,
+        tmp_path / "t",
+    )
     (_, first), (_, second) = read_trace(tmp_path / "t-a.parquet"), read_trace(tmp_path / "t-b.parquet")
     assert (first["source"], first["segment"], first["terrain"]) == ("segments", "ice-straight-02-0020p23s", "ice")
     assert "hung: no result after 1 s" in first["health"]["reasons"][0]
@@ -118,7 +145,10 @@ def test_a_hung_validation_case_fails_it_and_the_cases_after_it(tmp_path):
     from simpick.studies.validation import failures, summarise
 
     names = ["a_rest", "b_slide", "c_rest"]
-    _run_hanging(tmp_path, "validate", """
+    _run_hanging(
+        tmp_path,
+        "validate",
+        """
         from simpick.studies import validation
         def hang(setup, params):
             while True:
@@ -131,7 +161,9 @@ def test_a_hung_validation_case_fails_it_and_the_cases_after_it(tmp_path):
         # three cases in a 3 s job: 1 s each
         validation.validate_job([f"{out}/{name}.json" for name in cases], config["robot"]["urdf"], params,
                                 timeout=3.0)
-    """, tmp_path / "records")
+    """,
+        tmp_path / "records",
+    )
     records = [json.loads((tmp_path / "records" / f"{name}.json").read_text()) for name in names]
     assert [r["status"] for r in records] == ["ok", "failed", "failed"]
     assert records[1]["reasons"][0].startswith("hung: no result after 1 s") and records[1]["kind"] == "slide"
@@ -149,14 +181,20 @@ def test_a_hung_cpu_load_job_is_recorded_failed_and_left_out_of_the_scores(tmp_p
     import json
 
     from simpick.score.jobs import score_provenance
+
     output = tmp_path / "cpu" / "hanging.json"
-    _run_hanging(tmp_path, "cpu", """
+    _run_hanging(
+        tmp_path,
+        "cpu",
+        """
         from simpick.inputs.jobs import terrain_job
         from simpick.simulate.jobs import cpu_job
         terrain_job(out + ".terrain.json", "grass", 1, config["terrains"]["grass"])
         params = {**real, "motion": config["motions"]["straight"], "cpu_load": config["cpu_load"]}
         cpu_job(out, out + ".terrain.json", config["robot"]["urdf"], params, timeout=1.0)
-    """, output)
+    """,
+        output,
+    )
     record = json.loads(output.read_text())
     assert record["health"]["status"] == "failed"
     assert "hung: no result after 1 s" in record["health"]["reasons"][0]
@@ -164,8 +202,9 @@ def test_a_hung_cpu_load_job_is_recorded_failed_and_left_out_of_the_scores(tmp_p
     # the scores' provenance lists it among the failed CPU runs, not among the scored engines
     (tmp_path / "errors.csv").write_text("engine,quantity,tests,excluded\n")
     (tmp_path / "rtf.csv").write_text("engine,tests,excluded\n")
-    cpu = score_provenance(["hanging"], str(tmp_path / "errors.csv"), str(tmp_path / "rtf.csv"), [str(output)],
-                           {})["cpu"]
+    cpu = score_provenance(["hanging"], str(tmp_path / "errors.csv"), str(tmp_path / "rtf.csv"), [str(output)], {})[
+        "cpu"
+    ]
     assert cpu["engines"] == [] and cpu["excluded"][0]["engine"] == "hanging"
     assert "hung: no result after 1 s" in cpu["excluded"][0]["why"]
 
@@ -177,7 +216,10 @@ def test_a_hung_sweep_point_records_every_segment_failed(tmp_path):
     from simpick.studies.sweep import summarise
 
     output = tmp_path / "sweep.csv"
-    _run_hanging(tmp_path, "sweep", """
+    _run_hanging(
+        tmp_path,
+        "sweep",
+        """
         import pandas as pd
         from simpick.studies.sweep import sweep_job
         segments = pd.read_csv(config["real_data"]["segments"])
@@ -185,7 +227,9 @@ def test_a_hung_sweep_point_records_every_segment_failed(tmp_path):
                   "cases": list(segments.segment[segments.terrain_class == "flooring"])}
         sweep_job({"segments": config["real_data"]["segments"], "urdf": config["robot"]["urdf"]}, params,
                   {"track": config["robot"]["track"]}, out)
-    """, output)
+    """,
+        output,
+    )
     runs = pd.read_csv(output, dtype={"run": str})
     config = yaml.safe_load((ROOT / "config.yaml").read_text())
     segments = pd.read_csv(ROOT / config["real_data"]["segments"])
@@ -216,20 +260,32 @@ def test_a_hung_calibration_and_its_evaluation_are_recorded_failed(tmp_path):
         split_job([[r.terrain_class, r.run, r.segment] for r in units.itertuples()], 0.5, 1, split)
         inputs = {"split": split, "segments": segments, "urdf": config["robot"]["urdf"]}
     """
-    _run_hanging(tmp_path, "calibrate", setup + f"""
+    _run_hanging(
+        tmp_path,
+        "calibrate",
+        setup
+        + f"""
         from simpick.studies.calibration import calibrate_job
         calibrate_job(inputs, real, calibration, {{"best": out, "trials": {str(trials)!r}}}, timeout=1.0)
-    """, best)
+    """,
+        best,
+    )
     record = yaml.safe_load(best.read_text())
     assert record["status"] == "failed" and record["parameters"] == {}
     assert "hung: no result after 1 s" in record["reasons"][0]
     assert trials.is_file()
 
-    _run_hanging(tmp_path, "evaluate", setup + f"""
+    _run_hanging(
+        tmp_path,
+        "evaluate",
+        setup
+        + f"""
         from simpick.studies.calibration import evaluate_job
         inputs["best"] = {str(best)!r}
         evaluate_job(inputs, real, calibration, out, timeout=1.0)
-    """, evaluation)
+    """,
+        evaluation,
+    )
     rows = pd.read_csv(evaluation, dtype={"run": str, "unit": str})
     assert (rows.status == "failed").all()
     assert set(rows.variant) == {"configured", "calibrated"}

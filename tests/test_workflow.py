@@ -73,8 +73,17 @@ def test_tolerance_edit_rejudges_without_stepping_an_engine(study):
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
         # the validation is re-judged; the verdict's mechanics gate rests on it (and the answer, its
         # figure, the decision tree and its figure on the verdict): no engine steps, no lab or real-data job
-        assert rules == ["all", "answer", "decision_tree", "figure_answer", "figure_tree", "figure_validation",
-                         "report", "validation_summary", "verdict"]
+        assert rules == [
+            "all",
+            "answer",
+            "decision_tree",
+            "figure_answer",
+            "figure_tree",
+            "figure_validation",
+            "report",
+            "validation_summary",
+            "verdict",
+        ]
     finally:
         write_config(workdir, config)
 
@@ -217,8 +226,12 @@ def test_an_rtf_edit_reruns_the_summaries_not_the_simulations(study, tmp_path):
     """equal_rtf lies in compare/jobs.py: the compare stage's jobs rerun (the whole module counts),
     no simulation and no validation."""
     workdir, _ = study
-    env = edited_library(tmp_path, "compare/jobs.py", "    engines = sorted(runs.engine.unique())\n",
-                         "    engines = sorted(runs.engine.unique())  # edited\n    assert engines is not None\n")
+    env = edited_library(
+        tmp_path,
+        "compare/jobs.py",
+        "    engines = sorted(runs.engine.unique())\n",
+        "    engines = sorted(runs.engine.unique())  # edited\n    assert engines is not None\n",
+    )
     jobs = planned_jobs(workdir, env)
     assert simulated(jobs) == [] and not {rule for rule, _ in jobs} & {"validation_summary", "validate"}
     assert {("summarise", "source=lab"), ("summarise", "source=segments")} <= set(jobs)
@@ -244,8 +257,9 @@ def test_an_engine_code_edit_reruns_only_that_engine(study, tmp_path):
     workdir, config = study
     env = edited_library(tmp_path, "engines/mujoco_engine.py", None, "\nEDITED = True\n")
     jobs = planned_jobs(workdir, env)
-    stepping = [(rule, w) for rule, w in jobs
-                if rule in ("simulate", "cpu_load", "validate") or rule.startswith("simulate_")]
+    stepping = [
+        (rule, w) for rule, w in jobs if rule in ("simulate", "cpu_load", "validate") or rule.startswith("simulate_")
+    ]
     assert stepping and all("engine=mujoco" in w for _, w in stepping), stepping
     assert not {rule for rule, _ in jobs} & {"terrain", "published_table11"}
 
@@ -271,13 +285,16 @@ def test_engine_edit_reruns_only_that_engine(study):
 
 
 @pytest.mark.workflow
-@pytest.mark.parametrize("key,value,message", [
-    # 1/100 s is not a whole number of 3 ms steps (a check across keys: pydantic runs it only once
-    # every field is valid, so it gets a config of its own)
-    (("physics", "timestep"), 0.003, "physics.timestep 0.003 s does not divide the IMU period"),
-    (("weights", "free"), -1, "weights.free: Input should be greater than or equal to 0"),
-    (("statistics", "min_runs"), 5, "statistics.min_runs 5: a sign-flip test over 5 runs cannot give p below"),
-])
+@pytest.mark.parametrize(
+    "key,value,message",
+    [
+        # 1/100 s is not a whole number of 3 ms steps (a check across keys: pydantic runs it only once
+        # every field is valid, so it gets a config of its own)
+        (("physics", "timestep"), 0.003, "physics.timestep 0.003 s does not divide the IMU period"),
+        (("weights", "free"), -1, "weights.free: Input should be greater than or equal to 0"),
+        (("statistics", "min_runs"), 5, "statistics.min_runs 5: a sign-flip test over 5 runs cannot give p below"),
+    ],
+)
 def test_bad_config_is_refused_before_any_job(tmp_path, key, value, message):
     config = tiny_config(tmp_path)
     config[key[0]][key[1]] = value

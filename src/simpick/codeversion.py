@@ -39,7 +39,7 @@ ROOT = Path(__file__).resolve().parent
 PACKAGE = ROOT.name  # "simpick"
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def modules(root: Path = ROOT) -> dict[str, Path]:
     """Dotted module name -> source file, for every module of the package at ``root``."""
     found = {}
@@ -140,12 +140,15 @@ class _Module:
 
 
 def _is_docstring(parent: ast.AST, stmt: ast.stmt) -> bool:
-    return (isinstance(parent, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef))
-            and isinstance(stmt, ast.Expr) and isinstance(stmt.value, ast.Constant)
-            and isinstance(stmt.value.value, str))
+    return (
+        isinstance(parent, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef))
+        and isinstance(stmt, ast.Expr)
+        and isinstance(stmt.value, ast.Constant)
+        and isinstance(stmt.value.value, str)
+    )
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _parse(name: str, root: Path = ROOT) -> _Module:
     known = modules(root)
     return _Module(name, known[name], known)
@@ -193,13 +196,13 @@ def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
             nxt = min(graph[path[-1]] & component, key=lambda m: (m != start and m in seen, m))
             path.append(nxt)
             if nxt == start or nxt in seen:
-                found.append(path[path.index(nxt):])
+                found.append(path[path.index(nxt) :])
                 break
             seen.add(nxt)
     return found
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def data_files(module: str, root: Path = ROOT) -> frozenset[Path]:
     """The templates and other non-Python files a module reads: those in a folder beside it that
     is not a package, where the module's source names the folder or the file as a string
@@ -210,8 +213,11 @@ def data_files(module: str, root: Path = ROOT) -> frozenset[Path]:
         if not folder.is_dir() or folder.name == "__pycache__" or (folder / "__init__.py").exists():
             continue
         for path in folder.rglob("*"):
-            if path.is_file() and path.suffix not in (".py", ".pyc") and any(
-                    f"{quote}{name}{quote}" in parsed.text for name in (folder.name, path.name) for quote in "\"'"):
+            if (
+                path.is_file()
+                and path.suffix not in (".py", ".pyc")
+                and any(f"{quote}{name}{quote}" in parsed.text for name in (folder.name, path.name) for quote in "\"'")
+            ):
                 found.add(path)
     return frozenset(found)
 
@@ -228,7 +234,7 @@ def _root_module(entry: str, root: Path) -> str:
     return module
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _reached(roots: tuple[str, ...], root: Path) -> tuple[str, ...]:
     """The modules reachable from ``roots`` through import statements, with their packages, sorted."""
     known = modules(root)
@@ -262,7 +268,7 @@ def job_code(*roots: str, root: Path | str = ROOT) -> str:
     return _job_code(tuple(sorted(set(roots))), Path(root))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _job_code(roots: tuple[str, ...], root: Path) -> str:
     reached = _reached(roots, root)
     digest = hashlib.sha256()
@@ -280,7 +286,7 @@ def clear_cache() -> None:
         cached.cache_clear()
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def script_roots(script: Path | str) -> tuple[str, ...]:
     """The functions a workflow script calls: its ``from simpick.x import f`` imports, as roots."""
     tree = ast.parse(Path(script).read_bytes(), filename=str(script))

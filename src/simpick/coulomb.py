@@ -93,8 +93,12 @@ def mass_distribution(urdf: str | Path) -> tuple[float, np.ndarray]:
     return robot.mass, np.asarray(robot.com)
 
 
-def contact_layout(robot: RobotSpec, points_per_wheel: int | None = None,
-                   caster_friction: float | None = None, friction_ratio: float = 1.0) -> ContactLayout:
+def contact_layout(
+    robot: RobotSpec,
+    points_per_wheel: int | None = None,
+    caster_friction: float | None = None,
+    friction_ratio: float = 1.0,
+) -> ContactLayout:
     """Wheel contact points and static loads of ``robot`` on flat ground.
 
     ``points_per_wheel``: None spreads pressure uniformly across each wheel's width (the line
@@ -132,19 +136,32 @@ def contact_layout(robot: RobotSpec, points_per_wheel: int | None = None,
     # solution of (sum N = W, sum N x = W xc, sum N y = W yc).
     a = np.vstack([np.ones(len(points)), points[:, 0], points[:, 1]])
     if np.linalg.matrix_rank(a) < 3:  # every contact on one line: two wheels and nothing else touching
-        raise InputError(str(robot.source), "the robot stands on one line of contacts (its driven wheels' axle) "
-                         f"with no caster or skid within {SKID_REACH * 1000:.0f} mm of the ground: it would tip",
-                         "give it a caster wheel on a swivel, or a collision shape reaching the ground")
+        raise InputError(
+            str(robot.source),
+            "the robot stands on one line of contacts (its driven wheels' axle) "
+            f"with no caster or skid within {SKID_REACH * 1000:.0f} mm of the ground: it would tip",
+            "give it a caster wheel on a swivel, or a collision shape reaching the ground",
+        )
     weight = mass * GRAVITY
     loads = a.T @ np.linalg.solve(a @ a.T, weight * np.array([1.0, com[0], com[1]]))
     if np.any(loads <= 0):
         lifted = sorted({robot.wheels[i].joint for i in np.asarray(wheel)[loads <= 0]})
-        raise InputError(str(robot.source), f"the centre of mass ({com[0]:.3f}, {com[1]:.3f}) m lies outside the "
-                         f"wheels' support polygon: wheels {lifted} would lift")
+        raise InputError(
+            str(robot.source),
+            f"the centre of mass ({com[0]:.3f}, {com[1]:.3f}) m lies outside the "
+            f"wheels' support polygon: wheels {lifted} would lift",
+        )
     casters = any(not w.driven for w in robot.wheels) or bool(robot.skids)
-    layout = ContactLayout(points=points, loads=loads, wheel=np.asarray(wheel), com=(com[0], com[1]), mass=mass,
-                         sides=tuple(sides), friction=np.asarray(friction) if casters else None,
-                         free_roll=np.asarray(free) if casters else None)
+    layout = ContactLayout(
+        points=points,
+        loads=loads,
+        wheel=np.asarray(wheel),
+        com=(com[0], com[1]),
+        mass=mass,
+        sides=tuple(sides),
+        friction=np.asarray(friction) if casters else None,
+        free_roll=np.asarray(free) if casters else None,
+    )
     return with_friction_ratio(layout, friction_ratio)
 
 
@@ -153,16 +170,28 @@ def with_friction_ratio(layout: ContactLayout, ratio: float) -> ContactLayout:
     ``ratio`` (skids stay isotropic); 1 gives back an isotropic layout."""
     ratio = float(ratio)
     if not (math.isfinite(ratio) and ratio > 0):
-        raise InputError("friction_ratio", f"{ratio!r} is not a positive finite number",
-                         "give the lateral/longitudinal friction ratio, e.g. 0.63 (1: isotropic)")
+        raise InputError(
+            "friction_ratio",
+            f"{ratio!r} is not a positive finite number",
+            "give the lateral/longitudinal friction ratio, e.g. 0.63 (1: isotropic)",
+        )
     if ratio == 1.0:
         lateral = None
     else:
         is_wheel = np.array([layout.sides[k] != "skid" for k in layout.wheel])
         lateral = np.where(is_wheel, ratio, 1.0)
-    return ContactLayout(points=layout.points, loads=layout.loads, wheel=layout.wheel, com=layout.com,
-                         mass=layout.mass, sides=layout.sides, friction=layout.friction,
-                         free_roll=layout.free_roll, lateral_ratio=lateral, slip_compliance=layout.slip_compliance)
+    return ContactLayout(
+        points=layout.points,
+        loads=layout.loads,
+        wheel=layout.wheel,
+        com=layout.com,
+        mass=layout.mass,
+        sides=layout.sides,
+        friction=layout.friction,
+        free_roll=layout.free_roll,
+        lateral_ratio=lateral,
+        slip_compliance=layout.slip_compliance,
+    )
 
 
 def with_slip_compliance(layout: ContactLayout, per_wheel: float) -> ContactLayout:
@@ -172,23 +201,44 @@ def with_slip_compliance(layout: ContactLayout, per_wheel: float) -> ContactLayo
     compliance k (ODE's contact_slip), has per_wheel = k / m."""
     per_wheel = float(per_wheel)
     if not (math.isfinite(per_wheel) and per_wheel >= 0):
-        raise InputError("slip_compliance", f"{per_wheel!r} is not a finite number >= 0",
-                         "give the wheel's slip compliance in (m/s)/N, 0 for rigid Coulomb")
+        raise InputError(
+            "slip_compliance",
+            f"{per_wheel!r} is not a finite number >= 0",
+            "give the wheel's slip compliance in (m/s)/N, 0 for rigid Coulomb",
+        )
     compliance = None
     if per_wheel > 0:
         count = np.bincount(layout.wheel)
         compliance = per_wheel * count[layout.wheel].astype(float)
-    return ContactLayout(points=layout.points, loads=layout.loads, wheel=layout.wheel, com=layout.com,
-                         mass=layout.mass, sides=layout.sides, friction=layout.friction,
-                         free_roll=layout.free_roll, lateral_ratio=layout.lateral_ratio, slip_compliance=compliance)
+    return ContactLayout(
+        points=layout.points,
+        loads=layout.loads,
+        wheel=layout.wheel,
+        com=layout.com,
+        mass=layout.mass,
+        sides=layout.sides,
+        friction=layout.friction,
+        free_roll=layout.free_roll,
+        lateral_ratio=layout.lateral_ratio,
+        slip_compliance=compliance,
+    )
 
 
 def equal_loads(layout: ContactLayout) -> ContactLayout:
     """The same contact points with the weight shared equally (a centred centre of mass)."""
     loads = np.full(len(layout.loads), layout.loads.sum() / len(layout.loads))
-    return ContactLayout(points=layout.points, loads=loads, wheel=layout.wheel, com=(0.0, 0.0), mass=layout.mass,
-                         sides=layout.sides, friction=layout.friction, free_roll=layout.free_roll,
-                         lateral_ratio=layout.lateral_ratio, slip_compliance=layout.slip_compliance)
+    return ContactLayout(
+        points=layout.points,
+        loads=loads,
+        wheel=layout.wheel,
+        com=(0.0, 0.0),
+        mass=layout.mass,
+        sides=layout.sides,
+        friction=layout.friction,
+        free_roll=layout.free_roll,
+        lateral_ratio=layout.lateral_ratio,
+        slip_compliance=layout.slip_compliance,
+    )
 
 
 def steady_twist(layout: ContactLayout, rim_speeds, mu: float = 1.0) -> np.ndarray:
@@ -205,7 +255,7 @@ def steady_twist(layout: ContactLayout, rim_speeds, mu: float = 1.0) -> np.ndarr
     if layout.friction is not None:  # casters: their own friction (0: load, no force)
         weights = weights * layout.friction
     along = 1.0 if layout.free_roll is None else (~layout.free_roll).astype(float)
-    r2 = 1.0 if layout.lateral_ratio is None else layout.lateral_ratio ** 2  # elliptic friction
+    r2 = 1.0 if layout.lateral_ratio is None else layout.lateral_ratio**2  # elliptic friction
     eps = 1e-9  # slip speed (relative) below which |s| is rounded: keeps D differentiable
     un = u / scale
 
@@ -232,21 +282,28 @@ def steady_twist(layout: ContactLayout, rim_speeds, mu: float = 1.0) -> np.ndarr
             return float(weights @ value), np.array([ex.sum(), ey.sum(), (ex * -y + ey * x).sum()])
 
     start = np.array([un.mean(), 0.0, 0.0])
-    result = minimize(power, start, jac=True, method="BFGS",
-                      options={"gtol": 1e-12, "maxiter": 500 if layout.slip_compliance is None else 2000})
+    result = minimize(
+        power,
+        start,
+        jac=True,
+        method="BFGS",
+        options={"gtol": 1e-12, "maxiter": 500 if layout.slip_compliance is None else 2000},
+    )
     return result.x * scale
 
 
-def yaw_rate_gain(layout: ContactLayout, v: float, w: float, track: float, wheel_radius: float | None = None,
-                  mu: float = 1.0) -> float:
+def yaw_rate_gain(
+    layout: ContactLayout, v: float, w: float, track: float, wheel_radius: float | None = None, mu: float = 1.0
+) -> float:
     """Steady yaw rate / commanded w under the paper's controller (Eq. 1, effective track);
     ``mu`` matters only with slip compliance."""
     left, right = side_speeds(v, w, track)
     return float(steady_twist(layout, layout.rim_speeds(left, right), mu)[2] / w)
 
 
-def ratio_for_gain(layout: ContactLayout, gain: float, v: float, w: float, track: float,
-                   bounds: tuple[float, float] = (0.02, 2.0)) -> float:
+def ratio_for_gain(
+    layout: ContactLayout, gain: float, v: float, w: float, track: float, bounds: tuple[float, float] = (0.02, 2.0)
+) -> float:
     """The lateral/longitudinal friction ratio at which the anisotropic Coulomb gain at (v, w) is
     ``gain`` (the gain falls monotonically with the ratio); NaN when ``gain`` lies outside the
     gains at ``bounds``."""
@@ -280,11 +337,14 @@ class CoulombTable:
 
     def __init__(self, layout: ContactLayout, angles: int = 1440):
         if layout.slip_compliance is not None:
-            raise InputError("slip_compliance", "a compliant layout's twist is not homogeneous in the rim speeds, "
-                             "so it cannot be tabled on the unit circle", "solve each command with steady_twist")
+            raise InputError(
+                "slip_compliance",
+                "a compliant layout's twist is not homogeneous in the rim speeds, "
+                "so it cannot be tabled on the unit circle",
+                "solve each command with steady_twist",
+            )
         self.angles = np.linspace(-math.pi, math.pi, angles + 1)
-        self.twists = np.array([steady_twist(layout, layout.rim_speeds(math.cos(a), math.sin(a)))
-                                for a in self.angles])
+        self.twists = np.array([steady_twist(layout, layout.rim_speeds(math.cos(a), math.sin(a))) for a in self.angles])
 
     def twist(self, left, right) -> np.ndarray:
         """(n, 3) twists for arrays of left and right rim speeds (m/s)."""
@@ -315,24 +375,41 @@ def braking_deceleration(robot: RobotSpec, mu: float) -> tuple[float, str | None
         # must stay behind the front-most contact, else the robot pitches onto its nose
         front = max([w.position[0] for w in robot.driven] + [s.position[0] for s in robot.skids])
         if x_g + mu * h > front:
-            return math.nan, (f"braking at mu {mu:g} moves the centre of pressure {mu * h:.3f} m forward, ahead of "
-                              f"the front-most contact (x = {front:.3f} m, centre of mass at {x_g:.3f} m, {h:.3f} m "
-                              "high): the robot pitches onto its nose, which the sliding case does not describe")
+            return math.nan, (
+                f"braking at mu {mu:g} moves the centre of pressure {mu * h:.3f} m forward, ahead of "
+                f"the front-most contact (x = {front:.3f} m, centre of mass at {x_g:.3f} m, {h:.3f} m "
+                "high): the robot pitches onto its nose, which the sliding case does not describe"
+            )
         return mu * GRAVITY, None
     if robot.skids:
-        return math.nan, ("the robot has both free casters and sliding skids, for which the sliding case "
-                          "has no analytic value here")
+        return math.nan, (
+            "the robot has both free casters and sliding skids, for which the sliding case has no analytic value here"
+        )
     driven = robot.driven
     x_d = float(np.mean([w.position[0] for w in driven]))
     x_c = float(np.mean([w.position[0] for w in casters]))
     share = (x_c - x_g) / (x_c - x_d + mu * h)
     if not 0 < share < 1:
-        return math.nan, (f"braking on the driven wheels alone lifts the {'casters' if share >= 1 else 'driven wheels'} "
-                          f"(driven-wheel load share {share:.2f} with the centre of mass {h:.3f} m high): the robot "
-                          "pitches over, which the sliding case does not describe")
+        return math.nan, (
+            f"braking on the driven wheels alone lifts the {'casters' if share >= 1 else 'driven wheels'} "
+            f"(driven-wheel load share {share:.2f} with the centre of mass {h:.3f} m high): the robot "
+            "pitches over, which the sliding case does not describe"
+        )
     return mu * GRAVITY * share, None
 
 
-__all__ = ["ContactLayout", "CoulombTable", "braking_deceleration", "contact_layout", "equal_loads", "load_layout",
-           "mass_distribution", "ratio_for_gain", "steady_twist", "wheel_separation_multiplier", "with_friction_ratio",
-           "with_slip_compliance", "yaw_rate_gain"]
+__all__ = [
+    "ContactLayout",
+    "CoulombTable",
+    "braking_deceleration",
+    "contact_layout",
+    "equal_loads",
+    "load_layout",
+    "mass_distribution",
+    "ratio_for_gain",
+    "steady_twist",
+    "wheel_separation_multiplier",
+    "with_friction_ratio",
+    "with_slip_compliance",
+    "yaw_rate_gain",
+]

@@ -37,12 +37,14 @@ def axis_stats(values: Iterable[float], fraction: float = TRIM_FRACTION) -> dict
 
 def trace_stats(frame: pd.DataFrame) -> dict[str, dict[str, dict[str, float]]]:
     """{'linear'|'angular': {axis: {'mean', 'range'}}} of an IMU trace."""
-    return {quantity: {axis: axis_stats(frame[col]) for axis, col in zip(AXES, cols)}
-            for quantity, cols in IMU_AXES.items()}
+    return {
+        quantity: {axis: axis_stats(frame[col]) for axis, col in zip(AXES, cols)} for quantity, cols in IMU_AXES.items()
+    }
 
 
-def yaw_rate_gain(yaw_rate: np.ndarray, v_left: np.ndarray, v_right: np.ndarray, track: float,
-                  min_kinematic: float = 0.05) -> float:
+def yaw_rate_gain(
+    yaw_rate: np.ndarray, v_left: np.ndarray, v_right: np.ndarray, track: float, min_kinematic: float = 0.05
+) -> float:
     """Least-squares gain through the origin of measured over kinematic yaw rate.
 
     Only samples whose kinematic yaw rate exceeds ``min_kinematic`` rad/s count; NaN if none.

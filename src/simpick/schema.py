@@ -38,9 +38,12 @@ def config_schema() -> dict:
     from simpick.config import Study
 
     schema = lax_numbers(Study.model_json_schema(mode="validation"))
-    return {"$schema": "https://json-schema.org/draft/2020-12/schema",
-            "description": "simpick study config (config.yaml); generated from simpick.config.Study by "
-                           "`make schema`, do not edit by hand", **schema}
+    return {
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "description": "simpick study config (config.yaml); generated from simpick.config.Study by "
+        "`make schema`, do not edit by hand",
+        **schema,
+    }
 
 
 def schema_text() -> str:

@@ -42,10 +42,12 @@ def source_tables(tests, run_table, group: str, statistics: dict | None = None) 
     class) means with intervals and paired verdicts over independent runs (``summary``,
     ``pairwise``: simpick.compare.real.summary_table, pairwise_table)."""
     pairwise = pairwise_table(tests, group, statistics)
-    return {"imu_errors": metrics.eq7_totals(tests, engines=run_table.engine.unique()),
-            "rtf": equal_rtf(run_table),
-            "summary": class_verdicts(summary_table(tests, group, statistics), pairwise, group),
-            "pairwise": pairwise}
+    return {
+        "imu_errors": metrics.eq7_totals(tests, engines=run_table.engine.unique()),
+        "rtf": equal_rtf(run_table),
+        "summary": class_verdicts(summary_table(tests, group, statistics), pairwise, group),
+        "pairwise": pairwise,
+    }
 
 
 def equal_rtf(runs) -> pd.DataFrame:
@@ -62,9 +64,17 @@ def equal_rtf(runs) -> pd.DataFrame:
     rows = []
     for engine in engines:
         g = ok[(ok.engine == engine) & ok.test.isin(common)]
-        rows.append({"engine": engine, "sim_time": g.sim_time.sum(), "wall_time": g.wall_time.sum(),
-                     "real_time_factor": (metrics.real_time_factor(g.sim_time, g.wall_time) if len(g)
-                                          else float("nan")),
-                     "n_runs": len(g), "tests": ";".join(sorted(common)), "excluded": excluded})
-    return pd.DataFrame(rows, columns=["engine", "sim_time", "wall_time", "real_time_factor", "n_runs", "tests",
-                                       "excluded"])
+        rows.append(
+            {
+                "engine": engine,
+                "sim_time": g.sim_time.sum(),
+                "wall_time": g.wall_time.sum(),
+                "real_time_factor": (metrics.real_time_factor(g.sim_time, g.wall_time) if len(g) else float("nan")),
+                "n_runs": len(g),
+                "tests": ";".join(sorted(common)),
+                "excluded": excluded,
+            }
+        )
+    return pd.DataFrame(
+        rows, columns=["engine", "sim_time", "wall_time", "real_time_factor", "n_runs", "tests", "excluded"]
+    )

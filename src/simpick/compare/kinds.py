@@ -14,8 +14,18 @@ from simpick.inputs.published import load_published
 from simpick.inputs.reference import lab_reference
 from simpick.simulate.traces import read_trace
 
-PER_TEST_COLUMNS = ["engine", "terrain", "motion", "test", "run", "kind", "status", "reasons", "error_angular",
-                    "error_linear"]
+PER_TEST_COLUMNS = [
+    "engine",
+    "terrain",
+    "motion",
+    "test",
+    "run",
+    "kind",
+    "status",
+    "reasons",
+    "error_angular",
+    "error_linear",
+]
 
 
 def compare_lab(traces: list[str], inputs: dict, params: dict):
@@ -34,15 +44,29 @@ def compare_lab(traces: list[str], inputs: dict, params: dict):
         if ref is None:
             continue
         test = case_test(meta)
-        row = {"engine": meta["engine"], "terrain": meta["terrain"], "motion": meta["motion"], "test": test,
-               "run": test, "kind": "lab", "status": meta["health"]["status"],
-               "reasons": "; ".join(meta["health"]["reasons"])}
+        row = {
+            "engine": meta["engine"],
+            "terrain": meta["terrain"],
+            "motion": meta["motion"],
+            "test": test,
+            "run": test,
+            "kind": "lab",
+            "status": meta["health"]["status"],
+            "reasons": "; ".join(meta["health"]["reasons"]),
+        }
         if ok:
-            row.update({f"error_{q}": metrics.eq7_sum(r["total_error"] for r in rows if r["quantity"] == q)
-                        for q in ("angular", "linear")})
+            row.update(
+                {
+                    f"error_{q}": metrics.eq7_sum(r["total_error"] for r in rows if r["quantity"] == q)
+                    for q in ("angular", "linear")
+                }
+            )
         per_test.append(row)
-    return (pd.DataFrame(per_test, columns=PER_TEST_COLUMNS), pd.DataFrame(detail, columns=DETAIL_COLUMNS),
-            pd.DataFrame(runs, columns=RUN_COLUMNS))
+    return (
+        pd.DataFrame(per_test, columns=PER_TEST_COLUMNS),
+        pd.DataFrame(detail, columns=DETAIL_COLUMNS),
+        pd.DataFrame(runs, columns=RUN_COLUMNS),
+    )
 
 
 def compare_segments(traces: list[str], inputs: dict, params: dict):

@@ -19,8 +19,9 @@ import pandas as pd
 from simpick.imustats import AXES, TRIM_FRACTION, axis_stats, trace_stats, trimmed_range  # noqa: F401
 
 
-def axis_errors(sim: Mapping[str, Mapping[str, float]],
-                real: Mapping[str, Mapping[str, float]]) -> dict[str, dict[str, float]]:
+def axis_errors(
+    sim: Mapping[str, Mapping[str, float]], real: Mapping[str, Mapping[str, float]]
+) -> dict[str, dict[str, float]]:
     """Per-axis Eq. 7 terms of one test; ``sim``/``real`` map axis -> {'range', 'mean'}."""
     if set(sim) != set(real):
         raise ValueError(f"sim axes {sorted(sim)} differ from real axes {sorted(real)}")
@@ -28,8 +29,7 @@ def axis_errors(sim: Mapping[str, Mapping[str, float]],
     for axis in sim:
         range_error = abs(float(sim[axis]["range"]) - float(real[axis]["range"]))
         mean_error = abs(float(sim[axis]["mean"]) - float(real[axis]["mean"]))
-        out[axis] = {"range_error": range_error, "mean_error": mean_error,
-                     "total_error": range_error + mean_error}
+        out[axis] = {"range_error": range_error, "mean_error": mean_error, "total_error": range_error + mean_error}
     return out
 
 
@@ -83,7 +83,15 @@ def eq7_totals(per_test: pd.DataFrame, engines: Iterable[str] | None = None) -> 
     for engine in engines:
         good = ok[(ok.engine == engine) & ok.test.isin(common)]
         for quantity, unit in UNITS.items():
-            rows.append({"engine": engine, "quantity": quantity,
-                         "error": eq7_sum(good[f"error_{quantity}"]) if tests else float("nan"),
-                         "unit": unit, "n_tests": len(tests), "tests": ";".join(tests), "excluded": excluded})
+            rows.append(
+                {
+                    "engine": engine,
+                    "quantity": quantity,
+                    "error": eq7_sum(good[f"error_{quantity}"]) if tests else float("nan"),
+                    "unit": unit,
+                    "n_tests": len(tests),
+                    "tests": ";".join(tests),
+                    "excluded": excluded,
+                }
+            )
     return pd.DataFrame(rows, columns=["engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"])

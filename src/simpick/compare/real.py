@@ -37,23 +37,36 @@ def real_imu_at(imu: pd.DataFrame, times, columns=("ax", "ay", "az", "wx", "wy",
 
 def segment_row(frame: pd.DataFrame, meta: dict, seg: pd.Series, track: float) -> dict:
     """One simulated segment against its real statistics: Eq. 7 errors, yaw-rate gain, speed."""
-    row = {"engine": meta["engine"], "terrain_class": seg.terrain_class, "segment": seg.name, "run": seg.run,
-           "kind": seg.kind, "status": meta["health"]["status"], "reasons": "; ".join(meta["health"]["reasons"]),
-           "yaw_rate_gain_real": seg.yaw_rate_gain, "start_heading_deg": meta.get("start_heading_deg", float("nan"))}
+    row = {
+        "engine": meta["engine"],
+        "terrain_class": seg.terrain_class,
+        "segment": seg.name,
+        "run": seg.run,
+        "kind": seg.kind,
+        "status": meta["health"]["status"],
+        "reasons": "; ".join(meta["health"]["reasons"]),
+        "yaw_rate_gain_real": seg.yaw_rate_gain,
+        "start_heading_deg": meta.get("start_heading_deg", float("nan")),
+    }
     if row["status"] == "ok":
         window = compared_window(frame, meta)
         stats = metrics.trace_stats(window)
         for q in QUANTITIES:
             real = {a: {"mean": seg[f"{q}_{a}_mean"], "range": seg[f"{q}_{a}_range"]} for a in AXES}
             row[f"error_{q}"] = metrics.test_error(stats[q], real)
-        row["yaw_rate_gain_sim"] = (realmetrics.yaw_rate_gain(
-            window.wz.to_numpy(), np.full(len(window), seg.v_left), np.full(len(window), seg.v_right), track)
-            if seg.kind == "turning" else float("nan"))
+        row["yaw_rate_gain_sim"] = (
+            realmetrics.yaw_rate_gain(
+                window.wz.to_numpy(), np.full(len(window), seg.v_left), np.full(len(window), seg.v_right), track
+            )
+            if seg.kind == "turning"
+            else float("nan")
+        )
         row["gain_error"] = abs(row["yaw_rate_gain_sim"] - float(seg.yaw_rate_gain))  # NaN unless turning
         # the table keeps the real window's mean gyro z: integrated over the window, the heading
         # the real robot turned through; the simulated one's the same way
-        row["heading_error"] = realmetrics.heading_error(float(window.wz.mean()), float(seg.angular_z_mean),
-                                                         float(seg.duration))
+        row["heading_error"] = realmetrics.heading_error(
+            float(window.wz.mean()), float(seg.angular_z_mean), float(seg.duration)
+        )
         row["speed_sim"] = float(window.v_forward.mean())
     return row
 
@@ -69,31 +82,84 @@ def segment_compare(segments_csv: str, traces: list[str], track: float):
         rows.append(segment_row(frame, meta, seg, track) | {"test": meta["segment"]})
         runs.append(run_row(meta))
         ok = meta["health"]["status"] == "ok"
-        real = {q: {a: {"mean": seg[f"{q}_{a}_mean"], "range": seg[f"{q}_{a}_range"]} for a in AXES}
-                for q in QUANTITIES}
-        detail += axis_rows(meta, metrics.trace_stats(compared_window(frame, meta)) if ok else None,
-                            real | {"source": str(seg.dataset)})
-    return (pd.DataFrame(rows, columns=SEGMENT_TEST_COLUMNS), pd.DataFrame(detail, columns=DETAIL_COLUMNS),
-            pd.DataFrame(runs, columns=RUN_COLUMNS))
+        real = {
+            q: {a: {"mean": seg[f"{q}_{a}_mean"], "range": seg[f"{q}_{a}_range"]} for a in AXES} for q in QUANTITIES
+        }
+        detail += axis_rows(
+            meta, metrics.trace_stats(compared_window(frame, meta)) if ok else None, real | {"source": str(seg.dataset)}
+        )
+    return (
+        pd.DataFrame(rows, columns=SEGMENT_TEST_COLUMNS),
+        pd.DataFrame(detail, columns=DETAIL_COLUMNS),
+        pd.DataFrame(runs, columns=RUN_COLUMNS),
+    )
 
 
 # the per-test tables' columns: written even when a source has no case (or none that a model completed),
 # so that every later job reads a table with its columns and no rows, a normal outcome (issue 21)
-SEGMENT_TEST_COLUMNS = ["engine", "terrain_class", "segment", "run", "kind", "status", "reasons", "yaw_rate_gain_real",
-                        "start_heading_deg", "error_angular", "error_linear", "yaw_rate_gain_sim", "gain_error",
-                        "heading_error", "speed_sim", "test"]
+SEGMENT_TEST_COLUMNS = [
+    "engine",
+    "terrain_class",
+    "segment",
+    "run",
+    "kind",
+    "status",
+    "reasons",
+    "yaw_rate_gain_real",
+    "start_heading_deg",
+    "error_angular",
+    "error_linear",
+    "yaw_rate_gain_sim",
+    "gain_error",
+    "heading_error",
+    "speed_sim",
+    "test",
+]
 
 
-WINDOW_FIGURES = ["yaw_rate_gain_real", "yaw_rate_gain_sim", "gain_error", "heading_error", "start_heading_deg",
-                  "rmse_yaw_rate", "rmse_ax", "psd_distance_az"]
+WINDOW_FIGURES = [
+    "yaw_rate_gain_real",
+    "yaw_rate_gain_sim",
+    "gain_error",
+    "heading_error",
+    "start_heading_deg",
+    "rmse_yaw_rate",
+    "rmse_ax",
+    "psd_distance_az",
+]
 
 
-WINDOW_COLUMNS = ["engine", "terrain_class", "run", "status", "reasons", "window_start", "window_end", "imu_rate_hz",
-                  "error_angular", "error_linear", *WINDOW_FIGURES]
+WINDOW_COLUMNS = [
+    "engine",
+    "terrain_class",
+    "run",
+    "status",
+    "reasons",
+    "window_start",
+    "window_end",
+    "imu_rate_hz",
+    "error_angular",
+    "error_linear",
+    *WINDOW_FIGURES,
+]
 
 
-REPLAY_TEST_COLUMNS = ["engine", "terrain_class", "run", "error_angular", "error_linear", *WINDOW_FIGURES, "status",
-                       "kind", "reasons", "real_imu_hz", "real_commands_hz", "sim_imu_hz", "segment", "test"]
+REPLAY_TEST_COLUMNS = [
+    "engine",
+    "terrain_class",
+    "run",
+    "error_angular",
+    "error_linear",
+    *WINDOW_FIGURES,
+    "status",
+    "kind",
+    "reasons",
+    "real_imu_hz",
+    "real_commands_hz",
+    "sim_imu_hz",
+    "segment",
+    "test",
+]
 
 
 def replay_compare(logs: list[str], traces: list[str], params: dict):
@@ -114,13 +180,24 @@ def replay_compare(logs: list[str], traces: list[str], params: dict):
         # the rates the report states (measured median of the log's streams, the trace's IMU rate),
         # so that it reads them from this table and not from the logs and traces themselves
         measured = log.meta.get("rates") or {}
-        rates.append({"engine": meta["engine"], "terrain_class": key[0], "run": key[1],
-                      "real_imu_hz": (measured.get("imu") or {}).get("median_hz"),
-                      "real_commands_hz": (measured.get("commands") or {}).get("median_hz"),
-                      "sim_imu_hz": meta.get("imu_rate_hz")})
-        base = {"engine": meta["engine"], "terrain_class": key[0], "run": key[1],
-                "status": meta["health"]["status"], "reasons": "; ".join(meta["health"]["reasons"]),
-                "start_heading_deg": meta.get("start_heading_deg", float("nan"))}
+        rates.append(
+            {
+                "engine": meta["engine"],
+                "terrain_class": key[0],
+                "run": key[1],
+                "real_imu_hz": (measured.get("imu") or {}).get("median_hz"),
+                "real_commands_hz": (measured.get("commands") or {}).get("median_hz"),
+                "sim_imu_hz": meta.get("imu_rate_hz"),
+            }
+        )
+        base = {
+            "engine": meta["engine"],
+            "terrain_class": key[0],
+            "run": key[1],
+            "status": meta["health"]["status"],
+            "reasons": "; ".join(meta["health"]["reasons"]),
+            "start_heading_deg": meta.get("start_heading_deg", float("nan")),
+        }
         if base["status"] != "ok":
             rows.append(base)
             continue
@@ -143,8 +220,9 @@ def replay_compare(logs: list[str], traces: list[str], params: dict):
             row["yaw_rate_gain_real"] = realmetrics.yaw_rate_gain(real_frame.wz, v_left[sel], v_right[sel], track)
             row["yaw_rate_gain_sim"] = realmetrics.yaw_rate_gain(sim.wz[sel], v_left[sel], v_right[sel], track)
             row["gain_error"] = abs(row["yaw_rate_gain_sim"] - row["yaw_rate_gain_real"])  # NaN where not turning
-            row["heading_error"] = realmetrics.heading_error(float(sim.wz[sel].mean()), float(real_frame.wz.mean()),
-                                                             float(sel.sum()) / rate)
+            row["heading_error"] = realmetrics.heading_error(
+                float(sim.wz[sel].mean()), float(real_frame.wz.mean()), float(sel.sum()) / rate
+            )
             row["rmse_yaw_rate"] = realmetrics.aligned_rmse(real_frame.wz.to_numpy(), sim.wz[sel].to_numpy(), rate)
             row["rmse_ax"] = realmetrics.aligned_rmse(real_frame.ax.to_numpy(), sim.ax[sel].to_numpy(), rate)
             row["psd_distance_az"] = realmetrics.psd_distance(real_frame.az.to_numpy(), sim.az[sel].to_numpy(), rate)
@@ -154,20 +232,33 @@ def replay_compare(logs: list[str], traces: list[str], params: dict):
     ok = per_window[per_window.status == "ok"]
     keys = ["engine", "terrain_class", "run"]
     per_run = metrics.eq7_per_run(ok, keys, QUANTITIES).merge(
-        ok.groupby(keys)[WINDOW_FIGURES].mean().reset_index(), on=keys)
+        ok.groupby(keys)[WINDOW_FIGURES].mean().reset_index(), on=keys
+    )
     per_run["status"], per_run["kind"] = "ok", "replay"
     failed = per_window[per_window.status != "ok"][["engine", "terrain_class", "run", "status", "reasons"]]
     per_test = pd.concat([frame for frame in (per_run, failed) if len(frame)] or [per_run], ignore_index=True)
-    per_test = per_test.merge(pd.DataFrame(rates, columns=["engine", "terrain_class", "run", "real_imu_hz",
-                                                           "real_commands_hz", "sim_imu_hz"]),
-                              on=["engine", "terrain_class", "run"], how="left")
+    per_test = per_test.merge(
+        pd.DataFrame(
+            rates, columns=["engine", "terrain_class", "run", "real_imu_hz", "real_commands_hz", "sim_imu_hz"]
+        ),
+        on=["engine", "terrain_class", "run"],
+        how="left",
+    )
     per_test["segment"] = per_test["terrain_class"].astype(str) + "-" + per_test["run"].astype(str)
     per_test["test"] = per_test["segment"]
     return per_test.reindex(columns=REPLAY_TEST_COLUMNS), per_window, pd.DataFrame(runs, columns=RUN_COLUMNS)
 
 
-FIGURES = ("error_angular", "error_linear", "yaw_rate_gain_sim", "gain_error", "heading_error", "rmse_yaw_rate",
-           "rmse_ax", "psd_distance_az")
+FIGURES = (
+    "error_angular",
+    "error_linear",
+    "yaw_rate_gain_sim",
+    "gain_error",
+    "heading_error",
+    "rmse_yaw_rate",
+    "rmse_ax",
+    "psd_distance_az",
+)
 
 
 def summary_table(per_test: pd.DataFrame, group: str, statistics: dict | None = None) -> pd.DataFrame:
@@ -186,8 +277,16 @@ def summary_table(per_test: pd.DataFrame, group: str, statistics: dict | None = 
             mean, lo, hi, _ = realmetrics.mean_ci(g[fig].to_numpy(float), g["run"].to_numpy(), min_runs, level)
             row.update({fig: mean, f"{fig}_low": lo, f"{fig}_high": hi})
         rows.append(row)
-    return pd.DataFrame(rows, columns=["engine", group, "n_tests", "n_runs",
-                                       *[f"{fig}{end}" for fig in shown for end in ("", "_low", "_high")]])
+    return pd.DataFrame(
+        rows,
+        columns=[
+            "engine",
+            group,
+            "n_tests",
+            "n_runs",
+            *[f"{fig}{end}" for fig in shown for end in ("", "_low", "_high")],
+        ],
+    )
 
 
 def pairwise_table(per_test: pd.DataFrame, group: str, statistics: dict | None = None) -> pd.DataFrame:
@@ -202,32 +301,67 @@ def pairwise_table(per_test: pd.DataFrame, group: str, statistics: dict | None =
         wide = g.pivot_table(index="test", columns="engine", values=["error_angular", "error_linear"])
         run_of = g.drop_duplicates("test").set_index("test")["run"]
         for i, a in enumerate(engines):
-            for b in engines[i + 1:]:
+            for b in engines[i + 1 :]:
                 for fig in ("error_angular", "error_linear"):
                     if (fig, a) not in wide or (fig, b) not in wide:
                         continue
-                    t = realmetrics.paired_test(wide[(fig, a)], wide[(fig, b)], run_of.reindex(wide.index).to_numpy(),
-                                                min_runs, level)
+                    t = realmetrics.paired_test(
+                        wide[(fig, a)], wide[(fig, b)], run_of.reindex(wide.index).to_numpy(), min_runs, level
+                    )
                     closer = {"a": b, "b": a}.get(t["verdict"], "")
                     outcome = "closer" if closer else t["verdict"]
                     verdict = f"{closer} closer" if closer else t["verdict"]
                     if verdict == "too few runs":
                         verdict = f"too few runs ({t['n_runs']} < {min_runs})"
-                    pairs.append({group: cls, "figure": fig, "engine_a": a, "engine_b": b,
-                                  "mean_a_minus_b": t["mean"], "low": t["low"], "high": t["high"],
-                                  "p_value": t["p_value"], "n_runs": t["n_runs"], "verdict": verdict,
-                                  "outcome": outcome, "closer": closer, "min_runs": min_runs})
-    return pd.DataFrame(pairs, columns=[group, "figure", "engine_a", "engine_b", "mean_a_minus_b",
-                                        "low", "high", "p_value", "n_runs", "verdict", "outcome", "closer",
-                                        "min_runs"])
+                    pairs.append(
+                        {
+                            group: cls,
+                            "figure": fig,
+                            "engine_a": a,
+                            "engine_b": b,
+                            "mean_a_minus_b": t["mean"],
+                            "low": t["low"],
+                            "high": t["high"],
+                            "p_value": t["p_value"],
+                            "n_runs": t["n_runs"],
+                            "verdict": verdict,
+                            "outcome": outcome,
+                            "closer": closer,
+                            "min_runs": min_runs,
+                        }
+                    )
+    return pd.DataFrame(
+        pairs,
+        columns=[
+            group,
+            "figure",
+            "engine_a",
+            "engine_b",
+            "mean_a_minus_b",
+            "low",
+            "high",
+            "p_value",
+            "n_runs",
+            "verdict",
+            "outcome",
+            "closer",
+            "min_runs",
+        ],
+    )
 
 
 # A pair's typed outcome (pairwise_table's ``outcome``; ``closer`` names the engine where it is "closer"),
 # and a class's (class_verdicts' ``<figure>_outcome``): the engine with the smallest mean of a figure is
 # "clear" when the paired test puts it closer than every other engine; otherwise why not.
 PAIR_OUTCOMES = ("closer", "no clear difference", "too few runs")
-CLASS_OUTCOMES = ("clear", "not separated", "too few runs", "intervals disagree", "only one engine",
-                  "no paired comparison")
+CLASS_OUTCOMES = (
+    "clear",
+    "not separated",
+    "too few runs",
+    "intervals disagree",
+    "only one engine",
+    "no paired comparison",
+)
 
 
 def class_verdicts(summary: pd.DataFrame, pairwise: pd.DataFrame, group: str) -> pd.DataFrame:
@@ -236,8 +370,11 @@ def class_verdicts(summary: pd.DataFrame, pairwise: pd.DataFrame, group: str) ->
     the same on every row of the group): whether the pairwise tests separate that engine from every
     other, so that a reader takes the verdict from the table and derives none."""
     out = summary.copy()
-    figures = [f for f in FIGURES + ("yaw_rate_gain_real",) if f in summary and f not in
-               ("yaw_rate_gain_sim", "yaw_rate_gain_real")]
+    figures = [
+        f
+        for f in FIGURES + ("yaw_rate_gain_real",)
+        if f in summary and f not in ("yaw_rate_gain_sim", "yaw_rate_gain_real")
+    ]
     for fig in figures:
         closest, outcome = pd.Series(False, index=out.index), pd.Series("", index=out.index, dtype=object)
         for cls, sel in out.groupby(group):

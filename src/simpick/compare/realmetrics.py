@@ -51,8 +51,9 @@ def lowpass(signal: np.ndarray, rate_hz: float, cutoff_hz: float = LOWPASS_HZ) -
     return sosfiltfilt(sos, x, padlen=padlen) if len(x) > 1 else x
 
 
-def aligned_rmse(real: np.ndarray, sim: np.ndarray, rate_hz: float, cutoff_hz: float = LOWPASS_HZ,
-                 offset_free: bool = False) -> float:
+def aligned_rmse(
+    real: np.ndarray, sim: np.ndarray, rate_hz: float, cutoff_hz: float = LOWPASS_HZ, offset_free: bool = False
+) -> float:
     """RMS difference of two equally sampled, time-aligned signals after the same low-pass;
     ``offset_free``: of the difference less its mean (a constant offset between them, such as an
     accelerometer bias or a slope's g sin(angle), does not count)."""
@@ -79,8 +80,7 @@ def psd(signal: np.ndarray, rate_hz: float, nperseg: int | None = None) -> tuple
     return welch(x - x.mean(), fs=rate_hz, nperseg=int(min(nperseg, len(x))))
 
 
-def psd_distance(real: np.ndarray, sim: np.ndarray, rate_hz: float,
-                 band: tuple[float, float] = PSD_BAND_HZ) -> float:
+def psd_distance(real: np.ndarray, sim: np.ndarray, rate_hz: float, band: tuple[float, float] = PSD_BAND_HZ) -> float:
     """Mean |log10 PSD_sim - log10 PSD_real| over ``band`` (decades; 0 = same spectrum).
 
     Welch with 2.56 s segments; the mean is removed, so gravity and tilt do not count. The
@@ -112,7 +112,7 @@ def statistics_settings(statistics: dict | None = None) -> tuple[int, float]:
 
 def smallest_p(n: int) -> float:
     """The smallest two-sided p-value an exact sign-flip test over ``n`` pairs can give."""
-    return min(1.0, 2.0 / 2.0 ** n) if n > 0 else 1.0
+    return min(1.0, 2.0 / 2.0**n) if n > 0 else 1.0
 
 
 def per_run(values, runs=None) -> np.ndarray:
@@ -135,16 +135,23 @@ def _bca(x: np.ndarray, level: float, seed: int) -> tuple[float, float]:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # a degenerate BCa falls back to the percentile interval below
         for method in ("BCa", "percentile"):
-            res = bootstrap((x,), np.mean, confidence_level=level, method=method, n_resamples=4999,
-                            random_state=np.random.default_rng(seed))
+            res = bootstrap(
+                (x,),
+                np.mean,
+                confidence_level=level,
+                method=method,
+                n_resamples=4999,
+                random_state=np.random.default_rng(seed),
+            )
             low, high = float(res.confidence_interval.low), float(res.confidence_interval.high)
             if np.isfinite(low) and np.isfinite(high):
                 break
     return low, high
 
 
-def mean_ci(values, runs=None, min_runs: int = MIN_RUNS, level: float = LEVEL,
-            seed: int = 0) -> tuple[float, float, float, int]:
+def mean_ci(
+    values, runs=None, min_runs: int = MIN_RUNS, level: float = LEVEL, seed: int = 0
+) -> tuple[float, float, float, int]:
     """(mean, low, high, n_runs): mean over runs (each run's values averaged first) and its BCa
     bootstrap interval, NaN below ``min_runs`` runs."""
     x = per_run(values, runs)
@@ -172,18 +179,33 @@ def paired_test(a, b, runs=None, min_runs: int = MIN_RUNS, level: float = LEVEL,
     both = np.isfinite(a) & np.isfinite(b)
     keys = None if runs is None else np.asarray(runs, dtype=object)[both]
     d = per_run(a[both] - b[both], keys)
-    out = {"mean": float(d.mean()) if d.size else float("nan"), "low": float("nan"), "high": float("nan"),
-           "p_value": float("nan"), "n_runs": int(d.size), "verdict": "too few runs"}
+    out = {
+        "mean": float(d.mean()) if d.size else float("nan"),
+        "low": float("nan"),
+        "high": float("nan"),
+        "p_value": float("nan"),
+        "n_runs": int(d.size),
+        "verdict": "too few runs",
+    }
     if d.size < max(int(min_runs), 2):
         return out
     if np.all(d == 0):
         out.update(low=0.0, high=0.0, p_value=1.0, verdict="no clear difference")
         return out
-    res = permutation_test((d, np.zeros_like(d)), lambda x, y, axis: np.mean(x - y, axis=axis),
-                           permutation_type="samples", alternative="two-sided", n_resamples=2 ** 13,
-                           random_state=np.random.default_rng(seed))
+    res = permutation_test(
+        (d, np.zeros_like(d)),
+        lambda x, y, axis: np.mean(x - y, axis=axis),
+        permutation_type="samples",
+        alternative="two-sided",
+        n_resamples=2**13,
+        random_state=np.random.default_rng(seed),
+    )
     low, high = _bca(d, level, seed)
     p = float(res.pvalue)
-    out.update(low=low, high=high, p_value=p,
-               verdict=("no clear difference" if p >= 1 - level else "a" if d.mean() > 0 else "b"))
+    out.update(
+        low=low,
+        high=high,
+        p_value=p,
+        verdict=("no clear difference" if p >= 1 - level else "a" if d.mean() > 0 else "b"),
+    )
     return out

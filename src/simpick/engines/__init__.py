@@ -64,16 +64,18 @@ def unavailable(names) -> dict[str, str]:
                 found[name] = f"{type(exc).__name__}: {exc}"
         elif importlib.util.find_spec(module) is None:
             extra = f".[{name}]" if name in EXTRAS else "."
-            found[name] = (f"Python module {module!r} is not installed; install it with "
-                           f"pip install -c constraints.txt -e '{extra}'")
+            found[name] = (
+                f"Python module {module!r} is not installed; install it with "
+                f"pip install -c constraints.txt -e '{extra}'"
+            )
     return found
 
 
 def get_engine(name: str) -> Engine:
     known = {**ADAPTERS, **REFERENCE_MODELS}
     if name not in known:
-        raise KeyError(f"unknown engine {name!r}; known engines: {sorted(ADAPTERS)}, "
-                       f"reference models: {sorted(REFERENCE_MODELS)}")
+        raise KeyError(
+            f"unknown engine {name!r}; known engines: {sorted(ADAPTERS)}, reference models: {sorted(REFERENCE_MODELS)}"
+        )
     module, cls = known[name].split(":")
     return getattr(importlib.import_module(module), cls)()
-

@@ -24,9 +24,11 @@ from ctypes import POINTER, Structure, c_char_p, c_double, c_int, c_uint, c_ulon
 from pathlib import Path
 from types import SimpleNamespace
 
-INSTALL_HINT = ("install ODE's shared library: `sudo apt-get install -y libode8` on Debian/Ubuntu "
-                "(libode-dev as well to run tests/test_ode_binding.py), or set SIMPICK_LIBODE to "
-                "the path of a libode.so built with double precision")
+INSTALL_HINT = (
+    "install ODE's shared library: `sudo apt-get install -y libode8` on Debian/Ubuntu "
+    "(libode-dev as well to run tests/test_ode_binding.py), or set SIMPICK_LIBODE to "
+    "the path of a libode.so built with double precision"
+)
 LIBRARY_NAMES = ("libode.so.8", "libode.so")  # ODE 0.16.x has soname 8
 HEADER_DIR = Path("/usr/include/ode")
 
@@ -50,15 +52,35 @@ class dMass(Structure):
 
 
 class dSurfaceParameters(Structure):
-    _fields_ = [("mode", c_int), ("mu", dReal), ("mu2", dReal), ("rho", dReal), ("rho2", dReal),
-                ("rhoN", dReal), ("bounce", dReal), ("bounce_vel", dReal), ("soft_erp", dReal),
-                ("soft_cfm", dReal), ("motion1", dReal), ("motion2", dReal), ("motionN", dReal),
-                ("slip1", dReal), ("slip2", dReal)]
+    _fields_ = [
+        ("mode", c_int),
+        ("mu", dReal),
+        ("mu2", dReal),
+        ("rho", dReal),
+        ("rho2", dReal),
+        ("rhoN", dReal),
+        ("bounce", dReal),
+        ("bounce_vel", dReal),
+        ("soft_erp", dReal),
+        ("soft_cfm", dReal),
+        ("motion1", dReal),
+        ("motion2", dReal),
+        ("motionN", dReal),
+        ("slip1", dReal),
+        ("slip2", dReal),
+    ]
 
 
 class dContactGeom(Structure):
-    _fields_ = [("pos", dVector3), ("normal", dVector3), ("depth", dReal), ("g1", c_void_p),
-                ("g2", c_void_p), ("side1", c_int), ("side2", c_int)]
+    _fields_ = [
+        ("pos", dVector3),
+        ("normal", dVector3),
+        ("depth", dReal),
+        ("g1", c_void_p),
+        ("g2", c_void_p),
+        ("side1", c_int),
+        ("side2", c_int),
+    ]
 
 
 class dContact(Structure):
@@ -204,8 +226,9 @@ def _find_library() -> tuple[ctypes.CDLL, str]:
             return ctypes.CDLL(name), name
         except OSError as exc:
             errors.append(f"{name}: {exc}")
-    raise OdeUnavailable("ODE (Open Dynamics Engine) shared library not found (tried "
-                         + "; ".join(errors) + "); " + INSTALL_HINT)
+    raise OdeUnavailable(
+        "ODE (Open Dynamics Engine) shared library not found (tried " + "; ".join(errors) + "); " + INSTALL_HINT
+    )
 
 
 def load() -> SimpleNamespace:
@@ -227,9 +250,11 @@ def load() -> SimpleNamespace:
         fn.restype, fn.argtypes = restype, argtypes
         setattr(lib, fname, fn)
     if not lib.dCheckConfiguration(b"ODE_double_precision"):
-        raise OdeUnavailable(f"{name} is a single-precision ODE build "
-                             f"({lib.dGetConfiguration().decode()}); simpick's binding needs dReal = double "
-                             f"({INSTALL_HINT})")
+        raise OdeUnavailable(
+            f"{name} is a single-precision ODE build "
+            f"({lib.dGetConfiguration().decode()}); simpick's binding needs dReal = double "
+            f"({INSTALL_HINT})"
+        )
     if not lib.dInitODE2(0):
         raise OdeUnavailable(f"dInitODE2 failed in {name}")
     lib.configuration = lib.dGetConfiguration().decode()
@@ -250,8 +275,9 @@ def version() -> str:
             text = match.group(1)
     if text is None:
         try:
-            out = subprocess.run(["dpkg-query", "-W", "-f=${Version}", "libode8"], capture_output=True,
-                                 text=True, timeout=10)
+            out = subprocess.run(
+                ["dpkg-query", "-W", "-f=${Version}", "libode8"], capture_output=True, text=True, timeout=10
+            )
             if out.returncode == 0 and out.stdout.strip():
                 text = out.stdout.strip().split(":")[-1].split("-")[0]
         except (OSError, subprocess.SubprocessError):

@@ -95,8 +95,9 @@ class EngineSettings(BaseModel):
             found = validation_problems(exc, (cls.config_block, engine))
             if len(found) == 1:
                 raise InputError(*found[0]) from None
-            raise InputError(f"{cls.config_block}.{engine}",
-                             "; ".join(f"{key}: {problem}" for key, problem in found)) from None
+            raise InputError(
+                f"{cls.config_block}.{engine}", "; ".join(f"{key}: {problem}" for key, problem in found)
+            ) from None
 
 
 @dataclass
@@ -114,7 +115,9 @@ class PhysicsRecord:
     quaternion: np.ndarray  # (n, 4) w, x, y, z of base_link
     linear_velocity: np.ndarray  # (n, 3) of the base_link origin
     angular_velocity: np.ndarray  # (n, 3)
-    wheel_speed: np.ndarray  # (n, len(robot.driven)) rad/s, joint speeds of the driven wheels in command order, measured (an adapter may read it every few steps and hold it)
+    # (n, len(robot.driven)) rad/s, joint speeds of the driven wheels in command order, measured (an adapter
+    # may read it every few steps and hold it)
+    wheel_speed: np.ndarray
     imu_specific_force: np.ndarray  # (n, 3) m/s^2, body frame, +g on z at rest
     imu_gyro: np.ndarray  # (n, 3) rad/s, body frame
     wall_time: float  # s spent stepping (no model build, no I/O)
@@ -129,11 +132,12 @@ def validated_commands(scenario: Scenario, wheel_commands) -> np.ndarray:
     wheel_commands = np.asarray(wheel_commands, dtype=float)
     wheels = len(scenario.robot.wheel_joints)
     if wheel_commands.ndim != 3 or wheel_commands.shape[1:] != (len(scenario.starts), wheels):
-        raise InputError("wheel_commands", f"shape {wheel_commands.shape} does not fit "
-                         f"{len(scenario.starts)} robots x {wheels} driven wheels")
+        raise InputError(
+            "wheel_commands",
+            f"shape {wheel_commands.shape} does not fit {len(scenario.starts)} robots x {wheels} driven wheels",
+        )
     if not 0 <= scenario.recorded_robot < len(scenario.starts):
-        raise InputError("recorded_robot", f"{scenario.recorded_robot} is not one of the "
-                         f"{len(scenario.starts)} robots")
+        raise InputError("recorded_robot", f"{scenario.recorded_robot} is not one of the {len(scenario.starts)} robots")
     return wheel_commands
 
 

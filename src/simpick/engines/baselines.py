@@ -25,8 +25,15 @@ import numpy as np
 from pydantic import Field
 
 import simpick
-from simpick.engines.base import (FRICTION, FRICTION_RATIO, Calibratable, EngineSettings, PhysicsRecord, Scenario,
-                                  validated_commands)
+from simpick.engines.base import (
+    FRICTION,
+    FRICTION_RATIO,
+    Calibratable,
+    EngineSettings,
+    PhysicsRecord,
+    Scenario,
+    validated_commands,
+)
 from simpick.engines.kinematics import imu_from_kinematics
 
 
@@ -75,16 +82,28 @@ def _record(scenario: Scenario, twists: np.ndarray, wheels: np.ndarray, wall: fl
     yaw = yaw0 + np.cumsum(twists[:, 2]) * dt
     c, s = np.cos(yaw), np.sin(yaw)
     vx, vy = c * twists[:, 0] - s * twists[:, 1], s * twists[:, 0] + c * twists[:, 1]
-    position = np.stack([x0 + np.cumsum(vx) * dt, y0 + np.cumsum(vy) * dt,
-                         np.full(n, scenario.robot.base_height)], axis=1)
+    position = np.stack(
+        [x0 + np.cumsum(vx) * dt, y0 + np.cumsum(vy) * dt, np.full(n, scenario.robot.base_height)], axis=1
+    )
     quaternion = np.stack([np.cos(yaw / 2), np.zeros(n), np.zeros(n), np.sin(yaw / 2)], axis=1)
     velocity = np.stack([vx, vy, np.zeros(n)], axis=1)
     omega = np.stack([np.zeros(n), np.zeros(n), twists[:, 2]], axis=1)
-    specific_force, gyro = imu_from_kinematics(quaternion, velocity, omega, scenario.robot.imu_mount, dt,
-                                               scenario.gravity)
-    return PhysicsRecord(time=dt * np.arange(1, n + 1), position=position, quaternion=quaternion,
-                         linear_velocity=velocity, angular_velocity=omega, wheel_speed=wheels,
-                         imu_specific_force=specific_force, imu_gyro=gyro, wall_time=wall, cpu_time=cpu, steps=n)
+    specific_force, gyro = imu_from_kinematics(
+        quaternion, velocity, omega, scenario.robot.imu_mount, dt, scenario.gravity
+    )
+    return PhysicsRecord(
+        time=dt * np.arange(1, n + 1),
+        position=position,
+        quaternion=quaternion,
+        linear_velocity=velocity,
+        angular_velocity=omega,
+        wheel_speed=wheels,
+        imu_specific_force=specific_force,
+        imu_gyro=gyro,
+        wall_time=wall,
+        cpu_time=cpu,
+        steps=n,
+    )
 
 
 class _ReferenceModel:
@@ -95,8 +114,7 @@ class _ReferenceModel:
     def version(self) -> str:
         return f"simpick {simpick.__version__} {self.name} model"
 
-    def targets(self, scenario: Scenario, settings: EngineSettings, left: np.ndarray,
-                right: np.ndarray) -> np.ndarray:
+    def targets(self, scenario: Scenario, settings: EngineSettings, left: np.ndarray, right: np.ndarray) -> np.ndarray:
         raise NotImplementedError
 
     def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
@@ -110,8 +128,12 @@ class _ReferenceModel:
         right = scenario.robot.side_mean(commands, "right") * radius
         layout = contact_layout(scenario.robot, points_per_wheel=1)
         mu = float(scenario.ground_friction)
-        twists = _integrate(self.targets(scenario, settings, left, right), layout.points,
-                            mu * abs(scenario.gravity[2]), scenario.timestep)
+        twists = _integrate(
+            self.targets(scenario, settings, left, right),
+            layout.points,
+            mu * abs(scenario.gravity[2]),
+            scenario.timestep,
+        )
         wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
         return _record(scenario, twists, commands.copy(), wall, cpu)
 

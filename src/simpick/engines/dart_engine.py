@@ -244,11 +244,19 @@ class DartEngine(Adapter):
         # Ground and terrain on one static body (see the module docstring); this alone took
         # the gravel strip from 4 800 to 6 300 steps/s with the Dantzig solver.
         ground, body = static_skeleton("terrain")
-        add_shape(body, dart.dynamics.PlaneShape(np.array([0.0, 0.0, 1.0]), 0.0),
-                  _isometry(dart, [0, 0, 0]), scenario.ground_friction)
+        add_shape(
+            body,
+            dart.dynamics.PlaneShape(np.array([0.0, 0.0, 1.0]), 0.0),
+            _isometry(dart, [0, 0, 0]),
+            scenario.ground_friction,
+        )
         for x, y, z, yaw, sx, sy, sz in terrain.boxes:
-            add_shape(body, dart.dynamics.BoxShape(np.array([sx, sy, sz])),
-                      _isometry(dart, [x, y, z], _yaw(yaw)), terrain.friction)
+            add_shape(
+                body,
+                dart.dynamics.BoxShape(np.array([sx, sy, sz])),
+                _isometry(dart, [x, y, z], _yaw(yaw)),
+                terrain.friction,
+            )
         for x, y, z, r in terrain.spheres:
             add_shape(body, dart.dynamics.SphereShape(r), _isometry(dart, [x, y, z]), terrain.friction)
         world.addSkeleton(ground)
@@ -263,8 +271,11 @@ class DartEngine(Adapter):
                 raise InputError(str(robot.urdf), "DART's URDF loader could not read the robot")
             skel.setName(f"robot{i}")
             root = skel.getRootJoint()
-            root.setPositions(dart.dynamics.FreeJoint.convertToPositions(
-                _isometry(dart, [x, y, robot.base_height + SPAWN_CLEARANCE], _yaw(yaw))))
+            root.setPositions(
+                dart.dynamics.FreeJoint.convertToPositions(
+                    _isometry(dart, [x, y, robot.base_height + SPAWN_CLEARANCE], _yaw(yaw))
+                )
+            )
             for body in skel.getBodyNodes():
                 for node in body.getShapeNodes():
                     if node.hasDynamicsAspect():
@@ -306,12 +317,22 @@ class DartWorld:
 
     def read(self) -> tuple:
         base = self.base
-        return base.getWorldTransform().matrix(), base.getLinearVelocity(), base.getAngularVelocity(), \
-            self.skel0.getVelocities()
+        return (
+            base.getWorldTransform().matrix(),
+            base.getLinearVelocity(),
+            base.getAngularVelocity(),
+            self.skel0.getVelocities(),
+        )
 
     def states(self, samples: list) -> BaseStates:
         pose = np.array([s[0] for s in samples], dtype=float).reshape(len(samples), 4, 4)
-        velocity, omega, joint_speed = (np.array([s[i] for s in samples], dtype=float).reshape(len(samples), -1)
-                                        for i in (1, 2, 3))
-        return BaseStates(position=pose[:, :3, 3].copy(), quaternion=matrices_to_quaternions(pose[:, :3, :3]),
-                          linear_velocity=velocity, angular_velocity=omega, wheel_speed=joint_speed[:, self.wheel_dofs])
+        velocity, omega, joint_speed = (
+            np.array([s[i] for s in samples], dtype=float).reshape(len(samples), -1) for i in (1, 2, 3)
+        )
+        return BaseStates(
+            position=pose[:, :3, 3].copy(),
+            quaternion=matrices_to_quaternions(pose[:, :3, :3]),
+            linear_velocity=velocity,
+            angular_velocity=omega,
+            wheel_speed=joint_speed[:, self.wheel_dofs],
+        )

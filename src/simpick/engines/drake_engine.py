@@ -102,8 +102,11 @@ class DrakeSettings(EngineSettings):
 def _terrain_friction(mu: float, where: str) -> float:
     """The coefficient that, combined with the robot's 1.0 by Drake's 2ab/(a+b), gives ``mu``."""
     if not 0 <= mu < 2 * ROBOT_FRICTION:
-        raise InputError(where, f"friction {mu} cannot be represented in Drake's combination with the robot's "
-                         f"{ROBOT_FRICTION}", "use a coefficient below 2")
+        raise InputError(
+            where,
+            f"friction {mu} cannot be represented in Drake's combination with the robot's {ROBOT_FRICTION}",
+            "use a coefficient below 2",
+        )
     return mu * ROBOT_FRICTION / (2 * ROBOT_FRICTION - mu)
 
 
@@ -112,8 +115,9 @@ class DrakeEngine(Adapter):
         "friction": FRICTION,
         # Tyre stiffness (hydroelastic): from a soft 1e5 Pa (a few cm of sag) to a near-rigid 1e8;
         # log scale. Measured gains at 1e6 and 1e7 within 0.01 of each other (module docstring).
-        "hydroelastic_modulus": Calibratable(1.0e5, 1.0e8, log=True,
-                                             why="soft rubber (1e5 Pa) to near-rigid (1e8 Pa); 1e6-1e7 measured"),
+        "hydroelastic_modulus": Calibratable(
+            1.0e5, 1.0e8, log=True, why="soft rubber (1e5 Pa) to near-rigid (1e8 Pa); 1e6-1e7 measured"
+        ),
     }
     name = "drake"
     settings_model = DrakeSettings
@@ -123,13 +127,25 @@ class DrakeEngine(Adapter):
 
     def build(self, scenario: Scenario) -> DrakeWorld:
         """The simulator of the plant, a logger sampling the plant's state every step."""
-        from pydrake.geometry import (AddCompliantHydroelasticProperties, AddContactMaterial,
-                                      AddRigidHydroelasticProperties, Box, CollisionFilterDeclaration, HalfSpace,
-                                      ProximityProperties, RoleAssign, Sphere)
+        from pydrake.geometry import (
+            AddCompliantHydroelasticProperties,
+            AddContactMaterial,
+            AddRigidHydroelasticProperties,
+            Box,
+            CollisionFilterDeclaration,
+            HalfSpace,
+            ProximityProperties,
+            RoleAssign,
+            Sphere,
+        )
         from pydrake.math import RigidTransform, RotationMatrix
         from pydrake.multibody.parsing import Parser
-        from pydrake.multibody.plant import (AddMultibodyPlantSceneGraph, ContactModel, CoulombFriction,
-                                             DiscreteContactApproximation)
+        from pydrake.multibody.plant import (
+            AddMultibodyPlantSceneGraph,
+            ContactModel,
+            CoulombFriction,
+            DiscreteContactApproximation,
+        )
         from pydrake.multibody.tree import PdControllerGains
         from pydrake.systems.analysis import Simulator
         from pydrake.systems.framework import DiagramBuilder
@@ -140,7 +156,8 @@ class DrakeEngine(Adapter):
         builder = DiagramBuilder()
         plant, scene_graph = AddMultibodyPlantSceneGraph(builder, time_step=scenario.timestep)
         plant.set_discrete_contact_approximation(
-            getattr(DiscreteContactApproximation, "k" + settings.discrete_approximation.capitalize()))
+            getattr(DiscreteContactApproximation, "k" + settings.discrete_approximation.capitalize())
+        )
         plant.set_contact_model(ContactModel.kHydroelasticWithFallback if hydro else ContactModel.kPoint)
         plant.set_stiction_tolerance(settings.stiction_tolerance)
         plant.mutable_gravity_field().set_gravity_vector(np.asarray(scenario.gravity, dtype=float))
@@ -151,30 +168,43 @@ class DrakeEngine(Adapter):
             # Drake's CoulombFriction is isotropic (static, dynamic): no lateral/longitudinal ratio (issue 20)
             AddContactMaterial(friction=CoulombFriction(f, f), properties=props)
             if hydro:  # a sphere's rigid mesh needs a resolution; boxes and the half space are exact
-                AddRigidHydroelasticProperties(resolution, props) if resolution else AddRigidHydroelasticProperties(props)
+                AddRigidHydroelasticProperties(resolution, props) if resolution else AddRigidHydroelasticProperties(
+                    props
+                )
             return props
 
         world = plant.world_body()
         terrain = scenario.terrain
         mu = float(terrain.friction)
         for k, (x, y, z, yaw, sx, sy, sz) in enumerate(terrain.boxes):
-            plant.RegisterCollisionGeometry(world, RigidTransform(RotationMatrix.MakeZRotation(yaw), [x, y, z]),
-                                            Box(sx, sy, sz), f"box{k}", surface(mu, "terrain friction"))
+            plant.RegisterCollisionGeometry(
+                world,
+                RigidTransform(RotationMatrix.MakeZRotation(yaw), [x, y, z]),
+                Box(sx, sy, sz),
+                f"box{k}",
+                surface(mu, "terrain friction"),
+            )
         for k, (x, y, z, r) in enumerate(terrain.spheres):
-            plant.RegisterCollisionGeometry(world, RigidTransform([x, y, z]), Sphere(r), f"sphere{k}",
-                                            surface(mu, "terrain friction", min(settings.mesh_resolution, r / 4)))
+            plant.RegisterCollisionGeometry(
+                world,
+                RigidTransform([x, y, z]),
+                Sphere(r),
+                f"sphere{k}",
+                surface(mu, "terrain friction", min(settings.mesh_resolution, r / 4)),
+            )
         # The ground plane last: with the HalfSpace registered first, registering the gravel strip's
         # 485 stones on the world body crashed Drake 1.51.1 (segmentation fault after 300-380 of them,
         # hydroelastic or not; issue 19); registered after them, it does not.
-        plant.RegisterCollisionGeometry(world, RigidTransform(), HalfSpace(), "ground",
-                                        surface(scenario.ground_friction, "physics.ground_friction"))
+        plant.RegisterCollisionGeometry(
+            world, RigidTransform(), HalfSpace(), "ground", surface(scenario.ground_friction, "physics.ground_friction")
+        )
 
         robot = scenario.robot
         parser = Parser(plant)
         parser.SetAutoRenaming(True)
         robots = []
         drake_log = logging.getLogger("drake")
-        for i, _ in enumerate(scenario.starts):
+        for _start in scenario.starts:
             try:
                 (instance,) = parser.AddModels(str(robot.urdf))
             except (RuntimeError, ValueError) as exc:
@@ -191,19 +221,25 @@ class DrakeEngine(Adapter):
                 for geometry in plant.GetCollisionGeometriesForBody(plant.get_body(body)):
                     props = ProximityProperties()
                     is_wheel = plant.get_body(body).name() in radius
-                    AddContactMaterial(dissipation=settings.wheel_dissipation if is_wheel else None,
-                                       friction=CoulombFriction(ROBOT_FRICTION, ROBOT_FRICTION), properties=props)
+                    AddContactMaterial(
+                        dissipation=settings.wheel_dissipation if is_wheel else None,
+                        friction=CoulombFriction(ROBOT_FRICTION, ROBOT_FRICTION),
+                        properties=props,
+                    )
                     if hydro and is_wheel:
                         AddCompliantHydroelasticProperties(
                             min(settings.mesh_resolution, radius[plant.get_body(body).name()] / WHEEL_MESH_PER_RADIUS),
-                            settings.hydroelastic_modulus, props)
+                            settings.hydroelastic_modulus,
+                            props,
+                        )
                     scene_graph.AssignRole(plant.get_source_id(), geometry, props, RoleAssign.kReplace)
             # a robot's own links never touch each other, as in the other engines; Drake filters only
             # bodies joined by a joint, so the diff-drive robot's caster wheel (the chassis's
             # grandchild, its top level with the chassis's underside) was in contact with the chassis
             bodies = [plant.get_body(b) for b in plant.GetBodyIndices(instance)]
             scene_graph.collision_filter_manager().Apply(
-                CollisionFilterDeclaration().ExcludeWithin(plant.CollectRegisteredGeometries(bodies)))
+                CollisionFilterDeclaration().ExcludeWithin(plant.CollectRegisteredGeometries(bodies))
+            )
             robots.append((instance, wheels))
         plant.Finalize()
         # the state after every step, sampled inside Drake (at 0, dt, 2 dt ...): the runner advances once
@@ -217,8 +253,11 @@ class DrakeEngine(Adapter):
             context = plant.GetMyMutableContextFromRoot(simulator.get_mutable_context())
             for (instance, _), (x, y, yaw) in zip(robots, scenario.starts):
                 base = plant.GetBodyByName(robot.base_link, instance)
-                plant.SetFreeBodyPose(context, base, RigidTransform(RotationMatrix.MakeZRotation(yaw),
-                                                                     [x, y, robot.base_height + SPAWN_CLEARANCE]))
+                plant.SetFreeBodyPose(
+                    context,
+                    base,
+                    RigidTransform(RotationMatrix.MakeZRotation(yaw), [x, y, robot.base_height + SPAWN_CLEARANCE]),
+                )
                 plant.get_actuation_input_port(instance).FixValue(context, np.zeros(len(robot.wheel_joints)))
             simulator.Initialize()
         finally:
@@ -244,13 +283,14 @@ class DrakeWorld:
         q0, v0 = base.floating_positions_start(), base.floating_velocities_start_in_v()
         nq = plant.num_positions()
         wheel_v = [nq + j.velocity_start() for j in wheels]
-        self.columns = np.r_[q0:q0 + 7, nq + v0:nq + v0 + 6, wheel_v]  # quaternion w x y z, position; w, v; wheels
+        self.columns = np.r_[q0 : q0 + 7, nq + v0 : nq + v0 + 6, wheel_v]  # quaternion w x y z, position; w, v; wheels
 
     def set_wheel_targets(self, speeds: np.ndarray) -> None:
         for (instance, _), robot_speeds in zip(self.robots, speeds):
             # desired state of the PD-controlled actuators: positions (ignored, gain 0), then speeds
             self.plant.get_desired_state_input_port(instance).FixValue(
-                self.context, np.concatenate([np.zeros(len(robot_speeds)), robot_speeds]))
+                self.context, np.concatenate([np.zeros(len(robot_speeds)), robot_speeds])
+            )
 
     def step(self, n: int = 1) -> None:
         self.k += n
@@ -269,5 +309,10 @@ class DrakeWorld:
         state = self._state()
         quat = state[:, 0:4] / np.linalg.norm(state[:, 0:4], axis=1, keepdims=True)
         quat *= np.where(quat[:, :1] < 0, -1.0, 1.0)
-        return BaseStates(position=state[:, 4:7].copy(), quaternion=quat, linear_velocity=state[:, 10:13],
-                          angular_velocity=state[:, 7:10], wheel_speed=state[:, 13:].copy())
+        return BaseStates(
+            position=state[:, 4:7].copy(),
+            quaternion=quat,
+            linear_velocity=state[:, 10:13],
+            angular_velocity=state[:, 7:10],
+            wheel_speed=state[:, 13:].copy(),
+        )

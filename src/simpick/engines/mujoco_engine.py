@@ -100,9 +100,11 @@ class MujocoSettings(EngineSettings):
     @model_validator(mode="after")
     def _ratio_needs_pairs(self):
         if self.friction_ratio != 1.0 and (self.wheel_contact != "decoupled" or self.cone != "elliptic"):
-            raise ValueError(f"friction_ratio {self.friction_ratio} needs wheel_contact 'decoupled' and cone "
-                             f"'elliptic' (got {self.wheel_contact!r}, {self.cone!r}): anisotropy lives on the "
-                             "wheels' ground pairs, and only the elliptic cone gives the friction ellipse")
+            raise ValueError(
+                f"friction_ratio {self.friction_ratio} needs wheel_contact 'decoupled' and cone "
+                f"'elliptic' (got {self.wheel_contact!r}, {self.cone!r}): anisotropy lives on the "
+                "wheels' ground pairs, and only the elliptic cone gives the friction ellipse"
+            )
         return self
 
 
@@ -123,13 +125,15 @@ class MujocoEngine(Adapter):
         "friction": FRICTION,
         # Contact softness (solimp d of the wheel pairs): 0.005-0.1 is the range the adapter was
         # measured over in issue 9 (config comment: same gains); 0.015 gives 1.5 mm resting sag.
-        "wheel_contact_impedance": Calibratable(0.005, 0.1, log=True,
-                                                why="the range measured in issue 9 (MujocoSettings comment)"),
+        "wheel_contact_impedance": Calibratable(
+            0.005, 0.1, log=True, why="the range measured in issue 9 (MujocoSettings comment)"
+        ),
         # Friction softness (impedance of the friction rows via impratio): from 0.8, softer friction
         # rows that let a sticking contact creep more, to 0.995, stiffer than the 0.98 chosen in
         # issue 9 (config comment: parked creep 0.27 against 6.6 for MuJoCo's default contact).
-        "wheel_friction_impedance": Calibratable(0.8, 0.995,
-                                                 why="from MuJoCo-default-like creep (0.8) to near-rigid 0.995"),
+        "wheel_friction_impedance": Calibratable(
+            0.8, 0.995, why="from MuJoCo-default-like creep (0.8) to near-rigid 0.995"
+        ),
         # the turning parameter (issue 20): base.FRICTION_RATIO, the adapter's friction_ratio
         "friction_ratio": FRICTION_RATIO,
     }
@@ -168,11 +172,14 @@ class MujocoEngine(Adapter):
         surface(floor, scenario.ground_friction)
         terrain = scenario.terrain
         for x, y, z, yaw, sx, sy, sz in terrain.boxes:
-            surface(world.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[sx / 2, sy / 2, sz / 2],
-                                   pos=[x, y, z], quat=_yaw_quat(yaw)), terrain.friction)
+            surface(
+                world.add_geom(
+                    type=mujoco.mjtGeom.mjGEOM_BOX, size=[sx / 2, sy / 2, sz / 2], pos=[x, y, z], quat=_yaw_quat(yaw)
+                ),
+                terrain.friction,
+            )
         for x, y, z, r in terrain.spheres:
-            surface(world.add_geom(type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[r, 0, 0], pos=[x, y, z]),
-                    terrain.friction)
+            surface(world.add_geom(type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[r, 0, 0], pos=[x, y, z]), terrain.friction)
 
         robot = scenario.robot
         for i, (x, y, yaw) in enumerate(scenario.starts):
@@ -193,8 +200,9 @@ class MujocoEngine(Adapter):
                 if geom.contype or geom.conaffinity:
                     geom.contype, geom.conaffinity = own, 1 | others
             for joint in robot.wheel_joints:
-                act = spec.add_actuator(name=prefix + joint + "/servo", target=prefix + joint,
-                                        trntype=mujoco.mjtTrn.mjTRN_JOINT)
+                act = spec.add_actuator(
+                    name=prefix + joint + "/servo", target=prefix + joint, trntype=mujoco.mjtTrn.mjTRN_JOINT
+                )
                 if settings.wheel_servo == "intvelocity":
                     act.set_to_intvelocity(kp=settings.wheel_servo_kp, dampratio=1.0)
                     act.actlimited = mujoco.mjtLimited.mjLIMITED_FALSE  # a continuous joint: no setpoint range
@@ -205,8 +213,9 @@ class MujocoEngine(Adapter):
             if settings.wheel_contact == "decoupled":  # else "default": MuJoCo's geom contacts, as they are
                 # the driven wheels: a caster keeps MuJoCo's default contact (the pairs' soft normal,
                 # set for a Husky wheel, let the diff-drive robot's 50 g caster sink 7.7 mm)
-                self._wheel_pairs(spec, settings, [spec.joint(prefix + j).parent for j in robot.wheel_joints],
-                                  grounds, prefix)
+                self._wheel_pairs(
+                    spec, settings, [spec.joint(prefix + j).parent for j in robot.wheel_joints], grounds, prefix
+                )
             if i == scenario.recorded_robot:  # its sensors: the record
                 base.add_site(name="imu", pos=list(robot.imu_mount))
                 S, O = mujoco.mjtSensor, mujoco.mjtObj
@@ -267,18 +276,28 @@ class MujocoEngine(Adapter):
                     geom.type = mujoco.mjtGeom.mjGEOM_CAPSULE  # same size: radius, half-width (see friction_ratio)
                 for ground, mu in grounds:
                     if ratio != 1.0:  # capsule frame: tangent 1 along the axle, tangent 2 rolling
-                        spec.add_pair(geomname1=ground.name, geomname2=geom.name, condim=3,
-                                      friction=[ratio * mu, mu, 0.0, 0.0, 0.0], solref=[MUJOCO_TIMECONST, 1.0],
-                                      solimp=[d, d, 0.001, 0.5, 2.0],
-                                      solreffriction=[MUJOCO_TIMECONST * MUJOCO_DMAX / d, 1.0])
+                        spec.add_pair(
+                            geomname1=ground.name,
+                            geomname2=geom.name,
+                            condim=3,
+                            friction=[ratio * mu, mu, 0.0, 0.0, 0.0],
+                            solref=[MUJOCO_TIMECONST, 1.0],
+                            solimp=[d, d, 0.001, 0.5, 2.0],
+                            solreffriction=[MUJOCO_TIMECONST * MUJOCO_DMAX / d, 1.0],
+                        )
                         continue
                     # isotropic: friction[0] and [1] equal (for a cylinder on a plane the contact
                     # frame is world-fixed, measured: rows (0, 0, 1), (0, 1, 0), (-1, 0, 0) at every
                     # heading; see MujocoSettings.friction_ratio for the anisotropic pairs)
-                    spec.add_pair(geomname1=ground.name, geomname2=geom.name, condim=3,
-                                  friction=[mu, mu, 0.0, 0.0, 0.0], solref=[MUJOCO_TIMECONST, 1.0],
-                                  solimp=[d, d, 0.001, 0.5, 2.0],
-                                  solreffriction=[MUJOCO_TIMECONST * MUJOCO_DMAX / d, 1.0])
+                    spec.add_pair(
+                        geomname1=ground.name,
+                        geomname2=geom.name,
+                        condim=3,
+                        friction=[mu, mu, 0.0, 0.0, 0.0],
+                        solref=[MUJOCO_TIMECONST, 1.0],
+                        solimp=[d, d, 0.001, 0.5, 2.0],
+                        solreffriction=[MUJOCO_TIMECONST * MUJOCO_DMAX / d, 1.0],
+                    )
 
 
 class MujocoWorld:
@@ -302,7 +321,7 @@ class MujocoWorld:
         columns, start = {}, 0
         for name, width in SENSORS:
             width = self.wheels if width is None else width
-            columns[name] = sensordata[..., start:start + width]
+            columns[name] = sensordata[..., start : start + width]
             start += width
         return columns
 
@@ -333,7 +352,12 @@ class MujocoWorld:
         def after_step(a: np.ndarray) -> np.ndarray:
             return a[1:]
 
-        return BaseStates(position=after_step(columns["pos"]), quaternion=after_step(columns["quat"]),
-                          linear_velocity=after_step(columns["linvel"]), angular_velocity=after_step(columns["angvel"]),
-                          wheel_speed=after_step(columns["wheels"]),
-                          specific_force=columns["accel"][:-1].copy(), gyro=after_step(columns["gyro"]))
+        return BaseStates(
+            position=after_step(columns["pos"]),
+            quaternion=after_step(columns["quat"]),
+            linear_velocity=after_step(columns["linvel"]),
+            angular_velocity=after_step(columns["angvel"]),
+            wheel_speed=after_step(columns["wheels"]),
+            specific_force=columns["accel"][:-1].copy(),
+            gyro=after_step(columns["gyro"]),
+        )

@@ -45,7 +45,7 @@ def near_callback(owner) -> _ode.dNearCallback:
     P = (geom + _ode.dContactGeom.pos.offset) // real  # indices into a contact's dReals
     N = (geom + _ode.dContactGeom.normal.offset) // real
     F = _ode.dContact.fdir1.offset // real
-    min_slip2 = owner.min_slip ** 2
+    min_slip2 = owner.min_slip**2
     coulomb = owner.coulomb
     MU = _ode.dContact.surface.offset // real + _ode.dSurfaceParameters.mu.offset // real
     MU2 = _ode.dContact.surface.offset // real + _ode.dSurfaceParameters.mu2.offset // real
@@ -55,6 +55,7 @@ def near_callback(owner) -> _ode.dNearCallback:
     r2 = ratio * ratio
 
     if not owner.slip_directions:
+
         def near(_data, g1, g2):
             # the pair's contact buffer: its surface (mode, mu) is preset, dCollide fills
             # the geometry of each dContact in place (stride = sizeof(dContact))
@@ -103,8 +104,7 @@ def near_callback(owner) -> _ode.dNearCallback:
                 if axles:
                     wheel = axles.get(b1) or axles.get(b2)
                     if wheel is not None:
-                        elliptic(c, wheel, contacts[3], nx, ny, nz, vx, vy, vz, s2 > min_slip2,
-                                       ratio, r2, F, MU, MU2)
+                        elliptic(c, wheel, contacts[3], nx, ny, nz, vx, vy, vz, s2 > min_slip2, ratio, r2, F, MU, MU2)
                     else:
                         c[MU] = contacts[3]
                         if s2 <= min_slip2:
@@ -113,13 +113,17 @@ def near_callback(owner) -> _ode.dNearCallback:
 
     return _ode.dNearCallback(near)
 
+
 def elliptic(c, wheel, mu, nx, ny, nz, vx, vy, vz, sliding, ratio, r2, F, MU, MU2) -> None:
     """A driven wheel's contact with friction ratio ``ratio`` (OdeSettings.friction_ratio):
     sliding, the elliptic Coulomb force along fdir1 alone; sticking, the box in the wheel frame."""
     R, (a0, a1, a2) = wheel
     # world hinge axis (dMatrix3: 3 rows of 4), its part in the contact plane = lateral t
-    ax, ay, az = R[0] * a0 + R[1] * a1 + R[2] * a2, R[4] * a0 + R[5] * a1 + R[6] * a2, \
-        R[8] * a0 + R[9] * a1 + R[10] * a2
+    ax, ay, az = (
+        R[0] * a0 + R[1] * a1 + R[2] * a2,
+        R[4] * a0 + R[5] * a1 + R[6] * a2,
+        R[8] * a0 + R[9] * a1 + R[10] * a2,
+    )
     d = ax * nx + ay * ny + az * nz
     tx, ty, tz = ax - d * nx, ay - d * ny, az - d * nz
     k = 1.0 / math.sqrt(tx * tx + ty * ty + tz * tz)
@@ -129,8 +133,7 @@ def elliptic(c, wheel, mu, nx, ny, nz, vx, vy, vz, sliding, ratio, r2, F, MU, MU
         sl, st = vx * lx + vy * ly + vz * lz, vx * tx + vy * ty + vz * tz
         fl, ft = sl, r2 * st
         size = math.sqrt(fl * fl + ft * ft)
-        c[F], c[F + 1], c[F + 2] = (fl * lx + ft * tx) / size, (fl * ly + ft * ty) / size, \
-            (fl * lz + ft * tz) / size
+        c[F], c[F + 1], c[F + 2] = (fl * lx + ft * tx) / size, (fl * ly + ft * ty) / size, (fl * lz + ft * tz) / size
         c[MU] = mu * size / math.sqrt(sl * sl + r2 * st * st)
         c[MU2] = 0.0
     else:

@@ -108,6 +108,8 @@ class OdeSettings(EngineSettings):
     @model_validator(mode="after")
     def _ratio_needs_coulomb(self):
         if self.friction_ratio != 1.0 and self.friction_direction != "coulomb":
-            raise ValueError(f"friction_ratio {self.friction_ratio} needs friction_direction 'coulomb' (got "
-                             f"{self.friction_direction!r}): ODE's two rows alone form a box, not the ellipse")
+            raise ValueError(
+                f"friction_ratio {self.friction_ratio} needs friction_direction 'coulomb' (got "
+                f"{self.friction_direction!r}): ODE's two rows alone form a box, not the ellipse"
+            )
         return self

@@ -96,9 +96,12 @@ class OdeWorld:
         self.coulomb = s.friction_direction == "coulomb"
         self.min_slip = s.friction_direction_min_slip
         slip = s.contact_slip
-        mode = (_ode.dContactApprox1 | (_ode.dContactFDir1 if self.slip_directions else 0)
-                | (_ode.dContactMu2 if self.coulomb else 0)
-                | (_ode.dContactSlip1 | _ode.dContactSlip2 if slip > 0 else 0))
+        mode = (
+            _ode.dContactApprox1
+            | (_ode.dContactFDir1 if self.slip_directions else 0)
+            | (_ode.dContactMu2 if self.coulomb else 0)
+            | (_ode.dContactSlip1 | _ode.dContactSlip2 if slip > 0 else 0)
+        )
 
         def contacts_for(mu: float) -> tuple:
             if mu not in buffers:
@@ -113,11 +116,14 @@ class OdeWorld:
                 # each contact also as a flat array of dReals, for the callback to read its
                 # position and normal and write its fdir1 without building ctypes structs
                 n_reals = size // ctypes.sizeof(_ode.dReal)
-                views = tuple((_ode.dReal * n_reals).from_address(base + i * size)
-                              for i in range(self.max_contacts))
+                views = tuple((_ode.dReal * n_reals).from_address(base + i * size) for i in range(self.max_contacts))
                 self._keep.append(views)
-                buffers[mu] = (base + _ode.dContact.geom.offset,
-                               tuple(base + i * size for i in range(self.max_contacts)), views, mu)
+                buffers[mu] = (
+                    base + _ode.dContact.geom.offset,
+                    tuple(base + i * size for i in range(self.max_contacts)),
+                    views,
+                    mu,
+                )
             return buffers[mu]
 
         def static(geom: int, mu: float) -> None:
@@ -149,12 +155,13 @@ class OdeWorld:
             yaw_rot = rpy_matrix((0.0, 0.0, yaw))
             base_pos = np.array([x, y, scenario.robot.base_height + SPAWN_CLEARANCE])
 
-            def make_body(part: Body, link_pos: np.ndarray, link_rot: np.ndarray) -> int:
+            def make_body(part: Body, link_pos: np.ndarray, link_rot: np.ndarray, own: int = own) -> int:
                 body = lib.dBodyCreate(self.world)
                 mass = _ode.dMass()
                 I = part.inertia
-                lib.dMassSetParameters(ctypes.byref(mass), part.mass, 0.0, 0.0, 0.0,
-                                       I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2])
+                lib.dMassSetParameters(
+                    ctypes.byref(mass), part.mass, 0.0, 0.0, 0.0, I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]
+                )
                 if not lib.dMassCheck(ctypes.byref(mass)):
                     raise InputError(str(scenario.robot.urdf), "a link's inertia is not positive definite")
                 lib.dBodySetMass(body, ctypes.byref(mass))
@@ -199,15 +206,17 @@ class OdeWorld:
             # casters and swivels: free hinges (no motor), each on its parent link
             frames = []
             for xyz, rot, axis, part, parent in model.passive:
-                parent_pos, parent_rot, parent_body = ((base_pos, yaw_rot, chassis) if parent < 0 else frames[parent])
+                parent_pos, parent_rot, parent_body = (base_pos, yaw_rot, chassis) if parent < 0 else frames[parent]
                 link_pos, link_rot = parent_pos + parent_rot @ xyz, parent_rot @ rot
                 body = make_body(part, link_pos, link_rot)
                 hinge_between(body, parent_body, link_pos, link_rot @ axis)
                 frames.append((link_pos, link_rot, body))
             for (_xyz, _rot, axis, _part), wheel in zip(model.wheels, wheel_bodies):
                 # the hinge axis in the wheel body's frame (the body keeps its link's orientation)
-                self.axles[wheel] = ((_ode.dReal * 12).from_address(lib.dBodyGetRotation(wheel)),
-                                     tuple(float(a) for a in axis))
+                self.axles[wheel] = (
+                    (_ode.dReal * 12).from_address(lib.dBodyGetRotation(wheel)),
+                    tuple(float(a) for a in axis),
+                )
             self.robots.append((chassis, hinges, wheel_bodies))
         self.all_hinges = [h for _, hs, _ in self.robots for h in hs]
 
@@ -261,8 +270,16 @@ class OdeWorld:
         self.layout, self.width = layout, width
         self.copies = tuple((src, size, off * 8) for src, size, off in chunks)
         self.blocks, self.row, self.at = [], ROWS, 0
-        self.stepping = (lib.dSpaceCollide, self.space, self.callback, self.step_fn, self.world, self.dt,
-                         lib.dJointGroupEmpty, self.group)
+        self.stepping = (
+            lib.dSpaceCollide,
+            self.space,
+            self.callback,
+            self.step_fn,
+            self.world,
+            self.dt,
+            lib.dJointGroupEmpty,
+            self.group,
+        )
 
     def read(self) -> None:
         """Copies the state into the world's own record (``states`` returns it)."""
@@ -278,15 +295,18 @@ class OdeWorld:
     def states(self, samples: list) -> BaseStates:
         steps = len(samples)
         if _ode.messages:
-            LOG.warning("ODE messages during %d steps: %s", steps,
-                        "; ".join(f"{n} x ODE message {num}: {text!r}" for (num, text), n in _ode.messages.items()))
+            LOG.warning(
+                "ODE messages during %d steps: %s",
+                steps,
+                "; ".join(f"{n} x ODE message {num}: {text!r}" for (num, text), n in _ode.messages.items()),
+            )
         if not self.ok:
             raise SimulationFailure("ODE's stepper failed (dWorldStep/dWorldQuickStep returned 0: out of memory)")
         buffer = np.concatenate(self.blocks)[:steps] if self.blocks else np.zeros((0, self.width))
 
         def columns(body_index: int, which: int, n: int) -> np.ndarray:
             c = self.layout[body_index][which]
-            return buffer[:, c:c + n]
+            return buffer[:, c : c + n]
 
         com, quat = columns(0, 0, 3), columns(0, 1, 4).copy()
         com_v, omega = columns(0, 2, 3), columns(0, 3, 3).copy()
@@ -297,5 +317,10 @@ class OdeWorld:
         for j, (_, jrot, axis, _) in enumerate(self.model.wheels):
             axis_world = rot @ (jrot @ axis)
             wheel_speed[:, j] = np.einsum("ni,ni->n", columns(1 + j, 3, 3) - omega, axis_world)
-        return BaseStates(position=com - offset, quaternion=quat, linear_velocity=com_v - np.cross(omega, offset),
-                          angular_velocity=omega, wheel_speed=wheel_speed)
+        return BaseStates(
+            position=com - offset,
+            quaternion=quat,
+            linear_velocity=com_v - np.cross(omega, offset),
+            angular_velocity=omega,
+            wheel_speed=wheel_speed,
+        )

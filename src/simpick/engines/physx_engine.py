@@ -165,8 +165,9 @@ def collision_only_urdf(urdf: Path, folder: Path, prisms: int) -> Path:
             try:
                 radius, length = float(cylinder.get("radius")), float(cylinder.get("length"))
             except (TypeError, ValueError):
-                raise InputError(str(urdf), f"a collision cylinder needs a numeric radius and length, got "
-                                 f"{cylinder.attrib}") from None
+                raise InputError(
+                    str(urdf), f"a collision cylinder needs a numeric radius and length, got {cylinder.attrib}"
+                ) from None
             link.remove(collision)
             for p in range(prisms):
                 obj = folder / f"cylinder{k}_{p}.obj"
@@ -225,8 +226,9 @@ class PhysxEngine(Adapter):
         ground.add_plane_collision(sapien.Pose(q=list(PLANE_UP)), material=material(scenario.ground_friction))
         shape_material = material(float(terrain.friction))
         for x, y, z, yaw, sx, sy, sz in terrain.boxes:
-            ground.add_box_collision(sapien.Pose([x, y, z], _yaw_quat(yaw)), half_size=[sx / 2, sy / 2, sz / 2],
-                                     material=shape_material)
+            ground.add_box_collision(
+                sapien.Pose([x, y, z], _yaw_quat(yaw)), half_size=[sx / 2, sy / 2, sz / 2], material=shape_material
+            )
         for x, y, z, r in terrain.spheres:
             ground.add_sphere_collision(sapien.Pose([x, y, z]), radius=r, material=shape_material)
         ground.build_static(name="terrain")
@@ -269,7 +271,9 @@ class PhysxEngine(Adapter):
                 joints = {j.name: j for j in art.active_joints}
                 missing = [n for n in robot.wheel_joints if n not in joints]
                 if missing:
-                    raise InputError(str(robot.urdf), f"wheel joints {missing} are not movable joints of the articulation")
+                    raise InputError(
+                        str(robot.urdf), f"wheel joints {missing} are not movable joints of the articulation"
+                    )
                 wheels = [joints[n] for n in robot.wheel_joints]
                 for joint in wheels:
                     joint.set_drive_properties(0.0, settings.wheel_drive_damping, scenario.max_wheel_torque, "force")
@@ -307,10 +311,16 @@ class PhysxWorld:
         return pose.p, pose.q, base.linear_velocity, base.angular_velocity, self.art.qvel[self.wheel_dofs]
 
     def states(self, samples: list) -> BaseStates:
-        position, quat, v_com, omega, wheel_speed = (np.array([s[i] for s in samples], dtype=float)
-                                                     .reshape(len(samples), -1) for i in range(5))
+        position, quat, v_com, omega, wheel_speed = (
+            np.array([s[i] for s in samples], dtype=float).reshape(len(samples), -1) for i in range(5)
+        )
         quat /= np.linalg.norm(quat, axis=1, keepdims=True)
         quat *= np.where(quat[:, :1] < 0, -1.0, 1.0)
         velocity = v_com - np.cross(omega, rotation_matrices(quat) @ self.com)
-        return BaseStates(position=position, quaternion=quat, linear_velocity=velocity, angular_velocity=omega,
-                          wheel_speed=wheel_speed)
+        return BaseStates(
+            position=position,
+            quaternion=quat,
+            linear_velocity=velocity,
+            angular_velocity=omega,
+            wheel_speed=wheel_speed,
+        )

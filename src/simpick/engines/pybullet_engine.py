@@ -106,10 +106,15 @@ def _xyzw_to_wxyz(q: np.ndarray) -> np.ndarray:
 def _quat_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     aw, ax, ay, az = np.moveaxis(a, -1, 0)
     bw, bx, by, bz = np.moveaxis(b, -1, 0)
-    return np.stack([aw * bw - ax * bx - ay * by - az * bz,
-                     aw * bx + ax * bw + ay * bz - az * by,
-                     aw * by - ax * bz + ay * bw + az * bx,
-                     aw * bz + ax * by - ay * bx + az * bw], -1)
+    return np.stack(
+        [
+            aw * bw - ax * bx - ay * by - az * bz,
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+        ],
+        -1,
+    )
 
 
 class PyBulletEngine(Adapter):
@@ -118,8 +123,9 @@ class PyBulletEngine(Adapter):
         # Contact softness: 2e5 N/m is ~0.7 mm static sag per wheel; at 1e5 the loads oscillate in a
         # spin (sd 20 N, PyBulletSettings above); 1e7 gives the gains of 1e6 within 0.001, so the range
         # covers every distinct behaviour. Damping stays at its setting.
-        "contact_stiffness": Calibratable(2.0e5, 1.0e7, log=True,
-                                          why="1e5 N/m oscillates in a spin; 1e7 = 1e6 within 0.001 (issue 9)"),
+        "contact_stiffness": Calibratable(
+            2.0e5, 1.0e7, log=True, why="1e5 N/m oscillates in a spin; 1e7 = 1e6 within 0.001 (issue 9)"
+        ),
         # Torsional friction, m (x mu x normal force): 0 to 0.05 m, under half the wheel's
         # 0.114 m width, the largest lever a contact patch across the wheel could give.
         "spinning_friction": Calibratable(0.0, 0.05, why="0 to under half the 0.114 m wheel width"),
@@ -144,8 +150,7 @@ class PyBulletEngine(Adapter):
         return PyBulletWorld(pb, cid, bodies, wheel_index, scenario)
 
     def _build_terrain(self, pb, cid: int, scenario: Scenario) -> None:
-        ground = pb.createMultiBody(0, pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=cid),
-                                    physicsClientId=cid)
+        ground = pb.createMultiBody(0, pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=cid), physicsClientId=cid)
         pb.changeDynamics(ground, -1, lateralFriction=scenario.ground_friction, physicsClientId=cid)
         terrain = scenario.terrain
         # Boxes and stones are static *rigid* bodies (useMaximalCoordinates), asleep. PyBullet makes
@@ -176,12 +181,16 @@ class PyBulletEngine(Adapter):
         # (m/s^2 and rad/s; accelerometer ranges are 20-40 m/s^2). The validation cases have no
         # terrain bodies, only the plane, which stays as it was: their values are unchanged.
         static = {"useMaximalCoordinates": True, "physicsClientId": cid}
-        asleep = {"lateralFriction": terrain.friction, "activationState": pb.ACTIVATION_STATE_SLEEP,
-                  "physicsClientId": cid}
+        asleep = {
+            "lateralFriction": terrain.friction,
+            "activationState": pb.ACTIVATION_STATE_SLEEP,
+            "physicsClientId": cid,
+        }
         for x, y, z, yaw, sx, sy, sz in terrain.boxes:
             shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[sx / 2, sy / 2, sz / 2], physicsClientId=cid)
-            body = pb.createMultiBody(0, shape, basePosition=[x, y, z],
-                                      baseOrientation=pb.getQuaternionFromEuler([0, 0, yaw]), **static)
+            body = pb.createMultiBody(
+                0, shape, basePosition=[x, y, z], baseOrientation=pb.getQuaternionFromEuler([0, 0, yaw]), **static
+            )
             pb.changeDynamics(body, -1, **asleep)
         for x, y, z, r in terrain.spheres:
             shape = pb.createCollisionShape(pb.GEOM_SPHERE, radius=r, physicsClientId=cid)
@@ -196,40 +205,65 @@ class PyBulletEngine(Adapter):
         # plane translates forward without turning (measured: 1.38 m, 0.02 rad in 10 s; without
         # it 1.23 rad). Runs are deterministic without it: the world is built in a fixed order
         # (tests/test_determinism.py).
-        pb.setPhysicsEngineParameter(fixedTimeStep=scenario.timestep, numSubSteps=0,
-                                     numSolverIterations=settings.solver_iterations,
-                                     physicsClientId=cid)
+        pb.setPhysicsEngineParameter(
+            fixedTimeStep=scenario.timestep,
+            numSubSteps=0,
+            numSolverIterations=settings.solver_iterations,
+            physicsClientId=cid,
+        )
         self._build_terrain(pb, cid, scenario)
 
         robot = scenario.robot
         flags = pb.URDF_USE_INERTIA_FROM_FILE | pb.URDF_USE_IMPLICIT_CYLINDER
         bodies, wheel_index = [], None
         for x, y, yaw in scenario.starts:
-            body = pb.loadURDF(str(robot.urdf), [x, y, robot.base_height + SPAWN_CLEARANCE],
-                               pb.getQuaternionFromEuler([0, 0, yaw]), flags=flags, physicsClientId=cid)
-            names = {pb.getJointInfo(body, j, physicsClientId=cid)[1].decode(): j
-                     for j in range(pb.getNumJoints(body, physicsClientId=cid))}
+            body = pb.loadURDF(
+                str(robot.urdf),
+                [x, y, robot.base_height + SPAWN_CLEARANCE],
+                pb.getQuaternionFromEuler([0, 0, yaw]),
+                flags=flags,
+                physicsClientId=cid,
+            )
+            names = {
+                pb.getJointInfo(body, j, physicsClientId=cid)[1].decode(): j
+                for j in range(pb.getNumJoints(body, physicsClientId=cid))
+            }
             wheel_index = [names[n] for n in robot.wheel_joints]
             # casters and their swivels roll free: Bullet motorises every revolute joint by default
             # (a velocity motor holding 0), which a maximum force of 0 switches off
             passive = [names[n] for n in robot.passive_joints]
             if passive:
-                pb.setJointMotorControlArray(body, passive, pb.VELOCITY_CONTROL, forces=[0.0] * len(passive),
-                                             physicsClientId=cid)
+                pb.setJointMotorControlArray(
+                    body, passive, pb.VELOCITY_CONTROL, forces=[0.0] * len(passive), physicsClientId=cid
+                )
             # contact_stiffness 0: Bullet's rigid contacts (the adapter before issue 9)
-            compliance = ({"contactStiffness": settings.contact_stiffness,
-                           "contactDamping": settings.contact_damping}
-                          if settings.contact_stiffness > 0 else {})
+            compliance = (
+                {"contactStiffness": settings.contact_stiffness, "contactDamping": settings.contact_damping}
+                if settings.contact_stiffness > 0
+                else {}
+            )
             for link in range(-1, pb.getNumJoints(body, physicsClientId=cid)):
-                pb.changeDynamics(body, link, lateralFriction=1.0, rollingFriction=0.0,
-                                  spinningFriction=settings.spinning_friction,
-                                  restitution=0.0, linearDamping=0.0, angularDamping=0.0, **compliance,
-                                  physicsClientId=cid)
+                pb.changeDynamics(
+                    body,
+                    link,
+                    lateralFriction=1.0,
+                    rollingFriction=0.0,
+                    spinningFriction=settings.spinning_friction,
+                    restitution=0.0,
+                    linearDamping=0.0,
+                    angularDamping=0.0,
+                    **compliance,
+                    physicsClientId=cid,
+                )
             if settings.friction_ratio != 1.0:
                 for joint in wheel_index:
                     axis = np.abs(np.asarray(pb.getJointInfo(body, joint, physicsClientId=cid)[13], dtype=float))
-                    pb.changeDynamics(body, joint, physicsClientId=cid,
-                                      anisotropicFriction=(1.0 - (1.0 - settings.friction_ratio) * axis).tolist())
+                    pb.changeDynamics(
+                        body,
+                        joint,
+                        physicsClientId=cid,
+                        anisotropicFriction=(1.0 - (1.0 - settings.friction_ratio) * axis).tolist(),
+                    )
             bodies.append(body)
         return bodies, wheel_index
 
@@ -248,8 +282,14 @@ class PyBulletWorld:
     def set_wheel_targets(self, speeds: np.ndarray) -> None:
         pb, cid = self.pb, self.cid
         for i, body in enumerate(self.bodies):
-            pb.setJointMotorControlArray(body, self.wheel_index, pb.VELOCITY_CONTROL,
-                                         targetVelocities=speeds[i].tolist(), forces=self.torque, physicsClientId=cid)
+            pb.setJointMotorControlArray(
+                body,
+                self.wheel_index,
+                pb.VELOCITY_CONTROL,
+                targetVelocities=speeds[i].tolist(),
+                forces=self.torque,
+                physicsClientId=cid,
+            )
 
     def step(self, n: int = 1) -> None:
         step, cid = self.pb.stepSimulation, self.cid
@@ -260,10 +300,14 @@ class PyBulletWorld:
     def read(self) -> tuple:
         """(pose, velocity, wheel joint states or None): the wheels every WHEEL_SAMPLE_EVERY steps."""
         pb, cid, body = self.pb, self.cid, self.body0
-        wheels = (pb.getJointStates(body, self.wheel_index, physicsClientId=cid)
-                  if self.k % WHEEL_SAMPLE_EVERY == 0 else None)
-        return (pb.getBasePositionAndOrientation(body, physicsClientId=cid), pb.getBaseVelocity(body, physicsClientId=cid),
-                wheels)
+        wheels = (
+            pb.getJointStates(body, self.wheel_index, physicsClientId=cid) if self.k % WHEEL_SAMPLE_EVERY == 0 else None
+        )
+        return (
+            pb.getBasePositionAndOrientation(body, physicsClientId=cid),
+            pb.getBaseVelocity(body, physicsClientId=cid),
+            wheels,
+        )
 
     def states(self, samples: list) -> BaseStates:
         steps = len(samples)
@@ -277,13 +321,19 @@ class PyBulletWorld:
 
         # From the principal inertial frame back to base_link.
         info = self.pb.getDynamicsInfo(self.body0, -1, physicsClientId=self.cid)
-        local_pos = np.asarray(info[3]); local_q = _xyzw_to_wxyz(np.asarray(info[4]))
+        local_pos = np.asarray(info[3])
+        local_q = _xyzw_to_wxyz(np.asarray(info[4]))
         local_q_inv = local_q * np.array([1, -1, -1, -1])
         quat = _quat_multiply(_xyzw_to_wxyz(com_q), local_q_inv)
         quat /= np.linalg.norm(quat, axis=1, keepdims=True)
         offset = rotation_matrices(quat) @ local_pos
-        return BaseStates(position=com - offset, quaternion=quat, linear_velocity=com_v - np.cross(omega, offset),
-                          angular_velocity=omega, wheel_speed=wheels)
+        return BaseStates(
+            position=com - offset,
+            quaternion=quat,
+            linear_velocity=com_v - np.cross(omega, offset),
+            angular_velocity=omega,
+            wheel_speed=wheels,
+        )
 
     def close(self) -> None:
         self.pb.disconnect(self.cid)

@@ -64,14 +64,29 @@ def simulate(adapter: Any, scenario: Scenario, wheel_commands) -> PhysicsRecord:
         _close(world)
     dt = scenario.timestep
     if states.specific_force is None:
-        specific_force, gyro = imu_from_kinematics(states.quaternion, states.linear_velocity, states.angular_velocity,
-                                                   scenario.robot.imu_mount, dt, scenario.gravity)
+        specific_force, gyro = imu_from_kinematics(
+            states.quaternion,
+            states.linear_velocity,
+            states.angular_velocity,
+            scenario.robot.imu_mount,
+            dt,
+            scenario.gravity,
+        )
     else:
         specific_force, gyro = states.specific_force, states.gyro
-    return PhysicsRecord(time=dt * np.arange(1, steps + 1), position=states.position, quaternion=states.quaternion,
-                         linear_velocity=states.linear_velocity, angular_velocity=states.angular_velocity,
-                         wheel_speed=states.wheel_speed, imu_specific_force=specific_force, imu_gyro=gyro,
-                         wall_time=wall, cpu_time=cpu, steps=steps)
+    return PhysicsRecord(
+        time=dt * np.arange(1, steps + 1),
+        position=states.position,
+        quaternion=states.quaternion,
+        linear_velocity=states.linear_velocity,
+        angular_velocity=states.angular_velocity,
+        wheel_speed=states.wheel_speed,
+        imu_specific_force=specific_force,
+        imu_gyro=gyro,
+        wall_time=wall,
+        cpu_time=cpu,
+        steps=steps,
+    )
 
 
 def bare_loop(adapter: Any, scenario: Scenario, wheel_commands) -> float:

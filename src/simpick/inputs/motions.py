@@ -15,8 +15,9 @@ def side_speeds(v: float, w: float, track: float) -> tuple[float, float]:
     return v - w * track / 2, v + w * track / 2
 
 
-def constant_commands(v: float, w: float, duration: float, timestep: float, track: float,
-                      wheel_radius, robots: int = 1) -> np.ndarray:
+def constant_commands(
+    v: float, w: float, duration: float, timestep: float, track: float, wheel_radius, robots: int = 1
+) -> np.ndarray:
     """(steps, robots, driven wheels) joint speeds. ``wheel_radius``: a
     :class:`simpick.inputs.robot.RobotSpec` (its driven wheels, sides and axis signs), or a radius for
     the Husky's four wheels ordered FL, FR, RL, RR."""
@@ -29,8 +30,9 @@ def constant_commands(v: float, w: float, duration: float, timestep: float, trac
     return np.broadcast_to(per_robot, (steps, robots, len(per_robot))).copy()
 
 
-def arc_start_over_strip(v: float, w: float, gain: float, lowest: tuple[float, float],
-                         start_x: float) -> tuple[float, float, float]:
+def arc_start_over_strip(
+    v: float, w: float, gain: float, lowest: tuple[float, float], start_x: float
+) -> tuple[float, float, float]:
     """Start pose (x, y, yaw) of a left-turning open-loop circle whose *driven* arc passes
     lowest (heading +x) through ``lowest`` = (x, y), entering from ``start_x``.
 

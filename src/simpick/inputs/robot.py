@@ -48,12 +48,26 @@ from typing import Any
 import numpy as np
 
 from simpick.errors import InputError
-from simpick.inputs.urdf import (SNAP_TOLERANCE_DEG, Body, RigidModel, Tree, floats, fmt, inertial, joint_axis,
-                                 needs_rewrite, normalised_urdf, origin, read_description, snapped_axis, tree_of,
-                                 wheel_shape, write_cached)
+from simpick.inputs.urdf import (
+    SNAP_TOLERANCE_DEG,
+    Body,
+    RigidModel,
+    Tree,
+    floats,
+    fmt,
+    inertial,
+    joint_axis,
+    needs_rewrite,
+    normalised_urdf,
+    origin,
+    read_description,
+    snapped_axis,
+    tree_of,
+    wheel_shape,
+    write_cached,
+)
 
 LOG = logging.getLogger(__name__)
-
 
 
 @dataclass(frozen=True)
@@ -176,14 +190,19 @@ def _find_wheels(tree: Tree, where: str, declared: Mapping[str, str] | None) -> 
         if kind != "continuous":
             holds_wheel = any(tree.joints[k].get("type") == "continuous" for k in _subtree_joints(tree, child))
             what = "a steered or suspended wheel" if holds_wheel else "a steering, suspension, leg or arm joint"
-            raise InputError(jw, f"is {kind}: {what}, which simpick does not simulate (it studies rigid "
-                             "wheeled bodies: driven and caster wheels on continuous joints)",
-                             "make it a fixed joint in the description if it does not move while driving")
+            raise InputError(
+                jw,
+                f"is {kind}: {what}, which simpick does not simulate (it studies rigid "
+                "wheeled bodies: driven and caster wheels on continuous joints)",
+                "make it a fixed joint in the description if it does not move while driving",
+            )
         axis_local = joint_axis(j, jw)
         snap = snapped_axis(axis_local)
         if snap is not None and snap[1] > 1e-7:
-            tree.notes.append(f"joint {jname!r}: axis {j.find('axis').get('xyz')!r} is {snap[1]:.3f} deg from "
-                         f"{fmt(snap[0])} (within {SNAP_TOLERANCE_DEG} deg), snapped")
+            tree.notes.append(
+                f"joint {jname!r}: axis {j.find('axis').get('xyz')!r} is {snap[1]:.3f} deg from "
+                f"{fmt(snap[0])} (within {SNAP_TOLERANCE_DEG} deg), snapped"
+            )
             axis_local = tree.axes[jname] = snap[0]
         _, rot = tree.pose[child]
         axis = rot @ axis_local  # in the base frame
@@ -194,12 +213,18 @@ def _find_wheels(tree: Tree, where: str, declared: Mapping[str, str] | None) -> 
             continue
         shape = wheel_shape(link, axis_local, jw)
         if shape is None:
-            raise InputError(jw, f"is continuous but its child link {child!r} has no cylinder or sphere collision: "
-                             "a wheel needs one for the engines to roll on",
-                             "add a <collision> with a cylinder (axis along the joint) or a sphere")
+            raise InputError(
+                jw,
+                f"is continuous but its child link {child!r} has no cylinder or sphere collision: "
+                "a wheel needs one for the engines to roll on",
+                "add a <collision> with a cylinder (axis along the joint) or a sphere",
+            )
         if abs(axis[2]) > 1e-3 or abs(axis[0]) > 1e-3:
-            raise InputError(jw, f"spins about {np.round(axis, 3).tolist()} in the base frame: a wheel must spin "
-                             "about the base's y axis (a steered, cambered or omni wheel is not supported)")
+            raise InputError(
+                jw,
+                f"spins about {np.round(axis, 3).tolist()} in the base frame: a wheel must spin "
+                "about the base's y axis (a steered, cambered or omni wheel is not supported)",
+            )
         kind_, radius, width = shape
         position, _ = tree.pose[child]
         # rolling without slip: the base moves at r w (a x z) for joint speed w about a
@@ -223,30 +248,54 @@ def _find_wheels(tree: Tree, where: str, declared: Mapping[str, str] | None) -> 
             # on a swivel, or on the centre line (a ball caster's spinning sphere): passive
             driven = swivel is None and side != "centre"
         if driven and side == "centre":
-            raise InputError(jw, f"a driven wheel on the centre line (y = {y:.4f} m): its side is unknown",
-                             "declare it under robot.wheels with its side")
-        wheels.append(Wheel(joint=jname, link=child, side=side, radius=radius, width=width, shape=kind_,
-                            position=tuple(float(v) for v in position), axis_sign=axis_sign, driven=driven,
-                            swivel=swivel))
+            raise InputError(
+                jw,
+                f"a driven wheel on the centre line (y = {y:.4f} m): its side is unknown",
+                "declare it under robot.wheels with its side",
+            )
+        wheels.append(
+            Wheel(
+                joint=jname,
+                link=child,
+                side=side,
+                radius=radius,
+                width=width,
+                shape=kind_,
+                position=tuple(float(v) for v in position),
+                axis_sign=axis_sign,
+                driven=driven,
+                swivel=swivel,
+            )
+        )
     if declared is not None:
         missing = sorted(set(declared) - {w.joint for w in wheels})
         if missing:
-            raise InputError("robot.wheels", f"joints {missing} are not wheel joints of {where} "
-                             f"(found: {[w.joint for w in wheels]})")
+            raise InputError(
+                "robot.wheels", f"joints {missing} are not wheel joints of {where} (found: {[w.joint for w in wheels]})"
+            )
     driven = [w for w in wheels if w.driven]
     if not driven:
-        raise InputError(where, "no driven wheel found (a continuous joint on the base whose child collides as "
-                         "a cylinder or sphere); tracked and legged robots are not supported",
-                         "declare the driven joints under robot.wheels if the description has them")
+        raise InputError(
+            where,
+            "no driven wheel found (a continuous joint on the base whose child collides as "
+            "a cylinder or sphere); tracked and legged robots are not supported",
+            "declare the driven joints under robot.wheels if the description has them",
+        )
     left = [w for w in driven if w.side == "left"]
     right = [w for w in driven if w.side == "right"]
     if len(driven) not in (2, 4, 6) or len(left) != len(right):
-        raise InputError(where, f"{len(left)} left and {len(right)} right driven wheels "
-                         f"({[w.joint for w in driven]}): simpick drives 2, 4 or 6 wheels, as many on each side")
+        raise InputError(
+            where,
+            f"{len(left)} left and {len(right)} right driven wheels "
+            f"({[w.joint for w in driven]}): simpick drives 2, 4 or 6 wheels, as many on each side",
+        )
     radii = [w.radius for w in driven]
     if max(radii) - min(radii) > 1e-3:
-        raise InputError(where, f"driven wheel radii differ ({dict((w.joint, w.radius) for w in driven)}): "
-                         "a differential controller needs one radius")
+        raise InputError(
+            where,
+            f"driven wheel radii differ ({dict((w.joint, w.radius) for w in driven)}): "
+            "a differential controller needs one radius",
+        )
     # command order: front to back, left before right
     driven.sort(key=lambda w: (-round(w.position[0], 4), w.side != "left"))
     return driven + [w for w in wheels if not w.driven], notes
@@ -255,6 +304,7 @@ def _find_wheels(tree: Tree, where: str, declared: Mapping[str, str] | None) -> 
 def _find_skids(tree: Tree, where: str, base_height: float) -> tuple[Skid, ...]:
     """Collision shapes of links rigidly fixed to the base whose lowest point, the robot level on
     its wheels, is within SKID_REACH of the ground."""
+
     def on_base(link: str) -> bool:
         while link in tree.child_joint:
             joint = tree.child_joint[link]
@@ -282,14 +332,22 @@ def _find_skids(tree: Tree, where: str, base_height: float) -> tuple[Skid, ...]:
                 low, kind = centre[2] - float(sph.get("radius")), "sphere"
             elif cyl is not None:
                 c = abs(m[2, 2])
-                low = centre[2] - (c * float(cyl.get("length")) / 2 + math.sqrt(max(0.0, 1 - c * c)) * float(cyl.get("radius")))
+                low = centre[2] - (
+                    c * float(cyl.get("length")) / 2 + math.sqrt(max(0.0, 1 - c * c)) * float(cyl.get("radius"))
+                )
                 kind = "cylinder"
             else:
                 continue
             clearance = low + base_height
             if clearance <= SKID_REACH:
-                found.append(Skid(link=name, shape=kind, position=(float(centre[0]), float(centre[1]), float(low)),
-                                  clearance=float(clearance)))
+                found.append(
+                    Skid(
+                        link=name,
+                        shape=kind,
+                        position=(float(centre[0]), float(centre[1]), float(low)),
+                        clearance=float(clearance),
+                    )
+                )
     return tuple(found)
 
 
@@ -305,6 +363,7 @@ def _subtree_joints(tree: Tree, link: str) -> list[str]:
 def _rigid_model(tree: Tree, where: str, wheels: list[Wheel], snapped_axes: dict) -> RigidModel:
     """The bodies and moving joints of ``tree``: each moving link with every link hung on it by
     fixed joints folded in (breadth first, in the description's joint order)."""
+
     def body_of(link: str) -> tuple[str, np.ndarray, np.ndarray]:
         """The moving link ``link`` belongs to, and ``link``'s frame in that link's frame."""
         pos, rot = np.zeros(3), np.eye(3)
@@ -351,8 +410,9 @@ def _rigid_model(tree: Tree, where: str, wheels: list[Wheel], snapped_axes: dict
         joint = tree.joints[name]
         parent, xyz, r, axis = mount(joint)
         if parent != tree.base and parent not in index:
-            raise InputError(f"{where}: joint {name!r}", f"hangs on {parent!r}, which is neither the base nor a "
-                             "caster's swivel link")
+            raise InputError(
+                f"{where}: joint {name!r}", f"hangs on {parent!r}, which is neither the base nor a caster's swivel link"
+            )
         child = joint.find("child").get("link")
         index[child] = len(passive)
         passive.append((xyz, r, axis, body(child), -1 if parent == tree.base else index[parent]))
@@ -362,8 +422,13 @@ def _rigid_model(tree: Tree, where: str, wheels: list[Wheel], snapped_axes: dict
 OVERRIDABLE = ("wheel_radius", "track", "wheelbase", "mass", "com", "base_height", "imu_mount")
 
 
-def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping[str, str] | None = None,
-               overrides: Mapping[str, Any] | None = None) -> RobotSpec:
+def load_robot(
+    urdf: str | Path,
+    *,
+    imu_link: str | None = None,
+    wheels: Mapping[str, str] | None = None,
+    overrides: Mapping[str, Any] | None = None,
+) -> RobotSpec:
     """Read any wheeled robot's URDF or xacro; see the module docstring for the rules.
 
     ``imu_link``: the link whose origin is the IMU (default: the first link with "imu" in its
@@ -404,8 +469,11 @@ def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping
         body_mass[body] = body_mass.get(body, 0.0) + (inert[0] if inert else 0.0)
     massless = sorted(b for b, m in body_mass.items() if m <= 0)
     if massless:
-        raise InputError(where, f"links {massless} (with the links fixed to them) have no mass: each moving "
-                         "part and the base needs one", "add an <inertial> with the part's mass")
+        raise InputError(
+            where,
+            f"links {massless} (with the links fixed to them) have no mass: each moving part and the base needs one",
+            "add an <inertial> with the part's mass",
+        )
 
     if imu_link is None:
         imu_link = next((n for n in tree.links if "imu" in n.lower()), tree.base)
@@ -413,8 +481,7 @@ def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping
         raise InputError("robot.imu_link", f"{imu_link!r} is not a link of {where} (links: {sorted(tree.links)})")
     imu_pos, imu_rot = tree.pose[imu_link]
     if not np.allclose(imu_rot, np.eye(3), atol=1e-6):
-        notes.append(f"IMU link {imu_link!r} is rotated relative to the base; the simulated IMU's axes are "
-                     "the base's")
+        notes.append(f"IMU link {imu_link!r} is rotated relative to the base; the simulated IMU's axes are the base's")
 
     driven = [w for w in found if w.driven]
     radius = driven[0].radius
@@ -427,9 +494,15 @@ def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping
     left = [w.position[1] for w in driven if w.side == "left"]
     right = [w.position[1] for w in driven if w.side == "right"]
     xs = [w.position[0] for w in driven]
-    figures = {"wheel_radius": radius, "track": float(np.mean(left) - np.mean(right)),
-               "wheelbase": float(max(xs) - min(xs)), "mass": float(mass), "com": tuple(float(c) for c in com),
-               "base_height": float(base_height), "imu_mount": tuple(float(c) for c in imu_pos)}
+    figures = {
+        "wheel_radius": radius,
+        "track": float(np.mean(left) - np.mean(right)),
+        "wheelbase": float(max(xs) - min(xs)),
+        "mass": float(mass),
+        "com": tuple(float(c) for c in com),
+        "base_height": float(base_height),
+        "imu_mount": tuple(float(c) for c in imu_pos),
+    }
     overridden = []
     for key, value in (overrides or {}).items():
         if value is None:
@@ -441,8 +514,10 @@ def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping
 
     skids = _find_skids(tree, where, float(base_height))
     for s in skids:
-        notes.append(f"link {s.link!r}: a {s.shape} {s.clearance * 1000:.1f} mm above the ground at rest, a "
-                     "sliding support (skid) with the ground's friction")
+        notes.append(
+            f"link {s.link!r}: a {s.shape} {s.clearance * 1000:.1f} mm above the ground at rest, a "
+            "sliding support (skid) with the ground's friction"
+        )
     file = source
     for note in tree.notes:
         LOG.warning("%s: %s", where, note)
@@ -454,9 +529,19 @@ def load_robot(urdf: str | Path, *, imu_link: str | None = None, wheels: Mapping
         file = write_cached(text)
         notes.append(f"loaded through a normalised copy ({file.name}): fixed links fused, visuals dropped")
         rigid = _rigid_model(tree_of(ET.fromstring(text), str(file)), str(file), found, {})
-    return RobotSpec(urdf=file, source=source, name=root.get("name") or source.stem, base_link=tree.base,
-                     wheels=tuple(found), imu_link=imu_link, notes=tuple(notes), overridden=tuple(overridden),
-                     skids=skids, rigid=rigid, **figures)
+    return RobotSpec(
+        urdf=file,
+        source=source,
+        name=root.get("name") or source.stem,
+        base_link=tree.base,
+        wheels=tuple(found),
+        imu_link=imu_link,
+        notes=tuple(notes),
+        overridden=tuple(overridden),
+        skids=skids,
+        rigid=rigid,
+        **figures,
+    )
 
 
 def load_from_config(robot: Mapping[str, Any]) -> RobotSpec:
@@ -468,5 +553,13 @@ def load_from_config(robot: Mapping[str, Any]) -> RobotSpec:
     return load_robot(robot["urdf"], imu_link=robot.get("imu_link"), wheels=wheels, overrides=overrides)
 
 
-__all__ = ["OVERRIDABLE", "RobotSpec", "SKID_REACH", "SNAP_TOLERANCE_DEG", "Skid", "Wheel", "load_from_config",
-           "load_robot"]
+__all__ = [
+    "OVERRIDABLE",
+    "RobotSpec",
+    "SKID_REACH",
+    "SNAP_TOLERANCE_DEG",
+    "Skid",
+    "Wheel",
+    "load_from_config",
+    "load_robot",
+]

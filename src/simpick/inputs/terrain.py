@@ -66,10 +66,13 @@ class Terrain:
         """``value`` itself, or the Terrain of a terrain file's dict (its schema keys ignored)."""
         if isinstance(value, Terrain):
             return value
-        return cls(friction=float(value["friction"]),
-                   boxes=tuple(Box(*(float(v) for v in row)) for row in value.get("boxes", ())),
-                   spheres=tuple(Sphere(*(float(v) for v in row)) for row in value.get("spheres", ())),
-                   name=str(value.get("name", "flat")), seed=value.get("seed"))
+        return cls(
+            friction=float(value["friction"]),
+            boxes=tuple(Box(*(float(v) for v in row)) for row in value.get("boxes", ())),
+            spheres=tuple(Sphere(*(float(v) for v in row)) for row in value.get("spheres", ())),
+            name=str(value.get("name", "flat")),
+            seed=value.get("seed"),
+        )
 
     @classmethod
     def flat(cls, friction: float, name: str = "flat") -> Terrain:
@@ -91,8 +94,15 @@ def flat_tiles(rng: np.random.Generator, tiles: int, thickness: float) -> dict:
     return {"boxes": boxes, "spheres": []}
 
 
-def plywood_layers(rng: np.random.Generator, tiles: int, base: float, layer: float,
-                   pieces_per_tile: int, piece_min: float, piece_max: float) -> dict:
+def plywood_layers(
+    rng: np.random.Generator,
+    tiles: int,
+    base: float,
+    layer: float,
+    pieces_per_tile: int,
+    piece_min: float,
+    piece_max: float,
+) -> dict:
     """Irregular plywood pieces in two layers on a base board (top = base + 2 layers).
 
     Layer-one pieces lie anywhere on a tile; each layer-two piece sits on a layer-one piece,
@@ -110,13 +120,21 @@ def plywood_layers(rng: np.random.Generator, tiles: int, base: float, layer: flo
             boxes.append(_box(x, y, base + layer / 2, yaw, sx, sy, layer))
             if rng.random() < 0.5:
                 shrink = rng.uniform(0.4, 0.8)
-                boxes.append(_box(x, y, base + 1.5 * layer, yaw + rng.uniform(-0.5, 0.5),
-                                  sx * shrink, sy * shrink, layer))
+                boxes.append(
+                    _box(x, y, base + 1.5 * layer, yaw + rng.uniform(-0.5, 0.5), sx * shrink, sy * shrink, layer)
+                )
     return {"boxes": boxes, "spheres": []}
 
 
-def gravel_bed(rng: np.random.Generator, tiles: int, bed: float, stones_per_tile: int,
-               radius_min: float, radius_max: float, max_height: float) -> dict:
+def gravel_bed(
+    rng: np.random.Generator,
+    tiles: int,
+    bed: float,
+    stones_per_tile: int,
+    radius_min: float,
+    radius_max: float,
+    max_height: float,
+) -> dict:
     """Stones (spheres, partly sunk in a gravel bed) whose tops stay below ``max_height``."""
     boxes = [_box(cx, 0.0, bed / 2, 0.0, TILE, TILE, bed) for cx in _tile_centres(tiles)]
     spheres = []
@@ -150,8 +168,14 @@ def generate(name: str, rule: str, seed: int, friction: float, tiles: int = TILE
         raise InputError(f"terrains.{name}", f"parameters do not fit rule {rule!r}: {exc}") from None
     top = max([b[2] + b[6] / 2 for b in shapes["boxes"]] + [s[2] + s[3] for s in shapes["spheres"]] + [0.0])
     return {
-        "schema": SCHEMA, "name": name, "rule": rule, "seed": int(seed), "params": params,
-        "friction": float(friction), "tiles": int(tiles), "tile_size": TILE,
+        "schema": SCHEMA,
+        "name": name,
+        "rule": rule,
+        "seed": int(seed),
+        "params": params,
+        "friction": float(friction),
+        "tiles": int(tiles),
+        "tile_size": TILE,
         "top_height": round(top, 6),
         "boxes_columns": ["x", "y", "z", "yaw", "size_x", "size_y", "size_z"],
         "spheres_columns": ["x", "y", "z", "radius"],

@@ -36,9 +36,13 @@ def rpy_matrix(rpy) -> np.ndarray:
     """URDF rpy (fixed axes x, then y, then z) -> rotation matrix."""
     r, p, y = rpy
     cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
-    return np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-                     [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-                     [-sp, cp * sr, cp * cr]])
+    return np.array(
+        [
+            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+            [-sp, cp * sr, cp * cr],
+        ]
+    )
 
 
 def matrix_rpy(m: np.ndarray) -> np.ndarray:
@@ -131,9 +135,11 @@ def tree_of(root, where: str) -> Tree:
         snap = snapped_rotation(rot)
         if snap is not None and snap[1] > 1e-7:
             rot = snap[0]
-            notes.append(f"joint {name!r}: origin rpy {j.find('origin').get('rpy')!r} is {snap[1]:.3f} deg from a "
-                         f"right angle (within {SNAP_TOLERANCE_DEG} deg), snapped to rpy "
-                         f"{fmt(np.round(matrix_rpy(rot), 6))}")
+            notes.append(
+                f"joint {name!r}: origin rpy {j.find('origin').get('rpy')!r} is {snap[1]:.3f} deg from a "
+                f"right angle (within {SNAP_TOLERANCE_DEG} deg), snapped to rpy "
+                f"{fmt(np.round(matrix_rpy(rot), 6))}"
+            )
         origins[name] = (xyz, rot)
     pose = {roots[0]: (np.zeros(3), np.eye(3))}
     stack = [roots[0]]
@@ -173,8 +179,11 @@ def wheel_shape(link, axis: np.ndarray, where: str) -> tuple[str, float, float] 
         if cyl is not None:
             cyl_axis = rot @ np.array([0.0, 0.0, 1.0])
             if abs(abs(cyl_axis @ axis) - 1) > 1e-3:
-                raise InputError(where, f"wheel link {link.get('name')!r}: its collision cylinder's axis "
-                                 f"{np.round(cyl_axis, 3).tolist()} is not the joint axis {np.round(axis, 3).tolist()}")
+                raise InputError(
+                    where,
+                    f"wheel link {link.get('name')!r}: its collision cylinder's axis "
+                    f"{np.round(cyl_axis, 3).tolist()} is not the joint axis {np.round(axis, 3).tolist()}",
+                )
             return "cylinder", float(cyl.get("radius")), float(cyl.get("length"))
         if sph is not None:
             return "sphere", float(sph.get("radius")), 0.0
@@ -183,7 +192,6 @@ def wheel_shape(link, axis: np.ndarray, where: str) -> tuple[str, float, float] 
 
 def has_collision(link) -> bool:
     return link.find("collision") is not None
-
 
 
 @dataclass
@@ -206,8 +214,9 @@ class Body:
             m = float(inertial.find("mass").get("value"))
             t = inertial.find("inertia")
             g = {k: float(t.get(k, 0.0)) if t is not None else 0.0 for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")}
-            local = np.array([[g["ixx"], g["ixy"], g["ixz"]], [g["ixy"], g["iyy"], g["iyz"]],
-                              [g["ixz"], g["iyz"], g["izz"]]])
+            local = np.array(
+                [[g["ixx"], g["ixy"], g["ixz"]], [g["ixy"], g["iyy"], g["iyz"]], [g["ixz"], g["iyz"], g["izz"]]]
+            )
             r = rotation @ rot
             self._combine(m, position + rotation @ xyz, r @ local @ r.T)
         for collision in link.findall("collision"):
@@ -257,6 +266,7 @@ class RigidModel:
 
 # --- reading -------------------------------------------------------------------------------
 
+
 def read_description(path: str | Path) -> ET.Element:
     """The description's XML root; a xacro file (``.xacro`` or a root holding xacro tags) is
     expanded first. Anything unreadable raises InputError naming the file."""
@@ -269,8 +279,9 @@ def read_description(path: str | Path) -> ET.Element:
         try:
             import xacro
         except ImportError:
-            raise InputError(str(path), "is a xacro file and the xacro package is not installed",
-                             "pip install xacro") from None
+            raise InputError(
+                str(path), "is a xacro file and the xacro package is not installed", "pip install xacro"
+            ) from None
         try:
             text = xacro.process_file(str(path)).toprettyxml(indent="  ")
         except Exception as exc:  # xacro raises its own and plain exceptions for bad input
@@ -278,8 +289,9 @@ def read_description(path: str | Path) -> ET.Element:
     try:
         root = ET.fromstring(text)
     except ET.ParseError as exc:
-        raise InputError(str(path), f"cannot read the robot description: not XML ({exc})",
-                         "point robot.urdf to a URDF or xacro file") from None
+        raise InputError(
+            str(path), f"cannot read the robot description: not XML ({exc})", "point robot.urdf to a URDF or xacro file"
+        ) from None
     if root.tag != "robot":
         raise InputError(str(path), f"the root element is <{root.tag}>, not <robot>: not a URDF")
     return root
@@ -342,8 +354,10 @@ def normalised_urdf(root, tree: Tree, name: str) -> tuple[str, list[str]]:
                     continue
                 shape = next((g for g in geometry if g.tag in ("box", "cylinder", "sphere")), None)
                 if shape is None:
-                    notes.append(f"link {lk!r}: a {[g.tag for g in geometry]} collision was dropped "
-                                 "(only box, cylinder and sphere are simulated alike in every engine)")
+                    notes.append(
+                        f"link {lk!r}: a {[g.tag for g in geometry]} collision was dropped "
+                        "(only box, cylinder and sphere are simulated alike in every engine)"
+                    )
                     continue
                 xyz, r = origin(collision, f"{where}: link {lk!r} collision")
                 collisions.append((pos + rot @ xyz, rot @ r, shape))
@@ -357,9 +371,21 @@ def normalised_urdf(root, tree: Tree, name: str) -> tuple[str, list[str]]:
             block = ET.SubElement(link, "inertial")
             ET.SubElement(block, "origin", {"xyz": fmt(com), "rpy": "0 0 0"})
             ET.SubElement(block, "mass", {"value": repr(float(mass))})
-            ET.SubElement(block, "inertia", {k: repr(float(inertia[a, b])) for k, (a, b) in
-                                                 {"ixx": (0, 0), "ixy": (0, 1), "ixz": (0, 2), "iyy": (1, 1),
-                                                  "iyz": (1, 2), "izz": (2, 2)}.items()})
+            ET.SubElement(
+                block,
+                "inertia",
+                {
+                    k: repr(float(inertia[a, b]))
+                    for k, (a, b) in {
+                        "ixx": (0, 0),
+                        "ixy": (0, 1),
+                        "ixz": (0, 2),
+                        "iyy": (1, 1),
+                        "iyz": (1, 2),
+                        "izz": (2, 2),
+                    }.items()
+                },
+            )
         for xyz, r, shape in collisions:
             col = ET.SubElement(link, "collision")
             ET.SubElement(col, "origin", {"xyz": fmt(xyz), "rpy": fmt(matrix_rpy(r))})

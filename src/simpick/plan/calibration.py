@@ -19,7 +19,9 @@ class CalibrationPlanning:
 
         replay = self.replay_set
         self.cal_source = "replay" if replay else "segments"
-        self.cal_dir = f"results/calibration/replay-{replay.name}" if replay else f"results/calibration/segments-{self.dataset}"
+        self.cal_dir = (
+            f"results/calibration/replay-{replay.name}" if replay else f"results/calibration/segments-{self.dataset}"
+        )
         self.cal_models = [
             m
             for m in (self.calibration.get("models") or self.real_models)
@@ -35,7 +37,9 @@ class CalibrationPlanning:
         if self.replay_set:
             return [[c, run, run] for c, run in self.runs]
         with open(self.config["real_data"]["segments"], newline="") as handle:
-            return [[r["terrain_class"], r["run"], r["segment"], r["kind"] == "turning"] for r in csv.DictReader(handle)]
+            return [
+                [r["terrain_class"], r["run"], r["segment"], r["kind"] == "turning"] for r in csv.DictReader(handle)
+            ]
 
     def calibration_split_inputs(self, wildcards=None):
         """The table the units come from; for a replay its logs too (which runs turn)."""

@@ -17,7 +17,7 @@ import csv
 import os
 import re
 import sys
-from typing import Callable
+from collections.abc import Callable
 
 from simpick.codeversion import job_code, modules, script_roots
 from simpick.config import Study, plain, timestep_label
@@ -56,8 +56,7 @@ class Plan(ReportPlanning, CalibrationPlanning):
     ``checkpoints.real_segments.get().output.csv``).
     """
 
-    def __init__(self, config: dict, settings: Study, basedir: str,
-                 derived_table: Callable[[], str] | None = None):
+    def __init__(self, config: dict, settings: Study, basedir: str, derived_table: Callable[[], str] | None = None):
         # the validated settings as plain data (defaults filled in), not the raw dict: what the
         # rules pass on and the jobs receive
         self.config = config = plain(settings, config)
@@ -451,13 +450,20 @@ class Plan(ReportPlanning, CalibrationPlanning):
         targets = ["results/validation/summary.csv"]
         targets += [self.metrics_file(s, t) for s in self.sources for t in ("imu_errors", "summary")]
         if self.replay_set:
-            targets += [f"{self.replay}/segments.csv", f"{self.replay}/dataset.yaml",
-                        f"{self.replay}/turning/summary.csv"]
+            targets += [
+                f"{self.replay}/segments.csv",
+                f"{self.replay}/dataset.yaml",
+                f"{self.replay}/turning/summary.csv",
+            ]
         if self.sweep:
             targets.append(f"{self.sweep_dir}/summary.csv")
         targets += self.calibration_all
-        targets += ["results/scores/weighted.csv", "results/published/table11.csv", "results/report/report.html",
-                    "results/report/report.pdf"]
+        targets += [
+            "results/scores/weighted.csv",
+            "results/published/table11.csv",
+            "results/report/report.html",
+            "results/report/report.pdf",
+        ]
         return targets
 
     # --- library code as a rerun trigger ---

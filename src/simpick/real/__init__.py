@@ -1,1 +1,3 @@
-"""Real robot data in: dataset folders, their import to the canonical log form, constant-command segments and the real robot's turning."""
+"""Real robot data in: dataset folders, their import to the canonical log form, constant-command segments and the
+real robot's turning.
+"""

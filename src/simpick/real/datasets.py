@@ -28,9 +28,11 @@ RUN_ID = re.compile(r"^[A-Za-z0-9_-]+$", re.ASCII)
 CLASS_FOLDER = re.compile(r"^[A-Za-z0-9_]+$", re.ASCII)
 NAME = re.compile(r"^[A-Za-z0-9_.-]+$", re.ASCII)
 # source names of the case tables (simpick.plan): results/traces/<source>/ and results/metrics/<source>/
-RESERVED_NAMES = {"own": "results/real/own holds the results of own_logs",
-                  "lab": "results/traces/lab and results/metrics/lab hold the lab study's",
-                  "segments": "results/traces/segments and results/metrics/segments hold the committed segments'"}
+RESERVED_NAMES = {
+    "own": "results/real/own holds the results of own_logs",
+    "lab": "results/traces/lab and results/metrics/lab hold the lab study's",
+    "segments": "results/traces/segments and results/metrics/segments hold the committed segments'",
+}
 LAYOUT = "one sub-folder per terrain class holding imu_<run>.csv / pro_<run>.csv pairs"
 
 
@@ -71,8 +73,7 @@ class DatasetProblems(InputError):
 
 def run_key(run: str) -> tuple:
     """Natural order: 1, 2, 7, 12 (and 01 before 02); ties broken by the text."""
-    return tuple((0, int(part), part) if part.isdigit() else (1, 0, part)
-                 for part in re.split(r"(\d+)", run) if part)
+    return tuple((0, int(part), part) if part.isdigit() else (1, 0, part) for part in re.split(r"(\d+)", run) if part)
 
 
 def _visible_dirs(folder: Path) -> list[Path]:
@@ -89,22 +90,35 @@ def scan(folder: str | Path) -> tuple[list[Run], list[InputError]]:
     if not folder.exists():
         return [], [InputError(str(folder), "dataset folder not found", "check the path given as borealtc_dir")]
     if not folder.is_dir():
-        return [], [InputError(str(folder), "is a file, not a dataset folder",
-                               f"pass the folder with {LAYOUT}")]
+        return [], [InputError(str(folder), "is a file, not a dataset folder", f"pass the folder with {LAYOUT}")]
     own = [f.name for f in folder.iterdir() if f.is_file() and _FILE.match(f.name)]
     subs = _visible_dirs(folder)
     if own and not any(_FILE.match(f.name) for s in subs for f in s.iterdir()):
-        return [], [InputError(str(folder), f"holds {len(own)} imu_/pro_ file(s) itself: it looks like one "
-                                            "terrain-class folder, not a dataset",
-                               f"pass its parent folder {folder.resolve().parent} (the dataset has {LAYOUT})")]
+        return [], [
+            InputError(
+                str(folder),
+                f"holds {len(own)} imu_/pro_ file(s) itself: it looks like one terrain-class folder, not a dataset",
+                f"pass its parent folder {folder.resolve().parent} (the dataset has {LAYOUT})",
+            )
+        ]
     if not subs:
-        return [], [InputError(str(folder), "is empty: no terrain-class sub-folders",
-                               f"a dataset folder has {LAYOUT}, e.g. {folder}/ASPHALT/imu_1.csv + pro_1.csv")]
+        return [], [
+            InputError(
+                str(folder),
+                "is empty: no terrain-class sub-folders",
+                f"a dataset folder has {LAYOUT}, e.g. {folder}/ASPHALT/imu_1.csv + pro_1.csv",
+            )
+        ]
     listing = {s: sorted(f for f in s.iterdir() if f.is_file()) for s in subs}
     if not any(_FILE.match(f.name) for files in listing.values() for f in files):
-        return [], [InputError(str(folder), f"is not a dataset folder: none of its {len(subs)} sub-folder(s) "
-                                            "holds imu_<run>.csv / pro_<run>.csv files",
-                               f"pass the folder with {LAYOUT}, e.g. {folder}/ASPHALT/imu_1.csv + pro_1.csv")]
+        return [], [
+            InputError(
+                str(folder),
+                f"is not a dataset folder: none of its {len(subs)} sub-folder(s) "
+                "holds imu_<run>.csv / pro_<run>.csv files",
+                f"pass the folder with {LAYOUT}, e.g. {folder}/ASPHALT/imu_1.csv + pro_1.csv",
+            )
+        ]
 
     runs: list[Run] = []
     problems: list[InputError] = []
@@ -113,12 +127,22 @@ def scan(folder: str | Path) -> tuple[list[Run], list[InputError]]:
         cls = sub.name.lower()
         if not CLASS_FOLDER.match(sub.name):
             suggestion = re.sub(r"[^A-Za-z0-9_]+", "_", sub.name).strip("_").upper() or "CLASS"
-            problems.append(InputError(str(sub), f"terrain-class folder name {sub.name!r} may hold only letters, "
-                                                 "digits and '_'", f"rename the folder, e.g. to {suggestion}"))
+            problems.append(
+                InputError(
+                    str(sub),
+                    f"terrain-class folder name {sub.name!r} may hold only letters, digits and '_'",
+                    f"rename the folder, e.g. to {suggestion}",
+                )
+            )
             continue
         if cls in seen:
-            problems.append(InputError(str(sub), f"terrain class {cls!r} appears twice (also {seen[cls]})",
-                                       "merge the two folders into one"))
+            problems.append(
+                InputError(
+                    str(sub),
+                    f"terrain class {cls!r} appears twice (also {seen[cls]})",
+                    "merge the two folders into one",
+                )
+            )
             continue
         seen[cls] = sub
         found: dict[str, dict[str, Path]] = {}
@@ -128,21 +152,36 @@ def scan(folder: str | Path) -> tuple[list[Run], list[InputError]]:
                 continue  # README, notes, other sensors
             kind, run = m.groups()
             if not RUN_ID.match(run):
-                problems.append(InputError(str(f), f"run id {run!r} may hold only letters, digits, '_' and '-'",
-                                           f"rename the file, e.g. to {kind}_1.csv (and its partner)"))
+                problems.append(
+                    InputError(
+                        str(f),
+                        f"run id {run!r} may hold only letters, digits, '_' and '-'",
+                        f"rename the file, e.g. to {kind}_1.csv (and its partner)",
+                    )
+                )
                 continue
             found.setdefault(run, {})[kind] = f
         if not found:
-            problems.append(InputError(str(sub), "terrain-class folder holds no imu_<run>.csv / pro_<run>.csv "
-                                                 "pair", "add its runs or remove the folder"))
+            problems.append(
+                InputError(
+                    str(sub),
+                    "terrain-class folder holds no imu_<run>.csv / pro_<run>.csv pair",
+                    "add its runs or remove the folder",
+                )
+            )
             continue
         for run in sorted(found, key=run_key):
             pair = found[run]
             missing = "pro" if "imu" in pair and "pro" not in pair else "imu" if "imu" not in pair else None
             if missing:
                 have = pair["imu" if missing == "pro" else "pro"]
-                problems.append(InputError(str(have), f"has no partner {missing}_{run}.csv in {sub}",
-                                           "restore the missing file or remove this one"))
+                problems.append(
+                    InputError(
+                        str(have),
+                        f"has no partner {missing}_{run}.csv in {sub}",
+                        "restore the missing file or remove this one",
+                    )
+                )
                 continue
             runs.append(Run(cls, run, sub.name, pair["imu"], pair["pro"]))
     return runs, problems
@@ -161,13 +200,19 @@ def dataset_name(folder: str | Path, given: str | None = None) -> str:
     if given:
         name = str(given)
         if not NAME.match(name):
-            raise InputError(f"real_dataset {name!r}", "may hold only letters, digits, '_', '.' and '-'",
-                             "pass e.g. --config real_dataset=yard_2024")
+            raise InputError(
+                f"real_dataset {name!r}",
+                "may hold only letters, digits, '_', '.' and '-'",
+                "pass e.g. --config real_dataset=yard_2024",
+            )
     else:
         name = re.sub(r"[^a-z0-9_.-]+", "_", Path(folder).resolve().name.lower()).strip("._-") or "dataset"
     if name in RESERVED_NAMES:
-        raise InputError(f"dataset name {name!r} (from {'real_dataset' if given else folder})",
-                         f"is reserved: {RESERVED_NAMES[name]}", "pass another name: --config real_dataset=NAME")
+        raise InputError(
+            f"dataset name {name!r} (from {'real_dataset' if given else folder})",
+            f"is reserved: {RESERVED_NAMES[name]}",
+            "pass another name: --config real_dataset=NAME",
+        )
     return name
 
 
@@ -178,11 +223,14 @@ def unknown_classes(runs: Iterable[Run], classes: Mapping) -> list[InputError]:
         if r.terrain_class in classes or r.terrain_class in done:
             continue
         done.add(r.terrain_class)
-        example = (f"real_data: {{classes: {{{r.terrain_class}: {{friction: 0.6, "
-                   f"source: \"where 0.6 comes from\"}}}}}}")
-        problems.append(InputError(str(r.imu.parent), f"terrain class {r.terrain_class!r} has no ground model",
-                                   f"add it under real_data.classes in config.yaml or in a file passed with "
-                                   f"--configfile, e.g. {example}"))
+        example = f'real_data: {{classes: {{{r.terrain_class}: {{friction: 0.6, source: "where 0.6 comes from"}}}}}}'
+        problems.append(
+            InputError(
+                str(r.imu.parent),
+                f"terrain class {r.terrain_class!r} has no ground model",
+                f"add it under real_data.classes in config.yaml or in a file passed with --configfile, e.g. {example}",
+            )
+        )
     return problems
 
 
@@ -195,8 +243,9 @@ def previous_folder(manifest: str | Path) -> str | None:
     return str(data.get("folder")) if isinstance(data, dict) and data.get("folder") else None
 
 
-def open_dataset(folder: str | Path, *, classes: Mapping, name: str | None = None,
-                 results: str | Path = "results/real") -> Dataset:
+def open_dataset(
+    folder: str | Path, *, classes: Mapping, name: str | None = None, results: str | Path = "results/real"
+) -> Dataset:
     """The dataset behind ``borealtc_dir``: every run, every class known to the config, and a
     name whose results folder holds no other folder's results. Raises :class:`DatasetProblems`."""
     folder = Path(folder)
@@ -211,9 +260,14 @@ def open_dataset(folder: str | Path, *, classes: Mapping, name: str | None = Non
         manifest = Path(results) / dataset / "dataset.yaml"
         before = previous_folder(manifest)
         if before is not None and Path(before) != folder.resolve():
-            problems.insert(0, InputError(
-                f"{Path(results) / dataset}", f"holds the results of dataset folder {before}, not of {folder.resolve()}",
-                "pass --config real_dataset=OTHER_NAME, or delete that results folder"))
+            problems.insert(
+                0,
+                InputError(
+                    f"{Path(results) / dataset}",
+                    f"holds the results of dataset folder {before}, not of {folder.resolve()}",
+                    "pass --config real_dataset=OTHER_NAME, or delete that results folder",
+                ),
+            )
     if problems:
         raise DatasetProblems(problems)
     return Dataset(dataset, folder.resolve(), tuple(runs))

@@ -37,18 +37,83 @@ MIN_SPEED = 0.2  # m/s: the kinematic forward speed above which a step's speed r
 SPIN_SPEED = 0.05  # m/s: below this commanded forward speed a turn is a spin on the spot (turn radius 0)
 SIMILAR = 1.0  # rad/s: two steps are of similar command when both wheels' commands differ by at most this
 
-STEP_COLUMNS = ["dataset", "session", "terrain_class", "gyro_sign", "step", "cmd_left", "cmd_right", "v_cmd", "w_cmd",
-                "cmd_turn_radius", "cmd_wheel_speed_difference", "wheel_left", "wheel_right", "v_kin", "w_kin",
-                "yaw_rate", "yaw_rate_icp", "turning", "gain", "gain_icp", "v_icp", "v_icp_drive", "speed_ratio",
-                "speed_ratio_drive"]
-TABLE_COLUMNS = ["terrain_class", "session", "steps", "gyro_sign", "turning_steps", "gain_median", "gain_q25",
-                 "gain_q75", "gain_icp_median", "similar_pairs", "repeat_median_abs_diff", "repeat_sd",
-                 "rho_speed", "p_speed", "rho_radius", "p_radius", "rho_difference", "p_difference", "speed_steps",
-                 "speed_ratio_median", "speed_ratio_q25", "speed_ratio_q75", "speed_ratio_drive_median"]
-CASE_COLUMNS = ["case", "dataset", "session", "terrain_class", "step", "start_from", "start_vx", "start_vy",
-                "start_wz", "start_wheel_left", "start_wheel_right", "cmd_left", "cmd_right", "steady_start",
-                "steady_end", "wheel_left", "wheel_right", "yaw_rate", "yaw_rate_icp", "v_icp", "heading_icp",
-                "heading_gyro", "gain", "source_sha1"]
+STEP_COLUMNS = [
+    "dataset",
+    "session",
+    "terrain_class",
+    "gyro_sign",
+    "step",
+    "cmd_left",
+    "cmd_right",
+    "v_cmd",
+    "w_cmd",
+    "cmd_turn_radius",
+    "cmd_wheel_speed_difference",
+    "wheel_left",
+    "wheel_right",
+    "v_kin",
+    "w_kin",
+    "yaw_rate",
+    "yaw_rate_icp",
+    "turning",
+    "gain",
+    "gain_icp",
+    "v_icp",
+    "v_icp_drive",
+    "speed_ratio",
+    "speed_ratio_drive",
+]
+TABLE_COLUMNS = [
+    "terrain_class",
+    "session",
+    "steps",
+    "gyro_sign",
+    "turning_steps",
+    "gain_median",
+    "gain_q25",
+    "gain_q75",
+    "gain_icp_median",
+    "similar_pairs",
+    "repeat_median_abs_diff",
+    "repeat_sd",
+    "rho_speed",
+    "p_speed",
+    "rho_radius",
+    "p_radius",
+    "rho_difference",
+    "p_difference",
+    "speed_steps",
+    "speed_ratio_median",
+    "speed_ratio_q25",
+    "speed_ratio_q75",
+    "speed_ratio_drive_median",
+]
+CASE_COLUMNS = [
+    "case",
+    "dataset",
+    "session",
+    "terrain_class",
+    "step",
+    "start_from",
+    "start_vx",
+    "start_vy",
+    "start_wz",
+    "start_wheel_left",
+    "start_wheel_right",
+    "cmd_left",
+    "cmd_right",
+    "steady_start",
+    "steady_end",
+    "wheel_left",
+    "wheel_right",
+    "yaw_rate",
+    "yaw_rate_icp",
+    "v_icp",
+    "heading_icp",
+    "heading_gyro",
+    "gain",
+    "source_sha1",
+]
 
 
 def _sessions(data):
@@ -70,18 +135,37 @@ def step_table(data, *, min_turn: float = MIN_TURN, min_speed: float = MIN_SPEED
         moving = v_kin.abs() > min_speed
         with np.errstate(divide="ignore", invalid="ignore"):
             radius = np.where(v_cmd.abs() < SPIN_SPEED, 0.0, (v_cmd / w_cmd).abs())
-        frames.append(pd.DataFrame({
-            "dataset": s.meta["dataset"], "session": s.name, "terrain_class": s.terrain_class,
-            "gyro_sign": s.meta["gyro"]["sign"], "step": st.step, "cmd_left": st.cmd_left, "cmd_right": st.cmd_right,
-            "v_cmd": v_cmd, "w_cmd": w_cmd, "cmd_turn_radius": radius,
-            "cmd_wheel_speed_difference": r * (st.cmd_right - st.cmd_left),
-            "wheel_left": st.wheel_left, "wheel_right": st.wheel_right, "v_kin": v_kin, "w_kin": w_kin,
-            "yaw_rate": st.wz_gyro, "yaw_rate_icp": st.wz_icp, "turning": turning,
-            "gain": (st.wz_gyro / w_kin).where(turning), "gain_icp": (st.wz_icp / w_kin).where(turning),
-            "v_icp": st.vx_icp, "v_icp_drive": st.vx_icp_drive,
-            "speed_ratio": (st.vx_icp / v_kin).where(moving),
-            "speed_ratio_drive": (st.vx_icp_drive / v_kin).where(moving),
-        }, columns=STEP_COLUMNS))
+        frames.append(
+            pd.DataFrame(
+                {
+                    "dataset": s.meta["dataset"],
+                    "session": s.name,
+                    "terrain_class": s.terrain_class,
+                    "gyro_sign": s.meta["gyro"]["sign"],
+                    "step": st.step,
+                    "cmd_left": st.cmd_left,
+                    "cmd_right": st.cmd_right,
+                    "v_cmd": v_cmd,
+                    "w_cmd": w_cmd,
+                    "cmd_turn_radius": radius,
+                    "cmd_wheel_speed_difference": r * (st.cmd_right - st.cmd_left),
+                    "wheel_left": st.wheel_left,
+                    "wheel_right": st.wheel_right,
+                    "v_kin": v_kin,
+                    "w_kin": w_kin,
+                    "yaw_rate": st.wz_gyro,
+                    "yaw_rate_icp": st.wz_icp,
+                    "turning": turning,
+                    "gain": (st.wz_gyro / w_kin).where(turning),
+                    "gain_icp": (st.wz_icp / w_kin).where(turning),
+                    "v_icp": st.vx_icp,
+                    "v_icp_drive": st.vx_icp_drive,
+                    "speed_ratio": (st.vx_icp / v_kin).where(moving),
+                    "speed_ratio_drive": (st.vx_icp_drive / v_kin).where(moving),
+                },
+                columns=STEP_COLUMNS,
+            )
+        )
     return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=STEP_COLUMNS)
 
 
@@ -95,8 +179,17 @@ def similar_pairs(steps: pd.DataFrame, tolerance: float = SIMILAR) -> pd.DataFra
     ids = turning[["session", "step"]].to_numpy()
     for i, j in combinations(range(len(turning)), 2):
         if abs(left[i] - left[j]) <= tolerance and abs(right[i] - right[j]) <= tolerance:
-            rows.append({"session_a": ids[i][0], "step_a": ids[i][1], "session_b": ids[j][0], "step_b": ids[j][1],
-                         "gain_a": gain[i], "gain_b": gain[j], "difference": gain[i] - gain[j]})
+            rows.append(
+                {
+                    "session_a": ids[i][0],
+                    "step_a": ids[i][1],
+                    "session_b": ids[j][0],
+                    "step_b": ids[j][1],
+                    "gain_a": gain[i],
+                    "gain_b": gain[j],
+                    "difference": gain[i] - gain[j],
+                }
+            )
     return pd.DataFrame(rows, columns=["session_a", "step_a", "session_b", "step_b", "gain_a", "gain_b", "difference"])
 
 
@@ -105,8 +198,11 @@ def repeatability(steps: pd.DataFrame, tolerance: float = SIMILAR) -> dict:
     single-step standard deviation."""
     pairs = similar_pairs(steps, tolerance)
     d = pairs["difference"].to_numpy(float)
-    return {"similar_pairs": len(d), "repeat_median_abs_diff": float(np.median(np.abs(d))) if len(d) else math.nan,
-            "repeat_sd": float(np.sqrt(np.mean(d ** 2) / 2)) if len(d) else math.nan}
+    return {
+        "similar_pairs": len(d),
+        "repeat_median_abs_diff": float(np.median(np.abs(d))) if len(d) else math.nan,
+        "repeat_sd": float(np.sqrt(np.mean(d**2) / 2)) if len(d) else math.nan,
+    }
 
 
 def _spearman(x, y) -> tuple[float, float]:
@@ -122,13 +218,25 @@ def _spearman(x, y) -> tuple[float, float]:
 def _summary(g: pd.DataFrame, tolerance: float) -> dict:
     t = g[g.turning & g.gain.notna()]
     m = g[g.speed_ratio.notna()]
-    row = {"steps": len(g), "turning_steps": len(t), "gain_median": t.gain.median(),
-           "gain_q25": t.gain.quantile(0.25), "gain_q75": t.gain.quantile(0.75),
-           "gain_icp_median": t.gain_icp.median(), **repeatability(g, tolerance), "speed_steps": len(m),
-           "speed_ratio_median": m.speed_ratio.median(), "speed_ratio_q25": m.speed_ratio.quantile(0.25),
-           "speed_ratio_q75": m.speed_ratio.quantile(0.75), "speed_ratio_drive_median": m.speed_ratio_drive.median()}
-    for name, column in (("speed", t.v_cmd.abs()), ("radius", t.cmd_turn_radius),
-                         ("difference", t.cmd_wheel_speed_difference.abs())):
+    row = {
+        "steps": len(g),
+        "turning_steps": len(t),
+        "gain_median": t.gain.median(),
+        "gain_q25": t.gain.quantile(0.25),
+        "gain_q75": t.gain.quantile(0.75),
+        "gain_icp_median": t.gain_icp.median(),
+        **repeatability(g, tolerance),
+        "speed_steps": len(m),
+        "speed_ratio_median": m.speed_ratio.median(),
+        "speed_ratio_q25": m.speed_ratio.quantile(0.25),
+        "speed_ratio_q75": m.speed_ratio.quantile(0.75),
+        "speed_ratio_drive_median": m.speed_ratio_drive.median(),
+    }
+    for name, column in (
+        ("speed", t.v_cmd.abs()),
+        ("radius", t.cmd_turn_radius),
+        ("difference", t.cmd_wheel_speed_difference.abs()),
+    ):
         row[f"rho_{name}"], row[f"p_{name}"] = _spearman(column, t.gain)
     return row
 
@@ -142,8 +250,14 @@ def turning_table(steps: pd.DataFrame, tolerance: float = SIMILAR) -> pd.DataFra
     rows = []
     for terrain, by_terrain in steps.groupby("terrain_class", sort=True):
         for session, g in by_terrain.groupby("session", sort=True):
-            rows.append({"terrain_class": terrain, "session": session, "gyro_sign": int(g.gyro_sign.iloc[0]),
-                         **_summary(g, tolerance)})
+            rows.append(
+                {
+                    "terrain_class": terrain,
+                    "session": session,
+                    "gyro_sign": int(g.gyro_sign.iloc[0]),
+                    **_summary(g, tolerance),
+                }
+            )
         rows.append({"terrain_class": terrain, "session": "all", "gyro_sign": None, **_summary(by_terrain, tolerance)})
     return pd.DataFrame(rows, columns=TABLE_COLUMNS)
 
@@ -154,7 +268,8 @@ def gain_bins(steps: pd.DataFrame, variable: str, edges) -> pd.DataFrame:
     t = steps[steps.turning & steps.gain.notna()].copy()
     t["bin"] = pd.cut(t[variable].abs(), edges, include_lowest=True)
     out = t.groupby(["terrain_class", "bin"], observed=True).gain.agg(
-        steps="size", gain_median="median", gain_q25=lambda x: x.quantile(0.25), gain_q75=lambda x: x.quantile(0.75))
+        steps="size", gain_median="median", gain_q25=lambda x: x.quantile(0.25), gain_q75=lambda x: x.quantile(0.75)
+    )
     return out.reset_index().assign(variable=variable, bin=lambda f: f["bin"].astype(str))
 
 
@@ -181,18 +296,37 @@ def replay_cases(data, *, min_turn: float = MIN_TURN) -> pd.DataFrame:
         st = s.steps
         g = s.meta["geometry"]
         w_kin = g["wheel_radius"] * (st.wheel_right - st.wheel_left) / g["wheel_baseline"]
-        frames.append(pd.DataFrame({
-            "case": [f"{s.name}/{k:03d}" for k in st.step], "dataset": s.meta["dataset"], "session": s.name,
-            "terrain_class": s.terrain_class, "step": st.step, "start_from": st.start_from,
-            "start_vx": st.start_vx, "start_vy": st.start_vy, "start_wz": st.start_wz,
-            "start_wheel_left": st.start_wheel_left, "start_wheel_right": st.start_wheel_right,
-            "cmd_left": st.cmd_left, "cmd_right": st.cmd_right, "steady_start": st.steady_start,
-            "steady_end": st.t_end, "wheel_left": st.wheel_left, "wheel_right": st.wheel_right,
-            "yaw_rate": st.wz_gyro, "yaw_rate_icp": st.wz_icp, "v_icp": st.vx_icp, "heading_icp": st.heading_icp,
-            "heading_gyro": st.heading_gyro,
-            "gain": (st.wz_gyro / w_kin).where(w_kin.abs() > min_turn),
-            "source_sha1": s.meta["source"]["git_blob_sha1"],
-        }, columns=CASE_COLUMNS))
+        frames.append(
+            pd.DataFrame(
+                {
+                    "case": [f"{s.name}/{k:03d}" for k in st.step],
+                    "dataset": s.meta["dataset"],
+                    "session": s.name,
+                    "terrain_class": s.terrain_class,
+                    "step": st.step,
+                    "start_from": st.start_from,
+                    "start_vx": st.start_vx,
+                    "start_vy": st.start_vy,
+                    "start_wz": st.start_wz,
+                    "start_wheel_left": st.start_wheel_left,
+                    "start_wheel_right": st.start_wheel_right,
+                    "cmd_left": st.cmd_left,
+                    "cmd_right": st.cmd_right,
+                    "steady_start": st.steady_start,
+                    "steady_end": st.t_end,
+                    "wheel_left": st.wheel_left,
+                    "wheel_right": st.wheel_right,
+                    "yaw_rate": st.wz_gyro,
+                    "yaw_rate_icp": st.wz_icp,
+                    "v_icp": st.vx_icp,
+                    "heading_icp": st.heading_icp,
+                    "heading_gyro": st.heading_gyro,
+                    "gain": (st.wz_gyro / w_kin).where(w_kin.abs() > min_turn),
+                    "source_sha1": s.meta["source"]["git_blob_sha1"],
+                },
+                columns=CASE_COLUMNS,
+            )
+        )
     return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=CASE_COLUMNS)
 
 
@@ -204,25 +338,52 @@ def open_drive(folder, *, declared=None, classes=None, name: str = "drive"):
     declared = dict(declared or {})
     kind = declared.get("kind", "drive")
     if kind != "drive":
-        raise InputError(f"real_data.datasets.{name}.kind", f"is {kind!r}, not 'drive'",
-                         f"set kind: drive for the DRIVE folder {folder}")
+        raise InputError(
+            f"real_data.datasets.{name}.kind",
+            f"is {kind!r}, not 'drive'",
+            f"set kind: drive for the DRIVE folder {folder}",
+        )
     overrides = {k: dict(v or {}) for k, v in (declared.get("sessions") or {}).items()}
     dataset = read_drive(folder, sessions=overrides, declared_by=f"real_data.datasets.{name}.sessions in the config")
     if classes is not None:
-        problems = [InputError(f"{s.folder}", f"terrain class {s.terrain_class!r} ({s.meta['terrain_source']}) has "
-                               "no ground model", f"add it under real_data.classes, e.g. real_data: {{classes: "
-                               f"{{{s.terrain_class}: {{friction: 0.6, source: \"where 0.6 comes from\"}}}}}}, or "
-                               f"declare the session's terrain_class under real_data.datasets.{name}.sessions."
-                               f"{s.name}") for s in dataset.sessions if s.terrain_class not in classes]
+        problems = [
+            InputError(
+                f"{s.folder}",
+                f"terrain class {s.terrain_class!r} ({s.meta['terrain_source']}) has no ground model",
+                f"add it under real_data.classes, e.g. real_data: {{classes: "
+                f'{{{s.terrain_class}: {{friction: 0.6, source: "where 0.6 comes from"}}}}}}, or '
+                f"declare the session's terrain_class under real_data.datasets.{name}.sessions."
+                f"{s.name}",
+            )
+            for s in dataset.sessions
+            if s.terrain_class not in classes
+        ]
         if problems:
             raise DatasetProblems(problems)
     return dataset
 
 
-SESSION_COLUMNS = ["session", "kept", "same_as", "robot", "terrain_class", "terrain_source", "metadata_terrain",
-                   "folder_names_terrain", "only_execute_trajectories", "steps", "gyro_sign", "gyro_fixed_by",
-                   "gyro_basis", "wheel_radius", "wheel_baseline", "geometry_source", "git_blob_sha1",
-                   "content_sha256", "quirks"]
+SESSION_COLUMNS = [
+    "session",
+    "kept",
+    "same_as",
+    "robot",
+    "terrain_class",
+    "terrain_source",
+    "metadata_terrain",
+    "folder_names_terrain",
+    "only_execute_trajectories",
+    "steps",
+    "gyro_sign",
+    "gyro_fixed_by",
+    "gyro_basis",
+    "wheel_radius",
+    "wheel_baseline",
+    "geometry_source",
+    "git_blob_sha1",
+    "content_sha256",
+    "quirks",
+]
 
 
 def session_table(dataset) -> pd.DataFrame:
@@ -231,19 +392,42 @@ def session_table(dataset) -> pd.DataFrame:
     rows = []
     for s in dataset.sessions:
         m = s.meta
-        rows.append({"session": s.name, "kept": True, "same_as": "", "robot": m.get("robot"),
-                     "terrain_class": s.terrain_class, "terrain_source": m["terrain_source"],
-                     "metadata_terrain": m.get("metadata_terrain"), "folder_names_terrain": m["folder_names_terrain"],
-                     "only_execute_trajectories": m["only_execute_trajectories"], "steps": m["steps"],
-                     "gyro_sign": m["gyro"]["sign"], "gyro_fixed_by": m["gyro"]["by"], "gyro_basis": m["gyro"]["basis"],
-                     "wheel_radius": m["geometry"]["wheel_radius"], "wheel_baseline": m["geometry"]["wheel_baseline"],
-                     "geometry_source": m["geometry"]["source"], "git_blob_sha1": m["source"]["git_blob_sha1"],
-                     "content_sha256": m["source"]["content_sha256"], "quirks": "; ".join(m["quirks"])})
+        rows.append(
+            {
+                "session": s.name,
+                "kept": True,
+                "same_as": "",
+                "robot": m.get("robot"),
+                "terrain_class": s.terrain_class,
+                "terrain_source": m["terrain_source"],
+                "metadata_terrain": m.get("metadata_terrain"),
+                "folder_names_terrain": m["folder_names_terrain"],
+                "only_execute_trajectories": m["only_execute_trajectories"],
+                "steps": m["steps"],
+                "gyro_sign": m["gyro"]["sign"],
+                "gyro_fixed_by": m["gyro"]["by"],
+                "gyro_basis": m["gyro"]["basis"],
+                "wheel_radius": m["geometry"]["wheel_radius"],
+                "wheel_baseline": m["geometry"]["wheel_baseline"],
+                "geometry_source": m["geometry"]["source"],
+                "git_blob_sha1": m["source"]["git_blob_sha1"],
+                "content_sha256": m["source"]["content_sha256"],
+                "quirks": "; ".join(m["quirks"]),
+            }
+        )
     for d in dataset.duplicates:
-        rows.append({"session": d["session"], "kept": False, "same_as": d["same_as"], "terrain_class": d["terrain"],
-                     "content_sha256": d["content_sha256"],
-                     "quirks": "same arrays as " + d["same_as"] + ("" if d["labels_agree"] else
-                                                                   f" (labelled {d['kept_terrain']} there)")})
+        rows.append(
+            {
+                "session": d["session"],
+                "kept": False,
+                "same_as": d["same_as"],
+                "terrain_class": d["terrain"],
+                "content_sha256": d["content_sha256"],
+                "quirks": "same arrays as "
+                + d["same_as"]
+                + ("" if d["labels_agree"] else f" (labelled {d['kept_terrain']} there)"),
+            }
+        )
     return pd.DataFrame(rows, columns=SESSION_COLUMNS)
 
 
@@ -251,9 +435,13 @@ def write_tables(dataset, outputs: dict[str, str], *, tolerance: float = SIMILAR
     """The DRIVE tables of a dataset read by :func:`open_drive`, to the paths the caller names (keys
     ``sessions``, ``steps``, ``turning``, ``bins``, ``cases``; a key left out is not written)."""
     steps = step_table(dataset)
-    tables = {"sessions": lambda: session_table(dataset), "steps": lambda: steps,
-              "turning": lambda: turning_table(steps, tolerance), "bins": lambda: gain_against_command(steps),
-              "cases": lambda: replay_cases(dataset)}
+    tables = {
+        "sessions": lambda: session_table(dataset),
+        "steps": lambda: steps,
+        "turning": lambda: turning_table(steps, tolerance),
+        "bins": lambda: gain_against_command(steps),
+        "cases": lambda: replay_cases(dataset),
+    }
     unknown = sorted(set(outputs) - set(tables))
     if unknown:
         raise ValueError(f"unknown DRIVE table(s) {unknown}; known: {sorted(tables)}")

@@ -29,11 +29,17 @@ from simpick.tables import write_csv
 def segments_job(logs: list[str], output_csv: str, output_provenance: str, params: dict) -> None:
     """The constant-command segments of a dataset's imported runs (a result, never the committed table)."""
     rules = params["segment_rules"]
-    table, provenance = derive_from_logs((read_canonical(p) for p in logs), tolerance=rules["tolerance"],
-                                         min_duration=rules["min_duration"], max_duration=rules["max_duration"],
-                                         settle=rules["settle"], min_turn=rules["min_turn"],
-                                         per_kind=int(rules["per_kind"]), track=params["track"],
-                                         source=params["source"])
+    table, provenance = derive_from_logs(
+        (read_canonical(p) for p in logs),
+        tolerance=rules["tolerance"],
+        min_duration=rules["min_duration"],
+        max_duration=rules["max_duration"],
+        settle=rules["settle"],
+        min_turn=rules["min_turn"],
+        per_kind=int(rules["per_kind"]),
+        track=params["track"],
+        source=params["source"],
+    )
     write_csv(table, output_csv)
     Path(output_provenance).write_text(yaml.safe_dump(provenance, sort_keys=False))
 
@@ -42,6 +48,7 @@ def maintain_segments_job(derived_csv: str, derived_provenance: str, committed: 
     """The maintainer's deliberate step: the derived table (and provenance) over the committed
     ones. Each file is written beside its target and renamed over it, so a failure leaves the
     committed file as it was; the receipt (a result) says what changed."""
+
     def digest(path) -> str | None:
         return hashlib.sha256(Path(path).read_bytes()).hexdigest() if Path(path).is_file() else None
 
@@ -53,13 +60,19 @@ def maintain_segments_job(derived_csv: str, derived_provenance: str, committed: 
         partial = target.with_name(f".{target.name}.partial")
         partial.write_bytes(Path(source).read_bytes())
         os.replace(partial, target)
-        done[key] = {"file": str(target), "from": str(source), "sha256_before": before,
-                     "sha256_after": digest(target), "changed": before != digest(target)}
+        done[key] = {
+            "file": str(target),
+            "from": str(source),
+            "sha256_before": before,
+            "sha256_after": digest(target),
+            "changed": before != digest(target),
+        }
     Path(receipt).parent.mkdir(parents=True, exist_ok=True)
     Path(receipt).write_text(yaml.safe_dump(done, sort_keys=False))
     changed = [d["file"] for d in done.values() if d["changed"]]
-    print(f"simpick: maintain_segments: {', '.join(changed) or 'nothing'} changed; commit it if intended",
-          file=sys.stderr)
+    print(
+        f"simpick: maintain_segments: {', '.join(changed) or 'nothing'} changed; commit it if intended", file=sys.stderr
+    )
 
 
 def dataset_manifest_job(dataset: dict, output: str) -> None:
@@ -71,32 +84,50 @@ def dataset_manifest_job(dataset: dict, output: str) -> None:
 def import_job(imu: str, pro: str, terrain_class: str, output: str, params: dict) -> None:
     """One run of a dataset folder -> canonical log (rates measured, checked against any declared)."""
     declared = params["declared"]
-    log = borealtc.read_run(imu, pro, terrain_class, track=params["track"],
-                            imu_rate_hz=declared.get("imu_hz"), command_rate_hz=declared.get("commands_hz"),
-                            declared_by=f"real_data.datasets.{params['dataset']} in the config",
-                            dataset=params["label"])
+    log = borealtc.read_run(
+        imu,
+        pro,
+        terrain_class,
+        track=params["track"],
+        imu_rate_hz=declared.get("imu_hz"),
+        command_rate_hz=declared.get("commands_hz"),
+        declared_by=f"real_data.datasets.{params['dataset']} in the config",
+        dataset=params["label"],
+    )
     write_canonical(log, output)
 
 
 def import_own_job(entry: dict, output: str, track: float) -> None:
     """One of the user's logs (config ``own_logs``: a mapped CSV or a ROS bag) -> canonical form."""
-    meta = {"dataset": "own", "run_id": entry["name"], "terrain_class": entry["terrain_class"],
-            "name": entry["name"]}
+    meta = {"dataset": "own", "run_id": entry["name"], "terrain_class": entry["terrain_class"], "name": entry["name"]}
     if entry.get("csv"):
         mapping = {**entry["mapping"], "meta": {**entry["mapping"].get("meta", {}), **meta}}
         log = read_csv_log(entry["csv"], mapping, commands_path=entry.get("commands_csv"), track=track)
     else:
         bag = entry["rosbag"]
-        options = {k: v for k, v in entry.items()
-                   if k in ("command_type", "wheel_radius", "left_joints", "right_joints", "frame_z",
-                            "imu_rate_hz", "command_rate_hz")}
+        options = {
+            k: v
+            for k, v in entry.items()
+            if k
+            in (
+                "command_type",
+                "wheel_radius",
+                "left_joints",
+                "right_joints",
+                "frame_z",
+                "imu_rate_hz",
+                "command_rate_hz",
+            )
+        }
         log = read_bag(bag, entry["imu_topic"], entry["command_topic"], track=track, meta=meta, **options)
     log.meta.update(meta)
     write_canonical(log, output)
 
 
-BOREALTC_ARCHIVES = ("https://github.com/norlab-ulaval/BorealTC/archive/refs/heads/main.zip",
-                     "https://github.com/norlab-ulaval/BorealTC/archive/refs/heads/master.zip")
+BOREALTC_ARCHIVES = (
+    "https://github.com/norlab-ulaval/BorealTC/archive/refs/heads/main.zip",
+    "https://github.com/norlab-ulaval/BorealTC/archive/refs/heads/master.zip",
+)
 
 
 def fetch_borealtc(dest: str | Path, timeout: float = 30.0) -> Path:
@@ -115,16 +146,22 @@ def fetch_borealtc(dest: str | Path, timeout: float = 30.0) -> Path:
         except (urllib.error.URLError, OSError, TimeoutError) as exc:
             errors.append(f"{url}: {exc}")
     else:
-        raise InputError("borealtc_dir", "could not download BorealTC (" + "; ".join(errors) + ")",
-                         "download the folder data/borealtc of the GitHub repository norlab-ulaval/BorealTC "
-                         "on a connected machine, copy it here, and run "
-                         "snakemake --cores 2 --config borealtc_dir=PATH/TO/borealtc")
+        raise InputError(
+            "borealtc_dir",
+            "could not download BorealTC (" + "; ".join(errors) + ")",
+            "download the folder data/borealtc of the GitHub repository norlab-ulaval/BorealTC "
+            "on a connected machine, copy it here, and run "
+            "snakemake --cores 2 --config borealtc_dir=PATH/TO/borealtc",
+        )
     with tempfile.TemporaryDirectory() as tmp, zipfile.ZipFile(io.BytesIO(payload)) as archive:
         archive.extractall(tmp)
         found = [p for p in Path(tmp).glob("*/data/borealtc") if p.is_dir()]
         if not found:
-            raise InputError("borealtc_dir", "the downloaded archive has no data/borealtc folder",
-                             "download data/borealtc by hand and pass --config borealtc_dir=PATH")
+            raise InputError(
+                "borealtc_dir",
+                "the downloaded archive has no data/borealtc folder",
+                "download data/borealtc by hand and pass --config borealtc_dir=PATH",
+            )
         if dest.exists():
             shutil.rmtree(dest)
         shutil.copytree(found[0], dest)

@@ -20,7 +20,7 @@ so a correlation is read together with the run-to-run spread).
 from __future__ import annotations
 
 import math
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pandas as pd
@@ -30,17 +30,59 @@ from simpick.inputs.robot import load_robot
 from simpick.real.logs import read_canonical
 from simpick.tables import write_csv
 
-WINDOW_COLUMNS = ["dataset", "terrain_class", "run", "t_start", "t_end", "v_left", "v_right", "v", "w_kinematic",
-                  "wheel_speed_difference", "turn_radius", "yaw_rate", "yaw_rate_gain", "coulomb_gain"]
-SUMMARY_COLUMNS = ["terrain_class", "windows", "runs", "gain_median", "gain_q25", "gain_q75", "run_gain_min",
-                   "run_gain_max", "left_gain_median", "right_gain_median", "spin_gain_median",
-                   "moving_gain_median", "rho_speed", "p_speed", "rho_radius", "p_radius", "rho_difference",
-                   "p_difference", "coulomb_gain_min", "coulomb_gain_max", "separation_multiplier", "coulomb_ratio"]
+WINDOW_COLUMNS = [
+    "dataset",
+    "terrain_class",
+    "run",
+    "t_start",
+    "t_end",
+    "v_left",
+    "v_right",
+    "v",
+    "w_kinematic",
+    "wheel_speed_difference",
+    "turn_radius",
+    "yaw_rate",
+    "yaw_rate_gain",
+    "coulomb_gain",
+]
+SUMMARY_COLUMNS = [
+    "terrain_class",
+    "windows",
+    "runs",
+    "gain_median",
+    "gain_q25",
+    "gain_q75",
+    "run_gain_min",
+    "run_gain_max",
+    "left_gain_median",
+    "right_gain_median",
+    "spin_gain_median",
+    "moving_gain_median",
+    "rho_speed",
+    "p_speed",
+    "rho_radius",
+    "p_radius",
+    "rho_difference",
+    "p_difference",
+    "coulomb_gain_min",
+    "coulomb_gain_max",
+    "separation_multiplier",
+    "coulomb_ratio",
+]
 SPIN_SPEED = 0.05  # m/s: below this mean side speed a turn is a spin on the spot (turn radius 0)
 
 
-def turning_windows(log, track: float, *, window: float = 1.0, settle: float = 0.5, tolerance: float = 0.05,
-                    min_turn: float = 0.1, coulomb=None) -> pd.DataFrame:
+def turning_windows(
+    log,
+    track: float,
+    *,
+    window: float = 1.0,
+    settle: float = 0.5,
+    tolerance: float = 0.05,
+    min_turn: float = 0.1,
+    coulomb=None,
+) -> pd.DataFrame:
     """Steady-command turning windows of one canonical log (wheel commands), one row each.
 
     A window [t, t + window) counts when every command sample in [t - settle, t + window] keeps
@@ -60,22 +102,30 @@ def turning_windows(log, track: float, *, window: float = 1.0, settle: float = 0
     while start + window <= min(t_imu[-1], t_cmd[-1]):
         held = (t_cmd >= start - settle) & (t_cmd <= start + window)
         inside = (t_imu >= start) & (t_imu < start + window)
-        steady = (held.sum() >= 2 and np.ptp(left[held]) <= 2 * tolerance
-                  and np.ptp(right[held]) <= 2 * tolerance)
+        steady = held.sum() >= 2 and np.ptp(left[held]) <= 2 * tolerance and np.ptp(right[held]) <= 2 * tolerance
         if steady and inside.any():
             v_left, v_right = float(left[held].mean()), float(right[held].mean())
             v, w = (v_left + v_right) / 2, (v_right - v_left) / track
             if abs(w) > min_turn:
                 yaw = float(wz[inside].mean())
-                rows.append({
-                    "dataset": log.meta.get("dataset", ""),
-                    "terrain_class": str(log.meta.get("terrain_class", "")).lower(),
-                    "run": str(log.meta.get("run_id", "")), "t_start": round(float(start), 3),
-                    "t_end": round(float(start + window), 3), "v_left": v_left, "v_right": v_right, "v": v,
-                    "w_kinematic": w, "wheel_speed_difference": v_right - v_left,
-                    "turn_radius": 0.0 if abs(v) < SPIN_SPEED else abs(v / w), "yaw_rate": yaw,
-                    "yaw_rate_gain": yaw / w,
-                    "coulomb_gain": float(coulomb(v, w)) if coulomb is not None else math.nan})
+                rows.append(
+                    {
+                        "dataset": log.meta.get("dataset", ""),
+                        "terrain_class": str(log.meta.get("terrain_class", "")).lower(),
+                        "run": str(log.meta.get("run_id", "")),
+                        "t_start": round(float(start), 3),
+                        "t_end": round(float(start + window), 3),
+                        "v_left": v_left,
+                        "v_right": v_right,
+                        "v": v,
+                        "w_kinematic": w,
+                        "wheel_speed_difference": v_right - v_left,
+                        "turn_radius": 0.0 if abs(v) < SPIN_SPEED else abs(v / w),
+                        "yaw_rate": yaw,
+                        "yaw_rate_gain": yaw / w,
+                        "coulomb_gain": float(coulomb(v, w)) if coulomb is not None else math.nan,
+                    }
+                )
                 start += window
                 continue
         start += window / 2
@@ -99,17 +149,27 @@ def turning_summary(windows: pd.DataFrame) -> pd.DataFrame:
     for cls, g in windows.groupby("terrain_class", sort=True):
         runs = g.groupby("run")["yaw_rate_gain"].median()
         spin = g["turn_radius"] == 0
-        row = {"terrain_class": cls, "windows": len(g), "runs": int(runs.size),
-               "gain_median": g["yaw_rate_gain"].median(), "gain_q25": g["yaw_rate_gain"].quantile(0.25),
-               "gain_q75": g["yaw_rate_gain"].quantile(0.75), "run_gain_min": runs.min(),
-               "run_gain_max": runs.max(),
-               "left_gain_median": g.loc[g["w_kinematic"] > 0, "yaw_rate_gain"].median(),
-               "right_gain_median": g.loc[g["w_kinematic"] < 0, "yaw_rate_gain"].median(),
-               "spin_gain_median": g.loc[spin, "yaw_rate_gain"].median(),
-               "moving_gain_median": g.loc[~spin, "yaw_rate_gain"].median(),
-               "coulomb_gain_min": g["coulomb_gain"].min(), "coulomb_gain_max": g["coulomb_gain"].max()}
-        for name, column in (("speed", g["v"].abs()), ("radius", g["turn_radius"]),
-                             ("difference", g["wheel_speed_difference"].abs())):
+        row = {
+            "terrain_class": cls,
+            "windows": len(g),
+            "runs": int(runs.size),
+            "gain_median": g["yaw_rate_gain"].median(),
+            "gain_q25": g["yaw_rate_gain"].quantile(0.25),
+            "gain_q75": g["yaw_rate_gain"].quantile(0.75),
+            "run_gain_min": runs.min(),
+            "run_gain_max": runs.max(),
+            "left_gain_median": g.loc[g["w_kinematic"] > 0, "yaw_rate_gain"].median(),
+            "right_gain_median": g.loc[g["w_kinematic"] < 0, "yaw_rate_gain"].median(),
+            "spin_gain_median": g.loc[spin, "yaw_rate_gain"].median(),
+            "moving_gain_median": g.loc[~spin, "yaw_rate_gain"].median(),
+            "coulomb_gain_min": g["coulomb_gain"].min(),
+            "coulomb_gain_max": g["coulomb_gain"].max(),
+        }
+        for name, column in (
+            ("speed", g["v"].abs()),
+            ("radius", g["turn_radius"]),
+            ("difference", g["wheel_speed_difference"].abs()),
+        ):
             row[f"rho_{name}"], row[f"p_{name}"] = _spearman(column, g["yaw_rate_gain"])
         rows.append(row)
     return pd.DataFrame(rows, columns=SUMMARY_COLUMNS)
@@ -133,13 +193,15 @@ def turning_job(logs: list[str], urdf: str, params: dict, outputs: dict[str, str
     track = float(params["track"])
     layout = load_layout(urdf)
 
-    @lru_cache(maxsize=None)
+    @cache
     def coulomb(v: float, w: float) -> float:
         return yaw_rate_gain(layout, v, w, track)
 
     options = {k: float(params[k]) for k in ("window", "settle", "tolerance", "min_turn")}
-    frames = [turning_windows(read_canonical(path), track, coulomb=lambda v, w: coulomb(round(v, 3), round(w, 3)),
-                              **options) for path in logs]
+    frames = [
+        turning_windows(read_canonical(path), track, coulomb=lambda v, w: coulomb(round(v, 3), round(w, 3)), **options)
+        for path in logs
+    ]
     windows = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=WINDOW_COLUMNS)
     write_csv(windows, outputs["windows"])
 

@@ -46,8 +46,9 @@ from simpick.report.inputs import LIST_INPUTS, OPTIONAL_INPUTS, REQUIRED_INPUTS
 __all__ = ["build_report", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
 
 
-def build_report(inputs: Mapping[str, Any], params: Mapping[str, Any],
-                 html_path: str | Path, pdf_path: str | Path | None = None) -> None:
+def build_report(
+    inputs: Mapping[str, Any], params: Mapping[str, Any], html_path: str | Path, pdf_path: str | Path | None = None
+) -> None:
     """Write the HTML report to ``html_path`` and, if ``pdf_path`` is given, the same document as PDF
     (one job: the PDF is laid out from the HTML just rendered, with no second process or read)."""
     import sys

@@ -9,26 +9,39 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-
 from simpick.report import figures
 from simpick.report.draw import test_label
 from simpick.report.draw import weights_of as _weights
 from simpick.report.load import ReportData
-from simpick.score.scoring import (DEFAULT_WEIGHTS, METRIC_LABELS, METRICS, QUALITATIVE_METRICS,
-                             QUANTITATIVE_METRICS)
+from simpick.score.scoring import DEFAULT_WEIGHTS, METRIC_LABELS, METRICS, QUALITATIVE_METRICS, QUANTITATIVE_METRICS
 
 TEMPLATE_DIR = Path(__file__).resolve().parent / "templates"
 TEMPLATE = "report.html.j2"
 DEFAULT_TITLE = "simpick: which physics engine reproduces the Husky best?"
 
-ROS_TEXT = {"out_of_the_box": "out of the box", "official_plugin": "official plugin (installed by hand)",
-            "none": "none"}
+ROS_TEXT = {
+    "out_of_the_box": "out of the box",
+    "official_plugin": "official plugin (installed by hand)",
+    "none": "none",
+}
 UI_TEXT = {"full": "full", "partial": "partial", "visualization": "visualization only", "none": "none"}
 FACT_ROWS = ("free", "open_source", "ros", "languages", "ui", "model_formats", "physics_engines")
 QUANTITY_UNITS = {"angular": "rad/s", "linear": "m/s²"}
 # one colour per metric of the paper's weighted table (qualitative in darker, quantitative in distinct hues)
-METRIC_PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
-                  "#bcbd22", "#17becf", "#aec7e8", "#ffbb78")
+METRIC_PALETTE = (
+    "#1f77b4",
+    "#ff7f0e",
+    "#2ca02c",
+    "#d62728",
+    "#9467bd",
+    "#8c564b",
+    "#e377c2",
+    "#7f7f7f",
+    "#bcbd22",
+    "#17becf",
+    "#aec7e8",
+    "#ffbb78",
+)
 
 
 # --------------------------------------------------------------------------
@@ -105,8 +118,6 @@ def soft_lower(text: str) -> str:
     return text
 
 
-
-
 # --------------------------------------------------------------------------
 # Context
 # --------------------------------------------------------------------------
@@ -127,8 +138,11 @@ def _test_order(data: ReportData, config: Mapping[str, Any]) -> list[tuple[str, 
 
     def key(tm):
         t, m = tm
-        return (terrains.index(t) if t in terrains else len(terrains),
-                motions.index(m) if m in motions else len(motions), seen.index(tm))
+        return (
+            terrains.index(t) if t in terrains else len(terrains),
+            motions.index(m) if m in motions else len(motions),
+            seen.index(tm),
+        )
 
     return sorted(seen, key=key)
 
@@ -152,22 +166,48 @@ def _ranking(data: ReportData, weights: dict[str, float]) -> dict[str, Any]:
     rows = []
     for e in w.index:
         excluded = [m for m in str(w.loc[e, "excluded"]).split(",") if m.strip()]
-        rows.append({"engine": e, "rank": int(w.loc[e, "rank"]) if not _isnan(w.loc[e, "rank"]) else None,
-                     "total": float(w.loc[e, "total"]),
-                     "excluded": [METRIC_LABELS.get(m.strip(), m.strip()) for m in excluded]})
+        rows.append(
+            {
+                "engine": e,
+                "rank": int(w.loc[e, "rank"]) if not _isnan(w.loc[e, "rank"]) else None,
+                "total": float(w.loc[e, "total"]),
+                "excluded": [METRIC_LABELS.get(m.strip(), m.strip()) for m in excluded],
+            }
+        )
     metric_rows, bars = [], []
     c = data.contributions
     if c is not None:
         cells = {(r["engine"], r["metric"]): r for r in c.to_dict("records")}
         for m in dict.fromkeys(c["metric"]):
             first = c[c["metric"] == m].iloc[0]
-            metric_rows.append({"key": m, "label": first["label"], "weight": first["weight"], "group": first["group"],
-                                "cells": [{"score": cells[(e, m)]["score"], "weighted": cells[(e, m)]["points"],
-                                           "nan": bool(cells[(e, m)]["excluded"])} if (e, m) in cells else
-                                          {"score": None, "weighted": None, "nan": True} for e in w.index]})
+            metric_rows.append(
+                {
+                    "key": m,
+                    "label": first["label"],
+                    "weight": first["weight"],
+                    "group": first["group"],
+                    "cells": [
+                        {
+                            "score": cells[(e, m)]["score"],
+                            "weighted": cells[(e, m)]["points"],
+                            "nan": bool(cells[(e, m)]["excluded"]),
+                        }
+                        if (e, m) in cells
+                        else {"score": None, "weighted": None, "nan": True}
+                        for e in w.index
+                    ],
+                }
+            )
         for e in w.index:
-            bars.append({"engine": e, "parts": [{"metric": r["metric"], "label": r["label"], "weighted": r["points"]}
-                                                 for r in c[c["engine"] == e].to_dict("records")]})
+            bars.append(
+                {
+                    "engine": e,
+                    "parts": [
+                        {"metric": r["metric"], "label": r["label"], "weighted": r["points"]}
+                        for r in c[c["engine"] == e].to_dict("records")
+                    ],
+                }
+            )
         for r in rows:
             sel = c[c["engine"] == r["engine"]]
             r["share"] = sel["share"].iloc[0] if len(sel) else None
@@ -178,13 +218,28 @@ def _ranking(data: ReportData, weights: dict[str, float]) -> dict[str, Any]:
         if len(second):
             # the drivers table orders the metrics by how far each puts the leader ahead (order 1 first)
             second = second.sort_values("order", kind="mergesort")
-            gap = {"leader": second["leader"].iloc[0], "second": rows[1]["engine"], "value": second["gap"].iloc[0],
-                   "drivers": [(r["label"], r["difference"]) for r in second.head(3).to_dict("records")
-                               if r["difference"] > 0],
-                   "against": [(r["label"], r["difference"]) for r in second.iloc[::-1].head(3).to_dict("records")
-                               if r["difference"] < 0]}
-    return {"rows": rows, "metric_rows": metric_rows, "bars": bars, "max_total": sum(weights.values()),
-            "engines": list(w.index), "given": c is not None, "gap": gap}
+            gap = {
+                "leader": second["leader"].iloc[0],
+                "second": rows[1]["engine"],
+                "value": second["gap"].iloc[0],
+                "drivers": [
+                    (r["label"], r["difference"]) for r in second.head(3).to_dict("records") if r["difference"] > 0
+                ],
+                "against": [
+                    (r["label"], r["difference"])
+                    for r in second.iloc[::-1].head(3).to_dict("records")
+                    if r["difference"] < 0
+                ],
+            }
+    return {
+        "rows": rows,
+        "metric_rows": metric_rows,
+        "bars": bars,
+        "max_total": sum(weights.values()),
+        "engines": list(w.index),
+        "given": c is not None,
+        "gap": gap,
+    }
 
 
 def _qualitative(data: ReportData, engines: list[str]) -> dict[str, Any] | None:
@@ -245,8 +300,7 @@ def _qualitative(data: ReportData, engines: list[str]) -> dict[str, Any] | None:
     family = []
     for e in shown:
         sims = q[e].get("paper_simulators")
-        family.append({"engine": e, "simulators": list(sims) if sims else [],
-                       "known": "paper_simulators" in q[e]})
+        family.append({"engine": e, "simulators": list(sims) if sims else [], "known": "paper_simulators" in q[e]})
     notes = []
     for e in shown:
         for k, text in (q[e].get("notes") or {}).items():
@@ -270,13 +324,26 @@ def _runs(data: ReportData, tests: list[tuple[str, str]], engines: list[str]) ->
             sel = runs[(runs["engine"] == e) & (runs["terrain"] == t) & (runs["motion"] == m)]
             if len(sel):
                 r = sel.iloc[0]
-                cells.append({"steps_per_s": r["steps_per_s"], "rtf": r["real_time_factor"],
-                              "ok": str(r["status"]).strip().lower() == "ok", "present": True})
+                cells.append(
+                    {
+                        "steps_per_s": r["steps_per_s"],
+                        "rtf": r["real_time_factor"],
+                        "ok": str(r["status"]).strip().lower() == "ok",
+                        "present": True,
+                    }
+                )
             else:
                 cells.append({"present": False})
         pivot.append({"test": test_label(t, m), "cells": cells})
-    versions = [{"engine": r["engine"], "test": r["test"], "version": r["engine_version"] or "–",
-                 "config_hash": r["config_hash"] or "–"} for r in records]
+    versions = [
+        {
+            "engine": r["engine"],
+            "test": r["test"],
+            "version": r["engine_version"] or "–",
+            "config_hash": r["config_hash"] or "–",
+        }
+        for r in records
+    ]
     return {"records": records, "failed": failed, "n": len(records), "pivot": pivot, "versions": versions}
 
 
@@ -288,13 +355,19 @@ def _cpu(data: ReportData, engines: list[str]) -> dict[str, Any] | None:
     for r in recs:
         e = r["engine"]
         health = r.get("health") or {}
-        row = {"engine": e, "status": health.get("status", "unchecked" if not health else "ok"),
-               "reasons": list(health.get("reasons") or [])}
+        row = {
+            "engine": e,
+            "status": health.get("status", "unchecked" if not health else "ok"),
+            "reasons": list(health.get("reasons") or []),
+        }
         for scen in ("average", "intense"):
             s = r.get(scen) or {}
-            row[scen] = {"robots": s.get("robots"), "load": s.get("load_percent"),
-                         "repeats": list(s.get("repeats_percent") or []),
-                         "score": data.weighted.loc[e, f"cpu_{scen}"] if e in data.weighted.index else None}
+            row[scen] = {
+                "robots": s.get("robots"),
+                "load": s.get("load_percent"),
+                "repeats": list(s.get("repeats_percent") or []),
+                "score": data.weighted.loc[e, f"cpu_{scen}"] if e in data.weighted.index else None,
+            }
         rows.append(row)
     definitions = []
     for r in recs:
@@ -315,11 +388,19 @@ def _imu(data: ReportData, engines: list[str], tests: list[tuple[str, str]]) -> 
     rows = []
     for r in ie.to_dict("records"):
         key = f"imu_{r['quantity']}"
-        score = data.weighted.loc[r["engine"], key] if (r["engine"] in data.weighted.index
-                                                        and key in data.weighted.columns) else None
-        rows.append({**r, "score": score,
-                     "tests_list": [t for t in str(r["tests"]).split(";") if t.strip()],
-                     "excluded_list": [t for t in str(r["excluded"]).split(";") if t.strip()]})
+        score = (
+            data.weighted.loc[r["engine"], key]
+            if (r["engine"] in data.weighted.index and key in data.weighted.columns)
+            else None
+        )
+        rows.append(
+            {
+                **r,
+                "score": score,
+                "tests_list": [t for t in str(r["tests"]).split(";") if t.strip()],
+                "excluded_list": [t for t in str(r["excluded"]).split(";") if t.strip()],
+            }
+        )
     coverage = {}
     for q, sel in ie.groupby("quantity"):
         n = sorted({int(x) for x in sel["n_tests"] if not _isnan(x)})
@@ -336,14 +417,22 @@ def _imu(data: ReportData, engines: list[str], tests: list[tuple[str, str]]) -> 
             trs = []
             for e in engines:
                 es = sel[sel["engine"] == e]
-                keys = sorted({(t, m) for t, m in zip(es["terrain"], es["motion"])},
-                              key=lambda tm: order.get(tm, len(order)))
+                keys = sorted(
+                    {(t, m) for t, m in zip(es["terrain"], es["motion"])}, key=lambda tm: order.get(tm, len(order))
+                )
                 for t, m in keys:
                     ts = es[(es["terrain"] == t) & (es["motion"] == m)].set_index("axis")
-                    cells = {a: ({"range": ts.loc[a, "range_error"], "mean": ts.loc[a, "mean_error"]}
-                                 if a in ts.index else None) for a in figures.AXES}
-                    trs.append({"engine": e, "test": test_label(t, m), "cells": cells,
-                                "total": float(ts["total_error"].sum())})
+                    cells = {
+                        a: (
+                            {"range": ts.loc[a, "range_error"], "mean": ts.loc[a, "mean_error"]}
+                            if a in ts.index
+                            else None
+                        )
+                        for a in figures.AXES
+                    }
+                    trs.append(
+                        {"engine": e, "test": test_label(t, m), "cells": cells, "total": float(ts["total_error"].sum())}
+                    )
             breakdown.append({"quantity": q, "unit": QUANTITY_UNITS[q], "rows": trs})
     return {"rows": rows, "uneven": uneven, "breakdown": breakdown}
 
@@ -354,8 +443,15 @@ def _reference(data: ReportData, tests: list[tuple[str, str]]) -> dict[str, Any]
     if ref is not None and len(ref):
         for (t, m), sel in ref.groupby(["terrain", "motion"], sort=False):
             srcs = sorted({s for s in sel["source"] if s})
-            have.append({"terrain": t, "motion": m, "test": test_label(t, m), "sources": srcs,
-                         "quantities": sorted(set(sel["quantity"]))})
+            have.append(
+                {
+                    "terrain": t,
+                    "motion": m,
+                    "test": test_label(t, m),
+                    "sources": srcs,
+                    "quantities": sorted(set(sel["quantity"])),
+                }
+            )
     keys = {(h["terrain"], h["motion"]) for h in have}
     without = [test_label(t, m) for t, m in tests if (t, m) not in keys]
     covered = None
@@ -365,8 +461,9 @@ def _reference(data: ReportData, tests: list[tuple[str, str]]) -> dict[str, Any]
 
 
 def _status_map(data: ReportData) -> dict[tuple[str, str, str], str]:
-    return {(r["engine"], r["terrain"], r["motion"]): str(r["status"]).strip().lower()
-            for r in data.runs.to_dict("records")}
+    return {
+        (r["engine"], r["terrain"], r["motion"]): str(r["status"]).strip().lower() for r in data.runs.to_dict("records")
+    }
 
 
 def _per_test(data: ReportData, engines: list[str], tests: list[tuple[str, str]]) -> list[dict[str, Any]]:
@@ -416,21 +513,35 @@ def _published(data: ReportData) -> dict[str, Any] | None:
         cells = []
         for s in sims:
             c = lookup.get((s, m))
-            cells.append({"published": c["published"] if c else None,
-                          "recomputed": t11.loc[s, m] if m in t11.columns else None,
-                          "matches": bool(c["matches"]) if c else None})
+            cells.append(
+                {
+                    "published": c["published"] if c else None,
+                    "recomputed": t11.loc[s, m] if m in t11.columns else None,
+                    "matches": bool(c["matches"]) if c else None,
+                }
+            )
         rows.append({"label": METRIC_LABELS.get(m, m), "weight": DEFAULT_WEIGHTS[m], "cells": cells})
-    totals = [{"simulator": s, "total": t11.loc[s, "total"],
-               "from_published": t11.loc[s, "total_from_published_scores"],
-               "printed": t11.loc[s, "published_total"],
-               "diff": float(t11.loc[s, "published_total"]) - float(t11.loc[s, "total_from_published_scores"]),
-               "diff_recomputed": float(t11.loc[s, "total"]) - float(t11.loc[s, "published_total"])}
-              for s in sims]
+    totals = [
+        {
+            "simulator": s,
+            "total": t11.loc[s, "total"],
+            "from_published": t11.loc[s, "total_from_published_scores"],
+            "printed": t11.loc[s, "published_total"],
+            "diff": float(t11.loc[s, "published_total"]) - float(t11.loc[s, "total_from_published_scores"]),
+            "diff_recomputed": float(t11.loc[s, "total"]) - float(t11.loc[s, "published_total"]),
+        }
+        for s in sims
+    ]
     mismatches = [r for r in (cmp_.to_dict("records") if cmp_ is not None else []) if not r["matches"]]
     for r in mismatches:
         r["label"] = METRIC_LABELS.get(r["metric"], r["metric"])
-    return {"sims": sims, "rows": rows, "totals": totals, "mismatches": mismatches,
-            "n_compared": 0 if cmp_ is None else len(cmp_)}
+    return {
+        "sims": sims,
+        "rows": rows,
+        "totals": totals,
+        "mismatches": mismatches,
+        "n_compared": 0 if cmp_ is None else len(cmp_),
+    }
 
 
 def _worked(data: ReportData) -> dict[str, Any] | None:
@@ -446,17 +557,37 @@ def _worked(data: ReportData) -> dict[str, Any] | None:
         for a in figures.AXES:
             rec = (b.get("axes") or {}).get(a, {})
             pr = (b.get("printed_axes") or {}).get(a, {})
-            axes.append({"axis": a, "rec": rec, "printed": pr,
-                         "differs": any(abs(float(rec.get(k, 0)) - float(pr.get(k, 0))) > 1e-9
-                                        for k in ("range_error", "mean_error", "total_error") if k in rec and k in pr)})
+            axes.append(
+                {
+                    "axis": a,
+                    "rec": rec,
+                    "printed": pr,
+                    "differs": any(
+                        abs(float(rec.get(k, 0)) - float(pr.get(k, 0))) > 1e-9
+                        for k in ("range_error", "mean_error", "total_error")
+                        if k in rec and k in pr
+                    ),
+                }
+            )
         figs = [b.get("total_from_inputs"), b.get("printed_rows_sum"), b.get("text_total")]
         agree = all(f is not None for f in figs) and max(figs) - min(figs) < 1e-9
-        blocks.append({"quantity": q, "unit": b.get("unit", QUANTITY_UNITS[q]), "axes": axes,
-                       "total_from_inputs": b.get("total_from_inputs"),
-                       "printed_rows_sum": b.get("printed_rows_sum"),
-                       "text_total": b.get("text_total"), "agree": agree})
-    return {"source": we.get("source"), "test": we.get("test") or {}, "frame": we.get("sensor_frame") or {},
-            "blocks": blocks}
+        blocks.append(
+            {
+                "quantity": q,
+                "unit": b.get("unit", QUANTITY_UNITS[q]),
+                "axes": axes,
+                "total_from_inputs": b.get("total_from_inputs"),
+                "printed_rows_sum": b.get("printed_rows_sum"),
+                "text_total": b.get("text_total"),
+                "agree": agree,
+            }
+        )
+    return {
+        "source": we.get("source"),
+        "test": we.get("test") or {},
+        "frame": we.get("sensor_frame") or {},
+        "blocks": blocks,
+    }
 
 
 def _verdict(data: ReportData, engines: list[str]) -> dict[str, Any]:
@@ -473,16 +604,35 @@ def _verdict(data: ReportData, engines: list[str]) -> dict[str, Any]:
         for metric, g in outcomes.groupby("metric", sort=False):
             rows = sorted(g.to_dict("records"), key=lambda r: order.get(r["engine"], len(order)))
             first = rows[0]
-            metrics.append({"metric": metric, "label": first["label"], "unit": first["unit"] or "",
-                            "margin": first["margin"], "basis": first["margin_basis"], "best": first["best"],
-                            "unmeasured": all(r["outcome"] == "not measurable" for r in rows), "rows": rows})
+            metrics.append(
+                {
+                    "metric": metric,
+                    "label": first["label"],
+                    "unit": first["unit"] or "",
+                    "margin": first["margin"],
+                    "basis": first["margin_basis"],
+                    "best": first["best"],
+                    "unmeasured": all(r["outcome"] == "not measurable" for r in rows),
+                    "rows": rows,
+                }
+            )
     ranking = {}
     if rank is not None:
         for r in rank.to_dict("records"):
-            ranking[str(r["engine"])] = {"low": r["total_low"], "high": r["total_high"],
-                                         "share_first": r["share_first"], "n_runs": r["n_runs"]}
-    return {"given": True, "paragraph": head.get("paragraph"), "n_runs": head.get("n_runs"),
-            "source": head.get("source_title") or head.get("source"), "metrics": metrics, "ranking": ranking}
+            ranking[str(r["engine"])] = {
+                "low": r["total_low"],
+                "high": r["total_high"],
+                "share_first": r["share_first"],
+                "n_runs": r["n_runs"],
+            }
+    return {
+        "given": True,
+        "paragraph": head.get("paragraph"),
+        "n_runs": head.get("n_runs"),
+        "source": head.get("source_title") or head.get("source"),
+        "metrics": metrics,
+        "ranking": ranking,
+    }
 
 
 def _interactive(data: ReportData, weights: dict[str, float]) -> str | None:
@@ -508,8 +658,11 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     tests = _test_order(data, config)
     ranking = _ranking(data, weights)
     per_test = _per_test(data, engines, tests)
-    paths_uri = figures.data_uri(data.figures["paths"]) if "paths" in data.figures and data.endpoints is not None \
-        and len(data.endpoints) else None
+    paths_uri = (
+        figures.data_uri(data.figures["paths"])
+        if "paths" in data.figures and data.endpoints is not None and len(data.endpoints)
+        else None
+    )
     runs = _runs(data, tests, engines)
     rtf_rows = []
     if data.rtf is not None:
@@ -518,10 +671,10 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
             r["score"] = data.weighted.loc[e, "real_time_factor"] if e in data.weighted.index else None
             rtf_rows.append(r)
         rtf_rows.sort(key=lambda r: engines.index(r["engine"]) if r["engine"] in engines else len(engines))
-    rtf_excluded = sorted({t for r in rtf_rows for t in str(r.get("excluded") or "").split(";")
-                           if t.strip() and t != "nan"})
-    rtf_tests = sorted({t for r in rtf_rows for t in str(r.get("tests") or "").split(";")
-                        if t.strip() and t != "nan"})
+    rtf_excluded = sorted(
+        {t for r in rtf_rows for t in str(r.get("excluded") or "").split(";") if t.strip() and t != "nan"}
+    )
+    rtf_tests = sorted({t for r in rtf_rows for t in str(r.get("tests") or "").split(";") if t.strip() and t != "nan"})
     config_text = yaml.safe_dump(config, sort_keys=False, allow_unicode=True, width=100) if config else None
     # name, label; real_data_robot: whose the real data are, when not the study's robot's
     robot = {"name": None, "label": None, "real_data_robot": None, **dict(config.get("robot") or {})}
@@ -539,23 +692,42 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     sections |= {"quantitative", "validation"} | ({"calibration"} if data.calibration is not None else set())
     sections |= {"real"} if real_data["given"] else set()
     return {
-        "answer": answer_section(data.verdict.get("answer"), data.verdict.get("outcomes"), data.verdict_sentences,
-                                 engines, figures.data_uri(data.figures["answer"]) if "answer" in data.figures else None,
-                                 sections),
+        "answer": answer_section(
+            data.verdict.get("answer"),
+            data.verdict.get("outcomes"),
+            data.verdict_sentences,
+            engines,
+            figures.data_uri(data.figures["answer"]) if "answer" in data.figures else None,
+            sections,
+        ),
         "tree_uri": tree_uri,
         # the decision tree and the adjustable weights, answered in the browser (simpick.report.interactive):
         # one self-contained fragment, hidden in print where figures/tree.png stands for it
         "interactive": _interactive(data, weights),
-        "validation": validation_section(data.validation, engines, data.figures.get("validation_gain"),
-                                         data.validation_gains),
+        "validation": validation_section(
+            data.validation, engines, data.figures.get("validation_gain"), data.validation_gains
+        ),
         "sweep": sweep_section(data.sweep, engines, data.figures.get("sweep")),
-        "calibration": calibration_section(data.calibration, engines + [e for e in (data.calibration.engine.unique()
-                                           if data.calibration is not None else []) if e not in engines], colors,
-                                           data.calibration_turning, data.calibration_target),
-        "title": params.get("title") or (f"simpick: which physics engine reproduces the {robot['label']} best?"
-                                         if robot.get("label") else DEFAULT_TITLE),
+        "calibration": calibration_section(
+            data.calibration,
+            engines
+            + [
+                e
+                for e in (data.calibration.engine.unique() if data.calibration is not None else [])
+                if e not in engines
+            ],
+            colors,
+            data.calibration_turning,
+            data.calibration_target,
+        ),
+        "title": params.get("title")
+        or (
+            f"simpick: which physics engine reproduces the {robot['label']} best?"
+            if robot.get("label")
+            else DEFAULT_TITLE
+        ),
         "robot": robot,
-        "generated": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "generated": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         "engines": engines,
         # configured engines the machine could not run (simpick.plan: Plan.unavailable): engine -> why
         "unavailable": dict(params.get("unavailable") or {}),
@@ -609,8 +781,17 @@ def environment():
         trim_blocks=True,
         lstrip_blocks=True,
     )
-    env.filters.update(f3=fmt, f=fmt, num=fmt_num, int=fmt_int, signed=fmt_signed, yesno=fmt_yes_no,
-                       isnan=_isnan, soft_lower=soft_lower, sig3=fmt_sig)
+    env.filters.update(
+        f3=fmt,
+        f=fmt,
+        num=fmt_num,
+        int=fmt_int,
+        signed=fmt_signed,
+        yesno=fmt_yes_no,
+        isnan=_isnan,
+        soft_lower=soft_lower,
+        sig3=fmt_sig,
+    )
     env.tests["nan"] = _isnan
     return env
 

@@ -2,11 +2,13 @@
 family over a wildcard, from the workflow's tables and traces into results/report/figures/.
 
 The report job only embeds these files; no figure shows the weights (the page draws the weighted
-contributions itself from the scores job's table), so neither a weight edit nor a template edit redraws one. Every job writes its
+contributions itself from the scores job's table), so neither a weight edit nor a template edit redraws one.
+Every job writes its
 file: with nothing to draw, a small panel says why (:func:`simpick.report.figures.nothing_to_draw`).
 
 Engine colours come from ``engines`` (the study's engines, then its baselines, each sorted by
-name: rules/report.smk FIGURE_ENGINES), never from the ranking, so an engine keeps its colour when a weight edit reorders the ranking; the
+name: rules/report.smk FIGURE_ENGINES), never from the ranking, so an engine keeps its colour when a weight edit
+reorders the ranking; the
 report's swatches use the same list (:func:`colors`).
 """
 
@@ -89,9 +91,18 @@ def _endpoints(config: Mapping[str, Any], motion: str, series, engines: list[str
         dx = float(frame["x"].iloc[-1]) - float(cmd[-1, 0])
         dy = float(frame["y"].iloc[-1]) - float(cmd[-1, 1])
         dyaw = (float(frame["yaw"].iloc[-1]) - yaw_cmd + math.pi) % (2 * math.pi) - math.pi
-        out.append({"engine": e, "t": t_end, "dist": math.hypot(dx, dy), "dyaw_deg": math.degrees(dyaw),
-                    "v_cmd": float(spec["v"]), "w_cmd": float(spec["w"]),
-                    "v_mean": float(frame["v_forward"].mean()), "w_mean": float(frame["yaw_rate"].mean())})
+        out.append(
+            {
+                "engine": e,
+                "t": t_end,
+                "dist": math.hypot(dx, dy),
+                "dyaw_deg": math.degrees(dyaw),
+                "v_cmd": float(spec["v"]),
+                "w_cmd": float(spec["w"]),
+                "v_mean": float(frame["v_forward"].mean()),
+                "w_mean": float(frame["yaw_rate"].mean()),
+            }
+        )
     return out
 
 
@@ -113,8 +124,9 @@ def _commanded(config: Mapping[str, Any], motion: str):
 
 def imu_stats(inputs: Mapping[str, Any], params: Mapping[str, Any], terrain: str, motion: str, output: str) -> None:
     """One lab test's IMU mean and range per axis, every healthy engine and the paper's reference."""
-    data = load_inputs({k: inputs[k] for k in ("trace_stats", "reference_stats", "runs") if k in inputs},
-                       required=("trace_stats",))
+    data = load_inputs(
+        {k: inputs[k] for k in ("trace_stats", "reference_stats", "runs") if k in inputs}, required=("trace_stats",)
+    )
     ts, ref, status = data.trace_stats, data.reference_stats, _status(data.runs)
     palette = colors(params.get("engines"), list(ts["engine"]))
     series = []
@@ -139,8 +151,11 @@ def traces(inputs: Mapping[str, Any], params: Mapping[str, Any], terrain: str, m
     status = _status(data.runs)
     have = {t.engine: t for t in data.traces if (t.terrain, t.motion) == (terrain, motion)}
     palette = colors(params.get("engines"), list(have))
-    series = [(e, palette[e], have[e].frame) for e in _order(params.get("engines"), list(have))
-              if not _failed(status, e, terrain, motion)]
+    series = [
+        (e, palette[e], have[e].frame)
+        for e in _order(params.get("engines"), list(have))
+        if not _failed(status, e, terrain, motion)
+    ]
     if series:
         figures.timeseries_figure(series, output)
     else:
@@ -155,8 +170,11 @@ def _tests(config: Mapping[str, Any], seen: Sequence[tuple[str, str]]) -> list[t
 
     def key(tm):
         t, m = tm
-        return (terrains.index(t) if t in terrains else len(terrains),
-                motions.index(m) if m in motions else len(motions), seen.index(tm))
+        return (
+            terrains.index(t) if t in terrains else len(terrains),
+            motions.index(m) if m in motions else len(motions),
+            seen.index(tm),
+        )
 
     return sorted(seen, key=key)
 
@@ -170,14 +188,24 @@ def paths(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str, end
     by_test = {(t.engine, t.terrain, t.motion): t for t in data.traces}
     engines = _order(params.get("engines"), [t.engine for t in data.traces] + list(data.runs["engine"]))
     palette = colors(params.get("engines"), engines)
-    tests = _tests(config, list(zip(data.runs["terrain"], data.runs["motion"])) +
-                   [(t.terrain, t.motion) for t in data.traces])
+    tests = _tests(
+        config, list(zip(data.runs["terrain"], data.runs["motion"])) + [(t.terrain, t.motion) for t in data.traces]
+    )
     panels, rows = [], []
     for t, m in tests:
-        series = [(e, palette[e], by_test[(e, t, m)].frame) for e in engines
-                  if (e, t, m) in by_test and not _failed(status, e, t, m)]
-        panels.append({"title": test_label(t, m), "series": series, "strip": _strip(config, t),
-                       "commanded": _commanded(config, m)})
+        series = [
+            (e, palette[e], by_test[(e, t, m)].frame)
+            for e in engines
+            if (e, t, m) in by_test and not _failed(status, e, t, m)
+        ]
+        panels.append(
+            {
+                "title": test_label(t, m),
+                "series": series,
+                "strip": _strip(config, t),
+                "commanded": _commanded(config, m),
+            }
+        )
         rows += [dict(end, terrain=t, motion=m) for end in _endpoints(config, m, series, engines) if end]
     columns = ["engine", "terrain", "motion", "t", "dist", "dyaw_deg", "v_cmd", "w_cmd", "v_mean", "w_mean"]
     Path(endpoints).parent.mkdir(parents=True, exist_ok=True)
@@ -197,8 +225,7 @@ def validation(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str
     data = load_inputs({"validation_gains": inputs["validation_gains"]}, required=("validation_gains",))
     series, analytic, _ = gain_series(data.validation_gains, list(params.get("engines") or []))
     if series:
-        figures.validation_gain_figure(series, analytic, colors(params.get("engines"), [e for e, _ in series]),
-                                       output)
+        figures.validation_gain_figure(series, analytic, colors(params.get("engines"), [e for e, _ in series]), output)
     else:
         figures.nothing_to_draw(output, "no yaw-rate-gain case at v = 0.5 m/s")
 
@@ -225,8 +252,10 @@ def real_gain(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str)
     from simpick.report import real
 
     data = load_inputs(dict(inputs), required=())
-    engines = _order(params.get("engines"), [e for s in data.real.values() for t in s.values()
-                                            if "engine" in t.columns for e in t["engine"]])
+    engines = _order(
+        params.get("engines"),
+        [e for s in data.real.values() for t in s.values() if "engine" in t.columns for e in t["engine"]],
+    )
     panels = real.gain_panels(data, params, engines, colors(params.get("engines"), engines))
     if panels:
         figures.gain_figure(panels, output)
@@ -240,8 +269,7 @@ def _read_real_series(path: str, track: float):
     log = read_canonical(path)
     imu = log.imu[["time", "ax", "ay", "az", "wx", "wy", "wz"]].copy()
     cmd = log.wheel_commands(track)
-    commanded = pd.DataFrame({"time": cmd["time"].to_numpy(),
-                              "w": (cmd["v_right"] - cmd["v_left"]).to_numpy() / track})
+    commanded = pd.DataFrame({"time": cmd["time"].to_numpy(), "w": (cmd["v_right"] - cmd["v_left"]).to_numpy() / track})
     return imu, commanded, log.meta
 
 
@@ -306,8 +334,9 @@ def replay(inputs: Mapping[str, Any], params: Mapping[str, Any], cls: str, outpu
     # the representative run: Eq. 7 angular error (mean over engines) nearest the class median
     chosen, why = runs[0], "the first run of the class"
     if per_test is not None and "error_angular" in per_test.columns:
-        ok = per_test[(per_test["terrain_class"] == cls) & (per_test["status"].str.lower() == "ok")
-                      & per_test["run"].isin(runs)]
+        ok = per_test[
+            (per_test["terrain_class"] == cls) & (per_test["status"].str.lower() == "ok") & per_test["run"].isin(runs)
+        ]
         turning = ok
         if "yaw_rate_gain_real" in ok.columns:
             turning = ok[np.isfinite([_f(x) for x in ok["yaw_rate_gain_real"]])]
@@ -316,8 +345,7 @@ def replay(inputs: Mapping[str, Any], params: Mapping[str, Any], cls: str, outpu
             per_run = pool.groupby("run")["error_angular"].mean()
             med = float(per_run.median())
             chosen = str((per_run - med).abs().sort_values(kind="mergesort").index[0])
-            why = (f"{among}the one whose Eq. 7 angular error, averaged over the engines, "
-                   "is nearest the class median")
+            why = f"{among}the one whose Eq. 7 angular error, averaged over the engines, is nearest the class median"
 
     def healthy(hit) -> bool:
         return str(((hit[1].get("health") or {}).get("status")) or "ok").lower() == "ok"
@@ -337,8 +365,13 @@ def replay(inputs: Mapping[str, Any], params: Mapping[str, Any], cls: str, outpu
             series.append((e, palette[e], frames[e]))
     # spectra: mean over every run of the class that has the real log and the engine's healthy trace
     psd_series, n_psd = [], {}
-    real_sig = [((imu if r == chosen else _read_real_series(logs[r], track)[0])["az"].to_numpy(dtype=float),
-                 _rate(imu if r == chosen else _read_real_series(logs[r], track)[0])) for r in runs]
+    real_sig = [
+        (
+            (imu if r == chosen else _read_real_series(logs[r], track)[0])["az"].to_numpy(dtype=float),
+            _rate(imu if r == chosen else _read_real_series(logs[r], track)[0]),
+        )
+        for r in runs
+    ]
     m = _mean_psd(real_sig)
     if m:
         psd_series.append((figures.REAL_LABEL, figures.REAL_COLOR, m[0], m[1]))
@@ -360,12 +393,31 @@ def replay(inputs: Mapping[str, Any], params: Mapping[str, Any], cls: str, outpu
     band = (PSD_BAND_HZ[0], min(PSD_BAND_HZ[1], rate / 2))  # a slower IMU's spectrum ends at Nyquist
     figures.replay_figure(series, psd_series, commanded, rate, output, t_max=t_max, band=band, cutoff_hz=LOWPASS_HZ)
     counts = sorted(set(n_psd.values()))
-    psd_text = (f"{counts[0]} run{'s' if counts[0] != 1 else ''}" if len(counts) == 1 else
-                ", ".join(f"{label} {n}" for label, n in n_psd.items()) + " runs")
-    Path(notes).write_text(json.dumps(
-        {"cls": cls, "drawn": True, "label": cls.replace("_", " "), "run": chosen, "why": why, "n_runs": len(runs),
-         "psd_text": psd_text, "duration": duration, "t_max": t_max, "skipped": skipped, "n_psd": n_psd,
-         "lowpass_hz": LOWPASS_HZ, "band": list(band)}, indent=1))
+    psd_text = (
+        f"{counts[0]} run{'s' if counts[0] != 1 else ''}"
+        if len(counts) == 1
+        else ", ".join(f"{label} {n}" for label, n in n_psd.items()) + " runs"
+    )
+    Path(notes).write_text(
+        json.dumps(
+            {
+                "cls": cls,
+                "drawn": True,
+                "label": cls.replace("_", " "),
+                "run": chosen,
+                "why": why,
+                "n_runs": len(runs),
+                "psd_text": psd_text,
+                "duration": duration,
+                "t_max": t_max,
+                "skipped": skipped,
+                "n_psd": n_psd,
+                "lowpass_hz": LOWPASS_HZ,
+                "band": list(band),
+            },
+            indent=1,
+        )
+    )
 
 
 # The figure rules, by name: rule -> (function, wildcard names passed after params, output names)
@@ -382,8 +434,7 @@ def answer(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str) ->
     """The first page's figure: per real-data metric and engine, the values on every real run and
     the difference to the best engine with its interval, the margin shaded (the verdict's tables:
     outcomes.csv and the per-run metrics.csv)."""
-    data = load_inputs({"verdict_outcomes": inputs["outcomes"], "verdict_metrics": inputs["metrics"]},
-                       required=())
+    data = load_inputs({"verdict_outcomes": inputs["outcomes"], "verdict_metrics": inputs["metrics"]}, required=())
     outcomes, per_run = data.verdict["outcomes"], data.verdict["metrics"]
     seen = list(dict.fromkeys(outcomes["engine"]))
     engines = _order(params.get("engines"), seen)
@@ -393,13 +444,27 @@ def answer(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str) ->
         runs = per_run[per_run["metric"] == metric]
         measured = [e for e in engines if e in rows and str(rows[e]["outcome"]) != "not measurable"]
         first = g.iloc[0]
-        panels.append({
-            "label": str(first["label"]), "unit": str(first["unit"]), "margin": _value(first["margin"]),
-            "engines": [{"engine": e, "values": [_value(v) for v in runs.loc[runs["model"] == e, "value"]],
-                         "mean": _value(rows[e]["mean"]), "diff": _value(rows[e]["diff_to_best"]),
-                         "low": _value(rows[e]["diff_low"]), "high": _value(rows[e]["diff_high"]),
-                         "outcome": str(rows[e]["outcome"]), "is_best": bool(rows[e]["is_best"]),
-                         "recommendable": bool(rows[e]["recommendable"])} for e in measured]})
+        panels.append(
+            {
+                "label": str(first["label"]),
+                "unit": str(first["unit"]),
+                "margin": _value(first["margin"]),
+                "engines": [
+                    {
+                        "engine": e,
+                        "values": [_value(v) for v in runs.loc[runs["model"] == e, "value"]],
+                        "mean": _value(rows[e]["mean"]),
+                        "diff": _value(rows[e]["diff_to_best"]),
+                        "low": _value(rows[e]["diff_low"]),
+                        "high": _value(rows[e]["diff_high"]),
+                        "outcome": str(rows[e]["outcome"]),
+                        "is_best": bool(rows[e]["is_best"]),
+                        "recommendable": bool(rows[e]["recommendable"]),
+                    }
+                    for e in measured
+                ],
+            }
+        )
     if not any(p["engines"] for p in panels):
         figures.nothing_to_draw(output, "no real-data metric was measured for any engine")
         return
@@ -427,8 +492,12 @@ RULES = {
 }
 
 
-def figure_job(rule: str, inputs: Mapping[str, Any], params: Mapping[str, Any], wildcards: Mapping[str, str],
-               outputs: Mapping[str, str]) -> None:
+def figure_job(
+    rule: str,
+    inputs: Mapping[str, Any],
+    params: Mapping[str, Any],
+    wildcards: Mapping[str, str],
+    outputs: Mapping[str, str],
+) -> None:
     function, names, outs = RULES[rule]
     function(inputs, params, *(wildcards[n] for n in names), *(outputs[o] for o in outs))
-

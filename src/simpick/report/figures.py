@@ -34,20 +34,22 @@ def _plt():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    plt.rcParams.update({
-        "font.size": 7.5,
-        "axes.titlesize": 8,
-        "axes.labelsize": 7.5,
-        "legend.fontsize": 7,
-        "xtick.labelsize": 7,
-        "ytick.labelsize": 7,
-        "axes.spines.top": False,
-        "axes.spines.right": False,
-        "axes.grid": True,
-        "grid.alpha": 0.3,
-        "grid.linewidth": 0.5,
-        "svg.fonttype": "none",
-    })
+    plt.rcParams.update(
+        {
+            "font.size": 7.5,
+            "axes.titlesize": 8,
+            "axes.labelsize": 7.5,
+            "legend.fontsize": 7,
+            "xtick.labelsize": 7,
+            "ytick.labelsize": 7,
+            "axes.spines.top": False,
+            "axes.spines.right": False,
+            "axes.grid": True,
+            "grid.alpha": 0.3,
+            "grid.linewidth": 0.5,
+            "svg.fonttype": "none",
+        }
+    )
     return plt
 
 
@@ -61,8 +63,7 @@ def save(fig, path: str | Path, dpi: int = DPI) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight", pad_inches=0.05,
-                metadata={"Software": None})
+    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight", pad_inches=0.05, metadata={"Software": None})
     plt.close(fig)
     tmp = path.with_name(path.name + ".partial")
     tmp.write_bytes(buf.getvalue())
@@ -97,8 +98,9 @@ def _short(x: float) -> str:
 # --------------------------------------------------------------------------
 
 
-def imu_stats_figure(series: Sequence[tuple[str, str, pd.DataFrame]], path: str | Path,
-                     title: str | None = None) -> Path:
+def imu_stats_figure(
+    series: Sequence[tuple[str, str, pd.DataFrame]], path: str | Path, title: str | None = None
+) -> Path:
     """Mean and trimmed range per axis, angular (left) and linear (right).
 
     ``series``: (label, colour, stats) where stats has columns quantity, axis, mean, range.
@@ -121,15 +123,29 @@ def imu_stats_figure(series: Sequence[tuple[str, str, pd.DataFrame]], path: str 
                 vals = np.array([float(sub.loc[a, stat]) if a in sub.index else np.nan for a in AXES])
                 pos = x - 0.4 + width * (i + 0.5)
                 hatch = "////" if label == REFERENCE_LABEL else None
-                bars = ax.bar(pos, np.nan_to_num(vals), width=width * 0.92, color=color,
-                              alpha=0.85 if hatch is None else 0.35, hatch=hatch,
-                              edgecolor=color, linewidth=0.6, label=label)
+                bars = ax.bar(
+                    pos,
+                    np.nan_to_num(vals),
+                    width=width * 0.92,
+                    color=color,
+                    alpha=0.85 if hatch is None else 0.35,
+                    hatch=hatch,
+                    edgecolor=color,
+                    linewidth=0.6,
+                    label=label,
+                )
                 for b, v in zip(bars, vals):
                     h = b.get_height()
-                    ax.annotate(_short(v), (b.get_x() + b.get_width() / 2, h),
-                                xytext=(0, 1.5 if h >= 0 else -1.5), textcoords="offset points",
-                                ha="center", va="bottom" if h >= 0 else "top", fontsize=5.5,
-                                rotation=90 if rotate else 0)
+                    ax.annotate(
+                        _short(v),
+                        (b.get_x() + b.get_width() / 2, h),
+                        xytext=(0, 1.5 if h >= 0 else -1.5),
+                        textcoords="offset points",
+                        ha="center",
+                        va="bottom" if h >= 0 else "top",
+                        fontsize=5.5,
+                        rotation=90 if rotate else 0,
+                    )
             ax.axhline(0, color="0.3", lw=0.6)
             ax.margins(y=0.35 if rotate else 0.18)
             ax.set_xticks(x, [f"{a}" for a in AXES])
@@ -138,8 +154,7 @@ def imu_stats_figure(series: Sequence[tuple[str, str, pd.DataFrame]], path: str 
                 ax.set_title(QUANTITY_TITLES[quantity])
             ax.set_ylabel("mean" if stat == "mean" else "range (top 1 % − bottom 1 %)")
     handles, labels = axs[0, 0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="upper center", ncol=min(len(labels), 5), frameon=False,
-               bbox_to_anchor=(0.5, 1.0))
+    fig.legend(handles, labels, loc="upper center", ncol=min(len(labels), 5), frameon=False, bbox_to_anchor=(0.5, 1.0))
     if title:
         fig.suptitle(title, y=1.05, fontsize=9)
     fig.tight_layout(rect=(0, 0, 1, 0.94))
@@ -160,8 +175,9 @@ def timeseries_figure(series: Sequence[tuple[str, str, pd.DataFrame]], path: str
         for row, column in enumerate(QUANTITY_COLUMNS[quantity]):
             ax = axs[row, col]
             for label, color, frame in series:
-                ax.plot(frame["time"].to_numpy(), frame[column].to_numpy(), color=color, lw=0.6,
-                        alpha=0.85, label=label)
+                ax.plot(
+                    frame["time"].to_numpy(), frame[column].to_numpy(), color=color, lw=0.6, alpha=0.85, label=label
+                )
             ax.set_ylabel(f"{column} ({unit})")
             if row == 2:
                 ax.set_xlabel("time (s)")
@@ -169,8 +185,9 @@ def timeseries_figure(series: Sequence[tuple[str, str, pd.DataFrame]], path: str
     axs[0, 1].set_title("IMU angular velocity")
     handles, labels = axs[0, 0].get_legend_handles_labels()
     if handles:
-        fig.legend(handles, labels, loc="upper center", ncol=min(len(labels), 5), frameon=False,
-                   bbox_to_anchor=(0.5, 1.03))
+        fig.legend(
+            handles, labels, loc="upper center", ncol=min(len(labels), 5), frameon=False, bbox_to_anchor=(0.5, 1.03)
+        )
     fig.tight_layout(rect=(0, 0, 1, 0.97))
     return save(fig, path)
 
@@ -205,14 +222,21 @@ def paths_figure(panels: Sequence[dict], path: str | Path, ncols: int = 2) -> Pa
         strip = panel.get("strip")
         if strip is not None:
             x0, x1, y0, y1 = strip
-            r = plt.Rectangle((x0, y0), x1 - x0, y1 - y0, facecolor="#d9c9a3", alpha=0.45,
-                              edgecolor="#a08850", lw=0.6, label="terrain strip")
+            r = plt.Rectangle(
+                (x0, y0),
+                x1 - x0,
+                y1 - y0,
+                facecolor="#d9c9a3",
+                alpha=0.45,
+                edgecolor="#a08850",
+                lw=0.6,
+                label="terrain strip",
+            )
             ax.add_patch(r)
             legend.setdefault("terrain strip", r)
         cmd = panel.get("commanded")
         if cmd is not None:
-            (h,) = ax.plot(cmd[:, 0], cmd[:, 1], color="0.35", ls="--", lw=0.8,
-                           label="commanded (no slip)")
+            (h,) = ax.plot(cmd[:, 0], cmd[:, 1], color="0.35", ls="--", lw=0.8, label="commanded (no slip)")
             legend.setdefault("commanded (no slip)", h)
         for label, color, frame in panel["series"]:
             (h,) = ax.plot(frame["x"].to_numpy(), frame["y"].to_numpy(), color=color, lw=1.0, label=label)
@@ -222,11 +246,17 @@ def paths_figure(panels: Sequence[dict], path: str | Path, ncols: int = 2) -> Pa
         ax.set_title(panel["title"])
         ax.set_xlabel("x (m)")
         ax.set_ylabel("y (m)")
-    for ax in list(axs.flat)[len(panels):]:
+    for ax in list(axs.flat)[len(panels) :]:
         ax.set_visible(False)
     if legend:
-        fig.legend(list(legend.values()), list(legend.keys()), loc="upper center",
-                   ncol=min(len(legend), 5), frameon=False, bbox_to_anchor=(0.5, 1.0))
+        fig.legend(
+            list(legend.values()),
+            list(legend.keys()),
+            loc="upper center",
+            ncol=min(len(legend), 5),
+            frameon=False,
+            bbox_to_anchor=(0.5, 1.0),
+        )
     fig.tight_layout(rect=(0, 0, 1, 1 - 0.35 / (2.35 * nrows + 0.4)))
     return save(fig, path)
 
@@ -262,30 +292,65 @@ def gain_figure(panels: Sequence[dict], path: str | Path) -> Path:
             high = np.array([np.nan if v is None else float(v) for v in b["high"]])
             pos = x - 0.4 + width * (i + 0.5)
             real = bool(b.get("real"))
-            h = ax.bar(pos, np.nan_to_num(mean), width=width * 0.92, color=b["color"],
-                       alpha=0.35 if real else 0.85, hatch="////" if real else None,
-                       edgecolor=b["color"], linewidth=0.6, label=b["label"])
+            h = ax.bar(
+                pos,
+                np.nan_to_num(mean),
+                width=width * 0.92,
+                color=b["color"],
+                alpha=0.35 if real else 0.85,
+                hatch="////" if real else None,
+                edgecolor=b["color"],
+                linewidth=0.6,
+                label=b["label"],
+            )
             handles.setdefault(b["label"], h)
             has = np.isfinite(low) & np.isfinite(high) & np.isfinite(mean)
             if has.any():
-                ax.errorbar(pos[has], mean[has], yerr=[mean[has] - low[has], high[has] - mean[has]],
-                            fmt="none", ecolor="0.15", elinewidth=0.8, capsize=2)
+                ax.errorbar(
+                    pos[has],
+                    mean[has],
+                    yerr=[mean[has] - low[has], high[has] - mean[has]],
+                    fmt="none",
+                    ecolor="0.15",
+                    elinewidth=0.8,
+                    capsize=2,
+                )
             for p, m, hi in zip(pos, mean, high):
                 top = hi if np.isfinite(hi) else m
-                ax.annotate(f"{m:.2f}" if np.isfinite(m) else "n/a", (p, max(top, 0) if np.isfinite(top) else 0),
-                            xytext=(0, 1.5), textcoords="offset points", ha="center", va="bottom",
-                            fontsize=5.5, rotation=90 if k * len(classes) > 18 else 0)
+                ax.annotate(
+                    f"{m:.2f}" if np.isfinite(m) else "n/a",
+                    (p, max(top, 0) if np.isfinite(top) else 0),
+                    xytext=(0, 1.5),
+                    textcoords="offset points",
+                    ha="center",
+                    va="bottom",
+                    fontsize=5.5,
+                    rotation=90 if k * len(classes) > 18 else 0,
+                )
         ax.axhline(1.0, color="0.4", ls=":", lw=0.8)
         ax.axhline(0.0, color="0.3", lw=0.6)
         ax.set_xticks(x, [c.replace("_", " ") for c in classes])
         ax.set_ylabel("yaw-rate gain")
         ax.set_title(panel["title"])
         ax.grid(axis="x", visible=False)
-        top = max([1.05] + [float(v) for b in bars for v in list(b["high"]) + list(b["mean"])
-                            if v is not None and np.isfinite(float(v))])
+        top = max(
+            [1.05]
+            + [
+                float(v)
+                for b in bars
+                for v in list(b["high"]) + list(b["mean"])
+                if v is not None and np.isfinite(float(v))
+            ]
+        )
         ax.set_ylim(min(0.0, ax.get_ylim()[0]), top * 1.22)
-    fig.legend(list(handles.values()), list(handles.keys()), loc="upper center",
-               ncol=min(len(handles), 5), frameon=False, bbox_to_anchor=(0.5, 1.0))
+    fig.legend(
+        list(handles.values()),
+        list(handles.keys()),
+        loc="upper center",
+        ncol=min(len(handles), 5),
+        frameon=False,
+        bbox_to_anchor=(0.5, 1.0),
+    )
     fig.tight_layout(rect=(0, 0, 1, 1 - 0.3 / (2.25 * n + 0.35)))
     return save(fig, path)
 
@@ -310,10 +375,16 @@ def _limits(values: Sequence[np.ndarray], smooth: Sequence[np.ndarray]) -> tuple
     return a - pad, b + pad
 
 
-def replay_figure(series: Sequence[tuple[str, str, pd.DataFrame]],
-                  psd: Sequence[tuple[str, str, np.ndarray, np.ndarray]],
-                  commanded: pd.DataFrame | None, rate_hz: float, path: str | Path, t_max: float | None = None,
-                  band: tuple[float, float] | None = None, cutoff_hz: float = 2.0) -> Path:
+def replay_figure(
+    series: Sequence[tuple[str, str, pd.DataFrame]],
+    psd: Sequence[tuple[str, str, np.ndarray, np.ndarray]],
+    commanded: pd.DataFrame | None,
+    rate_hz: float,
+    path: str | Path,
+    t_max: float | None = None,
+    band: tuple[float, float] | None = None,
+    cutoff_hz: float = 2.0,
+) -> Path:
     """One terrain class of the full replay.
 
     Left: yaw rate (top) and longitudinal acceleration (bottom) of one run against time,
@@ -343,15 +414,23 @@ def replay_figure(series: Sequence[tuple[str, str, pd.DataFrame]],
             ys = lowpass(y, rate_hz, cutoff_hz)
             real = label == REAL_LABEL
             ax.plot(t, y, color=color, lw=0.35, alpha=0.22)
-            (h,) = ax.plot(t, ys, color=color, lw=1.3 if real else 0.9, alpha=0.95, label=label,
-                           zorder=3 if real else 2)
+            (h,) = ax.plot(
+                t, ys, color=color, lw=1.3 if real else 0.9, alpha=0.95, label=label, zorder=3 if real else 2
+            )
             handles.setdefault(label, h)
             raws.append(y)
             smooths.append(ys)
         if column == "wz" and commanded is not None and len(commanded):
             sel = commanded if t_max is None else commanded[commanded["time"] <= t_max]
-            (h,) = ax.step(sel["time"].to_numpy(), sel["w"].to_numpy(), where="post", color="0.45", ls="--",
-                           lw=0.8, label="command (no slip)")
+            (h,) = ax.step(
+                sel["time"].to_numpy(),
+                sel["w"].to_numpy(),
+                where="post",
+                color="0.45",
+                ls="--",
+                lw=0.8,
+                label="command (no slip)",
+            )
             handles.setdefault("command (no slip)", h)
             smooths.append(sel["w"].to_numpy(dtype=float))
         ax.set_ylim(*_limits(raws, smooths))
@@ -363,14 +442,21 @@ def replay_figure(series: Sequence[tuple[str, str, pd.DataFrame]],
         ax_p.axvspan(band[0], band[1], color="0.92", zorder=0)
     for label, color, f, p in psd:
         keep = f > 0
-        (h,) = ax_p.loglog(f[keep], np.maximum(p[keep], 1e-12), color=color,
-                           lw=1.3 if label == REAL_LABEL else 0.9, label=label)
+        (h,) = ax_p.loglog(
+            f[keep], np.maximum(p[keep], 1e-12), color=color, lw=1.3 if label == REAL_LABEL else 0.9, label=label
+        )
         handles.setdefault(label, h)
     ax_p.set_xlabel("frequency (Hz)")
     ax_p.set_ylabel("PSD of az ((m/s²)²/Hz)")
     ax_p.set_title("vertical acceleration spectrum")
-    fig.legend(list(handles.values()), list(handles.keys()), loc="upper center", ncol=min(len(handles), 5),
-               frameon=False, bbox_to_anchor=(0.5, 1.05))
+    fig.legend(
+        list(handles.values()),
+        list(handles.keys()),
+        loc="upper center",
+        ncol=min(len(handles), 5),
+        frameon=False,
+        bbox_to_anchor=(0.5, 1.05),
+    )
     return save(fig, path)
 
 
@@ -379,8 +465,12 @@ def replay_figure(series: Sequence[tuple[str, str, pd.DataFrame]],
 # --------------------------------------------------------------------------
 
 
-def validation_gain_figure(series: Sequence[tuple[str, Sequence[tuple[float, float, float, float]]]],
-                           analytic: float, colors: Mapping[str, str], path: str | Path) -> Path:
+def validation_gain_figure(
+    series: Sequence[tuple[str, Sequence[tuple[float, float, float, float]]]],
+    analytic: float,
+    colors: Mapping[str, str],
+    path: str | Path,
+) -> Path:
     """Yaw-rate gain against commanded w at v = 0.5 m/s, one line per engine (points: mean over
     the start headings, bars: min to max; w < 0: right turns), analytic line."""
     plt = _plt()
@@ -392,9 +482,18 @@ def validation_gain_figure(series: Sequence[tuple[str, Sequence[tuple[float, flo
         label = engine
         for side in (ws < 0, ws > 0):  # right and left turns as two lines: no data between them
             if side.any():
-                ax.errorbar(x[side], means[side], yerr=[means[side] - lows[side], highs[side] - means[side]],
-                            fmt="o-", color=colors.get(engine), label=label, lw=1.0, ms=3.5, capsize=2.0,
-                            elinewidth=0.9)
+                ax.errorbar(
+                    x[side],
+                    means[side],
+                    yerr=[means[side] - lows[side], highs[side] - means[side]],
+                    fmt="o-",
+                    color=colors.get(engine),
+                    label=label,
+                    lw=1.0,
+                    ms=3.5,
+                    capsize=2.0,
+                    elinewidth=0.9,
+                )
                 label = None
     ax.axhline(analytic, color="black", lw=1.0, ls="--", label=f"Coulomb, quasi-static ({analytic:.3f})")
     ax.axhspan(analytic * 0.9, analytic * 1.1, color="black", alpha=0.07, lw=0, label="±10 %")
@@ -440,14 +539,24 @@ def turning_figure(windows: pd.DataFrame, path: str | Path) -> Path:
     fig, axs = plt.subplots(1, 3, figsize=(WIDTH_IN, 2.5), sharey=True)
     classes = sorted(windows["terrain_class"].unique())
     colors = {c: _PALETTE[i % len(_PALETTE)] for i, c in enumerate(classes)}
-    columns = (("|commanded speed| (m/s)", windows["v"].abs()), ("turn radius (m; 0 = spin)", windows["turn_radius"]),
-               ("|v_right - v_left| (m/s)", windows["wheel_speed_difference"].abs()))
+    columns = (
+        ("|commanded speed| (m/s)", windows["v"].abs()),
+        ("turn radius (m; 0 = spin)", windows["turn_radius"]),
+        ("|v_right - v_left| (m/s)", windows["wheel_speed_difference"].abs()),
+    )
     coulomb = windows["coulomb_gain"].dropna()
     for ax, (label, x) in zip(axs, columns):
         for c in classes:
             rows = windows["terrain_class"] == c
-            ax.scatter(x[rows], windows.loc[rows, "yaw_rate_gain"], s=6, alpha=0.6, color=colors[c],
-                       label=c.replace("_", " "), linewidths=0)
+            ax.scatter(
+                x[rows],
+                windows.loc[rows, "yaw_rate_gain"],
+                s=6,
+                alpha=0.6,
+                color=colors[c],
+                label=c.replace("_", " "),
+                linewidths=0,
+            )
         if not coulomb.empty:
             ax.axhline(float(coulomb.median()), color=REFERENCE_COLOR, ls="--", lw=0.9, label="rigid Coulomb")
         ax.set_xlabel(label)
@@ -493,18 +602,36 @@ def answer_figure(metrics: Sequence[dict], colors: Mapping[str, str], path: str 
             elif r["diff"] is not None:
                 lo = r["diff"] - r["low"] if r["low"] is not None else 0.0
                 hi = r["high"] - r["diff"] if r["high"] is not None else 0.0
-                bottom.errorbar([r["diff"]], [yi], xerr=[[lo], [hi]], fmt="o", ms=3.5, color=c, mfc=face,
-                                capsize=2, lw=1.0, zorder=4)
-            bottom.text(1.02, yi, r["outcome"], transform=bottom.get_yaxis_transform(), va="center", fontsize=6,
-                        color="0.25" if r["recommendable"] else "#a11")
+                bottom.errorbar(
+                    [r["diff"]],
+                    [yi],
+                    xerr=[[lo], [hi]],
+                    fmt="o",
+                    ms=3.5,
+                    color=c,
+                    mfc=face,
+                    capsize=2,
+                    lw=1.0,
+                    zorder=4,
+                )
+            bottom.text(
+                1.02,
+                yi,
+                r["outcome"],
+                transform=bottom.get_yaxis_transform(),
+                va="center",
+                fontsize=6,
+                color="0.25" if r["recommendable"] else "#a11",
+            )
         labels = [r["engine"] + ("" if r["recommendable"] else " ✗") for r in rows]
         for ax in (top, bottom):
             ax.set_yticks(y, labels)
             ax.set_ylim(-0.6, len(rows) - 0.4)
             ax.grid(axis="y", visible=False)
         if m["margin"] is not None:
-            bottom.axvspan(-m["margin"], m["margin"], color="#2ca02c", alpha=0.15, lw=0,
-                           label=f"margin ±{_short(m['margin'])}")
+            bottom.axvspan(
+                -m["margin"], m["margin"], color="#2ca02c", alpha=0.15, lw=0, label=f"margin ±{_short(m['margin'])}"
+            )
         bottom.axvline(0, color="0.3", lw=0.7)
         unit = f" ({m['unit']})" if m["unit"] and m["unit"] != "1" else ""
         top.set_title(f"{m['label']}{unit}")
@@ -515,7 +642,12 @@ def answer_figure(metrics: Sequence[dict], colors: Mapping[str, str], path: str 
     if not shown:
         axs[0, 0].set_axis_off()
         axs[1, 0].set_axis_off()
-    fig.text(0.0, -0.01, "✗ / hollow: fails the analytic mechanics this metric rests on (never recommended)",
-             fontsize=6, color="#a11")
+    fig.text(
+        0.0,
+        -0.01,
+        "✗ / hollow: fails the analytic mechanics this metric rests on (never recommended)",
+        fontsize=6,
+        color="#a11",
+    )
     fig.tight_layout(w_pad=4.0)
     return save(fig, path)

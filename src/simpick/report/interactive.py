@@ -35,8 +35,9 @@ def choose_data(tree: Mapping, weighted: pd.DataFrame, weights: Mapping[str, flo
     frame = weighted.set_index("engine") if "engine" in weighted.columns else weighted
     missing = [m for m in METRICS if m not in frame.columns]
     if missing:
-        raise InputError("results/scores/weighted.csv", f"lacks the score column(s) {', '.join(missing)}",
-                         "rerun rule scores")
+        raise InputError(
+            "results/scores/weighted.csv", f"lacks the score column(s) {', '.join(missing)}", "rerun rule scores"
+        )
     absent = [m for m in METRICS if m not in weights]
     if absent:
         raise InputError("config.yaml: weights", f"no weight for {', '.join(absent)}", "give every criterion a weight")
@@ -67,17 +68,23 @@ def choose_fragment(tree: Mapping, weighted: pd.DataFrame, weights: Mapping[str,
     ``weights``: the study's weights (config.yaml ``weights:``), the inputs' starting values."""
     import jinja2
 
-    env = jinja2.Environment(loader=jinja2.FileSystemLoader(str(TEMPLATES)), autoescape=True,
-                             undefined=jinja2.StrictUndefined)
+    env = jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(TEMPLATES)), autoescape=True, undefined=jinja2.StrictUndefined
+    )
     return env.get_template("choose.html.j2").render(
-        css=(TEMPLATES / "choose.css").read_text(), js=(TEMPLATES / "choose.js").read_text(),
-        data=_json_for_script(choose_data(tree, weighted, weights)))
+        css=(TEMPLATES / "choose.css").read_text(),
+        js=(TEMPLATES / "choose.js").read_text(),
+        data=_json_for_script(choose_data(tree, weighted, weights)),
+    )
 
 
-def choose_page(tree: Mapping, weighted: pd.DataFrame, weights: Mapping[str, float],
-                title: str = "simpick: pick an engine") -> str:
+def choose_page(
+    tree: Mapping, weighted: pd.DataFrame, weights: Mapping[str, float], title: str = "simpick: pick an engine"
+) -> str:
     """:func:`choose_fragment` in a page of its own."""
     from html import escape
 
-    return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>{escape(title)}</title></head>\n'
-            f"<body>\n{choose_fragment(tree, weighted, weights)}\n</body></html>\n")
+    return (
+        f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>{escape(title)}</title></head>\n'
+        f"<body>\n{choose_fragment(tree, weighted, weights)}\n</body></html>\n"
+    )

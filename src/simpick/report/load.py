@@ -16,73 +16,274 @@ from simpick.score.scoring import METRICS
 
 COLUMNS: dict[str, tuple[str, ...]] = {
     "weighted": (*METRICS, "total", "excluded", "rank"),
-    "runs": ("engine", "terrain", "motion", "sim_time", "wall_time", "cpu_time", "steps",
-             "steps_per_s", "real_time_factor", "status", "reasons"),
+    "runs": (
+        "engine",
+        "terrain",
+        "motion",
+        "sim_time",
+        "wall_time",
+        "cpu_time",
+        "steps",
+        "steps_per_s",
+        "real_time_factor",
+        "status",
+        "reasons",
+    ),
     "trace_stats": ("engine", "terrain", "motion", "quantity", "axis", "mean", "range", "status"),
     "reference_stats": ("terrain", "motion", "quantity", "axis", "mean", "range", "source"),
     "imu_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
-    "per_test_errors": ("engine", "terrain", "motion", "quantity", "axis", "range_error",
-                        "mean_error", "total_error"),
-    "detail": ("engine", "terrain", "motion", "quantity", "axis", "mean", "range", "status", "ref_mean",
-               "ref_range", "source", "range_error", "mean_error", "total_error"),
+    "per_test_errors": ("engine", "terrain", "motion", "quantity", "axis", "range_error", "mean_error", "total_error"),
+    "detail": (
+        "engine",
+        "terrain",
+        "motion",
+        "quantity",
+        "axis",
+        "mean",
+        "range",
+        "status",
+        "ref_mean",
+        "ref_range",
+        "source",
+        "range_error",
+        "mean_error",
+        "total_error",
+    ),
     "rtf": ("engine", "sim_time", "wall_time", "real_time_factor", "n_runs"),
     "table11": (*METRICS, "total", "total_from_published_scores", "published_total"),
     "table11_comparison": ("simulator", "metric", "published", "recomputed", "difference", "matches"),
-    "sweep": ("terrain_class", "engine", "timestep", "n_segments", "n_failed", "n_compared", "excluded",
-              "error_angular", "error_linear", "gain_error", "real_time_factor", "steps_per_s"),
-    "calibration": ("terrain_class", "engine", "set", "n_units", "n_runs", "objective_configured",
-                    "objective_calibrated", "change", "parameters", "rank_configured", "rank_calibrated"),
-    "calibration_turning": ("terrain_class", "engine", "variant", "n_runs", "gain_real", "gain_sim", "gain_ratio",
-                            "gain_error", "gain_error_low", "gain_error_high", "separation_multiplier",
-                            "separation_multiplier_real"),
-    "calibration_target": ("engine", "is_engine", "n_runs", "error_calibrated", "error_configured",
-                           "error_reference", "p_vs_configured", "p_vs_reference", "classes_off_gain", "meets",
-                           "best"),
-    "validation": ("engine", "case", "kind", "quantity", "unit", "engine_value", "analytic_value", "error",
-                   "error_kind", "tolerance", "passed", "status"),
-    "validation_gains": ("engine", "v", "w", "mu", "analytic", "n_left", "left_mean", "left_min", "left_max",
-                         "n_right", "right_mean", "right_min", "right_max", "spread", "headings"),
+    "sweep": (
+        "terrain_class",
+        "engine",
+        "timestep",
+        "n_segments",
+        "n_failed",
+        "n_compared",
+        "excluded",
+        "error_angular",
+        "error_linear",
+        "gain_error",
+        "real_time_factor",
+        "steps_per_s",
+    ),
+    "calibration": (
+        "terrain_class",
+        "engine",
+        "set",
+        "n_units",
+        "n_runs",
+        "objective_configured",
+        "objective_calibrated",
+        "change",
+        "parameters",
+        "rank_configured",
+        "rank_calibrated",
+    ),
+    "calibration_turning": (
+        "terrain_class",
+        "engine",
+        "variant",
+        "n_runs",
+        "gain_real",
+        "gain_sim",
+        "gain_ratio",
+        "gain_error",
+        "gain_error_low",
+        "gain_error_high",
+        "separation_multiplier",
+        "separation_multiplier_real",
+    ),
+    "calibration_target": (
+        "engine",
+        "is_engine",
+        "n_runs",
+        "error_calibrated",
+        "error_configured",
+        "error_reference",
+        "p_vs_configured",
+        "p_vs_reference",
+        "classes_off_gain",
+        "meets",
+        "best",
+    ),
+    "validation": (
+        "engine",
+        "case",
+        "kind",
+        "quantity",
+        "unit",
+        "engine_value",
+        "analytic_value",
+        "error",
+        "error_kind",
+        "tolerance",
+        "passed",
+        "status",
+    ),
+    "validation_gains": (
+        "engine",
+        "v",
+        "w",
+        "mu",
+        "analytic",
+        "n_left",
+        "left_mean",
+        "left_min",
+        "left_max",
+        "n_right",
+        "right_mean",
+        "right_min",
+        "right_max",
+        "spread",
+        "headings",
+    ),
     # real robot data (rules/real.smk, simpick.compare.real)
     "accuracy_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
     "accuracy_per_test": ("engine", "terrain_class", "segment", "run", "status"),
-    "segments": ("segment", "terrain_class", "run", "kind", "t_start", "t_end", "settle", "duration",
-                 "v_left", "v_right", "v", "w", "yaw_rate_gain"),
-    "segments_per_test": ("engine", "terrain_class", "segment", "run", "kind", "status", "reasons",
-                          "yaw_rate_gain_real"),
+    "segments": (
+        "segment",
+        "terrain_class",
+        "run",
+        "kind",
+        "t_start",
+        "t_end",
+        "settle",
+        "duration",
+        "v_left",
+        "v_right",
+        "v",
+        "w",
+        "yaw_rate_gain",
+    ),
+    "segments_per_test": (
+        "engine",
+        "terrain_class",
+        "segment",
+        "run",
+        "kind",
+        "status",
+        "reasons",
+        "yaw_rate_gain_real",
+    ),
     "segments_summary": ("engine", "terrain_class", "n_tests"),
-    "segments_pairwise": ("terrain_class", "figure", "engine_a", "engine_b", "mean_a_minus_b", "low", "high",
-                          "verdict"),
+    "segments_pairwise": (
+        "terrain_class",
+        "figure",
+        "engine_a",
+        "engine_b",
+        "mean_a_minus_b",
+        "low",
+        "high",
+        "verdict",
+    ),
     "segments_imu_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
     "replay_per_window": ("engine", "terrain_class", "run", "status", "reasons"),
     "replay_per_test": ("engine", "terrain_class", "segment", "run", "kind", "status", "reasons"),
     "replay_summary": ("engine", "terrain_class", "n_tests"),
-    "replay_pairwise": ("terrain_class", "figure", "engine_a", "engine_b", "mean_a_minus_b", "low", "high",
-                        "verdict"),
+    "replay_pairwise": ("terrain_class", "figure", "engine_a", "engine_b", "mean_a_minus_b", "low", "high", "verdict"),
     "replay_imu_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
     # simpick's verdict (simpick.score.verdict): the report prints these, it computes none of them
-    "verdict_table": ("metric", "label", "unit", "model", "is_engine", "n_runs", "mean", "low", "high", "rank",
-                      "next", "p_to_next", "separates_from_next", "runs_needed", "note"),
+    "verdict_table": (
+        "metric",
+        "label",
+        "unit",
+        "model",
+        "is_engine",
+        "n_runs",
+        "mean",
+        "low",
+        "high",
+        "rank",
+        "next",
+        "p_to_next",
+        "separates_from_next",
+        "runs_needed",
+        "note",
+    ),
     "verdict_separation": ("metric", "label", "method", "n_runs", "best", "second", "separates", "statement"),
     "verdict_ranking": ("engine", "total", "total_low", "total_high", "share_first", "n_runs"),
-    "verdict_discrimination": ("quantity", "engine", "error", "floor", "engine_part", "floor_share", "score",
-                               "score_low", "score_high", "spread", "half_width", "separates", "n_runs",
-                               "floor_models"),
+    "verdict_discrimination": (
+        "quantity",
+        "engine",
+        "error",
+        "floor",
+        "engine_part",
+        "floor_share",
+        "score",
+        "score_low",
+        "score_high",
+        "spread",
+        "half_width",
+        "separates",
+        "n_runs",
+        "floor_models",
+    ),
     "verdict_metrics": ("run", "model", "metric", "value"),
     # the paper's weighted table cell by cell (simpick.score.contributions)
-    "contributions": ("engine", "rank", "total", "share", "metric", "label", "group", "weight", "score", "points",
-                      "excluded"),
+    "contributions": (
+        "engine",
+        "rank",
+        "total",
+        "share",
+        "metric",
+        "label",
+        "group",
+        "weight",
+        "score",
+        "points",
+        "excluded",
+    ),
     # what puts the leader ahead of each engine, metric by metric (simpick.score.contributions.drivers)
     "drivers": ("engine", "leader", "gap", "metric", "label", "difference", "order"),
     # the answer: every engine against the best per real-data metric, and the first page's row per engine
-    "verdict_outcomes": ("metric", "label", "unit", "engine", "n_runs", "mean", "low", "high", "best", "is_best",
-                         "diff_to_best", "diff_low", "diff_high", "margin", "margin_basis", "p_worse", "p_equivalent",
-                         "outcome", "runs_needed", "mechanics", "mechanics_failed", "mechanics_note",
-                         "recommendable"),
-    "verdict_answer": ("engine", "mechanics", "mechanics_failed", "mechanics_cases", "mechanics_note", "gain_ratio",
-                       "gain_ratio_calibrated", "rtf", "cpu_average", "cpu_intense", "paper_total", "paper_rank",
-                       "paper_flag"),
-    "verdict_headings": ("model", "test", "start_heading_deg", "yaw_rate_gain_sim", "yaw_rate_gain_reference",
-                         "gain_ratio"),
+    "verdict_outcomes": (
+        "metric",
+        "label",
+        "unit",
+        "engine",
+        "n_runs",
+        "mean",
+        "low",
+        "high",
+        "best",
+        "is_best",
+        "diff_to_best",
+        "diff_low",
+        "diff_high",
+        "margin",
+        "margin_basis",
+        "p_worse",
+        "p_equivalent",
+        "outcome",
+        "runs_needed",
+        "mechanics",
+        "mechanics_failed",
+        "mechanics_note",
+        "recommendable",
+    ),
+    "verdict_answer": (
+        "engine",
+        "mechanics",
+        "mechanics_failed",
+        "mechanics_cases",
+        "mechanics_note",
+        "gain_ratio",
+        "gain_ratio_calibrated",
+        "rtf",
+        "cpu_average",
+        "cpu_intense",
+        "paper_total",
+        "paper_rank",
+        "paper_flag",
+    ),
+    "verdict_headings": (
+        "model",
+        "test",
+        "start_heading_deg",
+        "yaw_rate_gain_sim",
+        "yaw_rate_gain_reference",
+        "gain_ratio",
+    ),
     # where each lab run ended against the command (rule figure_paths, beside its figure)
     "endpoints": ("engine", "terrain", "motion", "t", "dist", "dyaw_deg", "v_cmd", "w_cmd", "v_mean", "w_mean"),
 }
@@ -90,20 +291,68 @@ COLUMNS: dict[str, tuple[str, ...]] = {
 # The real-data sets: one per way of comparing with the real robot (simpick.compare.real).
 REAL_SETS: tuple[str, ...] = ("segments", "replay")
 REAL_TABLES: tuple[str, ...] = ("per_test", "summary", "pairwise", "imu_errors")
-VERDICT_TABLES: tuple[str, ...] = ("metrics", "table", "separation", "ranking", "discrimination", "headings",
-                                   "outcomes", "answer")
+VERDICT_TABLES: tuple[str, ...] = (
+    "metrics",
+    "table",
+    "separation",
+    "ranking",
+    "discrimination",
+    "headings",
+    "outcomes",
+    "answer",
+)
 
 # Text columns: read as strings, an empty cell becomes "" rather than NaN.
-TEXT_COLUMNS = {"excluded", "reasons", "tests", "status", "source", "engine", "terrain",
-                "motion", "quantity", "axis", "unit", "engine_version", "config_hash",
-                "simulator", "metric", "terrain_class", "segment", "run", "kind", "figure",
-                "engine_a", "engine_b", "verdict", "dataset", "case", "kind", "error_kind",
-                "model", "next", "note", "label", "method", "best", "second", "statement", "floor_models",
-                "outcome", "margin_basis", "group", "mechanics", "mechanics_note", "paper_flag"}
+TEXT_COLUMNS = {
+    "excluded",
+    "reasons",
+    "tests",
+    "status",
+    "source",
+    "engine",
+    "terrain",
+    "motion",
+    "quantity",
+    "axis",
+    "unit",
+    "engine_version",
+    "config_hash",
+    "simulator",
+    "metric",
+    "terrain_class",
+    "segment",
+    "run",
+    "kind",
+    "figure",
+    "engine_a",
+    "engine_b",
+    "verdict",
+    "dataset",
+    "case",
+    "error_kind",
+    "model",
+    "next",
+    "note",
+    "label",
+    "method",
+    "best",
+    "second",
+    "statement",
+    "floor_models",
+    "outcome",
+    "margin_basis",
+    "group",
+    "mechanics",
+    "mechanics_note",
+    "paper_flag",
+}
 # Bool columns per table: True/False in the CSV, read as bool (an empty cell as False); in every table a
 # summary's <figure>_closest (simpick.compare.real.class_verdicts).
-BOOL_COLUMNS = {"contributions": {"excluded"}, "verdict_outcomes": {"is_best", "recommendable"},
-                "table11_comparison": {"matches"}}
+BOOL_COLUMNS = {
+    "contributions": {"excluded"},
+    "verdict_outcomes": {"is_best", "recommendable"},
+    "table11_comparison": {"matches"},
+}
 
 
 @dataclass
@@ -224,14 +473,17 @@ def _csv(name: str, path: Path, index: str | None = None) -> pd.DataFrame:
 # simulated statistics, the paper's and the errors between them; the report reads three views of it.
 DETAIL_VIEWS = {
     "trace_stats": lambda d: d[["engine", "terrain", "motion", "quantity", "axis", "mean", "range", "status"]],
-    "reference_stats": lambda d: (d[d["ref_mean"].notna()]
-                                  .drop_duplicates(["terrain", "motion", "quantity", "axis"])
-                                  [["terrain", "motion", "quantity", "axis", "ref_mean", "ref_range", "source"]]
-                                  .rename(columns={"ref_mean": "mean", "ref_range": "range"})
-                                  .reset_index(drop=True)),
-    "per_test_errors": lambda d: (d[d["total_error"].notna()]
-                                  [["engine", "terrain", "motion", "quantity", "axis", "range_error",
-                                    "mean_error", "total_error"]].reset_index(drop=True)),
+    "reference_stats": lambda d: (
+        d[d["ref_mean"].notna()]
+        .drop_duplicates(["terrain", "motion", "quantity", "axis"])[
+            ["terrain", "motion", "quantity", "axis", "ref_mean", "ref_range", "source"]
+        ]
+        .rename(columns={"ref_mean": "mean", "ref_range": "range"})
+        .reset_index(drop=True)
+    ),
+    "per_test_errors": lambda d: d[d["total_error"].notna()][
+        ["engine", "terrain", "motion", "quantity", "axis", "range_error", "mean_error", "total_error"]
+    ].reset_index(drop=True),
 }
 
 
@@ -242,7 +494,7 @@ def figure_key(path: str | Path) -> str:
     if "figures" not in parts:
         return Path(path).stem
     i = len(parts) - 1 - parts[::-1].index("figures")
-    return "/".join(parts[i + 1:])
+    return "/".join(parts[i + 1 :])
 
 
 def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = None) -> ReportData:
@@ -264,10 +516,18 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
 
     sources: dict[str, Any] = {}
     kw: dict[str, Any] = {}
-    for key, index in (("weighted", "engine"), ("runs", None), ("trace_stats", None),
-                       ("reference_stats", None), ("imu_errors", None), ("per_test_errors", None),
-                       ("rtf", None), ("table11", "simulator"), ("table11_comparison", None),
-                       ("endpoints", None)):
+    for key, index in (
+        ("weighted", "engine"),
+        ("runs", None),
+        ("trace_stats", None),
+        ("reference_stats", None),
+        ("imu_errors", None),
+        ("per_test_errors", None),
+        ("rtf", None),
+        ("table11", "simulator"),
+        ("table11_comparison", None),
+        ("endpoints", None),
+    ):
         if given(key):
             p = _path(key, inputs[key])
             sources[key] = str(p)
@@ -276,9 +536,21 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
             else:
                 kw[key] = _csv(key, p, index)
 
-    for key in ("contributions", "drivers", "accuracy_errors", "accuracy_per_test", "segments", "replay_per_window", "validation",
-                "validation_gains", "sweep", "calibration", "calibration_turning", "calibration_target",
-                "real_turning"):
+    for key in (
+        "contributions",
+        "drivers",
+        "accuracy_errors",
+        "accuracy_per_test",
+        "segments",
+        "replay_per_window",
+        "validation",
+        "validation_gains",
+        "sweep",
+        "calibration",
+        "calibration_turning",
+        "calibration_target",
+        "real_turning",
+    ):
         if given(key):
             p = _path(key, inputs[key])
             sources[key] = str(p)

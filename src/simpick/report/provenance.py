@@ -8,8 +8,20 @@ import sys
 from importlib import metadata
 from pathlib import Path
 
-PACKAGES = ("simpick", "numpy", "pandas", "pyarrow", "mujoco", "pybullet", "snakemake",
-            "matplotlib", "jinja2", "weasyprint", "pyyaml", "psutil")
+PACKAGES = (
+    "simpick",
+    "numpy",
+    "pandas",
+    "pyarrow",
+    "mujoco",
+    "pybullet",
+    "snakemake",
+    "matplotlib",
+    "jinja2",
+    "weasyprint",
+    "pyyaml",
+    "psutil",
+)
 
 
 def package_versions(packages=PACKAGES) -> list[tuple[str, str]]:

@@ -23,13 +23,24 @@ from simpick.report.load import REAL_SETS, ReportData
 SET_TITLES = {"segments": "constant-command segments", "replay": "full replay", "own": "own logs"}
 SET_UNITS = {"segments": "segment", "replay": "run", "own": "log"}
 ERROR_FIGURES = ("error_angular", "error_linear")
-FIGURE_LABELS = {"error_angular": "angular velocity", "error_linear": "linear acceleration",
-                 "yaw_rate_gain": "yaw-rate gain"}
-FIGURE_UNITS = {"error_angular": "rad/s", "error_linear": "m/s²", "rmse_yaw_rate": "rad/s", "rmse_ax": "m/s²",
-                "psd_distance_az": "decades"}
+FIGURE_LABELS = {
+    "error_angular": "angular velocity",
+    "error_linear": "linear acceleration",
+    "yaw_rate_gain": "yaw-rate gain",
+}
+FIGURE_UNITS = {
+    "error_angular": "rad/s",
+    "error_linear": "m/s²",
+    "rmse_yaw_rate": "rad/s",
+    "rmse_ax": "m/s²",
+    "psd_distance_az": "decades",
+}
 # Extra columns of the full replay's summary (simpick.compare.real.FIGURES).
-REPLAY_EXTRA = (("rmse_yaw_rate", "RMSE yaw rate (rad/s)"), ("rmse_ax", "RMSE a<sub>x</sub> (m/s²)"),
-                ("psd_distance_az", "PSD distance a<sub>z</sub> (decades)"))
+REPLAY_EXTRA = (
+    ("rmse_yaw_rate", "RMSE yaw rate (rad/s)"),
+    ("rmse_ax", "RMSE a<sub>x</sub> (m/s²)"),
+    ("psd_distance_az", "PSD distance a<sub>z</sub> (decades)"),
+)
 REAL_TABLE_NAMES = ("per_test", "summary", "pairwise")
 TIME_PLOT_MAX_S = 120.0
 
@@ -83,7 +94,7 @@ def group_tests(data: ReportData, tests: Sequence[str], classes: Sequence[str]) 
         if c not in groups:
             continue
         ts = groups[c]
-        short = [t[len(c) + 1:] if c and t.startswith(c + "-") else t for t in ts]
+        short = [t[len(c) + 1 :] if c and t.startswith(c + "-") else t for t in ts]
         out.append({"cls": c, "label": c.replace("_", " ") if c else "", "tests": ts, "short": short, "n": len(ts)})
     return out
 
@@ -97,16 +108,24 @@ def _same_file(a: Any, b: Any) -> bool:
     return bool(a) and bool(b) and Path(str(a)).resolve() == Path(str(b)).resolve()
 
 
-def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], classes: list[str],
-             lab_tests: list[str]) -> dict[str, Any] | None:
+def accuracy(
+    data: ReportData, params: Mapping[str, Any], engines: list[str], classes: list[str], lab_tests: list[str]
+) -> dict[str, Any] | None:
     """The Eq. 7 totals the accuracy scores were computed from, and what they cover, as the
     scores job recorded them (results/scores/provenance.yaml): this reads that record, it
     does not work out again which file or tests were scored."""
     prov = dict((data.scores_provenance or {}).get("accuracy") or {})
     reference, kind, path = prov.get("reference"), prov.get("set") or "lab", prov.get("errors_file")
     if not prov or data.accuracy_errors is None:
-        return {"reference": reference, "kind": kind, "errors_file": path, "given": False,
-                "dataset": prov.get("dataset"), "lab_tests": lab_tests, "lab_scored": False}
+        return {
+            "reference": reference,
+            "kind": kind,
+            "errors_file": path,
+            "given": False,
+            "dataset": prov.get("dataset"),
+            "lab_tests": lab_tests,
+            "lab_scored": False,
+        }
     # the errors file given to the report is the one the scores rest on, or the report says so
     given_file = data.sources.get("accuracy_errors")
     differs = None if _same_file(given_file, path) else str(given_file)
@@ -117,11 +136,19 @@ def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], cl
     rows = []
     for r in ie.to_dict("records"):
         key = f"imu_{r['quantity']}"
-        score = (data.weighted.loc[r["engine"], key] if r["engine"] in data.weighted.index
-                 and key in data.weighted.columns else None)
-        rows.append({**r, "score": score,
-                     "tests_list": [t for t in str(r["tests"]).split(";") if t.strip()],
-                     "excluded_list": [t for t in str(r["excluded"]).split(";") if t.strip()]})
+        score = (
+            data.weighted.loc[r["engine"], key]
+            if r["engine"] in data.weighted.index and key in data.weighted.columns
+            else None
+        )
+        rows.append(
+            {
+                **r,
+                "score": score,
+                "tests_list": [t for t in str(r["tests"]).split(";") if t.strip()],
+                "excluded_list": [t for t in str(r["excluded"]).split(";") if t.strip()],
+            }
+        )
     sets = {tuple(r["tests_list"]) for r in rows}
     tests = list(prov.get("tests") or [])
     if kind != "lab":
@@ -134,14 +161,28 @@ def accuracy(data: ReportData, params: Mapping[str, Any], engines: list[str], cl
     n_by_q = {q: sorted({int(x) for x in sel["n_tests"] if not _isnan(x)}) for q, sel in ie.groupby("quantity")}
     discrimination = _discrimination(data, statistics(params))
     n = len(tests)
-    noun = {"segments": "constant-command segment", "replay": "replayed run", "own": "replayed own log"}.get(kind, "test")
+    noun = {"segments": "constant-command segment", "replay": "replayed run", "own": "replayed own log"}.get(
+        kind, "test"
+    )
     return {
         "count_text": f"{n} {noun}{'s' if n != 1 else ''}",
-        "reference": reference, "kind": kind, "errors_file": path, "given": True, "differs": differs,
-        "dataset": prov.get("dataset"), "rows": rows, "tests": tests, "n": len(tests), "same_for_all": len(sets) <= 1,
-        "excluded": excluded, "why": why, "groups": groups,
+        "reference": reference,
+        "kind": kind,
+        "errors_file": path,
+        "given": True,
+        "differs": differs,
+        "dataset": prov.get("dataset"),
+        "rows": rows,
+        "tests": tests,
+        "n": len(tests),
+        "same_for_all": len(sets) <= 1,
+        "excluded": excluded,
+        "why": why,
+        "groups": groups,
         "uneven": {q: n for q, n in n_by_q.items() if len(n) > 1},
-        "lab_tests": lab_tests, "lab_scored": kind == "lab", "discrimination": discrimination,
+        "lab_tests": lab_tests,
+        "lab_scored": kind == "lab",
+        "discrimination": discrimination,
         "unit_name": SET_UNITS.get(kind, "test"),
         "kind_title": SET_TITLES.get(kind, "lab tests"),
     }
@@ -160,11 +201,17 @@ def _discrimination(data: ReportData, stats: Mapping[str, Any]) -> dict[str, Any
         sep = first.get("separates")
         sep = None if _isnan(sep) or sep in ("", None) else str(sep) == "True"
         shares = [_f(r["floor_share"]) for r in rows if not _isnan(r["floor_share"])]
-        out[str(q)] = {"rows": rows, "spread": _f(first["spread"]), "half_width": _f(first["half_width"]),
-                       "separates": sep, "n_runs": int(_f(first["n_runs"])), "floor": _f(first["floor"]),
-                       "floor_models": [m for m in str(first.get("floor_models") or "").split(";") if m],
-                       "min_runs": stats["min_runs"],
-                       "engine_share_max": max(abs(1 - x) for x in shares) if shares else float("nan")}
+        out[str(q)] = {
+            "rows": rows,
+            "spread": _f(first["spread"]),
+            "half_width": _f(first["half_width"]),
+            "separates": sep,
+            "n_runs": int(_f(first["n_runs"])),
+            "floor": _f(first["floor"]),
+            "floor_models": [m for m in str(first.get("floor_models") or "").split(";") if m],
+            "min_runs": stats["min_runs"],
+            "engine_share_max": max(abs(1 - x) for x in shares) if shares else float("nan"),
+        }
     return out
 
 
@@ -189,8 +236,9 @@ def statistics(params: Mapping[str, Any]) -> dict[str, Any]:
     return st
 
 
-def _real_gain(per_test: pd.DataFrame | None, summary: pd.DataFrame | None, cls: str,
-               stats: Mapping[str, Any] | None = None) -> tuple[dict | None, int]:
+def _real_gain(
+    per_test: pd.DataFrame | None, summary: pd.DataFrame | None, cls: str, stats: Mapping[str, Any] | None = None
+) -> tuple[dict | None, int]:
     """The real robot's yaw-rate gain over the class's tests, as the summarise job wrote it (the
     mean over runs and its interval from statistics.min_runs runs on, beside each model's row: the
     row of the model that completed most tests), and the number of its distinct turning tests."""
@@ -207,8 +255,9 @@ def _real_gain(per_test: pd.DataFrame | None, summary: pd.DataFrame | None, cls:
     return None, n
 
 
-def _set_block(set_: str, tables: Mapping[str, pd.DataFrame], cls: str, engines: list[str],
-               stats: Mapping[str, Any] | None = None) -> dict[str, Any]:
+def _set_block(
+    set_: str, tables: Mapping[str, pd.DataFrame], cls: str, engines: list[str], stats: Mapping[str, Any] | None = None
+) -> dict[str, Any]:
     summary, per_test = tables.get("summary"), tables.get("per_test")
     real_gain, n_gain = _real_gain(per_test, summary, cls, stats)
     n_class = n_runs_class = None
@@ -226,27 +275,43 @@ def _set_block(set_: str, tables: Mapping[str, pd.DataFrame], cls: str, engines:
             if per_test is not None and "yaw_rate_gain_sim" in per_test.columns:
                 pt = per_test[(per_test["terrain_class"] == cls) & (per_test["engine"] == e)]
                 n_turn = int(np.isfinite([_f(x) for x in pt["yaw_rate_gain_sim"]]).sum())
-            rows.append({"engine": e, "n": int(_f(r["n_tests"])) if not _isnan(r["n_tests"]) else 0,
-                         "n_runs": int(_f(r["n_runs"])) if not _isnan(r.get("n_runs")) else None,
-                         "n_gain": n_turn,
-                         "gain": _cell(r, "yaw_rate_gain_sim"),
-                         "errors": {f: _cell(r, f) for f in ERROR_FIGURES},
-                         "extra": {f: _cell(r, f) for f, _ in REPLAY_EXTRA}})
+            rows.append(
+                {
+                    "engine": e,
+                    "n": int(_f(r["n_tests"])) if not _isnan(r["n_tests"]) else 0,
+                    "n_runs": int(_f(r["n_runs"])) if not _isnan(r.get("n_runs")) else None,
+                    "n_gain": n_turn,
+                    "gain": _cell(r, "yaw_rate_gain_sim"),
+                    "errors": {f: _cell(r, f) for f in ERROR_FIGURES},
+                    "extra": {f: _cell(r, f) for f, _ in REPLAY_EXTRA},
+                }
+            )
     failed = []
     if per_test is not None:
         bad = per_test[(per_test["terrain_class"] == cls) & (per_test["status"].str.lower() != "ok")]
-        failed = [{"engine": r["engine"], "test": r["segment"], "status": r["status"], "reasons": r["reasons"]}
-                  for r in bad.to_dict("records")]
-    extra = [(f, label) for f, label in REPLAY_EXTRA
-             if summary is not None and f in summary.columns]
-    return {"set": set_, "title": SET_TITLES.get(set_, set_), "unit": SET_UNITS.get(set_, "test"),
-            "real_gain": real_gain, "n_gain_real": n_gain, "n_class": n_class, "n_runs": n_runs_class,
-            "rows": rows, "failed": failed,
-            "extra": extra, "given": summary is not None}
+        failed = [
+            {"engine": r["engine"], "test": r["segment"], "status": r["status"], "reasons": r["reasons"]}
+            for r in bad.to_dict("records")
+        ]
+    extra = [(f, label) for f, label in REPLAY_EXTRA if summary is not None and f in summary.columns]
+    return {
+        "set": set_,
+        "title": SET_TITLES.get(set_, set_),
+        "unit": SET_UNITS.get(set_, "test"),
+        "real_gain": real_gain,
+        "n_gain_real": n_gain,
+        "n_class": n_class,
+        "n_runs": n_runs_class,
+        "rows": rows,
+        "failed": failed,
+        "extra": extra,
+        "given": summary is not None,
+    }
 
 
-def _blocks(data: ReportData, params: Mapping[str, Any], engines: list[str],
-            classes: list[str]) -> tuple[list[str], list[dict], dict[str, list[dict]]]:
+def _blocks(
+    data: ReportData, params: Mapping[str, Any], engines: list[str], classes: list[str]
+) -> tuple[list[str], list[dict], dict[str, list[dict]]]:
     """Per shown class and real-data set, the block of tables and verdicts (:func:`_set_block`)."""
     rd = dict(params.get("real_data") or {})
     class_params = {str(k): (v or {}) for k, v in (rd.get("classes") or {}).items()}
@@ -255,13 +320,24 @@ def _blocks(data: ReportData, params: Mapping[str, Any], engines: list[str],
     stats = statistics(params)
     blocks_by_set: dict[str, list[dict]] = {s: [] for s in sets}
     class_blocks = []
-    shown_classes = [c for c in classes if any(
-        (t := data.real[s].get(k)) is not None and (t["terrain_class"] == c).any()
-        for s in sets for k in ("summary", "per_test"))]
+    shown_classes = [
+        c
+        for c in classes
+        if any(
+            (t := data.real[s].get(k)) is not None and (t["terrain_class"] == c).any()
+            for s in sets
+            for k in ("summary", "per_test")
+        )
+    ]
     for cls in shown_classes:
         cp = class_params.get(cls, {})
-        item = {"cls": cls, "label": cls.replace("_", " "), "friction": cp.get("friction"),
-                "source": cp.get("source"), "sets": []}
+        item = {
+            "cls": cls,
+            "label": cls.replace("_", " "),
+            "friction": cp.get("friction"),
+            "source": cp.get("source"),
+            "sets": [],
+        }
         for s in sets:
             block = _set_block(s, data.real[s], cls, engines, stats)
             block["scored"] = s == scored_set
@@ -271,35 +347,54 @@ def _blocks(data: ReportData, params: Mapping[str, Any], engines: list[str],
     return shown_classes, class_blocks, blocks_by_set
 
 
-def gain_panels(data: ReportData, params: Mapping[str, Any], engines: list[str],
-                colors: Mapping[str, str]) -> list[dict]:
+def gain_panels(
+    data: ReportData, params: Mapping[str, Any], engines: list[str], colors: Mapping[str, str]
+) -> list[dict]:
     """The yaw-rate-gain figure's panels (rule figure_real_gain): one per real-data set."""
     classes = class_order(data, params)
     _, _, blocks_by_set = _blocks(data, params, engines, classes)
     return _gain_panels(blocks_by_set, classes, engines, colors)
 
 
-def _gain_panels(blocks_by_set: dict[str, list[dict]], classes: list[str], engines: list[str],
-                 colors: Mapping[str, str]) -> list[dict]:
+def _gain_panels(
+    blocks_by_set: dict[str, list[dict]], classes: list[str], engines: list[str], colors: Mapping[str, str]
+) -> list[dict]:
     panels = []
     for set_, blocks in blocks_by_set.items():
-        shown = [b for b in blocks if b["block"]["real_gain"] is not None or any(
-            r.get("gain") and not _isnan(r["gain"]["mean"]) for r in b["block"]["rows"])]
+        shown = [
+            b
+            for b in blocks
+            if b["block"]["real_gain"] is not None
+            or any(r.get("gain") and not _isnan(r["gain"]["mean"]) for r in b["block"]["rows"])
+        ]
         if not shown:
             continue
         cls = [b["cls"] for b in shown]
-        bars = [{"label": figures.REAL_LABEL, "color": figures.REAL_COLOR, "real": True,
-                 "mean": [(b["block"]["real_gain"] or {}).get("mean") for b in shown],
-                 "low": [(b["block"]["real_gain"] or {}).get("low") for b in shown],
-                 "high": [(b["block"]["real_gain"] or {}).get("high") for b in shown]}]
+        bars = [
+            {
+                "label": figures.REAL_LABEL,
+                "color": figures.REAL_COLOR,
+                "real": True,
+                "mean": [(b["block"]["real_gain"] or {}).get("mean") for b in shown],
+                "low": [(b["block"]["real_gain"] or {}).get("low") for b in shown],
+                "high": [(b["block"]["real_gain"] or {}).get("high") for b in shown],
+            }
+        ]
         have = [e for e in engines if any(r["engine"] == e for b in shown for r in b["block"]["rows"])]
         for e in have:
-            cells = [next((r["gain"] for r in b["block"]["rows"] if r["engine"] == e and r.get("gain")), None)
-                     for b in shown]
-            bars.append({"label": e, "color": colors.get(e, "#777777"), "real": False,
-                         "mean": [c["mean"] if c else None for c in cells],
-                         "low": [c["low"] if c else None for c in cells],
-                         "high": [c["high"] if c else None for c in cells]})
+            cells = [
+                next((r["gain"] for r in b["block"]["rows"] if r["engine"] == e and r.get("gain")), None) for b in shown
+            ]
+            bars.append(
+                {
+                    "label": e,
+                    "color": colors.get(e, "#777777"),
+                    "real": False,
+                    "mean": [c["mean"] if c else None for c in cells],
+                    "low": [c["low"] if c else None for c in cells],
+                    "high": [c["high"] if c else None for c in cells],
+                }
+            )
         panels.append({"title": SET_TITLES.get(set_, set_), "classes": cls, "bars": bars})
     return panels
 
@@ -325,17 +420,24 @@ def _segments_table(data: ReportData, classes: list[str], engines: list[str]) ->
                 if res is None:
                     cells.append(None)
                     continue
-                cells.append({"ok": str(res["status"]).lower() == "ok", "status": res["status"],
-                              "gain": _f(res.get("yaw_rate_gain_sim")), "ang": _f(res.get("error_angular")),
-                              "lin": _f(res.get("error_linear")), "speed": _f(res.get("speed_sim"))})
-            short = r["segment"][len(cls) + 1:] if r["segment"].startswith(cls + "-") else r["segment"]
+                cells.append(
+                    {
+                        "ok": str(res["status"]).lower() == "ok",
+                        "status": res["status"],
+                        "gain": _f(res.get("yaw_rate_gain_sim")),
+                        "ang": _f(res.get("error_angular")),
+                        "lin": _f(res.get("error_linear")),
+                        "speed": _f(res.get("speed_sim")),
+                    }
+                )
+            short = r["segment"][len(cls) + 1 :] if r["segment"].startswith(cls + "-") else r["segment"]
             rows.append({**r, "short": short, "cells": cells})
         groups.append({"cls": cls, "label": cls.replace("_", " "), "rows": rows})
     return groups
 
 
 def _hz_range(values: Sequence[float]) -> str | None:
-    """"100 Hz" or "49.9–50.1 Hz" (4 significant digits), None when there are none."""
+    """ "100 Hz" or "49.9–50.1 Hz" (4 significant digits), None when there are none."""
     vals = sorted(float(v) for v in values if v is not None and not _isnan(v))
     if not vals:
         return None
@@ -345,8 +447,11 @@ def _hz_range(values: Sequence[float]) -> str | None:
 
 def _declared_text(declared: Mapping[str, Any] | None) -> str | None:
     declared = declared or {}
-    parts = [f"{what} {float(declared[key]):g} Hz" for key, what in (("imu_hz", "IMU"), ("commands_hz", "wheels"))
-             if declared.get(key)]
+    parts = [
+        f"{what} {float(declared[key]):g} Hz"
+        for key, what in (("imu_hz", "IMU"), ("commands_hz", "wheels"))
+        if declared.get(key)
+    ]
     return ", ".join(parts) or None
 
 
@@ -360,33 +465,55 @@ def datasets(data: ReportData, params: Mapping[str, Any]) -> list[dict[str, Any]
         d = declared.get("segments") or {}
         prov = data.segments_provenance or {}
         rates = prov.get("rates_hz") or {}
-        label = d.get("label") or (str(data.segments["dataset"].iloc[0]) if "dataset" in data.segments.columns
-                                   and len(data.segments) else None)
-        rows.append({"set": "segments", "title": SET_TITLES["segments"], "label": label or "(not named)",
-                     "where": "the committed segment table", "n": f"{len(data.segments)} segments",
-                     "imu": _hz_range(rates.get("imu") or []), "commands": _hz_range(rates.get("commands") or []),
-                     "declared": _declared_text(d.get("declared")),
-                     "simulated": _hz_range([d["simulated_imu_hz"]] if d.get("simulated_imu_hz") else [])})
+        label = d.get("label") or (
+            str(data.segments["dataset"].iloc[0]) if "dataset" in data.segments.columns and len(data.segments) else None
+        )
+        rows.append(
+            {
+                "set": "segments",
+                "title": SET_TITLES["segments"],
+                "label": label or "(not named)",
+                "where": "the committed segment table",
+                "n": f"{len(data.segments)} segments",
+                "imu": _hz_range(rates.get("imu") or []),
+                "commands": _hz_range(rates.get("commands") or []),
+                "declared": _declared_text(d.get("declared")),
+                "simulated": _hz_range([d["simulated_imu_hz"]] if d.get("simulated_imu_hz") else []),
+            }
+        )
     replay = (data.real.get("replay") or {}).get("per_test")
     if replay is not None and "real_imu_hz" in replay:
         # the replay's per-test table carries each run's measured rates and each trace's IMU rate
         # (simpick.compare.real.replay_compare): the report reads no log or trace itself
         d = declared.get("replay") or {}
         per_run = replay.drop_duplicates(["terrain_class", "run"])
-        rows.append({"set": "replay", "title": SET_TITLES["replay"],
-                     "label": d.get("label") or d.get("name") or "(not named)", "where": d.get("folder") or "",
-                     "n": f"{len(per_run)} runs", "imu": _hz_range(per_run.real_imu_hz.dropna().tolist()),
-                     "commands": _hz_range(per_run.real_commands_hz.dropna().tolist()),
-                     "declared": _declared_text(d.get("declared")),
-                     "simulated": _hz_range(replay.sim_imu_hz.dropna().tolist())})
+        rows.append(
+            {
+                "set": "replay",
+                "title": SET_TITLES["replay"],
+                "label": d.get("label") or d.get("name") or "(not named)",
+                "where": d.get("folder") or "",
+                "n": f"{len(per_run)} runs",
+                "imu": _hz_range(per_run.real_imu_hz.dropna().tolist()),
+                "commands": _hz_range(per_run.real_commands_hz.dropna().tolist()),
+                "declared": _declared_text(d.get("declared")),
+                "simulated": _hz_range(replay.sim_imu_hz.dropna().tolist()),
+            }
+        )
     for row, d in zip(rows, [declared.get(r["set"]) or {} for r in rows]):
         stated = (d.get("declared") or {}).get("commands_hz")
         row["wheel_rate"] = row["commands"] or (f"{float(stated):g} Hz (declared)" if stated else None)
     return rows
 
 
-def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str],
-                 colors: Mapping[str, str], classes: list[str], acc: dict | None) -> dict[str, Any]:
+def real_section(
+    data: ReportData,
+    params: Mapping[str, Any],
+    engines: list[str],
+    colors: Mapping[str, str],
+    classes: list[str],
+    acc: dict | None,
+) -> dict[str, Any]:
     rd = dict(params.get("real_data") or {})
     class_params = {str(k): (v or {}) for k, v in (rd.get("classes") or {}).items()}
     sets = [s for s in REAL_SETS if data.real.get(s)]
@@ -421,11 +548,20 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
             cells = {}
             for f in ERROR_FIGURES:
                 closest = sel[sel[f"{f}_closest"]] if f"{f}_closest" in sel.columns else sel.iloc[0:0]
-                cells[f] = ({"engine": closest["engine"].iloc[0], "outcome": closest[f"{f}_outcome"].iloc[0]}
-                            if len(closest) else None)
+                cells[f] = (
+                    {"engine": closest["engine"].iloc[0], "outcome": closest[f"{f}_outcome"].iloc[0]}
+                    if len(closest)
+                    else None
+                )
             runs = sel["n_runs"].max() if "n_runs" in sel.columns else None
-            rows.append({"cls": cls, "label": cls.replace("_", " "), "cells": cells,
-                         "n_runs": None if _isnan(runs) else int(runs)})
+            rows.append(
+                {
+                    "cls": cls,
+                    "label": cls.replace("_", " "),
+                    "cells": cells,
+                    "n_runs": None if _isnan(runs) else int(runs),
+                }
+            )
         glance.append({"set": s_, "title": SET_TITLES[s_], "rows": rows, "scored": s_ == scored_set})
 
     # the paired differences per class, as the compare job wrote them (pairwise.csv), for the appendix
@@ -446,21 +582,28 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
                     closest |= {(c, f, e) for c, e in zip(sel["terrain_class"], sel["engine"])}
         records = pw.to_dict("records")
         if closest:
-            records = [r for r in records if (r["terrain_class"], r["figure"], r["engine_a"]) in closest
-                       or (r["terrain_class"], r["figure"], r["engine_b"]) in closest]
+            records = [
+                r
+                for r in records
+                if (r["terrain_class"], r["figure"], r["engine_a"]) in closest
+                or (r["terrain_class"], r["figure"], r["engine_b"]) in closest
+            ]
         rows = sorted(records, key=lambda r: (pos.get(r["terrain_class"], len(pos)), r["figure"]))
         for r in rows:
             r["figure_label"] = FIGURE_LABELS.get(r["figure"], r["figure"])
             r.setdefault("n_runs", float("nan"))
             r.setdefault("p_value", float("nan"))
-        pairwise.append({"set": s_, "title": SET_TITLES[s_], "rows": rows, "with_closest": bool(closest),
-                         "n_all": len(pw)})
+        pairwise.append(
+            {"set": s_, "title": SET_TITLES[s_], "rows": rows, "with_closest": bool(closest), "n_all": len(pw)}
+        )
 
     gain_file = data.figures.get("real_gain")
     gain_uri = figures.data_uri(gain_file) if gain_file else None
     turning_file = data.figures.get("real_turning")
-    turning = {"uri": figures.data_uri(turning_file) if turning_file else None,
-               "rows": data.real_turning.to_dict("records") if data.real_turning is not None else []}
+    turning = {
+        "uri": figures.data_uri(turning_file) if turning_file else None,
+        "rows": data.real_turning.to_dict("records") if data.real_turning is not None else [],
+    }
 
     # the full replay's figures (rule figure_replay): the PNG and the notes the job wrote beside it
     pos = {c: i for i, c in enumerate(classes)}
@@ -468,13 +611,21 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
     for key, note in sorted(data.figure_notes.items(), key=lambda kv: (pos.get(kv[1].get("cls"), len(pos)), kv[0])):
         if key.startswith("replay/") and note.get("drawn") and key in data.figures:
             replay_figs.append({**note, "band": tuple(note["band"]), "uri": figures.data_uri(data.figures[key])})
-    undrawn = sorted(n.get("cls") for k, n in data.figure_notes.items() if k.startswith("replay/") and not n.get("drawn"))
+    undrawn = sorted(
+        n.get("cls") for k, n in data.figure_notes.items() if k.startswith("replay/") and not n.get("drawn")
+    )
     if undrawn:  # figure_replay had no real log of the class (simpick.report.draw.replay)
         replay_notes.append(f"no real log to draw for {', '.join(c.replace('_', ' ') for c in undrawn)}")
 
-    limits_classes = [{"cls": c, "label": c.replace("_", " "), "friction": class_params.get(c, {}).get("friction"),
-                       "source": class_params.get(c, {}).get("source")}
-                      for c in (list(class_params) + [c for c in shown_classes if c not in class_params])]
+    limits_classes = [
+        {
+            "cls": c,
+            "label": c.replace("_", " "),
+            "friction": class_params.get(c, {}).get("friction"),
+            "source": class_params.get(c, {}).get("source"),
+        }
+        for c in (list(class_params) + [c for c in shown_classes if c not in class_params])
+    ]
     prov = data.segments_provenance or {}
     n_small = {}
     for item in class_blocks:
@@ -483,16 +634,32 @@ def real_section(data: ReportData, params: Mapping[str, Any], engines: list[str]
             if ns:
                 n_small.setdefault(b["set"], []).append((item["cls"], min(ns)))
     return {
-        "given": given, "sets": sets, "missing": missing, "empty": empty, "classes": class_blocks, "pairwise": pairwise, "glance": glance,
-        "gain_uri": gain_uri, "turning": turning, "segments": _segments_table(data, classes, engines),
-        "provenance": {"derived_by": prov.get("derived_by"), "found": prov.get("segments_found"),
-                       "kept": prov.get("segments_kept")},
-        "replay": "replay" in sets, "replay_figs": replay_figs,
-        "replay_notes": replay_notes, "limits_classes": limits_classes,
+        "given": given,
+        "sets": sets,
+        "missing": missing,
+        "empty": empty,
+        "classes": class_blocks,
+        "pairwise": pairwise,
+        "glance": glance,
+        "gain_uri": gain_uri,
+        "turning": turning,
+        "segments": _segments_table(data, classes, engines),
+        "provenance": {
+            "derived_by": prov.get("derived_by"),
+            "found": prov.get("segments_found"),
+            "kept": prov.get("segments_kept"),
+        },
+        "replay": "replay" in sets,
+        "replay_figs": replay_figs,
+        "replay_notes": replay_notes,
+        "limits_classes": limits_classes,
         "dataset": (rd.get("dataset") or (acc or {}).get("dataset")),
-        "dataset_text": prov.get("dataset"), "scored_set": scored_set,
-        "window": rd.get("window"), "segment_rules": rd.get("segment_rules") or {},
-        "n_small": n_small, "stats": stats,
+        "dataset_text": prov.get("dataset"),
+        "scored_set": scored_set,
+        "window": rd.get("window"),
+        "segment_rules": rd.get("segment_rules") or {},
+        "n_small": n_small,
+        "stats": stats,
         "replay_wanted": bool((params.get("accuracy") or {}).get("replay")),
         "datasets": datasets(data, params),
     }

@@ -69,8 +69,15 @@ def draw_tree(tree: dict, totals: dict[str, float]):
         if node["kind"] != "question":
             continue
         x, y = xy(nid)
-        ax.text(x, y, textwrap.fill(node["text"], wrap), fontsize=FONT, va="center", ha="left",
-                bbox={"boxstyle": "round,pad=0.25", "fc": "#eef3fb", "ec": "#5577aa", "lw": 0.6})
+        ax.text(
+            x,
+            y,
+            textwrap.fill(node["text"], wrap),
+            fontsize=FONT,
+            va="center",
+            ha="left",
+            bbox={"boxstyle": "round,pad=0.25", "fc": "#eef3fb", "ec": "#5577aa", "lw": 0.6},
+        )
         labels: dict[str, list[str]] = {}
         full: dict[str, list[str]] = {}
         for answer in node["answers"]:
@@ -83,8 +90,15 @@ def draw_tree(tree: dict, totals: dict[str, float]):
         for child, names in labels.items():
             cx, cy = xy(child)
             ax.plot([elbow - 0.05, elbow, cx - 0.04], [y, cy, cy], color="#888888", lw=0.5)
-            ax.text(elbow + 0.03, cy - 0.02, textwrap.fill(" / ".join(names), int((cx - elbow) * chars * 1.1)),
-                    fontsize=FONT - 1, va="bottom", ha="left", color="#333333")
+            ax.text(
+                elbow + 0.03,
+                cy - 0.02,
+                textwrap.fill(" / ".join(names), int((cx - elbow) * chars * 1.1)),
+                fontsize=FONT - 1,
+                va="bottom",
+                ha="left",
+                color="#333333",
+            )
     for nid in leaves:
         node = tree["nodes"][nid]
         x, y = xy(nid)
@@ -100,16 +114,30 @@ def draw_tree(tree: dict, totals: dict[str, float]):
         ax.text(x, y - 0.045, name(ordered[0]), fontsize=FONT + 0.5, va="center", fontweight="bold")
         if len(ordered) > 1:
             rest = "then " + ", ".join(name(e) for e in ordered[1:])
-            ax.text(x, y + 0.085, textwrap.shorten(rest, int(leaf_width * chars),
-                                                   placeholder="..."), fontsize=FONT - 1, va="center",
-                    color="#333333")
-    ax.text(0.05, 0.15, "Decision tree from the study's evidence: each answer keeps the engines that meet it",
-            fontsize=FONT + 1.5, fontweight="bold", va="center")
-    legend = ("Leaves: the pick in bold, then the others that meet every answer, by the paper's weighted total "
-              "at the study's weights" + ("; † fails analytic mechanics" if fails else ""))
+            ax.text(
+                x,
+                y + 0.085,
+                textwrap.shorten(rest, int(leaf_width * chars), placeholder="..."),
+                fontsize=FONT - 1,
+                va="center",
+                color="#333333",
+            )
+    ax.text(
+        0.05,
+        0.15,
+        "Decision tree from the study's evidence: each answer keeps the engines that meet it",
+        fontsize=FONT + 1.5,
+        fontweight="bold",
+        va="center",
+    )
+    legend = (
+        "Leaves: the pick in bold, then the others that meet every answer, by the paper's weighted total "
+        "at the study's weights" + ("; † fails analytic mechanics" if fails else "")
+    )
     if tree.get("not_asked"):
         legend += ". Not asked (no answer changes the engines): " + "; ".join(
-            f"{q['question']} ({q['why']})" for q in tree["not_asked"])
+            f"{q['question']} ({q['why']})" for q in tree["not_asked"]
+        )
     ax.text(0.05, height - 0.12, textwrap.fill(legend, 150), fontsize=FONT - 1, va="bottom", color="#333333")
     return fig
 

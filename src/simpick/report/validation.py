@@ -48,15 +48,25 @@ def gain_rows(gains: pd.DataFrame | None, engines: list[str]) -> list[dict]:
             continue
         for e in _present(g, engines):
             r = g[g.engine == e].iloc[0]
-            rows.append({"v": v, "w": w, "mu": mu, "engine": e, "analytic": r.analytic,
-                         "left": (r.left_mean, r.left_min, r.left_max, int(r.n_left)),
-                         "right": (r.right_mean, r.right_min, r.right_max, int(r.n_right)),
-                         "spread": r.spread, "headings": r.headings})
+            rows.append(
+                {
+                    "v": v,
+                    "w": w,
+                    "mu": mu,
+                    "engine": e,
+                    "analytic": r.analytic,
+                    "left": (r.left_mean, r.left_min, r.left_max, int(r.n_left)),
+                    "right": (r.right_mean, r.right_min, r.right_max, int(r.n_right)),
+                    "spread": r.spread,
+                    "headings": r.headings,
+                }
+            )
     return rows
 
 
-def validation_section(summary: pd.DataFrame | None, engines: list[str], figure: str | None,
-                       gains: pd.DataFrame | None = None) -> dict[str, Any]:
+def validation_section(
+    summary: pd.DataFrame | None, engines: list[str], figure: str | None, gains: pd.DataFrame | None = None
+) -> dict[str, Any]:
     """``figure``: the gain figure's file (rule figure_validation), None when not drawn;
     ``gains``: the gain table (results/validation/gains.csv), None when not given."""
     if summary is None or summary.empty:
@@ -72,15 +82,36 @@ def validation_section(summary: pd.DataFrame | None, engines: list[str], figure:
             cells = {}
             for e in present:
                 r = g[g.engine == e]
-                cells[e] = ({"value": r.engine_value.iloc[0], "error": r.error.iloc[0],
-                             "passed": bool(r.passed.iloc[0]), "status": r.status.iloc[0]} if len(r) else None)
-            rows.append({"case": case, "quantity": quantity, "unit": first.unit, "analytic": first.analytic_value,
-                         "tolerance": first.tolerance, "error_kind": first.error_kind, "cells": cells})
+                cells[e] = (
+                    {
+                        "value": r.engine_value.iloc[0],
+                        "error": r.error.iloc[0],
+                        "passed": bool(r.passed.iloc[0]),
+                        "status": r.status.iloc[0],
+                    }
+                    if len(r)
+                    else None
+                )
+            rows.append(
+                {
+                    "case": case,
+                    "quantity": quantity,
+                    "unit": first.unit,
+                    "analytic": first.analytic_value,
+                    "tolerance": first.tolerance,
+                    "error_kind": first.error_kind,
+                    "cells": cells,
+                }
+            )
     uri = figures.data_uri(figure) if figure and gains is not None and len(gains) else None
     failed = failures(summary)
     passed = [e for e in present if e not in failed]
-    costs = summary[~summary.kind.isin(["invariance"]) & (summary.status != "skipped")].groupby(
-        "engine").steps_per_s.median().to_dict()
+    costs = (
+        summary[~summary.kind.isin(["invariance"]) & (summary.status != "skipped")]
+        .groupby("engine")
+        .steps_per_s.median()
+        .to_dict()
+    )
     mu = float(gains[gains.v == 0.5].mu.max()) if gains is not None and (gains.v == 0.5).any() else None
     # skipped for every engine (not applicable to the robot): "case"; for some (an engine without
     # the setting a case needs, e.g. friction_ratio): "case (engines)"
@@ -89,6 +120,16 @@ def validation_section(summary: pd.DataFrame | None, engines: list[str], figure:
         ran = summary[(summary.case == case) & (summary.status != "skipped")]
         label = case if ran.empty else f"{case} ({', '.join(_present(gone, engines))})"
         skipped[label] = "; ".join(dict.fromkeys(gone.reasons))
-    return {"given": True, "engines": present, "rows": rows, "gain_uri": uri, "gain_mu": mu,
-            "gain_rows": gain_rows(gains, engines), "failed": failed, "passed": passed, "costs": costs,
-            "n_cases": len(cases), "skipped": skipped}
+    return {
+        "given": True,
+        "engines": present,
+        "rows": rows,
+        "gain_uri": uri,
+        "gain_mu": mu,
+        "gain_rows": gain_rows(gains, engines),
+        "failed": failed,
+        "passed": passed,
+        "costs": costs,
+        "n_cases": len(cases),
+        "skipped": skipped,
+    }

@@ -22,14 +22,33 @@ import numpy as np
 import pandas as pd
 import yaml
 
+from simpick.score.verdict import (
+    METRICS,
+    SEPARATION_COLUMNS,
+    paper_rows,
+    ranking,
+    read_per_test,
+    run_key,
+    separation_rows,
+)
 from simpick.tables import write_csv
-from simpick.score.verdict import (METRICS, SEPARATION_COLUMNS, paper_rows, ranking, read_per_test, run_key,
-                                   separation_rows)
 
-ANSWER_COLUMNS = ["engine", "mechanics", "mechanics_failed", "mechanics_cases", "mechanics_note",
-                  *[f"{m}_{k}" for m in METRICS for k in ("outcome", "diff", "low", "high", "margin")],
-                  "gain_ratio", "gain_ratio_calibrated", "rtf", "cpu_average", "cpu_intense", "paper_total",
-                  "paper_rank", "paper_flag"]
+ANSWER_COLUMNS = [
+    "engine",
+    "mechanics",
+    "mechanics_failed",
+    "mechanics_cases",
+    "mechanics_note",
+    *[f"{m}_{k}" for m in METRICS for k in ("outcome", "diff", "low", "high", "margin")],
+    "gain_ratio",
+    "gain_ratio_calibrated",
+    "rtf",
+    "cpu_average",
+    "cpu_intense",
+    "paper_total",
+    "paper_rank",
+    "paper_flag",
+]
 PRIMARY = ("gain_error", "heading_error", "speed_error")  # the metric a "closest" sentence rests on first
 CALIBRATED_POOL = "target classes"  # simpick.studies.calibration.TARGET_POOL: the held-out runs judged together
 
@@ -46,7 +65,8 @@ def gain_ratios(per_test: pd.DataFrame, engines: list[str]) -> dict[str, float]:
         return {}
     frame = per_test[per_test.status == "ok"].assign(
         sim=lambda f: pd.to_numeric(f.yaw_rate_gain_sim, errors="coerce"),
-        real=lambda f: pd.to_numeric(f.yaw_rate_gain_real, errors="coerce"))
+        real=lambda f: pd.to_numeric(f.yaw_rate_gain_real, errors="coerce"),
+    )
     frame = frame[np.isfinite(frame.sim) & np.isfinite(frame.real)]
     out = {}
     for engine in engines:
@@ -77,40 +97,70 @@ def machine_figures(rtf: str, cpu_files: list[str]) -> tuple[dict, dict]:
     for path in cpu_files:
         c = json.loads(Path(path).read_text())
         ok = (c.get("health") or {}).get("status", "ok") == "ok"
-        cpu[c["engine"]] = ((float(c["average"]["load_percent"]), float(c["intense"]["load_percent"])) if ok
-                            else (float("nan"), float("nan")))
+        cpu[c["engine"]] = (
+            (float(c["average"]["load_percent"]), float(c["intense"]["load_percent"]))
+            if ok
+            else (float("nan"), float("nan"))
+        )
     return rtfs, cpu
 
 
-def answer_table(outcomes: pd.DataFrame, mechanics: pd.DataFrame, weighted: pd.DataFrame, engines: list[str],
-                 ratios: dict, calibration: pd.DataFrame, rtfs: dict, cpu: dict) -> pd.DataFrame:
+def answer_table(
+    outcomes: pd.DataFrame,
+    mechanics: pd.DataFrame,
+    weighted: pd.DataFrame,
+    engines: list[str],
+    ratios: dict,
+    calibration: pd.DataFrame,
+    rtfs: dict,
+    cpu: dict,
+) -> pd.DataFrame:
     """One row per engine (``ANSWER_COLUMNS``), in the order of the study's engines."""
     mech = mechanics.set_index("engine")
     cal = calibration.set_index("engine").gain_ratio.to_dict() if len(calibration) else {}
     rows = []
     for engine in engines:
         m = mech.loc[engine]
-        row = {"engine": engine, "mechanics": m.mechanics, "mechanics_failed": int(m.mechanics_failed),
-               "mechanics_cases": int(m.mechanics_cases), "mechanics_note": m.mechanics_note}
+        row = {
+            "engine": engine,
+            "mechanics": m.mechanics,
+            "mechanics_failed": int(m.mechanics_failed),
+            "mechanics_cases": int(m.mechanics_cases),
+            "mechanics_note": m.mechanics_note,
+        }
         for metric in METRICS:
             o = outcomes[(outcomes.metric == metric) & (outcomes.engine == engine)]
             o = o.iloc[0] if len(o) else {}
-            row.update({f"{metric}_outcome": o.get("outcome", "not measurable"),
-                        f"{metric}_diff": o.get("diff_to_best", float("nan")),
-                        f"{metric}_low": o.get("diff_low", float("nan")),
-                        f"{metric}_high": o.get("diff_high", float("nan")),
-                        f"{metric}_margin": o.get("margin", float("nan"))})
+            row.update(
+                {
+                    f"{metric}_outcome": o.get("outcome", "not measurable"),
+                    f"{metric}_diff": o.get("diff_to_best", float("nan")),
+                    f"{metric}_low": o.get("diff_low", float("nan")),
+                    f"{metric}_high": o.get("diff_high", float("nan")),
+                    f"{metric}_margin": o.get("margin", float("nan")),
+                }
+            )
         flag = ""
         if m.mechanics == "fail":
-            flag = (f"fails mechanics ({int(m.mechanics_failed)} of {int(m.mechanics_cases)} cases)"
-                    if int(m.mechanics_failed) else f"fails mechanics ({m.mechanics_note})")
+            flag = (
+                f"fails mechanics ({int(m.mechanics_failed)} of {int(m.mechanics_cases)} cases)"
+                if int(m.mechanics_failed)
+                else f"fails mechanics ({m.mechanics_note})"
+            )
         average, intense = cpu.get(engine, (float("nan"), float("nan")))
         in_table = engine in weighted.index
-        row.update({"gain_ratio": ratios.get(engine, float("nan")),
-                    "gain_ratio_calibrated": cal.get(engine, float("nan")),
-                    "rtf": rtfs.get(engine, float("nan")), "cpu_average": average, "cpu_intense": intense,
-                    "paper_total": float(weighted.loc[engine, "total"]) if in_table else float("nan"),
-                    "paper_rank": int(weighted.loc[engine, "rank"]) if in_table else None, "paper_flag": flag})
+        row.update(
+            {
+                "gain_ratio": ratios.get(engine, float("nan")),
+                "gain_ratio_calibrated": cal.get(engine, float("nan")),
+                "rtf": rtfs.get(engine, float("nan")),
+                "cpu_average": average,
+                "cpu_intense": intense,
+                "paper_total": float(weighted.loc[engine, "total"]) if in_table else float("nan"),
+                "paper_rank": int(weighted.loc[engine, "rank"]) if in_table else None,
+                "paper_flag": flag,
+            }
+        )
         rows.append(row)
     return pd.DataFrame(rows, columns=ANSWER_COLUMNS)
 
@@ -119,8 +169,10 @@ def _cite(o: pd.Series) -> str:
     """A row of outcomes.csv as the figure a sentence rests on."""
     text = f"outcomes.csv: {o.metric} {o.engine} {o.outcome}, mean {_f(o['mean'])}"
     if not o.is_best and np.isfinite(o.diff_to_best):
-        text += (f", difference to {o.best} {_f(o.diff_to_best)} [{_f(o.diff_low)}, {_f(o.diff_high)}], margin "
-                 f"{_f(o.margin)}, p_worse {_f(o.p_worse, 2)}, p_equivalent {_f(o.p_equivalent, 2)}")
+        text += (
+            f", difference to {o.best} {_f(o.diff_to_best)} [{_f(o.diff_low)}, {_f(o.diff_high)}], margin "
+            f"{_f(o.margin)}, p_worse {_f(o.p_worse, 2)}, p_equivalent {_f(o.p_equivalent, 2)}"
+        )
     return text
 
 
@@ -138,72 +190,108 @@ def closest_sentence(outcomes: pd.DataFrame, robot: str) -> dict:
         b = best.iloc[0]
         label, unit = b.label, f" {b.unit}" if isinstance(b.unit, str) and b.unit else ""
         if b.outcome == "too few runs":
-            return {"need": "closest", "text": f"Too few real runs to name the engine closest to the {robot} on "
-                    f"{label}: {b.engine} has the lowest mean ({_f(b['mean'])}{unit}) over {int(b.n_runs)} runs.",
-                    "rests_on": [_cite(b)]}
-        text = (f"Closest to the {robot} on {label}: {b.engine} ({_f(b['mean'])}{unit} [{_f(b.low)}, {_f(b.high)}] "
-                f"over {int(b.n_runs)} real runs)")
+            return {
+                "need": "closest",
+                "text": f"Too few real runs to name the engine closest to the {robot} on "
+                f"{label}: {b.engine} has the lowest mean ({_f(b['mean'])}{unit}) over {int(b.n_runs)} runs.",
+                "rests_on": [_cite(b)],
+            }
+        text = (
+            f"Closest to the {robot} on {label}: {b.engine} ({_f(b['mean'])}{unit} [{_f(b.low)}, {_f(b.high)}] "
+            f"over {int(b.n_runs)} real runs)"
+        )
         if not b.recommendable:
             text += ", though no engine passes the mechanics this metric rests on"
         others = g[~g.is_best.astype(bool)]
         eq, worse, open_ = (others[others.outcome == k] for k in ("equivalent", "worse", "undetermined"))
         if len(eq):
-            text += (f"; equivalent to it within the margin {_f(b.margin)}{unit} ({b.margin_basis}): {_names(eq)}, "
-                     "any of them serves as well")
+            text += (
+                f"; equivalent to it within the margin {_f(b.margin)}{unit} ({b.margin_basis}): {_names(eq)}, "
+                "any of them serves as well"
+            )
         if len(worse):
             text += f"; worse: {_names(worse)}"
         if len(open_):
             text += "; undetermined: " + ", ".join(
-                f"{r.engine} (about {int(r.runs_needed)} runs would decide)" if np.isfinite(r.runs_needed)
-                else r.engine for r in open_.itertuples())
+                f"{r.engine} (about {int(r.runs_needed)} runs would decide)" if np.isfinite(r.runs_needed) else r.engine
+                for r in open_.itertuples()
+            )
         shown = others[~others.recommendable.astype(bool) & (others.outcome != "not measurable")]
         if len(shown):
-            text += (f". {_names(shown)} fail{'s' if len(shown) == 1 else ''} the mechanics this metric rests on and "
-                     "cannot be the pick, whatever their figure")
-        return {"need": "closest", "text": text + ".",
-                "rests_on": [_cite(b)] + [_cite(r) for _, r in others.iterrows() if r.outcome != "not measurable"]}
-    return {"need": "closest", "text": "No real-data metric could be measured: no engine can be named closest to "
-            f"the {robot}.", "rests_on": []}
+            text += (
+                f". {_names(shown)} fail{'s' if len(shown) == 1 else ''} the mechanics this metric rests on and "
+                "cannot be the pick, whatever their figure"
+            )
+        return {
+            "need": "closest",
+            "text": text + ".",
+            "rests_on": [_cite(b)] + [_cite(r) for _, r in others.iterrows() if r.outcome != "not measurable"],
+        }
+    return {
+        "need": "closest",
+        "text": f"No real-data metric could be measured: no engine can be named closest to the {robot}.",
+        "rests_on": [],
+    }
 
 
 def fastest_sentence(answer: pd.DataFrame) -> dict:
     timed = answer[np.isfinite(answer.rtf.astype(float))]
     passing = timed[timed.mechanics == "pass"]
     if passing.empty:
-        return {"need": "fastest", "text": "No engine that passes the mechanics has a measured real-time factor.",
-                "rests_on": []}
+        return {
+            "need": "fastest",
+            "text": "No engine that passes the mechanics has a measured real-time factor.",
+            "rests_on": [],
+        }
     f = passing.sort_values("rtf", ascending=False).iloc[0]
-    text = (f"Fastest among the engines that pass the mechanics: {f.engine}, real-time factor {_f(f.rtf)} on the lab "
-            f"runs (CPU load {_f(f.cpu_average)} % with one robot, {_f(f.cpu_intense)} % with several)")
+    text = (
+        f"Fastest among the engines that pass the mechanics: {f.engine}, real-time factor {_f(f.rtf)} on the lab "
+        f"runs (CPU load {_f(f.cpu_average)} % with one robot, {_f(f.cpu_intense)} % with several)"
+    )
     quicker = timed[(timed.mechanics != "pass") & (timed.rtf > f.rtf)]
     if len(quicker):
-        text += (f"; {_names(quicker)} run{'s' if len(quicker) == 1 else ''} faster but fail"
-                 f"{'s' if len(quicker) == 1 else ''} the mechanics")
-    rests = [f"answer.csv: {r.engine} rtf {_f(r.rtf)}, cpu_average {_f(r.cpu_average)}, mechanics {r.mechanics}"
-             for r in timed.itertuples()]
+        text += (
+            f"; {_names(quicker)} run{'s' if len(quicker) == 1 else ''} faster but fail"
+            f"{'s' if len(quicker) == 1 else ''} the mechanics"
+        )
+    rests = [
+        f"answer.csv: {r.engine} rtf {_f(r.rtf)}, cpu_average {_f(r.cpu_average)}, mechanics {r.mechanics}"
+        for r in timed.itertuples()
+    ]
     return {"need": "fastest", "text": text + ".", "rests_on": rests}
 
 
 def settings_sentence(outcomes: pd.DataFrame, answer: pd.DataFrame, calibration: pd.DataFrame, robot: str) -> dict:
     g = outcomes[(outcomes.metric == "gain_error") & outcomes.is_best.astype(bool)]
     if g.empty or g.outcome.iloc[0] == "not measurable":
-        return {"need": "settings", "text": f"The real {robot}'s turning is not measured here (no real turning run): "
-                "no setting can be derived from it.", "rests_on": []}
+        return {
+            "need": "settings",
+            "text": f"The real {robot}'s turning is not measured here (no real turning run): "
+            "no setting can be derived from it.",
+            "rests_on": [],
+        }
     engine = g.engine.iloc[0]
     row = answer.set_index("engine").loc[engine]
     ratio = float(row.gain_ratio)
     if not np.isfinite(ratio) or ratio <= 0:
-        return {"need": "settings", "text": f"{engine}'s turning against the real {robot} is not measured.",
-                "rests_on": []}
-    text = (f"To turn like the real {robot}: {engine} as configured turns at {_f(ratio)} of the real robot's yaw "
-            f"rate for the same wheel commands, so a simulated ROS diff_drive_controller needs the real robot's "
-            f"wheel_separation_multiplier times {_f(1 / ratio)} (the yaw rate scales with it)")
+        return {
+            "need": "settings",
+            "text": f"{engine}'s turning against the real {robot} is not measured.",
+            "rests_on": [],
+        }
+    text = (
+        f"To turn like the real {robot}: {engine} as configured turns at {_f(ratio)} of the real robot's yaw "
+        f"rate for the same wheel commands, so a simulated ROS diff_drive_controller needs the real robot's "
+        f"wheel_separation_multiplier times {_f(1 / ratio)} (the yaw rate scales with it)"
+    )
     rests = [f"answer.csv: {engine} gain_ratio {_f(ratio)}"]
     cal = calibration[calibration.engine == engine] if len(calibration) else calibration
     if len(cal) and np.isfinite(cal.gain_ratio.iloc[0]):
         c = cal.iloc[0]
-        text += (f"; calibrated on training runs ({c.parameters}), it turns at {_f(c.gain_ratio)} of the real robot's "
-                 f"yaw rate on the held-out runs")
+        text += (
+            f"; calibrated on training runs ({c.parameters}), it turns at {_f(c.gain_ratio)} of the real robot's "
+            f"yaw rate on the held-out runs"
+        )
         rests.append(f"calibration turning.csv: {engine} calibrated gain_ratio {_f(c.gain_ratio)} ({c.parameters})")
     return {"need": "settings", "text": text + ".", "rests_on": rests}
 
@@ -218,20 +306,29 @@ def avoid_sentence(outcomes: pd.DataFrame, answer: pd.DataFrame) -> dict:
         worse = outcomes[(outcomes.engine == row.engine) & (outcomes.outcome == "worse")]
         for _, o in worse.iterrows():
             unit = f" {o.unit}" if isinstance(o.unit, str) and o.unit else ""
-            why.append(f"{o.label} worse than {o.best} by {_f(o.diff_to_best)}{unit} [{_f(o.diff_low)}, "
-                       f"{_f(o.diff_high)}] (Holm p {_f(o.p_worse, 2)})")
+            why.append(
+                f"{o.label} worse than {o.best} by {_f(o.diff_to_best)}{unit} [{_f(o.diff_low)}, "
+                f"{_f(o.diff_high)}] (Holm p {_f(o.p_worse, 2)})"
+            )
             rests.append(_cite(o))
         if why:
             parts.append(f"{row.engine}: {'; '.join(why)}")
-    text = ("Avoid " + "; ".join(parts) + ".") if parts else \
-        "No engine fails the mechanics or is worse than the best on a real-data metric."
+    text = (
+        ("Avoid " + "; ".join(parts) + ".")
+        if parts
+        else "No engine fails the mechanics or is worse than the best on a real-data metric."
+    )
     return {"need": "avoid", "text": text, "rests_on": rests}
 
 
 def sentences(outcomes: pd.DataFrame, answer: pd.DataFrame, calibration: pd.DataFrame, robot: str) -> list[dict]:
     """One sentence per need: closest, fastest, settings, avoid (answer.yaml's ``sentences``)."""
-    return [closest_sentence(outcomes, robot), fastest_sentence(answer),
-            settings_sentence(outcomes, answer, calibration, robot), avoid_sentence(outcomes, answer)]
+    return [
+        closest_sentence(outcomes, robot),
+        fastest_sentence(answer),
+        settings_sentence(outcomes, answer, calibration, robot),
+        avoid_sentence(outcomes, answer),
+    ]
 
 
 def headline(said: list[dict], separation: list[dict], rank: pd.DataFrame) -> str:
@@ -241,17 +338,21 @@ def headline(said: list[dict], separation: list[dict], rank: pd.DataFrame) -> st
     total = next((s for s in paper if s["metric"] == "total"), None)
     scores = [s for s in paper if s["metric"] != "total"]
     if total:
-        parts.append("The paper's method (Eq. 7/8 and its weighted table, shown as the paper defines it) ranks "
-                     f"{total['best']} first: {total['totals']} (intervals over the real runs).")
+        parts.append(
+            "The paper's method (Eq. 7/8 and its weighted table, shown as the paper defines it) ranks "
+            f"{total['best']} first: {total['totals']} (intervals over the real runs)."
+        )
         r = rank.sort_values("total", ascending=False)
         imu_spread = float(r.imu_points.max() - r.imu_points.min())
         gap = float(r.total.iloc[0] - r.total.iloc[1]) if len(r) > 1 else float("nan")
         if scores and np.isfinite(gap) and imu_spread < gap:
             ranges = " and ".join(f"{_f(s['low'])}–{_f(s['high'])} ({s['quantity']})" for s in scores)
-            parts.append(f"That order is decided by qualitative facts, real-time factor and CPU load, not by how the "
-                         f"engines move the robot: the IMU accuracy scores are {ranges} for every engine, so they "
-                         f"move the totals by at most {imu_spread:.2f} points, less than the {gap:.2f} between the "
-                         f"first two.")
+            parts.append(
+                f"That order is decided by qualitative facts, real-time factor and CPU load, not by how the "
+                f"engines move the robot: the IMU accuracy scores are {ranges} for every engine, so they "
+                f"move the totals by at most {imu_spread:.2f} points, less than the {gap:.2f} between the "
+                f"first two."
+            )
     return " ".join(parts)
 
 
@@ -270,13 +371,15 @@ def answer_job(inputs: dict, params: dict, outputs: dict) -> None:
     if acc.get("set") not in (None, "lab") and Path(inputs["accuracy_tests"]).is_file():
         acc_per_test = read_per_test(inputs["accuracy_tests"])
     scored = [e for e in engines if e in weighted.index]
-    rank = ranking(weighted.loc[scored], acc_per_test, acc.get("tests") or None, params["weights"], statistics,
-                   seed=seed)
+    rank = ranking(
+        weighted.loc[scored], acc_per_test, acc.get("tests") or None, params["weights"], statistics, seed=seed
+    )
     write_csv(rank, outputs["ranking"])
     table = pd.read_csv(inputs["table"])
     disc = pd.read_csv(inputs["discrimination"])
     separation = separation_rows(table, int((statistics or {}).get("min_runs", 6))) + paper_rows(
-        rank, disc, params["weights"])
+        rank, disc, params["weights"]
+    )
     write_csv(pd.DataFrame(separation, columns=SEPARATION_COLUMNS), outputs["separation"])
 
     outcomes = pd.read_csv(inputs["outcomes"])
@@ -288,12 +391,23 @@ def answer_job(inputs: dict, params: dict, outputs: dict) -> None:
     write_csv(answer, outputs["answer"])
     robot = params.get("robot") or "real robot"
     said = sentences(outcomes, answer, cal, robot)
-    Path(outputs["answer_yaml"]).write_text(yaml.safe_dump({"robot": robot, "sentences": said}, sort_keys=False,
-                                                           allow_unicode=True, width=10_000))
+    Path(outputs["answer_yaml"]).write_text(
+        yaml.safe_dump({"robot": robot, "sentences": said}, sort_keys=False, allow_unicode=True, width=10_000)
+    )
     n_runs = int(run_key(tests[tests.status == "ok"]).nunique()) if len(tests) else 0
     min_runs = int((statistics or {}).get("min_runs", 6))
     source = params.get("source_title") or params.get("source") or "real data"
-    Path(outputs["headline"]).write_text(yaml.safe_dump(
-        {"source": params.get("source"), "source_title": source, "n_runs": n_runs, "min_runs": min_runs,
-         "level": float((statistics or {}).get("level", 0.95)), "paragraph": headline(said, separation, rank)},
-        sort_keys=False, allow_unicode=True))
+    Path(outputs["headline"]).write_text(
+        yaml.safe_dump(
+            {
+                "source": params.get("source"),
+                "source_title": source,
+                "n_runs": n_runs,
+                "min_runs": min_runs,
+                "level": float((statistics or {}).get("level", 0.95)),
+                "paragraph": headline(said, separation, rank),
+            },
+            sort_keys=False,
+            allow_unicode=True,
+        )
+    )

@@ -11,8 +11,19 @@ import pandas as pd
 
 from simpick.score.scoring import METRIC_LABELS, METRICS, QUALITATIVE_METRICS
 
-CONTRIBUTION_COLUMNS = ["engine", "rank", "total", "share", "metric", "label", "group", "weight", "score", "points",
-                        "excluded"]
+CONTRIBUTION_COLUMNS = [
+    "engine",
+    "rank",
+    "total",
+    "share",
+    "metric",
+    "label",
+    "group",
+    "weight",
+    "score",
+    "points",
+    "excluded",
+]
 DRIVER_COLUMNS = ["engine", "leader", "gap", "metric", "label", "difference", "order"]
 
 
@@ -25,13 +36,21 @@ def contributions(weighted: pd.DataFrame, weights: Mapping[str, float]) -> pd.Da
     for engine, row in weighted.iterrows():
         for m in METRICS:
             score = float(row[m])
-            rows.append({"engine": engine, "rank": int(row["rank"]), "total": float(row["total"]),
-                         "share": float(row["total"]) / top if top else math.nan, "metric": m,
-                         "label": METRIC_LABELS[m],
-                         "group": "qualitative" if m in QUALITATIVE_METRICS else "quantitative",
-                         "weight": float(weights[m]), "score": score,
-                         "points": 0.0 if math.isnan(score) else float(weights[m]) * score,
-                         "excluded": math.isnan(score)})
+            rows.append(
+                {
+                    "engine": engine,
+                    "rank": int(row["rank"]),
+                    "total": float(row["total"]),
+                    "share": float(row["total"]) / top if top else math.nan,
+                    "metric": m,
+                    "label": METRIC_LABELS[m],
+                    "group": "qualitative" if m in QUALITATIVE_METRICS else "quantitative",
+                    "weight": float(weights[m]),
+                    "score": score,
+                    "points": 0.0 if math.isnan(score) else float(weights[m]) * score,
+                    "excluded": math.isnan(score),
+                }
+            )
     return pd.DataFrame(rows, columns=CONTRIBUTION_COLUMNS)
 
 
@@ -50,6 +69,15 @@ def drivers(contribution: pd.DataFrame) -> pd.DataFrame:
             continue
         diff = (points[leader] - points[engine]).sort_values(ascending=False, kind="mergesort")
         for order, (m, d) in enumerate(diff.items(), start=1):
-            rows.append({"engine": engine, "leader": leader, "gap": float(totals[leader] - totals[engine]),
-                         "metric": m, "label": METRIC_LABELS[m], "difference": float(d), "order": order})
+            rows.append(
+                {
+                    "engine": engine,
+                    "leader": leader,
+                    "gap": float(totals[leader] - totals[engine]),
+                    "metric": m,
+                    "label": METRIC_LABELS[m],
+                    "difference": float(d),
+                    "order": order,
+                }
+            )
     return pd.DataFrame(rows, columns=DRIVER_COLUMNS)

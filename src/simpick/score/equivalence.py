@@ -76,12 +76,16 @@ def margin(per_test: pd.DataFrame, metric: str, spec: dict, unit: str = "") -> t
     if basis == "real_spread":
         spread, n_runs, n_classes = real_spread(per_test, column)
         if not np.isfinite(spread):
-            return float("nan"), (f"the real robot's run-to-run spread of its {label} cannot be measured here: no "
-                                  "terrain class has two runs with it, so no margin and no equivalence")
+            return float("nan"), (
+                f"the real robot's run-to-run spread of its {label} cannot be measured here: no "
+                "terrain class has two runs with it, so no margin and no equivalence"
+            )
         factor = "" if value == 1 else f"{value:g} x "
-        return value * spread, (f"{factor}the real robot's own run-to-run spread of its {label}: the pooled "
-                                f"within-class standard deviation over {n_runs} runs in {n_classes} terrain classes, "
-                                f"{spread:.3g}{unit}")
+        return value * spread, (
+            f"{factor}the real robot's own run-to-run spread of its {label}: the pooled "
+            f"within-class standard deviation over {n_runs} runs in {n_classes} terrain classes, "
+            f"{spread:.3g}{unit}"
+        )
     runs = _run_values(per_test, column)
     if runs.empty:
         return float("nan"), f"the real robot's {label} is not in this data: no margin and no equivalence"
@@ -98,9 +102,15 @@ def paired_comparison(engine, best, margin_value: float, level: float) -> dict:
 
     x, y = np.asarray(engine, float), np.asarray(best, float)
     d = x - y
-    out = {"n": int(d.size), "mean": float(d.mean()) if d.size else float("nan"), "low": float("nan"),
-           "high": float("nan"), "p_worse": float("nan"), "p_equivalent": float("nan"),
-           "sd": float(d.std(ddof=1)) if d.size > 1 else float("nan")}
+    out = {
+        "n": int(d.size),
+        "mean": float(d.mean()) if d.size else float("nan"),
+        "low": float("nan"),
+        "high": float("nan"),
+        "p_worse": float("nan"),
+        "p_equivalent": float("nan"),
+        "sd": float(d.std(ddof=1)) if d.size > 1 else float("nan"),
+    }
     if d.size < 2:
         return out
     finite_margin = bool(np.isfinite(margin_value) and margin_value > 0)
@@ -154,8 +164,12 @@ def runs_to_decide(mean: float, sd: float, margin_value: float, level: float, po
 def judge(row: dict, alpha: float, margin_value: float) -> str:
     """The outcome of one compared engine from its paired comparison (``row``: low, high,
     p_worse Holm-adjusted, p_equivalent)."""
-    inside = bool(np.isfinite(margin_value) and np.isfinite(row["low"]) and -margin_value < row["low"]
-                  and row["high"] < margin_value)
+    inside = bool(
+        np.isfinite(margin_value)
+        and np.isfinite(row["low"])
+        and -margin_value < row["low"]
+        and row["high"] < margin_value
+    )
     if inside and row["p_equivalent"] < alpha:
         return "equivalent"
     if row["p_worse"] < alpha:
@@ -163,15 +177,45 @@ def judge(row: dict, alpha: float, margin_value: float) -> str:
     return "undetermined"
 
 
-OUTCOME_COLUMNS = ["metric", "label", "unit", "engine", "n_runs", "mean", "low", "high", "best", "is_best",
-                   "diff_to_best", "diff_low", "diff_high", "margin", "margin_basis", "p_worse", "p_equivalent",
-                   "outcome", "runs_needed", "mechanics", "mechanics_failed", "mechanics_note", "recommendable",
-                   "note"]
+OUTCOME_COLUMNS = [
+    "metric",
+    "label",
+    "unit",
+    "engine",
+    "n_runs",
+    "mean",
+    "low",
+    "high",
+    "best",
+    "is_best",
+    "diff_to_best",
+    "diff_low",
+    "diff_high",
+    "margin",
+    "margin_basis",
+    "p_worse",
+    "p_equivalent",
+    "outcome",
+    "runs_needed",
+    "mechanics",
+    "mechanics_failed",
+    "mechanics_note",
+    "recommendable",
+    "note",
+]
 
 
-def outcomes_table(walls: dict[str, pd.DataFrame], per_test: pd.DataFrame, engines: list[str],
-                   metrics: dict[str, dict], mechanics: pd.DataFrame, settings: dict,
-                   statistics: dict | None = None, seed: int = 0, absent: dict[str, str] | None = None) -> pd.DataFrame:
+def outcomes_table(
+    walls: dict[str, pd.DataFrame],
+    per_test: pd.DataFrame,
+    engines: list[str],
+    metrics: dict[str, dict],
+    mechanics: pd.DataFrame,
+    settings: dict,
+    statistics: dict | None = None,
+    seed: int = 0,
+    absent: dict[str, str] | None = None,
+) -> pd.DataFrame:
     """One row per metric x engine (``OUTCOME_COLUMNS``; reference models are not in it).
 
     ``walls``: metric -> run x model per-run values (simpick.score.verdict.per_run_values);
@@ -210,21 +254,29 @@ def outcomes_table(walls: dict[str, pd.DataFrame], per_test: pd.DataFrame, engin
                 compared[engine]["p_worse_holm"] = float(p)
         for engine in engines:
             m = mech.loc[engine] if engine in mech.index else None
-            row = dict(base, engine=engine, best=best, is_best=engine == best and bool(best),
-                       mechanics=m["mechanics"] if m is not None else "fail",
-                       mechanics_failed=int(m["mechanics_failed"]) if m is not None else 0,
-                       mechanics_note=m["mechanics_note"] if m is not None else "not validated",
-                       recommendable=bool(allowed.get(engine)), note="",
-                       **stats.get(engine, {"n_runs": 0}))
+            row = dict(
+                base,
+                engine=engine,
+                best=best,
+                is_best=engine == best and bool(best),
+                mechanics=m["mechanics"] if m is not None else "fail",
+                mechanics_failed=int(m["mechanics_failed"]) if m is not None else 0,
+                mechanics_note=m["mechanics_note"] if m is not None else "not validated",
+                recommendable=bool(allowed.get(engine)),
+                note="",
+                **stats.get(engine, {"n_runs": 0}),
+            )
             if engine not in present:
-                row.update(outcome="not measurable",
-                           note=(absent or {}).get(metric) or f"no value of this metric for {engine}")
+                row.update(
+                    outcome="not measurable", note=(absent or {}).get(metric) or f"no value of this metric for {engine}"
+                )
             elif engine == best:
-                row.update(outcome="best" if stats[engine]["n_runs"] >= min_runs else "too few runs",
-                           diff_to_best=0.0)
+                row.update(outcome="best" if stats[engine]["n_runs"] >= min_runs else "too few runs", diff_to_best=0.0)
                 if not row["recommendable"]:
-                    row["note"] = ("no engine passes the mechanics this metric rests on: the lowest mean is "
-                                   "shown as the reference of the comparison, not as a recommendation")
+                    row["note"] = (
+                        "no engine passes the mechanics this metric rests on: the lowest mean is "
+                        "shown as the reference of the comparison, not as a recommendation"
+                    )
                 elif stats[engine]["n_runs"] < min_runs:
                     row["note"] = f"too few runs ({stats[engine]['n_runs']} < {min_runs})"
             else:
@@ -234,13 +286,23 @@ def outcomes_table(walls: dict[str, pd.DataFrame], per_test: pd.DataFrame, engin
                     row.update(outcome="too few runs", note=f"too few paired runs ({c['n']} < {min_runs})")
                 else:
                     row.update(p_worse=c["p_worse_holm"], p_equivalent=c["p_equivalent"])
-                    row["outcome"] = judge({"low": c["low"], "high": c["high"], "p_worse": c["p_worse_holm"],
-                                            "p_equivalent": c["p_equivalent"]}, alpha, value)
+                    row["outcome"] = judge(
+                        {
+                            "low": c["low"],
+                            "high": c["high"],
+                            "p_worse": c["p_worse_holm"],
+                            "p_equivalent": c["p_equivalent"],
+                        },
+                        alpha,
+                        value,
+                    )
                     if row["outcome"] == "undetermined":
                         row["runs_needed"] = runs_to_decide(c["mean"], c["sd"], value, level)
                         if c["mean"] < 0 and not (np.isfinite(value) and abs(c["mean"]) < value):
-                            row["note"] = (f"a lower mean than {best}, but it fails the mechanics this metric rests "
-                                           "on: shown, never recommended")
+                            row["note"] = (
+                                f"a lower mean than {best}, but it fails the mechanics this metric rests "
+                                "on: shown, never recommended"
+                            )
                 if not row["recommendable"] and not row["note"]:
                     row["note"] = "fails the mechanics this metric rests on: shown, never recommended"
             rows.append(row)

@@ -14,12 +14,20 @@ from simpick.errors import InputError
 from simpick.inputs.published import load_published
 from simpick.score import scoring
 from simpick.score.contributions import contributions, drivers
-from simpick.tables import write_csv
 from simpick.score.published import write_outputs
+from simpick.tables import write_csv
 
 
-def scores_job(engines: list[str], imu_errors: str, rtf: str, cpu_files: list[str], qualitative: str,
-               weights: dict, outputs: dict[str, str], sources: dict | None = None) -> None:
+def scores_job(
+    engines: list[str],
+    imu_errors: str,
+    rtf: str,
+    cpu_files: list[str],
+    qualitative: str,
+    weights: dict,
+    outputs: dict[str, str],
+    sources: dict | None = None,
+) -> None:
     """The scores and the weighted table; with ``outputs["provenance"]`` also the record of what
     they rest on (:func:`score_provenance`; ``sources`` as it describes), which the report reads
     instead of working it out again."""
@@ -82,7 +90,9 @@ def _failures(path: str | None) -> dict[str, list[str]]:
     out: dict[str, list[str]] = {}
     for test, row in zip(tests, frame.to_dict("records")):
         if row.get("status", "ok") != "ok":
-            out.setdefault(test, []).append(f"{row['engine']} {row['status']}: {row.get('reasons') or 'no reason given'}")
+            out.setdefault(test, []).append(
+                f"{row['engine']} {row['status']}: {row.get('reasons') or 'no reason given'}"
+            )
     return out
 
 
@@ -128,8 +138,9 @@ def score_provenance(engines: list[str], imu_errors: str, rtf: str, cpu_files: l
             "files": [str(f) for f in cpu_files],
             "test": sources.get("cpu_test"),
             "engines": sorted(c["engine"] for c in cpu if c not in failed_cpu),
-            "excluded": [{"engine": c["engine"], "why": "; ".join(c["health"].get("reasons") or ["failed"])}
-                         for c in failed_cpu],
+            "excluded": [
+                {"engine": c["engine"], "why": "; ".join(c["health"].get("reasons") or ["failed"])} for c in failed_cpu
+            ],
         },
     }
 

@@ -10,10 +10,23 @@ from __future__ import annotations
 
 import pandas as pd
 
-KIND_LABELS = {"yaw_gain": "yaw gain", "straight": "straight", "slide": "slide", "incline": "incline",
-               "rest": "rest", "invariance": "turn symmetry and heading"}
-MECHANICS_COLUMNS = ["engine", "mechanics", "mechanics_failed", "mechanics_cases", "checks_failed",
-                     "failed_kinds", "mechanics_note"]
+KIND_LABELS = {
+    "yaw_gain": "yaw gain",
+    "straight": "straight",
+    "slide": "slide",
+    "incline": "incline",
+    "rest": "rest",
+    "invariance": "turn symmetry and heading",
+}
+MECHANICS_COLUMNS = [
+    "engine",
+    "mechanics",
+    "mechanics_failed",
+    "mechanics_cases",
+    "checks_failed",
+    "failed_kinds",
+    "mechanics_note",
+]
 
 
 def _bool(series: pd.Series) -> pd.Series:
@@ -30,9 +43,17 @@ def mechanics_table(summary: pd.DataFrame, engines: list[str]) -> pd.DataFrame:
     for engine in engines:
         own = summary[(summary.engine == engine) & (summary.status.astype(str) != "skipped")]
         if own.empty:
-            rows.append({"engine": engine, "mechanics": "fail", "mechanics_failed": 0, "mechanics_cases": 0,
-                         "checks_failed": 0, "failed_kinds": "",
-                         "mechanics_note": "not validated: the validation summary has no case of this engine"})
+            rows.append(
+                {
+                    "engine": engine,
+                    "mechanics": "fail",
+                    "mechanics_failed": 0,
+                    "mechanics_cases": 0,
+                    "checks_failed": 0,
+                    "failed_kinds": "",
+                    "mechanics_note": "not validated: the validation summary has no case of this engine",
+                }
+            )
             continue
         failed = own[~_bool(own.passed)]
         cases = own[own.kind != "invariance"]
@@ -47,9 +68,17 @@ def mechanics_table(summary: pd.DataFrame, engines: list[str]) -> pd.DataFrame:
             note = f"passes all {n_cases} analytic cases"
         if len(checks):
             note += f"; fails {len(checks)} {KIND_LABELS['invariance']} check{'s' if len(checks) > 1 else ''}"
-        rows.append({"engine": engine, "mechanics": "fail" if len(failed) else "pass",
-                     "mechanics_failed": len(failed_cases), "mechanics_cases": n_cases, "checks_failed": len(checks),
-                     "failed_kinds": ";".join(sorted(set(failed.kind.astype(str)))), "mechanics_note": note})
+        rows.append(
+            {
+                "engine": engine,
+                "mechanics": "fail" if len(failed) else "pass",
+                "mechanics_failed": len(failed_cases),
+                "mechanics_cases": n_cases,
+                "checks_failed": len(checks),
+                "failed_kinds": ";".join(sorted(set(failed.kind.astype(str)))),
+                "mechanics_note": note,
+            }
+        )
     return pd.DataFrame(rows, columns=MECHANICS_COLUMNS)
 
 

@@ -131,9 +131,7 @@ def _example_block(inputs: Mapping[str, Any], printed: Mapping[str, Any], text_t
         "printed_axes": printed_axes,
         "printed_rows_sum": _r(sum(p["total_error"] for p in printed_axes.values())),
         "text_total": float(text_total),
-        "axis_differences": {
-            a: {k: _r(axes[a][k] - printed_axes[a][k]) for k in axes[a]} for a in axes
-        },
+        "axis_differences": {a: {k: _r(axes[a][k] - printed_axes[a][k]) for k in axes[a]} for a in axes},
     }
 
 

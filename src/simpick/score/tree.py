@@ -36,8 +36,11 @@ SCHEMA = "simpick.tree/1"
 # what a verdict outcome means for "as close to the real robot as the best engine"
 CLOSE_OUTCOMES = ("best", "equivalent")
 
-ROS_TEXT = {"out_of_the_box": "ROS 2 out of the box", "official_plugin": "an official ROS 2 plugin, built by hand",
-            "none": "no ROS interface of its own"}
+ROS_TEXT = {
+    "out_of_the_box": "ROS 2 out of the box",
+    "official_plugin": "an official ROS 2 plugin, built by hand",
+    "none": "no ROS interface of its own",
+}
 
 
 @dataclass(frozen=True)
@@ -69,11 +72,12 @@ class Question:
     options: Callable[[Sequence[str]], list[Option]] = field(repr=False)
 
 
-def _binary(key: str, text: str, rests_on: str, facts: dict[str, Fact], yes: str = "Yes",
-            no: str = "No") -> Question:
+def _binary(key: str, text: str, rests_on: str, facts: dict[str, Fact], yes: str = "Yes", no: str = "No") -> Question:
     def options(candidates: Sequence[str]) -> list[Option]:
-        return [Option(yes, tuple(e for e in candidates if facts[e].value is True), "Yes"),
-                Option(no, tuple(candidates), "No")]
+        return [
+            Option(yes, tuple(e for e in candidates if facts[e].value is True), "Yes"),
+            Option(no, tuple(candidates), "No"),
+        ]
 
     return Question(key, text, rests_on, facts, options)
 
@@ -99,8 +103,11 @@ def _read_csv(path: str, columns: Sequence[str], what: str):
         raise InputError(path, f"cannot read {what}: {exc}") from None
     missing = [c for c in columns if c not in frame.columns]
     if missing:
-        raise InputError(path, f"{what} lacks the column(s) {', '.join(missing)}",
-                         "rerun the rule that writes it (snakemake --forcerun) with this simpick")
+        raise InputError(
+            path,
+            f"{what} lacks the column(s) {', '.join(missing)}",
+            "rerun the rule that writes it (snakemake --forcerun) with this simpick",
+        )
     return frame
 
 
@@ -127,19 +134,34 @@ def qualitative_questions(facts: Mapping[str, Mapping], engines: Sequence[str], 
         note = f" ({notes[key]})" if key in notes else ""
         return Fact(value, text + note, f"{path}: {engine}.{key}; {sources.get(key, 'no source given')}")
 
-    free = {e: fact(e, "free", bool(facts[e]["free"]), "free to use" if facts[e]["free"] else "not free")
-            for e in engines}
-    open_source = {e: fact(e, "open_source", bool(facts[e]["open_source"]),
-                           "open source" if facts[e]["open_source"] else "closed source") for e in engines}
+    free = {
+        e: fact(e, "free", bool(facts[e]["free"]), "free to use" if facts[e]["free"] else "not free") for e in engines
+    }
+    open_source = {
+        e: fact(
+            e,
+            "open_source",
+            bool(facts[e]["open_source"]),
+            "open source" if facts[e]["open_source"] else "closed source",
+        )
+        for e in engines
+    }
     ros = {e: fact(e, "ros", facts[e]["ros"], ROS_TEXT[facts[e]["ros"]]) for e in engines}
 
     def ros_options(candidates: Sequence[str]) -> list[Option]:
-        return [Option("Yes, out of the box", tuple(e for e in candidates if ros[e].value == "out_of_the_box"),
-                       "out of the box"),
-                Option("Yes; an official plugin built by hand will do",
-                       tuple(e for e in candidates if ros[e].value in ("out_of_the_box", "official_plugin")),
-                       "a plugin will do"),
-                Option("No", tuple(candidates), "No")]
+        return [
+            Option(
+                "Yes, out of the box",
+                tuple(e for e in candidates if ros[e].value == "out_of_the_box"),
+                "out of the box",
+            ),
+            Option(
+                "Yes; an official plugin built by hand will do",
+                tuple(e for e in candidates if ros[e].value in ("out_of_the_box", "official_plugin")),
+                "a plugin will do",
+            ),
+            Option("No", tuple(candidates), "No"),
+        ]
 
     return [
         _binary("free", "Must it be free to use?", path, free),
@@ -148,8 +170,14 @@ def qualitative_questions(facts: Mapping[str, Mapping], engines: Sequence[str], 
     ]
 
 
-KIND_TEXT = {"yaw_gain": "turning", "straight": "driving straight", "slide": "sliding to rest",
-             "incline": "slopes", "rest": "standing at rest", "invariance": "left/right and heading invariance"}
+KIND_TEXT = {
+    "yaw_gain": "turning",
+    "straight": "driving straight",
+    "slide": "sliding to rest",
+    "incline": "slopes",
+    "rest": "standing at rest",
+    "invariance": "left/right and heading invariance",
+}
 
 
 def mechanics_question(summary_path: str, engines: Sequence[str]) -> Question:
@@ -177,8 +205,11 @@ def mechanics_question(summary_path: str, engines: Sequence[str]) -> Question:
             kind = rows[rows.case == case].kind.iloc[0]
             by_kind[kind] = by_kind.get(kind, 0) + 1
         named = ", ".join(f"{KIND_TEXT.get(k, k)} ({n})" for k, n in by_kind.items())
-        facts[engine] = Fact(False, f"fails {len(bad)} of {cases} analytic cases: {named}",
-                             f"{summary_path}: {engine} ({', '.join(bad)})")
+        facts[engine] = Fact(
+            False,
+            f"fails {len(bad)} of {cases} analytic cases: {named}",
+            f"{summary_path}: {engine} ({', '.join(bad)})",
+        )
     checked = ", ".join(KIND_TEXT.get(k, k) for k in kinds)
     return _binary("mechanics", "Must it follow analytic mechanics?", f"{summary_path} (cases: {checked})", facts)
 
@@ -209,8 +240,22 @@ def closeness_question(outcomes_path: str, engines: Sequence[str]) -> Question |
     mechanics the metric depends on (the verdict vouches for no other). The answers: close on every
     metric, close on one named metric (each that some engine is close on), or no need; answers
     that keep the same engines lead to the same place. None where no engine is close on any."""
-    columns = ("metric", "label", "unit", "engine", "n_runs", "mean", "best", "outcome", "diff_to_best", "diff_low",
-               "diff_high", "margin", "runs_needed", "recommendable")
+    columns = (
+        "metric",
+        "label",
+        "unit",
+        "engine",
+        "n_runs",
+        "mean",
+        "best",
+        "outcome",
+        "diff_to_best",
+        "diff_low",
+        "diff_high",
+        "margin",
+        "runs_needed",
+        "recommendable",
+    )
     outcomes = _read_csv(outcomes_path, columns, "the verdict's outcomes")
     close: dict[str, dict[str, bool]] = {e: {} for e in engines}
     texts: dict[str, list[str]] = {e: [] for e in engines}
@@ -229,14 +274,16 @@ def closeness_question(outcomes_path: str, engines: Sequence[str]) -> Question |
             outcome = str(r.outcome)
             text = f"{label} {_fmt(r['mean'])}{unit}: {outcome}"
             if outcome in ("equivalent", "worse", "undetermined"):
-                text += (f" (difference to the best, {r.best}: {_fmt(r.diff_to_best, 2)} "
-                         f"[{_fmt(r.diff_low, 2)}, {_fmt(r.diff_high, 2)}], margin {_fmt(r.margin, 2)})")
+                text += (
+                    f" (difference to the best, {r.best}: {_fmt(r.diff_to_best, 2)} "
+                    f"[{_fmt(r.diff_low, 2)}, {_fmt(r.diff_high, 2)}], margin {_fmt(r.margin, 2)})"
+                )
             if outcome == "undetermined" and not (isinstance(r.runs_needed, float) and math.isnan(r.runs_needed)):
                 text += f", about {_fmt(r.runs_needed)} runs would decide"
             if not recommendable:
                 text += ", fails the mechanics this metric depends on"
             verdicts[engine] = (outcome in CLOSE_OUTCOMES and recommendable, f"{text}, {int(r.n_runs)} runs")
-        for engine, (is_close, text) in verdicts.items():
+        for engine, (_, text) in verdicts.items():
             texts[engine].append(text)
         if any(is_close for is_close, _ in verdicts.values()):  # a metric nobody is close on is no answer
             labels[metric] = label
@@ -244,21 +291,38 @@ def closeness_question(outcomes_path: str, engines: Sequence[str]) -> Question |
                 close[engine][metric] = is_close
     if not labels:
         return None
-    facts = {e: Fact({m: close[e][m] for m in labels}, "; ".join(texts[e]),
-                     f"{outcomes_path}: {', '.join(outcomes.metric.unique())} {e}") for e in engines}
+    facts = {
+        e: Fact(
+            {m: close[e][m] for m in labels},
+            "; ".join(texts[e]),
+            f"{outcomes_path}: {', '.join(outcomes.metric.unique())} {e}",
+        )
+        for e in engines
+    }
 
     def options(candidates: Sequence[str]) -> list[Option]:
         out = []
         if len(labels) > 1:
-            out.append(Option("Yes, on every measure", tuple(e for e in candidates if all(facts[e].value.values())),
-                              "on every measure"))
+            out.append(
+                Option(
+                    "Yes, on every measure",
+                    tuple(e for e in candidates if all(facts[e].value.values())),
+                    "on every measure",
+                )
+            )
         for metric, label in labels.items():
-            out.append(Option(f"Yes, on its {label.lower()}", tuple(e for e in candidates if facts[e].value[metric]),
-                              label.lower()))
+            out.append(
+                Option(
+                    f"Yes, on its {label.lower()}",
+                    tuple(e for e in candidates if facts[e].value[metric]),
+                    label.lower(),
+                )
+            )
         return [*out, Option("No", tuple(candidates), "No")]
 
-    return Question("closeness", "Must it be as close to the real robot as the best engine?",
-                    outcomes_path, facts, options)
+    return Question(
+        "closeness", "Must it be as close to the real robot as the best engine?", outcomes_path, facts, options
+    )
 
 
 # Real-time factors measured on a shared machine scatter by tens of percent between runs; two
@@ -273,7 +337,7 @@ def _round_down(x: float, above: float) -> float:
     significant figures."""
     k = math.floor(math.log10(x))
     for step in (5, 2, 1):
-        for scale in (10.0 ** k, 10.0 ** (k - 1)):
+        for scale in (10.0**k, 10.0 ** (k - 1)):
             if above < step * scale <= x:
                 return step * scale
     scale = 10.0 ** (k - 1)
@@ -295,8 +359,14 @@ def speed_question(rtf_path: str, engines: Sequence[str]) -> Question:
 
     def options(candidates: Sequence[str]) -> list[Option]:
         measured = sorted({facts[e].value for e in candidates if facts[e].value is not None}, reverse=True)
-        gaps = sorted(((measured[i] / measured[i + 1], i) for i in range(len(measured) - 1)
-                       if measured[i] / measured[i + 1] >= SPEED_CLASS_RATIO), reverse=True)[:SPEED_CLASSES - 1]
+        gaps = sorted(
+            (
+                (measured[i] / measured[i + 1], i)
+                for i in range(len(measured) - 1)
+                if measured[i] / measured[i + 1] >= SPEED_CLASS_RATIO
+            ),
+            reverse=True,
+        )[: SPEED_CLASSES - 1]
         thresholds = [_round_down(measured[i], measured[i + 1]) for _, i in gaps]
         if measured and measured[0] >= 1.0 > measured[-1]:
             thresholds.append(1.0)  # keeping pace with the clock (hardware in the loop, ROS time) is a need of its own
@@ -341,8 +411,9 @@ def cpu_question(cpu_paths: Sequence[str], engines: Sequence[str]) -> Question |
             facts[engine] = Fact(False, "CPU load not measured (or its run failed the health check)", path)
             continue
         n = intense.get("robots")
-        facts[engine] = Fact(load <= 100.0, f"{n} robots at once: {_fmt(load)} % of one core",
-                             f"{path}: intense.load_percent")
+        facts[engine] = Fact(
+            load <= 100.0, f"{n} robots at once: {_fmt(load)} % of one core", f"{path}: intense.load_percent"
+        )
     n = robots[-1]
     return _binary("cpu", f"Must it run {n} robots at once in real time on one core?", ", ".join(cpu_paths), facts)
 
@@ -380,13 +451,25 @@ def build_tree(questions: Sequence[Question], engines: Sequence[str]) -> dict:
                 for o in options:
                     if o.keeps not in children:
                         step = {"question": q.key, "answer": o.label}
-                        children[o.keeps] = node(o.keeps, remaining[i + 1:], [*path, step])
+                        children[o.keeps] = node(o.keeps, remaining[i + 1 :], [*path, step])
                     dropped = [e for e in candidates if e not in o.keeps]
-                    answers.append({"label": o.label, "short": o.short or o.label, "next": children[o.keeps],
-                                    "keeps": list(o.keeps),
-                                    "drops": [{"engine": e, "why": q.facts[e].text} for e in dropped]})
-                nodes[nid] = {"id": nid, "kind": "question", "question": q.key, "text": q.text,
-                              "candidates": list(candidates), "answers": answers}
+                    answers.append(
+                        {
+                            "label": o.label,
+                            "short": o.short or o.label,
+                            "next": children[o.keeps],
+                            "keeps": list(o.keeps),
+                            "drops": [{"engine": e, "why": q.facts[e].text} for e in dropped],
+                        }
+                    )
+                nodes[nid] = {
+                    "id": nid,
+                    "kind": "question",
+                    "question": q.key,
+                    "text": q.text,
+                    "candidates": list(candidates),
+                    "answers": answers,
+                }
                 return nid
         nodes[nid] = {"id": nid, "kind": "leaf", "engines": list(candidates), "path": path}
         return nid
@@ -397,9 +480,19 @@ def build_tree(questions: Sequence[Question], engines: Sequence[str]) -> dict:
         "engines": list(engines),
         "root": root,
         "nodes": nodes,
-        "questions": [{"key": q.key, "text": q.text, "rests_on": q.rests_on, "asked": any(q is a for a in asked),
-                       "facts": {e: {"value": q.facts[e].value, "text": q.facts[e].text, "source": q.facts[e].source}
-                                 for e in engines}} for q in questions],
+        "questions": [
+            {
+                "key": q.key,
+                "text": q.text,
+                "rests_on": q.rests_on,
+                "asked": any(q is a for a in asked),
+                "facts": {
+                    e: {"value": q.facts[e].value, "text": q.facts[e].text, "source": q.facts[e].source}
+                    for e in engines
+                },
+            }
+            for q in questions
+        ],
         "not_asked": not_asked,
     }
 
@@ -457,8 +550,11 @@ def read_tree(path: str) -> dict:
     except (OSError, json.JSONDecodeError) as exc:
         raise InputError(path, f"cannot read the decision tree: {exc}", "rerun rule decision_tree") from None
     if tree.get("schema") != SCHEMA:
-        raise InputError(f"{path}: schema", f"expected {SCHEMA!r}, got {tree.get('schema')!r}",
-                         "rerun rule decision_tree with this simpick")
+        raise InputError(
+            f"{path}: schema",
+            f"expected {SCHEMA!r}, got {tree.get('schema')!r}",
+            "rerun rule decision_tree with this simpick",
+        )
     return tree
 
 

@@ -45,24 +45,91 @@ from simpick.score.mechanics import mechanics_table
 from simpick.tables import write_csv
 
 METRICS = {
-    "gain_error": {"label": "yaw-rate gain error", "unit": "", "tests": "turning tests",
-                   "what": "|simulated - real yaw-rate gain| on the turning tests"},
-    "heading_error": {"label": "heading error", "unit": "rad", "tests": "every test",
-                      "what": "|integral of (simulated - real) gyro z| over each segment or replay window"},
-    "speed_error": {"label": "speed error", "unit": "m/s", "tests": "logs with a measured speed",
-                    "what": "|simulated - real forward speed|, where a log measures speed independently of "
-                            "the wheel commands"},
+    "gain_error": {
+        "label": "yaw-rate gain error",
+        "unit": "",
+        "tests": "turning tests",
+        "what": "|simulated - real yaw-rate gain| on the turning tests",
+    },
+    "heading_error": {
+        "label": "heading error",
+        "unit": "rad",
+        "tests": "every test",
+        "what": "|integral of (simulated - real) gyro z| over each segment or replay window",
+    },
+    "speed_error": {
+        "label": "speed error",
+        "unit": "m/s",
+        "tests": "logs with a measured speed",
+        "what": "|simulated - real forward speed|, where a log measures speed independently of the wheel commands",
+    },
 }
-NO_SPEED = ("not measurable on this data: its logs hold IMU and wheel speeds only (no GNSS, motion capture or "
-            "odometry independent of the commanded wheel speeds), and the wheel speeds are the replay's input")
-TABLE_COLUMNS = ["metric", "label", "unit", "model", "is_engine", "n_runs", "mean", "low", "high", "rank", "next",
-                 "diff_to_next", "diff_low", "diff_high", "p_to_next", "separates_from_next", "runs_needed", "note"]
-SEPARATION_COLUMNS = ["metric", "label", "method", "n_runs", "best", "second", "p_value", "separates",
-                      "runs_needed", "statement"]
-RANKING_COLUMNS = ["engine", "total", "total_low", "total_high", "rank", "share_first", "imu_points",
-                   "imu_points_low", "imu_points_high", "other_points", "n_runs", "resamples"]
-DISCRIMINATION_COLUMNS = ["quantity", "engine", "error", "floor", "engine_part", "floor_share", "score",
-                          "score_low", "score_high", "spread", "half_width", "separates", "n_runs", "floor_models"]
+NO_SPEED = (
+    "not measurable on this data: its logs hold IMU and wheel speeds only (no GNSS, motion capture or "
+    "odometry independent of the commanded wheel speeds), and the wheel speeds are the replay's input"
+)
+TABLE_COLUMNS = [
+    "metric",
+    "label",
+    "unit",
+    "model",
+    "is_engine",
+    "n_runs",
+    "mean",
+    "low",
+    "high",
+    "rank",
+    "next",
+    "diff_to_next",
+    "diff_low",
+    "diff_high",
+    "p_to_next",
+    "separates_from_next",
+    "runs_needed",
+    "note",
+]
+SEPARATION_COLUMNS = [
+    "metric",
+    "label",
+    "method",
+    "n_runs",
+    "best",
+    "second",
+    "p_value",
+    "separates",
+    "runs_needed",
+    "statement",
+]
+RANKING_COLUMNS = [
+    "engine",
+    "total",
+    "total_low",
+    "total_high",
+    "rank",
+    "share_first",
+    "imu_points",
+    "imu_points_low",
+    "imu_points_high",
+    "other_points",
+    "n_runs",
+    "resamples",
+]
+DISCRIMINATION_COLUMNS = [
+    "quantity",
+    "engine",
+    "error",
+    "floor",
+    "engine_part",
+    "floor_share",
+    "score",
+    "score_low",
+    "score_high",
+    "spread",
+    "half_width",
+    "separates",
+    "n_runs",
+    "floor_models",
+]
 IMU_SCORES = {"angular": "imu_angular", "linear": "imu_linear"}
 POWER = 0.8  # runs_needed: the runs at which a difference of the observed size would be found 4 times in 5
 
@@ -105,8 +172,9 @@ def runs_needed(differences, level: float, power: float = POWER) -> float:
     return float(math.ceil((z * sd / abs(float(d.mean()))) ** 2))
 
 
-def metric_table(per_test: pd.DataFrame, engines: list[str], statistics: dict | None = None,
-                 seed: int = 0) -> pd.DataFrame:
+def metric_table(
+    per_test: pd.DataFrame, engines: list[str], statistics: dict | None = None, seed: int = 0
+) -> pd.DataFrame:
     """Metric x model: mean over runs with its BCa interval, the engines' order by mean (smaller is
     closer to the real robot), and each engine against the next one: the paired difference over
     the runs both have, its sign-flip p-value, whether it separates, and about how many runs would.
@@ -135,13 +203,19 @@ def metric_table(per_test: pd.DataFrame, engines: list[str], statistics: dict | 
                 if i + 1 < len(ranked):
                     nxt = ranked[i + 1]
                     pair = wide[[model, nxt]].dropna()
-                    t = realmetrics.paired_test(pair[model].to_numpy(), pair[nxt].to_numpy(), None, min_runs, level,
-                                                seed)
+                    t = realmetrics.paired_test(
+                        pair[model].to_numpy(), pair[nxt].to_numpy(), None, min_runs, level, seed
+                    )
                     separates = None if t["verdict"] == "too few runs" else t["verdict"] == "b"
-                    row.update(next=nxt, diff_to_next=t["mean"], diff_low=t["low"], diff_high=t["high"],
-                               p_to_next=t["p_value"], separates_from_next=separates,
-                               runs_needed=(runs_needed(pair[model] - pair[nxt], level) if not separates
-                                            else float("nan")))
+                    row.update(
+                        next=nxt,
+                        diff_to_next=t["mean"],
+                        diff_low=t["low"],
+                        diff_high=t["high"],
+                        p_to_next=t["p_value"],
+                        separates_from_next=separates,
+                        runs_needed=(runs_needed(pair[model] - pair[nxt], level) if not separates else float("nan")),
+                    )
                     if separates is None:
                         row["note"] = f"too few runs ({t['n_runs']} < {min_runs})"
             rows.append(row)
@@ -170,9 +244,20 @@ def separation_rows(table: pd.DataFrame, min_runs: int) -> list[dict]:
         first = g[(g["rank"] == 1)]
         if first.empty:
             note = g.note.dropna().iloc[0] if g.note.notna().any() else "no engine completed it"
-            out.append({"metric": metric, "label": info["label"], "method": "simpick", "n_runs": 0, "best": "",
-                        "second": "", "p_value": float("nan"), "separates": None, "runs_needed": float("nan"),
-                        "statement": f"{info['label']}: {note}"})
+            out.append(
+                {
+                    "metric": metric,
+                    "label": info["label"],
+                    "method": "simpick",
+                    "n_runs": 0,
+                    "best": "",
+                    "second": "",
+                    "p_value": float("nan"),
+                    "separates": None,
+                    "runs_needed": float("nan"),
+                    "statement": f"{info['label']}: {note}",
+                }
+            )
             continue
         r = first.iloc[0]
         n = int(r.n_runs)
@@ -181,8 +266,10 @@ def separation_rows(table: pd.DataFrame, min_runs: int) -> list[dict]:
             separates = None
         elif r.separates_from_next is True or r.separates_from_next == "True":
             separates = True
-            statement = (f"{info['label']}: {r.model} is closest ({_fmt(r['mean'])} [{_fmt(r.low)}, {_fmt(r.high)}] "
-                         f"over {n} runs), separated from {r.next} (paired p {_fmt(r.p_to_next, 2)})")
+            statement = (
+                f"{info['label']}: {r.model} is closest ({_fmt(r['mean'])} [{_fmt(r.low)}, {_fmt(r.high)}] "
+                f"over {n} runs), separated from {r.next} (paired p {_fmt(r.p_to_next, 2)})"
+            )
         else:
             separates = None if "too few" in str(r.note) else False
             tied = [r.model, r.next]
@@ -191,28 +278,53 @@ def separation_rows(table: pd.DataFrame, min_runs: int) -> list[dict]:
                 if s.separates_from_next is True or s.separates_from_next == "True" or not isinstance(s.next, str):
                     break
                 tied.append(s.next)
-            why = (f"too few runs ({n} < {min_runs})" if separates is None else
-                   f"{r.model} against {r.next}: paired p {_fmt(r.p_to_next, 2)} over {n} runs; about "
-                   f"{_runs_text(r.runs_needed)} runs would separate them at the observed spread")
+            why = (
+                f"too few runs ({n} < {min_runs})"
+                if separates is None
+                else f"{r.model} against {r.next}: paired p {_fmt(r.p_to_next, 2)} over {n} runs; about "
+                f"{_runs_text(r.runs_needed)} runs would separate them at the observed spread"
+            )
             pairs = g[g.next.astype(str).isin(tied) & g.model.isin(tied) & g.p_to_next.notna()]
             if separates is False and len(pairs) > 1:
                 near = pairs.sort_values("p_to_next").iloc[0]
                 if near.model != r.model:
-                    why += (f"; closest to separating: {near.model} against {near.next}, paired p "
-                            f"{_fmt(near.p_to_next, 2)}, about {_runs_text(near.runs_needed)} runs")
-            statement = (f"{info['label']}: {', '.join(dict.fromkeys(tied))} cannot be told apart, none "
-                         f"separated from the next in that order ({why})")
-        out.append({"metric": metric, "label": info["label"], "method": "simpick", "n_runs": n, "best": r.model,
-                    "second": r.next if isinstance(r.next, str) else "", "p_value": r.p_to_next,
-                    "separates": separates, "runs_needed": r.runs_needed, "statement": statement})
+                    why += (
+                        f"; closest to separating: {near.model} against {near.next}, paired p "
+                        f"{_fmt(near.p_to_next, 2)}, about {_runs_text(near.runs_needed)} runs"
+                    )
+            statement = (
+                f"{info['label']}: {', '.join(dict.fromkeys(tied))} cannot be told apart, none "
+                f"separated from the next in that order ({why})"
+            )
+        out.append(
+            {
+                "metric": metric,
+                "label": info["label"],
+                "method": "simpick",
+                "n_runs": n,
+                "best": r.model,
+                "second": r.next if isinstance(r.next, str) else "",
+                "p_value": r.p_to_next,
+                "separates": separates,
+                "runs_needed": r.runs_needed,
+                "statement": statement,
+            }
+        )
     return out
 
 
 # --- the paper's method: what its accuracy scores and its total can tell apart --------------------------
 
-def score_discrimination(per_test: pd.DataFrame, engines: list[str], floor_models: list[str],
-                         tests: list[str] | None = None, statistics: dict | None = None,
-                         resamples: int = 2000, seed: int = 0) -> pd.DataFrame:
+
+def score_discrimination(
+    per_test: pd.DataFrame,
+    engines: list[str],
+    floor_models: list[str],
+    tests: list[str] | None = None,
+    statistics: dict | None = None,
+    resamples: int = 2000,
+    seed: int = 0,
+) -> pd.DataFrame:
     """How much of each engine's Eq. 7 total is the engine, and whether its Eq. 8 score separates it.
 
     - ``floor``: the smallest Eq. 7 total of the rigid reference models (``floor_models``, e.g.
@@ -259,17 +371,36 @@ def score_discrimination(per_test: pd.DataFrame, engines: list[str], floor_model
         half = max(widths) if widths else float("nan")
         separates = None if not widths else bool(spread > half)
         for e in eng:
-            rows.append({"quantity": q, "engine": e, "error": float(totals[e]), "floor": floor,
-                         "engine_part": float(totals[e]) - floor,
-                         "floor_share": floor / float(totals[e]) if totals[e] > 0 else float("nan"),
-                         "score": scores[e], "score_low": low[e], "score_high": high[e], "spread": spread,
-                         "half_width": half, "separates": separates, "n_runs": n_runs,
-                         "floor_models": ";".join(floors)})
+            rows.append(
+                {
+                    "quantity": q,
+                    "engine": e,
+                    "error": float(totals[e]),
+                    "floor": floor,
+                    "engine_part": float(totals[e]) - floor,
+                    "floor_share": floor / float(totals[e]) if totals[e] > 0 else float("nan"),
+                    "score": scores[e],
+                    "score_low": low[e],
+                    "score_high": high[e],
+                    "spread": spread,
+                    "half_width": half,
+                    "separates": separates,
+                    "n_runs": n_runs,
+                    "floor_models": ";".join(floors),
+                }
+            )
     return pd.DataFrame(rows, columns=DISCRIMINATION_COLUMNS)
 
 
-def ranking(weighted: pd.DataFrame, per_test: pd.DataFrame | None, tests: list[str] | None, weights: dict,
-            statistics: dict | None = None, resamples: int = 2000, seed: int = 0) -> pd.DataFrame:
+def ranking(
+    weighted: pd.DataFrame,
+    per_test: pd.DataFrame | None,
+    tests: list[str] | None,
+    weights: dict,
+    statistics: dict | None = None,
+    resamples: int = 2000,
+    seed: int = 0,
+) -> pd.DataFrame:
     """The paper's weighted total per engine with an interval over real runs: the runs resampled
     with replacement, the Eq. 7 totals and Eq. 8 accuracy scores recomputed per draw, everything
     else (qualitative facts, RTF, CPU) as measured. ``share_first``: the share of draws in which
@@ -280,9 +411,15 @@ def ranking(weighted: pd.DataFrame, per_test: pd.DataFrame | None, tests: list[s
     w = {q: float(weights[key]) for q, key in IMU_SCORES.items()}
     imu = sum(w[q] * weighted[key].astype(float).fillna(0.0) for q, key in IMU_SCORES.items())
     other = weighted["total"].astype(float) - imu
-    out = pd.DataFrame({"engine": engines, "total": weighted["total"].astype(float).to_numpy(),
-                        "rank": weighted["rank"].to_numpy(), "imu_points": imu.to_numpy(),
-                        "other_points": other.to_numpy()})
+    out = pd.DataFrame(
+        {
+            "engine": engines,
+            "total": weighted["total"].astype(float).to_numpy(),
+            "rank": weighted["rank"].to_numpy(),
+            "imu_points": imu.to_numpy(),
+            "other_points": other.to_numpy(),
+        }
+    )
     for col in ("total_low", "total_high", "share_first", "imu_points_low", "imu_points_high"):
         out[col] = float("nan")
     out["n_runs"], out["resamples"] = 0, 0
@@ -292,8 +429,12 @@ def ranking(weighted: pd.DataFrame, per_test: pd.DataFrame | None, tests: list[s
     if tests is not None:
         ok = ok[ok.test.astype(str).isin(set(map(str, tests)))]
     ok = ok.assign(_unit=run_key(ok))
-    walls = {q: ok.pivot_table(index="_unit", columns="engine", values=f"error_{q}", aggfunc=eq7_sum)
-             .reindex(columns=engines) for q in IMU_SCORES}
+    walls = {
+        q: ok.pivot_table(index="_unit", columns="engine", values=f"error_{q}", aggfunc=eq7_sum).reindex(
+            columns=engines
+        )
+        for q in IMU_SCORES
+    }
     units = sorted(set.intersection(*(set(v.dropna().index) for v in walls.values())))
     n = len(units)
     out["n_runs"] = n
@@ -309,8 +450,10 @@ def ranking(weighted: pd.DataFrame, per_test: pd.DataFrame | None, tests: list[s
     totals = other.to_numpy()[None, :] + points
     alpha = (1 - level) / 2
     out["total_low"], out["total_high"] = np.quantile(totals, alpha, axis=0), np.quantile(totals, 1 - alpha, axis=0)
-    out["imu_points_low"], out["imu_points_high"] = (np.quantile(points, alpha, axis=0),
-                                                     np.quantile(points, 1 - alpha, axis=0))
+    out["imu_points_low"], out["imu_points_high"] = (
+        np.quantile(points, alpha, axis=0),
+        np.quantile(points, 1 - alpha, axis=0),
+    )
     first = totals.argmax(axis=1)
     out["share_first"] = [float(np.mean(first == i)) for i in range(len(engines))]
     out["resamples"] = resamples
@@ -328,16 +471,35 @@ def paper_rows(rank: pd.DataFrame, discrimination: pd.DataFrame, weights: dict) 
         sep = d.separates.iloc[0]
         sep = None if sep is None or (isinstance(sep, float) and math.isnan(sep)) else bool(sep)
         lo, hi = d.score.min(), d.score.max()
-        statement = (f"the paper's IMU {q} accuracy score (Eq. 8, weight {weights[key]:g}): {_fmt(lo)}–{_fmt(hi)} "
-                     f"for every engine; " + ("its spread exceeds the interval half-width" if sep else
-                                              "too few runs to say" if sep is None else
-                                              f"its spread {_fmt(d.spread.iloc[0], 2)} is within the resampling "
-                                              f"half-width {_fmt(d.half_width.iloc[0], 2)}: it does not separate"))
-        out.append({"metric": key, "label": f"IMU {q} accuracy score (Eq. 8)", "method": "paper", "quantity": q,
-                    "low": float(lo), "high": float(hi),
-                    "n_runs": int(d.n_runs.iloc[0]), "best": best.engine.iloc[0],
-                    "second": best.engine.iloc[1] if len(best) > 1 else "", "p_value": float("nan"),
-                    "separates": sep, "runs_needed": float("nan"), "statement": statement})
+        statement = (
+            f"the paper's IMU {q} accuracy score (Eq. 8, weight {weights[key]:g}): {_fmt(lo)}–{_fmt(hi)} "
+            f"for every engine; "
+            + (
+                "its spread exceeds the interval half-width"
+                if sep
+                else "too few runs to say"
+                if sep is None
+                else f"its spread {_fmt(d.spread.iloc[0], 2)} is within the resampling "
+                f"half-width {_fmt(d.half_width.iloc[0], 2)}: it does not separate"
+            )
+        )
+        out.append(
+            {
+                "metric": key,
+                "label": f"IMU {q} accuracy score (Eq. 8)",
+                "method": "paper",
+                "quantity": q,
+                "low": float(lo),
+                "high": float(hi),
+                "n_runs": int(d.n_runs.iloc[0]),
+                "best": best.engine.iloc[0],
+                "second": best.engine.iloc[1] if len(best) > 1 else "",
+                "p_value": float("nan"),
+                "separates": sep,
+                "runs_needed": float("nan"),
+                "statement": statement,
+            }
+        )
     r = rank.sort_values("total", ascending=False)
     if len(r) >= 2:
         a, b = r.iloc[0], r.iloc[1]
@@ -345,20 +507,42 @@ def paper_rows(rank: pd.DataFrame, discrimination: pd.DataFrame, weights: dict) 
         sep = bool(a.total_low > b.total_high) if given else None
         spread_imu = float(r.imu_points.max() - r.imu_points.min())
         spread_other = float(r.other_points.max() - r.other_points.min())
-        statement = (f"the paper's weighted total: {a.engine} {a.total:.3f}"
-                     + (f" [{a.total_low:.3f}, {a.total_high:.3f}]" if given else "")
-                     + f", {b.engine} {b.total:.3f}" + (f" [{b.total_low:.3f}, {b.total_high:.3f}]" if given else "")
-                     + f"; the IMU accuracy scores move the engines' totals by at most {spread_imu:.2f} points, the "
-                       f"qualitative facts, RTF and CPU by {spread_other:.2f}")
-        out.append({"metric": "total", "label": "weighted total (the paper's method)", "method": "paper",
-                    "totals": statement.split(": ", 1)[1].split("; the IMU")[0],
-                    "n_runs": int(a.n_runs), "best": a.engine, "second": b.engine, "p_value": float("nan"),
-                    "separates": sep, "runs_needed": float("nan"), "statement": statement})
+        statement = (
+            f"the paper's weighted total: {a.engine} {a.total:.3f}"
+            + (f" [{a.total_low:.3f}, {a.total_high:.3f}]" if given else "")
+            + f", {b.engine} {b.total:.3f}"
+            + (f" [{b.total_low:.3f}, {b.total_high:.3f}]" if given else "")
+            + f"; the IMU accuracy scores move the engines' totals by at most {spread_imu:.2f} points, the "
+            f"qualitative facts, RTF and CPU by {spread_other:.2f}"
+        )
+        out.append(
+            {
+                "metric": "total",
+                "label": "weighted total (the paper's method)",
+                "method": "paper",
+                "totals": statement.split(": ", 1)[1].split("; the IMU")[0],
+                "n_runs": int(a.n_runs),
+                "best": a.engine,
+                "second": b.engine,
+                "p_value": float("nan"),
+                "separates": sep,
+                "runs_needed": float("nan"),
+                "statement": statement,
+            }
+        )
     return out
 
 
-HEADING_COLUMNS = ["model", "test", "terrain_class", "run", "start_heading_deg", "yaw_rate_gain_sim",
-                   "yaw_rate_gain_reference", "gain_ratio"]
+HEADING_COLUMNS = [
+    "model",
+    "test",
+    "terrain_class",
+    "run",
+    "start_heading_deg",
+    "yaw_rate_gain_sim",
+    "yaw_rate_gain_reference",
+    "gain_ratio",
+]
 HEADING_REFERENCE = "coulomb"  # heading-independent by construction: the same command's gain on any heading
 
 
@@ -375,10 +559,18 @@ def heading_spread(per_test: pd.DataFrame, reference: str = HEADING_REFERENCE) -
     rows = []
     for r in ok[ok.engine != reference].to_dict("records"):
         g_ref = ref.get(r["test"], float("nan"))
-        rows.append({"model": r["engine"], "test": r["test"], "terrain_class": r.get("terrain_class"),
-                     "run": r.get("run"), "start_heading_deg": float(r["start_heading_deg"]),
-                     "yaw_rate_gain_sim": float(r["yaw_rate_gain_sim"]), "yaw_rate_gain_reference": g_ref,
-                     "gain_ratio": float(r["yaw_rate_gain_sim"]) / g_ref if g_ref else float("nan")})
+        rows.append(
+            {
+                "model": r["engine"],
+                "test": r["test"],
+                "terrain_class": r.get("terrain_class"),
+                "run": r.get("run"),
+                "start_heading_deg": float(r["start_heading_deg"]),
+                "yaw_rate_gain_sim": float(r["yaw_rate_gain_sim"]),
+                "yaw_rate_gain_reference": g_ref,
+                "gain_ratio": float(r["yaw_rate_gain_sim"]) / g_ref if g_ref else float("nan"),
+            }
+        )
     return pd.DataFrame(rows, columns=HEADING_COLUMNS)
 
 
@@ -435,6 +627,12 @@ def verdict_job(inputs: dict, params: dict, outputs: dict) -> None:
         acc_per_test = read_per_test(inputs["accuracy_tests"])
         scored = [e for e in engines if e in set(acc_per_test.engine)]
         if len(acc_per_test) and scored:
-            disc = score_discrimination(acc_per_test, scored, floor_models,
-                                        scored_tests(inputs["accuracy_errors"], scored), statistics, seed=seed)
+            disc = score_discrimination(
+                acc_per_test,
+                scored,
+                floor_models,
+                scored_tests(inputs["accuracy_errors"], scored),
+                statistics,
+                seed=seed,
+            )
     write_csv(disc, outputs["discrimination"])

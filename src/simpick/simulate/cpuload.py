@@ -20,13 +20,15 @@ import statistics
 import numpy as np
 import psutil
 
-from simpick.inputs import terrain as terrain_io
 from simpick.engines import get_engine
+from simpick.inputs import terrain as terrain_io
 from simpick.inputs.motions import constant_commands
 
-DEFINITION = ("CPU load = process CPU time (user + system) spent stepping / simulated time, "
-              "in % of one core: the load the engine would put on one core if paced to real time. "
-              "Median over repeats.")
+DEFINITION = (
+    "CPU load = process CPU time (user + system) spent stepping / simulated time, "
+    "in % of one core: the load the engine would put on one core if paced to real time. "
+    "Median over repeats."
+)
 
 
 def convoy(robots: int, start: tuple[float, float, float], spacing: float) -> tuple:
@@ -48,27 +50,43 @@ def measure(params: dict, urdf: str, terrain_file: str, limits=None) -> dict:
     engine = get_engine(engine_name)
     base = scenario_from(params, urdf, terrain_io.load(terrain_file))
     timestep, duration = base.timestep, cpu["duration"]
-    result = {"engine": engine_name, "engine_version": engine.version(), "definition": DEFINITION,
-              "cpu_count": psutil.cpu_count(), "affinity": sorted(os.sched_getaffinity(0))}
+    result = {
+        "engine": engine_name,
+        "engine_version": engine.version(),
+        "definition": DEFINITION,
+        "cpu_count": psutil.cpu_count(),
+        "affinity": sorted(os.sched_getaffinity(0)),
+    }
     all_reasons: list[str] = []
     for scenario_name in ("average", "intense"):
         robots = int(cpu[f"robots_{scenario_name}"])
         scenario = dataclasses.replace(base, starts=convoy(robots, tuple(motion["start"]), cpu["spacing"]))
-        commands = constant_commands(motion["v"], motion["w"], duration, timestep, params["robot"]["track"],
-                                     scenario.robot, robots)
+        commands = constant_commands(
+            motion["v"], motion["w"], duration, timestep, params["robot"]["track"], scenario.robot, robots
+        )
         loads, reasons = [], []
         for _ in range(int(cpu["repeats"])):
             record = engine.simulate(scenario, commands)
             loads.append(100.0 * record.cpu_time / (record.steps * timestep))
             if limits is not None:
                 health = check(record, limits, np.asarray(commands)[:, 0])
-                reasons += [f"{scenario_name} ({robots} robots): {r}" for r in health.reasons if
-                            f"{scenario_name} ({robots} robots): {r}" not in reasons]
-        result[scenario_name] = {"robots": robots, "load_percent": statistics.median(loads),
-                                 "repeats_percent": loads, "simulated_seconds": duration}
+                reasons += [
+                    f"{scenario_name} ({robots} robots): {r}"
+                    for r in health.reasons
+                    if f"{scenario_name} ({robots} robots): {r}" not in reasons
+                ]
+        result[scenario_name] = {
+            "robots": robots,
+            "load_percent": statistics.median(loads),
+            "repeats_percent": loads,
+            "simulated_seconds": duration,
+        }
         all_reasons += reasons
-    result["health"] = {"status": "failed" if all_reasons else "ok", "reasons": all_reasons,
-                        "checked": limits is not None}
+    result["health"] = {
+        "status": "failed" if all_reasons else "ok",
+        "reasons": all_reasons,
+        "checked": limits is not None,
+    }
     return result
 
 
@@ -80,8 +98,18 @@ def hung_result(params: dict, timeout: float) -> dict:
 
     cpu = params["cpu_load"]
     reason = hung_reason(timeout)
-    return {"engine": params["engine"], "engine_version": "", "definition": DEFINITION,
-            **{scenario: {"robots": int(cpu[f"robots_{scenario}"]), "load_percent": None, "repeats_percent": [],
-                          "simulated_seconds": cpu["duration"]} for scenario in ("average", "intense")},
-            "health": {"status": "failed", "reasons": [reason], "checked": True}}
-
+    return {
+        "engine": params["engine"],
+        "engine_version": "",
+        "definition": DEFINITION,
+        **{
+            scenario: {
+                "robots": int(cpu[f"robots_{scenario}"]),
+                "load_percent": None,
+                "repeats_percent": [],
+                "simulated_seconds": cpu["duration"],
+            }
+            for scenario in ("average", "intense")
+        },
+        "health": {"status": "failed", "reasons": [reason], "checked": True},
+    }

@@ -52,9 +52,13 @@ def _first_sustained(flags: np.ndarray, samples: int) -> int | None:
 def check(record: PhysicsRecord, limits: HealthLimits, commands: np.ndarray | None = None) -> Health:
     """``commands``: robot 0's (steps, 4) wheel-speed commands, for the tracking checks."""
     health = Health()
-    arrays = {"position": record.position, "quaternion": record.quaternion,
-              "linear velocity": record.linear_velocity, "angular velocity": record.angular_velocity,
-              "IMU": record.imu_specific_force}
+    arrays = {
+        "position": record.position,
+        "quaternion": record.quaternion,
+        "linear velocity": record.linear_velocity,
+        "angular velocity": record.angular_velocity,
+        "IMU": record.imu_specific_force,
+    }
     for name, values in arrays.items():
         bad = ~np.isfinite(values).all(axis=-1)
         if bad.any():
@@ -68,8 +72,10 @@ def check(record: PhysicsRecord, limits: HealthLimits, commands: np.ndarray | No
     tilt = np.abs(euler_rpy(record.quaternion)[:, :2]).max(axis=1)
     if (tilt > limits.max_tilt).any():
         k = int(np.argmax(tilt > limits.max_tilt))
-        health.fail(f"flipped: roll/pitch {np.degrees(tilt[k]):.0f} deg at t = {record.time[k]:.3f} s "
-                    f"(limit {np.degrees(limits.max_tilt):.0f} deg)")
+        health.fail(
+            f"flipped: roll/pitch {np.degrees(tilt[k]):.0f} deg at t = {record.time[k]:.3f} s "
+            f"(limit {np.degrees(limits.max_tilt):.0f} deg)"
+        )
     speed = np.linalg.norm(record.linear_velocity, axis=1)
     if (speed > limits.max_speed).any():
         k = int(np.argmax(speed > limits.max_speed))
@@ -78,8 +84,10 @@ def check(record: PhysicsRecord, limits: HealthLimits, commands: np.ndarray | No
     jump = np.linalg.norm(np.diff(record.linear_velocity, axis=0, prepend=np.zeros((1, 3))), axis=1)
     if (jump > limits.max_velocity_jump).any():
         k = int(np.argmax(jump > limits.max_velocity_jump))
-        health.fail(f"jump: base velocity changed by {jump[k]:.2f} m/s within one step at t = {record.time[k]:.3f} s "
-                    f"(limit {limits.max_velocity_jump} m/s; no wheel-terrain force explains it)")
+        health.fail(
+            f"jump: base velocity changed by {jump[k]:.2f} m/s within one step at t = {record.time[k]:.3f} s "
+            f"(limit {limits.max_velocity_jump} m/s; no wheel-terrain force explains it)"
+        )
     if commands is not None:
         dt = float(record.time[0]) if len(record.time) else 0.0
         second = max(1, int(round(1.0 / dt))) if dt > 0 else 1
@@ -87,16 +95,20 @@ def check(record: PhysicsRecord, limits: HealthLimits, commands: np.ndarray | No
         smoothed = np.convolve(error, np.ones(second) / second, mode="same")
         k = _first_sustained(smoothed > limits.wheel_tracking, 1)
         if k is not None:
-            health.fail(f"wheels do not track their command: mean speed error {smoothed[k]:.2f} rad/s "
-                        f"around t = {record.time[k]:.3f} s (limit {limits.wheel_tracking} rad/s; torque bound "
-                        "too low or wheels stuck)")
+            health.fail(
+                f"wheels do not track their command: mean speed error {smoothed[k]:.2f} rad/s "
+                f"around t = {record.time[k]:.3f} s (limit {limits.wheel_tracking} rad/s; torque bound "
+                "too low or wheels stuck)"
+            )
         # Parked = every wheel commanded to stop for a full second already: braking from speed
         # takes a moment on low friction, and is not sliding.
         stopped = np.all(commands == 0, axis=1)
-        parked = np.convolve(stopped.astype(float), np.ones(second), mode="full")[:len(stopped)] >= second
+        parked = np.convolve(stopped.astype(float), np.ones(second), mode="full")[: len(stopped)] >= second
         speed = np.linalg.norm(record.linear_velocity[:, :2], axis=1)
         k = _first_sustained(parked & (speed > limits.max_parked_speed), max(1, second // 10))
         if k is not None:
-            health.fail(f"slides while commanded to stand still: {speed[k]:.2f} m/s at t = {record.time[k]:.3f} s "
-                        f"(limit {limits.max_parked_speed} m/s)")
+            health.fail(
+                f"slides while commanded to stand still: {speed[k]:.2f} m/s at t = {record.time[k]:.3f} s "
+                f"(limit {limits.max_parked_speed} m/s)"
+            )
     return health

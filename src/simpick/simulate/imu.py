@@ -68,8 +68,9 @@ def interval_average(samples: np.ndarray, timestep: float, period: float) -> np.
     return (np.diff(at, axis=0) / period).reshape(n, *samples.shape[1:])
 
 
-def sensor_output(specific_force: np.ndarray, gyro: np.ndarray, model: ImuModel,
-                  rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+def sensor_output(
+    specific_force: np.ndarray, gyro: np.ndarray, model: ImuModel, rng: np.random.Generator
+) -> tuple[np.ndarray, np.ndarray]:
     """Add bias and seeded white noise, then saturate at the sensor's range."""
     accel = specific_force + np.asarray(model.accel_bias)
     rate = gyro + np.asarray(model.gyro_bias)
@@ -77,5 +78,4 @@ def sensor_output(specific_force: np.ndarray, gyro: np.ndarray, model: ImuModel,
         accel = accel + rng.normal(0.0, model.accel_noise_std, accel.shape)
     if model.gyro_noise_std > 0:
         rate = rate + rng.normal(0.0, model.gyro_noise_std, rate.shape)
-    return (np.clip(accel, -model.accel_range, model.accel_range),
-            np.clip(rate, -model.gyro_range, model.gyro_range))
+    return (np.clip(accel, -model.accel_range, model.accel_range), np.clip(rate, -model.gyro_range, model.gyro_range))

@@ -47,9 +47,10 @@ def simulate_job(outputs: list[str], urdf: str, inputs: dict, params: dict, afte
     timeout = params["health"]["timeout"]
     done = []
     for i, (which, run, output) in enumerate(units):
+
         def hung(i=i):
             write_hung_trace(units[i][2], units[i][0], params, timeout)
-            for later, _, path in units[i + 1:]:
+            for later, _, path in units[i + 1 :]:
                 write_hung_trace(path, later, params, timeout, reason=f"not run: {units[i][0]['test']} hung before it")
             if after_hung is not None:
                 after_hung()
@@ -69,18 +70,30 @@ def write_hung_trace(output: str, which: dict, params: dict, timeout: float, rea
     waited = 0.0 if reason else float(timeout)  # a case not run used no time
     reason = reason or hung_reason(timeout)
     print(f"simpick: {which['engine']} {which['source']} {which['test']}: {reason}", file=sys.stderr)
-    write_trace({c: [] for c in COLUMNS},
-                {"engine_version": "", **which,
-                 "timestep": params["physics"]["timestep"], "seed": params["seed"], "steps": 0, "sim_time": 0.0,
-                 "wall_time": waited, "cpu_time": float("nan"), "real_time_factor": None,
-                 "health": {"status": "failed", "reasons": [reason]}, "config_hash": config_hash(params)},
-                output)
+    write_trace(
+        {c: [] for c in COLUMNS},
+        {
+            "engine_version": "",
+            **which,
+            "timestep": params["physics"]["timestep"],
+            "seed": params["seed"],
+            "steps": 0,
+            "sim_time": 0.0,
+            "wall_time": waited,
+            "cpu_time": float("nan"),
+            "real_time_factor": None,
+            "health": {"status": "failed", "reasons": [reason]},
+            "config_hash": config_hash(params),
+        },
+        output,
+    )
 
 
 def cpu_job(output: str, terrain_file: str, urdf: str, params: dict, timeout: float = DEFAULT_TIMEOUT_S) -> None:
     """The CPU-load measurement of one engine (simpick.simulate.cpuload), under the watchdog: still running
     after ``timeout`` s of wall time (simpick.simulate.watchdog.runtime_timeout of the rule's runtime), the
     job writes :func:`simpick.simulate.cpuload.hung_result` instead, which the scores leave out and name."""
+
     def write(result: dict) -> None:
         Path(output).parent.mkdir(parents=True, exist_ok=True)
         Path(output).write_text(json.dumps(result, indent=1))
@@ -91,6 +104,7 @@ def cpu_job(output: str, terrain_file: str, urdf: str, params: dict, timeout: fl
         write(result)
 
     with Watchdog(timeout, hung):
-        result = measure(params, urdf, terrain_file,
-                         limits=HealthLimits(**params["health"]) if params.get("health") else None)
+        result = measure(
+            params, urdf, terrain_file, limits=HealthLimits(**params["health"]) if params.get("health") else None
+        )
     write(result)

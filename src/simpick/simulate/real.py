@@ -29,7 +29,7 @@ def start_heading(seed: int, dataset: object, terrain_class: object, run: object
     which every interval over runs carries, instead of a bias fixed by one chosen start (every case
     started at heading 0, PyBullet's worst, before issue 17). One heading per case costs no extra
     simulation; several per case would multiply the real-data simulation by their number."""
-    u = stable_seed(int(seed), "start heading", str(dataset), str(terrain_class), str(run), str(case)) / 2.0 ** 32
+    u = stable_seed(int(seed), "start heading", str(dataset), str(terrain_class), str(run), str(case)) / 2.0**32
     return float(2.0 * np.pi * u)
 
 
@@ -38,15 +38,28 @@ def simulate_segment(seg: pd.Series, urdf: str, params: dict) -> tuple[pd.DataFr
     from its seeded start heading (:func:`start_heading`)."""
     friction = params["class"]["friction"]
     heading = start_heading(params["seed"], seg.dataset, seg.terrain_class, seg.run, seg.name)
-    case = Case(engine=params["engine"], terrain=params["terrain_class"], motion=seg.name, v=float(seg.v),
-                w=float(seg.w), duration=float(seg.settle + seg.duration), start=(0.0, 0.0, heading))
+    case = Case(
+        engine=params["engine"],
+        terrain=params["terrain_class"],
+        motion=seg.name,
+        v=float(seg.v),
+        w=float(seg.w),
+        duration=float(seg.settle + seg.duration),
+        start=(0.0, 0.0, heading),
+    )
     scenario = scenario_from(params, urdf, flat_terrain(params["terrain_class"], friction), ground_friction=friction)
     frame, meta = run_case(case, scenario, params["robot"]["track"], Recording.from_params(params))
-    meta.update({"dataset": seg.dataset, "run": seg.run, "segment": seg.name,
-                 "start_heading_deg": float(np.degrees(heading)),
-                 "window": [float(seg.settle), float(seg.settle + seg.duration)],
-                 "friction_source": params["class"].get("source", ""),
-                 "config_hash": config_hash(params)})
+    meta.update(
+        {
+            "dataset": seg.dataset,
+            "run": seg.run,
+            "segment": seg.name,
+            "start_heading_deg": float(np.degrees(heading)),
+            "window": [float(seg.settle), float(seg.settle + seg.duration)],
+            "friction_source": params["class"].get("source", ""),
+            "config_hash": config_hash(params),
+        }
+    )
     return frame, meta
 
 
@@ -71,18 +84,29 @@ def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> t
     held = np.clip(np.searchsorted(cmd.time.to_numpy(), t, side="right") - 1, 0, len(cmd) - 1)
     left, right = cmd.v_left.to_numpy()[held], cmd.v_right.to_numpy()[held]
     friction = params["class"]["friction"]
-    heading = start_heading(params["seed"], log.meta.get("dataset"), params["terrain_class"], log.meta["run_id"],
-                            log.meta["name"])
-    scenario = scenario_from(params, urdf, flat_terrain(params["terrain_class"], friction), ((0.0, 0.0, heading),),
-                             ground_friction=friction)
+    heading = start_heading(
+        params["seed"], log.meta.get("dataset"), params["terrain_class"], log.meta["run_id"], log.meta["name"]
+    )
+    scenario = scenario_from(
+        params, urdf, flat_terrain(params["terrain_class"], friction), ((0.0, 0.0, heading),), ground_friction=friction
+    )
     wheels = scenario.robot.joint_speeds(left, right)  # (steps, driven wheels): the Husky's [l, r, l, r] / radius
     recording = Recording.from_params(params, imu=model_at_rate(params["imu"], log_imu_rate(log), dt))
-    frame, meta = run_commands(params["engine"], wheels, scenario, recording,
-                               stable_seed(params["seed"], params["engine"], log.meta["name"]))
-    meta.update({"terrain": params["terrain_class"], "motion": f"replay-{log.meta['run_id']}",
-                 "dataset": log.meta.get("dataset"), "run": str(log.meta["run_id"]), "seed": params["seed"],
-                 "replay_of": log.meta.get("source_files"), "real_imu_rate_hz": log_imu_rate(log),
-                 "start_heading_deg": float(np.degrees(heading))})
+    frame, meta = run_commands(
+        params["engine"], wheels, scenario, recording, stable_seed(params["seed"], params["engine"], log.meta["name"])
+    )
+    meta.update(
+        {
+            "terrain": params["terrain_class"],
+            "motion": f"replay-{log.meta['run_id']}",
+            "dataset": log.meta.get("dataset"),
+            "run": str(log.meta["run_id"]),
+            "seed": params["seed"],
+            "replay_of": log.meta.get("source_files"),
+            "real_imu_rate_hz": log_imu_rate(log),
+            "start_heading_deg": float(np.degrees(heading)),
+        }
+    )
     return frame, meta
 
 
@@ -93,9 +117,15 @@ def prepare_segment(urdf: str, inputs: dict, params: dict, name: str):
     if name not in table.index:
         raise InputError(inputs["segments"], f"has no {params['terrain_class']} segment {name!r}", "rerun snakemake")
     seg = table.loc[name]
-    which = {"terrain": params["terrain_class"], "motion": seg.name, "test": seg.name, "dataset": seg.dataset,
-             "run": str(seg.run), "segment": seg.name,
-             "window": [float(seg.settle), float(seg.settle + seg.duration)]}
+    which = {
+        "terrain": params["terrain_class"],
+        "motion": seg.name,
+        "test": seg.name,
+        "dataset": seg.dataset,
+        "run": str(seg.run),
+        "segment": seg.name,
+        "window": [float(seg.settle), float(seg.settle + seg.duration)],
+    }
     return which, lambda: simulate_segment(seg, urdf, params)
 
 
@@ -104,6 +134,11 @@ def prepare_replay(urdf: str, inputs: dict, params: dict, name: str):
     wheel speeds."""
     log = read_canonical(inputs["log"])
     run = str(log.meta["run_id"])
-    which = {"terrain": params["terrain_class"], "motion": f"replay-{run}", "test": f"{params['terrain_class']}-{run}",
-             "dataset": log.meta.get("dataset"), "run": run}
+    which = {
+        "terrain": params["terrain_class"],
+        "motion": f"replay-{run}",
+        "test": f"{params['terrain_class']}-{run}",
+        "dataset": log.meta.get("dataset"),
+        "run": run,
+    }
     return which, lambda: replay_log(log, urdf, params)

@@ -37,14 +37,21 @@ class Case:
     start: tuple[float, float, float]  # x, y, yaw
 
 
-def to_trace(record: PhysicsRecord, commands: np.ndarray, timestep: float, imu: ImuModel,
-             rng: np.random.Generator, robot: RobotSpec | None = None) -> dict[str, np.ndarray]:
+def to_trace(
+    record: PhysicsRecord,
+    commands: np.ndarray,
+    timestep: float,
+    imu: ImuModel,
+    rng: np.random.Generator,
+    robot: RobotSpec | None = None,
+) -> dict[str, np.ndarray]:
     """Physics-rate record of robot 0 -> IMU-rate trace columns (see simpick.simulate.traces.UNITS)."""
     ratio = 1.0 / (imu.rate_hz * timestep)
     block = int(round(ratio))
     if abs(ratio - block) < 1e-6 and block >= 1:  # the IMU period is a whole number of steps
-        accel, gyro = sensor_output(block_average(record.imu_specific_force, block),
-                                    block_average(record.imu_gyro, block), imu, rng)
+        accel, gyro = sensor_output(
+            block_average(record.imu_specific_force, block), block_average(record.imu_gyro, block), imu, rng
+        )
         at = np.arange(block - 1, (len(record.time) // block) * block, block)  # last step of each block
         time = record.time[at]
     else:  # e.g. a 4 ms step for a 100 Hz IMU (the timestep sweep): average by time, not by step
@@ -70,15 +77,29 @@ def to_trace(record: PhysicsRecord, commands: np.ndarray, timestep: float, imu: 
     wheel = record.wheel_speed[at] * signs if robot is not None and np.any(signs != 1) else record.wheel_speed[at]
     frame = {
         "time": time,
-        "ax": accel[:, 0], "ay": accel[:, 1], "az": accel[:, 2],
-        "wx": gyro[:, 0], "wy": gyro[:, 1], "wz": gyro[:, 2],
-        "x": record.position[at, 0], "y": record.position[at, 1], "z": record.position[at, 2],
-        "roll": rpy[:, 0], "pitch": rpy[:, 1], "yaw": np.unwrap(rpy[:, 2]),
-        "vx": vel[:, 0], "vy": vel[:, 1], "vz": vel[:, 2],
-        "v_forward": body_vel[:, 0], "yaw_rate": body_rate[:, 2],
-        "cmd_left": signed[:, first[0]], "cmd_right": signed[:, first[1]],
-        "wheel_fl": wheel[:, first[0]], "wheel_fr": wheel[:, first[1]],
-        "wheel_rl": wheel[:, last[0]], "wheel_rr": wheel[:, last[1]],
+        "ax": accel[:, 0],
+        "ay": accel[:, 1],
+        "az": accel[:, 2],
+        "wx": gyro[:, 0],
+        "wy": gyro[:, 1],
+        "wz": gyro[:, 2],
+        "x": record.position[at, 0],
+        "y": record.position[at, 1],
+        "z": record.position[at, 2],
+        "roll": rpy[:, 0],
+        "pitch": rpy[:, 1],
+        "yaw": np.unwrap(rpy[:, 2]),
+        "vx": vel[:, 0],
+        "vy": vel[:, 1],
+        "vz": vel[:, 2],
+        "v_forward": body_vel[:, 0],
+        "yaw_rate": body_rate[:, 2],
+        "cmd_left": signed[:, first[0]],
+        "cmd_right": signed[:, first[1]],
+        "wheel_fl": wheel[:, first[0]],
+        "wheel_fr": wheel[:, first[1]],
+        "wheel_rl": wheel[:, last[0]],
+        "wheel_rr": wheel[:, last[1]],
     }
     return frame
 
@@ -100,22 +121,34 @@ class Recording:
         return cls(imu=ImuModel(**params["imu"]) if imu is None else imu, limits=limits, seed=int(params["seed"]))
 
 
-def scenario_from(params: Mapping[str, Any], urdf: str | Path, terrain: Terrain | Mapping,
-                  starts=((0.0, 0.0, 0.0),), *, ground_friction: float | None = None) -> Scenario:
+def scenario_from(
+    params: Mapping[str, Any],
+    urdf: str | Path,
+    terrain: Terrain | Mapping,
+    starts=((0.0, 0.0, 0.0),),
+    *,
+    ground_friction: float | None = None,
+) -> Scenario:
     """A job's params read once into the typed :class:`~simpick.engines.base.Scenario` its engine
     builds: the robot (``params["robot"]``: its options, ``max_wheel_torque``; the description ``urdf``),
     ``terrain`` (a Terrain or a terrain file's dict), the physics (``timestep``, ``ground_friction``
     unless the case sets its own) and ``engine_settings``."""
     robot = load_from_config({**params["robot"], "urdf": urdf})
     physics = params["physics"]
-    return Scenario(robot=robot, terrain=Terrain.of(terrain),
-                    ground_friction=physics["ground_friction"] if ground_friction is None else ground_friction,
-                    timestep=physics["timestep"], max_wheel_torque=params["robot"]["max_wheel_torque"],
-                    starts=tuple(tuple(start) for start in starts), settings=params["engine_settings"])
+    return Scenario(
+        robot=robot,
+        terrain=Terrain.of(terrain),
+        ground_friction=physics["ground_friction"] if ground_friction is None else ground_friction,
+        timestep=physics["timestep"],
+        max_wheel_torque=params["robot"]["max_wheel_torque"],
+        starts=tuple(tuple(start) for start in starts),
+        settings=params["engine_settings"],
+    )
 
 
-def run_commands(engine_name: str, commands: np.ndarray, scenario: Scenario, recording: Recording,
-                 noise_seed: int) -> tuple[dict[str, np.ndarray], dict]:
+def run_commands(
+    engine_name: str, commands: np.ndarray, scenario: Scenario, recording: Recording, noise_seed: int
+) -> tuple[dict[str, np.ndarray], dict]:
     """Drive the scenario's robot 0 with ``commands`` (steps, driven wheels) joint speeds; returns the
     trace and its metadata."""
     engine = get_engine(engine_name)
@@ -126,12 +159,22 @@ def run_commands(engine_name: str, commands: np.ndarray, scenario: Scenario, rec
     frame = to_trace(record, commands, timestep, imu, np.random.default_rng(noise_seed), scenario.robot)
     sim_time = record.steps * timestep
     metadata = {
-        "engine": engine_name, "engine_version": engine.version(), "timestep": timestep,
-        "imu_rate_hz": imu.rate_hz, "noise_seed": noise_seed, "terrain_seed": scenario.terrain.seed,
-        "ground_friction": scenario.ground_friction, "terrain_friction": scenario.terrain.friction,
-        "steps": record.steps, "sim_time": sim_time, "wall_time": record.wall_time, "cpu_time": record.cpu_time,
+        "engine": engine_name,
+        "engine_version": engine.version(),
+        "timestep": timestep,
+        "imu_rate_hz": imu.rate_hz,
+        "noise_seed": noise_seed,
+        "terrain_seed": scenario.terrain.seed,
+        "ground_friction": scenario.ground_friction,
+        "terrain_friction": scenario.terrain.friction,
+        "steps": record.steps,
+        "sim_time": sim_time,
+        "wall_time": record.wall_time,
+        "cpu_time": record.cpu_time,
         "real_time_factor": sim_time / record.wall_time if record.wall_time > 0 else None,
-        "health": health.as_dict(), "simpick_version": simpick.__version__, "python": platform.python_version(),
+        "health": health.as_dict(),
+        "simpick_version": simpick.__version__,
+        "python": platform.python_version(),
     }
     return frame, metadata
 
@@ -143,6 +186,12 @@ def run_case(case: Case, scenario: Scenario, track: float, recording: Recording)
     commands = constant_commands(case.v, case.w, case.duration, scenario.timestep, track, scenario.robot)[:, 0]
     noise_seed = stable_seed(recording.seed, case.engine, case.terrain, case.motion)
     frame, metadata = run_commands(case.engine, commands, scenario, recording, noise_seed)
-    metadata.update({"terrain": case.terrain, "motion": case.motion, "seed": recording.seed,
-                     "command": {"v": case.v, "w": case.w, "track": track}})
+    metadata.update(
+        {
+            "terrain": case.terrain,
+            "motion": case.motion,
+            "seed": recording.seed,
+            "command": {"v": case.v, "w": case.w, "track": track},
+        }
+    )
     return frame, metadata

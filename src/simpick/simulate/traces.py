@@ -27,14 +27,29 @@ SCHEMA = "simpick.trace/1"
 METADATA_KEY = b"simpick"
 UNITS = {
     "time": "s",
-    "ax": "m/s^2", "ay": "m/s^2", "az": "m/s^2",
-    "wx": "rad/s", "wy": "rad/s", "wz": "rad/s",
-    "x": "m", "y": "m", "z": "m",
-    "roll": "rad", "pitch": "rad", "yaw": "rad",
-    "vx": "m/s", "vy": "m/s", "vz": "m/s",
-    "v_forward": "m/s", "yaw_rate": "rad/s",
-    "cmd_left": "rad/s", "cmd_right": "rad/s",
-    "wheel_fl": "rad/s", "wheel_fr": "rad/s", "wheel_rl": "rad/s", "wheel_rr": "rad/s",
+    "ax": "m/s^2",
+    "ay": "m/s^2",
+    "az": "m/s^2",
+    "wx": "rad/s",
+    "wy": "rad/s",
+    "wz": "rad/s",
+    "x": "m",
+    "y": "m",
+    "z": "m",
+    "roll": "rad",
+    "pitch": "rad",
+    "yaw": "rad",
+    "vx": "m/s",
+    "vy": "m/s",
+    "vz": "m/s",
+    "v_forward": "m/s",
+    "yaw_rate": "rad/s",
+    "cmd_left": "rad/s",
+    "cmd_right": "rad/s",
+    "wheel_fl": "rad/s",
+    "wheel_fr": "rad/s",
+    "wheel_rl": "rad/s",
+    "wheel_rr": "rad/s",
 }
 COLUMNS = list(UNITS)
 FRAME = "body: x forward, y left, z up (REP-103); accelerometer = specific force (REP-145)"
@@ -51,8 +66,9 @@ def write_trace(frame: Mapping, metadata: dict, path: str | Path) -> None:
         raise ValueError(f"trace is missing columns {missing}")
     meta = {"schema": SCHEMA, "units": UNITS, "frame": FRAME, **metadata}
     table = pa.Table.from_arrays([_float_array(frame[c]) for c in COLUMNS], names=COLUMNS)
-    table = table.replace_schema_metadata({**(table.schema.metadata or {}),
-                                           METADATA_KEY: json.dumps(meta, sort_keys=True).encode()})
+    table = table.replace_schema_metadata(
+        {**(table.schema.metadata or {}), METADATA_KEY: json.dumps(meta, sort_keys=True).encode()}
+    )
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".partial")
@@ -80,12 +96,13 @@ def read_metadata(path: str | Path) -> dict:
         raise InputError(str(path), "has no simpick metadata; it was not written by simpick")
     meta = json.loads(raw[METADATA_KEY])
     if meta.get("schema") != SCHEMA:
-        raise InputError(str(path), f"trace schema {meta.get('schema')!r}, expected {SCHEMA!r}",
-                         "rerun snakemake to regenerate it")
+        raise InputError(
+            str(path), f"trace schema {meta.get('schema')!r}, expected {SCHEMA!r}", "rerun snakemake to regenerate it"
+        )
     return meta
 
 
-def read_trace(path: str | Path) -> tuple["pd.DataFrame", dict]:
+def read_trace(path: str | Path) -> tuple[pd.DataFrame, dict]:
     meta = read_metadata(path)
     frame = pq.read_table(path).to_pandas()
     missing = [c for c in COLUMNS if c not in frame.columns]

@@ -40,4 +40,3 @@ def module(kind: str):
         return importlib.import_module(KINDS[kind])
     except KeyError:
         raise ValueError(f"no source kind {kind!r}; known: {sorted(KINDS)}") from None
-

@@ -12,6 +12,7 @@ MEM_MB = 400
 
 # --- planning ---
 
+
 def cases(config: dict) -> list[tuple[str, str]]:
     """Every terrain x every motion of the config."""
     return [(t, m) for t in config["terrains"] for m in config["motions"]]

@@ -13,6 +13,7 @@ MEM_MB = 800  # a whole run's trace and log in memory
 
 # --- planning ---
 
+
 def cases(dataset) -> list[tuple[str, str]]:
     """(terrain class, run) of every run of an opened dataset folder (simpick.real.datasets)."""
     return [(r.terrain_class, r.run) for r in dataset.runs]

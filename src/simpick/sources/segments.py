@@ -17,6 +17,7 @@ MEM_MB = 400
 
 # --- planning ---
 
+
 def by_class(path: str, classes: dict | list) -> dict[str, list[str]]:
     """terrain class -> segment ids, from a segment table (plain csv: fast to parse). Raises
     ValueError on a class with no entry under real_data.classes."""

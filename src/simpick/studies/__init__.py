@@ -1,1 +1,3 @@
-"""Studies beside the main flow: engines against analytic mechanics (validation), the timestep sweep, the calibration."""
+"""Studies beside the main flow: engines against analytic mechanics (validation), the timestep sweep, the
+calibration.
+"""

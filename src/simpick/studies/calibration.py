@@ -72,8 +72,8 @@ FAILED_UNIT = 10.0  # objective counted for a unit the engine fails (10x the sca
 SPLIT_COLUMNS = ("terrain_class", "run", "unit", "set")
 
 
-
 # --- the split --------------------------------------------------------------------------------------
+
 
 def split_runs(units: pd.DataFrame, test_fraction: float, seed: int) -> pd.DataFrame:
     """Per terrain class, the runs shuffled by a seeded generator; ``round(test_fraction x n)``
@@ -105,8 +105,14 @@ def split_runs(units: pd.DataFrame, test_fraction: float, seed: int) -> pd.DataF
             n_test = 0 if len(runs) < 2 else min(max(int(round(test_fraction * len(runs))), 1), len(runs) - 1)
             test |= {runs[i] for i in order[:n_test]}
         for r in g.sort_values(["run", "unit"]).itertuples():
-            rows.append({"terrain_class": cls, "run": str(r.run), "unit": r.unit,
-                         "set": "test" if str(r.run) in test else "train"})
+            rows.append(
+                {
+                    "terrain_class": cls,
+                    "run": str(r.run),
+                    "unit": r.unit,
+                    "set": "test" if str(r.run) in test else "train",
+                }
+            )
     return pd.DataFrame(rows, columns=list(SPLIT_COLUMNS))
 
 
@@ -116,12 +122,18 @@ def run_turns(log, track: float, steady: dict, duration: float | None) -> bool:
     return bool(len(windows) and (duration is None or (windows.t_end <= float(duration)).any()))
 
 
-def split_job(units: list[dict], test_fraction: float, seed: int, output: str, logs: list[str] | None = None,
-              strata: dict | None = None) -> None:
+def split_job(
+    units: list[dict],
+    test_fraction: float,
+    seed: int,
+    output: str,
+    logs: list[str] | None = None,
+    strata: dict | None = None,
+) -> None:
     """Rule calibration_split. ``units`` rows are (class, run, unit[, turns]); with ``logs`` (a
     replay) each run's ``turns`` is read from its log under ``strata`` (track, steady, duration)."""
     columns = ["terrain_class", "run", "unit", "turns"]
-    frame = pd.DataFrame(units, columns=columns[:len(units[0])] if units else columns[:3]).astype({"run": str})
+    frame = pd.DataFrame(units, columns=columns[: len(units[0])] if units else columns[:3]).astype({"run": str})
     if logs:
         turns = {}
         for path in logs:
@@ -139,13 +151,17 @@ def read_split(path: str, terrain_class: str) -> pd.DataFrame:
 
 # --- parameters ---------------------------------------------------------------------------------------
 
+
 def parameter_space(engine: str, overrides: dict | None = None) -> dict:
     """name -> Calibratable: what the adapter declares, with the config's bounds overrides."""
     space = dict(get_engine(engine).calibratable)
     for name, bounds in (overrides or {}).items():
         if name not in space:
-            raise InputError(f"calibration.bounds.{engine}.{name}",
-                             f"{engine} has no calibratable parameter {name!r}", f"use one of {sorted(space)}")
+            raise InputError(
+                f"calibration.bounds.{engine}.{name}",
+                f"{engine} has no calibratable parameter {name!r}",
+                f"use one of {sorted(space)}",
+            )
         space[name] = replace(space[name], low=float(bounds[0]), high=float(bounds[1]))
     return space
 
@@ -175,6 +191,7 @@ def apply_parameters(params: dict, values: dict) -> dict:
 
 # --- one unit's errors ----------------------------------------------------------------------------------
 
+
 def segment_errors(seg: pd.Series, urdf: str, params: dict, window: float | None) -> dict:
     """A committed segment: |mean sim - mean real| of yaw rate and longitudinal acceleration over
     the first ``window`` seconds of its compared window (all of it when None)."""
@@ -197,8 +214,12 @@ def segment_errors(seg: pd.Series, urdf: str, params: dict, window: float | None
 def _gain_figures(sim_gain: float, real_gain: float, windows: int) -> dict:
     """A unit's steady yaw-rate gain, simulated and real (mean yaw rate over the kinematic one under a
     steady command), their absolute difference and the number of steady windows behind them."""
-    return {"yaw_rate_gain_sim": sim_gain, "yaw_rate_gain_real": real_gain, "gain_error": abs(sim_gain - real_gain),
-            "gain_windows": windows}
+    return {
+        "yaw_rate_gain_sim": sim_gain,
+        "yaw_rate_gain_real": real_gain,
+        "gain_error": abs(sim_gain - real_gain),
+        "gain_windows": windows,
+    }
 
 
 def steady_windows(log, track: float, steady: dict) -> pd.DataFrame:
@@ -219,8 +240,9 @@ def replay_errors(log, urdf: str, params: dict, duration: float | None, steady: 
         real = real_imu_at(log.imu, sim.time.to_numpy(), ("wz", "ax"))
         for col, key in (("wz", "error_yaw_rate"), ("ax", "error_accel_x")):
             out[key] = realmetrics.aligned_rmse(real[col], sim[col].to_numpy(), rate)
-        out["error_accel_x_offset_free"] = realmetrics.aligned_rmse(real["ax"], sim["ax"].to_numpy(), rate,
-                                                                    offset_free=True)
+        out["error_accel_x_offset_free"] = realmetrics.aligned_rmse(
+            real["ax"], sim["ax"].to_numpy(), rate, offset_free=True
+        )
         # the steady yaw-rate gain (issue 20): in the log's steady-command turning windows inside the
         # compared seconds (simpick.real.turning.turning_windows, the real turning figure's windows), the
         # mean yaw rate over the kinematic one, simulated and real, averaged over the run's windows.
@@ -230,8 +252,9 @@ def replay_errors(log, urdf: str, params: dict, duration: float | None, steady: 
         windows = windows[windows.t_end <= float(sim.time.iloc[-1])]
         if len(windows):
             t, wz = sim.time.to_numpy(), sim.wz.to_numpy()
-            sim_gains = [float(wz[(t >= w.t_start) & (t < w.t_end)].mean()) / w.w_kinematic
-                         for w in windows.itertuples()]
+            sim_gains = [
+                float(wz[(t >= w.t_start) & (t < w.t_end)].mean()) / w.w_kinematic for w in windows.itertuples()
+            ]
             out.update(_gain_figures(float(np.mean(sim_gains)), float(windows.yaw_rate_gain.mean()), len(windows)))
     return out
 
@@ -255,8 +278,13 @@ def objective_terms(row: dict, scales: dict) -> float:
 class Units:
     """The real units of one terrain class (segments or replayed runs), by unit id."""
 
-    def __init__(self, source: str, segments_csv: str | None = None, logs: list[str] | None = None,
-                 terrain_class: str | None = None):
+    def __init__(
+        self,
+        source: str,
+        segments_csv: str | None = None,
+        logs: list[str] | None = None,
+        terrain_class: str | None = None,
+    ):
         self.source = source
         if source == "segments":
             self.segments = class_segments(segments_csv, terrain_class)
@@ -287,6 +315,7 @@ def evaluate(units: Units, ids: list[str], urdf: str, params: dict, settings: di
 
 # --- the optimisation ---------------------------------------------------------------------------------
 
+
 def _storage(path: Path):
     from optuna.storages import JournalStorage
     from optuna.storages.journal import JournalFileBackend
@@ -306,8 +335,9 @@ def study_name(params: dict, settings: dict, train: list[str] | None = None) -> 
     return f"{params['engine']}-{params['terrain_class']}-{config_hash(keyed)}"
 
 
-def calibrate(units: Units, train: list[str], urdf: str, params: dict, settings: dict, journal: Path,
-              evaluate_fn=evaluate) -> tuple[dict, pd.DataFrame, dict]:
+def calibrate(
+    units: Units, train: list[str], urdf: str, params: dict, settings: dict, journal: Path, evaluate_fn=evaluate
+) -> tuple[dict, pd.DataFrame, dict]:
     """Run (or resume) the study until ``settings["n_trials"]`` trials have finished.
 
     Returns the best parameter values, the trial history and run facts (trials run now, wall s).
@@ -348,31 +378,50 @@ def calibrate(units: Units, train: list[str], urdf: str, params: dict, settings:
 
     ran, start = 0, time.perf_counter()
     while done(study) < int(settings["n_trials"]):
-        sampler = optuna.samplers.TPESampler(seed=stable_seed(int(settings["seed"]), seed_key, done(study)),
-                                             n_startup_trials=int(settings["startup_trials"]))
+        sampler = optuna.samplers.TPESampler(
+            seed=stable_seed(int(settings["seed"]), seed_key, done(study)),
+            n_startup_trials=int(settings["startup_trials"]),
+        )
         study = optuna.load_study(study_name=name, storage=storage, sampler=sampler)
         study.optimize(objective, n_trials=1)
         ran += 1
     complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
-    history = pd.DataFrame([{
-        "trial": t.number, "as_configured": bool(t.user_attrs.get("as_configured", False)),
-        **{f"param_{k}": v for k, v in t.params.items()}, "objective": t.value,
-        "error_yaw_rate": t.user_attrs.get("error_yaw_rate"), "error_accel_x": t.user_attrs.get("error_accel_x"),
-        "n_failed": t.user_attrs.get("n_failed"), "wall_time": t.user_attrs.get("wall_time")}
-        for t in complete])
+    history = pd.DataFrame(
+        [
+            {
+                "trial": t.number,
+                "as_configured": bool(t.user_attrs.get("as_configured", False)),
+                **{f"param_{k}": v for k, v in t.params.items()},
+                "objective": t.value,
+                "error_yaw_rate": t.user_attrs.get("error_yaw_rate"),
+                "error_accel_x": t.user_attrs.get("error_accel_x"),
+                "n_failed": t.user_attrs.get("n_failed"),
+                "wall_time": t.user_attrs.get("wall_time"),
+            }
+            for t in complete
+        ]
+    )
     # the best of the first n_trials finished trials (a larger earlier budget may have left more)
     history = history.sort_values("trial").head(int(settings["n_trials"])).reset_index(drop=True)
     best = history.loc[history.objective.idxmin()]
     values = {k: float(best[f"param_{k}"]) for k in space}
-    facts = {"study": name, "trials_run_now": ran, "wall_time_now": time.perf_counter() - start,
-             "best_trial": int(best.trial), "best_objective": float(best.objective),
-             "configured_objective": float(history.loc[history.as_configured, "objective"].iloc[0])
-             if history.as_configured.any() else None,
-             "bounds": {k: {"low": p.low, "high": p.high, "log": p.log, "why": p.why} for k, p in space.items()}}
+    facts = {
+        "study": name,
+        "trials_run_now": ran,
+        "wall_time_now": time.perf_counter() - start,
+        "best_trial": int(best.trial),
+        "best_objective": float(best.objective),
+        "configured_objective": float(history.loc[history.as_configured, "objective"].iloc[0])
+        if history.as_configured.any()
+        else None,
+        "bounds": {k: {"low": p.low, "high": p.high, "log": p.log, "why": p.why} for k, p in space.items()},
+    }
     return values, history, facts
 
 
-def calibrate_job(inputs: dict, params: dict, settings: dict, outputs: dict, timeout: float = DEFAULT_TIMEOUT_S) -> None:
+def calibrate_job(
+    inputs: dict, params: dict, settings: dict, outputs: dict, timeout: float = DEFAULT_TIMEOUT_S
+) -> None:
     """One engine x terrain class: calibrate on the training units; write best.yaml and trials.csv.
 
     Under the watchdog (``timeout`` s of wall time, simpick.simulate.watchdog.runtime_timeout of the rule's
@@ -385,14 +434,28 @@ def calibrate_job(inputs: dict, params: dict, settings: dict, outputs: dict, tim
     if not train:
         raise InputError(inputs["split"], f"class {params['terrain_class']!r} has no training units")
     journal = Path(outputs["best"]).with_name("optuna.journal")
-    as_configured = configured_values(params, parameter_space(
-        params["engine"], (settings.get("bounds") or {}).get(params["engine"])))
+    as_configured = configured_values(
+        params, parameter_space(params["engine"], (settings.get("bounds") or {}).get(params["engine"]))
+    )
 
     def write_best(status: str, reasons: list[str], values: dict, facts: dict) -> None:
-        Path(outputs["best"]).write_text(yaml.safe_dump({
-            "engine": params["engine"], "terrain_class": params["terrain_class"], "status": status,
-            "reasons": reasons, "parameters": values, "as_configured": as_configured, "train_units": train,
-            "n_trials": int(settings["n_trials"]), "journal": str(journal), **facts}, sort_keys=False))
+        Path(outputs["best"]).write_text(
+            yaml.safe_dump(
+                {
+                    "engine": params["engine"],
+                    "terrain_class": params["terrain_class"],
+                    "status": status,
+                    "reasons": reasons,
+                    "parameters": values,
+                    "as_configured": as_configured,
+                    "train_units": train,
+                    "n_trials": int(settings["n_trials"]),
+                    "journal": str(journal),
+                    **facts,
+                },
+                sort_keys=False,
+            )
+        )
 
     def hung() -> None:
         reason = hung_reason(timeout)
@@ -409,8 +472,18 @@ def calibrate_job(inputs: dict, params: dict, settings: dict, outputs: dict, tim
 def _failed_rows(units: Units, ids: list[str], reason: str) -> list[dict]:
     """Units not evaluated (the watchdog stopped the job, or there is no calibrated best): failed,
     with the reason, counted like any failed unit (objective FAILED_UNIT, n_failed_*)."""
-    return [{"unit": u, "run": units.runs[u], "status": "failed", "reasons": reason, "error_yaw_rate": math.nan,
-             "error_accel_x": math.nan, "objective": FAILED_UNIT} for u in ids]
+    return [
+        {
+            "unit": u,
+            "run": units.runs[u],
+            "status": "failed",
+            "reasons": reason,
+            "error_yaw_rate": math.nan,
+            "error_accel_x": math.nan,
+            "objective": FAILED_UNIT,
+        }
+        for u in ids
+    ]
 
 
 def evaluate_job(inputs: dict, params: dict, settings: dict, output: str, timeout: float = DEFAULT_TIMEOUT_S) -> None:
@@ -435,11 +508,16 @@ def evaluate_job(inputs: dict, params: dict, settings: dict, output: str, timeou
     def hung() -> None:
         done = list(rows)
         seen = {(r["variant"], r["unit"]) for r in done}
-        left = [{**key, "set": sets[r["unit"]], "variant": variant, **r}
-                for variant, _ in plan for r in _failed_rows(units, [u for u in ids if (variant, u) not in seen],
-                                                             hung_reason(timeout))]
-        print(f"simpick: evaluate {params['engine']} {params['terrain_class']}: {len(left)} unit(s) not done: "
-              f"{hung_reason(timeout)}", file=sys.stderr)
+        left = [
+            {**key, "set": sets[r["unit"]], "variant": variant, **r}
+            for variant, _ in plan
+            for r in _failed_rows(units, [u for u in ids if (variant, u) not in seen], hung_reason(timeout))
+        ]
+        print(
+            f"simpick: evaluate {params['engine']} {params['terrain_class']}: {len(left)} unit(s) not done: "
+            f"{hung_reason(timeout)}",
+            file=sys.stderr,
+        )
         write_csv(pd.DataFrame(done + left), output)
 
     with Watchdog(timeout, hung):
@@ -451,6 +529,7 @@ def evaluate_job(inputs: dict, params: dict, settings: dict, output: str, timeou
 
 
 # --- the summary ----------------------------------------------------------------------------------------
+
 
 def _stats(statistics: dict | None) -> tuple[int, float]:
     """(min_runs, level) of the validated ``statistics`` settings (simpick.plan: Plan.statistics_params)."""
@@ -485,9 +564,12 @@ def _summary_row(g: pd.DataFrame, runs: pd.Series, min_runs: int, level: float) 
     conf = g[g.variant == "configured"].set_index("unit")
     cal = g[g.variant == "calibrated"].set_index("unit")
     run_of = dict(zip(g.unit, runs))
-    row = {"n_units": len(conf), "n_runs": len({run_of[u] for u in conf.index}),
-           "n_failed_configured": int((conf.status != "ok").sum()),
-           "n_failed_calibrated": int((cal.status != "ok").sum())}
+    row = {
+        "n_units": len(conf),
+        "n_runs": len({run_of[u] for u in conf.index}),
+        "n_failed_configured": int((conf.status != "ok").sum()),
+        "n_failed_calibrated": int((cal.status != "ok").sum()),
+    }
     for variant, frame in (("configured", conf), ("calibrated", cal)):
         for fig in ("objective", "error_yaw_rate", "error_accel_x"):
             ok = frame[fig].notna()
@@ -495,11 +577,19 @@ def _summary_row(g: pd.DataFrame, runs: pd.Series, min_runs: int, level: float) 
             row.update({f"{fig}_{variant}": mean, f"{fig}_{variant}_low": lo, f"{fig}_{variant}_high": hi})
     common = conf.index.intersection(cal.index)
     keys = [run_of[u] for u in common]
-    test = paired_test(cal.loc[common, "objective"].to_numpy(), conf.loc[common, "objective"].to_numpy(), keys,
-                       min_runs, level)
+    test = paired_test(
+        cal.loc[common, "objective"].to_numpy(), conf.loc[common, "objective"].to_numpy(), keys, min_runs, level
+    )
     mean = test["mean"]
-    row.update({"change": mean, "change_low": test["low"], "change_high": test["high"],
-                "change_p": test["p_value"], "change_verdict": _change_verdict(test, min_runs)})
+    row.update(
+        {
+            "change": mean,
+            "change_low": test["low"],
+            "change_high": test["high"],
+            "change_p": test["p_value"],
+            "change_verdict": _change_verdict(test, min_runs),
+        }
+    )
     return row
 
 
@@ -539,8 +629,10 @@ def _winners(out: pd.DataFrame, evals: pd.DataFrame, min_runs: int, level: float
                 else:  # normalised by each class's configured objective, as the pooled rows are
                     units = _normalised(units)
                 units = units[units.variant == variant]
-                units = units.assign(key=units.terrain_class + "/" + units.unit.astype(str),
-                                     runkey=units.terrain_class + "/" + units.run.astype(str))
+                units = units.assign(
+                    key=units.terrain_class + "/" + units.unit.astype(str),
+                    runkey=units.terrain_class + "/" + units.run.astype(str),
+                )
                 wide = units.pivot_table(index="key", columns="engine", values="objective")
                 if best not in wide or second not in wide:
                     out.loc[g.index, f"winner_{variant}"] = "no paired comparison"
@@ -566,29 +658,47 @@ def summarise(evals: pd.DataFrame, best: dict[tuple[str, str], dict], statistics
     min_runs, level = _stats(statistics)
     rows = []
     for (cls, engine, set_), g in evals.groupby(["terrain_class", "engine", "set"], sort=True):
-        row = {"terrain_class": cls, "engine": engine, "set": set_, "normalised": False,
-               **_summary_row(g, g.run, min_runs, level)}
+        row = {
+            "terrain_class": cls,
+            "engine": engine,
+            "set": set_,
+            "normalised": False,
+            **_summary_row(g, g.run, min_runs, level),
+        }
         params = best.get((engine, cls), {})
         row["parameters"] = "; ".join(f"{k}={v:.4g}" for k, v in (params.get("parameters") or {}).items())
-        row["parameters_configured"] = "; ".join(f"{k}={v:.4g}" for k, v in
-                                                 (params.get("as_configured") or {}).items())
+        row["parameters_configured"] = "; ".join(f"{k}={v:.4g}" for k, v in (params.get("as_configured") or {}).items())
         rows.append(row)
     if evals.terrain_class.nunique() > 1:
         for (engine, set_), g in _normalised(evals).groupby(["engine", "set"], sort=True):
             # units are unique within a class only: pool under class-qualified names
             g = g.assign(unit=g.terrain_class + "/" + g.unit.astype(str))
-            rows.append({"terrain_class": POOLED, "engine": engine, "set": set_, "normalised": True,
-                         **_summary_row(g, g.unit.str.rsplit("/", n=1).str[0] + "/" + g.run.astype(str),
-                                        min_runs, level),
-                         "parameters": "", "parameters_configured": ""})
+            rows.append(
+                {
+                    "terrain_class": POOLED,
+                    "engine": engine,
+                    "set": set_,
+                    "normalised": True,
+                    **_summary_row(g, g.unit.str.rsplit("/", n=1).str[0] + "/" + g.run.astype(str), min_runs, level),
+                    "parameters": "",
+                    "parameters_configured": "",
+                }
+            )
     out = pd.DataFrame(rows)
     if out.empty:
         return out
     return _winners(out, evals, min_runs, level)
 
 
-def summary_job(evals: list[str], bests: list[str], split: str, outputs: dict, statistics: dict | None = None,
-                turning: dict | None = None, urdf: str | None = None) -> None:
+def summary_job(
+    evals: list[str],
+    bests: list[str],
+    split: str,
+    outputs: dict,
+    statistics: dict | None = None,
+    turning: dict | None = None,
+    urdf: str | None = None,
+) -> None:
     """Rule calibration_summary: the summary, the units, the parameters found and, with ``turning``
     (the robot's track, the engines, calibration.target), the held-out turning table and the
     target's verdict (issue 20); the wheels' geometric separation comes from ``urdf``."""
@@ -600,32 +710,78 @@ def summary_job(evals: list[str], bests: list[str], split: str, outputs: dict, s
     summary = summarise(frame, best, statistics)
     write_csv(summary, outputs["summary"])
     write_csv(frame, outputs["units"])
-    params = pd.DataFrame([{"engine": e, "terrain_class": c, "parameter": k, "calibrated": v,
-                            "as_configured": b["as_configured"].get(k), "best_trial": b["best_trial"],
-                            "n_trials": b["n_trials"], "train_objective_configured": b["configured_objective"],
-                            "train_objective_calibrated": b["best_objective"]}
-                           for (e, c), b in sorted(best.items()) for k, v in b["parameters"].items()])
+    params = pd.DataFrame(
+        [
+            {
+                "engine": e,
+                "terrain_class": c,
+                "parameter": k,
+                "calibrated": v,
+                "as_configured": b["as_configured"].get(k),
+                "best_trial": b["best_trial"],
+                "n_trials": b["n_trials"],
+                "train_objective_configured": b["configured_objective"],
+                "train_objective_calibrated": b["best_objective"],
+            }
+            for (e, c), b in sorted(best.items())
+            for k, v in b["parameters"].items()
+        ]
+    )
     write_csv(params, outputs["parameters"])
     if "turning" in outputs:
         separation = load_robot(urdf).track  # the controller's wheel_separation (geometric)
         table = turning_table(frame, best, float(turning["track"]), separation, turning["target"], statistics)
         write_csv(table, outputs["turning"])
-        write_csv(target_table(frame, table, list(turning["engines"]), turning["target"], statistics),
-                  outputs["target"])
+        write_csv(
+            target_table(frame, table, list(turning["engines"]), turning["target"], statistics), outputs["target"]
+        )
 
 
 # --- turning on held-out runs (issue 20) ----------------------------------------------------------------
 
 TARGET_POOL = "target classes"  # turning.csv's pooled rows: the held-out runs of calibration.target.classes
-TURNING_COLUMNS = ["terrain_class", "engine", "variant", "n_runs", "gain_real", "gain_sim", "gain_ratio",
-                   "within_tolerance", "gain_error", "gain_error_low", "gain_error_high", "gain_error_min",
-                   "gain_error_max", "error_yaw_rate", "separation_multiplier", "separation_multiplier_real",
-                   "parameters"]
-TARGET_COLUMNS = ["engine", "is_engine", "n_runs", "error_calibrated", "error_configured", "error_reference",
-                  "vs_configured", "vs_configured_low", "vs_configured_high", "p_vs_configured",
-                  "vs_reference", "vs_reference_low", "vs_reference_high", "p_vs_reference",
-                  "lower_than_configured", "lower_than_reference", "worst_gain_ratio", "classes_off_gain",
-                  "gain_within_tolerance", "meets", "best"]
+TURNING_COLUMNS = [
+    "terrain_class",
+    "engine",
+    "variant",
+    "n_runs",
+    "gain_real",
+    "gain_sim",
+    "gain_ratio",
+    "within_tolerance",
+    "gain_error",
+    "gain_error_low",
+    "gain_error_high",
+    "gain_error_min",
+    "gain_error_max",
+    "error_yaw_rate",
+    "separation_multiplier",
+    "separation_multiplier_real",
+    "parameters",
+]
+TARGET_COLUMNS = [
+    "engine",
+    "is_engine",
+    "n_runs",
+    "error_calibrated",
+    "error_configured",
+    "error_reference",
+    "vs_configured",
+    "vs_configured_low",
+    "vs_configured_high",
+    "p_vs_configured",
+    "vs_reference",
+    "vs_reference_low",
+    "vs_reference_high",
+    "p_vs_reference",
+    "lower_than_configured",
+    "lower_than_reference",
+    "worst_gain_ratio",
+    "classes_off_gain",
+    "gain_within_tolerance",
+    "meets",
+    "best",
+]
 
 
 def _per_run(frame: pd.DataFrame, column: str) -> pd.Series:
@@ -635,8 +791,14 @@ def _per_run(frame: pd.DataFrame, column: str) -> pd.Series:
     return ok.groupby(ok.terrain_class + "/" + ok.run.astype(str))[column].mean()
 
 
-def turning_table(evals: pd.DataFrame, best: dict[tuple[str, str], dict], track: float, separation: float,
-                  target: dict, statistics: dict | None = None) -> pd.DataFrame:
+def turning_table(
+    evals: pd.DataFrame,
+    best: dict[tuple[str, str], dict],
+    track: float,
+    separation: float,
+    target: dict,
+    statistics: dict | None = None,
+) -> pd.DataFrame:
     """Per terrain class, model and variant, on the held-out (test) runs that turn: the real and the
     simulated yaw-rate gain (each averaged within a run, then over runs), their ratio and whether it
     is within ``target['gain_tolerance']``, the gain error |sim - real| with its interval over runs
@@ -662,22 +824,33 @@ def turning_table(evals: pd.DataFrame, best: dict[tuple[str, str], dict], track:
             g_real, g_sim = float(real.mean()), float(sim.mean())
             ratio = g_sim / g_real if g_real else math.nan
             params = best.get((engine, cls), {}) if variant == "calibrated" else {}
-            rows.append({
-                "terrain_class": cls, "engine": engine, "variant": variant, "n_runs": int(gain_error.size),
-                "gain_real": g_real, "gain_sim": g_sim, "gain_ratio": ratio,
-                "within_tolerance": bool(abs(ratio - 1) <= tol) if cls != TARGET_POOL else math.nan,
-                "gain_error": mean, "gain_error_low": low, "gain_error_high": high,
-                "gain_error_min": float(gain_error.min()), "gain_error_max": float(gain_error.max()),
-                "error_yaw_rate": float(_per_run(g, "error_yaw_rate").mean()),
-                "separation_multiplier": wheel_separation_multiplier(g_sim, track, separation),
-                "separation_multiplier_real": wheel_separation_multiplier(g_real, track, separation),
-                "parameters": "; ".join(f"{k}={v:.4g}" for k, v in (params.get("parameters") or {}).items()),
-            })
+            rows.append(
+                {
+                    "terrain_class": cls,
+                    "engine": engine,
+                    "variant": variant,
+                    "n_runs": int(gain_error.size),
+                    "gain_real": g_real,
+                    "gain_sim": g_sim,
+                    "gain_ratio": ratio,
+                    "within_tolerance": bool(abs(ratio - 1) <= tol) if cls != TARGET_POOL else math.nan,
+                    "gain_error": mean,
+                    "gain_error_low": low,
+                    "gain_error_high": high,
+                    "gain_error_min": float(gain_error.min()),
+                    "gain_error_max": float(gain_error.max()),
+                    "error_yaw_rate": float(_per_run(g, "error_yaw_rate").mean()),
+                    "separation_multiplier": wheel_separation_multiplier(g_sim, track, separation),
+                    "separation_multiplier_real": wheel_separation_multiplier(g_real, track, separation),
+                    "parameters": "; ".join(f"{k}={v:.4g}" for k, v in (params.get("parameters") or {}).items()),
+                }
+            )
     return pd.DataFrame(rows, columns=TURNING_COLUMNS)
 
 
-def target_table(evals: pd.DataFrame, turning: pd.DataFrame, engines: list[str], target: dict,
-                 statistics: dict | None = None) -> pd.DataFrame:
+def target_table(
+    evals: pd.DataFrame, turning: pd.DataFrame, engines: list[str], target: dict, statistics: dict | None = None
+) -> pd.DataFrame:
     """Issue 20's target, per calibrated model, on the held-out runs of ``target['classes']``
     together: its per-run yaw-rate error as calibrated against (a) its own as configured and (b) the
     ``target['reference']`` model as configured (rigid Coulomb mechanics), each by the paired
@@ -689,8 +862,9 @@ def target_table(evals: pd.DataFrame, turning: pd.DataFrame, engines: list[str],
     test = evals[(evals.set == "test") & evals.terrain_class.isin(classes)]
     if test.empty:
         return pd.DataFrame(columns=TARGET_COLUMNS)
-    test = test.assign(key=test.terrain_class + "/" + test.unit.astype(str),
-                       runkey=test.terrain_class + "/" + test.run.astype(str))
+    test = test.assign(
+        key=test.terrain_class + "/" + test.unit.astype(str), runkey=test.terrain_class + "/" + test.run.astype(str)
+    )
     ok = test[test.status == "ok"]
     wide = ok.pivot_table(index="key", columns=["engine", "variant"], values="error_yaw_rate")
     run_of = test.drop_duplicates("key").set_index("key").runkey
@@ -700,24 +874,41 @@ def target_table(evals: pd.DataFrame, turning: pd.DataFrame, engines: list[str],
         if (engine, "calibrated") not in wide:
             continue
         cal = wide[(engine, "calibrated")]
-        row = {"engine": engine, "is_engine": engine in engines,
-               "n_runs": int(run_of.reindex(cal.dropna().index).nunique()),
-               "error_calibrated": float(_per_run(ok[(ok.engine == engine) & (ok.variant == "calibrated")],
-                                                  "error_yaw_rate").mean())}
+        row = {
+            "engine": engine,
+            "is_engine": engine in engines,
+            "n_runs": int(run_of.reindex(cal.dropna().index).nunique()),
+            "error_calibrated": float(
+                _per_run(ok[(ok.engine == engine) & (ok.variant == "calibrated")], "error_yaw_rate").mean()
+            ),
+        }
         for name, col in (("configured", (engine, "configured")), ("reference", reference)):
             other = wide[col] if col in wide else pd.Series(math.nan, index=wide.index)
-            row[f"error_{name}"] = float(_per_run(ok[(ok.engine == col[0]) & (ok.variant == col[1])],
-                                                  "error_yaw_rate").mean())
+            row[f"error_{name}"] = float(
+                _per_run(ok[(ok.engine == col[0]) & (ok.variant == col[1])], "error_yaw_rate").mean()
+            )
             t = paired_test(cal.to_numpy(), other.to_numpy(), run_of.reindex(wide.index).to_numpy(), min_runs, level)
-            row.update({f"vs_{name}": t["mean"], f"vs_{name}_low": t["low"], f"vs_{name}_high": t["high"],
-                        f"p_vs_{name}": t["p_value"], f"lower_than_{name}": t["verdict"] == "b"})
-        gains = turning[(turning.engine == engine) & (turning.variant == "calibrated")
-                        & turning.terrain_class.isin(classes)]
-        off = [c if c in set(gains.terrain_class) else f"{c} (no held-out turning run)" for c in classes
-               if c not in set(gains.terrain_class) or not bool(gains.loc[gains.terrain_class == c,
-                                                                            "within_tolerance"].iloc[0])]
-        row["worst_gain_ratio"] = (float(gains.gain_ratio.iloc[(gains.gain_ratio - 1).abs().argmax()])
-                                   if len(gains) else math.nan)
+            row.update(
+                {
+                    f"vs_{name}": t["mean"],
+                    f"vs_{name}_low": t["low"],
+                    f"vs_{name}_high": t["high"],
+                    f"p_vs_{name}": t["p_value"],
+                    f"lower_than_{name}": t["verdict"] == "b",
+                }
+            )
+        gains = turning[
+            (turning.engine == engine) & (turning.variant == "calibrated") & turning.terrain_class.isin(classes)
+        ]
+        off = [
+            c if c in set(gains.terrain_class) else f"{c} (no held-out turning run)"
+            for c in classes
+            if c not in set(gains.terrain_class)
+            or not bool(gains.loc[gains.terrain_class == c, "within_tolerance"].iloc[0])
+        ]
+        row["worst_gain_ratio"] = (
+            float(gains.gain_ratio.iloc[(gains.gain_ratio - 1).abs().argmax()]) if len(gains) else math.nan
+        )
         row["classes_off_gain"] = "; ".join(off)
         row["gain_within_tolerance"] = not off
         row["meets"] = bool(row["lower_than_configured"] and row["lower_than_reference"] and not off)

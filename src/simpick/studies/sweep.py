@@ -35,10 +35,30 @@ from simpick.tables import write_csv
 
 # a segment's timing, from its compare job's run row, beside its per-test row
 TIMING = ("sim_time", "wall_time", "cpu_time", "steps")
-SUMMARY_COLUMNS = ("terrain_class", "engine", "timestep", "n_segments", "n_failed", "n_compared", "n_runs",
-                   "excluded", "error_angular", "error_angular_low", "error_angular_high", "error_linear",
-                   "error_linear_low", "error_linear_high", "gain_error", "gain_error_low", "gain_error_high",
-                   "total_angular", "total_linear", "n_common", "real_time_factor", "steps_per_s")
+SUMMARY_COLUMNS = (
+    "terrain_class",
+    "engine",
+    "timestep",
+    "n_segments",
+    "n_failed",
+    "n_compared",
+    "n_runs",
+    "excluded",
+    "error_angular",
+    "error_angular_low",
+    "error_angular_high",
+    "error_linear",
+    "error_linear_low",
+    "error_linear_high",
+    "gain_error",
+    "gain_error_low",
+    "gain_error_high",
+    "total_angular",
+    "total_linear",
+    "n_common",
+    "real_time_factor",
+    "steps_per_s",
+)
 
 
 def sweep_job(inputs: dict, params: dict, settings: dict, output: str) -> None:
@@ -75,29 +95,44 @@ def summarise(rows: pd.DataFrame, statistics: dict | None = None) -> pd.DataFram
     (:func:`simpick.compare.jobs.source_tables`) with the sweep's counts and the cost of a step."""
     out = []
     for (cls, dt), group in rows.groupby(["terrain_class", "timestep"], sort=True):
-        tables = source_tables(group[SEGMENT_TEST_COLUMNS], group[["engine", "test", "status", *TIMING]],
-                               "terrain_class", statistics)
+        tables = source_tables(
+            group[SEGMENT_TEST_COLUMNS], group[["engine", "test", "status", *TIMING]], "terrain_class", statistics
+        )
         summary = tables["summary"].set_index("engine")
         totals = tables["imu_errors"].pivot(index="engine", columns="quantity", values="error")
         common = tables["imu_errors"].drop_duplicates("engine").set_index("engine")
         rtf = tables["rtf"].set_index("engine").real_time_factor
         for engine, g in group.groupby("engine", sort=True):
             figures = summary.loc[engine] if engine in summary.index else pd.Series(dtype=float)
-            row = {"terrain_class": cls, "engine": engine, "timestep": float(dt), "n_segments": len(g),
-                   "n_failed": int((g.status != "ok").sum()),
-                   "n_compared": int(figures.get("n_tests", 0)), "n_runs": int(figures.get("n_runs", 0)),
-                   "excluded": common.loc[engine, "excluded"].replace(";", "; "),
-                   "total_angular": totals.loc[engine, "angular"], "total_linear": totals.loc[engine, "linear"],
-                   "n_common": int(common.loc[engine, "n_tests"]), "real_time_factor": rtf.loc[engine],
-                   # sim_time is steps x timestep: steps per wall second over the same segments
-                   "steps_per_s": rtf.loc[engine] / float(dt)}
-            row.update({f"{name}{end}": figures.get(f"{name}{end}", np.nan)
-                        for name in ("error_angular", "error_linear", "gain_error") for end in ("", "_low", "_high")})
+            row = {
+                "terrain_class": cls,
+                "engine": engine,
+                "timestep": float(dt),
+                "n_segments": len(g),
+                "n_failed": int((g.status != "ok").sum()),
+                "n_compared": int(figures.get("n_tests", 0)),
+                "n_runs": int(figures.get("n_runs", 0)),
+                "excluded": common.loc[engine, "excluded"].replace(";", "; "),
+                "total_angular": totals.loc[engine, "angular"],
+                "total_linear": totals.loc[engine, "linear"],
+                "n_common": int(common.loc[engine, "n_tests"]),
+                "real_time_factor": rtf.loc[engine],
+                # sim_time is steps x timestep: steps per wall second over the same segments
+                "steps_per_s": rtf.loc[engine] / float(dt),
+            }
+            row.update(
+                {
+                    f"{name}{end}": figures.get(f"{name}{end}", np.nan)
+                    for name in ("error_angular", "error_linear", "gain_error")
+                    for end in ("", "_low", "_high")
+                }
+            )
             out.append(row)
     return pd.DataFrame(out, columns=list(SUMMARY_COLUMNS))
 
 
 def sweep_summary_job(inputs: list[str], output: str, statistics: dict | None = None) -> None:
-    rows = pd.concat([pd.read_csv(p, dtype={"run": str, "test": str, "segment": str}) for p in inputs],
-                     ignore_index=True)
+    rows = pd.concat(
+        [pd.read_csv(p, dtype={"run": str, "test": str, "segment": str}) for p in inputs], ignore_index=True
+    )
     write_csv(summarise(rows, statistics), output)

@@ -59,10 +59,10 @@ from simpick.coulomb import braking_deceleration as coulomb_braking
 from simpick.coulomb import contact_layout, yaw_rate_gain
 from simpick.engines import get_engine
 from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario
+from simpick.engines.kinematics import euler_rpy, rotation_matrices
 from simpick.errors import InputError
 from simpick.inputs.motions import side_speeds
 from simpick.inputs.robot import RobotSpec, load_from_config
-from simpick.engines.kinematics import euler_rpy, rotation_matrices
 from simpick.simulate.imu import block_average
 from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
 from simpick.tables import write_csv
@@ -107,10 +107,16 @@ class Setup:
 
 def _scenario(setup: Setup, mu: float, gravity=(0.0, 0.0, -GRAVITY), heading: float = DEFAULT_HEADING) -> Scenario:
     """``heading``: the robot's start yaw in degrees."""
-    return Scenario(robot=setup.robot, terrain=dict(FLAT, friction=mu), ground_friction=mu,
-                    timestep=setup.timestep, max_wheel_torque=setup.max_wheel_torque,
-                    starts=((0.0, 0.0, math.radians(heading)),), settings=dict(setup.settings),
-                    gravity=tuple(gravity))
+    return Scenario(
+        robot=setup.robot,
+        terrain=dict(FLAT, friction=mu),
+        ground_friction=mu,
+        timestep=setup.timestep,
+        max_wheel_torque=setup.max_wheel_torque,
+        starts=((0.0, 0.0, math.radians(heading)),),
+        settings=dict(setup.settings),
+        gravity=tuple(gravity),
+    )
 
 
 def _commands(setup: Setup, segments: list[tuple[float, float, float]]) -> np.ndarray:
@@ -125,13 +131,21 @@ def _commands(setup: Setup, segments: list[tuple[float, float, float]]) -> np.nd
 
 def _check(quantity: str, engine_value: float, analytic: float, **extra) -> dict:
     unit, measure = QUANTITIES[quantity]
-    return {"quantity": quantity, "unit": unit, "error_kind": measure, "engine_value": float(engine_value),
-            "analytic_value": float(analytic), **extra}
+    return {
+        "quantity": quantity,
+        "unit": unit,
+        "error_kind": measure,
+        "engine_value": float(engine_value),
+        "analytic_value": float(analytic),
+        **extra,
+    }
 
 
 def _finite(record: PhysicsRecord) -> bool:
-    return all(np.isfinite(getattr(record, k)).all()
-               for k in ("position", "linear_velocity", "angular_velocity", "imu_specific_force"))
+    return all(
+        np.isfinite(getattr(record, k)).all()
+        for k in ("position", "linear_velocity", "angular_velocity", "imu_specific_force")
+    )
 
 
 def body_velocity(record: PhysicsRecord) -> np.ndarray:
@@ -155,8 +169,9 @@ def _yaw_gain(setup: Setup, p: dict):
     ratio = p.get("friction_ratio")
     if ratio is not None:  # the engine's anisotropic friction at this ratio (run_case checked it has one)
         setup = replace(setup, settings={**dict(setup.settings), "friction_ratio": float(ratio)})
-    record = get_engine(setup.engine).simulate(_scenario(setup, mu, heading=heading),
-                                               _commands(setup, [(duration, v, w)]))
+    record = get_engine(setup.engine).simulate(
+        _scenario(setup, mu, heading=heading), _commands(setup, [(duration, v, w)])
+    )
     half = record.steps // 2
     # body yaw rate: the angular velocity's component on the body z axis
     rate = np.einsum("nji,nj->ni", rotation_matrices(record.quaternion), record.angular_velocity)[:, 2]
@@ -169,21 +184,25 @@ def _yaw_gain(setup: Setup, p: dict):
 
 def _straight(setup: Setup, p: dict):
     v, mu, duration = p["v"], p["mu"], p.get("duration", 6.0)
-    record = get_engine(setup.engine).simulate(_scenario(setup, mu, heading=p.get("heading", DEFAULT_HEADING)),
-                                               _commands(setup, [(duration, v, 0.0)]))
+    record = get_engine(setup.engine).simulate(
+        _scenario(setup, mu, heading=p.get("heading", DEFAULT_HEADING)), _commands(setup, [(duration, v, 0.0)])
+    )
     half = record.steps // 2
     speed = body_velocity(record)[half:, 0].mean()
     signs = np.array([w.axis_sign for w in setup.robot.driven], dtype=float)  # mirrored joints: forward-signed
     rolling = (record.wheel_speed[half:] * signs).mean() * setup.robot.wheel_radius
     yaw = np.unwrap(euler_rpy(record.quaternion)[:, 2])
-    return record, [_check("speed_over_wheel_speed", speed / rolling, 1.0, v=v, mu=mu),
-                    _check("heading_drift", yaw[-1] - yaw[half], 0.0, v=v, mu=mu)]
+    return record, [
+        _check("speed_over_wheel_speed", speed / rolling, 1.0, v=v, mu=mu),
+        _check("heading_drift", yaw[-1] - yaw[half], 0.0, v=v, mu=mu),
+    ]
 
 
 def _slide(setup: Setup, p: dict):
     v, mu, cruise, heading = p["v"], p["mu"], p.get("cruise", 2.0), p.get("heading", DEFAULT_HEADING)
-    record = get_engine(setup.engine).simulate(_scenario(setup, mu, heading=heading),
-                                               _commands(setup, [(cruise, v, 0.0), (2.0, 0.0, 0.0)]))
+    record = get_engine(setup.engine).simulate(
+        _scenario(setup, mu, heading=heading), _commands(setup, [(cruise, v, 0.0), (2.0, 0.0, 0.0)])
+    )
     brake = int(round(cruise / setup.timestep))
     deceleration = braking_deceleration(body_velocity(record)[brake:, 0], setup.timestep)
     analytic, _ = braking_deceleration_of(setup.robot, mu)  # mu g unless casters roll free
@@ -200,8 +219,7 @@ def _incline(setup: Setup, p: dict):
     down = np.array([-math.cos(heading), -math.sin(heading)])
     horizontal = GRAVITY * math.sin(angle) * down
     gravity = (horizontal[0], horizontal[1], -GRAVITY * math.cos(angle))
-    record = get_engine(setup.engine).simulate(_scenario(setup, mu, gravity),
-                                               _commands(setup, [(duration, 0.0, 0.0)]))
+    record = get_engine(setup.engine).simulate(_scenario(setup, mu, gravity), _commands(setup, [(duration, 0.0, 0.0)]))
     settle = int(round(SETTLE_S / setup.timestep))
     s = record.position[:, :2] @ down  # distance travelled downhill
     if factor < 1:
@@ -213,8 +231,10 @@ def _incline(setup: Setup, p: dict):
     # all contacts slide the same way, so Coulomb friction has no yaw moment about the centre of
     # mass and damps any yaw rate: the robot slides without turning
     yaw = np.unwrap(euler_rpy(record.quaternion)[:, 2])
-    return record, [_check("slide_acceleration", accel, analytic, mu=mu, angle=angle),
-                    _check("slide_yaw", yaw[-1] - yaw[settle], 0.0, mu=mu, angle=angle)]
+    return record, [
+        _check("slide_acceleration", accel, analytic, mu=mu, angle=angle),
+        _check("slide_yaw", yaw[-1] - yaw[settle], 0.0, mu=mu, angle=angle),
+    ]
 
 
 def _rest(setup: Setup, p: dict):
@@ -225,12 +245,15 @@ def _rest(setup: Setup, p: dict):
     accel = block_average(record.imu_specific_force[settle:], block)
     gyro = block_average(record.imu_gyro[settle:], block)
     creep = float(np.linalg.norm(record.position[-1, :2] - record.position[settle, :2]))
-    return record, [_check("accel_z", accel[:, 2].mean(), GRAVITY, mu=mu),
-                    _check("gyro_max", np.abs(gyro).max(), 0.0, mu=mu),
-                    _check("creep_distance", creep, 0.0, mu=mu)]
+    return record, [
+        _check("accel_z", accel[:, 2].mean(), GRAVITY, mu=mu),
+        _check("gyro_max", np.abs(gyro).max(), 0.0, mu=mu),
+        _check("creep_distance", creep, 0.0, mu=mu),
+    ]
 
 
 # --- robot-generic: where a case's analytic value does not apply to the robot studied ---------
+
 
 def braking_deceleration_of(robot: RobotSpec, mu: float) -> tuple[float, str | None]:
     return coulomb_braking(robot, mu)
@@ -241,8 +264,10 @@ def not_applicable(robot: RobotSpec, kind: str, params: dict) -> str | None:
     if kind == "slide":
         return braking_deceleration_of(robot, params["mu"])[1]
     if kind == "incline" and robot.casters:
-        return ("the robot's casters roll freely, so only its driven wheels hold it on the slope, and the "
-                "analytic values (every wheel locked: parked below atan(mu), sliding above it) do not apply")
+        return (
+            "the robot's casters roll freely, so only its driven wheels hold it on the slope, and the "
+            "analytic values (every wheel locked: parked below atan(mu), sliding above it) do not apply"
+        )
     return None
 
 
@@ -257,14 +282,30 @@ def run_case(setup: Setup, name: str, params: dict) -> dict:
         raise InputError(f"validation.cases.{name}.kind", f"{kind!r} is not a case kind", f"use one of {list(KINDS)}")
     engine = get_engine(setup.engine)
     reason = not_applicable(setup.robot, kind, params)
-    if reason is None and params.get("friction_ratio") is not None \
-            and "friction_ratio" not in engine.settings_model.model_fields:
-        reason = (f"{setup.engine} has no anisotropic wheel friction here (no friction_ratio setting: "
-                  "see the README's turning section)")
+    if (
+        reason is None
+        and params.get("friction_ratio") is not None
+        and "friction_ratio" not in engine.settings_model.model_fields
+    ):
+        reason = (
+            f"{setup.engine} has no anisotropic wheel friction here (no friction_ratio setting: "
+            "see the README's turning section)"
+        )
     if reason is not None:  # skipped, with the reason in the summary and the report
-        return {"engine": setup.engine, "engine_version": engine.version(), "case": name, "kind": kind,
-                "params": params, "checks": [], "status": "skipped", "reasons": [f"not applicable: {reason}"],
-                "steps": 0, "sim_time": 0.0, "steps_per_s": None, "wall_time": 0.0}
+        return {
+            "engine": setup.engine,
+            "engine_version": engine.version(),
+            "case": name,
+            "kind": kind,
+            "params": params,
+            "checks": [],
+            "status": "skipped",
+            "reasons": [f"not applicable: {reason}"],
+            "steps": 0,
+            "sim_time": 0.0,
+            "steps_per_s": None,
+            "wall_time": 0.0,
+        }
     start = time.perf_counter()
     record, checks = RUNNERS[kind](setup, params)
     wall = time.perf_counter() - start
@@ -273,20 +314,40 @@ def run_case(setup: Setup, name: str, params: dict) -> dict:
         status, reasons = "failed", ["diverged: non-finite state"]
         for c in checks:
             c["engine_value"] = math.nan
-    return {"engine": setup.engine, "engine_version": engine.version(), "case": name, "kind": kind,
-            "params": params, "checks": checks, "status": status, "reasons": reasons,
-            "steps": record.steps, "sim_time": record.steps * setup.timestep,
-            "steps_per_s": record.steps / record.wall_time if record.wall_time > 0 else None,
-            "wall_time": wall}
+    return {
+        "engine": setup.engine,
+        "engine_version": engine.version(),
+        "case": name,
+        "kind": kind,
+        "params": params,
+        "checks": checks,
+        "status": status,
+        "reasons": reasons,
+        "steps": record.steps,
+        "sim_time": record.steps * setup.timestep,
+        "steps_per_s": record.steps / record.wall_time if record.wall_time > 0 else None,
+        "wall_time": wall,
+    }
 
 
 def failed_record(setup: Setup, version: str, name: str, params: dict, reason: str, wall: float = 0.0) -> dict:
     """The record of a case that ended before it measured anything (hung, crashed, or not run
     because a case before it hung): failed, no checks, the reason; the summary lists it as a
     failed row of the case's first quantity (:data:`CASE_QUANTITY`)."""
-    return {"engine": setup.engine, "engine_version": version, "case": name, "kind": params["kind"],
-            "params": {k: v for k, v in params.items() if k != "kind"}, "checks": [], "status": "failed",
-            "reasons": [reason], "steps": 0, "sim_time": 0.0, "steps_per_s": None, "wall_time": float(wall)}
+    return {
+        "engine": setup.engine,
+        "engine_version": version,
+        "case": name,
+        "kind": params["kind"],
+        "params": {k: v for k, v in params.items() if k != "kind"},
+        "checks": [],
+        "status": "failed",
+        "reasons": [reason],
+        "steps": 0,
+        "sim_time": 0.0,
+        "steps_per_s": None,
+        "wall_time": float(wall),
+    }
 
 
 def validate_job(outputs: list[str], urdf: str | Path, params: dict, timeout: float = DEFAULT_TIMEOUT_S) -> list[dict]:
@@ -304,10 +365,14 @@ def validate_job(outputs: list[str], urdf: str | Path, params: dict, timeout: fl
     paths = {Path(p).stem: Path(p) for p in outputs}
     if sorted(paths) != sorted(cases):
         raise ValueError(f"validate_job: outputs for {sorted(paths)}, cases {sorted(cases)}")
-    setup = Setup(engine=params["engine"], robot=load_from_config({**params["robot"], "urdf": urdf}),
-                  timestep=params["physics"]["timestep"],
-                  max_wheel_torque=params["robot"]["max_wheel_torque"], track=params["robot"]["track"],
-                  settings=params["engine_settings"])
+    setup = Setup(
+        engine=params["engine"],
+        robot=load_from_config({**params["robot"], "urdf": urdf}),
+        timestep=params["physics"]["timestep"],
+        max_wheel_torque=params["robot"]["max_wheel_torque"],
+        track=params["robot"]["track"],
+        settings=params["engine_settings"],
+    )
     version = get_engine(setup.engine).version()  # before any case: the watchdog's records need it
     limit = float(timeout) / len(cases)
     names = list(cases)
@@ -318,9 +383,10 @@ def validate_job(outputs: list[str], urdf: str | Path, params: dict, timeout: fl
 
     results = []
     for i, name in enumerate(names):
+
         def hung(i: int = i) -> None:
             _write_record(paths[names[i]], failed(names[i], hung_reason(limit), limit))
-            for later in names[i + 1:]:
+            for later in names[i + 1 :]:
                 _write_record(paths[later], failed(later, f"not run: {names[i]} hung before it"))
 
         start = time.perf_counter()
@@ -345,20 +411,49 @@ def _write_record(path: Path, result: dict) -> None:
     tmp.replace(path)
 
 
-def _row(engine: str, case: str, kind: str, quantity: str, value: float, analytic: float, tolerances: dict,
-         status: str, reasons: str, **extra) -> dict:
+def _row(
+    engine: str,
+    case: str,
+    kind: str,
+    quantity: str,
+    value: float,
+    analytic: float,
+    tolerances: dict,
+    status: str,
+    reasons: str,
+    **extra,
+) -> dict:
     if quantity not in tolerances:
-        raise InputError(f"validation.tolerances.{quantity}", "no tolerance given",
-                         f"add `{quantity}: <tolerance>` under validation.tolerances in the config")
+        raise InputError(
+            f"validation.tolerances.{quantity}",
+            "no tolerance given",
+            f"add `{quantity}: <tolerance>` under validation.tolerances in the config",
+        )
     unit, measure = QUANTITIES[quantity]
     error = abs(value - analytic) / abs(analytic) if measure == "relative" else abs(value - analytic)
     passed = bool(status == "ok" and np.isfinite(error) and error <= tolerances[quantity])
-    return {"engine": engine, "case": case, "kind": kind, "quantity": quantity, "unit": unit,
-            "engine_value": value, "analytic_value": analytic, "error": error, "error_kind": measure,
-            "tolerance": float(tolerances[quantity]), "passed": passed, "status": status, "reasons": reasons,
-            "v": extra.get("v"), "w": extra.get("w"), "mu": extra.get("mu"), "heading": extra.get("heading"),
-            "steps_per_s": extra.get("steps_per_s"), "covers": extra.get("covers", ""),
-            "friction_ratio": extra.get("friction_ratio")}
+    return {
+        "engine": engine,
+        "case": case,
+        "kind": kind,
+        "quantity": quantity,
+        "unit": unit,
+        "engine_value": value,
+        "analytic_value": analytic,
+        "error": error,
+        "error_kind": measure,
+        "tolerance": float(tolerances[quantity]),
+        "passed": passed,
+        "status": status,
+        "reasons": reasons,
+        "v": extra.get("v"),
+        "w": extra.get("w"),
+        "mu": extra.get("mu"),
+        "heading": extra.get("heading"),
+        "steps_per_s": extra.get("steps_per_s"),
+        "covers": extra.get("covers", ""),
+        "friction_ratio": extra.get("friction_ratio"),
+    }
 
 
 def _label(x: float) -> str:
@@ -368,14 +463,27 @@ def _label(x: float) -> str:
 def invariance_rows(rows: list[dict], tolerances: dict) -> list[dict]:
     """The turn_asymmetry and heading_spread checks of every engine, from its yaw_rate_gain rows
     (see the module docstring). A group's check fails when any of its cases failed."""
-    gains = pd.DataFrame([r for r in rows if r["quantity"] == "yaw_rate_gain" and r["w"] is not None
-                          and r["status"] != "skipped" and r.get("friction_ratio") is None])
+    gains = pd.DataFrame(
+        [
+            r
+            for r in rows
+            if r["quantity"] == "yaw_rate_gain"
+            and r["w"] is not None
+            and r["status"] != "skipped"
+            and r.get("friction_ratio") is None
+        ]
+    )
     if gains.empty:
         return []
     gains = gains.astype({"v": float, "w": float, "mu": float})
-    gains = gains.assign(ratio=gains.engine_value / gains.analytic_value, turn=np.sign(gains.w),
-                         speed=gains.w.abs(), heading=gains.heading.fillna(DEFAULT_HEADING))
+    gains = gains.assign(
+        ratio=gains.engine_value / gains.analytic_value,
+        turn=np.sign(gains.w),
+        speed=gains.w.abs(),
+        heading=gains.heading.fillna(DEFAULT_HEADING),
+    )
     out = []
+
     def status(cases) -> str:
         return "ok" if (cases.status == "ok").all() else "failed"
 
@@ -384,15 +492,45 @@ def invariance_rows(rows: list[dict], tolerances: dict) -> list[dict]:
         both = g.groupby("heading").filter(lambda h: set(h.turn) == {-1.0, 1.0})
         if len(both):
             differences = both.groupby("heading").apply(
-                lambda h: abs(h.ratio[h.turn > 0].mean() - h.ratio[h.turn < 0].mean()), include_groups=False)
-            out.append(_row(engine, f"left_right_{name}", "invariance", "turn_asymmetry", float(differences.max()),
-                            0.0, tolerances, status(both), "", v=v, w=speed, mu=mu, covers=" ".join(both.case)))
+                lambda h: abs(h.ratio[h.turn > 0].mean() - h.ratio[h.turn < 0].mean()), include_groups=False
+            )
+            out.append(
+                _row(
+                    engine,
+                    f"left_right_{name}",
+                    "invariance",
+                    "turn_asymmetry",
+                    float(differences.max()),
+                    0.0,
+                    tolerances,
+                    status(both),
+                    "",
+                    v=v,
+                    w=speed,
+                    mu=mu,
+                    covers=" ".join(both.case),
+                )
+            )
         for turn, t in g.groupby("turn", sort=False):
             if t.heading.nunique() > 1:
                 w = float(turn * speed)
-                out.append(_row(engine, f"headings_v{_label(v)}_w{_label(w)}_mu{_label(mu)}", "invariance",
-                                "heading_spread", float(t.ratio.max() - t.ratio.min()), 0.0, tolerances,
-                                status(t), "", v=v, w=w, mu=mu, covers=" ".join(t.case)))
+                out.append(
+                    _row(
+                        engine,
+                        f"headings_v{_label(v)}_w{_label(w)}_mu{_label(mu)}",
+                        "invariance",
+                        "heading_spread",
+                        float(t.ratio.max() - t.ratio.min()),
+                        0.0,
+                        tolerances,
+                        status(t),
+                        "",
+                        v=v,
+                        w=w,
+                        mu=mu,
+                        covers=" ".join(t.case),
+                    )
+                )
     return out
 
 
@@ -403,26 +541,73 @@ def summarise(results: list[dict], tolerances: dict[str, float]):
     for result in results:
         if not result["checks"]:  # skipped (not applicable), or failed before it measured: one row, the reason
             quantity = CASE_QUANTITY[result["kind"]]
-            rows.append({"engine": result["engine"], "case": result["case"], "kind": result["kind"],
-                         "quantity": quantity, "unit": QUANTITIES[quantity][0],
-                         "engine_value": math.nan, "analytic_value": math.nan, "error": math.nan,
-                         "error_kind": QUANTITIES[quantity][1], "tolerance": math.nan,
-                         "passed": False, "status": result["status"], "reasons": "; ".join(result["reasons"]),
-                         "v": result["params"].get("v"), "w": result["params"].get("w"),
-                         "mu": result["params"].get("mu"), "heading": result["params"].get("heading"),
-                         "steps_per_s": None, "covers": "",
-                         "friction_ratio": result["params"].get("friction_ratio")})
+            rows.append(
+                {
+                    "engine": result["engine"],
+                    "case": result["case"],
+                    "kind": result["kind"],
+                    "quantity": quantity,
+                    "unit": QUANTITIES[quantity][0],
+                    "engine_value": math.nan,
+                    "analytic_value": math.nan,
+                    "error": math.nan,
+                    "error_kind": QUANTITIES[quantity][1],
+                    "tolerance": math.nan,
+                    "passed": False,
+                    "status": result["status"],
+                    "reasons": "; ".join(result["reasons"]),
+                    "v": result["params"].get("v"),
+                    "w": result["params"].get("w"),
+                    "mu": result["params"].get("mu"),
+                    "heading": result["params"].get("heading"),
+                    "steps_per_s": None,
+                    "covers": "",
+                    "friction_ratio": result["params"].get("friction_ratio"),
+                }
+            )
             continue
         for c in result["checks"]:
-            rows.append(_row(result["engine"], result["case"], result["kind"], c["quantity"], c["engine_value"],
-                             c["analytic_value"], tolerances, result["status"], "; ".join(result["reasons"]),
-                             v=c.get("v"), w=c.get("w"), mu=c.get("mu"), heading=c.get("heading"),
-                             steps_per_s=result["steps_per_s"], friction_ratio=c.get("friction_ratio")))
+            rows.append(
+                _row(
+                    result["engine"],
+                    result["case"],
+                    result["kind"],
+                    c["quantity"],
+                    c["engine_value"],
+                    c["analytic_value"],
+                    tolerances,
+                    result["status"],
+                    "; ".join(result["reasons"]),
+                    v=c.get("v"),
+                    w=c.get("w"),
+                    mu=c.get("mu"),
+                    heading=c.get("heading"),
+                    steps_per_s=result["steps_per_s"],
+                    friction_ratio=c.get("friction_ratio"),
+                )
+            )
     return pd.DataFrame(rows + invariance_rows(rows, tolerances))
 
 
-GAIN_COLUMNS = ("engine", "v", "w", "mu", "analytic", "n_left", "left_mean", "left_min", "left_max", "n_right",
-                "right_mean", "right_min", "right_max", "min", "max", "spread", "headings")
+GAIN_COLUMNS = (
+    "engine",
+    "v",
+    "w",
+    "mu",
+    "analytic",
+    "n_left",
+    "left_mean",
+    "left_min",
+    "left_max",
+    "n_right",
+    "right_mean",
+    "right_min",
+    "right_max",
+    "min",
+    "max",
+    "spread",
+    "headings",
+)
 
 
 def gain_table(summary):
@@ -439,18 +624,38 @@ def gain_table(summary):
     for (engine, v, speed, mu), g in gains.groupby(["engine", "v", "speed", "mu"], sort=False):
         left, right = g[g.w > 0].engine_value, g[g.w < 0].engine_value
         analytic = float(g.analytic_value.mean())
-        rows.append({"engine": engine, "v": v, "w": speed, "mu": mu, "analytic": analytic,
-                     "n_left": len(left), "left_mean": left.mean(), "left_min": left.min(), "left_max": left.max(),
-                     "n_right": len(right), "right_mean": right.mean(), "right_min": right.min(),
-                     "right_max": right.max(), "min": g.engine_value.min(), "max": g.engine_value.max(),
-                     "spread": (g.engine_value.max() - g.engine_value.min()) / analytic,
-                     "headings": " ".join(_label(h) for h in sorted(g.heading.unique()))})
+        rows.append(
+            {
+                "engine": engine,
+                "v": v,
+                "w": speed,
+                "mu": mu,
+                "analytic": analytic,
+                "n_left": len(left),
+                "left_mean": left.mean(),
+                "left_min": left.min(),
+                "left_max": left.max(),
+                "n_right": len(right),
+                "right_mean": right.mean(),
+                "right_min": right.min(),
+                "right_max": right.max(),
+                "min": g.engine_value.min(),
+                "max": g.engine_value.max(),
+                "spread": (g.engine_value.max() - g.engine_value.min()) / analytic,
+                "headings": " ".join(_label(h) for h in sorted(g.heading.unique())),
+            }
+        )
     return pd.DataFrame(rows, columns=list(GAIN_COLUMNS))
 
 
 # the quantity under which a case without checks (skipped, or hung, crashed or not run) is listed
-CASE_QUANTITY = {"yaw_gain": "yaw_rate_gain", "straight": "speed_over_wheel_speed", "slide": "deceleration",
-                  "incline": "slide_acceleration", "rest": "accel_z"}
+CASE_QUANTITY = {
+    "yaw_gain": "yaw_rate_gain",
+    "straight": "speed_over_wheel_speed",
+    "slide": "deceleration",
+    "incline": "slide_acceleration",
+    "rest": "accel_z",
+}
 
 
 def failures(summary) -> dict[str, list[str]]:
@@ -487,16 +692,24 @@ def main(argv: list[str] | None = None) -> None:
             settings[key] = json.loads(value)
         except json.JSONDecodeError:
             settings[key] = value
-    setup = Setup(engine=args.engine, robot=load_from_config(config["robot"]),
-                  timestep=config["physics"]["timestep"], max_wheel_torque=config["robot"]["max_wheel_torque"],
-                  track=config["robot"]["track"], settings=settings)
+    setup = Setup(
+        engine=args.engine,
+        robot=load_from_config(config["robot"]),
+        timestep=config["physics"]["timestep"],
+        max_wheel_torque=config["robot"]["max_wheel_torque"],
+        track=config["robot"]["track"],
+        settings=settings,
+    )
     cases = config["validation"]["cases"]
     results = [run_case(setup, name, cases[name]) for name in (args.cases or cases)]
     summary = summarise(results, config["validation"]["tolerances"])
 
     with pd.option_context("display.width", 200, "display.max_columns", 20):
-        print(summary[["case", "quantity", "engine_value", "analytic_value", "error", "tolerance", "passed",
-                       "steps_per_s"]].to_string(index=False, float_format=lambda x: f"{x:.4g}"))
+        print(
+            summary[
+                ["case", "quantity", "engine_value", "analytic_value", "error", "tolerance", "passed", "steps_per_s"]
+            ].to_string(index=False, float_format=lambda x: f"{x:.4g}")
+        )
 
 
 if __name__ == "__main__":

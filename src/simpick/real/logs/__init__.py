@@ -17,5 +17,12 @@ from simpick.real.logs.canonical import (
     write_canonical,
 )
 
-__all__ = ["DEFAULT_TRACK", "RealLog", "body_to_wheels", "read_canonical", "read_canonical_meta",
-           "wheels_to_body", "write_canonical"]
+__all__ = [
+    "DEFAULT_TRACK",
+    "RealLog",
+    "body_to_wheels",
+    "read_canonical",
+    "read_canonical_meta",
+    "wheels_to_body",
+    "write_canonical",
+]

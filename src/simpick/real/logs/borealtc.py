@@ -34,8 +34,7 @@ TERRAIN_CLASSES = ("ASPHALT", "FLOORING", "ICE", "SANDY_LOAM", "SNOW")
 IMU_RATE_HZ = 100.0
 PRO_RATE_HZ = 6.5
 IMU_MAP = {"time": "time", "ax": "ax", "ay": "ay", "az": "az", "wx": "wx", "wy": "wy", "wz": "wz"}
-PRO_MAP = {"time": "time", "v_left": "velL", "v_right": "velR",
-           "current_left": "curL", "current_right": "curR"}
+PRO_MAP = {"time": "time", "v_left": "velL", "v_right": "velR", "current_left": "curL", "current_right": "curR"}
 _RUN = re.compile(r"^(imu|pro)_([A-Za-z0-9_-]+)\.csv$")
 
 
@@ -48,10 +47,17 @@ def discover(folder: str | Path) -> list[tuple[str, str, Path, Path]]:
     return [(r.folder, r.run, r.imu, r.pro) for r in find_runs(folder)]
 
 
-def read_run(imu_csv: str | Path, pro_csv: str | Path, terrain_class: str, *,
-             track: float = DEFAULT_TRACK, imu_rate_hz: float | None = None,
-             command_rate_hz: float | None = None, declared_by: str = "the caller",
-             dataset: str = DATASET) -> RealLog:
+def read_run(
+    imu_csv: str | Path,
+    pro_csv: str | Path,
+    terrain_class: str,
+    *,
+    track: float = DEFAULT_TRACK,
+    imu_rate_hz: float | None = None,
+    command_rate_hz: float | None = None,
+    declared_by: str = "the caller",
+    dataset: str = DATASET,
+) -> RealLog:
     """One run as a validated canonical RealLog; rates declared by ``declared_by`` are checked."""
     imu_path, pro_path = check_file(imu_csv, "IMU file"), check_file(pro_csv, "wheel (pro) file")
     imu = source_columns(load_csv(imu_path), IMU_MAP, str(imu_path), V.csv_row)
@@ -59,13 +65,26 @@ def read_run(imu_csv: str | Path, pro_csv: str | Path, terrain_class: str, *,
     m = _RUN.match(imu_path.name)
     run_id = m.group(2) if m else imu_path.stem
     return finish(
-        imu, pro, imu_where=str(imu_path), cmd_where=str(pro_path),
-        imu_names=IMU_MAP, cmd_names=PRO_MAP, imu_row_label=V.csv_row, cmd_row_label=V.csv_row,
-        declared_hz={"imu": imu_rate_hz, "commands": command_rate_hz}, declared_by=declared_by,
-        steady=True, track=track, reader="simpick.real.logs.borealtc",
-        meta={"dataset": dataset, "run_id": run_id, "terrain_class": terrain_class,
-              "name": f"{terrain_class}_{run_id}",
-              "source_files": {"imu": file_info(imu_path), "commands": file_info(pro_path)},
-              **({"license": "CC0-1.0"} if dataset == DATASET else {}),
-              "source_columns": {"imu": IMU_MAP, "commands": PRO_MAP}},
+        imu,
+        pro,
+        imu_where=str(imu_path),
+        cmd_where=str(pro_path),
+        imu_names=IMU_MAP,
+        cmd_names=PRO_MAP,
+        imu_row_label=V.csv_row,
+        cmd_row_label=V.csv_row,
+        declared_hz={"imu": imu_rate_hz, "commands": command_rate_hz},
+        declared_by=declared_by,
+        steady=True,
+        track=track,
+        reader="simpick.real.logs.borealtc",
+        meta={
+            "dataset": dataset,
+            "run_id": run_id,
+            "terrain_class": terrain_class,
+            "name": f"{terrain_class}_{run_id}",
+            "source_files": {"imu": file_info(imu_path), "commands": file_info(pro_path)},
+            **({"license": "CC0-1.0"} if dataset == DATASET else {}),
+            "source_columns": {"imu": IMU_MAP, "commands": PRO_MAP},
+        },
     )

@@ -43,13 +43,23 @@ BODY_COLUMNS = ["time", "v", "w"]
 EXTRA_COMMAND_COLUMNS = ["current_left", "current_right"]
 UNITS = {
     "time": "s",
-    "ax": "m/s^2", "ay": "m/s^2", "az": "m/s^2",
-    "wx": "rad/s", "wy": "rad/s", "wz": "rad/s",
-    "v_left": "m/s", "v_right": "m/s", "v": "m/s", "w": "rad/s",
-    "current_left": "A", "current_right": "A",
+    "ax": "m/s^2",
+    "ay": "m/s^2",
+    "az": "m/s^2",
+    "wx": "rad/s",
+    "wy": "rad/s",
+    "wz": "rad/s",
+    "v_left": "m/s",
+    "v_right": "m/s",
+    "v": "m/s",
+    "w": "rad/s",
+    "current_left": "A",
+    "current_right": "A",
 }
-FRAME = ("body: x forward, y left, z up (REP-103); accelerometer = specific force, +9.81 m/s^2 "
-         "on z at rest (REP-145); v_left/v_right = side surface speeds, w = yaw rate about +z")
+FRAME = (
+    "body: x forward, y left, z up (REP-103); accelerometer = specific force, +9.81 m/s^2 "
+    "on z at rest (REP-145); v_left/v_right = side surface speeds, w = yaw rate about +z"
+)
 
 
 @dataclass
@@ -60,7 +70,7 @@ class RealLog:
 
     @property
     def command_kind(self) -> str:
-        """"wheels" (v_left, v_right) or "body" (v, w)."""
+        """ "wheels" (v_left, v_right) or "body" (v, w)."""
         return command_kind(self.commands)
 
     def wheel_commands(self, track: float = DEFAULT_TRACK) -> pd.DataFrame:
@@ -127,7 +137,8 @@ def validate_log(log: RealLog, where: str, *, row_label: V.RowLabel = V.plain_ro
     V.require_columns(log.imu, IMU_COLUMNS, f"{where} [imu]")
     kind = command_kind(log.commands)
     cmd_cols = (WHEEL_COLUMNS if kind == "wheels" else BODY_COLUMNS) + [
-        c for c in EXTRA_COMMAND_COLUMNS if c in log.commands]
+        c for c in EXTRA_COMMAND_COLUMNS if c in log.commands
+    ]
     for stream, frame, cols in (("imu", log.imu, IMU_COLUMNS), ("commands", log.commands, cmd_cols)):
         for c in cols:
             values = V.numeric_column(frame[c], f"{where} [{stream}]", c, row_label)
@@ -144,17 +155,22 @@ def write_canonical(log: RealLog, path: str | Path) -> Path:
     validate_log(log, f"{path} (log being written)")
     kind = log.command_kind
     cmd_cols = (WHEEL_COLUMNS if kind == "wheels" else BODY_COLUMNS) + [
-        c for c in EXTRA_COMMAND_COLUMNS if c in log.commands]
+        c for c in EXTRA_COMMAND_COLUMNS if c in log.commands
+    ]
     imu = log.imu[IMU_COLUMNS].astype("float64")
     cmd = log.commands[cmd_cols].astype("float64")
     columns = IMU_COLUMNS + [c for c in cmd_cols if c not in IMU_COLUMNS]
     long = pd.concat([imu.assign(stream="imu"), cmd.assign(stream="commands")], ignore_index=True)
     long = long.reindex(columns=["stream", *columns])
-    meta = {"schema": SCHEMA, "units": {c: UNITS[c] for c in columns}, "frame": FRAME,
-            "streams": {"imu": IMU_COLUMNS, "commands": cmd_cols}, "commands_kind": kind,
-            "meta": jsonable(log.meta)}
-    fields = [pa.field("stream", pa.string(), nullable=False)] + [
-        pa.field(c, pa.float64()) for c in columns]
+    meta = {
+        "schema": SCHEMA,
+        "units": {c: UNITS[c] for c in columns},
+        "frame": FRAME,
+        "streams": {"imu": IMU_COLUMNS, "commands": cmd_cols},
+        "commands_kind": kind,
+        "meta": jsonable(log.meta),
+    }
+    fields = [pa.field("stream", pa.string(), nullable=False)] + [pa.field(c, pa.float64()) for c in columns]
     table = pa.Table.from_pandas(long, schema=pa.schema(fields), preserve_index=False)
     table = table.replace_schema_metadata({METADATA_KEY: json.dumps(meta, sort_keys=True).encode()})
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -187,8 +203,7 @@ def read_canonical(path: str | Path) -> RealLog:
     try:
         table = pq.read_table(path)
     except (OSError, pa.ArrowException) as exc:
-        raise InputError(str(path), f"not a readable Parquet file: {exc}",
-                         "delete it and write it again") from None
+        raise InputError(str(path), f"not a readable Parquet file: {exc}", "delete it and write it again") from None
     raw = (table.schema.metadata or {}).get(METADATA_KEY)
     if raw is None:
         raise InputError(str(path), "has no simpick metadata; it was not written by write_canonical")
@@ -197,8 +212,11 @@ def read_canonical(path: str | Path) -> RealLog:
     except ValueError:
         raise InputError(str(path), "its simpick metadata is not valid JSON") from None
     if not isinstance(meta, dict) or meta.get("schema") != SCHEMA:
-        raise InputError(str(path), f"schema {meta.get('schema') if isinstance(meta, dict) else None!r}, "
-                                    f"expected {SCHEMA!r}", "write it again with this simpick")
+        raise InputError(
+            str(path),
+            f"schema {meta.get('schema') if isinstance(meta, dict) else None!r}, expected {SCHEMA!r}",
+            "write it again with this simpick",
+        )
     streams = meta.get("streams") or {}
     imu_cols, cmd_cols = streams.get("imu"), streams.get("commands")
     if imu_cols != IMU_COLUMNS or not isinstance(cmd_cols, list):

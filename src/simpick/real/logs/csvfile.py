@@ -41,8 +41,7 @@ def load_csv(path: str | Path) -> pd.DataFrame:
     try:
         text = path.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise InputError(str(path), f"not UTF-8 text (byte {exc.start})",
-                         "save the file as UTF-8 CSV") from None
+        raise InputError(str(path), f"not UTF-8 text (byte {exc.start})", "save the file as UTF-8 CSV") from None
     except OSError as exc:
         raise InputError(str(path), f"cannot be read: {exc.strerror or exc}") from None
     if not text.strip():
@@ -52,8 +51,7 @@ def load_csv(path: str | Path) -> pd.DataFrame:
 
     first = text.splitlines()[0]
     if not first.strip():
-        raise InputError(str(path), "line 1 is blank; the header must be on line 1",
-                         "remove the leading blank lines")
+        raise InputError(str(path), "line 1 is blank; the header must be on line 1", "remove the leading blank lines")
     try:
         header = next(csv.reader(io.StringIO(first)))
     except (csv.Error, StopIteration) as exc:
@@ -62,27 +60,32 @@ def load_csv(path: str | Path) -> pd.DataFrame:
     seen: set[str] = set()
     for name in names:
         if name in seen:
-            raise InputError(f"{path}: column {name!r}", "appears twice in the header",
-                             "give every column a unique name")
+            raise InputError(
+                f"{path}: column {name!r}", "appears twice in the header", "give every column a unique name"
+            )
         seen.add(name)
 
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("error", pd.errors.ParserWarning)
             warnings.simplefilter("ignore", pd.errors.DtypeWarning)
-            frame = pd.read_csv(io.StringIO(text), index_col=False, skip_blank_lines=False,
-                                low_memory=False)
+            frame = pd.read_csv(io.StringIO(text), index_col=False, skip_blank_lines=False, low_memory=False)
     except pd.errors.EmptyDataError:
         raise InputError(str(path), "file has no header and no data") from None
     except pd.errors.ParserWarning:
         line, count = _first_long_row(text, len(names))
-        raise InputError(str(path), f"not a well-formed CSV: line {line} has {count} fields but the "
-                                    f"header has {len(names)}",
-                         "every row needs as many comma-separated fields as the header") from None
+        raise InputError(
+            str(path),
+            f"not a well-formed CSV: line {line} has {count} fields but the header has {len(names)}",
+            "every row needs as many comma-separated fields as the header",
+        ) from None
     except pd.errors.ParserError as exc:
         detail = str(exc).replace("Error tokenizing data. C error: ", "").strip()
-        raise InputError(str(path), f"not a well-formed CSV: {detail or 'a row has more fields than the header'}",
-                         "every row needs as many comma-separated fields as the header") from None
+        raise InputError(
+            str(path),
+            f"not a well-formed CSV: {detail or 'a row has more fields than the header'}",
+            "every row needs as many comma-separated fields as the header",
+        ) from None
     except (ValueError, TypeError, OverflowError, csv.Error) as exc:
         raise InputError(str(path), f"not a readable CSV: {exc}") from None
 

@@ -45,10 +45,20 @@ TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
 ACCEL_UNITS = {"m/s^2": 1.0, "m/s2": 1.0, "g": G0}
 GYRO_UNITS = {"rad/s": 1.0, "deg/s": np.pi / 180.0}
 SPEED_UNITS = {"m/s": 1.0, "cm/s": 1e-2, "mm/s": 1e-3, "km/h": 1 / 3.6}
-UNIT_TABLE = {"time": TIME_UNITS, "commands_time": TIME_UNITS,
-              "ax": ACCEL_UNITS, "ay": ACCEL_UNITS, "az": ACCEL_UNITS,
-              "wx": GYRO_UNITS, "wy": GYRO_UNITS, "wz": GYRO_UNITS,
-              "v_left": SPEED_UNITS, "v_right": SPEED_UNITS, "v": SPEED_UNITS, "w": GYRO_UNITS}
+UNIT_TABLE = {
+    "time": TIME_UNITS,
+    "commands_time": TIME_UNITS,
+    "ax": ACCEL_UNITS,
+    "ay": ACCEL_UNITS,
+    "az": ACCEL_UNITS,
+    "wx": GYRO_UNITS,
+    "wy": GYRO_UNITS,
+    "wz": GYRO_UNITS,
+    "v_left": SPEED_UNITS,
+    "v_right": SPEED_UNITS,
+    "v": SPEED_UNITS,
+    "w": GYRO_UNITS,
+}
 IMU_KEYS = ["ax", "ay", "az", "wx", "wy", "wz"]
 OTHER_KEYS = {"frame", "rates", "meta"}
 
@@ -59,8 +69,9 @@ def _parse_mapping(mapping, where: str) -> tuple[dict[str, tuple[str, str]], dic
         raise InputError(where, f"the mapping must be a dict, got {type(mapping).__name__}")
     unknown = sorted(set(map(str, mapping)) - set(UNIT_TABLE) - OTHER_KEYS)
     if unknown:
-        raise InputError(f"{where}: mapping key {unknown[0]!r}", "unknown key",
-                         f"use only {sorted(UNIT_TABLE) + sorted(OTHER_KEYS)}")
+        raise InputError(
+            f"{where}: mapping key {unknown[0]!r}", "unknown key", f"use only {sorted(UNIT_TABLE) + sorted(OTHER_KEYS)}"
+        )
     spec: dict[str, tuple[str, str]] = {}
     for key, table in UNIT_TABLE.items():
         if key not in mapping:
@@ -69,39 +80,46 @@ def _parse_mapping(mapping, where: str) -> tuple[dict[str, tuple[str, str]], dic
         if isinstance(value, str):
             value = {"column": value}
         if not isinstance(value, Mapping) or not isinstance(value.get("column"), str):
-            raise InputError(f"{where}: mapping key {key!r}",
-                             f"must be a column name or {{column: ..., unit: ...}}, got {value!r}")
+            raise InputError(
+                f"{where}: mapping key {key!r}", f"must be a column name or {{column: ..., unit: ...}}, got {value!r}"
+            )
         extra = sorted(set(value) - {"column", "unit"})
         if extra:
-            raise InputError(f"{where}: mapping key {key!r}", f"unknown field {extra[0]!r}",
-                             "use column and unit")
+            raise InputError(f"{where}: mapping key {key!r}", f"unknown field {extra[0]!r}", "use column and unit")
         unit = value.get("unit", next(iter(table)))
         if unit not in table:
-            raise InputError(f"{where}: mapping key {key!r}", f"unknown unit {unit!r}",
-                             f"use one of {list(table)}")
+            raise InputError(f"{where}: mapping key {key!r}", f"unknown unit {unit!r}", f"use one of {list(table)}")
         spec[key] = (value["column"], unit)
     missing = [k for k in ["time", *IMU_KEYS] if k not in spec]
     if missing:
-        raise InputError(f"{where}: mapping key {missing[0]!r}", "is required but missing",
-                         "map every IMU axis and the time column")
+        raise InputError(
+            f"{where}: mapping key {missing[0]!r}", "is required but missing", "map every IMU axis and the time column"
+        )
     wheels, body = {"v_left", "v_right"} & set(spec), {"v", "w"} & set(spec)
     if wheels and body:
-        raise InputError(f"{where}: mapping keys {sorted(wheels | body)}",
-                         "give side speeds (v_left, v_right) or body twist (v, w), not both")
+        raise InputError(
+            f"{where}: mapping keys {sorted(wheels | body)}",
+            "give side speeds (v_left, v_right) or body twist (v, w), not both",
+        )
     pair = ["v_left", "v_right"] if wheels or not body else ["v", "w"]
     absent = [k for k in pair if k not in spec]
     if absent:
-        raise InputError(f"{where}: mapping key {absent[0]!r}", "is required but missing",
-                         "map v_left and v_right, or v and w")
+        raise InputError(
+            f"{where}: mapping key {absent[0]!r}", "is required but missing", "map v_left and v_right, or v and w"
+        )
 
     frame = mapping.get("frame", {"z": "up"})
     if not isinstance(frame, Mapping) or set(frame) - {"z"} or frame.get("z", "up") not in ("up", "down"):
         raise InputError(f"{where}: mapping key 'frame'", f"must be {{z: up}} or {{z: down}}, got {frame!r}")
     rates = mapping.get("rates", {})
-    if not isinstance(rates, Mapping) or set(rates) - {"imu", "commands"} or not all(
-            isinstance(v, (int, float)) and not isinstance(v, bool) and v > 0 for v in rates.values()):
-        raise InputError(f"{where}: mapping key 'rates'",
-                         f"must be {{imu: Hz, commands: Hz}} with positive numbers, got {rates!r}")
+    if (
+        not isinstance(rates, Mapping)
+        or set(rates) - {"imu", "commands"}
+        or not all(isinstance(v, (int, float)) and not isinstance(v, bool) and v > 0 for v in rates.values())
+    ):
+        raise InputError(
+            f"{where}: mapping key 'rates'", f"must be {{imu: Hz, commands: Hz}} with positive numbers, got {rates!r}"
+        )
     meta = mapping.get("meta", {})
     if not isinstance(meta, Mapping):
         raise InputError(f"{where}: mapping key 'meta'", f"must be a dict, got {meta!r}")
@@ -113,13 +131,16 @@ def _check_columns(frame: pd.DataFrame, spec: dict, keys: list[str], path: Path)
         column = spec[key][0]
         if column not in frame.columns:
             present = ", ".join(repr(str(c)) for c in frame.columns)
-            raise InputError(f"{path}: column {column!r} (mapping key {key!r})",
-                             f"not in the file; columns present: {present}",
-                             "fix the mapping or the file header")
+            raise InputError(
+                f"{path}: column {column!r} (mapping key {key!r})",
+                f"not in the file; columns present: {present}",
+                "fix the mapping or the file header",
+            )
 
 
-def read_csv_log(path: str | Path, mapping: Mapping, *, commands_path: str | Path | None = None,
-                 track: float = DEFAULT_TRACK) -> RealLog:
+def read_csv_log(
+    path: str | Path, mapping: Mapping, *, commands_path: str | Path | None = None, track: float = DEFAULT_TRACK
+) -> RealLog:
     """A validated RealLog from one CSV (or an IMU CSV plus a commands CSV)."""
     path = check_file(path, "CSV log")
     spec, opts = _parse_mapping(mapping, str(path))
@@ -142,8 +163,13 @@ def read_csv_log(path: str | Path, mapping: Mapping, *, commands_path: str | Pat
         cframe = load_csv(cpath)
         tkey = "commands_time" if "commands_time" in spec else "time"
         _check_columns(cframe, spec, [tkey, *pair], cpath)
-        cmd = source_columns(cframe, {"time": spec[tkey][0], **{k: spec[k][0] for k in pair}},
-                             str(cpath), V.csv_row, labels={**names, "time": names[tkey]})
+        cmd = source_columns(
+            cframe,
+            {"time": spec[tkey][0], **{k: spec[k][0] for k in pair}},
+            str(cpath),
+            V.csv_row,
+            labels={**names, "time": names[tkey]},
+        )
         rows = np.arange(len(cmd))
         cmd_where, cmd_time_unit = str(cpath), spec[tkey][1]
         sources["commands"] = file_info(cpath)
@@ -164,20 +190,36 @@ def read_csv_log(path: str | Path, mapping: Mapping, *, commands_path: str | Pat
         if "w" in cmd:
             cmd["w"] = -cmd["w"]
 
-    meta = {**opts["meta"], "source_files": sources,
-            "source_mapping": {k: {"column": c, "unit": u} for k, (c, u) in spec.items()},
-            "source_frame": {"z": opts["z"]},
-            "frame_conversion": ("none" if opts["z"] == "up" else
-                                 "180 deg rotation about x: ay, az, wy, wz (and w) negated")}
+    meta = {
+        **opts["meta"],
+        "source_files": sources,
+        "source_mapping": {k: {"column": c, "unit": u} for k, (c, u) in spec.items()},
+        "source_frame": {"z": opts["z"]},
+        "frame_conversion": (
+            "none" if opts["z"] == "up" else "180 deg rotation about x: ay, az, wy, wz (and w) negated"
+        ),
+    }
     meta.setdefault("dataset", None)
-    return finish(imu, cmd, imu_where=str(path), cmd_where=cmd_where,
-                  imu_names=names, cmd_names=names, imu_row_label=V.csv_row,
-                  cmd_row_label=V.csv_row, cmd_rows=rows, declared_hz=opts["rates"],
-                  track=track, meta=meta, reader="simpick.real.logs.csvlog")
+    return finish(
+        imu,
+        cmd,
+        imu_where=str(path),
+        cmd_where=cmd_where,
+        imu_names=names,
+        cmd_names=names,
+        imu_row_label=V.csv_row,
+        cmd_row_label=V.csv_row,
+        cmd_rows=rows,
+        declared_hz=opts["rates"],
+        track=track,
+        meta=meta,
+        reader="simpick.real.logs.csvlog",
+    )
 
 
-def _sparse_commands(frame: pd.DataFrame, spec: dict, pair: list[str], path: Path,
-                     names: dict) -> tuple[pd.DataFrame, np.ndarray]:
+def _sparse_commands(
+    frame: pd.DataFrame, spec: dict, pair: list[str], path: Path, names: dict
+) -> tuple[pd.DataFrame, np.ndarray]:
     """Command rows of a combined file: those where the command cells are present."""
     values = {}
     for key in pair:
@@ -185,19 +227,24 @@ def _sparse_commands(frame: pd.DataFrame, spec: dict, pair: list[str], path: Pat
         v = V.numeric_column(frame[col], str(path), names[key], V.csv_row)
         inf = np.flatnonzero(np.isinf(v))
         if len(inf):
-            raise InputError(f"{path}: {names[key]}", f"infinite value at {V.csv_row(int(inf[0]))}",
-                             "remove or repair the row")
+            raise InputError(
+                f"{path}: {names[key]}", f"infinite value at {V.csv_row(int(inf[0]))}", "remove or repair the row"
+            )
         values[key] = v
     present = [~np.isnan(values[k]) for k in pair]
     half = np.flatnonzero(present[0] != present[1])
     if len(half):
         i = int(half[0])
         gap = pair[1] if present[0][i] else pair[0]
-        raise InputError(f"{path}: {names[gap]}",
-                         f"empty at {V.csv_row(i)} while {spec[pair[0] if gap == pair[1] else pair[1]][0]!r} "
-                         "is set: a command row needs both values", "fill both or neither")
+        raise InputError(
+            f"{path}: {names[gap]}",
+            f"empty at {V.csv_row(i)} while {spec[pair[0] if gap == pair[1] else pair[1]][0]!r} "
+            "is set: a command row needs both values",
+            "fill both or neither",
+        )
     rows = np.flatnonzero(present[0])
     if len(rows) == 0:
-        raise InputError(f"{path}: {names[pair[0]]}", "no row holds a command",
-                         "map the command columns, or give a commands file")
+        raise InputError(
+            f"{path}: {names[pair[0]]}", "no row holds a command", "map the command columns, or give a commands file"
+        )
     return pd.DataFrame({k: values[k][rows] for k in pair}), rows

@@ -66,11 +66,19 @@ METADATA = "metadata.yaml"
 RATE_HZ = 20.0  # DRIVE's logger writes one sample per 0.05 s (sample-and-hold of each topic)
 DT = 1.0 / RATE_HZ
 SERIES = {  # per-sample columns read (DRIVE name -> name here); rad/s, m/s^2, m, rad
-    "cmd_left": "cmd_left", "cmd_right": "cmd_right",
-    "left_wheel_vel": "wheel_left", "right_wheel_vel": "wheel_right",
-    "imu_acceleration_x": "ax", "imu_acceleration_y": "ay", "imu_acceleration_z": "az", "imu_yaw": "wz",
-    "icp_x": "icp_x", "icp_y": "icp_y", "icp_yaw": "icp_yaw",
-    "icp_vel_x": "vx_icp_drive", "icp_vel_y": "vy_icp_drive",
+    "cmd_left": "cmd_left",
+    "cmd_right": "cmd_right",
+    "left_wheel_vel": "wheel_left",
+    "right_wheel_vel": "wheel_right",
+    "imu_acceleration_x": "ax",
+    "imu_acceleration_y": "ay",
+    "imu_acceleration_z": "az",
+    "imu_yaw": "wz",
+    "icp_x": "icp_x",
+    "icp_y": "icp_y",
+    "icp_yaw": "icp_yaw",
+    "icp_vel_x": "vx_icp_drive",
+    "icp_vel_y": "vy_icp_drive",
 }
 MASKS = ("transitory_state_mask", "steady_state_mask")
 GYRO_COPY = "icp_vel_yaw"  # a copy of imu_yaw in DRIVE's files: checked, never used
@@ -79,12 +87,51 @@ SIGN_TURN = 0.2  # rad/s
 ACCEL_OK = (7.0, 13.0)  # m/s^2: the norm of the mean specific force (gravity; simpick.real.logs.validate's limits)
 MIN_SIGN_CORRELATION = 0.9
 START_SECONDS = 0.5  # s at the end of the previous step averaged for a step's start state
-SAMPLE_COLUMNS = ["step", "window", "sample", "time", "t_step", "steady", "cmd_left", "cmd_right", "wheel_left",
-                  "wheel_right", "ax", "ay", "az", "wz", "x_icp", "y_icp", "yaw_icp", "vx_icp_drive", "vy_icp_drive"]
-STEP_COLUMNS = ["step", "t_start", "steady_start", "t_end", "cmd_left", "cmd_right", "cmd_early_samples",
-                "wheel_left", "wheel_right", "wz_gyro", "wz_icp", "vx_icp", "vy_icp", "vx_icp_drive", "heading_icp",
-                "heading_gyro", "start_from", "start_vx", "start_vy", "start_wz", "start_wheel_left",
-                "start_wheel_right"]
+SAMPLE_COLUMNS = [
+    "step",
+    "window",
+    "sample",
+    "time",
+    "t_step",
+    "steady",
+    "cmd_left",
+    "cmd_right",
+    "wheel_left",
+    "wheel_right",
+    "ax",
+    "ay",
+    "az",
+    "wz",
+    "x_icp",
+    "y_icp",
+    "yaw_icp",
+    "vx_icp_drive",
+    "vy_icp_drive",
+]
+STEP_COLUMNS = [
+    "step",
+    "t_start",
+    "steady_start",
+    "t_end",
+    "cmd_left",
+    "cmd_right",
+    "cmd_early_samples",
+    "wheel_left",
+    "wheel_right",
+    "wz_gyro",
+    "wz_icp",
+    "vx_icp",
+    "vy_icp",
+    "vx_icp_drive",
+    "heading_icp",
+    "heading_gyro",
+    "start_from",
+    "start_vx",
+    "start_vy",
+    "start_wz",
+    "start_wheel_left",
+    "start_wheel_right",
+]
 
 
 @dataclass
@@ -103,6 +150,7 @@ class DriveSession:
     ICP body velocity over its last window and its gyro and wheel speeds over its last
     :data:`START_SECONDS`, all measured while that step's command had been held for seconds (step 0: its
     own first window and samples)."""
+
     name: str
     folder: Path
     samples: pd.DataFrame
@@ -124,8 +172,13 @@ class DriveSession:
         s = self.samples[self.samples.step == step]
         if s.empty:
             raise InputError(f"{self.folder}", f"has no step {step}", f"choose a step in 0..{len(self.steps) - 1}")
-        return pd.DataFrame({"time": s.t_step.to_numpy(), "v_left": r * s.wheel_left.to_numpy(),
-                             "v_right": r * s.wheel_right.to_numpy()})
+        return pd.DataFrame(
+            {
+                "time": s.t_step.to_numpy(),
+                "v_left": r * s.wheel_left.to_numpy(),
+                "v_right": r * s.wheel_right.to_numpy(),
+            }
+        )
 
 
 @dataclass
@@ -144,8 +197,11 @@ def find_sessions(folder: str | Path) -> list[Path]:
     when it holds metadata.yaml or the dataset pickle; one with only one of the two is refused."""
     folder = Path(folder)
     if not folder.is_dir():
-        raise InputError(str(folder), "DRIVE folder not found" if not folder.exists() else "is a file, not a folder",
-                         "pass DRIVE's calib_data folder (or one session folder in it)")
+        raise InputError(
+            str(folder),
+            "DRIVE folder not found" if not folder.exists() else "is a file, not a folder",
+            "pass DRIVE's calib_data folder (or one session folder in it)",
+        )
     if (folder / METADATA).is_file() or (folder / PICKLE).is_file():
         candidates = [folder]
     else:
@@ -154,16 +210,29 @@ def find_sessions(folder: str | Path) -> list[Path]:
         candidates = sorted(p for p in folder.iterdir() if p.is_dir() and not p.name.startswith((".", "_")))
         candidates = [p for p in candidates if (p / METADATA).exists() or (p / PICKLE).exists()]
         if not candidates:
-            raise InputError(str(folder), f"holds no DRIVE session (a folder with {METADATA} and {PICKLE})",
-                             "pass DRIVE's calib_data folder (or one session folder in it)")
+            raise InputError(
+                str(folder),
+                f"holds no DRIVE session (a folder with {METADATA} and {PICKLE})",
+                "pass DRIVE's calib_data folder (or one session folder in it)",
+            )
     problems = []
     for p in candidates:
         if not (p / METADATA).is_file():
-            problems.append(InputError(str(p / METADATA), "missing: the session's terrain and robot are unknown",
-                                       f"restore {METADATA} from the DRIVE repository, or remove the folder"))
+            problems.append(
+                InputError(
+                    str(p / METADATA),
+                    "missing: the session's terrain and robot are unknown",
+                    f"restore {METADATA} from the DRIVE repository, or remove the folder",
+                )
+            )
         elif not (p / PICKLE).is_file():
-            problems.append(InputError(str(p / PICKLE), "missing: the session holds no data",
-                                       "restore the file from the DRIVE repository, or remove the folder"))
+            problems.append(
+                InputError(
+                    str(p / PICKLE),
+                    "missing: the session holds no data",
+                    "restore the file from the DRIVE repository, or remove the folder",
+                )
+            )
     if problems:
         raise DatasetProblems(problems)
     return candidates
@@ -184,19 +253,37 @@ def load_pickle(path: Path) -> tuple[pd.DataFrame, dict]:
     except OSError as exc:
         raise InputError(str(path), f"cannot be read: {exc.strerror or exc}") from None
     if len(data) < 2 or data[0] != 0x80 or not 2 <= data[1] <= pickle.HIGHEST_PROTOCOL:
-        raise InputError(str(path), "is not a pickle file (it does not start with a pickle protocol header)",
-                         "put DRIVE's slip_dataset_all.pkl there, as written by DRIVE's parser")
+        raise InputError(
+            str(path),
+            "is not a pickle file (it does not start with a pickle protocol header)",
+            "put DRIVE's slip_dataset_all.pkl there, as written by DRIVE's parser",
+        )
     try:
         with warnings.catch_warnings():  # pickles of an older numpy name numpy.core, which still loads
             warnings.simplefilter("ignore", DeprecationWarning)
             frame = pd.read_pickle(io.BytesIO(data))
-    except (pickle.UnpicklingError, EOFError, AttributeError, ImportError, IndexError, KeyError, TypeError,
-            ValueError, OSError) as exc:  # what a truncated, foreign or damaged pickle raises
-        raise InputError(str(path), f"cannot be unpickled ({type(exc).__name__}: {exc})",
-                         "download the file again from the DRIVE repository") from None
+    except (
+        pickle.UnpicklingError,
+        EOFError,
+        AttributeError,
+        ImportError,
+        IndexError,
+        KeyError,
+        TypeError,
+        ValueError,
+        OSError,
+    ) as exc:  # what a truncated, foreign or damaged pickle raises
+        raise InputError(
+            str(path),
+            f"cannot be unpickled ({type(exc).__name__}: {exc})",
+            "download the file again from the DRIVE repository",
+        ) from None
     if not isinstance(frame, pd.DataFrame):
-        raise InputError(str(path), f"holds a {type(frame).__name__}, not a pandas DataFrame",
-                         "put DRIVE's slip_dataset_all.pkl there")
+        raise InputError(
+            str(path),
+            f"holds a {type(frame).__name__}, not a pandas DataFrame",
+            "put DRIVE's slip_dataset_all.pkl there",
+        )
     return frame, {"path": str(path.resolve()), "bytes": len(data), "git_blob_sha1": git_blob_sha1(data)}
 
 
@@ -207,8 +294,9 @@ def read_metadata(folder: Path) -> dict:
     except (OSError, yaml.YAMLError, UnicodeDecodeError) as exc:
         raise InputError(str(path), f"cannot be read as YAML: {exc}", "restore it from the DRIVE repository") from None
     if not isinstance(data, dict) or not isinstance(data.get("metadata"), dict):
-        raise InputError(f"{path}: field 'metadata'", "missing or not a mapping",
-                         "restore the file from the DRIVE repository")
+        raise InputError(
+            f"{path}: field 'metadata'", "missing or not a mapping", "restore the file from the DRIVE repository"
+        )
     return data
 
 
@@ -224,18 +312,25 @@ def read_geometry(folder: Path, wheel_radius: float | None, wheel_baseline: floa
         for node in (data or {}).values() if isinstance(data, dict) else ():
             params = node.get("ros__parameters") if isinstance(node, dict) else None
             if isinstance(params, dict) and "wheel_radius" in params and "wheel_baseline" in params:
-                found = {"wheel_radius": float(params["wheel_radius"]),
-                         "wheel_baseline": float(params["wheel_baseline"]),
-                         "step_len": float(params["step_len"]) if "step_len" in params else None,
-                         "source": str(path)}
+                found = {
+                    "wheel_radius": float(params["wheel_radius"]),
+                    "wheel_baseline": float(params["wheel_baseline"]),
+                    "step_len": float(params["step_len"]) if "step_len" in params else None,
+                    "source": str(path),
+                }
     given = {k: v for k, v in (("wheel_radius", wheel_radius), ("wheel_baseline", wheel_baseline)) if v is not None}
     if given:
-        found = {**found, **given, "source": "given by the caller" + (f" (session config: {found['source']})"
-                                                                       if found else "")}
+        found = {
+            **found,
+            **given,
+            "source": "given by the caller" + (f" (session config: {found['source']})" if found else ""),
+        }
     if "wheel_radius" not in found or "wheel_baseline" not in found:
-        raise InputError(str(folder / "config_file_used"), "no DRIVE configuration with wheel_radius and "
-                         "wheel_baseline", "restore config_file_used/ from the DRIVE repository, or give the "
-                         "robot's wheel radius and baseline")
+        raise InputError(
+            str(folder / "config_file_used"),
+            "no DRIVE configuration with wheel_radius and wheel_baseline",
+            "restore config_file_used/ from the DRIVE repository, or give the robot's wheel radius and baseline",
+        )
     for key in ("wheel_radius", "wheel_baseline"):
         if not found[key] > 0:
             raise InputError(f"{found['source']}: {key}", f"{found[key]} must be positive")
@@ -246,17 +341,24 @@ def _series(frame: pd.DataFrame, base: str, n: int, path: Path) -> np.ndarray:
     names = [f"{base}_{i}" for i in range(n)]
     missing = [c for c in names if c not in frame.columns]
     if missing:
-        raise InputError(f"{path}: column {missing[0]!r}", f"missing ({len(missing)} of {base}_0..{base}_{n - 1})",
-                         "the file is not a complete DRIVE slip dataset; use the pickle DRIVE's parser wrote")
+        raise InputError(
+            f"{path}: column {missing[0]!r}",
+            f"missing ({len(missing)} of {base}_0..{base}_{n - 1})",
+            "the file is not a complete DRIVE slip dataset; use the pickle DRIVE's parser wrote",
+        )
     values = frame[names].to_numpy()
     if values.dtype.kind not in "fiu":
-        raise InputError(f"{path}: columns {base}_*", f"not numeric (dtype {values.dtype})",
-                         "use the pickle DRIVE's parser wrote")
+        raise InputError(
+            f"{path}: columns {base}_*", f"not numeric (dtype {values.dtype})", "use the pickle DRIVE's parser wrote"
+        )
     bad = np.argwhere(~np.isfinite(values.astype(float)))
     if len(bad):
         row, col = bad[0]
-        raise InputError(f"{path}: column {names[col]!r}", f"not finite at row {row}",
-                         "repair or drop that step (its three rows) from the file")
+        raise InputError(
+            f"{path}: column {names[col]!r}",
+            f"not finite at row {row}",
+            "repair or drop that step (its three rows) from the file",
+        )
     return values.astype(float)
 
 
@@ -320,9 +422,15 @@ def folder_terrain_agrees(name: str, terrain: str) -> bool:
     return f"_{terrain.lower()}_" in f"_{name.lower()}_"
 
 
-def read_session(folder: str | Path, *, terrain_class: str | None = None, gyro_sign: int | None = None,
-                 wheel_radius: float | None = None, wheel_baseline: float | None = None,
-                 declared_by: str = "the caller") -> DriveSession:
+def read_session(
+    folder: str | Path,
+    *,
+    terrain_class: str | None = None,
+    gyro_sign: int | None = None,
+    wheel_radius: float | None = None,
+    wheel_baseline: float | None = None,
+    declared_by: str = "the caller",
+) -> DriveSession:
     """One DRIVE session folder (metadata.yaml, config_file_used/, the dataset pickle) read and checked.
 
     ``terrain_class`` replaces metadata.yaml's terrain; ``gyro_sign`` (+1 or -1) declares the sign of
@@ -331,8 +439,11 @@ def read_session(folder: str | Path, *, terrain_class: str | None = None, gyro_s
     """
     folder = Path(folder)
     if not (folder / METADATA).is_file():
-        raise InputError(str(folder / METADATA), "missing: the session's terrain and robot are unknown",
-                         f"restore {METADATA} from the DRIVE repository, or remove the folder")
+        raise InputError(
+            str(folder / METADATA),
+            "missing: the session's terrain and robot are unknown",
+            f"restore {METADATA} from the DRIVE repository, or remove the folder",
+        )
     path = folder / PICKLE
     if not path.is_file():
         raise InputError(str(path), "missing: the session holds no data", "restore it from the DRIVE repository")
@@ -343,42 +454,61 @@ def read_session(folder: str | Path, *, terrain_class: str | None = None, gyro_s
     # --- shape: windows of n samples, steps of one transient window and its steady windows
     n = sum(1 for c in frame.columns if re.fullmatch(r"cmd_left_\d+", str(c)))
     if n < 2:
-        raise InputError(f"{path}: column 'cmd_left_0'", "missing (no per-sample cmd_left_i columns)",
-                         "use the pickle DRIVE's parser wrote")
+        raise InputError(
+            f"{path}: column 'cmd_left_0'",
+            "missing (no per-sample cmd_left_i columns)",
+            "use the pickle DRIVE's parser wrote",
+        )
     raw = {base: _series(frame, base, n, path) for base in SERIES}
     masks = {m: _column(frame, m, path) for m in MASKS}
     rows = len(frame)
     trans, steady = masks["transitory_state_mask"], masks["steady_state_mask"]
-    if rows == 0 or not np.isin(trans, (0, 1)).all() or not np.isin(steady, (0, 1)).all() \
-            or (trans + steady != 1).any():
-        raise InputError(f"{path}: columns {list(MASKS)}", "must be 0/1 flags, exactly one set per row",
-                         "use the pickle DRIVE's parser wrote")
+    if (
+        rows == 0
+        or not np.isin(trans, (0, 1)).all()
+        or not np.isin(steady, (0, 1)).all()
+        or (trans + steady != 1).any()
+    ):
+        raise InputError(
+            f"{path}: columns {list(MASKS)}",
+            "must be 0/1 flags, exactly one set per row",
+            "use the pickle DRIVE's parser wrote",
+        )
     starts = np.flatnonzero(trans == 1)
     if len(starts) == 0 or starts[0] != 0:
-        raise InputError(f"{path}: column 'transitory_state_mask'", "row 0 does not start a step (flag 1)",
-                         "use the pickle DRIVE's parser wrote, uncut")
+        raise InputError(
+            f"{path}: column 'transitory_state_mask'",
+            "row 0 does not start a step (flag 1)",
+            "use the pickle DRIVE's parser wrote, uncut",
+        )
     lengths = np.diff(np.append(starts, rows))
     if len(set(lengths.tolist())) != 1 or lengths[0] < 2:
-        bad = int(starts[np.flatnonzero(lengths != np.bincount(lengths).argmax())[0]]) if len(set(lengths)) > 1 \
-            else 0
-        raise InputError(f"{path}: column 'transitory_state_mask'",
-                         f"steps must all be one transient window and the same number of steady windows; the step "
-                         f"at row {bad} differs ({rows} rows)", "drop incomplete steps (whole steps of rows)")
+        bad = int(starts[np.flatnonzero(lengths != np.bincount(lengths).argmax())[0]]) if len(set(lengths)) > 1 else 0
+        raise InputError(
+            f"{path}: column 'transitory_state_mask'",
+            f"steps must all be one transient window and the same number of steady windows; the step "
+            f"at row {bad} differs ({rows} rows)",
+            "drop incomplete steps (whole steps of rows)",
+        )
     per_step = int(lengths[0])
     n_steps = rows // per_step
     window_s = n * DT
     if geometry.get("step_len") is not None and abs(geometry["step_len"] - per_step * window_s) > 1e-6:
-        raise InputError(f"{path}: column 'transitory_state_mask'",
-                         f"steps of {per_step} windows of {window_s:g} s, but the session's DRIVE configuration "
-                         f"({geometry['source']}) says step_len {geometry['step_len']:g} s",
-                         "use the pickle and the configuration of the same session")
+        raise InputError(
+            f"{path}: column 'transitory_state_mask'",
+            f"steps of {per_step} windows of {window_s:g} s, but the session's DRIVE configuration "
+            f"({geometry['source']}) says step_len {geometry['step_len']:g} s",
+            "use the pickle and the configuration of the same session",
+        )
     force = np.array([raw[f"imu_acceleration_{a}"].mean() for a in "xyz"])
     norm = float(np.linalg.norm(force))
     if not ACCEL_OK[0] <= norm <= ACCEL_OK[1] or force[2] < 0.5 * norm:
-        raise InputError(f"{path}: columns imu_acceleration_*",
-                         f"mean specific force ({force[0]:.2f}, {force[1]:.2f}, {force[2]:.2f}) m/s^2: not gravity "
-                         f"along +z (norm {ACCEL_OK[0]:g}-{ACCEL_OK[1]:g} m/s^2 expected, as in DRIVE's own files)",
-                         "use the pickle DRIVE's parser wrote (m/s^2, z up, gravity included)")
+        raise InputError(
+            f"{path}: columns imu_acceleration_*",
+            f"mean specific force ({force[0]:.2f}, {force[1]:.2f}, {force[2]:.2f}) m/s^2: not gravity "
+            f"along +z (norm {ACCEL_OK[0]:g}-{ACCEL_OK[1]:g} m/s^2 expected, as in DRIVE's own files)",
+            "use the pickle DRIVE's parser wrote (m/s^2, z up, gravity included)",
+        )
     arrays = {**raw, **masks}
     content = content_sha256(arrays)
 
@@ -404,16 +534,35 @@ def read_session(folder: str | Path, *, terrain_class: str | None = None, gyro_s
     sample = np.tile(np.arange(per_step * n), n_steps)
     step = np.repeat(np.arange(n_steps), per_step * n)
     t_step = sample * DT
-    samples = pd.DataFrame({
-        "step": step, "window": sample // n, "sample": sample, "time": step * per_step * window_s + t_step,
-        "t_step": t_step, "steady": sample >= n,
-        **{SERIES[b]: by_step(raw[b]).ravel() for b in ("cmd_left", "cmd_right", "left_wheel_vel",
-                                                         "right_wheel_vel", "imu_acceleration_x",
-                                                         "imu_acceleration_y", "imu_acceleration_z")},
-        "wz": gyro["sign"] * gyro_raw.ravel(),
-        "x_icp": by_step(X).ravel(), "y_icp": by_step(Y).ravel(), "yaw_icp": by_step(Yaw).ravel(),
-        "vx_icp_drive": by_step(raw["icp_vel_x"]).ravel(), "vy_icp_drive": by_step(raw["icp_vel_y"]).ravel(),
-    }, columns=SAMPLE_COLUMNS)
+    samples = pd.DataFrame(
+        {
+            "step": step,
+            "window": sample // n,
+            "sample": sample,
+            "time": step * per_step * window_s + t_step,
+            "t_step": t_step,
+            "steady": sample >= n,
+            **{
+                SERIES[b]: by_step(raw[b]).ravel()
+                for b in (
+                    "cmd_left",
+                    "cmd_right",
+                    "left_wheel_vel",
+                    "right_wheel_vel",
+                    "imu_acceleration_x",
+                    "imu_acceleration_y",
+                    "imu_acceleration_z",
+                )
+            },
+            "wz": gyro["sign"] * gyro_raw.ravel(),
+            "x_icp": by_step(X).ravel(),
+            "y_icp": by_step(Y).ravel(),
+            "yaw_icp": by_step(Yaw).ravel(),
+            "vx_icp_drive": by_step(raw["icp_vel_x"]).ravel(),
+            "vy_icp_drive": by_step(raw["icp_vel_y"]).ravel(),
+        },
+        columns=SAMPLE_COLUMNS,
+    )
 
     # --- per-step table: the command, the steady means, the start state
     cl, cr = by_step(raw["cmd_left"]), by_step(raw["cmd_right"])
@@ -431,26 +580,43 @@ def read_session(folder: str | Path, *, terrain_class: str | None = None, gyro_s
         "wl": np.r_[wl[0, :last].mean(), wl[:-1, -last:].mean(axis=1)],
         "wr": np.r_[wr[0, :last].mean(), wr[:-1, -last:].mean(axis=1)],
     }
-    steps = pd.DataFrame({
-        "step": np.arange(n_steps), "t_start": np.arange(n_steps) * per_step * window_s,
-        "steady_start": np.full(n_steps, window_s), "t_end": np.full(n_steps, per_step * window_s),
-        "cmd_left": cmd_l, "cmd_right": cmd_r, "cmd_early_samples": early,
-        "wheel_left": wl[:, steady_slice].mean(axis=1), "wheel_right": wr[:, steady_slice].mean(axis=1),
-        "wz_gyro": wz[:, steady_slice].mean(axis=1), "wz_icp": wz_icp, "vx_icp": vx_s, "vy_icp": vy_s,
-        "vx_icp_drive": by_step(raw["icp_vel_x"])[:, steady_slice].mean(axis=1),
-        "heading_icp": np.nansum(wz_w.reshape(n_steps, per_step)[:, 1:], axis=1) * window_s,
-        "heading_gyro": wz[:, steady_slice].sum(axis=1) * DT,
-        "start_from": ["own first window (no previous step)"] + ["previous step's end"] * (n_steps - 1),
-        "start_vx": start["vx"], "start_vy": start["vy"], "start_wz": start["wz"],
-        "start_wheel_left": start["wl"], "start_wheel_right": start["wr"],
-    }, columns=STEP_COLUMNS)
+    steps = pd.DataFrame(
+        {
+            "step": np.arange(n_steps),
+            "t_start": np.arange(n_steps) * per_step * window_s,
+            "steady_start": np.full(n_steps, window_s),
+            "t_end": np.full(n_steps, per_step * window_s),
+            "cmd_left": cmd_l,
+            "cmd_right": cmd_r,
+            "cmd_early_samples": early,
+            "wheel_left": wl[:, steady_slice].mean(axis=1),
+            "wheel_right": wr[:, steady_slice].mean(axis=1),
+            "wz_gyro": wz[:, steady_slice].mean(axis=1),
+            "wz_icp": wz_icp,
+            "vx_icp": vx_s,
+            "vy_icp": vy_s,
+            "vx_icp_drive": by_step(raw["icp_vel_x"])[:, steady_slice].mean(axis=1),
+            "heading_icp": np.nansum(wz_w.reshape(n_steps, per_step)[:, 1:], axis=1) * window_s,
+            "heading_gyro": wz[:, steady_slice].sum(axis=1) * DT,
+            "start_from": ["own first window (no previous step)"] + ["previous step's end"] * (n_steps - 1),
+            "start_vx": start["vx"],
+            "start_vy": start["vy"],
+            "start_wz": start["wz"],
+            "start_wheel_left": start["wl"],
+            "start_wheel_right": start["wr"],
+        },
+        columns=STEP_COLUMNS,
+    )
 
     # --- terrain and labels
     md = metadata["metadata"]
     meta_terrain = md.get("terrain")
     if terrain_class is None and not isinstance(meta_terrain, str):
-        raise InputError(f"{folder / METADATA}: field 'metadata.terrain'", "missing",
-                         f"add it, or declare the session's terrain class ({declared_by})")
+        raise InputError(
+            f"{folder / METADATA}: field 'metadata.terrain'",
+            "missing",
+            f"add it, or declare the session's terrain class ({declared_by})",
+        )
     terrain = str(terrain_class if terrain_class is not None else meta_terrain).lower()
     agrees = folder_terrain_agrees(folder.name, str(meta_terrain)) if isinstance(meta_terrain, str) else None
     quirks = []
@@ -463,21 +629,31 @@ def read_session(folder: str | Path, *, terrain_class: str | None = None, gyro_s
     if terrain_class is not None and isinstance(meta_terrain, str) and terrain != meta_terrain.lower():
         quirks.append(f"terrain {terrain!r} declared by {declared_by} replaces metadata's {meta_terrain!r}")
     if early.any():
-        quirks.append(f"the next command arrives up to {int(early.max())} sample(s) before the step's end in "
-                      f"{int((early > 0).sum())} step(s)")
+        quirks.append(
+            f"the next command arrives up to {int(early.max())} sample(s) before the step's end in "
+            f"{int((early > 0).sum())} step(s)"
+        )
     meta = {
-        "dataset": DATASET, "session": folder.name, "reader": "simpick.real.logs.drive",
-        "robot": md.get("robot"), "traction": md.get("traction"),
+        "dataset": DATASET,
+        "session": folder.name,
+        "reader": "simpick.real.logs.drive",
+        "robot": md.get("robot"),
+        "traction": md.get("traction"),
         "terrain_class": terrain,
         "terrain_source": f"declared by {declared_by}" if terrain_class is not None else f"{folder / METADATA}",
-        "metadata_terrain": meta_terrain, "folder_names_terrain": agrees,
+        "metadata_terrain": meta_terrain,
+        "folder_names_terrain": agrees,
         "only_execute_trajectories": bool(metadata.get("only_execute_trajectories", False)),
         "weather": md.get("weather"),
         "source": {**source, "content_sha256": content, "rows": rows, "samples_per_window": n},
-        "geometry": geometry, "rate_hz": RATE_HZ, "windows_per_step": per_step, "window_s": window_s,
+        "geometry": geometry,
+        "rate_hz": RATE_HZ,
+        "windows_per_step": per_step,
+        "window_s": window_s,
         "steady": f"{window_s:g}-{per_step * window_s:g} s of each step (rows flagged steady_state_mask)",
-        "steps": n_steps, "gyro": gyro, "gyro_copy_column": {"column": GYRO_COPY, "equals_imu_yaw": copy,
-                                                             "used": False},
+        "steps": n_steps,
+        "gyro": gyro,
+        "gyro_copy_column": {"column": GYRO_COPY, "equals_imu_yaw": copy, "used": False},
         "quirks": quirks,
     }
     return DriveSession(folder.name, folder.resolve(), samples, steps, meta)
@@ -496,32 +672,43 @@ def _gyro_sign(gyro: np.ndarray, icp: np.ndarray, declared: int | None, path: Pa
     """The sign that makes the gyro agree with the ICP yaw rate, from the correlation of the steps' steady means."""
     ok = np.isfinite(icp)
     turning = int((np.abs(icp[ok]) > SIGN_TURN).sum())
-    corr = float(np.corrcoef(gyro[ok], icp[ok])[0, 1]) if ok.sum() >= 3 and np.ptp(gyro[ok]) > 0 \
-        and np.ptp(icp[ok]) > 0 else float("nan")
-    basis = (f"correlation of the steps' steady gyro means with the ICP yaw rate {corr:+.4f} over {int(ok.sum())} "
-             f"steps, {turning} turning faster than {SIGN_TURN} rad/s")
+    corr = (
+        float(np.corrcoef(gyro[ok], icp[ok])[0, 1])
+        if ok.sum() >= 3 and np.ptp(gyro[ok]) > 0 and np.ptp(icp[ok]) > 0
+        else float("nan")
+    )
+    basis = (
+        f"correlation of the steps' steady gyro means with the ICP yaw rate {corr:+.4f} over {int(ok.sum())} "
+        f"steps, {turning} turning faster than {SIGN_TURN} rad/s"
+    )
     decided = turning >= MIN_SIGN_STEPS and abs(corr) >= MIN_SIGN_CORRELATION
     if declared is not None:
         if declared not in (1, -1):
             raise InputError(f"gyro_sign ({declared_by})", f"{declared!r} must be +1 or -1")
         if decided and int(np.sign(corr)) != declared:
-            raise InputError(f"{path}: column 'imu_yaw_*'", f"gyro sign {declared:+d} declared by {declared_by}, "
-                             f"but the data say {int(np.sign(corr)):+d} ({basis})",
-                             "remove the declared gyro_sign (the reader fixes it from the data)")
+            raise InputError(
+                f"{path}: column 'imu_yaw_*'",
+                f"gyro sign {declared:+d} declared by {declared_by}, "
+                f"but the data say {int(np.sign(corr)):+d} ({basis})",
+                "remove the declared gyro_sign (the reader fixes it from the data)",
+            )
         return {"sign": declared, "by": f"declared by {declared_by}", "basis": basis, "correlation": corr}
     if not decided:
-        raise InputError(f"{path}: column 'imu_yaw_*'",
-                         f"the gyro's sign cannot be fixed from the data ({basis}; needed: at least "
-                         f"{MIN_SIGN_STEPS} turning steps and |correlation| >= {MIN_SIGN_CORRELATION})",
-                         f"declare gyro_sign (+1 or -1) for this session ({declared_by})")
+        raise InputError(
+            f"{path}: column 'imu_yaw_*'",
+            f"the gyro's sign cannot be fixed from the data ({basis}; needed: at least "
+            f"{MIN_SIGN_STEPS} turning steps and |correlation| >= {MIN_SIGN_CORRELATION})",
+            f"declare gyro_sign (+1 or -1) for this session ({declared_by})",
+        )
     return {"sign": int(np.sign(corr)), "by": "the ICP yaw rate", "basis": basis, "correlation": corr}
 
 
 # --- a folder of sessions ---------------------------------------------------------------------------
 
 
-def read_drive(folder: str | Path, *, sessions: Mapping[str, Mapping] | None = None,
-               declared_by: str = "the caller", **geometry) -> DriveDataset:
+def read_drive(
+    folder: str | Path, *, sessions: Mapping[str, Mapping] | None = None, declared_by: str = "the caller", **geometry
+) -> DriveDataset:
     """Every session under ``folder`` (see :func:`find_sessions`), one per content: a session whose
     arrays equal an earlier one's is listed in ``duplicates`` and not returned. Of equal sessions the
     one that recorded the data is kept (``only_execute_trajectories`` false), then the first by name.
@@ -531,10 +718,20 @@ def read_drive(folder: str | Path, *, sessions: Mapping[str, Mapping] | None = N
     paths = find_sessions(folder)
     unknown = sorted(set(sessions) - {p.name for p in paths})
     if unknown:
-        raise InputError(f"sessions {unknown} ({declared_by})", f"no such session folder in {folder}",
-                         f"name folders among {[p.name for p in paths]}")
-    read = [read_session(p, declared_by=f"{declared_by}, session {p.name}", **geometry,
-                         **{k: v for k, v in (sessions.get(p.name) or {}).items() if v is not None}) for p in paths]
+        raise InputError(
+            f"sessions {unknown} ({declared_by})",
+            f"no such session folder in {folder}",
+            f"name folders among {[p.name for p in paths]}",
+        )
+    read = [
+        read_session(
+            p,
+            declared_by=f"{declared_by}, session {p.name}",
+            **geometry,
+            **{k: v for k, v in (sessions.get(p.name) or {}).items() if v is not None},
+        )
+        for p in paths
+    ]
     order = sorted(read, key=lambda s: (s.meta["only_execute_trajectories"], s.name))
     kept: dict[str, DriveSession] = {}
     duplicates = []
@@ -543,8 +740,14 @@ def read_drive(folder: str | Path, *, sessions: Mapping[str, Mapping] | None = N
         if first is None:
             kept[s.content_hash] = s
             continue
-        duplicates.append({"session": s.name, "same_as": first.name, "content_sha256": s.content_hash,
-                           "labels_agree": s.terrain_class == first.terrain_class,
-                           "terrain": s.terrain_class, "kept_terrain": first.terrain_class})
-    return DriveDataset(Path(folder).resolve(), tuple(sorted(kept.values(), key=lambda s: s.name)),
-                        tuple(duplicates))
+        duplicates.append(
+            {
+                "session": s.name,
+                "same_as": first.name,
+                "content_sha256": s.content_hash,
+                "labels_agree": s.terrain_class == first.terrain_class,
+                "terrain": s.terrain_class,
+                "kept_terrain": first.terrain_class,
+            }
+        )
+    return DriveDataset(Path(folder).resolve(), tuple(sorted(kept.values(), key=lambda s: s.name)), tuple(duplicates))

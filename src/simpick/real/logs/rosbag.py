@@ -70,11 +70,21 @@ def _rosbags_version() -> str:
         return "unknown"
 
 
-def read_bag(path: str | Path, imu_topic: str, command_topic: str, command_type: str | None = None,
-             *, wheel_radius: float | None = None, left_joints: str = "left",
-             right_joints: str = "right", frame_z: str = "up",
-             imu_rate_hz: float | None = None, command_rate_hz: float | None = None,
-             track: float = DEFAULT_TRACK, meta: dict | None = None) -> RealLog:
+def read_bag(
+    path: str | Path,
+    imu_topic: str,
+    command_topic: str,
+    command_type: str | None = None,
+    *,
+    wheel_radius: float | None = None,
+    left_joints: str = "left",
+    right_joints: str = "right",
+    frame_z: str = "up",
+    imu_rate_hz: float | None = None,
+    command_rate_hz: float | None = None,
+    track: float = DEFAULT_TRACK,
+    meta: dict | None = None,
+) -> RealLog:
     """A validated RealLog from a ROS 1 .bag file or a ROS 2 bag folder.
 
     ``command_type``: None (take the topic's type), a ROS type name or one of "twist",
@@ -97,31 +107,46 @@ def read_bag(path: str | Path, imu_topic: str, command_topic: str, command_type:
         reader = AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
         reader.open()
     except (AnyReaderError, OSError, ValueError, KeyError) as exc:
-        raise InputError(where, f"not a readable ROS bag: {exc}",
-                         "ROS 1 bags need the .bag suffix; ROS 2 bags are folders with metadata.yaml") from None
+        raise InputError(
+            where,
+            f"not a readable ROS bag: {exc}",
+            "ROS 1 bags need the .bag suffix; ROS 2 bags are folders with metadata.yaml",
+        ) from None
     try:
         topics = reader.topics
         for topic in (imu_topic, command_topic):
             if topic not in topics:
-                raise InputError(f"{where}: topic {topic!r}", f"not in the bag; topics present: {_describe(topics)}",
-                                 "pass one of the topics present")
+                raise InputError(
+                    f"{where}: topic {topic!r}",
+                    f"not in the bag; topics present: {_describe(topics)}",
+                    "pass one of the topics present",
+                )
         if topics[imu_topic].msgtype != IMU_TYPE:
-            raise InputError(f"{where}: topic {imu_topic!r}",
-                             f"has type {topics[imu_topic].msgtype}, expected {IMU_TYPE}; "
-                             f"topics present: {_describe(topics)}", "pass the IMU topic")
+            raise InputError(
+                f"{where}: topic {imu_topic!r}",
+                f"has type {topics[imu_topic].msgtype}, expected {IMU_TYPE}; topics present: {_describe(topics)}",
+                "pass the IMU topic",
+            )
         actual = topics[command_topic].msgtype
         wanted = _normal_type(command_type) if command_type else actual
         if wanted not in COMMAND_TYPES:
-            raise InputError(f"{where}: topic {command_topic!r}",
-                             f"command type {wanted} is not supported; use one of {sorted(COMMAND_TYPES)}")
+            raise InputError(
+                f"{where}: topic {command_topic!r}",
+                f"command type {wanted} is not supported; use one of {sorted(COMMAND_TYPES)}",
+            )
         if actual != wanted:
-            raise InputError(f"{where}: topic {command_topic!r}",
-                             f"has type {actual}, expected {wanted}; topics present: {_describe(topics)}",
-                             "pass the right command topic or command_type")
+            raise InputError(
+                f"{where}: topic {command_topic!r}",
+                f"has type {actual}, expected {wanted}; topics present: {_describe(topics)}",
+                "pass the right command topic or command_type",
+            )
         kind = COMMAND_TYPES[wanted]
         if kind == "joint_state" and (wheel_radius is None or not wheel_radius > 0):
-            raise InputError(f"{where}: wheel_radius", "JointState commands need the wheel radius in m "
-                                                       f"(got {wheel_radius!r})", "pass wheel_radius=0.1651 for a Husky")
+            raise InputError(
+                f"{where}: wheel_radius",
+                f"JointState commands need the wheel radius in m (got {wheel_radius!r})",
+                "pass wheel_radius=0.1651 for a Husky",
+            )
         try:
             left_re, right_re = re.compile(left_joints, re.I), re.compile(right_joints, re.I)
         except re.error as exc:
@@ -133,14 +158,17 @@ def read_bag(path: str | Path, imu_topic: str, command_topic: str, command_type:
             try:
                 msg = reader.deserialize(raw, conn.msgtype)
             except AnyReaderError as exc:
-                raise InputError(f"{where}: topic {conn.topic!r}", f"message {i + 1} cannot be decoded: {exc}") from None
+                raise InputError(
+                    f"{where}: topic {conn.topic!r}", f"message {i + 1} cannot be decoded: {exc}"
+                ) from None
             if conn.topic == imu_topic:
                 a, w = msg.linear_acceleration, msg.angular_velocity
                 imu_rows.append((a.x, a.y, a.z, w.x, w.y, w.z))
                 imu_stamps.append((_stamp(msg), received))
             else:
-                cmd_rows.append(_command(msg, kind, left_re, right_re, wheel_radius, where,
-                                         command_topic, len(cmd_rows)))
+                cmd_rows.append(
+                    _command(msg, kind, left_re, right_re, wheel_radius, where, command_topic, len(cmd_rows))
+                )
                 cmd_stamps.append((_stamp(msg), received))
     finally:
         reader.close()
@@ -161,21 +189,39 @@ def read_bag(path: str | Path, imu_topic: str, command_topic: str, command_type:
     cmd_raw.insert(0, "time", cmd_time)
     names = {
         "time": "header.stamp" if imu_clock == "header" else "receive time",
-        "ax": "linear_acceleration.x", "ay": "linear_acceleration.y", "az": "linear_acceleration.z",
-        "wx": "angular_velocity.x", "wy": "angular_velocity.y", "wz": "angular_velocity.z",
+        "ax": "linear_acceleration.x",
+        "ay": "linear_acceleration.y",
+        "az": "linear_acceleration.z",
+        "wx": "angular_velocity.x",
+        "wy": "angular_velocity.y",
+        "wz": "angular_velocity.z",
     }
-    cmd_names = {"time": "header.stamp" if cmd_clock == "header" else "receive time",
-                 "v": {"twist": "linear.x", "twist_stamped": "twist.linear.x",
-                       "odometry": "twist.twist.linear.x"}.get(kind, "v"),
-                 "w": {"twist": "angular.z", "twist_stamped": "twist.angular.z",
-                       "odometry": "twist.twist.angular.z"}.get(kind, "w"),
-                 "v_left": f"velocity[/{left_joints}/] x wheel_radius",
-                 "v_right": f"velocity[/{right_joints}/] x wheel_radius"}
+    cmd_names = {
+        "time": "header.stamp" if cmd_clock == "header" else "receive time",
+        "v": {"twist": "linear.x", "twist_stamped": "twist.linear.x", "odometry": "twist.twist.linear.x"}.get(
+            kind, "v"
+        ),
+        "w": {"twist": "angular.z", "twist_stamped": "twist.angular.z", "odometry": "twist.twist.angular.z"}.get(
+            kind, "w"
+        ),
+        "v_left": f"velocity[/{left_joints}/] x wheel_radius",
+        "v_right": f"velocity[/{right_joints}/] x wheel_radius",
+    }
     # message fields play the columns; time in ns (from the first IMU stamp) -> checked, then s
-    imu = source_columns(imu_raw, {k: k for k in imu_raw.columns}, imu_where, V.message_row,
-                         labels={k: V.Label(f"field {names[k]!r}") for k in imu_raw.columns})
-    cmd = source_columns(cmd_raw, {k: k for k in cmd_raw.columns}, cmd_where, V.message_row,
-                         labels={k: V.Label(f"field {cmd_names[k]!r}") for k in cmd_raw.columns})
+    imu = source_columns(
+        imu_raw,
+        {k: k for k in imu_raw.columns},
+        imu_where,
+        V.message_row,
+        labels={k: V.Label(f"field {names[k]!r}") for k in imu_raw.columns},
+    )
+    cmd = source_columns(
+        cmd_raw,
+        {k: k for k in cmd_raw.columns},
+        cmd_where,
+        V.message_row,
+        labels={k: V.Label(f"field {cmd_names[k]!r}") for k in cmd_raw.columns},
+    )
     imu["time"] = imu["time"] * 1e-9
     cmd["time"] = cmd["time"] * 1e-9
     if frame_z == "down":
@@ -185,22 +231,42 @@ def read_bag(path: str | Path, imu_topic: str, command_topic: str, command_type:
             cmd["w"] = -cmd["w"]
 
     labels = {k: V.Label(f"field {v!r}") for k, v in {**names, **cmd_names}.items()}
-    info = {"path": str(path.resolve()), "format": "ROS 2 bag" if path.is_dir() else "ROS 1 bag",
-            "bytes": sum(f.stat().st_size for f in path.rglob("*") if f.is_file()) if path.is_dir()
-            else path.stat().st_size}
-    full = {"dataset": None, "run_id": path.stem, "terrain_class": None, **dict(meta or {}),
-            "source_files": {"bag": info},
-            "source_topics": {"imu": {"topic": imu_topic, "type": IMU_TYPE, "clock": imu_clock},
-                              "commands": {"topic": command_topic, "type": wanted, "clock": cmd_clock}},
-            "source_frame": {"z": frame_z},
-            "frame_conversion": ("none" if frame_z == "up" else
-                                 "180 deg rotation about x: ay, az, wy, wz (and w) negated")}
+    info = {
+        "path": str(path.resolve()),
+        "format": "ROS 2 bag" if path.is_dir() else "ROS 1 bag",
+        "bytes": sum(f.stat().st_size for f in path.rglob("*") if f.is_file())
+        if path.is_dir()
+        else path.stat().st_size,
+    }
+    full = {
+        "dataset": None,
+        "run_id": path.stem,
+        "terrain_class": None,
+        **dict(meta or {}),
+        "source_files": {"bag": info},
+        "source_topics": {
+            "imu": {"topic": imu_topic, "type": IMU_TYPE, "clock": imu_clock},
+            "commands": {"topic": command_topic, "type": wanted, "clock": cmd_clock},
+        },
+        "source_frame": {"z": frame_z},
+        "frame_conversion": ("none" if frame_z == "up" else "180 deg rotation about x: ay, az, wy, wz (and w) negated"),
+    }
     if kind == "joint_state":
         full["wheel"] = {"radius_m": wheel_radius, "left_joints": left_joints, "right_joints": right_joints}
-    out = finish(imu, cmd, imu_where=imu_where, cmd_where=cmd_where, imu_names=labels,
-                 cmd_names=labels, imu_row_label=V.message_row, cmd_row_label=V.message_row,
-                 declared_hz={"imu": imu_rate_hz, "commands": command_rate_hz}, track=track,
-                 meta=full, reader="simpick.real.logs.rosbag")
+    out = finish(
+        imu,
+        cmd,
+        imu_where=imu_where,
+        cmd_where=cmd_where,
+        imu_names=labels,
+        cmd_names=labels,
+        imu_row_label=V.message_row,
+        cmd_row_label=V.message_row,
+        declared_hz={"imu": imu_rate_hz, "commands": command_rate_hz},
+        track=track,
+        meta=full,
+        reader="simpick.real.logs.rosbag",
+    )
     out.meta["reader"]["rosbags"] = _rosbags_version()
     out.meta["time_offset_s"] = t0 * 1e-9
     out.meta["time_offset_ns"] = t0
@@ -224,14 +290,17 @@ def _command(msg, kind: str, left_re, right_re, radius, where: str, topic: str, 
     names = list(msg.name)
     vel = np.asarray(msg.velocity, dtype=float)
     if len(vel) != len(names):
-        raise InputError(f"{where}: topic {topic!r}",
-                         f"message {index + 1} has {len(names)} joint names but {len(vel)} velocities")
+        raise InputError(
+            f"{where}: topic {topic!r}", f"message {index + 1} has {len(names)} joint names but {len(vel)} velocities"
+        )
     left = [i for i, n in enumerate(names) if left_re.search(n)]
     right = [i for i, n in enumerate(names) if right_re.search(n)]
     if not left or not right or set(left) & set(right):
-        raise InputError(f"{where}: topic {topic!r}",
-                         f"message {index + 1}: joints {names} do not split into left "
-                         f"(/{left_re.pattern}/: {[names[i] for i in left]}) and right "
-                         f"(/{right_re.pattern}/: {[names[i] for i in right]})",
-                         "pass left_joints / right_joints patterns that match the wheel joints")
+        raise InputError(
+            f"{where}: topic {topic!r}",
+            f"message {index + 1}: joints {names} do not split into left "
+            f"(/{left_re.pattern}/: {[names[i] for i in left]}) and right "
+            f"(/{right_re.pattern}/: {[names[i] for i in right]})",
+            "pass left_joints / right_joints patterns that match the wheel joints",
+        )
     return (float(vel[left].mean() * radius), float(vel[right].mean() * radius))
