@@ -29,14 +29,13 @@ left / right / left from 45 degrees; mechanics 0.478):
 
 from __future__ import annotations
 
-import importlib.metadata
 import math
 from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import FRICTION, Calibratable, EngineSettings, Scenario
+from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 
@@ -138,7 +137,28 @@ class GenesisEngine:
     }
 
     def version(self) -> str:
-        return importlib.metadata.version("genesis-world")
+        from simpick.engines import isolated
 
-    def build(self, scenario: Scenario) -> GenesisWorld:
+        return isolated.version(self.name, "genesis-world")
+
+    def build(self, scenario: Scenario):
+        """The world, in this interpreter where genesis imports here, else in its own environment
+        (:class:`simpick.engines.isolated.RemoteWorld`, same three calls)."""
+        from simpick.engines import isolated
+
+        GenesisSettings.of(scenario.settings, self.name)  # a bad setting fails here, before any process starts
+        return isolated.build_world(self.name, scenario)
+
+    def build_here(self, scenario: Scenario) -> GenesisWorld:
         return GenesisWorld(scenario, GenesisSettings.of(scenario.settings, self.name))
+
+    def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
+        from simpick.engines import isolated
+
+        GenesisSettings.of(scenario.settings, self.name)
+        return isolated.simulate(self.name, scenario, wheel_commands)
+
+    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
+        from simpick.engines import isolated
+
+        return isolated.bare_loop(self.name, scenario, wheel_commands)

@@ -35,15 +35,13 @@ Every solver sees the same model; only ``solver`` and its own options change.
 
 from __future__ import annotations
 
-import importlib.metadata
 import math
-import time
 from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import FRICTION, Calibratable, EngineSettings, Scenario
+from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 SOLVERS = ("mujoco", "xpbd", "steel", "kamino")
@@ -247,10 +245,31 @@ class NewtonEngine:
     }
 
     def version(self) -> str:
-        return importlib.metadata.version("newton")
+        from simpick.engines import isolated
 
-    def build(self, scenario: Scenario) -> NewtonWorld:
+        return isolated.version(self.name, "newton")
+
+    def build(self, scenario: Scenario):
+        """The world, in this interpreter where newton imports here, else in its own environment
+        (:class:`simpick.engines.isolated.RemoteWorld`, same three calls)."""
+        from simpick.engines import isolated
+
+        NewtonSettings.of(scenario.settings, self.name)  # a bad setting fails here, before any process starts
+        return isolated.build_world(self.name, scenario)
+
+    def build_here(self, scenario: Scenario) -> NewtonWorld:
         return NewtonWorld(scenario, NewtonSettings.of(scenario.settings, self.name))
 
+    def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
+        from simpick.engines import isolated
 
-__all__ = ["NewtonEngine", "NewtonSettings", "NewtonWorld", "SOLVERS", "time"]
+        NewtonSettings.of(scenario.settings, self.name)
+        return isolated.simulate(self.name, scenario, wheel_commands)
+
+    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
+        from simpick.engines import isolated
+
+        return isolated.bare_loop(self.name, scenario, wheel_commands)
+
+
+__all__ = ["NewtonEngine", "NewtonSettings", "NewtonWorld", "SOLVERS"]
