@@ -119,10 +119,13 @@ def bare(world, command: np.ndarray, steps: int) -> float:
     return time.perf_counter() - start
 
 
-class RemoteWorld:
-    """A world built and stepped in the engine's own interpreter (module docstring)."""
+class _Worker:
+    """One engine process, kept for the study process's life: importing an engine and loading its
+    compiled kernels takes 10-80 s, so every world of a job (the validation's cases) is built in it."""
 
-    def __init__(self, engine: str, scenario: Scenario):
+    _running: dict[str, _Worker] = {}
+
+    def __init__(self, engine: str):
         python = venv_python(engine)
         child_read, parent_write = os.pipe()  # os.pipe(): (read end, write end)
         parent_read, child_write = os.pipe()
@@ -134,20 +137,35 @@ class RemoteWorld:
         os.close(child_write)
         self._send = os.fdopen(parent_write, "wb")
         self._receive = os.fdopen(parent_read, "rb")
-        self.call("build", scenario)
+
+    @classmethod
+    def of(cls, engine: str) -> _Worker:
+        worker = cls._running.get(engine)
+        if worker is None or worker.process.poll() is not None:
+            worker = cls._running[engine] = cls(engine)
+        return worker
 
     def call(self, *message):
         try:
             pickle.dump(message, self._send, protocol=pickle.HIGHEST_PROTOCOL)
             self._send.flush()
             status, value = pickle.load(self._receive)
-        except (EOFError, BrokenPipeError) as exc:
+        except (EOFError, BrokenPipeError, OSError) as exc:
             code = self.process.wait(timeout=30)
             raise RuntimeError(f"the {message[0]!r} call's engine process ended (exit {code}); its stderr says why") \
                 from exc
         if status == "error":
             raise RuntimeError(f"in the engine's environment: {value}")
         return value
+
+
+class RemoteWorld:
+    """A world built and stepped in the engine's own interpreter (module docstring)."""
+
+    def __init__(self, engine: str, scenario: Scenario):
+        self._worker = _Worker.of(engine)
+        self.call = self._worker.call
+        self.call("build", scenario)
 
     def set_wheel_targets(self, speeds: np.ndarray) -> None:
         self.call("set_wheel_targets", np.asarray(speeds, dtype=float))
@@ -165,20 +183,9 @@ class RemoteWorld:
         return self.call("bare", np.asarray(command, dtype=float), int(steps))
 
     def close(self) -> None:
-        if self.process.poll() is None:
-            try:
-                self.call("close")
-            except RuntimeError:
-                pass
-            self.process.wait(timeout=30)
-        self._send.close()
-        self._receive.close()
-
-    def __del__(self):
-        try:
-            self.close()
-        except Exception:
-            pass
+        """Drop the world; the process stays for the next one."""
+        if self._worker.process.poll() is None:
+            self.call("release")
 
 
 def build_world(engine: str, scenario: Scenario):
@@ -230,8 +237,8 @@ def _serve(engine: str, read_fd: int, write_fd: int) -> None:
         except EOFError:
             return
         try:
-            if name == "close":
-                value = None
+            if name in ("close", "release"):
+                world, value = None, None
             elif name == "build":
                 world = _adapter(engine).build_here(args[0])
                 value = None
@@ -246,7 +253,7 @@ def _serve(engine: str, read_fd: int, write_fd: int) -> None:
             reply = ("error", f"{type(exc).__name__}: {exc}")
         pickle.dump(reply, send, protocol=pickle.HIGHEST_PROTOCOL)
         send.flush()
-        if name == "close" or (name == "build" and reply[0] == "error"):
+        if name == "close":
             return
 
 
