@@ -43,7 +43,8 @@ engine-venvs: .venv-newton/.installed .venv-genesis/.installed
 study-eight: $(STAMP) engine-venvs
 	$(VENV)/bin/snakemake --cores 2 --configfile config.yaml config/engines/newton_genesis.yaml
 
-test: $(STAMP)
+# the suite steps every registered engine, Newton and Genesis included (their venvs: engine-venvs)
+test: $(STAMP) engine-venvs
 	$(VENV)/bin/python -m pytest
 
 bench: $(STAMP)

@@ -21,9 +21,15 @@ analytic Coulomb gain 0.478; left / right / left from 45 degrees):
   solver options (``cone``, ``impratio``) as documented custom attributes and constructor
   arguments; ``wheel_contact: decoupled`` sets on the wheel shapes the impedance and the
   impratio the MuJoCo adapter uses (see :meth:`NewtonWorld._mujoco_attributes`).
-* ``xpbd``: :class:`~newton.solvers.SolverXPBD` (position-based). Its docstring says it ignores
-  a joint's effort limit; measured: the wheels lock once they have turned about pi, and the gain
-  comes out with the wrong sign. Shown as a finding.
+* ``xpbd``: :class:`~newton.solvers.SolverXPBD` (position-based). Its docstring says it does not
+  support a joint's effort limit, so the drive is unbounded. Why the wheels lock (measured: at
+  v 0.1 a wheel stops at 5.2 s = pi / 0.606 rad/s, i.e. after half a turn): its angular joint
+  constraint (xpbd/kernels.py, the revolute / D6 branch) measures a joint's twist as
+  ``2 asin(q_x)`` of the relative quaternion, after putting both quaternions in one hemisphere,
+  and scales the twist's gradient by ``2 / |q_w|``. At half a turn q_w = 0: the gradient diverges,
+  the hemisphere flip turns +pi into -pi, and the velocity drive's correction goes to zero, so a
+  continuous joint cannot be driven past half a turn. A wheel is the one joint that must. The
+  gain comes out with the wrong sign (-0.151 / 0.154 / -0.151). Shown as a finding.
 * ``steel``: :class:`~newton.solvers.SolverSteel` (experimental: reduced coordinates, projected
   Gauss-Seidel). Needs ``articulation_constraint_max`` 128 for the Husky (its default 32 drops
   contact rows and the robot sits 4.5 cm low); on CPU only ``friction_mode`` "fixed_normal".
