@@ -11,16 +11,20 @@ Solvers (setting ``solver``), measured on the validation's yaw-gain cases (Husky
 analytic Coulomb gain 0.478; left / right / left from 45 degrees):
 
 * ``mujoco``: :class:`newton.solvers.SolverMuJoCo`, the set-up Isaac Lab validates its Newton
-  backend with (MuJoCo's constraint solver on Newton's model). Out of the box, with Newton's
-  defaults (pyramidal cone, impratio 1, MuJoCo's default soft contact), the Husky turns at about
-  half the mechanics' rate (0.233-0.249): the symptom simpick's own MuJoCo adapter had and cured
-  with wheel x ground contact pairs (see :mod:`simpick.engines.mujoco_engine`): MuJoCo's soft
-  contact turns a sliding contact's friction demand into extra normal force, so the sliding
-  wheels of a skid-steer turn hop. Newton's model carries MuJoCo's per-shape contact attributes
-  (``mujoco:geom_solimp``, ``mujoco:solref``, ``mujoco:geom_priority``, condim) and the
-  solver options (``cone``, ``impratio``) as documented custom attributes and constructor
-  arguments; ``wheel_contact: decoupled`` sets on the wheel shapes the impedance and the
-  impratio the MuJoCo adapter uses (see :meth:`NewtonWorld._mujoco_attributes`).
+  backend with (MuJoCo's constraint solver on Newton's model). Why it turns at half the mechanics'
+  rate out of the box (Newton's defaults: pyramidal cone, impratio 1, MuJoCo's default soft
+  contact; measured 0.14 / 0.15 / 0.32 pyramidal, 0.24 / 0.27 / 0.25 elliptic): the mechanism
+  simpick's MuJoCo adapter documents (:mod:`simpick.engines.mujoco_engine`): MuJoCo's soft contact
+  turns a sliding contact's friction demand into extra normal force, so the sliding wheels of a
+  skid-steer turn hop. Newton's model carries every MuJoCo setting the cure needs, as documented
+  custom attributes: ``wheel_contact: pairs`` (the default) gives each wheel x ground shape a
+  MuJoCo <pair> (``mujoco:pair_*``: solref, solreffriction, solimp, friction, condim 3, the MuJoCo
+  adapter's values) and filters the wheel's automatic contact with that shape
+  (``add_shape_collision_filter_pair``), with the solver's ``impratio``: 0.460 / 0.470 / 0.460,
+  the MuJoCo adapter's 0.462 / 0.472 / 0.462, and its 1.5 mm resting sag. ``decoupled`` sets only
+  the shape attributes (``mujoco:geom_solimp`` on wheels and ground, impratio), with which the
+  friction rows keep the reference that solref implies (solreffriction exists only on pairs):
+  0.44 / 0.45 / 0.44.
 * ``xpbd``: :class:`~newton.solvers.SolverXPBD` (position-based). Its docstring says it does not
   support a joint's effort limit, so the drive is unbounded. Why the wheels lock (measured: at
   v 0.1 a wheel stops at 5.2 s = pi / 0.606 rad/s, i.e. after half a turn): its angular joint
@@ -68,7 +72,9 @@ class NewtonSettings(EngineSettings):
     # "decoupled": the wheel shapes get the MuJoCo adapter's contact impedance (solimp d 0.015)
     # and the solver its impratio (friction rows at impedance 0.98), see NewtonWorld._mujoco_attributes;
     # "default": Newton's conversion of its shape material to MuJoCo (the Isaac Lab set-up as shipped)
-    wheel_contact: Literal["decoupled", "default"] = "decoupled"
+    # "pairs": the MuJoCo adapter's wheel x ground contact pairs exactly (solref, solreffriction, solimp),
+    # as Newton's mujoco:pair_* attributes, the wheels' automatic ground contacts filtered out
+    wheel_contact: Literal["pairs", "decoupled", "default"] = "pairs"
     # solimp d of the wheel shapes under "decoupled": the MuJoCo adapter's measured value
     wheel_contact_impedance: Annotated[float, Field(gt=0, lt=1)] = 0.015
     # impedance of the friction rows via impratio under "decoupled": the MuJoCo adapter's value
@@ -111,6 +117,7 @@ class NewtonWorld:
         # (MuJoCo: the larger, unless priority; XPBD and Steel: the mean) then gives mu itself.
         robot_cfg = ShapeConfig(mu=scenario.ground_friction, restitution=0.0)
         builder.default_shape_cfg = robot_cfg
+        # MuJoCo takes the friction (and every contact parameter) of the higher-priority geom: the ground's
         ground_attrs = {"mujoco:geom_priority": 1} if solver == "mujoco" else None
         self.ground_shapes = [builder.shape_count]
         builder.add_shape_plane(cfg=ShapeConfig(mu=scenario.ground_friction), width=0.0, length=0.0,
@@ -154,6 +161,8 @@ class NewtonWorld:
             wheel_dofs.append(dofs)
         if solver == "mujoco" and settings.wheel_contact == "decoupled":
             self._mujoco_attributes(builder, wheel_shapes)
+        elif solver == "mujoco" and settings.wheel_contact == "pairs":
+            self._mujoco_pairs(builder, wheel_shapes)
         self.model = model = builder.finalize(device="cpu")
         self.wheel_dofs = np.asarray(wheel_dofs)
         self.base_com = model.body_com.numpy()[self.base_bodies[scenario.recorded_robot]].astype(float)
@@ -186,12 +195,31 @@ class NewtonWorld:
         for s in wheel_shapes + self.ground_shapes:
             solimp.values[s] = (d, d, 0.001, 0.5, 2.0)
 
+    def _mujoco_pairs(self, builder, wheel_shapes: list[int]) -> None:
+        """The MuJoCo adapter's contact pairs (simpick.engines.mujoco_engine.MujocoEngine._wheel_pairs) through
+        Newton's ``mujoco:pair_*`` attributes, which SolverMuJoCo writes as MuJoCo <pair> elements; each
+        wheel's automatic contact with each ground shape is filtered out, so every contact is counted once."""
+        from simpick.engines.mujoco_engine import MUJOCO_DMAX, MUJOCO_TIMECONST
+
+        d = self.settings.wheel_contact_impedance
+        mu = builder.shape_material_mu
+        for wheel in wheel_shapes:
+            for ground in self.ground_shapes:
+                builder.add_shape_collision_filter_pair(ground, wheel)
+                builder.add_custom_values(**{
+                    "mujoco:pair_geom1": ground, "mujoco:pair_geom2": wheel, "mujoco:pair_condim": 3,
+                    "mujoco:pair_friction": (mu[ground], mu[ground], 0.0, 0.0, 0.0),
+                    "mujoco:pair_solref": (MUJOCO_TIMECONST, 1.0),
+                    "mujoco:pair_solreffriction": (MUJOCO_TIMECONST * MUJOCO_DMAX / d, 1.0),
+                    "mujoco:pair_solimp": (d, d, 0.001, 0.5, 2.0), "mujoco:pair_margin": 0.0,
+                    "mujoco:pair_gap": 0.0})
+
     def _solver(self, newton, model):
         s = self.settings
         its = {} if s.iterations == 0 else {"iterations": s.iterations}
         if s.solver == "mujoco":
             extra = {}
-            if s.wheel_contact == "decoupled":
+            if s.wheel_contact != "default":
                 d, df = s.wheel_contact_impedance, s.wheel_friction_impedance
                 extra["impratio"] = ((1 - d) / d) / ((1 - df) / df)
             return newton.solvers.SolverMuJoCo(model, use_mujoco_cpu=s.mujoco_backend == "c", cone=s.mujoco_cone,
