@@ -38,6 +38,10 @@ from pydantic import Field
 from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
+# Genesis takes a contact's friction as the larger of its two materials', never below 0.01, and refuses a
+# material below 0.01 (collider/contact.py, options): the robot gets that floor, so every ground contact
+# has the surface's coefficient (a terrain patch's, not the robot's); a frictionless surface becomes 0.01.
+MIN_FRICTION = 0.01
 
 
 class GenesisSettings(EngineSettings):
@@ -80,9 +84,11 @@ class GenesisWorld:
             iterations=settings.iterations, enable_self_collision=False)
         scene = gs.Scene(sim_options=gs.options.SimOptions(dt=scenario.timestep, gravity=tuple(scenario.gravity)),
                          rigid_options=rigid, show_viewer=False)
-        scene.add_entity(gs.morphs.Plane(), material=gs.materials.Rigid(friction=scenario.ground_friction))
+        scene.add_entity(gs.morphs.Plane(),
+                         material=gs.materials.Rigid(friction=max(scenario.ground_friction, MIN_FRICTION)))
         terrain = scenario.terrain
-        material = gs.materials.Rigid(friction=terrain["friction"]) if terrain["boxes"] or terrain["spheres"] else None
+        material = gs.materials.Rigid(friction=max(terrain["friction"], MIN_FRICTION)) \
+            if terrain["boxes"] or terrain["spheres"] else None
         for x, y, z, yaw, sx, sy, sz in terrain["boxes"]:
             scene.add_entity(gs.morphs.Box(pos=(x, y, z), quat=_quat_wxyz(yaw), size=(sx, sy, sz), fixed=True),
                              material=material)
@@ -95,7 +101,7 @@ class GenesisWorld:
                 gs.morphs.URDF(file=str(robot.urdf), pos=(x, y, robot.base_height + SPAWN_CLEARANCE),
                                quat=_quat_wxyz(yaw), default_armature=settings.default_armature,
                                links_to_keep=[robot.base_link]),
-                material=gs.materials.Rigid(friction=scenario.ground_friction)))
+                material=gs.materials.Rigid(friction=MIN_FRICTION)))
         scene.build()
         self.scene = scene
         self.dofs = [[entity.get_joint(name).dofs_idx_local[0] for name in robot.wheel_joints] for entity in self.robots]
