@@ -22,7 +22,7 @@ def test_the_shipped_config_is_valid():
 
 
 @pytest.mark.parametrize("edit, expected", [
-    (lambda c: c["engines"].update(gazebo={}), "unknown engine(s) ['gazebo']; available: ['dart', 'drake', 'mujoco', 'ode', 'physx', 'pybullet']"),
+    (lambda c: c["engines"].update(gazebo={}), "unknown engine(s) ['gazebo']; available: ['dart', 'drake', 'genesis', 'mujoco', 'newton', 'ode', 'physx', 'pybullet']"),
     (lambda c: c["engines"]["mujoco"].update(iterationz=3), "engines.mujoco: unknown setting(s) ['iterationz']; "
                                                             "accepted: ['cone', 'friction_ratio', 'integrator', 'solver_iterations',"),
     (lambda c: c["engines"]["ode"].update(stepper="rk4"), "engines.ode.stepper: Input should be 'world' or 'quick' "
