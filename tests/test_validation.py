@@ -212,7 +212,7 @@ INVARIANCE_FAILURES: dict[str, str] = {"pybullet": _BULLET}
 def _setup(engine):
     return Setup(engine=engine, robot=load_robot(ROOT / CONFIG["robot"]["urdf"]),
                  timestep=CONFIG["physics"]["timestep"], max_wheel_torque=CONFIG["robot"]["max_wheel_torque"],
-                 track=CONFIG["robot"]["track"], settings=CONFIG["engines"][engine] or {})
+                 track=CONFIG["robot"]["track"], settings=CONFIG["engines"].get(engine) or {})
 
 
 @functools.cache
