@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed
 
-.PHONY: study test test-fast docs bench clean lock schema
+.PHONY: study test test-fast docs bench clean lock schema engine-venvs study-eight
 
 $(STAMP): pyproject.toml constraints.txt
 	@# ODE comes from the system (Debian libode8); headers for the binding's own tests
@@ -23,7 +23,31 @@ $(STAMP): pyproject.toml constraints.txt
 study: $(STAMP)
 	$(VENV)/bin/snakemake --cores 2
 
-test: $(STAMP)
+# Newton and Genesis pin what the study cannot (newton[sim]: mujoco 3.17 against 4.0.0; genesis-world: pillow<12
+# against 13, and torch): each gets a venv of its own, from the same Python (the study talks to it with pickle,
+# simpick.engines.isolated). One that cannot install is left out, and the study says so. Torch is installed first,
+# as the CPU build, so that genesis-world's resolution never pulls a CUDA torch.
+TORCH ?= torch==2.13.0
+engine-venvs: .venv-newton/.installed .venv-genesis/.installed
+
+.venv-newton/.installed: envs/newton-constraints.txt
+	rm -rf .venv-newton && $(PYTHON) -m venv .venv-newton
+	{ .venv-newton/bin/pip install --quiet --upgrade pip && \
+	  .venv-newton/bin/pip install --quiet -c envs/newton-constraints.txt 'newton[sim]' pydantic numpy && touch $@; } || \
+	  { rm -rf .venv-newton; echo "simpick: newton could not be installed; the study will run without it"; }
+
+.venv-genesis/.installed: envs/genesis-constraints.txt
+	rm -rf .venv-genesis && $(PYTHON) -m venv .venv-genesis
+	{ .venv-genesis/bin/pip install --quiet --upgrade pip && .venv-genesis/bin/pip install --quiet '$(TORCH)' && \
+	  .venv-genesis/bin/pip install --quiet -c envs/genesis-constraints.txt genesis-world pydantic numpy && touch $@; } || \
+	  { rm -rf .venv-genesis; echo "simpick: genesis could not be installed; the study will run without it"; }
+
+# The study with eight engines: config.yaml's six, Newton and Genesis (config/engines/newton_genesis.yaml)
+study-eight: $(STAMP) engine-venvs
+	$(VENV)/bin/snakemake --cores 2 --configfile config.yaml config/engines/newton_genesis.yaml
+
+# the suite steps every registered engine, Newton and Genesis included (their venvs: engine-venvs)
+test: $(STAMP) engine-venvs
 	$(VENV)/bin/python -m pytest
 
 # The tests that start no Snakemake run and step neither DART nor Drake; `make test` runs them all.

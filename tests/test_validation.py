@@ -312,7 +312,7 @@ def _setup(engine):
         timestep=CONFIG["physics"]["timestep"],
         max_wheel_torque=CONFIG["robot"]["max_wheel_torque"],
         track=CONFIG["robot"]["track"],
-        settings=CONFIG["engines"][engine] or {},
+        settings=CONFIG["engines"].get(engine) or {},
     )
 
 

@@ -22,6 +22,9 @@ ADAPTERS = {
     "dart": "simpick.engines.dart_engine:DartEngine",
     "physx": "simpick.engines.physx_engine:PhysxEngine",
     "drake": "simpick.engines.drake_engine:DrakeEngine",
+    # in their own environments (simpick.engines.isolated), opt-in: config/engines/newton_genesis.yaml
+    "newton": "simpick.engines.newton_engine:NewtonEngine",
+    "genesis": "simpick.engines.genesis_engine:GenesisEngine",
 }
 
 # Reference models (simpick.engines.baselines): same interface, but formulas, not simulators.
@@ -43,6 +46,9 @@ REQUIREMENTS = {
     "dart": "dartpy",
     "physx": "sapien",
     "drake": "pydrake",
+    # their own venvs (make engine-venvs): found there, or importable here
+    "newton": "simpick.engines.isolated:require_newton",
+    "genesis": "simpick.engines.isolated:require_genesis",
 }
 # the engines installed as extras of pyproject.toml (their wheels do not fit every machine)
 EXTRAS = ("physx", "drake")

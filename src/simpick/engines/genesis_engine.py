@@ -1,0 +1,185 @@
+"""Genesis (genesis-world) on its CPU backend, its rigid solver (MuJoCo-style soft constraints solved on
+Genesis's own kernels).
+
+The world: the robot's URDF as a ``gs.morphs.URDF`` entity (floating base, fixed links merged,
+the base link kept so its pose is the record's), the engine-neutral terrain as fixed boxes and
+spheres on a ``gs.morphs.Plane``, each with a ``gs.materials.Rigid`` friction; the driven wheels
+velocity-controlled (``control_dofs_velocity``: torque = kv x speed error within a force range of
+the scenario's torque bound), the passive joints free.
+
+Settings, each against what Genesis gives out of the box (Husky, mu 0.8, 1 kHz, yaw gain
+left / right / left from 45 degrees; mechanics 0.478):
+
+* out of the box (pyramidal cone, armature 0.1 kg m^2 on every revolute joint): 0.174 / 0.194 /
+  0.349, i.e. turning at a third of the mechanics' rate and depending on the world heading
+  (the pyramid's faces lie along the world axes);
+* ``friction_cone: elliptic``: the Coulomb cone, isotropic. Genesis then resolves contacts
+  with "signorini" (its docs: friction bounded by the normal force the contact has developed,
+  "so sliding never inflates it"), the cure for the normal-force inflation of MuJoCo's convex
+  contact that simpick's MuJoCo adapter needed contact pairs for;
+* ``constraint_solver: Newton``: Genesis's default and MuJoCo's, the solver the elliptic cone
+  is meant for;
+* ``default_armature: None``: Genesis adds 0.1 kg m^2 of rotor inertia to every revolute joint
+  the URDF leaves without one, about twice a Husky wheel's own inertia; the real wheel has no
+  such rotor, and the URDF is loaded as it is in every other engine;
+* ``wheel_kv`` 3000 N m s/rad: the velocity gain with which the issue measured 0.468 / 0.477 /
+  0.468 at 2 470 steps/s; Genesis's velocity control is implicit in the integrator
+  (approximate_implicitfast), so a stiff gain is stable.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Literal
+
+import numpy as np
+from pydantic import Field
+
+from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario
+
+SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
+# Genesis takes a contact's friction as the larger of its two materials', never below 0.01, and refuses a
+# material below 0.01 (collider/contact.py, options): the robot gets that floor, so every ground contact
+# has the surface's coefficient (a terrain patch's, not the robot's); a frictionless surface becomes 0.01.
+MIN_FRICTION = 0.01
+
+
+class GenesisSettings(EngineSettings):
+    """config ``engines.genesis``."""
+
+    # the Coulomb cone, isotropic (pyramidal, Genesis's default: gains 0.17-0.35, heading-dependent)
+    friction_cone: Literal["elliptic", "pyramidal"] = "elliptic"
+    # Genesis's default and MuJoCo's constraint solver
+    constraint_solver: Literal["Newton", "CG"] = "Newton"
+    # kg m^2 rotor inertia Genesis adds to joints without one; None: the URDF's inertia only (Genesis's
+    # default 0.1 is twice the wheel's own)
+    default_armature: Annotated[float, Field(ge=0)] | None = None
+    # N m s/rad, gain of the wheels' velocity control (measured: gains 0.468 / 0.477 / 0.468)
+    wheel_kv: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 3000.0
+    # constraint solver iterations (Genesis's default 25)
+    iterations: Annotated[int, Field(ge=1)] = 25
+
+
+def _quat_wxyz(yaw: float) -> tuple[float, float, float, float]:
+    return (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
+
+
+_INITIALISED = False
+
+
+def _terrain_mjcf(terrain: dict):
+    """The terrain's boxes and spheres as the static geoms of an MJCF worldbody, in a temporary file."""
+    import tempfile
+
+    geoms = []
+    for x, y, z, yaw, sx, sy, sz in terrain["boxes"]:
+        geoms.append(f'<geom type="box" size="{sx / 2} {sy / 2} {sz / 2}" pos="{x} {y} {z}" '
+                     f'quat="{" ".join(str(q) for q in _quat_wxyz(yaw))}"/>')
+    for x, y, z, r in terrain["spheres"]:
+        geoms.append(f'<geom type="sphere" size="{r}" pos="{x} {y} {z}"/>')
+    f = tempfile.NamedTemporaryFile("w", suffix=".xml", prefix="simpick-terrain-")
+    f.write('<mujoco model="terrain"><worldbody>' + "".join(geoms) + "</worldbody></mujoco>")
+    f.flush()
+    return f
+
+
+class GenesisWorld:
+    """One built Genesis scene: set_wheel_targets / step / read (see simpick.engines.base)."""
+
+    def __init__(self, scenario: Scenario, settings: GenesisSettings):
+        global _INITIALISED
+        import genesis as gs
+
+        if not _INITIALISED:
+            gs.init(backend=gs.cpu, precision="64", logging_level="warning", seed=0)
+            _INITIALISED = True
+        self.scenario, self.settings = scenario, settings
+        rigid = gs.options.RigidOptions(
+            constraint_solver=getattr(gs.constraint_solver, settings.constraint_solver),
+            friction_cone=getattr(gs.friction_cone, settings.friction_cone),
+            iterations=settings.iterations, enable_self_collision=False)
+        scene = gs.Scene(sim_options=gs.options.SimOptions(dt=scenario.timestep, gravity=tuple(scenario.gravity)),
+                         rigid_options=rigid, show_viewer=False)
+        scene.add_entity(gs.morphs.Plane(),
+                         material=gs.materials.Rigid(friction=max(scenario.ground_friction, MIN_FRICTION)))
+        terrain = scenario.terrain
+        if terrain["boxes"] or terrain["spheres"]:
+            # one fixed entity holding every shape (an MJCF worldbody): as one entity per shape, Genesis took
+            # 285 s to build the gravel strip's 480 stones (measured, loaded machine)
+            self._terrain_file = _terrain_mjcf(terrain)
+            scene.add_entity(gs.morphs.MJCF(file=self._terrain_file.name),
+                             material=gs.materials.Rigid(friction=max(terrain["friction"], MIN_FRICTION)))
+        robot = scenario.robot
+        self.robots = []
+        for x, y, yaw in scenario.starts:
+            self.robots.append(scene.add_entity(
+                gs.morphs.URDF(file=str(robot.urdf), pos=(x, y, robot.base_height + SPAWN_CLEARANCE),
+                               quat=_quat_wxyz(yaw), default_armature=settings.default_armature,
+                               links_to_keep=[robot.base_link]),
+                material=gs.materials.Rigid(friction=MIN_FRICTION)))
+        scene.build()
+        self.scene = scene
+        self.dofs = [[entity.get_joint(name).dofs_idx_local[0] for name in robot.wheel_joints] for entity in self.robots]
+        for entity, dofs in zip(self.robots, self.dofs):
+            entity.set_dofs_kp(np.zeros(len(dofs)), dofs)
+            entity.set_dofs_kv(np.full(len(dofs), settings.wheel_kv), dofs)
+            bound = scenario.max_wheel_torque
+            entity.set_dofs_force_range(np.full(len(dofs), -bound), np.full(len(dofs), bound), dofs)
+
+    def set_wheel_targets(self, speeds: np.ndarray) -> None:
+        speeds = np.asarray(speeds, dtype=float).reshape(len(self.robots), -1)
+        for entity, dofs, row in zip(self.robots, self.dofs, speeds):
+            entity.control_dofs_velocity(row, dofs)
+
+    def step(self, n: int = 1) -> None:
+        for _ in range(n):
+            self.scene.step()
+
+    def read(self) -> dict[str, np.ndarray]:
+        """The recorded robot's base_link pose and twist (world frame, at the link origin) and wheel speeds."""
+        i = self.scenario.recorded_robot
+        entity = self.robots[i]
+
+        def arr(t) -> np.ndarray:
+            return np.asarray(t.cpu().numpy() if hasattr(t, "cpu") else t, dtype=float).reshape(-1)
+
+        return {"position": arr(entity.get_pos()), "quaternion": arr(entity.get_quat()),
+                "linear_velocity": arr(entity.get_vel()), "angular_velocity": arr(entity.get_ang()),
+                "wheel_speed": arr(entity.get_dofs_velocity(self.dofs[i]))}
+
+
+class GenesisEngine:
+    name = "genesis"
+    settings_model = GenesisSettings
+    calibratable = {
+        "friction": FRICTION,
+        # the velocity gain: from 300 (a tenth) to 30 000 (ten times the measured 3000)
+        "wheel_kv": Calibratable(300.0, 30000.0, log=True, why="a tenth to ten times the measured 3000"),
+    }
+
+    def version(self) -> str:
+        from simpick.engines import isolated
+
+        return isolated.version(self.name, "genesis-world")
+
+    def build(self, scenario: Scenario):
+        """The world, in this interpreter where genesis imports here, else in its own environment
+        (:class:`simpick.engines.isolated.RemoteWorld`, same three calls)."""
+        from simpick.engines import isolated
+
+        GenesisSettings.of(scenario.settings, self.name)  # a bad setting fails here, before any process starts
+        return isolated.build_world(self.name, scenario)
+
+    def build_here(self, scenario: Scenario) -> GenesisWorld:
+        return GenesisWorld(scenario, GenesisSettings.of(scenario.settings, self.name))
+
+    def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
+        from simpick.engines import isolated
+
+        GenesisSettings.of(scenario.settings, self.name)
+        return isolated.simulate(self.name, scenario, wheel_commands)
+
+    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
+        from simpick.engines import isolated
+
+        return isolated.bare_loop(self.name, scenario, wheel_commands)
