@@ -26,7 +26,8 @@ def test_the_shipped_config_is_valid():
     [
         (
             lambda c: c["engines"].update(gazebo={}),
-            "unknown engine(s) ['gazebo']; available: ['dart', 'drake', 'genesis', 'mujoco', 'newton', 'ode', 'physx', 'pybullet']",
+            "unknown engine(s) ['gazebo']; available: "
+            "['dart', 'drake', 'genesis', 'mujoco', 'newton', 'ode', 'physx', 'pybullet']",
         ),
         (
             lambda c: c["engines"]["mujoco"].update(iterationz=3),

@@ -57,8 +57,16 @@ def test_the_opt_in_config_adds_both_engines_to_the_six():
 
 
 def _gain(engine: str, settings: dict, robot, w: float = 0.5, heading: float = 0.0) -> float:
-    scenario, commands = setup(robot, ground=0.8, torque=100.0, v=0.5, w=w, duration=6.0, settings=settings,
-                               starts=((0.0, 0.0, math.radians(heading)),))
+    scenario, commands = setup(
+        robot,
+        ground=0.8,
+        torque=100.0,
+        v=0.5,
+        w=w,
+        duration=6.0,
+        settings=settings,
+        starts=((0.0, 0.0, math.radians(heading)),),
+    )
     record = get_engine(engine).simulate(scenario, commands)
     q = record.quaternion
     yaw = np.unwrap(np.arctan2(2 * (q[:, 0] * q[:, 3] + q[:, 1] * q[:, 2]), 1 - 2 * (q[:, 2] ** 2 + q[:, 3] ** 2)))
@@ -72,8 +80,9 @@ def _coulomb(robot) -> float:
 
 @needs("newton")
 def test_newton_worker_answers_step_by_step_as_in_one_rollout(robot):
-    scenario, commands = setup(robot, ground=0.8, torque=100.0, v=0.5, w=0.5, duration=0.2,
-                               settings={"solver": "mujoco"})
+    scenario, commands = setup(
+        robot, ground=0.8, torque=100.0, v=0.5, w=0.5, duration=0.2, settings={"solver": "mujoco"}
+    )
     record = get_engine("newton").simulate(scenario, commands)
     world = get_engine("newton").build(scenario)
     try:
@@ -82,10 +91,9 @@ def test_newton_worker_answers_step_by_step_as_in_one_rollout(robot):
             world.step(1)
         state = world.read()
     finally:
-        if isinstance(world, isolated.RemoteWorld):
-            world.close()
-    np.testing.assert_allclose(state["position"], record.position[-1], atol=1e-9)
-    np.testing.assert_allclose(state["wheel_speed"], record.wheel_speed[-1], atol=1e-6)
+        world.close()
+    np.testing.assert_allclose(state.position, record.position[-1], atol=1e-9)
+    np.testing.assert_allclose(state.wheel_speed, record.wheel_speed[-1], atol=1e-6)
     assert record.imu_specific_force.shape == (len(commands), 3)
 
 

@@ -35,7 +35,8 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario
+from simpick.engines.base import FRICTION, BaseState, Calibratable, EngineSettings, Scenario
+from simpick.engines.isolated import IsolatedAdapter
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 # Genesis takes a contact's friction as the larger of its two materials', never below 0.01, and refuses a
@@ -73,8 +74,10 @@ def _terrain_mjcf(terrain: dict):
 
     geoms = []
     for x, y, z, yaw, sx, sy, sz in terrain["boxes"]:
-        geoms.append(f'<geom type="box" size="{sx / 2} {sy / 2} {sz / 2}" pos="{x} {y} {z}" '
-                     f'quat="{" ".join(str(q) for q in _quat_wxyz(yaw))}"/>')
+        geoms.append(
+            f'<geom type="box" size="{sx / 2} {sy / 2} {sz / 2}" pos="{x} {y} {z}" '
+            f'quat="{" ".join(str(q) for q in _quat_wxyz(yaw))}"/>'
+        )
     for x, y, z, r in terrain["spheres"]:
         geoms.append(f'<geom type="sphere" size="{r}" pos="{x} {y} {z}"/>')
     f = tempfile.NamedTemporaryFile("w", suffix=".xml", prefix="simpick-terrain-")
@@ -97,29 +100,46 @@ class GenesisWorld:
         rigid = gs.options.RigidOptions(
             constraint_solver=getattr(gs.constraint_solver, settings.constraint_solver),
             friction_cone=getattr(gs.friction_cone, settings.friction_cone),
-            iterations=settings.iterations, enable_self_collision=False)
-        scene = gs.Scene(sim_options=gs.options.SimOptions(dt=scenario.timestep, gravity=tuple(scenario.gravity)),
-                         rigid_options=rigid, show_viewer=False)
-        scene.add_entity(gs.morphs.Plane(),
-                         material=gs.materials.Rigid(friction=max(scenario.ground_friction, MIN_FRICTION)))
+            iterations=settings.iterations,
+            enable_self_collision=False,
+        )
+        scene = gs.Scene(
+            sim_options=gs.options.SimOptions(dt=scenario.timestep, gravity=tuple(scenario.gravity)),
+            rigid_options=rigid,
+            show_viewer=False,
+        )
+        scene.add_entity(
+            gs.morphs.Plane(), material=gs.materials.Rigid(friction=max(scenario.ground_friction, MIN_FRICTION))
+        )
         terrain = scenario.terrain
         if terrain["boxes"] or terrain["spheres"]:
             # one fixed entity holding every shape (an MJCF worldbody): as one entity per shape, Genesis took
             # 285 s to build the gravel strip's 480 stones (measured, loaded machine)
             self._terrain_file = _terrain_mjcf(terrain)
-            scene.add_entity(gs.morphs.MJCF(file=self._terrain_file.name),
-                             material=gs.materials.Rigid(friction=max(terrain["friction"], MIN_FRICTION)))
+            scene.add_entity(
+                gs.morphs.MJCF(file=self._terrain_file.name),
+                material=gs.materials.Rigid(friction=max(terrain["friction"], MIN_FRICTION)),
+            )
         robot = scenario.robot
         self.robots = []
         for x, y, yaw in scenario.starts:
-            self.robots.append(scene.add_entity(
-                gs.morphs.URDF(file=str(robot.urdf), pos=(x, y, robot.base_height + SPAWN_CLEARANCE),
-                               quat=_quat_wxyz(yaw), default_armature=settings.default_armature,
-                               links_to_keep=[robot.base_link]),
-                material=gs.materials.Rigid(friction=MIN_FRICTION)))
+            self.robots.append(
+                scene.add_entity(
+                    gs.morphs.URDF(
+                        file=str(robot.urdf),
+                        pos=(x, y, robot.base_height + SPAWN_CLEARANCE),
+                        quat=_quat_wxyz(yaw),
+                        default_armature=settings.default_armature,
+                        links_to_keep=[robot.base_link],
+                    ),
+                    material=gs.materials.Rigid(friction=MIN_FRICTION),
+                )
+            )
         scene.build()
         self.scene = scene
-        self.dofs = [[entity.get_joint(name).dofs_idx_local[0] for name in robot.wheel_joints] for entity in self.robots]
+        self.dofs = [
+            [entity.get_joint(name).dofs_idx_local[0] for name in robot.wheel_joints] for entity in self.robots
+        ]
         for entity, dofs in zip(self.robots, self.dofs):
             entity.set_dofs_kp(np.zeros(len(dofs)), dofs)
             entity.set_dofs_kv(np.full(len(dofs), settings.wheel_kv), dofs)
@@ -135,7 +155,7 @@ class GenesisWorld:
         for _ in range(n):
             self.scene.step()
 
-    def read(self) -> dict[str, np.ndarray]:
+    def read(self) -> BaseState:
         """The recorded robot's base_link pose and twist (world frame, at the link origin) and wheel speeds."""
         i = self.scenario.recorded_robot
         entity = self.robots[i]
@@ -143,43 +163,26 @@ class GenesisWorld:
         def arr(t) -> np.ndarray:
             return np.asarray(t.cpu().numpy() if hasattr(t, "cpu") else t, dtype=float).reshape(-1)
 
-        return {"position": arr(entity.get_pos()), "quaternion": arr(entity.get_quat()),
-                "linear_velocity": arr(entity.get_vel()), "angular_velocity": arr(entity.get_ang()),
-                "wheel_speed": arr(entity.get_dofs_velocity(self.dofs[i]))}
+        return BaseState(
+            arr(entity.get_pos()),
+            arr(entity.get_quat()),
+            arr(entity.get_vel()),
+            arr(entity.get_ang()),
+            arr(entity.get_dofs_velocity(self.dofs[i])),
+        )
 
 
-class GenesisEngine:
+class GenesisEngine(IsolatedAdapter):
+    """Genesis as an engine adapter; its world runs where genesis-world is installed (simpick.engines.isolated)."""
+
     name = "genesis"
     settings_model = GenesisSettings
+    distribution = "genesis-world"
     calibratable = {
         "friction": FRICTION,
         # the velocity gain: from 300 (a tenth) to 30 000 (ten times the measured 3000)
         "wheel_kv": Calibratable(300.0, 30000.0, log=True, why="a tenth to ten times the measured 3000"),
     }
 
-    def version(self) -> str:
-        from simpick.engines import isolated
-
-        return isolated.version(self.name, "genesis-world")
-
-    def build(self, scenario: Scenario):
-        """The world, in this interpreter where genesis imports here, else in its own environment
-        (:class:`simpick.engines.isolated.RemoteWorld`, same three calls)."""
-        from simpick.engines import isolated
-
-        GenesisSettings.of(scenario.settings, self.name)  # a bad setting fails here, before any process starts
-        return isolated.build_world(self.name, scenario)
-
     def build_here(self, scenario: Scenario) -> GenesisWorld:
         return GenesisWorld(scenario, GenesisSettings.of(scenario.settings, self.name))
-
-    def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
-        from simpick.engines import isolated
-
-        GenesisSettings.of(scenario.settings, self.name)
-        return isolated.simulate(self.name, scenario, wheel_commands)
-
-    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
-        from simpick.engines import isolated
-
-        return isolated.bare_loop(self.name, scenario, wheel_commands)

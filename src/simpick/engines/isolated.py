@@ -4,15 +4,17 @@
 ``pillow<12`` (pinned 13) and a torch wheel: each gets a venv of its own, ``.venv-<engine>`` at the
 repository root (``make engine-venvs``; ``SIMPICK_ENGINE_VENVS`` names another folder holding them).
 
-The study's process keeps the engine-neutral work (scenario, commands, IMU, traces); only the
-world lives in the engine's interpreter. :class:`RemoteWorld` starts
-``<venv>/bin/python -m simpick.engines.isolated`` with simpick's own source on its path, sends
-it the pickled :class:`~simpick.engines.base.Scenario` and then one message per call
-(set_wheel_targets, step, read) or one for a whole run (:meth:`RemoteWorld.rollout`: the
-commands in, every step's state out as arrays), over a pipe pair of its own (an engine that prints
-to stdout cannot corrupt it). Pickle needs the same Python on both sides; the venvs are made from
-the interpreter that runs the study. Where the engine imports in the study's own interpreter
-(a machine whose pins let it in) the world is built in-process, with no subprocess.
+The adapter (:class:`IsolatedAdapter`, a :class:`simpick.engines.runner.Adapter`) builds its
+native world only where the engine imports. Elsewhere a worker process,
+``<venv>/bin/python -m simpick.engines.isolated``, with simpick's own source on its path, holds the
+engine: a whole run is one call (the pickled scenario and commands in, the runner's
+:class:`~simpick.engines.base.PhysicsRecord` out), so :func:`simpick.engines.runner.simulate`
+steps, reads and times the world inside the engine's interpreter, at the engine's own speed, and
+its wall and CPU seconds are those of the stepping alone. ``build`` in the study's interpreter
+returns a :class:`RemoteWorld` whose primitives are one call each (what the conformance check and
+a caller stepping by hand use). The pipes are a pair of their own (an engine that prints to stdout
+cannot corrupt them); pickle needs the same Python on both sides, so the venvs are made from the
+interpreter that runs the study.
 
 A machine without a venv runs the study without that engine: :func:`require_newton` and
 :func:`require_genesis` are the registry's availability checks (``simpick.engines.REQUIREMENTS``)
@@ -22,29 +24,22 @@ and raise with the command that installs it.
 from __future__ import annotations
 
 import importlib
+import importlib.metadata
 import importlib.util
 import os
 import pickle
 import subprocess
 import sys
-import time
 from pathlib import Path
+from typing import ClassVar
 
 import numpy as np
 
-from simpick.engines.base import PhysicsRecord, Scenario, validated_commands
+from simpick.engines import runner
+from simpick.engines.base import BaseState, PhysicsRecord, Scenario
 
-# engine -> (the module it needs, its adapter "module:class"; the adapter's build_here builds the native world)
-ISOLATED = {
-    "newton": ("newton", "simpick.engines.newton_engine:NewtonEngine"),
-    "genesis": ("genesis", "simpick.engines.genesis_engine:GenesisEngine"),
-}
-
-
-def _adapter(engine: str):
-    module, cls = ISOLATED[engine][1].split(":")
-    return getattr(importlib.import_module(module), cls)()
-FIELDS = ("position", "quaternion", "linear_velocity", "angular_velocity", "wheel_speed")
+# engine -> the Python module it needs
+MODULES = {"newton": "newton", "genesis": "genesis"}
 SRC = Path(__file__).resolve().parents[2]  # the folder holding the simpick package
 
 
@@ -55,7 +50,7 @@ def venv_python(engine: str) -> Path:
 
 def in_process(engine: str) -> bool:
     """Whether the engine's module imports in this interpreter (no venv needed)."""
-    return importlib.util.find_spec(ISOLATED[engine][0]) is not None
+    return importlib.util.find_spec(MODULES[engine]) is not None
 
 
 def _require(engine: str) -> None:
@@ -63,26 +58,14 @@ def _require(engine: str) -> None:
         return
     python = venv_python(engine)
     if not python.exists():
-        raise RuntimeError(f"{engine} is not installed: its environment {python.parent.parent} is missing; "
-                           f"create it with `make engine-venvs`")
-    found = subprocess.run([str(python), "-c", f"import importlib.util, sys; "
-                            f"sys.exit(importlib.util.find_spec({ISOLATED[engine][0]!r}) is None)"],
-                           capture_output=True, timeout=60)
+        raise RuntimeError(
+            f"{engine} is not installed: its environment {python.parent.parent} is missing; "
+            f"create it with `make engine-venvs`"
+        )
+    check = f"import importlib.util, sys; sys.exit(importlib.util.find_spec({MODULES[engine]!r}) is None)"
+    found = subprocess.run([str(python), "-c", check], capture_output=True, timeout=60)
     if found.returncode != 0:
         raise RuntimeError(f"{engine} is not installed in {python.parent.parent}; run `make engine-venvs`")
-
-
-def version(engine: str, distribution: str) -> str:
-    """The installed version of ``distribution``, from the engine's environment where it is not here."""
-    import importlib.metadata
-
-    if in_process(engine):
-        return importlib.metadata.version(distribution)
-    found = subprocess.run([str(venv_python(engine)), "-c", "import importlib.metadata as m, sys; "
-                            f"print(m.version({distribution!r}))"], capture_output=True, text=True, timeout=60)
-    if found.returncode != 0:
-        raise RuntimeError(f"{distribution} not found in {venv_python(engine).parent.parent}: {found.stderr.strip()}")
-    return found.stdout.strip()
 
 
 def require_newton() -> None:
@@ -93,46 +76,39 @@ def require_genesis() -> None:
     _require("genesis")
 
 
-def rollout(world, commands: np.ndarray) -> dict[str, np.ndarray | float]:
-    """Step ``world`` under (steps, robots, wheels) ``commands``, reading the recorded robot after
-    every step: FIELDS as (steps, ...) arrays, with the wall and CPU seconds of the loop."""
-    rows = {k: [] for k in FIELDS}
-    previous = None
-    cpu0, wall0 = time.process_time(), time.perf_counter()
-    for command in commands:
-        if previous is None or not np.array_equal(command, previous):
-            world.set_wheel_targets(command)
-            previous = command
-        world.step(1)
-        state = world.read()
-        for k in FIELDS:
-            rows[k].append(state[k])
-    wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
-    return {**{k: np.asarray(v, dtype=float) for k, v in rows.items()}, "wall_time": wall, "cpu_time": cpu}
-
-
-def bare(world, command: np.ndarray, steps: int) -> float:
-    """Wall seconds for ``steps`` steps under one command, reading nothing."""
-    world.set_wheel_targets(command)
-    start = time.perf_counter()
-    world.step(steps)
-    return time.perf_counter() - start
+def version(engine: str, distribution: str) -> str:
+    """The installed version of ``distribution``, from the engine's environment where it is not here."""
+    if in_process(engine):
+        return importlib.metadata.version(distribution)
+    python = venv_python(engine)
+    found = subprocess.run(
+        [str(python), "-c", f"import importlib.metadata as m; print(m.version({distribution!r}))"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    if found.returncode != 0:
+        raise RuntimeError(f"{distribution} not found in {python.parent.parent}: {found.stderr.strip()}")
+    return found.stdout.strip()
 
 
 class _Worker:
     """One engine process, kept for the study process's life: importing an engine and loading its
-    compiled kernels takes 10-80 s, so every world of a job (the validation's cases) is built in it."""
+    compiled kernels takes 10-80 s, so every run of a job (the validation's cases) uses it."""
 
-    _running: dict[str, _Worker] = {}
+    _running: ClassVar[dict[str, _Worker]] = {}
 
     def __init__(self, engine: str):
         python = venv_python(engine)
         child_read, parent_write = os.pipe()  # os.pipe(): (read end, write end)
         parent_read, child_write = os.pipe()
-        env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(SRC), os.environ.get("PYTHONPATH", "")]).rstrip(os.pathsep))
+        path = os.pathsep.join([str(SRC), os.environ.get("PYTHONPATH", "")]).rstrip(os.pathsep)
         self.process = subprocess.Popen(
             [str(python), "-m", "simpick.engines.isolated", engine, str(child_read), str(child_write)],
-            pass_fds=(child_read, child_write), stdout=sys.stderr, env=env)
+            pass_fds=(child_read, child_write),
+            stdout=sys.stderr,
+            env=dict(os.environ, PYTHONPATH=path),
+        )
         os.close(child_read)
         os.close(child_write)
         self._send = os.fdopen(parent_write, "wb")
@@ -152,15 +128,17 @@ class _Worker:
             status, value = pickle.load(self._receive)
         except (EOFError, BrokenPipeError, OSError) as exc:
             code = self.process.wait(timeout=30)
-            raise RuntimeError(f"the {message[0]!r} call's engine process ended (exit {code}); its stderr says why") \
-                from exc
+            raise RuntimeError(
+                f"the {message[0]!r} call's engine process ended (exit {code}); its stderr says why"
+            ) from exc
         if status == "error":
             raise RuntimeError(f"in the engine's environment: {value}")
         return value
 
 
 class RemoteWorld:
-    """A world built and stepped in the engine's own interpreter (module docstring)."""
+    """A world built and stepped in the engine's own interpreter, one call per primitive
+    (simpick.engines.base.World)."""
 
     def __init__(self, engine: str, scenario: Scenario):
         self._worker = _Worker.of(engine)
@@ -173,14 +151,8 @@ class RemoteWorld:
     def step(self, n: int = 1) -> None:
         self.call("step", int(n))
 
-    def read(self) -> dict[str, np.ndarray]:
+    def read(self) -> BaseState:
         return self.call("read")
-
-    def rollout(self, commands: np.ndarray) -> dict:
-        return self.call("rollout", np.asarray(commands, dtype=float))
-
-    def bare(self, command: np.ndarray, steps: int) -> float:
-        return self.call("bare", np.asarray(command, dtype=float), int(steps))
 
     def close(self) -> None:
         """Drop the world; the process stays for the next one."""
@@ -188,47 +160,51 @@ class RemoteWorld:
             self.call("release")
 
 
-def build_world(engine: str, scenario: Scenario):
-    """The engine's world: in this interpreter where the engine imports here, else a RemoteWorld."""
-    if in_process(engine):
-        return _adapter(engine).build_here(scenario)
-    return RemoteWorld(engine, scenario)
+class IsolatedAdapter(runner.Adapter):
+    """An adapter whose engine may live in its own venv: ``build_here`` is its native world (the
+    subclass writes it); ``build``, ``simulate`` and ``bare_loop`` go to the worker where the engine
+    does not import in this interpreter, else to the runner here."""
+
+    distribution: str  # the engine's package on PyPI, for version()
+
+    def version(self) -> str:
+        return version(self.name, self.distribution)
+
+    def build_here(self, scenario: Scenario):
+        raise NotImplementedError
+
+    def build(self, scenario: Scenario):
+        self.settings_model.of(scenario.settings, self.name)  # a bad setting fails here, before any process
+        if in_process(self.name):
+            return self.build_here(scenario)
+        return RemoteWorld(self.name, scenario)
+
+    def simulate(self, scenario: Scenario, wheel_commands) -> PhysicsRecord:
+        self.settings_model.of(scenario.settings, self.name)
+        if in_process(self.name):
+            return runner.simulate(_Native(self), scenario, wheel_commands)
+        return _Worker.of(self.name).call("simulate", scenario, np.asarray(wheel_commands, dtype=float))
+
+    def bare_loop(self, scenario: Scenario, wheel_commands) -> float:
+        self.settings_model.of(scenario.settings, self.name)
+        if in_process(self.name):
+            return runner.bare_loop(_Native(self), scenario, wheel_commands)
+        return _Worker.of(self.name).call("bare_loop", scenario, np.asarray(wheel_commands, dtype=float))
 
 
-def simulate(engine: str, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
-    """The study's run of one scenario: a rollout of the world, the IMU from the base kinematics."""
-    from simpick.simulate.imu import imu_from_kinematics
+class _Native:
+    """The adapter as the runner sees it inside the engine's interpreter: build is the native world."""
 
-    wheel_commands = validated_commands(scenario, wheel_commands)
-    world = build_world(engine, scenario)
-    try:
-        out = world.rollout(wheel_commands) if isinstance(world, RemoteWorld) else rollout(world, wheel_commands)
-    finally:
-        if isinstance(world, RemoteWorld):
-            world.close()
-    force, gyro = imu_from_kinematics(out["quaternion"], out["linear_velocity"], out["angular_velocity"],
-                                      scenario.robot.imu_mount, scenario.timestep, scenario.gravity)
-    steps = wheel_commands.shape[0]
-    return PhysicsRecord(time=scenario.timestep * np.arange(1, steps + 1), position=out["position"],
-                         quaternion=out["quaternion"], linear_velocity=out["linear_velocity"],
-                         angular_velocity=out["angular_velocity"], wheel_speed=out["wheel_speed"],
-                         imu_specific_force=force, imu_gyro=gyro, wall_time=out["wall_time"],
-                         cpu_time=out["cpu_time"], steps=steps)
-
-
-def bare_loop(engine: str, scenario: Scenario, wheel_commands: np.ndarray) -> float:
-    world = build_world(engine, scenario)
-    try:
-        if isinstance(world, RemoteWorld):
-            return world.bare(wheel_commands[0], wheel_commands.shape[0])
-        return bare(world, wheel_commands[0], wheel_commands.shape[0])
-    finally:
-        if isinstance(world, RemoteWorld):
-            world.close()
+    def __init__(self, adapter: IsolatedAdapter):
+        self.build = adapter.build_here
 
 
 def _serve(engine: str, read_fd: int, write_fd: int) -> None:
-    """The engine process: build the world, then answer calls until "close" or the pipe ends."""
+    """The engine process: answer calls until the pipe ends. "simulate" and "bare_loop" are whole
+    runs of the runner; "build" then set_wheel_targets / step / read drive one world by hand."""
+    from simpick.engines import get_engine
+
+    native = _Native(get_engine(engine))
     receive, send = os.fdopen(read_fd, "rb"), os.fdopen(write_fd, "wb")
     world = None
     while True:
@@ -237,15 +213,14 @@ def _serve(engine: str, read_fd: int, write_fd: int) -> None:
         except EOFError:
             return
         try:
-            if name in ("close", "release"):
+            if name == "release":
                 world, value = None, None
             elif name == "build":
-                world = _adapter(engine).build_here(args[0])
-                value = None
-            elif name == "rollout":
-                value = rollout(world, args[0])
-            elif name == "bare":
-                value = bare(world, *args)
+                world, value = native.build(args[0]), None
+            elif name == "simulate":
+                value = runner.simulate(native, *args)
+            elif name == "bare_loop":
+                value = runner.bare_loop(native, *args)
             else:  # set_wheel_targets, step, read
                 value = getattr(world, name)(*args)
             reply = ("ok", value)
@@ -253,8 +228,6 @@ def _serve(engine: str, read_fd: int, write_fd: int) -> None:
             reply = ("error", f"{type(exc).__name__}: {exc}")
         pickle.dump(reply, send, protocol=pickle.HIGHEST_PROTOCOL)
         send.flush()
-        if name == "close":
-            return
 
 
 if __name__ == "__main__":

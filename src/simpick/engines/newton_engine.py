@@ -60,7 +60,8 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import FRICTION, Calibratable, EngineSettings, PhysicsRecord, Scenario
+from simpick.engines.base import FRICTION, BaseState, Calibratable, EngineSettings, Scenario
+from simpick.engines.isolated import IsolatedAdapter
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 SOLVERS = ("mujoco", "xpbd", "steel", "kamino")
@@ -129,25 +130,41 @@ class NewtonWorld:
         # MuJoCo takes the friction (and every contact parameter) of the higher-priority geom: the ground's
         ground_attrs = {"mujoco:geom_priority": 1} if solver == "mujoco" else None
         self.ground_shapes = [builder.shape_count]
-        builder.add_shape_plane(cfg=ShapeConfig(mu=scenario.ground_friction), width=0.0, length=0.0,
-                                custom_attributes=ground_attrs)
+        builder.add_shape_plane(
+            cfg=ShapeConfig(mu=scenario.ground_friction), width=0.0, length=0.0, custom_attributes=ground_attrs
+        )
         terrain = scenario.terrain
         for x, y, z, yaw, sx, sy, sz in terrain["boxes"]:
             self.ground_shapes.append(builder.shape_count)
-            builder.add_shape_box(-1, xform=wp.transform((x, y, z), _yaw_quat_xyzw(yaw)), hx=sx / 2, hy=sy / 2,
-                                  hz=sz / 2, cfg=ShapeConfig(mu=terrain["friction"]), custom_attributes=ground_attrs)
+            builder.add_shape_box(
+                -1,
+                xform=wp.transform((x, y, z), _yaw_quat_xyzw(yaw)),
+                hx=sx / 2,
+                hy=sy / 2,
+                hz=sz / 2,
+                cfg=ShapeConfig(mu=terrain["friction"]),
+                custom_attributes=ground_attrs,
+            )
         for x, y, z, r in terrain["spheres"]:
             self.ground_shapes.append(builder.shape_count)
-            builder.add_shape_sphere(-1, xform=wp.transform((x, y, z), wp.quat_identity()), radius=r,
-                                     cfg=ShapeConfig(mu=terrain["friction"]), custom_attributes=ground_attrs)
+            builder.add_shape_sphere(
+                -1,
+                xform=wp.transform((x, y, z), wp.quat_identity()),
+                radius=r,
+                cfg=ShapeConfig(mu=terrain["friction"]),
+                custom_attributes=ground_attrs,
+            )
 
         robot = scenario.robot
         self.base_bodies, wheel_dofs, wheel_shapes = [], [], []
         for x, y, yaw in scenario.starts:
             joints0, bodies0 = builder.joint_count, builder.body_count
-            builder.add_urdf(str(robot.urdf), xform=wp.transform((x, y, robot.base_height + SPAWN_CLEARANCE),
-                                                                 _yaw_quat_xyzw(yaw)),
-                             floating=True, enable_self_collisions=False)
+            builder.add_urdf(
+                str(robot.urdf),
+                xform=wp.transform((x, y, robot.base_height + SPAWN_CLEARANCE), _yaw_quat_xyzw(yaw)),
+                floating=True,
+                enable_self_collisions=False,
+            )
             labels = {builder.joint_label[j].rsplit("/", 1)[-1]: j for j in range(joints0, builder.joint_count)}
             bodies = {builder.body_label[b].rsplit("/", 1)[-1]: b for b in range(bodies0, builder.body_count)}
             self.base_bodies.append(bodies[robot.base_link])
@@ -215,13 +232,19 @@ class NewtonWorld:
         for wheel in wheel_shapes:
             for ground in self.ground_shapes:
                 builder.add_shape_collision_filter_pair(ground, wheel)
-                builder.add_custom_values(**{
-                    "mujoco:pair_geom1": ground, "mujoco:pair_geom2": wheel, "mujoco:pair_condim": 3,
-                    "mujoco:pair_friction": (mu[ground], mu[ground], 0.0, 0.0, 0.0),
-                    "mujoco:pair_solref": (MUJOCO_TIMECONST, 1.0),
-                    "mujoco:pair_solreffriction": (MUJOCO_TIMECONST * MUJOCO_DMAX / d, 1.0),
-                    "mujoco:pair_solimp": (d, d, 0.001, 0.5, 2.0), "mujoco:pair_margin": 0.0,
-                    "mujoco:pair_gap": 0.0})
+                builder.add_custom_values(
+                    **{
+                        "mujoco:pair_geom1": ground,
+                        "mujoco:pair_geom2": wheel,
+                        "mujoco:pair_condim": 3,
+                        "mujoco:pair_friction": (mu[ground], mu[ground], 0.0, 0.0, 0.0),
+                        "mujoco:pair_solref": (MUJOCO_TIMECONST, 1.0),
+                        "mujoco:pair_solreffriction": (MUJOCO_TIMECONST * MUJOCO_DMAX / d, 1.0),
+                        "mujoco:pair_solimp": (d, d, 0.001, 0.5, 2.0),
+                        "mujoco:pair_margin": 0.0,
+                        "mujoco:pair_gap": 0.0,
+                    }
+                )
 
     def _solver(self, newton, model):
         s = self.settings
@@ -231,13 +254,20 @@ class NewtonWorld:
             if s.wheel_contact != "default":
                 d, df = s.wheel_contact_impedance, s.wheel_friction_impedance
                 extra["impratio"] = ((1 - d) / d) / ((1 - df) / df)
-            return newton.solvers.SolverMuJoCo(model, use_mujoco_cpu=s.mujoco_backend == "c", cone=s.mujoco_cone,
-                                               integrator="implicitfast", **extra, **its)
+            return newton.solvers.SolverMuJoCo(
+                model,
+                use_mujoco_cpu=s.mujoco_backend == "c",
+                cone=s.mujoco_cone,
+                integrator="implicitfast",
+                **extra,
+                **its,
+            )
         if s.solver == "xpbd":
             return newton.solvers.SolverXPBD(model, **its)
         if s.solver == "steel":
-            return newton.solvers.SolverSteel(model, articulation_constraint_max=s.steel_constraint_max,
-                                              friction_mode="fixed_normal", **its)
+            return newton.solvers.SolverSteel(
+                model, articulation_constraint_max=s.steel_constraint_max, friction_mode="fixed_normal", **its
+            )
         config = newton.solvers.SolverKamino.Config.from_model(model)
         config.use_collision_detector = True
         self.pipeline = False  # Kamino detects its own contacts
@@ -255,7 +285,7 @@ class NewtonWorld:
             self.solver.step(self.state_0, self.state_1, self.control, self.contacts, self.dt)
             self.state_0, self.state_1 = self.state_1, self.state_0
 
-    def read(self) -> dict[str, np.ndarray]:
+    def read(self) -> BaseState:
         """The recorded robot's base_link pose and twist (world frame, at the link origin) and wheel speeds."""
         i = self.scenario.recorded_robot
         q = self.state_0.body_q.numpy()[self.base_bodies[i]].astype(float)
@@ -267,8 +297,7 @@ class NewtonWorld:
         lever = _rotate(quaternion, self.base_com)
         linear = qd[:3] - np.cross(angular, lever)
         wheel = self.state_0.joint_qd.numpy()[self.wheel_dofs[i]].astype(float)
-        return {"position": position, "quaternion": quaternion, "linear_velocity": linear,
-                "angular_velocity": angular, "wheel_speed": wheel}
+        return BaseState(position, quaternion, linear, angular, wheel)
 
 
 def _rotate(q_wxyz: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -276,43 +305,23 @@ def _rotate(q_wxyz: np.ndarray, v: np.ndarray) -> np.ndarray:
     return v + 2.0 * np.cross(u, np.cross(u, v) + w * v)
 
 
-class NewtonEngine:
+class NewtonEngine(IsolatedAdapter):
+    """Newton as an engine adapter; its world runs where newton is installed (simpick.engines.isolated)."""
+
     name = "newton"
     settings_model = NewtonSettings
+    distribution = "newton"
     calibratable = {
         "friction": FRICTION,
         # The velocity drive's gain: from 300, the MuJoCo adapter's former velocity servo, to 30 000;
         # a skid-steer turn's wheels slip against the drive, so its stiffness may move the turning.
-        "wheel_drive_damping": Calibratable(300.0, 30000.0, log=True,
-                                            why="the MuJoCo adapter's former kv 300 to 10x the measured 3000"),
+        "wheel_drive_damping": Calibratable(
+            300.0, 30000.0, log=True, why="the MuJoCo adapter's former kv 300 to 10x the measured 3000"
+        ),
     }
-
-    def version(self) -> str:
-        from simpick.engines import isolated
-
-        return isolated.version(self.name, "newton")
-
-    def build(self, scenario: Scenario):
-        """The world, in this interpreter where newton imports here, else in its own environment
-        (:class:`simpick.engines.isolated.RemoteWorld`, same three calls)."""
-        from simpick.engines import isolated
-
-        NewtonSettings.of(scenario.settings, self.name)  # a bad setting fails here, before any process starts
-        return isolated.build_world(self.name, scenario)
 
     def build_here(self, scenario: Scenario) -> NewtonWorld:
         return NewtonWorld(scenario, NewtonSettings.of(scenario.settings, self.name))
-
-    def simulate(self, scenario: Scenario, wheel_commands: np.ndarray) -> PhysicsRecord:
-        from simpick.engines import isolated
-
-        NewtonSettings.of(scenario.settings, self.name)
-        return isolated.simulate(self.name, scenario, wheel_commands)
-
-    def bare_loop(self, scenario: Scenario, wheel_commands: np.ndarray) -> float:
-        from simpick.engines import isolated
-
-        return isolated.bare_loop(self.name, scenario, wheel_commands)
 
 
 __all__ = ["NewtonEngine", "NewtonSettings", "NewtonWorld", "SOLVERS"]
