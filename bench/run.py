@@ -33,15 +33,15 @@ from simpick.inputs.jobs import terrain_job  # noqa: E402
 from simpick.inputs.motions import constant_commands  # noqa: E402
 from simpick.inputs.robot import load_robot  # noqa: E402
 
-TARGETS = {  # issue 5, on a 2-core machine
+TARGETS = {  # what the pipeline is held to, on a 2-core machine
     "job_vs_bare_ratio": (">=", 0.90),
-    # real-time factor of the lab study at 1 kHz, per engine: issue 5 (PyBullet, ODE 30x; MuJoCo 60x)
-    # and issue 12 (DART 10x)
+    # real-time factor of the lab study at 1 kHz, per engine: PyBullet and ODE 30x, MuJoCo 60x,
+    # DART 10x
     ("rtf_lab_study", "pybullet"): (">=", 30.0),
     ("rtf_lab_study", "mujoco"): (">=", 60.0),
     ("rtf_lab_study", "ode"): (">=", 30.0),
     ("rtf_lab_study", "dart"): (">=", 10.0),
-    # issue 19: PhysX (SAPIEN, stepped from Python like DART) at DART's 10x; Drake with hydroelastic
+    # PhysX (SAPIEN, stepped from Python like DART) at DART's 10x; Drake with hydroelastic
     # wheels at real time (its first measured lab runs: 1-2.5x on a loaded machine)
     ("rtf_lab_study", "physx"): (">=", 10.0),
     ("rtf_lab_study", "drake"): (">=", 1.0),

@@ -1,4 +1,4 @@
-"""The import graph of src/simpick has no cycle (issue 21): every import between simpick modules,
+"""The import graph of src/simpick has no cycle: every import between simpick modules,
 at the top of a module or inside a function, read from the source with ast (simpick.codeversion)."""
 
 from simpick.codeversion import cycles, import_graph, modules

@@ -1,4 +1,4 @@
-"""Every engine loads any robot the same way (issue 18): the diff-drive robot with its mirrored
+"""Every engine loads any robot the same way: the diff-drive robot with its mirrored
 wheel and swivel caster, and a six-wheeled robot, drive forward and turn the commanded way."""
 
 from pathlib import Path
