@@ -1,7 +1,7 @@
 """simpick benchmark: engine limits, pipeline overhead, rerun and planning costs, memory.
 
 Run from the repository root:  .venv/bin/python bench/run.py   (about 3-4 minutes)
-Writes bench/results.csv and bench/RESULTS.md (and the table into README.md between the
+Writes bench/results.csv and bench/RESULTS.md (and the table into docs/benchmark.md between the
 bench markers). Every figure is the median of --repeats runs, with min and max.
 Separate from the tests on purpose: timings are measured, not asserted.
 """
@@ -267,8 +267,8 @@ def main() -> None:
         )
     text = "\n".join(lines) + "\n"
     (ROOT / "bench/RESULTS.md").write_text("# simpick benchmark\n\n" + text)
-    readme = ROOT / "README.md"
-    body = readme.read_text()
+    page = ROOT / "docs/benchmark.md"  # its "The last `make bench` table" section
+    body = page.read_text()
     if "<!-- bench:start -->" in body:
         body = re.sub(
             r"<!-- bench:start -->.*<!-- bench:end -->",
@@ -276,7 +276,7 @@ def main() -> None:
             body,
             flags=re.S,
         )
-        readme.write_text(body)
+        page.write_text(body)
     print(text)
 
 

@@ -144,11 +144,11 @@ def test_straight_on_high_friction_tracks_the_command(engine, robot):
 
 # Measured (v, w) = (0.5, 0.5) on flat ground, mu 0.95, from heading 0: mean yaw rate after 1 s
 # DART 0.247, ODE 0.241, MuJoCo 0.231 rad/s; the quasi-static Coulomb value is 0.478 x 0.5 = 0.239
-# (README "Engines against analytic mechanics"). PyBullet 0.075 (gain 0.15): see the reason.
+# (docs/validation.md "Results on the Husky"). PyBullet 0.075 (gain 0.15): see the reason.
 LEFT_TURN_XFAIL = {
     "pybullet": "Bullet's multibody friction rows are fixed to the world axes (btPlaneSpace1; bullet3 PR #4539): "
     "starting along the x axis the Husky turns at 0.075 rad/s for 0.5 commanded (gain 0.15, Coulomb "
-    "0.478); tests/test_validation.py and the README explain it",
+    "0.478); tests/test_validation.py and docs/engines.md explain it",
     "physx": "PhysX's friction is a box (two rows per anchor, each clamped to mu N on its own, along tangents from "
     "the bodies' linear velocities), so a skidding wheel keeps full lateral friction: the Husky turns at "
     "0.050 rad/s for 0.5 commanded (gain 0.10, Coulomb 0.478); physx_engine docstring",

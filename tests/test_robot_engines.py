@@ -64,7 +64,7 @@ def test_diff_drive_robot_drives_forward_and_turns_left(engine):
                 pytest.mark.xfail(
                     strict=True,
                     reason="ODE brakes the diff-drive robot at 2.00 m/s^2 "
-                    "for 2.30 (README, validation on the diff-drive robot)",
+                    "for 2.30 (docs/robot.md, validation on the shipped robots)",
                 )
             ],
         )

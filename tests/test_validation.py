@@ -267,8 +267,8 @@ INVARIANCE_CASES = [
     "gain_v0.5_w0.5_mu0.8_h-135",
 ]
 
-# Engines that genuinely cannot pass a case with any documented setting (measured; README
-# "Engines against analytic mechanics"). strict: if an engine starts passing, the test says so.
+# Engines that genuinely cannot pass a case with any documented setting (measured; docs/validation.md
+# "Results on the Husky", docs/engines.md). strict: if an engine starts passing, the test says so.
 _BULLET = (
     "Bullet's two friction rows per multibody contact are fixed to the world axes (btPlaneSpace1), solved "
     "separately, each with its own effective mass, then scaled into the cone (bullet3 PR #4539, open); "

@@ -289,7 +289,7 @@ def run_case(setup: Setup, name: str, params: dict) -> dict:
     ):
         reason = (
             f"{setup.engine} has no anisotropic wheel friction here (no friction_ratio setting: "
-            "see the README's turning section)"
+            "see docs/engines.md, 'Turning like the real Husky')"
         )
     if reason is not None:  # skipped, with the reason in the summary and the report
         return {
