@@ -1,13 +1,14 @@
 # The study report. Every figure is drawn by a rule of its own (one job per figure, or per test
 # or terrain class for a family) from the tables into results/report/figures/, registered with
 # report() so `snakemake --report` shows it too; the report job only embeds the files. No figure
-# shows the weights (the page draws the weighted contributions from results/scores/contributions.csv),
-# so a weight edit redraws none, and a template edit (src/simpick/report/templates, hashed by the
-# report rule alone) redraws none either. The figure
-# inputs (PLAN.figures, PLAN.lab_figure_tests, PLAN.report_figures ...) are in simpick.plan.report.
+# shows the weights (the page draws the weighted contributions from results/scores/contributions.csv);
+# the printed decision tree (figure_tree, rules/tree.smk) orders each leaf's engines by the weighted
+# total, so a weight edit redraws that one figure. The figure inputs (PLAN.figures,
+# PLAN.lab_figure_tests, PLAN.report_figures ...) are in simpick.plan.report.
 
-# Figure rules: light jobs (one Matplotlib figure each), code= the drawing code they run and no
-# more (simpick.plan: PLAN.figure_code), so an edit to the report's templates or context code reruns none of them.
+# Figure rules: light jobs (one Matplotlib figure each), code= PLAN.figure_code, the code version of
+# scripts/figure.py, the same for every figure. It reaches the report package, templates included
+# (simpick.codeversion), so a template or report-code edit redraws the figures as well as the report.
 
 
 if PLAN.verdict:

@@ -1,4 +1,4 @@
-"""Calibration (issue 11): the split by run, the declared parameters, recovering a known friction
+"""Calibration: the split by run, the declared parameters, recovering a known friction
 coefficient, resuming an interrupted study, the report section and the rerun contract."""
 
 import copy
@@ -63,8 +63,8 @@ def test_every_model_declares_parameters_its_settings_accept(name):
     space = get_engine(name).calibratable
     assert space, f"{name} declares nothing to calibrate"
     if name in ADAPTERS:
-        assert "friction" in space  # issue 11: at least the friction coefficient
-        # friction plus up to two more, and the turning ratio where the adapter has one (issue 20)
+        assert "friction" in space  # at least the friction coefficient
+        # friction plus up to two more, and the turning ratio where the adapter has one
         assert len(set(space) - {"friction_ratio"}) <= 3
     model = get_engine(name).settings_model
     configured = model.of((CONFIG["engines"] | CONFIG["baselines"]).get(name), name)
@@ -165,7 +165,7 @@ SETTINGS = {
 
 def test_the_optimiser_recovers_a_known_friction_coefficient(tmp_path):
     """The Coulomb model (the Engine interface) drives a synthetic log at mu = 0.2 and is calibrated
-    back from the configured 0.6: within 5 %. Its friction ratio (issue 20) is pinned at the log's 1
+    back from the configured 0.6: within 5 %. Its friction ratio is pinned at the log's 1
     by a bounds override, so friction is the one free parameter (with both free, 30 trials found
     mu 0.217)."""
     units = _synthetic_units("coulomb", 0.2)
@@ -320,7 +320,7 @@ def test_a_budget_edit_reruns_calibration_and_what_depends_on_it_nothing_else(tm
     best = yaml.safe_load((out / "kinematic/flooring/best.yaml").read_text())
     assert best["trials_run_now"] == 1 and best["n_trials"] == 3  # the journal's two trials were kept
 
-    # one statistics rule (issue 17): editing statistics.min_runs reruns the calibration summary and
+    # one statistics rule: editing statistics.min_runs reruns the calibration summary and
     # the real-data summaries, never a simulation or a calibration
     run = snakemake(tmp_path, "results/metrics/segments/summary.csv")
     assert run.returncode == 0, run.stderr[-3000:]
@@ -404,7 +404,7 @@ def test_classes_too_small_for_an_interval_get_one_pooled_and_runs_are_named_by_
 
 
 def test_the_objective_leaves_constant_acceleration_offsets_out():
-    """Issue 20: an accelerometer bias or a slope (a constant offset between real and simulated ax)
+    """An accelerometer bias or a slope (a constant offset between real and simulated ax)
     no engine can model does not count; the yaw-rate term keeps its weight."""
     from simpick.compare.realmetrics import aligned_rmse
     from simpick.studies.calibration import objective_terms
@@ -420,7 +420,7 @@ def test_the_objective_leaves_constant_acceleration_offsets_out():
     assert objective_terms(segment, scales) == pytest.approx(0.4)  # 0.02 / 0.05: the yaw rate alone
 
 
-# ------------------------------------------------------------ issue 20: turning on held-out runs, the target
+# ------------------------------------------------------------ turning on held-out runs, the target
 
 
 def _turning_evals(cal_gain, cal_error, classes=("asphalt", "ice"), runs=4):
@@ -536,7 +536,7 @@ def test_the_report_shows_held_out_gains_multipliers_and_the_target():
 
 
 def test_the_objective_gives_the_steady_gain_its_own_weight():
-    """Issue 20: a unit that turns under a steady command adds |gain error| / scales.yaw_rate_gain;
+    """A unit that turns under a steady command adds |gain error| / scales.yaw_rate_gain;
     a unit without steady turning windows (gain error NaN) and a config without the scale do not."""
     from simpick.studies.calibration import objective_terms
 
@@ -554,7 +554,7 @@ def test_the_objective_gives_the_steady_gain_its_own_weight():
 
 
 def test_a_stratified_split_puts_turning_runs_in_both_sets():
-    """Issue 20: where a class has two or more runs that turn, training and test each get some, so a
+    """Where a class has two or more runs that turn, training and test each get some, so a
     turning parameter is calibrated on turning runs; straight runs are split on their own."""
     rows = [{"terrain_class": "sandy_loam", "run": f"{r:02d}", "unit": f"u{r}", "turns": r >= 4} for r in range(7)]
     for seed in range(20):

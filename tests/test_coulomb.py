@@ -84,7 +84,7 @@ def test_table_interpolates_the_solver(robot):
         )
 
 
-# --- any robot (issue 18): N contacts, casters, braking with casters -------------------------------
+# --- any robot: N contacts, casters, braking with casters ------------------------------------------
 
 
 def test_diff_drive_on_a_frictionless_caster_turns_without_slip():
@@ -171,7 +171,7 @@ def test_a_skid_drags_with_the_ground_s_friction(tmp_path):
     assert math.isnan(a) and "pitches onto its nose" in why
 
 
-# --- anisotropic (elliptic) friction (issue 20) ---------------------------------------------------
+# --- anisotropic (elliptic) friction --------------------------------------------------------------
 
 
 def test_anisotropic_spin_matches_the_closed_form(robot):
@@ -246,7 +246,7 @@ def test_coulomb_baseline_turns_at_its_friction_ratio(robot):
         drive("coulomb", robot, settings={"friction_ratio": -1.0})
 
 
-# --- slip compliance (issue 20) ----------------------------------------------------------------
+# --- slip compliance ---------------------------------------------------------------------------
 
 
 def _viscous_twist(layout, u, r=1.0):

@@ -4,7 +4,7 @@ They pin down what the rest of simpick assumes of an engine: the Engine protocol
 engine and reference model), the IMU convention
 (+9.81 on z at rest, body frame x forward / y left / z up), that the wheels follow their
 commands on high friction, that a left turn reads as positive yaw rate, and determinism.
-And mechanics with a known answer (issue 13): friction of a terrain patch and of the ground,
+And mechanics with a known answer: friction of a terrain patch and of the ground,
 the wheel torque bound, two robots colliding, climbing a board and stones, slip on ice, and
 the IMU in a turn. A case an engine genuinely fails is a strict expected failure with the
 measured value in its reason.
@@ -144,11 +144,11 @@ def test_straight_on_high_friction_tracks_the_command(engine, robot):
 
 # Measured (v, w) = (0.5, 0.5) on flat ground, mu 0.95, from heading 0: mean yaw rate after 1 s
 # DART 0.247, ODE 0.241, MuJoCo 0.231 rad/s; the quasi-static Coulomb value is 0.478 x 0.5 = 0.239
-# (README "Engines against analytic mechanics"). PyBullet 0.075 (gain 0.15): see the reason.
+# (docs/validation.md "Results on the Husky"). PyBullet 0.075 (gain 0.15): see the reason.
 LEFT_TURN_XFAIL = {
     "pybullet": "Bullet's multibody friction rows are fixed to the world axes (btPlaneSpace1; bullet3 PR #4539): "
     "starting along the x axis the Husky turns at 0.075 rad/s for 0.5 commanded (gain 0.15, Coulomb "
-    "0.478); tests/test_validation.py and the README explain it",
+    "0.478); tests/test_validation.py and docs/engines.md explain it",
     "physx": "PhysX's friction is a box (two rows per anchor, each clamped to mu N on its own, along tangents from "
     "the bodies' linear velocities), so a skidding wheel keeps full lateral friction: the Husky turns at "
     "0.050 rad/s for 0.5 commanded (gain 0.10, Coulomb 0.478); physx_engine docstring",
@@ -195,7 +195,7 @@ def test_bare_loop_times_the_same_world(engine, robot):
     assert 0 < seconds < 10
 
 
-# --- mechanics every engine must get right (issue 13): friction, torque bound, collisions,
+# --- mechanics every engine must get right: friction, torque bound, collisions,
 # --- obstacles, slip and the IMU, each against its analytic value ----------------------------
 
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
@@ -544,7 +544,7 @@ def test_an_engine_that_is_not_installed_is_reported_with_the_fix(monkeypatch):
 def test_every_engine_builds_and_steps_the_lab_gravel_strip(engine, robot):
     """The config's gravel strip (4 bed boxes, 485 stones) with the robot on it: the world builds and
     steps. Drake 1.51.1 crashed (segmentation fault) registering these stones after its ground half
-    space (issue 19); the drake adapter registers the ground last."""
+    space; the drake adapter registers the ground last."""
     from simpick.inputs.terrain import generate
 
     spec = dict(CONFIG["terrains"]["gravel"])

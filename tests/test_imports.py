@@ -1,4 +1,4 @@
-"""The import graph of src/simpick has no cycle (issue 21): every import between simpick modules,
+"""The import graph of src/simpick has no cycle: every import between simpick modules,
 at the top of a module or inside a function, read from the source with ast (simpick.codeversion)."""
 
 from simpick.codeversion import cycles, import_graph, modules
@@ -51,7 +51,7 @@ def test_a_submodule_importing_its_package_that_imports_it_is_a_cycle(tmp_path):
     assert cycles(import_graph(pkg)) == [["simpick.report", "simpick.report.load", "simpick.report"]]
 
 
-# the packages of the data flow's stages (README "Layout"); a job function lives in one of them
+# the packages of the data flow's stages (docs/conventions.md "Layout"); a job function lives in one of them
 STAGES = ("inputs", "real", "simulate", "compare", "score", "studies", "report")
 
 

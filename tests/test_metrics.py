@@ -169,7 +169,7 @@ def test_rotation_matrices_and_quaternions_round_trip():
 
 
 def test_real_time_factor_covers_the_same_tests_for_every_engine():
-    """Issue 13: an engine failing the slow terrain must not look faster for it."""
+    """An engine failing the slow terrain must not look faster for it."""
     from simpick.compare.jobs import equal_rtf
 
     runs = pd.DataFrame(

@@ -1,4 +1,4 @@
-"""The plan (simpick.plan, issue 21 points 1 and 4): built from the validated config, it hands the rules
+"""The plan (simpick.plan): built from the validated config, it hands the rules
 typed settings with every default filled in by its model, and the rules read nothing else."""
 
 import copy

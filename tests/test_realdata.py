@@ -423,7 +423,7 @@ def test_segment_compare_and_summarise_against_hand_computed_values(tmp_path):
 
 
 def test_every_real_case_starts_from_its_own_seeded_heading_the_same_for_every_model():
-    """Issue 17: no real-data case starts from a fixed heading. The heading derives from the config
+    """No real-data case starts from a fixed heading. The heading derives from the config
     seed and the case's names (not the model), so paired comparisons stay paired."""
     from simpick.simulate.real import start_heading
 
@@ -461,7 +461,7 @@ def test_a_replay_starts_from_its_seeded_heading_and_records_it():
 
 
 def test_a_source_with_no_case_writes_its_tables_with_their_columns(tmp_path):
-    """Issue 21: a source with no cases (or none a model completed) is a normal outcome."""
+    """A source with no cases (or none a model completed) is a normal outcome."""
     from simpick.compare.jobs import compare_job, summarise_job
 
     for kind, inputs, params in (

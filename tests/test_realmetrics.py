@@ -61,7 +61,7 @@ def test_a_paired_difference_is_found_only_when_real():
 
 
 def test_two_runs_give_no_verdict():
-    """Issue 13: the hand-written bootstrap called any two same-sign differences clear at 95 %."""
+    """The hand-written bootstrap called any two same-sign differences clear at 95 %."""
     t = rm.paired_test([1, 1.2], [0.9, 1.19])
     assert t["verdict"] == "too few runs" and t["n_runs"] == 2
     assert np.isnan(t["p_value"]) and np.isnan(t["low"]) and np.isnan(t["high"])

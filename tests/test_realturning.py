@@ -1,4 +1,4 @@
-"""The real robot's turning analysis (issue 20, point 0) on synthetic logs with known answers."""
+"""The real robot's turning analysis on synthetic logs with known answers."""
 
 import math
 

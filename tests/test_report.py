@@ -1311,7 +1311,7 @@ def test_the_summary_lists_engines_left_out_because_they_are_not_installed(tmp_p
 
 
 def test_a_real_source_with_no_case_is_said_not_a_crash(tmp_path, built_real):
-    """Issue 21: a replay source with no case (its compare and summarise tables with their columns and
+    """A replay source with no case (its compare and summarise tables with their columns and
     no rows) renders, and the report says so."""
     from simpick.compare.jobs import compare_job, summarise_job
 
@@ -1365,7 +1365,7 @@ def test_how_the_real_robot_turns_is_shown_from_its_table(tmp_path, built_real):
     text = " ".join(_render({**inputs, "real_turning": str(table)}, _real_params()).split())
     section = re.search(r'<table class="data small" id="real-turning-table">.*?</table>', text).group(0)
     assert "sandy loam" in section and "0.586 [0.540, 0.630]" in section and "0.555–0.606" in section
-    assert "1.659" in section and "0.823" in section  # the ROS multiplier and the Coulomb ratio (issue 20)
+    assert "1.659" in section and "0.823" in section  # the ROS multiplier and the Coulomb ratio
     assert "one gain for this robot (0.478)" in text
     assert 'id="real-turning"' not in " ".join(_render(inputs, _real_params()).split())
 

@@ -1,4 +1,4 @@
-"""Reading any wheeled robot's description (simpick.inputs.robot, issue 18): wheel detection, sides and
+"""Reading any wheeled robot's description (simpick.inputs.robot): wheel detection, sides and
 forward direction from geometry, the figures the study needs, and each refused layout."""
 
 import math

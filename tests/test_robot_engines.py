@@ -1,4 +1,4 @@
-"""Every engine loads any robot the same way (issue 18): the diff-drive robot with its mirrored
+"""Every engine loads any robot the same way: the diff-drive robot with its mirrored
 wheel and swivel caster, and a six-wheeled robot, drive forward and turn the commanded way."""
 
 from pathlib import Path
@@ -64,7 +64,7 @@ def test_diff_drive_robot_drives_forward_and_turns_left(engine):
                 pytest.mark.xfail(
                     strict=True,
                     reason="ODE brakes the diff-drive robot at 2.00 m/s^2 "
-                    "for 2.30 (README, validation on the diff-drive robot)",
+                    "for 2.30 (docs/robot.md, validation on the shipped robots)",
                 )
             ],
         )

@@ -1,4 +1,4 @@
-"""The robot in the workflow (issue 18): read at planning time, so a broken description stops
+"""The robot in the workflow: read at planning time, so a broken description stops
 the run before any job (and before Snakemake deletes any output to rerun it); another robot's
 study plans no comparison with the Husky's real data."""
 

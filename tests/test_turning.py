@@ -1,4 +1,4 @@
-"""Issue 20: anisotropic (lateral/longitudinal) wheel friction in the engines, checked against the
+"""Anisotropic (lateral/longitudinal) wheel friction in the engines, checked against the
 anisotropic Coulomb solver (simpick.coulomb) at the same ratio."""
 
 import copy

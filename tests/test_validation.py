@@ -1,5 +1,5 @@
 """Engines against analytic mechanics: the judging logic, the reference models, and every
-engine's validation cases as conformance tests (issue 9)."""
+engine's validation cases as conformance tests."""
 
 import copy
 import functools
@@ -77,7 +77,7 @@ def test_a_diverged_or_unmeasured_case_fails_whatever_its_numbers():
 
 
 def test_an_engine_that_turns_less_to_the_right_fails_the_turn_asymmetry_check():
-    # a: DART before issue 17, 0.51 left and 0.30 right. c: each within the 10 % gain tolerance of
+    # a: DART with its own NSGS stop, 0.51 left and 0.30 right. c: each within the 10 % gain tolerance of
     # 0.478, yet 17 % of it apart: the pair, not each case, shows the bias
     summary = summarise(
         [
@@ -267,15 +267,15 @@ INVARIANCE_CASES = [
     "gain_v0.5_w0.5_mu0.8_h-135",
 ]
 
-# Engines that genuinely cannot pass a case with any documented setting (measured; README
-# "Engines against analytic mechanics"). strict: if an engine starts passing, the test says so.
+# Engines that genuinely cannot pass a case with any documented setting (measured; docs/validation.md
+# "Results on the Husky", docs/engines.md). strict: if an engine starts passing, the test says so.
 _BULLET = (
     "Bullet's two friction rows per multibody contact are fixed to the world axes (btPlaneSpace1), solved "
     "separately, each with its own effective mass, then scaled into the cone (bullet3 PR #4539, open); "
     "PyBullet has no per-contact override. On a driven wheel the friction leans sideways (25-57 deg off "
     "the slip), and the gain depends on the heading and the turn's direction: (v, w) = (0.5, 0.5) 0.37 / "
     "0.25 / 0.14 from headings 0 / 112.5 / -135, (0.5, -0.5) 0.28 / 0.09 / 0.14, spin 0.375 both ways, "
-    "(0.5, +-0.2) 0.14; Coulomb 0.478 (issue 17)"
+    "(0.5, +-0.2) 0.14; Coulomb 0.478"
 )
 _PHYSX = (
     "PhysX's friction is a box: per friction anchor two rows, each clamped to mu N on its own, along tangents "
@@ -348,7 +348,7 @@ def test_engine_passes_the_analytic_case(engine, case):
 )
 def test_engine_turns_alike_left_and_right_and_from_any_heading(engine):
     """Flat isotropic ground: a turn's mirror image and the same turn from another start heading give
-    the same gain (issue 17: DART turned right at 0.30 of w and left at 0.51 before its NSGS stop
+    the same gain (DART turned right at 0.30 of w and left at 0.51 before its NSGS stop
     was tightened; mechanics gives 0.478 both ways)."""
     summary = summarise([copy.deepcopy(_run(engine, case)) for case in INVARIANCE_CASES], TOLERANCES)
     checks = summary[summary.kind == "invariance"]

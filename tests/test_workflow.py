@@ -1,7 +1,7 @@
 """The workflow end to end on a tiny config, and the rerun contract.
 
 The contract (what a user relies on to iterate cheaply): nothing edited -> nothing runs;
-a weight edited -> only scoring, the one figure that shows the weights and the report; a report
+a weight edited -> only scoring, the answer, the printed tree and the report; a report
 template edited -> only the report and its figures; one engine's settings or code edited -> only that
 engine's simulations and what depends on them; a library module edited -> only the jobs that can import
 it (their code versions: the modules reachable through import statements, wherever they stand:

@@ -22,7 +22,7 @@ sliding friction of that fraction of the ground's. For a two-wheel differential 
 frictionless casters no contact need slip, and the gain is 1 (up to the scuffing across each
 wheel's width).
 
-Anisotropic (elliptic) friction (issue 20): a wheel contact may resist sliding across the wheel
+Anisotropic (elliptic) friction: a wheel contact may resist sliding across the wheel
 less (or more) than along it, ``mu_lat = r mu_long`` in the wheel's frame (its rolling direction,
 here the base's x: no wheel is steered). The friction force is the one that maximises the
 dissipated power on the ellipse (F_long / mu_long)^2 + (F_lat / mu_lat)^2 <= N^2, so the contact
@@ -33,7 +33,7 @@ For four equally loaded contacts at (+-a, +-b) a pure spin gives the closed form
 ``w = u b / (b^2 + r^2 a^2)`` (tests/test_coulomb.py). Skids and ball casters have no wheel
 frame and stay isotropic.
 
-Slip compliance (issue 20; ODE's force-dependent slip, Gazebo's <slip1>/<slip2>): a contact point
+Slip compliance (ODE's force-dependent slip, Gazebo's <slip1>/<slip2>): a contact point
 with compliance k ((m/s)/N) slides at k x its friction force until that force reaches Coulomb's
 bound, F = -min(rho / k, mu N) along the (elliptic) slip. Its dissipation potential is then the
 Huber function of the slip (quadratic rho^2 / 2k below the saturation slip c = k mu N, linear

@@ -96,7 +96,7 @@ def segment_compare(segments_csv: str, traces: list[str], track: float):
 
 
 # the per-test tables' columns: written even when a source has no case (or none that a model completed),
-# so that every later job reads a table with its columns and no rows, a normal outcome (issue 21)
+# so that every later job reads a table with its columns and no rows, a normal outcome
 SEGMENT_TEST_COLUMNS = [
     "engine",
     "terrain_class",

@@ -159,7 +159,7 @@ class Calibratable:
 # Vehicles, Table 1.4: 0.8-0.9); log scale, as the classes span a decade.
 FRICTION = Calibratable(0.05, 1.5, log=True, why="tyre on ice (Wong Table 1.4: 0.1) to above dry asphalt (0.9)")
 
-# The wheels' lateral/longitudinal friction ratio (issue 20), the parameter that moves a skid-steer
+# The wheels' lateral/longitudinal friction ratio, the parameter that moves a skid-steer
 # robot's turning (rigid Coulomb's gain does not depend on mu): for the Husky the anisotropic
 # Coulomb gain runs from 0.88 at 0.3 through 0.36 at 1.2 and 0.03 at 1.7 to none at 1.8 (the lateral
 # friction then outweighs the wheels' turning moment), around every real class's steady gain (0.70

@@ -46,7 +46,7 @@ class CoulombSettings(_BaselineSettings):
 
     # Lateral / longitudinal friction ratio of every wheel contact, in the wheel's frame (elliptic
     # anisotropic Coulomb, simpick.coulomb). 1: isotropic, today's model (gain 0.478 for the Husky).
-    # Issue 20: the real Husky's steady gain on hard ground (0.70, notes on BorealTC's 29 runs) is
+    # The real Husky's steady gain on hard ground (0.70, notes on BorealTC's 29 runs) is
     # what r ~ 0.63 gives at every (v, w); sandy loam's 0.59 is r ~ 0.78.
     friction_ratio: Annotated[float, Field(gt=0, le=2, allow_inf_nan=False)] = 1.0
 

@@ -54,7 +54,7 @@ is sensitive to where it stops (yaw rate over 1-3 s 0.17 / 0.14 / 0.08 rad/s for
 tolerance 1e-5 / 1e-5 with 1000 sweeps / 1e-7 with the ODE detector): contact forces of a
 four-wheeled rigid robot are not unique, and the solver picks one solution.
 
-Right turns (issue 17). With DART's own NSGS stop (tolerance 1e-5, 100 sweeps) the Husky turned
+Right turns. With DART's own NSGS stop (tolerance 1e-5, 100 sweeps) the Husky turned
 left at 0.51 and right at 0.30-0.33 of the commanded rate (validation cases, mu 0.8, 6 s; Coulomb
 0.478 both ways: the quasi-static solution is the same for w and -w, simpick.coulomb), at every
 start heading (0 / 112.5 / -135 degrees: 0.511 / 0.504 / 0.503 left, 0.299 / 0.299 / 0.299 right).
@@ -84,7 +84,7 @@ config.yaml sets 1e-6 and 200 (twice the failing cap); the cost on the lab runs 
 1 710, gravel 1 800 -> 1 270; circle (3 s) grass 1 360 -> 980, bumps 1 660 -> 870, gravel 1 440 ->
 860.
 
-Speed (issue 12, with DART's own stop 1e-5 / 100 sweeps). What a step costs, from
+Speed (with DART's own stop 1e-5 / 100 sweeps). What a step costs, from
 ``bench/dart_profile.py`` (lab straight run, medians of 3,
 shared 2-core machine at load 4-5, so absolute figures are about 1.3-2x those of a quiet machine):
 
@@ -142,7 +142,7 @@ class DartSettings(EngineSettings):
     """config ``engines.dart``; the measurements behind each choice are in the module docstring."""
 
     # fcl (analytic primitives): one contact per wheel (it moves across the wheel's width as the
-    # wheel tilts, issue 17), and 1.5x (gravel) to
+    # wheel tilts), and 1.5x (gravel) to
     # 5x (turning) faster than "ode", whose two contacts across each wheel's width slow the
     # iterative solver. "bullet" left the robot stuck at the gravel bed's 2 cm edge (with Dantzig);
     # "dart" puts each wheel's contact on an edge (inner left, outer right), which biases turning.
@@ -157,13 +157,13 @@ class DartSettings(EngineSettings):
     friction_law: Literal["coulomb", "box", "associated"] = "coulomb"
     # NSGS sweeps per step, at most: DART's default 100. 20 / 35 / 50 pass the left-turn validation,
     # but 63 % of grass steps stop at the cap, and at 35 the grass straight run's IMU statistics move
-    # far beyond roundoff (issue 12; module docstring): not the same physics. config.yaml: 200 (with
-    # tolerance 1e-6; at 100 the robot turns right at 0.32 of w, issue 17).
+    # far beyond roundoff (module docstring): not the same physics. config.yaml: 200 (with
+    # tolerance 1e-6; at 100 the robot turns right at 0.32 of w).
     solver_sweeps: Annotated[int, Field(ge=1)] = 100
     # NSGS stopping tolerance: DART's default 1e-5. 1e-4 and 1e-3 are faster (grass 1.4x / 3.9x)
     # but fail the turning validation; the skid-steer turn depends on where the solver stops
     # (module docstring). At 1e-5 right turns reach 0.30-0.33 of w, left 0.51 (Coulomb 0.478);
-    # config.yaml: 1e-6, which gives 0.485 / 0.475 (issue 17, module docstring).
+    # config.yaml: 1e-6, which gives 0.485 / 0.475 (module docstring).
     solver_tolerance: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 1e-5
 
 
@@ -182,9 +182,9 @@ def _yaw(yaw: float) -> np.ndarray:
 
 class DartEngine(Adapter):
     # dartpy 6.20 exposes one contact parameter per shape, the friction coefficient
-    # (DynamicsAspect get/setFrictionCoeff; no slip compliance, no secondary direction). Issue 20:
-    # checked again, dartpy 6.20's DynamicsAspect has get/set FrictionCoeff and RestitutionCoeff
-    # only; DART's C++ primary/secondary coefficients and first friction direction are not bound,
+    # (DynamicsAspect get/setFrictionCoeff; no slip compliance, no secondary direction).
+    # Checked again for the turning parameter: dartpy 6.20's DynamicsAspect has get/set FrictionCoeff
+    # and RestitutionCoeff only; DART's C++ primary/secondary coefficients and first friction direction are not bound,
     # so no lateral/longitudinal ratio (NsgsFrictionSolver.Options.boxForAnisotropic has nothing to act on)
     calibratable = {"friction": FRICTION}
     name = "dart"

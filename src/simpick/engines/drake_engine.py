@@ -22,7 +22,7 @@
   floating base's generalized velocity is the angular velocity and the velocity of base_link's
   origin, both in the world frame, read from the state vector after each step.
 
-Set-up (issue 19), measured with drake 1.51.1 at 1 kHz on mu 0.8, 4 s runs, yaw-rate gain
+Set-up, measured with drake 1.51.1 at 1 kHz on mu 0.8, 4 s runs, yaw-rate gain
 (yaw rate / commanded w) averaged after 1 s, against the quasi-static Coulomb 0.478:
   contact, approximation                      (0.5,0.5)  (0,0.5)  (0.5,0.2)  wall for 4 s
   point, sap (damping 1e3 / 1e4 / 1e5)        0.38 / 0.39 / 0.39  0.39  0.44-0.45   0.7-1.5 s
@@ -58,7 +58,7 @@ SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 ROBOT_FRICTION = 1.0  # the robot's coefficient; the terrain's is chosen so that the combination is its mu
 # A wheel's compliant mesh is resolved to at most its radius / 8, so that a small wheel has as many
 # sides as the Husky's (0.02 m on r 0.165: 52 sides; r / 8: 51 and more). Drake's mesh has
-# 2 pi r / resolution sides: at a fixed 0.02 m a 33 mm wheel (TurtleBot3-like skid robot, issue 18)
+# 2 pi r / resolution sides: at a fixed 0.02 m a 33 mm wheel (a TurtleBot3-like skid robot)
 # was an 11-sided prism and the robot, driven straight at 0.2 m/s for 1.5 s, yawed 0.38 rad and
 # ended 5.0 cm sideways; at r / 4 (26 sides) 0.048 rad and 1.0 cm; at r / 8 0.023 rad and 0.75 cm,
 # as with point contact (0.028 rad, 0.9 cm). The diff-drive robot's 50 mm wheel at 0.02 m (16 sides)
@@ -165,7 +165,7 @@ class DrakeEngine(Adapter):
         def surface(mu: float, where: str, resolution: float | None = None) -> ProximityProperties:
             props = ProximityProperties()
             f = _terrain_friction(mu, where)
-            # Drake's CoulombFriction is isotropic (static, dynamic): no lateral/longitudinal ratio (issue 20)
+            # Drake's CoulombFriction is isotropic (static, dynamic): no lateral/longitudinal ratio
             AddContactMaterial(friction=CoulombFriction(f, f), properties=props)
             if hydro:  # a sphere's rigid mesh needs a resolution; boxes and the half space are exact
                 AddRigidHydroelasticProperties(resolution, props) if resolution else AddRigidHydroelasticProperties(
@@ -194,7 +194,7 @@ class DrakeEngine(Adapter):
             )
         # The ground plane last: with the HalfSpace registered first, registering the gravel strip's
         # 485 stones on the world body crashed Drake 1.51.1 (segmentation fault after 300-380 of them,
-        # hydroelastic or not; issue 19); registered after them, it does not.
+        # hydroelastic or not); registered after them, it does not.
         plant.RegisterCollisionGeometry(
             world, RigidTransform(), HalfSpace(), "ground", surface(scenario.ground_friction, "physics.ground_friction")
         )

@@ -9,7 +9,7 @@ and gyro at the IMU mount (they already follow REP-145). The whole run is steppe
 Friction: MuJoCo combines two geoms' friction by taking the maximum unless one has higher
 ``priority``; terrain and floor get priority 1 so their coefficient is the contact's.
 
-Wheel contacts (issue 9). With MuJoCo's default soft contact the Husky turned at 0.18-0.25 of
+Wheel contacts. With MuJoCo's default soft contact the Husky turned at 0.18-0.25 of
 the commanded yaw rate against the quasi-static Coulomb 0.478: the contacts of every *sliding*
 wheel hop. MuJoCo's contact force is the solution of a convex problem (docs, Computation > Dual
 problem); for one steadily sliding contact it reduces to
@@ -82,7 +82,7 @@ class MujocoSettings(EngineSettings):
     # impedance the wheel pairs' friction rows get via impratio, see _wheel_pairs: parked creep at
     # 0.8 atan(mu) 0.27 mm/s at 0.98, 0.71 at 0.95, 1.6 at 0.90 (MuJoCo's default contact: 6.6)
     wheel_friction_impedance: Annotated[float, Field(gt=0, lt=1)] = 0.98
-    # Issue 20: lateral / longitudinal friction ratio of the driven wheels' ground pairs (1: the
+    # Lateral / longitudinal friction ratio of the driven wheels' ground pairs (1: the
     # default, isotropic, unchanged). A pair's friction[0] and [1] act along its contact frame's two
     # tangents; MuJoCo orients them for a capsule on a plane along the capsule's axis, but fixes
     # them to the world for a cylinder (measured, MuJoCo 4.0.0; google-deepmind/mujoco#67). So with
@@ -124,17 +124,17 @@ class MujocoEngine(Adapter):
     calibratable = {
         "friction": FRICTION,
         # Contact softness (solimp d of the wheel pairs): 0.005-0.1 is the range the adapter was
-        # measured over in issue 9 (config comment: same gains); 0.015 gives 1.5 mm resting sag.
+        # measured over when it was set up (config comment: same gains); 0.015 gives 1.5 mm resting sag.
         "wheel_contact_impedance": Calibratable(
-            0.005, 0.1, log=True, why="the range measured in issue 9 (MujocoSettings comment)"
+            0.005, 0.1, log=True, why="the range measured when the adapter was set up (MujocoSettings comment)"
         ),
         # Friction softness (impedance of the friction rows via impratio): from 0.8, softer friction
         # rows that let a sticking contact creep more, to 0.995, stiffer than the 0.98 chosen in
-        # issue 9 (config comment: parked creep 0.27 against 6.6 for MuJoCo's default contact).
+        # the adapter's set-up (config comment: parked creep 0.27 against 6.6 for MuJoCo's default contact).
         "wheel_friction_impedance": Calibratable(
             0.8, 0.995, why="from MuJoCo-default-like creep (0.8) to near-rigid 0.995"
         ),
-        # the turning parameter (issue 20): base.FRICTION_RATIO, the adapter's friction_ratio
+        # the turning parameter: base.FRICTION_RATIO, the adapter's friction_ratio
         "friction_ratio": FRICTION_RATIO,
     }
     name = "mujoco"

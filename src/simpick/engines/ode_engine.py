@@ -61,7 +61,7 @@ class OdeEngine(Adapter):
         # Global constraint force mixing (the softness of every constraint, contacts included): two
         # decades either side of ODE's and Webots' default 1e-5 (the ODE manual: larger is softer).
         "cfm": Calibratable(1.0e-7, 1.0e-3, log=True, why="two decades either side of the 1e-5 default"),
-        # the turning parameter (issue 20): base.FRICTION_RATIO, the adapter's friction_ratio
+        # the turning parameter: base.FRICTION_RATIO, the adapter's friction_ratio
         "friction_ratio": FRICTION_RATIO,
     }
 

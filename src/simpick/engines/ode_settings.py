@@ -20,7 +20,7 @@ class OdeSettings(EngineSettings):
     # gravel strip 26 000 against 20 400. Both pass the conformance suite. The exact solver now and
     # then prints "LCP internal error, s <= 0" (a degenerate pivot it recovers from; 4 times in 10 s
     # on the bumps strip); the adapter counts these and logs them instead of letting them reach stderr.
-    # Issue 17: only "quick" (50 iterations, with friction_direction_min_slip 5 mm/s) passes every
+    # Only "quick" (50 iterations, with friction_direction_min_slip 5 mm/s) passes every
     # validation case: sliding down a slope at 45 degrees to the robot it yaws 0.0003 rad in 3 s and
     # slides at 1.015 m/s^2 (Coulomb 1.016; dWorldStep: 0.27 rad, 0.975). Its turning gains 0.478-0.491
     # at mu 0.8 / 0.2, left and right within 0.01 of each other, the same at every start heading.
@@ -56,7 +56,7 @@ class OdeSettings(EngineSettings):
     quadtree_cell: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 0.4  # m, finest cell (space above)
     # "plane" leaves fdir1 to ODE, which takes dPlaneSpace of the normal: on flat ground the
     # world's x and y. A wheel sliding diagonally to them then meets friction up to sqrt(2) mu N,
-    # not opposite its slip, and the skid-steered Husky hardly turns (issue 9, validation cases,
+    # not opposite its slip, and the skid-steered Husky hardly turns (validation cases,
     # 6 s, mu 0.8): yaw-rate gain 0.115 at (v, w) = (0, 0.5), 0.207 at (0.5, 0.5), 0.028 at
     # (0.5, 0.2); mu 0.2: 0.219 / 0.388; Coulomb 0.478. Commanded to spin, it drove forward at
     # 0.135 m/s instead (the heavier right wheels rolled, the left ones slid). Parked on a
@@ -78,7 +78,7 @@ class OdeSettings(EngineSettings):
     # with 0.014 rad of yaw. Not cured: on a slope at 45 degrees to the robot it slides at 0.975
     # (4 % slow) and yaws 0.27 rad in 3 s (0.036 rad per metre); the other three engines yaw
     # < 0.01 rad there (validation case incline_slide_diagonal). With the quick stepper it does not
-    # (0.0003 rad, 1.015 m/s^2; issue 17, stepper above).
+    # (0.0003 rad, 1.015 m/s^2; stepper above).
     friction_direction: Literal["coulomb", "slip", "plane"] = "coulomb"
     # m/s, the stick/slip threshold of "coulomb" (below it fdir1 is dPlaneSpace's and both rows
     # hold). It must exceed the creep that ODE's constraint softness allows a sticking contact
@@ -86,13 +86,13 @@ class OdeSettings(EngineSettings):
     # sliding, the cross row is freed and the parked robot creeps 3.4 mm/s. 1e-3 and 3e-3 gave
     # identical validation figures with dWorldStep. The quick stepper's sticking contacts creep
     # faster: at 1e-3 the robot parked on the 0.8 atan(mu) slope crept 2.7 mm/s, at 5e-3 0.32 mm/s
-    # (config.yaml: 5e-3 with "quick", issue 17).
+    # (config.yaml: 5e-3 with "quick").
     friction_direction_min_slip: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 1e-3
     # force-dependent slip of terrain contacts, (m/s)/N on both friction rows (ODE's
     # dContactSlip1/2: a contact slides at slip x friction force); Gazebo exposes it as
     # <slip1>/<slip2> and users tune it for skid-steer turning. 0: off (ODE's default).
     contact_slip: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.0
-    # Issue 20: lateral / longitudinal friction ratio of the driven wheels' contacts, in each
+    # Lateral / longitudinal friction ratio of the driven wheels' contacts, in each
     # wheel's frame (longitudinal = the rolling direction, normal x the hinge axis). 1: isotropic
     # (the default, today's behaviour, bit-identical). ODE's own anisotropy is mu along fdir1 and
     # mu2 across it, each row bounded on its own: a box, not Coulomb's ellipse. With

@@ -23,13 +23,13 @@
 - IMU: none in PhysX; :func:`simpick.engines.kinematics.imu_from_kinematics` from base_link kinematics. PhysX
   reports a link's velocity at its centre of mass, converted here to base_link's origin.
 
-Three corrections of ours (issues 19, 18): PhysX gives every articulation link 0.05 /s of linear
+Three corrections of ours: PhysX gives every articulation link 0.05 /s of linear
 and angular damping by default (a robot coasting on frictionless ground lost 1.3 N of momentum),
 set to 0 here; every articulation joint a friction coefficient of 0.05, which no URDF asks for (a
 caster dragged: the diff-drive robot's locked-wheel slide +6.3 % against +3.0 % without), set to 0;
 and the wheel cylinders become turned convex prisms (``PhysxSettings.wheel_prisms``).
 
-Skid-steer turning (issue 19). With the set-up Isaac Lab uses (TGS, 4 position / 0 velocity
+Skid-steer turning. With the set-up Isaac Lab uses (TGS, 4 position / 0 velocity
 iterations, implicit velocity drives) the Husky turns at a yaw-rate gain of 0.103 at (v, w) =
 (0.5, 0.5) on mu 0.8, 0.191 in a spin and 0.081 at (0.5, 0.2), against the Coulomb 0.478 (the
 validation cases, 6 s, second half); the same from headings 0 / 22.5 / 45 deg (0.103 / 0.102 /
@@ -218,7 +218,7 @@ class PhysxEngine(Adapter):
 
         def material(mu: float):  # averaged with the robot's 0: the contact gets mu
             # SAPIEN 3.0.3's PhysxMaterial has static, dynamic friction and restitution only: no
-            # anisotropic (lateral/longitudinal) friction to set (issue 20)
+            # anisotropic (lateral/longitudinal) friction to set
             return px.PhysxMaterial(2 * mu, 2 * mu, 0.0)
 
         terrain = scenario.terrain

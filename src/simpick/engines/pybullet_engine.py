@@ -10,7 +10,7 @@ Two Bullet habits the adapter undoes:
 - contact friction is the *product* of the two bodies' coefficients, so wheels get 1.0 and
   the terrain carries the whole coefficient.
 
-Skid-steer turning (issue 9; measurements in the issue note). Bullet's rigid contacts leave the
+Skid-steer turning (measured through this adapter, mu 0.8). Bullet's rigid contacts leave the
 four wheel loads statically indeterminate and its solver picks a warped split (at rest
 FL/FR/RL/RR 41/236/138/140 N for the rigid-body 105/172/105/173 N); in a long spin the Husky then
 locks at about 70 deg of yaw and stops turning. Compliant contacts (PyBulletSettings contact_stiffness /
@@ -24,7 +24,7 @@ wheels along the world axes the friction leans sideways (measured 25-57 deg off 
 yaw-rate gain falls to ~0.11; with the wheels at 45 deg to the axes both rows see the same mass
 and the gain is 0.51 (the Coulomb value for Bullet's own one-edge contact layout, 0.537). The gain
 thus varies with heading with a period of 90 deg (long-run mean ~0.26 for 0.478). Upstream:
-bullet3 PR #4539 (open) and issue #2590. No PyBullet setting changes it: enableConeFriction=0
+bullet3 PR #4539 (open) and bullet3 issue #2590. No PyBullet setting changes it: enableConeFriction=0
 (world-aligned pyramid) over-turns (0.69, |f| up to 1.1 mu N), the Dantzig MLCP solver, friction
 anchors, 200 solver iterations and mesh cylinders leave it; useMaximalCoordinates collapses the
 URDF into one rigid body without wheel joints. Also: a rolling implicit cylinder touches the plane
@@ -57,7 +57,7 @@ class PyBulletSettings(EngineSettings):
     # Four rigid wheel contacts are statically indeterminate and Bullet's rigid solver picks a
     # warped load split: at rest FL/FR/RL/RR = 41/236/138/140 N against 105/172/105/173 N for a
     # rigid body on equally stiff contacts (simpick.coulomb), which cut the skid-steer yaw-rate
-    # gain (issue 9: 0.415/0.342/0.113 at (v,w) = (0,.5)/(.5,.5)/(.5,.2), mu 0.8). With equal
+    # gain (0.415/0.342/0.113 at (v,w) = (0,.5)/(.5,.5)/(.5,.2), mu 0.8). With equal
     # spring-dampers the loads are 106/171/107/171 N and the gain 0.443/0.443/0.173 (8 s from
     # heading 0; it now swings 0.11-0.51 with the heading: Bullet's friction directions, see
     # the module docstring), and a long spin no longer locks up. 0: rigid contacts. 1e6 N/m: ~0.14 mm
@@ -69,9 +69,9 @@ class PyBulletSettings(EngineSettings):
     contact_damping: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 5.0e3
     # Torsional ("spinning") friction of the robot's links, m: Bullet combines it with the
     # ground's friction (robot spinning x ground mu), a torque of that x the normal force
-    # resisting a contact's spin about its normal. 0: none (the set-up before issue 11).
+    # resisting a contact's spin about its normal. 0: none (the set-up before calibration).
     spinning_friction: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.0
-    # Issue 20: lateral / longitudinal friction ratio of the driven wheels: changeDynamics
+    # Lateral / longitudinal friction ratio of the driven wheels: changeDynamics
     # anisotropicFriction on each wheel link, in the link's local frame, with the component along
     # the wheel's joint axis set to this ratio (Bullet's btCollisionObject::m_anisotropicFriction
     # scales each friction direction's local components before the solve; it does not renormalise
@@ -124,12 +124,12 @@ class PyBulletEngine(Adapter):
         # spin (sd 20 N, PyBulletSettings above); 1e7 gives the gains of 1e6 within 0.001, so the range
         # covers every distinct behaviour. Damping stays at its setting.
         "contact_stiffness": Calibratable(
-            2.0e5, 1.0e7, log=True, why="1e5 N/m oscillates in a spin; 1e7 = 1e6 within 0.001 (issue 9)"
+            2.0e5, 1.0e7, log=True, why="1e5 N/m oscillates in a spin; 1e7 = 1e6 within 0.001"
         ),
         # Torsional friction, m (x mu x normal force): 0 to 0.05 m, under half the wheel's
         # 0.114 m width, the largest lever a contact patch across the wheel could give.
         "spinning_friction": Calibratable(0.0, 0.05, why="0 to under half the 0.114 m wheel width"),
-        # the turning parameter (issue 20): base.FRICTION_RATIO, the adapter's friction_ratio
+        # the turning parameter: base.FRICTION_RATIO, the adapter's friction_ratio
         "friction_ratio": FRICTION_RATIO,
     }
     name = "pybullet"
@@ -159,7 +159,7 @@ class PyBulletEngine(Adapter):
         # refresh on every step (perf, gravel: computeAccelerationsArticulatedBodyAlgorithmMultiDof
         # alone 12 % of the run); asleep, a static rigid body also skips the AABB refresh and
         # PyBullet's transform notifications (another quarter of a gravel run). Same shapes, poses
-        # (read back bit-identical) and friction; issue 12 measurements, bare loop, medians, shared
+        # (read back bit-identical) and friction; measured on the bare loop, medians, shared
         # 2-core machine, alternated runs:
         # - stones as rigid bodies: gravel 3.2 k -> 8.3 k steps/s (n 5), traces bit-identical on
         #   all six lab runs; asleep as well: 7.6 k -> 12.0 k (n 5);
@@ -168,7 +168,7 @@ class PyBulletEngine(Adapter):
         # Stones as rigid bodies alone change nothing (bit-identical lab traces); asleep, and boxes
         # as rigid bodies, the traces are not bit-identical: they first part mid-run at roundoff
         # level (bumps straight: 7e-18 m at step 1614; gravel straight: 1e-9 m at step 2456) and
-        # then grow as any roundoff does over bumps and stones. Against the adapter before issue 12,
+        # then grow as any roundoff does over bumps and stones. Against the adapter with multibody obstacles,
         # the IMU statistics at 100 Hz (max |diff| over axes; in brackets the same for three 1e-9 m
         # start shifts of the old adapter) differ as little as a nanometre start shift makes them:
         #   run            accel mean        accel range     gyro mean          gyro range
@@ -236,7 +236,7 @@ class PyBulletEngine(Adapter):
                 pb.setJointMotorControlArray(
                     body, passive, pb.VELOCITY_CONTROL, forces=[0.0] * len(passive), physicsClientId=cid
                 )
-            # contact_stiffness 0: Bullet's rigid contacts (the adapter before issue 9)
+            # contact_stiffness 0: Bullet's rigid contacts (the adapter before compliant contacts)
             compliance = (
                 {"contactStiffness": settings.contact_stiffness, "contactDamping": settings.contact_damping}
                 if settings.contact_stiffness > 0
@@ -271,7 +271,7 @@ class PyBulletEngine(Adapter):
 class PyBulletWorld:
     """One PyBullet client (simpick.engines.base.World). Per step, PyBullet's tuples are kept as they
     come and made arrays once after the run: four numpy row assignments a step cost ~3 us, a tenth
-    of a grass step (job/bare 0.87, issue 12)."""
+    of a grass step (job/bare 0.87)."""
 
     def __init__(self, pb, cid: int, bodies: list[int], wheel_index: list[int], scenario: Scenario):
         self.pb, self.cid, self.bodies, self.wheel_index = pb, cid, bodies, wheel_index

@@ -1,4 +1,4 @@
-"""How the real robot turns: its yaw-rate gain against the command (issue 20, point 0).
+"""How the real robot turns: its yaw-rate gain against the command.
 
 The rigid Coulomb model (:mod:`simpick.coulomb`) predicts one gain for a given turn radius,
 whatever the speed, the size of the wheel-speed difference and the friction coefficient: its
@@ -176,7 +176,7 @@ def turning_summary(windows: pd.DataFrame) -> pd.DataFrame:
 
 
 def with_equivalents(summary: pd.DataFrame, layout, track: float, separation: float) -> pd.DataFrame:
-    """The summary with, per class, what its median gain means for a user (issue 20):
+    """The summary with, per class, what its median gain means for a user:
     ``separation_multiplier``, the ROS diff_drive_controller wheel_separation_multiplier that makes
     a controller on the robot's geometric wheel separation turn it as commanded, and
     ``coulomb_ratio``, the lateral/longitudinal friction ratio at which anisotropic Coulomb gives

@@ -25,7 +25,7 @@ optional (a section whose input is absent says so instead of showing data)
     ``replay_per_window``, ``replay_per_test``, ``replay_summary``, ``replay_pairwise``,
     ``replay_imu_errors``, ``real_logs`` (canonical logs) and ``replay_traces``
     calibration (rules/calibration.smk): ``calibration`` (its summary.csv), ``calibration_turning`` and
-    ``calibration_target`` (turning.csv, target.csv: held-out yaw-rate gains and issue 20's target)
+    ``calibration_target`` (turning.csv, target.csv: held-out yaw-rate gains and the turning target)
 
 ``params``: ``weights`` (metric -> weight; the paper's defaults when absent), ``config``
 (the slice of the study config the report reads: terrains, motions, robot track; shown under

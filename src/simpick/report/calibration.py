@@ -104,7 +104,7 @@ def turning_rows(turning: pd.DataFrame | None, engines: list[str]) -> list[dict]
 
 
 def target_summary(target: pd.DataFrame | None) -> dict[str, Any] | None:
-    """Issue 20's target as the summary judged it (simpick.studies.calibration.target_table): the best
+    """The turning target as the summary judged it (simpick.studies.calibration.target_table): the best
     calibrated engine, whether it meets the target, and every calibrated model's figures."""
     if target is None or target.empty:
         return None

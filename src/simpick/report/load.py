@@ -394,8 +394,8 @@ class ReportData:
     sweep: pd.DataFrame | None = None
     # calibration on training runs, judged on test runs (rules/calibration.smk), when run
     calibration: pd.DataFrame | None = None
-    calibration_turning: pd.DataFrame | None = None  # held-out yaw-rate gains (issue 20)
-    calibration_target: pd.DataFrame | None = None  # issue 20's target, per calibrated model
+    calibration_turning: pd.DataFrame | None = None  # held-out yaw-rate gains
+    calibration_target: pd.DataFrame | None = None  # the turning target, per calibrated model
     # real robot data: the committed segment table, and per set ("segments", "replay") its tables
     segments: pd.DataFrame | None = None
     segments_provenance: dict | None = None

@@ -523,7 +523,7 @@ def real_section(
         if lacking:
             missing.append(f"{SET_TITLES[s]}: no {', '.join(f'{s}_{t}' for t in lacking)} input")
     given = bool(sets) or data.segments is not None
-    # a source with no case, or none that any model completed: a normal outcome, said, not a crash (issue 21)
+    # a source with no case, or none that any model completed: a normal outcome, said, not a crash
     empty = []
     for s_ in sets:
         pt = data.real[s_].get("per_test")

@@ -25,9 +25,9 @@ def start_heading(seed: int, dataset: object, terrain_class: object, run: object
     seed and the case's names, the same for every model (so paired comparisons stay paired), a
     different one for every case. Mechanics says a robot on isotropic flat ground turns the same
     whichever way it faces; an engine that does not (PyBullet's gain has a 90-degree period, 0.10
-    along the world axes, 0.54 at 45 degrees: issue 17) then shows that as spread over the runs,
+    along the world axes, 0.54 at 45 degrees) then shows that as spread over the runs,
     which every interval over runs carries, instead of a bias fixed by one chosen start (every case
-    started at heading 0, PyBullet's worst, before issue 17). One heading per case costs no extra
+    started at heading 0, PyBullet's worst, before the start headings were drawn). One heading per case costs no extra
     simulation; several per case would multiply the real-data simulation by their number."""
     u = stable_seed(int(seed), "start heading", str(dataset), str(terrain_class), str(run), str(case)) / 2.0**32
     return float(2.0 * np.pi * u)

@@ -1,4 +1,4 @@
-"""Calibrate each engine on some real runs, judge it on the others (issue 11).
+"""Calibrate each engine on some real runs, judge it on the others.
 
 A user tunes an engine's contact parameters to their robot and ground before trusting it. This
 module asks: after the best calibration each engine allows, how close does it get on runs it
@@ -20,7 +20,7 @@ has not seen, and at what cost (after Acosta, Posa et al. 2022, who did this for
   for the full replay, a run (RMS of the difference of the two signals after the same 2 Hz
   low-pass, :func:`simpick.compare.realmetrics.aligned_rmse`, as the replay metrics). A unit the engine
   fails (health check) counts :data:`FAILED_UNIT` instead.
-  Constant offsets no engine can model (issue 20: an accelerometer bias, a slope's g sin(angle))
+  Constant offsets no engine can model (an accelerometer bias, a slope's g sin(angle))
   are removed from the longitudinal-acceleration term: on a replayed run it is the RMS of the
   low-passed difference less its mean over the run; on a committed segment, whose real table
   keeps only window means under a constant command (where the true acceleration is zero, so the
@@ -81,7 +81,7 @@ def split_runs(units: pd.DataFrame, test_fraction: float, seed: int) -> pd.DataF
     single run keeps it for training (nothing to test on). Every unit of a run goes where its
     run goes. ``units`` needs columns terrain_class, run, unit.
 
-    With a boolean column ``turns`` (a run turns under a steady command: issue 20), the runs that
+    With a boolean column ``turns`` (a run turns under a steady command), the runs that
     turn and those that do not are split apart, each as above: the turning parameters are then
     calibrated on turning runs and judged on others, where a class has two or more. (Unstratified,
     the seed put every turning run of sandy loam in the test set and its training runs drove
@@ -243,7 +243,7 @@ def replay_errors(log, urdf: str, params: dict, duration: float | None, steady: 
         out["error_accel_x_offset_free"] = realmetrics.aligned_rmse(
             real["ax"], sim["ax"].to_numpy(), rate, offset_free=True
         )
-        # the steady yaw-rate gain (issue 20): in the log's steady-command turning windows inside the
+        # the steady yaw-rate gain: in the log's steady-command turning windows inside the
         # compared seconds (simpick.real.turning.turning_windows, the real turning figure's windows), the
         # mean yaw rate over the kinematic one, simulated and real, averaged over the run's windows.
         # Not a fit over every turning sample: the real yaw rate lags a changed command by ~0.3 s, which
@@ -263,7 +263,7 @@ def objective_terms(row: dict, scales: dict) -> float:
     """One unit's contribution to the objective (dimensionless): the yaw-rate error and the
     offset-free longitudinal-acceleration error (module docstring), each over its scale, plus, on a
     unit that turns under a steady command, the steady yaw-rate gain error over
-    ``scales['yaw_rate_gain']`` (issue 20: the gain gets a weight of its own, not only through the
+    ``scales['yaw_rate_gain']`` (the gain gets a weight of its own, not only through the
     yaw rate, whose RMS over a whole run is dominated by transients)."""
     if row.get("status") != "ok" or not np.isfinite(row.get("error_yaw_rate", np.nan)):
         return FAILED_UNIT
@@ -701,7 +701,7 @@ def summary_job(
 ) -> None:
     """Rule calibration_summary: the summary, the units, the parameters found and, with ``turning``
     (the robot's track, the engines, calibration.target), the held-out turning table and the
-    target's verdict (issue 20); the wheels' geometric separation comes from ``urdf``."""
+    target's verdict; the wheels' geometric separation comes from ``urdf``."""
     frame = pd.concat([pd.read_csv(p, dtype={"run": str, "unit": str}) for p in evals], ignore_index=True)
     best = {}
     for path in bests:
@@ -737,7 +737,7 @@ def summary_job(
         )
 
 
-# --- turning on held-out runs (issue 20) ----------------------------------------------------------------
+# --- turning on held-out runs ---------------------------------------------------------------------------
 
 TARGET_POOL = "target classes"  # turning.csv's pooled rows: the held-out runs of calibration.target.classes
 TURNING_COLUMNS = [
@@ -851,7 +851,7 @@ def turning_table(
 def target_table(
     evals: pd.DataFrame, turning: pd.DataFrame, engines: list[str], target: dict, statistics: dict | None = None
 ) -> pd.DataFrame:
-    """Issue 20's target, per calibrated model, on the held-out runs of ``target['classes']``
+    """The turning target (calibration.target), per calibrated model, on the held-out runs of ``target['classes']``
     together: its per-run yaw-rate error as calibrated against (a) its own as configured and (b) the
     ``target['reference']`` model as configured (rigid Coulomb mechanics), each by the paired
     sign-flip test over runs at ``statistics.level``; and per class whether its mean calibrated gain

@@ -1,5 +1,5 @@
 """Engines against analytic mechanics: cases with known answers, run before any comparison
-with the real robot (issue 9; METHOD.md section 6).
+with the real robot (METHOD.md section 6).
 
 Every case runs the study's own robot, timestep, wheel-torque bound and engine settings on
 flat rigid ground with one Coulomb coefficient, and measures one or more *checks*: the
@@ -13,7 +13,7 @@ Case kinds (their parameters come from ``validation.cases`` in the config):
     steady yaw rate / commanded w over the second half of the run against
     :mod:`simpick.coulomb`'s quasi-static solution for this robot's contact layout and loads
     (the same for w and -w: mirroring a turn mirrors the COM offset, and the gain does not
-    depend on the offset's side). With ``friction_ratio`` r (issue 20) the engine's own
+    depend on the offset's side). With ``friction_ratio`` r the engine's own
     ``friction_ratio`` setting is set to r and the analytic value is the anisotropic (elliptic)
     Coulomb gain at r; an engine without that setting skips the case, saying so. Such cases stay
     out of the invariance checks and the gains table (which compare isotropic turning).
@@ -27,7 +27,7 @@ Case kinds (their parameters come from ``validation.cases`` in the config):
     (creep speed 0), above it slides down with g (sin a - mu cos a) and does not yaw.
 ``rest``      (mu) parked on level ground: accelerometer z = g, gyro 0, no creep.
 
-Invariance checks (issue 17). Flat isotropic ground has no preferred direction, and the
+Invariance checks. Flat isotropic ground has no preferred direction, and the
 mirror image of a turn is a turn the other way: an engine's gain must not depend on the
 start heading nor on the turn's direction. :func:`summarise` adds, from the yaw_gain cases
 themselves (no extra engine runs), per group of cases with the same (v, |w|, mu):
@@ -289,7 +289,7 @@ def run_case(setup: Setup, name: str, params: dict) -> dict:
     ):
         reason = (
             f"{setup.engine} has no anisotropic wheel friction here (no friction_ratio setting: "
-            "see the README's turning section)"
+            "see docs/engines.md, 'Turning like the real Husky')"
         )
     if reason is not None:  # skipped, with the reason in the summary and the report
         return {
