@@ -37,6 +37,15 @@ def test_defaults_are_the_measured_setups():
     assert genesis.wheel_kv == newton.wheel_drive_damping == 3000.0
 
 
+def test_newton_passes_the_mujoco_adapter_s_contact_defaults():
+    from simpick.engines import mujoco_engine, newton_engine
+
+    assert (newton_engine.MUJOCO_TIMECONST, newton_engine.MUJOCO_DMAX) == (
+        mujoco_engine.MUJOCO_TIMECONST,
+        mujoco_engine.MUJOCO_DMAX,
+    )
+
+
 def test_a_missing_venv_names_the_make_target(tmp_path, monkeypatch):
     monkeypatch.setenv("SIMPICK_ENGINE_VENVS", str(tmp_path))
     for engine in NEW:

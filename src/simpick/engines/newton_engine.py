@@ -65,6 +65,10 @@ from simpick.engines.isolated import IsolatedAdapter
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 SOLVERS = ("mujoco", "xpbd", "steel", "kamino")
+# MuJoCo's default contact reference (solref timeconst 0.02 s) and largest default impedance (solimp dmax 0.95),
+# from which the MuJoCo adapter derives its wheel pairs' friction reference; the same two MuJoCo defaults here,
+# so that a Newton job holds no other adapter's code (tests/test_new_engines.py checks they agree)
+MUJOCO_TIMECONST, MUJOCO_DMAX = 0.02, 0.95
 
 
 class NewtonSettings(EngineSettings):
@@ -225,8 +229,6 @@ class NewtonWorld:
         """The MuJoCo adapter's contact pairs (simpick.engines.mujoco_engine.MujocoEngine._wheel_pairs) through
         Newton's ``mujoco:pair_*`` attributes, which SolverMuJoCo writes as MuJoCo <pair> elements; each
         wheel's automatic contact with each ground shape is filtered out, so every contact is counted once."""
-        from simpick.engines.mujoco_engine import MUJOCO_DMAX, MUJOCO_TIMECONST
-
         d = self.settings.wheel_contact_impedance
         mu = builder.shape_material_mu
         for wheel in wheel_shapes:
