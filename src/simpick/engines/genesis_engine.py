@@ -37,6 +37,7 @@ from pydantic import Field
 
 from simpick.engines.base import FRICTION, BaseState, Calibratable, EngineSettings, Scenario
 from simpick.engines.isolated import IsolatedAdapter
+from simpick.inputs.terrain import Terrain
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 # Genesis takes a contact's friction as the larger of its two materials', never below 0.01, and refuses a
@@ -68,17 +69,17 @@ def _quat_wxyz(yaw: float) -> tuple[float, float, float, float]:
 _INITIALISED = False
 
 
-def _terrain_mjcf(terrain: dict):
+def _terrain_mjcf(terrain: Terrain):
     """The terrain's boxes and spheres as the static geoms of an MJCF worldbody, in a temporary file."""
     import tempfile
 
     geoms = []
-    for x, y, z, yaw, sx, sy, sz in terrain["boxes"]:
+    for x, y, z, yaw, sx, sy, sz in terrain.boxes:
         geoms.append(
             f'<geom type="box" size="{sx / 2} {sy / 2} {sz / 2}" pos="{x} {y} {z}" '
             f'quat="{" ".join(str(q) for q in _quat_wxyz(yaw))}"/>'
         )
-    for x, y, z, r in terrain["spheres"]:
+    for x, y, z, r in terrain.spheres:
         geoms.append(f'<geom type="sphere" size="{r}" pos="{x} {y} {z}"/>')
     f = tempfile.NamedTemporaryFile("w", suffix=".xml", prefix="simpick-terrain-")
     f.write('<mujoco model="terrain"><worldbody>' + "".join(geoms) + "</worldbody></mujoco>")
@@ -112,13 +113,13 @@ class GenesisWorld:
             gs.morphs.Plane(), material=gs.materials.Rigid(friction=max(scenario.ground_friction, MIN_FRICTION))
         )
         terrain = scenario.terrain
-        if terrain["boxes"] or terrain["spheres"]:
+        if terrain.boxes or terrain.spheres:
             # one fixed entity holding every shape (an MJCF worldbody): as one entity per shape, Genesis took
             # 285 s to build the gravel strip's 480 stones (measured, loaded machine)
             self._terrain_file = _terrain_mjcf(terrain)
             scene.add_entity(
                 gs.morphs.MJCF(file=self._terrain_file.name),
-                material=gs.materials.Rigid(friction=max(terrain["friction"], MIN_FRICTION)),
+                material=gs.materials.Rigid(friction=max(terrain.friction, MIN_FRICTION)),
             )
         robot = scenario.robot
         self.robots = []

@@ -138,7 +138,7 @@ class NewtonWorld:
             cfg=ShapeConfig(mu=scenario.ground_friction), width=0.0, length=0.0, custom_attributes=ground_attrs
         )
         terrain = scenario.terrain
-        for x, y, z, yaw, sx, sy, sz in terrain["boxes"]:
+        for x, y, z, yaw, sx, sy, sz in terrain.boxes:
             self.ground_shapes.append(builder.shape_count)
             builder.add_shape_box(
                 -1,
@@ -146,16 +146,16 @@ class NewtonWorld:
                 hx=sx / 2,
                 hy=sy / 2,
                 hz=sz / 2,
-                cfg=ShapeConfig(mu=terrain["friction"]),
+                cfg=ShapeConfig(mu=terrain.friction),
                 custom_attributes=ground_attrs,
             )
-        for x, y, z, r in terrain["spheres"]:
+        for x, y, z, r in terrain.spheres:
             self.ground_shapes.append(builder.shape_count)
             builder.add_shape_sphere(
                 -1,
                 xform=wp.transform((x, y, z), wp.quat_identity()),
                 radius=r,
-                cfg=ShapeConfig(mu=terrain["friction"]),
+                cfg=ShapeConfig(mu=terrain.friction),
                 custom_attributes=ground_attrs,
             )
 
