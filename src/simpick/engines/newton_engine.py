@@ -20,8 +20,9 @@ analytic Coulomb gain 0.478; left / right / left from 45 degrees):
   custom attributes: ``wheel_contact: pairs`` (the default) gives each wheel x ground shape a
   MuJoCo <pair> (``mujoco:pair_*``: solref, solreffriction, solimp, friction, condim 3, the MuJoCo
   adapter's values) and filters the wheel's automatic contact with that shape
-  (``add_shape_collision_filter_pair``), with the solver's ``impratio``: 0.460 / 0.470 / 0.460,
-  the MuJoCo adapter's 0.462 / 0.472 / 0.462, and its 1.5 mm resting sag. ``decoupled`` sets only
+  (``add_shape_collision_filter_pair``), with the solver's ``impratio``: 0.460 / 0.470 / 0.460 with
+  Newton's joint drive, 0.4617 / 0.4724 / 0.4617 with the MuJoCo actuators (torque bound below), the
+  MuJoCo adapter's 0.462 / 0.472 / 0.462, and its 1.5 mm resting sag. ``decoupled`` sets only
   the shape attributes (``mujoco:geom_solimp`` on wheels and ground, impratio), with which the
   friction rows keep the reference that solref implies (solreffriction exists only on pairs):
   0.44 / 0.45 / 0.44.
@@ -43,13 +44,14 @@ analytic Coulomb gain 0.478; left / right / left from 45 degrees):
 Every solver sees the same model; only ``solver`` and its own options change.
 
 Torque bound (conformance test: servos saturated at 2 N m, rolling without slip, 0.768 m/s^2):
-SolverMuJoCo gives 0.123 and Steel 0.096. Newton turns a joint's ``effort_limit`` into MuJoCo's
-joint-level ``actfrcrange`` (the drive's actuator has no forcerange), and the implicit integrator
-keeps the velocity drive's derivative (kv 3000) while the total is clamped: a saturated wheel is
-damped as if by 3000 N m s/rad. With kv 50 it gives 0.690. MuJoCo drops that derivative for an
-*actuator* forcerange, which the MuJoCo adapter uses (with an integrated-velocity servo); through
-Newton that would take MuJoCo general actuators (``mujoco:actuator_*`` attributes) instead of
-Newton's joint drives: not done yet. The study's 100 N m bound is not reached in the validation.
+with Newton's joint velocity drive (``wheel_drive: joint``) SolverMuJoCo gives 0.123 and Steel 0.096.
+Newton turns a joint's ``effort_limit`` into MuJoCo's joint-level ``actfrcrange`` (the drive's actuator
+has no forcerange), and the implicit integrator keeps the velocity drive's derivative (kv 3000) while
+the total is clamped: a saturated wheel is damped as if by 3000 N m s/rad (kv 50: 0.690). MuJoCo drops
+that derivative for an *actuator* forcerange, so under SolverMuJoCo the wheels are driven, as in the
+MuJoCo adapter, by MuJoCo <intvelocity> actuators through Newton's ``mujoco:actuator_*`` attributes
+(``wheel_drive: intvelocity``, the default): 0.771, and the turning gains 0.4617 / 0.4724 / 0.4617,
+the MuJoCo adapter's to four digits.
 """
 
 from __future__ import annotations
@@ -97,12 +99,42 @@ class NewtonSettings(EngineSettings):
     # issue's table was taken; the drive is implicit in MuJoCo and Steel, so a stiff gain is stable
     # and the wheels track their command within the torque bound.
     wheel_drive_damping: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 3000.0
+    # SolverMuJoCo's wheel drive. "intvelocity": a MuJoCo <intvelocity> actuator per wheel (Newton's
+    # mujoco:actuator_* attributes), the MuJoCo adapter's servo, bounded by the actuator's forcerange, whose
+    # saturated velocity derivative MuJoCo drops from the implicit step: torque-bound acceleration 0.771 m/s^2
+    # (analytic 0.768), gains 0.4617 / 0.4724 / 0.4617. "joint": Newton's joint velocity drive (what Isaac Lab
+    # configures), bounded by the joint's effort limit, which Newton writes as MuJoCo's joint-level actfrcrange:
+    # the implicit step keeps the drive's damping (wheel_drive_damping) while the total is clamped, so a
+    # saturated wheel is braked as by 3000 N m s/rad: 0.123 m/s^2. The other solvers always use the joint drive.
+    wheel_drive: Literal["intvelocity", "joint"] = "intvelocity"
+    # N m/rad, stiffness of the "intvelocity" servo (critically damped on the wheel's inertia): the MuJoCo
+    # adapter's wheel_servo_kp
+    wheel_servo_kp: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 1000.0
     # Constraint solver iterations: MuJoCo's 100 (None in Newton: MuJoCo's default), XPBD's 2,
     # Steel's 12, Kamino's own; 0 keeps each solver's own default.
     iterations: Annotated[int, Field(ge=0)] = 0
     # Steel: rows per articulation; 128 keeps every contact row of a four-wheel robot (32, the
     # default, drops rows: measured, the Husky sat 4.5 cm low).
     steel_constraint_max: Annotated[int, Field(ge=32)] = 128
+
+
+def _intvelocity(builder, joint: int, kp: float, bound: float) -> int:
+    """A MuJoCo <intvelocity> actuator on ``joint`` (its control: the speed, integrated into a position
+    setpoint; biasprm[2] 1: MuJoCo's dampratio, critically damped), force within +-``bound``; its row index."""
+    from newton.solvers import mujoco
+
+    return mujoco.add_actuator_general(
+        builder,
+        mujoco.ActuatorTarget.joint(joint),
+        dyntype="integrator",
+        gaintype="fixed",
+        biastype="affine",
+        gainprm=(kp,),
+        biasprm=(0.0, -kp, 1.0),
+        actlimited=False,  # a continuous joint: no setpoint range
+        forcerange=(-bound, bound),
+        forcelimited=True,
+    )
 
 
 def _yaw_quat_xyzw(yaw: float) -> tuple[float, float, float, float]:
@@ -161,6 +193,7 @@ class NewtonWorld:
 
         robot = scenario.robot
         self.base_bodies, wheel_dofs, wheel_shapes = [], [], []
+        self.actuators = []
         for x, y, yaw in scenario.starts:
             joints0, bodies0 = builder.joint_count, builder.body_count
             builder.add_urdf(
@@ -176,10 +209,15 @@ class NewtonWorld:
             for name in robot.wheel_joints:
                 j = labels[name]
                 dof = builder.joint_qd_start[j]
-                builder.joint_target_mode[dof] = int(newton.JointTargetMode.VELOCITY)
-                builder.joint_target_ke[dof] = 0.0
-                builder.joint_target_kd[dof] = settings.wheel_drive_damping
-                builder.joint_effort_limit[dof] = scenario.max_wheel_torque
+                if solver == "mujoco" and settings.wheel_drive == "intvelocity":
+                    builder.joint_target_mode[dof] = int(newton.JointTargetMode.NONE)
+                    builder.joint_target_ke[dof] = builder.joint_target_kd[dof] = 0.0
+                    self.actuators.append(_intvelocity(builder, j, settings.wheel_servo_kp, scenario.max_wheel_torque))
+                else:
+                    builder.joint_target_mode[dof] = int(newton.JointTargetMode.VELOCITY)
+                    builder.joint_target_ke[dof] = 0.0
+                    builder.joint_target_kd[dof] = settings.wheel_drive_damping
+                    builder.joint_effort_limit[dof] = scenario.max_wheel_torque
                 dofs.append(dof)
                 child = builder.joint_child[j]
                 wheel_shapes += [s for s in range(builder.shape_count) if builder.shape_body[s] == child]
@@ -276,6 +314,11 @@ class NewtonWorld:
         return newton.solvers.SolverKamino(model, config=config)
 
     def set_wheel_targets(self, speeds: np.ndarray) -> None:
+        if self.actuators:  # MuJoCo actuators: their controls, in the order they were added
+            ctrl = self.control.mujoco.ctrl.numpy()
+            ctrl[self.actuators] = np.asarray(speeds, dtype=np.float32).reshape(-1)
+            self.control.mujoco.ctrl.assign(ctrl)
+            return
         self.target[self.wheel_dofs.reshape(-1)] = np.asarray(speeds, dtype=np.float32).reshape(-1)
         self.control.joint_target_qd.assign(self.target)
 
