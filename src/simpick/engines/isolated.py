@@ -36,7 +36,7 @@ from typing import ClassVar
 import numpy as np
 
 from simpick.engines import runner
-from simpick.engines.base import BaseState, PhysicsRecord, Scenario
+from simpick.engines.base import BaseState, PhysicsRecord, Scenario, validated_commands
 
 # engine -> the Python module it needs
 MODULES = {"newton": "newton", "genesis": "genesis"}
@@ -180,16 +180,20 @@ class IsolatedAdapter(runner.Adapter):
         return RemoteWorld(self.name, scenario)
 
     def simulate(self, scenario: Scenario, wheel_commands) -> PhysicsRecord:
-        self.settings_model.of(scenario.settings, self.name)
         if in_process(self.name):
             return runner.simulate(_Native(self), scenario, wheel_commands)
-        return _Worker.of(self.name).call("simulate", scenario, np.asarray(wheel_commands, dtype=float))
+        return _Worker.of(self.name).call("simulate", scenario, self._checked(scenario, wheel_commands))
 
     def bare_loop(self, scenario: Scenario, wheel_commands) -> float:
-        self.settings_model.of(scenario.settings, self.name)
         if in_process(self.name):
             return runner.bare_loop(_Native(self), scenario, wheel_commands)
-        return _Worker.of(self.name).call("bare_loop", scenario, np.asarray(wheel_commands, dtype=float))
+        return _Worker.of(self.name).call("bare_loop", scenario, self._checked(scenario, wheel_commands))
+
+    def _checked(self, scenario: Scenario, wheel_commands) -> np.ndarray:
+        """The commands, with the scenario and settings checked here: bad input is the study's InputError
+        (naming the field), not an error text from the engine's process."""
+        self.settings_model.of(scenario.settings, self.name)
+        return validated_commands(scenario, wheel_commands)
 
 
 class _Native:
