@@ -19,7 +19,14 @@ from test_robot import write_robot
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def _drive(engine, robot, v, w, track, duration=1.5, torque=5.0):
+# The wheel servos whose gains are set on the Husky's wheel (spin inertia 0.044 kg m^2), scaled to the diff-drive
+# robot's 2.5e-4 kg m^2 as config/robots/diffbot.yaml scales MuJoCo's: Newton's intvelocity kp as MuJoCo's (20);
+# Genesis's velocity gain by the inertia ratio, 3000 -> 17. With the Husky's gains a saturated small wheel is
+# held by the drive's damping (Genesis: 2.50 of 8 rad/s, a locked-wheel slide braking at 0.05 m/s^2 for 2.30).
+DIFFBOT_SERVOS = {"newton": {"wheel_servo_kp": 20.0}, "genesis": {"wheel_kv": 17.0}}
+
+
+def _drive(engine, robot, v, w, track, duration=1.5, torque=5.0, settings=None):
     scenario = Scenario(
         robot=robot,
         terrain=flat_terrain(0.8),
@@ -27,6 +34,7 @@ def _drive(engine, robot, v, w, track, duration=1.5, torque=5.0):
         timestep=0.001,
         max_wheel_torque=torque,
         starts=((0.0, 0.0, 0.0),),
+        settings=settings or {},
     )
     commands = constant_commands(v, w, duration, 0.001, track, robot)
     return get_engine(engine).simulate(scenario, commands), commands
@@ -35,7 +43,7 @@ def _drive(engine, robot, v, w, track, duration=1.5, torque=5.0):
 @pytest.mark.parametrize("engine", list(ADAPTERS))
 def test_diff_drive_robot_drives_forward_and_turns_left(engine):
     bot = load_robot(ROOT / "resources" / "robot" / "diffbot.urdf.xacro")
-    record, commands = _drive(engine, bot, 0.4, 0.0, bot.track)
+    record, commands = _drive(engine, bot, 0.4, 0.0, bot.track, settings=DIFFBOT_SERVOS.get(engine))
     assert commands[0, 0, 1] < 0  # the mirrored right wheel is commanded backwards ...
     assert record.wheel_speed.shape == (record.steps, 2)
     # ... and turns so (its measured joint speed tracks the command), rolling the robot forward
@@ -48,7 +56,7 @@ def test_diff_drive_robot_drives_forward_and_turns_left(engine):
     half = record.steps // 2
     speed = np.linalg.norm(record.linear_velocity[half:, :2], axis=1).mean()
     assert speed / bot.rim_speeds(record.wheel_speed[half:]).mean() == pytest.approx(1.0, abs=0.02)
-    record, _ = _drive(engine, bot, 0.0, 1.0, bot.track)
+    record, _ = _drive(engine, bot, 0.0, 1.0, bot.track, settings=DIFFBOT_SERVOS.get(engine))
     yaw = np.unwrap(euler_rpy(record.quaternion)[:, 2])
     # a left spin at 1 rad/s, with no-slip kinematics: within 20 % of 1 rad/s over the last half
     rate = (yaw[-1] - yaw[len(yaw) // 2]) / (0.001 * (len(yaw) - 1 - len(yaw) // 2))
@@ -86,7 +94,7 @@ def test_a_caster_rolls_free_when_the_wheels_lock(engine):
         timestep=0.001,
         max_wheel_torque=config["robot"]["max_wheel_torque"],
         track=config["robot"]["track"],
-        settings=config.get("engines", {}).get(engine) or {},
+        settings=config.get("engines", {}).get(engine) or DIFFBOT_SERVOS.get(engine) or {},
     )
     (check,) = run_case(setup, "slide_mu0.3", {"kind": "slide", "v": 0.5, "mu": 0.3})["checks"]
     assert check["analytic_value"] == pytest.approx(2.30, abs=0.01)
@@ -117,7 +125,9 @@ def test_skid_robot_rests_and_drives_forward(engine, tmp_path):
     from test_robot import write_skid_robot
 
     robot = load_robot(write_skid_robot(tmp_path))
-    settings = {"wheel_servo_kp": 0.5} if engine == "mujoco" else {}
+    # Newton's intvelocity servo as MuJoCo's; Genesis's velocity gain: the Husky's 3000 x 2.1e-5 / 0.044
+    settings = {"mujoco": {"wheel_servo_kp": 0.5}, "newton": {"wheel_servo_kp": 0.5}, "genesis": {"wheel_kv": 1.4}}
+    settings = settings.get(engine, {})
     scenario = Scenario(
         robot=robot,
         terrain=flat_terrain(0.8),
