@@ -336,7 +336,7 @@ def _git_status() -> str:
     return run.stdout
 
 
-@pytest.mark.slow
+@pytest.mark.workflow
 def test_the_workflow_writes_the_drive_tables_of_a_named_folder(tmp_path):
     from conftest import snakemake, tiny_config, write_config
 

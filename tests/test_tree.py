@@ -428,6 +428,7 @@ def test_the_printed_tree_draws_every_leaf_at_a4_width(study):
     assert sorted(n for n in names if n in FACTS) == sorted(picks)
 
 
+@pytest.mark.workflow
 def test_the_rules_plan_the_tree_from_the_study_and_the_figure_from_the_weights(tmp_path):
     """A dry run: rule decision_tree reads the verdict's outcomes and gate with the lab's tables, and
     figure_tree the weighted table (so a weight edit reaches the figure, not the tree)."""

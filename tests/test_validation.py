@@ -193,7 +193,8 @@ def test_the_report_shows_left_right_and_headings_and_names_the_failed_check(tmp
         " ".join(_render({**inputs, **{k: str(v) for k, v in paths.items()}, "figures": [str(png)]}, PARAMS).split()),
     )
     ranking = text[: text.index('<h2 id="validation">')]
-    assert "failed</span> g_-0.5_0.0, left_right_v0.5_w0.5_mu0.8" in ranking
+    assert "failed</span> 3 cases" in ranking  # the ranking counts them; the validation section names them
+    assert "g_-0.5_0.0, left_right_v0.5_w0.5_mu0.8, headings_v0.5_w0.5_mu0.8" in text
     table = text[text.index('id="validation-gains"') :]
     table = table[: table.index("</table>")]
     # pybullet: left 0.48 mean of 0.46-0.50 over two headings, right 0.30 from one; spread 0.20 / 0.478

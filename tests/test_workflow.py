@@ -110,7 +110,7 @@ def test_weight_edit_reruns_only_scoring_and_report(study):
         write_config(workdir, config)
 
 
-@pytest.mark.slow  # starts Snakemake (a dry run on the module's study)
+@pytest.mark.workflow
 def test_margin_edit_reruns_only_the_verdict_and_the_report(study):
     workdir, config = study
     edited = yaml.safe_load(yaml.safe_dump(config))

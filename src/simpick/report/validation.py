@@ -8,7 +8,7 @@ from typing import Any
 import pandas as pd
 
 from simpick.report import figures
-from simpick.studies.validation import failures
+from simpick.score.mechanics import failures
 
 
 def _present(summary: pd.DataFrame, engines: list[str]) -> list[str]:

@@ -89,3 +89,14 @@ def recommendable(mechanics: pd.DataFrame, kinds: list[str]) -> dict[str, bool]:
         failed = {k for k in str(row["failed_kinds"] or "").split(";") if k and k != "nan"}
         out[row["engine"]] = bool(row["mechanics_cases"]) and not (failed & set(kinds))
     return out
+
+
+def failures(summary) -> dict[str, list[str]]:
+    """engine -> the cases it failed (each once), in case order; skipped cases are not failures."""
+    out: dict[str, list[str]] = {}
+    for row in summary.itertuples():
+        if row.status == "skipped":
+            continue
+        if not row.passed and row.case not in out.setdefault(row.engine, []):
+            out[row.engine].append(row.case)
+    return {e: cases for e, cases in out.items() if cases}

@@ -30,6 +30,7 @@ from pathlib import Path
 from typing import Any
 
 from simpick.errors import InputError
+from simpick.score.mechanics import failures
 
 SCHEMA = "simpick.tree/1"
 
@@ -183,8 +184,6 @@ KIND_TEXT = {
 def mechanics_question(summary_path: str, engines: Sequence[str]) -> Question:
     """Must it pass the analytic mechanics cases (results/validation/summary.csv)? An engine passes
     when it fails none of its cases; a skipped case (not applicable) is no failure."""
-    from simpick.studies.validation import failures
-
     summary = _read_csv(summary_path, ("engine", "case", "kind", "passed", "status"), "the validation summary")
     summary = summary[summary.engine.isin(engines)]
     failed = failures(summary)

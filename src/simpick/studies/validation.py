@@ -63,6 +63,7 @@ from simpick.engines.kinematics import euler_rpy, rotation_matrices
 from simpick.errors import InputError
 from simpick.inputs.motions import side_speeds
 from simpick.inputs.robot import RobotSpec, load_from_config
+from simpick.score.mechanics import failures  # noqa: F401 (the validation summary's readers import it here too)
 from simpick.simulate.imu import block_average
 from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
 from simpick.tables import write_csv
@@ -656,17 +657,6 @@ CASE_QUANTITY = {
     "incline": "slide_acceleration",
     "rest": "accel_z",
 }
-
-
-def failures(summary) -> dict[str, list[str]]:
-    """engine -> the cases it failed (each once), in case order; skipped cases are not failures."""
-    out: dict[str, list[str]] = {}
-    for row in summary.itertuples():
-        if row.status == "skipped":
-            continue
-        if not row.passed and row.case not in out.setdefault(row.engine, []):
-            out[row.engine].append(row.case)
-    return {e: cases for e, cases in out.items() if cases}
 
 
 def summarise_job(inputs: list[str], outputs: dict, tolerances: dict) -> None:
