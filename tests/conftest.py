@@ -113,14 +113,17 @@ subprocess.Popen.__init__ = _popen_init_checked
 # The two engines that step this robot at about real time (DART's NSGS friction solve, Drake's hydroelastic
 # contact: docs/benchmark.md) take half the CPU of the tests that start no workflow. A test run on either
 # is marked slow, so the fast tier (make test-fast: -m "not workflow and not slow") stays under two minutes
-# on two cores; the full suite (make test) runs them.
-SLOW_ENGINES = {"dart", "drake"}
+# on two cores; the full suite (make test) runs them. Newton and Genesis too: they run in venvs of their own,
+# which make test builds and make test-fast does not, and their tests add about 4.5 minutes (engine start-up
+# included: Genesis builds the gravel strip in 87 s).
+SLOW_ENGINES = {"dart", "drake", "newton", "genesis"}
 
 
 def pytest_collection_modifyitems(config, items):
     for item in items:
         params = item.callspec.params.values() if hasattr(item, "callspec") else ()
-        if item.path.name == "test_dart_engine.py" or any(isinstance(v, str) and v in SLOW_ENGINES for v in params):
+        slow_file = item.path.name in ("test_dart_engine.py", "test_new_engines.py")
+        if slow_file or any(isinstance(v, str) and v in SLOW_ENGINES for v in params):
             item.add_marker(pytest.mark.slow)
 
 
