@@ -114,8 +114,8 @@ subprocess.Popen.__init__ = _popen_init_checked
 # contact: docs/benchmark.md) take half the CPU of the tests that start no workflow. A test run on either
 # is marked slow, so the fast tier (make test-fast: -m "not workflow and not slow") stays under two minutes
 # on two cores; the full suite (make test) runs them. Newton and Genesis too: they run in venvs of their own,
-# which make test builds and make test-fast does not, and their tests add about 6 minutes on two cores (engine start-up
-# included: Genesis builds the gravel strip in 87 s).
+# which make test builds and make test-fast does not, and their tests add about 6 minutes on two cores
+# (engine start-up included: Genesis builds the gravel strip in 87 s).
 SLOW_ENGINES = {"dart", "drake", "newton", "genesis"}
 
 
