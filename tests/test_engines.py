@@ -550,7 +550,7 @@ def test_an_engine_that_is_not_installed_is_reported_with_the_fix(monkeypatch):
     module names itself and the pip extra that installs it; a failing library loader its message."""
     from simpick import engines
 
-    assert engines.unavailable(ADAPTERS) == {}  # this machine runs every engine
+    assert engines.unavailable(CONFIG["engines"]) == {}  # this machine runs every engine of the default study
     assert set(engines.REQUIREMENTS) == set(ADAPTERS)  # every adapter says what it needs
     monkeypatch.setitem(engines.REQUIREMENTS, "drake", "no_such_module_for_simpick")
     monkeypatch.setitem(engines.REQUIREMENTS, "ode", "simpick.engines._ode:no_such_loader")
@@ -558,6 +558,13 @@ def test_an_engine_that_is_not_installed_is_reported_with_the_fix(monkeypatch):
     assert set(found) == {"drake", "ode"}
     assert "'no_such_module_for_simpick' is not installed" in found["drake"] and "-e '.[drake]'" in found["drake"]
     assert found["ode"].startswith("AttributeError") and "no_such_loader" in found["ode"]
+
+
+@pytest.mark.slow  # the opt-in engines' environments are built by `make test`, not by `make test-fast`
+def test_every_registered_engine_is_installed_here():
+    from simpick import engines
+
+    assert engines.unavailable(ADAPTERS) == {}
 
 
 def test_every_engine_builds_and_steps_the_lab_gravel_strip(engine, robot):
