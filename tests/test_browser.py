@@ -189,6 +189,22 @@ def test_the_whole_tree_lists_every_leaf_ordered_by_the_weights(page, study):
     )
 
 
+def test_a_fact_with_markup_in_it_is_shown_as_text(browser, study, tmp_path):
+    tree = read_tree(study["tree"])
+    ros = next(q for q in tree["questions"] if q["key"] == "ros")
+    ros["facts"]["anvil"]["text"] = "</script><!-- <b>not bold</b>"
+    path = tmp_path / "page.html"
+    path.write_text(choose_page(tree, pd.read_csv(study["weighted"]), WEIGHTS))
+    page = browser.new_page()
+    page.goto(path.as_uri())
+    page.wait_for_selector("#simpick-choose[data-ready=true]")
+    for question, label in {"open_source": "Yes", "ros": "No", "closeness": "Yes, on its yaw-rate gain error",
+                            "real_time_factor": "No need"}.items():
+        answer(page, question, label)
+    assert "</script><!-- <b>not bold</b>" in page.inner_text(".sc-evidence")
+    page.close()
+
+
 def test_the_page_needs_no_network_and_hides_in_print(study):
     """Nothing is loaded from elsewhere; in print (WeasyPrint, the report's PDF) the interactive part
     is left out, where the static figure of the tree stands for it."""

@@ -24,8 +24,9 @@ TEMPLATES = Path(__file__).parent / "templates" / "interactive"
 
 
 def _json_for_script(value) -> str:
-    """JSON safe inside <script>: no "</" can close the element, no NaN (JSON has none)."""
-    return json.dumps(value, allow_nan=False, separators=(",", ":")).replace("</", "<\\/")
+    """JSON safe inside <script>: no "<" at all (no "</script>" or "<!--" can end or bend the
+    element; JSON reads the escape back as "<"), no NaN (JSON has none)."""
+    return json.dumps(value, allow_nan=False, separators=(",", ":")).replace("<", "\\u003c")
 
 
 def choose_data(tree: Mapping, weighted: pd.DataFrame, weights: Mapping[str, float]) -> dict:
