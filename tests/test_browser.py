@@ -198,8 +198,12 @@ def test_a_fact_with_markup_in_it_is_shown_as_text(browser, study, tmp_path):
     page = browser.new_page()
     page.goto(path.as_uri())
     page.wait_for_selector("#simpick-choose[data-ready=true]")
-    for question, label in {"open_source": "Yes", "ros": "No", "closeness": "Yes, on its yaw-rate gain error",
-                            "real_time_factor": "No need"}.items():
+    for question, label in {
+        "open_source": "Yes",
+        "ros": "No",
+        "closeness": "Yes, on its yaw-rate gain error",
+        "real_time_factor": "No need",
+    }.items():
         answer(page, question, label)
     assert "</script><!-- <b>not bold</b>" in page.inner_text(".sc-evidence")
     page.close()
