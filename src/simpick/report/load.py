@@ -12,7 +12,13 @@ import pandas as pd
 import yaml
 
 from simpick.errors import InputError
+from simpick.score.answer import ANSWER_COLUMNS
+from simpick.score.contributions import CONTRIBUTION_COLUMNS, DRIVER_COLUMNS
+from simpick.score.equivalence import OUTCOME_COLUMNS
 from simpick.score.scoring import METRICS
+
+# the first page's row per engine: every column but the per-metric ones, which the report reads from outcomes
+ANSWER_REQUIRED = tuple(c for c in ANSWER_COLUMNS if not c.endswith(("_outcome", "_diff", "_low", "_high", "_margin")))
 
 COLUMNS: dict[str, tuple[str, ...]] = {
     "weighted": (*METRICS, "total", "excluded", "rank"),
@@ -220,62 +226,12 @@ COLUMNS: dict[str, tuple[str, ...]] = {
     ),
     "verdict_metrics": ("run", "model", "metric", "value"),
     # the paper's weighted table cell by cell (simpick.score.contributions)
-    "contributions": (
-        "engine",
-        "rank",
-        "total",
-        "share",
-        "metric",
-        "label",
-        "group",
-        "weight",
-        "score",
-        "points",
-        "excluded",
-    ),
+    "contributions": tuple(CONTRIBUTION_COLUMNS),
     # what puts the leader ahead of each engine, metric by metric (simpick.score.contributions.drivers)
-    "drivers": ("engine", "leader", "gap", "metric", "label", "difference", "order"),
+    "drivers": tuple(DRIVER_COLUMNS),
     # the answer: every engine against the best per real-data metric, and the first page's row per engine
-    "verdict_outcomes": (
-        "metric",
-        "label",
-        "unit",
-        "engine",
-        "n_runs",
-        "mean",
-        "low",
-        "high",
-        "best",
-        "is_best",
-        "diff_to_best",
-        "diff_low",
-        "diff_high",
-        "margin",
-        "margin_basis",
-        "p_worse",
-        "p_equivalent",
-        "outcome",
-        "runs_needed",
-        "mechanics",
-        "mechanics_failed",
-        "mechanics_note",
-        "recommendable",
-    ),
-    "verdict_answer": (
-        "engine",
-        "mechanics",
-        "mechanics_failed",
-        "mechanics_cases",
-        "mechanics_note",
-        "gain_ratio",
-        "gain_ratio_calibrated",
-        "rtf",
-        "cpu_average",
-        "cpu_intense",
-        "paper_total",
-        "paper_rank",
-        "paper_flag",
-    ),
+    "verdict_outcomes": tuple(c for c in OUTCOME_COLUMNS if c != "note"),  # note: free text, optional
+    "verdict_answer": ANSWER_REQUIRED,
     "verdict_headings": (
         "model",
         "test",
