@@ -15,7 +15,8 @@ from simpick.config import problems
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.errors import InputError
 from simpick.inputs.robot import load_robot
-from simpick.studies.validation import QUANTITIES, Setup, failures, run_case, summarise
+from simpick.score.mechanics import failures
+from simpick.studies.validation import QUANTITIES, Setup, run_case, summarise
 
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
 TOLERANCES = CONFIG["validation"]["tolerances"]

@@ -142,7 +142,8 @@ def test_a_hung_validation_case_fails_it_and_the_cases_after_it(tmp_path):
     keep their results, and the summary lists every case."""
     import json
 
-    from simpick.studies.validation import failures, summarise
+    from simpick.score.mechanics import failures
+    from simpick.studies.validation import summarise
 
     names = ["a_rest", "b_slide", "c_rest"]
     _run_hanging(

@@ -63,7 +63,6 @@ from simpick.engines.kinematics import euler_rpy, rotation_matrices
 from simpick.errors import InputError
 from simpick.inputs.motions import side_speeds
 from simpick.inputs.robot import RobotSpec, load_from_config
-from simpick.score.mechanics import failures  # noqa: F401 (the validation summary's readers import it here too)
 from simpick.simulate.imu import block_average
 from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
 from simpick.tables import write_csv
