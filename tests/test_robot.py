@@ -185,11 +185,11 @@ def test_imu_link_from_config_or_base(tmp_path):
             + _joint("steer_joint", "base_link", "steer", "0.5 0 0", axis="0 0 1", kind="revolute")
             + _link("steered_wheel", 0.3, _wheel_collision())
             + _joint("steered_joint", "steer", "steered_wheel", "0 0 0"),
-            "joint 'steer_joint': is revolute: a steered or suspended wheel",
+            "joint 'steer_joint': is revolute: a steered or sprung wheel",
         ),
         (
             _link("leg", 0.1) + _joint("knee", "base_link", "leg", "0.5 0 0", kind="prismatic"),
-            "joint 'knee': is prismatic: a steering, suspension, leg or arm joint",
+            "joint 'knee': is prismatic: a steering, leg or arm joint",
         ),
         (
             _link("bare", 0.1) + _joint("bare_joint", "base_link", "bare", "0.5 0.2 0"),

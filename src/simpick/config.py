@@ -61,6 +61,15 @@ class RobotOverrides(Strict):
     imu_mount: tuple[Finite, Finite, Finite] | None = Field(None, description="m, the IMU's position in the base frame")
 
 
+class RobotCoupling(Strict):
+    """A linkage between two passive suspension joints the description leaves out (simpick.inputs.robot.Coupling)."""
+
+    joint: str = Field(description="the follower: a limited revolute rocker joint, as the URDF names it")
+    leader: str = Field(description="the rocker joint it follows")
+    multiplier: Finite = Field(-1.0, description="q(joint) = multiplier x q(leader) + offset; -1: a differential bar")
+    offset: Finite = Field(0.0, description="rad")
+
+
 class Robot(Strict):
     urdf: str = Field(
         description="the robot's URDF or xacro file (simpick.inputs.robot.load_robot), read once at planning time"
@@ -79,6 +88,11 @@ class Robot(Strict):
     )
     overrides: RobotOverrides | None = Field(
         None, description="figures that replace the description's for the controller and the mechanics"
+    )
+    couplings: list[RobotCoupling] | None = Field(
+        None,
+        description="suspension linkages the description leaves out (a differential bar between two rockers); "
+        "a <mimic> in the URDF declares the same",
     )
 
 

@@ -32,10 +32,26 @@ def _close(world: Any) -> None:
         close()
 
 
+def check_layout(adapter: Any, scenario: Scenario) -> None:
+    """Refuse, in one line, a robot layout the adapter does not simulate: passive suspension
+    (rockers, couplings) needs an adapter whose ``simulates_suspension`` is True."""
+    from simpick.errors import InputError
+
+    robot = scenario.robot
+    if robot.suspension and not getattr(adapter, "simulates_suspension", False):
+        raise InputError(
+            f"engines.{adapter.name}",
+            f"does not simulate passive suspension, and {robot.name} has "
+            f"{[s.joint for s in robot.suspension]}",
+            "leave this engine out of the study for this robot (engines:)",
+        )
+
+
 def simulate(adapter: Any, scenario: Scenario, wheel_commands) -> PhysicsRecord:
     """Step ``adapter``'s world under ``wheel_commands`` (steps, robots, driven wheels), rad/s."""
     commands = validated_commands(scenario, wheel_commands)
     steps = commands.shape[0]
+    check_layout(adapter, scenario)
     world = adapter.build(scenario)
     try:
         rollout = getattr(world, "rollout", None)
@@ -93,6 +109,7 @@ def bare_loop(adapter: Any, scenario: Scenario, wheel_commands) -> float:
     """Wall seconds to step the world as many steps as ``wheel_commands`` has, under its first
     command, recording nothing (the benchmark's engine speed)."""
     commands = validated_commands(scenario, wheel_commands)
+    check_layout(adapter, scenario)
     world = adapter.build(scenario)
     try:
         world.set_wheel_targets(commands[0])
@@ -114,6 +131,8 @@ class Adapter:
     name: str
     settings_model: type[EngineSettings]
     calibratable: dict[str, Calibratable]
+    # True once build() models RobotSpec.suspension (limits, damping, friction) and RobotSpec.couplings
+    simulates_suspension: bool = False
 
     def version(self) -> str:
         raise NotImplementedError

@@ -29,8 +29,15 @@ What is found and how:
   the config (``robot.overrides``); the overridden values feed the controller and the mechanics,
   the engines always simulate the description.
 
-Refused, with one message naming the joint or link: revolute, prismatic, planar or floating joints
-(steering, suspension, legs, arms), continuous joints whose child has no collision, wheel axes
+- **Passive suspension**: a ``revolute`` joint with finite limits and a lateral axis (a rocker or
+  bogie pitching about y) between the base and driven wheels is a :class:`Suspension` joint: free,
+  limited, with the description's ``<dynamics>`` damping and friction. Two such joints may be
+  coupled (:class:`Coupling`): by URDF's ``<mimic>`` on the follower, or by the config's
+  ``robot.couplings`` for a maker's description that leaves the linkage out (the Warthog's
+  differential bar). Every engine enforces the coupling with its own constraint.
+
+Refused, with one message naming the joint or link: prismatic, planar or floating joints, revolute
+joints that hold no wheel, are unlimited or not lateral (steering, legs, arms), continuous joints whose child has no collision, wheel axes
 that are neither lateral nor (for a swivel) vertical, no driven wheels (tracks), a driven wheel
 count other than 2, 4 or 6 or unequal sides, a description that is not XML.
 """
@@ -84,6 +91,38 @@ class Wheel:
     axis_sign: int  # +1: a positive joint speed rolls the robot towards base +x; -1: towards -x
     driven: bool  # True: velocity-servoed by the controller; False: passive (a caster)
     swivel: str | None = None  # a caster's vertical continuous joint, if it has one
+    mount: str | None = None  # the suspension joint nearest above the wheel (None: fixed to the base)
+
+
+@dataclass(frozen=True)
+class Suspension:
+    """A passive suspension joint (a rocker or bogie): revolute, limited, about a lateral axis,
+    between the base and driven wheels; free in every engine but for its limits, damping, friction
+    and any coupling. Figures in the base frame with every joint at zero."""
+
+    joint: str
+    link: str  # its child link
+    parent: str  # the link it hangs on (the base, or through fixed joints a link fixed to it)
+    position: tuple[float, float, float]  # joint origin in the base frame, m
+    axis: tuple[float, float, float]  # joint axis in the base frame (lateral: 0, +-1, 0)
+    lower: float  # rad
+    upper: float  # rad
+    damping: float  # N m s/rad, the description's <dynamics damping> (0 if absent)
+    friction: float  # N m, its <dynamics friction> (0 if absent)
+    wheels: tuple[str, ...]  # the wheel joints hanging below it
+
+
+@dataclass(frozen=True)
+class Coupling:
+    """Two suspension joints linked mechanically: ``q(joint) = multiplier * q(leader) + offset``
+    (rad). A differential bar between left and right rockers is multiplier -1: one rocker turns by
+    minus the other, and the chassis pitches by their mean."""
+
+    joint: str  # the follower
+    leader: str
+    multiplier: float
+    offset: float = 0.0
+    source: str = ""  # where it was declared: "<mimic> in FILE" or "robot.couplings"
 
 
 @dataclass(frozen=True)
@@ -127,6 +166,8 @@ class RobotSpec:
     notes: tuple[str, ...] = ()  # what was assumed or dropped while reading the description
     overridden: tuple[str, ...] = ()  # figures the config set instead of the description
     skids: tuple[Skid, ...] = ()  # base shapes that reach the ground (sliding supports)
+    suspension: tuple[Suspension, ...] = ()  # passive suspension joints, parents before children
+    couplings: tuple[Coupling, ...] = ()  # linked suspension joints
     # the rigid bodies and moving joints, fixed-joint chains folded (for an adapter that builds the
     # robot body by body rather than through its engine's URDF loader: ODE)
     rigid: RigidModel | None = field(default=None, compare=False, repr=False)
@@ -178,6 +219,39 @@ class RobotSpec:
         return (np.asarray(joint_speeds, dtype=float)[..., cols] * signs).mean(axis=-1)
 
 
+def _suspension_joint(tree: Tree, jname: str, where: str) -> Suspension | None:
+    """The joint as a passive suspension joint, or None when it is not one (see the module docstring)."""
+    j = tree.joints[jname]
+    if j.get("type") != "revolute":
+        return None
+    child = j.find("child").get("link")
+    below = [k for k in _subtree_joints(tree, child) if tree.joints[k].get("type") == "continuous"]
+    limit = j.find("limit")
+    if not below or limit is None:
+        return None
+    lower, upper = (float(limit.get(k, "0")) for k in ("lower", "upper"))
+    if not (math.isfinite(lower) and math.isfinite(upper) and lower < upper):
+        return None
+    _, rot = tree.pose[child]
+    axis = rot @ joint_axis(j, f"{where}: joint {jname!r}")
+    if abs(abs(axis[1]) - 1) > 1e-3:
+        return None
+    dynamics = j.find("dynamics")
+    position, _ = tree.pose[child]
+    return Suspension(
+        joint=jname,
+        link=child,
+        parent=j.find("parent").get("link"),
+        position=tuple(float(v) for v in position),
+        axis=tuple(float(round(v, 12)) + 0.0 for v in axis),
+        lower=lower,
+        upper=upper,
+        damping=float(dynamics.get("damping", "0")) if dynamics is not None else 0.0,
+        friction=float(dynamics.get("friction", "0")) if dynamics is not None else 0.0,
+        wheels=tuple(below),
+    )
+
+
 def _find_wheels(tree: Tree, where: str, declared: Mapping[str, str] | None) -> tuple[list[Wheel], list[str]]:
     notes = []
     wheels = []
@@ -187,14 +261,18 @@ def _find_wheels(tree: Tree, where: str, declared: Mapping[str, str] | None) -> 
         jw = f"{where}: joint {jname!r}"
         if kind == "fixed":
             continue
+        if kind == "revolute" and _suspension_joint(tree, jname, where) is not None:
+            continue
         if kind != "continuous":
             holds_wheel = any(tree.joints[k].get("type") == "continuous" for k in _subtree_joints(tree, child))
-            what = "a steered or suspended wheel" if holds_wheel else "a steering, suspension, leg or arm joint"
+            what = "a steered or sprung wheel" if holds_wheel else "a steering, leg or arm joint"
             raise InputError(
                 jw,
-                f"is {kind}: {what}, which simpick does not simulate (it studies rigid "
-                "wheeled bodies: driven and caster wheels on continuous joints)",
-                "make it a fixed joint in the description if it does not move while driving",
+                f"is {kind}: {what}, which simpick does not simulate (it studies wheeled robots: "
+                "driven and caster wheels on continuous joints, passive rockers on limited revolute "
+                "joints about a lateral axis)",
+                "make it a fixed joint in the description if it does not move while driving"
+                + (", or give a rocker finite <limit>s and a lateral axis" if holds_wheel and kind == "revolute" else ""),
             )
         axis_local = joint_axis(j, jw)
         snap = snapped_axis(axis_local)
@@ -229,7 +307,7 @@ def _find_wheels(tree: Tree, where: str, declared: Mapping[str, str] | None) -> 
         position, _ = tree.pose[child]
         # rolling without slip: the base moves at r w (a x z) for joint speed w about a
         axis_sign = 1 if axis[1] > 0 else -1
-        swivel = None
+        swivel = mount = None
         parent = j.find("parent").get("link")
         link_up = parent
         while link_up in tree.child_joint:
@@ -237,6 +315,8 @@ def _find_wheels(tree: Tree, where: str, declared: Mapping[str, str] | None) -> 
             if pj.get("type") == "continuous":
                 swivel = pj.get("name")
                 break
+            if pj.get("type") == "revolute" and mount is None:
+                mount = pj.get("name")
             link_up = pj.find("parent").get("link")
         y = float(position[1])
         side = "left" if y > 1e-3 else "right" if y < -1e-3 else "centre"
@@ -265,6 +345,7 @@ def _find_wheels(tree: Tree, where: str, declared: Mapping[str, str] | None) -> 
                 axis_sign=axis_sign,
                 driven=driven,
                 swivel=swivel,
+                mount=mount,
             )
         )
     if declared is not None:
@@ -360,7 +441,9 @@ def _subtree_joints(tree: Tree, link: str) -> list[str]:
     return out
 
 
-def _rigid_model(tree: Tree, where: str, wheels: list[Wheel], snapped_axes: dict) -> RigidModel:
+def _rigid_model(
+    tree: Tree, where: str, wheels: list[Wheel], snapped_axes: dict, suspension: tuple[Suspension, ...] = ()
+) -> RigidModel:
     """The bodies and moving joints of ``tree``: each moving link with every link hung on it by
     fixed joints folded in (breadth first, in the description's joint order)."""
 
@@ -397,10 +480,16 @@ def _rigid_model(tree: Tree, where: str, wheels: list[Wheel], snapped_axes: dict
         axis = snapped_axes.get(name)
         return parent, xyz, r, axis if axis is not None else joint_axis(joint, f"{where}: joint {name!r}")
 
-    driven = []
+    rockers, at = [], {}
+    for sus in suspension:  # parents before children
+        parent, xyz, r, axis = mount(tree.joints[sus.joint])
+        at[sus.link] = len(rockers)
+        rockers.append((xyz, r, axis, body(sus.link), at.get(parent, -1), sus))
+    driven, wheel_parents = [], []
     for wheel in (w for w in wheels if w.driven):
-        _, xyz, r, axis = mount(tree.joints[wheel.joint])
+        parent, xyz, r, axis = mount(tree.joints[wheel.joint])
         driven.append((xyz, r, axis, body(wheel.link)))
+        wheel_parents.append(at.get(parent, -1))
     passive, index = [], {}
     moving = [w for w in wheels if not w.driven]
     names = []
@@ -416,10 +505,58 @@ def _rigid_model(tree: Tree, where: str, wheels: list[Wheel], snapped_axes: dict
         child = joint.find("child").get("link")
         index[child] = len(passive)
         passive.append((xyz, r, axis, body(child), -1 if parent == tree.base else index[parent]))
-    return RigidModel(body(tree.base), tuple(driven), tuple(passive))
+    return RigidModel(body(tree.base), tuple(driven), tuple(passive), tuple(rockers), tuple(wheel_parents))
 
 
 OVERRIDABLE = ("wheel_radius", "track", "wheelbase", "mass", "com", "base_height", "imu_mount")
+
+
+def _couplings(
+    tree: Tree, where: str, suspension: tuple[Suspension, ...], declared: list[Mapping[str, Any]] | None
+) -> tuple[Coupling, ...]:
+    """The couplings the description's <mimic> elements and the config's robot.couplings declare."""
+    names = {s.joint for s in suspension}
+    found: list[Coupling] = []
+    for jname, j in tree.joints.items():
+        mimic = j.find("mimic")
+        if mimic is None:
+            continue
+        found.append(
+            Coupling(
+                joint=jname,
+                leader=mimic.get("joint", ""),
+                multiplier=float(mimic.get("multiplier", "1")),
+                offset=float(mimic.get("offset", "0")),
+                source=f"<mimic> in {where}",
+            )
+        )
+    for i, c in enumerate(declared or ()):
+        found.append(
+            Coupling(
+                joint=str(c["joint"]),
+                leader=str(c["leader"]),
+                multiplier=float(c.get("multiplier", -1.0)),
+                offset=float(c.get("offset", 0.0)),
+                source=f"robot.couplings[{i}]",
+            )
+        )
+    seen: set[str] = set()
+    for c in found:
+        field_ = c.source if c.source.startswith("robot.") else f"{where}: joint {c.joint!r} <mimic>"
+        bad = [j for j in (c.joint, c.leader) if j not in names]
+        if bad:
+            raise InputError(
+                field_,
+                f"couples {bad}, which are not passive suspension joints of {where} (those are: {sorted(names)})",
+                "couple two limited revolute rocker joints",
+            )
+        if c.joint == c.leader or not math.isfinite(c.multiplier) or c.multiplier == 0:
+            raise InputError(field_, f"{c.joint!r} follows {c.leader!r} x {c.multiplier}: not a linkage")
+        for j in (c.joint, c.leader):
+            if j in seen:
+                raise InputError(field_, f"joint {j!r} is coupled twice", "declare each linkage once")
+            seen.add(j)
+    return tuple(found)
 
 
 def load_robot(
@@ -428,12 +565,14 @@ def load_robot(
     imu_link: str | None = None,
     wheels: Mapping[str, str] | None = None,
     overrides: Mapping[str, Any] | None = None,
+    couplings: list[Mapping[str, Any]] | None = None,
 ) -> RobotSpec:
     """Read any wheeled robot's URDF or xacro; see the module docstring for the rules.
 
     ``imu_link``: the link whose origin is the IMU (default: the first link with "imu" in its
     name, else the base). ``wheels``: driven joint -> side ("left"/"right"), instead of finding
     them. ``overrides``: figures from :data:`OVERRIDABLE` replacing the description's.
+    ``couplings``: suspension linkages the description leaves out (joint, leader, multiplier, offset).
     """
     source = Path(urdf)
     where = str(source)
@@ -445,6 +584,21 @@ def load_robot(
             raise InputError("robot.wheels", f"sides must be 'left' or 'right', got {bad}")
     found, notes = _find_wheels(tree, where, wheels)
     notes = tree.notes + notes
+    # suspension joints, parents before children (the tree's breadth order from the base)
+    order = {}
+    queue = [tree.base]
+    while queue:
+        link = queue.pop(0)
+        for j in tree.children[link]:
+            order[j.get("name")] = len(order)
+            queue.append(j.find("child").get("link"))
+    suspension = tuple(
+        sorted(
+            (s for s in (_suspension_joint(tree, n, where) for n in tree.joints) if s is not None),
+            key=lambda s: order[s.joint],
+        )
+    )
+    linked = _couplings(tree, where, suspension, couplings)
 
     # mass and centre of mass of the whole robot, joints at zero
     mass, moment = 0.0, np.zeros(3)
@@ -522,13 +676,13 @@ def load_robot(
     for note in tree.notes:
         LOG.warning("%s: %s", where, note)
     # the rigid bodies of the file every engine loads: the description, or its normalised copy
-    rigid = _rigid_model(tree, where, found, tree.axes)
+    rigid = _rigid_model(tree, where, found, tree.axes, suspension)
     if needs_rewrite(root, source, tree):
         text, more = normalised_urdf(root, tree, root.get("name") or source.stem)
         notes += more
         file = write_cached(text)
         notes.append(f"loaded through a normalised copy ({file.name}): fixed links fused, visuals dropped")
-        rigid = _rigid_model(tree_of(ET.fromstring(text), str(file)), str(file), found, {})
+        rigid = _rigid_model(tree_of(ET.fromstring(text), str(file)), str(file), found, {}, suspension)
     return RobotSpec(
         urdf=file,
         source=source,
@@ -539,6 +693,8 @@ def load_robot(
         notes=tuple(notes),
         overridden=tuple(overridden),
         skids=skids,
+        suspension=suspension,
+        couplings=linked,
         rigid=rigid,
         **figures,
     )
@@ -550,11 +706,19 @@ def load_from_config(robot: Mapping[str, Any]) -> RobotSpec:
     if wheels is not None:
         wheels = {w["joint"]: w["side"] for w in wheels}
     overrides = {k: v for k, v in (robot.get("overrides") or {}).items() if v is not None}
-    return load_robot(robot["urdf"], imu_link=robot.get("imu_link"), wheels=wheels, overrides=overrides)
+    return load_robot(
+        robot["urdf"],
+        imu_link=robot.get("imu_link"),
+        wheels=wheels,
+        overrides=overrides,
+        couplings=robot.get("couplings"),
+    )
 
 
 __all__ = [
     "OVERRIDABLE",
+    "Coupling",
+    "Suspension",
     "RobotSpec",
     "SKID_REACH",
     "SNAP_TOLERANCE_DEG",

@@ -259,6 +259,12 @@ class RigidModel:
     # every other moving link (casters, swivels), parents before children: (joint position and
     # rotation in the parent body's frame, axis, Body, parent: -1 the chassis, else an index into this)
     passive: tuple = ()
+    # passive suspension links (rockers), parents before children: (joint position and rotation in
+    # the parent body's frame, axis, Body, parent: -1 the chassis, else an index into this,
+    # simpick.inputs.robot.Suspension)
+    suspension: tuple = ()
+    # per driven wheel (command order), the body it hangs on: -1 the chassis, else an index into suspension
+    wheel_parents: tuple = ()
 
 
 # A base collision whose lowest point is within this of the ground (robot level on its wheels) is a
@@ -403,7 +409,7 @@ def normalised_urdf(root, tree: Tree, name: str) -> tuple[str, list[str]]:
         ET.SubElement(new, "origin", {"xyz": fmt(pos), "rpy": fmt(matrix_rpy(rot))})
         axis = tree.axes.get(jname)
         ET.SubElement(new, "axis", {"xyz": fmt(joint_axis(j, jname) if axis is None else axis)})
-        for tag in ("limit", "dynamics"):
+        for tag in ("limit", "dynamics", "mimic"):
             if j.find(tag) is not None:
                 new.append(j.find(tag))
     ET.indent(out)
