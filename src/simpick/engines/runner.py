@@ -41,8 +41,7 @@ def check_layout(adapter: Any, scenario: Scenario) -> None:
     if robot.suspension and not getattr(adapter, "simulates_suspension", False):
         raise InputError(
             f"engines.{adapter.name}",
-            f"does not simulate passive suspension, and {robot.name} has "
-            f"{[s.joint for s in robot.suspension]}",
+            f"does not simulate passive suspension, and {robot.name} has {[s.joint for s in robot.suspension]}",
             "leave this engine out of the study for this robot (engines:)",
         )
 

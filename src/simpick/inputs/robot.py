@@ -37,7 +37,8 @@ What is found and how:
   differential bar). Every engine enforces the coupling with its own constraint.
 
 Refused, with one message naming the joint or link: prismatic, planar or floating joints, revolute
-joints that hold no wheel, are unlimited or not lateral (steering, legs, arms), continuous joints whose child has no collision, wheel axes
+joints that hold no wheel, are unlimited or not lateral (steering, legs, arms), continuous joints
+whose child has no collision, wheel axes
 that are neither lateral nor (for a swivel) vertical, no driven wheels (tracks), a driven wheel
 count other than 2, 4 or 6 or unequal sides, a description that is not XML.
 """
@@ -266,13 +267,14 @@ def _find_wheels(tree: Tree, where: str, declared: Mapping[str, str] | None) -> 
         if kind != "continuous":
             holds_wheel = any(tree.joints[k].get("type") == "continuous" for k in _subtree_joints(tree, child))
             what = "a steered or sprung wheel" if holds_wheel else "a steering, leg or arm joint"
+            rocker = holds_wheel and kind == "revolute"
             raise InputError(
                 jw,
                 f"is {kind}: {what}, which simpick does not simulate (it studies wheeled robots: "
                 "driven and caster wheels on continuous joints, passive rockers on limited revolute "
                 "joints about a lateral axis)",
                 "make it a fixed joint in the description if it does not move while driving"
-                + (", or give a rocker finite <limit>s and a lateral axis" if holds_wheel and kind == "revolute" else ""),
+                + (", or give a rocker finite <limit>s and a lateral axis" if rocker else ""),
             )
         axis_local = joint_axis(j, jw)
         snap = snapped_axis(axis_local)
