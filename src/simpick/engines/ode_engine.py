@@ -52,6 +52,8 @@ __all__ = ["OdeEngine", "OdeSettings"]
 class OdeEngine(Adapter):
     name = "ode"
     settings_model = OdeSettings
+    # passive suspension (ode_world): hinges with stops, friction motor, damping and coupling torques
+    simulates_suspension = True
     calibratable = {
         "friction": FRICTION,
         # Force-dependent slip, (m/s)/N: a Husky wheel's friction force is about mu x 170 N (up to
