@@ -61,7 +61,10 @@ def _rocker_angles(engine: str, world, robot) -> list[float]:
         return [float(world.data.joint(f"r0/{n}").qpos[0]) for n in names]
     if engine == "pybullet":
         pb, cid, body = world.pb, world.cid, world.body0
-        index = {pb.getJointInfo(body, j, physicsClientId=cid)[1].decode(): j for j in range(pb.getNumJoints(body, physicsClientId=cid))}
+        index = {
+            pb.getJointInfo(body, j, physicsClientId=cid)[1].decode(): j
+            for j in range(pb.getNumJoints(body, physicsClientId=cid))
+        }
         return [pb.getJointState(body, index[n], physicsClientId=cid)[0] for n in names]
     if engine == "ode":
         return world.suspension_angles()

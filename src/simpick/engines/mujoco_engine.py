@@ -6,6 +6,10 @@ geoms, wheel servos with a torque bound, and MuJoCo's own accelerometer
 and gyro at the IMU mount (they already follow REP-145). The whole run is stepped in C by
 ``mujoco.rollout`` with the sensors recorded there, so no Python runs per step.
 
+Passive suspension (RobotSpec.suspension): MuJoCo's URDF importer makes each rocker a limited hinge
+with the description's damping and frictionloss; the couplings are RobotSpec's joint equalities (the
+importer's own, from <mimic>, are dropped so that each is applied once), see :meth:`MujocoEngine.compile`.
+
 Friction: MuJoCo combines two geoms' friction by taking the maximum unless one has higher
 ``priority``; terrain and floor get priority 1 so their coefficient is the contact's.
 

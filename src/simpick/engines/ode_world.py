@@ -305,7 +305,9 @@ class OdeWorld:
                 speeds = [rate(h) for h in hinges]
                 torques = [-d * v for d, v in zip(damping, speeds)]
                 for f, lead, m, offset in couplings:
-                    force = -(k * (angle(hinges[f]) - m * angle(hinges[lead]) - offset) + c * (speeds[f] - m * speeds[lead]))
+                    force = -(
+                        k * (angle(hinges[f]) - m * angle(hinges[lead]) - offset) + c * (speeds[f] - m * speeds[lead])
+                    )
                     torques[f] += force
                     torques[lead] -= m * force
                 for h, t in zip(hinges, torques):
