@@ -149,3 +149,13 @@ def test_the_warthog_drives_and_spins_without_diverging(engine, warthog):
     )
     assert speed == pytest.approx(0.5, abs=0.05)
     assert np.isfinite(gain) and 0.0 < gain < 1.2
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_each_of_two_warthogs_keeps_its_own_coupling(engine, warthog):
+    """Every robot of a world gets its suspension (the second one recorded here), none another's."""
+    scenario = dataclasses.replace(_scenario(warthog), starts=((0.0, 0.0, 0.0), (0.0, 3.0, 0.5)), recorded_robot=1)
+    commands = np.broadcast_to(_hold(warthog, 0.0, 0.0, 1.5), (1500, 2, warthog.wheel_count)).copy()
+    record = get_engine(engine).simulate(scenario, commands)
+    assert record.position[-1, 1] == pytest.approx(3.0, abs=0.01)
+    assert abs(_pitch_deg(record)[-1]) < 0.5
