@@ -168,6 +168,8 @@ _SIGNATURES: dict[str, tuple] = {
     "dJointSetHingeParam": (None, [c_void_p, c_int, dReal]),
     "dJointGetHingeParam": (dReal, [c_void_p, c_int]),
     "dJointGetHingeAngleRate": (dReal, [c_void_p]),
+    "dJointGetHingeAngle": (dReal, [c_void_p]),
+    "dJointAddHingeTorque": (None, [c_void_p, dReal]),
     "dJointGroupCreate": (c_void_p, [c_int]),
     "dJointGroupDestroy": (None, [c_void_p]),
     "dJointGroupEmpty": (None, [c_void_p]),

@@ -6,6 +6,10 @@ geoms, wheel servos with a torque bound, and MuJoCo's own accelerometer
 and gyro at the IMU mount (they already follow REP-145). The whole run is stepped in C by
 ``mujoco.rollout`` with the sensors recorded there, so no Python runs per step.
 
+Passive suspension (RobotSpec.suspension): MuJoCo's URDF importer makes each rocker a limited hinge
+with the description's damping and frictionloss; the couplings are RobotSpec's joint equalities (the
+importer's own, from <mimic>, are dropped so that each is applied once), see :meth:`MujocoEngine.compile`.
+
 Friction: MuJoCo combines two geoms' friction by taking the maximum unless one has higher
 ``priority``; terrain and floor get priority 1 so their coefficient is the contact's.
 
@@ -139,6 +143,7 @@ class MujocoEngine(Adapter):
     }
     name = "mujoco"
     settings_model = MujocoSettings
+    simulates_suspension = True  # rockers: the importer's limits, damping and frictionloss; couplings in compile()
 
     def version(self) -> str:
         return importlib.metadata.version("mujoco")
@@ -184,6 +189,14 @@ class MujocoEngine(Adapter):
         robot = scenario.robot
         for i, (x, y, yaw) in enumerate(scenario.starts):
             child = mujoco.MjSpec.from_file(str(robot.urdf))
+            # MuJoCo's URDF importer reads each <dynamics> into the joint's damping (implicit in the
+            # integrator) and frictionloss (a dry-friction constraint row), each <limit> into a
+            # limited range (a limit constraint), and each <mimic> into a joint equality (measured,
+            # MuJoCo 4.0.0 on the Warthog: damping 100, frictionloss 0.5, range +-0.15, one mjEQ_JOINT
+            # with polycoef (0, -1)). The couplings are RobotSpec's (a <mimic> or the config's
+            # robot.couplings): the importer's equalities are dropped and each coupling added once below.
+            for equality in list(child.equalities):
+                child.delete(equality)
             frame = world.add_frame(pos=[x, y, robot.base_height + SPAWN_CLEARANCE], quat=_yaw_quat(yaw))
             prefix = f"r{i}/"
             spec.attach(child, prefix=prefix, frame=frame)
@@ -199,6 +212,15 @@ class MujocoEngine(Adapter):
             for geom in base.find_all(mujoco.mjtObj.mjOBJ_GEOM):
                 if geom.contype or geom.conaffinity:
                     geom.contype, geom.conaffinity = own, 1 | others
+            for coupling in robot.couplings:
+                # q(joint) = offset + multiplier q(leader): MJCF <equality><joint polycoef="offset
+                # multiplier 0 0 0">, with MuJoCo's default solref (0.02 s, critically damped) and solimp
+                equality = spec.add_equality(
+                    type=mujoco.mjtEq.mjEQ_JOINT, name1=prefix + coupling.joint, name2=prefix + coupling.leader
+                )
+                data = list(equality.data)
+                data[:5] = [coupling.offset, coupling.multiplier, 0.0, 0.0, 0.0]
+                equality.data = data
             for joint in robot.wheel_joints:
                 act = spec.add_actuator(
                     name=prefix + joint + "/servo", target=prefix + joint, trntype=mujoco.mjtTrn.mjTRN_JOINT

@@ -11,6 +11,11 @@ terrain as every other engine:
   (off-diagonal terms included) about that point, and its collision shapes offset from it. The
   record is converted back to base_link (position - R c, velocity - w x R c), as the PyBullet
   adapter does (simpick.engines.ode_world).
+- passive suspension (RobotSpec.suspension, RigidModel.suspension): each rocker a body on a hinge
+  with the description's limits as ODE's stops and its friction as a velocity motor held at 0 with
+  that torque bound; its damping and each coupling (a stiff spring-damper: ODE has no joint-space
+  coupling of two hinges) are hinge torques applied before every step (simpick.engines.ode_world).
+  Wheels hang on their rocker (RigidModel.wheel_parents) and their speed is read relative to it.
 - wheels: hinge joints whose velocity motor (dParamVel) is bounded by dParamFMax =
   ``scenario.max_wheel_torque``: ODE solves the motor as a constraint with a force limit,
   the same servo PyBullet's VELOCITY_CONTROL is.
@@ -52,6 +57,8 @@ __all__ = ["OdeEngine", "OdeSettings"]
 class OdeEngine(Adapter):
     name = "ode"
     settings_model = OdeSettings
+    # passive suspension (ode_world): hinges with stops, friction motor, damping and coupling torques
+    simulates_suspension = True
     calibratable = {
         "friction": FRICTION,
         # Force-dependent slip, (m/s)/N: a Husky wheel's friction force is about mu x 170 N (up to

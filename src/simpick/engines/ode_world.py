@@ -27,6 +27,21 @@ TERRAIN_BIT = 1  # category bit of static terrain; robot i gets bit i + 1
 ROBOT_ROBOT_FRICTION = 1.0
 memmove = ctypes.memmove
 ROWS = 4096  # steps per block of the record buffer (the run's length is not known in advance)
+# A coupling between suspension joints (RobotSpec.couplings): ODE has no joint-space constraint that
+# links two hinges on a moving body (its transmission joint gears two bodies about their own,
+# distinct axes; the Warthog's rockers turn about one axis), so each coupling is a stiff
+# spring-damper on g = q(joint) - multiplier q(leader) - offset, its torque -(k g + c g') applied each
+# step to the follower's hinge and, times -multiplier, to the leader's (the linkage's virtual work),
+# through dJointAddHingeTorque. Explicit, so bounded by stability; measured on the Warthog at 1 kHz
+# (rest 2 s, then a 2 s spin at +-0.5 m/s rims), residual g at rest / after the spin:
+#   k 1e5, c 2e3: 1.96e-4 / 1.96e-4 rad     k 3e5, c 2e3: 6.5e-5 / 5.5e-5 (chosen)
+#   k 1e6, c 2e3: 2.0e-5 / 2.0e-5           k 1e5, c 6.3e3: 1.96e-4 / -9.6e-4 (near unstable)
+#   k 1e6, c 6.3e3: diverges (the chassis flung 990 m up)
+# so the explicit damping sets the limit (c x step / inertia reaches 2 near c 6e3: the coupled mode's
+# inertia is about 3 kg m^2); the chosen stiffness is a third of 1e6 (stable), the damping a third of
+# 6.3e3 (near unstable), a damping ratio of about 1 on that inertia.
+COUPLING_STIFFNESS = 3.0e5  # N m/rad
+COUPLING_DAMPING = 2.0e3  # N m s/rad
 
 
 class OdeWorld:
@@ -147,6 +162,7 @@ class OdeWorld:
         model = scenario.robot.rigid  # the loader's bodies: fixed-joint chains folded
         self.model = model
         self.robots = []  # per robot: (chassis body, [hinge joints], [wheel bodies])
+        self.rockers = []  # per robot: ([suspension link bodies], [their hinges]), in RobotSpec.suspension order
         self.axles: dict[int, tuple] = {}  # driven wheel body -> (its rotation matrix, hinge axis in body frame)
         self.recorded = scenario.recorded_robot
         torque = float(scenario.max_wheel_torque)
@@ -194,11 +210,29 @@ class OdeWorld:
                 return hinge
 
             chassis = make_body(model.chassis, base_pos, yaw_rot)
+            # passive suspension links (rockers), parents before children: hinges with the description's
+            # limits as ODE's joint stops and its friction as ODE's joint-friction idiom, a velocity motor
+            # held at 0 with the friction torque as its bound (as Gazebo's ODE joints do); damping and
+            # couplings are torques applied each step (step)
+            rockers, rocker_hinges = [], []
+            for xyz, rot, axis, part, parent, sus in model.suspension:
+                parent_pos, parent_rot, parent_body = (base_pos, yaw_rot, chassis) if parent < 0 else rockers[parent]
+                link_pos, link_rot = parent_pos + parent_rot @ xyz, parent_rot @ rot
+                body = make_body(part, link_pos, link_rot)
+                hinge = hinge_between(body, parent_body, link_pos, link_rot @ axis)
+                lib.dJointSetHingeParam(hinge, _ode.dParamLoStop, sus.lower)
+                lib.dJointSetHingeParam(hinge, _ode.dParamHiStop, sus.upper)
+                lib.dJointSetHingeParam(hinge, _ode.dParamVel, 0.0)
+                lib.dJointSetHingeParam(hinge, _ode.dParamFMax, sus.friction)
+                rockers.append((link_pos, link_rot, body))
+                rocker_hinges.append(hinge)
             hinges, wheel_bodies = [], []
-            for xyz, rot, axis, part in model.wheels:
-                link_pos, link_rot = base_pos + yaw_rot @ xyz, yaw_rot @ rot
+            for k, (xyz, rot, axis, part) in enumerate(model.wheels):
+                on = model.wheel_parents[k] if model.wheel_parents else -1
+                parent_pos, parent_rot, parent_body = (base_pos, yaw_rot, chassis) if on < 0 else rockers[on]
+                link_pos, link_rot = parent_pos + parent_rot @ xyz, parent_rot @ rot
                 wheel = make_body(part, link_pos, link_rot)
-                hinge = hinge_between(wheel, chassis, link_pos, link_rot @ axis)
+                hinge = hinge_between(wheel, parent_body, link_pos, link_rot @ axis)
                 lib.dJointSetHingeParam(hinge, _ode.dParamVel, 0.0)
                 lib.dJointSetHingeParam(hinge, _ode.dParamFMax, torque)
                 hinges.append(hinge)
@@ -218,7 +252,17 @@ class OdeWorld:
                     tuple(float(a) for a in axis),
                 )
             self.robots.append((chassis, hinges, wheel_bodies))
+            self.rockers.append(([body for _, _, body in rockers], rocker_hinges))
         self.all_hinges = [h for _, hs, _ in self.robots for h in hs]
+        # per-step suspension torques: (hinges, damping per hinge, couplings as (follower index, leader
+        # index, multiplier, offset)) per robot; None without suspension (the stepping loop is then unchanged)
+        robot = scenario.robot
+        names = [sus.joint for sus in robot.suspension]
+        couplings = [(names.index(c.joint), names.index(c.leader), c.multiplier, c.offset) for c in robot.couplings]
+        damping = [sus.damping for sus in robot.suspension]
+        self.suspension = (
+            [(hs, damping, couplings) for _, hs in self.rockers] if robot.suspension and model.suspension else None
+        )
 
     def close(self) -> None:
         lib = self.lib
@@ -239,11 +283,42 @@ class OdeWorld:
         # the calls and their arguments in one tuple: a step costs ~35 us, so attribute lookups count
         space_collide, space, callback, step, world, dt, empty, group = self.stepping
         ok = self.ok
+        if self.suspension is not None:
+            self._step_suspended(n)
+            return
         for _ in range(n):
             space_collide(space, None, callback)
             ok &= step(world, dt)
             empty(group)
         self.ok = ok
+
+    def _step_suspended(self, n: int) -> None:
+        """``step`` with the suspension's damping (-damping x joint speed) and coupling torques
+        (COUPLING_STIFFNESS) applied before each step; ODE clears applied torques after a step."""
+        space_collide, space, callback, step, world, dt, empty, group = self.stepping
+        angle, rate, add = self.lib.dJointGetHingeAngle, self.lib.dJointGetHingeAngleRate, self.lib.dJointAddHingeTorque
+        k, c = COUPLING_STIFFNESS, COUPLING_DAMPING
+        ok = self.ok
+        for _ in range(n):
+            space_collide(space, None, callback)
+            for hinges, damping, couplings in self.suspension:
+                speeds = [rate(h) for h in hinges]
+                torques = [-d * v for d, v in zip(damping, speeds)]
+                for f, lead, m, offset in couplings:
+                    force = -(
+                        k * (angle(hinges[f]) - m * angle(hinges[lead]) - offset) + c * (speeds[f] - m * speeds[lead])
+                    )
+                    torques[f] += force
+                    torques[lead] -= m * force
+                for h, t in zip(hinges, torques):
+                    add(h, t)
+            ok &= step(world, dt)
+            empty(group)
+        self.ok = ok
+
+    def suspension_angles(self) -> list[float]:
+        """The recorded robot's suspension joint angles (rad), in RobotSpec.suspension order."""
+        return [self.lib.dJointGetHingeAngle(h) for h in self.rockers[self.recorded][1]]
 
     def _record_layout(self) -> None:
         """The recorded robot's state is copied each step straight from ODE's body memory: one
@@ -253,7 +328,8 @@ class OdeWorld:
         chassis, _, wheels = self.robots[self.recorded]
         getters = (lib.dBodyGetPosition, lib.dBodyGetQuaternion, lib.dBodyGetLinearVel, lib.dBodyGetAngularVel)
         chunks, layout, width = [], [], 0
-        for body in [chassis] + wheels:
+        # the suspension links after the wheels: a wheel on a rocker turns relative to it
+        for body in [chassis] + wheels + self.rockers[self.recorded][0]:
             addresses = [g(body) for g in getters]
             lo, hi = min(addresses), max(addresses) + 4 * 8
             if hi - lo <= 1024:  # one contiguous copy per body
@@ -314,9 +390,19 @@ class OdeWorld:
         rot = rotation_matrices(quat)
         offset = rot @ self.model.chassis.com
         wheel_speed = np.empty((steps, len(self.model.wheels)))
+        n_wheels = len(self.model.wheels)
         for j, (_, jrot, axis, _) in enumerate(self.model.wheels):
-            axis_world = rot @ (jrot @ axis)
-            wheel_speed[:, j] = np.einsum("ni,ni->n", columns(1 + j, 3, 3) - omega, axis_world)
+            on = self.model.wheel_parents[j] if self.model.wheel_parents else -1
+            if on < 0:  # on the chassis
+                axis_world = rot @ (jrot @ axis)
+                wheel_speed[:, j] = np.einsum("ni,ni->n", columns(1 + j, 3, 3) - omega, axis_world)
+                continue
+            # on a suspension link: its speed relative to that link, about the axis the link carries
+            parent_q = columns(1 + n_wheels + on, 1, 4)
+            parent_rot = rotation_matrices(parent_q / np.linalg.norm(parent_q, axis=1, keepdims=True))
+            axis_world = parent_rot @ (jrot @ axis)
+            parent_omega = columns(1 + n_wheels + on, 3, 3)
+            wheel_speed[:, j] = np.einsum("ni,ni->n", columns(1 + j, 3, 3) - parent_omega, axis_world)
         return BaseStates(
             position=com - offset,
             quaternion=quat,

@@ -13,6 +13,10 @@
   in command order (their joint's own sign), casters and swivels are undriven articulation joints,
   a skid is a base shape with the robot's friction, and one robot's links never collide with each
   other (SAPIEN collision groups; PhysX itself excludes only a link and its parent).
+- passive suspension (RobotSpec.suspension): limited articulation joints, the description's
+  damping as an implicit velocity drive to 0, its friction as a joint force set before each step,
+  and one fixed tendon per coupling (the URDF's <mimic> is stripped, so SAPIEN's loader makes none):
+  :meth:`PhysxEngine._suspension`, :class:`PhysxWorld`.
 - wheels: PhysX articulation velocity drives (stiffness 0, damping ``wheel_drive_damping``, force
   limit ``scenario.max_wheel_torque``): the implicit drive Isaac Lab's ``ImplicitActuatorCfg``
   configures for wheels (its Jetbot: stiffness 0, damping 1e5).
@@ -83,6 +87,21 @@ SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 # (a 96-sided prism came back with 128 vertices)
 PRISM_SIDES = 64
 PLANE_UP = (math.sqrt(0.5), 0.0, -math.sqrt(0.5), 0.0)
+# The fixed tendon coupling two suspension joints (RobotSpec.couplings), N m/rad and N m s/rad: PhysX
+# solves a tendon's spring-damper implicitly inside the articulation, as it does a drive. SAPIEN's
+# loader gives a <mimic> 1e5 N m/rad and no damping. Measured on the Warthog at 1 kHz, the coupling's
+# residual q(right) + q(left) at rest (2 s) / after a 2 s spin at +-0.5 m/s rims: 1e5 and 0 (SAPIEN's)
+# 4.0e-4 / 4.5e-4 rad, 1e5 and 1e4 5.2e-4 / 4.9e-4, 1e6 and 1e4 5.1e-5 / 6.2e-5 (chosen; the same
+# chassis pitch at rest, -0.0015 deg, and spin gain, 0.14, within 0.015 deg and 0.003)
+COUPLING_STIFFNESS = 1.0e6
+COUPLING_DAMPING = 1.0e4
+# Suspension joint friction (the description's <dynamics friction>, N m): SAPIEN's loader reads it and
+# never applies it, and PhysX's joint friction is a coefficient on the force through the joint, not a
+# torque. So it is a joint force set before every step, -friction x clip(speed / FRICTION_SPEED, -1, 1):
+# Coulomb above FRICTION_SPEED, a steep viscous slope below it (friction / FRICTION_SPEED = 500 N m s/rad
+# for the Warthog's 0.5 N m; explicit, and stable while slope x timestep is well under the joint's
+# inertia, about 10 kg m^2 for a rocker: 0.05 at 1 kHz).
+FRICTION_SPEED = 1.0e-3  # rad/s
 
 
 class PhysxSettings(EngineSettings):
@@ -141,14 +160,21 @@ def cylinder_obj(radius: float, length: float, segments: int, phase: float = 0.0
 
 
 def collision_only_urdf(urdf: Path, folder: Path, prisms: int) -> Path:
-    """A copy of ``urdf`` in ``folder`` without ``<visual>`` elements, mesh paths made absolute,
-    and each collision cylinder replaced by ``prisms`` convex 64-sided prisms, each turned by
-    1/``prisms`` of a side against the previous one: together a 64 x ``prisms``-sided wheel."""
+    """A copy of ``urdf`` in ``folder`` without ``<visual>`` or ``<mimic>`` elements, mesh paths made
+    absolute, and each collision cylinder replaced by ``prisms`` convex 64-sided prisms, each turned by
+    1/``prisms`` of a side against the previous one: together a 64 x ``prisms``-sided wheel.
+
+    ``<mimic>`` goes because SAPIEN's loader would turn it into a fixed tendon of its own (stiffness
+    1e5, and for a multiplier other than -1 or 1 the wrong linear combination: it builds
+    ``-m q(follower) + q(leader)``); the adapter couples the joints itself from RobotSpec.couplings."""
     try:
         tree = ET.parse(urdf)
     except (OSError, ET.ParseError) as exc:
         raise InputError(str(urdf), f"cannot read the robot description: {exc}") from None
     root = tree.getroot()
+    for joint in root.iter("joint"):
+        for mimic in joint.findall("mimic"):
+            joint.remove(mimic)
     for link in root.iter("link"):
         for visual in link.findall("visual"):
             link.remove(visual)
@@ -192,6 +218,7 @@ class PhysxEngine(Adapter):
     calibratable = {"friction": FRICTION}
     name = "physx"
     settings_model = PhysxSettings
+    simulates_suspension = True  # limits, damping, friction and couplings: PhysxEngine._suspension, PhysxWorld.step
 
     def version(self) -> str:
         sapien = _quiet_import()
@@ -278,8 +305,38 @@ class PhysxEngine(Adapter):
                 for joint in wheels:
                     joint.set_drive_properties(0.0, settings.wheel_drive_damping, scenario.max_wheel_torque, "force")
                     joint.set_drive_velocity_target(0.0)
+                self._suspension(art, joints, robot)
                 robots.append((art, wheels))
         return PhysxWorld(scene, robots, scenario)
+
+    @staticmethod
+    def _suspension(art, joints: dict, robot) -> None:
+        """The robot's passive suspension joints: limits, damping (friction: PhysxWorld.step) and couplings."""
+        for sus in robot.suspension:
+            joint = joints[sus.joint]
+            joint.limit = [[sus.lower, sus.upper]]  # as SAPIEN's loader reads them; PhysX enforces them
+            # the description's viscous damping: an implicit velocity drive to 0 with damping only and no
+            # force bound, what SAPIEN's loader makes of <dynamics damping> (stated here, not left to it)
+            joint.set_drive_properties(0.0, sus.damping, 3.4e38, "force")
+            joint.set_drive_velocity_target(0.0)
+        links = {j.name: j.child_link for j in art.joints if j.name}
+        for c in robot.couplings:
+            follower, leader = joints[c.joint], joints[c.leader]
+            if follower.parent_link is not leader.parent_link:  # a fixed tendon spans joints on one parent here
+                raise InputError(
+                    f"robot couplings ({c.source})",
+                    f"{c.joint!r} and {c.leader!r} hang on different links: the PhysX adapter couples "
+                    "suspension joints only on the same parent link",
+                )
+            # tendon length = q(follower) - multiplier q(leader), held at the offset (rest length)
+            art.create_fixed_tendon(
+                [follower.parent_link, links[c.joint], links[c.leader]],
+                [0.0, 1.0, -c.multiplier],
+                [0.0, 1.0, -1.0 / c.multiplier],
+                rest_length=c.offset,
+                stiffness=COUPLING_STIFFNESS,
+                damping=COUPLING_DAMPING,
+            )
 
 
 class PhysxWorld:
@@ -295,6 +352,12 @@ class PhysxWorld:
         order = [j.name for j in art.active_joints]
         self.wheel_dofs = [order.index(j.name) for j in wheels]
         self.com = np.asarray(self.base.cmass_local_pose.p, dtype=float)  # centre of mass in base_link
+        # suspension joint friction (see FRICTION_SPEED): per robot its articulation, the suspension dofs
+        # and their friction torques; None when no joint has friction
+        robot = scenario.robot
+        dofs = [order.index(s.joint) for s in robot.suspension if s.friction > 0]
+        torques = np.array([s.friction for s in robot.suspension if s.friction > 0])
+        self.friction = [(a, dofs, torques, np.zeros(len(order))) for a, _ in robots] if dofs else None
 
     def set_wheel_targets(self, speeds: np.ndarray) -> None:
         for (_, wheels), robot_speeds in zip(self.robots, speeds):
@@ -303,7 +366,15 @@ class PhysxWorld:
 
     def step(self, n: int = 1) -> None:
         step = self.scene.step
+        if self.friction is None:
+            for _ in range(n):
+                step()
+            return
+        clip = np.clip
         for _ in range(n):
+            for art, dofs, torques, qf in self.friction:
+                qf[dofs] = -torques * clip(art.qvel[dofs] / FRICTION_SPEED, -1.0, 1.0)
+                art.qf = qf
             step()
 
     def read(self) -> tuple:

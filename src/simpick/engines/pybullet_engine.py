@@ -3,6 +3,9 @@
 Bullet has no IMU sensor, so the adapter records the base kinematics at every step and
 the runner's :func:`simpick.engines.kinematics.imu_from_kinematics` turns them into an IMU reading.
 
+Passive suspension (RobotSpec.suspension): Bullet's limits, joint damping, a friction-bounded
+velocity motor and one gear constraint per coupling (:meth:`PyBulletEngine._suspension`).
+
 Two Bullet habits the adapter undoes:
 - the base pose and velocity PyBullet reports are those of the base's *principal inertial
   frame*: with the Husky's off-diagonal chassis inertia that frame is tilted and offset from
@@ -86,6 +89,14 @@ class PyBulletSettings(EngineSettings):
 # getJointStates costs about half a Bullet step; wheel speeds are read every 10th step (the
 # IMU's 100 Hz at 1 kHz physics, so trace rows hold exact values) and held in between.
 WHEEL_SAMPLE_EVERY = 10
+# A coupling's gear constraint (PyBulletEngine._suspension): its torque bound, N m, that of the
+# suspension joints' own <limit effort> in the Warthog's description (100 000 N m: never reached;
+# the differential carries 40 N m at rest), and its position correction: Bullet's gear has none by
+# default (erp 0: the rocker sum drifted 9e-6 rad in 0.3 s of a 10 N m push, and on the Warthog at
+# 1 kHz stood at 1.9e-4 rad after 2 s at rest and 3.1e-4 after a 2 s spin at +-0.5 m/s rims); 0.2, as
+# Bullet's contact and joint default (btContactSolverInfo m_erp), holds it to 2.6e-6 / 3.8e-7 rad
+GEAR_MAX_TORQUE = 1.0e5
+GEAR_ERP = 0.2
 
 
 def _hold(samples: np.ndarray) -> np.ndarray:
@@ -134,6 +145,7 @@ class PyBulletEngine(Adapter):
     }
     name = "pybullet"
     settings_model = PyBulletSettings
+    simulates_suspension = True  # limits, damping, friction and couplings: PyBulletEngine._suspension
 
     def version(self) -> str:
         return importlib.metadata.version("pybullet")
@@ -264,8 +276,58 @@ class PyBulletEngine(Adapter):
                         physicsClientId=cid,
                         anisotropicFriction=(1.0 - (1.0 - settings.friction_ratio) * axis).tolist(),
                     )
+            self._suspension(pb, cid, body, names, robot)
             bodies.append(body)
         return bodies, wheel_index
+
+    @staticmethod
+    def _suspension(pb, cid: int, body: int, names: dict, robot) -> None:
+        """The robot's passive suspension joints (RobotSpec.suspension) and their couplings.
+
+        - limits: Bullet's URDF loader reads <limit> and its multibody enforces it (measured: the
+          uncoupled Warthog rests on its rockers' +0.15 rad stops);
+        - damping: changeDynamics jointDamping, the field Bullet's loader fills from <dynamics
+          damping> (set here from RobotSpec so nothing rests on the loader); PyBullet applies it as a
+          torque -damping x joint speed each step (measured: a 10 N m torque on a Warthog rocker
+          in zero gravity tends to 0.1 rad/s with damping 100, grows without bound with 0);
+        - friction: the velocity motor Bullet puts on every revolute joint, held at speed 0 with
+          the description's <dynamics friction> as its force bound, Bullet's own recipe for joint
+          friction (examples/pybullet/examples/jointFrictionAndMotor.py); by default that motor
+          would hold the rocker still (measured: the uncoupled Warthog level at rest);
+        - couplings: one JOINT_GEAR constraint per coupling (Bullet's URDF loader ignores <mimic>:
+          measured, the Warthog's file without RobotSpec couplings tips onto the stops). Sign,
+          measured (zero gravity, fixed base, a torque on the parent joint): gearRatio r holds
+          q'(parent) + r q'(child) = 0 (r 1: opposite speeds, 2: the child at minus half), so with
+          the follower as parent and the leader as child r = -multiplier, and erp pulls
+          q(follower) - multiplier q(leader) to relativePositionTarget = offset.
+        """
+        for sus in robot.suspension:
+            joint = names[sus.joint]
+            pb.changeDynamics(body, joint, jointDamping=sus.damping, physicsClientId=cid)
+            pb.setJointMotorControl2(
+                body, joint, pb.VELOCITY_CONTROL, targetVelocity=0.0, force=sus.friction, physicsClientId=cid
+            )
+        axes = {sus.joint: list(sus.axis) for sus in robot.suspension}
+        for c in robot.couplings:
+            gear = pb.createConstraint(
+                body,
+                names[c.joint],
+                body,
+                names[c.leader],
+                pb.JOINT_GEAR,
+                axes[c.joint],
+                [0.0, 0.0, 0.0],
+                [0.0, 0.0, 0.0],
+                physicsClientId=cid,
+            )
+            pb.changeConstraint(
+                gear,
+                gearRatio=-c.multiplier,
+                relativePositionTarget=c.offset,
+                maxForce=GEAR_MAX_TORQUE,
+                erp=GEAR_ERP,
+                physicsClientId=cid,
+            )
 
 
 class PyBulletWorld:
