@@ -201,6 +201,8 @@ class _Native:
 
     def __init__(self, adapter: IsolatedAdapter):
         self.build = adapter.build_here
+        # what the runner's layout check reads (simpick.engines.runner.check_layout)
+        self.name, self.simulates_suspension = adapter.name, adapter.simulates_suspension
 
 
 def _serve(engine: str, read_fd: int, write_fd: int) -> None:
