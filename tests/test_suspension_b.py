@@ -155,7 +155,9 @@ def test_the_loaded_file_carries_exactly_the_spec_s_couplings():
     assert _mimics(coupled_urdf(warthog(False))) == {}
     # a coupling the config declares (robot.couplings) on a file without <mimic>
     declared = dataclasses.replace(
-        warthog(), urdf=coupled_urdf(warthog(False)), couplings=(dataclasses.replace(warthog().couplings[0], offset=0.01),)
+        warthog(),
+        urdf=coupled_urdf(warthog(False)),
+        couplings=(dataclasses.replace(warthog().couplings[0], offset=0.01),),
     )
     assert _mimics(coupled_urdf(declared)) == {"right_diff_unit_jnt": ("left_diff_unit_jnt", -1.0, 0.01)}
     husky = load_robot(ROOT / "resources" / "robot" / "husky_a200.urdf")
