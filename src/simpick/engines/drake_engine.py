@@ -224,10 +224,13 @@ class DrakeEngine(Adapter):
         urdf = coupled_urdf(robot)
         for _start in scenario.starts:
             constraints = plant.num_constraints()
+            drake_log.addFilter(_applied_friction)
             try:
                 (instance,) = parser.AddModels(str(urdf))
             except (RuntimeError, ValueError) as exc:
                 raise InputError(str(robot.urdf), f"Drake's URDF parser could not read the robot: {exc}") from None
+            finally:
+                drake_log.removeFilter(_applied_friction)
             wheels = []
             radius = {}  # wheel body name -> its radius, for the compliant mesh's resolution
             for wheel in robot.driven:
@@ -283,6 +286,11 @@ class DrakeEngine(Adapter):
         finally:
             drake_log.setLevel(level)
         return DrakeWorld(simulator, plant, context, robots, logger, scenario)
+
+
+def _applied_friction(record: logging.LogRecord) -> bool:
+    """Drops the parser's warning that MultibodyPlant has no joint friction: _suspend applies it."""
+    return "'friction' attribute of a joint/dynamics tag" not in record.getMessage()
 
 
 def _suspend(plant, instance, robot, couplers: int) -> None:
