@@ -335,10 +335,13 @@ def _suspend(skel, robot) -> None:
             # both joints, as a differential bar), breaks the leader-side wheels' servos in dartpy 6.20.0
             # (measured, Warthog, rims (0.5, -0.5) m/s: the left wheels ran at 0.30 m/s against a 500 N m
             # bound and 0.70 m/s with 5 000 N m while the right ones tracked, yaw gain 0.11 / 0.54; with
-            # the motor both sides track, gain 0.599). The motor's reaction goes to the chassis rather than
-            # to the leader, so the follower alone carries the chassis's pitching moment about the pivots
-            # (100 kg x 0.04 m: 39 N m, about 43 N of front/back load shift on the follower's wheels, each
-            # carrying about 640 N) where a bar shares it between the rockers.
+            # the motor both sides track, gain 0.599; tolerance 1e-7, 1000 sweeps). In DART's published source
+            # the coupler's row measures the follower's velocity alone (CouplerConstraint::update,
+            # getVelocityChange) while its impulse goes to both joints, so the row's response misses the
+            # leader's side. The motor's reaction goes to the chassis rather than to the leader, so the
+            # follower alone carries the chassis's pitching moment about the pivots (100 kg x 0.04 m: 39 N m,
+            # about 43 N of front/back load shift on the follower's wheels, each carrying about 640 N) where a
+            # bar shares it between the rockers.
             if joint.getActuatorType() != dart.dynamics.ActuatorType.MIMIC:
                 raise RuntimeError(f"dart: {sus.joint} was not loaded as a mimic joint")
         else:
