@@ -173,8 +173,9 @@ class GenesisWorld:
             entity.set_dofs_frictionloss(np.array([sus.friction]), dof)
             entity.set_dofs_kp(np.zeros(1), dof)
             entity.set_dofs_kv(np.zeros(1), dof)
-        # each coupling once: the parser's joint equality (q1 = offset + multiplier q0, a MuJoCo-style
-        # equality constraint row acting on both joints)
+        # each coupling once: the parser's joint equality (q1 = offset + multiplier q0, a MuJoCo-style soft
+        # equality row acting on both joints, with Genesis's default reference: read back, timeconst 0.01 s,
+        # damping ratio 1, solimp 0.9 / 0.95)
         found = {(int(e.eq_obj1id), int(e.eq_obj2id)) for e in entity.equalities if e.type == gs.EQUALITY_TYPE.JOINT}
         wanted = {(entity.get_joint(c.joint).idx, entity.get_joint(c.leader).idx) for c in robot.couplings}
         if found != wanted:

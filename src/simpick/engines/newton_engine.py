@@ -289,7 +289,8 @@ class NewtonWorld:
                         attribute.values = {}
                     attribute.values[dof] = value
         # Each coupling once: the importer's mimic (SolverMuJoCo: a MuJoCo joint equality with polycoef
-        # (offset, multiplier), acting on both joints)
+        # (offset, multiplier), acting on both joints, with MuJoCo's default solref 0.02 s / 1 and solimp
+        # 0.9 / 0.95: read back from the solver's MuJoCo model)
         for c in robot.couplings:
             follower, leader = labels[c.joint], labels[c.leader]
             if builder.joint_mimic_joint[follower] != leader:
