@@ -17,6 +17,14 @@
   the terrain's coefficient, the plane ``scenario.ground_friction``, the robot's shapes
   max(1, terrain, ground): the contact's mu is the terrain's (or ground's), and
   robot-robot contacts get 1.0 (PyBullet's 1.0 x 1.0) as long as no terrain exceeds 1.
+- passive suspension (rockers): the loader's revolute joints, PASSIVE, with limit enforcement switched on
+  (the loader leaves it off), the description's damping (implicit joint damping) and friction (DART's
+  joint Coulomb friction constraint); a coupling is DART's MIMIC joint, which the loader makes from the
+  <mimic> that :func:`simpick.engines.suspension.coupled_urdf` writes for each of the spec's couplings.
+  Measured on the Warthog (1 kHz, mu 0.8, 500 N m): level at rest (pitch 0.000 degrees, base 0.4100 m);
+  uncoupled, the chassis rests on a rocker stop at 8.595 degrees (0.15 rad: 8.594); spin in place at
+  rims (0.5, -0.5) m/s: yaw-rate gain 0.575 with DART's own NSGS stop, 0.564 with config.yaml's 1e-6 /
+  200 sweeps (Coulomb 0.591), the base origin drifting at up to 0.15 m/s (Newton, Drake: below 0.01).
 - IMU: DART has none; :func:`simpick.engines.kinematics.imu_from_kinematics` from base_link kinematics.
 
 Measured with dartpy 6.20.0 on this project's machine (1 kHz, one robot; "flat": 4 s at
@@ -131,6 +139,7 @@ from pydantic import Field
 from simpick.engines.base import FRICTION, BaseStates, EngineSettings, Scenario
 from simpick.engines.kinematics import matrices_to_quaternions
 from simpick.engines.runner import Adapter
+from simpick.engines.suspension import coupled_urdf
 from simpick.errors import InputError
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
@@ -189,6 +198,7 @@ class DartEngine(Adapter):
     calibratable = {"friction": FRICTION}
     name = "dart"
     settings_model = DartSettings
+    simulates_suspension = True
 
     def version(self) -> str:
         return importlib.metadata.version("dartpy")
@@ -263,7 +273,9 @@ class DartEngine(Adapter):
 
         robot = scenario.robot
         loader = dart.utils.DartLoader()
-        uri = robot.urdf.resolve().as_uri()
+        # the robot's file with its <mimic> elements exactly the spec's couplings: DART's loader makes each
+        # follower a MIMIC joint (simpick.engines.suspension)
+        uri = coupled_urdf(robot).resolve().as_uri()
         robots = []
         for i, (x, y, yaw) in enumerate(scenario.starts):
             skel = loader.parseSkeleton(uri)
@@ -288,9 +300,52 @@ class DartEngine(Adapter):
                 joint.setForceUpperLimit(0, scenario.max_wheel_torque)
                 joint.setCommand(0, 0.0)
                 wheels.append(joint)
+            _suspend(skel, robot)
             world.addSkeleton(skel)
             robots.append((skel, wheels))
         return DartWorld(world, robots, scenario)
+
+
+def _suspend(skel, robot) -> None:
+    """The passive suspension joints of one loaded skeleton: free (PASSIVE) but for their limits, the
+    description's damping and Coulomb friction, and the couplings as bilateral coupler constraints."""
+    import dartpy as dart
+
+    followers = {c.joint for c in robot.couplings}
+    for sus in robot.suspension:
+        joint = skel.getJoint(sus.joint)
+        # DART's loader reads the limits but leaves them unenforced (areLimitsEnforced() False, measured
+        # dartpy 6.20): the Warthog, rockers uncoupled, tipped 21.6 degrees, through the +-0.15 rad stops.
+        # Enforced, each limit is a joint-limit constraint solved with the contacts.
+        joint.setLimitEnforcement(True)
+        joint.setPositionLowerLimit(0, sus.lower)
+        joint.setPositionUpperLimit(0, sus.upper)
+        # The loader reads <dynamics> too (measured: 100 N m s/rad and 0.5 N m on the Warthog's rockers); set
+        # from the spec all the same. DART applies damping as a joint force -c qdot, integrated implicitly
+        # (the skeleton's spring/damper terms), and Coulomb friction as a velocity constraint bounded by
+        # +-friction, solved with the contacts (DART's JointCoulombFrictionConstraint).
+        joint.setDampingCoefficient(0, sus.damping)
+        joint.setCoulombFriction(0, sus.friction)
+        if sus.joint in followers:
+            # The loader made the follower a MIMIC joint from <mimic> (coupled_urdf writes exactly the spec's
+            # couplings), which DART enforces with its MimicMotorConstraint: a velocity constraint on the
+            # follower towards multiplier x the leader's velocity plus a position error correction, bounded by
+            # the follower's force limits (the URDF's effort, 1e5 N m for the Warthog: never reached).
+            # DART's bilateral alternative, setUseCouplerConstraint(True) (equal and opposite impulses on
+            # both joints, as a differential bar), breaks the leader-side wheels' servos in dartpy 6.20.0
+            # (measured, Warthog, rims (0.5, -0.5) m/s: the left wheels ran at 0.30 m/s against a 500 N m
+            # bound and 0.70 m/s with 5 000 N m while the right ones tracked, yaw gain 0.11 / 0.54; with
+            # the motor both sides track, gain 0.599; tolerance 1e-7, 1000 sweeps). In DART's published source
+            # the coupler's row measures the follower's velocity alone (CouplerConstraint::update,
+            # getVelocityChange) while its impulse goes to both joints, so the row's response misses the
+            # leader's side. The motor's reaction goes to the chassis rather than to the leader, so the
+            # follower alone carries the chassis's pitching moment about the pivots (100 kg x 0.04 m: 39 N m,
+            # about 43 N of front/back load shift on the follower's wheels, each carrying about 640 N) where a
+            # bar shares it between the rockers.
+            if joint.getActuatorType() != dart.dynamics.ActuatorType.MIMIC:
+                raise RuntimeError(f"dart: {sus.joint} was not loaded as a mimic joint")
+        else:
+            joint.setActuatorType(dart.dynamics.ActuatorType.PASSIVE)
 
 
 class DartWorld:

@@ -173,8 +173,13 @@ class IsolatedAdapter(runner.Adapter):
     def build_here(self, scenario: Scenario):
         raise NotImplementedError
 
+    def check(self, scenario: Scenario) -> None:
+        """Refuse, with :class:`~simpick.errors.InputError`, a scenario the engine's settings cannot run; called
+        here before any process starts (a subclass may add to it)."""
+        self.settings_model.of(scenario.settings, self.name)
+
     def build(self, scenario: Scenario):
-        self.settings_model.of(scenario.settings, self.name)  # a bad setting fails here, before any process
+        self.check(scenario)  # a bad setting fails here, before any process
         if in_process(self.name):
             return self.build_here(scenario)
         return RemoteWorld(self.name, scenario)
@@ -192,7 +197,7 @@ class IsolatedAdapter(runner.Adapter):
     def _checked(self, scenario: Scenario, wheel_commands) -> np.ndarray:
         """The commands, with the scenario and settings checked here: bad input is the study's InputError
         (naming the field), not an error text from the engine's process."""
-        self.settings_model.of(scenario.settings, self.name)
+        self.check(scenario)
         return validated_commands(scenario, wheel_commands)
 
 
@@ -201,6 +206,8 @@ class _Native:
 
     def __init__(self, adapter: IsolatedAdapter):
         self.build = adapter.build_here
+        # what the runner's layout check reads (simpick.engines.runner.check_layout)
+        self.name, self.simulates_suspension = adapter.name, adapter.simulates_suspension
 
 
 def _serve(engine: str, read_fd: int, write_fd: int) -> None:

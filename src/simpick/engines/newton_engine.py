@@ -7,6 +7,13 @@ spheres on a ground plane, the driven wheels as Newton velocity drives (``JointT
 torque = ``wheel_drive_damping`` x speed error, clamped to the scenario's torque bound through the
 joint's ``effort_limit``), the passive joints free. Newton runs on Warp's CPU device here.
 
+Passive suspension (rockers), SolverMuJoCo only: the importer's revolute joints, free, with the spec's limits
+(MuJoCo's solreflimit passed raw), damping and frictionloss; each coupling is the joint mimic the importer makes
+from the <mimic> that :func:`simpick.engines.suspension.coupled_urdf` writes, which SolverMuJoCo passes as a
+MuJoCo joint equality. Measured on the Warthog (1 kHz, mu 0.8, 500 N m): pitch -0.011 degrees at rest, base
+1.5 mm low; uncoupled, on a rocker stop at 8.610 degrees; spin gain 0.578 (Coulomb 0.591). SolverSteel left
+the limits unenforced (21.6 degrees uncoupled), so the adapter refuses a suspended robot on any other solver.
+
 Solvers (setting ``solver``), measured on the validation's yaw-gain cases (Husky, mu 0.8, 1 kHz,
 analytic Coulomb gain 0.478; left / right / left from 45 degrees):
 
@@ -64,6 +71,7 @@ from pydantic import Field
 
 from simpick.engines.base import FRICTION, BaseState, Calibratable, EngineSettings, Scenario
 from simpick.engines.isolated import IsolatedAdapter
+from simpick.engines.suspension import coupled_urdf
 
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
 SOLVERS = ("mujoco", "xpbd", "steel", "kamino")
@@ -71,6 +79,8 @@ SOLVERS = ("mujoco", "xpbd", "steel", "kamino")
 # from which the MuJoCo adapter derives its wheel pairs' friction reference; the same two MuJoCo defaults here,
 # so that a Newton job holds no other adapter's code (tests/test_new_engines.py checks they agree)
 MUJOCO_TIMECONST, MUJOCO_DMAX = 0.02, 0.95
+# Newton's mujoco:solreflimit_mode for a raw MuJoCo solreflimit (newton/_src/solvers/mujoco/constants.py, 1.8.0)
+SOLREF_MODE_RAW = 1
 
 
 class NewtonSettings(EngineSettings):
@@ -194,10 +204,13 @@ class NewtonWorld:
         robot = scenario.robot
         self.base_bodies, wheel_dofs, wheel_shapes = [], [], []
         self.actuators = []
+        # the robot's file with its <mimic> elements exactly the spec's couplings: Newton's importer turns each
+        # into a joint-owned mimic (ModelBuilder.set_joint_mimic), checked in _suspend
+        urdf = coupled_urdf(robot)
         for x, y, yaw in scenario.starts:
             joints0, bodies0 = builder.joint_count, builder.body_count
             builder.add_urdf(
-                str(robot.urdf),
+                str(urdf),
                 xform=wp.transform((x, y, robot.base_height + SPAWN_CLEARANCE), _yaw_quat_xyzw(yaw)),
                 floating=True,
                 enable_self_collisions=False,
@@ -226,6 +239,7 @@ class NewtonWorld:
                 for dof in range(builder.joint_qd_start[j], builder.joint_qd_start[j] + builder.joint_dof_dim[j][1]):
                     builder.joint_target_mode[dof] = int(newton.JointTargetMode.NONE)
                     builder.joint_target_kd[dof] = builder.joint_target_ke[dof] = 0.0
+            self._suspend(builder, labels)
             wheel_dofs.append(dofs)
         if solver == "mujoco" and settings.wheel_contact == "decoupled":
             self._mujoco_attributes(builder, wheel_shapes)
@@ -243,6 +257,46 @@ class NewtonWorld:
         if self.pipeline is None and solver != "mujoco":
             self.pipeline = newton.CollisionPipeline(model)
             self.contacts = self.pipeline.contacts()
+
+    def _suspend(self, builder, labels: dict[str, int]) -> None:
+        """One robot's passive suspension joints (``labels``: joint name -> index): free but for the
+        spec's limits, damping and friction, and its couplings as Newton joint mimics."""
+        import newton
+
+        robot = self.scenario.robot
+        for sus in robot.suspension:
+            j = labels[sus.joint]
+            dof = builder.joint_qd_start[j]
+            builder.joint_target_mode[dof] = int(newton.JointTargetMode.NONE)
+            builder.joint_target_kd[dof] = builder.joint_target_ke[dof] = 0.0
+            # The importer reads <limit> and <dynamics>; set from the spec all the same. SolverMuJoCo writes
+            # them as the MuJoCo joint's range (limited: a limit constraint), damping (integrated implicitly
+            # by implicitfast) and frictionloss (a friction constraint row bounded by +-friction).
+            builder.joint_limit_lower[dof], builder.joint_limit_upper[dof] = sus.lower, sus.upper
+            builder.joint_damping[dof] = sus.damping
+            builder.joint_friction[dof] = sus.friction
+            if self.settings.solver == "mujoco":
+                # MuJoCo's own limit reference, solreflimit (0.02 s, 1), as the MuJoCo adapter's joints have,
+                # passed raw: Newton's default writes its force-space limit gains (ke 1e4 N m/rad, kd 10), and
+                # with them the uncoupled Warthog's chassis sank through the 0.15 rad (8.59 deg) stops to
+                # 9.26 deg at rest (peak 10.57)
+                for name, value in (
+                    ("mujoco:solreflimit", (MUJOCO_TIMECONST, 1.0)),
+                    ("mujoco:solreflimit_mode", SOLREF_MODE_RAW),
+                ):
+                    attribute = builder.custom_attributes[name]
+                    if attribute.values is None:
+                        attribute.values = {}
+                    attribute.values[dof] = value
+        # Each coupling once: the importer's mimic (SolverMuJoCo: a MuJoCo joint equality with polycoef
+        # (offset, multiplier), acting on both joints, with MuJoCo's default solref 0.02 s / 1 and solimp
+        # 0.9 / 0.95: read back from the solver's MuJoCo model)
+        for c in robot.couplings:
+            follower, leader = labels[c.joint], labels[c.leader]
+            if builder.joint_mimic_joint[follower] != leader:
+                raise RuntimeError(f"newton: the importer did not make {c.joint} follow {c.leader}")
+            if not np.allclose(builder.joint_mimic_coeffs[follower], (c.offset, c.multiplier)):
+                raise RuntimeError(f"newton: {c.joint} follows {c.leader} by {builder.joint_mimic_coeffs[follower]}")
 
     def _mujoco_attributes(self, builder, wheel_shapes: list[int]) -> None:
         """The MuJoCo adapter's wheel contact, through the attributes Newton passes to MuJoCo.
@@ -355,6 +409,7 @@ class NewtonEngine(IsolatedAdapter):
 
     name = "newton"
     settings_model = NewtonSettings
+    simulates_suspension = True
     distribution = "newton"
     calibratable = {
         "friction": FRICTION,
@@ -365,7 +420,22 @@ class NewtonEngine(IsolatedAdapter):
         ),
     }
 
+    def check(self, scenario: Scenario) -> None:
+        settings = NewtonSettings.of(scenario.settings, self.name)
+        if scenario.robot.suspension and settings.solver != "mujoco":
+            from simpick.errors import InputError
+
+            # measured (Warthog, rockers uncoupled, 2 s at rest): SolverSteel leaves the rocker limits unenforced,
+            # the chassis tipping 21.6 degrees through the 8.6-degree stops; the others were not checked
+            raise InputError(
+                f"engines.{self.name}.solver",
+                f"{settings.solver!r} is not checked with passive suspension ({scenario.robot.name} has "
+                f"{[s.joint for s in scenario.robot.suspension]}): only 'mujoco' is",
+                "use solver: mujoco for this robot",
+            )
+
     def build_here(self, scenario: Scenario) -> NewtonWorld:
+        self.check(scenario)
         return NewtonWorld(scenario, NewtonSettings.of(scenario.settings, self.name))
 
 
