@@ -111,6 +111,10 @@ class Suspension:
     damping: float  # N m s/rad, the description's <dynamics damping> (0 if absent)
     friction: float  # N m, its <dynamics friction> (0 if absent)
     wheels: tuple[str, ...]  # the wheel joints hanging below it
+    # what the joint carries: the child link and every link below it (wheels, nested rockers);
+    # the Coulomb reference's static loads need its weight and where it acts
+    mass: float = 0.0  # kg
+    com: tuple[float, float, float] = (0.0, 0.0, 0.0)  # its centre of mass in the base frame, m
 
 
 @dataclass(frozen=True)
@@ -239,6 +243,13 @@ def _suspension_joint(tree: Tree, jname: str, where: str) -> Suspension | None:
         return None
     dynamics = j.find("dynamics")
     position, _ = tree.pose[child]
+    mass, moment = 0.0, np.zeros(3)
+    for link in [child] + [tree.joints[k].find("child").get("link") for k in _subtree_joints(tree, child)]:
+        inert = inertial(tree.links[link], where)
+        if inert is not None:
+            p, r = tree.pose[link]
+            mass += inert[0]
+            moment += inert[0] * (p + r @ inert[1])
     return Suspension(
         joint=jname,
         link=child,
@@ -250,6 +261,8 @@ def _suspension_joint(tree: Tree, jname: str, where: str) -> Suspension | None:
         damping=float(dynamics.get("damping", "0")) if dynamics is not None else 0.0,
         friction=float(dynamics.get("friction", "0")) if dynamics is not None else 0.0,
         wheels=tuple(below),
+        mass=float(mass),
+        com=tuple(float(v) for v in (moment / mass if mass > 0 else position)),
     )
 
 
