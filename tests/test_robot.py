@@ -374,3 +374,68 @@ def test_a_massless_moving_part_is_refused(tmp_path):
     )
     with pytest.raises(InputError, match=r"links \['swivel'\] \(with the links fixed to them\) have no mass"):
         load_robot(write_robot(tmp_path, four(), extra=extra))
+
+
+def _merged(base: dict, over: dict) -> dict:
+    """``over`` merged into ``base`` as Snakemake merges a --configfile: nested mappings key by key."""
+    out = dict(base)
+    for key, value in over.items():
+        out[key] = _merged(out[key], value) if isinstance(value, dict) and isinstance(out.get(key), dict) else value
+    return out
+
+
+def test_warthog_config_fits_the_warthog_and_runs_on_an_engine(tmp_path):
+    """config/robots/warthog.yaml: DRIVE's and Clearpath's controller track, the circle over the strip at
+    the Warthog's own Coulomb gain, the Husky's wheel-tracking rim speed, a valid merged config with the
+    suspension's validation cases; and its cases run on an engine (a variant with the rockers fixed, as
+    no engine here simulates the suspension yet: the suspension's own cases skip it, saying why)."""
+    import yaml
+
+    from simpick.config import problems
+    from simpick.coulomb import contact_layout, yaw_rate_gain
+    from simpick.inputs.motions import arc_start_over_strip
+    from simpick.studies.validation import Setup, run_case
+
+    base = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config = yaml.safe_load((ROOT / "config" / "robots" / "warthog.yaml").read_text())
+    merged = _merged(base, config)
+    assert problems(merged) == []
+    spec = load_from_config({**config["robot"], "urdf": str(ROOT / config["robot"]["urdf"])})
+    assert spec.name == "warthog" != base["real_data"]["robot"] and config["accuracy"]["reference"] != "real"
+    assert spec.track == pytest.approx(1.12)  # geometric; the controller's is DRIVE's and Clearpath's 1.08
+    assert config["robot"]["track"] == 1.08 == config["baselines"]["kinematic"]["track"]
+    circle = merged["motions"]["circle"]
+    gain = yaw_rate_gain(contact_layout(spec), circle["v"], circle["w"], config["robot"]["track"])
+    assert gain == pytest.approx(0.570, abs=0.001)
+    start = circle["start"]
+    assert arc_start_over_strip(circle["v"], circle["w"], gain, (1.5, -0.56), start[0]) == pytest.approx(
+        start, abs=0.005
+    )
+    husky = load_robot(ROBOTS / "husky_a200.urdf")
+    rim = base["health"]["wheel_tracking"] * husky.wheel_radius
+    assert config["health"]["wheel_tracking"] * spec.wheel_radius == pytest.approx(rim, rel=0.01)
+    cases = merged["validation"]["cases"]
+    assert {"rest_pose_mu0.8", "articulation_h0.05_mu0.8"} <= set(cases) and set(base["validation"]["cases"]) < set(
+        cases
+    )
+
+    # the rockers fixed to the chassis: a robot without suspension of the Warthog's shape and weight
+    text = (ROOT / config["robot"]["urdf"]).read_text().replace('type="revolute"', 'type="fixed"')
+    rigid_path = tmp_path / "warthog_rigid.urdf"
+    rigid_path.write_text(text.replace('<mimic joint="left_diff_unit_jnt" multiplier="-1" offset="0"/>', ""))
+    rigid = load_from_config({**merged["robot"], "urdf": str(rigid_path)})
+    assert rigid.suspension == () and rigid.mass == pytest.approx(260.0)
+    setup = Setup(
+        "pybullet",
+        rigid,
+        merged["physics"]["timestep"],
+        merged["robot"]["max_wheel_torque"],
+        merged["robot"]["track"],
+        merged["engines"]["pybullet"],
+    )
+    skipped = run_case(setup, "rest_pose_mu0.8", cases["rest_pose_mu0.8"])
+    assert skipped["status"] == "skipped" and "no suspension" in skipped["reasons"][0]
+    straight = run_case(setup, "straight_mu0.8", {**cases["straight_mu0.8"], "duration": 2.0})
+    assert straight["status"] == "ok"
+    ratio = next(c for c in straight["checks"] if c["quantity"] == "speed_over_wheel_speed")["engine_value"]
+    assert ratio == pytest.approx(1.0, abs=0.05)  # 260 kg rolling on 835 N m servos

@@ -295,10 +295,15 @@ class OwnLog(Strict):
 class ValidationCase(Strict):
     """A case with a known mechanical answer (simpick.studies.validation documents the kinds)."""
 
-    kind: Literal["yaw_gain", "straight", "slide", "incline", "rest"] = Field(
+    kind: Literal["yaw_gain", "straight", "slide", "incline", "rest", "rest_pose", "articulation"] = Field(
         description="yaw_gain: steady yaw rate / w against the Coulomb gain; straight: speed = wheel speed x "
         "radius; slide: locked-wheel deceleration mu g; incline: parked below atan(mu), sliding "
-        "above; rest: accelerometer g, gyro 0, no creep"
+        "above; rest: accelerometer g, gyro 0, no creep; a robot on a suspension (skipped on others): "
+        "rest_pose: the chassis level at its resting height; articulation: coupled rockers twisted on "
+        "two diagonal blocks h high, the chassis' pitch, roll and height as the coupling sets them"
+    )
+    h: Annotated[float, Field(gt=0, le=0.5, allow_inf_nan=False)] | None = Field(
+        None, description="m, articulation: the blocks' height (below half the wheel radius)"
     )
     v: Finite | None = Field(None, description="m/s, commanded forward speed (yaw_gain, straight, slide)")
     w: Finite | None = Field(None, description="rad/s, commanded yaw rate (yaw_gain; positive: left)")
@@ -325,9 +330,15 @@ class ValidationCase(Strict):
 
     @model_validator(mode="after")
     def needed(self):
-        need = {"yaw_gain": ("v", "w"), "straight": ("v",), "slide": ("v",), "incline": ("angle_factor",), "rest": ()}[
-            self.kind
-        ]
+        need = {
+            "yaw_gain": ("v", "w"),
+            "straight": ("v",),
+            "slide": ("v",),
+            "incline": ("angle_factor",),
+            "rest": (),
+            "rest_pose": (),
+            "articulation": ("h",),
+        }[self.kind]
         missing = [k for k in need if getattr(self, k) is None]
         if missing:
             raise ValueError(f"a {self.kind} case needs {missing}")
