@@ -490,9 +490,7 @@ def test_articulation_poses_the_chassis_as_the_differential_does(tmp_path):
 
 def test_suspension_cases_skip_a_robot_without_one(robot):
     for kind, params in (("rest_pose", {"mu": 0.8}), ("articulation", {"h": 0.05, "mu": 0.8})):
-        out = run_case(
-            Setup("pybullet", robot, 0.001, 100.0, 0.555, {}), f"case_{kind}", {"kind": kind, **params}
-        )
+        out = run_case(Setup("pybullet", robot, 0.001, 100.0, 0.555, {}), f"case_{kind}", {"kind": kind, **params})
         assert out["status"] == "skipped" and out["checks"] == [], out
         assert out["reasons"][0].startswith("not applicable: the robot has no suspension"), out
 

@@ -94,6 +94,11 @@ class Robot(Strict):
         description="suspension linkages the description leaves out (a differential bar between two rockers); "
         "a <mimic> in the URDF declares the same",
     )
+    packages: dict[str, str] | None = Field(
+        None,
+        description="package name -> its folder, for a xacro description's $(find PKG) includes (a maker's "
+        "ROS package, read without ROS); package:// meshes are dropped for the primitive collisions",
+    )
 
 
 class Imu(Strict):

@@ -376,7 +376,11 @@ def _articulation_reason(robot: RobotSpec, h: float | None = None) -> str | None
         return "a coupling with multiplier 1 moves both rockers alike: the chassis cannot pitch between them"
     for sus in robot.suspension:
         own = [w for w in robot.driven if w.joint in sus.wheels]
-        if len(own) != 2 or len({round(w.position[1], 3) for w in own}) != 1 or own[0].position[0] == own[1].position[0]:
+        if (
+            len(own) != 2
+            or len({round(w.position[1], 3) for w in own}) != 1
+            or own[0].position[0] == own[1].position[0]
+        ):
             return f"rocker {sus.joint!r} does not carry one front and one back driven wheel on one side"
         if sus.parent != robot.base_link:
             return f"rocker {sus.joint!r} hangs on {sus.parent!r}, not on the chassis"
