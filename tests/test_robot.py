@@ -579,3 +579,20 @@ def test_a_xacro_package_that_is_not_given_or_incomplete_is_one_line(tmp_path):
         load_robot(xacro_file, packages={"rover_description": str(package)})  # its params file is missing
     with pytest.raises(InputError, match=r"robot.packages.rover_description: .*is not a folder"):
         load_robot(xacro_file, packages={"rover_description": str(tmp_path / "nowhere")})
+
+
+def test_uncoupled_rockers_are_refused_when_the_config_is_read(tmp_path):
+    import yaml
+
+    from simpick.config import problems
+
+    text = (ROBOTS / "warthog.urdf").read_text()
+    loose = tmp_path / "loose.urdf"
+    loose.write_text(text.replace('<mimic joint="left_diff_unit_jnt" multiplier="-1" offset="0"/>', ""))
+    base = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config = _merged(base, yaml.safe_load((ROOT / "config" / "robots" / "warthog.yaml").read_text()))
+    config["robot"]["urdf"] = str(loose)
+    (line,) = problems(config)
+    assert "no resting pose" in line and "robot.couplings" in line, line
+    config["robot"]["couplings"] = [{"joint": "right_diff_unit_jnt", "leader": "left_diff_unit_jnt"}]
+    assert problems(config) == []

@@ -816,6 +816,10 @@ class Study(Strict):
 
         try:
             robot = load_from_config(self.robot.model_dump(exclude_none=True))
+            if robot.suspension:  # rockers with no resting pose (uncoupled) leave no job anything to run
+                from simpick.coulomb import contact_layout
+
+                contact_layout(robot, points_per_wheel=1)
         except InputError as exc:
             raise ValueError(f"robot.urdf: {exc}") from None
         if self.real_data.robot is not None and robot.name != self.real_data.robot:
