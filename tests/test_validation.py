@@ -469,14 +469,23 @@ def test_articulation_poses_the_chassis_as_the_differential_does(tmp_path):
     # chassis between them and lifts it by half the blocks
     assert (plan.pitch, plan.roll) == (pytest.approx(0.0, abs=1e-12), pytest.approx(0.0, abs=1e-12))
     assert plan.height == pytest.approx(0.41 + 0.025)
-    # the back block sits under the right back wheel only, clear of the right front one; the front block
-    # under the left front wheel only, 5 cm beyond where a 0.30 m wheel first touches a 5 cm step
-    (front, back) = plan.boxes
-    touch = math.sqrt(0.3**2 - 0.25**2)
-    assert front[0] - front[4] / 2 == pytest.approx(0.50 + touch + 0.05) and front[1] == 0.56
-    assert back[0] - back[4] / 2 == pytest.approx(-0.42 + touch + 0.05) and back[1] == -0.56
-    assert back[0] + back[4] / 2 == pytest.approx(0.50 - touch - 0.05)
-    assert -0.42 + plan.travel == pytest.approx(back[0])  # the back wheel stops mid-block
+    # stairs of five 1 cm layers, 4 cm apart: the back ones under the right back wheel only, from 5 cm beyond
+    # where a 0.30 m wheel first touches a 1 cm step, their top (5 cm high) ending 5 cm short of where the right
+    # front wheel would touch it; the front ones under the left front wheel only, as far ahead of it
+    front = [b for b in plan.boxes if b[1] == 0.56]
+    back = [b for b in plan.boxes if b[1] == -0.56]
+    assert len(front) == len(back) == 5 and all(b[6] == pytest.approx(0.01) for b in plan.boxes)
+    assert [b[2] for b in back] == pytest.approx([0.005, 0.015, 0.025, 0.035, 0.045])
+    first = math.sqrt(0.3**2 - 0.29**2) + 0.05
+    assert [b[0] - b[4] / 2 for b in back] == pytest.approx([-0.42 + first + 0.04 * k for k in range(5)])
+    assert [b[0] - b[4] / 2 for b in front] == pytest.approx([0.50 + first + 0.04 * k for k in range(5)])
+    end = 0.50 - math.sqrt(0.3**2 - 0.25**2) - 0.05
+    assert all(b[0] + b[4] / 2 == pytest.approx(end) for b in back)
+    # the right back wheel stops mid-top, the left front one on its top too, the left back one short of the stairs
+    top = -0.42 + first + 0.16
+    assert -0.42 + plan.travel == pytest.approx((top + end) / 2)
+    assert 0.50 + plan.travel > 0.50 + first + 0.16 + 0.05
+    assert -0.42 + plan.travel + math.sqrt(0.3**2 - 0.29**2) < 0.50 + first
     # longer front arms (0.56 m, back 0.46 m): by hand, the left rocker (front up) lifts its pivot
     # 0.46 / 1.02 of the block, the right one (back up) 0.56 / 1.02: the chassis rolls right by
     # asin(0.1 h / 1.02 / 1.12), still level in pitch, and rises by the mean
