@@ -403,6 +403,21 @@ def test_uncoupled_rockers_have_no_resting_pose_and_are_refused(tmp_path):
     np.testing.assert_allclose(contact_layout(coupled, 1).loads, lever_loads(0.0, 0.0), rtol=1e-9)
 
 
+def test_coulomb_baseline_turns_the_warthog_at_its_gain():
+    """The ``coulomb`` reference model runs the suspended robot (it reads its loads through
+    contact_layout, never through an engine's suspension) and settles at its quasi-static gain."""
+    from conftest import ROOT, drive
+    from simpick.inputs.robot import load_robot
+
+    warthog = load_robot(ROOT / WARTHOG)
+    # the test scenario commands through the Husky's track 0.555: rim speeds 0.5 -+ 0.139 m/s
+    record = drive("coulomb", warthog, v=0.5, w=0.5, ground=0.8, duration=2.0, timestep=0.01)
+    expected = yaw_rate_gain(contact_layout(warthog), 0.5, 0.5, TRACK)
+    assert record.angular_velocity[-1, 2] / 0.5 == pytest.approx(expected, rel=2e-3)
+    # the gain scales with the commanded rim-speed difference: the same turn as 0.570 under track 1.08
+    assert expected == pytest.approx(0.570 * TRACK / 1.08, rel=2e-3)
+
+
 def test_a_robot_without_suspension_keeps_the_rigid_body_loads(robot):
     # the rigid body's minimum-norm loads, computed as before the suspension existed, to the last bit
     for points in (1, None):
