@@ -425,3 +425,15 @@ def test_a_robot_without_suspension_keeps_the_rigid_body_loads(robot):
         a = np.vstack([np.ones(len(layout.points)), layout.points[:, 0], layout.points[:, 1]])
         b = robot.mass * 9.81 * np.array([1.0, robot.com[0], robot.com[1]])
         assert np.array_equal(layout.loads, a.T @ np.linalg.solve(a @ a.T, b))
+
+
+def test_rockers_whose_wheels_do_not_all_touch_at_zero_are_refused(tmp_path):
+    from conftest import ROOT
+    from simpick.inputs.robot import load_robot
+
+    # the left front axle 2 cm lower: at rest the left rocker turns, and the loads at zero would be wrong
+    text = (ROOT / WARTHOG).read_text().replace('<origin xyz="0.46 0.01 -0.005"', '<origin xyz="0.46 0.01 -0.025"')
+    path = tmp_path / "tilted.urdf"
+    path.write_text(text)
+    with pytest.raises(InputError, match=r"do not touch flat ground with every joint at zero.*resting pose"):
+        contact_layout(load_robot(path))

@@ -208,11 +208,10 @@ def _suspended_loads(robot: RobotSpec, points: np.ndarray, wheel: np.ndarray, a:
     """
     index = {w.joint: i for i, w in enumerate(robot.wheels)}
     ground = -robot.base_height
-    off_ground = [
-        w.joint
-        for w in robot.wheels
-        if w.mount is not None and abs(w.radius - w.position[2] - robot.base_height) > 2e-3
-    ]
+    # with every joint at zero the lowest wheel sets the resting height (the description's, even where the
+    # config overrides that figure)
+    lowest = max(w.radius - w.position[2] for w in robot.wheels)
+    off_ground = [w.joint for w in robot.wheels if w.mount is not None and lowest - (w.radius - w.position[2]) > 2e-3]
     if off_ground:
         raise InputError(
             str(robot.source),
