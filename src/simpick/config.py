@@ -532,7 +532,7 @@ class Statistics(Strict):
 VERDICT_METRICS = ("gain_error", "heading_error", "speed_error")
 # the kinds of validation case (simpick.studies.validation) a metric's mechanics can rest on; "invariance":
 # the checks made across yaw-gain cases (left against right turns, start headings)
-CASE_KINDS = Literal["yaw_gain", "straight", "slide", "incline", "rest", "invariance"]
+CASE_KINDS = Literal["yaw_gain", "straight", "slide", "incline", "rest", "rest_pose", "articulation", "invariance"]
 # the real robot's own figure behind a metric, which a margin measured from the data is taken from
 REAL_FIGURE = {"gain_error": "yaw_rate_gain_real"}
 
