@@ -301,3 +301,139 @@ def test_ratio_for_gain_inverts_the_anisotropic_gain_and_the_ros_multiplier(robo
     # Clearpath's Husky multiplier 1.875 on the 0.5708 m separation <=> a gain of 0.519 on track 0.555
     assert wheel_separation_multiplier(0.5186, TRACK, 0.5708) == pytest.approx(1.875, abs=0.001)
     assert wheel_separation_multiplier(1.0, 0.5708, 0.5708) == 1.0
+
+
+# --- a robot on a passive suspension: the Warthog's rockers and their differential ----------------
+
+WARTHOG = "resources/robot/warthog.urdf"
+G = 9.81
+
+
+def warthog_variant(tmp_path, name, chassis=(0.0, 0.0), left_rocker_dx=0.0, mimic=True):
+    """The shipped Warthog with its chassis' mass centre moved to ``chassis`` (x, y), the left
+    rocker's moved ``left_rocker_dx`` forward, or its rockers uncoupled (``mimic`` False)."""
+    from conftest import ROOT
+
+    text = (ROOT / WARTHOG).read_text()
+    text = text.replace(
+        '<origin xyz="0 0 0" rpy="0 0 0"/>\n      <mass value="100"/>',
+        f'<origin xyz="{chassis[0]} {chassis[1]} 0" rpy="0 0 0"/>\n      <mass value="100"/>',
+    )
+    text = text.replace('<origin xyz="0 -0.05 0.197"', f'<origin xyz="{left_rocker_dx} -0.05 0.197"')
+    if not mimic:
+        text = text.replace('<mimic joint="left_diff_unit_jnt" multiplier="-1" offset="0"/>', "")
+    path = tmp_path / f"{name}.urdf"
+    path.write_text(text)
+    return path
+
+
+def lever_loads(chassis_x, chassis_y, left_rocker_dx=0.0):
+    """The Warthog's wheel loads (FL, FR, BL, BR), N, by hand.
+
+    Sides: every left wheel stands at y = +0.56 and every right one at -0.56, so the robot's roll
+    balance alone splits the weight: T_left - T_right = W y_G / 0.56, and only the chassis' 100 kg
+    is off the centre line (rockers at y +-0.50 and wheels at +-0.56 balance each other).
+    Each side: a rocker is a lever about its pivot (x 0.04), its wheels 0.46 m ahead and behind.
+    The differential passes the same torque to both rockers, and together they hold the chassis'
+    weight moment about the pivots' line, 100 g (x_c - 0.04): half on each. The rocker's own 50 kg
+    adds its moment 50 g dx about its pivot; the wheels' 15 kg each balance about it. So
+    0.46 (N_front - N_back) = 50 g (x_c - 0.04) + 50 g dx and N_front + N_back = T_side."""
+    weight = 260 * G
+    split = 100 * G * chassis_y / 0.56
+    loads = {}
+    for side, total, dx in (("l", (weight + split) / 2, left_rocker_dx), ("r", (weight - split) / 2, 0.0)):
+        difference = (50 * G * (chassis_x - 0.04) + 50 * G * dx) / 0.46
+        loads["f" + side], loads["b" + side] = (total + difference) / 2, (total - difference) / 2
+    return np.array([loads["fl"], loads["fr"], loads["bl"], loads["br"]])
+
+
+def test_warthog_wheel_loads_are_the_rockers_lever_balance():
+    from conftest import ROOT
+    from simpick.inputs.robot import load_robot
+
+    warthog = load_robot(ROOT / WARTHOG)
+    assert [w.joint for w in warthog.driven] == ["fl_wheel_jnt", "fr_wheel_jnt", "bl_wheel_jnt", "br_wheel_jnt"]
+    by_hand = lever_loads(0.0, 0.0)
+    # front 616.3 N, back 659.0 N: the chassis' mass centre 4 cm behind the pivots loads the back wheels
+    np.testing.assert_allclose(by_hand, [616.32, 616.32, 658.98, 658.98], atol=0.01)
+    for points in (1, 2, None):
+        layout = contact_layout(warthog, points)
+        np.testing.assert_allclose(np.bincount(layout.wheel, layout.loads), by_hand, rtol=1e-9)
+    # the validation's flat-ground turn (v 0.5, w 0.5) under the controller's track 1.08 m: a line contact
+    # across each wheel gives 0.570 (one point per wheel 0.577), the same turning either way and spinning
+    line = contact_layout(warthog)
+    assert yaw_rate_gain(line, 0.5, 0.5, 1.08) == pytest.approx(0.570, abs=0.001)
+    assert yaw_rate_gain(contact_layout(warthog, 1), 0.5, 0.5, 1.08) == pytest.approx(0.577, abs=0.001)
+    for v, w in [(0.5, -0.5), (0.0, 0.5)]:
+        assert yaw_rate_gain(line, v, w, 1.08) == pytest.approx(0.570, abs=0.001)
+
+
+def test_the_differential_shares_an_off_centre_chassis_as_levers_not_as_a_rigid_body(tmp_path):
+    from simpick.inputs.robot import load_robot
+
+    moved = load_robot(warthog_variant(tmp_path, "moved", chassis=(-0.10, 0.08), left_rocker_dx=0.10))
+    one = contact_layout(moved, 1)
+    by_hand = lever_loads(-0.10, 0.08, left_rocker_dx=0.10)
+    np.testing.assert_allclose(one.loads, by_hand, rtol=1e-9)
+    assert one.loads.sum() == pytest.approx(260 * G)
+    # a rigid robot on equally stiff contacts would share it otherwise: its loads are linear in position
+    # (the same diagonal sums), which no differential-coupled pair of free rockers can give here
+    x, y = one.points.T
+    a = np.vstack([np.ones(4), x, y])
+    rigid = a.T @ np.linalg.solve(a @ a.T, a @ by_hand)
+    assert np.abs(rigid - by_hand).max() > 10.0
+    # across each wheel's width the wheel totals stay those of the levers (a line contact's points share
+    # its roll moment; 1 N in 1300 here)
+    line = contact_layout(moved)
+    np.testing.assert_allclose(np.bincount(line.wheel, line.loads), by_hand, atol=1.0)
+
+
+def test_uncoupled_rockers_have_no_resting_pose_and_are_refused(tmp_path):
+    from simpick.inputs.robot import load_robot
+
+    loose = load_robot(warthog_variant(tmp_path, "loose", mimic=False))
+    assert loose.couplings == ()
+    with pytest.raises(InputError, match=r"no resting pose.*tips onto the joint limits.*robot.couplings"):
+        contact_layout(loose)
+    # the same file coupled through the config reads as the shipped one
+    coupled = load_robot(
+        warthog_variant(tmp_path, "loose", mimic=False),
+        couplings=[{"joint": "right_diff_unit_jnt", "leader": "left_diff_unit_jnt", "multiplier": -1.0}],
+    )
+    np.testing.assert_allclose(contact_layout(coupled, 1).loads, lever_loads(0.0, 0.0), rtol=1e-9)
+
+
+def test_coulomb_baseline_turns_the_warthog_at_its_gain():
+    """The ``coulomb`` reference model runs the suspended robot (it reads its loads through
+    contact_layout, never through an engine's suspension) and settles at its quasi-static gain."""
+    from conftest import ROOT, drive
+    from simpick.inputs.robot import load_robot
+
+    warthog = load_robot(ROOT / WARTHOG)
+    # the test scenario commands through the Husky's track 0.555: rim speeds 0.5 -+ 0.139 m/s
+    record = drive("coulomb", warthog, v=0.5, w=0.5, ground=0.8, duration=2.0, timestep=0.01)
+    expected = yaw_rate_gain(contact_layout(warthog), 0.5, 0.5, TRACK)
+    assert record.angular_velocity[-1, 2] / 0.5 == pytest.approx(expected, rel=2e-3)
+    # the gain scales with the commanded rim-speed difference: the same turn as 0.570 under track 1.08
+    assert expected == pytest.approx(0.570 * TRACK / 1.08, rel=2e-3)
+
+
+def test_a_robot_without_suspension_keeps_the_rigid_body_loads(robot):
+    # the rigid body's minimum-norm loads, computed as before the suspension existed, to the last bit
+    for points in (1, None):
+        layout = contact_layout(robot, points)
+        a = np.vstack([np.ones(len(layout.points)), layout.points[:, 0], layout.points[:, 1]])
+        b = robot.mass * 9.81 * np.array([1.0, robot.com[0], robot.com[1]])
+        assert np.array_equal(layout.loads, a.T @ np.linalg.solve(a @ a.T, b))
+
+
+def test_rockers_whose_wheels_do_not_all_touch_at_zero_are_refused(tmp_path):
+    from conftest import ROOT
+    from simpick.inputs.robot import load_robot
+
+    # the left front axle 2 cm lower: at rest the left rocker turns, and the loads at zero would be wrong
+    text = (ROOT / WARTHOG).read_text().replace('<origin xyz="0.46 0.01 -0.005"', '<origin xyz="0.46 0.01 -0.025"')
+    path = tmp_path / "tilted.urdf"
+    path.write_text(text)
+    with pytest.raises(InputError, match=r"do not touch flat ground with every joint at zero.*resting pose"):
+        contact_layout(load_robot(path))

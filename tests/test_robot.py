@@ -374,3 +374,225 @@ def test_a_massless_moving_part_is_refused(tmp_path):
     )
     with pytest.raises(InputError, match=r"links \['swivel'\] \(with the links fixed to them\) have no mass"):
         load_robot(write_robot(tmp_path, four(), extra=extra))
+
+
+def _merged(base: dict, over: dict) -> dict:
+    """``over`` merged into ``base`` as Snakemake merges a --configfile: nested mappings key by key."""
+    out = dict(base)
+    for key, value in over.items():
+        out[key] = _merged(out[key], value) if isinstance(value, dict) and isinstance(out.get(key), dict) else value
+    return out
+
+
+def test_warthog_config_fits_the_warthog_and_runs_on_an_engine(tmp_path):
+    """config/robots/warthog.yaml: DRIVE's and Clearpath's controller track, the circle over the strip at
+    the Warthog's own Coulomb gain, the Husky's wheel-tracking rim speed, a valid merged config with the
+    suspension's validation cases; and its cases run on an engine (a variant with the rockers fixed, as
+    no engine here simulates the suspension yet: the suspension's own cases skip it, saying why)."""
+    import yaml
+
+    from simpick.config import problems
+    from simpick.coulomb import contact_layout, yaw_rate_gain
+    from simpick.inputs.motions import arc_start_over_strip
+    from simpick.studies.validation import Setup, run_case
+
+    base = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config = yaml.safe_load((ROOT / "config" / "robots" / "warthog.yaml").read_text())
+    merged = _merged(base, config)
+    assert problems(merged) == []
+    spec = load_from_config({**config["robot"], "urdf": str(ROOT / config["robot"]["urdf"])})
+    assert spec.name == "warthog" != base["real_data"]["robot"] and config["accuracy"]["reference"] != "real"
+    assert spec.track == pytest.approx(1.12)  # geometric; the controller's is DRIVE's and Clearpath's 1.08
+    assert config["robot"]["track"] == 1.08 == config["baselines"]["kinematic"]["track"]
+    circle = merged["motions"]["circle"]
+    gain = yaw_rate_gain(contact_layout(spec), circle["v"], circle["w"], config["robot"]["track"])
+    assert gain == pytest.approx(0.570, abs=0.001)
+    start = circle["start"]
+    assert arc_start_over_strip(circle["v"], circle["w"], gain, (1.5, -0.56), start[0]) == pytest.approx(
+        start, abs=0.005
+    )
+    husky = load_robot(ROBOTS / "husky_a200.urdf")
+    rim = base["health"]["wheel_tracking"] * husky.wheel_radius
+    assert config["health"]["wheel_tracking"] * spec.wheel_radius == pytest.approx(rim, rel=0.01)
+    cases = merged["validation"]["cases"]
+    assert {"rest_pose_mu0.8", "articulation_h0.05_mu0.8"} <= set(cases) and set(base["validation"]["cases"]) < set(
+        cases
+    )
+
+    # the rockers fixed to the chassis: a robot without suspension of the Warthog's shape and weight
+    text = (ROOT / config["robot"]["urdf"]).read_text().replace('type="revolute"', 'type="fixed"')
+    rigid_path = tmp_path / "warthog_rigid.urdf"
+    rigid_path.write_text(text.replace('<mimic joint="left_diff_unit_jnt" multiplier="-1" offset="0"/>', ""))
+    rigid = load_from_config({**merged["robot"], "urdf": str(rigid_path)})
+    assert rigid.suspension == () and rigid.mass == pytest.approx(260.0)
+    setup = Setup(
+        "pybullet",
+        rigid,
+        merged["physics"]["timestep"],
+        merged["robot"]["max_wheel_torque"],
+        merged["robot"]["track"],
+        merged["engines"]["pybullet"],
+    )
+    skipped = run_case(setup, "rest_pose_mu0.8", cases["rest_pose_mu0.8"])
+    assert skipped["status"] == "skipped" and "no suspension" in skipped["reasons"][0]
+    straight = run_case(setup, "straight_mu0.8", {**cases["straight_mu0.8"], "duration": 2.0})
+    assert straight["status"] == "ok"
+    ratio = next(c for c in straight["checks"] if c["quantity"] == "speed_over_wheel_speed")["engine_value"]
+    assert ratio == pytest.approx(1.0, abs=0.05)  # 260 kg rolling on 835 N m servos
+
+
+# --- a maker's xacro package: $(find) includes, macros, package:// meshes, no coupling -------------
+
+ROVER_PARAMS = """<?xml version="1.0"?>
+<robot xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:property name="tyre_r" value="0.25"/>
+  <xacro:property name="tyre_w" value="0.20"/>
+  <xacro:property name="tyre_m" value="10"/>
+  <xacro:property name="arm" value="0.40"/>
+  <xacro:property name="pivot_y" value="0.45"/>
+  <xacro:property name="pivot_z" value="-0.08"/>
+  <xacro:property name="rocker_m" value="30"/>
+  <xacro:property name="body_m" value="80"/>
+  <xacro:macro name="solid_box" params="m x y z">
+    <inertia ixx="${m*(y*y+z*z)/12}" iyy="${m*(x*x+z*z)/12}" izz="${m*(x*x+y*y)/12}" ixy="0" ixz="0" iyz="0"/>
+  </xacro:macro>
+</robot>
+"""
+
+ROVER = """<?xml version="1.0"?>
+<robot name="rover" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:include filename="$(find rover_description)/urdf/params.xacro"/>
+  <xacro:macro name="tyre" params="name rocker fwd">
+    <link name="${name}_tyre">
+      <visual><geometry><mesh filename="package://rover_description/meshes/tyre.stl"/></geometry></visual>
+      <collision><origin rpy="${pi/2} 0 0"/><geometry><cylinder radius="${tyre_r}" length="${tyre_w}"/></geometry>
+      </collision>
+      <inertial><mass value="${tyre_m}"/><inertia ixx="0.2" iyy="0.3" izz="0.2" ixy="0" ixz="0" iyz="0"/></inertial>
+    </link>
+    <joint name="${name}_tyre_joint" type="continuous">
+      <parent link="${rocker}_rocker"/><child link="${name}_tyre"/>
+      <origin xyz="${fwd*arm} 0 0"/><axis xyz="0 1 0"/>
+    </joint>
+  </xacro:macro>
+  <xacro:macro name="rocker" params="side y">
+    <link name="${side}_rocker">
+      <visual><geometry><mesh filename="package://rover_description/meshes/rocker.stl"/></geometry></visual>
+      <collision><origin xyz="0 0 0.15"/><geometry><box size="0.9 0.1 0.2"/></geometry></collision>
+      <inertial><origin xyz="0 0 0.15"/><mass value="${rocker_m}"/>
+        <xacro:solid_box m="${rocker_m}" x="0.9" y="0.1" z="0.2"/></inertial>
+    </link>
+    <joint name="${side}_rocker_joint" type="revolute">
+      <parent link="body"/><child link="${side}_rocker"/>
+      <origin xyz="0 ${y*pivot_y} ${pivot_z}"/><axis xyz="0 1 0"/>
+      <limit lower="-0.2" upper="0.2" effort="1000" velocity="1"/>
+      <dynamics damping="50" friction="0.2"/>
+    </joint>
+  </xacro:macro>
+  <link name="base_link"/>
+  <joint name="base_to_body" type="fixed"><parent link="base_link"/><child link="body"/></joint>
+  <link name="body">
+    <visual><geometry><mesh filename="package://rover_description/meshes/body.stl"/></geometry></visual>
+    <collision><geometry><box size="1.0 0.6 0.25"/></geometry></collision>
+    <inertial><mass value="${body_m}"/><xacro:solid_box m="${body_m}" x="1.0" y="0.6" z="0.25"/></inertial>
+  </link>
+  <link name="linkage_bar"><visual><geometry><mesh filename="package://rover_description/meshes/bar.stl"/>
+    </geometry></visual></link>
+  <joint name="linkage_bar_joint" type="fixed"><parent link="body"/><child link="linkage_bar"/></joint>
+  <xacro:rocker side="left" y="1"/>
+  <xacro:rocker side="right" y="-1"/>
+  <xacro:tyre name="front_left" rocker="left" fwd="1"/>
+  <xacro:tyre name="rear_left" rocker="left" fwd="-1"/>
+  <xacro:tyre name="front_right" rocker="right" fwd="1"/>
+  <xacro:tyre name="rear_right" rocker="right" fwd="-1"/>
+  <xacro:include filename="$(find rover_description)/urdf/$(optenv ROVER_EXTRAS extras.urdf)"/>
+</robot>
+"""
+
+ROVER_COUPLING = [{"joint": "right_rocker_joint", "leader": "left_rocker_joint", "multiplier": -1.0}]
+
+
+def rover_package(tmp_path, params=True) -> Path:
+    """A maker's description package of the Warthog's shape (written here): the xacro in urdf/, its
+    figures in a params file it includes through $(find), an extras file named by an optenv."""
+    package = tmp_path / "share" / "rover_description"
+    (package / "urdf").mkdir(parents=True)
+    (package / "urdf" / "rover.urdf.xacro").write_text(ROVER)
+    if params:
+        (package / "urdf" / "params.xacro").write_text(ROVER_PARAMS)
+    (package / "urdf" / "extras.urdf").write_text('<?xml version="1.0"?><robot></robot>\n')
+    return package
+
+
+def test_a_maker_s_xacro_package_reads_without_ros(tmp_path, monkeypatch):
+    from simpick.coulomb import contact_layout
+
+    monkeypatch.delenv("ROVER_EXTRAS", raising=False)
+    package = rover_package(tmp_path)
+    spec = load_from_config(
+        {
+            "urdf": str(package / "urdf" / "rover.urdf.xacro"),
+            "packages": {"rover_description": str(package)},
+            "couplings": ROVER_COUPLING,
+        }
+    )
+    assert spec.base_link == "base_link" and spec.urdf != spec.source  # a normalised copy: meshes dropped
+    assert "mesh" not in spec.urdf.read_text() and "package://" not in spec.urdf.read_text()
+    assert spec.mass == pytest.approx(80 + 2 * 30 + 4 * 10)
+    assert [w.joint for w in spec.driven] == [
+        "front_left_tyre_joint",
+        "front_right_tyre_joint",
+        "rear_left_tyre_joint",
+        "rear_right_tyre_joint",
+    ]
+    assert spec.driven[0].position == pytest.approx((0.40, 0.45, -0.08)) and spec.wheel_radius == 0.25
+    assert spec.base_height == pytest.approx(0.33)
+    assert [s.joint for s in spec.suspension] == ["left_rocker_joint", "right_rocker_joint"]
+    left = spec.suspension[0]
+    assert (left.lower, left.upper, left.damping, left.friction) == (-0.2, 0.2, 50.0, 0.2)
+    assert left.mass == pytest.approx(30 + 2 * 10)
+    (coupling,) = spec.couplings
+    assert (coupling.joint, coupling.leader, coupling.multiplier, coupling.source) == (
+        "right_rocker_joint",
+        "left_rocker_joint",
+        -1.0,
+        "robot.couplings[0]",
+    )
+    # symmetric about both axes, pivots over the axles' midpoint: a quarter of the weight on each wheel
+    np.testing.assert_allclose(contact_layout(spec, 1).loads, [(80 + 60 + 40) * 9.81 / 4] * 4, rtol=1e-9)
+    # without the coupling (the maker's file has none) the chassis has no resting pose, as the Warthog's
+    loose = load_from_config(
+        {"urdf": str(package / "urdf" / "rover.urdf.xacro"), "packages": {"rover_description": package}}
+    )
+    assert loose.couplings == ()
+
+
+def test_a_xacro_package_that_is_not_given_or_incomplete_is_one_line(tmp_path):
+    package = rover_package(tmp_path, params=False)
+    xacro_file = str(package / "urdf" / "rover.urdf.xacro")
+    with pytest.raises(InputError, match=r"^robot.packages: .*\$\(find rover_description\).*gives no folder") as info:
+        load_robot(xacro_file, packages={"other_description": str(tmp_path)})
+    assert "robot.packages: {PKG: FOLDER}" in str(info.value) and "xacro" not in str(info.value).split("(fix")[0][-60:]
+    assert str(info.value).count("(fix:") == 1
+    with pytest.raises(InputError, match=r"robot.packages: .*rover_description.*gives no folder"):
+        load_robot(xacro_file)  # no packages at all: no ROS lookup, the same message
+    with pytest.raises(InputError, match=r"robot.packages.rover_description: .*params.xacro.*point robot.packages"):
+        load_robot(xacro_file, packages={"rover_description": str(package)})  # its params file is missing
+    with pytest.raises(InputError, match=r"robot.packages.rover_description: .*is not a folder"):
+        load_robot(xacro_file, packages={"rover_description": str(tmp_path / "nowhere")})
+
+
+def test_uncoupled_rockers_are_refused_when_the_config_is_read(tmp_path):
+    import yaml
+
+    from simpick.config import problems
+
+    text = (ROBOTS / "warthog.urdf").read_text()
+    loose = tmp_path / "loose.urdf"
+    loose.write_text(text.replace('<mimic joint="left_diff_unit_jnt" multiplier="-1" offset="0"/>', ""))
+    base = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config = _merged(base, yaml.safe_load((ROOT / "config" / "robots" / "warthog.yaml").read_text()))
+    config["robot"]["urdf"] = str(loose)
+    (line,) = problems(config)
+    assert "no resting pose" in line and "robot.couplings" in line, line
+    config["robot"]["couplings"] = [{"joint": "right_diff_unit_jnt", "leader": "left_diff_unit_jnt"}]
+    assert problems(config) == []

@@ -443,3 +443,97 @@ def test_a_case_that_crashes_is_a_failed_row_and_the_next_case_runs(tmp_path, mo
             ROOT / CONFIG["robot"]["urdf"],
             _job_params("pybullet", {"bad": {"kind": "hover", "mu": 0.8}}),
         )
+
+
+# --- a robot on a passive suspension: rest pose and articulation -----------------------------------
+
+WARTHOG = ROOT / "resources" / "robot" / "warthog.urdf"
+
+
+def warthog_text(front_arm=0.46, rigid=False):
+    """The shipped Warthog, with its front axles ``front_arm`` ahead of the pivots, or its rockers
+    fixed to the chassis (``rigid``: a robot without suspension of the same shape)."""
+    text = WARTHOG.read_text().replace('<origin xyz="0.46 ', f'<origin xyz="{front_arm} ')
+    if rigid:
+        text = text.replace('type="revolute"', 'type="fixed"')
+        text = text.replace('<mimic joint="left_diff_unit_jnt" multiplier="-1" offset="0"/>', "")
+    return text
+
+
+def test_articulation_poses_the_chassis_as_the_differential_does(tmp_path):
+    from simpick.studies.validation import articulation
+
+    warthog = load_robot(WARTHOG)
+    plan = articulation(warthog, 0.05)
+    # equal arms: each rocker pitches by the same angle, opposite ways; the differential levels the
+    # chassis between them and lifts it by half the blocks
+    assert (plan.pitch, plan.roll) == (pytest.approx(0.0, abs=1e-12), pytest.approx(0.0, abs=1e-12))
+    assert plan.height == pytest.approx(0.41 + 0.025)
+    # stairs of five 1 cm layers, 4 cm apart: the back ones under the right back wheel only, from 5 cm beyond
+    # where a 0.30 m wheel first touches a 1 cm step, their top (5 cm high) ending 5 cm short of where the right
+    # front wheel would touch it; the front ones under the left front wheel only, as far ahead of it
+    front = [b for b in plan.boxes if b[1] == 0.56]
+    back = [b for b in plan.boxes if b[1] == -0.56]
+    assert len(front) == len(back) == 5 and all(b[6] == pytest.approx(0.01) for b in plan.boxes)
+    assert [b[2] for b in back] == pytest.approx([0.005, 0.015, 0.025, 0.035, 0.045])
+    first = math.sqrt(0.3**2 - 0.29**2) + 0.05
+    assert [b[0] - b[4] / 2 for b in back] == pytest.approx([-0.42 + first + 0.04 * k for k in range(5)])
+    assert [b[0] - b[4] / 2 for b in front] == pytest.approx([0.50 + first + 0.04 * k for k in range(5)])
+    end = 0.50 - math.sqrt(0.3**2 - 0.25**2) - 0.05
+    assert all(b[0] + b[4] / 2 == pytest.approx(end) for b in back)
+    # the right back wheel stops mid-top, the left front one on its top too, the left back one short of the stairs
+    top = -0.42 + first + 0.16
+    assert -0.42 + plan.travel == pytest.approx((top + end) / 2)
+    assert 0.50 + plan.travel > 0.50 + first + 0.16 + 0.05
+    assert -0.42 + plan.travel + math.sqrt(0.3**2 - 0.29**2) < 0.50 + first
+    # longer front arms (0.56 m, back 0.46 m): by hand, the left rocker (front up) lifts its pivot
+    # 0.46 / 1.02 of the block, the right one (back up) 0.56 / 1.02: the chassis rolls right by
+    # asin(0.1 h / 1.02 / 1.12), still level in pitch, and rises by the mean
+    path = tmp_path / "long.urdf"
+    path.write_text(warthog_text(front_arm=0.56))
+    plan = articulation(load_robot(path), 0.05)
+    assert plan.pitch == pytest.approx(0.0, abs=1e-12)
+    assert plan.roll == pytest.approx(math.asin(-0.1 * 0.05 / 1.02 / 1.12))
+    assert plan.height == pytest.approx(0.41 + 0.05 / 2)
+
+
+def test_suspension_cases_skip_a_robot_without_one(robot):
+    for kind, params in (("rest_pose", {"mu": 0.8}), ("articulation", {"h": 0.05, "mu": 0.8})):
+        out = run_case(Setup("pybullet", robot, 0.001, 100.0, 0.555, {}), f"case_{kind}", {"kind": kind, **params})
+        assert out["status"] == "skipped" and out["checks"] == [], out
+        assert out["reasons"][0].startswith("not applicable: the robot has no suspension"), out
+
+
+def test_suspension_cases_tell_a_rigid_chassis_from_coupled_rockers(tmp_path, monkeypatch):
+    """The Warthog with its rockers fixed, run as if it had them (no engine simulates the suspension
+    here): at rest it stands level at its height, and on the diagonal blocks, with no rocker to take
+    up the twist, it rests on three wheels, which the articulation case must flag."""
+    from dataclasses import replace
+
+    path = tmp_path / "rigid.urdf"
+    path.write_text(warthog_text(rigid=True))
+    rigid = load_robot(path)
+    assert rigid.suspension == ()
+    warthog = load_robot(WARTHOG)
+    posing = replace(rigid, suspension=warthog.suspension, couplings=warthog.couplings)
+    monkeypatch.setattr(type(get_engine("pybullet")), "simulates_suspension", True, raising=False)
+    setup_ = Setup("pybullet", posing, 0.001, 500.0, 1.08, CONFIG["engines"]["pybullet"])
+    cases = {
+        "rest": {"kind": "rest_pose", "mu": 0.8, "duration": 2.0},
+        "twist": {"kind": "articulation", "h": 0.05, "mu": 0.8, "duration": 2.0},
+    }
+    results = [run_case(setup_, name, params) for name, params in cases.items()]
+    summary = summarise(results, TOLERANCES).set_index(["case", "quantity"])
+    assert summary.loc[("rest", "chassis_pitch"), "passed"], summary.loc["rest"]
+    assert summary.loc[("rest", "chassis_height"), "passed"], summary.loc["rest"]
+    twist = summary.loc["twist"]
+    # it drove onto the blocks and rests on both block wheels and a third one, in their plane: with the
+    # right front wheel (z = 0) its origin stands h (1/2 + 0.5 / 0.92) high, tilted by about h / 0.92 in
+    # pitch and h / 1.12 in roll; with the left back one the mirror image. With its mass centre near the
+    # diagonal it rocks between the two (PyBullet: +-0.05 rad pitch), still at that height
+    pitch, roll, height = (twist.loc[q, "engine_value"] for q in ("chassis_pitch", "chassis_roll", "chassis_height"))
+    assert height == pytest.approx(0.41 + 0.05 * (0.5 + 0.5 / 0.92), abs=0.005), twist
+    assert abs(pitch) > 0.5 * math.asin(0.05 / 0.92) and abs(roll) > 0.5 * math.asin(0.05 / 1.12), twist
+    # which the articulation case flags: the differential would hold the chassis level
+    assert not twist.loc["chassis_pitch", "passed"] and not twist.loc["chassis_roll", "passed"]
+    assert not twist.loc["chassis_height", "passed"]

@@ -94,6 +94,11 @@ class Robot(Strict):
         description="suspension linkages the description leaves out (a differential bar between two rockers); "
         "a <mimic> in the URDF declares the same",
     )
+    packages: dict[str, str] | None = Field(
+        None,
+        description="package name -> its folder, for a xacro description's $(find PKG) includes (a maker's "
+        "ROS package, read without ROS); package:// meshes are dropped for the primitive collisions",
+    )
 
 
 class Imu(Strict):
@@ -295,10 +300,15 @@ class OwnLog(Strict):
 class ValidationCase(Strict):
     """A case with a known mechanical answer (simpick.studies.validation documents the kinds)."""
 
-    kind: Literal["yaw_gain", "straight", "slide", "incline", "rest"] = Field(
+    kind: Literal["yaw_gain", "straight", "slide", "incline", "rest", "rest_pose", "articulation"] = Field(
         description="yaw_gain: steady yaw rate / w against the Coulomb gain; straight: speed = wheel speed x "
         "radius; slide: locked-wheel deceleration mu g; incline: parked below atan(mu), sliding "
-        "above; rest: accelerometer g, gyro 0, no creep"
+        "above; rest: accelerometer g, gyro 0, no creep; a robot on a suspension (skipped on others): "
+        "rest_pose: the chassis level at its resting height; articulation: coupled rockers twisted on "
+        "two diagonal blocks h high, the chassis' pitch, roll and height as the coupling sets them"
+    )
+    h: Annotated[float, Field(gt=0, le=0.5, allow_inf_nan=False)] | None = Field(
+        None, description="m, articulation: the blocks' height (below half the wheel radius)"
     )
     v: Finite | None = Field(None, description="m/s, commanded forward speed (yaw_gain, straight, slide)")
     w: Finite | None = Field(None, description="rad/s, commanded yaw rate (yaw_gain; positive: left)")
@@ -325,9 +335,15 @@ class ValidationCase(Strict):
 
     @model_validator(mode="after")
     def needed(self):
-        need = {"yaw_gain": ("v", "w"), "straight": ("v",), "slide": ("v",), "incline": ("angle_factor",), "rest": ()}[
-            self.kind
-        ]
+        need = {
+            "yaw_gain": ("v", "w"),
+            "straight": ("v",),
+            "slide": ("v",),
+            "incline": ("angle_factor",),
+            "rest": (),
+            "rest_pose": (),
+            "articulation": ("h",),
+        }[self.kind]
         missing = [k for k in need if getattr(self, k) is None]
         if missing:
             raise ValueError(f"a {self.kind} case needs {missing}")
@@ -516,7 +532,7 @@ class Statistics(Strict):
 VERDICT_METRICS = ("gain_error", "heading_error", "speed_error")
 # the kinds of validation case (simpick.studies.validation) a metric's mechanics can rest on; "invariance":
 # the checks made across yaw-gain cases (left against right turns, start headings)
-CASE_KINDS = Literal["yaw_gain", "straight", "slide", "incline", "rest", "invariance"]
+CASE_KINDS = Literal["yaw_gain", "straight", "slide", "incline", "rest", "rest_pose", "articulation", "invariance"]
 # the real robot's own figure behind a metric, which a margin measured from the data is taken from
 REAL_FIGURE = {"gain_error": "yaw_rate_gain_real"}
 
@@ -800,6 +816,10 @@ class Study(Strict):
 
         try:
             robot = load_from_config(self.robot.model_dump(exclude_none=True))
+            if robot.suspension:  # rockers with no resting pose (uncoupled) leave no job anything to run
+                from simpick.coulomb import contact_layout
+
+                contact_layout(robot, points_per_wheel=1)
         except InputError as exc:
             raise ValueError(f"robot.urdf: {exc}") from None
         if self.real_data.robot is not None and robot.name != self.real_data.robot:

@@ -15,7 +15,11 @@ The contact layout and loads come from the robot description (:func:`contact_lay
 centre, and static loads from the whole robot's mass and centre of mass, shared among the
 contact points as a rigid body on equally stiff contacts does (the minimum-norm load set that
 balances weight and the two tipping moments: loads linear in position; exact for three
-contacts, the statically indeterminate four or more shared as for the Husky). A caster on a
+contacts, the statically indeterminate four or more shared as for the Husky). A robot on a passive
+suspension (rockers, bogies) also balances each free motion of its mechanism, which fixes the loads a
+rigid body leaves open: each rocker is a lever about its pivot, and a differential coupling two
+rockers passes the same torque to both (:func:`_suspended_loads`; the Warthog: 616 N on each front
+wheel, 659 N on each back one). A caster on a
 swivel is frictionless (it turns to roll wherever it is pushed: load, no force); a passive wheel
 without a swivel rolls freely but resists lateral slip; ``caster_friction`` replaces both by
 sliding friction of that fraction of the ground's. For a two-wheel differential drive on
@@ -143,7 +147,10 @@ def contact_layout(
             "give it a caster wheel on a swivel, or a collision shape reaching the ground",
         )
     weight = mass * GRAVITY
-    loads = a.T @ np.linalg.solve(a @ a.T, weight * np.array([1.0, com[0], com[1]]))
+    if robot.suspension:  # rockers: the mechanism's own equilibrium decides what the rigid body leaves open
+        loads = _suspended_loads(robot, points, np.asarray(wheel), a, weight * np.array([1.0, com[0], com[1]]))
+    else:
+        loads = a.T @ np.linalg.solve(a @ a.T, weight * np.array([1.0, com[0], com[1]]))
     if np.any(loads <= 0):
         lifted = sorted({robot.wheels[i].joint for i in np.asarray(wheel)[loads <= 0]})
         raise InputError(
@@ -163,6 +170,83 @@ def contact_layout(
         free_roll=np.asarray(free) if casters else None,
     )
     return with_friction_ratio(layout, friction_ratio)
+
+
+def _suspended_loads(robot: RobotSpec, points: np.ndarray, wheel: np.ndarray, a: np.ndarray, b: np.ndarray):
+    """Static contact loads of a robot on passive suspension joints (rockers, bogies), resting on
+    flat ground with every joint at zero.
+
+    A rigid robot gives three equations (weight, and its moments about x and y) for its contact
+    loads. A suspension adds one equation per free motion of its mechanism: with the chassis held,
+    turning a free joint by a small angle moves the bodies below it, and at rest neither the
+    contact loads nor gravity may do work along that motion (the joints are free: their friction
+    only holds a pose, it sets none). Joint j turning by dq moves a point p below it by
+    dq a_j x (p - o_j) (a_j its axis, o_j its origin), so the equation of a free motion k, which
+    turns joint j by w_kj dq, is
+
+        sum_j w_kj [ sum_{contacts i below j} N_i (a_j x (p_i - o_j))_z - g M_j (a_j x (c_j - o_j))_z ] = 0
+
+    with M_j, c_j the mass and centre of mass of everything below j (:class:`Suspension`). An
+    uncoupled joint is a motion of its own (w = 1); coupled joints move together: the leader by 1,
+    the follower by the coupling's multiplier.
+
+    For a lateral axis the bracket is the rocker's lever balance about its pivot: the moment of its
+    wheels' loads about the pivot equals the moment of its own weight (wheels included). A free
+    rocker's two wheels thus share the load at its pivot in inverse proportion to their distance
+    from it. Two rockers coupled by a differential (multiplier -1, the Warthog) form one motion,
+    left rocker down where the right one goes up: their lever balances need not vanish each, only
+    their difference, so the differential carries a torque, the same on both rockers; the chassis'
+    pitch balance (the rigid body's moment about y) makes the two torques together hold the
+    chassis' weight moment about the pivots' line, so each rocker's lever carries half of it (for
+    any lateral distribution of the weight: the differential passes torque, not load), and the
+    pivots carry the chassis' weight as its roll balance shares it between the two sides.
+
+    Loads beyond those equations (more contact points than equations, e.g. several across a wheel's
+    width) are shared as for a rigid robot: the minimum-norm solution, which is the one on equally
+    stiff contacts. With uncoupled rockers on both sides there are more equations than the contacts
+    can meet: the chassis has no resting pitch and tips onto the joint limits, which is refused.
+    """
+    index = {w.joint: i for i, w in enumerate(robot.wheels)}
+    ground = -robot.base_height
+    # with every joint at zero the lowest wheel sets the resting height (the description's, even where the
+    # config overrides that figure)
+    lowest = max(w.radius - w.position[2] for w in robot.wheels)
+    off_ground = [w.joint for w in robot.wheels if w.mount is not None and lowest - (w.radius - w.position[2]) > 2e-3]
+    if off_ground:
+        raise InputError(
+            str(robot.source),
+            f"wheels {off_ground} on the suspension do not touch flat ground with every joint at zero: "
+            "the resting pose turns the rockers, and the Coulomb reference reads the loads at zero",
+            "give the description its resting pose (every wheel on the ground with the rocker joints at zero)",
+        )
+    followers = {c.joint: c for c in robot.couplings}
+    rows, rhs = [], []
+    for leader in (s for s in robot.suspension if s.joint not in followers):
+        weights = {leader.joint: 1.0}
+        weights.update({c.joint: c.multiplier for c in robot.couplings if c.leader == leader.joint})
+        row, value = np.zeros(len(points)), 0.0
+        for sus in (s for s in robot.suspension if s.joint in weights):
+            axis, pivot = np.asarray(sus.axis), np.asarray(sus.position)
+            below = np.isin(wheel, [index[j] for j in sus.wheels if j in index])
+            arm = np.column_stack([points, np.full(len(points), ground)]) - pivot
+            row += weights[sus.joint] * np.where(below, np.cross(axis, arm)[:, 2], 0.0)
+            value += weights[sus.joint] * GRAVITY * sus.mass * np.cross(axis, np.asarray(sus.com) - pivot)[2]
+        rows.append(row)
+        rhs.append(value)
+    system = np.vstack([a, rows])
+    target = np.concatenate([b, rhs])
+    loads = np.linalg.lstsq(system, target, rcond=None)[0]  # the minimum-norm solution
+    residual = np.abs(system @ loads - target).max()
+    if residual > 1e-6 * b[0]:
+        free = [s.joint for s in robot.suspension if s.joint not in followers]
+        raise InputError(
+            str(robot.source),
+            f"the suspension joints {free} leave the robot no resting pose on flat ground: the chassis tips "
+            "onto the joint limits (the rockers are not coupled, or their mechanism cannot balance the weight)",
+            "couple the rockers as the robot's own linkage does: a <mimic> on the follower joint in the "
+            "description, or robot.couplings in the config (a differential bar: multiplier -1)",
+        )
+    return loads
 
 
 def with_friction_ratio(layout: ContactLayout, ratio: float) -> ContactLayout:

@@ -1,7 +1,8 @@
 """The robot description every engine loads, and the facts simpick reads from it.
 
 Any wheeled ground robot described by a URDF (or a xacro file, expanded with the ``xacro``
-package) can be studied. :func:`load_robot` reads the description once, at planning time and
+package; its ``$(find PKG)`` includes resolved from the config's ``robot.packages``, without ROS)
+can be studied. :func:`load_robot` reads the description once, at planning time and
 in every job, and returns a :class:`RobotSpec`: the one interface through which the engines,
 the controller, the IMU mount and the Coulomb model see the robot. Nothing else parses the URDF
 for robot facts (an adapter may read the file :attr:`RobotSpec.urdf` for the shapes and
@@ -111,6 +112,10 @@ class Suspension:
     damping: float  # N m s/rad, the description's <dynamics damping> (0 if absent)
     friction: float  # N m, its <dynamics friction> (0 if absent)
     wheels: tuple[str, ...]  # the wheel joints hanging below it
+    # what the joint carries: the child link and every link below it (wheels, nested rockers);
+    # the Coulomb reference's static loads need its weight and where it acts
+    mass: float = 0.0  # kg
+    com: tuple[float, float, float] = (0.0, 0.0, 0.0)  # its centre of mass in the base frame, m
 
 
 @dataclass(frozen=True)
@@ -239,6 +244,13 @@ def _suspension_joint(tree: Tree, jname: str, where: str) -> Suspension | None:
         return None
     dynamics = j.find("dynamics")
     position, _ = tree.pose[child]
+    mass, moment = 0.0, np.zeros(3)
+    for link in [child] + [tree.joints[k].find("child").get("link") for k in _subtree_joints(tree, child)]:
+        inert = inertial(tree.links[link], where)
+        if inert is not None:
+            p, r = tree.pose[link]
+            mass += inert[0]
+            moment += inert[0] * (p + r @ inert[1])
     return Suspension(
         joint=jname,
         link=child,
@@ -250,6 +262,8 @@ def _suspension_joint(tree: Tree, jname: str, where: str) -> Suspension | None:
         damping=float(dynamics.get("damping", "0")) if dynamics is not None else 0.0,
         friction=float(dynamics.get("friction", "0")) if dynamics is not None else 0.0,
         wheels=tuple(below),
+        mass=float(mass),
+        com=tuple(float(v) for v in (moment / mass if mass > 0 else position)),
     )
 
 
@@ -568,6 +582,7 @@ def load_robot(
     wheels: Mapping[str, str] | None = None,
     overrides: Mapping[str, Any] | None = None,
     couplings: list[Mapping[str, Any]] | None = None,
+    packages: Mapping[str, str | Path] | None = None,
 ) -> RobotSpec:
     """Read any wheeled robot's URDF or xacro; see the module docstring for the rules.
 
@@ -575,10 +590,11 @@ def load_robot(
     name, else the base). ``wheels``: driven joint -> side ("left"/"right"), instead of finding
     them. ``overrides``: figures from :data:`OVERRIDABLE` replacing the description's.
     ``couplings``: suspension linkages the description leaves out (joint, leader, multiplier, offset).
+    ``packages``: package name -> folder, answering a xacro's ``$(find PKG)`` (no ROS needed).
     """
     source = Path(urdf)
     where = str(source)
-    root = read_description(source)
+    root = read_description(source, packages)
     tree = tree_of(root, where)
     if wheels is not None:
         bad = {j: s for j, s in wheels.items() if s not in ("left", "right")}
@@ -703,7 +719,8 @@ def load_robot(
 
 
 def load_from_config(robot: Mapping[str, Any]) -> RobotSpec:
-    """The robot as the config's ``robot`` block names it (urdf, imu_link, wheels, overrides)."""
+    """The robot as the config's ``robot`` block names it (urdf, imu_link, wheels, overrides,
+    couplings, packages)."""
     wheels = robot.get("wheels")
     if wheels is not None:
         wheels = {w["joint"]: w["side"] for w in wheels}
@@ -714,6 +731,7 @@ def load_from_config(robot: Mapping[str, Any]) -> RobotSpec:
         wheels=wheels,
         overrides=overrides,
         couplings=robot.get("couplings"),
+        packages=robot.get("packages"),
     )
 
 

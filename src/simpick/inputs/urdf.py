@@ -11,6 +11,8 @@ import math
 import os
 import tempfile
 import xml.etree.ElementTree as ET
+from collections.abc import Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -273,10 +275,61 @@ class RigidModel:
 # --- reading -------------------------------------------------------------------------------
 
 
-def read_description(path: str | Path) -> ET.Element:
+PACKAGES_FIX = (
+    "give each package the description names in $(find PKG) as robot.packages: {PKG: FOLDER} in the config, "
+    "FOLDER the package's own folder (the one holding its urdf/ and meshes/ folders)"
+)
+
+
+@contextmanager
+def _packages_found(packages: Mapping[str, str | Path], where: str):
+    """xacro's ``$(find PKG)`` (and ``find()`` in ``$(eval)``) answered from ``packages`` instead of a ROS
+    installation: xacro resolves both through ``xacro.substitution_args._eval_find`` (ament_index in
+    xacro 2), which is replaced for the expansion and restored after. A package not in ``packages``
+    is one InputError naming robot.packages."""
+    from xacro import substitution_args
+
+    unknown: list[InputError] = []
+
+    def find(package: str) -> str:
+        if package not in packages:
+            unknown.append(
+                InputError(
+                    "robot.packages",
+                    f"{where} includes $(find {package}), and robot.packages gives no folder for {package!r} "
+                    f"(it gives: {sorted(packages) or 'none'})",
+                    PACKAGES_FIX,
+                )
+            )
+            raise unknown[-1]
+        return str(Path(packages[package]).resolve())
+
+    saved = substitution_args._eval_find, substitution_args._eval_dict.get("find")
+    substitution_args._eval_find = substitution_args._eval_dict["find"] = find
+    try:
+        yield
+    except Exception:
+        if unknown:  # xacro may wrap the error in its own: the package's line, not xacro's
+            raise unknown[0] from None
+        raise
+    finally:
+        substitution_args._eval_find, substitution_args._eval_dict["find"] = saved
+
+
+def read_description(path: str | Path, packages: Mapping[str, str | Path] | None = None) -> ET.Element:
     """The description's XML root; a xacro file (``.xacro`` or a root holding xacro tags) is
-    expanded first. Anything unreadable raises InputError naming the file."""
+    expanded first, its ``$(find PKG)`` answered from ``packages`` (package name -> folder: the
+    config's robot.packages; no ROS installation is needed or read). Anything unreadable raises
+    InputError naming the file (or robot.packages, for a package it names)."""
     path = Path(path)
+    packages = dict(packages or {})
+    for name, folder in packages.items():
+        if not Path(folder).is_dir():
+            raise InputError(
+                f"robot.packages.{name}",
+                f"{folder} is not a folder",
+                "give the package's folder (relative to the folder snakemake runs in, or absolute)",
+            )
     try:
         text = path.read_text()
     except OSError as exc:
@@ -289,9 +342,25 @@ def read_description(path: str | Path) -> ET.Element:
                 str(path), "is a xacro file and the xacro package is not installed", "pip install xacro"
             ) from None
         try:
-            text = xacro.process_file(str(path)).toprettyxml(indent="  ")
+            with _packages_found(packages, str(path)):
+                text = xacro.process_file(str(path)).toprettyxml(indent="  ")
+        except InputError:
+            raise
         except Exception as exc:  # xacro raises its own and plain exceptions for bad input
-            raise InputError(str(path), f"xacro could not expand it: {exc}") from None
+            message = str(exc)
+            inside = [n for n, folder in packages.items() if f"{Path(folder).resolve()}{os.sep}" in message]
+            if inside:  # a file the description expects in a package folder is not there
+                raise InputError(
+                    f"robot.packages.{inside[0]}",
+                    f"{path}: xacro could not expand it: {message}",
+                    f"point robot.packages.{inside[0]} to the folder of the package {inside[0]!r} that holds "
+                    "the files the description includes",
+                ) from None
+            if "find" in message and ("ament" in message or "package" in message.lower()):
+                raise InputError(
+                    "robot.packages", f"{path}: xacro could not expand it: {message}", PACKAGES_FIX
+                ) from None
+            raise InputError(str(path), f"xacro could not expand it: {message}") from None
     try:
         root = ET.fromstring(text)
     except ET.ParseError as exc:

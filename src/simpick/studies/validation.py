@@ -27,6 +27,26 @@ Case kinds (their parameters come from ``validation.cases`` in the config):
     (creep speed 0), above it slides down with g (sin a - mu cos a) and does not yaw.
 ``rest``      (mu) parked on level ground: accelerometer z = g, gyro 0, no creep.
 
+Cases for a robot on a passive suspension (rockers; skipped, saying so, on a robot without one):
+
+``rest_pose`` (mu) parked on level ground: the mechanism balances the weight with every joint at
+    zero (:func:`simpick.coulomb.contact_layout` refuses a description where it cannot), so the
+    chassis rests level (pitch 0, roll 0) at the description's resting height ``base_height``.
+    Pitch and roll are judged by their worst sample over the measured part (the second half), the
+    height by its mean: a chassis that rocks or is still settling fails.
+    Uncoupled rockers have no such pose: the chassis tips onto the joint limits (the Warthog's
+    public description: 0.15 rad), which this case catches.
+``articulation`` (h, mu, v) two coupled rockers twisted against each other: the robot drives at
+    ``v`` onto two blocks of height ``h``, one under the leading rocker's front wheel, one under
+    the other rocker's back wheel (diagonally opposite), stops on them and is held. The blocks are
+    stairs of 1 cm layers 4 cm apart, so that no engine's climbing traction is what is tested. Each rocker
+    then pitches by theta = -asin(dz / L) (dz its front wheel's rise over its back wheel's, L the
+    axle distance), and the coupling q(follower) = m q(leader) sets the chassis' pitch to
+    (theta_f - m theta_l) / (1 - m): for a differential (m = -1) the mean of the two, 0 for equal
+    arms. The pivots rise by the blocks' height shared by the lever arms, which gives the chassis'
+    roll and height. A rigid robot rests on three of the four wheels instead, and uncoupled rockers
+    drop onto their limits: both show as pitch or roll.
+
 Invariance checks. Flat isotropic ground has no preferred direction, and the
 mirror image of a turn is a turn the other way: an engine's gain must not depend on the
 start heading nor on the turn's direction. :func:`summarise` adds, from the yaw_gain cases
@@ -67,7 +87,7 @@ from simpick.simulate.imu import block_average
 from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
 from simpick.tables import write_csv
 
-KINDS = ("yaw_gain", "straight", "slide", "incline", "rest")
+KINDS = ("yaw_gain", "straight", "slide", "incline", "rest", "rest_pose", "articulation")
 # deg: a case's start heading (the downhill direction of an incline) when it names none
 DEFAULT_HEADING = 0.0
 # s: a parked case (incline, rest) measures after the spawn drop and the servos' lock-up settle
@@ -90,6 +110,9 @@ QUANTITIES = {
     "creep_distance": ("m", "absolute"),
     "turn_asymmetry": ("1", "absolute"),
     "heading_spread": ("1", "absolute"),
+    "chassis_pitch": ("rad", "absolute"),
+    "chassis_roll": ("rad", "absolute"),
+    "chassis_height": ("m", "absolute"),
 }
 
 
@@ -105,11 +128,14 @@ class Setup:
     settings: dict
 
 
-def _scenario(setup: Setup, mu: float, gravity=(0.0, 0.0, -GRAVITY), heading: float = DEFAULT_HEADING) -> Scenario:
-    """``heading``: the robot's start yaw in degrees."""
+def _scenario(
+    setup: Setup, mu: float, gravity=(0.0, 0.0, -GRAVITY), heading: float = DEFAULT_HEADING, boxes=()
+) -> Scenario:
+    """``heading``: the robot's start yaw in degrees; ``boxes``: blocks on the ground (x, y, z, yaw,
+    size x, y, z), of the ground's friction."""
     return Scenario(
         robot=setup.robot,
-        terrain=dict(FLAT, friction=mu),
+        terrain=dict(FLAT, friction=mu, boxes=[list(map(float, b)) for b in boxes]),
         ground_friction=mu,
         timestep=setup.timestep,
         max_wheel_torque=setup.max_wheel_torque,
@@ -252,6 +278,182 @@ def _rest(setup: Setup, p: dict):
     ]
 
 
+def _chassis_pose(
+    record: PhysicsRecord, start: int, pitch: float = 0.0, roll: float = 0.0
+) -> tuple[float, float, float]:
+    """Chassis pitch and roll (rad) from step ``start`` on, each the sample farthest from the predicted
+    ``pitch`` / ``roll`` (a chassis that rocks or settles late shows its worst, not its mean), and the
+    mean base height (m)."""
+    rpy = euler_rpy(record.quaternion[start:])
+
+    def worst(values: np.ndarray, predicted: float) -> float:
+        return float(values[np.argmax(np.abs(values - predicted))])
+
+    return worst(rpy[:, 1], pitch), worst(rpy[:, 0], roll), float(record.position[start:, 2].mean())
+
+
+def _rest_pose(setup: Setup, p: dict):
+    mu, duration = p["mu"], p.get("duration", 4.0)
+    record = get_engine(setup.engine).simulate(_scenario(setup, mu), _commands(setup, [(duration, 0.0, 0.0)]))
+    # the rockers' damping slows the settling: the last half of the run, at least the parked cases' settle
+    start = max(int(round(SETTLE_S / setup.timestep)), record.steps // 2)
+    pitch, roll, height = _chassis_pose(record, start)
+    return record, [
+        _check("chassis_pitch", pitch, 0.0, mu=mu),
+        _check("chassis_roll", roll, 0.0, mu=mu),
+        _check("chassis_height", height, setup.robot.base_height, mu=mu),
+    ]
+
+
+@dataclass(frozen=True)
+class Articulation:
+    """Where an articulation case puts its blocks, how far the robot drives onto them, and the
+    chassis pose mechanics predicts once it stands on them (see the module docstring)."""
+
+    boxes: tuple[tuple[float, ...], ...]  # x, y, z, yaw, size x, y, z
+    travel: float  # m driven forward from the start
+    pitch: float  # rad
+    roll: float  # rad
+    height: float  # m, base frame origin above the ground
+
+
+def articulation(robot: RobotSpec, h: float) -> Articulation:
+    """The articulation case's layout and prediction for ``robot`` and blocks ``h`` high (raises
+    InputError when it does not apply: see :func:`not_applicable`)."""
+    reason = _articulation_reason(robot, h)
+    if reason is not None:
+        raise InputError("validation.cases (articulation)", reason)
+    coupling = robot.couplings[0]
+    by_joint = {s.joint: s for s in robot.suspension}
+    lead, follow = by_joint[coupling.leader], by_joint[coupling.joint]
+
+    def axles(sus):
+        wheels = sorted((w for w in robot.driven if w.joint in sus.wheels), key=lambda w: -w.position[0])
+        return wheels[0], wheels[1]  # front, back
+
+    (lf, lb), (ff, fb) = axles(lead), axles(follow)
+    plan = _blocks(robot, h, lf, fb, ff)
+    if isinstance(plan, str):
+        raise InputError("validation.cases (articulation)", plan)
+    boxes, travel = plan
+
+    def rocker(sus, front_rise, back_rise, front, back):
+        """Its pitch and its pivot's rise for wheel-centre rises at its front and back axles."""
+        arm = front.position[0] - back.position[0]
+        share = (sus.position[0] - back.position[0]) / arm  # the pivot's place between the axles
+        return -math.asin((front_rise - back_rise) / arm), back_rise + share * (front_rise - back_rise)
+
+    lead_pitch, lead_rise = rocker(lead, h, 0.0, lf, lb)
+    follow_pitch, follow_rise = rocker(follow, 0.0, h, ff, fb)
+    m = coupling.multiplier
+    pitch = (follow_pitch - m * lead_pitch) / (1 - m)
+    # each rocker is rigid in roll with the chassis: the chassis rolls as the line across the two
+    # rockers' wheels, and its origin (at y 0, x 0) rises as that line there, the pitch turning it
+    # about the pivots' line
+    span = lf.position[1] - ff.position[1]
+    roll = math.asin((lead_rise - follow_rise) / span)
+    rise = follow_rise + (lead_rise - follow_rise) * (0.0 - ff.position[1]) / span
+    rise += 0.5 * (lead.position[0] + follow.position[0]) * math.sin(pitch)
+    return Articulation(boxes=boxes, travel=travel, pitch=pitch, roll=roll, height=robot.base_height + rise)
+
+
+# m: the blocks are stairs of layers at most this high, each this far behind the one below it, so
+# that a wheel climbs them as it would a 14-degree ramp. One 5 cm step is climbed only where the climbing
+# wheel's friction exceeds tan(a), a the angle of the contact at the edge (0.66 for the Warthog's 0.30 m
+# wheel): MuJoCo's Warthog stalled at mu 0.8 in front of one, spinning its wheels, as a case of the
+# coupling it should not test traction
+STAIR_RISE = 0.01
+STAIR_RUN = 0.04
+
+
+def _reach(radius: float, rise: float) -> float:
+    """How far ahead of its centre a wheel meets a step ``rise`` high."""
+    return math.sqrt(radius**2 - (radius - rise) ** 2)
+
+
+def _blocks(robot: RobotSpec, h: float, lead_front, follow_back, follow_front):
+    """The stairs under the leading rocker's front wheel and the other's back wheel, and how far the
+    robot drives: (boxes, travel), or why the robot is too short for blocks ``h`` high."""
+    radius = robot.wheel_radius
+    layers = max(1, math.ceil(h / STAIR_RISE - 1e-9))
+    rise = h / layers
+    climb = (layers - 1) * STAIR_RUN  # from the first layer's edge to the top layer's
+    first = _reach(radius, rise) + 0.05  # the first edge 5 cm beyond where the wheel would touch it
+    # the back stairs end (at full height) before the wheel ahead of them on that side would touch them
+    back_start = follow_back.position[0] + first
+    back_end = follow_front.position[0] - _reach(radius, h) - 0.05
+    top = back_start + climb  # where the top layer begins
+    if back_end - top < 0.1:
+        return (
+            f"blocks {h} m high leave no room between the back and front axles of rocker "
+            f"(the top of the stairs would be {back_end - top:.3f} m long): give a lower h"
+        )
+    travel = 0.5 * (top + back_end) - follow_back.position[0]  # the back wheel stops mid-top
+    front_start = lead_front.position[0] + first
+    length = travel + 1.0  # beyond where the front wheel stops
+    width = max(w.width for w in robot.driven) + 0.1
+    boxes = []
+    for k in range(layers):
+        for start, end, y in (
+            (front_start, front_start + length, lead_front.position[1]),
+            (back_start, back_end, follow_back.position[1]),
+        ):
+            x0 = start + k * STAIR_RUN
+            boxes.append((0.5 * (x0 + end), y, (k + 0.5) * rise, 0.0, end - x0, width, rise))
+    return tuple(boxes), travel
+
+
+def _articulation_reason(robot: RobotSpec, h: float | None = None) -> str | None:
+    if not robot.suspension:
+        return "the robot has no suspension"
+    if len(robot.suspension) != 2 or len(robot.couplings) != 1:
+        return (
+            "the case twists one coupled pair of rockers against each other; the robot's suspension is "
+            f"{len(robot.suspension)} joints with {len(robot.couplings)} couplings"
+        )
+    coupling = robot.couplings[0]
+    if coupling.multiplier == 1:
+        return "a coupling with multiplier 1 moves both rockers alike: the chassis cannot pitch between them"
+    for sus in robot.suspension:
+        own = [w for w in robot.driven if w.joint in sus.wheels]
+        if (
+            len(own) != 2
+            or len({round(w.position[1], 3) for w in own}) != 1
+            or own[0].position[0] == own[1].position[0]
+        ):
+            return f"rocker {sus.joint!r} does not carry one front and one back driven wheel on one side"
+        if sus.parent != robot.base_link:
+            return f"rocker {sus.joint!r} hangs on {sus.parent!r}, not on the chassis"
+    if h is not None and not 0 < h < robot.wheel_radius / 2:
+        return f"blocks {h} m high: give 0 < h < half the wheel radius ({robot.wheel_radius / 2:.3f} m)"
+    if h is not None:
+        by_joint = {s.joint: s for s in robot.suspension}
+        follow = by_joint[coupling.joint]
+        lead = by_joint[coupling.leader]
+        front = max((w for w in robot.driven if w.joint in lead.wheels), key=lambda w: w.position[0])
+        own = sorted((w for w in robot.driven if w.joint in follow.wheels), key=lambda w: w.position[0])
+        plan = _blocks(robot, h, front, own[0], own[1])
+        if isinstance(plan, str):
+            return plan
+    return None
+
+
+def _articulation(setup: Setup, p: dict):
+    h, mu, v = p["h"], p["mu"], p.get("v", 0.2)
+    plan = articulation(setup.robot, h)
+    hold = p.get("duration", 3.0)
+    record = get_engine(setup.engine).simulate(
+        _scenario(setup, mu, boxes=plan.boxes), _commands(setup, [(plan.travel / v, v, 0.0), (hold, 0.0, 0.0)])
+    )
+    start = record.steps - int(round(min(1.0, hold / 2) / setup.timestep))  # the held pose's last second
+    pitch, roll, height = _chassis_pose(record, start, plan.pitch, plan.roll)
+    return record, [
+        _check("chassis_pitch", pitch, plan.pitch, mu=mu, v=v),
+        _check("chassis_roll", roll, plan.roll, mu=mu, v=v),
+        _check("chassis_height", height, plan.height, mu=mu, v=v),
+    ]
+
+
 # --- robot-generic: where a case's analytic value does not apply to the robot studied ---------
 
 
@@ -263,6 +465,10 @@ def not_applicable(robot: RobotSpec, kind: str, params: dict) -> str | None:
     """Why a case's analytic value does not describe ``robot`` (None: it does)."""
     if kind == "slide":
         return braking_deceleration_of(robot, params["mu"])[1]
+    if kind == "rest_pose" and not robot.suspension:
+        return "the robot has no suspension (its rest is the rest case's)"
+    if kind == "articulation":
+        return _articulation_reason(robot, params.get("h"))
     if kind == "incline" and robot.casters:
         return (
             "the robot's casters roll freely, so only its driven wheels hold it on the slope, and the "
@@ -271,7 +477,15 @@ def not_applicable(robot: RobotSpec, kind: str, params: dict) -> str | None:
     return None
 
 
-RUNNERS = {"yaw_gain": _yaw_gain, "straight": _straight, "slide": _slide, "incline": _incline, "rest": _rest}
+RUNNERS = {
+    "yaw_gain": _yaw_gain,
+    "straight": _straight,
+    "slide": _slide,
+    "incline": _incline,
+    "rest": _rest,
+    "rest_pose": _rest_pose,
+    "articulation": _articulation,
+}
 
 
 def run_case(setup: Setup, name: str, params: dict) -> dict:
@@ -655,6 +869,8 @@ CASE_QUANTITY = {
     "slide": "deceleration",
     "incline": "slide_acceleration",
     "rest": "accel_z",
+    "rest_pose": "chassis_pitch",
+    "articulation": "chassis_pitch",
 }
 
 
