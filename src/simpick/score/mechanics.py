@@ -17,6 +17,8 @@ KIND_LABELS = {
     "incline": "incline",
     "rest": "rest",
     "invariance": "turn symmetry and heading",
+    "rest_pose": "suspension at rest",
+    "articulation": "suspension articulation",
 }
 MECHANICS_COLUMNS = [
     "engine",

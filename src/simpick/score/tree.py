@@ -178,6 +178,8 @@ KIND_TEXT = {
     "incline": "slopes",
     "rest": "standing at rest",
     "invariance": "left/right and heading invariance",
+    "rest_pose": "resting level on its suspension",
+    "articulation": "the suspension's articulation over blocks",
 }
 
 
