@@ -144,9 +144,10 @@ def _mujoco_setup():
 
 
 def test_mujoco_gain_on_the_map_is_its_validation_gain():
-    """The map's short run (turnmap.DURATION, 3 s) against the validation's yaw_gain case (6 s) at the same
-    command. Measured on the Warthog in MuJoCo at four DRIVE commands (0.35-2.9 rad/s, spin to 7 m radius):
-    3 s and 6 s differed by at most 0.0004 in gain; 0.005 is a tenth of the validation's 10 % tolerance."""
+    """The map's run (turnmap.DURATION) against the validation's yaw_gain case at the same command, given as
+    the validation gives it (v, w with the config's track, its default length): the map reaches it through
+    DRIVE's wheel speeds and converts the gain to DRIVE's kinematic rate, which must change nothing when the
+    track is DRIVE's baseline. Both are the same deterministic run, so they agree to rounding."""
     pytest.importorskip("mujoco")
     from simpick.studies.validation import run_case
 
@@ -159,8 +160,7 @@ def test_mujoco_gain_on_the_map_is_its_validation_gain():
     assert (mapped.wall_time > 0).all()
     for (v, w), gain in zip(commands, mapped.engine_gain):
         result = run_case(setup, "gain", {"kind": "yaw_gain", "v": v, "w": w, "mu": 0.8})
-        assert result["params"].get("duration", 6.0) == 6.0
-        assert gain == pytest.approx(result["checks"][0]["engine_value"], abs=0.005)
+        assert gain == pytest.approx(result["checks"][0]["engine_value"], abs=1e-9)
         assert 0.4 < gain < 0.8  # a skid-steer's gain, neither rolling (1) nor stuck (0)
 
 

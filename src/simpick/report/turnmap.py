@@ -10,10 +10,10 @@ import pandas as pd
 
 from simpick.report.figures import REFERENCE_COLOR, WIDTH_IN, _plt, engine_colors, nothing_to_draw, save
 
-VARIABLES = {  # binned variable -> axis label
-    "v_cmd": "commanded |forward speed| (m/s)",
-    "cmd_turn_radius": "commanded turn radius (m; spin 0)",
-    "cmd_wheel_speed_difference": "commanded |wheel-speed difference| at the rim (m/s)",
+VARIABLES = {  # binned variable -> panel title (the commanded value; x: its bins)
+    "v_cmd": "|forward speed| (m/s)",
+    "cmd_turn_radius": "turn radius (m; spin: 0)",
+    "cmd_wheel_speed_difference": "|rim-speed difference| (m/s)",
 }
 COULOMB_COLOR = "#7f7f7f"
 
@@ -81,6 +81,7 @@ def turnmap_figure(table: pd.DataFrame, path: str | Path) -> Path:
             if label not in labels:
                 handles.append(h)
                 labels.append(label)
+    fig.suptitle("Yaw-rate gain against the command (bins of the commanded value; number: real steps)", fontsize=8)
     fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 6), frameon=False, bbox_to_anchor=(0.5, -0.02))
     fig.tight_layout(rect=(0, 0.04, 1, 1))
     out = save(fig, path)
