@@ -200,3 +200,35 @@ def test_figure_draws_real_coulomb_and_engines(tmp_path):
 
     out = turnmap_figure(pd.DataFrame(rows), tmp_path / "turnmap.png")
     assert out.stat().st_size > 10_000
+
+
+@pytest.mark.workflow
+def test_the_workflow_maps_a_named_drive_folder(tmp_path):
+    """rules/turnmap.smk, active with drive_dir: a few real steps cut from a shared session at test time,
+    the Warthog in MuJoCo alone; the map, its table and figure are written and nothing committed changes."""
+    from conftest import snakemake, tiny_config, write_config
+    from test_drive import CALIB, _git_status, cut
+
+    if not CALIB.is_dir():
+        pytest.skip(f"DRIVE sessions not present at {CALIB} (the shared data folder; see its README)")
+    data = tmp_path / "calib_data"
+    cut(data, steps=12)
+    config = tiny_config(tmp_path)
+    config["robot"] = {**config["robot"], **WARTHOG, "label": "Warthog"}
+    config["engines"] = {"mujoco": {**config["engines"]["mujoco"], "wheel_servo_kp": 15000.0}}
+    config["accuracy"] = {**config.get("accuracy", {}), "reference": "paper"}
+    config["drive_dir"] = str(data)
+    write_config(tmp_path, config)
+    before = _git_status()
+    targets = ["results/drive/drive/turnmap.csv", "results/drive/drive/turnmap.png"]
+    run = snakemake(tmp_path, "--cores", "1", *targets)
+    assert run.returncode == 0, run.stderr[-3000:]
+    table = pd.read_csv(tmp_path / targets[0])
+    steps = pd.read_csv(tmp_path / "results/drive/drive/steps.csv")
+    assert set(table.engine) == {"mujoco"} and (table.status == "ok").all()
+    assert table.steps.groupby(table.variable).sum().eq(int(steps.turning.sum())).all()  # every turning step
+    assert table.engine_gain.between(0.4, 0.8).all() and table.coulomb_gain.between(0.5, 0.65).all()
+    wall = pd.read_csv(tmp_path / "results/drive/drive/turnmap/wall_time.csv")
+    assert wall.engine.tolist() == ["mujoco"] and wall.ok[0] == wall.runs[0] > 0
+    assert (tmp_path / targets[1]).stat().st_size > 10_000
+    assert _git_status() == before
