@@ -6,24 +6,10 @@
 TURNMAP_TARGETS = []
 
 if SETTINGS.drive_dir:
+    from simpick.studies.turnmap import job_params as turnmap_params
+
     TURNMAP = f"{DRIVE}/turnmap"
     TURNMAP_TARGETS = [f"{DRIVE}/turnmap.csv", f"{DRIVE}/turnmap.png"]
-
-    def turnmap_params(engine=None):
-        """What a turn-map job depends on: the robot, the terrains' friction; an engine's job also its
-        settings and the timestep (not the IMU model, the health limits or the validation's cases)."""
-        config = PLAN.config
-        params = {
-            "robot": {k: v for k, v in config["robot"].items() if k != "urdf"},
-            "classes": {k: {"friction": v["friction"]} for k, v in config["real_data"]["classes"].items()},
-        }
-        if engine is not None:
-            params.update(
-                engine=engine,
-                engine_settings=config["engines"][engine] or {},
-                physics={"timestep": config["physics"]["timestep"]},
-            )
-        return canonical(params)
 
     rule turnmap_grid:
         input:
@@ -36,7 +22,7 @@ if SETTINGS.drive_dir:
         conda:
             "../envs/simpick.yaml"
         params:
-            case=turnmap_params(),
+            case=canonical(turnmap_params(PLAN.config)),
             code=PLAN.script_code("turnmap_grid"),
         script:
             "../scripts/turnmap_grid.py"
@@ -55,7 +41,7 @@ if SETTINGS.drive_dir:
             "../envs/simpick.yaml"
         threads: 1
         params:
-            case=lambda wc: turnmap_params(wc.engine),
+            case=lambda wc: canonical(turnmap_params(PLAN.config, wc.engine)),
             code=lambda wc: PLAN.script_code("turnmap_engine", *PLAN.engine_modules(wc.engine)),
         script:
             "../scripts/turnmap_engine.py"

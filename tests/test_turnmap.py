@@ -178,7 +178,7 @@ def test_an_engine_that_refuses_the_robot_says_so_on_every_row(monkeypatch):
 def test_figure_draws_real_coulomb_and_engines(tmp_path):
     rows = []
     for variable in ("v_cmd", "cmd_turn_radius"):
-        for k, engine in enumerate(["mujoco", "dart"]):
+        for engine in ("mujoco", "dart"):
             for b, value in enumerate([0.3, 1.5]):
                 rows.append(
                     {

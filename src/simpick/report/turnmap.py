@@ -82,7 +82,9 @@ def turnmap_figure(table: pd.DataFrame, path: str | Path) -> Path:
                 handles.append(h)
                 labels.append(label)
     fig.suptitle("Yaw-rate gain against the command (bins of the commanded value; number: real steps)", fontsize=8)
-    fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 6), frameon=False, bbox_to_anchor=(0.5, -0.02))
+    fig.legend(
+        handles, labels, loc="lower center", ncol=min(len(labels), 6), frameon=False, bbox_to_anchor=(0.5, -0.02)
+    )
     fig.tight_layout(rect=(0, 0.04, 1, 1))
     out = save(fig, path)
     plt.close(fig)

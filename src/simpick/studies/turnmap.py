@@ -286,6 +286,23 @@ def wall_times(engines: list[pd.DataFrame]) -> pd.DataFrame:
 # --- the workflow's jobs (rules/turnmap.smk) ---
 
 
+def job_params(config: dict, engine: str | None = None) -> dict:
+    """What a turn-map job depends on, from the study's config: the robot and the terrains' friction; an
+    engine's job also its settings and the timestep (not the IMU model, the health limits or the validation's
+    cases, so editing those reruns no engine here)."""
+    params = {
+        "robot": {k: v for k, v in config["robot"].items() if k != "urdf"},
+        "classes": {k: {"friction": v["friction"]} for k, v in config["real_data"]["classes"].items()},
+    }
+    if engine is not None:
+        params.update(
+            engine=engine,
+            engine_settings=config["engines"][engine] or {},
+            physics={"timestep": config["physics"]["timestep"]},
+        )
+    return params
+
+
 def _robot(params: dict, urdf) -> RobotSpec:
     return load_from_config({**params["robot"], "urdf": str(urdf)})
 
@@ -313,7 +330,9 @@ def engine_job(grid_csv, urdf, params: dict, output) -> pd.DataFrame:
     )
     table = engine_gains(pd.read_csv(grid_csv), setup, params.get("duration", DURATION))
     for line in wall_times([table]).itertuples():
-        print(f"simpick: turnmap {line.engine}: {line.ok}/{line.runs} runs ok in {line.wall_time:.1f} s", file=sys.stderr)
+        print(
+            f"simpick: turnmap {line.engine}: {line.ok}/{line.runs} runs ok in {line.wall_time:.1f} s", file=sys.stderr
+        )
     write_csv(table, output)
     return table
 
@@ -336,6 +355,7 @@ def figure_job(table_csv, output) -> Path:
 
 __all__ = [
     "DURATION",
+    "job_params",
     "coulomb_gains",
     "coulomb_layout",
     "combined_table",
