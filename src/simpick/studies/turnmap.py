@@ -16,6 +16,12 @@ speeds, the speeds the real gain is measured against, so the engine's gain and t
 denominator. Only turning steps (``|w_kin| > MIN_TURN``) enter a bin: at equal wheel speeds the gain is
 0 / 0 and undefined, so such a command is never in the grid.
 
+An engine's gain is the mean over the run's second half, as in the validation; where an engine has no steady
+turn on flat ground the number is that window's mean and no more. Measured on the Warthog at the 37 commands
+of the shared sessions, 3-6 s against 5-10 s: MuJoCo and ODE within 0.001, PhysX within 0.003 at most
+commands but up to 0.26 at a few, PyBullet up to 0.28 (its gain changes as the robot's heading turns
+against the world axes, as the validation's heading cases show on the Husky).
+
 All gains here are against DRIVE's kinematic yaw rate (``r`` and ``B`` of the dataset's geometry). An
 engine's or the Coulomb model's rate against the config's ``robot.track`` is converted with the same wheel
 speeds, so a config whose track differs from DRIVE's baseline still compares like with like.
