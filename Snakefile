@@ -48,3 +48,4 @@ rule all:
     input:
         PLAN.all_targets(),
         DRIVE_TARGETS,
+        TURNMAP_TARGETS,
