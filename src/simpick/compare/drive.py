@@ -1,0 +1,280 @@
+"""The DRIVE replay against the real robot: per step, pooled per session and terrain, and the verdict.
+
+Per replayed step, over its steady part (the real robot's figures from :mod:`simpick.real.drive`):
+
+* ``gain_error``: |simulated - real yaw-rate gain|, both over the kinematic yaw rate of the measured wheels
+  (the replay's input), on turning steps (``|w_kin| >`` :data:`simpick.real.drive.MIN_TURN`); the real
+  yaw rate is the gyro's (its sign fixed per file), never DRIVE's ``icp_vel_yaw`` (a copy of the gyro);
+* ``heading_error``: |simulated - real mean yaw rate| x the steady time (rad,
+  :func:`simpick.compare.realmetrics.heading_error`), on every step;
+* ``speed_error``: |simulated forward speed - the lidar-ICP forward speed| (m/s), on every step: the ICP
+  speed is measured by the lidar, independently of the wheels the replay drives;
+* the start-state mismatch: the simulated body speed and yaw rate at the end of the warm-up
+  (:mod:`simpick.simulate.drive`) minus the real ICP speed and gyro yaw rate at the step's start.
+
+A step whose engine failed the health check (diverged, flipped, wheels not tracking: the project's check,
+:mod:`simpick.simulate.health`) is listed with its reason and left out of every mean, never averaged.
+
+The verdict is BorealTC's (:func:`simpick.score.equivalence.outcomes_table`: each engine against the best,
+Holm-adjusted one-sided tests and TOST equivalence against the practical margins). Its unit of pairing is
+the step (``drive_replay.unit``): every engine replays the same step from the same measured wheels, so the
+paired difference of two engines on one step cancels the step's command and the real values; DRIVE draws
+each step's command at random, independently of the others, so steps are the experiment's replicates. The
+five shared sessions (two on grass) are too few for a paired test by session (a sign-flip test needs six),
+and a session's steps share its conditions (ground, weather, tyre pressure): the per-session rows show
+whether a result holds in each session. ``unit: session`` pairs by session instead (means of its steps).
+The gain error's margin, where the config bases it on the real robot's spread (``real_spread``), is the
+real robot's own step-to-step repeatability (the single-step standard deviation of the gain between steps
+of similar command, :func:`simpick.real.drive.repeatability`), the floor no model can beat.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+
+from simpick.compare import realmetrics
+from simpick.real.drive import MIN_TURN, repeatability, similar_pairs
+from simpick.score.equivalence import outcomes_table
+from simpick.score.mechanics import mechanics_table
+from simpick.score.verdict import METRICS, per_run_values
+from simpick.tables import write_csv
+
+ERROR_COLUMNS = [
+    "case",
+    "engine",
+    "session",
+    "terrain_class",
+    "step",
+    "status",
+    "reasons",
+    "turning",
+    "w_kin",
+    "v_kin",
+    "start_vx",
+    "sim_start_vx",
+    "start_dv",
+    "start_wz",
+    "sim_start_wz",
+    "start_dwz",
+    "yaw_rate_real",
+    "yaw_rate_sim",
+    "gain_real",
+    "gain_sim",
+    "gain_bias",
+    "gain_error",
+    "heading_real",
+    "heading_sim",
+    "heading_error",
+    "v_real",
+    "v_sim",
+    "speed_bias",
+    "speed_error",
+    "wall_time",
+    "sim_time",
+]
+SUMMARY_COLUMNS = [
+    "engine",
+    "terrain_class",
+    "session",
+    "steps",
+    "failed",
+    "failed_reasons",
+    "turning_steps",
+    "gain_real_median",
+    "gain_sim_median",
+    "gain_error_mean",
+    "gain_error_low",
+    "gain_error_high",
+    "gain_floor_sd",
+    "heading_error_mean",
+    "heading_error_low",
+    "heading_error_high",
+    "speed_error_mean",
+    "speed_error_low",
+    "speed_error_high",
+    "speed_floor_sd",
+    "speed_bias_mean",
+    "start_dv_median_abs",
+    "start_dwz_median_abs",
+    "wall_time_per_step",
+]
+ALL = "all"
+
+
+def step_errors(cases: pd.DataFrame, steps: pd.DataFrame, replayed: pd.DataFrame, min_turn: float = MIN_TURN):
+    """One row per replayed step and engine (``ERROR_COLUMNS``), from the cases table, the real step table
+    (its kinematic twist) and the replay's step rows (:data:`simpick.simulate.drive.STEP_COLUMNS`)."""
+    real = cases.merge(steps[["session", "step", "w_kin", "v_kin"]], on=["session", "step"], how="left")
+    m = replayed.merge(real, on=["case", "session", "terrain_class", "step"], how="left", suffixes=("", "_real"))
+    duration = m.steady_end - m.steady_start
+    turning = m.w_kin.abs() > min_turn
+    ok = m.status == "ok"
+    gain_sim = (m.sim_yaw_rate / m.w_kin).where(turning)
+    gain_real = (m.yaw_rate / m.w_kin).where(turning)
+    out = pd.DataFrame(
+        {
+            "case": m.case,
+            "engine": m.engine,
+            "session": m.session,
+            "terrain_class": m.terrain_class,
+            "step": m.step,
+            "status": m.status,
+            "reasons": m.reasons.fillna(""),
+            "turning": turning,
+            "w_kin": m.w_kin,
+            "v_kin": m.v_kin,
+            "start_vx": m.start_vx,
+            "sim_start_vx": m.sim_start_vx,
+            "start_dv": m.sim_start_vx - m.start_vx,
+            "start_wz": m.start_wz,
+            "sim_start_wz": m.sim_start_wz,
+            "start_dwz": m.sim_start_wz - m.start_wz,
+            "yaw_rate_real": m.yaw_rate,
+            "yaw_rate_sim": m.sim_yaw_rate,
+            "gain_real": gain_real,
+            "gain_sim": gain_sim,
+            "gain_bias": (gain_sim - gain_real).where(ok),
+            "gain_error": (gain_sim - gain_real).abs().where(ok),
+            "heading_real": m.yaw_rate * duration,
+            "heading_sim": m.sim_yaw_rate * duration,
+            "heading_error": ((m.sim_yaw_rate - m.yaw_rate).abs() * duration).where(ok),
+            "v_real": m.v_icp,
+            "v_sim": m.sim_v,
+            "speed_bias": (m.sim_v - m.v_icp).where(ok),
+            "speed_error": (m.sim_v - m.v_icp).abs().where(ok),
+            "wall_time": m.wall_time,
+            "sim_time": m.sim_time,
+        },
+        columns=ERROR_COLUMNS,
+    )
+    return out.sort_values(["engine", "session", "step"], ignore_index=True)
+
+
+def speed_repeatability(steps: pd.DataFrame, tolerance: float) -> float:
+    """The real robot's step-to-step spread of its ICP forward speed between steps of similar command
+    (both wheels' commands within ``tolerance`` rad/s): the single-step standard deviation
+    sqrt(mean(d^2) / 2) over the similar pairs (as :func:`simpick.real.drive.repeatability` for the gain)."""
+    moving = steps.assign(turning=True, gain=steps.v_icp)  # every step with an ICP speed counts here
+    d = similar_pairs(moving[moving.gain.notna()], tolerance)["difference"].to_numpy(float)
+    return float(np.sqrt(np.mean(d**2) / 2)) if len(d) else math.nan
+
+
+def _ci(values, min_runs: int, level: float, seed: int) -> tuple[float, float, float]:
+    mean, low, high, _ = realmetrics.mean_ci(np.asarray(values, float), None, min_runs, level, seed)
+    return mean, low, high
+
+
+def _summary_row(g: pd.DataFrame, real: pd.DataFrame, tolerance: float, min_runs: int, level: float, seed: int):
+    ok = g[g.status == "ok"]
+    failed = g[g.status != "ok"]
+    turning = ok[ok.turning & ok.gain_error.notna()]
+    row = {
+        "steps": len(g),
+        "failed": len(failed),
+        "failed_reasons": "; ".join(f"{r.session}/{r.step:03d}: {r.reasons}" for r in failed.itertuples())[:2000],
+        "turning_steps": len(turning),
+        "gain_real_median": turning.gain_real.median(),
+        "gain_sim_median": turning.gain_sim.median(),
+        "gain_floor_sd": repeatability(real, tolerance)["repeat_sd"],
+        "speed_floor_sd": speed_repeatability(real, tolerance),
+        "speed_bias_mean": ok.speed_bias.mean(),
+        "start_dv_median_abs": ok.start_dv.abs().median(),
+        "start_dwz_median_abs": ok.start_dwz.abs().median(),
+        "wall_time_per_step": g.wall_time.mean(),
+    }
+    for metric, rows in (("gain_error", turning), ("heading_error", ok), ("speed_error", ok)):
+        row[f"{metric}_mean"], row[f"{metric}_low"], row[f"{metric}_high"] = _ci(rows[metric], min_runs, level, seed)
+    return row
+
+
+def summary_table(errors: pd.DataFrame, steps: pd.DataFrame, tolerance: float, statistics: dict | None = None,
+                  seed: int = 0) -> pd.DataFrame:
+    """Per engine: per session, per terrain (session ``all``) and over everything (terrain ``all``): steps,
+    failures (with their reasons), the gain's median (real and simulated), each error's mean over the
+    healthy steps with its BCa interval (every step a unit), the real robot's repeatability (the floor),
+    the start-state mismatch and the wall time per step."""
+    min_runs, level = realmetrics.statistics_settings(statistics)
+    rows = []
+    for engine, e in errors.groupby("engine", sort=True):
+        for terrain, t in e.groupby("terrain_class", sort=True):
+            real_t = steps[steps.terrain_class == terrain]
+            for session, s in t.groupby("session", sort=True):
+                real_s = real_t[real_t.session == session]
+                rows.append({"engine": engine, "terrain_class": terrain, "session": session,
+                             **_summary_row(s, real_s, tolerance, min_runs, level, seed)})
+            rows.append({"engine": engine, "terrain_class": terrain, "session": ALL,
+                         **_summary_row(t, real_t, tolerance, min_runs, level, seed)})
+        rows.append({"engine": engine, "terrain_class": ALL, "session": ALL,
+                     **_summary_row(e, steps, tolerance, min_runs, level, seed)})
+    return pd.DataFrame(rows, columns=SUMMARY_COLUMNS)
+
+
+def per_test(errors: pd.DataFrame, unit: str = "step") -> pd.DataFrame:
+    """The errors in the verdict's per-test form: one test per step, its ``run`` the unit of pairing (the
+    step itself, or its session)."""
+    if unit not in ("step", "session"):
+        raise ValueError(f"drive_replay.unit is 'step' or 'session', not {unit!r}")
+    run = errors.session if unit == "session" else errors.session + "/" + errors.step.map("{:03d}".format)
+    return errors.assign(run=run, test=errors.case, yaw_rate_gain_real=errors.gain_real)
+
+
+def gain_margin_spec(spec: dict, steps: pd.DataFrame, tolerance: float) -> tuple[dict, str | None]:
+    """The gain error's margin spec for DRIVE: where the config bases it on the real robot's spread, the
+    real robot's step-to-step repeatability (absolute) and the sentence saying so; else the config's spec."""
+    if spec["basis"] != "real_spread":
+        return spec, None
+    rep = repeatability(steps, tolerance)
+    value = float(spec["value"]) * rep["repeat_sd"]
+    factor = "" if float(spec["value"]) == 1 else f"{float(spec['value']):g} x "
+    return {"basis": "absolute", "value": value}, (
+        f"{factor}the real robot's own step-to-step repeatability of its yaw-rate gain: the single-step "
+        f"standard deviation between the {rep['similar_pairs']} pairs of steps of similar command, "
+        f"{rep['repeat_sd']:.3g}"
+    )
+
+
+def outcomes(errors: pd.DataFrame, steps: pd.DataFrame, engines: list[str], verdict: dict, tolerance: float,
+             validation: pd.DataFrame | None = None, unit: str = "step", statistics: dict | None = None,
+             seed: int = 0) -> pd.DataFrame:
+    """Every engine against the best per metric (:func:`simpick.score.equivalence.outcomes_table`), over
+    all terrains (``scope`` all) and per terrain, paired by ``unit``. ``validation``: the validation
+    summary (the mechanics gate: an engine failing the cases a metric rests on is never the best); None:
+    no engine validated, the lowest mean is the reference and is named so."""
+    summary = validation if validation is not None else pd.DataFrame(columns=["engine", "status", "case", "kind",
+                                                                              "passed"])
+    mechanics = mechanics_table(summary, engines)
+    frames = []
+    for scope, e in [(ALL, errors)] + list(errors.groupby("terrain_class", sort=True)):
+        real = steps if scope == ALL else steps[steps.terrain_class == scope]
+        tests = per_test(e, unit)
+        spec, basis = gain_margin_spec(verdict["margins"]["gain_error"], real, tolerance)
+        settings = {"margins": {**verdict["margins"], "gain_error": spec}, "mechanics": verdict["mechanics"]}
+        walls = {metric: per_run_values(tests, metric) for metric in METRICS}
+        table = outcomes_table(walls, tests, engines, METRICS, mechanics, settings, statistics, seed)
+        if basis:
+            table.loc[table.metric == "gain_error", "margin_basis"] = basis
+        frames.append(table.assign(scope=scope, unit=unit))
+    out = pd.concat(frames, ignore_index=True)
+    return out[["scope", "unit"] + [c for c in out.columns if c not in ("scope", "unit")]]
+
+
+def compare_job(inputs: dict, params: dict, outputs: dict) -> None:
+    """Rule drive_compare: the replayed steps of every engine against the real robot, into ``errors``,
+    ``summary`` and ``outcomes`` (CSV)."""
+    cases = pd.read_csv(inputs["cases"])
+    steps = pd.read_csv(inputs["steps"])
+    replayed = pd.concat([pd.read_csv(p) for p in inputs["replayed"]], ignore_index=True)
+    validation = pd.read_csv(inputs["validation"]) if inputs.get("validation") else None
+    errors = step_errors(cases, steps, replayed)
+    tolerance = float(params["tolerance"])
+    write_csv(errors, outputs["errors"])
+    write_csv(summary_table(errors, steps, tolerance, params.get("statistics"), params.get("seed", 0)),
+              outputs["summary"])
+    write_csv(
+        outcomes(errors, steps, list(params["engines"]), params["verdict"], tolerance, validation,
+                 params.get("unit", "step"), params.get("statistics"), params.get("seed", 0)),
+        outputs["outcomes"],
+    )
