@@ -9,6 +9,7 @@ DRIVE_TARGETS = []
 if SETTINGS.drive_dir:
     from simpick.real.drive import SIMILAR, sessions_or_exit
     from simpick.real.logs.drive import METADATA, PICKLE
+    from simpick.errors import InputError
     from simpick.simulate.drive import replay_models
     from simpick.sources.base import engine_params
 
@@ -16,7 +17,11 @@ if SETTINGS.drive_dir:
     DRIVE_SESSIONS = sessions_or_exit(SETTINGS.drive_dir)
     DRIVE_FOLDERS = {p.name: p for p in DRIVE_SESSIONS}
     DRIVE_DECLARED = canonical(PLAN.config["real_data"]["datasets"][SETTINGS.drive_dataset])
-    DRIVE_MODELS = replay_models(PLAN.config["drive_replay"]["models"], PLAN.real_models, PLAN.unavailable)
+    try:
+        DRIVE_MODELS = replay_models(PLAN.config["drive_replay"]["models"], PLAN.real_models, PLAN.unavailable)
+    except InputError as _exc:
+        print(f"simpick: {_exc}", file=sys.stderr)
+        sys.exit(1)
     DRIVE_TARGETS = [f"{DRIVE}/{table}.csv" for table in ("sessions", "steps", "turning", "bins", "cases")]
     DRIVE_TARGETS += [f"{DRIVE}/{table}.csv" for table in ("errors", "summary", "outcomes")]
 
