@@ -118,3 +118,92 @@ if SETTINGS.drive_dir:
             code=PLAN.script_code("drive_compare"),
         script:
             "../scripts/drive_compare.py"
+
+    # Calibration on DRIVE steps (simpick.simulate.drive_calibration): every model that declares calibratable
+    # parameters, per terrain class, trained on some chosen steps and judged on the others. In `snakemake`
+    # (all) when calibration.enabled; `snakemake drive_calibration` runs it either way.
+    from simpick.engines import get_engine as _get_engine
+
+    DRIVE_CAL = f"{DRIVE}/calibration"
+    DRIVE_CAL_MODELS = [m for m in DRIVE_MODELS if _get_engine(m).calibratable]
+
+    def drive_cal_files(wildcards, name="evals.csv"):
+        import pandas as pd
+
+        cases = pd.read_csv(checkpoints.drive_tables.get().output.cases)
+        return [
+            f"{DRIVE_CAL}/{m}/{t}/{name}" for m in DRIVE_CAL_MODELS for t in sorted(cases.terrain_class.unique())
+        ]
+
+    rule drive_calibrate:
+        """One model x one terrain class: the seeded split of its chosen steps, the search on the training
+        steps, both variants evaluated on every step."""
+        input:
+            cases=f"{DRIVE}/cases.csv",
+            steps=f"{DRIVE}/steps.csv",
+            urdf=PLAN.config["robot"]["urdf"],
+        output:
+            best=f"{DRIVE_CAL}/{{model}}/{{terrain}}/best.yaml",
+            trials=f"{DRIVE_CAL}/{{model}}/{{terrain}}/trials.csv",
+            evals=f"{DRIVE_CAL}/{{model}}/{{terrain}}/evals.csv",
+            split=f"{DRIVE_CAL}/{{model}}/{{terrain}}/split.csv",
+        log:
+            f"results/logs/drive/{SETTINGS.drive_dataset}/calibrate/{{model}}/{{terrain}}.log",
+        wildcard_constraints:
+            model="|".join(DRIVE_CAL_MODELS) or "no-model",
+            terrain="|".join(re.escape(c) for c in PLAN.config["real_data"]["classes"]),
+        resources:
+            runtime=240,
+        conda:
+            "../envs/simpick.yaml"
+        params:
+            settings=lambda wc: canonical(
+                {
+                    "engine": wc.model,
+                    "terrain_class": wc.terrain,
+                    "case": engine_params(PLAN.config, wc.model),
+                    "classes": PLAN.config["real_data"]["classes"],
+                    "replay": PLAN.config["drive_replay"],
+                    "calibration": {
+                        "source": "drive",
+                        "scales": PLAN.config["calibration"]["scales"],
+                        "test_fraction": PLAN.config["calibration"]["test_fraction"],
+                        "n_trials": PLAN.config["calibration"]["n_trials"],
+                        "startup_trials": PLAN.config["calibration"]["startup_trials"],
+                        "seed": PLAN.config["calibration"]["seed"],
+                        "bounds": {wc.model: (PLAN.config["calibration"].get("bounds") or {}).get(wc.model) or {}},
+                    },
+                    "folders": {name: str(path) for name, path in DRIVE_FOLDERS.items()},
+                    "declared": DRIVE_DECLARED,
+                    "dataset": SETTINGS.drive_dataset,
+                }
+            ),
+            code=lambda wc: PLAN.script_code("drive_calibrate", *PLAN.engine_modules(wc.model)),
+        script:
+            "../scripts/drive_calibrate.py"
+
+    rule drive_calibration:
+        """The project's calibration summary over every model x class, and the held-out gains with the
+        equivalent wheel_separation_multiplier."""
+        input:
+            evals=drive_cal_files,
+            bests=lambda wc: drive_cal_files(wc, "best.yaml"),
+            cases=f"{DRIVE}/cases.csv",
+            steps=f"{DRIVE}/steps.csv",
+            sessions=f"{DRIVE}/sessions.csv",
+            urdf=PLAN.config["robot"]["urdf"],
+        output:
+            summary=f"{DRIVE_CAL}/summary.csv",
+            turning=f"{DRIVE_CAL}/turning.csv",
+        log:
+            f"results/logs/drive/{SETTINGS.drive_dataset}/drive_calibration.log",
+        conda:
+            "../envs/simpick.yaml"
+        params:
+            settings=canonical({"statistics": PLAN.config["statistics"]}),
+            code=PLAN.script_code("drive_calibration"),
+        script:
+            "../scripts/drive_calibration.py"
+
+    if PLAN.config["calibration"]["enabled"]:
+        DRIVE_TARGETS += [f"{DRIVE_CAL}/summary.csv", f"{DRIVE_CAL}/turning.csv"]
