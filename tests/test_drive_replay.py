@@ -215,3 +215,59 @@ def test_the_workflow_replays_a_named_folder_and_writes_the_verdict(tmp_path):
     run = snakemake(tmp_path, "-n", *targets)
     assert run.returncode != 0 and "drive_replay.models" in run.stderr
     assert subprocess.run(["git", "status", "--porcelain"], cwd=ROOT, capture_output=True, text=True).stdout == before
+
+
+def test_the_report_section_is_titled_from_the_robot_and_absent_without_outputs(tmp_path, asphalt, replayed):
+    import yaml
+
+    from simpick.compare.drive import outcomes, step_errors, summary_table
+    from simpick.report.drive import render_drive_section
+
+    assert render_drive_section(tmp_path, "Clearpath Warthog") is None
+    errors = step_errors(asphalt["cases"], asphalt["steps"], replayed["asphalt"][1])
+    verdict = yaml.safe_load((ROOT / "config.yaml").read_text())["verdict"]
+    errors.to_csv(tmp_path / "errors.csv", index=False)
+    summary_table(errors, asphalt["steps"], 1.0).to_csv(tmp_path / "summary.csv", index=False)
+    outcomes(errors, asphalt["steps"], ["mujoco"], verdict, 1.0).to_csv(tmp_path / "outcomes.csv", index=False)
+    (tmp_path / "turning.csv").write_text("terrain_class\n")
+    html = render_drive_section(tmp_path, "Clearpath Warthog")
+    assert "Against the real Clearpath Warthog" in html and "mujoco" in html and "asphalt" in html
+
+
+def test_calibration_on_drive_steps_splits_searches_and_gives_the_multiplier(tmp_path, asphalt):
+    import yaml
+
+    from simpick.config import plain, validate_or_exit
+    from simpick.real.drive import open_drive, write_tables
+    from simpick.simulate import drive_calibration as DC
+    from simpick.sources.base import engine_params
+
+    tables = {k: str(tmp_path / f"{k}.csv") for k in ("cases", "steps", "sessions")}
+    write_tables(open_drive(asphalt["folder"]), tables)
+    config = warthog_config(tmp_path)
+    pc = plain(validate_or_exit(config), config)
+    settings = {"source": "drive", "scales": pc["calibration"]["scales"], "n_trials": 2, "startup_trials": 1,
+                "seed": 11, "bounds": {}, "test_fraction": 0.5}
+    params = {"engine": "mujoco", "terrain_class": "asphalt", "calibration": settings,
+              "replay": {"every": 3, "max_steps_per_session": 6, "warmup": 3.0},
+              "folders": {ASPHALT: str(asphalt["folder"])}, "declared": {"kind": "drive"}, "dataset": "drive",
+              "case": engine_params(pc, "mujoco"), "classes": pc["real_data"]["classes"]}
+    out = {k: str(tmp_path / "cal" / f"{k}.{'yaml' if k == 'best' else 'csv'}") for k in ("best", "trials", "evals",
+                                                                                          "split")}
+    DC.calibrate_job({**tables, "urdf": config["robot"]["urdf"]}, params, out, 600)
+    split = pd.read_csv(out["split"])
+    assert set(split.set) == {"train", "test"} and len(split) == 6
+    best = yaml.safe_load(open(out["best"]))
+    assert best["status"] == "ok" and set(best["train_units"]) == set(split[split.set == "train"].unit)
+    evals = pd.read_csv(out["evals"])
+    assert set(evals.variant) == {"configured", "calibrated"} and len(evals) == 12
+    result = {k: str(tmp_path / f"cal_{k}.csv") for k in ("summary", "turning")}
+    DC.summary_job({"evals": [out["evals"]], "bests": [out["best"]], **tables, "urdf": config["robot"]["urdf"]},
+                   {"statistics": pc["statistics"]}, result)
+    turning = pd.read_csv(result["turning"])
+    row = turning[turning.variant == "configured"].iloc[0]
+    # DRIVE's baseline 1.08 m over the gain times the description's wheel separation (1.12 m)
+    assert row.multiplier_real == pytest.approx(1.08 / (row.gain_real * 1.12))
+    assert 0.5 < row.gain_real < 0.7 and 1.3 < row.multiplier_real < 1.9
+    summary = pd.read_csv(result["summary"])
+    assert {"test", "train"} == set(summary.set) and "change_verdict" in summary
