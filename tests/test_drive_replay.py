@@ -271,3 +271,20 @@ def test_calibration_on_drive_steps_splits_searches_and_gives_the_multiplier(tmp
     assert 0.5 < row.gain_real < 0.7 and 1.3 < row.multiplier_real < 1.9
     summary = pd.read_csv(result["summary"])
     assert {"test", "train"} == set(summary.set) and "change_verdict" in summary
+
+
+def test_a_session_on_a_terrain_without_a_ground_model_is_refused_in_one_line(tmp_path, asphalt):
+    from simpick.real.drive import open_drive, write_tables
+
+    tables = {k: str(tmp_path / f"{k}.csv") for k in ("cases",)}
+    write_tables(open_drive(asphalt["folder"]), tables)
+    config = warthog_config(tmp_path)
+    params = params_of(config, "mujoco", "asphalt") | {
+        "classes": {"snow": {"friction": 0.2, "source": "x"}},
+        "replay": {"every": 5, "max_steps_per_session": 1, "warmup": 3.0},
+        "session": ASPHALT, "folder": str(asphalt["folder"]), "declared": {"kind": "drive"}, "dataset": "drive",
+    }
+    outputs = {"trace": str(tmp_path / "r.parquet"), "steps": str(tmp_path / "r.csv")}
+    with pytest.raises(InputError, match="real_data.classes.*'asphalt'"):
+        SD.replay_job({**tables, "urdf": config["robot"]["urdf"]}, params, outputs, 60)
+    assert not (tmp_path / "r.csv").exists()
