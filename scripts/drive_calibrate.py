@@ -3,5 +3,9 @@ from simpick.simulate.drive_calibration import calibrate_job
 from simpick.simulate.watchdog import runtime_timeout
 
 with logged(snakemake.log[0]):
-    calibrate_job(dict(snakemake.input), snakemake.params.settings, dict(snakemake.output),
-                  runtime_timeout(snakemake.resources.runtime))
+    calibrate_job(
+        dict(snakemake.input),
+        snakemake.params.settings,
+        dict(snakemake.output),
+        runtime_timeout(snakemake.resources.runtime),
+    )

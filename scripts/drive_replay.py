@@ -3,5 +3,9 @@ from simpick.simulate.drive import replay_job
 from simpick.simulate.watchdog import runtime_timeout
 
 with logged(snakemake.log[0]):
-    replay_job(dict(snakemake.input), snakemake.params.case, dict(snakemake.output),
-               runtime_timeout(snakemake.resources.runtime))
+    replay_job(
+        dict(snakemake.input),
+        snakemake.params.case,
+        dict(snakemake.output),
+        runtime_timeout(snakemake.resources.runtime),
+    )

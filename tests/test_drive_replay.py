@@ -64,15 +64,19 @@ def params_of(config, engine, terrain):
 
 @pytest.fixture(scope="module")
 def asphalt(tmp_path_factory):
-    from test_drive import cut
-
     from simpick.real.drive import open_drive, replay_cases, step_table
+    from test_drive import cut
 
     root = tmp_path_factory.mktemp("drive")
     folder = cut(root / "calib_data", ASPHALT, steps=25)
     data = open_drive(folder)
-    return {"root": root, "folder": folder, "session": data.sessions[0], "cases": replay_cases(data),
-            "steps": step_table(data)}
+    return {
+        "root": root,
+        "folder": folder,
+        "session": data.sessions[0],
+        "cases": replay_cases(data),
+        "steps": step_table(data),
+    }
 
 
 def test_subsets_are_deterministic_and_skip_the_zero_command():
@@ -81,7 +85,11 @@ def test_subsets_are_deterministic_and_skip_the_zero_command():
     two = SD.select_steps(cases.sample(frac=1, random_state=2), every=3, max_steps_per_session=3)
     assert one.to_dict("records") == two.to_dict("records")
     assert [(r["session"], r["step"]) for r in one.to_dict("records")] == [
-        ("a", 1), ("a", 4), ("b", 1), ("b", 4), ("b", 7)
+        ("a", 1),
+        ("a", 4),
+        ("b", 1),
+        ("b", 4),
+        ("b", 7),
     ]
     assert len(SD.select_steps(cases)) == 11 + 6  # every step but each session's step 0
     with pytest.raises(ValueError):
@@ -141,9 +149,9 @@ def test_a_replay_reproduces_the_lidar_speed_and_a_wrong_friction_does_not(aspha
     errors = step_errors(asphalt["cases"], asphalt["steps"], rows)
     ok = errors[errors.status == "ok"]
     assert len(ok) >= 9, errors[["step", "reasons"]]
-    # MuJoCo's Warthog on asphalt friction, driven by the measured wheels from the previous step's state:
-    # its steady forward speed within 0.4 m/s of the lidar's (measured: 0.22) on the median step (the real robot drives at
-    # 0.5-4 m/s here; its ICP speed reads below the kinematic one, and more so while it turns)
+    # MuJoCo's Warthog on asphalt friction, driven by the measured wheels from the previous step's state: its
+    # steady forward speed within 0.4 m/s of the lidar's (measured: 0.22) on the median step (the real robot
+    # drives at 0.5-4 m/s here; its ICP speed reads below the kinematic one, and more so while it turns)
     assert ok.speed_error.median() < 0.4, ok[["step", "v_real", "v_sim"]]
     # and it starts each step near the real robot's state (the warm-up)
     assert ok.start_dv.abs().median() < 0.3 and ok.start_dwz.abs().median() < 0.2
@@ -154,8 +162,9 @@ def test_a_replay_reproduces_the_lidar_speed_and_a_wrong_friction_does_not(aspha
 def test_replays_are_deterministic(asphalt, replayed):
     cases = SD.select_steps(asphalt["cases"], every=2, max_steps_per_session=2)
     config = warthog_config(asphalt["root"])
-    _, rows = SD.replay_session(asphalt["session"], cases, config["robot"]["urdf"],
-                                params_of(config, "mujoco", "asphalt"), warmup=3.0)
+    _, rows = SD.replay_session(
+        asphalt["session"], cases, config["robot"]["urdf"], params_of(config, "mujoco", "asphalt"), warmup=3.0
+    )
     first = replayed["asphalt"][1].head(2)
     for column in ("sim_v", "sim_yaw_rate", "sim_start_vx"):
         assert rows[column].to_numpy() == pytest.approx(first[column].to_numpy(), abs=0, rel=0)
@@ -186,9 +195,8 @@ def test_the_comparison_reports_failures_and_pairs_by_step(asphalt, replayed):
 
 @pytest.mark.workflow
 def test_the_workflow_replays_a_named_folder_and_writes_the_verdict(tmp_path):
-    from test_drive import _git_status, cut
-
     from conftest import snakemake, write_config
+    from test_drive import _git_status, cut
 
     data = tmp_path / "calib_data"
     cut(data, ASPHALT, steps=8)
@@ -246,14 +254,30 @@ def test_calibration_on_drive_steps_splits_searches_and_gives_the_multiplier(tmp
     write_tables(open_drive(asphalt["folder"]), tables)
     config = warthog_config(tmp_path)
     pc = plain(validate_or_exit(config), config)
-    settings = {"source": "drive", "scales": pc["calibration"]["scales"], "n_trials": 2, "startup_trials": 1,
-                "seed": 11, "bounds": {}, "test_fraction": 0.5}
-    params = {"engine": "mujoco", "terrain_class": "asphalt", "calibration": settings,
-              "replay": {"every": 3, "max_steps_per_session": 6, "warmup": 3.0},
-              "folders": {ASPHALT: str(asphalt["folder"])}, "declared": {"kind": "drive"}, "dataset": "drive",
-              "case": engine_params(pc, "mujoco"), "classes": pc["real_data"]["classes"]}
-    out = {k: str(tmp_path / "cal" / f"{k}.{'yaml' if k == 'best' else 'csv'}") for k in ("best", "trials", "evals",
-                                                                                          "split")}
+    settings = {
+        "source": "drive",
+        "scales": pc["calibration"]["scales"],
+        "n_trials": 2,
+        "startup_trials": 1,
+        "seed": 11,
+        "bounds": {},
+        "test_fraction": 0.5,
+    }
+    params = {
+        "engine": "mujoco",
+        "terrain_class": "asphalt",
+        "calibration": settings,
+        "replay": {"every": 3, "max_steps_per_session": 6, "warmup": 3.0},
+        "folders": {ASPHALT: str(asphalt["folder"])},
+        "declared": {"kind": "drive"},
+        "dataset": "drive",
+        "case": engine_params(pc, "mujoco"),
+        "classes": pc["real_data"]["classes"],
+    }
+    out = {
+        k: str(tmp_path / "cal" / f"{k}.{'yaml' if k == 'best' else 'csv'}")
+        for k in ("best", "trials", "evals", "split")
+    }
     DC.calibrate_job({**tables, "urdf": config["robot"]["urdf"]}, params, out, 600)
     split = pd.read_csv(out["split"])
     assert set(split.set) == {"train", "test"} and len(split) == 6
@@ -262,8 +286,11 @@ def test_calibration_on_drive_steps_splits_searches_and_gives_the_multiplier(tmp
     evals = pd.read_csv(out["evals"])
     assert set(evals.variant) == {"configured", "calibrated"} and len(evals) == 12
     result = {k: str(tmp_path / f"cal_{k}.csv") for k in ("summary", "turning")}
-    DC.summary_job({"evals": [out["evals"]], "bests": [out["best"]], **tables, "urdf": config["robot"]["urdf"]},
-                   {"statistics": pc["statistics"]}, result)
+    DC.summary_job(
+        {"evals": [out["evals"]], "bests": [out["best"]], **tables, "urdf": config["robot"]["urdf"]},
+        {"statistics": pc["statistics"]},
+        result,
+    )
     turning = pd.read_csv(result["turning"])
     row = turning[turning.variant == "configured"].iloc[0]
     # DRIVE's baseline 1.08 m over the gain times the description's wheel separation (1.12 m)
@@ -282,7 +309,10 @@ def test_a_session_on_a_terrain_without_a_ground_model_is_refused_in_one_line(tm
     params = params_of(config, "mujoco", "asphalt") | {
         "classes": {"snow": {"friction": 0.2, "source": "x"}},
         "replay": {"every": 5, "max_steps_per_session": 1, "warmup": 3.0},
-        "session": ASPHALT, "folder": str(asphalt["folder"]), "declared": {"kind": "drive"}, "dataset": "drive",
+        "session": ASPHALT,
+        "folder": str(asphalt["folder"]),
+        "declared": {"kind": "drive"},
+        "dataset": "drive",
     }
     outputs = {"trace": str(tmp_path / "r.parquet"), "steps": str(tmp_path / "r.csv")}
     with pytest.raises(InputError, match="real_data.classes.*'asphalt'"):

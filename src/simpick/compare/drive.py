@@ -161,8 +161,11 @@ def _pooled_sd(pairs: pd.DataFrame) -> float:
 def gain_repeatability(steps: pd.DataFrame, tolerance: float) -> tuple[float, int]:
     """(single-step standard deviation, pairs) of the real gain between steps of similar command, the pairs
     sought within each terrain class (:func:`simpick.real.drive.similar_pairs`) and pooled."""
-    pairs = pd.concat([similar_pairs(g, tolerance) for _, g in steps.groupby("terrain_class")] or [pd.DataFrame(
-        columns=["difference"])], ignore_index=True)
+    pairs = pd.concat(
+        [similar_pairs(g, tolerance) for _, g in steps.groupby("terrain_class")]
+        or [pd.DataFrame(columns=["difference"])],
+        ignore_index=True,
+    )
     return _pooled_sd(pairs), len(pairs)
 
 
@@ -206,8 +209,9 @@ def _summary_row(g: pd.DataFrame, real: pd.DataFrame, tolerance: float, min_runs
     return row
 
 
-def summary_table(errors: pd.DataFrame, steps: pd.DataFrame, tolerance: float, statistics: dict | None = None,
-                  seed: int = 0) -> pd.DataFrame:
+def summary_table(
+    errors: pd.DataFrame, steps: pd.DataFrame, tolerance: float, statistics: dict | None = None, seed: int = 0
+) -> pd.DataFrame:
     """Per engine: per session, per terrain (session ``all``) and over everything (terrain ``all``): steps,
     failures (with their reasons), the gain's median (real and simulated), each error's mean over the
     healthy steps with its BCa interval (every step a unit), the real robot's repeatability (the floor),
@@ -219,12 +223,30 @@ def summary_table(errors: pd.DataFrame, steps: pd.DataFrame, tolerance: float, s
             real_t = steps[steps.terrain_class == terrain]
             for session, s in t.groupby("session", sort=True):
                 real_s = real_t[real_t.session == session]
-                rows.append({"engine": engine, "terrain_class": terrain, "session": session,
-                             **_summary_row(s, real_s, tolerance, min_runs, level, seed)})
-            rows.append({"engine": engine, "terrain_class": terrain, "session": ALL,
-                         **_summary_row(t, real_t, tolerance, min_runs, level, seed)})
-        rows.append({"engine": engine, "terrain_class": ALL, "session": ALL,
-                     **_summary_row(e, steps, tolerance, min_runs, level, seed)})
+                rows.append(
+                    {
+                        "engine": engine,
+                        "terrain_class": terrain,
+                        "session": session,
+                        **_summary_row(s, real_s, tolerance, min_runs, level, seed),
+                    }
+                )
+            rows.append(
+                {
+                    "engine": engine,
+                    "terrain_class": terrain,
+                    "session": ALL,
+                    **_summary_row(t, real_t, tolerance, min_runs, level, seed),
+                }
+            )
+        rows.append(
+            {
+                "engine": engine,
+                "terrain_class": ALL,
+                "session": ALL,
+                **_summary_row(e, steps, tolerance, min_runs, level, seed),
+            }
+        )
     return pd.DataFrame(rows, columns=SUMMARY_COLUMNS)
 
 
@@ -251,15 +273,24 @@ def gain_margin_spec(spec: dict, steps: pd.DataFrame, tolerance: float) -> tuple
     )
 
 
-def outcomes(errors: pd.DataFrame, steps: pd.DataFrame, engines: list[str], verdict: dict, tolerance: float,
-             validation: pd.DataFrame | None = None, unit: str = "step", statistics: dict | None = None,
-             seed: int = 0) -> pd.DataFrame:
+def outcomes(
+    errors: pd.DataFrame,
+    steps: pd.DataFrame,
+    engines: list[str],
+    verdict: dict,
+    tolerance: float,
+    validation: pd.DataFrame | None = None,
+    unit: str = "step",
+    statistics: dict | None = None,
+    seed: int = 0,
+) -> pd.DataFrame:
     """Every engine against the best per metric (:func:`simpick.score.equivalence.outcomes_table`), over
     all terrains (``scope`` all) and per terrain, paired by ``unit``. ``validation``: the validation
     summary (the mechanics gate: an engine failing the cases a metric rests on is never the best); None:
     no engine validated, the lowest mean is the reference and is named so."""
-    summary = validation if validation is not None else pd.DataFrame(columns=["engine", "status", "case", "kind",
-                                                                              "passed"])
+    summary = (
+        validation if validation is not None else pd.DataFrame(columns=["engine", "status", "case", "kind", "passed"])
+    )
     mechanics = mechanics_table(summary, engines)
     frames = []
     for scope, e in [(ALL, errors)] + list(errors.groupby("terrain_class", sort=True)):
@@ -289,7 +320,16 @@ def compare_job(inputs: dict, params: dict, outputs: dict) -> None:
     write_csv(errors, outputs["errors"])
     write_csv(summary_table(errors, steps, tolerance, params.get("statistics"), seed), outputs["summary"])
     write_csv(
-        outcomes(errors, steps, list(params["engines"]), params["verdict"], tolerance, validation,
-                 params.get("unit", "step"), params.get("statistics"), seed),
+        outcomes(
+            errors,
+            steps,
+            list(params["engines"]),
+            params["verdict"],
+            tolerance,
+            validation,
+            params.get("unit", "step"),
+            params.get("statistics"),
+            seed,
+        ),
         outputs["outcomes"],
     )

@@ -190,8 +190,15 @@ def open_session(folder: str, declared: dict, name: str):
 
 def hung_rows(cases: pd.DataFrame, engine: str, reason: str) -> pd.DataFrame:
     rows = [
-        {"case": c.case, "session": c.session, "terrain_class": c.terrain_class, "step": int(c.step),
-         "engine": engine, "status": "failed", "reasons": reason}
+        {
+            "case": c.case,
+            "session": c.session,
+            "terrain_class": c.terrain_class,
+            "step": int(c.step),
+            "engine": engine,
+            "status": "failed",
+            "reasons": reason,
+        }
         for c in cases.itertuples()
     ]
     return pd.DataFrame(rows, columns=STEP_COLUMNS)

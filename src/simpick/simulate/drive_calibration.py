@@ -122,8 +122,17 @@ def calibrate_job(inputs: dict, params: dict, outputs: dict, timeout: float) -> 
 
     def hung() -> None:
         reason = hung_reason(timeout)
-        Path(outputs["best"]).write_text(yaml.safe_dump({"engine": params["engine"], "terrain_class": terrain,
-                                                         "status": "failed", "reasons": [reason], "parameters": {}}))
+        Path(outputs["best"]).write_text(
+            yaml.safe_dump(
+                {
+                    "engine": params["engine"],
+                    "terrain_class": terrain,
+                    "status": "failed",
+                    "reasons": [reason],
+                    "parameters": {},
+                }
+            )
+        )
         write_csv(pd.DataFrame(columns=["trial", "objective"]), outputs["trials"])
         write_csv(pd.DataFrame(columns=["unit", "status"]), outputs["evals"])
 
@@ -135,22 +144,40 @@ def calibrate_job(inputs: dict, params: dict, outputs: dict, timeout: float) -> 
         for variant, chosen in (("configured", configured), ("calibrated", values)):
             for set_, ids in (("train", train), ("test", test)):
                 for row in evaluate(units, ids, inputs["urdf"], C.apply_parameters(case_params, chosen), settings):
-                    rows.append({"terrain_class": terrain, "engine": params["engine"], "variant": variant,
-                                 "set": set_, **row})
-    best = {"engine": params["engine"], "terrain_class": terrain, "status": "ok", "reasons": [],
-            "parameters": values, "as_configured": configured, "train_units": train, "n_trials":
-            int(settings["n_trials"]), **facts}
+                    rows.append(
+                        {"terrain_class": terrain, "engine": params["engine"], "variant": variant, "set": set_, **row}
+                    )
+    best = {
+        "engine": params["engine"],
+        "terrain_class": terrain,
+        "status": "ok",
+        "reasons": [],
+        "parameters": values,
+        "as_configured": configured,
+        "train_units": train,
+        "n_trials": int(settings["n_trials"]),
+        **facts,
+    }
     Path(outputs["best"]).write_text(yaml.safe_dump(best, sort_keys=False))
     write_csv(history, outputs["trials"])
     write_csv(pd.DataFrame(rows), outputs["evals"])
 
 
-TURNING_COLUMNS = ["terrain_class", "engine", "variant", "held_out_turning_steps", "gain_real", "gain_sim",
-                   "multiplier_real", "multiplier_sim"]
+TURNING_COLUMNS = [
+    "terrain_class",
+    "engine",
+    "variant",
+    "held_out_turning_steps",
+    "gain_real",
+    "gain_sim",
+    "multiplier_real",
+    "multiplier_sim",
+]
 
 
-def turning_table(evals: pd.DataFrame, cases: pd.DataFrame, steps: pd.DataFrame, track: float,
-                  separation: float) -> pd.DataFrame:
+def turning_table(
+    evals: pd.DataFrame, cases: pd.DataFrame, steps: pd.DataFrame, track: float, separation: float
+) -> pd.DataFrame:
     """Per class, engine and variant, on the held-out turning steps: the median real and simulated gain and
     the equivalent wheel_separation_multiplier of each (``track``: the kinematic baseline the commands use;
     ``separation``: the wheels' geometric separation)."""
@@ -166,10 +193,18 @@ def turning_table(evals: pd.DataFrame, cases: pd.DataFrame, steps: pd.DataFrame,
             continue
         gain_real = float(np.median(c.yaw_rate.to_numpy()[turning] / w[turning]))
         gain_sim = float(np.median(g.sim_yaw_rate.to_numpy()[turning] / w[turning]))
-        rows.append({"terrain_class": cls, "engine": engine, "variant": variant,
-                     "held_out_turning_steps": int(turning.sum()), "gain_real": gain_real, "gain_sim": gain_sim,
-                     "multiplier_real": wheel_separation_multiplier(gain_real, track, separation),
-                     "multiplier_sim": wheel_separation_multiplier(gain_sim, track, separation)})
+        rows.append(
+            {
+                "terrain_class": cls,
+                "engine": engine,
+                "variant": variant,
+                "held_out_turning_steps": int(turning.sum()),
+                "gain_real": gain_real,
+                "gain_sim": gain_sim,
+                "multiplier_real": wheel_separation_multiplier(gain_real, track, separation),
+                "multiplier_sim": wheel_separation_multiplier(gain_sim, track, separation),
+            }
+        )
     return pd.DataFrame(rows, columns=TURNING_COLUMNS)
 
 
