@@ -1,8 +1,8 @@
 # DRIVE sessions (--config drive_dir=PATH): how the real robot turns, per step, and the per-step replay
 # cases (simpick.real.drive); then every chosen step replayed in every model (a job per model x session,
-# simpick.simulate.drive) and compared with the real robot (simpick.compare.drive). DRIVE's files are
-# pickles, which can run code when read: they are read only from the folder the user names, by the jobs;
-# planning lists the folder and reads no pickle. The sessions replayed are those the tables job kept (one
+# simpick.simulate.drive) and compared with the real robot (simpick.compare.drive, simpick.score.drive).
+# DRIVE's files are pickles, which can run code when read: they are read only from the folder the user
+# names, by the jobs; planning lists the folder and reads no pickle. The sessions replayed are those the tables job kept (one
 # per content: a folder holding a copy of another's pickle is not replayed twice): a checkpoint.
 DRIVE_TARGETS = []
 
@@ -119,7 +119,7 @@ if SETTINGS.drive_dir:
         script:
             "../scripts/drive_compare.py"
 
-    # Calibration on DRIVE steps (simpick.simulate.drive_calibration): every model that declares calibratable
+    # Calibration on DRIVE steps (simpick.studies.drive_calibration): every model that declares calibratable
     # parameters, per terrain class, trained on some chosen steps and judged on the others. In `snakemake`
     # (all) when calibration.enabled; `snakemake drive_calibration` runs it either way.
     from simpick.engines import get_engine as _get_engine

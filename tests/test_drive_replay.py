@@ -171,7 +171,8 @@ def test_replays_are_deterministic(asphalt, replayed):
 
 
 def test_the_comparison_reports_failures_and_pairs_by_step(asphalt, replayed):
-    from simpick.compare.drive import outcomes, step_errors, summary_table
+    from simpick.compare.drive import step_errors, summary_table
+    from simpick.score.drive import outcomes
 
     rows = replayed["asphalt"][1].copy()
     # a second "engine": the same steps with a slower speed, one step diverged
@@ -228,8 +229,9 @@ def test_the_workflow_replays_a_named_folder_and_writes_the_verdict(tmp_path):
 def test_the_report_section_is_titled_from_the_robot_and_absent_without_outputs(tmp_path, asphalt, replayed):
     import yaml
 
-    from simpick.compare.drive import outcomes, step_errors, summary_table
+    from simpick.compare.drive import step_errors, summary_table
     from simpick.report.drive import render_drive_section
+    from simpick.score.drive import outcomes
 
     assert render_drive_section(tmp_path, "Clearpath Warthog") is None
     errors = step_errors(asphalt["cases"], asphalt["steps"], replayed["asphalt"][1])
@@ -247,8 +249,8 @@ def test_calibration_on_drive_steps_splits_searches_and_gives_the_multiplier(tmp
 
     from simpick.config import plain, validate_or_exit
     from simpick.real.drive import open_drive, write_tables
-    from simpick.simulate import drive_calibration as DC
     from simpick.sources.base import engine_params
+    from simpick.studies import drive_calibration as DC
 
     tables = {k: str(tmp_path / f"{k}.csv") for k in ("cases", "steps", "sessions")}
     write_tables(open_drive(asphalt["folder"]), tables)
