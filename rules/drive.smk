@@ -1,17 +1,31 @@
 # DRIVE sessions (--config drive_dir=PATH): how the real robot turns, per step, and the per-step replay
-# cases (simpick.real.drive). DRIVE's files are pickles, which can run code when read: they are read only
-# from the folder the user names, by the job; planning lists the folder and reads no pickle.
+# cases (simpick.real.drive); then every chosen step replayed in every model (a job per model x session,
+# simpick.simulate.drive) and compared with the real robot (simpick.compare.drive, simpick.score.drive).
+# DRIVE's files are pickles, which can run code when read: they are read only from the folder the user
+# names, by the jobs; planning lists the folder and reads no pickle. The sessions replayed are those the tables job kept (one
+# per content: a folder holding a copy of another's pickle is not replayed twice): a checkpoint.
 DRIVE_TARGETS = []
 
 if SETTINGS.drive_dir:
-    from simpick.real.drive import sessions_or_exit
+    from simpick.real.drive import SIMILAR, sessions_or_exit
     from simpick.real.logs.drive import METADATA, PICKLE
+    from simpick.errors import InputError
+    from simpick.simulate.drive import replay_models
+    from simpick.sources.base import engine_params
 
     DRIVE = f"results/drive/{SETTINGS.drive_dataset}"
     DRIVE_SESSIONS = sessions_or_exit(SETTINGS.drive_dir)
+    DRIVE_FOLDERS = {p.name: p for p in DRIVE_SESSIONS}
+    DRIVE_DECLARED = canonical(PLAN.config["real_data"]["datasets"][SETTINGS.drive_dataset])
+    try:
+        DRIVE_MODELS = replay_models(PLAN.config["drive_replay"]["models"], PLAN.real_models, PLAN.unavailable)
+    except InputError as _exc:
+        print(f"simpick: {_exc}", file=sys.stderr)
+        sys.exit(1)
     DRIVE_TARGETS = [f"{DRIVE}/{table}.csv" for table in ("sessions", "steps", "turning", "bins", "cases")]
+    DRIVE_TARGETS += [f"{DRIVE}/{table}.csv" for table in ("errors", "summary", "outcomes")]
 
-    rule drive_tables:
+    checkpoint drive_tables:
         input:
             [str(p / METADATA) for p in DRIVE_SESSIONS] + [str(p / PICKLE) for p in DRIVE_SESSIONS],
         output:
@@ -27,7 +41,169 @@ if SETTINGS.drive_dir:
         params:
             folder=str(SETTINGS.drive_dir),
             name=SETTINGS.drive_dataset,
-            declared=canonical(PLAN.config["real_data"]["datasets"][SETTINGS.drive_dataset]),
+            declared=DRIVE_DECLARED,
             code=PLAN.script_code("drive_tables"),
         script:
             "../scripts/drive_tables.py"
+
+    def drive_replayed(wildcards, suffix="csv"):
+        """Every (model, kept session) step table: known once the tables job has kept its sessions."""
+        import pandas as pd
+
+        cases = pd.read_csv(checkpoints.drive_tables.get().output.cases)
+        return [f"{DRIVE}/replay/{m}/{s}.{suffix}" for m in DRIVE_MODELS for s in sorted(cases.session.unique())]
+
+    rule drive_replay:
+        """One model x one DRIVE session: its chosen steps (drive_replay.every, max_steps_per_session),
+        each from its warm-up, under the watchdog."""
+        input:
+            cases=f"{DRIVE}/cases.csv",
+            urdf=PLAN.config["robot"]["urdf"],
+            session=lambda wc: [str(DRIVE_FOLDERS[wc.session] / METADATA), str(DRIVE_FOLDERS[wc.session] / PICKLE)],
+        output:
+            trace=f"{DRIVE}/replay/{{model}}/{{session}}.parquet",
+            steps=f"{DRIVE}/replay/{{model}}/{{session}}.csv",
+        log:
+            f"results/logs/drive/{SETTINGS.drive_dataset}/replay/{{model}}/{{session}}.log",
+        wildcard_constraints:
+            model="|".join(DRIVE_MODELS),
+            session="|".join(re.escape(s) for s in DRIVE_FOLDERS),
+        resources:
+            runtime=120,
+        conda:
+            "../envs/simpick.yaml"
+        params:
+            case=lambda wc: canonical(
+                engine_params(PLAN.config, wc.model)
+                | {
+                    "classes": PLAN.config["real_data"]["classes"],
+                    "replay": PLAN.config["drive_replay"],
+                    "session": wc.session,
+                    "folder": str(DRIVE_FOLDERS[wc.session]),
+                    "declared": DRIVE_DECLARED,
+                    "dataset": SETTINGS.drive_dataset,
+                }
+            ),
+            code=lambda wc: PLAN.script_code("drive_replay", *PLAN.engine_modules(wc.model)),
+        script:
+            "../scripts/drive_replay.py"
+
+    rule drive_compare:
+        """Every replayed step against the real robot: errors per step, pooled per session and terrain,
+        and the verdict (every engine against the best, with equivalence)."""
+        input:
+            cases=f"{DRIVE}/cases.csv",
+            steps=f"{DRIVE}/steps.csv",
+            replayed=drive_replayed,
+            validation="results/validation/summary.csv",
+        output:
+            errors=f"{DRIVE}/errors.csv",
+            summary=f"{DRIVE}/summary.csv",
+            outcomes=f"{DRIVE}/outcomes.csv",
+        log:
+            f"results/logs/drive/{SETTINGS.drive_dataset}/drive_compare.log",
+        conda:
+            "../envs/simpick.yaml"
+        params:
+            settings=canonical(
+                {
+                    "engines": [m for m in DRIVE_MODELS if m in PLAN.engines],
+                    "verdict": PLAN.config["verdict"],
+                    "statistics": PLAN.config["statistics"],
+                    "unit": PLAN.config["drive_replay"]["unit"],
+                    "tolerance": SIMILAR,
+                    "seed": PLAN.config["seed"],
+                }
+            ),
+            code=PLAN.script_code("drive_compare"),
+        script:
+            "../scripts/drive_compare.py"
+
+    # Calibration on DRIVE steps (simpick.studies.drive_calibration): every model that declares calibratable
+    # parameters, per terrain class, trained on some chosen steps and judged on the others. In `snakemake`
+    # (all) when calibration.enabled; `snakemake drive_calibration` runs it either way.
+    from simpick.engines import get_engine as _get_engine
+
+    DRIVE_CAL = f"{DRIVE}/calibration"
+    DRIVE_CAL_MODELS = [m for m in DRIVE_MODELS if _get_engine(m).calibratable]
+
+    def drive_cal_files(wildcards, name="evals.csv"):
+        import pandas as pd
+
+        cases = pd.read_csv(checkpoints.drive_tables.get().output.cases)
+        return [
+            f"{DRIVE_CAL}/{m}/{t}/{name}" for m in DRIVE_CAL_MODELS for t in sorted(cases.terrain_class.unique())
+        ]
+
+    rule drive_calibrate:
+        """One model x one terrain class: the seeded split of its chosen steps, the search on the training
+        steps, both variants evaluated on every step."""
+        input:
+            cases=f"{DRIVE}/cases.csv",
+            steps=f"{DRIVE}/steps.csv",
+            urdf=PLAN.config["robot"]["urdf"],
+        output:
+            best=f"{DRIVE_CAL}/{{model}}/{{terrain}}/best.yaml",
+            trials=f"{DRIVE_CAL}/{{model}}/{{terrain}}/trials.csv",
+            evals=f"{DRIVE_CAL}/{{model}}/{{terrain}}/evals.csv",
+            split=f"{DRIVE_CAL}/{{model}}/{{terrain}}/split.csv",
+        log:
+            f"results/logs/drive/{SETTINGS.drive_dataset}/calibrate/{{model}}/{{terrain}}.log",
+        wildcard_constraints:
+            model="|".join(DRIVE_CAL_MODELS) or "no-model",
+            terrain="|".join(re.escape(c) for c in PLAN.config["real_data"]["classes"]),
+        resources:
+            runtime=240,
+        conda:
+            "../envs/simpick.yaml"
+        params:
+            settings=lambda wc: canonical(
+                {
+                    "engine": wc.model,
+                    "terrain_class": wc.terrain,
+                    "case": engine_params(PLAN.config, wc.model),
+                    "classes": PLAN.config["real_data"]["classes"],
+                    "replay": PLAN.config["drive_replay"],
+                    "calibration": {
+                        "source": "drive",
+                        "scales": PLAN.config["calibration"]["scales"],
+                        "test_fraction": PLAN.config["calibration"]["test_fraction"],
+                        "n_trials": PLAN.config["calibration"]["n_trials"],
+                        "startup_trials": PLAN.config["calibration"]["startup_trials"],
+                        "seed": PLAN.config["calibration"]["seed"],
+                        "bounds": {wc.model: (PLAN.config["calibration"].get("bounds") or {}).get(wc.model) or {}},
+                    },
+                    "folders": {name: str(path) for name, path in DRIVE_FOLDERS.items()},
+                    "declared": DRIVE_DECLARED,
+                    "dataset": SETTINGS.drive_dataset,
+                }
+            ),
+            code=lambda wc: PLAN.script_code("drive_calibrate", *PLAN.engine_modules(wc.model)),
+        script:
+            "../scripts/drive_calibrate.py"
+
+    rule drive_calibration:
+        """The project's calibration summary over every model x class, and the held-out gains with the
+        equivalent wheel_separation_multiplier."""
+        input:
+            evals=drive_cal_files,
+            bests=lambda wc: drive_cal_files(wc, "best.yaml"),
+            cases=f"{DRIVE}/cases.csv",
+            steps=f"{DRIVE}/steps.csv",
+            sessions=f"{DRIVE}/sessions.csv",
+            urdf=PLAN.config["robot"]["urdf"],
+        output:
+            summary=f"{DRIVE_CAL}/summary.csv",
+            turning=f"{DRIVE_CAL}/turning.csv",
+        log:
+            f"results/logs/drive/{SETTINGS.drive_dataset}/drive_calibration.log",
+        conda:
+            "../envs/simpick.yaml"
+        params:
+            settings=canonical({"statistics": PLAN.config["statistics"]}),
+            code=PLAN.script_code("drive_calibration"),
+        script:
+            "../scripts/drive_calibration.py"
+
+    if PLAN.config["calibration"]["enabled"]:
+        DRIVE_TARGETS += [f"{DRIVE_CAL}/summary.csv", f"{DRIVE_CAL}/turning.csv"]

@@ -301,11 +301,11 @@ def test_the_config_declares_drive_datasets():
     assert config["real_data"]["datasets"]["drive"]["kind"] == "drive"
     assert problems(config) == []
     config["real_data"]["datasets"]["borealtc"]["sessions"] = {"x": {"gyro_sign": 1}}
-    config["real_data"]["datasets"]["drive"]["sessions"] = {"y": {"terrain_class": "gravel"}}
+    config["real_data"]["datasets"]["drive"]["sessions"] = {"y": {"terrain_class": "dune"}}
     assert any("borealtc: sessions are overrides of DRIVE sessions" in p for p in problems(config))
     del config["real_data"]["datasets"]["borealtc"]["sessions"]
     assert any(
-        "drive.sessions: terrain classes ['gravel'] are not under real_data.classes" in p for p in problems(config)
+        "drive.sessions: terrain classes ['dune'] are not under real_data.classes" in p for p in problems(config)
     )
 
 

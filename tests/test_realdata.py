@@ -46,7 +46,9 @@ def test_segments_are_found_classified_and_measured():
 
 def test_committed_segments_table_is_valid_and_covers_every_class():
     table = load_segments(ROOT / CONFIG["real_data"]["segments"])
-    assert set(table.terrain_class) == set(CONFIG["real_data"]["classes"])
+    # every BorealTC class has segments; the config's other classes (DRIVE's grass and gravel) have none here
+    assert set(table.terrain_class) == {"asphalt", "flooring", "ice", "sandy_loam", "snow"}
+    assert set(table.terrain_class) <= set(CONFIG["real_data"]["classes"])
     assert table.segment.is_unique
     assert (table.duration > 0).all() and table.notna()[[c for c in COLUMNS if c != "yaw_rate_gain"]].all().all()
     turning = table[table.kind == "turning"]

@@ -201,6 +201,28 @@ class DriveSession(Strict):
     )
 
 
+class DriveReplay(Strict):
+    """How the DRIVE steps are replayed in the engines (rules/drive.smk, simpick.simulate.drive)."""
+
+    models: list[str] | None = Field(
+        None, description="the engines and reference models that replay the steps; default: every configured one"
+    )
+    every: Annotated[int, Field(ge=1)] = Field(
+        1, description="replay every N-th step of each session, counted from step 1 (1: every step)"
+    )
+    max_steps_per_session: Annotated[int, Field(ge=1)] | None = Field(
+        None, description="at most this many of those steps per session, the earliest (None: no limit)"
+    )
+    warmup: Annotated[float, Field(gt=0, le=20)] = Field(
+        3.0,
+        description="s driven at the real robot's wheel speeds before each step (the first 1 s a ramp from rest), "
+        "to reach the engine's own steady state for them",
+    )
+    unit: Literal["step", "session"] = Field(
+        "step", description="the verdict's unit of pairing: each step, or each session (its steps averaged)"
+    )
+
+
 class DeclaredDataset(Strict):
     """What is known of a dataset folder before reading it (all optional; rates are measured)."""
 
@@ -663,6 +685,7 @@ class Study(Strict):
     drive_dataset: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] = Field(
         "drive", description="the entry of real_data.datasets (kind drive) that declares the DRIVE sessions"
     )
+    drive_replay: DriveReplay = Field(DriveReplay(), description="how the DRIVE steps are replayed (drive_dir)")
     sweep: Sweep | None = Field(None, description="a speed-accuracy sweep over physics steps (config/sweeps/)")
     calibration: Calibration | None = Field(None, description="calibration on training runs, judged on held-out runs")
     real_data: RealData = Field(description="the real data: the committed segments, terrain classes and datasets")

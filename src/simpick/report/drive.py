@@ -1,0 +1,129 @@
+"""The report's DRIVE section: the engines against the real robot of a DRIVE dataset (results/drive/<name>/,
+rules/drive.smk), titled from the study's robot label ("against the real Clearpath Warthog").
+
+Self-contained: :func:`drive_section` reads the tables into a context (None where no DRIVE comparison
+exists, so a study without one has no section) and :func:`render_drive_section` renders it to HTML.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+TABLES = ("summary", "outcomes", "turning", "errors")
+TEMPLATE = """
+<details open class="drive-section">
+<summary><h2 id="drive">Against the real {{ label }}: DRIVE steps replayed</h2></summary>
+<p>{{ steps }} steps of {{ sessions }} DRIVE sessions ({{ terrains }}), each replayed in every model from the real
+robot's state at the step's start (a warm-up at its measured wheel speeds) and driven by the step's measured wheel
+speeds, on flat ground with the terrain's friction. Errors over each step's steady part: yaw-rate gain (gyro),
+heading, and forward speed against the lidar-ICP speed. The real robot's own repeatability between steps of similar
+command is the floor no model can beat. Steps a model failed (health check) are counted, never averaged.</p>
+<table>
+<tr><th>terrain</th><th>model</th><th>steps (failed)</th><th>real gain</th><th>model gain</th>
+<th>gain error [95 % CI]</th><th>gain floor</th><th>heading error, rad</th><th>speed error, m/s</th>
+<th>speed floor, m/s</th><th>start mismatch |dv|, |dw|</th><th>wall s/step</th></tr>
+{% for r in rows %}<tr><td>{{ r.terrain }}</td><td>{{ r.engine }}</td><td>{{ r.steps }} ({{ r.failed }})</td>
+<td>{{ r.gain_real }}</td><td>{{ r.gain_sim }}</td><td>{{ r.gain_error }}</td><td>{{ r.gain_floor }}</td>
+<td>{{ r.heading_error }}</td><td>{{ r.speed_error }}</td><td>{{ r.speed_floor }}</td><td>{{ r.start }}</td>
+<td>{{ r.wall }}</td></tr>
+{% endfor %}</table>
+{% if outcomes %}<h3>Verdict (paired by {{ unit }}; every engine against the best, Holm and TOST)</h3>
+<table><tr><th>metric</th><th>engine</th><th>outcome</th><th>mean</th><th>difference to best [CI]</th><th>margin</th>
+<th>note</th></tr>
+{% for o in outcomes %}<tr><td>{{ o.metric }}</td><td>{{ o.engine }}</td><td>{{ o.outcome }}</td><td>{{ o.mean }}</td>
+<td>{{ o.diff }}</td><td>{{ o.margin }}</td><td>{{ o.note }}</td></tr>
+{% endfor %}</table>{% endif %}
+{% if failures %}<p>Failed steps: {% for f in failures %}{{ f }}{% if not loop.last %}; {% endif %}{% endfor %}</p>
+{% endif %}
+</details>
+"""
+
+
+def _f(x: Any, digits: int = 3) -> str:
+    try:
+        x = float(x)
+    except (TypeError, ValueError):
+        return "–"
+    return "–" if math.isnan(x) else f"{x:.{digits}g}"
+
+
+def _ci(row: pd.Series, metric: str) -> str:
+    mean, low, high = (row.get(f"{metric}_{k}") for k in ("mean", "low", "high"))
+    if _f(low) == "–":
+        return _f(mean)
+    return f"{_f(mean)} [{_f(low)}, {_f(high)}]"
+
+
+def read_tables(folder: str | Path) -> dict[str, pd.DataFrame] | None:
+    """The DRIVE comparison's tables under ``folder`` (results/drive/<name>), None where it has none."""
+    folder = Path(folder)
+    if not all((folder / f"{t}.csv").is_file() for t in TABLES):
+        return None
+    return {t: pd.read_csv(folder / f"{t}.csv") for t in TABLES}
+
+
+def drive_section(folder: str | Path, label: str) -> dict | None:
+    """The section's context from ``folder``'s tables; ``label``: the study's robot label (config
+    ``robot.label``). None where the folder holds no DRIVE comparison."""
+    tables = read_tables(folder)
+    if tables is None:
+        return None
+    summary, outcomes, errors = tables["summary"], tables["outcomes"], tables["errors"]
+    pooled = summary[summary.session == "all"]
+    rows = [
+        {
+            "terrain": r.terrain_class,
+            "engine": r.engine,
+            "steps": int(r.steps),
+            "failed": int(r.failed),
+            "gain_real": _f(r.gain_real_median),
+            "gain_sim": _f(r.gain_sim_median),
+            "gain_error": _ci(r, "gain_error"),
+            "gain_floor": _f(r.gain_floor_sd),
+            "heading_error": _ci(r, "heading_error"),
+            "speed_error": _ci(r, "speed_error"),
+            "speed_floor": _f(r.speed_floor_sd),
+            "start": f"{_f(r.start_dv_median_abs, 2)} m/s, {_f(r.start_dwz_median_abs, 2)} rad/s",
+            "wall": _f(r.wall_time_per_step, 2),
+        }
+        for _, r in pooled.sort_values(["terrain_class", "engine"]).iterrows()
+    ]
+    scoped = outcomes[outcomes.scope == "all"] if "scope" in outcomes else outcomes
+    verdict = [
+        {
+            "metric": o.label,
+            "engine": o.engine,
+            "outcome": o.outcome,
+            "mean": _f(o.mean),
+            "diff": f"{_f(o.diff_to_best)} [{_f(o.diff_low)}, {_f(o.diff_high)}]",
+            "margin": _f(o.margin),
+            "note": "" if pd.isna(o.note) else o.note,
+        }
+        for _, o in scoped.iterrows()
+    ]
+    failed = errors[errors.status != "ok"]
+    failures = [f"{r.engine} {r.session}/{int(r.step):03d}: {r.reasons}" for r in failed.itertuples()][:50]
+    return {
+        "label": label,
+        "steps": int(errors.case.nunique()),
+        "sessions": int(errors.session.nunique()),
+        "terrains": ", ".join(sorted(errors.terrain_class.unique())),
+        "rows": rows,
+        "outcomes": verdict,
+        "unit": str(scoped.unit.iloc[0]) if len(scoped) and "unit" in scoped else "step",
+        "failures": failures,
+    }
+
+
+def render_drive_section(folder: str | Path, label: str) -> str | None:
+    """The section as HTML (None where ``folder`` holds no DRIVE comparison)."""
+    import jinja2
+
+    context = drive_section(folder, label)
+    if context is None:
+        return None
+    return jinja2.Environment(autoescape=True).from_string(TEMPLATE).render(**context)

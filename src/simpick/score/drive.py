@@ -1,0 +1,111 @@
+"""The DRIVE replay's verdict: every engine against the best per metric, over the per-step errors of
+:mod:`simpick.compare.drive`.
+
+The verdict is BorealTC's (:func:`simpick.score.equivalence.outcomes_table`: each engine against the best,
+Holm-adjusted one-sided tests and TOST equivalence against the practical margins). Its unit of pairing is
+the step (``drive_replay.unit``): every engine replays the same step from the same measured wheels, so the
+paired difference of two engines on one step cancels the step's command and the real values; DRIVE draws
+each step's command at random, independently of the others, so steps are the experiment's replicates. The
+five shared sessions (two on grass) are too few for a paired test by session (a sign-flip test needs six),
+and a session's steps share its conditions (ground, weather, tyre pressure): the per-session rows show
+whether a result holds in each session. ``unit: session`` pairs by session instead (means of its steps).
+The gain error's margin, where the config bases it on the real robot's spread (``real_spread``), is the
+real robot's own step-to-step repeatability (the single-step standard deviation of the gain between steps
+of similar command within a terrain, :func:`simpick.compare.drive.gain_repeatability`), the floor no model
+can beat.
+"""
+
+from __future__ import annotations
+
+import pandas as pd
+
+from simpick.compare.drive import ALL, gain_repeatability, step_errors, summary_table
+from simpick.score.equivalence import outcomes_table
+from simpick.score.mechanics import mechanics_table
+from simpick.score.verdict import METRICS, per_run_values
+from simpick.tables import write_csv
+
+
+def per_test(errors: pd.DataFrame, unit: str = "step") -> pd.DataFrame:
+    """The errors in the verdict's per-test form: one test per step, its ``run`` the unit of pairing (the
+    step itself, or its session)."""
+    if unit not in ("step", "session"):
+        raise ValueError(f"drive_replay.unit is 'step' or 'session', not {unit!r}")
+    run = errors.session if unit == "session" else errors.session + "/" + errors.step.map("{:03d}".format)
+    return errors.assign(run=run, test=errors.case, yaw_rate_gain_real=errors.gain_real)
+
+
+def gain_margin_spec(spec: dict, steps: pd.DataFrame, tolerance: float) -> tuple[dict, str | None]:
+    """The gain error's margin spec for DRIVE: where the config bases it on the real robot's spread, the
+    real robot's step-to-step repeatability (absolute) and the sentence saying so; else the config's spec."""
+    if spec["basis"] != "real_spread":
+        return spec, None
+    sd, pairs = gain_repeatability(steps, tolerance)
+    value = float(spec["value"]) * sd
+    factor = "" if float(spec["value"]) == 1 else f"{float(spec['value']):g} x "
+    return {"basis": "absolute", "value": value}, (
+        f"{factor}the real robot's own step-to-step repeatability of its yaw-rate gain: the single-step "
+        f"standard deviation between the {pairs} pairs of steps of similar command (within a terrain), {sd:.3g}"
+    )
+
+
+def outcomes(
+    errors: pd.DataFrame,
+    steps: pd.DataFrame,
+    engines: list[str],
+    verdict: dict,
+    tolerance: float,
+    validation: pd.DataFrame | None = None,
+    unit: str = "step",
+    statistics: dict | None = None,
+    seed: int = 0,
+) -> pd.DataFrame:
+    """Every engine against the best per metric (:func:`simpick.score.equivalence.outcomes_table`), over
+    all terrains (``scope`` all) and per terrain, paired by ``unit``. ``validation``: the validation
+    summary (the mechanics gate: an engine failing the cases a metric rests on is never the best); None:
+    no engine validated, the lowest mean is the reference and is named so."""
+    summary = (
+        validation if validation is not None else pd.DataFrame(columns=["engine", "status", "case", "kind", "passed"])
+    )
+    mechanics = mechanics_table(summary, engines)
+    frames = []
+    for scope, e in [(ALL, errors)] + list(errors.groupby("terrain_class", sort=True)):
+        real = steps if scope == ALL else steps[steps.terrain_class == scope]
+        tests = per_test(e, unit)
+        spec, basis = gain_margin_spec(verdict["margins"]["gain_error"], real, tolerance)
+        settings = {"margins": {**verdict["margins"], "gain_error": spec}, "mechanics": verdict["mechanics"]}
+        walls = {metric: per_run_values(tests, metric) for metric in METRICS}
+        table = outcomes_table(walls, tests, engines, METRICS, mechanics, settings, statistics, seed)
+        if basis:
+            table.loc[table.metric == "gain_error", "margin_basis"] = basis
+        frames.append(table.assign(scope=scope, unit=unit))
+    out = pd.concat(frames, ignore_index=True)
+    return out[["scope", "unit"] + [c for c in out.columns if c not in ("scope", "unit")]]
+
+
+def compare_job(inputs: dict, params: dict, outputs: dict) -> None:
+    """Rule drive_compare: the replayed steps of every engine against the real robot, into ``errors``,
+    ``summary`` and ``outcomes`` (CSV)."""
+    cases = pd.read_csv(inputs["cases"])
+    steps = pd.read_csv(inputs["steps"])
+    replayed = pd.concat([pd.read_csv(p) for p in inputs["replayed"]], ignore_index=True)
+    validation = pd.read_csv(inputs["validation"]) if inputs.get("validation") else None
+    errors = step_errors(cases, steps, replayed)
+    tolerance = float(params["tolerance"])
+    seed = int(params.get("seed", 0))  # the rules' canonical params carry numbers as floats
+    write_csv(errors, outputs["errors"])
+    write_csv(summary_table(errors, steps, tolerance, params.get("statistics"), seed), outputs["summary"])
+    write_csv(
+        outcomes(
+            errors,
+            steps,
+            list(params["engines"]),
+            params["verdict"],
+            tolerance,
+            validation,
+            params.get("unit", "step"),
+            params.get("statistics"),
+            seed,
+        ),
+        outputs["outcomes"],
+    )
