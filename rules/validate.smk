@@ -18,6 +18,7 @@ rule validate:
     conda:
         "../envs/simpick.yaml"
     threads: 1
+    priority: lambda wc: PLAN.job_priority("validate", wc.engine)
     resources:
         mem_mb=400,
         # each case's share as a lab case's; the watchdog stops a case at 90 % of it (validate_job)
