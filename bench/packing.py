@@ -25,13 +25,19 @@ import argparse
 import csv
 import datetime
 import re
+import sys
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
 STAMP = re.compile(r"^\[(\w{3} \w{3} +\d+ \d\d:\d\d:\d\d \d{4})\]$")
 START = re.compile(r"^(?:local)?(?:rule|checkpoint) (\w+):$")
 JOBID = re.compile(r"^\s+jobid: (\d+)$")
 FINISHED = re.compile(r"^Finished jobid: (\d+) \(Rule: (\w+)\)$")
 BENCH = re.compile(r"^\s+benchmark: (\S+)$")
+WILDCARDS = re.compile(r"^\s+wildcards: (.+)$")
+NODE = re.compile(r'^\s*(\d+)\[label = "([^"]*)"')
+EDGE = re.compile(r"^\s*(\d+) -> (\d+)")
 
 
 def _when(text: str) -> float:
@@ -47,9 +53,11 @@ def jobs(log: Path) -> list[dict]:
         if m := STAMP.match(line):
             stamp, pending = _when(m.group(1)), None
         elif (m := START.match(line)) and stamp is not None:
-            pending = {"rule": m.group(1), "start": stamp, "end": None, "benchmark": None}
+            pending = {"rule": m.group(1), "start": stamp, "end": None, "benchmark": None, "wildcards": {}}
         elif pending and (m := BENCH.match(line)):
             pending["benchmark"] = m.group(1)
+        elif pending and (m := WILDCARDS.match(line)):
+            pending["wildcards"] = dict(item.split("=", 1) for item in m.group(1).split(", "))
         elif pending and (m := JOBID.match(line)):
             found[m.group(1)] = pending
         elif (m := FINISHED.match(line)) and m.group(1) in found:
@@ -67,6 +75,51 @@ def busy(spans: list[dict], start: float, end: float) -> tuple[float, float]:
         running, last = running + step, when
     wall = end - start
     return area / wall, short / wall
+
+
+def replay(dot: Path, spans: list[dict], priority, cores: int = 2) -> dict:
+    """Replay a run's jobs on ``cores`` idle cores: each job as long as it took in the run (its log's
+    start to finish), started when its inputs are done (the DAG of ``snakemake --forceall --dag``), the
+    ready job of highest ``priority(rule, wildcards)`` first, as Snakemake's scheduler picks with
+    one-core jobs. The packing a schedule gives, free of the machine's other load: makespan against
+    (sum of job times) / cores."""
+    labels, deps = {}, {}
+    for line in dot.read_text().splitlines():
+        if m := NODE.match(line):
+            rule, *rest = m.group(2).split("\\n")
+            labels[m.group(1)] = (rule, dict(item.split(": ", 1) for item in rest))
+            deps.setdefault(m.group(1), set())
+        elif m := EDGE.match(line):
+            deps.setdefault(m.group(2), set()).add(m.group(1))
+    # a node's measured time: the log's job of the same rule and wildcards (labels may omit some: in order)
+    pool: dict[str, list[dict]] = {}
+    for j in sorted(spans, key=lambda j: j["start"]):
+        pool.setdefault(j["rule"], []).append(j)
+    duration, wild = {}, {}
+    for node, (rule, shown) in sorted(labels.items(), key=lambda kv: int(kv[0])):
+        if rule == "all":
+            duration[node], wild[node] = 0.0, {}
+            continue
+        candidates = pool.get(rule, [])
+        match = next((j for j in candidates if shown.items() <= j["wildcards"].items()), None)
+        if match is None:
+            raise SystemExit(f"packing: no job of the log matches DAG node {rule} {shown}")
+        candidates.remove(match)
+        duration[node], wild[node] = match["end"] - match["start"], match["wildcards"]
+    done_at: dict[str, float] = {}
+    running: list[tuple[float, str]] = []
+    now, waiting = 0.0, set(labels)
+    while waiting or running:
+        ready = [n for n in waiting if all(d in done_at and done_at[d] <= now for d in deps[n])]
+        ready.sort(key=lambda n: (-priority(labels[n][0], wild[n]), int(n)))
+        for node in ready[: cores - len(running)]:
+            waiting.discard(node)
+            running.append((now + duration[node], node))
+        running.sort()
+        now, node = running.pop(0)
+        done_at[node] = now
+    total = sum(duration.values())
+    return {"makespan_s": round(now, 1), "job_s": round(total, 1), "ratio": round(now / (total / cores), 3)}
 
 
 def gnu_time(path: Path) -> dict:
@@ -109,6 +162,28 @@ def jobs_cpu(spans: list[dict], root: Path) -> float:
     return total
 
 
+def table_priority(costs_path: Path | None):
+    """The rules' priority of a job (rules/validate.smk, rules/simulate.smk: simpick.plan.costs) from a cost
+    table; with no table every job's is 0 (Snakemake without priorities)."""
+    from simpick.plan import costs
+
+    table = costs.load(costs_path) if costs_path else {}
+
+    def priority(rule: str, wildcards: dict) -> int:
+        engine = wildcards.get("engine", "")
+        if rule in ("validate", "cpu_load"):
+            kind = rule
+        elif rule.startswith("simulate_segments"):
+            kind = "segments"
+        elif rule == "simulate":
+            kind = "lab" if wildcards.get("source") == "lab" else "replay"
+        else:
+            return 0
+        return costs.priority(table, kind, engine)
+
+    return priority
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--label", required=True)
@@ -117,6 +192,8 @@ def main() -> None:
     parser.add_argument("--load", type=Path, help="/proc/stat samples taken during the run")
     parser.add_argument("--root", type=Path, default=Path("."), help="the folder the run ran in")
     parser.add_argument("--csv", type=Path, help="append the row here")
+    parser.add_argument("--dag", type=Path, help="snakemake --forceall --dag of the run's config: replay its jobs")
+    parser.add_argument("--costs", type=Path, help="with --dag: the cost table whose priorities the replay uses")
     args = parser.parse_args()
 
     spans = [j for j in jobs(args.log) if j["end"] is not None]
@@ -136,6 +213,12 @@ def main() -> None:
         "share_one_core_idle": round(short, 3),
         "other_cpu_s": None if machine is None else round(max(machine - timed["cpu_s"], 0.0), 1),
     }
+    if args.dag:
+        for name, path in (("unprioritised", None), ("prioritised", args.costs)):
+            if name == "prioritised" and not path:
+                continue
+            for key, value in replay(args.dag, spans, table_priority(path)).items():
+                row[f"replay_{name}_{key}"] = value
     print("| " + " | ".join(str(v) for v in row.values()) + " |")
     if args.csv:
         new = not args.csv.exists()

@@ -131,3 +131,16 @@ def test_the_default_study_names_the_opt_in_engines_with_their_switch_and_measur
     # the eight-engine study names none
     config["engines"] |= yaml.safe_load((ROOT / "config/engines/newton_genesis.yaml").read_text())["engines"]
     assert plan_of(config).opt_in == {}
+
+
+def test_an_engine_whose_venv_failed_to_build_is_left_out_with_pip_s_error(config, tmp_path, monkeypatch):
+    monkeypatch.setenv("SIMPICK_ENGINE_VENVS", str(tmp_path))  # no venv here
+    monkeypatch.setattr("simpick.engines.isolated.in_process", lambda engine: False)
+    (tmp_path / ".venv-genesis.failed").write_text("ERROR: No matching distribution found for torch==2.13.0\n")
+    config["engines"] |= {"newton": None, "genesis": None}
+    plan = plan_of(config)
+    assert "newton" not in plan.engines and "genesis" not in plan.engines
+    assert "make engine-venvs" in plan.unavailable["newton"] and "build failed" not in plan.unavailable["newton"]
+    assert plan.unavailable["genesis"].endswith(
+        "its build failed: ERROR: No matching distribution found for torch==2.13.0"
+    )

@@ -51,6 +51,20 @@ COST_TABLE = "resources/engines/job_costs.csv"
 OPT_IN_CONFIGS = "config/engines"
 
 
+def _build_failure(engine: str) -> str:
+    """Why an engine's own virtual environment could not be built, where `make engine-venvs` kept pip's
+    last error lines (``.venv-<engine>.failed`` beside the venv); empty otherwise."""
+    from simpick.engines import isolated
+
+    if engine not in isolated.MODULES:
+        return ""
+    failed = isolated.venv_python(engine).parents[2] / f".venv-{engine}.failed"
+    if not failed.exists():
+        return ""
+    lines = [line.strip() for line in failed.read_text(errors="replace").splitlines() if line.strip()]
+    return f"; its build failed: {' / '.join(lines)}" if lines else ""
+
+
 def _make_target(makefile: str, configfile: str) -> str | None:
     """The Makefile target whose recipe runs the study with ``configfile``, if one does."""
     if not os.path.exists(makefile):
@@ -96,7 +110,7 @@ class Plan(ReportPlanning, CalibrationPlanning):
 
         # Engines this machine cannot run (simpick.engines.unavailable: not installed): the study
         # runs without them, and its report lists them.
-        self.unavailable = unavailable(config["engines"])
+        self.unavailable = {e: why + _build_failure(e) for e, why in unavailable(config["engines"]).items()}
         self.engines = [e for e in config["engines"] if e not in self.unavailable]
         if not self.engines:
             raise PlanError(f"none of the configured engines can run here: {self.unavailable}")
