@@ -96,7 +96,8 @@ def replay(dot: Path, spans: list[dict], priority, cores: int = 2) -> dict:
     for j in sorted(spans, key=lambda j: j["start"]):
         pool.setdefault(j["rule"], []).append(j)
     duration, wild = {}, {}
-    for node, (rule, shown) in sorted(labels.items(), key=lambda kv: int(kv[0])):
+    # nodes that show more wildcards first, so that a label showing none takes what is left
+    for node, (rule, shown) in sorted(labels.items(), key=lambda kv: (-len(kv[1][1]), int(kv[0]))):
         if rule == "all":
             duration[node], wild[node] = 0.0, {}
             continue
