@@ -25,11 +25,11 @@ for _rule, _outputs, _fixed in PLAN.simulate_units():
             )
         wildcard_constraints:
             **(PLAN.one_case_constraints(_fixed["sources"]) if "sources" in _fixed else {}),
+        # long jobs first (measured cost: simpick.plan.costs)
+        priority: lambda wc, fixed=_fixed: PLAN.simulate_priority(PLAN.unit(wc, fixed)[0], wc.engine)
         conda:
             "../envs/simpick.yaml"
         threads: 1
-        # long jobs first (measured cost: simpick.plan.costs)
-        priority: lambda wc, fixed=_fixed: PLAN.simulate_priority(PLAN.unit(wc, fixed)[0], wc.engine)
         resources:
             mem_mb=lambda wc, fixed=_fixed: PLAN.source_of(PLAN.unit(wc, fixed)[0]).MEM_MB,
             # each case is stopped by the watchdog at health.timeout (its hard fallback 30 s later)
@@ -51,10 +51,10 @@ rule cpu_load:
         "results/logs/cpu_load/{engine}.log",
     benchmark:
         "results/benchmarks/cpu_load/{engine}.tsv"
+    priority: lambda wc: PLAN.job_priority("cpu_load", wc.engine)
     conda:
         "../envs/simpick.yaml"
     threads: 1
-    priority: lambda wc: PLAN.job_priority("cpu_load", wc.engine)
     resources:
         mem_mb=600,
         runtime=15,

@@ -15,10 +15,10 @@ rule validate:
         "results/logs/validate/{engine}.log",
     benchmark:
         "results/benchmarks/validate/{engine}.tsv"
+    priority: lambda wc: PLAN.job_priority("validate", wc.engine)
     conda:
         "../envs/simpick.yaml"
     threads: 1
-    priority: lambda wc: PLAN.job_priority("validate", wc.engine)
     resources:
         mem_mb=400,
         # each case's share as a lab case's; the watchdog stops a case at 90 % of it (validate_job)

@@ -84,7 +84,9 @@ def _cost_table(path, rows):
 def test_the_longest_measured_jobs_get_the_highest_priority(config, tmp_path):
     from simpick.plan import costs
 
-    _cost_table(tmp_path / "costs.csv", [("validate", "dart", 71.7), ("validate", "mujoco", 4.8), ("lab", "dart", 10.4)])
+    _cost_table(
+        tmp_path / "costs.csv", [("validate", "dart", 71.7), ("validate", "mujoco", 4.8), ("lab", "dart", 10.4)]
+    )
     plan = plan_of(config)
     plan.costs = costs.load(tmp_path / "costs.csv")
     assert plan.job_priority("validate", "dart") == 72 > plan.job_priority("validate", "mujoco") == 5
