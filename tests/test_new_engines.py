@@ -154,8 +154,8 @@ def test_the_default_study_s_report_names_the_opt_in_engines_as_not_run(tmp_path
     text = " ".join(_render(inputs, {**_real_params(), "opt_in": opt_in}).split())
     summary = re.search(r'<div class="summary".*?</div>', text, re.S).group(0)
     assert "Not run in this study: genesis and newton" in summary
-    assert "300 s of one core" in summary and "60 % of the 500 s" in summary and switch in summary
+    assert "300 s of job time" in summary and "60 % of their 500 s" in summary and switch in summary
     unmeasured = {e: dict(v, seconds=None) for e, v in opt_in.items()}
     text = " ".join(_render(inputs, {**_real_params(), "opt_in": unmeasured}).split())
-    assert "not measured on this machine yet" in text and "s of one core" not in text
+    assert "not measured yet" in text and "s of job time" not in text
     assert "Not run in this study" not in _render(inputs, _real_params())
