@@ -25,22 +25,28 @@ study: $(STAMP)
 
 # Newton and Genesis pin what the study cannot (newton[sim]: mujoco 3.17 against 4.0.0; genesis-world: pillow<12
 # against 13, and torch): each gets a venv of its own, from the same Python (the study talks to it with pickle,
-# simpick.engines.isolated). One that cannot install is left out, and the study says so. Torch is installed first,
+# simpick.engines.isolated). One that cannot install is left out, and the study says so: pip's last error lines
+# are kept in .venv-<engine>.failed, which the study's report quotes. Torch is installed first,
 # as the CPU build, so that genesis-world's resolution never pulls a CUDA torch.
 TORCH ?= torch==2.13.0
 engine-venvs: .venv-newton/.installed .venv-genesis/.installed
 
 .venv-newton/.installed: envs/newton-constraints.txt
-	rm -rf .venv-newton && $(PYTHON) -m venv .venv-newton
+	rm -rf .venv-newton .venv-newton.failed && $(PYTHON) -m venv .venv-newton
 	{ .venv-newton/bin/pip install --quiet --upgrade pip && \
-	  .venv-newton/bin/pip install --quiet -c envs/newton-constraints.txt 'newton[sim]' pydantic numpy && touch $@; } || \
-	  { rm -rf .venv-newton; echo "simpick: newton could not be installed; the study will run without it"; }
+	  .venv-newton/bin/pip install --quiet -c envs/newton-constraints.txt 'newton[sim]' pydantic numpy \
+	    2> .venv-newton.log && touch $@; } || \
+	  { rm -rf .venv-newton; tail -n 3 .venv-newton.log > .venv-newton.failed; \
+	    echo "simpick: newton could not be installed (.venv-newton.failed); the study will run without it"; }
 
 .venv-genesis/.installed: envs/genesis-constraints.txt
-	rm -rf .venv-genesis && $(PYTHON) -m venv .venv-genesis
-	{ .venv-genesis/bin/pip install --quiet --upgrade pip && .venv-genesis/bin/pip install --quiet '$(TORCH)' && \
-	  .venv-genesis/bin/pip install --quiet -c envs/genesis-constraints.txt genesis-world pydantic numpy && touch $@; } || \
-	  { rm -rf .venv-genesis; echo "simpick: genesis could not be installed; the study will run without it"; }
+	rm -rf .venv-genesis .venv-genesis.failed && $(PYTHON) -m venv .venv-genesis
+	{ .venv-genesis/bin/pip install --quiet --upgrade pip && .venv-genesis/bin/pip install --quiet '$(TORCH)' \
+	    2> .venv-genesis.log && \
+	  .venv-genesis/bin/pip install --quiet -c envs/genesis-constraints.txt genesis-world pydantic numpy \
+	    2>> .venv-genesis.log && touch $@; } || \
+	  { rm -rf .venv-genesis; tail -n 3 .venv-genesis.log > .venv-genesis.failed; \
+	    echo "simpick: genesis could not be installed (.venv-genesis.failed); the study will run without it"; }
 
 # The study with eight engines: config.yaml's six, Newton and Genesis (config/engines/newton_genesis.yaml)
 study-eight: $(STAMP) engine-venvs

@@ -313,6 +313,7 @@ rule report:
         statistics=PLAN.statistics_params(),
         engines=PLAN.figure_engines,
         unavailable=canonical(PLAN.unavailable),  # configured engines this machine cannot run: listed, not dropped
+        opt_in=canonical(PLAN.opt_in),  # registered engines an opt-in config adds: named as not run, with the switch
         code=PLAN.script_code("report"),
         real_data=PLAN.report_real_data(),
     script:

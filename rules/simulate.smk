@@ -25,6 +25,8 @@ for _rule, _outputs, _fixed in PLAN.simulate_units():
             )
         wildcard_constraints:
             **(PLAN.one_case_constraints(_fixed["sources"]) if "sources" in _fixed else {}),
+        # long jobs first (measured cost: simpick.plan.costs)
+        priority: lambda wc, fixed=_fixed: PLAN.simulate_priority(PLAN.unit(wc, fixed)[0], wc.engine)
         conda:
             "../envs/simpick.yaml"
         threads: 1
@@ -49,6 +51,7 @@ rule cpu_load:
         "results/logs/cpu_load/{engine}.log",
     benchmark:
         "results/benchmarks/cpu_load/{engine}.tsv"
+    priority: lambda wc: PLAN.job_priority("cpu_load", wc.engine)
     conda:
         "../envs/simpick.yaml"
     threads: 1

@@ -15,6 +15,7 @@ rule validate:
         "results/logs/validate/{engine}.log",
     benchmark:
         "results/benchmarks/validate/{engine}.tsv"
+    priority: lambda wc: PLAN.job_priority("validate", wc.engine)
     conda:
         "../envs/simpick.yaml"
     threads: 1

@@ -135,3 +135,27 @@ def test_the_engine_venvs_are_not_tracked():
     ignored = (ROOT / ".gitignore").read_text().split()
     assert {".venv-newton/", ".venv-genesis/"} <= set(ignored)
     assert Path(isolated.venv_python("newton")).parent.parent.name == ".venv-newton"
+
+
+def test_the_default_study_s_report_names_the_opt_in_engines_as_not_run(tmp_path):
+    """The six-engine report says Newton and Genesis were not run, why (their measured cost) and the
+    switch that runs them; a study that ran them, or measured nothing, says no such figure."""
+    import re
+
+    from test_report import _real_params, _render, write_synthetic_inputs
+
+    lab = write_synthetic_inputs(tmp_path / "in", seconds=1.0, failed=None)
+    inputs = {**lab, "accuracy_errors": lab["imu_errors"]}
+    switch = "snakemake --cores 2 --configfile config.yaml config/engines/newton_genesis.yaml (make study-eight)"
+    opt_in = {
+        "genesis": {"switch": switch, "seconds": 200.0, "study_seconds": 500.0},
+        "newton": {"switch": switch, "seconds": 100.0, "study_seconds": 500.0},
+    }
+    text = " ".join(_render(inputs, {**_real_params(), "opt_in": opt_in}).split())
+    summary = re.search(r'<div class="summary".*?</div>', text, re.S).group(0)
+    assert "Not run in this study: genesis and newton" in summary
+    assert "300 s of job time" in summary and "60 % of their 500 s" in summary and switch in summary
+    unmeasured = {e: dict(v, seconds=None) for e, v in opt_in.items()}
+    text = " ".join(_render(inputs, {**_real_params(), "opt_in": unmeasured}).split())
+    assert "not measured yet" in text and "s of job time" not in text
+    assert "Not run in this study" not in _render(inputs, _real_params())

@@ -73,3 +73,76 @@ def test_the_rules_read_the_validated_settings_not_the_raw_config():
             if re.search(r"(?<![.\w])config(\[|\.get\()", line):
                 raw.append(f"{path.name}:{number}: {line.strip()}")
     assert not raw, "rules reading the raw config (use PLAN.config):\n" + "\n".join(raw)
+
+
+def _cost_table(path, rows):
+    from simpick.plan import costs
+
+    costs.write([{"job": j, "engine": e, "wall_s": s, "jobs": 1} for j, e, s in rows], path, "measured in a test")
+
+
+def test_the_longest_measured_jobs_get_the_highest_priority(config, tmp_path):
+    from simpick.plan import costs
+
+    _cost_table(
+        tmp_path / "costs.csv", [("validate", "dart", 71.7), ("validate", "mujoco", 4.8), ("lab", "dart", 10.4)]
+    )
+    plan = plan_of(config)
+    plan.costs = costs.load(tmp_path / "costs.csv")
+    assert plan.job_priority("validate", "dart") == 72 > plan.job_priority("validate", "mujoco") == 5
+    assert plan.simulate_priority("lab", "dart") == 10
+    # not measured: no priority, nothing invented
+    assert plan.job_priority("cpu_load", "dart") == 0 and plan.simulate_priority("segments", "dart") == 0
+
+
+def test_the_committed_cost_table_measures_every_registered_engine():
+    from simpick.engines import ADAPTERS
+    from simpick.plan import costs
+    from simpick.plan.study import COST_TABLE
+
+    table = costs.load(ROOT / COST_TABLE)
+    for engine in ADAPTERS:
+        for job in ("validate", "cpu_load", "lab", "segments"):
+            assert table.get((job, engine), 0) > 0, (job, engine)
+
+
+def test_the_cost_table_is_measured_from_a_study_s_benchmark_files(tmp_path):
+    from simpick.plan import costs
+
+    header = "s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"
+    for path, seconds in [
+        ("validate/dart.tsv", 70.0),
+        ("simulate/lab/dart/grass/straight.tsv", 9.0),
+        ("simulate/lab/dart/grass/circle.tsv", 13.0),
+        ("simulate/lab/dart/bumps/circle.tsv", 11.0),
+        ("simulate/segments/coulomb/ice.tsv", 1.5),
+    ]:
+        (tmp_path / path).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / path).write_text(header + f"{seconds}\t0:00:00\t1\t1\t1\t1\t0\t0\t90\t{seconds}\n")
+    rows = {(r["job"], r["engine"]): (r["wall_s"], r["jobs"]) for r in costs.measure(tmp_path)}
+    assert rows == {("validate", "dart"): (70.0, 1), ("lab", "dart"): (11.0, 3), ("segments", "coulomb"): (1.5, 1)}
+
+
+def test_the_default_study_names_the_opt_in_engines_with_their_switch_and_measured_cost(config):
+    plan = plan_of(config)  # the default study's six engines
+    assert set(plan.opt_in) == {"newton", "genesis"}
+    for entry in plan.opt_in.values():
+        assert "--configfile config.yaml config/engines/newton_genesis.yaml" in entry["switch"]
+        assert "make study-eight" in entry["switch"]
+        assert entry["seconds"] > 0 and entry["study_seconds"] > 0
+    # the eight-engine study names none
+    config["engines"] |= yaml.safe_load((ROOT / "config/engines/newton_genesis.yaml").read_text())["engines"]
+    assert plan_of(config).opt_in == {}
+
+
+def test_an_engine_whose_venv_failed_to_build_is_left_out_with_pip_s_error(config, tmp_path, monkeypatch):
+    monkeypatch.setenv("SIMPICK_ENGINE_VENVS", str(tmp_path))  # no venv here
+    monkeypatch.setattr("simpick.engines.isolated.in_process", lambda engine: False)
+    (tmp_path / ".venv-genesis.failed").write_text("ERROR: No matching distribution found for torch==2.13.0\n")
+    config["engines"] |= {"newton": None, "genesis": None}
+    plan = plan_of(config)
+    assert "newton" not in plan.engines and "genesis" not in plan.engines
+    assert "make engine-venvs" in plan.unavailable["newton"] and "build failed" not in plan.unavailable["newton"]
+    assert plan.unavailable["genesis"].endswith(
+        "its build failed: ERROR: No matching distribution found for torch==2.13.0"
+    )

@@ -23,6 +23,7 @@ from simpick.codeversion import job_code, modules, script_roots
 from simpick.config import Study, plain, timestep_label
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, unavailable
 from simpick.inputs.robot import load_from_config
+from simpick.plan import costs
 from simpick.plan.calibration import CalibrationPlanning
 from simpick.plan.report import ReportPlanning
 from simpick.real.datasets import open_dataset_or_exit
@@ -40,6 +41,42 @@ from simpick.sources.base import canonical
 # about 1.2 s of fixed cost each (process, imports, robot) and the default study some 50 s more
 # on 2 cores than a job per class sharing one import (measured; see the commit that made this).
 BATCHED = {"segments"}
+
+
+# Measured wall time per kind of job and model (bench/job_costs.py writes it from a finished study)
+COST_TABLE = "resources/engines/job_costs.csv"
+
+
+# Config files that add engines the default study leaves out (each a --configfile beside config.yaml)
+OPT_IN_CONFIGS = "config/engines"
+
+
+def _build_failure(engine: str) -> str:
+    """Why an engine's own virtual environment could not be built, where `make engine-venvs` kept pip's
+    last error lines (``.venv-<engine>.failed`` beside the venv); empty otherwise."""
+    from simpick.engines import isolated
+
+    if engine not in isolated.MODULES:
+        return ""
+    failed = isolated.venv_python(engine).parents[2] / f".venv-{engine}.failed"
+    if not failed.exists():
+        return ""
+    lines = [line.strip() for line in failed.read_text(errors="replace").splitlines() if line.strip()]
+    return f"; its build failed: {' / '.join(lines)}" if lines else ""
+
+
+def _make_target(makefile: str, configfile: str) -> str | None:
+    """The Makefile target whose recipe runs the study with ``configfile``, if one does."""
+    if not os.path.exists(makefile):
+        return None
+    target = None
+    with open(makefile) as handle:
+        for line in handle:
+            if line[:1] not in ("\t", "#", " ", "\n") and ":" in line and "=" not in line.split(":")[0]:
+                target = line.split(":")[0].strip()
+            elif line.startswith("\t") and configfile in line and "snakemake" in line:
+                return target
+    return None
 
 
 class PlanError(ValueError):
@@ -73,7 +110,7 @@ class Plan(ReportPlanning, CalibrationPlanning):
 
         # Engines this machine cannot run (simpick.engines.unavailable: not installed): the study
         # runs without them, and its report lists them.
-        self.unavailable = unavailable(config["engines"])
+        self.unavailable = {e: why + _build_failure(e) for e, why in unavailable(config["engines"]).items()}
         self.engines = [e for e in config["engines"] if e not in self.unavailable]
         if not self.engines:
             raise PlanError(f"none of the configured engines can run here: {self.unavailable}")
@@ -146,6 +183,12 @@ class Plan(ReportPlanning, CalibrationPlanning):
                 table=f"{self.replay}/segments.csv",
                 classes=list(self.replay_set.classes),
             )
+
+        # Measured cost of each kind of job per model: the longest start first (simpick.plan.costs)
+        self.costs = costs.load(os.path.join(basedir, COST_TABLE))
+        # Registered engines this study leaves out that an opt-in config file adds (config/engines/):
+        # named in the report as not run, with the switch and the time they would add
+        self.opt_in = self._opt_in()
 
         # simpick's verdict rests on real runs: none where the study's robot has no real data
         self.verdict = self.verdict_source() in self.sources
@@ -274,6 +317,55 @@ class Plan(ReportPlanning, CalibrationPlanning):
     def prepare_module(self, source):
         """The module that drives a source's cases (simpick.simulate.jobs.PREPARE of its DRIVEN kind)."""
         return PREPARE[self.source_of(source).DRIVEN].split(":")[0]
+
+    def job_priority(self, job: str, engine: str) -> int:
+        """Snakemake priority of a validate, cpu_load or simulate job of ``engine``: its measured wall
+        seconds (simpick.plan.costs), so that on few cores the long jobs start first."""
+        return costs.priority(self.costs, job, engine)
+
+    def simulate_priority(self, source: str, engine: str) -> int:
+        """A simulate job's priority: the measured cost of its source's kind (lab, segments, replay)."""
+        kind = self.sources[source]["kind"]
+        return self.job_priority("replay" if kind == "own" else kind, engine)
+
+    def engine_seconds(self, engine: str) -> float | None:
+        """Measured wall seconds of one engine's jobs in this study (validation, CPU load, the lab cases,
+        the committed segments per class), from the cost table; None where a kind of job is unmeasured."""
+        jobs = {"validate": 1, "cpu_load": 1, "lab": len(self.terrains) * len(self.motions)}
+        if "segments" in self.sources:
+            jobs["segments"] = len({group for group, _ in self.sources["segments"]["cases"]})
+        if any((kind, engine) not in self.costs for kind in jobs):
+            return None
+        return sum(n * self.costs[(kind, engine)] for kind, n in jobs.items())
+
+    def _opt_in(self):
+        """engine -> {switch, seconds, study_seconds} for each registered engine that this study does not
+        configure and an opt-in file (config/engines/*.yaml) adds; ``switch`` is the command that runs
+        it (with the Makefile target that does where one does), ``seconds`` its jobs' measured wall
+        seconds on one core, ``study_seconds`` the configured engines' (None where unmeasured)."""
+        import glob
+
+        import yaml
+
+        found = {}
+        configured = set(self.config["engines"])
+        study = [self.engine_seconds(e) for e in self.engines]
+        for path in sorted(glob.glob(os.path.join(self.basedir, OPT_IN_CONFIGS, "*.yaml"))):
+            relative = os.path.relpath(path, self.basedir)
+            with open(path) as handle:
+                engines = (yaml.safe_load(handle) or {}).get("engines") or {}
+            target = _make_target(os.path.join(self.basedir, "Makefile"), relative)
+            switch = f"snakemake --cores 2 --configfile config.yaml {relative}" + (
+                f" (make {target})" if target else ""
+            )
+            for engine in engines:
+                if engine in ADAPTERS and engine not in configured and engine not in found:
+                    found[engine] = {
+                        "switch": switch,
+                        "seconds": self.engine_seconds(engine),
+                        "study_seconds": None if None in study else round(sum(study), 1),
+                    }
+        return found
 
     def simulate_runtime(self, cases: int) -> int:
         """Minutes for a job of ``cases`` cases: each is stopped by the watchdog at health.timeout

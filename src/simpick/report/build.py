@@ -643,6 +643,30 @@ def _interactive(data: ReportData, weights: dict[str, float]) -> str | None:
     return choose_fragment(data.tree, data.weighted, weights)
 
 
+def _opt_in(opt_in: Mapping[str, Any]) -> list[dict[str, Any]]:
+    """The opt-in engines this study did not run, one entry per switch: the engines, the command, and
+    what they would add (their jobs' measured wall seconds on one core, against the configured
+    engines'), or that their cost is not measured yet."""
+    by_switch: dict[str, list[str]] = {}
+    for engine, entry in sorted(opt_in.items()):
+        by_switch.setdefault(entry["switch"], []).append(engine)
+    found = []
+    for switch, engines in by_switch.items():
+        seconds = [opt_in[e]["seconds"] for e in engines]
+        study = opt_in[engines[0]]["study_seconds"]
+        added = None if None in seconds or not study else sum(seconds)
+        found.append(
+            {
+                "engines": engines,
+                "switch": switch,
+                "seconds": added,
+                "study_seconds": study,
+                "share": None if added is None else added / study,
+            }
+        )
+    return found
+
+
 def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]:
     import yaml
 
@@ -731,6 +755,9 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         "engines": engines,
         # configured engines the machine could not run (simpick.plan: Plan.unavailable): engine -> why
         "unavailable": dict(params.get("unavailable") or {}),
+        # registered engines this study leaves out and an opt-in config adds (simpick.plan: Plan.opt_in):
+        # engine -> the switch that runs them and their jobs' measured seconds
+        "opt_in": _opt_in(params.get("opt_in") or {}),
         "colors": colors,
         "weights": weights,
         "metrics": list(METRICS),
