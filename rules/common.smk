@@ -1,6 +1,7 @@
 # The study's configuration as the rules see it: the validated settings, the plan built from them
 # (simpick.plan: models, sources of cases, each job's inputs, parameters and code version), and the
 # wildcards. The DAG logic is library code (src/simpick/plan/), tested like the rest.
+import os
 import re
 import sys
 
@@ -32,3 +33,20 @@ wildcard_constraints:
     engine="|".join(PLAN.real_models),
     terrain="|".join(PLAN.terrains),
     motion="|".join(PLAN.motions),
+
+
+# DRIVE's checkpoint inputs (rules/drive.smk, used only when drive_dir is set): the step and calibration
+# tables exist once the tables job has kept its sessions.
+def drive_replayed(wildcards, suffix="csv"):
+    """Every (model, kept session) step table: known once the tables job has kept its sessions."""
+    import pandas as pd
+
+    cases = pd.read_csv(checkpoints.drive_tables.get().output.cases)
+    return [f"{DRIVE}/replay/{m}/{s}.{suffix}" for m in DRIVE_MODELS for s in sorted(cases.session.unique())]
+
+
+def drive_cal_files(wildcards, name="evals.csv"):
+    import pandas as pd
+
+    cases = pd.read_csv(checkpoints.drive_tables.get().output.cases)
+    return [f"{DRIVE_CAL}/{m}/{t}/{name}" for m in DRIVE_CAL_MODELS for t in sorted(cases.terrain_class.unique())]

@@ -46,13 +46,6 @@ if SETTINGS.drive_dir:
         script:
             "../scripts/drive_tables.py"
 
-    def drive_replayed(wildcards, suffix="csv"):
-        """Every (model, kept session) step table: known once the tables job has kept its sessions."""
-        import pandas as pd
-
-        cases = pd.read_csv(checkpoints.drive_tables.get().output.cases)
-        return [f"{DRIVE}/replay/{m}/{s}.{suffix}" for m in DRIVE_MODELS for s in sorted(cases.session.unique())]
-
     rule drive_replay:
         """One model x one DRIVE session: its chosen steps (drive_replay.every, max_steps_per_session),
         each from its warm-up, under the watchdog."""
@@ -68,10 +61,10 @@ if SETTINGS.drive_dir:
         wildcard_constraints:
             model="|".join(DRIVE_MODELS),
             session="|".join(re.escape(s) for s in DRIVE_FOLDERS),
-        resources:
-            runtime=120,
         conda:
             "../envs/simpick.yaml"
+        resources:
+            runtime=120,
         params:
             case=lambda wc: canonical(
                 engine_params(PLAN.config, wc.model)
@@ -127,14 +120,6 @@ if SETTINGS.drive_dir:
     DRIVE_CAL = f"{DRIVE}/calibration"
     DRIVE_CAL_MODELS = [m for m in DRIVE_MODELS if _get_engine(m).calibratable]
 
-    def drive_cal_files(wildcards, name="evals.csv"):
-        import pandas as pd
-
-        cases = pd.read_csv(checkpoints.drive_tables.get().output.cases)
-        return [
-            f"{DRIVE_CAL}/{m}/{t}/{name}" for m in DRIVE_CAL_MODELS for t in sorted(cases.terrain_class.unique())
-        ]
-
     rule drive_calibrate:
         """One model x one terrain class: the seeded split of its chosen steps, the search on the training
         steps, both variants evaluated on every step."""
@@ -152,10 +137,10 @@ if SETTINGS.drive_dir:
         wildcard_constraints:
             model="|".join(DRIVE_CAL_MODELS) or "no-model",
             terrain="|".join(re.escape(c) for c in PLAN.config["real_data"]["classes"]),
-        resources:
-            runtime=240,
         conda:
             "../envs/simpick.yaml"
+        resources:
+            runtime=240,
         params:
             settings=lambda wc: canonical(
                 {

@@ -294,6 +294,9 @@ rule report:
         # the figure rules' files, embedded (the report draws nothing itself)
         figures=PLAN.report_figures(),
         endpoints=f"{PLAN.figures}/endpoints.csv",
+        # the DRIVE comparison and turn map (--config drive_dir=PATH): the verdict against the real robot
+        drive=[f"{DRIVE}/{t}.csv" for t in ("summary", "outcomes", "turning", "errors")] if SETTINGS.drive_dir else [],
+        turnmap=TURNMAP_TARGETS,
     output:
         # report(): `snakemake --report` carries the study report (its figures are embedded in it).
         # The HTML and its PDF in one job: one process start and one context less on every rerun.
@@ -316,5 +319,7 @@ rule report:
         opt_in=canonical(PLAN.opt_in),  # registered engines an opt-in config adds: named as not run, with the switch
         code=PLAN.script_code("report"),
         real_data=PLAN.report_real_data(),
+        # the DRIVE tables' folder (results/drive/<name>), from the inputs: empty without drive_dir
+        drive=lambda wildcards, input: os.path.dirname(input.drive[0]) if input.drive else "",
     script:
         "../scripts/report.py"

@@ -715,7 +715,20 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     sections = {"answer-figure"} if "answer" in data.figures else set()
     sections |= {"quantitative", "validation"} | ({"calibration"} if data.calibration is not None else set())
     sections |= {"real"} if real_data["given"] else set()
+    drive, turnmap_uri = None, None
+    if params.get("drive"):
+        from pathlib import Path
+
+        from simpick.report.drive import render_drive_section
+
+        drive = render_drive_section(params["drive"], robot.get("label") or robot.get("name") or "robot")
+        turnmap = Path(params["drive"]) / "turnmap.png"
+        turnmap_uri = figures.data_uri(turnmap) if turnmap.is_file() else None
     return {
+        # the DRIVE comparison (simpick.report.drive): the verdict against the real robot where its
+        # steps were replayed, with the turn map (simpick.report.turnmap) beside it
+        "drive": drive,
+        "turnmap_uri": turnmap_uri,
         "answer": answer_section(
             data.verdict.get("answer"),
             data.verdict.get("outcomes"),
