@@ -98,7 +98,7 @@ def drive_section(folder: str | Path, label: str) -> dict | None:
             "metric": o.label,
             "engine": o.engine,
             "outcome": o.outcome,
-            "mean": _f(o.mean),
+            "mean": _f(o["mean"]),
             "diff": f"{_f(o.diff_to_best)} [{_f(o.diff_low)}, {_f(o.diff_high)}]",
             "margin": _f(o.margin),
             "note": "" if pd.isna(o.note) else o.note,

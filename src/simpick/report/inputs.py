@@ -6,6 +6,9 @@ from __future__ import annotations
 REQUIRED_INPUTS: tuple[str, ...] = ("weighted", "runs")
 OPTIONAL_INPUTS: tuple[str, ...] = (
     "contributions",
+    # the DRIVE comparison's tables and the turn map: read from their folder (params.drive) by simpick.report.drive
+    "drive",
+    "turnmap",
     "drivers",
     "sweep",
     "calibration",
