@@ -1,5 +1,5 @@
 from simpick.joblog import logged
-from simpick.studies.turnmap import figure_job
+from simpick.report.turnmap import figure_job
 
 with logged(snakemake.log[0]):
     figure_job(snakemake.input[0], snakemake.output[0])

@@ -89,3 +89,8 @@ def turnmap_figure(table: pd.DataFrame, path: str | Path) -> Path:
     out = save(fig, path)
     plt.close(fig)
     return out
+
+
+def figure_job(table_csv, output) -> Path:
+    """Rule turnmap_figure: the figure from the combined table (simpick.studies.turnmap's table_job)."""
+    return turnmap_figure(pd.read_csv(table_csv, keep_default_na=False, na_values=[""]), output)

@@ -33,7 +33,6 @@ import math
 import sys
 import time
 import traceback
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -350,13 +349,6 @@ def table_job(grid_csv, engine_csvs, outputs: dict) -> pd.DataFrame:
     write_csv(table, outputs["table"])
     write_csv(wall_times(engines), outputs["wall"])
     return table
-
-
-def figure_job(table_csv, output) -> Path:
-    """Rule turnmap_figure."""
-    from simpick.report.turnmap import turnmap_figure
-
-    return turnmap_figure(pd.read_csv(table_csv, keep_default_na=False, na_values=[""]), output)
 
 
 __all__ = [
