@@ -7,10 +7,12 @@
 
 rule decision_tree:
     input:
+        # the real-data evidence: the BorealTC verdict where the study has one, else the DRIVE
+        # comparison's (its steps replayed against the real robot) when drive_dir is set
         **(
             {"outcomes": "results/verdict/outcomes.csv", "mechanics": "results/verdict/mechanics.csv"}
             if PLAN.verdict
-            else {}
+            else ({"outcomes": f"{DRIVE}/outcomes.csv"} if SETTINGS.drive_dir else {})
         ),
         qualitative=PLAN.config["qualitative"],
         validation="results/validation/summary.csv",

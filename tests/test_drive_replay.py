@@ -191,7 +191,9 @@ def test_the_comparison_reports_failures_and_pairs_by_step(asphalt, replayed):
     speed = table[(table.metric == "speed_error") & (table.scope == "all")].set_index("engine")
     assert speed.loc["mujoco", "outcome"] in ("best", "too few runs")
     assert speed.loc["slow", "n_runs"] == speed.loc["mujoco", "n_runs"] - 1  # the diverged step is not averaged
-    assert (table.unit == "step").all()
+    assert (table.paired_by == "step").all()
+    # the metric's own unit is kept beside it (the decision tree prints it after each value)
+    assert set(table.unit.fillna("")) == {"", "rad", "m/s"}, set(table.unit)
 
 
 @pytest.mark.workflow

@@ -460,3 +460,37 @@ def test_the_rules_plan_the_tree_from_the_study_and_the_figure_from_the_weights(
         assert needed in tree_inputs, needed
     assert "weighted.csv" not in tree_inputs
     assert "results/scores/weighted.csv" in jobs["figure_tree"].split("input:")[1].split("\n")[0]
+
+
+def test_the_drive_comparison_counts_by_its_pooled_rows_only(tmp_path):
+    """The DRIVE comparison's outcomes hold a pooled row per metric and engine (scope all) and one per
+    terrain: closeness is read from the pooled rows, so an engine best on one terrain only is not close."""
+    from simpick.score.tree import closeness_question
+
+    def row(scope, engine, outcome, recommendable=True):
+        return {
+            "scope": scope,
+            "paired_by": "step",
+            "metric": "gain_error",
+            "label": "yaw-rate gain error",
+            "unit": "",
+            "engine": engine,
+            "n_runs": 30,
+            "mean": 0.05 if outcome == "best" else 0.3,
+            "best": "mujoco",
+            "outcome": outcome,
+            "diff_to_best": 0.0 if outcome == "best" else 0.25,
+            "diff_low": 0.2,
+            "diff_high": 0.3,
+            "margin": 0.015,
+            "runs_needed": float("nan"),
+            "recommendable": recommendable,
+        }
+
+    rows = [row("all", "mujoco", "best"), row("all", "physx", "worse")]
+    rows += [row("gravel", "physx", "best"), row("gravel", "mujoco", "worse")]
+    path = tmp_path / "outcomes.csv"
+    write_csv(pd.DataFrame(rows), path)
+    question = closeness_question(str(path), ["mujoco", "physx"])
+    assert question.facts["mujoco"].value == {"gain_error": True}
+    assert question.facts["physx"].value == {"gain_error": False}

@@ -114,7 +114,7 @@ def drive_section(folder: str | Path, label: str) -> dict | None:
         "terrains": ", ".join(sorted(errors.terrain_class.unique())),
         "rows": rows,
         "outcomes": verdict,
-        "unit": str(scoped.unit.iloc[0]) if len(scoped) and "unit" in scoped else "step",
+        "unit": str(scoped.paired_by.iloc[0]) if len(scoped) and "paired_by" in scoped else "step",
         "failures": failures,
     }
 

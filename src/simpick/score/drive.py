@@ -78,9 +78,10 @@ def outcomes(
         table = outcomes_table(walls, tests, engines, METRICS, mechanics, settings, statistics, seed)
         if basis:
             table.loc[table.metric == "gain_error", "margin_basis"] = basis
-        frames.append(table.assign(scope=scope, unit=unit))
+        # paired_by: the verdict's unit of pairing (step or session); "unit" stays the metric's own unit
+        frames.append(table.assign(scope=scope, paired_by=unit))
     out = pd.concat(frames, ignore_index=True)
-    return out[["scope", "unit"] + [c for c in out.columns if c not in ("scope", "unit")]]
+    return out[["scope", "paired_by"] + [c for c in out.columns if c not in ("scope", "paired_by")]]
 
 
 def compare_job(inputs: dict, params: dict, outputs: dict) -> None:

@@ -258,6 +258,8 @@ def closeness_question(outcomes_path: str, engines: Sequence[str]) -> Question |
         "recommendable",
     )
     outcomes = _read_csv(outcomes_path, columns, "the verdict's outcomes")
+    if "scope" in outcomes:  # the DRIVE comparison's: pooled over every terrain, then per terrain
+        outcomes = outcomes[outcomes.scope == "all"]
     close: dict[str, dict[str, bool]] = {e: {} for e in engines}
     texts: dict[str, list[str]] = {e: [] for e in engines}
     labels: dict[str, str] = {}
