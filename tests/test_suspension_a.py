@@ -8,46 +8,22 @@ the robot drives and spins without diverging, turning the commanded way (e)."""
 
 import dataclasses
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from conftest import flat_terrain
 from simpick.engines import get_engine
-from simpick.engines.base import Scenario
 from simpick.engines.kinematics import euler_rpy
 from simpick.inputs.robot import load_robot
+from suspension import DT, WARTHOG, flat_scenario, hold
 
-ROOT = Path(__file__).resolve().parents[1]
 ENGINES = ["mujoco", "pybullet", "ode", "physx"]
-DT = 0.001
-MU = 0.8
-# N m per wheel: above what a spin needs (a wheel's whole Coulomb friction mu x 638 N x 0.30 m = 153 N m),
-# so the turn below is limited by the ground's friction, not by the motors
-TORQUE = 500.0
 STOP = 0.15  # rad, the Warthog's rocker limits
 
 
 @pytest.fixture(scope="module")
 def warthog():
-    return load_robot(ROOT / "resources" / "robot" / "warthog.urdf")
-
-
-def _scenario(robot) -> Scenario:
-    return Scenario(
-        robot=robot,
-        terrain=flat_terrain(MU),
-        ground_friction=MU,
-        timestep=DT,
-        max_wheel_torque=TORQUE,
-        starts=((0.0, 0.0, 0.0),),
-    )
-
-
-def _hold(robot, left: float, right: float, seconds: float) -> np.ndarray:
-    """(steps, 1 robot, wheels) joint speeds for rim speeds ``left`` and ``right``, m/s."""
-    return np.broadcast_to(robot.joint_speeds(left, right), (round(seconds / DT), 1, robot.wheel_count)).copy()
+    return load_robot(WARTHOG)
 
 
 def _pitch_deg(record) -> np.ndarray:
@@ -74,7 +50,7 @@ def _rocker_angles(engine: str, world, robot) -> list[float]:
 
 @pytest.mark.parametrize("engine", ENGINES)
 def test_the_coupled_warthog_rests_level_at_its_height(engine, warthog):
-    record = get_engine(engine).simulate(_scenario(warthog), _hold(warthog, 0.0, 0.0, 2.0))
+    record = get_engine(engine).simulate(flat_scenario(warthog), hold(warthog, 0.0, 0.0, 2.0))
     pitch = _pitch_deg(record)
     print(f"{engine}: rest pitch {pitch[-1]:+.4f} deg, height {record.position[-1, 2]:.4f} m")
     assert abs(pitch[-1]) < 0.5
@@ -86,7 +62,7 @@ def test_the_coupled_warthog_rests_level_at_its_height(engine, warthog):
 def test_without_the_coupling_the_chassis_tips_onto_a_rocker_stop(engine, warthog):
     """The description's own <mimic> must not couple the rockers behind RobotSpec's back."""
     free = dataclasses.replace(warthog, couplings=())
-    record = get_engine(engine).simulate(_scenario(free), _hold(free, 0.0, 0.0, 2.0))
+    record = get_engine(engine).simulate(flat_scenario(free), hold(free, 0.0, 0.0, 2.0))
     pitch = _pitch_deg(record)[-1]
     print(f"{engine}: uncoupled rest pitch {pitch:+.3f} deg")
     # both rockers on their stop, level on their wheels: the chassis pitched by the stop, 8.59 deg
@@ -98,7 +74,7 @@ def test_a_coupling_offset_pitches_the_chassis_by_half_of_it(engine, warthog):
     """q(right) = -q(left) + 0.05: both rockers level on their wheels turn 0.025 rad, the chassis -0.025."""
     (coupling,) = warthog.couplings
     shifted = dataclasses.replace(warthog, couplings=(dataclasses.replace(coupling, offset=0.05),))
-    record = get_engine(engine).simulate(_scenario(shifted), _hold(shifted, 0.0, 0.0, 2.0))
+    record = get_engine(engine).simulate(flat_scenario(shifted), hold(shifted, 0.0, 0.0, 2.0))
     pitch = _pitch_deg(record)[-1]
     print(f"{engine}: offset 0.05 rad, rest pitch {pitch:+.3f} deg")
     assert pitch == pytest.approx(-math.degrees(0.025), abs=0.1)
@@ -107,14 +83,14 @@ def test_a_coupling_offset_pitches_the_chassis_by_half_of_it(engine, warthog):
 @pytest.mark.parametrize("engine", ENGINES)
 def test_the_rockers_keep_the_coupling_at_rest_and_in_a_spin(engine, warthog):
     adapter = get_engine(engine)
-    world = adapter.build(_scenario(warthog))
+    world = adapter.build(flat_scenario(warthog))
     (coupling,) = warthog.couplings
     names = [s.joint for s in warthog.suspension]
     follower, leader = names.index(coupling.joint), names.index(coupling.leader)
     try:
         residuals = []
         for left, right, seconds in ((0.0, 0.0, 2.0), (0.5, -0.5, 2.0)):
-            world.set_wheel_targets(_hold(warthog, left, right, DT)[0])
+            world.set_wheel_targets(hold(warthog, left, right, DT)[0])
             world.step(round(seconds / DT))
             q = _rocker_angles(engine, world, warthog)
             residuals.append(q[follower] - coupling.multiplier * q[leader] - coupling.offset)
@@ -129,8 +105,8 @@ def test_the_rockers_keep_the_coupling_at_rest_and_in_a_spin(engine, warthog):
 
 @pytest.mark.parametrize("engine", ENGINES)
 def test_the_warthog_drives_and_spins_without_diverging(engine, warthog):
-    commands = np.concatenate([_hold(warthog, 0.5, 0.5, 3.0), _hold(warthog, 0.5, -0.5, 3.0)])
-    record = get_engine(engine).simulate(_scenario(warthog), commands)
+    commands = np.concatenate([hold(warthog, 0.5, 0.5, 3.0), hold(warthog, 0.5, -0.5, 3.0)])
+    record = get_engine(engine).simulate(flat_scenario(warthog), commands)
     assert np.isfinite(record.position).all() and np.isfinite(record.quaternion).all()
     rpy = np.degrees(euler_rpy(record.quaternion))
     assert np.abs(rpy[:, :2]).max() < 10.0  # roll and pitch within the rockers' reach
@@ -154,8 +130,8 @@ def test_the_warthog_drives_and_spins_without_diverging(engine, warthog):
 @pytest.mark.parametrize("engine", ENGINES)
 def test_each_of_two_warthogs_keeps_its_own_coupling(engine, warthog):
     """Every robot of a world gets its suspension (the second one recorded here), none another's."""
-    scenario = dataclasses.replace(_scenario(warthog), starts=((0.0, 0.0, 0.0), (0.0, 3.0, 0.5)), recorded_robot=1)
-    commands = np.broadcast_to(_hold(warthog, 0.0, 0.0, 1.5), (1500, 2, warthog.wheel_count)).copy()
+    scenario = dataclasses.replace(flat_scenario(warthog), starts=((0.0, 0.0, 0.0), (0.0, 3.0, 0.5)), recorded_robot=1)
+    commands = np.broadcast_to(hold(warthog, 0.0, 0.0, 1.5), (1500, 2, warthog.wheel_count)).copy()
     record = get_engine(engine).simulate(scenario, commands)
     assert record.position[-1, 1] == pytest.approx(3.0, abs=0.01)
     assert abs(_pitch_deg(record)[-1]) < 0.5

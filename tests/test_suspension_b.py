@@ -23,19 +23,14 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-from conftest import ROOT, flat_terrain
+from conftest import ROOT
 from simpick.engines import get_engine, unavailable
-from simpick.engines.base import Scenario
 from simpick.errors import InputError
 from simpick.inputs.robot import load_robot
+from suspension import WARTHOG, flat_scenario, hold
 
 ENGINES = ("dart", "drake", "newton", "genesis")
 ISOLATED = ("newton", "genesis")
-DT = 0.001  # s
-MU = 0.8  # the validation's ground friction
-# N m per wheel: above the 153 N m a wheel needs while sliding fully (a quarter of 260 kg x 9.81 x mu 0.8 x r
-# 0.3 m), so the spin's wheels track their command (at the study's default 100 N m DART's cannot: measured)
-TORQUE = 500.0
 REST_HEIGHT = 0.41  # m, the description's (wheel radius 0.30 + pivot 0.105 + axle 0.005)
 LIMIT_DEG = math.degrees(0.15)
 
@@ -54,34 +49,18 @@ PARAMS = [pytest.param(engine, marks=_needs(engine)) for engine in ENGINES]
 
 @functools.cache
 def warthog(coupled: bool = True):
-    robot = load_robot(ROOT / "resources" / "robot" / "warthog.urdf")
+    robot = load_robot(WARTHOG)
     return robot if coupled else dataclasses.replace(robot, couplings=())
-
-
-def scenario(robot) -> Scenario:
-    return Scenario(
-        robot=robot,
-        terrain=flat_terrain(MU),
-        ground_friction=MU,
-        timestep=DT,
-        max_wheel_torque=TORQUE,
-        starts=((0.0, 0.0, 0.0),),
-    )
-
-
-def rims(robot, left, right, seconds: float) -> np.ndarray:
-    steps = round(seconds / DT)
-    return robot.joint_speeds(np.full(steps, left), np.full(steps, right))
 
 
 @functools.cache
 def run(engine: str, case: str):
     robot = warthog(case != "uncoupled")
     if case == "drive":
-        commands = np.concatenate([rims(robot, 0.5, 0.5, 3.0), rims(robot, 0.5, -0.5, 3.0)])
+        commands = np.concatenate([hold(robot, 0.5, 0.5, 3.0), hold(robot, 0.5, -0.5, 3.0)])
     else:
-        commands = rims(robot, 0.0, 0.0, 2.0)
-    record = get_engine(engine).simulate(scenario(robot), commands[:, None, :])
+        commands = hold(robot, 0.0, 0.0, 2.0)
+    record = get_engine(engine).simulate(flat_scenario(robot), commands)
     print(f"{engine} {case}: {record.steps / record.wall_time:.0f} steps/s")
     return record
 
@@ -168,7 +147,7 @@ def test_the_loaded_file_carries_exactly_the_spec_s_couplings():
 def test_the_adapters_declare_the_suspended_layout(engine):
     from simpick.engines.runner import check_layout
 
-    check_layout(get_engine(engine), scenario(warthog()))  # no refusal
+    check_layout(get_engine(engine), flat_scenario(warthog()))  # no refusal
 
 
 def test_the_worker_s_runner_sees_the_adapter_s_layout():
@@ -181,7 +160,7 @@ def test_the_worker_s_runner_sees_the_adapter_s_layout():
 
 def test_newton_refuses_suspension_on_an_unchecked_solver():
     newton = get_engine("newton")
-    sc = dataclasses.replace(scenario(warthog()), settings={"solver": "steel"})
+    sc = dataclasses.replace(flat_scenario(warthog()), settings={"solver": "steel"})
     with pytest.raises(InputError, match="engines.newton.solver"):
         newton.check(sc)
-    newton.check(scenario(warthog()))  # SolverMuJoCo, the default: accepted
+    newton.check(flat_scenario(warthog()))  # SolverMuJoCo, the default: accepted
