@@ -26,7 +26,7 @@ import numpy as np
 import pandas as pd
 
 from simpick.compare import realmetrics
-from simpick.real.drive import MIN_TURN, similar_pairs
+from simpick.real.drive import MIN_TURN, pair_sd, similar_pairs
 
 ERROR_COLUMNS = [
     "case",
@@ -139,11 +139,6 @@ def step_errors(cases: pd.DataFrame, steps: pd.DataFrame, replayed: pd.DataFrame
     return out.sort_values(["engine", "session", "step"], ignore_index=True)
 
 
-def _pooled_sd(pairs: pd.DataFrame) -> float:
-    d = pairs["difference"].to_numpy(float)
-    return float(np.sqrt(np.mean(d**2) / 2)) if len(d) else math.nan
-
-
 def gain_repeatability(steps: pd.DataFrame, tolerance: float) -> tuple[float, int]:
     """(single-step standard deviation, pairs) of the real gain between steps of similar command, the pairs
     sought within each terrain class (:func:`simpick.real.drive.similar_pairs`) and pooled."""
@@ -152,7 +147,7 @@ def gain_repeatability(steps: pd.DataFrame, tolerance: float) -> tuple[float, in
         or [pd.DataFrame(columns=["difference"])],
         ignore_index=True,
     )
-    return _pooled_sd(pairs), len(pairs)
+    return pair_sd(pairs), len(pairs)
 
 
 def speed_repeatability(steps: pd.DataFrame, tolerance: float) -> float:
@@ -164,7 +159,7 @@ def speed_repeatability(steps: pd.DataFrame, tolerance: float) -> float:
     moving = steps.assign(turning=True, gain=steps.v_icp - steps.v_kin)  # every step with an ICP speed
     moving = moving[moving.gain.notna()]
     pairs = [similar_pairs(g, tolerance) for _, g in moving.groupby("terrain_class")]
-    return _pooled_sd(pd.concat(pairs, ignore_index=True)) if pairs else math.nan
+    return pair_sd(pd.concat(pairs, ignore_index=True)) if pairs else math.nan
 
 
 def _ci(values, min_runs: int, level: float, seed: int) -> tuple[float, float, float]:

@@ -193,6 +193,13 @@ def similar_pairs(steps: pd.DataFrame, tolerance: float = SIMILAR) -> pd.DataFra
     return pd.DataFrame(rows, columns=["session_a", "step_a", "session_b", "step_b", "gain_a", "gain_b", "difference"])
 
 
+def pair_sd(pairs: pd.DataFrame) -> float:
+    """The single-step standard deviation from pairs of similar steps: sqrt(mean(difference^2) / 2), a
+    pair's difference having twice one step's variance; NaN without pairs."""
+    d = pairs["difference"].to_numpy(float)
+    return float(np.sqrt(np.mean(d**2) / 2)) if len(d) else math.nan
+
+
 def repeatability(steps: pd.DataFrame, tolerance: float = SIMILAR) -> dict:
     """The spread of the gain between steps of similar command (module doc): pairs, median |difference|,
     single-step standard deviation."""
@@ -201,7 +208,7 @@ def repeatability(steps: pd.DataFrame, tolerance: float = SIMILAR) -> dict:
     return {
         "similar_pairs": len(d),
         "repeat_median_abs_diff": float(np.median(np.abs(d))) if len(d) else math.nan,
-        "repeat_sd": float(np.sqrt(np.mean(d**2) / 2)) if len(d) else math.nan,
+        "repeat_sd": pair_sd(pairs),
     }
 
 
