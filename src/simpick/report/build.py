@@ -719,9 +719,9 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     if params.get("drive"):
         from pathlib import Path
 
-        from simpick.report.drive import render_drive_section
+        from simpick.report.drive import drive_section
 
-        drive = render_drive_section(params["drive"], robot.get("label") or robot.get("name") or "robot")
+        drive = drive_section(params["drive"], robot.get("label") or robot.get("name") or "robot")
         turnmap = Path(params["drive"]) / "turnmap.png"
         turnmap_uri = figures.data_uri(turnmap) if turnmap.is_file() else None
     return {

@@ -14,33 +14,6 @@ from typing import Any
 import pandas as pd
 
 TABLES = ("summary", "outcomes", "turning", "errors")
-TEMPLATE = """
-<details open class="drive-section">
-<summary><h2 id="drive">Against the real {{ label }}: DRIVE steps replayed</h2></summary>
-<p>{{ steps }} steps of {{ sessions }} DRIVE sessions ({{ terrains }}), each replayed in every model from the real
-robot's state at the step's start (a warm-up at its measured wheel speeds) and driven by the step's measured wheel
-speeds, on flat ground with the terrain's friction. Errors over each step's steady part: yaw-rate gain (gyro),
-heading, and forward speed against the lidar-ICP speed. The real robot's own repeatability between steps of similar
-command is the floor no model can beat. Steps a model failed (health check) are counted, never averaged.</p>
-<table>
-<tr><th>terrain</th><th>model</th><th>steps (failed)</th><th>real gain</th><th>model gain</th>
-<th>gain error [95 % CI]</th><th>gain floor</th><th>heading error, rad</th><th>speed error, m/s</th>
-<th>speed floor, m/s</th><th>start mismatch |dv|, |dw|</th><th>wall s/step</th></tr>
-{% for r in rows %}<tr><td>{{ r.terrain }}</td><td>{{ r.engine }}</td><td>{{ r.steps }} ({{ r.failed }})</td>
-<td>{{ r.gain_real }}</td><td>{{ r.gain_sim }}</td><td>{{ r.gain_error }}</td><td>{{ r.gain_floor }}</td>
-<td>{{ r.heading_error }}</td><td>{{ r.speed_error }}</td><td>{{ r.speed_floor }}</td><td>{{ r.start }}</td>
-<td>{{ r.wall }}</td></tr>
-{% endfor %}</table>
-{% if outcomes %}<h3>Verdict (paired by {{ unit }}; every engine against the best, Holm and TOST)</h3>
-<table><tr><th>metric</th><th>engine</th><th>outcome</th><th>mean</th><th>difference to best [CI]</th><th>margin</th>
-<th>note</th></tr>
-{% for o in outcomes %}<tr><td>{{ o.metric }}</td><td>{{ o.engine }}</td><td>{{ o.outcome }}</td><td>{{ o.mean }}</td>
-<td>{{ o.diff }}</td><td>{{ o.margin }}</td><td>{{ o.note }}</td></tr>
-{% endfor %}</table>{% endif %}
-{% if failures %}<p>Failed steps: {% for f in failures %}{{ f }}{% if not loop.last %}; {% endif %}{% endfor %}</p>
-{% endif %}
-</details>
-"""
 
 
 def _f(x: Any, digits: int = 3) -> str:
@@ -120,10 +93,12 @@ def drive_section(folder: str | Path, label: str) -> dict | None:
 
 
 def render_drive_section(folder: str | Path, label: str) -> str | None:
-    """The section as HTML (None where ``folder`` holds no DRIVE comparison)."""
+    """The section alone as HTML, from the report's own template (templates/drive_section.html.j2, which
+    the report includes); None where ``folder`` holds no DRIVE comparison."""
     import jinja2
 
     context = drive_section(folder, label)
     if context is None:
         return None
-    return jinja2.Environment(autoescape=True).from_string(TEMPLATE).render(**context)
+    env = jinja2.Environment(loader=jinja2.FileSystemLoader(str(Path(__file__).parent / "templates")), autoescape=True)
+    return env.get_template("drive_section.html.j2").render(drive=context)
