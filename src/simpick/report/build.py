@@ -717,8 +717,6 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     sections |= {"real"} if real_data["given"] else set()
     drive, turnmap_uri = None, None
     if params.get("drive"):
-        from pathlib import Path
-
         from simpick.report.drive import drive_section
 
         drive = drive_section(params["drive"], robot.get("label") or robot.get("name") or "robot")
