@@ -24,6 +24,7 @@ DRIVE = SHARED / "data" / "drive"
 CALIB = DRIVE / "calib_data"
 ASPHALT = "warthog_wheels_asphalt"
 GRAVEL = "warthog_wheels_gravel_2024_8_6_11h37s32"
+GRASS = "warthog_wheels_grass_2024_8_8_16h19s23"
 pytestmark = pytest.mark.skipif(
     not CALIB.is_dir(), reason=f"DRIVE sessions not present at {CALIB} (the shared data folder; see its README)"
 )
@@ -106,6 +107,41 @@ def test_the_lidar_speed_is_below_the_kinematic_speed(steps):
         row = table.loc[(terrain, "all")]
         assert 0.85 < row.speed_ratio_median < 1.0, terrain  # longitudinal slip: the wheels outrun the robot
         assert row.speed_steps >= 30
+
+
+def test_an_icp_window_moving_against_the_wheels_is_left_out_of_the_speed(tmp_path, shared):
+    """A steady window whose ICP motion runs against the driven wheels (the shared asphalt session's step 18,
+    and any window whose ICP translation is turned half a turn) is counted and not used for the step's speed;
+    its other steady window gives the speed, and the yaw is untouched."""
+    from simpick.real.logs.drive import REVERSED_SPEED
+
+    asphalt = next(s for s in shared.sessions if s.name == ASPHALT)
+    st = asphalt.steps.set_index("step")
+    assert st.loc[18, "icp_reversed"] == 1 and st.icp_reversed.sum() == 4  # steps 18, 71, 92, 98
+    v_kin = 0.3 * (st.loc[18, "wheel_left"] + st.loc[18, "wheel_right"]) / 2
+    assert v_kin < -1.0 and st.loc[18, "vx_icp"] < 0  # the remaining window moves with the wheels
+    assert any("ICP moves against the wheels" in q and "4 window(s)" in q for q in asphalt.meta["quirks"])
+    grass = [s for s in shared.sessions if s.terrain_class == "grass"]
+    assert all(s.steps.icp_reversed.sum() == 0 for s in grass)
+
+    # the mechanism on a clean step: turn one steady window's ICP translation by half a turn
+    plain = read_session(cut(tmp_path / "a", GRASS, steps=6), gyro_sign=1)
+    k = int(plain.steps.loc[1:].assign(v=plain.steps.vx_icp.abs()).v.idxmax())  # the fastest step after step 0
+    assert abs(plain.steps.loc[k, "vx_icp"]) > 2 * REVERSED_SPEED
+
+    def turn(f):
+        f = f.copy()
+        row = 3 * k + 1  # the step's first steady window
+        for base in ("icp_x", "icp_y"):
+            f.loc[row, columns(f, base)] = -f.loc[row, columns(f, base)].to_numpy()
+        return f
+
+    turned = read_session(cut(tmp_path / "b", GRASS, steps=6, edit=turn), gyro_sign=1)
+    assert turned.steps.icp_reversed.tolist() == [int(i == k) for i in range(6)]
+    assert np.sign(turned.steps.loc[k, "vx_icp"]) == np.sign(plain.steps.loc[k, "vx_icp"])
+    assert abs(turned.steps.loc[k, "vx_icp"] - plain.steps.loc[k, "vx_icp"]) < 0.2 * abs(plain.steps.loc[k, "vx_icp"])
+    np.testing.assert_array_equal(turned.steps.wz_icp, plain.steps.wz_icp)
+    assert not any("ICP moves" in q for q in plain.meta["quirks"])
 
 
 def test_a_flipped_gyro_is_fixed_and_recorded(tmp_path):

@@ -241,9 +241,13 @@ def test_the_report_section_is_titled_from_the_robot_and_absent_without_outputs(
     errors.to_csv(tmp_path / "errors.csv", index=False)
     summary_table(errors, asphalt["steps"], 1.0).to_csv(tmp_path / "summary.csv", index=False)
     outcomes(errors, asphalt["steps"], ["mujoco"], verdict, 1.0).to_csv(tmp_path / "outcomes.csv", index=False)
-    (tmp_path / "turning.csv").write_text("terrain_class\n")
+    from simpick.real.drive import turning_table
+
+    turning_table(asphalt["steps"]).to_csv(tmp_path / "turning.csv", index=False)
     html = render_drive_section(tmp_path, "Clearpath Warthog")
     assert "Against the real Clearpath Warthog" in html and "mujoco" in html and "asphalt" in html
+    # the asphalt session's step 18 has a steady window whose ICP moved against the wheels (test_drive.py)
+    assert "1 step had a\nsteady window whose ICP moved against the driven wheels" in html
 
 
 def test_calibration_on_drive_steps_splits_searches_and_gives_the_multiplier(tmp_path, asphalt):

@@ -59,6 +59,7 @@ STEP_COLUMNS = [
     "gain",
     "gain_icp",
     "v_icp",
+    "icp_reversed",
     "v_icp_drive",
     "speed_ratio",
     "speed_ratio_drive",
@@ -87,6 +88,7 @@ TABLE_COLUMNS = [
     "speed_ratio_q25",
     "speed_ratio_q75",
     "speed_ratio_drive_median",
+    "icp_reversed_steps",
 ]
 CASE_COLUMNS = [
     "case",
@@ -159,6 +161,7 @@ def step_table(data, *, min_turn: float = MIN_TURN, min_speed: float = MIN_SPEED
                     "gain": (st.wz_gyro / w_kin).where(turning),
                     "gain_icp": (st.wz_icp / w_kin).where(turning),
                     "v_icp": st.vx_icp,
+                    "icp_reversed": st.icp_reversed,
                     "v_icp_drive": st.vx_icp_drive,
                     "speed_ratio": (st.vx_icp / v_kin).where(moving),
                     "speed_ratio_drive": (st.vx_icp_drive / v_kin).where(moving),
@@ -238,6 +241,7 @@ def _summary(g: pd.DataFrame, tolerance: float) -> dict:
         "speed_ratio_q25": m.speed_ratio.quantile(0.25),
         "speed_ratio_q75": m.speed_ratio.quantile(0.75),
         "speed_ratio_drive_median": m.speed_ratio_drive.median(),
+        "icp_reversed_steps": int((g.icp_reversed > 0).sum()),
     }
     for name, column in (
         ("speed", t.v_cmd.abs()),
@@ -252,7 +256,8 @@ def turning_table(steps: pd.DataFrame, tolerance: float = SIMILAR) -> pd.DataFra
     """Per terrain and session, then per terrain over its sessions (session "all"): the gain's median
     and quartiles (gyro; and with the ICP yaw rate), its repeatability between similar commands, Spearman's
     rank correlation (rho, p) of the gain with the commanded |speed|, turn radius and |wheel-speed
-    difference|, and the ICP forward speed over the kinematic one (ours; and DRIVE's smoothed one).
+    difference|, the ICP forward speed over the kinematic one (ours; and DRIVE's smoothed one), and how many
+    steps had an ICP window moving against the wheels (left out of the ICP speed: the reader's quirks).
     Similar pairs are sought within a session (per-session rows) or within a terrain (pooled rows)."""
     rows = []
     for terrain, by_terrain in steps.groupby("terrain_class", sort=True):

@@ -78,6 +78,9 @@ def drive_section(folder: str | Path, label: str) -> dict | None:
         }
         for _, o in scoped.iterrows()
     ]
+    turning = tables["turning"]
+    per_session = turning[turning.session != "all"]
+    reversed_steps = int(per_session.icp_reversed_steps.sum()) if "icp_reversed_steps" in per_session else None
     failed = errors[errors.status != "ok"]
     failures = [f"{r.engine} {r.session}/{int(r.step):03d}: {r.reasons}" for r in failed.itertuples()][:50]
     return {
@@ -89,6 +92,7 @@ def drive_section(folder: str | Path, label: str) -> dict | None:
         "outcomes": verdict,
         "unit": str(scoped.paired_by.iloc[0]) if len(scoped) and "paired_by" in scoped else "step",
         "failures": failures,
+        "icp_reversed": reversed_steps,
     }
 
 

@@ -34,6 +34,14 @@ Quirks of DRIVE's files and what the reader does with each (all recorded in ``me
   the steady time (``heading_icp``; ``heading_gyro`` integrates the gyro). The composed poses
   (``x_icp, y_icp, yaw_icp``) lose the motion between a window's last held pose and the next
   window's origin (up to 10 % of a turn's heading): a trajectory to look at, not a target;
+* in a few steady windows the ICP's motion runs against the wheels' (both faster than
+  :data:`REVERSED_SPEED`, opposite signs; on the shared sessions 17 windows of 345 steps, none on grass:
+  ICP 0.3-3.2 m/s against wheels 0.4-3.5 m/s, often the wheels' speed with its sign turned, 1.46 m/s
+  forwards for wheels driving 1.46 m/s backwards), while the ICP's yaw changes still agree with the gyro:
+  as if that window's registration had started half a turn from the truth. DRIVE's smoothed ``icp_vel_x``
+  reverses in several of the same windows. No ground moves a robot against its driven wheels at such
+  speeds, so such a window's ICP body velocity is not used (the step's steady speed comes from its other
+  steady window) and the count is reported per step (``icp_reversed``) and in the quirks;
 * identical sessions under several folders: detected by a hash of the arrays
   (:func:`read_drive` keeps one, preferring the run that recorded the data over an
   execute-only run that carries a copy);
@@ -87,6 +95,9 @@ SIGN_TURN = 0.2  # rad/s
 ACCEL_OK = (7.0, 13.0)  # m/s^2: the norm of the mean specific force (gravity; simpick.real.logs.validate's limits)
 MIN_SIGN_CORRELATION = 0.9
 START_SECONDS = 0.5  # s at the end of the previous step averaged for a step's start state
+REVERSED_SPEED = 0.3  # m/s: an ICP window moving against its wheels faster than this, both ways, is not used
+# (ten times the ICP's spread against the wheels on grass, where no window reverses: median |ICP - wheels| per
+# step 0.01-0.04 m/s; the reversed windows of the shared sessions run at 0.3-3.2 m/s against their wheels)
 SAMPLE_COLUMNS = [
     "step",
     "window",
@@ -122,6 +133,7 @@ STEP_COLUMNS = [
     "wz_icp",
     "vx_icp",
     "vy_icp",
+    "icp_reversed",
     "vx_icp_drive",
     "heading_icp",
     "heading_gyro",
@@ -146,10 +158,11 @@ class DriveSession:
     many steady samples already hold the next one; steady means of the measured wheel speeds
     (``wheel_left/right``), the gyro (``wz_gyro``), the ICP yaw rate and body velocity (``wz_icp``,
     ``vx_icp``, ``vy_icp``; DRIVE's smoothed ``vx_icp_drive``) and the heading change over the steady part
-    (``heading_icp``, ``heading_gyro``); the state at the step's start (``start_*``): the previous step's
-    ICP body velocity over its last window and its gyro and wheel speeds over its last
-    :data:`START_SECONDS`, all measured while that step's command had been held for seconds (step 0: its
-    own first window and samples)."""
+    (``heading_icp``, ``heading_gyro``), and ``icp_reversed``, the steady windows whose ICP motion ran
+    against the wheels and were left out of ``vx_icp``/``vy_icp`` (the module's quirks); the state at the
+    step's start (``start_*``): the previous step's ICP body velocity over its last window and its gyro and
+    wheel speeds over its last :data:`START_SECONDS`, all measured while that step's command had been held
+    for seconds (step 0: its own first window and samples)."""
 
     name: str
     folder: Path
@@ -402,6 +415,15 @@ def _update_rates(x: np.ndarray, y: np.ndarray, yaw: np.ndarray) -> tuple[np.nda
     return vx, vy, wz
 
 
+def reversed_windows(vx: np.ndarray, wheel_left: np.ndarray, wheel_right: np.ndarray, radius: float) -> np.ndarray:
+    """Per window, whether its ICP forward speed ``vx`` (m/s) and its wheels' kinematic forward speed (the
+    mean of the measured wheel speeds, rad/s, times ``radius``) both exceed :data:`REVERSED_SPEED` with
+    opposite signs: motion no ground gives driven wheels (the module's quirks)."""
+    v_kin = radius * (wheel_left.mean(axis=1) + wheel_right.mean(axis=1)) / 2
+    with np.errstate(invalid="ignore"):
+        return (np.abs(v_kin) > REVERSED_SPEED) & (np.abs(vx) > REVERSED_SPEED) & (np.sign(vx) != np.sign(v_kin))
+
+
 def _compose(x: np.ndarray, y: np.ndarray, yaw: np.ndarray, per_step: int) -> tuple[np.ndarray, ...]:
     """Each step's windows (poses relative to each window's start) in the step's start frame: window
     j+1 starts where window j's last sample ends (0.05 s of motion between them is not logged)."""
@@ -515,6 +537,10 @@ def read_session(
     # --- ICP: unwrap, update-to-update rates per window, the steady part per step
     yaw_u = np.unwrap(raw["icp_yaw"], axis=1)
     vx_w, vy_w, wz_w = _update_rates(raw["icp_x"], raw["icp_y"], yaw_u)
+    reversed_w = (steady == 1) & reversed_windows(
+        vx_w, raw["left_wheel_vel"], raw["right_wheel_vel"], geometry["wheel_radius"]
+    )  # a transient window may end moving against its wheels' mean: the robot reversing within it
+    vx_w, vy_w = np.where(reversed_w, np.nan, vx_w), np.where(reversed_w, np.nan, vy_w)
     X, Y, Yaw = _compose(raw["icp_x"], raw["icp_y"], yaw_u, per_step)
 
     def by_step(a: np.ndarray) -> np.ndarray:  # (rows, n) -> (steps, per_step * n)
@@ -570,8 +596,11 @@ def read_session(
     wz = gyro["sign"] * gyro_raw
     cmd_l, cmd_r = _held(cl[:, steady_slice]), _held(cr[:, steady_slice])
     early = ((cl[:, steady_slice] != cmd_l[:, None]) | (cr[:, steady_slice] != cmd_r[:, None])).sum(axis=1)
-    vx_s = np.nanmean(vx_w.reshape(n_steps, per_step)[:, 1:], axis=1)
-    vy_s = np.nanmean(vy_w.reshape(n_steps, per_step)[:, 1:], axis=1)
+    with warnings.catch_warnings():  # a step whose every steady window is unusable has no ICP speed (NaN)
+        warnings.simplefilter("ignore", RuntimeWarning)
+        vx_s = np.nanmean(vx_w.reshape(n_steps, per_step)[:, 1:], axis=1)
+        vy_s = np.nanmean(vy_w.reshape(n_steps, per_step)[:, 1:], axis=1)
+    reversed_s = reversed_w.reshape(n_steps, per_step)[:, 1:].sum(axis=1)
     last = max(1, round(START_SECONDS / DT))
     start = {  # the previous step's last START_SECONDS (steady: its command held 4 s), or step 0's own start
         "vx": np.r_[vx_w.reshape(n_steps, per_step)[0, 0], vx_w.reshape(n_steps, per_step)[:-1, -1]],
@@ -595,6 +624,7 @@ def read_session(
             "wz_icp": wz_icp,
             "vx_icp": vx_s,
             "vy_icp": vy_s,
+            "icp_reversed": reversed_s,
             "vx_icp_drive": by_step(raw["icp_vel_x"])[:, steady_slice].mean(axis=1),
             "heading_icp": np.nansum(wz_w.reshape(n_steps, per_step)[:, 1:], axis=1) * window_s,
             "heading_gyro": wz[:, steady_slice].sum(axis=1) * DT,
@@ -628,6 +658,12 @@ def read_session(
         quirks.append(f"the folder name {folder.name!r} does not name the metadata terrain {meta_terrain!r}")
     if terrain_class is not None and isinstance(meta_terrain, str) and terrain != meta_terrain.lower():
         quirks.append(f"terrain {terrain!r} declared by {declared_by} replaces metadata's {meta_terrain!r}")
+    if reversed_w.any():
+        quirks.append(
+            f"the ICP moves against the wheels (opposite signs, both over {REVERSED_SPEED:g} m/s) in "
+            f"{int(reversed_w.sum())} window(s) of {int((reversed_w.reshape(n_steps, per_step).any(axis=1)).sum())} "
+            "step(s): those windows' ICP speed not used"
+        )
     if early.any():
         quirks.append(
             f"the next command arrives up to {int(early.max())} sample(s) before the step's end in "
