@@ -17,6 +17,17 @@ if SETTINGS.drive_dir:
     DRIVE_SESSIONS = sessions_or_exit(SETTINGS.drive_dir)
     DRIVE_FOLDERS = {p.name: p for p in DRIVE_SESSIONS}
     DRIVE_DECLARED = canonical(PLAN.config["real_data"]["datasets"][SETTINGS.drive_dataset])
+    # each session's metadata.yaml (YAML, no pickle): another robot's session, a tracked one, or one whose
+    # terrain has no ground model is refused now, one line each, before any job
+    from simpick.plan.drive import session_problems
+
+    _problems = session_problems(
+        DRIVE_SESSIONS, DRIVE_DECLARED, PLAN.config["real_data"]["classes"], PLAN.robot.name, SETTINGS.drive_dataset
+    )
+    for _problem in _problems:
+        print(f"simpick: {_problem}", file=sys.stderr)
+    if _problems:
+        sys.exit(1)
     try:
         DRIVE_MODELS = replay_models(PLAN.config["drive_replay"]["models"], PLAN.real_models, PLAN.unavailable)
     except InputError as _exc:

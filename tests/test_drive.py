@@ -379,11 +379,18 @@ def test_the_workflow_writes_the_drive_tables_of_a_named_folder(tmp_path):
     data = tmp_path / "calib_data"
     cut(data, steps=12)
     cut(data, GRAVEL, steps=12)
-    config = tiny_config(tmp_path)
+    config = tiny_config(tmp_path)  # the Husky: DRIVE's Warthog sessions are refused before any job
     config["drive_dir"] = str(data)
     write_config(tmp_path, config)
     before = _git_status()
     targets = [f"results/drive/drive/{t}.csv" for t in ("sessions", "steps", "turning", "bins", "cases")]
+    run = snakemake(tmp_path, "-n", *targets)
+    assert run.returncode != 0 and "drive_tables" not in run.stdout
+    lines = [line for line in run.stderr.splitlines() if line.startswith("simpick:")]
+    assert len(lines) == 2 and all("field 'metadata.robot': is 'warthog'" in line for line in lines), run.stderr
+    config["robot"] = {**config["robot"], "urdf": str(ROOT / "resources" / "robot" / "warthog.urdf"), "track": 1.08}
+    config["accuracy"] = {**config.get("accuracy", {}), "reference": "paper"}  # BorealTC is a Husky's
+    write_config(tmp_path, config)
     run = snakemake(tmp_path, "--cores", "1", *targets)
     assert run.returncode == 0, run.stderr[-3000:]
     turning = pd.read_csv(tmp_path / targets[2])
@@ -398,6 +405,38 @@ def test_the_workflow_writes_the_drive_tables_of_a_named_folder(tmp_path):
     assert run.returncode != 0 and f"simpick: {data / GRAVEL / 'metadata.yaml'}: missing" in run.stderr
     assert "drive_tables" not in run.stdout
     assert _git_status() == before
+
+
+def test_sessions_of_another_robot_on_tracks_or_an_unmodelled_terrain_are_refused_at_planning(tmp_path):
+    """simpick.plan.drive reads each session's metadata.yaml only (no pickle): one problem per session, each
+    naming the file, the field and the fix."""
+    from simpick.plan.drive import session_problems
+
+    classes = {"asphalt": {}, "gravel": {}, "grass": {}}
+
+    def block(**changed):  # the gravel session's metadata block with some fields changed
+        md = yaml.safe_load((CALIB / GRAVEL / "metadata.yaml").read_text())["metadata"]
+        return {"metadata": {**md, **changed}}
+
+    folders = [
+        cut(tmp_path, ASPHALT, steps=2),
+        cut(tmp_path, GRAVEL, steps=2, name="husky_gravel", metadata=block(robot="husky")),
+        cut(tmp_path, GRAVEL, steps=2, name="marmotte", metadata=block(traction="tracks")),
+        cut(tmp_path, GRAVEL, steps=2, name="on_snow", metadata=block(terrain="snow")),
+    ]
+    (tmp_path / "husky_gravel" / PICKLE).write_text("never read: planning opens no pickle\n")
+    problems = [str(p) for p in session_problems(folders, {}, classes, "warthog")]
+    assert len(problems) == 3, problems
+    assert "husky_gravel/metadata.yaml: field 'metadata.robot': is 'husky'" in problems[0]
+    assert "real_data.datasets.drive.robot: husky" in problems[0]
+    assert "marmotte/metadata.yaml: field 'metadata.traction': is 'tracks'" in problems[1]
+    assert "on_snow/metadata.yaml: field 'metadata.terrain'" in problems[2] and "'snow'" in problems[2]
+    # declared: the session's terrain and the name DRIVE gives the study's robot
+    declared = {"robot": "husky", "sessions": {"on_snow": {"terrain_class": "gravel"}}}
+    problems = [str(p) for p in session_problems(folders, declared, classes, "warthog")]
+    refused = [str(f / "metadata.yaml") for f in (folders[0], folders[2], folders[3])]  # now the other robot's
+    assert [p.split(":")[0] for p in problems] == refused
+    assert session_problems([folders[3]], {"sessions": declared["sessions"]}, classes, "warthog") == []
 
 
 def test_the_config_names_a_drive_folder(tmp_path):

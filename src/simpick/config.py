@@ -245,11 +245,18 @@ class DeclaredDataset(Strict):
     sessions: dict[str, DriveSession] = Field(
         {}, description="DRIVE only: per-session overrides, by session folder name"
     )
+    robot: str | None = Field(
+        None,
+        description="DRIVE only: the name the sessions' metadata.yaml give the study's robot; a session of "
+        "another robot is refused at planning time (default: the robot's URDF <robot name>)",
+    )
 
     @model_validator(mode="after")
     def sessions_of_drive(self):
         if self.sessions and self.kind != "drive":
             raise ValueError(f"sessions are overrides of DRIVE sessions; this dataset's kind is {self.kind!r}")
+        if self.robot is not None and self.kind != "drive":
+            raise ValueError(f"robot names the robot of DRIVE sessions; this dataset's kind is {self.kind!r}")
         return self
 
 
