@@ -296,6 +296,12 @@ rule report:
         endpoints=f"{PLAN.figures}/endpoints.csv",
         # the DRIVE comparison and turn map (--config drive_dir=PATH): the verdict against the real robot
         drive=[f"{DRIVE}/{t}.csv" for t in ("summary", "outcomes", "turning", "errors")] if SETTINGS.drive_dir else [],
+        # with calibration.enabled: the held-out multipliers (simpick.studies.drive_calibration)
+        drive_calibration=(
+            [f"{DRIVE}/calibration/turning.csv"]
+            if SETTINGS.drive_dir and PLAN.config["calibration"]["enabled"]
+            else []
+        ),
         turnmap=TURNMAP_TARGETS,
     output:
         # report(): `snakemake --report` carries the study report (its figures are embedded in it).
@@ -321,5 +327,6 @@ rule report:
         real_data=PLAN.report_real_data(),
         # the DRIVE tables' folder (results/drive/<name>), from the inputs: empty without drive_dir
         drive=lambda wildcards, input: os.path.dirname(input.drive[0]) if input.drive else "",
+        drive_calibration=lambda wildcards, input: input.drive_calibration[0] if input.drive_calibration else "",
     script:
         "../scripts/report.py"

@@ -248,6 +248,17 @@ def test_the_report_section_is_titled_from_the_robot_and_absent_without_outputs(
     assert "Against the real Clearpath Warthog" in html and "mujoco" in html and "asphalt" in html
     # the asphalt session's step 18 has a steady window whose ICP moved against the wheels (test_drive.py)
     assert "1 step had a\nsteady window whose ICP moved against the driven wheels" in html
+    assert "wheel_separation_multiplier" not in html  # no calibration named: no calibration table
+    # the calibration's held-out table (simpick.studies.drive_calibration.TURNING_COLUMNS), both variants
+    from simpick.studies.drive_calibration import TURNING_COLUMNS
+
+    rows = [
+        ["asphalt", "mujoco", v, 8, 0.559, g, 1.08 / (0.559 * 1.12), 1.08 / (g * 1.12)]
+        for v, g in (("configured", 0.619), ("calibrated", 0.571))
+    ]
+    pd.DataFrame(rows, columns=TURNING_COLUMNS).to_csv(tmp_path / "cal.csv", index=False)
+    html = render_drive_section(tmp_path, "Clearpath Warthog", tmp_path / "cal.csv")
+    assert "wheel_separation_multiplier" in html and "<td>1.73</td>" in html and "1.56 -&gt; 1.69" in html
 
 
 def test_calibration_on_drive_steps_splits_searches_and_gives_the_multiplier(tmp_path, asphalt):

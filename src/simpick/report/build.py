@@ -719,7 +719,11 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     if params.get("drive"):
         from simpick.report.drive import drive_section
 
-        drive = drive_section(params["drive"], robot.get("label") or robot.get("name") or "robot")
+        drive = drive_section(
+            params["drive"],
+            robot.get("label") or robot.get("name") or "robot",
+            calibration=params.get("drive_calibration") or None,
+        )
         turnmap = Path(params["drive"]) / "turnmap.png"
         turnmap_uri = figures.data_uri(turnmap) if turnmap.is_file() else None
     return {

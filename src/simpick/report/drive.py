@@ -39,9 +39,10 @@ def read_tables(folder: str | Path) -> dict[str, pd.DataFrame] | None:
     return {t: pd.read_csv(folder / f"{t}.csv") for t in TABLES}
 
 
-def drive_section(folder: str | Path, label: str) -> dict | None:
+def drive_section(folder: str | Path, label: str, calibration: str | Path | None = None) -> dict | None:
     """The section's context from ``folder``'s tables; ``label``: the study's robot label (config
-    ``robot.label``). None where the folder holds no DRIVE comparison."""
+    ``robot.label``); ``calibration``: the DRIVE calibration's held-out turning table, where the study ran
+    it (rules/report.smk passes it only then). None where the folder holds no DRIVE comparison."""
     tables = read_tables(folder)
     if tables is None:
         return None
@@ -81,6 +82,7 @@ def drive_section(folder: str | Path, label: str) -> dict | None:
     turning = tables["turning"]
     per_session = turning[turning.session != "all"]
     reversed_steps = int(per_session.icp_reversed_steps.sum()) if "icp_reversed_steps" in per_session else None
+    calibrated = _calibration_rows(Path(calibration)) if calibration else None
     failed = errors[errors.status != "ok"]
     failures = [f"{r.engine} {r.session}/{int(r.step):03d}: {r.reasons}" for r in failed.itertuples()][:50]
     return {
@@ -93,15 +95,41 @@ def drive_section(folder: str | Path, label: str) -> dict | None:
         "unit": str(scoped.paired_by.iloc[0]) if len(scoped) and "paired_by" in scoped else "step",
         "failures": failures,
         "icp_reversed": reversed_steps,
+        "calibration": calibrated,
     }
 
 
-def render_drive_section(folder: str | Path, label: str) -> str | None:
+def _calibration_rows(path: Path) -> list[dict] | None:
+    """The DRIVE calibration's held-out turning table (simpick.studies.drive_calibration.turning_table), one
+    row per terrain and model with the configured and calibrated variants side by side; None where the
+    calibration did not run."""
+    table = pd.read_csv(path)
+    rows = []
+    for (terrain, engine), g in table.groupby(["terrain_class", "engine"], sort=True):
+        v = g.set_index("variant")
+        conf = v.loc["configured"] if "configured" in v.index else None
+        cal = v.loc["calibrated"] if "calibrated" in v.index else None
+        first = conf if conf is not None else cal
+        rows.append(
+            {
+                "terrain": terrain,
+                "engine": engine,
+                "steps": int(first.held_out_turning_steps),
+                "gain_real": _f(first.gain_real),
+                "multiplier_real": _f(first.multiplier_real),
+                "gain": " -> ".join(_f(x.gain_sim) for x in (conf, cal) if x is not None),
+                "multiplier": " -> ".join(_f(x.multiplier_sim) for x in (conf, cal) if x is not None),
+            }
+        )
+    return rows
+
+
+def render_drive_section(folder: str | Path, label: str, calibration: str | Path | None = None) -> str | None:
     """The section alone as HTML, from the report's own template (templates/drive_section.html.j2, which
     the report includes); None where ``folder`` holds no DRIVE comparison."""
     import jinja2
 
-    context = drive_section(folder, label)
+    context = drive_section(folder, label, calibration)
     if context is None:
         return None
     env = jinja2.Environment(loader=jinja2.FileSystemLoader(str(Path(__file__).parent / "templates")), autoescape=True)
