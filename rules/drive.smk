@@ -69,9 +69,13 @@ if SETTINGS.drive_dir:
             steps=f"{DRIVE}/replay/{{model}}/{{session}}.csv",
         log:
             f"results/logs/drive/{SETTINGS.drive_dataset}/replay/{{model}}/{{session}}.log",
+        benchmark:
+            f"results/benchmarks/drive/{SETTINGS.drive_dataset}/replay/{{model}}/{{session}}.tsv"
         wildcard_constraints:
             model="|".join(DRIVE_MODELS),
             session="|".join(re.escape(s) for s in DRIVE_FOLDERS),
+        # the model's measured seconds per replay job (simpick.plan.costs): DART's and Drake's start first
+        priority: lambda wc: PLAN.job_priority("drive_replay", wc.model)
         conda:
             "../envs/simpick.yaml"
         resources:

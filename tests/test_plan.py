@@ -116,11 +116,19 @@ def test_the_cost_table_is_measured_from_a_study_s_benchmark_files(tmp_path):
         ("simulate/lab/dart/grass/circle.tsv", 13.0),
         ("simulate/lab/dart/bumps/circle.tsv", 11.0),
         ("simulate/segments/coulomb/ice.tsv", 1.5),
+        ("drive/drive/replay/dart/warthog_wheels_asphalt.tsv", 1200.0),  # a DRIVE folder's replay
+        ("drive/drive/replay/dart/warthog_wheels_grass_2024_7_29_14h46s15.tsv", 230.0),
+        ("drive/drive/replay/dart/warthog_wheels_gravel_2024_8_6_11h37s32.tsv", 1250.0),
     ]:
         (tmp_path / path).parent.mkdir(parents=True, exist_ok=True)
         (tmp_path / path).write_text(header + f"{seconds}\t0:00:00\t1\t1\t1\t1\t0\t0\t90\t{seconds}\n")
     rows = {(r["job"], r["engine"]): (r["wall_s"], r["jobs"]) for r in costs.measure(tmp_path)}
-    assert rows == {("validate", "dart"): (70.0, 1), ("lab", "dart"): (11.0, 3), ("segments", "coulomb"): (1.5, 1)}
+    assert rows == {
+        ("validate", "dart"): (70.0, 1),
+        ("lab", "dart"): (11.0, 3),
+        ("segments", "coulomb"): (1.5, 1),
+        ("drive_replay", "dart"): (1200.0, 3),
+    }
 
 
 def test_the_default_study_names_the_opt_in_engines_with_their_switch_and_measured_cost(config):

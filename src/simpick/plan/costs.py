@@ -26,6 +26,8 @@ KINDS = {
     "segments": "simulate/segments/{engine}/*.tsv",
     # a dataset folder's replay (--config borealtc_dir=PATH; a job per run): the BorealTC folder's
     "replay": "simulate/borealtc/{engine}/*/*.tsv",
+    # a DRIVE folder's replay (--config drive_dir=PATH; a job per model and session)
+    "drive_replay": "drive/*/replay/{engine}/*.tsv",
 }
 COLUMNS = ("job", "engine", "wall_s", "jobs")
 
@@ -46,10 +48,10 @@ def measure(benchmarks: Path) -> list[dict]:
     benchmarks = Path(benchmarks)
     models = set()
     for pattern in KINDS.values():
-        top = pattern.split("{engine}")[0]
-        folder = benchmarks / top
-        if folder.is_dir():
-            models |= {p.stem if p.suffix == ".tsv" else p.name for p in folder.iterdir()}
+        top = pattern.split("{engine}")[0].rstrip("/")
+        for folder in benchmarks.glob(top) if "*" in top else [benchmarks / top]:
+            if folder.is_dir():
+                models |= {p.stem if p.suffix == ".tsv" else p.name for p in folder.iterdir()}
     rows = []
     for kind, pattern in KINDS.items():
         for engine in sorted(models):
