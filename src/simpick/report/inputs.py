@@ -8,6 +8,8 @@ OPTIONAL_INPUTS: tuple[str, ...] = (
     "contributions",
     # the DRIVE comparison's tables and the turn map: read from their folder (params.drive) by simpick.report.drive
     "drive",
+    # the DRIVE calibration's held-out multipliers (calibration.enabled): read by simpick.report.drive
+    "drive_calibration",
     "turnmap",
     "drivers",
     "sweep",
