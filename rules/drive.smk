@@ -133,7 +133,10 @@ if SETTINGS.drive_dir:
     from simpick.engines import get_engine as _get_engine
 
     DRIVE_CAL = f"{DRIVE}/calibration"
-    DRIVE_CAL_MODELS = [m for m in DRIVE_MODELS if _get_engine(m).calibratable]
+    _CAL_CHOSEN = PLAN.config["calibration"].get("models")  # calibration.models: null for every model
+    DRIVE_CAL_MODELS = [
+        m for m in DRIVE_MODELS if _get_engine(m).calibratable and (_CAL_CHOSEN is None or m in _CAL_CHOSEN)
+    ]
 
     rule drive_calibrate:
         """One model x one terrain class: the seeded split of its chosen steps, the search on the training

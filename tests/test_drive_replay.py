@@ -220,6 +220,13 @@ def test_the_workflow_replays_a_named_folder_and_writes_the_verdict(tmp_path):
     outcomes = pd.read_csv(tmp_path / targets[2])
     assert set(outcomes.engine) == {"mujoco"}  # reference models are shown, never judged
     assert _git_status() == before
+    # the calibration calibrates the models calibration.models names, and no other
+    config["calibration"] = {**config["calibration"], "models": ["coulomb"]}
+    write_config(tmp_path, config)
+    run = snakemake(tmp_path, "-n", "drive_calibration")
+    assert run.returncode == 0, run.stderr[-3000:]
+    planned = run.stdout + run.stderr
+    assert "model=coulomb" in planned and "model=mujoco" not in planned
     # a model the study does not configure: one line, no job
     config["drive_replay"] = {"models": ["dart"]}
     write_config(tmp_path, config)
