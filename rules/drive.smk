@@ -16,13 +16,15 @@ if SETTINGS.drive_dir:
     DRIVE = f"results/drive/{SETTINGS.drive_dataset}"
     DRIVE_SESSIONS = sessions_or_exit(SETTINGS.drive_dir)
     DRIVE_FOLDERS = {p.name: p for p in DRIVE_SESSIONS}
-    DRIVE_DECLARED = canonical(PLAN.config["real_data"]["datasets"][SETTINGS.drive_dataset])
+    _declared = PLAN.config["real_data"]["datasets"][SETTINGS.drive_dataset]
+    # what the jobs read of the declaration (its robot is the plan's alone: checked below)
+    DRIVE_DECLARED = canonical({k: v for k, v in _declared.items() if k != "robot"})
     # each session's metadata.yaml (YAML, no pickle): another robot's session, a tracked one, or one whose
     # terrain has no ground model is refused now, one line each, before any job
     from simpick.plan.drive import session_problems
 
     _problems = session_problems(
-        DRIVE_SESSIONS, DRIVE_DECLARED, PLAN.config["real_data"]["classes"], PLAN.robot.name, SETTINGS.drive_dataset
+        DRIVE_SESSIONS, _declared, PLAN.config["real_data"]["classes"], PLAN.robot.name, SETTINGS.drive_dataset
     )
     for _problem in _problems:
         print(f"simpick: {_problem}", file=sys.stderr)
