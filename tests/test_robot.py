@@ -386,8 +386,8 @@ def _merged(base: dict, over: dict) -> dict:
 
 def test_warthog_config_fits_the_warthog_and_runs_on_an_engine(tmp_path):
     """config/robots/warthog.yaml: DRIVE's and Clearpath's controller track, the circle over the strip at
-    the Warthog's own Coulomb gain, the Husky's wheel-tracking rim speed, a valid merged config with the
-    suspension's validation cases; and its cases run on an engine (a variant with the rockers fixed, as
+    the Warthog's own Coulomb gain, its wheel-tracking limit above the servo lag measured on DRIVE, a valid
+    merged config with the suspension's validation cases; and its cases run on an engine (a variant with the rockers fixed, as
     no engine here simulates the suspension yet: the suspension's own cases skip it, saying why)."""
     import yaml
 
@@ -411,9 +411,12 @@ def test_warthog_config_fits_the_warthog_and_runs_on_an_engine(tmp_path):
     assert arc_start_over_strip(circle["v"], circle["w"], gain, (1.5, -0.56), start[0]) == pytest.approx(
         start, abs=0.005
     )
+    # the Warthog's own tracking limit: twice the largest servo lag measured at DRIVE's step changes (MuJoCo,
+    # 0.35 rad/s over the 345 shared steps; the config says how), above the Husky's limit as a rim speed,
+    # which failed healthy steps on that lag alone
     husky = load_robot(ROBOTS / "husky_a200.urdf")
-    rim = base["health"]["wheel_tracking"] * husky.wheel_radius
-    assert config["health"]["wheel_tracking"] * spec.wheel_radius == pytest.approx(rim, rel=0.01)
+    rim = base["health"]["wheel_tracking"] * husky.wheel_radius / spec.wheel_radius
+    assert config["health"]["wheel_tracking"] >= 2 * 0.35 and rim < 0.35
     cases = merged["validation"]["cases"]
     assert {"rest_pose_mu0.8", "articulation_h0.05_mu0.8"} <= set(cases) and set(base["validation"]["cases"]) < set(
         cases
