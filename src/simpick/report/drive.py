@@ -67,6 +67,9 @@ def drive_section(folder: str | Path, label: str, calibration: str | Path | None
         for _, r in pooled.sort_values(["terrain_class", "engine"]).iterrows()
     ]
     scoped = outcomes[outcomes.scope == "all"] if "scope" in outcomes else outcomes
+    # per metric (in the table's order), the engines from the smallest mean error
+    metric_order = {m: i for i, m in enumerate(dict.fromkeys(scoped.metric))}
+    scoped = scoped.sort_values(["metric", "mean"], key=lambda c: c.map(metric_order) if c.name == "metric" else c)
     verdict = [
         {
             "metric": o.label,
