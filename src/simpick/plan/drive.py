@@ -13,6 +13,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from simpick.errors import InputError
+from simpick.real.drive import unmodelled_terrain
 from simpick.real.logs.drive import METADATA, read_metadata
 
 
@@ -56,7 +57,8 @@ def session_problems(
                     "name a folder without this session",
                 )
             )
-        terrain = (overrides.get(Path(folder).name) or {}).get("terrain_class") or md.get("terrain")
+        declared_terrain = (overrides.get(Path(folder).name) or {}).get("terrain_class")
+        terrain = declared_terrain or md.get("terrain")
         if not isinstance(terrain, str):
             problems.append(
                 InputError(
@@ -66,13 +68,10 @@ def session_problems(
                 )
             )
         elif terrain.lower() not in classes:
+            source = f"declared by {key}.sessions" if declared_terrain else "its metadata"
             problems.append(
-                InputError(
-                    f"{where}: field 'metadata.terrain'",
-                    f"terrain class {terrain.lower()!r} has no ground model in real_data.classes",
-                    f"add it, e.g. real_data: {{classes: {{{terrain.lower()}: {{friction: 0.6, source: "
-                    f'"where 0.6 comes from"}}}}}}, or declare the session\'s terrain_class under '
-                    f"{key}.sessions.{Path(folder).name}",
+                unmodelled_terrain(
+                    f"{where}: field 'metadata.terrain'", terrain.lower(), source, Path(folder).name, name
                 )
             )
     return problems

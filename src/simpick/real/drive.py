@@ -359,20 +359,25 @@ def open_drive(folder, *, declared=None, classes=None, name: str = "drive"):
     dataset = read_drive(folder, sessions=overrides, declared_by=f"real_data.datasets.{name}.sessions in the config")
     if classes is not None:
         problems = [
-            InputError(
-                f"{s.folder}",
-                f"terrain class {s.terrain_class!r} ({s.meta['terrain_source']}) has no ground model",
-                f"add it under real_data.classes, e.g. real_data: {{classes: "
-                f'{{{s.terrain_class}: {{friction: 0.6, source: "where 0.6 comes from"}}}}}}, or '
-                f"declare the session's terrain_class under real_data.datasets.{name}.sessions."
-                f"{s.name}",
-            )
+            unmodelled_terrain(str(s.folder), s.terrain_class, s.meta["terrain_source"], s.name, name)
             for s in dataset.sessions
             if s.terrain_class not in classes
         ]
         if problems:
             raise DatasetProblems(problems)
     return dataset
+
+
+def unmodelled_terrain(where: str, terrain: str, source: str, session: str, name: str = "drive") -> InputError:
+    """The problem of a DRIVE session whose terrain class has no ground model in ``real_data.classes``:
+    ``where`` the file (and field) it comes from, ``source`` where the class was read or declared."""
+    return InputError(
+        where,
+        f"terrain class {terrain!r} ({source}) has no ground model",
+        f"add it under real_data.classes, e.g. real_data: {{classes: "
+        f'{{{terrain}: {{friction: 0.6, source: "where 0.6 comes from"}}}}}}, or '
+        f"declare the session's terrain_class under real_data.datasets.{name}.sessions.{session}",
+    )
 
 
 SESSION_COLUMNS = [
