@@ -132,13 +132,9 @@ if SETTINGS.drive_dir:
     # Calibration on DRIVE steps (simpick.studies.drive_calibration): every model that declares calibratable
     # parameters, per terrain class, trained on some chosen steps and judged on the others. In `snakemake`
     # (all) when calibration.enabled; `snakemake drive_calibration` runs it either way.
-    from simpick.engines import get_engine as _get_engine
-
     DRIVE_CAL = f"{DRIVE}/calibration"
-    _CAL_CHOSEN = PLAN.config["calibration"].get("models")  # calibration.models: null for every model
-    DRIVE_CAL_MODELS = [
-        m for m in DRIVE_MODELS if _get_engine(m).calibratable and (_CAL_CHOSEN is None or m in _CAL_CHOSEN)
-    ]
+    # the plan's calibrated models (calibration.models, those that declare parameters), among the replay's
+    DRIVE_CAL_MODELS = [m for m in DRIVE_MODELS if m in PLAN.cal_models]
 
     rule drive_calibrate:
         """One model x one terrain class: the seeded split of its chosen steps, the search on the training
