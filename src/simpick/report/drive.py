@@ -68,8 +68,8 @@ def drive_section(folder: str | Path, label: str, calibration: str | Path | None
     ]
     scoped = outcomes[outcomes.scope == "all"] if "scope" in outcomes else outcomes
     # per metric (in the table's order), the engines from the smallest mean error
-    metric_order = {m: i for i, m in enumerate(dict.fromkeys(scoped.metric))}
-    scoped = scoped.sort_values(["metric", "mean"], key=lambda c: c.map(metric_order) if c.name == "metric" else c)
+    order = pd.Categorical(scoped.metric, categories=list(dict.fromkeys(scoped.metric)), ordered=True)
+    scoped = scoped.assign(_order=order).sort_values(["_order", "mean"])
     verdict = [
         {
             "metric": o.label,
@@ -102,10 +102,9 @@ def drive_section(folder: str | Path, label: str, calibration: str | Path | None
     }
 
 
-def _calibration_rows(path: Path) -> list[dict] | None:
+def _calibration_rows(path: Path) -> list[dict]:
     """The DRIVE calibration's held-out turning table (simpick.studies.drive_calibration.turning_table), one
-    row per terrain and model with the configured and calibrated variants side by side; None where the
-    calibration did not run."""
+    row per terrain and model with the configured and calibrated variants side by side."""
     table = pd.read_csv(path)
     rows = []
     for (terrain, engine), g in table.groupby(["terrain_class", "engine"], sort=True):
