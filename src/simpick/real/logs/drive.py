@@ -39,9 +39,10 @@ Quirks of DRIVE's files and what the reader does with each (all recorded in ``me
   ICP 0.3-3.2 m/s against wheels 0.4-3.5 m/s, often the wheels' speed with its sign turned, 1.46 m/s
   forwards for wheels driving 1.46 m/s backwards), while the ICP's yaw changes still agree with the gyro:
   as if that window's registration had started half a turn from the truth. DRIVE's smoothed ``icp_vel_x``
-  reverses too in 14 of those 17 (its window mean over 0.3 m/s against the wheels). No ground moves a robot against its driven wheels at such
-  speeds, so such a window's ICP body velocity is not used (the step's steady speed comes from its other
-  steady window) and the count is reported per step (``icp_reversed``) and in the quirks;
+  reverses too in 14 of those 17 (its window mean over 0.3 m/s against the wheels). No ground moves a
+  robot against its driven wheels at such speeds, so such a window's ICP body velocity is not used (the
+  step's steady speed comes from its other steady window) and the count is reported per step
+  (``icp_reversed``) and in the quirks;
 * identical sessions under several folders: detected by a hash of the arrays
   (:func:`read_drive` keeps one, preferring the run that recorded the data over an
   execute-only run that carries a copy);
