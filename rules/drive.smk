@@ -31,7 +31,12 @@ if SETTINGS.drive_dir:
     if _problems:
         sys.exit(1)
     try:
-        DRIVE_MODELS = replay_models(PLAN.config["drive_replay"]["models"], PLAN.real_models, PLAN.unavailable)
+        # simulator profiles replay DRIVE only with simulators.drive: each adds its engine's replay time
+        DRIVE_MODELS = replay_models(
+            PLAN.config["drive_replay"]["models"],
+            [m for m in PLAN.real_models if PLAN.config["simulators"]["drive"] or m not in PLAN.profiles],
+            PLAN.unavailable,
+        )
     except InputError as _exc:
         print(f"simpick: {_exc}", file=sys.stderr)
         sys.exit(1)

@@ -141,6 +141,8 @@ def tiny_config(workdir: Path | None = None) -> dict:
     config["robot"]["urdf"] = str(ROOT / config["robot"]["urdf"])
     config["reference"]["published"] = str(ROOT / config["reference"]["published"])
     config["qualitative"] = str(ROOT / config["qualitative"])
+    # no simulator profiles: the engines' tests stay seconds long; tests/test_simulators.py runs them
+    config["simulators"] = {"catalog": str(ROOT / "resources/simulators/simulators.yaml"), "run": []}
     segments = pd.read_csv(ROOT / config["real_data"]["segments"], dtype={"run": str})
     segments = segments[segments.terrain_class == "flooring"].groupby("kind").head(1).copy()
     segments["duration"] = 1.0

@@ -532,6 +532,28 @@ class Accuracy(Strict):
     )
 
 
+class Simulators(Strict):
+    """The simulators as rows (simpick.simulators): each run through its engine as it ships and as tuned."""
+
+    catalog: str = Field(
+        "resources/simulators/simulators.yaml",
+        description="the simulator catalog: facts, sources and the two profiles of each simulator",
+    )
+    run: list[str] | None = Field(
+        None,
+        description="simulators whose profiles the study runs; null: every one whose engine the study "
+        "runs (an engine the study leaves out leaves its simulators out, named in the report)",
+    )
+    variants: list[Literal["shipped", "tuned"]] = Field(
+        ["shipped", "tuned"], description="which profiles of each simulator run"
+    )
+    drive: bool = Field(
+        False,
+        description="replay the DRIVE steps (drive_dir) with the profiles too; off by default: each profile "
+        "adds its engine's replay time (docs/drive.md)",
+    )
+
+
 class Statistics(Strict):
     """How sure the real-data comparison may claim to be; the defaults are simpick.compare.realmetrics'
     (MIN_RUNS, LEVEL: stated once, there, with their reasons)."""
@@ -696,6 +718,9 @@ class Study(Strict):
     sweep: Sweep | None = Field(None, description="a speed-accuracy sweep over physics steps (config/sweeps/)")
     calibration: Calibration | None = Field(None, description="calibration on training runs, judged on held-out runs")
     real_data: RealData = Field(description="the real data: the committed segments, terrain classes and datasets")
+    simulators: Simulators = Field(
+        Simulators(), description="the simulators a roboticist picks, each as shipped and as tuned (simpick.simulators)"
+    )
     qualitative: str = Field(
         description="sourced qualitative facts per engine (licence, ROS, languages, ...) the "
         "paper's qualitative scores rest on"
@@ -839,6 +864,19 @@ class Study(Strict):
         ):
             if not Path(path).is_file():
                 raise ValueError(f"{key}: file {path!r} does not exist")
+        # the simulator catalog is read here: a misspelt setting or an unsourced fact stops the run now
+        from simpick.simulators import SIMULATORS
+        from simpick.simulators.catalog import CatalogError, load_catalog
+
+        try:
+            catalog = load_catalog(self.simulators.catalog)
+        except CatalogError as exc:
+            raise ValueError(f"simulators.catalog: {exc}") from None
+        unknown = sorted(set(self.simulators.run or []) - set(catalog.simulators))
+        if unknown:
+            raise ValueError(
+                f"simulators.run: {unknown} not in the catalog {self.simulators.catalog}; known: {sorted(SIMULATORS)}"
+            )
         # the robot is read here, at planning time: a description no job could read stops the run
         # before any job starts (and before Snakemake deletes any output to rerun it)
         from simpick.errors import InputError

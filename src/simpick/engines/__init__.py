@@ -57,9 +57,11 @@ EXTRAS = ("physx", "drake")
 def unavailable(names) -> dict[str, str]:
     """Engine name -> why it cannot run on this machine, for the engines among ``names`` that
     cannot (an empty dict when all can). The study runs without them and its report says so."""
+    from simpick.simulators import engine_of
+
     found = {}
     for name in names:
-        need = REQUIREMENTS.get(name)
+        need = REQUIREMENTS.get(engine_of(name))
         if need is None:
             continue
         module, _, function = need.partition(":")
@@ -69,7 +71,7 @@ def unavailable(names) -> dict[str, str]:
             except Exception as exc:  # the loader's own message says what is missing
                 found[name] = f"{type(exc).__name__}: {exc}"
         elif importlib.util.find_spec(module) is None:
-            extra = f".[{name}]" if name in EXTRAS else "."
+            extra = f".[{engine_of(name)}]" if engine_of(name) in EXTRAS else "."
             found[name] = (
                 f"Python module {module!r} is not installed; install it with "
                 f"pip install -c constraints.txt -e '{extra}'"
@@ -78,6 +80,11 @@ def unavailable(names) -> dict[str, str]:
 
 
 def get_engine(name: str) -> Engine:
+    """The adapter of an engine, a reference model or a simulator's profile (``gazebo-shipped``:
+    its simulator's engine, simpick.simulators); the profile's settings come with the scenario."""
+    from simpick.simulators import engine_of
+
+    name = engine_of(name)
     known = {**ADAPTERS, **REFERENCE_MODELS}
     if name not in known:
         raise KeyError(

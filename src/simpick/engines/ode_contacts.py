@@ -54,6 +54,9 @@ def near_callback(owner) -> _ode.dNearCallback:
     axles = owner.axles if ratio != 1.0 else {}  # empty: the isotropic path, unchanged
     r2 = ratio * ratio
 
+    if owner.wheel_directions:
+        return _ode.dNearCallback(_wheel_near(owner, contact_state=(collide, create, attach, stride)))
+
     if not owner.slip_directions:
 
         def near(_data, g1, g2):
@@ -139,3 +142,48 @@ def elliptic(c, wheel, mu, nx, ny, nz, vx, vy, vz, sliding, ratio, r2, F, MU, MU
     else:
         c[F], c[F + 1], c[F + 2] = lx, ly, lz
         c[MU], c[MU2] = mu, ratio * mu
+
+
+def _wheel_near(owner, contact_state):
+    """The callback of ``friction_direction`` "wheel": a driven wheel's contacts get fdir1 along the
+    wheel's rolling direction and mu2 = friction_ratio x mu across it (the pyramid turned with the
+    wheel, as an SDF <fdir1> along the wheel sets it); every other contact gets dPlaneSpace's fdir1
+    (ODE's own choice) and mu on both rows."""
+    collide, create, attach, stride = contact_state
+    surface_of, body_of = owner.surface_of, owner.body_of
+    robot_contacts, max_contacts = owner.robot_contacts, owner.max_contacts
+    world, group = owner.world, owner.group
+    real = ctypes.sizeof(_ode.dReal)
+    N = (_ode.dContact.geom.offset + _ode.dContactGeom.normal.offset) // real
+    F = _ode.dContact.fdir1.offset // real
+    MU = _ode.dContact.surface.offset // real + _ode.dSurfaceParameters.mu.offset // real
+    MU2 = _ode.dContact.surface.offset // real + _ode.dSurfaceParameters.mu2.offset // real
+    axles, ratio, half = owner.axles, owner.settings.friction_ratio, math.sqrt(0.5)
+    link_x = owner.settings.friction_direction == "wheel_x"
+
+    def near(_data, g1, g2):
+        contacts = surface_of.get(g1) or surface_of.get(g2) or robot_contacts
+        n = collide(g1, g2, max_contacts, contacts[0], stride)
+        if n:
+            b1, b2 = body_of.get(g1), body_of.get(g2)
+            wheel = axles.get(b1) or axles.get(b2)
+            for i in range(n):
+                c = contacts[2][i]
+                nx, ny, nz = c[N], c[N + 1], c[N + 2]
+                if wheel is not None and link_x:  # the wheel link's x axis in the world, as given
+                    R = wheel[0]
+                    c[F], c[F + 1], c[F + 2] = R[0], R[4], R[8]
+                    c[MU], c[MU2] = contacts[3], ratio * contacts[3]
+                elif wheel is not None:
+                    elliptic(c, wheel, contacts[3], nx, ny, nz, 0.0, 0.0, 0.0, False, ratio, 0.0, F, MU, MU2)
+                else:
+                    if abs(nz) > half:  # dPlaneSpace
+                        k = 1.0 / math.sqrt(ny * ny + nz * nz)
+                        c[F], c[F + 1], c[F + 2] = 0.0, -nz * k, ny * k
+                    else:
+                        k = 1.0 / math.sqrt(nx * nx + ny * ny)
+                        c[F], c[F + 1], c[F + 2] = -ny * k, nx * k, 0.0
+                    c[MU] = c[MU2] = contacts[3]
+                attach(create(world, group, contacts[1][i]), b1, b2)
+
+    return near

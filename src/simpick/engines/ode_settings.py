@@ -79,7 +79,15 @@ class OdeSettings(EngineSettings):
     # (4 % slow) and yaws 0.27 rad in 3 s (0.036 rad per metre); the other three engines yaw
     # < 0.01 rad there (validation case incline_slide_diagonal). With the quick stepper it does not
     # (0.0003 rad, 1.015 m/s^2; stepper above).
-    friction_direction: Literal["coulomb", "slip", "plane"] = "coulomb"
+    # "wheel": fdir1 along each driven wheel's rolling direction (the contact plane's line across the
+    # hinge axis), both rows bounded by mu on their own: the friction pyramid turned with the wheel, what
+    # an SDF <fdir1> along the wheel gives in Gazebo Classic (Clearpath's Husky and Warthog tags); other
+    # contacts keep ODE's own directions. A wheel sliding sideways in a skid turn then meets mu N across
+    # it whatever it slips along it: the box, up to sqrt(2) mu N.
+    # "wheel_x": what Gazebo Classic does with an SDF <fdir1>1 0 0</fdir1> on a wheel's collision
+    # (ODEPhysics.cc Collide: fdir1 rotated by the collision's world pose, not projected onto the contact
+    # plane): fdir1 = the wheel link's own x axis, which turns with the wheel's spin, handed to ODE as it is.
+    friction_direction: Literal["coulomb", "slip", "plane", "wheel", "wheel_x"] = "coulomb"
     # m/s, the stick/slip threshold of "coulomb" (below it fdir1 is dPlaneSpace's and both rows
     # hold). It must exceed the creep that ODE's constraint softness allows a sticking contact
     # (CFM x load: 0.27 mm/s measured on the 0.8 atan(mu) slope); at 1e-6 that creep counts as
@@ -104,12 +112,36 @@ class OdeSettings(EngineSettings):
     # (0.478), 0.8 0.600 / 0.598 / 0.597 (0.601), 0.63 0.694 / 0.694 / 0.696 (0.705), 0.5 0.761 /
     # 0.764 / 0.767 (0.781); the same 0.694-0.696 from start headings 112.5 and -135 degrees.
     friction_ratio: Annotated[float, Field(gt=0, le=2, allow_inf_nan=False)] = 1.0
+    # Contact stiffness and damping of terrain contacts, N/m and N s/m, as Gazebo Classic's SDF <kp> / <kd>
+    # set them: ODE's per-contact ERP = h kp / (h kp + kd) and CFM = 1 / (h kp + kd) (h: the step;
+    # dContactSoftERP / dContactSoftCFM). None: not set, the world's erp and cfm hold (ODE's default).
+    contact_kp: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None
+    contact_kd: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 1.0
+    # The same softness given directly (Webots' ContactProperties softERP / softCFM): dContactSoftERP /
+    # dContactSoftCFM of terrain contacts. None: not set. Exclusive with contact_kp.
+    contact_soft_erp: Annotated[float, Field(ge=0, le=1)] | None = None
+    contact_soft_cfm: Annotated[float, Field(ge=0, allow_inf_nan=False)] | None = None
+    # Restitution of terrain contacts and the approach speed below which none applies (dContactBounce;
+    # Webots' ContactProperties bounce 0.5, bounceVelocity 0.01 m/s). 0: off, ODE's default.
+    contact_bounce: Annotated[float, Field(ge=0, le=1)] = 0.0
+    contact_bounce_vel: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.01
+    # The robot's own friction coefficient, combined with the ground's by the minimum as Gazebo Classic
+    # combines two surfaces' <mu> (ODEPhysics.cc): a contact gets min(ground, surface_mu). None: the
+    # ground's coefficient alone (simpick's terrains carry the whole coefficient).
+    surface_mu: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None
+
+    @model_validator(mode="after")
+    def _one_softness(self):
+        if self.contact_kp is not None and (self.contact_soft_erp is not None or self.contact_soft_cfm is not None):
+            raise ValueError("give the contact softness either as contact_kp/contact_kd or as contact_soft_erp/cfm")
+        return self
 
     @model_validator(mode="after")
     def _ratio_needs_coulomb(self):
-        if self.friction_ratio != 1.0 and self.friction_direction != "coulomb":
+        if self.friction_ratio != 1.0 and self.friction_direction not in ("coulomb", "wheel", "wheel_x"):
             raise ValueError(
-                f"friction_ratio {self.friction_ratio} needs friction_direction 'coulomb' (got "
-                f"{self.friction_direction!r}): ODE's two rows alone form a box, not the ellipse"
+                f"friction_ratio {self.friction_ratio} needs friction_direction 'coulomb' (the ellipse) or "
+                f"'wheel' (the box turned with the wheel: mu2 = ratio x mu, Gazebo's <mu2>), got "
+                f"{self.friction_direction!r}"
             )
         return self

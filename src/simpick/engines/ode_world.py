@@ -109,14 +109,24 @@ class OdeWorld:
 
         self.slip_directions = s.friction_direction in ("slip", "coulomb")
         self.coulomb = s.friction_direction == "coulomb"
+        self.wheel_directions = s.friction_direction in ("wheel", "wheel_x")
         self.min_slip = s.friction_direction_min_slip
         slip = s.contact_slip
+        soft = s.contact_kp is not None or s.contact_soft_erp is not None or s.contact_soft_cfm is not None
         mode = (
             _ode.dContactApprox1
-            | (_ode.dContactFDir1 if self.slip_directions else 0)
-            | (_ode.dContactMu2 if self.coulomb else 0)
+            | (_ode.dContactFDir1 if self.slip_directions or self.wheel_directions else 0)
+            | (_ode.dContactMu2 if self.coulomb or self.wheel_directions else 0)
             | (_ode.dContactSlip1 | _ode.dContactSlip2 if slip > 0 else 0)
+            | (_ode.dContactSoftERP | _ode.dContactSoftCFM if soft else 0)
+            | (_ode.dContactBounce if s.contact_bounce > 0 else 0)
         )
+        if s.contact_kp is not None:  # SDF <kp>/<kd> as Gazebo Classic turns them into ERP and CFM
+            hk = scenario.timestep * s.contact_kp
+            soft_erp, soft_cfm = hk / (hk + s.contact_kd), 1.0 / (hk + s.contact_kd)
+        else:  # given directly; an unset one is the world's
+            soft_erp = s.erp if s.contact_soft_erp is None else s.contact_soft_erp
+            soft_cfm = s.cfm if s.contact_soft_cfm is None else s.contact_soft_cfm
 
         def contacts_for(mu: float) -> tuple:
             if mu not in buffers:
@@ -125,6 +135,9 @@ class OdeWorld:
                     c.surface.mode = mode
                     c.surface.mu = c.surface.mu2 = mu  # both rows bounded by mu unless sliding ("coulomb")
                     c.surface.slip1 = c.surface.slip2 = slip
+                    if soft:
+                        c.surface.soft_erp, c.surface.soft_cfm = soft_erp, soft_cfm
+                    c.surface.bounce, c.surface.bounce_vel = s.contact_bounce, s.contact_bounce_vel
                 self._keep.append(array)
                 base = ctypes.addressof(array)
                 size = ctypes.sizeof(_ode.dContact)
@@ -144,7 +157,7 @@ class OdeWorld:
         def static(geom: int, mu: float) -> None:
             lib.dGeomSetCategoryBits(geom, TERRAIN_BIT)
             lib.dGeomSetCollideBits(geom, robot_bits)
-            self.surface_of[geom] = contacts_for(float(mu))
+            self.surface_of[geom] = contacts_for(float(mu if s.surface_mu is None else min(mu, s.surface_mu)))
 
         static(lib.dCreatePlane(self.space, 0.0, 0.0, 1.0, 0.0), scenario.ground_friction)
         terrain = scenario.terrain

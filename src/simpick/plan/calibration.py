@@ -24,7 +24,9 @@ class CalibrationPlanning:
         )
         self.cal_models = [
             m
-            for m in (self.calibration.get("models") or self.real_models)
+            # a simulator's profile is tuned only within what the simulator exposes (the catalog), never over
+            # its adapter's whole space: not calibrated here
+            for m in (self.calibration.get("models") or [m for m in self.real_models if m not in self.profiles])
             if m not in self.unavailable and get_engine(m).calibratable
         ]
         self.cal_classes = sorted({c for c, _ in self.runs}) if replay else sorted(self.segments)

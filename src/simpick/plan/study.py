@@ -21,7 +21,7 @@ from collections.abc import Callable
 
 from simpick.codeversion import job_code, modules, script_roots
 from simpick.config import Study, plain, timestep_label
-from simpick.engines import ADAPTERS, REFERENCE_MODELS, unavailable
+from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine, unavailable
 from simpick.inputs.robot import load_from_config
 from simpick.plan import costs
 from simpick.plan.calibration import CalibrationPlanning
@@ -34,7 +34,9 @@ from simpick.sources import module as source_module
 from simpick.sources import own as own_source
 from simpick.sources import replay as replay_source
 from simpick.sources import segments as segments_source
-from simpick.sources.base import canonical
+from simpick.simulators import engine_of, model_name
+from simpick.simulators.catalog import CatalogError, load_catalog
+from simpick.sources.base import canonical, model_settings
 
 # The unit of work of the simulate family: one case, except where a source's case table is batched
 # by group (the committed segments, per terrain class): 18 short runs, where a job per segment cost
@@ -114,9 +116,32 @@ class Plan(ReportPlanning, CalibrationPlanning):
         self.engines = [e for e in config["engines"] if e not in self.unavailable]
         if not self.engines:
             raise PlanError(f"none of the configured engines can run here: {self.unavailable}")
+        # Simulators as rows (simpick.simulators): each simulator's profiles whose engine this study runs,
+        # as models of their own. They run the validation and every real-data source like an engine, never
+        # the lab scenario or the CPU load (their engine's figures), and their settings are the catalog's.
+        self.catalog = load_catalog(config["simulators"]["catalog"])
+        self.simulators, self.simulators_left_out = self._simulators()
+        config["profiles"] = {
+            model_name(sim, v): (
+                get_engine(engine_of(model_name(sim, v)))
+                .settings_model.model_validate(self.catalog.settings(sim, v, self.robot.name))
+                .model_dump(mode="json")
+            )
+            for sim in self.simulators
+            for v in config["simulators"]["variants"]
+        }
+        # A profile whose settings are exactly its engine's in this study (MuJoCo and Drake as tuned: every
+        # setting simpick's engine block makes is an MJCF attribute or a Drake tag) runs nothing of its own:
+        # its figures are the engine's, the same traces (a run is deterministic in its settings).
+        self.profile_results = {
+            p: (engine_of(p) if settings == config["engines"].get(engine_of(p)) else p)
+            for p, settings in config["profiles"].items()
+        }
+        self.profiles = [p for p, model in self.profile_results.items() if model == p]
         # Reference models (kinematic, coulomb) join the real-data comparison only, never the scores.
         self.baselines = list(config.get("baselines") or {})
-        self.real_models = self.engines + self.baselines
+        self.real_models = self.engines + self.profiles + self.baselines
+        self.validated = self.engines + self.profiles
         self.terrains = list(config["terrains"])
         self.motions = list(config["motions"])
         self.validation_cases = list(config["validation"]["cases"])
@@ -321,7 +346,7 @@ class Plan(ReportPlanning, CalibrationPlanning):
     def job_priority(self, job: str, engine: str) -> int:
         """Snakemake priority of a validate, cpu_load or simulate job of ``engine``: its measured wall
         seconds (simpick.plan.costs), so that on few cores the long jobs start first."""
-        return costs.priority(self.costs, job, engine)
+        return costs.priority(self.costs, job, engine_of(engine))
 
     def simulate_priority(self, source: str, engine: str) -> int:
         """A simulate job's priority: the measured cost of its source's kind (lab, segments, replay)."""
@@ -409,6 +434,23 @@ class Plan(ReportPlanning, CalibrationPlanning):
 
     # --- validation against analytic mechanics ---
 
+    def _simulators(self):
+        """(simulators whose profiles run, {simulator: why not} for the catalog's others)."""
+        wanted = self.config["simulators"]["run"]
+        run, out = [], {}
+        for name, sim in self.catalog.simulators.items():
+            if wanted is not None and name not in wanted:
+                out[name] = "not in simulators.run"
+            elif sim.engine is None:
+                out[name] = sim.not_reproduced
+            elif sim.engine in self.unavailable:
+                out[name] = f"its engine {sim.engine} cannot run here: {self.unavailable[sim.engine]}"
+            elif sim.engine not in self.engines:
+                out[name] = f"its engine {sim.engine} is not among this study's engines"
+            else:
+                run.append(name)
+        return run, out
+
     def validation_params(self, engine):
         """What an engine's validation job depends on: the engine's settings, the robot, the timestep
         and the cases (not the IMU model, the health limits or the tolerances)."""
@@ -416,7 +458,7 @@ class Plan(ReportPlanning, CalibrationPlanning):
         return canonical(
             {
                 "engine": engine,
-                "engine_settings": config["engines"][engine] or {},
+                "engine_settings": model_settings(config, engine),
                 "physics": {"timestep": config["physics"]["timestep"]},
                 "robot": {k: v for k, v in config["robot"].items() if k != "urdf"},
                 "cases": {
@@ -428,7 +470,7 @@ class Plan(ReportPlanning, CalibrationPlanning):
 
     def validation_results(self, engines=None):
         """Every case's record of ``engines`` (all; ``"{engine}"``: one job's outputs)."""
-        engines = [engines] if isinstance(engines, str) else engines or self.engines
+        engines = [engines] if isinstance(engines, str) else engines or self.validated
         return [f"results/validation/{e}/{c}.json" for e in engines for c in self.validation_cases]
 
     def validation_runtime(self):
@@ -582,6 +624,7 @@ class Plan(ReportPlanning, CalibrationPlanning):
         ADAPTERS, REFERENCE_MODELS), every module of simpick.engines named after the engine
         (``<engine>_*``, ``_<engine>*``, a ``<engine>`` package), and the engines' shared base and
         runner. What these import counts too (simpick.codeversion); no other engine's adapter does."""
+        engine = engine_of(engine)
         adapter = {**ADAPTERS, **REFERENCE_MODELS}[engine].split(":")[0]
         found = {adapter}
         for name in modules():

@@ -43,13 +43,23 @@ def canonical(value):
     return float(value)
 
 
+def model_settings(config: dict, model: str) -> dict:
+    """A model's settings from the plain config: an engine's block, a reference model's, or a simulator
+    profile's (the plan puts the catalog's settings under ``profiles``)."""
+    for block in ("engines", "profiles", "baselines"):
+        found = (config.get(block) or {})
+        if model in found:
+            return found[model] or {}
+    raise KeyError(f"model {model!r} is neither a configured engine, a simulator profile nor a reference model")
+
+
 def engine_params(config: dict, engine: str) -> dict:
     """What every simulation on ``engine`` depends on, whatever it drives over."""
     robot = {k: v for k, v in config["robot"].items() if k != "urdf"}
     return canonical(
         {
             "engine": engine,
-            "engine_settings": (config["engines"] | (config.get("baselines") or {}))[engine] or {},
+            "engine_settings": model_settings(config, engine),
             "physics": config["physics"],
             "robot": robot,
             "imu": config["imu"],

@@ -505,6 +505,14 @@ def run_case(setup: Setup, name: str, params: dict) -> dict:
             f"{setup.engine} has no anisotropic wheel friction here (no friction_ratio setting: "
             "see docs/engines.md, 'Turning like the real Husky')"
         )
+    elif reason is None and params.get("friction_ratio") is not None:
+        # a set-up (a simulator's profile) whose other settings exclude the ratio: the adapter says why
+        try:
+            engine.settings_model.of(
+                {**dict(setup.settings), "friction_ratio": float(params["friction_ratio"])}, setup.engine
+            )
+        except InputError as exc:
+            reason = f"this set-up takes no friction_ratio ({exc})"
     if reason is not None:  # skipped, with the reason in the summary and the report
         return {
             "engine": setup.engine,
