@@ -130,7 +130,8 @@ class Health(Strict):
         description="s, time constant of the slowest servo response still counted as following: a wheel "
         "between its command and the command through a first-order lag of this time constant is not in error "
         "(a servo's lag at a command change is not a stuck wheel). Basis, measured at a 0 -> 1 m/s step on "
-        "flat ground: MuJoCo lags 0.024 s (0.032 s at a 0.5 -> -0.5 rad/s turn), the other engines under 0.01 s; "
+        "flat ground: MuJoCo and Newton (the same servo) lag 0.024 s (0.032 s at a 0.5 -> -0.5 rad/s turn), the "
+        "other engines under 0.01 s; "
         "0 judges the plain error"
     )
     max_parked_speed: Positive = Field(description="m/s while every wheel is commanded to stop: the robot slides")
