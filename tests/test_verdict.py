@@ -271,7 +271,10 @@ def test_the_verdict_and_answer_jobs_write_every_table_and_the_headline(tmp_path
     assert float(answer.loc["a", "gain_ratio"]) == pytest.approx(0.5 / 0.6)
     assert float(answer.loc["b", "rtf"]) == 5.0 and float(answer.loc["a", "cpu_intense"]) == 30.0
     said = {s["need"]: s for s in yaml.safe_load(Path(answer_out["answer_yaml"]).read_text())["sentences"]}
-    assert list(said) == ["closest", "fastest", "settings", "avoid"] and all(s["rests_on"] for s in said.values())
+    assert list(said) == ["closest", "failed", "fastest", "settings", "avoid"] and all(
+        s["rests_on"] for s in said.values()
+    )
+    assert said["failed"]["text"].startswith("Every engine completed every one of the 6 real runs")
     # b is faster but fails the mechanics: a is the fastest that passes
     assert (
         said["fastest"]["text"].startswith("Fastest among the engines that pass the mechanics: a, real-time factor 2")
@@ -577,3 +580,89 @@ def test_the_answer_takes_the_calibrated_gain_ratio_from_the_calibrations_turnin
     assert np.isnan(answer.set_index("engine").loc["b", "gain_ratio_calibrated"])
     said = settings_sentence(outcomes, answer, cal, "robot")
     assert "times 1.25" in said["text"] and "(friction_ratio=0.62), it turns at 0.97" in said["text"]
+
+
+STUCK = "wheels do not track their command: mean speed error 0.62 rad/s beyond a 0.05 s servo lag around t = 2.5 s"
+
+
+def _with_failures(values: dict[str, list[float]], failed: dict[str, list[int]]) -> pd.DataFrame:
+    """``_gain_tests`` where each engine of ``failed`` failed the runs (by index) its health check named."""
+    frame = _gain_tests(values)
+    for engine, runs in failed.items():
+        hit = (frame.engine == engine) & frame.run.isin([f"{r:02d}" for r in runs])
+        frame.loc[hit, "gain_error"] = np.nan
+        frame.loc[hit, "status"] = "failed"
+        frame.loc[hit, "reasons"] = STUCK
+    return frame
+
+
+def _failure_case():
+    # 11 runs; "lagger" failed 3 of them (runs 1, 4 and 7), where "steady" is far lower than on the
+    # rest: over its own runs steady's mean is the lowest, over the 8 runs both completed lagger's is
+    from simpick.score.equivalence import outcomes_table
+    from simpick.score.mechanics import mechanics_table
+    from simpick.score.verdict import per_run_values
+
+    lost = [1, 4, 7]
+    steady = [0.02 if i in lost else 0.30 for i in range(11)]
+    values = {"lagger": [0.25 + 0.01 * (i % 3) for i in range(11)], "steady": steady, "far": [0.6] * 11}
+    frame = _with_failures(values, {"lagger": lost})
+    engines = list(values)
+    walls = {m: per_run_values(frame, m) for m in METRICS}
+    mechanics = mechanics_table(_validation(engines=engines), engines)
+    table = outcomes_table(walls, frame, engines, METRICS, mechanics, VERDICT_SETTINGS, STATS, seed=3)
+    return frame, values, lost, mechanics, table
+
+
+def test_engines_are_compared_on_the_runs_every_compared_engine_completed():
+    frame, values, lost, _, table = _failure_case()
+    out = table[table.metric == "gain_error"].set_index("engine")
+    common = [i for i in range(11) if i not in lost]
+    # every engine's figure is over the 8 common runs, not the steady engine's own 11
+    assert (out.n_runs == 8).all() and (out.runs_all == 11).all()
+    assert out.loc["steady", "mean"] == pytest.approx(np.mean([values["steady"][i] for i in common]))
+    assert np.mean(values["steady"]) < out.loc["lagger", "mean"] < out.loc["steady", "mean"]
+    assert out.loc["lagger", "is_best"] and out.loc["lagger", "outcome"] == "best"
+    # which runs it failed and why
+    assert out.loc["lagger", "runs_completed"] == 8 and out.loc["lagger", "runs_failed"] == 3
+    named = out.loc["lagger", "failed_runs"].split(" | ")
+    runs = frame.drop_duplicates("run").set_index("run").terrain_class
+    assert sorted(named) == sorted(f"{runs[f'{i:02d}']}/{i:02d}: {STUCK}" for i in lost)
+    assert out.loc["steady", "runs_failed"] == 0 and out.loc["steady", "runs_completed"] == 11
+
+
+def test_an_engine_that_failed_runs_is_named_closest_only_with_its_failures_in_the_same_sentence():
+    from simpick.score.answer import answer_table, closest_sentence, failed_sentence
+
+    frame, values, lost, mechanics, table = _failure_case()
+    closest = closest_sentence(table, "Husky")["text"]
+    named = closest.index("lagger (")
+    said = closest[named:].split(". ")[0]  # the sentence that names it
+    assert "lagger failed 3 of the 11 real runs" in said and "wheels do not track their command" in said
+    runs = frame.drop_duplicates("run").set_index("run").terrain_class
+    assert all(f"{runs[f'{i:02d}']}/{i:02d}" in said for i in lost)
+    assert "over the 8 real runs every compared engine completed" in closest[:named]
+    failed = failed_sentence(table, list(values))
+    assert failed["text"].startswith("lagger failed 3 of the 11 real runs") and "steady" not in failed["text"]
+    assert len(failed["rests_on"]) == 3 and all(STUCK in r for r in failed["rests_on"])
+    weighted = pd.DataFrame({"total": [1.0, 2.0, 3.0], "rank": [3, 2, 1]}, index=list(values))
+    answer = answer_table(table, mechanics, weighted, list(values), {}, pd.DataFrame(), {}, {}).set_index("engine")
+    assert answer.loc["lagger", "runs_failed"] == 3 and answer.loc["steady", "runs_failed"] == 0
+    assert answer.loc["lagger", "failed_runs"].count(STUCK) == 3
+
+
+def test_the_first_page_lists_the_runs_an_engine_failed_and_why():
+    from simpick.report.answer import answer_section
+    from simpick.score.answer import answer_table, sentences
+
+    _, values, _, mechanics, table = _failure_case()
+    answer = answer_table(
+        table, mechanics, pd.DataFrame({"total": [], "rank": []}), list(values), {}, pd.DataFrame(), {}, {}
+    )
+    said = sentences(table, answer, pd.DataFrame(), "Husky")
+    assert [s["need"] for s in said][:2] == ["closest", "failed"]
+    page = answer_section(answer, table, {"sentences": said}, list(values), None, {"health"})
+    failed = [s for s in page["sentences"] if s["need"] == "failed"]
+    assert len(failed) == 1 and failed[0]["title"] == "Runs an engine failed"
+    assert failed[0]["figure"] == {"anchor": "health", "name": "Health of the runs"}
+    assert "lagger failed 3 of the 11 real runs" in failed[0]["text"] and STUCK.split(":")[0] in failed[0]["text"]

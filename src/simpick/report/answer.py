@@ -30,12 +30,14 @@ OUTCOME_CLASS = {
 # Each user need, the section of the report its sentence rests on (its figure), and that figure's name.
 NEED_FIGURES = {
     "closest": ("answer-figure", "Figure 1"),
+    "failed": ("health", "Health of the runs"),
     "fastest": ("quantitative", "the real-time factor table"),
     "settings": ("calibration", "the calibration figure"),
     "avoid": ("validation", "the analytic-mechanics figure"),
 }
 NEED_TITLES = {
     "closest": "Closest to the real robot",
+    "failed": "Runs an engine failed",
     "fastest": "Fastest among those that pass mechanics",
     "settings": "To turn like the real robot",
     "avoid": "Avoid",

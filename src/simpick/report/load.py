@@ -17,8 +17,14 @@ from simpick.score.contributions import CONTRIBUTION_COLUMNS, DRIVER_COLUMNS
 from simpick.score.equivalence import OUTCOME_COLUMNS
 from simpick.score.scoring import METRICS
 
-# the first page's row per engine: every column but the per-metric ones, which the report reads from outcomes
-ANSWER_REQUIRED = tuple(c for c in ANSWER_COLUMNS if not c.endswith(("_outcome", "_diff", "_low", "_high", "_margin")))
+# the first page's row per engine: every column but the per-metric ones, which the report reads from outcomes,
+# and the failed runs, which reach the page in the answer's sentences (answer.yaml), not from these tables
+FAILED_COLUMNS = ("runs_completed", "runs_failed", "runs_all", "failed_runs")
+ANSWER_REQUIRED = tuple(
+    c
+    for c in ANSWER_COLUMNS
+    if not c.endswith(("_outcome", "_diff", "_low", "_high", "_margin")) and c not in FAILED_COLUMNS
+)
 
 COLUMNS: dict[str, tuple[str, ...]] = {
     "weighted": (*METRICS, "total", "excluded", "rank"),
@@ -230,7 +236,8 @@ COLUMNS: dict[str, tuple[str, ...]] = {
     # what puts the leader ahead of each engine, metric by metric (simpick.score.contributions.drivers)
     "drivers": tuple(DRIVER_COLUMNS),
     # the answer: every engine against the best per real-data metric, and the first page's row per engine
-    "verdict_outcomes": tuple(c for c in OUTCOME_COLUMNS if c != "note"),  # note: free text, optional
+    # note: free text, optional
+    "verdict_outcomes": tuple(c for c in OUTCOME_COLUMNS if c != "note" and c not in FAILED_COLUMNS),
     "verdict_answer": ANSWER_REQUIRED,
     "verdict_headings": (
         "model",

@@ -5,8 +5,11 @@ counted by kind), each real-data metric's outcome against the best with the inte
 difference and the margin (simpick.score.equivalence), how it turns as configured against the
 real robot (simulated / real yaw-rate gain; after calibration where it ran), real-time factor, CPU
 load, and the paper's weighted total and rank, flagged for every engine that fails mechanics (the
-paper's table itself stays exactly the paper's). ``answer.yaml``: a sentence per need (closest,
-fastest, settings, avoid), each with the figures it rests on.
+paper's table itself stays exactly the paper's), and the real runs it failed that another engine
+completed, with the health reasons. ``answer.yaml``: a sentence per need (closest, the runs an engine
+failed, fastest, settings, avoid), each with the figures it rests on. Every engine is compared on the
+runs every compared engine completed (simpick.score.equivalence), and an engine that failed runs the
+others completed is never named closest without that said in the same sentence.
 
 This is rule ``answer``'s job, beside the paper's weighted ranking with its interval over runs,
 the separation table and the headline: the work a weight edit reruns, kept small (no test of
@@ -22,6 +25,7 @@ import numpy as np
 import pandas as pd
 import yaml
 
+from simpick.score.equivalence import FAILED_SEPARATOR
 from simpick.score.verdict import (
     METRICS,
     SEPARATION_COLUMNS,
@@ -48,6 +52,8 @@ ANSWER_COLUMNS = [
     "paper_total",
     "paper_rank",
     "paper_flag",
+    "runs_failed",
+    "failed_runs",
 ]
 PRIMARY = ("gain_error", "heading_error", "speed_error")  # the metric a "closest" sentence rests on first
 CALIBRATED_POOL = "target classes"  # simpick.studies.calibration.TARGET_POOL: the held-out runs judged together
@@ -103,6 +109,43 @@ def machine_figures(rtf: str, cpu_files: list[str]) -> tuple[dict, dict]:
             else (float("nan"), float("nan"))
         )
     return rtfs, cpu
+
+
+def failed_runs(outcomes: pd.DataFrame, engine: str) -> list[tuple[str, str]]:
+    """(run, why) for every real run ``engine`` failed that another engine completed, over the
+    metrics (outcomes.csv's ``failed_runs``), each run once."""
+    seen: dict[str, str] = {}
+    if "failed_runs" not in outcomes:
+        return []
+    for cell in outcomes.loc[outcomes.engine == engine, "failed_runs"]:
+        if not isinstance(cell, str) or not cell:
+            continue
+        for item in cell.split(FAILED_SEPARATOR):
+            run, _, why = item.partition(": ")
+            seen.setdefault(run, why)
+    return sorted(seen.items())
+
+
+def _kinds(failures: list[tuple[str, str]]) -> str:
+    """The kinds of failure behind ``failures``: each health reason's first clause, once."""
+    kinds: list[str] = []
+    for _, why in failures:
+        for reason in why.split("; "):
+            kind = reason.split(":", 1)[0].strip()
+            if kind and kind not in kinds:
+                kinds.append(kind)
+    return "; ".join(kinds)
+
+
+def _runs(failures: list[tuple[str, str]]) -> str:
+    runs = [r for r, _ in failures]
+    return runs[0] if len(runs) == 1 else ", ".join(runs[:-1]) + " and " + runs[-1]
+
+
+def failure_clause(o: pd.Series | dict, failures: list[tuple[str, str]]) -> str:
+    """``o``'s engine failed ``failures``, runs another engine completed: how many, which and why."""
+    total = int(o["runs_all"]) if "runs_all" in o and np.isfinite(float(o["runs_all"])) else len(failures)
+    return f"{o['engine']} failed {len(failures)} of the {total} real runs ({_runs(failures)}: {_kinds(failures)})"
 
 
 def answer_table(
@@ -161,6 +204,13 @@ def answer_table(
                 "paper_flag": flag,
             }
         )
+        lost = failed_runs(outcomes, engine)
+        row.update(
+            {
+                "runs_failed": len(lost),
+                "failed_runs": FAILED_SEPARATOR.join(f"{r}: {why}" for r, why in lost),
+            }
+        )
         rows.append(row)
     return pd.DataFrame(rows, columns=ANSWER_COLUMNS)
 
@@ -190,16 +240,30 @@ def closest_sentence(outcomes: pd.DataFrame, robot: str) -> dict:
         b = best.iloc[0]
         label, unit = b.label, f" {b.unit}" if isinstance(b.unit, str) and b.unit else ""
         if b.outcome == "too few runs":
+            lost = failed_runs(g, b.engine)
             return {
                 "need": "closest",
                 "text": f"Too few real runs to name the engine closest to the {robot} on "
-                f"{label}: {b.engine} has the lowest mean ({_f(b['mean'])}{unit}) over {int(b.n_runs)} runs.",
+                f"{label}: {b.engine} has the lowest mean ({_f(b['mean'])}{unit}) over {int(b.n_runs)} runs"
+                + (f", though {failure_clause(b, lost)}" if lost else "")
+                + ".",
                 "rests_on": [_cite(b)],
             }
         text = (
             f"Closest to the {robot} on {label}: {b.engine} ({_f(b['mean'])}{unit} [{_f(b.low)}, {_f(b.high)}] "
             f"over {int(b.n_runs)} real runs)"
         )
+        # an engine that failed runs the others completed is named with that, in this sentence
+        lost = failed_runs(g, b.engine)
+        others_lost = {e: failed_runs(g, e) for e in g.engine if e != b.engine and failed_runs(g, e)}
+        if lost:
+            text = (
+                f"Closest to the {robot} on {label}, over the {int(b.n_runs)} real runs every compared engine "
+                f"completed: {b.engine} ({_f(b['mean'])}{unit} [{_f(b.low)}, {_f(b.high)}]), though "
+                f"{failure_clause(b, lost)}, which the others completed and no comparison counts"
+            )
+        elif others_lost:
+            text += ", every engine judged on the runs all of them completed"
         if not b.recommendable:
             text += ", though no engine passes the mechanics this metric rests on"
         others = g[~g.is_best.astype(bool)]
@@ -232,6 +296,34 @@ def closest_sentence(outcomes: pd.DataFrame, robot: str) -> dict:
         "text": f"No real-data metric could be measured: no engine can be named closest to the {robot}.",
         "rests_on": [],
     }
+
+
+def failed_sentence(outcomes: pd.DataFrame, engines: list[str]) -> dict | None:
+    """Which engine failed which real runs that another completed, and why; None where no real-data
+    metric was measured."""
+    measured = outcomes[outcomes.outcome != "not measurable"] if len(outcomes) else outcomes
+    if measured.empty:
+        return None
+    parts, rests = [], []
+    for engine in engines:
+        lost = failed_runs(measured, engine)
+        if not lost:
+            continue
+        o = measured[measured.engine == engine].sort_values("runs_failed").iloc[-1]
+        parts.append(failure_clause(o, lost))
+        rests += [f"outcomes.csv: {engine} failed_runs {run}: {why}" for run, why in lost]
+    if not parts:
+        n = int(pd.to_numeric(measured.runs_all, errors="coerce").max()) if "runs_all" in measured else 0
+        return {
+            "need": "failed",
+            "text": f"Every engine completed every one of the {n} real runs: all are compared on the same runs.",
+            "rests_on": [f"outcomes.csv: runs_failed 0 for every engine, runs_all {n}"],
+        }
+    common = pd.to_numeric(measured[measured.is_best.astype(bool)].n_runs, errors="coerce")
+    text = "; ".join(parts)
+    if len(common) and np.isfinite(common.min()):
+        text += f". Each engine is compared on the runs every compared engine completed ({int(common.min())})"
+    return {"need": "failed", "text": text + ".", "rests_on": rests}
 
 
 def fastest_sentence(answer: pd.DataFrame) -> dict:
@@ -322,9 +414,12 @@ def avoid_sentence(outcomes: pd.DataFrame, answer: pd.DataFrame) -> dict:
 
 
 def sentences(outcomes: pd.DataFrame, answer: pd.DataFrame, calibration: pd.DataFrame, robot: str) -> list[dict]:
-    """One sentence per need: closest, fastest, settings, avoid (answer.yaml's ``sentences``)."""
+    """One sentence per need: closest, the runs an engine failed, fastest, settings, avoid (answer.yaml's
+    ``sentences``)."""
+    failed = failed_sentence(outcomes, list(answer.engine))
     return [
         closest_sentence(outcomes, robot),
+        *([failed] if failed else []),
         fastest_sentence(answer),
         settings_sentence(outcomes, answer, calibration, robot),
         avoid_sentence(outcomes, answer),
@@ -333,7 +428,7 @@ def sentences(outcomes: pd.DataFrame, answer: pd.DataFrame, calibration: pd.Data
 
 def headline(said: list[dict], separation: list[dict], rank: pd.DataFrame) -> str:
     """The report's first paragraph, from the answer's sentences and the paper's rows."""
-    parts = [s["text"] for s in said if s["need"] in ("closest", "avoid")]
+    parts = [s["text"] for s in said if s["need"] in ("closest", "failed", "avoid")]
     paper = [s for s in separation if s["method"] == "paper"]
     total = next((s for s in paper if s["metric"] == "total"), None)
     scores = [s for s in paper if s["metric"] != "total"]

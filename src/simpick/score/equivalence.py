@@ -16,6 +16,14 @@ the TOST p is below (1 - level) / 2, stricter than alpha = 1 - level, and both a
 ``undetermined`` otherwise, with about how many runs would decide it; ``too few runs`` below
 ``statistics.min_runs`` paired runs; ``not measurable`` where the data hold no value of the metric.
 
+Every engine is judged on the same runs: the runs every compared engine completed (a run an engine
+failed, by its health check or its watchdog, has no value of its own). An engine's mean over fewer runs
+than the others' is a mean over other conditions, and the lowest of such means is no pick. The runs an
+engine failed that another completed are listed with the reasons (``failed_runs``), so the answer can
+say them beside any sentence that names the engine. An engine with fewer completed runs than
+``statistics.min_runs`` is left out of that common set (it would shrink every comparison to its few
+runs) and is compared with the best on the runs both have: too few to judge.
+
 The best engine is the one with the lowest mean among the engines that pass the validation cases
 the metric rests on (simpick.score.mechanics): an engine that fails them is compared and shown with
 its figure and a flag, and is never the best, however low its error (an engine that under-turns by a
@@ -201,8 +209,46 @@ OUTCOME_COLUMNS = [
     "mechanics_failed",
     "mechanics_note",
     "recommendable",
+    "runs_completed",
+    "runs_failed",
+    "runs_all",
+    "failed_runs",
     "note",
 ]
+FAILED_SEPARATOR = " | "  # between the runs of ``failed_runs``: a health reason holds "; " and ", " itself
+
+
+def _run_names(per_test: pd.DataFrame) -> pd.Series:
+    """A real run's name across terrain classes, as simpick.score.verdict.run_key names the runs."""
+    return per_test["terrain_class"].astype(str) + "/" + per_test["run"].astype(str)
+
+
+def why_failed(per_test: pd.DataFrame, engine: str, run: str) -> str:
+    """Why ``engine`` has no value on ``run``: its failed tests' health reasons (unique, in order), else
+    what is known of them."""
+    if per_test.empty or not {"engine", "terrain_class", "run"} <= set(per_test.columns):
+        return "no result"
+    rows = per_test[(per_test.engine == engine) & (_run_names(per_test) == run)]
+    if rows.empty:
+        return "not run"
+    bad = rows[rows.status.astype(str) != "ok"] if "status" in rows else rows.iloc[0:0]
+    if bad.empty:
+        return "no value of this metric"
+    reasons = []
+    for r in bad.itertuples():
+        text = str(getattr(r, "reasons", "") or "")
+        text = text if text and text != "nan" else f"status {r.status}"
+        if text not in reasons:
+            reasons.append(text)
+    return "; ".join(reasons)
+
+
+def common_runs(wide: pd.DataFrame, engines: list[str], min_runs: int) -> tuple[list[str], pd.Index]:
+    """(the engines compared on common runs, the runs every one of them completed): the engines with a
+    value on at least ``min_runs`` runs (all of them where none has that many)."""
+    counts = {e: int(wide[e].notna().sum()) for e in engines}
+    compared = [e for e in engines if counts[e] >= min_runs] or list(engines)
+    return compared, wide[compared].dropna().index if compared else wide.index[:0]
 
 
 def outcomes_table(
@@ -235,19 +281,27 @@ def outcomes_table(
         wide = walls.get(metric, pd.DataFrame())
         base = {"metric": metric, "label": info["label"], "unit": info["unit"], "margin": value, "margin_basis": basis}
         present = [e for e in engines if e in wide.columns and wide[e].notna().any()]
+        on_common, common = common_runs(wide, present, min_runs)
         stats = {}
         for engine in present:
-            x = wide[engine].dropna().to_numpy(float)
+            x = (wide.loc[common, engine] if engine in on_common else wide[engine].dropna()).to_numpy(float)
             mean, low, high, n = realmetrics.mean_ci(x, None, min_runs, level, seed)
             stats[engine] = {"n_runs": n, "mean": mean, "low": low, "high": high}
-        eligible = [e for e in present if allowed.get(e)]
-        best = min(eligible or present, key=lambda e: (stats[e]["mean"], e)) if present else ""
+        eligible = [e for e in on_common if allowed.get(e)]
+        best = min(eligible or on_common, key=lambda e: (stats[e]["mean"], e)) if on_common else ""
+        # the runs each engine lacks that another completed, with why
+        pool = wide[present].notna() if present else pd.DataFrame()
+        failures = {}
+        for engine in present:
+            others = pool.drop(columns=engine).any(axis=1) if len(present) > 1 else pool[engine] & False
+            lost = [str(r) for r in pool.index[others & ~pool[engine]]]
+            failures[engine] = [(r, why_failed(per_test, engine, r)) for r in lost]
         compared = {}
         if best:
             for engine in present:
                 if engine == best:
                     continue
-                pair = wide[[engine, best]].dropna()
+                pair = wide.loc[common, [engine, best]] if engine in on_common else wide[[engine, best]].dropna()
                 compared[engine] = paired_comparison(pair[engine], pair[best], value, level)
             testable = [e for e in compared if compared[e]["n"] >= max(min_runs, 2)]
             for engine, p in zip(testable, holm([compared[e]["p_worse"] for e in testable])):
@@ -263,6 +317,10 @@ def outcomes_table(
                 mechanics_failed=int(m["mechanics_failed"]) if m is not None else 0,
                 mechanics_note=m["mechanics_note"] if m is not None else "not validated",
                 recommendable=bool(allowed.get(engine)),
+                runs_completed=int(wide[engine].notna().sum()) if engine in present else 0,
+                runs_failed=len(failures.get(engine, [])),
+                runs_all=int(pool.any(axis=1).sum()) if present else 0,
+                failed_runs=FAILED_SEPARATOR.join(f"{r}: {why}" for r, why in failures.get(engine, [])),
                 note="",
                 **stats.get(engine, {"n_runs": 0}),
             )
