@@ -39,6 +39,7 @@ include: "rules/sweep.smk"
 include: "rules/calibration.smk"
 include: "rules/scores.smk"
 include: "rules/tree.smk"
+include: "rules/simulators.smk"
 include: "rules/published.smk"
 include: "rules/report.smk"
 

@@ -451,6 +451,32 @@ class Plan(ReportPlanning, CalibrationPlanning):
                 run.append(name)
         return run, out
 
+    def simulators_params(self):
+        """What rule simulators depends on: which profiles ran and what each reads, the engines beside them,
+        and the verdict's statistics and margins (no weight)."""
+        return canonical(
+            {
+                "profile_results": self.profile_results,
+                "engines": self.engines,
+                "simulators": self.simulators,
+                "left_out": self.simulators_left_out,
+                "settings_files": {p: f"results/simulators/settings/{p}" for p in self.profile_results},
+                "statistics": self.statistics_params(),
+                "seed": self.config["seed"],
+                "verdict": self.config["verdict"],
+            }
+        )
+
+    def simulator_settings_params(self):
+        """Each run profile's full settings and the robot's wheel links (the files' <gazebo reference>, pairs)."""
+        return canonical(
+            {
+                "profiles": {p: self.config["profiles"][p] for p in self.profile_results},
+                "robot": self.robot.name,
+                "wheel_links": [w.link for w in self.robot.driven],
+            }
+        )
+
     def validation_params(self, engine):
         """What an engine's validation job depends on: the engine's settings, the robot, the timestep
         and the cases (not the IMU model, the health limits or the tolerances)."""
@@ -592,6 +618,12 @@ class Plan(ReportPlanning, CalibrationPlanning):
         if self.sweep:
             targets.append(f"{self.sweep_dir}/summary.csv")
         targets += self.calibration_all
+        targets += [
+            "results/simulators/table.csv",
+            "results/simulators/settings",
+            "results/simulators/weighted.csv",
+            "results/simulators/tree.json",
+        ]
         targets += [
             "results/scores/weighted.csv",
             "results/published/table11.csv",

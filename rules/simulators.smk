@@ -1,0 +1,86 @@
+# The simulators as rows (simpick.simulators): each simulator's profiles run the validation and the real data
+# as models of the study (rules/validate.smk, rules/simulate.smk); here their results are put together by
+# simulator, without simulating anything. No weight reaches rule simulators; simulator_scores reads the weights
+# (the paper's table per simulator), simulator_tree the evidence alone (weights only order a leaf).
+
+
+rule simulators:
+    input:
+        catalog=PLAN.config["simulators"]["catalog"],
+        validation="results/validation/summary.csv",
+        gains="results/validation/gains.csv",
+        rtf=PLAN.metrics_file("lab", "rtf"),
+        cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
+        **({"per_test": PLAN.metrics_file(PLAN.verdict_source(), "per_test")} if PLAN.verdict else {}),
+        **({"imu_errors": PLAN.accuracy_errors()} if PLAN.verdict else {}),
+    output:
+        table=report("results/simulators/table.csv", caption="captions/simulators.rst", category="Simulators"),
+        outcomes="results/simulators/outcomes.csv",
+        mechanics="results/simulators/mechanics.csv",
+        tree_dir=directory("results/simulators/subjects"),
+    log:
+        "results/logs/simulators.log",
+    benchmark:
+        "results/benchmarks/simulators.tsv"
+    conda:
+        "../envs/simpick.yaml"
+    params:
+        **PLAN.simulators_params(),
+        code=PLAN.script_code("simulators"),
+    script:
+        "../scripts/simulators.py"
+
+
+rule simulator_settings:
+    """Each run profile as the file a user pastes into the simulator (simpick.simulators.files)."""
+    input:
+        catalog=PLAN.config["simulators"]["catalog"],
+        table="results/simulators/table.csv",
+    output:
+        directory("results/simulators/settings"),
+    log:
+        "results/logs/simulator_settings.log",
+    conda:
+        "../envs/simpick.yaml"
+    params:
+        **PLAN.simulator_settings_params(),
+        code=PLAN.script_code("simulator_settings"),
+    script:
+        "../scripts/simulator_settings.py"
+
+
+rule simulator_scores:
+    """The paper's weighted table with simulators as its rows: their 2026 facts and their tuned rows' physics."""
+    input:
+        tree_dir="results/simulators/subjects",
+    output:
+        scores="results/simulators/scores.csv",
+        weighted="results/simulators/weighted.csv",
+    log:
+        "results/logs/simulator_scores.log",
+    conda:
+        "../envs/simpick.yaml"
+    params:
+        simulators=PLAN.simulators,
+        weights=canonical(PLAN.config["weights"]),
+        code=PLAN.script_code("simulator_scores"),
+    script:
+        "../scripts/simulator_scores.py"
+
+
+rule simulator_tree:
+    """The decision tree with simulators as its leaves (simpick.score.tree over results/simulators/subjects)."""
+    input:
+        tree_dir="results/simulators/subjects",
+    output:
+        tree="results/simulators/tree.json",
+    log:
+        "results/logs/simulator_tree.log",
+    conda:
+        "../envs/simpick.yaml"
+    params:
+        simulators=list(PLAN.catalog.simulators),
+        verdict=PLAN.verdict,
+        code=PLAN.script_code("decision_tree"),
+    script:
+        "../scripts/simulator_tree.py"

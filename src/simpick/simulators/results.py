@@ -1,0 +1,224 @@
+"""The simulators' results: each simulator as shipped and as tuned, against mechanics and the real robot, beside
+the engines; and the subjects of the simulators' decision tree and weighted table.
+
+The job reads what the study wrote for every model (the validation summary and gains, the verdict source's
+per-test table, the lab's real-time factor and the CPU load) and re-labels it by simulator: a profile's model
+is ``<simulator>-<variant>`` or, where its settings are its engine's, the engine (``profile_results``).
+Nothing is simulated here and no weight is read.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import yaml
+
+from simpick.score.equivalence import outcomes_table
+from simpick.score.mechanics import mechanics_table
+from simpick.score.verdict import METRICS, NO_SPEED, per_run_values, read_per_test
+from simpick.simulators import VARIANTS, model_name
+from simpick.simulators.catalog import load_catalog
+from simpick.tables import write_csv
+
+TABLE_COLUMNS = [
+    "simulator",
+    "label",
+    "variant",
+    "model",
+    "engine",
+    "status",
+    "mechanics",
+    "mechanics_failed",
+    "mechanics_cases",
+    "mechanics_note",
+    "gain_flat",
+    "gain_flat_min",
+    "gain_flat_max",
+    "gain_coulomb",
+    "gain_error",
+    "gain_error_low",
+    "gain_error_high",
+    "gain_outcome",
+    "gain_diff_to_best",
+    "heading_error",
+    "heading_outcome",
+    "speed_error",
+    "speed_outcome",
+    "n_runs",
+    "runs_failed",
+    "settings_file",
+]
+
+
+def _gains(gains: pd.DataFrame, model: str) -> tuple[float, float, float]:
+    """Mean, min and max isotropic yaw-rate gain of a model's validation turns on flat ground."""
+    own = gains[gains.engine == model] if "engine" in gains else gains.iloc[0:0]
+    means = pd.to_numeric(own[["left_mean", "right_mean"]].stack(), errors="coerce").dropna()
+    lows = pd.to_numeric(own[["left_min", "right_min"]].stack(), errors="coerce").dropna()
+    highs = pd.to_numeric(own[["left_max", "right_max"]].stack(), errors="coerce").dropna()
+    if means.empty:
+        return (math.nan, math.nan, math.nan)
+    return float(means.mean()), float(lows.min()), float(highs.max())
+
+
+def _first(frame: pd.DataFrame, **where) -> pd.Series | None:
+    mask = np.ones(len(frame), bool)
+    for k, v in where.items():
+        mask &= (frame[k] == v).to_numpy()
+    rows = frame[mask]
+    return rows.iloc[0] if len(rows) else None
+
+
+def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
+    """results/simulators/: table.csv (a row per simulator and profile), outcomes.csv and mechanics.csv (every
+    engine and profile on the verdict's real data, relabelled), and the tree's subjects (tree/): one per
+    simulator with its tuned row's physics and its 2026 facts."""
+    catalog = load_catalog(inputs["catalog"])
+    results: dict[str, str] = params["profile_results"]
+    engines: list[str] = list(params["engines"])
+    run: list[str] = list(params["simulators"])
+    left_out: dict[str, str] = dict(params["left_out"])
+    files: dict[str, str] = dict(params.get("settings_files") or {})
+    summary = pd.read_csv(inputs["validation"])
+    gains = pd.read_csv(inputs["gains"])
+
+    # every model the real data compare: the engines and the profiles that simulate (aliases read their engine)
+    models = engines + [m for m in dict.fromkeys(results.values()) if m not in engines]
+    mechanics = mechanics_table(summary, models)
+    outcomes = pd.DataFrame()
+    if inputs.get("per_test") and Path(inputs["per_test"]).is_file():
+        tests = read_per_test(inputs["per_test"])
+        walls = {metric: per_run_values(tests, metric) for metric in METRICS}
+        outcomes = outcomes_table(
+            walls, tests, models, METRICS, mechanics, params["verdict"], params.get("statistics"),
+            int(params.get("seed", 0)), {"speed_error": NO_SPEED},
+        )
+    write_csv(mechanics, outputs["mechanics"])
+    write_csv(outcomes, outputs["outcomes"])
+
+    rows = []
+    for name, sim in catalog.simulators.items():
+        for variant in VARIANTS:
+            profile = model_name(name, variant)
+            base = {"simulator": name, "label": sim.label, "variant": variant, "engine": sim.engine or ""}
+            if name not in run:
+                rows.append(dict(base, model="", status=f"not run: {left_out.get(name, 'not selected')}"))
+                continue
+            if profile not in results:
+                rows.append(dict(base, model="", status="not run: variant not selected (simulators.variants)"))
+                continue
+            model = results[profile]
+            m = _first(mechanics, engine=model)
+            row = dict(base, model=model, status="run" if model == profile else f"run (the {model} engine's results)")
+            if m is not None:
+                row.update({k: m[k] for k in ("mechanics", "mechanics_failed", "mechanics_cases", "mechanics_note")})
+            row["gain_flat"], row["gain_flat_min"], row["gain_flat_max"] = _gains(gains, model)
+            analytic = pd.to_numeric(gains[gains.engine == model].get("analytic", pd.Series(dtype=float)), errors="coerce")
+            row["gain_coulomb"] = float(analytic.dropna().iloc[0]) if analytic.notna().any() else math.nan
+            for metric, prefix in (("gain_error", "gain"), ("heading_error", "heading"), ("speed_error", "speed")):
+                o = _first(outcomes, metric=metric, engine=model) if len(outcomes) else None
+                if o is None:
+                    continue
+                if prefix == "gain":
+                    row.update(gain_error=o["mean"], gain_error_low=o["low"], gain_error_high=o["high"],
+                               gain_outcome=o["outcome"], gain_diff_to_best=o["diff_to_best"],
+                               n_runs=o["n_runs"], runs_failed=o["runs_failed"])
+                else:
+                    row[f"{prefix}_error"], row[f"{prefix}_outcome"] = o["mean"], o["outcome"]
+            row["settings_file"] = files.get(profile, "")
+            rows.append(row)
+    write_csv(pd.DataFrame(rows, columns=TABLE_COLUMNS), outputs["table"])
+    _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs)
+
+
+def _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs) -> None:
+    """The simulators as the decision tree's subjects, each with its tuned row's evidence: the 2026 facts
+    (qualitative.yaml), the mechanics gate and the real-data outcomes of that row, and its engine's real-time
+    factor and CPU load (the simulator's own overhead is not reproduced). A simulator not run keeps its facts
+    and has no physics evidence: the tree's mechanics question finds it not validated."""
+    out = Path(outputs["tree_dir"])
+    (out / "cpu").mkdir(parents=True, exist_ok=True)
+    facts = {}
+    for name, sim in catalog.simulators.items():
+        q = sim.qualitative.model_dump()
+        facts[name] = {k: q[k] for k in ("free", "open_source", "ros", "languages", "ui", "model_formats",
+                                           "urdf_sdf_via_manual_plugin", "physics_engines")}
+        facts[name]["sources"] = q["sources"]
+        facts[name]["label"] = sim.label
+    (out / "qualitative.yaml").write_text(yaml.safe_dump(facts, sort_keys=False, allow_unicode=True))
+
+    tuned = {name: results[model_name(name, "tuned")] for name in run if model_name(name, "tuned") in results}
+    mech = mechanics[mechanics.engine.isin(tuned.values())].copy()
+    mech["engine"] = mech.engine.map({m: s for s, m in tuned.items()})
+    write_csv(mech, out / "mechanics.csv")
+    validation = pd.read_csv(inputs["validation"])
+    validation = validation[validation.engine.isin(tuned.values())].copy()
+    validation["engine"] = validation.engine.map({m: s for s, m in tuned.items()})
+    write_csv(validation, out / "validation.csv")
+    if len(outcomes):
+        o = outcomes[outcomes.engine.isin(tuned.values())].copy()
+        o["engine"] = o.engine.map({m: s for s, m in tuned.items()})
+        o["best"] = o.best.map(lambda b: {m: s for s, m in tuned.items()}.get(b, b))
+        o["is_best"] = o.engine == o.best
+    else:
+        o = outcomes
+    write_csv(o, out / "outcomes.csv")
+
+    if inputs.get("imu_errors") and Path(inputs["imu_errors"]).is_file():
+        errors = pd.read_csv(inputs["imu_errors"])
+        errors = errors[errors.engine.isin(tuned.values())].copy()
+        errors["engine"] = errors.engine.map({m: s for s, m in tuned.items()})
+        write_csv(errors, out / "imu_errors.csv")
+    rtf = pd.read_csv(inputs["rtf"])
+    rows = []
+    for name in run:
+        engine = catalog.simulators[name].engine
+        r = rtf[rtf.engine == engine]
+        if len(r):
+            rows.append(r.iloc[0].to_dict() | {"engine": name})
+        cpu = Path(inputs["cpu_dir"]) / f"{engine}.json"
+        if cpu.is_file():
+            record = json.loads(cpu.read_text())
+            record["engine"] = name
+            (out / "cpu" / f"{name}.json").write_text(json.dumps(record, indent=1))
+    write_csv(pd.DataFrame(rows, columns=rtf.columns), out / "rtf.csv")
+
+
+def settings_files_job(inputs: dict, params: dict, output: str) -> None:
+    """results/simulators/settings/: each run profile in its simulator's format (simpick.simulators.files),
+    headed by what it is, the robot, its flat-ground figures here and the command that regenerates it."""
+    from simpick.simulators import files as formats
+
+    catalog = load_catalog(inputs["catalog"])
+    table = pd.read_csv(inputs["table"])
+    out = Path(output)
+    out.mkdir(parents=True, exist_ok=True)
+    robot, wheels = params["robot"], list(params["wheel_links"])
+    for profile, settings in params["profiles"].items():
+        simulator, variant = profile.rsplit("-", 1)
+        sim = catalog.simulators[simulator]
+        row = table[(table.simulator == simulator) & (table.variant == variant)]
+        r = row.iloc[0] if len(row) else None
+        figures = "not measured"
+        if r is not None and pd.notna(r.get("gain_flat")):
+            figures = (
+                f"yaw-rate gain on flat ground {r.gain_flat:.3f} ({r.gain_flat_min:.3f}-{r.gain_flat_max:.3f}; "
+                f"Coulomb {r.gain_coulomb:.3f}), mechanics {r.mechanics} ({int(r.mechanics_cases - r.mechanics_failed)} of "
+                f"{int(r.mechanics_cases)} analytic cases)"
+            )
+            if pd.notna(r.get("gain_error")):
+                figures += f"; real gain error {r.gain_error:.3f} ({r.gain_outcome})"
+        title = [
+            f"simpick settings: {sim.label}, {variant}, for {robot}",
+            f"{sim.shipped.basis if variant == 'shipped' else sim.tuned.basis}",
+            f"measured by simpick through {sim.simpick_build}: {figures}",
+            "regenerate: snakemake --cores 2 results/simulators/settings (docs/simulators.md)",
+        ]
+        entries = catalog.entries(simulator, variant, robot)
+        texts = formats.write(sim.settings_format, sim.engine, settings, entries, title, wheels)
+        for suffix, text in texts.items():
+            (out / f"{profile}.{suffix}").write_text(text)
