@@ -5,9 +5,15 @@ import os
 import re
 import sys
 
+from simpick.codeversion import use_cache
 from simpick.config import validate_or_exit
 from simpick.plan import Plan, PlanError
 from simpick.sources.base import canonical
+
+# Every rule's code version parses the modules its job can reach, most of the planning's time: what
+# the parse gives is kept between runs in the working directory's .snakemake/, keyed by the sources'
+# contents (simpick.codeversion.use_cache), so a run whose sources are unchanged parses none.
+use_cache(os.path.join(".snakemake", "simpick", "code-versions.json"))
 
 # the typed, validated settings (defaults filled in); a bad config stops here, before any job
 SETTINGS = validate_or_exit(config, files=workflow.configfiles)

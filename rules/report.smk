@@ -268,6 +268,52 @@ if PLAN.replay_set:
             "../scripts/figure.py"
 
 
+# The appendices (the raw tables, appendices.html.j2), which no weight reaches: a job of their own
+# renders them, an HTML fragment and a PDF, from the report's inputs less the weighted tables, the
+# verdict's and the answer's and the first page's figures, so that a weight edit does not lay them out
+# again. The report job places the fragment after the body and joins the PDFs (simpick.report.pdf):
+# the user gets one report.html and one report.pdf.
+rule report_appendix:
+    input:
+        unpack(PLAN.appendix_real_inputs),
+        scores_provenance="results/scores/provenance.yaml",
+        validation="results/validation/summary.csv",
+        validation_gains="results/validation/gains.csv",
+        trace_stats=PLAN.metrics_file("lab", "detail"),
+        reference_stats=PLAN.metrics_file("lab", "detail"),
+        imu_errors=PLAN.metrics_file("lab", "imu_errors"),
+        per_test_errors=PLAN.metrics_file("lab", "detail"),
+        runs=PLAN.metrics_file("lab", "runs"),
+        rtf=PLAN.metrics_file("lab", "rtf"),
+        cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
+        qualitative=PLAN.config["qualitative"],
+        table11="results/published/table11.csv",
+        table11_comparison="results/published/table11_comparison.csv",
+        worked_example="results/published/worked_example.json",
+        figures=PLAN.appendix_figures(),
+        endpoints=f"{PLAN.figures}/endpoints.csv",
+    output:
+        html="results/report/parts/appendices.html",
+        pdf="results/report/parts/appendices.pdf",
+    log:
+        "results/logs/report_appendix.log",
+    benchmark:
+        "results/benchmarks/report_appendix.tsv"
+    conda:
+        "../envs/simpick.yaml"
+    resources:
+        mem_mb=800,
+        runtime=10,
+    params:
+        config=canonical(PLAN.report_config()),
+        statistics=PLAN.statistics_params(),
+        engines=PLAN.figure_engines,  # the appendices' engine order (no ranking) and colours
+        code=PLAN.script_code("report_appendix"),
+        real_data=PLAN.report_real_data(),
+    script:
+        "../scripts/report_appendix.py"
+
+
 rule report:
     input:
         unpack(PLAN.report_real_inputs),
@@ -303,9 +349,13 @@ rule report:
             else []
         ),
         turnmap=TURNMAP_TARGETS,
+        # the appendices, rendered by rule report_appendix: placed after the body, their PDF joined
+        appendix_html="results/report/parts/appendices.html",
+        appendix_pdf="results/report/parts/appendices.pdf",
     output:
         # report(): `snakemake --report` carries the study report (its figures are embedded in it).
-        # The HTML and its PDF in one job: one process start and one context less on every rerun.
+        # The HTML and its PDF in one job: one process start and one context less on every rerun;
+        # the PDF lays out the body alone and joins the appendices' PDF after it.
         html=report("results/report/report.html", caption="captions/report_html.rst", category="Study report"),
         pdf=report("results/report/report.pdf", caption="captions/report_pdf.rst", category="Study report"),
     log:

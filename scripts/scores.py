@@ -10,10 +10,4 @@ with logged(snakemake.log[0]):
         snakemake.input.qualitative,
         snakemake.params.weights,
         dict(snakemake.output.items()),
-        {
-            "accuracy": snakemake.params.accuracy,
-            "accuracy_tests": snakemake.input.accuracy_tests,
-            "runs": snakemake.input.runs,
-            "cpu_test": snakemake.params.cpu_test,
-        },
     )

@@ -111,6 +111,34 @@ def test_moving_an_import_inside_a_module_changes_no_version(package):
     assert changed(package, "simpick/lab.py", "from simpick import physics\n", "") == ["lab"]
 
 
+def test_the_cache_file_gives_the_same_versions_and_parses_nothing_unchanged(package, tmp_path, monkeypatch):
+    """use_cache (the workflow's planning): a later process that finds the same sources reads the
+    versions from the file, parsing no module; an edited module is parsed again and its jobs'
+    versions change as without the cache."""
+    import simpick.codeversion as codeversion
+
+    fresh = versions(package)
+    cache = tmp_path / "cache" / "code-versions.json"
+    codeversion.clear_cache()
+    codeversion.use_cache(cache)
+    assert versions(package) == fresh
+    codeversion.save_cache()
+    assert cache.is_file()
+
+    codeversion.clear_cache()  # a new process: nothing in memory, the file read again
+    codeversion.use_cache(cache)
+
+    def no_parse(*args, **kwargs):
+        raise AssertionError("parsed a module the cache holds")
+
+    with monkeypatch.context() as m:
+        m.setattr(codeversion.ast, "parse", no_parse)
+        assert versions(package) == fresh
+    assert changed(package, "simpick/physics.py", "G * t * t / 2", "G * t**2 / 2") == ["lab", "segments"]
+    codeversion.save_cache()
+    codeversion._STORE_FILE.clear()
+
+
 def test_a_root_that_does_not_exist_is_an_error(package):
     with pytest.raises(KeyError, match="defines no 'simulate'"):
         job_code("simpick.lab:simulate", root=package)

@@ -544,6 +544,55 @@ def test_pdf_has_several_pages(built):
     assert len(doc.pages) > 1
 
 
+# the inputs the weights reach (rule report_appendix takes none of them)
+WEIGHTED_INPUTS = ("weighted", "contributions", "drivers", "tree")
+
+
+def test_the_appendices_rendered_apart_join_the_body_in_one_pdf(tmp_path, built):
+    """The workflow's way (rules/report.smk): the appendices from the inputs no weight reaches, in a
+    job of their own (an HTML fragment and a PDF); the report job renders the body and joins. One
+    report.html with the appendices after the body; one report.pdf, the body first, every page
+    numbered "page n of N", the body's links into the appendices and the bookmarks kept."""
+    from pypdf import PdfReader
+
+    from simpick.report import build_appendix, build_report
+
+    inputs, _, single = built
+    full = with_figures(inputs, PARAMS, tmp_path)
+    apart = {k: v for k, v in full.items() if k not in WEIGHTED_INPUTS and not k.startswith("verdict_")}
+    parts = tmp_path / "parts"
+    build_appendix(apart, PARAMS, parts / "appendices.html", parts / "appendices.pdf")
+    fragment = (parts / "appendices.html").read_text(encoding="utf-8")
+    assert fragment.lstrip().startswith("<h2") and 'id="health"' in fragment and "<body" not in fragment
+
+    html, pdf = tmp_path / "out" / "report.html", tmp_path / "out" / "report.pdf"
+    build_report(full, PARAMS, html, pdf, parts / "appendices.html", parts / "appendices.pdf")
+    text = html.read_text(encoding="utf-8")
+    assert text.count('id="health"') == 1 and text.index('id="ranking"') < text.index('id="health"')
+    assert text.rstrip().endswith("</html>") and "simpick:appendices" not in text
+
+    reader = PdfReader(str(pdf))
+    pages = [page.extract_text() for page in reader.pages]
+    n = len(pages)
+    assert n == len(PdfReader(str(single)).pages)  # the same document as laid out in one pass
+    for i, page in enumerate(pages):
+        assert f"page {i + 1} of {n}" in page, i
+    first = next(i for i, page in enumerate(pages) if "Appendix A. Health of the runs" in page)
+    assert 0 < first < n - 1
+    assert not any("Appendix" in page.split("\n")[0] for page in pages[:first])
+    dests = {name: reader.get_destination_page_number(d) for name, d in reader.named_destinations.items()}
+    assert dests["health"] == first and dests["ranking"] < first
+    links = [
+        (i, str(annot.get_object().get("/Dest")))
+        for i, page in enumerate(reader.pages[:first])
+        for annot in page.get("/Annots") or []
+    ]
+    # the body's table of contents links into the appendices
+    assert any(dest == "health" for _, dest in links) and any(dest == "provenance" for _, dest in links)
+    titles = [o.title for o in reader.outline if not isinstance(o, list)]
+    assert titles[-1] == "Appendices"
+
+
 def test_all_ok_and_optional_inputs_absent(tmp_path):
     from simpick.report import build_report
 

@@ -1,7 +1,7 @@
 """The workflow end to end on a tiny config, and the rerun contract.
 
 The contract (what a user relies on to iterate cheaply): nothing edited -> nothing runs;
-a weight edited -> only scoring, the answer, the printed tree and the report; a report
+a weight edited -> only scoring, the answer, the printed tree and the report (not its appendices); a report
 template edited -> only the report and its figures; one engine's settings or code edited -> only that
 engine's simulations and what depends on them; a library module edited -> only the jobs that can import
 it (their code versions: the modules reachable through import statements, wherever they stand:
@@ -81,6 +81,7 @@ def test_tolerance_edit_rejudges_without_stepping_an_engine(study):
             "figure_tree",
             "figure_validation",
             "report",
+            "report_appendix",  # appendix G: the validation case by case
             "validation_summary",
             "verdict",
         ]
@@ -104,7 +105,9 @@ def test_weight_edit_reruns_only_scoring_and_report(study):
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
         # the page draws weight x score from the scores' contributions (no figure of them); the answer gives
         # the weighted total its interval over real runs and flags it; the printed tree orders each leaf's
-        # engines by the weighted total; the verdict's tests (each engine against the best) read no weight
+        # engines by the weighted total; the verdict's tests (each engine against the best) read no weight.
+        # The appendices (report_appendix) and the record of what the scores rest on (scores_provenance)
+        # read no weight: the report job lays out its body and joins the appendices' PDF
         assert rules == ["all", "answer", "figure_tree", "report", "scores"]
     finally:
         write_config(workdir, config)
@@ -147,9 +150,11 @@ def test_template_edit_reruns_only_the_report(study, tmp_path):
 
 
 def reporting_only(jobs) -> bool:
-    """The jobs are the report's (HTML and PDF in one job) and figures' (at least the report), nothing else."""
+    """The jobs are the report's (HTML and PDF in one job), its appendices' and figures' (at least the
+    report), nothing else."""
     rules = {rule for rule, _ in jobs}
-    return "report" in rules and all(r in ("all", "report") or r.startswith("figure_") for r in rules)
+    reporting = ("all", "report", "report_appendix")
+    return "report" in rules and all(r in reporting or r.startswith("figure_") for r in rules)
 
 
 def edited_library(tmp_path, module: str, old: str | None, new: str) -> dict:

@@ -23,6 +23,12 @@ A whole module counts, not the functions of it a job calls: a job whose module s
 another job's function reruns when that function is edited (a few reruns too many, never too
 few), and a maintainer can tell which jobs an edit reruns from the imports alone.
 
+Parsing every module is most of a workflow's planning time; :func:`use_cache` keeps what it gives
+(each module's imports and top-level names, each job's version) in a file keyed by the sources'
+contents, so that a later process that finds the same sources parses none of them. The key is the
+content, never a time stamp: an edited file is parsed again, and a version read from the file is the
+one the parse would give.
+
 The same parse gives :func:`import_graph` (every import between simpick modules, at the top or
 inside functions), which ``tests/test_imports.py`` keeps free of cycles and ``tests/test_layers.py``
 keeps in the order of the stages.
@@ -33,10 +39,65 @@ from __future__ import annotations
 import ast
 import functools
 import hashlib
+import json
+import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent
 PACKAGE = ROOT.name  # "simpick"
+# what use_cache() keeps: "modules" (key -> imports and top-level names), "jobs" (key -> version);
+# each key hashes the contents it stands for and this Python's version (its syntax trees)
+_STORE: dict[str, dict] = {"modules": {}, "jobs": {}}
+_STORE_FILE: list[Path] = []  # the file use_cache() reads and writes back, once set
+_USED: dict[str, set[str]] = {"modules": set(), "jobs": set()}
+_STORE_LIMIT = 5000  # entries kept beyond those this process used
+
+
+def _sha(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def use_cache(path: str | Path) -> None:
+    """Read what earlier processes parsed from ``path`` (a JSON file; a missing or broken one is
+    an empty cache) and write it back, with this process's additions, when the process ends."""
+    import atexit
+
+    path = Path(path)
+    try:
+        stored = json.loads(path.read_text())
+        _STORE.update({k: dict(stored[k]) for k in ("modules", "jobs")})
+    except (OSError, ValueError, KeyError, TypeError):
+        pass
+    if not _STORE_FILE:
+        atexit.register(save_cache)
+    _STORE_FILE[:] = [path]
+
+
+def save_cache() -> None:
+    """Write the cache back (use_cache's file): the entries this process used, and the others while
+    they number fewer than a limit."""
+    if not _STORE_FILE or not (_USED["modules"] or _USED["jobs"]):
+        return
+    kept = {}
+    for kind in ("modules", "jobs"):
+        entries = _STORE[kind]
+        if len(entries) > len(_USED[kind]) + _STORE_LIMIT:
+            entries = {k: v for k, v in entries.items() if k in _USED[kind]}
+        kept[kind] = entries
+    path = _STORE_FILE[0]
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(f"{path.name}.{id(kept)}.partial")
+        tmp.write_text(json.dumps(kept, sort_keys=True))
+        tmp.replace(path)
+    except OSError:  # a cache that cannot be written costs time, never a result
+        pass
+
+
+@functools.cache
+def _known_key(root: Path) -> str:
+    """What a module's imports depend on besides its text: which modules exist, and the Python."""
+    return _sha(("\n".join(sorted(modules(root))) + "\n" + sys.version.split()[0]).encode())
 
 
 @functools.cache
@@ -56,11 +117,25 @@ def modules(root: Path = ROOT) -> dict[str, Path]:
 class _Module:
     """One parsed module: the simpick modules its import statements name, and its top-level names."""
 
-    def __init__(self, name: str, path: Path, known: dict[str, Path]):
+    def __init__(self, name: str, path: Path, known: dict[str, Path], known_key: str = ""):
         self.name, self.path, self.known = name, path, known
         self.is_package = path.name == "__init__.py"
         self.text = path.read_text()
-        self.tree = ast.parse(self.text, filename=str(path))
+        self.digest = _sha(self.text.encode())
+        # the cache's key of what parsing this text gives (use_cache)
+        self.key = _sha(f"{name}\0{self.digest}\0{known_key}".encode())
+
+    @functools.cached_property
+    def tree(self) -> ast.Module:
+        return ast.parse(self.text, filename=str(self.path))
+
+    def _cached(self, field: str, compute) -> frozenset[str]:
+        entry = _STORE["modules"].get(self.key)
+        if entry is None or field not in entry:
+            entry = dict(entry or {}, **{field: sorted(compute())})
+            _STORE["modules"][self.key] = entry
+        _USED["modules"].add(self.key)
+        return frozenset(entry[field])
 
     def absolute(self, node: ast.ImportFrom) -> str:
         """The dotted module an ``from ... import`` names, relative imports resolved."""
@@ -84,16 +159,22 @@ class _Module:
     @functools.cached_property
     def imported(self) -> frozenset[str]:
         """Every simpick module any import statement of this module names, wherever it stands."""
+        return self._cached("imported", self._imported)
+
+    def _imported(self) -> set[str]:
         found = set()
         for node in ast.walk(self.tree):
             if isinstance(node, (ast.Import, ast.ImportFrom)):
                 found |= self.targets(node)
-        return frozenset(m for m in found if m in self.known)
+        return {m for m in found if m in self.known}
 
     @functools.cached_property
     def defined(self) -> frozenset[str]:
         """The names the module's top level binds (definitions, assignments, imports), guarded
         ones included."""
+        return self._cached("defined", self._defined)
+
+    def _defined(self) -> set[str]:
         names = set()
         for node in self._top_statements(self.tree.body):
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
@@ -103,7 +184,7 @@ class _Module:
                     names |= {n.id for n in ast.walk(target) if isinstance(n, ast.Name)}
             elif isinstance(node, (ast.Import, ast.ImportFrom)):
                 names |= {(a.asname or a.name).split(".")[0] for a in node.names}
-        return frozenset(names)
+        return names
 
     @staticmethod
     def _top_statements(body):
@@ -151,7 +232,7 @@ def _is_docstring(parent: ast.AST, stmt: ast.stmt) -> bool:
 @functools.cache
 def _parse(name: str, root: Path = ROOT) -> _Module:
     known = modules(root)
-    return _Module(name, known[name], known)
+    return _Module(name, known[name], known, _known_key(root))
 
 
 def import_graph(root: Path = ROOT) -> dict[str, set[str]]:
@@ -271,6 +352,21 @@ def job_code(*roots: str, root: Path | str = ROOT) -> str:
 @functools.cache
 def _job_code(roots: tuple[str, ...], root: Path) -> str:
     reached = _reached(roots, root)
+    # the cache's key (use_cache): every file the version hashes, by content
+    key = hashlib.sha256(f"{roots}\0{_known_key(root)}".encode())
+    for module in reached:
+        key.update(f"{module}\0{_parse(module, root).digest}\0".encode())
+        for path in sorted(data_files(module, root)):
+            key.update(path.relative_to(root).as_posix().encode() + b"\0" + _sha(path.read_bytes()).encode())
+    key = key.hexdigest()
+    _USED["jobs"].add(key)
+    if key not in _STORE["jobs"]:
+        _STORE["jobs"][key] = _version(reached, root)
+    return _STORE["jobs"][key]
+
+
+def _version(reached: tuple[str, ...], root: Path) -> str:
+    """The version of the code of ``reached`` (the modules' code and their templates' bytes)."""
     digest = hashlib.sha256()
     for module in reached:
         digest.update(module.encode() + b"\0" + _parse(module, root).code.encode() + b"\0")
@@ -281,9 +377,13 @@ def _job_code(roots: tuple[str, ...], root: Path) -> str:
 
 
 def clear_cache() -> None:
-    """Forget every parsed module and version (for a process that edits the sources it reads)."""
-    for cached in (modules, _parse, _reached, _job_code, data_files, script_roots):
+    """Forget every parsed module and version (for a process that edits the sources it reads), and
+    what use_cache() read (its file is read again by the next use_cache())."""
+    for cached in (modules, _parse, _reached, _job_code, data_files, script_roots, _known_key):
         cached.cache_clear()
+    for kind in ("modules", "jobs"):
+        _STORE[kind].clear()
+        _USED[kind].clear()
 
 
 @functools.cache

@@ -97,6 +97,17 @@ class ReportPlanning:
             inputs["calibration_target"] = f"{self.cal_dir}/target.csv"
         return inputs
 
+    def appendix_real_inputs(self, wildcards=None):
+        """The real-robot inputs of the appendices (rule report_appendix): the report's, less the
+        verdict's and the answer's tables (the answer's read the weights; the appendices show none)."""
+        return {k: v for k, v in self.report_real_inputs().items() if not k.startswith("verdict_")}
+
+    def appendix_figures(self):
+        """The figures the appendices embed: the report's, less the first page's (the answer's and
+        the printed tree, which orders its leaves by the weighted total)."""
+        fig = self.figures
+        return [f for f in self.report_figures() if f not in (f"{fig}/answer.png", f"{fig}/tree.png")]
+
     def report_datasets(self):
         """Which dataset each real-data set comes from, and its declared rates (the report states them)."""
         declared = self.config["real_data"].get("datasets") or {}

@@ -43,30 +43,97 @@ from typing import Any
 
 from simpick.report.inputs import LIST_INPUTS, OPTIONAL_INPUTS, REQUIRED_INPUTS
 
-__all__ = ["build_report", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
+__all__ = ["build_report", "build_appendix", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
 
 
 def build_report(
-    inputs: Mapping[str, Any], params: Mapping[str, Any], html_path: str | Path, pdf_path: str | Path | None = None
+    inputs: Mapping[str, Any],
+    params: Mapping[str, Any],
+    html_path: str | Path,
+    pdf_path: str | Path | None = None,
+    appendix_html: str | Path | None = None,
+    appendix_pdf: str | Path | None = None,
 ) -> None:
     """Write the HTML report to ``html_path`` and, if ``pdf_path`` is given, the same document as PDF
-    (one job: the PDF is laid out from the HTML just rendered, with no second process or read)."""
+    (one job: the PDF is laid out from the HTML just rendered, with no second process or read).
+
+    With the appendices rendered by :func:`build_appendix` (``appendix_html``, the fragment, and
+    ``appendix_pdf``), the page places the fragment after the body, and the PDF is the body's, laid
+    out alone, joined with the appendices' (:func:`simpick.report.pdf.join`): one document, one
+    page count, links and bookmarks across both. Without them the appendices are rendered here
+    from the same inputs and the PDF laid out in one pass (one job does all: tests, a report by hand)."""
     import sys
     import time
 
-    from simpick.report.build import render_html, write_pdf
+    from simpick.report.build import render_appendix, render_html, write_pdf
     from simpick.report.load import load_inputs
 
     start = time.perf_counter()
     data = load_inputs(inputs)
-    html = render_html(data, params)
+    if appendix_html:
+        fragment = Path(appendix_html).read_text(encoding="utf-8")
+    else:
+        fragment, appendix_pdf = render_appendix(data, params)[0], None
+    mark = "<!--simpick:appendices-->"
+    page = render_html(data, params, appendices=mark)
+    html = page.replace(mark, fragment, 1)
     rendered = time.perf_counter()
     html_path = Path(html_path)
-    html_path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = html_path.with_name(html_path.name + ".partial")
-    tmp.write_text(html, encoding="utf-8")
-    tmp.replace(html_path)
+    _write_text(html_path, html)
     print(f"report: HTML {rendered - start:.1f} s", file=sys.stderr)
-    if pdf_path is not None:
+    if pdf_path is None:
+        return
+    if not appendix_pdf:
         write_pdf(html, pdf_path, base_url=str(html_path.parent))
         print(f"report: PDF {time.perf_counter() - rendered:.1f} s", file=sys.stderr)
+        return
+    from simpick.report import pdf
+    from simpick.report.build import anchor_ids
+
+    body_pdf = Path(pdf_path).with_name(Path(pdf_path).name + ".body")
+    try:
+        write_pdf(
+            page.replace(mark, pdf.placeholders(anchor_ids(fragment)), 1),
+            body_pdf,
+            base_url=str(html_path.parent),
+            footers=False,
+        )
+        laid_out = time.perf_counter()
+        n = pdf.join([body_pdf, appendix_pdf], pdf_path)
+    finally:
+        body_pdf.unlink(missing_ok=True)
+    print(
+        f"report: PDF {time.perf_counter() - rendered:.1f} s (body {laid_out - rendered:.1f} s, "
+        f"joined with the appendices and numbered {time.perf_counter() - laid_out:.1f} s; {n} pages)",
+        file=sys.stderr,
+    )
+
+
+def build_appendix(
+    inputs: Mapping[str, Any], params: Mapping[str, Any], html_path: str | Path, pdf_path: str | Path
+) -> None:
+    """The appendices (the raw tables, which no weight reaches): ``html_path`` the HTML fragment the
+    report places after its body, ``pdf_path`` their PDF, without page footers (the report numbers
+    the joined document). ``inputs`` as the report's, without the weighted tables (``weighted`` is
+    not required and not read)."""
+    import sys
+    import time
+
+    from simpick.report.build import render_appendix, write_pdf
+    from simpick.report.load import load_inputs
+
+    start = time.perf_counter()
+    data = load_inputs(inputs, required=("runs",))
+    fragment, document = render_appendix(data, params)
+    rendered = time.perf_counter()
+    _write_text(Path(html_path), fragment)
+    print(f"appendices: HTML {rendered - start:.1f} s", file=sys.stderr)
+    write_pdf(document, pdf_path, base_url=str(Path(html_path).parent), footers=False)
+    print(f"appendices: PDF {time.perf_counter() - rendered:.1f} s", file=sys.stderr)
+
+
+def _write_text(path: Path, text: str) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".partial")
+    tmp.write_text(text, encoding="utf-8")
+    tmp.replace(path)

@@ -147,8 +147,11 @@ def _test_order(data: ReportData, config: Mapping[str, Any]) -> list[tuple[str, 
     return sorted(seen, key=key)
 
 
-def _engine_order(data: ReportData) -> list[str]:
-    engines = list(data.weighted.index)
+def _engine_order(data: ReportData, first: list[str] | None = None) -> list[str]:
+    """The engines in the ranking's order (weighted.csv), then any other engine a table names. With
+    ``first`` (the study's engines, the figures' order) the order reads no weight: the engines the
+    tables name, those in ``first`` in its order, then the others as they come (the appendices)."""
+    engines = list(data.weighted.index) if first is None else []
     frames = [data.runs, data.trace_stats, data.imu_errors, data.rtf, data.accuracy_errors]
     frames += [tables.get(k) for tables in data.real.values() for k in ("summary", "per_test")]
     for df in frames:
@@ -156,6 +159,9 @@ def _engine_order(data: ReportData) -> list[str]:
             for e in df["engine"]:
                 if e not in engines:
                     engines.append(e)
+    if first is not None:
+        pos = {e: i for i, e in enumerate(first)}
+        engines.sort(key=lambda e: pos.get(e, len(pos)))  # stable: the others as they came
     return engines
 
 
@@ -242,11 +248,16 @@ def _ranking(data: ReportData, weights: dict[str, float]) -> dict[str, Any]:
     }
 
 
-def _qualitative(data: ReportData, engines: list[str]) -> dict[str, Any] | None:
+def _qualitative(data: ReportData, engines: list[str], ref_order: list[str] | None = None) -> dict[str, Any] | None:
+    """The qualitative facts per engine (columns in ``engines``' order). The sources are numbered
+    walking ``ref_order`` (default ``engines``): the appendices list them, and read no weight, so the
+    body numbers them in the same weight-free order whatever its columns' order."""
     q = data.qualitative
     if not q:
         return None
     shown = [e for e in engines if e in q] + [e for e in q if e not in engines]
+    order = ref_order if ref_order is not None else engines
+    numbered = [e for e in order if e in q] + [e for e in q if e not in order]
     refs: list[dict[str, Any]] = []
     ref_index: dict[str, int] = {}
 
@@ -267,6 +278,12 @@ def _qualitative(data: ReportData, engines: list[str]) -> dict[str, Any] | None:
             nums.append(ref_index[text])
         return nums
 
+    def numbers(engine: str, fact: str) -> list[int]:
+        """The numbers ref() gave a fact's sources (each source counted once, where first met)."""
+        src = (q[engine].get("sources") or {}).get(fact)
+        items = (src if isinstance(src, list) else [src]) if src else []
+        return [ref_index[str(item).strip()] for item in items]
+
     def fact_text(rec: Mapping[str, Any], key: str) -> str:
         if key not in rec:
             return "–"
@@ -285,24 +302,27 @@ def _qualitative(data: ReportData, engines: list[str]) -> dict[str, Any] | None:
             text += "; URDF/SDF via a plugin installed by hand"
         return text
 
+    for key in FACT_ROWS:  # the sources' numbers first, row by row in the weight-free order
+        for e in numbered:
+            ref(e, key)
+    extra_keys = sorted({k for e in numbered for k in (q[e].get("sources") or {}) if k not in FACT_ROWS})
+    for e in numbered:
+        for k in extra_keys:
+            ref(e, k)
     rows = []
     for key in FACT_ROWS:
         cells = []
         for e in shown:
             rec = q[e]
             score = data.weighted.loc[e, key] if (e in data.weighted.index and key in data.weighted.columns) else None
-            cells.append({"text": fact_text(rec, key), "score": score, "refs": ref(e, key)})
+            cells.append({"text": fact_text(rec, key), "score": score, "refs": numbers(e, key)})
         rows.append({"key": key, "label": METRIC_LABELS.get(key, key), "cells": cells})
-    extra_keys = sorted({k for e in shown for k in (q[e].get("sources") or {}) if k not in FACT_ROWS})
-    for e in shown:
-        for k in extra_keys:
-            ref(e, k)
     family = []
     for e in shown:
         sims = q[e].get("paper_simulators")
         family.append({"engine": e, "simulators": list(sims) if sims else [], "known": "paper_simulators" in q[e]})
     notes = []
-    for e in shown:
+    for e in numbered:
         for k, text in (q[e].get("notes") or {}).items():
             notes.append({"engine": e, "fact": METRIC_LABELS.get(k, k), "text": str(text)})
     return {"engines": shown, "rows": rows, "refs": refs, "family": family, "notes": notes}
@@ -785,7 +805,7 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         "ranking": ranking,
         "verdict": verdict,
         "reference": _reference(data, tests),
-        "qualitative": _qualitative(data, list(data.weighted.index)),
+        "qualitative": _qualitative(data, list(data.weighted.index), _engine_order(data, params.get("engines") or [])),
         "rtf_rows": rtf_rows,
         "rtf_given": data.rtf is not None,
         "runs": runs,
@@ -808,9 +828,63 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     }
 
 
+def appendix_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]:
+    """The appendices' context (appendices.html.j2): the raw tables, which no weight reaches. It reads
+    no weighted table (``data.weighted`` is ignored: no score is shown there) and orders the engines
+    by the study's engines (params ``engines``, the figures' order), not the ranking, so that a weight
+    edit leaves the appendices' job and its files as they are."""
+    import dataclasses
+
+    import pandas as pd
+    import yaml
+
+    from simpick.report import provenance, real
+    from simpick.report.draw import colors as draw_colors
+    from simpick.report.validation import validation_section
+
+    data = dataclasses.replace(data, weighted=pd.DataFrame(index=pd.Index([], name="engine")))
+    config = dict(params.get("config") or {})
+    engines = _engine_order(data, params.get("engines") or [])
+    colors = draw_colors(params.get("engines"), engines)
+    tests = _test_order(data, config)
+    classes = real.class_order(data, params)
+    accuracy = real.accuracy(data, params, engines, classes, [test_label(t, m) for t, m in tests])
+    paths_uri = (
+        figures.data_uri(data.figures["paths"])
+        if "paths" in data.figures and data.endpoints is not None and len(data.endpoints)
+        else None
+    )
+    return {
+        "title": params.get("title") or DEFAULT_TITLE,
+        "engines": engines,
+        "colors": colors,
+        "runs": _runs(data, tests, engines),
+        "imu": _imu(data, engines, tests),
+        "accuracy": accuracy,
+        "real": real.real_section(data, params, engines, colors, classes, accuracy),
+        "per_test": _per_test(data, engines, tests),
+        "traces_given": data.endpoints is not None,
+        "stats_given": data.trace_stats is not None,
+        "paths_uri": paths_uri,
+        "published": _published(data),
+        "worked": _worked(data),
+        "validation": validation_section(
+            data.validation, engines, data.figures.get("validation_gain"), data.validation_gains
+        ),
+        "qualitative": _qualitative(data, engines),
+        "versions": provenance.package_versions(),
+        "machine": provenance.machine(),
+        "config_text": yaml.safe_dump(config, sort_keys=False, allow_unicode=True, width=100) if config else None,
+        "sources": data.sources,
+    }
+
+
 # --------------------------------------------------------------------------
 # Rendering
 # --------------------------------------------------------------------------
+
+APPENDIX_TEMPLATE = "appendices.html.j2"
+APPENDIX_PAGE = "appendix_page.html.j2"
 
 
 def environment():
@@ -838,12 +912,37 @@ def environment():
     return env
 
 
-def render_html(data: ReportData, params: Mapping[str, Any]) -> str:
+def render_html(data: ReportData, params: Mapping[str, Any], appendices: str | None = None) -> str:
+    """The report's page; ``appendices``: the HTML placed after the body (the fragment of
+    :func:`render_appendix`), rendered here from ``data`` when not given: the whole report."""
+    from markupsafe import Markup
+
+    if appendices is None:
+        appendices = render_appendix(data, params)[0]
     ctx = build_context(data, params)
-    return environment().get_template(TEMPLATE).render(**ctx)
+    return environment().get_template(TEMPLATE).render(**ctx, appendices=Markup(appendices))
 
 
-def write_pdf(html: str, pdf_path: str | Path, base_url: str | None = None) -> None:
+def render_appendix(data: ReportData, params: Mapping[str, Any]) -> tuple[str, str]:
+    """The appendices: the HTML fragment the report places after its body, and the same fragment as
+    a document of its own (the report's style), for their PDF."""
+    from markupsafe import Markup
+
+    env = environment()
+    ctx = appendix_context(data, params)
+    fragment = env.get_template(APPENDIX_TEMPLATE).render(**ctx)
+    page = env.get_template(APPENDIX_PAGE).render(title=ctx["title"], fragment=Markup(fragment))
+    return fragment, page
+
+
+def anchor_ids(html: str) -> list[str]:
+    """Every ``id`` an HTML fragment defines, in order."""
+    return list(dict.fromkeys(re.findall(r"""\bid=["']([^"']+)["']""", html)))
+
+
+def write_pdf(html: str, pdf_path: str | Path, base_url: str | None = None, footers: bool = True) -> None:
+    """The PDF of ``html``. ``footers`` False: without the page's footer (the report's name and
+    "page n of N"), for a part that :func:`simpick.report.pdf.join` puts in one document and numbers."""
     import logging
 
     import weasyprint
@@ -853,5 +952,9 @@ def write_pdf(html: str, pdf_path: str | Path, base_url: str | None = None) -> N
     pdf_path = Path(pdf_path)
     pdf_path.parent.mkdir(parents=True, exist_ok=True)
     tmp = pdf_path.with_name(pdf_path.name + ".partial")
-    weasyprint.HTML(string=html, base_url=base_url).write_pdf(str(tmp))
+    sheets = [] if footers else [weasyprint.CSS(string=NO_FOOTERS)]
+    weasyprint.HTML(string=html, base_url=base_url).write_pdf(str(tmp), stylesheets=sheets)
     tmp.replace(pdf_path)
+
+
+NO_FOOTERS = "@page { @bottom-left { content: none } @bottom-right { content: none } }"

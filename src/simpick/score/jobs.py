@@ -30,7 +30,8 @@ def scores_job(
 ) -> None:
     """The scores and the weighted table; with ``outputs["provenance"]`` also the record of what
     they rest on (:func:`score_provenance`; ``sources`` as it describes), which the report reads
-    instead of working it out again."""
+    instead of working it out again. The workflow writes that record in a job of its own
+    (:func:`provenance_job`, rule scores_provenance), which no weight edit reruns."""
     try:
         facts = yaml.safe_load(Path(qualitative).read_text())
     except (OSError, yaml.YAMLError) as exc:
@@ -78,6 +79,15 @@ def scores_job(
     if outputs.get("provenance"):
         record = score_provenance(engines, imu_errors, rtf, cpu_files, sources or {})
         Path(outputs["provenance"]).write_text(yaml.safe_dump(record, sort_keys=False))
+
+
+def provenance_job(
+    engines: list[str], imu_errors: str, rtf: str, cpu_files: list[str], output: str, sources: dict | None = None
+) -> None:
+    """results/scores/provenance.yaml alone (:func:`score_provenance`), in a job of its own: it reads no
+    weight, so a weight edit leaves it, and the report's appendices that read it, as they are."""
+    record = score_provenance(engines, imu_errors, rtf, cpu_files, sources or {})
+    Path(output).write_text(yaml.safe_dump(record, sort_keys=False))
 
 
 def _failures(path: str | None) -> dict[str, list[str]]:

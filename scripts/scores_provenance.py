@@ -1,0 +1,17 @@
+from simpick.joblog import logged
+from simpick.score.jobs import provenance_job
+
+with logged(snakemake.log[0]):
+    provenance_job(
+        snakemake.params.engines,
+        snakemake.input.imu_errors,
+        snakemake.input.rtf,
+        list(snakemake.input.cpu),
+        snakemake.output.provenance,
+        {
+            "accuracy": snakemake.params.accuracy,
+            "accuracy_tests": snakemake.input.accuracy_tests,
+            "runs": snakemake.input.runs,
+            "cpu_test": snakemake.params.cpu_test,
+        },
+    )

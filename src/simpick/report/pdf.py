@@ -1,0 +1,158 @@
+"""One report.pdf from its parts (pypdf): the body's PDF, which the weights reach, and the appendices',
+which no weight reaches and a job of their own renders (rule report_appendix), so that a weight edit lays
+out the body alone.
+
+Each part is rendered without the page footer (:data:`simpick.report.build.NO_FOOTERS`): :func:`join`
+puts the parts' pages in one document, one after the other, and draws on every page the footer the
+report's CSS gives (the report's name, "page n of N"), laid out by WeasyPrint on blank pages of the
+joined document's count and placed on each page as a form. The links between the parts keep working:
+WeasyPrint links to a named destination (the element's id), and the body is rendered with an empty
+element of every id the appendices define (:func:`placeholders`), whose destinations the join replaces
+by the appendices' own. The outline (bookmarks) keeps the body's, then the appendices' under one entry.
+"""
+
+from __future__ import annotations
+
+import html as _html
+import io
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+
+APPENDICES_OUTLINE = "Appendices"
+FOOTER_FORM = "/SimpickFooter"
+
+
+def placeholders(ids: Iterable[str]) -> str:
+    """Empty blocks bearing ``ids`` (the appendices' anchors), placed after the body in the document
+    the body's PDF is rendered from: WeasyPrint keeps a link only when its anchor is in the document,
+    and :func:`join` points each of these names at the appendices' element."""
+    return "".join(f'<div id="{_html.escape(i, quote=True)}"></div>' for i in ids)
+
+
+def footer_sheet(n_pages: int) -> bytes:
+    """``n_pages`` blank pages with the report's footers ("page n of N"), as a PDF (WeasyPrint,
+    the report's own CSS: same page size, margins, font)."""
+    import logging
+
+    import weasyprint
+
+    from simpick.report.build import environment
+
+    logging.getLogger("weasyprint").setLevel(logging.ERROR)
+    css = environment().get_template("report.css").render()
+    pages = '<div class="pagebreak"></div>' * n_pages
+    document = f"<!DOCTYPE html><html><head><style>{css}</style></head><body>{pages}</body></html>"
+    return weasyprint.HTML(string=document).write_pdf()
+
+
+def _name_pairs(tree) -> list:
+    """The (name, value) pairs of a PDF name tree (a /Names array, or /Kids)."""
+    tree = tree.get_object()
+    pairs = tree.get("/Names") or []
+    out = [(pairs[i], pairs[i + 1]) for i in range(0, len(pairs) - 1, 2)]
+    for kid in tree.get("/Kids") or []:
+        out += _name_pairs(kid)
+    return out
+
+
+def _repoint(writer, readers, offsets) -> None:
+    """Where two parts name the same destination, point the joined document's name at the later
+    part's (pypdf's append keeps the first), so that the body's placeholders yield to the appendices'
+    anchors; the links, which name their destination, follow."""
+    from pypdf.generic import ArrayObject, DictionaryObject, FloatObject, NameObject, NullObject, TextStringObject
+
+    later = {}
+    for reader, offset in zip(readers[1:], offsets[1:]):
+        for name, dest in reader.named_destinations.items():
+            page = writer.pages[offset + reader.get_destination_page_number(dest)].indirect_reference
+            coords = [FloatObject(v) if v is not None else NullObject() for v in (dest.left, dest.top, dest.zoom)]
+            later[name] = ArrayObject([page, NameObject("/XYZ"), *coords])
+    if not later:
+        return
+    names = writer.root_object.get("/Names")
+    dests = names.get_object().get("/Dests") if names is not None else None
+    pairs = {str(k): v for k, v in _name_pairs(dests)} if dests is not None else {}
+    pairs.update(later)
+    flat = ArrayObject()
+    for name in sorted(pairs):
+        flat += [TextStringObject(name), pairs[name]]
+    if names is None:
+        writer.root_object[NameObject("/Names")] = DictionaryObject()
+        names = writer.root_object["/Names"]
+    names.get_object()[NameObject("/Dests")] = writer._add_object(DictionaryObject({NameObject("/Names"): flat}))
+
+
+def _stamp(page, footer, writer) -> None:
+    """Draw the footer page ``footer`` (of the footer sheet) on ``page``, as a form XObject, after
+    the page's own content (wrapped in q/Q so that its graphics state does not reach the footer)."""
+    from pypdf.generic import (
+        ArrayObject,
+        DecodedStreamObject,
+        DictionaryObject,
+        FloatObject,
+        NameObject,
+    )
+
+    form = DecodedStreamObject()
+    form.set_data(footer.get_contents().get_data())
+    form.update(
+        {
+            NameObject("/Type"): NameObject("/XObject"),
+            NameObject("/Subtype"): NameObject("/Form"),
+            NameObject("/BBox"): ArrayObject(FloatObject(x) for x in footer.mediabox),
+            NameObject("/Resources"): footer["/Resources"].get_object().clone(writer),
+        }
+    )
+    form_ref = writer._add_object(form)
+    # the page's own resources (WeasyPrint shares one dictionary between pages): a shallow copy
+    # with the footer's form added
+    resources = page.get("/Resources")
+    resources = DictionaryObject() if resources is None else DictionaryObject(resources.get_object())
+    xobjects = resources.get("/XObject")
+    xobjects = DictionaryObject() if xobjects is None else DictionaryObject(xobjects.get_object())
+    xobjects[NameObject(FOOTER_FORM)] = form_ref
+    resources[NameObject("/XObject")] = xobjects
+    page[NameObject("/Resources")] = resources
+
+    def stream(data: bytes):
+        s = DecodedStreamObject()
+        s.set_data(data)
+        return writer._add_object(s)
+
+    contents = page.get("/Contents")
+    contents = contents.get_object() if contents is not None else ArrayObject()
+    parts = list(contents) if isinstance(contents, ArrayObject) else [page.raw_get("/Contents")]
+    page[NameObject("/Contents")] = ArrayObject(
+        [stream(b"q\n"), *parts, stream(b"\nQ\nq " + FOOTER_FORM.encode() + b" Do Q\n")]
+    )
+
+
+def join(parts: Sequence[str | Path], out: str | Path, footers: bytes | None = None) -> int:
+    """Write the PDFs ``parts`` (the body first) as one document ``out``, every page with its footer
+    (``footers``: a footer sheet of the joined page count; made here when not given); where two parts
+    name the same destination, the later part's wins (the body's placeholders yield to the
+    appendices' anchors). Returns the page count."""
+    from pypdf import PdfReader, PdfWriter
+
+    readers = [PdfReader(str(p)) for p in parts]
+    writer = PdfWriter()
+    offsets = []
+    for i, reader in enumerate(readers):
+        offsets.append(len(writer.pages))
+        writer.append(reader, outline_item=APPENDICES_OUTLINE if i and len(reader.outline) else None)
+    _repoint(writer, readers, offsets)
+    if readers and readers[0].metadata:
+        writer.add_metadata({k: v for k, v in readers[0].metadata.items() if isinstance(k, str)})
+    n = len(writer.pages)
+    sheet = PdfReader(io.BytesIO(footers if footers is not None else footer_sheet(n)))
+    if len(sheet.pages) != n:
+        raise ValueError(f"footer sheet has {len(sheet.pages)} pages, the joined document {n}")
+    for page, footer in zip(writer.pages, sheet.pages):
+        _stamp(page, footer, writer)
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_name(out.name + ".partial")
+    with open(tmp, "wb") as fh:
+        writer.write(fh)
+    tmp.replace(out)
+    return n
