@@ -349,6 +349,17 @@ rule report:
             else []
         ),
         turnmap=TURNMAP_TARGETS,
+        # the simulators as rows (rules/simulators.smk), when the study runs any
+        simulators=(
+            [
+                "results/simulators/table.csv",
+                "results/simulators/weighted.csv",
+                "results/simulators/tree.json",
+                "results/simulators/settings",
+            ]
+            if PLAN.simulators
+            else []
+        ),
         # the appendices, rendered by rule report_appendix: placed after the body, their PDF joined
         appendix_html="results/report/parts/appendices.html",
         appendix_pdf="results/report/parts/appendices.pdf",
@@ -378,5 +389,6 @@ rule report:
         # the DRIVE tables' folder (results/drive/<name>), from the inputs: empty without drive_dir
         drive=lambda wildcards, input: os.path.dirname(input.drive[0]) if input.drive else "",
         drive_calibration=lambda wildcards, input: input.drive_calibration[0] if input.drive_calibration else "",
+        simulators="results/simulators" if PLAN.simulators else "",
     script:
         "../scripts/report.py"

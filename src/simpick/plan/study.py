@@ -133,10 +133,13 @@ class Plan(ReportPlanning, CalibrationPlanning):
         # A profile whose settings are exactly its engine's in this study (MuJoCo and Drake as tuned: every
         # setting simpick's engine block makes is an MJCF attribute or a Drake tag) runs nothing of its own:
         # its figures are the engine's, the same traces (a run is deterministic in its settings).
-        self.profile_results = {
-            p: (engine_of(p) if settings == config["engines"].get(engine_of(p)) else p)
-            for p, settings in config["profiles"].items()
-        }
+        # The same holds between profiles: a tuned profile the search left at its shipped settings reads those.
+        self.profile_results = {}
+        for p, settings in config["profiles"].items():
+            same = [m for m, s in [(engine_of(p), config["engines"].get(engine_of(p))),
+                                   *((q, config["profiles"][q]) for q in self.profile_results
+                                     if self.profile_results[q] == q)] if s == settings]
+            self.profile_results[p] = same[0] if same else p
         self.profiles = [p for p, model in self.profile_results.items() if model == p]
         # Reference models (kinematic, coulomb) join the real-data comparison only, never the scores.
         self.baselines = list(config.get("baselines") or {})
@@ -618,12 +621,13 @@ class Plan(ReportPlanning, CalibrationPlanning):
         if self.sweep:
             targets.append(f"{self.sweep_dir}/summary.csv")
         targets += self.calibration_all
-        targets += [
-            "results/simulators/table.csv",
-            "results/simulators/settings",
-            "results/simulators/weighted.csv",
-            "results/simulators/tree.json",
-        ]
+        if self.simulators:
+            targets += [
+                "results/simulators/table.csv",
+                "results/simulators/settings",
+                "results/simulators/weighted.csv",
+                "results/simulators/tree.json",
+            ]
         targets += [
             "results/scores/weighted.csv",
             "results/published/table11.csv",

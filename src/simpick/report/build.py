@@ -655,11 +655,24 @@ def _verdict(data: ReportData, engines: list[str]) -> dict[str, Any]:
     }
 
 
-def _interactive(data: ReportData, weights: dict[str, float]) -> str | None:
-    if data.tree is None:
-        return None
+def _interactive(data: ReportData, weights: dict[str, float], simulators: str | None = None) -> str | None:
+    """The decision tree in the browser: the simulators' (their leaves name simulators) where the study ran
+    any, else the engines'."""
     from simpick.report.interactive import choose_fragment
 
+    folder = Path(simulators) if simulators else None
+    if folder is not None and (folder / "tree.json").is_file() and (folder / "weighted.csv").is_file():
+        from simpick.score.tree import read_tree
+
+        return choose_fragment(
+            read_tree(str(folder / "tree.json")),
+            __import__("pandas").read_csv(folder / "weighted.csv"),
+            weights,
+            noun="simulator",
+            weighted_file="results/simulators/weighted.csv",
+        )
+    if data.tree is None:
+        return None
     return choose_fragment(data.tree, data.weighted, weights)
 
 
@@ -689,6 +702,8 @@ def _opt_in(opt_in: Mapping[str, Any]) -> list[dict[str, Any]]:
 
 def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]:
     import yaml
+
+    from simpick.report.simulators import simulators_section
 
     from simpick.report import provenance, real
     from simpick.report.answer import answer_section
@@ -760,9 +775,11 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
             sections,
         ),
         "tree_uri": tree_uri,
+        # the simulators as rows (simpick.report.simulators), when the study runs any
+        "simulators": simulators_section(params["simulators"], weights) if params.get("simulators") else None,
         # the decision tree and the adjustable weights, answered in the browser (simpick.report.interactive):
         # one self-contained fragment, hidden in print where figures/tree.png stands for it
-        "interactive": _interactive(data, weights),
+        "interactive": _interactive(data, weights, params.get("simulators")),
         "validation": validation_section(
             data.validation, engines, data.figures.get("validation_gain"), data.validation_gains
         ),

@@ -11,6 +11,8 @@ OPTIONAL_INPUTS: tuple[str, ...] = (
     # the DRIVE calibration's held-out multipliers (calibration.enabled): read by simpick.report.drive
     "drive_calibration",
     "turnmap",
+    # the simulators' tables, read from their folder (params.simulators) by simpick.report.simulators
+    "simulators",
     "drivers",
     "sweep",
     "calibration",

@@ -29,7 +29,7 @@ def _json_for_script(value) -> str:
     return json.dumps(value, allow_nan=False, separators=(",", ":")).replace("<", "\\u003c")
 
 
-def choose_data(tree: Mapping, weighted: pd.DataFrame, weights: Mapping[str, float]) -> dict:
+def choose_data(tree: Mapping, weighted: pd.DataFrame, weights: Mapping[str, float], noun: str = "engine") -> dict:
     """What the page's script reads: the tree, the criteria, the study's weights, each engine's
     scores (None where not measured) and the flag of every engine that fails mechanics (the
     tree's mechanics question), shown beside its rank by the paper's method."""
@@ -58,15 +58,23 @@ def choose_data(tree: Mapping, weighted: pd.DataFrame, weights: Mapping[str, flo
         "engines": engines,
         "scores": {e: {m: score(frame.loc[e, m]) for m in METRICS} for e in engines},
         "flags": flags,
+        "noun": noun,
     }
 
 
-def choose_fragment(tree: Mapping, weighted: pd.DataFrame, weights: Mapping[str, float]) -> str:
+def choose_fragment(
+    tree: Mapping,
+    weighted: pd.DataFrame,
+    weights: Mapping[str, float],
+    noun: str = "engine",
+    weighted_file: str = "results/scores/weighted.csv",
+) -> str:
     """The interactive section as one HTML fragment (a <section> with its <style> and <script>).
 
     ``tree``: the parsed results/verdict/tree.json (:func:`simpick.score.tree.read_tree`);
     ``weighted``: results/scores/weighted.csv as read by pandas (an ``engine`` column or index);
-    ``weights``: the study's weights (config.yaml ``weights:``), the inputs' starting values."""
+    ``weights``: the study's weights (config.yaml ``weights:``), the inputs' starting values; ``noun``: what a
+    leaf names ("engine", or "simulator" for results/simulators/tree.json), ``weighted_file`` where its scores are."""
     import jinja2
 
     env = jinja2.Environment(
@@ -75,7 +83,9 @@ def choose_fragment(tree: Mapping, weighted: pd.DataFrame, weights: Mapping[str,
     return env.get_template("choose.html.j2").render(
         css=(TEMPLATES / "choose.css").read_text(),
         js=(TEMPLATES / "choose.js").read_text(),
-        data=_json_for_script(choose_data(tree, weighted, weights)),
+        data=_json_for_script(choose_data(tree, weighted, weights, noun)),
+        noun=noun,
+        weighted_file=weighted_file,
     )
 
 

@@ -173,7 +173,7 @@
       box.appendChild(el("p", {"class": "sc-question", "data-question": node.question, text: node.text}));
       var answers = el("div", {"class": "sc-answers"});
       node.answers.forEach(function (a, i) {
-        var keeps = a.keeps.length ? "keeps " + byTotal(a.keeps, t).join(", ") : "keeps no engine";
+        var keeps = a.keeps.length ? "keeps " + byTotal(a.keeps, t).join(", ") : "keeps no " + data.noun;
         var button = el("button", {type: "button", "data-question": node.question, "data-answer": a.label},
                         [a.label + " ", el("span", {"class": "sc-keeps", text: "(" + keeps + ")"})]);
         button.addEventListener("click", function () { path.push({node: node.id, answer: i}); update(true); });
@@ -191,7 +191,7 @@
     if (!node.engines.length) {
       root.setAttribute("data-pick", "");
       box.appendChild(el("p", {"class": "sc-none", id: "sc-pick", "data-engine": "",
-                               text: "No engine of this study meets all these answers."}));
+                               text: "No " + data.noun + " of this study meets all these answers."}));
     } else {
       var ordered = byTotal(node.engines, t);
       root.setAttribute("data-pick", ordered[0]);
@@ -202,7 +202,7 @@
           " (meets every answer, as do " + ordered.slice(1).join(", ") + "; ordered by the paper's weighted total " +
           ordered.map(function (e) { return e + " " + t[e].total.toFixed(3); }).join(", ") + ")"));
       } else {
-        pick.appendChild(document.createTextNode(" (the only engine that meets every answer)"));
+        pick.appendChild(document.createTextNode(" (the only " + data.noun + " that meets every answer)"));
       }
       if (data.flags[ordered[0]]) {
         pick.appendChild(el("span", {"class": "sc-flag", text: " " + data.flags[ordered[0]]}));

@@ -1,0 +1,115 @@
+"""The report's simulator section: each simulator as shipped and as tuned (results/simulators/table.csv), the
+paper's weighted table with simulators as rows (weighted.csv), the files to paste (settings/), and the decision
+tree's ROS 2 paths in words (tree.json). Read from the folder the rule names (params ``simulators``)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from simpick.score.tree import read_tree, walk
+from simpick.simulators.catalog import load_catalog
+
+OUTCOME_WORDS = {
+    "best": "best",
+    "equivalent": "equivalent to the best",
+    "worse": "worse than the best",
+    "undetermined": "undetermined",
+    "not measurable": "not measurable",
+    "too few runs": "too few runs",
+}
+
+
+def _f(x, digits: int = 3) -> str:
+    try:
+        x = float(x)
+    except (TypeError, ValueError):
+        return "–"
+    return "–" if not math.isfinite(x) else f"{x:.{digits}f}"
+
+
+DEMANDING = ("closeness", "mechanics")  # the questions answered with their most demanding answer
+
+
+def leaf_for(tree: dict, fixed: dict[str, str]) -> dict:
+    """The leaf reached with ``fixed`` answers, the most demanding answer to closeness and mechanics, and
+    "no need" (the last answer) to every other question."""
+    node = tree["nodes"][tree["root"]]
+    while node["kind"] == "question":
+        labels = [a["label"] for a in node["answers"]]
+        q = node["question"]
+        label = fixed.get(q) if fixed.get(q) in labels else (labels[0] if q in DEMANDING else labels[-1])
+        node = tree["nodes"][next(a for a in node["answers"] if a["label"] == label)["next"]]
+    return node
+
+
+def ros_paths(tree: dict, labels: dict[str, str]) -> list[dict[str, str]]:
+    """Each ROS 2 answer of the tree and the simulators its most demanding path on physics leaves."""
+    answers = []
+    for node in tree["nodes"].values():
+        if node.get("question") == "ros":
+            answers += [a["label"] for a in node["answers"] if a["label"] not in answers]
+    out = []
+    for label in answers:
+        leaf = leaf_for(tree, {"ros": label})
+        names = [labels.get(e, e) for e in leaf.get("engines", [])]
+        out.append({"answer": label, "leaf": ", ".join(names) if names else "none"})
+    return out
+
+
+def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any] | None:
+    folder_path = Path(folder)
+    table_path = folder_path / "table.csv"
+    if not table_path.is_file():
+        return None
+    table = pd.read_csv(table_path)
+    catalog_path = folder_path / "subjects" / "qualitative.yaml"
+    labels = dict(zip(table.simulator, table.label))
+    rows = []
+    for r in table.to_dict("records"):
+        ran = str(r.get("status", "")).startswith("run")
+        settings = sorted(p.name for p in (folder_path / "settings").glob(f"{r['simulator']}-{r['variant']}.*")) if ran else []
+        rows.append({
+            "simulator": r["simulator"],
+            "label": r["label"],
+            "variant": r["variant"],
+            "engine": r.get("engine") or "",
+            "ran": ran,
+            "status": r.get("status", ""),
+            "mechanics": r.get("mechanics") if ran else "",
+            "mechanics_text": (f"{int(r['mechanics_cases'] - r['mechanics_failed'])} of {int(r['mechanics_cases'])}"
+                               if ran and pd.notna(r.get("mechanics_cases")) else "–"),
+            "gain_flat": _f(r.get("gain_flat")),
+            "gain_range": f"{_f(r.get('gain_flat_min'))}-{_f(r.get('gain_flat_max'))}" if ran else "",
+            "gain_coulomb": _f(r.get("gain_coulomb")),
+            "gain_error": _f(r.get("gain_error")),
+            "gain_interval": f"[{_f(r.get('gain_error_low'))}, {_f(r.get('gain_error_high'))}]" if ran else "",
+            "gain_outcome": OUTCOME_WORDS.get(str(r.get("gain_outcome")), "") if ran else "",
+            "gain_diff": _f(r.get("gain_diff_to_best")),
+            "heading_error": _f(r.get("heading_error")),
+            "heading_outcome": OUTCOME_WORDS.get(str(r.get("heading_outcome")), "") if ran else "",
+            "runs_failed": int(r["runs_failed"]) if ran and pd.notna(r.get("runs_failed")) else 0,
+            "settings": [f"../simulators/settings/{name}" for name in settings],
+        })
+    weighted = []
+    wpath = folder_path / "weighted.csv"
+    if wpath.is_file():
+        w = pd.read_csv(wpath)
+        for r in w.sort_values("total", ascending=False).to_dict("records"):
+            weighted.append({"simulator": r["engine"], "label": labels.get(r["engine"], r["engine"]),
+                             "total": _f(r["total"], 2), "rank": int(r["rank"]) if "rank" in r else None})
+    tree = read_tree(str(folder_path / "tree.json")) if (folder_path / "tree.json").is_file() else None
+    return {
+        "rows": rows,
+        "weighted": weighted,
+        "ros_paths": ros_paths(tree, labels) if tree else [],
+        "not_run": sorted({r["label"]: r["status"] for r in rows if not r["ran"]}.items()),
+        "catalog": str(catalog_path),
+        "weights_total": sum(weights.values()),
+    }
+
+
+__all__ = ["simulators_section", "load_catalog"]
