@@ -31,7 +31,7 @@ import yaml
 ROOT = Path(__file__).resolve().parents[1]
 SNAKEMAKE = Path(sys.executable).with_name("snakemake")
 # the rules of the weight path that keep a benchmark file (rules/scores.smk, rules/report.smk)
-BENCHMARKS = ("scores", "verdict", "answer", "report", "report_pdf")
+BENCHMARKS = ("scores", "scores_provenance", "verdict", "answer", "report_appendix", "report", "report_pdf")
 
 
 def _run(config: Path, cores: int, log: Path) -> tuple[float, list[str]]:

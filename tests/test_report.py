@@ -575,8 +575,9 @@ def test_the_appendices_rendered_apart_join_the_body_in_one_pdf(tmp_path, built)
     pages = [page.extract_text() for page in reader.pages]
     n = len(pages)
     assert n == len(PdfReader(str(single)).pages)  # the same document as laid out in one pass
-    for i, page in enumerate(pages):
-        assert f"page {i + 1} of {n}" in page, i
+    for i, page in enumerate(pages):  # one footer a page: the join's, none of a part's own
+        assert re.findall(r"page \d+ of \d+", page) == [f"page {i + 1} of {n}"], i
+        assert page.count("simpick report") == 1, i
     first = next(i for i, page in enumerate(pages) if "Appendix A. Health of the runs" in page)
     assert 0 < first < n - 1
     assert not any("Appendix" in page.split("\n")[0] for page in pages[:first])

@@ -974,4 +974,5 @@ def write_pdf(html: str, pdf_path: str | Path, base_url: str | None = None, foot
     tmp.replace(pdf_path)
 
 
-NO_FOOTERS = "@page { @bottom-left { content: none } @bottom-right { content: none } }"
+# !important: a user stylesheet's declaration wins over the document's (author) own only so
+NO_FOOTERS = "@page { @bottom-left { content: none !important } @bottom-right { content: none !important } }"
