@@ -79,8 +79,8 @@ rule simulator_tree:
     conda:
         "../envs/simpick.yaml"
     params:
-        simulators=list(PLAN.catalog.simulators),
+        simulators=PLAN.simulators,
         verdict=PLAN.verdict,
-        code=PLAN.script_code("decision_tree"),
+        code=PLAN.script_code("simulator_tree"),
     script:
         "../scripts/simulator_tree.py"

@@ -37,7 +37,18 @@ def counts(tmp_path_factory):
         "validate_jobs": jobs["validate"],
         "segment_batches": sum(n for rule, n in jobs.items() if rule.startswith("simulate_segments_")),
         "cpu_load_jobs": jobs["cpu_load"],
+        # the simulators the default study runs, and their profiles that simulate (not read from an engine)
+        "simulators": len(_default_plan().simulators),
+        "profiles": len(_default_plan().profiles),
     }
+
+
+def _default_plan():
+    from simpick.config import Study
+    from simpick.plan import Plan
+
+    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    return Plan(config, Study.model_validate(config), basedir=str(ROOT))
 
 
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
@@ -58,7 +69,8 @@ def test_every_marked_count_is_the_workflows(counts):
     assert not wrong, "stale counts: " + "; ".join(wrong)
     # the dry run agrees with the config it was made from
     assert counts["lab_cases"] == counts["engines"] * counts["terrains"] * counts["motions"]
-    assert counts["validate_jobs"] == counts["engines"]  # one job runs all of an engine's cases
+    # one job runs all of an engine's or a simulating profile's cases
+    assert counts["validate_jobs"] == counts["engines"] + counts["profiles"]
 
 
 def rule_blocks():

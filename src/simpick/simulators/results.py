@@ -222,3 +222,36 @@ def settings_files_job(inputs: dict, params: dict, output: str) -> None:
         texts = formats.write(sim.settings_format, sim.engine, settings, entries, title, wheels)
         for suffix, text in texts.items():
             (out / f"{profile}.{suffix}").write_text(text)
+
+
+def simulator_scores_job(subjects: str, params: dict, outputs: dict) -> None:
+    """The paper's scores and weighted table with simulators as rows (simpick.score.jobs.scores_job over the
+    subjects' facts, their tuned rows' Eq. 7 errors and their engines' speed and CPU)."""
+    from simpick.score.jobs import scores_job
+
+    folder = Path(subjects)
+    scores_job(
+        list(params["simulators"]),
+        str(folder / "imu_errors.csv"),
+        str(folder / "rtf.csv"),
+        sorted(str(p) for p in (folder / "cpu").glob("*.json")),
+        str(folder / "qualitative.yaml"),
+        dict(params["weights"]),
+        outputs,
+    )
+
+
+def simulator_tree_job(subjects: str, params: dict, output: str) -> None:
+    """The decision tree with the run simulators as its leaves (simpick.score.tree over the subjects)."""
+    from simpick.score.tree import decision_tree_job
+
+    folder = Path(subjects)
+    inputs = {
+        "qualitative": str(folder / "qualitative.yaml"),
+        "validation": str(folder / "validation.csv"),
+        "rtf": str(folder / "rtf.csv"),
+        "cpu": sorted(str(p) for p in (folder / "cpu").glob("*.json")),
+    }
+    if params.get("verdict"):
+        inputs |= {"outcomes": str(folder / "outcomes.csv"), "mechanics": str(folder / "mechanics.csv")}
+    decision_tree_job(list(params["simulators"]), inputs, output)
