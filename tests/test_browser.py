@@ -225,3 +225,68 @@ def test_the_page_needs_no_network_and_hides_in_print(study):
     printed = weasyprint.HTML(string=html.replace("<body>", "<body><p>printed beside it</p>")).render()
     words = " ".join(t for page in printed.pages for t in texts(page._page_box))
     assert "printed beside it" in words and "Pick an engine" not in words and "Ranking" not in words
+
+
+# --- the simulators' tree: the catalog's real ROS 2 facts, a mechanics pattern made up for the test ---
+
+SIMULATOR_FAILS = {  # analytic cases failed (of 6): the out-of-the-box simulators mixed, so both ends are tested
+    "gazebo": 3, "isaac_sim": 3, "isaac_lab_newton": 0, "gazebo_classic": 0, "webots": 2, "mujoco": 0,
+    "drake": 0, "coppeliasim": 3, "genesis": 0,
+}
+
+
+@pytest.fixture(scope="module")
+def simulators_study(tmp_path_factory):
+    from conftest import ROOT
+    from simpick.simulators.catalog import load_catalog
+
+    catalog = load_catalog(ROOT / "resources/simulators/simulators.yaml")
+    facts = {
+        name: {
+            "free": sim.qualitative.free,
+            "open_source": sim.qualitative.open_source,
+            "ros": sim.qualitative.ros,
+            "rtf": 100.0 + 10 * i,
+            "cpu": 20.0 + i,
+            "fails": SIMULATOR_FAILS[name],
+            "gain": ("best" if name == "mujoco" else "equivalent", 0.05 + 0.001 * i),
+        }
+        for i, (name, sim) in enumerate(catalog.simulators.items())
+        if sim.engine is not None
+    }
+    folder = tmp_path_factory.mktemp("simulators")
+    paths = make_study(folder, facts)
+    decision_tree_job(list(facts), paths["inputs"], paths["tree"])
+    page = folder / "page.html"
+    page.write_text(choose_page(read_tree(paths["tree"]), pd.read_csv(paths["weighted"]), WEIGHTS))
+    return {**paths, "page": page, "facts": facts}
+
+
+@pytest.mark.parametrize("ros", ["Yes, out of the box", "Yes; an official plugin built by hand will do"])
+def test_the_ros2_paths_of_the_simulators_tree_end_at_a_simulator_that_passes_mechanics(browser, simulators_study, ros):
+    from simpick.report.simulators import leaf_for
+
+    tree = read_tree(simulators_study["tree"])
+    labels = [a["label"] for n in tree["nodes"].values() if n.get("question") == "ros" for a in n["answers"]]
+    assert ros in labels, labels
+    leaf = leaf_for(tree, {"ros": ros})
+    facts = simulators_study["facts"]
+    levels = {"out_of_the_box"} | ({"official_plugin"} if "plugin" in ros else set())
+    meets = [s for s, f in facts.items() if f["ros"] in levels and not f["fails"]]
+    assert meets, "the made-up pattern leaves a passing simulator on this path"
+    assert leaf["kind"] == "leaf" and leaf["engines"] and set(leaf["engines"]) <= set(meets)
+
+    page = browser.new_page()
+    page.goto(simulators_study["page"].as_uri())
+    page.wait_for_selector("#simpick-choose[data-ready=true]")
+    node = tree["nodes"][tree["root"]]
+    while node["kind"] == "question":  # answer as leaf_for does: closeness and mechanics demanding, the rest no need
+        q = node["question"]
+        label = ros if q == "ros" else (node["answers"][0]["label"] if q in ("closeness", "mechanics")
+                                        else node["answers"][-1]["label"])
+        assert page.get_attribute("#sc-current .sc-question", "data-question") == q
+        answer(page, q, label)
+        node = tree["nodes"][next(a for a in node["answers"] if a["label"] == label)["next"]]
+    pick = page.get_attribute("#sc-pick", "data-engine")
+    assert pick in meets and pick in leaf["engines"]
+    page.close()
