@@ -221,3 +221,13 @@ def test_the_drake_yaml_loads_as_drake_config(catalog):
         config = yaml_load_typed(schema=MultibodyPlantConfig, data=texts["yaml"])
         assert config.discrete_contact_approximation == settings["discrete_approximation"]
         assert config.stiction_tolerance == pytest.approx(settings["stiction_tolerance"])
+
+
+def test_a_profile_takes_the_study_s_wheel_actuators_and_the_catalog_s_physics(tmp_path):
+    config = tiny_config(tmp_path)
+    config["simulators"]["run"] = ["mujoco"]
+    config["engines"] = {"mujoco": {"wheel_servo_kp": 15000.0, "cone": "elliptic"}}
+    plan = _plan(config)
+    shipped = plan.config["profiles"]["mujoco-shipped"]
+    assert shipped["wheel_servo_kp"] == 15000.0  # the robot's actuator, as the study describes it
+    assert shipped["cone"] == "pyramidal" and shipped["wheel_contact"] == "default"  # MuJoCo's defaults

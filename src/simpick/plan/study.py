@@ -34,7 +34,7 @@ from simpick.sources import module as source_module
 from simpick.sources import own as own_source
 from simpick.sources import replay as replay_source
 from simpick.sources import segments as segments_source
-from simpick.simulators import engine_of, model_name
+from simpick.simulators import MODEL_SETTINGS, engine_of, model_name
 from simpick.simulators.catalog import CatalogError, load_catalog
 from simpick.sources.base import canonical, model_settings
 
@@ -122,13 +122,9 @@ class Plan(ReportPlanning, CalibrationPlanning):
         self.catalog = load_catalog(config["simulators"]["catalog"])
         self.simulators, self.simulators_left_out = self._simulators()
         config["profiles"] = {
-            model_name(sim, v): (
-                get_engine(engine_of(model_name(sim, v)))
-                .settings_model.model_validate(self.catalog.settings(sim, v, self.robot.name))
-                .model_dump(mode="json")
-            )
+            model_name(sim, variant): self._profile_settings(sim, variant)
             for sim in self.simulators
-            for v in config["simulators"]["variants"]
+            for variant in config["simulators"]["variants"]
         }
         # A profile whose settings are exactly its engine's in this study (MuJoCo and Drake as tuned: every
         # setting simpick's engine block makes is an MJCF attribute or a Drake tag) runs nothing of its own:
@@ -436,6 +432,15 @@ class Plan(ReportPlanning, CalibrationPlanning):
         return canonical(self.settings.statistics.model_dump())
 
     # --- validation against analytic mechanics ---
+
+    def _profile_settings(self, simulator: str, variant: str) -> dict:
+        """A profile's full adapter settings: the adapter's defaults, the study's robot-model settings of that
+        engine (its wheel actuators: simpick.simulators.MODEL_SETTINGS), then the catalog's profile."""
+        engine = engine_of(model_name(simulator, variant))
+        block = self.config["engines"].get(engine) or {}
+        model = {k: value for k, value in block.items() if k in MODEL_SETTINGS.get(engine, ())}
+        settings = model | self.catalog.settings(simulator, variant, self.robot.name)
+        return get_engine(engine).settings_model.model_validate(settings).model_dump(mode="json")
 
     def _simulators(self):
         """(simulators whose profiles run, {simulator: why not} for the catalog's others)."""

@@ -38,6 +38,19 @@ SIMULATORS: dict[str, str | None] = {
 }
 
 
+# Adapter settings that describe the robot model rather than the simulator: the wheels' actuators, which a
+# model's author writes for any simulator (an MJCF <intvelocity> and its gain, a PhysX or Drake drive's gain,
+# Genesis's kv) and the adapter's geometry stand-ins. A profile takes these from the study's engine block
+# (robot-specific: the Warthog's servo is stiffer than the Husky's); the catalog sets everything else.
+MODEL_SETTINGS: dict[str, tuple[str, ...]] = {
+    "mujoco": ("wheel_servo", "wheel_servo_kp", "wheel_servo_gain"),
+    "physx": ("wheel_drive_damping", "wheel_prisms"),
+    "drake": ("wheel_drive_damping", "mesh_resolution"),
+    "newton": ("wheel_drive", "wheel_drive_damping"),
+    "genesis": ("wheel_kv",),
+}
+
+
 def model_name(simulator: str, variant: str) -> str:
     """The study's name of a simulator's profile: ``gazebo_classic-shipped``."""
     return f"{simulator}{SEPARATOR}{variant}"
