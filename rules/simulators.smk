@@ -13,6 +13,12 @@ rule simulators:
         cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
         **({"per_test": PLAN.metrics_file(PLAN.verdict_source(), "per_test")} if PLAN.verdict else {}),
         **({"imu_errors": PLAN.accuracy_errors()} if PLAN.verdict else {}),
+        # without a verdict (a robot with no BorealTC data), DRIVE's outcomes where the profiles replayed it
+        **(
+            {"drive_outcomes": f"{DRIVE}/outcomes.csv"}
+            if not PLAN.verdict and SETTINGS.drive_dir and PLAN.config["simulators"]["drive"]
+            else {}
+        ),
     output:
         table=report("results/simulators/table.csv", caption="captions/simulators.rst", category="Simulators"),
         outcomes="results/simulators/outcomes.csv",

@@ -97,6 +97,10 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
             walls, tests, models, METRICS, mechanics, params["verdict"], params.get("statistics"),
             int(params.get("seed", 0)), {"speed_error": NO_SPEED},
         )
+    elif inputs.get("drive_outcomes") and Path(inputs["drive_outcomes"]).is_file():
+        # DRIVE's steps, every terrain together (scope "all"), as rule drive_compare judged them
+        drive = pd.read_csv(inputs["drive_outcomes"])
+        outcomes = drive[drive.scope == "all"].drop(columns=["scope", "paired_by"]).reset_index(drop=True)
     write_csv(mechanics, outputs["mechanics"])
     write_csv(outcomes, outputs["outcomes"])
 
