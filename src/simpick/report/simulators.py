@@ -76,7 +76,7 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
             "simulator": r["simulator"],
             "label": r["label"],
             "variant": r["variant"],
-            "engine": r.get("engine") or "",
+            "engine": "" if pd.isna(r.get("engine")) else r["engine"],
             "ran": ran,
             "status": r.get("status", ""),
             "mechanics": r.get("mechanics") if ran else "",
@@ -109,6 +109,7 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
         "not_run": sorted({r["label"]: r["status"] for r in rows if not r["ran"]}.items()),
         "catalog": str(catalog_path),
         "weights_total": sum(weights.values()),
+        "coulomb": _f(table.gain_coulomb.dropna().iloc[0]) if table.gain_coulomb.notna().any() else "–",
     }
 
 

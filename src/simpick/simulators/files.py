@@ -108,7 +108,10 @@ def write_sdf(engine: str, settings: Mapping, entries: Mapping, title: list[str]
         )
     ET.indent(robot)
     wheels_text = _header("<!--", [*title, *tag_comments]).replace("\n", " -->\n") + ET.tostring(robot, encoding="unicode")
-    return {"world.sdf": world_text + "\n", "wheels.urdf": wheels_text + "\n"}
+    texts = {"world.sdf": world_text + "\n"}
+    if engine == "ode":  # dartpy binds none of the wheels' SDF surface tags that gz-physics reads (catalog: differs)
+        texts["wheels.urdf"] = wheels_text + "\n"
+    return texts
 
 
 def read_sdf(engine: str, texts: Mapping[str, str]) -> dict:
@@ -122,7 +125,7 @@ def read_sdf(engine: str, texts: Mapping[str, str]) -> dict:
         out["quick_iterations"] = int(physics.findtext("ode/solver/iters"))
         for key in ("cfm", "erp", "contact_max_correcting_vel", "contact_surface_layer"):
             out[key] = float(physics.findtext(f"ode/constraints/{key}"))
-        g = ET.fromstring(texts["wheels.urdf"]).find("gazebo")
+        g = ET.fromstring(texts["wheels.urdf"]).find("gazebo") if "wheels.urdf" in texts else None
         if g is not None:
             out["friction_direction"] = "wheel_x" if g.findtext("fdir1") == "1 0 0" else "plane"
             if g.find("kp") is not None:

@@ -184,8 +184,8 @@ def _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs) 
         r = rtf[rtf.engine == engine]
         if len(r):
             rows.append(r.iloc[0].to_dict() | {"engine": name})
-        cpu = Path(inputs["cpu_dir"]) / f"{engine}.json"
-        if cpu.is_file():
+        cpu = next((Path(f) for f in inputs.get("cpu") or [] if Path(f).stem == engine), None)
+        if cpu is not None and cpu.is_file():
             record = json.loads(cpu.read_text())
             record["engine"] = name
             (out / "cpu" / f"{name}.json").write_text(json.dumps(record, indent=1))
