@@ -143,24 +143,24 @@ def test_a_hung_validation_case_fails_it_and_the_cases_after_it(tmp_path):
     import json
 
     from simpick.score.mechanics import failures
-    from simpick.studies.validation import summarise
+    from simpick.studies.validation.judge import summarise
 
     names = ["a_rest", "b_slide", "c_rest"]
     _run_hanging(
         tmp_path,
         "validate",
         """
-        from simpick.studies import validation
+        from simpick.studies.validation import cases, job
         def hang(setup, params):
             while True:
                 time.sleep(0.01)
-        validation.RUNNERS["slide"] = hang
+        cases.RUNNERS["slide"] = hang
         rest = {"kind": "rest", "mu": 0.8, "duration": 1.2}
         cases = {"a_rest": rest, "b_slide": {"kind": "slide", "v": 0.5, "mu": 0.3}, "c_rest": rest}
         params = {"engine": "pybullet", "engine_settings": config["engines"]["pybullet"], "cases": cases,
                   "physics": config["physics"], "robot": config["robot"]}
         # three cases in a 3 s job: 1 s each
-        validation.validate_job([f"{out}/{name}.json" for name in cases], config["robot"]["urdf"], params,
+        job.validate_job([f"{out}/{name}.json" for name in cases], config["robot"]["urdf"], params,
                                 timeout=3.0)
     """,
         tmp_path / "records",

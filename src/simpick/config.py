@@ -18,7 +18,7 @@ from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.errors import validation_problems
 from simpick.inputs.terrain import RULES, TILES
 from simpick.score.scoring import METRICS
-from simpick.studies.validation import DEFAULT_HEADING, MIN_MEASURED_S, SETTLE_S
+from simpick.studies.validation.measures import DEFAULT_HEADING, MIN_MEASURED_S, SETTLE_S
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
@@ -412,7 +412,7 @@ class Validation(Strict):
 
     @model_validator(mode="after")
     def every_quantity(self):
-        from simpick.studies.validation import QUANTITIES
+        from simpick.studies.validation.measures import QUANTITIES
 
         unknown = sorted(set(self.tolerances) - set(QUANTITIES))
         missing = sorted(set(QUANTITIES) - set(self.tolerances))
