@@ -248,12 +248,12 @@ def test_a_hung_calibration_and_its_evaluation_are_recorded_failed(tmp_path):
     import pandas as pd
     import yaml
 
-    from simpick.studies.calibration import summarise
+    from simpick.studies.calibration.summary import summarise
 
     best, trials, evaluation = tmp_path / "best.yaml", tmp_path / "trials.csv", tmp_path / "evaluation.csv"
     setup = """
         import pandas as pd
-        from simpick.studies.calibration import split_job
+        from simpick.studies.calibration.split import split_job
         segments = config["real_data"]["segments"]
         units = pd.read_csv(segments, dtype={"run": str})
         units = units[units.terrain_class == "flooring"]
@@ -266,7 +266,7 @@ def test_a_hung_calibration_and_its_evaluation_are_recorded_failed(tmp_path):
         "calibrate",
         setup
         + f"""
-        from simpick.studies.calibration import calibrate_job
+        from simpick.studies.calibration.search import calibrate_job
         calibrate_job(inputs, real, calibration, {{"best": out, "trials": {str(trials)!r}}}, timeout=1.0)
     """,
         best,
@@ -281,7 +281,7 @@ def test_a_hung_calibration_and_its_evaluation_are_recorded_failed(tmp_path):
         "evaluate",
         setup
         + f"""
-        from simpick.studies.calibration import evaluate_job
+        from simpick.studies.calibration.search import evaluate_job
         inputs["best"] = {str(best)!r}
         evaluate_job(inputs, real, calibration, out, timeout=1.0)
     """,

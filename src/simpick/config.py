@@ -465,7 +465,7 @@ class CalibrationScales(Strict):
 
 class CalibrationTarget(Strict):
     """What a calibrated engine must reach on held-out runs to turn like the real robot
-    (simpick.studies.calibration.target_table)."""
+    (simpick.studies.calibration.turning.target_table)."""
 
     classes: list[str] | None = Field(None, description="terrain classes judged together; null: every class calibrated")
     gain_tolerance: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = Field(
