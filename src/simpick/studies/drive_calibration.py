@@ -3,9 +3,9 @@
 Everything but the units is the project's calibration (:mod:`simpick.studies.calibration`): the seeded split
 (:func:`~simpick.studies.calibration.split.split_runs`, stratified into turning and straight), each adapter's
 declared parameters and bounds, the Optuna search with its journal
-(:func:`~simpick.studies.calibration.search.calibrate`, trial 0 the as-configured engine) and the one statistics rule of its summary
-(:func:`~simpick.studies.calibration.summary.summarise`: BCa intervals over independent units, paired sign-flip tests,
-none below ``statistics.min_runs``).
+(:func:`~simpick.studies.calibration.search.calibrate`, trial 0 the as-configured engine) and the one
+statistics rule of its summary (:func:`~simpick.studies.calibration.summary.summarise`: BCa intervals over
+independent units, paired sign-flip tests, none below ``statistics.min_runs``).
 
 The units are DRIVE steps (the chosen subset, ``drive_replay.every`` / ``max_steps_per_session``), each its
 own replicate as in the verdict (:mod:`simpick.compare.drive`: DRIVE draws every step's command
