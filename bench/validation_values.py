@@ -18,7 +18,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 
 from simpick.inputs.robot import load_robot  # noqa: E402
-from simpick.studies.validation import Setup, run_case, summarise  # noqa: E402
+from simpick.studies.validation.cases import Setup, run_case  # noqa: E402
+from simpick.studies.validation.judge import summarise  # noqa: E402
 
 
 def main() -> None:

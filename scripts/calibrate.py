@@ -1,6 +1,6 @@
 from simpick.joblog import logged
 from simpick.simulate.watchdog import runtime_timeout
-from simpick.studies.calibration import calibrate_job
+from simpick.studies.calibration.search import calibrate_job
 
 with logged(snakemake.log[0]):
     # the job's code version names its Optuna study: trials of older code are not resumed

@@ -1,6 +1,6 @@
 from simpick.joblog import logged
 from simpick.simulate.watchdog import runtime_timeout
-from simpick.studies.calibration import evaluate_job
+from simpick.studies.calibration.search import evaluate_job
 
 with logged(snakemake.log[0]):
     evaluate_job(

@@ -1,5 +1,5 @@
 from simpick.joblog import logged
-from simpick.studies.calibration import split_job
+from simpick.studies.calibration.split import split_job
 
 with logged(snakemake.log[0]):
     split_job(

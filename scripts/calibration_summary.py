@@ -1,5 +1,5 @@
 from simpick.joblog import logged
-from simpick.studies.calibration import summary_job
+from simpick.studies.calibration.summary import summary_job
 
 with logged(snakemake.log[0]):
     summary_job(

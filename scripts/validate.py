@@ -1,6 +1,6 @@
 from simpick.joblog import logged
 from simpick.simulate.watchdog import runtime_timeout
-from simpick.studies.validation import validate_job
+from simpick.studies.validation.job import validate_job
 
 with logged(snakemake.log[0]):
     validate_job(

@@ -11,7 +11,11 @@ import yaml
 from conftest import ROOT, snakemake, tiny_config, write_config
 from simpick.config import problems
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
-from simpick.studies.calibration import Units, apply_parameters, calibrate, evaluate, split_runs, summarise
+from simpick.studies.calibration.objective import Units, evaluate
+from simpick.studies.calibration.parameters import apply_parameters
+from simpick.studies.calibration.search import calibrate
+from simpick.studies.calibration.split import split_runs
+from simpick.studies.calibration.summary import summarise
 
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
 URDF = str(ROOT / "resources/robot/husky_a200.urdf")
@@ -201,7 +205,7 @@ def test_an_interrupted_calibration_resumes_without_repeating_trials(tmp_path):
 
     calibrate(units, ["s1"], URDF, params, dict(settings, n_trials=5), tmp_path / "b.journal", evaluate_fn=counting)
     assert len(calls) == 5
-    from simpick.studies.calibration import _storage, study_name
+    from simpick.studies.calibration.search import _storage, study_name
 
     storage = _storage(tmp_path / "b.journal")
     optuna.load_study(study_name=study_name(params, settings, ["s1"]), storage=storage).ask()  # stays RUNNING
@@ -360,7 +364,7 @@ def test_classes_too_small_for_an_interval_get_one_pooled_and_runs_are_named_by_
     """Three classes of 2 test runs each: no class reaches statistics.min_runs (6), all of them
     together do. Run numbers repeat across classes ("00", "01"); pooled they are 6 runs, not 2."""
     from simpick.report.calibration import calibration_section
-    from simpick.studies.calibration import POOLED
+    from simpick.studies.calibration.summary import POOLED
 
     rows = []
     for c, cls in enumerate(("asphalt", "ice", "snow")):
@@ -407,7 +411,7 @@ def test_the_objective_leaves_constant_acceleration_offsets_out():
     """An accelerometer bias or a slope (a constant offset between real and simulated ax)
     no engine can model does not count; the yaw-rate term keeps its weight."""
     from simpick.compare.realmetrics import aligned_rmse
-    from simpick.studies.calibration import objective_terms
+    from simpick.studies.calibration.objective import objective_terms
 
     t = np.arange(0, 20, 0.01)
     sim = 0.2 * np.sin(0.5 * t)
@@ -461,7 +465,7 @@ TARGET = {"classes": ["asphalt", "ice"], "gain_tolerance": 0.10, "reference": "c
 
 def test_the_turning_table_gives_held_out_gains_errors_and_the_equivalent_multiplier():
     from simpick.coulomb import wheel_separation_multiplier
-    from simpick.studies.calibration import TARGET_POOL, turning_table
+    from simpick.studies.calibration.turning import TARGET_POOL, turning_table
 
     best = {("e", "ice"): {"parameters": {"friction_ratio": 0.63}}}
     table = turning_table(_turning_evals(0.69, 0.03), best, 0.555, 0.5708, TARGET)
@@ -480,7 +484,7 @@ def test_the_turning_table_gives_held_out_gains_errors_and_the_equivalent_multip
 
 
 def test_the_target_needs_both_paired_tests_and_the_gain_in_every_class():
-    from simpick.studies.calibration import target_table, turning_table
+    from simpick.studies.calibration.turning import target_table, turning_table
 
     def judge(cal_gain, cal_error, **kw):
         evals = _turning_evals(cal_gain, cal_error, **kw)
@@ -508,7 +512,7 @@ def test_the_target_needs_both_paired_tests_and_the_gain_in_every_class():
 def test_the_report_shows_held_out_gains_multipliers_and_the_target():
     from simpick.report.build import environment
     from simpick.report.calibration import calibration_section
-    from simpick.studies.calibration import target_table, turning_table
+    from simpick.studies.calibration.turning import target_table, turning_table
 
     evals = _turning_evals(0.69, 0.03)
     best = {("e", "ice"): {"parameters": {"friction_ratio": 0.63}, "as_configured": {"friction_ratio": 1.0}}}
@@ -538,7 +542,7 @@ def test_the_report_shows_held_out_gains_multipliers_and_the_target():
 def test_the_objective_gives_the_steady_gain_its_own_weight():
     """A unit that turns under a steady command adds |gain error| / scales.yaw_rate_gain;
     a unit without steady turning windows (gain error NaN) and a config without the scale do not."""
-    from simpick.studies.calibration import objective_terms
+    from simpick.studies.calibration.objective import objective_terms
 
     row = {
         "status": "ok",

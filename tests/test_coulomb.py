@@ -233,7 +233,7 @@ def test_coulomb_baseline_turns_at_its_friction_ratio(robot):
     """The ``coulomb`` reference model reads baselines.coulomb.friction_ratio (a calibratable
     parameter): its steady yaw rate is the anisotropic solver's at that ratio."""
     from conftest import drive
-    from simpick.studies.calibration import parameter_space
+    from simpick.studies.calibration.parameters import parameter_space
 
     assert "friction_ratio" in parameter_space("coulomb")
     for r in (1.0, 0.63):

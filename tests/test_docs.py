@@ -95,17 +95,20 @@ def test_no_tracker_numbers_in_documents_config_rules_or_code():
 
 def test_every_config_field_has_a_description():
     """The config's models document themselves (the generated schema carries each description)."""
+    import importlib
     import inspect
+    import pkgutil
 
     from pydantic import BaseModel
 
     from simpick import config
 
-    models = [m for m in vars(config).values() if inspect.isclass(m) and issubclass(m, BaseModel)]
+    modules = [importlib.import_module(f"{config.__name__}.{m.name}") for m in pkgutil.iter_modules(config.__path__)]
+    models = {m for module in modules for m in vars(module).values() if inspect.isclass(m) and issubclass(m, BaseModel)}
     missing = [
         f"{m.__name__}.{name}"
-        for m in models
-        if m.__module__ == config.__name__
+        for m in sorted(models, key=lambda m: m.__name__)
+        if m.__module__.startswith(config.__name__ + ".")
         for name, field in m.model_fields.items()
         if not field.description
     ]

@@ -31,7 +31,7 @@ from simpick.errors import InputError
 from simpick.inputs.robot import load_robot
 from simpick.simulate.health import HealthLimits, check
 from simpick.simulate.imu import block_average
-from simpick.studies.validation import body_velocity, braking_deceleration
+from simpick.studies.validation.cases import body_velocity, braking_deceleration
 
 DT = 0.001
 

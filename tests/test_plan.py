@@ -12,7 +12,7 @@ from simpick.config import Study, plain
 from simpick.engines import get_engine
 from simpick.inputs.terrain import TILES
 from simpick.plan import Plan
-from simpick.studies.validation import DEFAULT_HEADING
+from simpick.studies.validation.measures import DEFAULT_HEADING
 
 
 def plan_of(config: dict) -> Plan:

@@ -1423,7 +1423,7 @@ def test_how_the_real_robot_turns_is_shown_from_its_table(tmp_path, built_real):
 def test_the_summary_says_which_engines_pass_the_analytic_validation(tmp_path):
     """The first box names, beside the verdict, the engines that pass every analytic case and how many
     each other engine fails, so a ranking is never read without it."""
-    from simpick.studies.validation import summarise
+    from simpick.studies.validation.judge import summarise
 
     lab = write_synthetic_inputs(tmp_path / "in", seconds=1.0, failed=None)
     engines = sorted(pd.read_csv(lab["weighted"]).engine)

@@ -394,7 +394,7 @@ def test_warthog_config_fits_the_warthog_and_runs_on_an_engine(tmp_path):
     from simpick.config import problems
     from simpick.coulomb import contact_layout, yaw_rate_gain
     from simpick.inputs.motions import arc_start_over_strip
-    from simpick.studies.validation import Setup, run_case
+    from simpick.studies.validation.cases import Setup, run_case
 
     base = yaml.safe_load((ROOT / "config.yaml").read_text())
     config = yaml.safe_load((ROOT / "config" / "robots" / "warthog.yaml").read_text())

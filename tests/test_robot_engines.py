@@ -13,7 +13,7 @@ from simpick.engines.base import Scenario
 from simpick.engines.kinematics import euler_rpy
 from simpick.inputs.motions import constant_commands
 from simpick.inputs.robot import load_robot
-from simpick.studies.validation import Setup, run_case
+from simpick.studies.validation.cases import Setup, run_case
 from test_robot import write_robot
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -14,7 +14,7 @@ import pytest
 from simpick.engines import ADAPTERS, unavailable
 from simpick.errors import InputError
 from simpick.inputs.robot import SNAP_TOLERANCE_DEG, load_robot
-from simpick.studies.validation import Setup, run_case
+from simpick.studies.validation.cases import Setup, run_case
 
 ENGINES = [e for e in ADAPTERS if e not in unavailable([e])]
 WHEEL_R, WHEEL_W = 0.1, 0.06

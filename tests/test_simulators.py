@@ -164,8 +164,9 @@ def test_a_settings_file_reads_back_into_the_settings_it_was_written_from(catalo
 
 
 def _gain(engine: str, settings: dict, tmp_path) -> float:
-    from simpick.studies.validation import Setup, run_case, summarise
     from simpick.inputs.robot import load_from_config
+    from simpick.studies.validation.cases import Setup, run_case
+    from simpick.studies.validation.judge import summarise
 
     config = tiny_config(tmp_path)
     setup = Setup(engine=engine, robot=load_from_config(config["robot"]), timestep=0.001,

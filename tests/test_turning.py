@@ -11,7 +11,8 @@ from simpick.config import problems
 from simpick.engines import ADAPTERS, get_engine
 from simpick.errors import InputError
 from simpick.inputs.robot import load_robot
-from simpick.studies.validation import Setup, run_case, summarise
+from simpick.studies.validation.cases import Setup, run_case
+from simpick.studies.validation.judge import summarise
 
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
 TOLERANCES = CONFIG["validation"]["tolerances"]
@@ -91,7 +92,7 @@ def test_an_engine_without_the_setting_skips_the_case_saying_why():
 
 
 def test_anisotropic_cases_stay_out_of_the_invariance_checks_and_gains_table():
-    from simpick.studies.validation import gain_table
+    from simpick.studies.validation.judge import gain_table
 
     def gain(case, w, value, **extra):
         return {

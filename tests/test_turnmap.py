@@ -129,7 +129,7 @@ def test_warthog_wheel_loads_are_the_coupled_rockers_balance():
 
 
 def _mujoco_setup():
-    from simpick.studies.validation import Setup
+    from simpick.studies.validation.cases import Setup
 
     settings = dict(yaml.safe_load((ROOT / "config.yaml").read_text())["engines"]["mujoco"])
     settings["wheel_servo_kp"] = 15000.0  # the Warthog's wheel: the Husky's servo bandwidth (warthog.yaml)
@@ -149,7 +149,7 @@ def test_mujoco_gain_on_the_map_is_its_validation_gain():
     DRIVE's wheel speeds and converts the gain to DRIVE's kinematic rate, which must change nothing when the
     track is DRIVE's baseline. Both are the same deterministic run, so they agree to rounding."""
     pytest.importorskip("mujoco")
-    from simpick.studies.validation import run_case
+    from simpick.studies.validation.cases import run_case
 
     setup = _mujoco_setup()
     commands = [(0.5, 0.5), (0.0, 0.5), (1.5, -0.4)]  # (v, w): the validation's turn, a spin, a wide right turn

@@ -16,7 +16,9 @@ from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.errors import InputError
 from simpick.inputs.robot import load_robot
 from simpick.score.mechanics import failures
-from simpick.studies.validation import QUANTITIES, Setup, run_case, summarise
+from simpick.studies.validation.cases import Setup, run_case
+from simpick.studies.validation.judge import summarise
+from simpick.studies.validation.measures import QUANTITIES
 
 CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
 TOLERANCES = CONFIG["validation"]["tolerances"]
@@ -143,7 +145,7 @@ def test_an_invariance_check_fails_when_one_of_its_cases_diverged():
 
 
 def test_gain_table_gives_left_right_and_the_spread_over_headings():
-    from simpick.studies.validation import gain_table
+    from simpick.studies.validation.judge import gain_table
 
     summary = summarise(
         [
@@ -167,7 +169,7 @@ def test_gain_table_gives_left_right_and_the_spread_over_headings():
 def test_the_report_shows_left_right_and_headings_and_names_the_failed_check(tmp_path):
     """The report and its gain figure read gains.csv; the ranking names the failed invariance check."""
     from simpick.report.draw import validation as draw_validation
-    from simpick.studies.validation import gain_table
+    from simpick.studies.validation.judge import gain_table
     from test_report import PARAMS, _render, write_synthetic_inputs
 
     summary = summarise(
@@ -401,7 +403,7 @@ def test_the_engine_job_writes_each_case_as_run_alone(tmp_path):
     keeps no state from one case to the next), one file per case, named by it."""
     import json
 
-    from simpick.studies.validation import validate_job
+    from simpick.studies.validation.job import validate_job
 
     outputs = [str(tmp_path / "pybullet" / f"{name}.json") for name in SHORT_CASES]
     validate_job(outputs, ROOT / CONFIG["robot"]["urdf"], _job_params("pybullet", SHORT_CASES))
@@ -417,14 +419,14 @@ def test_the_engine_job_writes_each_case_as_run_alone(tmp_path):
 def test_a_case_that_crashes_is_a_failed_row_and_the_next_case_runs(tmp_path, monkeypatch, capfd):
     import json
 
-    from simpick.studies import validation
+    from simpick.studies.validation import cases, job
 
     def crash(setup, params):
         raise RuntimeError("solver gave up")
 
-    monkeypatch.setitem(validation.RUNNERS, "yaw_gain", crash)
+    monkeypatch.setitem(cases.RUNNERS, "yaw_gain", crash)
     outputs = [str(tmp_path / f"{name}.json") for name in SHORT_CASES]
-    validation.validate_job(outputs, ROOT / CONFIG["robot"]["urdf"], _job_params("pybullet", SHORT_CASES))
+    job.validate_job(outputs, ROOT / CONFIG["robot"]["urdf"], _job_params("pybullet", SHORT_CASES))
     gain, rest = (json.loads(open(p).read()) for p in outputs)
     assert gain["status"] == "failed" and gain["reasons"] == ["crashed: RuntimeError: solver gave up"]
     assert gain["checks"] == [] and gain["kind"] == "yaw_gain" and gain["params"]["w"] == -0.5
@@ -438,7 +440,7 @@ def test_a_case_that_crashes_is_a_failed_row_and_the_next_case_runs(tmp_path, mo
     assert failures(summary) == {"pybullet": ["gain"]}
     # an invalid case kind is the config's error, not a failed run: it stops the job
     with pytest.raises(InputError, match="validation.cases.bad.kind"):
-        validation.validate_job(
+        job.validate_job(
             [str(tmp_path / "bad.json")],
             ROOT / CONFIG["robot"]["urdf"],
             _job_params("pybullet", {"bad": {"kind": "hover", "mu": 0.8}}),
@@ -461,7 +463,7 @@ def warthog_text(front_arm=0.46, rigid=False):
 
 
 def test_articulation_poses_the_chassis_as_the_differential_does(tmp_path):
-    from simpick.studies.validation import articulation
+    from simpick.studies.validation.suspension import articulation
 
     warthog = load_robot(WARTHOG)
     plan = articulation(warthog, 0.05)

@@ -143,24 +143,24 @@ def test_a_hung_validation_case_fails_it_and_the_cases_after_it(tmp_path):
     import json
 
     from simpick.score.mechanics import failures
-    from simpick.studies.validation import summarise
+    from simpick.studies.validation.judge import summarise
 
     names = ["a_rest", "b_slide", "c_rest"]
     _run_hanging(
         tmp_path,
         "validate",
         """
-        from simpick.studies import validation
+        from simpick.studies.validation import cases, job
         def hang(setup, params):
             while True:
                 time.sleep(0.01)
-        validation.RUNNERS["slide"] = hang
+        cases.RUNNERS["slide"] = hang
         rest = {"kind": "rest", "mu": 0.8, "duration": 1.2}
         cases = {"a_rest": rest, "b_slide": {"kind": "slide", "v": 0.5, "mu": 0.3}, "c_rest": rest}
         params = {"engine": "pybullet", "engine_settings": config["engines"]["pybullet"], "cases": cases,
                   "physics": config["physics"], "robot": config["robot"]}
         # three cases in a 3 s job: 1 s each
-        validation.validate_job([f"{out}/{name}.json" for name in cases], config["robot"]["urdf"], params,
+        job.validate_job([f"{out}/{name}.json" for name in cases], config["robot"]["urdf"], params,
                                 timeout=3.0)
     """,
         tmp_path / "records",
@@ -248,12 +248,12 @@ def test_a_hung_calibration_and_its_evaluation_are_recorded_failed(tmp_path):
     import pandas as pd
     import yaml
 
-    from simpick.studies.calibration import summarise
+    from simpick.studies.calibration.summary import summarise
 
     best, trials, evaluation = tmp_path / "best.yaml", tmp_path / "trials.csv", tmp_path / "evaluation.csv"
     setup = """
         import pandas as pd
-        from simpick.studies.calibration import split_job
+        from simpick.studies.calibration.split import split_job
         segments = config["real_data"]["segments"]
         units = pd.read_csv(segments, dtype={"run": str})
         units = units[units.terrain_class == "flooring"]
@@ -266,7 +266,7 @@ def test_a_hung_calibration_and_its_evaluation_are_recorded_failed(tmp_path):
         "calibrate",
         setup
         + f"""
-        from simpick.studies.calibration import calibrate_job
+        from simpick.studies.calibration.search import calibrate_job
         calibrate_job(inputs, real, calibration, {{"best": out, "trials": {str(trials)!r}}}, timeout=1.0)
     """,
         best,
@@ -281,7 +281,7 @@ def test_a_hung_calibration_and_its_evaluation_are_recorded_failed(tmp_path):
         "evaluate",
         setup
         + f"""
-        from simpick.studies.calibration import evaluate_job
+        from simpick.studies.calibration.search import evaluate_job
         inputs["best"] = {str(best)!r}
         evaluate_job(inputs, real, calibration, out, timeout=1.0)
     """,

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from simpick.errors import InputError
 from simpick.real.drive import unmodelled_terrain
-from simpick.real.logs.drive import METADATA, read_metadata
+from simpick.real.logs.drive_files import METADATA, read_metadata
 
 
 def session_problems(

@@ -29,7 +29,8 @@ import pandas as pd
 
 from simpick.errors import InputError
 from simpick.real.datasets import DatasetProblems
-from simpick.real.logs.drive import find_sessions, read_drive
+from simpick.real.logs.drive import read_drive
+from simpick.real.logs.drive_files import find_sessions
 from simpick.tables import write_csv
 
 MIN_TURN = 0.2  # rad/s: the kinematic yaw rate above which a step counts as turning (as DRIVE's README)

@@ -7,7 +7,8 @@ from typing import Any
 
 import pandas as pd
 
-from simpick.studies.calibration import POOLED, TARGET_POOL
+from simpick.studies.calibration.summary import POOLED
+from simpick.studies.calibration.turning import TARGET_POOL
 
 
 def _cell(row, fig: str, variant: str) -> dict:
@@ -104,7 +105,7 @@ def turning_rows(turning: pd.DataFrame | None, engines: list[str]) -> list[dict]
 
 
 def target_summary(target: pd.DataFrame | None) -> dict[str, Any] | None:
-    """The turning target as the summary judged it (simpick.studies.calibration.target_table): the best
+    """The turning target as the summary judged it (simpick.studies.calibration.turning.target_table): the best
     calibrated engine, whether it meets the target, and every calibrated model's figures."""
     if target is None or target.empty:
         return None
@@ -185,7 +186,7 @@ def calibration_section(
                     "failed": int((test.get("n_failed_configured") or 0) + (test.get("n_failed_calibrated") or 0)),
                 }
             )
-        # the winner as the summary judged it (simpick.studies.calibration._winners): a model's name only
+        # the winner as the summary judged it (simpick.studies.calibration.summary._winners): a model's name only
         # where a paired test over at least statistics.min_runs runs separates it from the runner-up
         test = g[g.set == "test"]
         winner = {

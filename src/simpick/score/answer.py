@@ -56,7 +56,7 @@ ANSWER_COLUMNS = [
     "failed_runs",
 ]
 PRIMARY = ("gain_error", "heading_error", "speed_error")  # the metric a "closest" sentence rests on first
-CALIBRATED_POOL = "target classes"  # simpick.studies.calibration.TARGET_POOL: the held-out runs judged together
+CALIBRATED_POOL = "target classes"  # simpick.studies.calibration.turning.TARGET_POOL: the held-out runs judged together
 
 
 def _f(x, digits: int = 3) -> str:

@@ -62,7 +62,8 @@ def main(argv: list[str] | None = None) -> None:
     from simpick.inputs.robot import load_from_config
     from simpick.simulators import SIMULATORS
     from simpick.simulators.catalog import load_catalog
-    from simpick.studies.validation import Setup, run_case, summarise
+    from simpick.studies.validation.cases import Setup, run_case
+    from simpick.studies.validation.judge import summarise
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--config", default="config.yaml")

@@ -1,11 +1,11 @@
 """Calibration on DRIVE steps: each engine's turning parameters fitted on some steps, judged on held-out ones.
 
 Everything but the units is the project's calibration (:mod:`simpick.studies.calibration`): the seeded split
-(:func:`~simpick.studies.calibration.split_runs`, stratified into turning and straight), each adapter's
-declared parameters and bounds, the Optuna search with its journal (:func:`~simpick.studies.calibration.calibrate`,
-trial 0 the as-configured engine) and the one statistics rule of its summary
-(:func:`~simpick.studies.calibration.summarise`: BCa intervals over independent units, paired sign-flip tests,
-none below ``statistics.min_runs``).
+(:func:`~simpick.studies.calibration.split.split_runs`, stratified into turning and straight), each adapter's
+declared parameters and bounds, the Optuna search with its journal
+(:func:`~simpick.studies.calibration.search.calibrate`, trial 0 the as-configured engine) and the one
+statistics rule of its summary (:func:`~simpick.studies.calibration.summary.summarise`: BCa intervals over
+independent units, paired sign-flip tests, none below ``statistics.min_runs``).
 
 The units are DRIVE steps (the chosen subset, ``drive_replay.every`` / ``max_steps_per_session``), each its
 own replicate as in the verdict (:mod:`simpick.compare.drive`: DRIVE draws every step's command
@@ -35,7 +35,11 @@ from simpick.inputs.robot import load_robot
 from simpick.real.drive import MIN_TURN
 from simpick.simulate.drive import open_session, replay_step, select_steps
 from simpick.simulate.watchdog import Watchdog, hung_reason
-from simpick.studies import calibration as C
+from simpick.studies.calibration.objective import FAILED_UNIT
+from simpick.studies.calibration.parameters import apply_parameters, configured_values, parameter_space
+from simpick.studies.calibration.search import calibrate
+from simpick.studies.calibration.split import split_runs
+from simpick.studies.calibration.summary import summarise
 from simpick.tables import write_csv
 
 SPEED_SCALE = 0.2  # m/s: about the as-configured engines' median steady speed error on the Warthog's steps
@@ -44,7 +48,7 @@ SPEED_SCALE = 0.2  # m/s: about the as-configured engines' median steady speed e
 
 class DriveUnits:
     """The DRIVE steps of one terrain class (every session of it), by case id: what
-    :func:`simpick.studies.calibration.calibrate` evaluates."""
+    :func:`simpick.studies.calibration.search.calibrate` evaluates."""
 
     def __init__(self, sessions: dict, cases: pd.DataFrame, warmup: float):
         self.sessions = sessions
@@ -71,14 +75,14 @@ class DriveUnits:
 
 def evaluate(units: DriveUnits, ids: list[str], urdf: str, params: dict, settings: dict) -> list[dict]:
     """Each step's errors and objective (module doc); a failed step counts
-    :data:`simpick.studies.calibration.FAILED_UNIT`."""
+    :data:`simpick.studies.calibration.objective.FAILED_UNIT`."""
     rows = []
     for unit in ids:
         row = {"unit": unit, "run": units.runs[unit], **units.errors(unit, urdf, params, settings)}
         row["objective"] = (
             row["error_yaw_rate"] / settings["scales"]["yaw_rate"] + row["error_accel_x"] / SPEED_SCALE
             if row["status"] == "ok"
-            else C.FAILED_UNIT
+            else FAILED_UNIT
         )
         rows.append(row)
     return rows
@@ -94,7 +98,7 @@ def class_units(cases: pd.DataFrame, steps: pd.DataFrame, terrain: str, replay: 
 
 def split(units: pd.DataFrame, test_fraction: float, seed: int) -> pd.DataFrame:
     table = units.assign(run=units.case, unit=units.case)[["terrain_class", "run", "unit", "turns"]]
-    return C.split_runs(table, test_fraction, seed)
+    return split_runs(table, test_fraction, seed)
 
 
 def calibrate_job(inputs: dict, params: dict, outputs: dict, timeout: float) -> None:
@@ -137,13 +141,13 @@ def calibrate_job(inputs: dict, params: dict, outputs: dict, timeout: float) -> 
         write_csv(pd.DataFrame(columns=["unit", "status"]), outputs["evals"])
 
     with Watchdog(timeout, hung):
-        values, history, facts = C.calibrate(units, train, inputs["urdf"], case_params, settings, journal, evaluate)
-        space = C.parameter_space(params["engine"], (settings.get("bounds") or {}).get(params["engine"]))
-        configured = C.configured_values(case_params, space)
+        values, history, facts = calibrate(units, train, inputs["urdf"], case_params, settings, journal, evaluate)
+        space = parameter_space(params["engine"], (settings.get("bounds") or {}).get(params["engine"]))
+        configured = configured_values(case_params, space)
         rows = []
         for variant, chosen in (("configured", configured), ("calibrated", values)):
             for set_, ids in (("train", train), ("test", test)):
-                for row in evaluate(units, ids, inputs["urdf"], C.apply_parameters(case_params, chosen), settings):
+                for row in evaluate(units, ids, inputs["urdf"], apply_parameters(case_params, chosen), settings):
                     rows.append(
                         {"terrain_class": terrain, "engine": params["engine"], "variant": variant, "set": set_, **row}
                     )
@@ -216,7 +220,7 @@ def summary_job(inputs: dict, params: dict, outputs: dict) -> None:
     for path in inputs["bests"]:
         b = yaml.safe_load(Path(path).read_text())
         best[(b["engine"], b["terrain_class"])] = b
-    write_csv(C.summarise(evals, best, params.get("statistics")), outputs["summary"])
+    write_csv(summarise(evals, best, params.get("statistics")), outputs["summary"])
     separation = load_robot(inputs["urdf"]).track
     sessions = pd.read_csv(inputs["sessions"])
     track = float(sessions[sessions.kept.astype(bool)].wheel_baseline.median())  # the baseline DRIVE's gains use

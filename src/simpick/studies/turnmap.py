@@ -8,7 +8,7 @@ This module puts two models at the same commands:
 * the quasi-static Coulomb gain for the robot's geometry and loads (:mod:`simpick.coulomb`), which depends
   on the command only through its turn radius (the dissipation is homogeneous in the rim speeds);
 * each engine's steady gain on flat rigid ground with the terrain's friction, one short run per command,
-  built and measured exactly as the validation's ``yaw_gain`` case (:func:`simpick.studies.validation.run_case`).
+  built and measured exactly as the validation's ``yaw_gain`` case (:func:`simpick.studies.validation.cases.run_case`).
 
 The command of a bin (its *representative step*) is the bin's median step by the binned variable (the lower
 of the two middle steps for an even count): the engine is driven at that step's measured steady wheel
@@ -192,13 +192,13 @@ def unique_commands(grid: pd.DataFrame) -> pd.DataFrame:
 
 def engine_gains(grid: pd.DataFrame, setup, duration: float = DURATION) -> pd.DataFrame:
     """Each distinct command of ``grid`` run on ``setup``'s engine (a
-    :class:`simpick.studies.validation.Setup`) as the validation's yaw_gain case at the terrain's friction:
+    :class:`simpick.studies.validation.cases.Setup`) as the validation's yaw_gain case at the terrain's friction:
     the steady gain against DRIVE's w_kin, the run's status and wall time (s). An engine that refuses the
     robot (e.g. a suspension it does not simulate) gives every row status "refused" with its reason; a run
     that raises is "failed" with the error, and the others still run."""
     from simpick.engines.base import Scenario
     from simpick.engines.runner import check_layout
-    from simpick.studies.validation import FLAT, run_case
+    from simpick.studies.validation.cases import FLAT, run_case
 
     engine = get_engine(setup.engine)
     version = engine.version()
@@ -323,7 +323,7 @@ def grid_job(steps_csv, urdf, params: dict, output) -> pd.DataFrame:
 
 def engine_job(grid_csv, urdf, params: dict, output) -> pd.DataFrame:
     """Rule turnmap_engine: one engine's gain at every distinct command of the grid."""
-    from simpick.studies.validation import Setup
+    from simpick.studies.validation.cases import Setup
 
     setup = Setup(
         engine=params["engine"],

@@ -1,0 +1,210 @@
+"""The studies beside the flow: validation against mechanics, the timestep sweep, calibration."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field, field_validator, model_validator
+
+from simpick.config.base import Finite, NonNegative, Positive, Strict
+from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
+from simpick.studies.validation.measures import DEFAULT_HEADING, MIN_MEASURED_S, SETTLE_S
+
+
+class ValidationCase(Strict):
+    """A case with a known mechanical answer (simpick.studies.validation documents the kinds)."""
+
+    kind: Literal["yaw_gain", "straight", "slide", "incline", "rest", "rest_pose", "articulation"] = Field(
+        description="yaw_gain: steady yaw rate / w against the Coulomb gain; straight: speed = wheel speed x "
+        "radius; slide: locked-wheel deceleration mu g; incline: parked below atan(mu), sliding "
+        "above; rest: accelerometer g, gyro 0, no creep; a robot on a suspension (skipped on others): "
+        "rest_pose: the chassis level at its resting height; articulation: coupled rockers twisted on "
+        "two diagonal blocks h high, the chassis' pitch, roll and height as the coupling sets them"
+    )
+    h: Annotated[float, Field(gt=0, le=0.5, allow_inf_nan=False)] | None = Field(
+        None, description="m, articulation: the blocks' height (below half the wheel radius)"
+    )
+    v: Finite | None = Field(None, description="m/s, commanded forward speed (yaw_gain, straight, slide)")
+    w: Finite | None = Field(None, description="rad/s, commanded yaw rate (yaw_gain; positive: left)")
+    mu: Annotated[float, Field(gt=0, le=10, allow_inf_nan=False)] = Field(
+        description="Coulomb coefficient of the flat rigid ground"
+    )
+    angle_factor: Positive | None = Field(
+        None, description="incline: the slope as a multiple of atan(mu) (below 1 it must hold, above it must slide)"
+    )
+    heading: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = Field(
+        DEFAULT_HEADING,
+        description="deg; yaw_gain, straight, slide: the robot's start heading; incline: the "
+        "downhill direction from the robot's back (the robot starts at heading 0); "
+        "rest: refused (it would change nothing)",
+    )
+    duration: Positive | None = Field(None, description="s simulated; default: the kind's own")
+    cruise: Positive | None = Field(None, description="slide: s driven before the wheels lock; default: the kind's")
+    friction_ratio: Annotated[float, Field(gt=0, le=2, allow_inf_nan=False)] | None = Field(
+        None,
+        description="yaw_gain only: the wheels' lateral/longitudinal friction ratio given to the engine's "
+        "friction_ratio setting; the analytic gain is then the anisotropic Coulomb one (an "
+        "engine without that setting skips the case)",
+    )
+
+    @model_validator(mode="after")
+    def needed(self):
+        need = {
+            "yaw_gain": ("v", "w"),
+            "straight": ("v",),
+            "slide": ("v",),
+            "incline": ("angle_factor",),
+            "rest": (),
+            "rest_pose": (),
+            "articulation": ("h",),
+        }[self.kind]
+        missing = [k for k in need if getattr(self, k) is None]
+        if missing:
+            raise ValueError(f"a {self.kind} case needs {missing}")
+        if self.kind == "yaw_gain" and self.w == 0:
+            raise ValueError("a yaw_gain case needs w != 0 (the gain is yaw rate / w)")
+        if self.friction_ratio is not None and self.kind != "yaw_gain":
+            raise ValueError("friction_ratio is a yaw_gain case's parameter only")
+        if self.kind == "rest" and self.heading != 0:
+            raise ValueError("a rest case takes no heading (parked on level ground, it would change nothing)")
+        if self.kind in ("incline", "rest") and self.duration is not None and self.duration < SETTLE_S + MIN_MEASURED_S:
+            raise ValueError(
+                f"a {self.kind} case measures after {SETTLE_S:g} s of settling: its duration must be "
+                f"at least {SETTLE_S + MIN_MEASURED_S:g} s, got {self.duration:g}"
+            )
+        return self
+
+
+class Validation(Strict):
+    """Every engine against analytic mechanics before any real-data comparison."""
+
+    cases: dict[Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")], ValidationCase] = Field(
+        description="case name -> its kind and parameters; editing a case reruns every engine's validation job"
+    )
+    tolerances: dict[str, NonNegative] = Field(
+        description="quantity -> tolerance, one per quantity the cases measure; editing one reruns only the "
+        "validation summary and the report"
+    )
+
+    @model_validator(mode="after")
+    def every_quantity(self):
+        from simpick.studies.validation.measures import QUANTITIES
+
+        unknown = sorted(set(self.tolerances) - set(QUANTITIES))
+        missing = sorted(set(QUANTITIES) - set(self.tolerances))
+        if unknown or missing:
+            raise ValueError(
+                f"unknown tolerance(s) {unknown}, missing tolerance(s) {missing}; "
+                f"one per quantity: {sorted(QUANTITIES)}"
+            )
+        return self
+
+
+def timestep_label(timestep: float) -> str:
+    """0.0005 -> '0.5ms': a sweep timestep's wildcard and file name (rules/sweep.smk)."""
+    return f"{timestep * 1000:g}ms"
+
+
+class Sweep(Strict):
+    """The speed-accuracy sweep: the committed segments at several physics steps."""
+
+    name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] = Field(
+        description="the sweep's folder under results/sweeps/"
+    )
+    timesteps: Annotated[list[Annotated[float, Field(gt=0, le=0.02, allow_inf_nan=False)]], Field(min_length=1)] = (
+        Field(
+            description="s, the physics steps swept; 20 ms at most (a step that long skips whole contact events of "
+            "a 0.33 m wheel at 1 m/s)"
+        )
+    )
+
+    @field_validator("timesteps")
+    @classmethod
+    def distinct(cls, timesteps):
+        labels = [timestep_label(t) for t in timesteps]
+        if len(set(labels)) != len(labels):
+            raise ValueError(f"timesteps must be distinct (to 6 significant digits in ms), got {timesteps}")
+        return timesteps
+
+
+class CalibrationScales(Strict):
+    """Each error of the objective is divided by its scale before they are summed, so the terms count alike."""
+
+    yaw_rate: Positive = Field(description="rad/s, the low-passed yaw-rate error's scale")
+    accel_x: Positive = Field(description="m/s^2, the low-passed longitudinal-acceleration error's scale")
+    yaw_rate_gain: Positive | None = Field(
+        None,
+        description="the steady yaw-rate gain error's scale, on units that "
+        "turn under a steady command; null: no gain term",
+    )
+
+
+class CalibrationTarget(Strict):
+    """What a calibrated engine must reach on held-out runs to turn like the real robot
+    (simpick.studies.calibration.turning.target_table)."""
+
+    classes: list[str] | None = Field(None, description="terrain classes judged together; null: every class calibrated")
+    gain_tolerance: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = Field(
+        0.10, description="the calibrated mean yaw-rate gain within this fraction of the real robot's, per class"
+    )
+    reference: str = Field(
+        "coulomb",
+        description="the model whose as-configured yaw-rate error the calibrated "
+        "engine must beat (paired test over runs)",
+    )
+
+
+class Calibration(Strict):
+    """Calibrate every real-data model on training runs and judge it on held-out runs: what a user who
+    tunes an engine to their robot and ground can expect."""
+
+    enabled: bool = Field(
+        False,
+        description="true: the default target and the report include the calibration; "
+        "`snakemake calibration` runs it either way",
+    )
+    test_fraction: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = Field(
+        description="share of each terrain class's runs held out (split by run, never within one)"
+    )
+    seed: Annotated[int, Field(ge=0, lt=2**32)] = Field(description="the split and the sampler derive from it")
+    n_trials: Annotated[int, Field(ge=1)] = Field(
+        description="evaluations per model x class, each over all its "
+        "training units; the first is the as-configured model"
+    )
+    startup_trials: Annotated[int, Field(ge=1)] = Field(
+        description="random trials before the TPE sampler models the history"
+    )
+    segment_seconds: Positive | None = Field(
+        None, description="committed segments: the first seconds of each compared window"
+    )
+    replay_seconds: Positive | None = Field(None, description="full replay: the first seconds of each run")
+    scales: CalibrationScales = Field(description="the objective's scales")
+    models: list[str] | None = Field(
+        None,
+        description="engines and reference models to calibrate; null: every one "
+        "of the study's that declares parameters",
+    )
+    bounds: dict[str, dict[str, Annotated[list[Finite], Field(min_length=2, max_length=2)]]] = Field(
+        {}, description="model -> parameter -> [low, high], overriding the bounds its adapter declares"
+    )
+    target: CalibrationTarget = Field(
+        CalibrationTarget(), description="what a calibrated engine must reach on held-out runs"
+    )
+
+    @model_validator(mode="after")
+    def known_parameters(self):
+        for engine, params in self.bounds.items():
+            if engine not in ADAPTERS and engine not in REFERENCE_MODELS:
+                raise ValueError(f"bounds.{engine}: unknown engine; available: {sorted(ADAPTERS | REFERENCE_MODELS)}")
+            declared = get_engine(engine).calibratable
+            for name, (low, high) in params.items():
+                if name not in declared:
+                    raise ValueError(
+                        f"bounds.{engine}.{name}: {engine} declares no calibratable parameter "
+                        f"{name!r}; it declares {sorted(declared)}"
+                    )
+                if not low < high:
+                    raise ValueError(f"bounds.{engine}.{name}: low {low} must be below high {high}")
+                if declared[name].log and low <= 0:
+                    raise ValueError(f"bounds.{engine}.{name}: searched on a log scale, low must be > 0")
+        return self

@@ -1,0 +1,348 @@
+"""The validation's cases run: each kind of case (:mod:`simpick.studies.validation` describes them)
+on one engine, measured into checks beside the value mechanics predicts, with the reason a case
+does not apply to the robot studied."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from simpick.coulomb import braking_deceleration as coulomb_braking
+from simpick.coulomb import contact_layout, yaw_rate_gain
+from simpick.engines import get_engine
+from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario
+from simpick.engines.kinematics import euler_rpy, rotation_matrices
+from simpick.errors import InputError
+from simpick.inputs.motions import side_speeds
+from simpick.inputs.robot import RobotSpec
+from simpick.simulate.imu import block_average
+from simpick.studies.validation.measures import DEFAULT_HEADING, KINDS, QUANTITIES, SETTLE_S
+from simpick.studies.validation.suspension import articulation, articulation_reason
+
+FLAT = {"schema": "simpick.inputs.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": 0.0}
+
+
+@dataclass(frozen=True)
+class Setup:
+    """What every case shares with the study: the robot and the engine's settings."""
+
+    engine: str
+    robot: RobotSpec
+    timestep: float
+    max_wheel_torque: float
+    track: float
+    settings: dict
+
+
+def _scenario(
+    setup: Setup, mu: float, gravity=(0.0, 0.0, -GRAVITY), heading: float = DEFAULT_HEADING, boxes=()
+) -> Scenario:
+    """``heading``: the robot's start yaw in degrees; ``boxes``: blocks on the ground (x, y, z, yaw,
+    size x, y, z), of the ground's friction."""
+    return Scenario(
+        robot=setup.robot,
+        terrain=dict(FLAT, friction=mu, boxes=[list(map(float, b)) for b in boxes]),
+        ground_friction=mu,
+        timestep=setup.timestep,
+        max_wheel_torque=setup.max_wheel_torque,
+        starts=((0.0, 0.0, math.radians(heading)),),
+        settings=dict(setup.settings),
+        gravity=tuple(gravity),
+    )
+
+
+def _commands(setup: Setup, segments: list[tuple[float, float, float]]) -> np.ndarray:
+    """(steps, 1, driven wheels) joint speeds for consecutive (duration, v, w) pieces."""
+    rows = []
+    for duration, v, w in segments:
+        left, right = side_speeds(v, w, setup.track)
+        steps = int(round(duration / setup.timestep))
+        rows.append(np.tile(setup.robot.joint_speeds(left, right), (steps, 1)))
+    return np.concatenate(rows)[:, None, :]
+
+
+def _check(quantity: str, engine_value: float, analytic: float, **extra) -> dict:
+    unit, measure = QUANTITIES[quantity]
+    return {
+        "quantity": quantity,
+        "unit": unit,
+        "error_kind": measure,
+        "engine_value": float(engine_value),
+        "analytic_value": float(analytic),
+        **extra,
+    }
+
+
+def _finite(record: PhysicsRecord) -> bool:
+    return all(
+        np.isfinite(getattr(record, k)).all()
+        for k in ("position", "linear_velocity", "angular_velocity", "imu_specific_force")
+    )
+
+
+def body_velocity(record: PhysicsRecord) -> np.ndarray:
+    """(n, 3) base_link velocity in the body frame."""
+    return np.einsum("nji,nj->ni", rotation_matrices(record.quaternion), record.linear_velocity)
+
+
+def braking_deceleration(speed: np.ndarray, timestep: float) -> float:
+    """Deceleration fitted to a forward ``speed`` trace that starts at the brake command: while
+    it falls from 80 % to 20 % of its first value, away from the servo's lock-up and from the
+    stop, where static friction takes over. NaN when it never falls through that window."""
+    v0 = speed[0]
+    window = np.flatnonzero((speed <= 0.8 * v0) & (speed >= 0.2 * v0))
+    if v0 <= 0 or window.size < 5:
+        return math.nan
+    return float(-np.polyfit(window * timestep, speed[window], 1)[0])
+
+
+def _yaw_gain(setup: Setup, p: dict):
+    v, w, mu, duration, heading = p["v"], p["w"], p["mu"], p.get("duration", 6.0), p.get("heading", DEFAULT_HEADING)
+    ratio = p.get("friction_ratio")
+    if ratio is not None:  # the engine's anisotropic friction at this ratio (run_case checked it has one)
+        setup = replace(setup, settings={**dict(setup.settings), "friction_ratio": float(ratio)})
+    record = get_engine(setup.engine).simulate(
+        _scenario(setup, mu, heading=heading), _commands(setup, [(duration, v, w)])
+    )
+    half = record.steps // 2
+    # body yaw rate: the angular velocity's component on the body z axis
+    rate = np.einsum("nji,nj->ni", rotation_matrices(record.quaternion), record.angular_velocity)[:, 2]
+    gain = rate[half:].mean() / w
+    layout = contact_layout(setup.robot, friction_ratio=1.0 if ratio is None else float(ratio))
+    analytic = yaw_rate_gain(layout, v, w, setup.track)
+    extra = {} if ratio is None else {"friction_ratio": float(ratio)}
+    return record, [_check("yaw_rate_gain", gain, analytic, v=v, w=w, mu=mu, heading=heading, **extra)]
+
+
+def _straight(setup: Setup, p: dict):
+    v, mu, duration = p["v"], p["mu"], p.get("duration", 6.0)
+    record = get_engine(setup.engine).simulate(
+        _scenario(setup, mu, heading=p.get("heading", DEFAULT_HEADING)), _commands(setup, [(duration, v, 0.0)])
+    )
+    half = record.steps // 2
+    speed = body_velocity(record)[half:, 0].mean()
+    signs = np.array([w.axis_sign for w in setup.robot.driven], dtype=float)  # mirrored joints: forward-signed
+    rolling = (record.wheel_speed[half:] * signs).mean() * setup.robot.wheel_radius
+    yaw = np.unwrap(euler_rpy(record.quaternion)[:, 2])
+    return record, [
+        _check("speed_over_wheel_speed", speed / rolling, 1.0, v=v, mu=mu),
+        _check("heading_drift", yaw[-1] - yaw[half], 0.0, v=v, mu=mu),
+    ]
+
+
+def _slide(setup: Setup, p: dict):
+    v, mu, cruise, heading = p["v"], p["mu"], p.get("cruise", 2.0), p.get("heading", DEFAULT_HEADING)
+    record = get_engine(setup.engine).simulate(
+        _scenario(setup, mu, heading=heading), _commands(setup, [(cruise, v, 0.0), (2.0, 0.0, 0.0)])
+    )
+    brake = int(round(cruise / setup.timestep))
+    deceleration = braking_deceleration(body_velocity(record)[brake:, 0], setup.timestep)
+    analytic, _ = braking_deceleration_of(setup.robot, mu)  # mu g unless casters roll free
+    return record, [_check("deceleration", deceleration, analytic, v=v, mu=mu, heading=heading)]
+
+
+def _incline(setup: Setup, p: dict):
+    mu, factor, duration = p["mu"], p["angle_factor"], p.get("duration", 4.0)
+    angle = factor * math.atan(mu)
+    # downhill points along -(cos h, sin h); h = 0: along -x, the robot's back. h = 45 deg puts the
+    # slope across the world axes, where an engine with world-aligned friction directions holds
+    # up to sqrt(2) mu N (ODE's default pyramid did: parked at 1.2 atan(mu))
+    heading = math.radians(p.get("heading", DEFAULT_HEADING))
+    down = np.array([-math.cos(heading), -math.sin(heading)])
+    horizontal = GRAVITY * math.sin(angle) * down
+    gravity = (horizontal[0], horizontal[1], -GRAVITY * math.cos(angle))
+    record = get_engine(setup.engine).simulate(_scenario(setup, mu, gravity), _commands(setup, [(duration, 0.0, 0.0)]))
+    settle = int(round(SETTLE_S / setup.timestep))
+    s = record.position[:, :2] @ down  # distance travelled downhill
+    if factor < 1:
+        creep = abs(s[-1] - s[settle]) / ((record.steps - 1 - settle) * setup.timestep)
+        return record, [_check("creep_speed", creep, 0.0, mu=mu, angle=angle)]
+    t = np.arange(settle, record.steps) * setup.timestep
+    accel = 2 * np.polyfit(t, s[settle:], 2)[0]  # s = s0 + v0 t + a t^2 / 2
+    analytic = GRAVITY * (math.sin(angle) - mu * math.cos(angle))
+    # all contacts slide the same way, so Coulomb friction has no yaw moment about the centre of
+    # mass and damps any yaw rate: the robot slides without turning
+    yaw = np.unwrap(euler_rpy(record.quaternion)[:, 2])
+    return record, [
+        _check("slide_acceleration", accel, analytic, mu=mu, angle=angle),
+        _check("slide_yaw", yaw[-1] - yaw[settle], 0.0, mu=mu, angle=angle),
+    ]
+
+
+def _rest(setup: Setup, p: dict):
+    mu, duration = p["mu"], p.get("duration", 10.0)
+    record = get_engine(setup.engine).simulate(_scenario(setup, mu), _commands(setup, [(duration, 0.0, 0.0)]))
+    block = max(1, int(round(0.01 / setup.timestep)))  # the IMU's 100 Hz
+    settle = int(round(SETTLE_S / setup.timestep))
+    accel = block_average(record.imu_specific_force[settle:], block)
+    gyro = block_average(record.imu_gyro[settle:], block)
+    creep = float(np.linalg.norm(record.position[-1, :2] - record.position[settle, :2]))
+    return record, [
+        _check("accel_z", accel[:, 2].mean(), GRAVITY, mu=mu),
+        _check("gyro_max", np.abs(gyro).max(), 0.0, mu=mu),
+        _check("creep_distance", creep, 0.0, mu=mu),
+    ]
+
+
+def _chassis_pose(
+    record: PhysicsRecord, start: int, pitch: float = 0.0, roll: float = 0.0
+) -> tuple[float, float, float]:
+    """Chassis pitch and roll (rad) from step ``start`` on, each the sample farthest from the predicted
+    ``pitch`` / ``roll`` (a chassis that rocks or settles late shows its worst, not its mean), and the
+    mean base height (m)."""
+    rpy = euler_rpy(record.quaternion[start:])
+
+    def worst(values: np.ndarray, predicted: float) -> float:
+        return float(values[np.argmax(np.abs(values - predicted))])
+
+    return worst(rpy[:, 1], pitch), worst(rpy[:, 0], roll), float(record.position[start:, 2].mean())
+
+
+def _rest_pose(setup: Setup, p: dict):
+    mu, duration = p["mu"], p.get("duration", 4.0)
+    record = get_engine(setup.engine).simulate(_scenario(setup, mu), _commands(setup, [(duration, 0.0, 0.0)]))
+    # the rockers' damping slows the settling: the last half of the run, at least the parked cases' settle
+    start = max(int(round(SETTLE_S / setup.timestep)), record.steps // 2)
+    pitch, roll, height = _chassis_pose(record, start)
+    return record, [
+        _check("chassis_pitch", pitch, 0.0, mu=mu),
+        _check("chassis_roll", roll, 0.0, mu=mu),
+        _check("chassis_height", height, setup.robot.base_height, mu=mu),
+    ]
+
+
+def _articulation(setup: Setup, p: dict):
+    h, mu, v = p["h"], p["mu"], p.get("v", 0.2)
+    plan = articulation(setup.robot, h)
+    hold = p.get("duration", 3.0)
+    record = get_engine(setup.engine).simulate(
+        _scenario(setup, mu, boxes=plan.boxes), _commands(setup, [(plan.travel / v, v, 0.0), (hold, 0.0, 0.0)])
+    )
+    start = record.steps - int(round(min(1.0, hold / 2) / setup.timestep))  # the held pose's last second
+    pitch, roll, height = _chassis_pose(record, start, plan.pitch, plan.roll)
+    return record, [
+        _check("chassis_pitch", pitch, plan.pitch, mu=mu, v=v),
+        _check("chassis_roll", roll, plan.roll, mu=mu, v=v),
+        _check("chassis_height", height, plan.height, mu=mu, v=v),
+    ]
+
+
+# --- robot-generic: where a case's analytic value does not apply to the robot studied ---------
+
+
+def braking_deceleration_of(robot: RobotSpec, mu: float) -> tuple[float, str | None]:
+    return coulomb_braking(robot, mu)
+
+
+def not_applicable(robot: RobotSpec, kind: str, params: dict) -> str | None:
+    """Why a case's analytic value does not describe ``robot`` (None: it does)."""
+    if kind == "slide":
+        return braking_deceleration_of(robot, params["mu"])[1]
+    if kind == "rest_pose" and not robot.suspension:
+        return "the robot has no suspension (its rest is the rest case's)"
+    if kind == "articulation":
+        return articulation_reason(robot, params.get("h"))
+    if kind == "incline" and robot.casters:
+        return (
+            "the robot's casters roll freely, so only its driven wheels hold it on the slope, and the "
+            "analytic values (every wheel locked: parked below atan(mu), sliding above it) do not apply"
+        )
+    return None
+
+
+RUNNERS = {
+    "yaw_gain": _yaw_gain,
+    "straight": _straight,
+    "slide": _slide,
+    "incline": _incline,
+    "rest": _rest,
+    "rest_pose": _rest_pose,
+    "articulation": _articulation,
+}
+
+
+def run_case(setup: Setup, name: str, params: dict) -> dict:
+    """Run one case on one engine; returns its record (checks, cost, health)."""
+    params = dict(params)
+    kind = params.pop("kind")
+    if kind not in RUNNERS:
+        raise InputError(f"validation.cases.{name}.kind", f"{kind!r} is not a case kind", f"use one of {list(KINDS)}")
+    engine = get_engine(setup.engine)
+    reason = not_applicable(setup.robot, kind, params)
+    if (
+        reason is None
+        and params.get("friction_ratio") is not None
+        and "friction_ratio" not in engine.settings_model.model_fields
+    ):
+        reason = (
+            f"{setup.engine} has no anisotropic wheel friction here (no friction_ratio setting: "
+            "see docs/engines.md, 'Turning like the real Husky')"
+        )
+    elif reason is None and params.get("friction_ratio") is not None:
+        # a set-up (a simulator's profile) whose other settings exclude the ratio: the adapter says why
+        try:
+            engine.settings_model.of(
+                {**dict(setup.settings), "friction_ratio": float(params["friction_ratio"])}, setup.engine
+            )
+        except InputError as exc:
+            reason = f"this set-up takes no friction_ratio ({exc})"
+    if reason is not None:  # skipped, with the reason in the summary and the report
+        return {
+            "engine": setup.engine,
+            "engine_version": engine.version(),
+            "case": name,
+            "kind": kind,
+            "params": params,
+            "checks": [],
+            "status": "skipped",
+            "reasons": [f"not applicable: {reason}"],
+            "steps": 0,
+            "sim_time": 0.0,
+            "steps_per_s": None,
+            "wall_time": 0.0,
+        }
+    start = time.perf_counter()
+    record, checks = RUNNERS[kind](setup, params)
+    wall = time.perf_counter() - start
+    status, reasons = "ok", []
+    if not _finite(record):
+        status, reasons = "failed", ["diverged: non-finite state"]
+        for c in checks:
+            c["engine_value"] = math.nan
+    return {
+        "engine": setup.engine,
+        "engine_version": engine.version(),
+        "case": name,
+        "kind": kind,
+        "params": params,
+        "checks": checks,
+        "status": status,
+        "reasons": reasons,
+        "steps": record.steps,
+        "sim_time": record.steps * setup.timestep,
+        "steps_per_s": record.steps / record.wall_time if record.wall_time > 0 else None,
+        "wall_time": wall,
+    }
+
+
+def failed_record(setup: Setup, version: str, name: str, params: dict, reason: str, wall: float = 0.0) -> dict:
+    """The record of a case that ended before it measured anything (hung, crashed, or not run
+    because a case before it hung): failed, no checks, the reason; the summary lists it as a
+    failed row of the case's first quantity (:data:`CASE_QUANTITY`)."""
+    return {
+        "engine": setup.engine,
+        "engine_version": version,
+        "case": name,
+        "kind": params["kind"],
+        "params": {k: v for k, v in params.items() if k != "kind"},
+        "checks": [],
+        "status": "failed",
+        "reasons": [reason],
+        "steps": 0,
+        "sim_time": 0.0,
+        "steps_per_s": None,
+        "wall_time": float(wall),
+    }
