@@ -389,6 +389,7 @@ rule report:
         # the DRIVE tables' folder (results/drive/<name>), from the inputs: empty without drive_dir
         drive=lambda wildcards, input: os.path.dirname(input.drive[0]) if input.drive else "",
         drive_calibration=lambda wildcards, input: input.drive_calibration[0] if input.drive_calibration else "",
-        simulators="results/simulators" if PLAN.simulators else "",
+        # the simulators' folder, from the inputs: empty when the study runs none
+        simulators=lambda wildcards, input: os.path.dirname(input.simulators[0]) if input.simulators else "",
     script:
         "../scripts/report.py"

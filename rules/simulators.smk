@@ -1,4 +1,4 @@
-# The simulators as rows (simpick.simulators): each simulator's profiles run the validation and the real data
+# The simulators as rows (simpick.engines.simulators): each simulator's profiles run the validation and the real data
 # as models of the study (rules/validate.smk, rules/simulate.smk); here their results are put together by
 # simulator, without simulating anything. No weight reaches rule simulators; simulator_scores reads the weights
 # (the paper's table per simulator), simulator_tree the evidence alone (weights only order a leaf).
@@ -6,11 +6,6 @@
 
 rule simulators:
     input:
-        catalog=PLAN.config["simulators"]["catalog"],
-        validation="results/validation/summary.csv",
-        gains="results/validation/gains.csv",
-        rtf=PLAN.metrics_file("lab", "rtf"),
-        cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
         **({"per_test": PLAN.metrics_file(PLAN.verdict_source(), "per_test")} if PLAN.verdict else {}),
         **({"imu_errors": PLAN.accuracy_errors()} if PLAN.verdict else {}),
         # without a verdict (a robot with no BorealTC data), DRIVE's outcomes where the profiles replayed it
@@ -19,6 +14,11 @@ rule simulators:
             if not PLAN.verdict and SETTINGS.drive_dir and PLAN.config["simulators"]["drive"]
             else {}
         ),
+        catalog=PLAN.config["simulators"]["catalog"],
+        validation="results/validation/summary.csv",
+        gains="results/validation/gains.csv",
+        rtf=PLAN.metrics_file("lab", "rtf"),
+        cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
     output:
         table=report("results/simulators/table.csv", caption="captions/simulators.rst", category="Simulators"),
         outcomes="results/simulators/outcomes.csv",
@@ -38,7 +38,7 @@ rule simulators:
 
 
 rule simulator_settings:
-    """Each run profile as the file a user pastes into the simulator (simpick.simulators.files)."""
+    """Each run profile as the file a user pastes into the simulator (simpick.engines.simulator_files)."""
     input:
         catalog=PLAN.config["simulators"]["catalog"],
         table="results/simulators/table.csv",

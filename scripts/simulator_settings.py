@@ -1,5 +1,5 @@
 from simpick.joblog import logged
-from simpick.simulators.results import settings_files_job
+from simpick.score.simulators import settings_files_job
 
 with logged(snakemake.log[0]):
     settings_files_job(dict(snakemake.input.items()), dict(snakemake.params.items()), snakemake.output[0])

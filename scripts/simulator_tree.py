@@ -1,5 +1,5 @@
 from simpick.joblog import logged
-from simpick.simulators.results import simulator_tree_job
+from simpick.score.simulators import simulator_tree_job
 
 with logged(snakemake.log[0]):
     simulator_tree_job(snakemake.input.tree_dir, dict(snakemake.params.items()), snakemake.output.tree)

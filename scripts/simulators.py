@@ -1,5 +1,5 @@
 from simpick.joblog import logged
-from simpick.simulators.results import simulators_job
+from simpick.score.simulators import simulators_job
 
 with logged(snakemake.log[0]):
     simulators_job(dict(snakemake.input.items()), dict(snakemake.params.items()), dict(snakemake.output.items()))

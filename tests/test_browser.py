@@ -230,15 +230,22 @@ def test_the_page_needs_no_network_and_hides_in_print(study):
 # --- the simulators' tree: the catalog's real ROS 2 facts, a mechanics pattern made up for the test ---
 
 SIMULATOR_FAILS = {  # analytic cases failed (of 6): the out-of-the-box simulators mixed, so both ends are tested
-    "gazebo": 3, "isaac_sim": 3, "isaac_lab_newton": 0, "gazebo_classic": 0, "webots": 2, "mujoco": 0,
-    "drake": 0, "coppeliasim": 3, "genesis": 0,
+    "gazebo": 3,
+    "isaac_sim": 3,
+    "isaac_lab_newton": 0,
+    "gazebo_classic": 0,
+    "webots": 2,
+    "mujoco": 0,
+    "drake": 0,
+    "coppeliasim": 3,
+    "genesis": 0,
 }
 
 
 @pytest.fixture(scope="module")
 def simulators_study(tmp_path_factory):
     from conftest import ROOT
-    from simpick.simulators.catalog import load_catalog
+    from simpick.engines.catalog import load_catalog
 
     catalog = load_catalog(ROOT / "resources/simulators/simulators.yaml")
     facts = {
@@ -282,8 +289,11 @@ def test_the_ros2_paths_of_the_simulators_tree_end_at_a_simulator_that_passes_me
     node = tree["nodes"][tree["root"]]
     while node["kind"] == "question":  # answer as leaf_for does: closeness and mechanics demanding, the rest no need
         q = node["question"]
-        label = ros if q == "ros" else (node["answers"][0]["label"] if q in ("closeness", "mechanics")
-                                        else node["answers"][-1]["label"])
+        label = (
+            ros
+            if q == "ros"
+            else (node["answers"][0]["label"] if q in ("closeness", "mechanics") else node["answers"][-1]["label"])
+        )
         assert page.get_attribute("#sc-current .sc-question", "data-question") == q
         answer(page, q, label)
         node = tree["nodes"][next(a for a in node["answers"] if a["label"] == label)["next"]]

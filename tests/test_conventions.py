@@ -53,6 +53,7 @@ def tiny_paths(workdir):
         "reference": config["reference"],
         "qualitative": config["qualitative"],
         "real_data": config["real_data"] | {"segments": str(ROOT / config["real_data"]["segments"])},
+        "simulators": {"catalog": config["simulators"]["catalog"]},  # every simulator the engines allow
     }
 
 
@@ -154,8 +155,17 @@ def test_the_dot_test_configuration_runs_end_to_end(tmp_path):
     assert sorted(weighted.index) == sorted(config["engines"])
     assert weighted["total"].gt(0).all()
     per_test = pd.read_csv(workdir / "results/metrics/segments/per_test.csv")
-    assert sorted(per_test.engine) == sorted([*config["engines"], *config["baselines"]])
+    profiles = ["coppeliasim-shipped", "coppeliasim-tuned"]
+    assert sorted(per_test.engine) == sorted([*config["engines"], *config["baselines"], *profiles])
     assert (workdir / "results/report/report.pdf").stat().st_size > 0
+    # the simulators' rows, their files to paste and the report's section
+    table = pd.read_csv(workdir / "results/simulators/table.csv")
+    ran = table[table.status.str.startswith("run")]
+    assert sorted(ran.simulator + "-" + ran.variant) == profiles
+    assert ran.mechanics.isin(["pass", "fail"]).all()  # (.test has no turning case: no flat-ground gain)
+    files = sorted(p.name for p in (workdir / "results/simulators/settings").glob("*.lua"))
+    assert files == [f"{p}.lua" for p in profiles]
+    assert 'id="simulators-table"' in (workdir / "results/report/report.html").read_text()
     again = run([*SNAKEMAKE, "--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir), "-n"], ROOT)
     assert "Nothing to be done" in again.stdout + again.stderr  # same code and config: nothing reruns
 

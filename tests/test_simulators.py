@@ -13,11 +13,11 @@ import yaml
 from conftest import ROOT, tiny_config
 from simpick.config import Study
 from simpick.engines import get_engine, unavailable
+from simpick.engines import simulator_files as formats
+from simpick.engines.catalog import CatalogError, load_catalog
+from simpick.engines.simulators import SIMULATORS, VARIANTS, engine_of, model_name, split
 from simpick.plan import Plan
-from simpick.simulators import SIMULATORS, VARIANTS, engine_of, model_name, split
-from simpick.simulators import files as formats
-from simpick.simulators.catalog import CatalogError, load_catalog
-from simpick.simulators.tuning import choose, grid
+from simpick.studies.simulator_tuning import choose, grid
 
 CATALOG = ROOT / "resources/simulators/simulators.yaml"
 TUNING = ROOT / "resources/simulators/tuning.csv"
@@ -71,7 +71,10 @@ def _write(tmp_path, data) -> Path:
 def test_a_misspelt_setting_is_refused_naming_the_file_the_profile_and_the_setting(tmp_path):
     data = yaml.safe_load(CATALOG.read_text())
     data["simulators"]["webots"]["tuned"]["settings"]["contact_slipp"] = {
-        "value": 0.001, "exposed_as": "forceDependentSlip", "source": "made up"}
+        "value": 0.001,
+        "exposed_as": "forceDependentSlip",
+        "source": "made up",
+    }
     with pytest.raises(CatalogError) as err:
         load_catalog(_write(tmp_path, data))
     message = str(err.value)
@@ -134,15 +137,12 @@ def test_the_tuned_profiles_are_the_choice_of_their_search(catalog):
         chosen = json.loads(rows[rows.chosen].iloc[0].settings)
         tuned = catalog.settings(simulator, "tuned", HUSKY)
         assert {k: tuned[k] for k in chosen} == chosen, simulator
-        assert len(rows) == len(grid(yaml.safe_load((ROOT / "resources/simulators/tuning.yaml").read_text())[simulator]))
+        assert len(rows) == len(
+            grid(yaml.safe_load((ROOT / "resources/simulators/tuning.yaml").read_text())[simulator])
+        )
 
 
-RUNNABLE = [
-    (name, variant)
-    for name, engine in SIMULATORS.items()
-    if engine is not None
-    for variant in VARIANTS
-]
+RUNNABLE = [(name, variant) for name, engine in SIMULATORS.items() if engine is not None for variant in VARIANTS]
 
 
 @pytest.mark.parametrize("simulator,variant", RUNNABLE)
@@ -154,10 +154,14 @@ def test_a_settings_file_reads_back_into_the_settings_it_was_written_from(catalo
     texts = formats.write(sim.settings_format, sim.engine, settings, entries, ["test"], ["front_left_wheel_link"])
     back = formats.read(sim.settings_format, sim.engine, texts)
     for key, value in back.items():
-        assert settings[key] == pytest.approx(value, rel=1e-5) if isinstance(value, float) else settings[key] == value, key
+        assert (
+            settings[key] == pytest.approx(value, rel=1e-5) if isinstance(value, float) else settings[key] == value
+        ), key
     # every setting the profile states (over the adapter's defaults) is in the file
     assert set(entries) <= set(back) | {"contact_max_correcting_vel", "contact_surface_layer", "max_contacts"} | (
-        {"contact_bounce", "contact_bounce_vel", "contact_soft_erp", "contact_soft_cfm"} if sim.settings_format == "sdf" else set()
+        {"contact_bounce", "contact_bounce_vel", "contact_soft_erp", "contact_soft_cfm"}
+        if sim.settings_format == "sdf"
+        else set()
     ) | ({"contact_stiffness", "contact_damping"} if sim.settings_format == "coppeliasim" else set()) | (
         {"stepper", "friction_direction", "contact_surface_layer"} if sim.settings_format == "webots" else set()
     ), sorted(set(entries) - set(back))
@@ -169,9 +173,14 @@ def _gain(engine: str, settings: dict, tmp_path) -> float:
     from simpick.studies.validation.judge import summarise
 
     config = tiny_config(tmp_path)
-    setup = Setup(engine=engine, robot=load_from_config(config["robot"]), timestep=0.001,
-                  max_wheel_torque=config["robot"]["max_wheel_torque"], track=config["robot"]["track"],
-                  settings=settings)
+    setup = Setup(
+        engine=engine,
+        robot=load_from_config(config["robot"]),
+        timestep=0.001,
+        max_wheel_torque=config["robot"]["max_wheel_torque"],
+        track=config["robot"]["track"],
+        settings=settings,
+    )
     case = {"kind": "yaw_gain", "v": 0.5, "w": 0.5, "mu": 0.8, "duration": 2.0}
     summary = summarise([run_case(setup, "gain", case)], config["validation"]["tolerances"])
     return float(summary[summary.quantity == "yaw_rate_gain"].engine_value.iloc[0])
@@ -184,8 +193,14 @@ def test_a_pasted_settings_file_reproduces_the_tuned_row_in_the_engine(catalog, 
         pytest.fail(f"{sim.engine} is not installed: {unavailable([sim.engine])}")
     model = get_engine(sim.engine).settings_model
     tuned = model.model_validate(catalog.settings(simulator, "tuned", HUSKY)).model_dump(mode="json")
-    texts = formats.write(sim.settings_format, sim.engine, tuned, catalog.entries(simulator, "tuned", HUSKY),
-                          ["test"], ["front_left_wheel_link"])
+    texts = formats.write(
+        sim.settings_format,
+        sim.engine,
+        tuned,
+        catalog.entries(simulator, "tuned", HUSKY),
+        ["test"],
+        ["front_left_wheel_link"],
+    )
     # the simulator as it ships (its defaults and the maker's tags), with the file pasted over it
     pasted = {
         **model().model_dump(mode="json"),
@@ -216,8 +231,7 @@ def test_the_drake_yaml_loads_as_drake_config(catalog):
     from pydrake.multibody.plant import MultibodyPlantConfig
 
     for variant in VARIANTS:
-        settings = get_engine("drake").settings_model.model_validate(
-            catalog.settings("drake", variant)).model_dump()
+        settings = get_engine("drake").settings_model.model_validate(catalog.settings("drake", variant)).model_dump()
         texts = formats.write("drake", "drake", settings, catalog.entries("drake", variant), ["t"], ["wheel"])
         config = yaml_load_typed(schema=MultibodyPlantConfig, data=texts["yaml"])
         assert config.discrete_contact_approximation == settings["discrete_approximation"]

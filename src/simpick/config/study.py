@@ -91,7 +91,8 @@ class Study(Strict):
     calibration: Calibration | None = Field(None, description="calibration on training runs, judged on held-out runs")
     real_data: RealData = Field(description="the real data: the committed segments, terrain classes and datasets")
     simulators: Simulators = Field(
-        Simulators(), description="the simulators a roboticist picks, each as shipped and as tuned (simpick.simulators)"
+        Simulators(),
+        description="the simulators a roboticist picks, each as shipped and as tuned (simpick.engines.simulators)",
     )
     qualitative: str = Field(
         description="sourced qualitative facts per engine (licence, ROS, languages, ...) the "
@@ -237,8 +238,8 @@ class Study(Strict):
             if not Path(path).is_file():
                 raise ValueError(f"{key}: file {path!r} does not exist")
         # the simulator catalog is read here: a misspelt setting or an unsourced fact stops the run now
-        from simpick.simulators import SIMULATORS
-        from simpick.simulators.catalog import CatalogError, load_catalog
+        from simpick.engines.catalog import CatalogError, load_catalog
+        from simpick.engines.simulators import SIMULATORS
 
         try:
             catalog = load_catalog(self.simulators.catalog)

@@ -19,7 +19,7 @@ class Accuracy(Strict):
 
 
 class Simulators(Strict):
-    """The simulators as rows (simpick.simulators): each run through its engine as it ships and as tuned."""
+    """The simulators as rows (simpick.engines.simulators): each run through its engine as it ships and as tuned."""
 
     catalog: str = Field(
         "resources/simulators/simulators.yaml",

@@ -57,7 +57,7 @@ EXTRAS = ("physx", "drake")
 def unavailable(names) -> dict[str, str]:
     """Engine name -> why it cannot run on this machine, for the engines among ``names`` that
     cannot (an empty dict when all can). The study runs without them and its report says so."""
-    from simpick.simulators import engine_of
+    from simpick.engines.simulators import engine_of
 
     found = {}
     for name in names:
@@ -81,8 +81,8 @@ def unavailable(names) -> dict[str, str]:
 
 def get_engine(name: str) -> Engine:
     """The adapter of an engine, a reference model or a simulator's profile (``gazebo-shipped``:
-    its simulator's engine, simpick.simulators); the profile's settings come with the scenario."""
-    from simpick.simulators import engine_of
+    its simulator's engine, simpick.engines.simulators); the profile's settings come with the scenario."""
+    from simpick.engines.simulators import engine_of
 
     name = engine_of(name)
     known = {**ADAPTERS, **REFERENCE_MODELS}

@@ -22,6 +22,8 @@ from collections.abc import Callable
 from simpick.codeversion import job_code, modules, script_roots
 from simpick.config import Study, plain, timestep_label
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine, unavailable
+from simpick.engines.catalog import load_catalog
+from simpick.engines.simulators import MODEL_SETTINGS, engine_of, model_name
 from simpick.inputs.robot import load_from_config
 from simpick.plan import costs
 from simpick.plan.calibration import CalibrationPlanning
@@ -34,8 +36,6 @@ from simpick.sources import module as source_module
 from simpick.sources import own as own_source
 from simpick.sources import replay as replay_source
 from simpick.sources import segments as segments_source
-from simpick.simulators import MODEL_SETTINGS, engine_of, model_name
-from simpick.simulators.catalog import CatalogError, load_catalog
 from simpick.sources.base import canonical, model_settings
 
 # The unit of work of the simulate family: one case, except where a source's case table is batched
@@ -116,7 +116,7 @@ class Plan(ReportPlanning, CalibrationPlanning):
         self.engines = [e for e in config["engines"] if e not in self.unavailable]
         if not self.engines:
             raise PlanError(f"none of the configured engines can run here: {self.unavailable}")
-        # Simulators as rows (simpick.simulators): each simulator's profiles whose engine this study runs,
+        # Simulators as rows (simpick.engines.simulators): each simulator's profiles whose engine this study runs,
         # as models of their own. They run the validation and every real-data source like an engine, never
         # the lab scenario or the CPU load (their engine's figures), and their settings are the catalog's.
         self.catalog = load_catalog(config["simulators"]["catalog"])
@@ -132,9 +132,14 @@ class Plan(ReportPlanning, CalibrationPlanning):
         # The same holds between profiles: a tuned profile the search left at its shipped settings reads those.
         self.profile_results = {}
         for p, settings in config["profiles"].items():
-            same = [m for m, s in [(engine_of(p), config["engines"].get(engine_of(p))),
-                                   *((q, config["profiles"][q]) for q in self.profile_results
-                                     if self.profile_results[q] == q)] if s == settings]
+            same = [
+                m
+                for m, s in [
+                    (engine_of(p), config["engines"].get(engine_of(p))),
+                    *((q, config["profiles"][q]) for q in self.profile_results if self.profile_results[q] == q),
+                ]
+                if s == settings
+            ]
             self.profile_results[p] = same[0] if same else p
         self.profiles = [p for p, model in self.profile_results.items() if model == p]
         # Reference models (kinematic, coulomb) join the real-data comparison only, never the scores.
@@ -435,7 +440,7 @@ class Plan(ReportPlanning, CalibrationPlanning):
 
     def _profile_settings(self, simulator: str, variant: str) -> dict:
         """A profile's full adapter settings: the adapter's defaults, the study's robot-model settings of that
-        engine (its wheel actuators: simpick.simulators.MODEL_SETTINGS), then the catalog's profile."""
+        engine (its wheel actuators: simpick.engines.simulators.MODEL_SETTINGS), then the catalog's profile."""
         engine = engine_of(model_name(simulator, variant))
         block = self.config["engines"].get(engine) or {}
         model = {k: value for k, value in block.items() if k in MODEL_SETTINGS.get(engine, ())}

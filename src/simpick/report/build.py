@@ -703,11 +703,10 @@ def _opt_in(opt_in: Mapping[str, Any]) -> list[dict[str, Any]]:
 def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]:
     import yaml
 
-    from simpick.report.simulators import simulators_section
-
     from simpick.report import provenance, real
     from simpick.report.answer import answer_section
     from simpick.report.draw import colors as draw_colors
+    from simpick.report.simulators import simulators_section
 
     config = dict(params.get("config") or {})
     weights = _weights(params)

@@ -10,8 +10,7 @@ from typing import Any
 
 import pandas as pd
 
-from simpick.score.tree import read_tree, walk
-from simpick.simulators.catalog import load_catalog
+from simpick.score.tree import read_tree
 
 OUTCOME_WORDS = {
     "best": "best",
@@ -71,36 +70,49 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
     rows = []
     for r in table.to_dict("records"):
         ran = str(r.get("status", "")).startswith("run")
-        settings = sorted(p.name for p in (folder_path / "settings").glob(f"{r['simulator']}-{r['variant']}.*")) if ran else []
-        rows.append({
-            "simulator": r["simulator"],
-            "label": r["label"],
-            "variant": r["variant"],
-            "engine": "" if pd.isna(r.get("engine")) else r["engine"],
-            "ran": ran,
-            "status": r.get("status", ""),
-            "mechanics": r.get("mechanics") if ran else "",
-            "mechanics_text": (f"{int(r['mechanics_cases'] - r['mechanics_failed'])} of {int(r['mechanics_cases'])}"
-                               if ran and pd.notna(r.get("mechanics_cases")) else "–"),
-            "gain_flat": _f(r.get("gain_flat")),
-            "gain_range": f"{_f(r.get('gain_flat_min'))}-{_f(r.get('gain_flat_max'))}" if ran else "",
-            "gain_coulomb": _f(r.get("gain_coulomb")),
-            "gain_error": _f(r.get("gain_error")),
-            "gain_interval": f"[{_f(r.get('gain_error_low'))}, {_f(r.get('gain_error_high'))}]" if ran else "",
-            "gain_outcome": OUTCOME_WORDS.get(str(r.get("gain_outcome")), "") if ran else "",
-            "gain_diff": _f(r.get("gain_diff_to_best")),
-            "heading_error": _f(r.get("heading_error")),
-            "heading_outcome": OUTCOME_WORDS.get(str(r.get("heading_outcome")), "") if ran else "",
-            "runs_failed": int(r["runs_failed"]) if ran and pd.notna(r.get("runs_failed")) else 0,
-            "settings": [f"../simulators/settings/{name}" for name in settings],
-        })
+        settings = (
+            sorted(p.name for p in (folder_path / "settings").glob(f"{r['simulator']}-{r['variant']}.*")) if ran else []
+        )
+        rows.append(
+            {
+                "simulator": r["simulator"],
+                "label": r["label"],
+                "variant": r["variant"],
+                "engine": "" if pd.isna(r.get("engine")) else r["engine"],
+                "ran": ran,
+                "status": r.get("status", ""),
+                "mechanics": r.get("mechanics") if ran else "",
+                "mechanics_text": (
+                    f"{int(r['mechanics_cases'] - r['mechanics_failed'])} of {int(r['mechanics_cases'])}"
+                    if ran and pd.notna(r.get("mechanics_cases"))
+                    else "–"
+                ),
+                "gain_flat": _f(r.get("gain_flat")),
+                "gain_range": f"{_f(r.get('gain_flat_min'))}-{_f(r.get('gain_flat_max'))}" if ran else "",
+                "gain_coulomb": _f(r.get("gain_coulomb")),
+                "gain_error": _f(r.get("gain_error")),
+                "gain_interval": f"[{_f(r.get('gain_error_low'))}, {_f(r.get('gain_error_high'))}]" if ran else "",
+                "gain_outcome": OUTCOME_WORDS.get(str(r.get("gain_outcome")), "") if ran else "",
+                "gain_diff": _f(r.get("gain_diff_to_best")),
+                "heading_error": _f(r.get("heading_error")),
+                "heading_outcome": OUTCOME_WORDS.get(str(r.get("heading_outcome")), "") if ran else "",
+                "runs_failed": int(r["runs_failed"]) if ran and pd.notna(r.get("runs_failed")) else 0,
+                "settings": [f"../simulators/settings/{name}" for name in settings],
+            }
+        )
     weighted = []
     wpath = folder_path / "weighted.csv"
     if wpath.is_file():
         w = pd.read_csv(wpath)
         for r in w.sort_values("total", ascending=False).to_dict("records"):
-            weighted.append({"simulator": r["engine"], "label": labels.get(r["engine"], r["engine"]),
-                             "total": _f(r["total"], 2), "rank": int(r["rank"]) if "rank" in r else None})
+            weighted.append(
+                {
+                    "simulator": r["engine"],
+                    "label": labels.get(r["engine"], r["engine"]),
+                    "total": _f(r["total"], 2),
+                    "rank": int(r["rank"]) if "rank" in r else None,
+                }
+            )
     tree = read_tree(str(folder_path / "tree.json")) if (folder_path / "tree.json").is_file() else None
     return {
         "rows": rows,
@@ -111,6 +123,3 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
         "weights_total": sum(weights.values()),
         "coulomb": _f(table.gain_coulomb.dropna().iloc[0]) if table.gain_coulomb.notna().any() else "–",
     }
-
-
-__all__ = ["simulators_section", "load_catalog"]

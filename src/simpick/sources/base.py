@@ -47,7 +47,7 @@ def model_settings(config: dict, model: str) -> dict:
     """A model's settings from the plain config: an engine's block, a reference model's, or a simulator
     profile's (the plan puts the catalog's settings under ``profiles``)."""
     for block in ("engines", "profiles", "baselines"):
-        found = (config.get(block) or {})
+        found = config.get(block) or {}
         if model in found:
             return found[model] or {}
     raise KeyError(f"model {model!r} is neither a configured engine, a simulator profile nor a reference model")

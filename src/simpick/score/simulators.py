@@ -17,11 +17,11 @@ import numpy as np
 import pandas as pd
 import yaml
 
+from simpick.engines.catalog import load_catalog
+from simpick.engines.simulators import VARIANTS, model_name
 from simpick.score.equivalence import outcomes_table
 from simpick.score.mechanics import mechanics_table
 from simpick.score.verdict import METRICS, NO_SPEED, per_run_values, read_per_test
-from simpick.simulators import VARIANTS, model_name
-from simpick.simulators.catalog import load_catalog
 from simpick.tables import write_csv
 
 TABLE_COLUMNS = [
@@ -94,8 +94,15 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
         tests = read_per_test(inputs["per_test"])
         walls = {metric: per_run_values(tests, metric) for metric in METRICS}
         outcomes = outcomes_table(
-            walls, tests, models, METRICS, mechanics, params["verdict"], params.get("statistics"),
-            int(params.get("seed", 0)), {"speed_error": NO_SPEED},
+            walls,
+            tests,
+            models,
+            METRICS,
+            mechanics,
+            params["verdict"],
+            params.get("statistics"),
+            int(params.get("seed", 0)),
+            {"speed_error": NO_SPEED},
         )
     elif inputs.get("drive_outcomes") and Path(inputs["drive_outcomes"]).is_file():
         # DRIVE's steps, every terrain together (scope "all"), as rule drive_compare judged them
@@ -121,16 +128,24 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
             if m is not None:
                 row.update({k: m[k] for k in ("mechanics", "mechanics_failed", "mechanics_cases", "mechanics_note")})
             row["gain_flat"], row["gain_flat_min"], row["gain_flat_max"] = _gains(gains, model)
-            analytic = pd.to_numeric(gains[gains.engine == model].get("analytic", pd.Series(dtype=float)), errors="coerce")
+            analytic = pd.to_numeric(
+                gains[gains.engine == model].get("analytic", pd.Series(dtype=float)), errors="coerce"
+            )
             row["gain_coulomb"] = float(analytic.dropna().iloc[0]) if analytic.notna().any() else math.nan
             for metric, prefix in (("gain_error", "gain"), ("heading_error", "heading"), ("speed_error", "speed")):
                 o = _first(outcomes, metric=metric, engine=model) if len(outcomes) else None
                 if o is None:
                     continue
                 if prefix == "gain":
-                    row.update(gain_error=o["mean"], gain_error_low=o["low"], gain_error_high=o["high"],
-                               gain_outcome=o["outcome"], gain_diff_to_best=o["diff_to_best"],
-                               n_runs=o["n_runs"], runs_failed=o["runs_failed"])
+                    row.update(
+                        gain_error=o["mean"],
+                        gain_error_low=o["low"],
+                        gain_error_high=o["high"],
+                        gain_outcome=o["outcome"],
+                        gain_diff_to_best=o["diff_to_best"],
+                        n_runs=o["n_runs"],
+                        runs_failed=o["runs_failed"],
+                    )
                 else:
                     row[f"{prefix}_error"], row[f"{prefix}_outcome"] = o["mean"], o["outcome"]
             row["settings_file"] = files.get(profile, "")
@@ -149,8 +164,19 @@ def _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs) 
     facts = {}
     for name, sim in catalog.simulators.items():
         q = sim.qualitative.model_dump()
-        facts[name] = {k: q[k] for k in ("free", "open_source", "ros", "languages", "ui", "model_formats",
-                                           "urdf_sdf_via_manual_plugin", "physics_engines")}
+        facts[name] = {
+            k: q[k]
+            for k in (
+                "free",
+                "open_source",
+                "ros",
+                "languages",
+                "ui",
+                "model_formats",
+                "urdf_sdf_via_manual_plugin",
+                "physics_engines",
+            )
+        }
         facts[name]["sources"] = q["sources"]
         facts[name]["label"] = sim.label
     (out / "qualitative.yaml").write_text(yaml.safe_dump(facts, sort_keys=False, allow_unicode=True))
@@ -193,9 +219,9 @@ def _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs) 
 
 
 def settings_files_job(inputs: dict, params: dict, output: str) -> None:
-    """results/simulators/settings/: each run profile in its simulator's format (simpick.simulators.files),
+    """results/simulators/settings/: each run profile in its simulator's format (simpick.engines.simulator_files),
     headed by what it is, the robot, its flat-ground figures here and the command that regenerates it."""
-    from simpick.simulators import files as formats
+    from simpick.engines import simulator_files as formats
 
     catalog = load_catalog(inputs["catalog"])
     table = pd.read_csv(inputs["table"])
@@ -211,8 +237,8 @@ def settings_files_job(inputs: dict, params: dict, output: str) -> None:
         if r is not None and pd.notna(r.get("gain_flat")):
             figures = (
                 f"yaw-rate gain on flat ground {r.gain_flat:.3f} ({r.gain_flat_min:.3f}-{r.gain_flat_max:.3f}; "
-                f"Coulomb {r.gain_coulomb:.3f}), mechanics {r.mechanics} ({int(r.mechanics_cases - r.mechanics_failed)} of "
-                f"{int(r.mechanics_cases)} analytic cases)"
+                f"Coulomb {r.gain_coulomb:.3f}), mechanics {r.mechanics} "
+                f"({int(r.mechanics_cases - r.mechanics_failed)} of {int(r.mechanics_cases)} analytic cases)"
             )
             if pd.notna(r.get("gain_error")):
                 figures += f"; real gain error {r.gain_error:.3f} ({r.gain_outcome})"

@@ -14,7 +14,7 @@ validation against mechanics and every real-data source like an engine, and neve
 the CPU-load runs, whose figures are its engine's (the simulator's own overhead is not reproduced).
 This module is the registry, as :mod:`simpick.engines` is the engines': simulator name -> the engine
 adapter that reproduces it. The facts, defaults and sources are data
-(``resources/simulators/simulators.yaml``, :mod:`simpick.simulators.catalog`).
+(``resources/simulators/simulators.yaml``, :mod:`simpick.engines.catalog`).
 """
 
 from __future__ import annotations

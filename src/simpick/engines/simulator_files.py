@@ -62,12 +62,25 @@ def write_sdf(engine: str, settings: Mapping, entries: Mapping, title: list[str]
         ET.SubElement(solver, "type").text = settings["stepper"]
         ET.SubElement(solver, "iters").text = str(int(settings["quick_iterations"]))
         constraints = ET.SubElement(ode, "constraints")
-        for key, tag in (("cfm", "cfm"), ("erp", "erp"), ("contact_max_correcting_vel", "contact_max_correcting_vel"),
-                         ("contact_surface_layer", "contact_surface_layer")):
+        for key, tag in (
+            ("cfm", "cfm"),
+            ("erp", "erp"),
+            ("contact_max_correcting_vel", "contact_max_correcting_vel"),
+            ("contact_surface_layer", "contact_surface_layer"),
+        ):
             ET.SubElement(constraints, tag).text = _num(settings[key])
-        comments += [_meaning(entries, k) for k in ("stepper", "quick_iterations", "cfm", "erp",
-                                                     "contact_max_correcting_vel", "contact_surface_layer")
-                     if k in entries]
+        comments += [
+            _meaning(entries, k)
+            for k in (
+                "stepper",
+                "quick_iterations",
+                "cfm",
+                "erp",
+                "contact_max_correcting_vel",
+                "contact_surface_layer",
+            )
+            if k in entries
+        ]
     else:
         dart = ET.SubElement(physics, "dart")
         ET.SubElement(ET.SubElement(dart, "solver"), "solver_type").text = settings["lcp_solver"]
@@ -99,15 +112,20 @@ def write_sdf(engine: str, settings: Mapping, entries: Mapping, title: list[str]
                 ET.SubElement(g, "slip1").text = _num(slip)
                 ET.SubElement(g, "slip2").text = _num(slip)
     if engine == "ode":
-        tag_comments += [_meaning(entries, k) for k in ("friction_direction", "contact_kp", "contact_kd",
-                                                         "contact_slip", "surface_mu") if k in entries]
+        tag_comments += [
+            _meaning(entries, k)
+            for k in ("friction_direction", "contact_kp", "contact_kd", "contact_slip", "surface_mu")
+            if k in entries
+        ]
         tag_comments.append(
             f"kp/kd: the wheel's own values; Gazebo puts them in series with (adds them to) the ground's "
             f"{GROUND_KP:g} / {GROUND_KD:g}. slip1/slip2: the per-contact slip / {CONTACTS_PER_WHEEL} (Gazebo "
             "multiplies by the pair's contact count)"
         )
     ET.indent(robot)
-    wheels_text = _header("<!--", [*title, *tag_comments]).replace("\n", " -->\n") + ET.tostring(robot, encoding="unicode")
+    wheels_text = _header("<!--", [*title, *tag_comments]).replace("\n", " -->\n") + ET.tostring(
+        robot, encoding="unicode"
+    )
     texts = {"world.sdf": world_text + "\n"}
     if engine == "ode":  # dartpy binds none of the wheels' SDF surface tags that gz-physics reads (catalog: differs)
         texts["wheels.urdf"] = wheels_text + "\n"
@@ -174,8 +192,11 @@ def write_webots(settings: Mapping, entries: Mapping, title: list[str]) -> dict[
     ]
     for field, key in WEBOTS_FIELDS.items():
         value = settings[key]
-        text = f"[ {_num(value)} ]" if field == "forceDependentSlip" else (
-            str(int(value)) if field == "maxContactJoints" else _num(value))
+        text = (
+            f"[ {_num(value)} ]"
+            if field == "forceDependentSlip"
+            else (str(int(value)) if field == "maxContactJoints" else _num(value))
+        )
         lines.append(f"      {field} {text}")
     lines += ["    }", "  ]", "}"]
     return {"wbt": _header("#", [*title, *notes]) + "\n".join(lines) + "\n"}
@@ -183,8 +204,10 @@ def write_webots(settings: Mapping, entries: Mapping, title: list[str]) -> dict[
 
 def read_webots(text: str) -> dict:
     body = re.sub(r"#.*", "", text)
-    out = {"cfm": float(re.search(r"\bCFM\s+(\S+)", body).group(1)),
-           "erp": float(re.search(r"\bERP\s+(\S+)", body).group(1))}
+    out = {
+        "cfm": float(re.search(r"\bCFM\s+(\S+)", body).group(1)),
+        "erp": float(re.search(r"\bERP\s+(\S+)", body).group(1)),
+    }
     for field, key in WEBOTS_FIELDS.items():
         m = re.search(rf"\b{field}\s+\[?\s*([-+\d.eE]+)", body)
         if m:
@@ -199,27 +222,44 @@ MUJOCO_TIMECONST, MUJOCO_DMAX = 0.02, 0.95  # the adapter's (simpick.engines.muj
 
 def write_mjcf(settings: Mapping, entries: Mapping, title: list[str], wheels: list[str]) -> dict[str, str]:
     root = ET.Element("mujoco", model="simpick settings")
-    option = ET.SubElement(root, "option", integrator={"euler": "Euler", "rk4": "RK4"}.get(
-        settings["integrator"], settings["integrator"]), cone=settings["cone"], iterations=str(int(settings["solver_iterations"])))
+    option = ET.SubElement(
+        root,
+        "option",
+        integrator={"euler": "Euler", "rk4": "RK4"}.get(settings["integrator"], settings["integrator"]),
+        cone=settings["cone"],
+        iterations=str(int(settings["solver_iterations"])),
+    )
     if settings["wheel_contact"] == "decoupled":
         d, df = settings["wheel_contact_impedance"], settings["wheel_friction_impedance"]
         option.set("impratio", _num(((1 - d) / d) / ((1 - df) / df)))
         contact = ET.SubElement(root, "contact")
         for wheel in wheels:
-            ET.SubElement(contact, "pair", geom1="floor", geom2=wheel, condim="3",
-                          solimp=f"{_num(d)} {_num(d)} 0.001 0.5 2", solref=f"{MUJOCO_TIMECONST} 1",
-                          solreffriction=f"{_num(MUJOCO_TIMECONST * MUJOCO_DMAX / d)} 1")
+            ET.SubElement(
+                contact,
+                "pair",
+                geom1="floor",
+                geom2=wheel,
+                condim="3",
+                solimp=f"{_num(d)} {_num(d)} 0.001 0.5 2",
+                solref=f"{MUJOCO_TIMECONST} 1",
+                solreffriction=f"{_num(MUJOCO_TIMECONST * MUJOCO_DMAX / d)} 1",
+            )
     ET.indent(root)
     notes = [_meaning(entries, k) for k in ("integrator", "cone", "solver_iterations", "wheel_contact") if k in entries]
     notes.append("pairs: geom2 names the robot's wheel geoms, geom1 the ground; a pair's friction is the ground's")
-    return {"xml": _header("<!--", [*title, *notes]).replace("\n", " -->\n") + ET.tostring(root, encoding="unicode") + "\n"}
+    return {
+        "xml": _header("<!--", [*title, *notes]).replace("\n", " -->\n") + ET.tostring(root, encoding="unicode") + "\n"
+    }
 
 
 def read_mjcf(text: str) -> dict:
     root = ET.fromstring(text)
     option = root.find("option")
-    out = {"integrator": option.get("integrator").lower(), "cone": option.get("cone"),
-           "solver_iterations": int(option.get("iterations"))}
+    out = {
+        "integrator": option.get("integrator").lower(),
+        "cone": option.get("cone"),
+        "solver_iterations": int(option.get("iterations")),
+    }
     pairs = root.findall("contact/pair")
     out["wheel_contact"] = "decoupled" if pairs else "default"
     if pairs:
@@ -242,9 +282,12 @@ def write_drake(settings: Mapping, entries: Mapping, title: list[str]) -> dict[s
         f"discrete_contact_approximation: {settings['discrete_approximation']}",
         f"stiction_tolerance: {_num(settings['stiction_tolerance'])}",
     ]
-    notes = [_meaning(entries, k) for k in ("contact_model", "discrete_approximation", "stiction_tolerance")
-             if k in entries]
-    yaml_text = _header("#", [*title, "MultibodyPlantConfig (pydrake.multibody.plant)", *notes]) + "\n".join(lines) + "\n"
+    notes = [
+        _meaning(entries, k) for k in ("contact_model", "discrete_approximation", "stiction_tolerance") if k in entries
+    ]
+    yaml_text = (
+        _header("#", [*title, "MultibodyPlantConfig (pydrake.multibody.plant)", *notes]) + "\n".join(lines) + "\n"
+    )
     props = ET.Element("drake:proximity_properties")
     if settings["contact_model"] == "hydroelastic":
         ET.SubElement(props, "drake:compliant_hydroelastic")
@@ -252,8 +295,11 @@ def write_drake(settings: Mapping, entries: Mapping, title: list[str]) -> dict[s
     ET.SubElement(props, "drake:hunt_crossley_dissipation", value=_num(settings["wheel_dissipation"]))
     ET.indent(props)
     tag_notes = [_meaning(entries, k) for k in ("hydroelastic_modulus", "wheel_dissipation") if k in entries]
-    urdf = (_header("<!--", [*title, "inside each wheel's <collision>", *tag_notes]).replace("\n", " -->\n")
-            + ET.tostring(props, encoding="unicode") + "\n")
+    urdf = (
+        _header("<!--", [*title, "inside each wheel's <collision>", *tag_notes]).replace("\n", " -->\n")
+        + ET.tostring(props, encoding="unicode")
+        + "\n"
+    )
     return {"yaml": yaml_text, "wheels.urdf": urdf}
 
 
@@ -261,8 +307,10 @@ def read_drake(texts: Mapping[str, str]) -> dict:
     import yaml
 
     config = yaml.safe_load(texts["yaml"])
-    out = {"discrete_approximation": config["discrete_contact_approximation"],
-           "stiction_tolerance": float(config["stiction_tolerance"])}
+    out = {
+        "discrete_approximation": config["discrete_contact_approximation"],
+        "stiction_tolerance": float(config["stiction_tolerance"]),
+    }
     tags = texts["wheels.urdf"]
     hydro = "drake:compliant_hydroelastic" in tags and config["contact_model"] != "point"
     out["contact_model"] = "hydroelastic" if hydro else "point"
@@ -278,15 +326,23 @@ PYTHON_CALLS = {
     # format -> [(call written, {keyword: adapter setting})]
     "isaaclab": [
         ("isaaclab.sim.PhysxCfg", {"solver_type": "solver", "bounce_threshold_velocity": "bounce_threshold"}),
-        ("isaaclab.sim.schemas.ArticulationRootPropertiesCfg",
-         {"solver_position_iteration_count": "position_iterations",
-          "solver_velocity_iteration_count": "velocity_iterations"}),
+        (
+            "isaaclab.sim.schemas.ArticulationRootPropertiesCfg",
+            {
+                "solver_position_iteration_count": "position_iterations",
+                "solver_velocity_iteration_count": "velocity_iterations",
+            },
+        ),
         ("isaaclab.actuators.ImplicitActuatorCfg", {"damping": "wheel_drive_damping"}),
     ],
-    "newton": [("isaaclab_newton MJWarpSolverCfg", {"cone": "mujoco_cone"}),
-               ("simpick wheel contact", {"wheel_contact": "wheel_contact"})],
-    "genesis": [("gs.options.RigidOptions", {"friction_cone": "friction_cone"}),
-                ("gs.morphs.URDF", {"default_armature": "default_armature"})],
+    "newton": [
+        ("isaaclab_newton MJWarpSolverCfg", {"cone": "mujoco_cone"}),
+        ("simpick wheel contact", {"wheel_contact": "wheel_contact"}),
+    ],
+    "genesis": [
+        ("gs.options.RigidOptions", {"friction_cone": "friction_cone"}),
+        ("gs.morphs.URDF", {"default_armature": "default_armature"}),
+    ],
 }
 PHYSX_SOLVER = {"tgs": 1, "pgs": 0}
 
@@ -322,13 +378,16 @@ def read_python(fmt: str, text: str) -> dict:
 
 
 def write_coppeliasim(settings: Mapping, entries: Mapping, title: list[str]) -> dict[str, str]:
-    notes = [_meaning(entries, k) for k in ("solver_iterations", "contact_stiffness", "contact_damping") if k in entries]
+    notes = [
+        _meaning(entries, k) for k in ("solver_iterations", "contact_stiffness", "contact_damping") if k in entries
+    ]
     lines = [
         "-- in a customization script of the scene (Lua), before the simulation starts;",
-        "-- signature: sim.setEngineInt32Param(int paramId, int objectHandle, int int32Param) (CoppeliaRobotics/lua sim-ce.lua)",
+        "-- sim.setEngineInt32Param(int paramId, int objectHandle, int int32Param): CoppeliaRobotics/lua sim-ce.lua",
         "-- simpick ran a 1 ms physics step; CoppeliaSim's default is 5 ms (Dynamics dialog: dt)",
         "sim.setInt32Param(sim.intparam_dynamic_engine, sim.physics_bullet)",
-        f"sim.setEngineInt32Param(sim.bullet_global_constraintsolvingiterations, -1, {int(settings['solver_iterations'])})",
+        "sim.setEngineInt32Param(sim.bullet_global_constraintsolvingiterations, -1, "
+        f"{int(settings['solver_iterations'])})",
     ]
     return {"lua": _header("--", [*title, *notes]) + "\n".join(lines) + "\n"}
 

@@ -13,7 +13,7 @@ from typing import Any, Literal
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from simpick.simulators import SIMULATORS, VARIANTS, model_name
+from simpick.engines.simulators import SIMULATORS, VARIANTS, model_name
 
 
 class _Strict(BaseModel):
@@ -81,7 +81,9 @@ class Simulator(_Strict):
     label: str = Field(description="the simulator's name in the report")
     release: str = Field(description="the release the facts and defaults were read from")
     status: str = Field(description="maintained, or end of life with the date")
-    engine: str | None = Field(description="simpick's adapter reproducing its physics (simpick.simulators.SIMULATORS)")
+    engine: str | None = Field(
+        description="simpick's adapter reproducing its physics (simpick.engines.simulators.SIMULATORS)"
+    )
     engine_build: str = Field(description="the engine and version the simulator itself runs, with the source")
     simpick_build: str | None = Field(description="what simpick runs instead (PyPI / Debian build), if anything")
     settings_format: Literal[SETTINGS_FORMATS] | None = Field(  # type: ignore[valid-type]
@@ -162,7 +164,7 @@ def load_catalog(path: str | Path) -> Catalog:
     if unknown:
         raise CatalogError(
             f"{path}: simulators.{unknown[0]}: not a registered simulator; registered: {sorted(SIMULATORS)} "
-            "(simpick.simulators.SIMULATORS maps each to its engine)"
+            "(simpick.engines.simulators.SIMULATORS maps each to its engine)"
         )
     try:
         catalog = Catalog(simulators=raw["simulators"], path=str(path))
@@ -174,7 +176,7 @@ def load_catalog(path: str | Path) -> Catalog:
         if sim.engine != SIMULATORS[name]:
             raise CatalogError(
                 f"{path}: simulators.{name}.engine: {sim.engine!r}, but the registry runs it on "
-                f"{SIMULATORS[name]!r} (simpick.simulators.SIMULATORS); make them agree"
+                f"{SIMULATORS[name]!r} (simpick.engines.simulators.SIMULATORS); make them agree"
             )
         if sim.engine is None:
             continue

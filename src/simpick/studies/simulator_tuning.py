@@ -8,7 +8,7 @@ then by how far the isotropic yaw-rate gains lie from the Coulomb gain. The real
 profile meets every real run held out. The table written (``resources/simulators/tuning.csv``) is committed with
 the command that regenerates it, and ``simulators.yaml`` states the chosen values (a test checks they agree).
 
-    python -m simpick.simulators.tuning [--simulators gazebo_classic webots] [--out resources/simulators/tuning.csv]
+    python -m simpick.studies.simulator_tuning [--simulators NAME ...] [--out resources/simulators/tuning.csv]
 """
 
 from __future__ import annotations
@@ -23,8 +23,19 @@ from pathlib import Path
 import pandas as pd
 import yaml
 
-COLUMNS = ("simulator", "candidate", "settings", "passed", "checked", "failed", "gain_min", "gain_max", "gain_error",
-           "wall_s", "chosen")
+COLUMNS = (
+    "simulator",
+    "candidate",
+    "settings",
+    "passed",
+    "checked",
+    "failed",
+    "gain_min",
+    "gain_max",
+    "gain_error",
+    "wall_s",
+    "chosen",
+)
 
 
 def grid(axes: dict[str, list]) -> list[dict]:
@@ -59,9 +70,9 @@ def choose(table: pd.DataFrame) -> pd.DataFrame:
 
 
 def main(argv: list[str] | None = None) -> None:
+    from simpick.engines.catalog import load_catalog
+    from simpick.engines.simulators import SIMULATORS
     from simpick.inputs.robot import load_from_config
-    from simpick.simulators import SIMULATORS
-    from simpick.simulators.catalog import load_catalog
     from simpick.studies.validation.cases import Setup, run_case
     from simpick.studies.validation.judge import summarise
 
@@ -102,16 +113,19 @@ def main(argv: list[str] | None = None) -> None:
             row = {"simulator": simulator, "candidate": k, "settings": json.dumps(candidate, sort_keys=True)}
             row |= judge(summary, coulomb) | {"wall_s": round(wall, 1)}
             rows.append(row)
-            print(f"{simulator} {candidate}: {row['passed']}/{row['checked']} passed, gains "
-                  f"{row['gain_min']:.3f}-{row['gain_max']:.3f} ({wall:.0f} s)", flush=True)
+            print(
+                f"{simulator} {candidate}: {row['passed']}/{row['checked']} passed, gains "
+                f"{row['gain_min']:.3f}-{row['gain_max']:.3f} ({wall:.0f} s)",
+                flush=True,
+            )
     table = choose(pd.DataFrame(rows))[list(COLUMNS)]
     old = Path(args.out)
     if args.simulators and old.is_file():  # keep the other simulators' rows
         kept = pd.read_csv(old, comment="#")
         table = pd.concat([kept[~kept.simulator.isin(table.simulator)], table], ignore_index=True)
     header = (
-        f"# Tuning candidates per simulator (simpick.simulators.tuning), {robot.name}, the validation of "
-        f"{args.config}; regenerate: python -m simpick.simulators.tuning --out {args.out}\n"
+        f"# Tuning candidates per simulator (simpick.studies.simulator_tuning), {robot.name}, the validation of "
+        f"{args.config}; regenerate: python -m simpick.studies.simulator_tuning --out {args.out}\n"
     )
     old.write_text(header + table.to_csv(index=False, float_format="%.4g"))
     print(f"wrote {args.out}")
