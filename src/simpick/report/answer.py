@@ -96,12 +96,15 @@ def answer_section(
     engines: Sequence[str],
     figure_uri: str | None,
     sections: set[str],
+    basis: str | None = None,
 ) -> dict[str, Any]:
     """The first page's table, sentences and figure. ``sections``: the anchors the report has,
-    so that a sentence cites only a figure that is there."""
+    so that a sentence cites only a figure that is there. ``basis``: the headline's sentence naming the
+    real data the answer rests on (results/verdict/headline.yaml)."""
     if answer is None:
         return {
             "given": False,
+            "basis": "",
             "flagged": [],
             "rows": [],
             "metrics": [],
@@ -179,6 +182,7 @@ def answer_section(
         )
     return {
         "given": True,
+        "basis": str(basis or ""),
         "metrics": metrics,
         "unmeasured": unmeasured,
         "rows": rows,
