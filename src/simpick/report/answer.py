@@ -97,10 +97,12 @@ def answer_section(
     figure_uri: str | None,
     sections: set[str],
     basis: str | None = None,
+    units: str = "runs",
 ) -> dict[str, Any]:
     """The first page's table, sentences and figure. ``sections``: the anchors the report has,
     so that a sentence cites only a figure that is there. ``basis``: the headline's sentence naming the
-    real data the answer rests on (results/verdict/headline.yaml)."""
+    real data the answer rests on, ``units`` what its units are called ("runs", "steps"): both from
+    results/verdict/headline.yaml."""
     if answer is None:
         return {
             "given": False,
@@ -183,6 +185,7 @@ def answer_section(
     return {
         "given": True,
         "basis": str(basis or ""),
+        "units": units,
         "metrics": metrics,
         "unmeasured": unmeasured,
         "rows": rows,

@@ -775,6 +775,7 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
             figures.data_uri(data.figures["answer"]) if "answer" in data.figures else None,
             sections,
             (data.verdict_headline or {}).get("basis"),
+            (data.verdict_headline or {}).get("units") or "runs",
         ),
         "tree_uri": tree_uri,
         # the simulators as rows (simpick.report.simulators), when the study runs any
