@@ -108,7 +108,7 @@ def _answer(tmp_path: Path) -> tuple[dict, dict]:
             "cpu": cpu,
         },
         {
-            "engines": ENGINES,
+            "engines": [*ENGINES, "c"],  # c: a study engine the DRIVE replay left out (drive_replay.models)
             "statistics": STATS,
             "weights": WEIGHTS,
             "seed": 1,
@@ -141,6 +141,7 @@ def test_the_answer_job_reads_drives_outcomes_and_answers_with_the_speed_error(t
     head = yaml.safe_load(Path(out["headline"]).read_text())
     assert head["n_runs"] == N_STEPS and head["units"] == "steps"
     assert head["basis"].startswith(f"The answer rests on {N_STEPS} DRIVE steps (the test Warthog's own sessions")
+    assert "; c was not replayed on these data and is not in the table." in head["basis"]
 
 
 def test_an_outcomes_table_that_is_not_one_is_refused_by_name(tmp_path):

@@ -475,19 +475,25 @@ def read_outcomes(path: str) -> pd.DataFrame:
     return frame
 
 
-def basis_sentence(basis: dict, n: int) -> str:
+def _and(names: list[str]) -> str:
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+
+
+def basis_sentence(basis: dict, n: int, left_out: list[str] | None = None) -> str:
     """Which real data the answer rests on, named with its units ("345 DRIVE steps", "12 BorealTC runs"),
-    and the study's other real data, reported apart."""
+    the study's engines the comparison did not judge, and the study's other real data, reported apart."""
     if not basis.get("dataset"):
         return ""
     unit = basis.get("unit") or "run"
     text = f"The answer rests on {n} {basis['dataset']} {unit}{'' if n == 1 else 's'}"
     if basis.get("title"):
         text += f" ({basis['title']})"
+    if left_out:
+        text += f"; {_and(left_out)} {'was' if len(left_out) == 1 else 'were'} not replayed on these data and "
+        text += f"{'is' if len(left_out) == 1 else 'are'} not in the table"
     others = list(basis.get("others") or [])
     if others:
-        names = others[0] if len(others) == 1 else ", ".join(others[:-1]) + " and " + others[-1]
-        text += f"; the study's other real data ({names}) are compared in their own section, not here"
+        text += f"; the study's other real data ({_and(others)}) are compared in their own section, not here"
     return text + "."
 
 
@@ -527,6 +533,11 @@ def answer_job(inputs: dict, params: dict, outputs: dict) -> None:
     write_csv(pd.DataFrame(separation, columns=SEPARATION_COLUMNS), outputs["separation"])
 
     outcomes = read_outcomes(inputs["outcomes"])
+    # the engines the comparison judged: a DRIVE replay may leave some of the study's out (drive_replay.models);
+    # the answer names them rather than giving them a row without real data
+    judged = set(outcomes.engine)
+    left_out = [e for e in engines if e not in judged]
+    engines = [e for e in engines if e in judged]
     mechanics = pd.read_csv(inputs["mechanics"])
     tests = read_per_test(inputs["per_test"])
     rtfs, cpu = machine_figures(inputs["rtf"], list(inputs["cpu"]))
@@ -551,7 +562,7 @@ def answer_job(inputs: dict, params: dict, outputs: dict) -> None:
                 "n_runs": n_runs,
                 "min_runs": min_runs,
                 "units": _plain(noun),
-                "basis": basis_sentence(basis, n_runs),
+                "basis": basis_sentence(basis, n_runs, left_out),
                 "level": float((statistics or {}).get("level", 0.95)),
                 "paragraph": headline(said, separation, rank),
             },
