@@ -115,6 +115,12 @@ if SETTINGS.drive_dir:
             errors=f"{DRIVE}/errors.csv",
             summary=f"{DRIVE}/summary.csv",
             outcomes=f"{DRIVE}/outcomes.csv",
+            # the tables rule answer reads beside the outcomes where the study's first page rests on DRIVE,
+            # in the verdict's form (results/verdict/): over every terrain, one test per step
+            per_test=f"{DRIVE}/per_test.csv",
+            metrics=f"{DRIVE}/metrics.csv",
+            table=f"{DRIVE}/table.csv",
+            mechanics=f"{DRIVE}/mechanics.csv",
         log:
             f"results/logs/drive/{SETTINGS.drive_dataset}/drive_compare.log",
         conda:

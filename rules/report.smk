@@ -11,14 +11,15 @@
 # (simpick.codeversion), so a template or report-code edit redraws the figures as well as the report.
 
 
-if PLAN.verdict:
+if PLAN.answer_source:
 
     rule figure_answer:
         """The first page's figure: per engine the per-run values of each real-data metric and the
-        interval of its difference to the best engine, the practical margin shaded."""
+        interval of its difference to the best engine, the practical margin shaded (the verdict's runs,
+        or the DRIVE comparison's steps: PLAN.answer_tables)."""
         input:
-            outcomes="results/verdict/outcomes.csv",
-            metrics="results/verdict/metrics.csv",
+            outcomes=PLAN.answer_tables()["outcomes"],
+            metrics=PLAN.answer_tables()["metrics"],
         output:
             png=report(
                 f"{PLAN.figures}/answer.png",

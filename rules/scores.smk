@@ -103,21 +103,22 @@ if PLAN.verdict:
         script:
             "../scripts/verdict.py"
 
-    # The answer (simpick.score.answer): one row per engine and a sentence per need, the paper's
-    # weighted total with its interval over real runs, the separation table and the report's first
-    # paragraph. The weights reach it: it is what a weight edit reruns besides the scores and the
-    # report, kept small (a resampled total, no test).
+
+
+# The answer (simpick.score.answer): one row per engine and a sentence per need, the paper's
+# weighted total with its interval over real runs, the separation table and the report's first
+# paragraph. The weights reach it: it is what a weight edit reruns besides the scores and the
+# report, kept small (a resampled total, no test). It rests on the real data the study has of its
+# robot (PLAN.answer_tables): the verdict's runs above, else the DRIVE comparison's steps
+# (rules/drive.smk, which writes the same tables beside its outcomes).
+if PLAN.answer_source:
+
     rule answer:
         input:
             unpack(PLAN.answer_inputs),
-            per_test=PLAN.metrics_file(PLAN.verdict_source(), "per_test"),
             accuracy_tests=PLAN.accuracy_source()["per_test"],
             weighted="results/scores/weighted.csv",
             provenance="results/scores/provenance.yaml",
-            table="results/verdict/table.csv",
-            discrimination="results/verdict/discrimination.csv",
-            outcomes="results/verdict/outcomes.csv",
-            mechanics="results/verdict/mechanics.csv",
             rtf=PLAN.metrics_file("lab", "rtf"),
             cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
         output:

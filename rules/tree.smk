@@ -7,13 +7,10 @@
 
 rule decision_tree:
     input:
-        # the real-data evidence: the BorealTC verdict where the study has one, else the DRIVE
-        # comparison's (its steps replayed against the real robot) when drive_dir is set
-        **(
-            {"outcomes": "results/verdict/outcomes.csv", "mechanics": "results/verdict/mechanics.csv"}
-            if PLAN.verdict
-            else ({"outcomes": f"{DRIVE}/outcomes.csv"} if SETTINGS.drive_dir else {})
-        ),
+        # the real-data evidence, as the answer reads it (PLAN.answer_tables): the verdict's outcomes and
+        # mechanics gate where the study has one, else the DRIVE comparison's (its steps replayed against
+        # the real robot) when drive_dir is set
+        **{k: v for k, v in PLAN.answer_tables().items() if k in ("outcomes", "mechanics")},
         qualitative=PLAN.config["qualitative"],
         validation="results/validation/summary.csv",
         rtf=PLAN.metrics_file("lab", "rtf"),

@@ -154,3 +154,37 @@ def test_an_engine_whose_venv_failed_to_build_is_left_out_with_pip_s_error(confi
     assert plan.unavailable["genesis"].endswith(
         "its build failed: ERROR: No matching distribution found for torch==2.13.0"
     )
+
+
+def test_the_answer_rests_on_the_verdicts_runs_else_on_drives_steps(config, tmp_path):
+    """Rule answer, its figure and the decision tree read one comparison's tables (Plan.answer_tables): the
+    verdict's where the study has real runs of its robot, else the DRIVE comparison's; the answer's basis
+    names the dataset, its unit and the study's other real data."""
+    (tmp_path / "drive").mkdir()
+    config["drive_dir"] = str(tmp_path / "drive")
+    plan = plan_of(config)
+    assert plan.answer_source == "verdict" and plan.answer_tables()["outcomes"] == "results/verdict/outcomes.csv"
+    basis = plan.answer_settings()["basis"]
+    assert basis["unit"] == "run" and basis["others"] == ["DRIVE"]
+
+    config["real_data"]["robot"] = "another_robot"  # the committed segments are not this robot's: no verdict
+    config["accuracy"]["reference"] = "paper"
+    plan = plan_of(config)
+    assert not plan.verdict and plan.answer_source == "drive"
+    tables = plan.answer_tables()
+    assert tables["outcomes"] == "results/drive/drive/outcomes.csv" and "discrimination" not in tables
+    assert set(plan.answer_inputs()) == {"outcomes", "mechanics", "table", "per_test"}
+    assert plan.answer_settings()["basis"] | {"title": ""} == {
+        "dataset": "DRIVE",
+        "unit": "step",
+        "noun": "DRIVE steps",
+        "title": "",
+        "others": [],
+    }
+    assert "results/report/figures/answer.png" in plan.report_figures()
+    assert plan.report_real_inputs()["verdict_outcomes"] == tables["outcomes"]
+
+    del config["drive_dir"]
+    plan = plan_of(config)
+    assert plan.answer_source is None and plan.answer_tables() == {}
+    assert "results/report/figures/answer.png" not in plan.report_figures()

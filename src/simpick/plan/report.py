@@ -10,6 +10,8 @@ from simpick.sources.base import canonical
 FIGURES = "results/report/figures"
 # simpick's verdict tables (rule verdict), each an input of the report
 VERDICT_TABLES = ("metrics", "table", "separation", "ranking", "discrimination", "headings", "outcomes", "answer")
+# of those, rule answer's (the rest are the real-data comparison's: Plan.answer_tables)
+ANSWER_TABLES = ("separation", "ranking", "answer")
 
 
 class ReportPlanning:
@@ -85,8 +87,13 @@ class ReportPlanning:
             )
             inputs["replay_per_window"] = self.metrics_file(name, "detail")
             inputs["real_turning"] = f"{self.replay}/turning/summary.csv"
-        if self.verdict:
-            inputs.update({f"verdict_{t}": f"results/verdict/{t}.csv" for t in VERDICT_TABLES})
+        if self.answer_source:
+            # the answer's own tables (rule answer writes them into results/verdict/ whichever real data it
+            # rests on), and the comparison's tables it rests on: the verdict's, or the DRIVE comparison's
+            inputs.update({f"verdict_{t}": f"results/verdict/{t}.csv" for t in ANSWER_TABLES})
+            inputs.update({f"verdict_{t}": p for t, p in self.answer_tables().items() if t in VERDICT_TABLES})
+            if self.answer_source == "verdict":
+                inputs["verdict_headings"] = "results/verdict/headings.csv"
             inputs["verdict_headline"] = "results/verdict/headline.yaml"
             inputs["verdict_sentences"] = "results/verdict/answer.yaml"
         if self.sweep:
@@ -129,7 +136,7 @@ class ReportPlanning:
         """Every figure file the report embeds (and the notes beside the replay figures)."""
         fig = self.figures
         out = [f"{fig}/paths.png", f"{fig}/validation_gain.png", f"{fig}/real_gain.png"]
-        if self.verdict:
+        if self.answer_source:
             out.append(f"{fig}/answer.png")
         out.append(f"{fig}/tree.png")  # rules/tree.smk: the decision tree for print
         out += [f"{fig}/imu_stats/{t}/{m}.png" for t, m in self.lab_figure_tests]

@@ -221,6 +221,11 @@ class Plan(ReportPlanning, CalibrationPlanning):
 
         # simpick's verdict rests on real runs: none where the study's robot has no real data
         self.verdict = self.verdict_source() in self.sources
+        # The real data the first page's answer rests on (rule answer, its figure, the decision tree): the
+        # verdict's runs where the study has them, else the DRIVE comparison's steps (--config drive_dir=PATH),
+        # which replay the study's own robot; None: no real data of this robot, no answer table.
+        self.drive = f"results/drive/{config['drive_dataset']}" if config.get("drive_dir") else None
+        self.answer_source = "verdict" if self.verdict else ("drive" if self.drive else None)
         CalibrationPlanning.__init__(self)
         ReportPlanning.__init__(self)
 
@@ -597,26 +602,74 @@ class Plan(ReportPlanning, CalibrationPlanning):
             }
         )
 
+    def _dataset_label(self, name):
+        return ((self.config["real_data"].get("datasets") or {}).get(name) or {}).get("label") or name
+
+    def answer_basis(self):
+        """The real data the answer rests on, as its sentence names them: the dataset, its unit (a DRIVE
+        step, or the step's session where the verdict pairs by session; a real run) and the study's other
+        real data, which the report compares in their own section."""
+        robot = self.config["robot"].get("label") or self.robot.name
+        if self.answer_source == "drive":
+            name = self.config["drive_dataset"]
+            unit = self.config["drive_replay"]["unit"]
+            return {
+                "dataset": self._dataset_label(name),
+                "unit": unit,
+                "noun": f"{self._dataset_label(name)} {unit}s",
+                "title": f"the {robot}'s own sessions, each step replayed in every engine from its measured "
+                f"wheel speeds; every engine against the best, paired by {unit}",
+                "others": [],
+            }
+        source = self.verdict_source()
+        name = self.dataset if self.sources[source]["kind"] == "segments" else source
+        label = "own-log" if source == "own" else self._dataset_label(name)
+        return {
+            "dataset": label,
+            "unit": "run",
+            "title": self.verdict_source_title(),
+            "others": [self._dataset_label(self.config["drive_dataset"])] if self.drive else [],
+        }
+
     def answer_settings(self):
         """What the answer and the paper's ranking with its interval depend on: the weights, and
         the words the sentences use."""
+        drive = self.answer_source == "drive"
         return canonical(
             {
                 "engines": sorted(self.engines),
                 "statistics": self.statistics_params(),
                 "weights": self.config["weights"],
                 "seed": self.config["seed"],
-                "source": self.verdict_source(),
-                "source_title": self.verdict_source_title(),
+                "source": self.config["drive_dataset"] if drive else self.verdict_source(),
+                "source_title": self.answer_basis()["title"] if drive else self.verdict_source_title(),
                 "robot": self.config["robot"].get("label") or self.robot.name,
+                "basis": self.answer_basis(),
             }
         )
 
-    def answer_inputs(self, wildcards=None):
-        """The calibration's turning table where the calibration is part of the study."""
-        if self.calibration and self.calibration.get("enabled"):
-            return {"calibration_turning": f"{self.cal_dir}/turning.csv"}
+    def answer_tables(self):
+        """The real-data comparison's tables the answer, its figure and the decision tree read, by name:
+        the verdict's (results/verdict/) where the study has one, else the DRIVE comparison's, written in
+        the same form beside its outcomes (rule drive_compare); {} without real data of this robot.
+        ``discrimination`` (what the paper's accuracy scores separate) is the verdict's alone."""
+        if self.answer_source == "verdict":
+            tables = {t: f"results/verdict/{t}.csv" for t in ("outcomes", "mechanics", "metrics", "table")}
+            tables["discrimination"] = "results/verdict/discrimination.csv"
+            tables["per_test"] = self.metrics_file(self.verdict_source(), "per_test")
+            return tables
+        if self.answer_source == "drive":
+            return {t: f"{self.drive}/{t}.csv" for t in ("outcomes", "mechanics", "metrics", "table", "per_test")}
         return {}
+
+    def answer_inputs(self, wildcards=None):
+        """The comparison's tables the answer reads (answer_tables, less the per-run values only its
+        figure draws), and the calibration's turning table where the calibration is part of the study and the
+        answer rests on its runs (the DRIVE calibration's table has another form: not read here)."""
+        inputs = {k: v for k, v in self.answer_tables().items() if k != "metrics"}
+        if self.answer_source == "verdict" and self.calibration and self.calibration.get("enabled"):
+            inputs["calibration_turning"] = f"{self.cal_dir}/turning.csv"
+        return inputs
 
     def all_targets(self):
         """What the default target asks for (rule all)."""

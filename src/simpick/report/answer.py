@@ -96,12 +96,17 @@ def answer_section(
     engines: Sequence[str],
     figure_uri: str | None,
     sections: set[str],
+    basis: str | None = None,
+    units: str = "runs",
 ) -> dict[str, Any]:
     """The first page's table, sentences and figure. ``sections``: the anchors the report has,
-    so that a sentence cites only a figure that is there."""
+    so that a sentence cites only a figure that is there. ``basis``: the headline's sentence naming the
+    real data the answer rests on, ``units`` what its units are called ("runs", "steps"): both from
+    results/verdict/headline.yaml."""
     if answer is None:
         return {
             "given": False,
+            "basis": "",
             "flagged": [],
             "rows": [],
             "metrics": [],
@@ -179,6 +184,8 @@ def answer_section(
         )
     return {
         "given": True,
+        "basis": str(basis or ""),
+        "units": units,
         "metrics": metrics,
         "unmeasured": unmeasured,
         "rows": rows,

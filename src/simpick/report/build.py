@@ -649,6 +649,7 @@ def _verdict(data: ReportData, engines: list[str]) -> dict[str, Any]:
         "given": True,
         "paragraph": head.get("paragraph"),
         "n_runs": head.get("n_runs"),
+        "units": head.get("units") or "runs",
         "source": head.get("source_title") or head.get("source"),
         "metrics": metrics,
         "ranking": ranking,
@@ -772,6 +773,8 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
             engines,
             figures.data_uri(data.figures["answer"]) if "answer" in data.figures else None,
             sections,
+            (data.verdict_headline or {}).get("basis"),
+            (data.verdict_headline or {}).get("units") or "runs",
         ),
         "tree_uri": tree_uri,
         # the simulators as rows (simpick.report.simulators), when the study runs any

@@ -13,6 +13,8 @@ from typing import Any
 
 import pandas as pd
 
+from simpick.score.equivalence import pooled as over_all_terrains
+
 TABLES = ("summary", "outcomes", "turning", "errors")
 
 
@@ -66,7 +68,7 @@ def drive_section(folder: str | Path, label: str, calibration: str | Path | None
         }
         for _, r in pooled.sort_values(["terrain_class", "engine"]).iterrows()
     ]
-    scoped = outcomes[outcomes.scope == "all"] if "scope" in outcomes else outcomes
+    scoped = over_all_terrains(outcomes)
     # per metric (in the table's order), the engines from the smallest mean error
     order = pd.Categorical(scoped.metric, categories=list(dict.fromkeys(scoped.metric)), ordered=True)
     scoped = scoped.assign(_order=order).sort_values(["_order", "mean"])

@@ -14,7 +14,7 @@ import yaml
 from simpick.errors import InputError
 from simpick.score.answer import ANSWER_COLUMNS
 from simpick.score.contributions import CONTRIBUTION_COLUMNS, DRIVER_COLUMNS
-from simpick.score.equivalence import OUTCOME_COLUMNS
+from simpick.score.equivalence import OUTCOME_COLUMNS, pooled
 from simpick.score.scoring import METRICS
 
 # the first page's row per engine: every column but the per-metric ones, which the report reads from outcomes,
@@ -534,6 +534,8 @@ def load_inputs(inputs: Mapping[str, Any], required: tuple[str, ...] | None = No
             p = _path(key, inputs[key])
             sources[key] = str(p)
             verdict[table] = _csv(key, p)
+    if "outcomes" in verdict:  # the DRIVE comparison's outcomes where the answer rests on DRIVE: its pooled rows
+        verdict["outcomes"] = pooled(verdict["outcomes"])
     kw["verdict"] = verdict
     for key in ("segments_provenance", "scores_provenance", "verdict_headline", "verdict_sentences"):
         if given(key):

@@ -25,8 +25,10 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from simpick.score.equivalence import FAILED_SEPARATOR
+from simpick.errors import InputError
+from simpick.score.equivalence import FAILED_SEPARATOR, pooled
 from simpick.score.verdict import (
+    DISCRIMINATION_COLUMNS,
     METRICS,
     SEPARATION_COLUMNS,
     paper_rows,
@@ -55,6 +57,7 @@ ANSWER_COLUMNS = [
     "runs_failed",
     "failed_runs",
 ]
+RUNS = "real runs"  # what the sentences call the real data's units where the basis names none
 PRIMARY = ("gain_error", "heading_error", "speed_error")  # the metric a "closest" sentence rests on first
 CALIBRATED_POOL = "target classes"  # simpick.studies.calibration.turning.TARGET_POOL: the held-out runs judged together
 
@@ -142,10 +145,10 @@ def _runs(failures: list[tuple[str, str]]) -> str:
     return runs[0] if len(runs) == 1 else ", ".join(runs[:-1]) + " and " + runs[-1]
 
 
-def failure_clause(o: pd.Series | dict, failures: list[tuple[str, str]]) -> str:
+def failure_clause(o: pd.Series | dict, failures: list[tuple[str, str]], noun: str = RUNS) -> str:
     """``o``'s engine failed ``failures``, runs another engine completed: how many, which and why."""
     total = int(o["runs_all"]) if "runs_all" in o and np.isfinite(float(o["runs_all"])) else len(failures)
-    return f"{o['engine']} failed {len(failures)} of the {total} real runs ({_runs(failures)}: {_kinds(failures)})"
+    return f"{o['engine']} failed {len(failures)} of the {total} {noun} ({_runs(failures)}: {_kinds(failures)})"
 
 
 def answer_table(
@@ -226,12 +229,17 @@ def _cite(o: pd.Series) -> str:
     return text
 
 
+def _plain(noun: str) -> str:
+    """The units without the dataset's name ("DRIVE steps" -> "steps")."""
+    return noun.split()[-1]
+
+
 def _names(frame: pd.DataFrame) -> str:
     names = list(frame.engine)
     return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
 
 
-def closest_sentence(outcomes: pd.DataFrame, robot: str) -> dict:
+def closest_sentence(outcomes: pd.DataFrame, robot: str, noun: str = RUNS) -> dict:
     for metric in PRIMARY:
         g = outcomes[outcomes.metric == metric]
         best = g[g.is_best.astype(bool)]
@@ -243,27 +251,27 @@ def closest_sentence(outcomes: pd.DataFrame, robot: str) -> dict:
             lost = failed_runs(g, b.engine)
             return {
                 "need": "closest",
-                "text": f"Too few real runs to name the engine closest to the {robot} on "
-                f"{label}: {b.engine} has the lowest mean ({_f(b['mean'])}{unit}) over {int(b.n_runs)} runs"
-                + (f", though {failure_clause(b, lost)}" if lost else "")
+                "text": f"Too few {noun} to name the engine closest to the {robot} on "
+                f"{label}: {b.engine} has the lowest mean ({_f(b['mean'])}{unit}) over {int(b.n_runs)} {noun}"
+                + (f", though {failure_clause(b, lost, noun)}" if lost else "")
                 + ".",
                 "rests_on": [_cite(b)],
             }
         text = (
             f"Closest to the {robot} on {label}: {b.engine} ({_f(b['mean'])}{unit} [{_f(b.low)}, {_f(b.high)}] "
-            f"over {int(b.n_runs)} real runs)"
+            f"over {int(b.n_runs)} {noun})"
         )
         # an engine that failed runs the others completed is named with that, in this sentence
         lost = failed_runs(g, b.engine)
         others_lost = {e: failed_runs(g, e) for e in g.engine if e != b.engine and failed_runs(g, e)}
         if lost:
             text = (
-                f"Closest to the {robot} on {label}, over the {int(b.n_runs)} real runs every compared engine "
+                f"Closest to the {robot} on {label}, over the {int(b.n_runs)} {noun} every compared engine "
                 f"completed: {b.engine} ({_f(b['mean'])}{unit} [{_f(b.low)}, {_f(b.high)}]), though "
-                f"{failure_clause(b, lost)}, which the others completed and no comparison counts"
+                f"{failure_clause(b, lost, noun)}, which the others completed and no comparison counts"
             )
         elif others_lost:
-            text += ", every engine judged on the runs all of them completed"
+            text += f", every engine judged on the {noun} all of them completed"
         if not b.recommendable:
             text += ", though no engine passes the mechanics this metric rests on"
         others = g[~g.is_best.astype(bool)]
@@ -277,7 +285,7 @@ def closest_sentence(outcomes: pd.DataFrame, robot: str) -> dict:
             text += f"; worse: {_names(worse)}"
         if len(open_):
             text += "; undetermined: " + ", ".join(
-                f"{r.engine} (about {int(r.runs_needed)} runs would decide)" if np.isfinite(r.runs_needed) else r.engine
+                f"{r.engine} (about {int(r.runs_needed)} {_plain(noun)} would decide)" if np.isfinite(r.runs_needed) else r.engine
                 for r in open_.itertuples()
             )
         shown = others[~others.recommendable.astype(bool) & (others.outcome != "not measurable")]
@@ -298,7 +306,7 @@ def closest_sentence(outcomes: pd.DataFrame, robot: str) -> dict:
     }
 
 
-def failed_sentence(outcomes: pd.DataFrame, engines: list[str]) -> dict | None:
+def failed_sentence(outcomes: pd.DataFrame, engines: list[str], noun: str = RUNS) -> dict | None:
     """Which engine failed which real runs that another completed, and why; None where no real-data
     metric was measured."""
     measured = outcomes[outcomes.outcome != "not measurable"] if len(outcomes) else outcomes
@@ -310,19 +318,20 @@ def failed_sentence(outcomes: pd.DataFrame, engines: list[str]) -> dict | None:
         if not lost:
             continue
         o = measured[measured.engine == engine].sort_values("runs_failed").iloc[-1]
-        parts.append(failure_clause(o, lost))
+        parts.append(failure_clause(o, lost, noun))
         rests += [f"outcomes.csv: {engine} failed_runs {run}: {why}" for run, why in lost]
     if not parts:
         n = int(pd.to_numeric(measured.runs_all, errors="coerce").max()) if "runs_all" in measured else 0
         return {
             "need": "failed",
-            "text": f"Every engine completed every one of the {n} real runs: all are compared on the same runs.",
+            "text": f"Every engine completed every one of the {n} {noun}: all are compared on the same "
+            f"{_plain(noun)}.",
             "rests_on": [f"outcomes.csv: runs_failed 0 for every engine, runs_all {n}"],
         }
     common = pd.to_numeric(measured[measured.is_best.astype(bool)].n_runs, errors="coerce")
     text = "; ".join(parts)
     if len(common) and np.isfinite(common.min()):
-        text += f". Each engine is compared on the runs every compared engine completed ({int(common.min())})"
+        text += f". Each engine is compared on the {_plain(noun)} every compared engine completed ({int(common.min())})"
     return {"need": "failed", "text": text + ".", "rests_on": rests}
 
 
@@ -413,12 +422,14 @@ def avoid_sentence(outcomes: pd.DataFrame, answer: pd.DataFrame) -> dict:
     return {"need": "avoid", "text": text, "rests_on": rests}
 
 
-def sentences(outcomes: pd.DataFrame, answer: pd.DataFrame, calibration: pd.DataFrame, robot: str) -> list[dict]:
+def sentences(
+    outcomes: pd.DataFrame, answer: pd.DataFrame, calibration: pd.DataFrame, robot: str, noun: str = RUNS
+) -> list[dict]:
     """One sentence per need: closest, the runs an engine failed, fastest, settings, avoid (answer.yaml's
-    ``sentences``)."""
-    failed = failed_sentence(outcomes, list(answer.engine))
+    ``sentences``). ``noun``: what the real data's units are called ("real runs", "DRIVE steps")."""
+    failed = failed_sentence(outcomes, list(answer.engine), noun)
     return [
-        closest_sentence(outcomes, robot),
+        closest_sentence(outcomes, robot, noun),
         *([failed] if failed else []),
         fastest_sentence(answer),
         settings_sentence(outcomes, answer, calibration, robot),
@@ -451,11 +462,49 @@ def headline(said: list[dict], separation: list[dict], rank: pd.DataFrame) -> st
     return " ".join(parts)
 
 
+def read_outcomes(path: str) -> pd.DataFrame:
+    """Every engine against the best per real-data metric, from the comparison the answer rests on: the
+    verdict's outcomes.csv or the DRIVE comparison's (its rows over every terrain:
+    simpick.score.equivalence.pooled). A table that is neither stops here, naming what it lacks."""
+    frame = pooled(pd.read_csv(path))
+    missing = [c for c in ("metric", "engine", "outcome", "is_best", "mean", "n_runs") if c not in frame]
+    if missing:
+        raise InputError(path, f"not an outcomes table: columns {missing} are missing", "rerun the rule that writes it")
+    if frame.duplicated(["metric", "engine"]).any():
+        raise InputError(path, "more than one row per metric and engine", "rerun the rule that writes it")
+    return frame
+
+
+def _and(names: list[str]) -> str:
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+
+
+def basis_sentence(basis: dict, n: int, left_out: list[str] | None = None) -> str:
+    """Which real data the answer rests on, named with its units ("345 DRIVE steps", "12 BorealTC runs"),
+    the study's engines the comparison did not judge, and the study's other real data, reported apart."""
+    if not basis.get("dataset"):
+        return ""
+    unit = basis.get("unit") or "run"
+    text = f"The answer rests on {n} {basis['dataset']} {unit}{'' if n == 1 else 's'}"
+    if basis.get("title"):
+        text += f" ({basis['title']})"
+    if left_out:
+        text += f"; {_and(left_out)} {'was' if len(left_out) == 1 else 'were'} not replayed on these data and "
+        text += f"{'is' if len(left_out) == 1 else 'are'} not in the table"
+    others = list(basis.get("others") or [])
+    if others:
+        text += f"; the study's other real data ({_and(others)}) are compared in their own section, not here"
+    return text + "."
+
+
 def answer_job(inputs: dict, params: dict, outputs: dict) -> None:
     """Rule ``answer``: the paper's weighted ranking with its interval over real runs (ranking.csv),
     the separation table, answer.csv, answer.yaml and the headline, from the scores (weighted.csv,
-    provenance.yaml), the verdict's tables (outcomes, mechanics, table, discrimination), the lab's
-    real-time factor, the CPU runs and, where it ran, the calibration's turning table."""
+    provenance.yaml), the real-data comparison's tables (outcomes, mechanics, table, per_test: the verdict's,
+    with its discrimination table, where the study has one, else the DRIVE comparison's, which writes the
+    same tables beside its outcomes; simpick.plan answer_tables), the lab's real-time factor, the CPU runs
+    and, where it ran, the calibration's turning table. ``params.basis``: the dataset the comparison rests
+    on, its unit ("step", "run") and the study's other real data, for the sentence that names them."""
     statistics = params.get("statistics")
     engines = list(params["engines"])
     seed = int(params.get("seed", 0))
@@ -471,13 +520,24 @@ def answer_job(inputs: dict, params: dict, outputs: dict) -> None:
     )
     write_csv(rank, outputs["ranking"])
     table = pd.read_csv(inputs["table"])
-    disc = pd.read_csv(inputs["discrimination"])
+    # what the paper's accuracy scores separate: the verdict's, where the scores rest on its real runs; none
+    # beside DRIVE's outcomes (the scores never rest on DRIVE's steps)
+    disc = (
+        pd.read_csv(inputs["discrimination"])
+        if inputs.get("discrimination")
+        else pd.DataFrame(columns=DISCRIMINATION_COLUMNS)
+    )
     separation = separation_rows(table, int((statistics or {}).get("min_runs", 6))) + paper_rows(
         rank, disc, params["weights"]
     )
     write_csv(pd.DataFrame(separation, columns=SEPARATION_COLUMNS), outputs["separation"])
 
-    outcomes = pd.read_csv(inputs["outcomes"])
+    outcomes = read_outcomes(inputs["outcomes"])
+    # the engines the comparison judged: a DRIVE replay may leave some of the study's out (drive_replay.models);
+    # the answer names them rather than giving them a row without real data
+    judged = set(outcomes.engine)
+    left_out = [e for e in engines if e not in judged]
+    engines = [e for e in engines if e in judged]
     mechanics = pd.read_csv(inputs["mechanics"])
     tests = read_per_test(inputs["per_test"])
     rtfs, cpu = machine_figures(inputs["rtf"], list(inputs["cpu"]))
@@ -485,7 +545,9 @@ def answer_job(inputs: dict, params: dict, outputs: dict) -> None:
     answer = answer_table(outcomes, mechanics, weighted, engines, gain_ratios(tests, engines), cal, rtfs, cpu)
     write_csv(answer, outputs["answer"])
     robot = params.get("robot") or "real robot"
-    said = sentences(outcomes, answer, cal, robot)
+    basis = dict(params.get("basis") or {})
+    noun = basis.get("noun") or RUNS
+    said = sentences(outcomes, answer, cal, robot, noun)
     Path(outputs["answer_yaml"]).write_text(
         yaml.safe_dump({"robot": robot, "sentences": said}, sort_keys=False, allow_unicode=True, width=10_000)
     )
@@ -499,6 +561,8 @@ def answer_job(inputs: dict, params: dict, outputs: dict) -> None:
                 "source_title": source,
                 "n_runs": n_runs,
                 "min_runs": min_runs,
+                "units": _plain(noun),
+                "basis": basis_sentence(basis, n_runs, left_out),
                 "level": float((statistics or {}).get("level", 0.95)),
                 "paragraph": headline(said, separation, rank),
             },

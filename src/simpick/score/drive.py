@@ -22,7 +22,7 @@ import pandas as pd
 from simpick.compare.drive import ALL, gain_repeatability, step_errors, summary_table
 from simpick.score.equivalence import outcomes_table
 from simpick.score.mechanics import mechanics_table
-from simpick.score.verdict import METRICS, per_run_values
+from simpick.score.verdict import METRICS, metric_table, per_run_long, per_run_values
 from simpick.tables import write_csv
 
 
@@ -32,7 +32,7 @@ def per_test(errors: pd.DataFrame, unit: str = "step") -> pd.DataFrame:
     if unit not in ("step", "session"):
         raise ValueError(f"drive_replay.unit is 'step' or 'session', not {unit!r}")
     run = errors.session if unit == "session" else errors.session + "/" + errors.step.map("{:03d}".format)
-    return errors.assign(run=run, test=errors.case, yaw_rate_gain_real=errors.gain_real)
+    return errors.assign(run=run, test=errors.case, yaw_rate_gain_real=errors.gain_real, yaw_rate_gain_sim=errors.gain_sim)
 
 
 def gain_margin_spec(spec: dict, steps: pd.DataFrame, tolerance: float) -> tuple[dict, str | None]:
@@ -47,6 +47,15 @@ def gain_margin_spec(spec: dict, steps: pd.DataFrame, tolerance: float) -> tuple
         f"{factor}the real robot's own step-to-step repeatability of its yaw-rate gain: the single-step "
         f"standard deviation between the {pairs} pairs of steps of similar command (within a terrain), {sd:.3g}"
     )
+
+
+def mechanics_gate(validation: pd.DataFrame | None, engines: list[str]) -> pd.DataFrame:
+    """The verdict's mechanics gate (simpick.score.mechanics.mechanics_table) from the validation summary;
+    None: no engine validated."""
+    summary = (
+        validation if validation is not None else pd.DataFrame(columns=["engine", "status", "case", "kind", "passed"])
+    )
+    return mechanics_table(summary, engines)
 
 
 def outcomes(
@@ -64,10 +73,7 @@ def outcomes(
     all terrains (``scope`` all) and per terrain, paired by ``unit``. ``validation``: the validation
     summary (the mechanics gate: an engine failing the cases a metric rests on is never the best); None:
     no engine validated, the lowest mean is the reference and is named so."""
-    summary = (
-        validation if validation is not None else pd.DataFrame(columns=["engine", "status", "case", "kind", "passed"])
-    )
-    mechanics = mechanics_table(summary, engines)
+    mechanics = mechanics_gate(validation, engines)
     frames = []
     for scope, e in [(ALL, errors)] + list(errors.groupby("terrain_class", sort=True)):
         real = steps if scope == ALL else steps[steps.terrain_class == scope]
@@ -84,9 +90,34 @@ def outcomes(
     return out[["scope", "paired_by"] + [c for c in out.columns if c not in ("scope", "paired_by")]]
 
 
+def verdict_tables(
+    errors: pd.DataFrame,
+    engines: list[str],
+    validation: pd.DataFrame | None = None,
+    unit: str = "step",
+    statistics: dict | None = None,
+    seed: int = 0,
+) -> dict[str, pd.DataFrame]:
+    """The tables rule answer reads beside the outcomes, as the verdict writes them for BorealTC
+    (simpick.score.verdict), over every terrain: ``per_test`` (one test per step, its run the unit of
+    pairing), ``metrics`` (per-run values, the answer's figure), ``table`` (each engine against the next)
+    and ``mechanics`` (the gate the outcomes rest on)."""
+    tests = per_test(errors, unit)
+    return {
+        "per_test": tests,
+        "metrics": per_run_long({m: per_run_values(tests, m) for m in METRICS}),
+        "table": metric_table(tests, engines, statistics, seed),
+        "mechanics": mechanics_gate(validation, engines),
+    }
+
+
 def compare_job(inputs: dict, params: dict, outputs: dict) -> None:
     """Rule drive_compare: the replayed steps of every engine against the real robot, into ``errors``,
-    ``summary`` and ``outcomes`` (CSV)."""
+    ``summary`` and ``outcomes`` (CSV), and, where the study's first page rests on DRIVE (rule answer), the
+    tables beside them that the verdict writes for BorealTC (results/verdict/), in the same form and over
+    all terrains: ``per_test`` (one test per step, the verdict's per-test form), ``metrics`` (the per-run
+    values the answer's figure draws), ``table`` (each engine against the next) and ``mechanics`` (the
+    gate)."""
     cases = pd.read_csv(inputs["cases"])
     steps = pd.read_csv(inputs["steps"])
     replayed = pd.concat([pd.read_csv(p) for p in inputs["replayed"]], ignore_index=True)
@@ -110,3 +141,9 @@ def compare_job(inputs: dict, params: dict, outputs: dict) -> None:
         ),
         outputs["outcomes"],
     )
+    tables = verdict_tables(
+        errors, list(params["engines"]), validation, params.get("unit", "step"), params.get("statistics"), seed
+    )
+    for name, frame in tables.items():
+        if outputs.get(name):
+            write_csv(frame, outputs[name])

@@ -216,6 +216,19 @@ OUTCOME_COLUMNS = [
     "note",
 ]
 FAILED_SEPARATOR = " | "  # between the runs of ``failed_runs``: a health reason holds "; " and ", " itself
+# The scope of the rows over all the real data: the DRIVE comparison's outcomes (simpick.score.drive) hold
+# those rows and then one set per terrain class (its ``scope`` column, simpick.compare.drive.ALL)
+POOLED = "all"
+
+
+def pooled(outcomes: pd.DataFrame) -> pd.DataFrame:
+    """One row per metric x engine over all the real data, whichever comparison wrote ``outcomes``: the
+    verdict's (results/verdict/outcomes.csv) as it is, the DRIVE comparison's (results/drive/<name>/
+    outcomes.csv) its pooled rows (``scope`` all), so that the answer, its figure, the decision tree and
+    the report read either through this one function."""
+    if "scope" not in outcomes:
+        return outcomes
+    return outcomes[outcomes["scope"].astype(str) == POOLED].drop(columns="scope").reset_index(drop=True)
 
 
 def _run_names(per_test: pd.DataFrame) -> pd.Series:

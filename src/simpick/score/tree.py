@@ -30,6 +30,7 @@ from pathlib import Path
 from typing import Any
 
 from simpick.errors import InputError
+from simpick.score.equivalence import pooled
 from simpick.score.mechanics import failures
 
 SCHEMA = "simpick.tree/1"
@@ -258,8 +259,7 @@ def closeness_question(outcomes_path: str, engines: Sequence[str]) -> Question |
         "recommendable",
     )
     outcomes = _read_csv(outcomes_path, columns, "the verdict's outcomes")
-    if "scope" in outcomes:  # the DRIVE comparison's: pooled over every terrain, then per terrain
-        outcomes = outcomes[outcomes.scope == "all"]
+    outcomes = pooled(outcomes)  # the DRIVE comparison's: its rows over every terrain
     close: dict[str, dict[str, bool]] = {e: {} for e in engines}
     texts: dict[str, list[str]] = {e: [] for e in engines}
     labels: dict[str, str] = {}

@@ -155,6 +155,16 @@ def per_run_values(per_test: pd.DataFrame, metric: str) -> pd.DataFrame:
     return ok.pivot_table(index="_run", columns="engine", values="_v", aggfunc="mean")
 
 
+def per_run_long(walls: dict[str, pd.DataFrame]) -> pd.DataFrame:
+    """metrics.csv: one row per real run, model and metric with a value (``walls``: metric -> the run x
+    model frame of :func:`per_run_values`), the per-run values the answer's figure draws."""
+    long = []
+    for metric, wide in walls.items():
+        for run, row in wide.iterrows():
+            long += [{"run": run, "model": m, "metric": metric, "value": v} for m, v in row.items() if np.isfinite(v)]
+    return pd.DataFrame(long, columns=["run", "model", "metric", "value"])
+
+
 def runs_needed(differences, level: float, power: float = POWER) -> float:
     """Roughly how many runs a paired test would need to find a mean difference of the observed
     size at the observed spread: n = ((z_(1 - alpha/2) + z_power) sd / |mean|)^2 (normal
@@ -606,12 +616,8 @@ def verdict_job(inputs: dict, params: dict, outputs: dict) -> None:
     engines, floor_models = list(params["engines"]), list(params.get("baselines") or [])
     seed = int(params.get("seed", 0))
     tests = read_per_test(inputs["per_test"])
-    long, walls = [], {}
-    for metric in METRICS:
-        walls[metric] = wide = per_run_values(tests, metric)
-        for run, row in wide.iterrows():
-            long += [{"run": run, "model": m, "metric": metric, "value": v} for m, v in row.items() if np.isfinite(v)]
-    write_csv(pd.DataFrame(long, columns=["run", "model", "metric", "value"]), outputs["metrics"])
+    walls = {metric: per_run_values(tests, metric) for metric in METRICS}
+    write_csv(per_run_long(walls), outputs["metrics"])
     write_csv(metric_table(tests, engines, statistics, seed), outputs["table"])
     if outputs.get("headings"):
         write_csv(heading_spread(tests), outputs["headings"])
