@@ -190,7 +190,10 @@ def test_the_comparison_reports_failures_and_pairs_by_step(asphalt, replayed):
     table = outcomes(errors, asphalt["steps"], ["mujoco", "slow"], verdict, 1.0)
     speed = table[(table.metric == "speed_error") & (table.scope == "all")].set_index("engine")
     assert speed.loc["mujoco", "outcome"] in ("best", "too few runs")
-    assert speed.loc["slow", "n_runs"] == speed.loc["mujoco", "n_runs"] - 1  # the diverged step is not averaged
+    # the diverged step is averaged for no engine: both are judged on the 11 steps both completed, and the
+    # failure is the slow engine's, with its reason
+    assert speed.loc["slow", "n_runs"] == speed.loc["mujoco", "n_runs"] == 11
+    assert speed.loc["slow", "runs_failed"] == 1 and "diverged" in speed.loc["slow", "failed_runs"]
     assert (table.paired_by == "step").all()
     # the metric's own unit is kept beside it (the decision tree prints it after each value)
     assert set(table.unit.fillna("")) == {"", "rad", "m/s"}, set(table.unit)
