@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 import pytest
 import yaml
+
 from test_report import PARAMS, write_synthetic_inputs
 from test_verdict import STATS, VERDICT_SETTINGS, WEIGHTS, _validation, _weighted
 
@@ -93,9 +94,14 @@ def _answer(tmp_path: Path) -> tuple[dict, dict]:
     cpu = []
     for e in ENGINES:
         cpu.append(str(tmp_path / f"{e}.json"))
-        Path(cpu[-1]).write_text(json.dumps({"engine": e, "average": {"load_percent": 10.0}, "intense": {"load_percent": 30.0}}))
+        Path(cpu[-1]).write_text(
+            json.dumps({"engine": e, "average": {"load_percent": 10.0}, "intense": {"load_percent": 30.0}})
+        )
     out = {k: str(tmp_path / "verdict" / f"{k}.csv") for k in ("ranking", "separation", "answer")}
-    out |= {"answer_yaml": str(tmp_path / "verdict" / "answer.yaml"), "headline": str(tmp_path / "verdict" / "headline.yaml")}
+    out |= {
+        "answer_yaml": str(tmp_path / "verdict" / "answer.yaml"),
+        "headline": str(tmp_path / "verdict" / "headline.yaml"),
+    }
     (tmp_path / "verdict").mkdir()
     inputs = {k: v for k, v in drive.items() if k != "metrics"}  # as PLAN.answer_inputs gives them: no discrimination
     answer_job(

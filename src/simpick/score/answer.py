@@ -285,7 +285,9 @@ def closest_sentence(outcomes: pd.DataFrame, robot: str, noun: str = RUNS) -> di
             text += f"; worse: {_names(worse)}"
         if len(open_):
             text += "; undetermined: " + ", ".join(
-                f"{r.engine} (about {int(r.runs_needed)} {_plain(noun)} would decide)" if np.isfinite(r.runs_needed) else r.engine
+                f"{r.engine} (about {int(r.runs_needed)} {_plain(noun)} would decide)"
+                if np.isfinite(r.runs_needed)
+                else r.engine
                 for r in open_.itertuples()
             )
         shown = others[~others.recommendable.astype(bool) & (others.outcome != "not measurable")]
@@ -324,8 +326,7 @@ def failed_sentence(outcomes: pd.DataFrame, engines: list[str], noun: str = RUNS
         n = int(pd.to_numeric(measured.runs_all, errors="coerce").max()) if "runs_all" in measured else 0
         return {
             "need": "failed",
-            "text": f"Every engine completed every one of the {n} {noun}: all are compared on the same "
-            f"{_plain(noun)}.",
+            "text": f"Every engine completed every one of the {n} {noun}: all are compared on the same {_plain(noun)}.",
             "rests_on": [f"outcomes.csv: runs_failed 0 for every engine, runs_all {n}"],
         }
     common = pd.to_numeric(measured[measured.is_best.astype(bool)].n_runs, errors="coerce")

@@ -32,7 +32,9 @@ def per_test(errors: pd.DataFrame, unit: str = "step") -> pd.DataFrame:
     if unit not in ("step", "session"):
         raise ValueError(f"drive_replay.unit is 'step' or 'session', not {unit!r}")
     run = errors.session if unit == "session" else errors.session + "/" + errors.step.map("{:03d}".format)
-    return errors.assign(run=run, test=errors.case, yaw_rate_gain_real=errors.gain_real, yaw_rate_gain_sim=errors.gain_sim)
+    return errors.assign(
+        run=run, test=errors.case, yaw_rate_gain_real=errors.gain_real, yaw_rate_gain_sim=errors.gain_sim
+    )
 
 
 def gain_margin_spec(spec: dict, steps: pd.DataFrame, tolerance: float) -> tuple[dict, str | None]:
