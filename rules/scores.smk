@@ -104,7 +104,6 @@ if PLAN.verdict:
             "../scripts/verdict.py"
 
 
-
 # The answer (simpick.score.answer): one row per engine and a sentence per need, the paper's
 # weighted total with its interval over real runs, the separation table and the report's first
 # paragraph. The weights reach it: it is what a weight edit reruns besides the scores and the
