@@ -128,8 +128,7 @@ if SETTINGS.drive_dir:
         params:
             settings=canonical(
                 {
-                    # engines and the simulator profiles replayed (simulators.drive): outcomes for both
-                    "engines": [m for m in DRIVE_MODELS if m in PLAN.engines or m in PLAN.profiles],
+                    "engines": [m for m in DRIVE_MODELS if m in PLAN.engines],
                     "verdict": PLAN.config["verdict"],
                     "statistics": PLAN.config["statistics"],
                     "unit": PLAN.config["drive_replay"]["unit"],

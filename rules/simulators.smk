@@ -8,9 +8,10 @@ rule simulators:
     input:
         **({"per_test": PLAN.metrics_file(PLAN.verdict_source(), "per_test")} if PLAN.verdict else {}),
         **({"imu_errors": PLAN.accuracy_errors()} if PLAN.verdict else {}),
-        # without a verdict (a robot with no BorealTC data), DRIVE's outcomes where the profiles replayed it
+        # without a verdict (a robot with no BorealTC data), DRIVE's steps where the profiles replayed them:
+        # judged as rule drive_compare judges the engines, engines and profiles together
         **(
-            {"drive_outcomes": f"{DRIVE}/outcomes.csv"}
+            {"drive_errors": f"{DRIVE}/errors.csv", "drive_steps": f"{DRIVE}/steps.csv"}
             if not PLAN.verdict and SETTINGS.drive_dir and PLAN.config["simulators"]["drive"]
             else {}
         ),
@@ -32,6 +33,11 @@ rule simulators:
         "../envs/simpick.yaml"
     params:
         **PLAN.simulators_params(),
+        drive=(
+            canonical({"tolerance": SIMILAR, "unit": PLAN.config["drive_replay"]["unit"]})
+            if SETTINGS.drive_dir
+            else {}
+        ),
         code=PLAN.script_code("simulators"),
     script:
         "../scripts/simulators.py"

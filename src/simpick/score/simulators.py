@@ -104,10 +104,25 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
             int(params.get("seed", 0)),
             {"speed_error": NO_SPEED},
         )
-    elif inputs.get("drive_outcomes") and Path(inputs["drive_outcomes"]).is_file():
-        # DRIVE's steps, every terrain together (scope "all"), as rule drive_compare judged them
-        drive = pd.read_csv(inputs["drive_outcomes"])
-        outcomes = drive[drive.scope == "all"].drop(columns=["scope", "paired_by"]).reset_index(drop=True)
+    elif inputs.get("drive_errors") and Path(inputs["drive_errors"]).is_file():
+        # DRIVE's steps, judged as rule drive_compare judges the engines (its repeatability margin, paired by
+        # step), engines and profiles together; every terrain pooled
+        from simpick.score import drive
+        from simpick.score.equivalence import pooled
+
+        errors = pd.read_csv(inputs["drive_errors"])
+        table = drive.outcomes(
+            errors,
+            pd.read_csv(inputs["drive_steps"]),
+            [m for m in models if m in set(errors.engine)],
+            params["verdict"],
+            float(params["drive"]["tolerance"]),
+            summary,
+            params["drive"].get("unit", "step"),
+            params.get("statistics"),
+            int(params.get("seed", 0)),
+        )
+        outcomes = pooled(table).drop(columns=["paired_by"], errors="ignore")
     write_csv(mechanics, outputs["mechanics"])
     write_csv(outcomes, outputs["outcomes"])
 
@@ -203,6 +218,8 @@ def _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs) 
         errors = errors[errors.engine.isin(tuned.values())].copy()
         errors["engine"] = errors.engine.map({m: s for s, m in tuned.items()})
         write_csv(errors, out / "imu_errors.csv")
+    else:  # no real IMU errors for these simulators (DRIVE measures no IMU statistics): their accuracy unscored
+        write_csv(pd.DataFrame(columns=["engine", "quantity", "error"]), out / "imu_errors.csv")
     rtf = pd.read_csv(inputs["rtf"])
     rows = []
     for name in run:
