@@ -116,15 +116,15 @@ class OdeSettings(EngineSettings):
     # set them: ODE's per-contact ERP = h kp / (h kp + kd) and CFM = 1 / (h kp + kd) (h: the step;
     # dContactSoftERP / dContactSoftCFM). None: not set, the world's erp and cfm hold (ODE's default).
     contact_kp: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None
-    contact_kd: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 1.0
+    contact_kd: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 1.0  # N s/m, with contact_kp (SDF <kd>)
     # The same softness given directly (Webots' ContactProperties softERP / softCFM): dContactSoftERP /
     # dContactSoftCFM of terrain contacts. None: not set. Exclusive with contact_kp.
     contact_soft_erp: Annotated[float, Field(ge=0, le=1)] | None = None
-    contact_soft_cfm: Annotated[float, Field(ge=0, allow_inf_nan=False)] | None = None
+    contact_soft_cfm: Annotated[float, Field(ge=0, allow_inf_nan=False)] | None = None  # (see contact_soft_erp)
     # Restitution of terrain contacts and the approach speed below which none applies (dContactBounce;
     # Webots' ContactProperties bounce 0.5, bounceVelocity 0.01 m/s). 0: off, ODE's default.
     contact_bounce: Annotated[float, Field(ge=0, le=1)] = 0.0
-    contact_bounce_vel: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.01
+    contact_bounce_vel: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.01  # m/s (see contact_bounce)
     # The robot's own friction coefficient, combined with the ground's by the minimum as Gazebo Classic
     # combines two surfaces' <mu> (ODEPhysics.cc): a contact gets min(ground, surface_mu). None: the
     # ground's coefficient alone (simpick's terrains carry the whole coefficient).
