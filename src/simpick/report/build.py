@@ -704,6 +704,7 @@ def _opt_in(opt_in: Mapping[str, Any]) -> list[dict[str, Any]]:
 def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]:
     import yaml
 
+    from simpick.engines.simulators import is_profile
     from simpick.report import provenance, real
     from simpick.report.answer import answer_section
     from simpick.report.draw import colors as draw_colors
@@ -807,6 +808,9 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         "robot": robot,
         "generated": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         "engines": engines,
+        # the header's list: engines and reference models, the simulators' profiles counted apart
+        "header_engines": [e for e in engines if not is_profile(e)],
+        "header_profiles": [e for e in engines if is_profile(e)],
         # configured engines the machine could not run (simpick.plan: Plan.unavailable): engine -> why
         "unavailable": dict(params.get("unavailable") or {}),
         # registered engines this study leaves out and an opt-in config adds (simpick.plan: Plan.opt_in):
