@@ -246,3 +246,17 @@ def test_a_profile_takes_the_study_s_wheel_actuators_and_the_catalog_s_physics(t
     shipped = plan.config["profiles"]["mujoco-shipped"]
     assert shipped["wheel_servo_kp"] == 15000.0  # the robot's actuator, as the study describes it
     assert shipped["cone"] == "pyramidal" and shipped["wheel_contact"] == "default"  # MuJoCo's defaults
+
+
+def test_a_tuned_profile_the_search_left_at_its_shipped_settings_reads_the_shipped_results(tmp_path):
+    data = yaml.safe_load(CATALOG.read_text())
+    data["simulators"]["coppeliasim"]["tuned"]["settings"] = {}
+    config = tiny_config(tmp_path)
+    config["simulators"] = {"catalog": str(_write(tmp_path, data)), "run": ["coppeliasim"]}
+    plan = _plan(config)
+    assert plan.profile_results == {
+        "coppeliasim-shipped": "coppeliasim-shipped",
+        "coppeliasim-tuned": "coppeliasim-shipped",
+    }
+    assert plan.profiles == ["coppeliasim-shipped"]
+    assert "coppeliasim-tuned" not in plan.sources["segments"]["models"]
