@@ -65,7 +65,6 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
     if not table_path.is_file():
         return None
     table = pd.read_csv(table_path)
-    catalog_path = folder_path / "subjects" / "qualitative.yaml"
     labels = dict(zip(table.simulator, table.label))
     rows = []
     for r in table.to_dict("records"):
@@ -119,7 +118,6 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
         "weighted": weighted,
         "ros_paths": ros_paths(tree, labels) if tree else [],
         "not_run": sorted({r["label"]: r["status"] for r in rows if not r["ran"]}.items()),
-        "catalog": str(catalog_path),
         "weights_total": sum(weights.values()),
         "coulomb": _f(table.gain_coulomb.dropna().iloc[0]) if table.gain_coulomb.notna().any() else "–",
     }

@@ -21,6 +21,7 @@ from simpick.engines.catalog import load_catalog
 from simpick.engines.simulators import VARIANTS, model_name
 from simpick.score.equivalence import outcomes_table
 from simpick.score.mechanics import mechanics_table
+from simpick.score.scoring import FACT_KEYS
 from simpick.score.verdict import METRICS, NO_SPEED, per_run_values, read_per_test
 from simpick.tables import write_csv
 
@@ -179,19 +180,7 @@ def _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs) 
     facts = {}
     for name, sim in catalog.simulators.items():
         q = sim.qualitative.model_dump()
-        facts[name] = {
-            k: q[k]
-            for k in (
-                "free",
-                "open_source",
-                "ros",
-                "languages",
-                "ui",
-                "model_formats",
-                "urdf_sdf_via_manual_plugin",
-                "physics_engines",
-            )
-        }
+        facts[name] = {k: q[k] for k in FACT_KEYS}  # the facts the paper's rules score
         facts[name]["sources"] = q["sources"]
         facts[name]["label"] = sim.label
     (out / "qualitative.yaml").write_text(yaml.safe_dump(facts, sort_keys=False, allow_unicode=True))
