@@ -213,7 +213,6 @@ def test_a_pasted_settings_file_reproduces_the_tuned_row_in_the_engine(catalog, 
 def test_the_mjcf_file_compiles_in_mujoco(catalog):
     import mujoco
 
-    sim = catalog.simulators["mujoco"]
     settings = get_engine("mujoco").settings_model.model_validate(catalog.settings("mujoco", "tuned")).model_dump()
     text = formats.write("mjcf", "mujoco", settings, catalog.entries("mujoco", "tuned"), ["t"], ["wheel"])["xml"]
     body = (
@@ -223,7 +222,6 @@ def test_the_mjcf_file_compiles_in_mujoco(catalog):
     xml = text.split("-->\n")[-1].replace("</mujoco>", body + "</mujoco>")
     model = mujoco.MjModel.from_xml_string(xml)
     assert model.npair == 1 and model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC
-    assert sim.settings_format == "mjcf"
 
 
 def test_the_drake_yaml_loads_as_drake_config(catalog):
