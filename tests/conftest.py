@@ -127,9 +127,18 @@ def pytest_collection_modifyitems(config, items):
             item.add_marker(pytest.mark.slow)
 
 
+def study_config(*files: str, overrides: dict | None = None) -> dict:
+    """The default config.yaml, then ``files`` (paths from the checkout's root) merged over it, read
+    as the workflow reads them (simpick.config.read_study: deep merge, every value checked, defaults
+    filled in); a new mapping on every call."""
+    from simpick.config import read_study
+
+    return read_study([ROOT / "config.yaml", *(ROOT / f for f in files)], overrides)[1]
+
+
 def tiny_config(workdir: Path | None = None) -> dict:
     """The default study cut down to seconds: 2 terrains x 1 short motion, 2 real segments."""
-    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config = study_config()
     config["terrains"] = {"grass": config["terrains"]["grass"], "bumps": config["terrains"]["bumps"]}
     config["terrains"]["bumps"]["pieces_per_tile"] = 2
     config["motions"] = {"straight": dict(config["motions"]["straight"], duration=1.5)}

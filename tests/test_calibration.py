@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from conftest import ROOT, snakemake, tiny_config, write_config
+from conftest import ROOT, snakemake, study_config, tiny_config, write_config
 from simpick.config import problems
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.studies.calibration.objective import Units, evaluate
@@ -17,7 +17,7 @@ from simpick.studies.calibration.search import calibrate
 from simpick.studies.calibration.split import split_runs
 from simpick.studies.calibration.summary import summarise
 
-CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
+CONFIG = study_config()
 URDF = str(ROOT / "resources/robot/husky_a200.urdf")
 
 

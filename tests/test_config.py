@@ -3,12 +3,11 @@
 import copy
 
 import pytest
-import yaml
 
-from conftest import ROOT, snakemake, tiny_config, write_config
+from conftest import ROOT, snakemake, study_config, tiny_config, write_config
 from simpick.config import duplicate_keys, problems
 
-CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
+CONFIG = study_config()
 
 
 def broken(edit):
@@ -146,3 +145,36 @@ def test_snakemake_stops_with_the_message_and_no_traceback(tmp_path):
     assert "motions.straight.duration: Input should be greater than 0 (got 0)" in out
     assert "key 'seed' appears twice" in out
     assert "Traceback" not in out
+
+
+def test_read_study_merges_files_as_snakemake_does_and_refuses_what_the_workflow_refuses(tmp_path, capsys):
+    """Every entry point reads a config through one loader: a second file updates the first key by key at
+    every depth (a robot's file keeps the rest of the default robot block), and a duplicate key or a bad value
+    stops with the file and line, as the Snakefile does."""
+    from simpick.config import read_study
+
+    over = tmp_path / "over.yaml"
+    over.write_text("physics:\n  timestep: 0.002\nweights:\n  ui: 7\n")
+    study, config = read_study([ROOT / "config.yaml", over])
+    assert study.physics.timestep == 0.002 and config["weights"]["ui"] == 7
+    assert config["weights"]["ros"] == CONFIG["weights"]["ros"]  # the rest of the block kept
+    assert config["robot"] == CONFIG["robot"]
+
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("weights:\n  ui: 1\nweights:\n  ui: 2\n")
+    with pytest.raises(SystemExit):
+        read_study([ROOT / "config.yaml", bad])
+    assert f"{bad}, line 3: key 'weights' appears twice" in capsys.readouterr().err
+
+
+def test_the_validation_helper_reads_the_config_as_the_workflow_does(tmp_path, capsys):
+    """``python -m simpick.cli.validation``: a case runs on an engine with the merged config's timestep; an
+    engine the config does not configure is refused by name."""
+    from simpick.cli.validation import main
+
+    main(["mujoco", "rest_mu0.8", "--config", str(ROOT / "config.yaml")])
+    out = capsys.readouterr().out
+    assert "rest_mu0.8" in out and "creep_distance" in out and "False" not in out
+    with pytest.raises(SystemExit):
+        main(["no_such_engine", "--config", str(ROOT / "config.yaml")])
+    assert "'no_such_engine' is not an engine of the config" in capsys.readouterr().err

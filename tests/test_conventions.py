@@ -13,7 +13,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from conftest import ROOT, SNAKEMAKE, tiny_config, write_config
+from conftest import ROOT, SNAKEMAKE, study_config, tiny_config, write_config
 
 RULE_FILES = [ROOT / "Snakefile", *sorted((ROOT / "rules").glob("*.smk"))]
 
@@ -34,11 +34,11 @@ def test_snakemake_lint_is_clean(configfile, tmp_path):
         workdir = dot_test_copy(tmp_path)
         args[-1] = str(workdir)
     elif configfile:
-        merged = yaml.safe_load((ROOT / "config.yaml").read_text()) | yaml.safe_load((ROOT / configfile).read_text())
+        merged = study_config(configfile)
         write_config(tmp_path, merged | tiny_paths(tmp_path))
         args += ["--configfile", str(tmp_path / "config.yaml")]
     else:
-        write_config(tmp_path, yaml.safe_load((ROOT / "config.yaml").read_text()) | tiny_paths(tmp_path))
+        write_config(tmp_path, study_config() | tiny_paths(tmp_path))
         args += ["--configfile", str(tmp_path / "config.yaml")]
     out = run(args, ROOT)
     assert out.returncode == 0, out.stderr[-3000:]

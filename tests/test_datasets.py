@@ -5,14 +5,23 @@ import numpy as np
 import pytest
 import yaml
 
-from conftest import ROOT, SHARED, planned_jobs, snakemake, synthetic_run, tiny_config, write_config, write_dataset
+from conftest import (
+    SHARED,
+    planned_jobs,
+    snakemake,
+    study_config,
+    synthetic_run,
+    tiny_config,
+    write_config,
+    write_dataset,
+)
 from simpick.errors import InputError
 from simpick.real.datasets import DatasetProblems, dataset_name, find_runs, open_dataset, run_key
 from simpick.real.logs import borealtc
 from simpick.simulate.imu import ImuModel, model_at_rate
 
 BOREALTC = SHARED / "data" / "borealtc"
-CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
+CONFIG = study_config()
 CLASSES = CONFIG["real_data"]["classes"]
 needs_borealtc = pytest.mark.skipif(not BOREALTC.is_dir(), reason=f"BorealTC logs not found at {BOREALTC}")
 

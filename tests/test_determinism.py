@@ -5,7 +5,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from conftest import ROOT
+from conftest import ROOT, study_config
 from simpick.engines import ADAPTERS
 from simpick.engines.base import Scenario
 from simpick.inputs.jobs import terrain_job
@@ -15,7 +15,7 @@ from simpick.simulate.imu import ImuModel
 from simpick.simulate.run import Case, Recording, run_case
 from simpick.simulate.traces import read_trace, write_trace
 
-CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
+CONFIG = study_config()
 
 
 def gravel(tmp_path, seed):

@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from conftest import ROOT, SHARED
+from conftest import ROOT, SHARED, study_config
 from simpick.errors import InputError
 from simpick.real import drive as D
 from simpick.real.datasets import DatasetProblems
@@ -333,7 +333,7 @@ def test_replay_cases_start_where_the_previous_step_ended(tmp_path):
 def test_the_config_declares_drive_datasets():
     from simpick.config import problems
 
-    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config = study_config()
     assert config["real_data"]["datasets"]["drive"]["kind"] == "drive"
     assert problems(config) == []
     config["real_data"]["datasets"]["borealtc"]["sessions"] = {"x": {"gyro_sign": 1}}
@@ -442,7 +442,7 @@ def test_sessions_of_another_robot_on_tracks_or_an_unmodelled_terrain_are_refuse
 def test_the_config_names_a_drive_folder(tmp_path):
     from simpick.config import problems
 
-    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config = study_config()
     config["drive_dir"] = str(tmp_path)
     assert problems(config) == []
     config["drive_dir"] = str(tmp_path / "nowhere")

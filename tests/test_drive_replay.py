@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import ROOT, SHARED
+from conftest import ROOT, SHARED, study_config
 from simpick.errors import InputError
 from simpick.simulate import drive as SD
 
@@ -184,9 +184,8 @@ def test_the_comparison_reports_failures_and_pairs_by_step(asphalt, replayed):
     slow = summary[(summary.engine == "slow") & (summary.session == "all") & (summary.terrain_class == "all")].iloc[0]
     assert slow.failed == 1 and "diverged" in slow.failed_reasons
     assert slow.steps == 12
-    import yaml
 
-    verdict = yaml.safe_load((ROOT / "config.yaml").read_text())["verdict"]
+    verdict = study_config()["verdict"]
     table = outcomes(errors, asphalt["steps"], ["mujoco", "slow"], verdict, 1.0)
     speed = table[(table.metric == "speed_error") & (table.scope == "all")].set_index("engine")
     assert speed.loc["mujoco", "outcome"] in ("best", "too few runs")
@@ -239,7 +238,6 @@ def test_the_workflow_replays_a_named_folder_and_writes_the_verdict(tmp_path):
 
 
 def test_the_report_section_is_titled_from_the_robot_and_absent_without_outputs(tmp_path, asphalt, replayed):
-    import yaml
 
     from simpick.compare.drive import step_errors, summary_table
     from simpick.report.drive import render_drive_section
@@ -247,7 +245,7 @@ def test_the_report_section_is_titled_from_the_robot_and_absent_without_outputs(
 
     assert render_drive_section(tmp_path, "Clearpath Warthog") is None
     errors = step_errors(asphalt["cases"], asphalt["steps"], replayed["asphalt"][1])
-    verdict = yaml.safe_load((ROOT / "config.yaml").read_text())["verdict"]
+    verdict = study_config()["verdict"]
     errors.to_csv(tmp_path / "errors.csv", index=False)
     summary_table(errors, asphalt["steps"], 1.0).to_csv(tmp_path / "summary.csv", index=False)
     outcomes(errors, asphalt["steps"], ["mujoco"], verdict, 1.0).to_csv(tmp_path / "outcomes.csv", index=False)

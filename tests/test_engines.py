@@ -20,10 +20,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import yaml
 
 from conformance import check_adapter
-from conftest import ROOT, drive, flat_terrain, setup, tile_terrain
+from conftest import ROOT, drive, flat_terrain, setup, study_config, tile_terrain
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.engines.base import GRAVITY, Calibratable, Engine, EngineSettings
 from simpick.engines.kinematics import euler_rpy, imu_from_kinematics, rotation_matrices
@@ -198,7 +197,7 @@ def test_bare_loop_times_the_same_world(engine, robot):
 # --- mechanics every engine must get right: friction, torque bound, collisions,
 # --- obstacles, slip and the IMU, each against its analytic value ----------------------------
 
-CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
+CONFIG = study_config()
 TORQUE = CONFIG["robot"]["max_wheel_torque"]  # the study's 100 N m servo bound
 # relative, against mu g: the validation's own tolerance for the locked-wheel slide (config)
 DECELERATION_TOLERANCE = CONFIG["validation"]["tolerances"]["deceleration"]

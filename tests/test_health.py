@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from conftest import setup
+from conftest import setup, study_config
 from simpick.engines import get_engine
 from simpick.engines.base import PhysicsRecord
 from simpick.simulate.health import HealthLimits, check
@@ -173,11 +173,8 @@ def test_a_robot_spawned_inside_a_box_is_caught(engine, robot):
 
 
 def mujoco_settings() -> dict:
-    import yaml
 
-    from conftest import ROOT
-
-    return yaml.safe_load((ROOT / "config.yaml").read_text())["engines"]["mujoco"]
+    return study_config()["engines"]["mujoco"]
 
 
 def test_mujoco_lagging_at_frequent_command_changes_is_healthy_and_a_starved_one_is_not(robot):

@@ -17,7 +17,9 @@ The order, lowest first, and why each sits where it does:
 - sources: the kinds of source of cases, read at planning time only (no job imports them);
 - config: the study's settings, validated against what every stage allows (its models read
   the stages' constants and settings models);
-- plan: what each rule depends on, its code version (codeversion), read by the Snakefile only.
+- plan: what each rule depends on, its code version (codeversion), read by the Snakefile only;
+- cli: the command-line helpers outside the workflow, which read a config as the Snakefile does
+  (simpick.config.read_study) and call one study below.
 
 Nothing in a lower layer names a higher one; a new import against the order fails here with the
 module, the line and the layers. ``ALLOWED`` lists the imports against it that are known and owed a
@@ -43,6 +45,7 @@ LAYERS = (
     ("sources", ("simpick.sources",)),
     ("config", ("simpick.config", "simpick.schema")),
     ("plan", ("simpick.plan", "simpick.codeversion")),
+    ("cli", ("simpick.cli",)),
 )
 
 # (importing module, imported module): why it is still there. Known imports against the order, to

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 import yaml
 
-from conftest import ROOT, setup
+from conftest import ROOT, setup, study_config
 from simpick.config import problems
 from simpick.coulomb import contact_layout, yaw_rate_gain
 from simpick.engines import get_engine, isolated, unavailable
@@ -63,7 +63,7 @@ def test_a_missing_venv_names_the_make_target(tmp_path, monkeypatch):
 
 
 def test_the_opt_in_config_adds_both_engines_to_the_six():
-    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config = study_config()
     extra = yaml.safe_load((ROOT / "config" / "engines" / "newton_genesis.yaml").read_text())
     assert set(config["engines"]).isdisjoint(NEW)  # the default study does not run them
     config["engines"] = {**config["engines"], **extra["engines"]}

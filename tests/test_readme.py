@@ -11,7 +11,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from conftest import ROOT, planned_jobs
+from conftest import ROOT, planned_jobs, study_config
 
 MARK = re.compile(r"<!-- n:(\w+) -->([^<]*)<!-- /n -->")
 
@@ -23,7 +23,7 @@ def counts(tmp_path_factory):
     (workdir / "resources").symlink_to(ROOT / "resources")
     (workdir / "config.yaml").write_text((ROOT / "config.yaml").read_text())
     jobs = collections.Counter(rule for rule, _ in planned_jobs(workdir))
-    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config = study_config()
     segments = pd.read_csv(ROOT / config["real_data"]["segments"])
     return {
         "validation_cases": len(config["validation"]["cases"]),
@@ -47,7 +47,7 @@ def _default_plan():
     from simpick.config import Study
     from simpick.plan import Plan
 
-    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config = study_config()
     return Plan(config, Study.model_validate(config), basedir=str(ROOT))
 
 

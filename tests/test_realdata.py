@@ -5,13 +5,13 @@ import pandas as pd
 import pytest
 import yaml
 
-from conftest import ROOT, SHARED
+from conftest import ROOT, SHARED, study_config
 from simpick.real.logs import RealLog
 from simpick.real.segments import COLUMNS, find_segments, load_segments
 from simpick.simulate.real import replay_log
 
 BOREALTC = SHARED / "data" / "borealtc"
-CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
+CONFIG = study_config()
 needs_borealtc = pytest.mark.skipif(not BOREALTC.is_dir(), reason=f"BorealTC logs not found at {BOREALTC}")
 
 

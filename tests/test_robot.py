@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import study_config
 from simpick.errors import InputError
 from simpick.inputs.robot import load_from_config, load_robot
 
@@ -279,7 +280,7 @@ def test_robot_configs_fit_their_robot(name):
     from simpick.coulomb import contact_layout, yaw_rate_gain
     from simpick.inputs.motions import arc_start_over_strip
 
-    base = yaml.safe_load((ROOT / "config.yaml").read_text())
+    base = study_config()
     config = yaml.safe_load((ROOT / "config" / "robots" / f"{name}.yaml").read_text())
     spec = load_from_config({**config["robot"], "urdf": str(ROOT / config["robot"]["urdf"])})
     assert spec.name != base["real_data"]["robot"] and config["accuracy"]["reference"] != "real"
@@ -376,14 +377,6 @@ def test_a_massless_moving_part_is_refused(tmp_path):
         load_robot(write_robot(tmp_path, four(), extra=extra))
 
 
-def _merged(base: dict, over: dict) -> dict:
-    """``over`` merged into ``base`` as Snakemake merges a --configfile: nested mappings key by key."""
-    out = dict(base)
-    for key, value in over.items():
-        out[key] = _merged(out[key], value) if isinstance(value, dict) and isinstance(out.get(key), dict) else value
-    return out
-
-
 def test_warthog_config_fits_the_warthog_and_runs_on_an_engine(tmp_path):
     """config/robots/warthog.yaml: DRIVE's and Clearpath's controller track, the circle over the strip at
     the Warthog's own Coulomb gain, its wheel-tracking limit above the servo lag measured on DRIVE, a valid
@@ -396,9 +389,9 @@ def test_warthog_config_fits_the_warthog_and_runs_on_an_engine(tmp_path):
     from simpick.inputs.motions import arc_start_over_strip
     from simpick.studies.validation.cases import Setup, run_case
 
-    base = yaml.safe_load((ROOT / "config.yaml").read_text())
+    base = study_config()
     config = yaml.safe_load((ROOT / "config" / "robots" / "warthog.yaml").read_text())
-    merged = _merged(base, config)
+    merged = study_config("config/robots/warthog.yaml")  # read as the workflow reads both files
     assert problems(merged) == []
     spec = load_from_config({**config["robot"], "urdf": str(ROOT / config["robot"]["urdf"])})
     assert spec.name == "warthog" != base["real_data"]["robot"] and config["accuracy"]["reference"] != "real"
@@ -585,15 +578,13 @@ def test_a_xacro_package_that_is_not_given_or_incomplete_is_one_line(tmp_path):
 
 
 def test_uncoupled_rockers_are_refused_when_the_config_is_read(tmp_path):
-    import yaml
 
     from simpick.config import problems
 
     text = (ROBOTS / "warthog.urdf").read_text()
     loose = tmp_path / "loose.urdf"
     loose.write_text(text.replace('<mimic joint="left_diff_unit_jnt" multiplier="-1" offset="0"/>', ""))
-    base = yaml.safe_load((ROOT / "config.yaml").read_text())
-    config = _merged(base, yaml.safe_load((ROOT / "config" / "robots" / "warthog.yaml").read_text()))
+    config = study_config("config/robots/warthog.yaml")
     config["robot"]["urdf"] = str(loose)
     (line,) = problems(config)
     assert "no resting pose" in line and "robot.couplings" in line, line

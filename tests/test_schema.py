@@ -7,7 +7,7 @@ import jsonschema
 import pytest
 import yaml
 
-from conftest import ROOT, tiny_config
+from conftest import ROOT, study_config, tiny_config
 from simpick.schema import SCHEMA, schema_text
 
 
@@ -27,13 +27,13 @@ def test_the_shipped_configs_follow_the_schema(config, tmp_path):
 
 
 def test_the_sweep_config_follows_the_schema():
-    base = yaml.safe_load((ROOT / "config.yaml").read_text())
+    base = study_config()
     sweep = yaml.safe_load((ROOT / "config/sweeps/timestep.yaml").read_text())
     assert list(validator().iter_errors(base | sweep)) == []
 
 
 def test_a_bad_config_is_refused():
-    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config = study_config()
     config["physics"]["timestep"] = "fast"
     config["weights"]["free"] = -1
     config["engnies"] = {}

@@ -8,12 +8,12 @@ import pandas as pd
 import pytest
 import yaml
 
-from conftest import ROOT, snakemake, tiny_config, write_config
+from conftest import ROOT, snakemake, study_config, tiny_config, write_config
 from simpick.config import problems, timestep_label
 from simpick.simulate.imu import block_average, interval_average
 from simpick.studies.sweep import summarise
 
-CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
+CONFIG = study_config()
 SWEEP = yaml.safe_load((ROOT / "config" / "sweeps" / "timestep.yaml").read_text())
 
 

@@ -4,9 +4,8 @@ anisotropic Coulomb solver (simpick.coulomb) at the same ratio."""
 import copy
 
 import pytest
-import yaml
 
-from conftest import ROOT
+from conftest import ROOT, study_config
 from simpick.config import problems
 from simpick.engines import ADAPTERS, get_engine
 from simpick.errors import InputError
@@ -14,7 +13,7 @@ from simpick.inputs.robot import load_robot
 from simpick.studies.validation.cases import Setup, run_case
 from simpick.studies.validation.judge import summarise
 
-CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
+CONFIG = study_config()
 TOLERANCES = CONFIG["validation"]["tolerances"]
 CASE = "gain_v0.5_w0.5_mu0.8_r0.63"
 # engines whose adapter has a friction_ratio setting (the others skip the case, saying why)

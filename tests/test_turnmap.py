@@ -9,6 +9,7 @@ import pandas as pd
 import pytest
 import yaml
 
+from conftest import study_config
 from simpick.coulomb import GRAVITY
 from simpick.errors import InputError
 from simpick.inputs.motions import side_speeds
@@ -131,7 +132,7 @@ def test_warthog_wheel_loads_are_the_coupled_rockers_balance():
 def _mujoco_setup():
     from simpick.studies.validation.cases import Setup
 
-    settings = dict(yaml.safe_load((ROOT / "config.yaml").read_text())["engines"]["mujoco"])
+    settings = dict(study_config()["engines"]["mujoco"])
     settings["wheel_servo_kp"] = 15000.0  # the Warthog's wheel: the Husky's servo bandwidth (warthog.yaml)
     return Setup(
         engine="mujoco",

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import yaml
 
-from conftest import ROOT, setup
+from conftest import ROOT, setup, study_config
 from simpick.config import problems
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
 from simpick.errors import InputError
@@ -20,7 +20,7 @@ from simpick.studies.validation.cases import Setup, run_case
 from simpick.studies.validation.judge import summarise
 from simpick.studies.validation.measures import QUANTITIES
 
-CONFIG = yaml.safe_load((ROOT / "config.yaml").read_text())
+CONFIG = study_config()
 TOLERANCES = CONFIG["validation"]["tolerances"]
 
 

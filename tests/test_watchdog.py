@@ -7,7 +7,7 @@ import textwrap
 
 import yaml
 
-from conftest import ROOT
+from conftest import ROOT, study_config
 from simpick.simulate.traces import read_trace
 
 # A calibratable model (the Coulomb baseline's friction parameter) whose simulate never returns, and
@@ -169,7 +169,7 @@ def test_a_hung_validation_case_fails_it_and_the_cases_after_it(tmp_path):
     assert [r["status"] for r in records] == ["ok", "failed", "failed"]
     assert records[1]["reasons"][0].startswith("hung: no result after 1 s") and records[1]["kind"] == "slide"
     assert records[2]["reasons"] == ["not run: b_slide hung before it"]
-    tolerances = yaml.safe_load((ROOT / "config.yaml").read_text())["validation"]["tolerances"]
+    tolerances = study_config()["validation"]["tolerances"]
     summary = summarise(records, tolerances)
     assert set(summary.case) == set(names)
     assert failures(summary) == {"pybullet": ["b_slide", "c_rest"]}
@@ -212,7 +212,6 @@ def test_a_hung_cpu_load_job_is_recorded_failed_and_left_out_of_the_scores(tmp_p
 
 def test_a_hung_sweep_point_records_every_segment_failed(tmp_path):
     import pandas as pd
-    import yaml
 
     from simpick.studies.sweep import summarise
 
@@ -232,7 +231,7 @@ def test_a_hung_sweep_point_records_every_segment_failed(tmp_path):
         output,
     )
     runs = pd.read_csv(output, dtype={"run": str})
-    config = yaml.safe_load((ROOT / "config.yaml").read_text())
+    config = study_config()
     segments = pd.read_csv(ROOT / config["real_data"]["segments"])
     assert len(runs) == (segments.terrain_class == "flooring").sum() > 1
     # the first case hung; the simulate job's watchdog writes the cases after it as not run
@@ -246,7 +245,6 @@ def test_a_hung_sweep_point_records_every_segment_failed(tmp_path):
 
 def test_a_hung_calibration_and_its_evaluation_are_recorded_failed(tmp_path):
     import pandas as pd
-    import yaml
 
     from simpick.studies.calibration.summary import summarise
 

@@ -9,13 +9,23 @@ number types), ``robot`` (physics, robot, IMU, health), ``lab`` (terrains, motio
 reference), ``real`` (real data, DRIVE, own logs), ``studies`` (validation, sweep, calibration),
 ``verdict`` (accuracy, simulators, statistics, the verdict), ``study`` (the Study model and its
 checks across sections) and ``load`` (problems, duplicate keys, :func:`plain`,
-:func:`validate_or_exit`). What the Snakefile, the plan and the schema use is importable from
+:func:`validate_or_exit`, :func:`read_study`). What the Snakefile, the plan and the schema use is importable from
 here, as before the split.
 """
 
-from simpick.config.load import duplicate_keys, plain, problems, validate_or_exit
+from simpick.config.load import duplicate_keys, merged, plain, problems, read_study, validate_or_exit
 from simpick.config.studies import timestep_label
 from simpick.config.study import Study
 from simpick.config.verdict import Statistics
 
-__all__ = ["Statistics", "Study", "duplicate_keys", "plain", "problems", "timestep_label", "validate_or_exit"]
+__all__ = [
+    "Statistics",
+    "Study",
+    "duplicate_keys",
+    "merged",
+    "plain",
+    "problems",
+    "read_study",
+    "timestep_label",
+    "validate_or_exit",
+]

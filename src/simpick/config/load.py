@@ -1,5 +1,6 @@
 """Loading a config: its problems in words, duplicate keys in a YAML file, the plain mapping the
-plan reads, and validate_or_exit for the Snakefile."""
+plan reads, validate_or_exit for the Snakefile, and read_study for every other entry point (the
+command-line helpers, the tests), so that all of them read a config the same way."""
 
 from __future__ import annotations
 
@@ -78,3 +79,36 @@ def validate_or_exit(config: dict, source: str = "config", files: list | tuple =
             print(f"  - {line}", file=sys.stderr)
         sys.exit(1)
     return Study.model_validate(config)
+
+
+def merged(paths: list | tuple, overrides: dict | None = None) -> dict:
+    """The YAML files in order, each updating the one before key by key at every depth, then
+    ``overrides``: how Snakemake combines ``configfile``, ``--configfile`` and ``--config``
+    (snakemake.utils.update_config), so a helper reads what the workflow would."""
+    import yaml
+
+    def update(base: dict, new: dict) -> dict:
+        for key, value in new.items():
+            base[key] = update(dict(base.get(key) or {}), value) if isinstance(value, dict) else value
+        return base
+
+    config: dict = {}
+    for path in paths:
+        try:
+            data = yaml.safe_load(Path(path).read_text()) or {}
+        except OSError as exc:
+            sys.exit(f"simpick: cannot read the config file {path}: {exc.strerror}; give an existing file")
+        except yaml.YAMLError as exc:
+            sys.exit(f"simpick: the config file {path} is not valid YAML: {exc}")
+        if not isinstance(data, dict):
+            sys.exit(f"simpick: the config file {path} holds no mapping of settings; write `key: value` lines")
+        update(config, data)
+    return update(config, overrides or {})
+
+
+def read_study(paths: list | tuple = ("config.yaml",), overrides: dict | None = None) -> tuple[Study, dict]:
+    """The typed study and its plain settings (:func:`plain`) from config files, checked exactly as
+    the Snakefile checks them: a duplicate key or a bad value stops with one line per problem."""
+    config = merged(paths, overrides)
+    study = validate_or_exit(config, source="config " + " + ".join(str(p) for p in paths), files=paths)
+    return study, plain(study, config)

@@ -8,20 +8,16 @@ then by how far the isotropic yaw-rate gains lie from the Coulomb gain. The real
 profile meets every real run held out. The table written (``resources/simulators/tuning.csv``) is committed with
 the command that regenerates it, and ``simulators.yaml`` states the chosen values (a test checks they agree).
 
-    python -m simpick.studies.simulator_tuning [--simulators NAME ...] [--out resources/simulators/tuning.csv]
+    python -m simpick.cli.simulator_tuning [--simulators NAME ...] [--out resources/simulators/tuning.csv]
 """
 
 from __future__ import annotations
 
-import argparse
 import itertools
 import json
-import sys
 import time
-from pathlib import Path
 
 import pandas as pd
-import yaml
 
 COLUMNS = (
     "simulator",
@@ -69,41 +65,33 @@ def choose(table: pd.DataFrame) -> pd.DataFrame:
     return table
 
 
-def main(argv: list[str] | None = None) -> None:
-    from simpick.engines.catalog import load_catalog
+def run(config: dict, catalog, axes: dict, simulators: list[str]) -> pd.DataFrame:
+    """Every candidate of each simulator's axes through the validation of the plain study settings
+    ``config`` (simpick.config.read_study) over the simulator's shipped profile; the table, ranked
+    (:func:`choose`), one row a candidate. A simulator without axes or without an engine here is a
+    ValueError naming it."""
     from simpick.engines.simulators import SIMULATORS
     from simpick.inputs.robot import load_from_config
     from simpick.studies.validation.cases import Setup, run_case
     from simpick.studies.validation.judge import summarise
 
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--config", default="config.yaml")
-    parser.add_argument("--axes", default="resources/simulators/tuning.yaml")
-    parser.add_argument("--simulators", nargs="*", default=None)
-    parser.add_argument("--out", default="resources/simulators/tuning.csv")
-    args = parser.parse_args(argv)
-
-    config = yaml.safe_load(Path(args.config).read_text())
-    catalog = load_catalog(config.get("simulators", {}).get("catalog") or "resources/simulators/simulators.yaml")
-    axes = yaml.safe_load(Path(args.axes).read_text())
     robot = load_from_config(config["robot"])
     cases = config["validation"]["cases"]
     tolerances = config["validation"]["tolerances"]
     coulomb = None
     rows = []
-    for simulator in args.simulators or list(axes):
+    for simulator in simulators:
         if simulator not in axes or SIMULATORS.get(simulator) is None:
-            sys.exit(f"simpick: {args.axes} has no axes for a runnable simulator {simulator!r}")
+            raise ValueError(f"no axes for a runnable simulator {simulator!r}")
         shipped = catalog.settings(simulator, "shipped", robot.name)
         for k, candidate in enumerate(grid(axes[simulator])):
-            settings = {**shipped, **candidate}
             setup = Setup(
                 engine=SIMULATORS[simulator],
                 robot=robot,
                 timestep=config["physics"]["timestep"],
                 max_wheel_torque=config["robot"]["max_wheel_torque"],
                 track=config["robot"]["track"],
-                settings=settings,
+                settings={**shipped, **candidate},
             )
             start = time.perf_counter()
             summary = summarise([run_case(setup, name, cases[name]) for name in cases], tolerances)
@@ -118,18 +106,4 @@ def main(argv: list[str] | None = None) -> None:
                 f"{row['gain_min']:.3f}-{row['gain_max']:.3f} ({wall:.0f} s)",
                 flush=True,
             )
-    table = choose(pd.DataFrame(rows))[list(COLUMNS)]
-    old = Path(args.out)
-    if args.simulators and old.is_file():  # keep the other simulators' rows
-        kept = pd.read_csv(old, comment="#")
-        table = pd.concat([kept[~kept.simulator.isin(table.simulator)], table], ignore_index=True)
-    header = (
-        f"# Tuning candidates per simulator (simpick.studies.simulator_tuning), {robot.name}, the validation of "
-        f"{args.config}; regenerate: python -m simpick.studies.simulator_tuning --out {args.out}\n"
-    )
-    old.write_text(header + table.to_csv(index=False, float_format="%.4g"))
-    print(f"wrote {args.out}")
-
-
-if __name__ == "__main__":
-    main()
+    return choose(pd.DataFrame(rows))[list(COLUMNS)]

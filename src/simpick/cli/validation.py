@@ -1,30 +1,31 @@
-"""``python -m simpick.studies.validation ENGINE [CASE ...]``: a config's validation cases run on one
-engine and printed, outside the workflow."""
+"""``python -m simpick.cli.validation ENGINE [CASE ...]``: the study's validation cases run on one engine
+and printed, outside the workflow (for trying an engine setting before putting it in the config)."""
 
 from __future__ import annotations
 
 import argparse
 import json
-from pathlib import Path
 
 import pandas as pd
-import yaml
 
+from simpick.config import read_study
 from simpick.inputs.robot import load_from_config
 from simpick.studies.validation.cases import Setup, run_case
 from simpick.studies.validation.judge import summarise
 
 
 def main(argv: list[str] | None = None) -> None:
-    """``python -m simpick.studies.validation ENGINE [CASE ...]``: run the config's cases and print them."""
+    """Run the config's validation cases (or the named ones) on ENGINE and print each check."""
     parser = argparse.ArgumentParser(description=main.__doc__)
     parser.add_argument("engine")
     parser.add_argument("cases", nargs="*")
-    parser.add_argument("--config", default="config.yaml")
+    parser.add_argument("--config", action="append", help="a config file; several are merged in order")
     parser.add_argument("--set", action="append", default=[], help="engine setting key=value (JSON value)")
     args = parser.parse_args(argv)
-    config = yaml.safe_load(Path(args.config).read_text())
-    settings = dict(config["engines"].get(args.engine) or {})
+    study, config = read_study(args.config or ["config.yaml"])
+    if args.engine not in config["engines"]:
+        parser.error(f"{args.engine!r} is not an engine of the config; configured: {', '.join(config['engines'])}")
+    settings = dict(config["engines"][args.engine])
     for item in args.set:
         key, value = item.split("=", 1)
         try:
@@ -34,12 +35,15 @@ def main(argv: list[str] | None = None) -> None:
     setup = Setup(
         engine=args.engine,
         robot=load_from_config(config["robot"]),
-        timestep=config["physics"]["timestep"],
-        max_wheel_torque=config["robot"]["max_wheel_torque"],
-        track=config["robot"]["track"],
+        timestep=study.physics.timestep,
+        max_wheel_torque=study.robot.max_wheel_torque,
+        track=study.robot.track,
         settings=settings,
     )
     cases = config["validation"]["cases"]
+    unknown = [name for name in args.cases if name not in cases]
+    if unknown:
+        parser.error(f"no validation case {', '.join(unknown)} in the config; known: {', '.join(cases)}")
     results = [run_case(setup, name, cases[name]) for name in (args.cases or cases)]
     summary = summarise(results, config["validation"]["tolerances"])
 
