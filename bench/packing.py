@@ -17,6 +17,13 @@ to tell the machine's other work from the study's. Prints one markdown row and w
 - busy: the mean number of jobs running (2 = both cores always busy), from the log's start and finish
   times; the share of the wall time with one core idle for want of a ready job;
 - other_cpu_s: CPU the rest of the machine used meanwhile (from --load), which slows the run's jobs.
+
+The breakdown of the wall time beyond the jobs' work (2 x wall_s on 2 cores): jobs_own_cpu_s, the CPU each
+job's process reports at its end (simpick.joblog.COST: imports and children included; Snakemake's
+benchmark files sample it and miss the last seconds); snakemake_own_cpu_s, Snakemake's own process (run it
+through bench/snakemake_own_cpu.py, --own); unattributed_cpu_s, the rest of `time`'s CPU (jobs' scripts'
+preambles before the log opens, jobs that report nothing); idle_core_s, 2 x wall - `time`'s CPU, a core
+with nothing to run (meaningful on an otherwise idle machine only: other_cpu_s says).
 """
 
 from __future__ import annotations
@@ -24,6 +31,7 @@ from __future__ import annotations
 import argparse
 import csv
 import datetime
+import json
 import re
 import sys
 from pathlib import Path
@@ -35,6 +43,8 @@ START = re.compile(r"^(?:local)?(?:rule|checkpoint) (\w+):$")
 JOBID = re.compile(r"^\s+jobid: (\d+)$")
 FINISHED = re.compile(r"^Finished jobid: (\d+) \(Rule: (\w+)\)$")
 BENCH = re.compile(r"^\s+benchmark: (\S+)$")
+LOG = re.compile(r"^\s+log: (\S+)$")
+COST = re.compile(r"^simpick: job cost: cpu_s=([\d.]+) wall_s=([\d.]+)$", re.M)
 WILDCARDS = re.compile(r"^\s+wildcards: (.+)$")
 NODE = re.compile(r'^\s*(\d+)\[label = "([^"]*)"')
 EDGE = re.compile(r"^\s*(\d+) -> (\d+)")
@@ -53,9 +63,11 @@ def jobs(log: Path) -> list[dict]:
         if m := STAMP.match(line):
             stamp, pending = _when(m.group(1)), None
         elif (m := START.match(line)) and stamp is not None:
-            pending = {"rule": m.group(1), "start": stamp, "end": None, "benchmark": None, "wildcards": {}}
+            pending = {"rule": m.group(1), "start": stamp, "end": None, "benchmark": None, "log": None, "wildcards": {}}
         elif pending and (m := BENCH.match(line)):
             pending["benchmark"] = m.group(1)
+        elif pending and (m := LOG.match(line)):
+            pending["log"] = m.group(1).rstrip(",")
         elif pending and (m := WILDCARDS.match(line)):
             pending["wildcards"] = dict(item.split("=", 1) for item in m.group(1).split(", "))
         elif pending and (m := JOBID.match(line)):
@@ -163,6 +175,19 @@ def jobs_cpu(spans: list[dict], root: Path) -> float:
     return total
 
 
+def jobs_logged(spans: list[dict], root: Path) -> tuple[float, float, int]:
+    """CPU and wall seconds the jobs' own processes report at their end (simpick.joblog.COST: imports and
+    children included, nothing sampled), summed, and how many jobs reported (a job whose script does not run
+    inside simpick.joblog.logged, or that failed, writes no such line)."""
+    cpu = wall = 0.0
+    found = 0
+    for j in spans:
+        path = root / j["log"] if j["log"] else None
+        if path and path.is_file() and (m := COST.search(path.read_text(errors="replace"))):
+            cpu, wall, found = cpu + float(m.group(1)), wall + float(m.group(2)), found + 1
+    return cpu, wall, found
+
+
 def table_priority(costs_path: Path | None):
     """The rules' priority of a job (rules/validate.smk, rules/simulate.smk: simpick.plan.costs) from a cost
     table; with no table every job's is 0 (Snakemake without priorities)."""
@@ -195,6 +220,9 @@ def main() -> None:
     parser.add_argument("--csv", type=Path, help="append the row here")
     parser.add_argument("--dag", type=Path, help="snakemake --forceall --dag of the run's config: replay its jobs")
     parser.add_argument("--costs", type=Path, help="with --dag: the cost table whose priorities the replay uses")
+    parser.add_argument(
+        "--own", type=Path, help="the JSON bench/snakemake_own_cpu.py wrote: Snakemake's own process's CPU seconds"
+    )
     args = parser.parse_args()
 
     spans = [j for j in jobs(args.log) if j["end"] is not None]
@@ -213,6 +241,19 @@ def main() -> None:
         "mean_jobs_running": round(mean_running, 2),
         "share_one_core_idle": round(short, 3),
         "other_cpu_s": None if machine is None else round(max(machine - timed["cpu_s"], 0.0), 1),
+    }
+    # where the wall time goes beyond the jobs' measured work: 2 x wall = the jobs' own CPU (each job's
+    # closing line) + Snakemake's own process + CPU of processes neither counts + core-seconds idle
+    logged_cpu, logged_wall, reported = jobs_logged(spans, args.root)
+    own = json.loads(args.own.read_text())["cpu_s"] if args.own else None
+    row |= {
+        "jobs_reporting_cost": reported,
+        "jobs_own_cpu_s": round(logged_cpu, 1),
+        "ratio_to_jobs_own_cpu": round(timed["wall_s"] / (logged_cpu / 2), 3) if logged_cpu else None,
+        "snakemake_own_cpu_s": None if own is None else round(own, 1),
+        "unattributed_cpu_s": None if own is None else round(timed["cpu_s"] - own - logged_cpu, 1),
+        "idle_core_s": round(2 * timed["wall_s"] - timed["cpu_s"], 1),
+        "jobs_mean_wall_s": round(logged_wall / reported, 2) if reported else None,
     }
     if args.dag:
         for name, path in (("unprioritised", None), ("prioritised", args.costs)):

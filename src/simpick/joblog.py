@@ -1,5 +1,11 @@
 """How every job runs: its stderr to its log, a bad input as one clear line (``scripts/*.py`` only
 unpack ``snakemake.input/params/output`` into one job function of a stage, inside :class:`logged`).
+
+A job that ends well closes its log with one line of what it cost, :data:`COST` (CPU seconds of the
+job's process and the children it waited for, from its start, imports included, and its wall seconds
+since the process started). Snakemake's ``benchmark:`` file samples a job's CPU every half second for
+15 s and every 30 s after, so it misses a job's last seconds and most of a short job; the benchmark of
+a study's overhead (bench/packing.py) reads this line instead.
 """
 
 from __future__ import annotations
@@ -7,6 +13,20 @@ from __future__ import annotations
 from pathlib import Path
 
 from simpick.errors import InputError
+
+COST = "simpick: job cost: cpu_s={cpu:.3f} wall_s={wall:.3f}"
+
+
+def cost_line() -> str:
+    """This process's cost so far, as :data:`COST` formats it."""
+    import resource
+    import time
+
+    import psutil
+
+    own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+    return COST.format(cpu=cpu, wall=time.time() - psutil.Process().create_time())
 
 
 class logged:
@@ -36,5 +56,7 @@ class logged:
             import traceback
 
             traceback.print_exception(exc_type, exc, tb, file=log)
+        else:
+            print(cost_line(), file=log)
         log.close()
         return False
