@@ -1,17 +1,12 @@
-"""The report's real-robot parts: which data the accuracy scores rest on, and the section
-comparing every engine with the real Husky per terrain class (simpick.compare.real's tables).
+"""The real-data section of the report: per real-data set and terrain class, every engine against
+the real robot (simpick.compare.real's tables), and the data of the yaw-rate-gain figure.
 
-Nothing here computes a statistic: the real robot's yaw-rate gain per class and its interval come
-from the summarise job's table, what the accuracy scores can tell apart from the verdict rule's
-(results/verdict/discrimination.csv). The figures are drawn by the figure rules
-(simpick.report.draw); :func:`gain_panels` gives the yaw-rate-gain figure its data.
-"""
+It formats the summarise job's tables into the blocks the template lays out, computing no
+statistic itself."""
 
 from __future__ import annotations
 
-import math
-from collections.abc import Mapping, Sequence
-from pathlib import Path
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -19,221 +14,20 @@ import pandas as pd
 
 from simpick.report import figures
 from simpick.report.load import REAL_SETS, ReportData
-
-SET_TITLES = {"segments": "constant-command segments", "replay": "full replay", "own": "own logs"}
-SET_UNITS = {"segments": "segment", "replay": "run", "own": "log"}
-ERROR_FIGURES = ("error_angular", "error_linear")
-FIGURE_LABELS = {
-    "error_angular": "angular velocity",
-    "error_linear": "linear acceleration",
-    "yaw_rate_gain": "yaw-rate gain",
-}
-FIGURE_UNITS = {
-    "error_angular": "rad/s",
-    "error_linear": "m/s²",
-    "rmse_yaw_rate": "rad/s",
-    "rmse_ax": "m/s²",
-    "psd_distance_az": "decades",
-}
-# Extra columns of the full replay's summary (simpick.compare.real.FIGURES).
-REPLAY_EXTRA = (
-    ("rmse_yaw_rate", "RMSE yaw rate (rad/s)"),
-    ("rmse_ax", "RMSE a<sub>x</sub> (m/s²)"),
-    ("psd_distance_az", "PSD distance a<sub>z</sub> (decades)"),
+from simpick.report.real.common import (
+    ERROR_FIGURES,
+    FIGURE_LABELS,
+    REAL_TABLE_NAMES,
+    REPLAY_EXTRA,
+    SET_TITLES,
+    SET_UNITS,
+    _cell,
+    _f,
+    _isnan,
+    class_order,
+    statistics,
 )
-REAL_TABLE_NAMES = ("per_test", "summary", "pairwise")
-TIME_PLOT_MAX_S = 120.0
-
-
-def _isnan(x: Any) -> bool:
-    try:
-        return x is None or math.isnan(float(x))
-    except (TypeError, ValueError):
-        return False
-
-
-def _f(x: Any) -> float:
-    try:
-        return float(x)
-    except (TypeError, ValueError):
-        return float("nan")
-
-
-def class_order(data: ReportData, params: Mapping[str, Any]) -> list[str]:
-    order = [str(c) for c in ((params.get("real_data") or {}).get("classes") or {})]
-    frames = [data.segments] + [t for s in data.real.values() for t in s.values()]
-    for df in frames:
-        if df is not None and "terrain_class" in df.columns:
-            for c in df["terrain_class"]:
-                if c and c not in order:
-                    order.append(c)
-    return order
-
-
-def _test_classes(data: ReportData) -> dict[str, str]:
-    out: dict[str, str] = {}
-    if data.segments is not None:
-        out.update(zip(data.segments["segment"], data.segments["terrain_class"]))
-    for tables in data.real.values():
-        pt = tables.get("per_test")
-        if pt is not None:
-            out.update(zip(pt["segment"], pt["terrain_class"]))
-    return out
-
-
-def group_tests(data: ReportData, tests: Sequence[str], classes: Sequence[str]) -> list[dict[str, Any]]:
-    """Tests grouped by terrain class (real-data tests are named ``{class}-...``)."""
-    known = _test_classes(data)
-    groups: dict[str, list[str]] = {}
-    for t in tests:
-        cls = known.get(t) or (t.split("-", 1)[0] if "-" in t else "")
-        groups.setdefault(cls, []).append(t)
-    order = list(classes) + [c for c in groups if c not in classes]
-    out = []
-    for c in order:
-        if c not in groups:
-            continue
-        ts = groups[c]
-        short = [t[len(c) + 1 :] if c and t.startswith(c + "-") else t for t in ts]
-        out.append({"cls": c, "label": c.replace("_", " ") if c else "", "tests": ts, "short": short, "n": len(ts)})
-    return out
-
-
-# --------------------------------------------------------------------------
-# Which errors the accuracy scores rest on
-# --------------------------------------------------------------------------
-
-
-def _same_file(a: Any, b: Any) -> bool:
-    return bool(a) and bool(b) and Path(str(a)).resolve() == Path(str(b)).resolve()
-
-
-def accuracy(
-    data: ReportData, params: Mapping[str, Any], engines: list[str], classes: list[str], lab_tests: list[str]
-) -> dict[str, Any] | None:
-    """The Eq. 7 totals the accuracy scores were computed from, and what they cover, as the
-    scores job recorded them (results/scores/provenance.yaml): this reads that record, it
-    does not work out again which file or tests were scored."""
-    prov = dict((data.scores_provenance or {}).get("accuracy") or {})
-    reference, kind, path = prov.get("reference"), prov.get("set") or "lab", prov.get("errors_file")
-    if not prov or data.accuracy_errors is None:
-        return {
-            "reference": reference,
-            "kind": kind,
-            "errors_file": path,
-            "given": False,
-            "dataset": prov.get("dataset"),
-            "lab_tests": lab_tests,
-            "lab_scored": False,
-        }
-    # the errors file given to the report is the one the scores rest on, or the report says so
-    given_file = data.sources.get("accuracy_errors")
-    differs = None if _same_file(given_file, path) else str(given_file)
-
-    ie = data.accuracy_errors.copy()
-    ie["_e"] = [engines.index(e) if e in engines else len(engines) for e in ie["engine"]]
-    ie = ie.sort_values(["quantity", "_e"], kind="mergesort")
-    rows = []
-    for r in ie.to_dict("records"):
-        key = f"imu_{r['quantity']}"
-        score = (
-            data.weighted.loc[r["engine"], key]
-            if r["engine"] in data.weighted.index and key in data.weighted.columns
-            else None
-        )
-        rows.append(
-            {
-                **r,
-                "score": score,
-                "tests_list": [t for t in str(r["tests"]).split(";") if t.strip()],
-                "excluded_list": [t for t in str(r["excluded"]).split(";") if t.strip()],
-            }
-        )
-    sets = {tuple(r["tests_list"]) for r in rows}
-    tests = list(prov.get("tests") or [])
-    if kind != "lab":
-        pos = {c: i for i, c in enumerate(classes)}
-        cls_of = _test_classes(data)
-        tests.sort(key=lambda t: (pos.get(cls_of.get(t, t.split("-", 1)[0]), len(pos)), t))
-    why = {str(x["test"]): str(x.get("why") or "") for x in prov.get("excluded") or []}
-    excluded = sorted(why)
-    groups = group_tests(data, tests, classes) if kind != "lab" else []
-    n_by_q = {q: sorted({int(x) for x in sel["n_tests"] if not _isnan(x)}) for q, sel in ie.groupby("quantity")}
-    discrimination = _discrimination(data, statistics(params))
-    n = len(tests)
-    noun = {"segments": "constant-command segment", "replay": "replayed run", "own": "replayed own log"}.get(
-        kind, "test"
-    )
-    return {
-        "count_text": f"{n} {noun}{'s' if n != 1 else ''}",
-        "reference": reference,
-        "kind": kind,
-        "errors_file": path,
-        "given": True,
-        "differs": differs,
-        "dataset": prov.get("dataset"),
-        "rows": rows,
-        "tests": tests,
-        "n": len(tests),
-        "same_for_all": len(sets) <= 1,
-        "excluded": excluded,
-        "why": why,
-        "groups": groups,
-        "uneven": {q: n for q, n in n_by_q.items() if len(n) > 1},
-        "lab_tests": lab_tests,
-        "lab_scored": kind == "lab",
-        "discrimination": discrimination,
-        "unit_name": SET_UNITS.get(kind, "test"),
-        "kind_title": SET_TITLES.get(kind, "lab tests"),
-    }
-
-
-def _discrimination(data: ReportData, stats: Mapping[str, Any]) -> dict[str, Any] | None:
-    """What the paper's accuracy scores can tell apart, as the verdict rule wrote it
-    (results/verdict/discrimination.csv, simpick.score.verdict.score_discrimination): per quantity its rows."""
-    table = data.verdict.get("discrimination")
-    if table is None or table.empty:
-        return None
-    out = {}
-    for q, g in table.groupby("quantity", sort=False):
-        rows = g.to_dict("records")
-        first = rows[0]
-        sep = first.get("separates")
-        sep = None if _isnan(sep) or sep in ("", None) else str(sep) == "True"
-        shares = [_f(r["floor_share"]) for r in rows if not _isnan(r["floor_share"])]
-        out[str(q)] = {
-            "rows": rows,
-            "spread": _f(first["spread"]),
-            "half_width": _f(first["half_width"]),
-            "separates": sep,
-            "n_runs": int(_f(first["n_runs"])),
-            "floor": _f(first["floor"]),
-            "floor_models": [m for m in str(first.get("floor_models") or "").split(";") if m],
-            "min_runs": stats["min_runs"],
-            "engine_share_max": max(abs(1 - x) for x in shares) if shares else float("nan"),
-        }
-    return out
-
-
-# --------------------------------------------------------------------------
-# The real-data section
-# --------------------------------------------------------------------------
-
-
-def _cell(row: Mapping[str, Any] | None, fig: str) -> dict[str, Any] | None:
-    if row is None or fig not in row:
-        return None
-    return {"mean": _f(row.get(fig)), "low": _f(row.get(f"{fig}_low")), "high": _f(row.get(f"{fig}_high"))}
-
-
-def statistics(params: Mapping[str, Any]) -> dict[str, Any]:
-    """The config's statistics slice (minimum independent runs, level), with its defaults."""
-    from simpick.compare.realmetrics import smallest_p, statistics_settings
-
-    st = dict(params.get("statistics") or {})
-    st["min_runs"], st["level"] = statistics_settings(st)
-    st["smallest_p_below"] = smallest_p(st["min_runs"] - 1)
-    return st
+from simpick.report.real.sets import datasets
 
 
 def _real_gain(
@@ -434,76 +228,6 @@ def _segments_table(data: ReportData, classes: list[str], engines: list[str]) ->
             rows.append({**r, "short": short, "cells": cells})
         groups.append({"cls": cls, "label": cls.replace("_", " "), "rows": rows})
     return groups
-
-
-def _hz_range(values: Sequence[float]) -> str | None:
-    """ "100 Hz" or "49.9–50.1 Hz" (4 significant digits), None when there are none."""
-    vals = sorted(float(v) for v in values if v is not None and not _isnan(v))
-    if not vals:
-        return None
-    lo, hi = (f"{v:.4g}" for v in (vals[0], vals[-1]))
-    return f"{lo} Hz" if lo == hi else f"{lo}–{hi} Hz"
-
-
-def _declared_text(declared: Mapping[str, Any] | None) -> str | None:
-    declared = declared or {}
-    parts = [
-        f"{what} {float(declared[key]):g} Hz"
-        for key, what in (("imu_hz", "IMU"), ("commands_hz", "wheels"))
-        if declared.get(key)
-    ]
-    return ", ".join(parts) or None
-
-
-def datasets(data: ReportData, params: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """Per real-data set: the dataset it comes from and its sample rates (measured, declared, and
-    the simulated IMU's, which the comparison uses). Measured rates of the full replay come from
-    its canonical logs' meta; those of the committed segments from the table's provenance."""
-    declared = (params.get("real_data") or {}).get("datasets") or {}
-    rows = []
-    if data.segments is not None:
-        d = declared.get("segments") or {}
-        prov = data.segments_provenance or {}
-        rates = prov.get("rates_hz") or {}
-        label = d.get("label") or (
-            str(data.segments["dataset"].iloc[0]) if "dataset" in data.segments.columns and len(data.segments) else None
-        )
-        rows.append(
-            {
-                "set": "segments",
-                "title": SET_TITLES["segments"],
-                "label": label or "(not named)",
-                "where": "the committed segment table",
-                "n": f"{len(data.segments)} segments",
-                "imu": _hz_range(rates.get("imu") or []),
-                "commands": _hz_range(rates.get("commands") or []),
-                "declared": _declared_text(d.get("declared")),
-                "simulated": _hz_range([d["simulated_imu_hz"]] if d.get("simulated_imu_hz") else []),
-            }
-        )
-    replay = (data.real.get("replay") or {}).get("per_test")
-    if replay is not None and "real_imu_hz" in replay:
-        # the replay's per-test table carries each run's measured rates and each trace's IMU rate
-        # (simpick.compare.real.replay_compare): the report reads no log or trace itself
-        d = declared.get("replay") or {}
-        per_run = replay.drop_duplicates(["terrain_class", "run"])
-        rows.append(
-            {
-                "set": "replay",
-                "title": SET_TITLES["replay"],
-                "label": d.get("label") or d.get("name") or "(not named)",
-                "where": d.get("folder") or "",
-                "n": f"{len(per_run)} runs",
-                "imu": _hz_range(per_run.real_imu_hz.dropna().tolist()),
-                "commands": _hz_range(per_run.real_commands_hz.dropna().tolist()),
-                "declared": _declared_text(d.get("declared")),
-                "simulated": _hz_range(replay.sim_imu_hz.dropna().tolist()),
-            }
-        )
-    for row, d in zip(rows, [declared.get(r["set"]) or {} for r in rows]):
-        stated = (d.get("declared") or {}).get("commands_hz")
-        row["wheel_rate"] = row["commands"] or (f"{float(stated):g} Hz (declared)" if stated else None)
-    return rows
 
 
 def real_section(

@@ -1,0 +1,78 @@
+"""The verdict's job: reads the real-data per-test table and the validation summary, and writes
+every table of ``results/verdict/`` (per-run metrics, the metric x model table, outcomes against
+the best behind the mechanics gate, the heading spread, the paper's score discrimination).
+
+Reading and writing files stays here so that the statistics modules take and return frames only."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pandas as pd
+
+from simpick.score.equivalence import outcomes_table
+from simpick.score.mechanics import mechanics_table
+from simpick.score.verdict.headings import heading_spread
+from simpick.score.verdict.paper import DISCRIMINATION_COLUMNS, score_discrimination
+from simpick.score.verdict.runs import METRICS, NO_SPEED, metric_table, per_run_long, per_run_values
+from simpick.tables import write_csv
+
+
+def scored_tests(imu_errors: str, engines: list[str]) -> list[str] | None:
+    """The tests the accuracy scores rest on, as the Eq. 7 totals file lists them (the scores
+    record the same list in their provenance)."""
+    errors = pd.read_csv(imu_errors, dtype=str, keep_default_na=False)
+    errors = errors[errors.engine.isin(engines)]
+    tests = sorted({t for cell in errors.get("tests", []) for t in str(cell).split(";") if t.strip() and t != "nan"})
+    return tests or None
+
+
+def read_per_test(path: str) -> pd.DataFrame:
+    tests = pd.read_csv(path, dtype={"run": str, "test": str, "segment": str})
+    for col in ("engine", "terrain_class", "run", "status", "test"):
+        if col not in tests:
+            tests[col] = pd.Series(dtype=str)
+    return tests
+
+
+def verdict_job(inputs: dict, params: dict, outputs: dict) -> None:
+    """results/verdict/: per-run metrics, the metric x model table (each engine against the next),
+    each engine against the best (outcomes.csv: simpick.score.equivalence) with the mechanics gate
+    it rests on (mechanics.csv: simpick.score.mechanics), the heading spread and what the paper's
+    accuracy scores separate (discrimination). Nothing here reads the weights: a weight edit does
+    not rerun these tests (the weighted ranking and the answer are rule ``answer``'s).
+
+    ``inputs``: ``per_test`` (the verdict's real data), ``validation`` (the validation summary),
+    ``accuracy_tests`` and ``accuracy_errors`` (the accuracy scores' per-test table and Eq. 7
+    totals); ``params``: engines, baselines, statistics, seed, ``accuracy_set`` (lab, segments,
+    replay or own) and ``verdict`` (the config's margins and mechanics)."""
+    statistics = params.get("statistics")
+    engines, floor_models = list(params["engines"]), list(params.get("baselines") or [])
+    seed = int(params.get("seed", 0))
+    tests = read_per_test(inputs["per_test"])
+    walls = {metric: per_run_values(tests, metric) for metric in METRICS}
+    write_csv(per_run_long(walls), outputs["metrics"])
+    write_csv(metric_table(tests, engines, statistics, seed), outputs["table"])
+    if outputs.get("headings"):
+        write_csv(heading_spread(tests), outputs["headings"])
+
+    mechanics = mechanics_table(pd.read_csv(inputs["validation"]), engines)
+    write_csv(mechanics, outputs["mechanics"])
+    absent = {"speed_error": NO_SPEED}
+    outcomes = outcomes_table(walls, tests, engines, METRICS, mechanics, params["verdict"], statistics, seed, absent)
+    write_csv(outcomes, outputs["outcomes"])
+
+    disc = pd.DataFrame(columns=DISCRIMINATION_COLUMNS)
+    if params.get("accuracy_set") not in (None, "lab") and Path(inputs["accuracy_tests"]).is_file():
+        acc_per_test = read_per_test(inputs["accuracy_tests"])
+        scored = [e for e in engines if e in set(acc_per_test.engine)]
+        if len(acc_per_test) and scored:
+            disc = score_discrimination(
+                acc_per_test,
+                scored,
+                floor_models,
+                scored_tests(inputs["accuracy_errors"], scored),
+                statistics,
+                seed=seed,
+            )
+    write_csv(disc, outputs["discrimination"])
