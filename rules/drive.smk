@@ -1,30 +1,35 @@
-# DRIVE sessions (--config drive_dir=PATH): how the real robot turns, per step, and the per-step replay
-# cases (simpick.real.drive); then every chosen step replayed in every model (a job per model x session,
-# simpick.simulate.drive) and compared with the real robot (simpick.compare.drive, simpick.score.drive).
-# DRIVE's files are pickles, which can run code when read: they are read only from the folder the user
-# names, by the jobs; planning lists the folder and reads no pickle. The sessions replayed are those the tables job kept (one
-# per content: a folder holding a copy of another's pickle is not replayed twice): a checkpoint.
+# The DRIVE source (--config drive_dir=PATH; simpick.sources.drive): its import step reads the session
+# folders into the step units' tables (simpick.real.drive, simpick.real.steps: the case, step and wheels
+# tables, and how the real robot turns); then every chosen step replayed in every model (a job per model x
+# session, the steps kind: simpick.simulate.steps) and compared with the real robot (simpick.compare.steps,
+# simpick.score.steps). DRIVE's files are pickles, which can run code when read: they are read only from
+# the folder the user names, by the import step; planning lists the folder and reads no pickle. The
+# sessions replayed are those the import step kept (one per content: a folder holding a copy of another's
+# pickle is not replayed twice): a checkpoint.
 DRIVE_TARGETS = []
 
 if SETTINGS.drive_dir:
-    from simpick.real.drive import SIMILAR, sessions_or_exit
-    from simpick.real.logs.drive import METADATA, PICKLE
     from simpick.errors import InputError
-    from simpick.simulate.drive import replay_models
+    from simpick.sources import module as source_module
     from simpick.sources.base import engine_params
 
-    DRIVE = f"results/drive/{SETTINGS.drive_dataset}"
-    DRIVE_SESSIONS = sessions_or_exit(SETTINGS.drive_dir)
+    # the DRIVE source (simpick.sources.drive): which folders are sessions, which this study can replay,
+    # which models replay them, and each job's inputs and parameters
+    DRIVE_SOURCE = source_module("drive")
+    DRIVE = DRIVE_SOURCE.root(PLAN.config)
+    DRIVE_SESSIONS = DRIVE_SOURCE.folders(SETTINGS.drive_dir)
     DRIVE_FOLDERS = {p.name: p for p in DRIVE_SESSIONS}
-    _declared = PLAN.config["real_data"]["datasets"][SETTINGS.drive_dataset]
+    DRIVE_SPEC = {"folders": DRIVE_FOLDERS}
     # what the jobs read of the declaration (its robot is the plan's alone: checked below)
-    DRIVE_DECLARED = canonical({k: v for k, v in _declared.items() if k != "robot"})
+    DRIVE_DECLARED = DRIVE_SOURCE.declared(PLAN.config)
     # each session's metadata.yaml (YAML, no pickle): another robot's session, a tracked one, or one whose
     # terrain has no ground model is refused now, one line each, before any job
-    from simpick.plan.drive import session_problems
-
-    _problems = session_problems(
-        DRIVE_SESSIONS, _declared, PLAN.config["real_data"]["classes"], PLAN.robot.name, SETTINGS.drive_dataset
+    _problems = DRIVE_SOURCE.problems(
+        DRIVE_SESSIONS,
+        PLAN.config["real_data"]["datasets"][SETTINGS.drive_dataset],
+        PLAN.config["real_data"]["classes"],
+        PLAN.robot.name,
+        SETTINGS.drive_dataset,
     )
     for _problem in _problems:
         print(f"simpick: {_problem}", file=sys.stderr)
@@ -32,7 +37,7 @@ if SETTINGS.drive_dir:
         sys.exit(1)
     try:
         # simulator profiles replay DRIVE only with simulators.drive: each adds its engine's replay time
-        DRIVE_MODELS = replay_models(
+        DRIVE_MODELS = DRIVE_SOURCE.models(
             PLAN.config["drive_replay"]["models"],
             [m for m in PLAN.real_models if PLAN.config["simulators"]["drive"] or m not in PLAN.profiles],
             PLAN.unavailable,
@@ -40,18 +45,19 @@ if SETTINGS.drive_dir:
     except InputError as _exc:
         print(f"simpick: {_exc}", file=sys.stderr)
         sys.exit(1)
-    DRIVE_TARGETS = [f"{DRIVE}/{table}.csv" for table in ("sessions", "steps", "turning", "bins", "cases")]
+    DRIVE_TARGETS = [f"{DRIVE}/{table}.csv" for table in DRIVE_SOURCE.TABLES]
     DRIVE_TARGETS += [f"{DRIVE}/{table}.csv" for table in ("errors", "summary", "outcomes")]
 
     checkpoint drive_tables:
         input:
-            [str(p / METADATA) for p in DRIVE_SESSIONS] + [str(p / PICKLE) for p in DRIVE_SESSIONS],
+            [f for p in DRIVE_SESSIONS for f in DRIVE_SOURCE.session_files(p)],
         output:
             sessions=f"{DRIVE}/sessions.csv",
             steps=f"{DRIVE}/steps.csv",
             turning=f"{DRIVE}/turning.csv",
             bins=f"{DRIVE}/bins.csv",
             cases=f"{DRIVE}/cases.csv",
+            wheels=f"{DRIVE}/{DRIVE_SOURCE.WHEELS}",
         log:
             f"results/logs/drive/{SETTINGS.drive_dataset}/drive_tables.log",
         conda:
@@ -66,11 +72,9 @@ if SETTINGS.drive_dir:
 
     rule drive_replay:
         """One model x one DRIVE session: its chosen steps (drive_replay.every, max_steps_per_session),
-        each from its warm-up, under the watchdog."""
+        each from its warm-up, under the watchdog, driven by the wheels table (simpick.simulate.steps)."""
         input:
-            cases=f"{DRIVE}/cases.csv",
-            urdf=PLAN.config["robot"]["urdf"],
-            session=lambda wc: [str(DRIVE_FOLDERS[wc.session] / METADATA), str(DRIVE_FOLDERS[wc.session] / PICKLE)],
+            **DRIVE_SOURCE.case_inputs(PLAN.config, "drive", DRIVE_SPEC, "", []),
         output:
             trace=f"{DRIVE}/replay/{{model}}/{{session}}.parquet",
             steps=f"{DRIVE}/replay/{{model}}/{{session}}.csv",
@@ -88,17 +92,7 @@ if SETTINGS.drive_dir:
         resources:
             runtime=120,
         params:
-            case=lambda wc: canonical(
-                engine_params(PLAN.config, wc.model)
-                | {
-                    "classes": PLAN.config["real_data"]["classes"],
-                    "replay": PLAN.config["drive_replay"],
-                    "session": wc.session,
-                    "folder": str(DRIVE_FOLDERS[wc.session]),
-                    "declared": DRIVE_DECLARED,
-                    "dataset": SETTINGS.drive_dataset,
-                }
-            ),
+            case=lambda wc: DRIVE_SOURCE.case_params(PLAN.config, "drive", DRIVE_SPEC, wc.model, wc.session, []),
             code=lambda wc: PLAN.script_code("drive_replay", *PLAN.engine_modules(wc.model)),
         script:
             "../scripts/drive_replay.py"
@@ -127,20 +121,14 @@ if SETTINGS.drive_dir:
             "../envs/simpick.yaml"
         params:
             settings=canonical(
-                {
-                    "engines": [m for m in DRIVE_MODELS if m in PLAN.engines],
-                    "verdict": PLAN.config["verdict"],
-                    "statistics": PLAN.config["statistics"],
-                    "unit": PLAN.config["drive_replay"]["unit"],
-                    "tolerance": SIMILAR,
-                    "seed": PLAN.config["seed"],
-                }
+                DRIVE_SOURCE.compare_settings(PLAN.config)
+                | {"engines": [m for m in DRIVE_MODELS if m in PLAN.engines]}
             ),
             code=PLAN.script_code("drive_compare"),
         script:
             "../scripts/drive_compare.py"
 
-    # Calibration on DRIVE steps (simpick.studies.drive_calibration): every model that declares calibratable
+    # Calibration on DRIVE steps (simpick.studies.calibration.steps): every model that declares calibratable
     # parameters, per terrain class, trained on some chosen steps and judged on the others. In `snakemake`
     # (all) when calibration.enabled; `snakemake drive_calibration` runs it either way.
     DRIVE_CAL = f"{DRIVE}/calibration"
@@ -153,6 +141,7 @@ if SETTINGS.drive_dir:
         input:
             cases=f"{DRIVE}/cases.csv",
             steps=f"{DRIVE}/steps.csv",
+            wheels=f"{DRIVE}/{DRIVE_SOURCE.WHEELS}",
             urdf=PLAN.config["robot"]["urdf"],
         output:
             best=f"{DRIVE_CAL}/{{model}}/{{terrain}}/best.yaml",
@@ -185,9 +174,6 @@ if SETTINGS.drive_dir:
                         "seed": PLAN.config["calibration"]["seed"],
                         "bounds": {wc.model: (PLAN.config["calibration"].get("bounds") or {}).get(wc.model) or {}},
                     },
-                    "folders": {name: str(path) for name, path in DRIVE_FOLDERS.items()},
-                    "declared": DRIVE_DECLARED,
-                    "dataset": SETTINGS.drive_dataset,
                 }
             ),
             code=lambda wc: PLAN.script_code("drive_calibrate", *PLAN.engine_modules(wc.model)),

@@ -343,7 +343,7 @@ rule report:
         endpoints=f"{PLAN.figures}/endpoints.csv",
         # the DRIVE comparison and turn map (--config drive_dir=PATH): the verdict against the real robot
         drive=[f"{DRIVE}/{t}.csv" for t in ("summary", "outcomes", "turning", "errors")] if SETTINGS.drive_dir else [],
-        # with calibration.enabled: the held-out multipliers (simpick.studies.drive_calibration)
+        # with calibration.enabled: the held-out multipliers (simpick.studies.calibration.steps)
         drive_calibration=(
             [f"{DRIVE}/calibration/turning.csv"]
             if SETTINGS.drive_dir and PLAN.config["calibration"]["enabled"]

@@ -34,7 +34,7 @@ rule simulators:
     params:
         **PLAN.simulators_params(),
         drive=(
-            canonical({"tolerance": SIMILAR, "unit": PLAN.config["drive_replay"]["unit"]})
+            canonical({k: DRIVE_SOURCE.compare_settings(PLAN.config)[k] for k in ("tolerance", "unit")})
             if SETTINGS.drive_dir
             else {}
         ),

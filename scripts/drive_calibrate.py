@@ -1,6 +1,6 @@
 from simpick.joblog import logged
 from simpick.simulate.watchdog import runtime_timeout
-from simpick.studies.drive_calibration import calibrate_job
+from simpick.studies.calibration.steps import calibrate_job
 
 with logged(snakemake.log[0]):
     calibrate_job(

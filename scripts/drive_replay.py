@@ -1,5 +1,5 @@
 from simpick.joblog import logged
-from simpick.simulate.drive import replay_job
+from simpick.simulate.steps import replay_job
 from simpick.simulate.watchdog import runtime_timeout
 
 with logged(snakemake.log[0]):

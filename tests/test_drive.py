@@ -408,9 +408,9 @@ def test_the_workflow_writes_the_drive_tables_of_a_named_folder(tmp_path):
 
 
 def test_sessions_of_another_robot_on_tracks_or_an_unmodelled_terrain_are_refused_at_planning(tmp_path):
-    """simpick.plan.drive reads each session's metadata.yaml only (no pickle): one problem per session, each
+    """simpick.sources.drive reads each session's metadata.yaml only (no pickle): one problem per session, each
     naming the file, the field and the fix."""
-    from simpick.plan.drive import session_problems
+    from simpick.sources.drive import problems as session_problems
 
     classes = {"asphalt": {}, "gravel": {}, "grass": {}}
 
@@ -451,3 +451,23 @@ def test_the_config_names_a_drive_folder(tmp_path):
     assert any("drive_dataset 'borealtc'" in p and "kind: drive" in p for p in problems(config))
     config.update(drive_dataset="drive", drive_dir=None, borealtc_dir=str(tmp_path), real_dataset="drive")
     assert any("declared kind: drive" in p and "drive_dir instead" in p for p in problems(config))
+
+
+def test_a_folder_that_is_no_session_is_named_at_planning_with_the_reason(tmp_path, capsys):
+    """The source lists the sessions under a folder and names every other sub-folder, with why it is left
+    out, instead of skipping it in silence."""
+    from simpick.sources.drive import folders
+
+    root = tmp_path / "calib_data"
+    cut(root, ASPHALT, steps=2)
+    (root / "notes").mkdir()
+    (root / "notes" / "readme.txt").write_text("not a session\n")
+    (root / ".cache").mkdir()
+    assert [p.name for p in folders(root)] == [ASPHALT]
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 2, err
+    assert err[0].startswith(f"simpick: {root / '.cache'}: left out of the DRIVE dataset: a hidden folder")
+    assert err[1].startswith(f"simpick: {root / 'notes'}: left out of the DRIVE dataset: holds neither metadata.yaml")
+    # one session folder named itself: nothing else to name
+    assert [p.name for p in folders(root / ASPHALT)] == [ASPHALT]
+    assert capsys.readouterr().err == ""

@@ -1,5 +1,5 @@
 """The first page's answer where the study's real data are DRIVE's steps (no BorealTC verdict): the DRIVE
-comparison writes the verdict's tables beside its outcomes (simpick.score.drive.verdict_tables), rule answer
+comparison writes the verdict's tables beside its outcomes (simpick.score.steps.verdict_tables), rule answer
 reads them through the same code as the verdict's (simpick.score.answer), and the report opens with the answer
 table, speed error included, naming the dataset and its unit. Small synthetic frames, no replay."""
 
@@ -21,7 +21,7 @@ N_STEPS = 12  # two sessions of six steps, one per terrain
 
 
 def _errors() -> pd.DataFrame:
-    """DRIVE-style per-step errors (simpick.compare.drive.step_errors' columns the verdict reads): ``a`` is
+    """DRIVE-style per-step errors (simpick.compare.steps.step_errors' columns the verdict reads): ``a`` is
     close to the real robot on every metric, ``b`` far off on speed and heading, alike on the gain; ``k``
     (a reference model) turns exactly as the real robot."""
     rng = np.random.default_rng(3)
@@ -57,7 +57,7 @@ def _errors() -> pd.DataFrame:
 def _drive_comparison(root: Path) -> dict[str, str]:
     """What rule drive_compare writes that rule answer reads: the outcomes (all terrains, then per terrain)
     and the verdict's tables beside them."""
-    from simpick.score.drive import outcomes, verdict_tables
+    from simpick.score.steps import outcomes, verdict_tables
 
     root.mkdir(parents=True, exist_ok=True)
     errors = _errors()

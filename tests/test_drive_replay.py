@@ -1,5 +1,5 @@
-"""DRIVE steps replayed in an engine (simpick.simulate.drive) and compared with the real robot
-(simpick.compare.drive).
+"""DRIVE steps replayed in an engine (simpick.simulate.steps) and compared with the real robot
+(simpick.compare.steps).
 
 Sessions are cut at test time from the shared DRIVE files (a few steps under tmp_path; nothing of DRIVE is
 committed). The robot is the Warthog with its rockers fixed to the chassis (written to tmp_path from the
@@ -16,7 +16,8 @@ import pytest
 
 from conftest import ROOT, SHARED, study_config
 from simpick.errors import InputError
-from simpick.simulate import drive as SD
+from simpick.simulate import steps as SD
+from simpick.sources import drive as DS
 
 CALIB = SHARED / "data" / "drive" / "calib_data"
 ASPHALT = "warthog_wheels_asphalt"
@@ -64,7 +65,7 @@ def params_of(config, engine, terrain):
 
 @pytest.fixture(scope="module")
 def asphalt(tmp_path_factory):
-    from simpick.real.drive import open_drive, replay_cases, step_table
+    from simpick.real.drive import open_drive, replay_cases, step_table, wheel_table
     from test_drive import cut
 
     root = tmp_path_factory.mktemp("drive")
@@ -74,6 +75,7 @@ def asphalt(tmp_path_factory):
         "root": root,
         "folder": folder,
         "session": data.sessions[0],
+        "wheels": wheel_table(data.sessions[0]),
         "cases": replay_cases(data),
         "steps": step_table(data),
     }
@@ -105,16 +107,19 @@ def test_a_missing_session_gives_one_clear_error():
 
 
 def test_models_not_configured_are_refused():
-    assert SD.replay_models(None, ["mujoco", "coulomb"]) == ["mujoco", "coulomb"]
-    assert SD.replay_models(["coulomb", "mujoco"], ["mujoco", "coulomb"]) == ["mujoco", "coulomb"]
-    assert SD.replay_models(["mujoco", "dart"], ["mujoco"], {"dart": "not installed"}) == ["mujoco"]
+    assert DS.models(None, ["mujoco", "coulomb"]) == ["mujoco", "coulomb"]
+    assert DS.models(["coulomb", "mujoco"], ["mujoco", "coulomb"]) == ["mujoco", "coulomb"]
+    assert DS.models(["mujoco", "dart"], ["mujoco"], {"dart": "not installed"}) == ["mujoco"]
     with pytest.raises(InputError, match="drive_replay.models"):
-        SD.replay_models(["bullet"], ["mujoco"])
+        DS.models(["bullet"], ["mujoco"])
 
 
 def test_the_warm_up_holds_the_start_wheels_then_follows_the_measured_ones(asphalt):
     case = asphalt["cases"][asphalt["cases"].step == 5].iloc[0]
-    left, right, end = SD.step_wheels(asphalt["session"], case, warmup=3.0, dt=0.001)
+    samples = SD.step_samples(asphalt["wheels"], ASPHALT, 5)
+    # the wheels table the reader writes holds what the session gives an engine to replay, exactly
+    assert samples[["time", "v_left", "v_right"]].reset_index(drop=True).equals(asphalt["session"].wheel_commands(5))
+    left, right, end = SD.step_wheels(samples, case, warmup=3.0, dt=0.001)
     r = asphalt["session"].meta["geometry"]["wheel_radius"]
     assert len(left) == int(round((3.0 + end) / 0.001))
     assert left[0] == pytest.approx(0.001 * r * case.start_wheel_left, abs=1e-9)  # ramp from rest
@@ -137,12 +142,12 @@ def replayed(asphalt):
         p = params_of(config, "mujoco", "asphalt")
         if friction is not None:
             p["class"] = {"friction": friction, "source": "a deliberately wrong friction, for the test"}
-        out[label] = SD.replay_session(asphalt["session"], cases, urdf, p, warmup=3.0)
+        out[label] = SD.replay_session(asphalt["wheels"], cases, urdf, p, warmup=3.0)
     return out
 
 
 def test_a_replay_reproduces_the_lidar_speed_and_a_wrong_friction_does_not(asphalt, replayed):
-    from simpick.compare.drive import step_errors
+    from simpick.compare.steps import step_errors
 
     trace, rows = replayed["asphalt"]
     assert len(rows) == 12 and set(trace.step) == set(rows.step)
@@ -163,16 +168,50 @@ def test_replays_are_deterministic(asphalt, replayed):
     cases = SD.select_steps(asphalt["cases"], every=2, max_steps_per_session=2)
     config = warthog_config(asphalt["root"])
     _, rows = SD.replay_session(
-        asphalt["session"], cases, config["robot"]["urdf"], params_of(config, "mujoco", "asphalt"), warmup=3.0
+        asphalt["wheels"], cases, config["robot"]["urdf"], params_of(config, "mujoco", "asphalt"), warmup=3.0
     )
     first = replayed["asphalt"][1].head(2)
     for column in ("sim_v", "sim_yaw_rate", "sim_start_vx"):
         assert rows[column].to_numpy() == pytest.approx(first[column].to_numpy(), abs=0, rel=0)
 
 
+def test_a_step_is_a_case_of_the_generic_simulate_and_compare_jobs(tmp_path, asphalt, replayed):
+    """The steps kind (simpick.simulate.jobs.PREPARE, simpick.compare.kinds.BY_KIND) drives and compares a step
+    unit as the session job does: one trace per step, the same step rows to the last bit, the same errors."""
+    from simpick.compare.kinds import BY_KIND
+    from simpick.compare.steps import step_errors
+    from simpick.simulate.jobs import PREPARE, simulate_job
+
+    assert PREPARE["steps"] == "simpick.simulate.steps:prepare_step"
+    cases = SD.select_steps(asphalt["cases"], every=2, max_steps_per_session=2)
+    config = warthog_config(asphalt["root"])
+    p = params_of(config, "mujoco", "asphalt")
+    files = {"cases": str(tmp_path / "cases.csv"), "steps": str(tmp_path / "steps.csv")}
+    asphalt["cases"].to_csv(files["cases"], index=False)
+    asphalt["steps"].to_csv(files["steps"], index=False)
+    asphalt["wheels"].to_parquet(tmp_path / "wheels.parquet")
+    params = p | {
+        "classes": {"asphalt": p["class"]},
+        "replay": {"warmup": 3.0},
+        "kind": "steps",
+        "source": "drive",
+        "cases": list(cases.case),
+    }
+    traces = [str(tmp_path / f"{n}.parquet") for n in range(len(cases))]
+    simulate_job(traces, config["robot"]["urdf"], {**files, "wheels": str(tmp_path / "wheels.parquet")}, params)
+    per_test, detail, runs = BY_KIND["steps"](traces, files, {})
+    first = replayed["asphalt"][1].head(2)
+    assert list(detail.case) == list(first.case) and list(runs.test) == list(first.case)
+    for column in ("sim_v", "sim_yaw_rate", "sim_heading", "sim_start_vx", "sim_start_wz", "start_heading_deg"):
+        assert detail[column].to_numpy() == pytest.approx(first[column].to_numpy(), abs=0, rel=0), column
+    expected = step_errors(asphalt["cases"], asphalt["steps"], first)
+    for column in ("gain_error", "heading_error", "speed_error", "start_dv"):
+        assert per_test[column].to_numpy() == pytest.approx(expected[column].to_numpy(), abs=0, rel=0, nan_ok=True)
+
+
 def test_the_comparison_reports_failures_and_pairs_by_step(asphalt, replayed):
-    from simpick.compare.drive import step_errors, summary_table
-    from simpick.score.drive import outcomes
+    from simpick.compare.steps import step_errors, summary_table
+    from simpick.score.steps import outcomes
 
     rows = replayed["asphalt"][1].copy()
     # a second "engine": the same steps with a slower speed, one step diverged
@@ -239,9 +278,9 @@ def test_the_workflow_replays_a_named_folder_and_writes_the_verdict(tmp_path):
 
 def test_the_report_section_is_titled_from_the_robot_and_absent_without_outputs(tmp_path, asphalt, replayed):
 
-    from simpick.compare.drive import step_errors, summary_table
-    from simpick.report.drive import render_drive_section
-    from simpick.score.drive import outcomes
+    from simpick.compare.steps import step_errors, summary_table
+    from simpick.report.steps import render_drive_section
+    from simpick.score.steps import outcomes
 
     assert render_drive_section(tmp_path, "Clearpath Warthog") is None
     errors = step_errors(asphalt["cases"], asphalt["steps"], replayed["asphalt"][1])
@@ -257,8 +296,8 @@ def test_the_report_section_is_titled_from_the_robot_and_absent_without_outputs(
     # the asphalt session's step 18 has a steady window whose ICP moved against the wheels (test_drive.py)
     assert "1 step had a\nsteady window whose ICP moved against the driven wheels" in html
     assert "wheel_separation_multiplier" not in html  # no calibration named: no calibration table
-    # the calibration's held-out table (simpick.studies.drive_calibration.TURNING_COLUMNS), both variants
-    from simpick.studies.drive_calibration import TURNING_COLUMNS
+    # the calibration's held-out table (simpick.studies.calibration.steps.TURNING_COLUMNS), both variants
+    from simpick.studies.calibration.steps import TURNING_COLUMNS
 
     rows = [
         ["asphalt", "mujoco", v, 8, 0.559, g, 1.08 / (0.559 * 1.12), 1.08 / (g * 1.12)]
@@ -275,9 +314,11 @@ def test_calibration_on_drive_steps_splits_searches_and_gives_the_multiplier(tmp
     from simpick.config import plain, validate_or_exit
     from simpick.real.drive import open_drive, write_tables
     from simpick.sources.base import engine_params
-    from simpick.studies import drive_calibration as DC
+    from simpick.studies.calibration import steps as DC
 
-    tables = {k: str(tmp_path / f"{k}.csv") for k in ("cases", "steps", "sessions")}
+    tables = {k: str(tmp_path / f"{k}.csv") for k in ("cases", "steps", "sessions")} | {
+        "wheels": str(tmp_path / "wheels.parquet")
+    }
     write_tables(open_drive(asphalt["folder"]), tables)
     config = warthog_config(tmp_path)
     pc = plain(validate_or_exit(config), config)
@@ -295,9 +336,6 @@ def test_calibration_on_drive_steps_splits_searches_and_gives_the_multiplier(tmp
         "terrain_class": "asphalt",
         "calibration": settings,
         "replay": {"every": 3, "max_steps_per_session": 6, "warmup": 3.0},
-        "folders": {ASPHALT: str(asphalt["folder"])},
-        "declared": {"kind": "drive"},
-        "dataset": "drive",
         "case": engine_params(pc, "mujoco"),
         "classes": pc["real_data"]["classes"],
     }
@@ -330,16 +368,13 @@ def test_calibration_on_drive_steps_splits_searches_and_gives_the_multiplier(tmp
 def test_a_session_on_a_terrain_without_a_ground_model_is_refused_in_one_line(tmp_path, asphalt):
     from simpick.real.drive import open_drive, write_tables
 
-    tables = {k: str(tmp_path / f"{k}.csv") for k in ("cases",)}
+    tables = {"cases": str(tmp_path / "cases.csv"), "wheels": str(tmp_path / "wheels.parquet")}
     write_tables(open_drive(asphalt["folder"]), tables)
     config = warthog_config(tmp_path)
     params = params_of(config, "mujoco", "asphalt") | {
         "classes": {"snow": {"friction": 0.2, "source": "x"}},
         "replay": {"every": 5, "max_steps_per_session": 1, "warmup": 3.0},
         "session": ASPHALT,
-        "folder": str(asphalt["folder"]),
-        "declared": {"kind": "drive"},
-        "dataset": "drive",
     }
     outputs = {"trace": str(tmp_path / "r.parquet"), "steps": str(tmp_path / "r.csv")}
     with pytest.raises(InputError, match="real_data.classes.*'asphalt'"):

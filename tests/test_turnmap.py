@@ -14,7 +14,7 @@ from simpick.coulomb import GRAVITY
 from simpick.errors import InputError
 from simpick.inputs.motions import side_speeds
 from simpick.inputs.robot import load_from_config
-from simpick.real.drive import MIN_TURN
+from simpick.real.steps import MIN_TURN
 from simpick.studies import turnmap
 
 ROOT = Path(__file__).resolve().parents[1]

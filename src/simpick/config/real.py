@@ -42,7 +42,7 @@ class DriveSession(Strict):
 
 
 class DriveReplay(Strict):
-    """How the DRIVE steps are replayed in the engines (rules/drive.smk, simpick.simulate.drive)."""
+    """How the DRIVE steps are replayed in the engines (rules/drive.smk, simpick.simulate.steps)."""
 
     models: list[str] | None = Field(
         None, description="the engines and reference models that replay the steps; default: every configured one"

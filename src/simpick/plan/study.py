@@ -224,7 +224,7 @@ class Plan(ReportPlanning, CalibrationPlanning):
         # The real data the first page's answer rests on (rule answer, its figure, the decision tree): the
         # verdict's runs where the study has them, else the DRIVE comparison's steps (--config drive_dir=PATH),
         # which replay the study's own robot; None: no real data of this robot, no answer table.
-        self.drive = f"results/drive/{config['drive_dataset']}" if config.get("drive_dir") else None
+        self.drive = source_module("drive").root(config) if config.get("drive_dir") else None
         self.answer_source = "verdict" if self.verdict else ("drive" if self.drive else None)
         CalibrationPlanning.__init__(self)
         ReportPlanning.__init__(self)

@@ -21,8 +21,6 @@ is the median |gain_i - gain_j| and the single-step standard deviation sqrt(mean
 from __future__ import annotations
 
 import math
-import sys
-from itertools import combinations
 
 import numpy as np
 import pandas as pd
@@ -30,13 +28,21 @@ import pandas as pd
 from simpick.errors import InputError
 from simpick.real.datasets import DatasetProblems
 from simpick.real.logs.drive import read_drive
-from simpick.real.logs.drive_files import find_sessions
+from simpick.real.steps import (  # noqa: F401 - the step units' figures, shared with any reader of steps
+    BINS,
+    MIN_SPEED,
+    MIN_TURN,
+    SIMILAR,
+    gain_against_command,
+    gain_bins,
+    pair_sd,
+    repeatability,
+    similar_pairs,
+    write_wheels,
+)
 from simpick.tables import write_csv
 
-MIN_TURN = 0.2  # rad/s: the kinematic yaw rate above which a step counts as turning (as DRIVE's README)
-MIN_SPEED = 0.2  # m/s: the kinematic forward speed above which a step's speed ratio is counted
 SPIN_SPEED = 0.05  # m/s: below this commanded forward speed a turn is a spin on the spot (turn radius 0)
-SIMILAR = 1.0  # rad/s: two steps are of similar command when both wheels' commands differ by at most this
 
 STEP_COLUMNS = [
     "dataset",
@@ -173,49 +179,6 @@ def step_table(data, *, min_turn: float = MIN_TURN, min_speed: float = MIN_SPEED
     return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=STEP_COLUMNS)
 
 
-def similar_pairs(steps: pd.DataFrame, tolerance: float = SIMILAR) -> pd.DataFrame:
-    """Every pair of turning steps of one group whose commands are similar (both wheels within
-    ``tolerance`` rad/s), with the difference of their gains. Pairs are taken within a session and
-    terrain (the caller groups)."""
-    turning = steps[steps.turning & steps.gain.notna()]
-    rows = []
-    left, right, gain = (turning[c].to_numpy(float) for c in ("cmd_left", "cmd_right", "gain"))
-    ids = turning[["session", "step"]].to_numpy()
-    for i, j in combinations(range(len(turning)), 2):
-        if abs(left[i] - left[j]) <= tolerance and abs(right[i] - right[j]) <= tolerance:
-            rows.append(
-                {
-                    "session_a": ids[i][0],
-                    "step_a": ids[i][1],
-                    "session_b": ids[j][0],
-                    "step_b": ids[j][1],
-                    "gain_a": gain[i],
-                    "gain_b": gain[j],
-                    "difference": gain[i] - gain[j],
-                }
-            )
-    return pd.DataFrame(rows, columns=["session_a", "step_a", "session_b", "step_b", "gain_a", "gain_b", "difference"])
-
-
-def pair_sd(pairs: pd.DataFrame) -> float:
-    """The single-step standard deviation from pairs of similar steps: sqrt(mean(difference^2) / 2), a
-    pair's difference having twice one step's variance; NaN without pairs."""
-    d = pairs["difference"].to_numpy(float)
-    return float(np.sqrt(np.mean(d**2) / 2)) if len(d) else math.nan
-
-
-def repeatability(steps: pd.DataFrame, tolerance: float = SIMILAR) -> dict:
-    """The spread of the gain between steps of similar command (module doc): pairs, median |difference|,
-    single-step standard deviation."""
-    pairs = similar_pairs(steps, tolerance)
-    d = pairs["difference"].to_numpy(float)
-    return {
-        "similar_pairs": len(d),
-        "repeat_median_abs_diff": float(np.median(np.abs(d))) if len(d) else math.nan,
-        "repeat_sd": pair_sd(pairs),
-    }
-
-
 def _spearman(x, y) -> tuple[float, float]:
     from scipy.stats import spearmanr
 
@@ -273,29 +236,6 @@ def turning_table(steps: pd.DataFrame, tolerance: float = SIMILAR) -> pd.DataFra
             )
         rows.append({"terrain_class": terrain, "session": "all", "gyro_sign": None, **_summary(by_terrain, tolerance)})
     return pd.DataFrame(rows, columns=TABLE_COLUMNS)
-
-
-def gain_bins(steps: pd.DataFrame, variable: str, edges) -> pd.DataFrame:
-    """The gain per terrain in bins of one step variable (e.g. ``cmd_turn_radius``, ``v_cmd`` or
-    ``cmd_wheel_speed_difference``; absolute values): steps, median, quartiles per bin."""
-    t = steps[steps.turning & steps.gain.notna()].copy()
-    t["bin"] = pd.cut(t[variable].abs(), edges, include_lowest=True)
-    out = t.groupby(["terrain_class", "bin"], observed=True).gain.agg(
-        steps="size", gain_median="median", gain_q25=lambda x: x.quantile(0.25), gain_q75=lambda x: x.quantile(0.75)
-    )
-    return out.reset_index().assign(variable=variable, bin=lambda f: f["bin"].astype(str))
-
-
-BINS = {  # the gain against the command, per terrain: bin edges of each commanded variable (absolute values)
-    "v_cmd": [0.0, 0.5, 1.0, 2.0, 3.0, math.inf],  # m/s
-    "cmd_turn_radius": [0.0, 0.5, 1.0, 2.0, 5.0, math.inf],  # m (a spin is 0)
-    "cmd_wheel_speed_difference": [0.0, 1.0, 2.0, 4.0, math.inf],  # m/s at the rim
-}
-
-
-def gain_against_command(steps: pd.DataFrame) -> pd.DataFrame:
-    """:func:`gain_bins` of each variable of :data:`BINS`, in one table."""
-    return pd.concat([gain_bins(steps, v, edges) for v, edges in BINS.items()], ignore_index=True)
 
 
 def replay_cases(data, *, min_turn: float = MIN_TURN) -> pd.DataFrame:
@@ -449,9 +389,27 @@ def session_table(dataset) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=SESSION_COLUMNS)
 
 
+def wheel_table(session) -> pd.DataFrame:
+    """A session's measured wheel speeds over every step as the wheels table (simpick.real.steps.WHEEL_COLUMNS):
+    rim speeds, what :meth:`~simpick.real.logs.drive.DriveSession.wheel_commands` gives per step."""
+    r = session.meta["geometry"]["wheel_radius"]
+    s = session.samples
+    return pd.DataFrame(
+        {
+            "session": session.name,
+            "step": s.step.to_numpy(),
+            "time": s.t_step.to_numpy(),
+            "v_left": r * s.wheel_left.to_numpy(),
+            "v_right": r * s.wheel_right.to_numpy(),
+            "wheel_radius": float(r),
+        }
+    )
+
+
 def write_tables(dataset, outputs: dict[str, str], *, tolerance: float = SIMILAR) -> None:
     """The DRIVE tables of a dataset read by :func:`open_drive`, to the paths the caller names (keys
-    ``sessions``, ``steps``, ``turning``, ``bins``, ``cases``; a key left out is not written)."""
+    ``sessions``, ``steps``, ``turning``, ``bins``, ``cases``, as CSV, and ``wheels``, the wheels table the
+    replay drives, as Parquet; a key left out is not written)."""
     steps = step_table(dataset)
     tables = {
         "sessions": lambda: session_table(dataset),
@@ -460,25 +418,14 @@ def write_tables(dataset, outputs: dict[str, str], *, tolerance: float = SIMILAR
         "bins": lambda: gain_against_command(steps),
         "cases": lambda: replay_cases(dataset),
     }
-    unknown = sorted(set(outputs) - set(tables))
+    unknown = sorted(set(outputs) - set(tables) - {"wheels"})
     if unknown:
-        raise ValueError(f"unknown DRIVE table(s) {unknown}; known: {sorted(tables)}")
+        raise ValueError(f"unknown DRIVE table(s) {unknown}; known: {sorted(tables) + ['wheels']}")
     for key, path in outputs.items():
-        write_csv(tables[key](), path)
-
-
-def sessions_or_exit(folder) -> list:
-    """For the Snakefile: the session folders under ``folder`` (a directory listing: no pickle is read at
-    planning time), or one ``simpick:`` line per problem and exit 1 (no job runs)."""
-    try:
-        return find_sessions(folder)
-    except DatasetProblems as exc:
-        problems = exc.problems
-    except InputError as exc:
-        problems = [exc]
-    for problem in problems:
-        print(f"simpick: {problem}", file=sys.stderr)
-    sys.exit(1)
+        if key == "wheels":
+            write_wheels([wheel_table(s) for s in _sessions(dataset)], path)
+        else:
+            write_csv(tables[key](), path)
 
 
 def tables_job(folder: str, declared: dict, name: str, outputs: dict[str, str]) -> None:

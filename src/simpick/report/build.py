@@ -753,7 +753,7 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     sections |= {"real"} if real_data["given"] else set()
     drive, turnmap_uri = None, None
     if params.get("drive"):
-        from simpick.report.drive import drive_section
+        from simpick.report.steps import drive_section
 
         drive = drive_section(
             params["drive"],
@@ -763,7 +763,7 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         turnmap = Path(params["drive"]) / "turnmap.png"
         turnmap_uri = figures.data_uri(turnmap) if turnmap.is_file() else None
     return {
-        # the DRIVE comparison (simpick.report.drive): the verdict against the real robot where its
+        # the DRIVE comparison (simpick.report.steps): the verdict against the real robot where its
         # steps were replayed, with the turn map (simpick.report.turnmap) beside it
         "drive": drive,
         "turnmap_uri": turnmap_uri,

@@ -6,9 +6,9 @@ from __future__ import annotations
 REQUIRED_INPUTS: tuple[str, ...] = ("weighted", "runs")
 OPTIONAL_INPUTS: tuple[str, ...] = (
     "contributions",
-    # the DRIVE comparison's tables and the turn map: read from their folder (params.drive) by simpick.report.drive
+    # the DRIVE comparison's tables and the turn map: read from their folder (params.drive) by simpick.report.steps
     "drive",
-    # the DRIVE calibration's held-out multipliers (calibration.enabled): read by simpick.report.drive
+    # the DRIVE calibration's held-out multipliers (calibration.enabled): read by simpick.report.steps
     "drive_calibration",
     "turnmap",
     # the simulators' tables, read from their folder (params.simulators) by simpick.report.simulators

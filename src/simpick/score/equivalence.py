@@ -216,8 +216,8 @@ OUTCOME_COLUMNS = [
     "note",
 ]
 FAILED_SEPARATOR = " | "  # between the runs of ``failed_runs``: a health reason holds "; " and ", " itself
-# The scope of the rows over all the real data: the DRIVE comparison's outcomes (simpick.score.drive) hold
-# those rows and then one set per terrain class (its ``scope`` column, simpick.compare.drive.ALL)
+# The scope of the rows over all the real data: the DRIVE comparison's outcomes (simpick.score.steps) hold
+# those rows and then one set per terrain class (its ``scope`` column, simpick.compare.steps.ALL)
 POOLED = "all"
 
 

@@ -108,11 +108,11 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
     elif inputs.get("drive_errors") and Path(inputs["drive_errors"]).is_file():
         # DRIVE's steps, judged as rule drive_compare judges the engines (its repeatability margin, paired by
         # step), engines and profiles together; every terrain pooled
-        from simpick.score import drive
+        from simpick.score import steps as step_units
         from simpick.score.equivalence import pooled
 
         errors = pd.read_csv(inputs["drive_errors"])
-        table = drive.outcomes(
+        table = step_units.outcomes(
             errors,
             pd.read_csv(inputs["drive_steps"]),
             [m for m in models if m in set(errors.engine)],

@@ -22,6 +22,7 @@ PREPARE = {
     "lab": "simpick.simulate.lab:prepare_case",
     "segments": "simpick.simulate.real:prepare_segment",
     "replay": "simpick.simulate.real:prepare_replay",
+    "steps": "simpick.simulate.steps:prepare_step",
 }
 
 TRACE_KEYS = ("source", "test", "engine", "terrain", "motion", "dataset", "run", "segment", "window")

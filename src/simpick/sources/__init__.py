@@ -4,14 +4,20 @@ A source yields a case table: engine-independent (group, name) rows, each simula
 of the source and compared with its reference. A source module says, at planning time, what its
 cases are and what their jobs read and depend on; the jobs drive a case by its kind's function in
 the simulate stage (:data:`simpick.simulate.jobs.PREPARE`) and compare its traces by its kind's
-function in the compare stage (:data:`simpick.compare.kinds.BY_KIND`). Four kinds, one module each:
+function in the compare stage (:data:`simpick.compare.kinds.BY_KIND`). Five kinds, one module each:
 
 - ``lab`` (:mod:`simpick.sources.lab`): the paper's tests, terrain x motion, against its Table 8/9;
 - ``segments`` (:mod:`simpick.sources.segments`): constant-command segments of real runs (the
   committed table, or one derived from a dataset folder), against each segment's window statistics;
 - ``replay`` (:mod:`simpick.sources.replay`): a dataset folder's runs, driven by their recorded wheel
   speeds and compared with the real log window by window;
-- ``own`` (:mod:`simpick.sources.own`): the user's own logs, replayed like a dataset folder's runs.
+- ``own`` (:mod:`simpick.sources.own`): the user's own logs, replayed like a dataset folder's runs;
+- ``drive`` (:mod:`simpick.sources.drive`): a DRIVE folder's sessions (``drive_dir``), each step a unit
+  replayed from its warm-up by its measured wheel speeds, paired by its command.
+
+A kind is *driven* (its ``DRIVEN``) as itself or as another kind whose jobs it shares (``own`` as
+``replay``); DRIVE's steps are driven as ``steps``, a step unit's replay, which any dataset whose reader
+yields step units shares.
 
 The plan (:mod:`simpick.plan`) reaches a kind through :func:`module` (a source's cases, inputs and
 parameters); no job imports this package.
@@ -31,6 +37,7 @@ KINDS = {
     "segments": "simpick.sources.segments",
     "replay": "simpick.sources.replay",
     "own": "simpick.sources.own",
+    "drive": "simpick.sources.drive",
 }
 
 

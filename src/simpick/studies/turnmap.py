@@ -41,7 +41,7 @@ from simpick.coulomb import ContactLayout, contact_layout, yaw_rate_gain
 from simpick.engines import get_engine
 from simpick.errors import InputError
 from simpick.inputs.robot import RobotSpec, load_from_config
-from simpick.real.drive import BINS, MIN_TURN, gain_bins
+from simpick.real.steps import BINS, MIN_TURN, gain_bins
 from simpick.tables import write_csv
 
 # s simulated per command; the gain is the mean yaw rate over its second half, as the validation's yaw_gain

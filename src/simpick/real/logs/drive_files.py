@@ -70,6 +70,24 @@ def find_sessions(folder: str | Path) -> list[Path]:
     return candidates
 
 
+def unrecognised(folder: str | Path) -> list[tuple[Path, str]]:
+    """(sub-folder, why) of every folder under ``folder`` that :func:`find_sessions` does not take for a
+    session, so that planning names it rather than leaving it out in silence; [] where ``folder`` is one
+    session itself."""
+    folder = Path(folder)
+    if not folder.is_dir() or (folder / METADATA).is_file() or (folder / PICKLE).is_file():
+        return []
+    if (folder / "calib_data").is_dir():
+        folder = folder / "calib_data"
+    found = []
+    for p in sorted(p for p in folder.iterdir() if p.is_dir()):
+        if p.name.startswith((".", "_")):
+            found.append((p, "a hidden folder (its name starts with '.' or '_')"))
+        elif not (p / METADATA).exists() and not (p / PICKLE).exists():
+            found.append((p, f"holds neither {METADATA} nor {PICKLE}, so it is no DRIVE session"))
+    return found
+
+
 def git_blob_sha1(data: bytes) -> str:
     """What ``git hash-object FILE`` prints: how DRIVE's own files are identified."""
     return hashlib.sha1(b"blob %d\x00" % len(data) + data).hexdigest()

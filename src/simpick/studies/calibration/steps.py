@@ -1,4 +1,5 @@
-"""Calibration on DRIVE steps: each engine's turning parameters fitted on some steps, judged on held-out ones.
+"""Calibration on step units (:mod:`simpick.real.steps`, DRIVE's steps): each engine's turning parameters
+fitted on some steps, judged on held-out ones.
 
 Everything but the units is the project's calibration (:mod:`simpick.studies.calibration`): the seeded split
 (:func:`~simpick.studies.calibration.split.split_runs`, stratified into turning and straight), each adapter's
@@ -7,10 +8,11 @@ declared parameters and bounds, the Optuna search with its journal
 statistics rule of its summary (:func:`~simpick.studies.calibration.summary.summarise`: BCa intervals over
 independent units, paired sign-flip tests, none below ``statistics.min_runs``).
 
-The units are DRIVE steps (the chosen subset, ``drive_replay.every`` / ``max_steps_per_session``), each its
-own replicate as in the verdict (:mod:`simpick.compare.drive`: DRIVE draws every step's command
-independently), split within each terrain class. A step's objective: its steady yaw-rate error over
-``calibration.scales.yaw_rate`` plus its steady speed error against the lidar-ICP speed over
+The units are steps (the chosen subset, ``drive_replay.every`` / ``max_steps_per_session``), each its
+own replicate as in the verdict (:mod:`simpick.score.steps`: DRIVE draws every step's command
+independently), split within each terrain class, each replayed from the reader's wheels table as the
+replay jobs do (:func:`simpick.simulate.steps.replay_step`). A step's objective: its steady yaw-rate error over
+``calibration.scales.yaw_rate`` plus its steady speed error against the measured (lidar-ICP) speed over
 :data:`SPEED_SCALE` (the longitudinal acceleration of the BorealTC objective is zero in a steady step: DRIVE
 measures the speed itself). ``error_yaw_rate`` is reported as such; ``error_accel_x`` holds the speed error
 (m/s) so the project's summary carries it (its column name is the project's; the unit is m/s here).
@@ -32,8 +34,8 @@ import yaml
 from simpick.coulomb import wheel_separation_multiplier
 from simpick.errors import InputError
 from simpick.inputs.robot import load_robot
-from simpick.real.drive import MIN_TURN
-from simpick.simulate.drive import open_session, replay_step, select_steps
+from simpick.real.steps import MIN_TURN
+from simpick.simulate.steps import read_wheels, replay_step, select_steps, step_samples
 from simpick.simulate.watchdog import Watchdog, hung_reason
 from simpick.studies.calibration.objective import FAILED_UNIT
 from simpick.studies.calibration.parameters import apply_parameters, configured_values, parameter_space
@@ -46,12 +48,12 @@ SPEED_SCALE = 0.2  # m/s: about the as-configured engines' median steady speed e
 # (fixed-rocker Warthog, asphalt: 0.28-0.42 m/s), so the speed and the yaw-rate terms count alike
 
 
-class DriveUnits:
-    """The DRIVE steps of one terrain class (every session of it), by case id: what
-    :func:`simpick.studies.calibration.search.calibrate` evaluates."""
+class StepUnits:
+    """The steps of one terrain class (every session of it), by case id, with the wheels table they are
+    driven by: what :func:`simpick.studies.calibration.search.calibrate` evaluates."""
 
-    def __init__(self, sessions: dict, cases: pd.DataFrame, warmup: float):
-        self.sessions = sessions
+    def __init__(self, wheels: pd.DataFrame, cases: pd.DataFrame, warmup: float):
+        self.wheels = wheels
         self.cases = cases.set_index("case")
         self.ids = list(self.cases.index)
         self.runs = {c: c for c in self.ids}  # every step its own replicate (module doc)
@@ -60,7 +62,8 @@ class DriveUnits:
     def errors(self, unit: str, urdf: str, params: dict, settings: dict) -> dict:
         case = self.cases.loc[unit].copy()
         case["case"] = unit
-        _, row = replay_step(self.sessions[case.session], case, urdf, params, self.warmup)
+        samples = step_samples(self.wheels, case.session, int(case.step))
+        _, row = replay_step(samples, case, urdf, params, self.warmup)
         ok = row["status"] == "ok"
         wz, v = row["sim_yaw_rate"], row["sim_v"]
         return {
@@ -73,7 +76,7 @@ class DriveUnits:
         }
 
 
-def evaluate(units: DriveUnits, ids: list[str], urdf: str, params: dict, settings: dict) -> list[dict]:
+def evaluate(units: StepUnits, ids: list[str], urdf: str, params: dict, settings: dict) -> list[dict]:
     """Each step's errors and objective (module doc); a failed step counts
     :data:`simpick.studies.calibration.objective.FAILED_UNIT`."""
     rows = []
@@ -102,7 +105,7 @@ def split(units: pd.DataFrame, test_fraction: float, seed: int) -> pd.DataFrame:
 
 
 def calibrate_job(inputs: dict, params: dict, outputs: dict, timeout: float) -> None:
-    """Rule drive_calibrate: one engine x one terrain class. Splits the class's chosen steps, calibrates on
+    """One engine x one terrain class. Splits the class's chosen steps, calibrates on
     the training steps and evaluates the as-configured and the calibrated engine on every step; writes the
     split, best.yaml, the trials and the evaluated units (CSV)."""
     cases, steps = pd.read_csv(inputs["cases"]), pd.read_csv(inputs["steps"])
@@ -110,14 +113,11 @@ def calibrate_job(inputs: dict, params: dict, outputs: dict, timeout: float) -> 
     units_table = class_units(cases, steps, terrain, params["replay"])
     if units_table.empty:
         raise InputError(inputs["cases"], f"has no chosen steps on {terrain!r}", "choose drive_replay.every smaller")
-    sessions = {
-        name: open_session(folder, params["declared"], params["dataset"])
-        for name, folder in params["folders"].items()
-        if name in set(units_table.session)
-    }
+    wheels = read_wheels(inputs["wheels"])
     parts = split(units_table, float(settings["test_fraction"]), int(settings["seed"]))
     write_csv(parts, outputs["split"])
-    units = DriveUnits(sessions, units_table, float(params["replay"]["warmup"]))
+    wheels = wheels[wheels.session.isin(set(units_table.session))]
+    units = StepUnits(wheels, units_table, float(params["replay"]["warmup"]))
     train = list(parts[parts.set == "train"].unit)
     test = list(parts[parts.set == "test"].unit)
     case_params = dict(params["case"], terrain_class=terrain, **{"class": params["classes"][terrain]})

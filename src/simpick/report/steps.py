@@ -105,7 +105,7 @@ def drive_section(folder: str | Path, label: str, calibration: str | Path | None
 
 
 def _calibration_rows(path: Path) -> list[dict]:
-    """The DRIVE calibration's held-out turning table (simpick.studies.drive_calibration.turning_table), one
+    """The DRIVE calibration's held-out turning table (simpick.studies.calibration.steps.turning_table), one
     row per terrain and model with the configured and calibrated variants side by side."""
     table = pd.read_csv(path)
     rows = []

@@ -1,21 +1,24 @@
-"""The DRIVE replay against the real robot: per step, pooled per session and terrain, and the verdict.
+"""Replayed step units against the real robot (:mod:`simpick.real.steps`: DRIVE's steps, or any reader's):
+per step, pooled per session and terrain.
 
-Per replayed step, over its steady part (the real robot's figures from :mod:`simpick.real.drive`):
+Per replayed step, over its steady part (the real robot's figures from the reader's step and case tables);
+each metric is one a unit may or may not carry (NaN where it does not, left out of every mean):
 
 * ``gain_error``: |simulated - real yaw-rate gain|, both over the kinematic yaw rate of the measured wheels
-  (the replay's input), on turning steps (``|w_kin| >`` :data:`simpick.real.drive.MIN_TURN`); the real
-  yaw rate is the gyro's (its sign fixed per file), never DRIVE's ``icp_vel_yaw`` (a copy of the gyro);
+  (the replay's input), on turning steps (``|w_kin| >`` :data:`simpick.real.steps.MIN_TURN`); the real
+  yaw rate is the gyro's (for DRIVE, its sign fixed per file by the reader);
 * ``heading_error``: |simulated - real mean yaw rate| x the steady time (rad,
   :func:`simpick.compare.realmetrics.heading_error`), on every step;
-* ``speed_error``: |simulated forward speed - the lidar-ICP forward speed| (m/s), on every step: the ICP
-  speed is measured by the lidar, independently of the wheels the replay drives;
+* ``speed_error``: |simulated forward speed - the independently measured forward speed| (m/s; DRIVE's
+  lidar-ICP speed, ``v_icp``), on every step that has one: measured independently of the wheels the
+  replay drives;
 * the start-state mismatch: the simulated body speed and yaw rate at the end of the warm-up
-  (:mod:`simpick.simulate.drive`) minus the real ICP speed and gyro yaw rate at the step's start.
+  (:mod:`simpick.simulate.steps`) minus the real speed and gyro yaw rate at the step's start.
 
 A step whose engine failed the health check (diverged, flipped, wheels not tracking: the project's check,
 :mod:`simpick.simulate.health`) is listed with its reason and left out of every mean, never averaged.
 
-The verdict over these errors: :mod:`simpick.score.drive`.
+The verdict over these errors: :mod:`simpick.score.steps`.
 """
 
 from __future__ import annotations
@@ -26,7 +29,7 @@ import numpy as np
 import pandas as pd
 
 from simpick.compare import realmetrics
-from simpick.real.drive import MIN_TURN, pair_sd, similar_pairs
+from simpick.real.steps import MIN_TURN, pair_sd, similar_pairs
 
 ERROR_COLUMNS = [
     "case",
@@ -92,7 +95,7 @@ ALL = "all"
 
 def step_errors(cases: pd.DataFrame, steps: pd.DataFrame, replayed: pd.DataFrame, min_turn: float = MIN_TURN):
     """One row per replayed step and engine (``ERROR_COLUMNS``), from the cases table, the real step table
-    (its kinematic twist) and the replay's step rows (:data:`simpick.simulate.drive.STEP_COLUMNS`)."""
+    (its kinematic twist) and the replay's step rows (:data:`simpick.simulate.steps.STEP_COLUMNS`)."""
     real = cases.merge(steps[["session", "step", "w_kin", "v_kin"]], on=["session", "step"], how="left")
     m = replayed.merge(real, on=["case", "session", "terrain_class", "step"], how="left", suffixes=("", "_real"))
     duration = m.steady_end - m.steady_start
@@ -141,7 +144,7 @@ def step_errors(cases: pd.DataFrame, steps: pd.DataFrame, replayed: pd.DataFrame
 
 def gain_repeatability(steps: pd.DataFrame, tolerance: float) -> tuple[float, int]:
     """(single-step standard deviation, pairs) of the real gain between steps of similar command, the pairs
-    sought within each terrain class (:func:`simpick.real.drive.similar_pairs`) and pooled."""
+    sought within each terrain class (:func:`simpick.real.steps.similar_pairs`) and pooled."""
     pairs = pd.concat(
         [similar_pairs(g, tolerance) for _, g in steps.groupby("terrain_class")]
         or [pd.DataFrame(columns=["difference"])],

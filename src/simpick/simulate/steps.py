@@ -1,13 +1,17 @@
-"""DRIVE steps replayed in an engine: each step on flat ground with its session's terrain friction, from the
-state the real robot was in at the step's start, then driven by the step's measured wheel speeds.
+"""Step units replayed in an engine (:mod:`simpick.real.steps`: what a reader of DRIVE's sessions, or of any
+dataset told to hold one command per step, hands on): each step on flat ground with its terrain's
+friction, from the state the real robot was in at the step's start, then driven by the step's measured
+wheel speeds (the reader's wheels table). One step is a case of the ``steps`` kind
+(:data:`simpick.simulate.jobs.PREPARE`: :func:`prepare_step`); a job replays one session's chosen steps
+(:func:`replay_job`), and the calibration replays them in-process (:func:`replay_step`).
 
 How a step starts. The engines have no common way to set a body velocity, and a body velocity set by hand
 would start without the contact forces and slip that go with it (every engine would then spend the first
 part of the step settling from an inconsistent state, each in its own way). So each step starts with a
 warm-up: the robot, at rest on the ground, is driven for ``warmup`` seconds (the first :data:`RAMP_S` a ramp
 from rest) at the wheel speeds the real
-robot measured just before the step (the previous step's last :data:`~simpick.real.logs.drive.START_SECONDS`,
-the cases' ``start_wheel_left/right``). That is long enough for each engine to reach its own steady state
+robot measured just before the step (for DRIVE, the previous step's last 0.5 s: the cases'
+``start_wheel_left/right``). That is long enough for each engine to reach its own steady state
 for those wheels (the Warthog's steps settle in well under 1 s in the engines), a physically consistent
 start (contact forces, slip) reached in every engine alike. Where that engine state differs from the real
 robot's (the ICP body speed and the gyro yaw rate at the step's start), the difference is the engine's own
@@ -81,12 +85,29 @@ def _interpolated(times: np.ndarray, held: np.ndarray, t: np.ndarray) -> np.ndar
     return np.interp(t, times[at], held[at])
 
 
-def step_wheels(session, case: pd.Series, warmup: float, dt: float) -> tuple[np.ndarray, np.ndarray, float]:
+def read_wheels(path: str) -> pd.DataFrame:
+    """The wheels table a reader wrote (simpick.real.steps.WHEEL_COLUMNS)."""
+    return pd.read_parquet(path)
+
+
+def step_samples(wheels: pd.DataFrame, session: str, step: int, where: str = "the wheels table") -> pd.DataFrame:
+    """One step's measured wheel speeds (time from the step's start, v_left, v_right in m/s, the wheel
+    radius) from the wheels table; a step it lacks is one clear error naming the table."""
+    s = wheels[(wheels.session == session) & (wheels.step == step)]
+    if s.empty:
+        raise InputError(
+            where,
+            f"has no wheel speeds of session {session!r} step {step}",
+            "rerun the import step (its tables job) over the folder that holds the session",
+        )
+    return s
+
+
+def step_wheels(samples: pd.DataFrame, case, warmup: float, dt: float) -> tuple[np.ndarray, np.ndarray, float]:
     """Rim speeds (m/s) of the left and right wheels at every physics step (time ``-warmup`` .. the step's
     end): the warm-up, from rest, ramped over :data:`RAMP_S` to the start speeds and held there; then the
     step's measured speeds (:func:`_interpolated`); and the step's end (s from its start)."""
-    samples = session.wheel_commands(int(case.step))
-    r = session.meta["geometry"]["wheel_radius"]
+    r = float(samples.wheel_radius.iloc[0])
     end = float(case.steady_end)
     n = int(round((warmup + end) / dt))
     t = dt * np.arange(1, n + 1) - warmup
@@ -105,11 +126,11 @@ def _mean(frame: dict, column: str, start: float, end: float) -> float:
     return float(np.mean(np.asarray(frame[column])[inside])) if inside.any() else float("nan")
 
 
-def replay_step(session, case: pd.Series, urdf: str, params: dict, warmup: float = WARMUP_S) -> tuple[dict, dict]:
-    """One step on ``params["engine"]``: its trace (time from the step's start) and its summary row
-    (``STEP_COLUMNS``: the simulated start state, steady means and heading change, health, wall time)."""
+def drive_step(samples: pd.DataFrame, case, urdf: str, params: dict, warmup: float = WARMUP_S):
+    """One step on ``params["engine"]`` (its ``class``: the terrain's ground): the engine's frame (time from
+    the warm-up's start), its metadata and the start heading (rad)."""
     dt = params["physics"]["timestep"]
-    left, right, end = step_wheels(session, case, warmup, dt)
+    left, right, _ = step_wheels(samples, case, warmup, dt)
     friction = params["class"]["friction"]
     heading = start_heading(params["seed"], case.dataset, case.terrain_class, case.session, case.case)
     scenario = scenario_from(
@@ -121,30 +142,45 @@ def replay_step(session, case: pd.Series, urdf: str, params: dict, warmup: float
     frame, meta = run_commands(
         params["engine"], wheels, scenario, recording, stable_seed(params["seed"], params["engine"], case.case)
     )
-    wall = time.perf_counter() - began
-    a, b = warmup + float(case.steady_start), warmup + end
+    meta = meta | {"wall_time_step": time.perf_counter() - began, "start_heading": float(heading), "warmup": warmup}
+    return frame, meta
+
+
+def step_row(frame, meta: dict, case) -> dict:
+    """A replayed step's summary row (``STEP_COLUMNS``: the simulated start state, steady means and heading
+    change, health, wall time) from its frame and metadata (:func:`drive_step`)."""
+    warmup = float(meta["warmup"])
+    a, b = warmup + float(case.steady_start), warmup + float(case.steady_end)
     sim_wz = _mean(frame, "yaw_rate", a, b)
     yaw = np.asarray(frame["yaw"])
     t = np.asarray(frame["time"])
     inside = (t > a) & (t <= b)
-    row = {
+    return {
         "case": case.case,
         "session": case.session,
         "terrain_class": case.terrain_class,
         "step": int(case.step),
-        "engine": params["engine"],
+        "engine": meta["engine"],
         "status": meta["health"]["status"],
         "reasons": "; ".join(meta["health"]["reasons"]),
         "warmup": warmup,
-        "start_heading_deg": float(np.degrees(heading)),
+        "start_heading_deg": float(np.degrees(meta["start_heading"])),
         "sim_start_vx": _mean(frame, "v_forward", warmup - START_WINDOW_S, warmup),
         "sim_start_wz": _mean(frame, "yaw_rate", warmup - START_WINDOW_S, warmup),
         "sim_v": _mean(frame, "v_forward", a, b),
         "sim_yaw_rate": sim_wz,
         "sim_heading": float(yaw[inside][-1] - yaw[inside][0]) if inside.sum() > 1 else float("nan"),
-        "wall_time": wall,
+        "wall_time": meta["wall_time_step"],
         "sim_time": meta["sim_time"],
     }
+
+
+def replay_step(samples: pd.DataFrame, case, urdf: str, params: dict, warmup: float = WARMUP_S) -> tuple[dict, dict]:
+    """One step on ``params["engine"]`` (its measured wheel speeds: :func:`step_samples`): its trace (time
+    from the step's start) and its summary row (:func:`step_row`)."""
+    frame, meta = drive_step(samples, case, urdf, params, warmup)
+    row = step_row(frame, meta, case)
+    t = np.asarray(frame["time"])
     trace = {c: np.asarray(frame[c]) for c in TRACE_COLUMNS[2:]}
     trace["t_step"] = t - warmup
     trace["step"] = np.full(len(t), int(case.step))
@@ -163,13 +199,16 @@ def session_cases(cases: pd.DataFrame, session: str, cases_csv: str = "cases.csv
     return chosen
 
 
-def replay_session(session, cases: pd.DataFrame, urdf: str, params: dict, warmup: float = WARMUP_S):
+def replay_session(
+    wheels: pd.DataFrame, cases: pd.DataFrame, urdf: str, params: dict, warmup: float = WARMUP_S, where: str = ""
+):
     """Every chosen step of one session on one engine: the traces (``TRACE_COLUMNS``) and the step table
     (``STEP_COLUMNS``). A step whose engine diverges is kept with its health status and reasons (the
     project's health check), so the comparison reports it instead of averaging it."""
     traces, rows = [], []
     for _, case in cases.sort_values("step").iterrows():
-        trace, row = replay_step(session, case, urdf, params, warmup)
+        samples = step_samples(wheels, case.session, int(case.step), where or "the wheels table")
+        trace, row = replay_step(samples, case, urdf, params, warmup)
         row.pop("_meta")
         traces.append(pd.DataFrame(trace)[TRACE_COLUMNS])
         rows.append(row)
@@ -177,77 +216,84 @@ def replay_session(session, cases: pd.DataFrame, urdf: str, params: dict, warmup
     return trace, pd.DataFrame(rows, columns=STEP_COLUMNS)
 
 
-def open_session(folder: str, declared: dict, name: str):
-    """The one DRIVE session under ``folder`` (a session folder the user named), read with the config's
-    declaration of the dataset (its per-session overrides)."""
-    from simpick.real.drive import open_drive
+def ground(params: dict, terrain: str, unit: str) -> dict:
+    """A unit's parameters with its terrain class's ground (``params["classes"]``: real_data.classes)."""
+    if terrain not in params["classes"]:
+        raise InputError(
+            "real_data.classes in the config",
+            f"has no terrain class {terrain!r} ({unit})",
+            f"add {terrain}: {{friction: ..., source: ...}} under real_data.classes",
+        )
+    return dict(params, terrain_class=terrain, **{"class": params["classes"][terrain]})
 
-    dataset = open_drive(folder, declared=declared, name=name)
-    if len(dataset.sessions) != 1:
-        raise InputError(folder, f"holds {len(dataset.sessions)} sessions, not one", "name one session folder")
-    return dataset.sessions[0]
+
+def prepare_step(urdf: str, inputs: dict, params: dict, name: str):
+    """One step unit (the ``steps`` kind, :data:`simpick.simulate.jobs.PREPARE`): case ``name`` of the case
+    table ``inputs["cases"]``, driven by its measured wheel speeds (``inputs["wheels"]``) after the warm-up
+    (``params["replay"]["warmup"]``). Its trace keeps the warm-up (time from the warm-up's start); its
+    ``window`` is the steady part compared."""
+    cases = pd.read_csv(inputs["cases"])
+    found = cases[cases.case == name]
+    if found.empty:
+        raise InputError(inputs["cases"], f"has no case {name!r}", "rerun the import step over the dataset folder")
+    case = found.iloc[0]
+    warmup = float(params["replay"]["warmup"])
+    samples = step_samples(read_wheels(inputs["wheels"]), case.session, int(case.step), inputs["wheels"])
+    which = {
+        "terrain": case.terrain_class,
+        "motion": f"step-{int(case.step):03d}",
+        "test": case.case,
+        "dataset": case.dataset,
+        "run": case.session,
+        "segment": f"{int(case.step):03d}",
+        "window": [warmup + float(case.steady_start), warmup + float(case.steady_end)],
+    }
+    unit_params = ground(params, case.terrain_class, f"session {case.session}")
+    return which, lambda: drive_step(samples, case, urdf, unit_params, warmup)
+
+
+def hung_row(case, engine: str, reason: str) -> dict:
+    """The step row of a step not replayed (its engine hung, or hung before it)."""
+    return {
+        "case": case.case,
+        "session": case.session,
+        "terrain_class": case.terrain_class,
+        "step": int(case.step),
+        "engine": engine,
+        "status": "failed",
+        "reasons": reason,
+    }
 
 
 def hung_rows(cases: pd.DataFrame, engine: str, reason: str) -> pd.DataFrame:
-    rows = [
-        {
-            "case": c.case,
-            "session": c.session,
-            "terrain_class": c.terrain_class,
-            "step": int(c.step),
-            "engine": engine,
-            "status": "failed",
-            "reasons": reason,
-        }
-        for c in cases.itertuples()
-    ]
-    return pd.DataFrame(rows, columns=STEP_COLUMNS)
+    return pd.DataFrame([hung_row(c, engine, reason) for c in cases.itertuples()], columns=STEP_COLUMNS)
 
 
 def replay_job(inputs: dict, params: dict, outputs: dict, timeout: float) -> None:
-    """Rule drive_replay: one engine x one session. Reads the session folder (a pickle: only the folder the
-    user named), replays its chosen steps (``params["replay"]``: every, max_steps_per_session, warmup) and
-    writes the traces (``outputs["trace"]``, Parquet) and the step table (``outputs["steps"]``, CSV). Under
-    the watchdog: a job still running after ``timeout`` s writes every step as failed ("hung") and ends."""
+    """One engine x one session: its chosen steps (``params["replay"]``: every, max_steps_per_session,
+    warmup), driven by the wheels table (``inputs["wheels"]``, written by the reader's import step), into
+    the traces (``outputs["trace"]``, Parquet) and the step table (``outputs["steps"]``, CSV). Under the
+    watchdog: a job still running after ``timeout`` s writes every step as failed ("hung") and ends."""
     from simpick.simulate.watchdog import Watchdog, hung_reason
     from simpick.tables import write_csv
 
     replay = params["replay"]
     cases = session_cases(pd.read_csv(inputs["cases"]), params["session"], inputs["cases"])
     chosen = select_steps(cases, replay["every"], replay["max_steps_per_session"])
-    session = open_session(params["folder"], params["declared"], params["dataset"])
-    terrain = session.terrain_class
-    if terrain not in params["classes"]:
-        raise InputError(
-            "real_data.classes in the config",
-            f"has no terrain class {terrain!r} (session {session.name})",
-            f"add {terrain}: {{friction: ..., source: ...}} under real_data.classes",
-        )
-    case_params = dict(params, terrain_class=terrain, **{"class": params["classes"][terrain]})
+    terrains = sorted(set(cases.terrain_class))
+    if len(terrains) != 1:
+        raise InputError(inputs["cases"], f"gives session {params['session']!r} terrains {terrains}", "one a session")
+    case_params = ground(params, terrains[0], f"session {params['session']}")
 
     def hung() -> None:
         write_csv(hung_rows(chosen, params["engine"], hung_reason(timeout)), outputs["steps"])
         pd.DataFrame(columns=TRACE_COLUMNS).to_parquet(outputs["trace"])
 
     Path(outputs["trace"]).parent.mkdir(parents=True, exist_ok=True)
+    wheels = read_wheels(inputs["wheels"])
     with Watchdog(timeout, hung):
-        trace, rows = replay_session(session, chosen, inputs["urdf"], case_params, float(replay["warmup"]))
+        trace, rows = replay_session(
+            wheels, chosen, inputs["urdf"], case_params, float(replay["warmup"]), inputs["wheels"]
+        )
     trace.to_parquet(outputs["trace"])
     write_csv(rows, outputs["steps"])
-
-
-def replay_models(chosen: list[str] | None, configured: list[str], unavailable: dict | None = None) -> list[str]:
-    """The models that replay the DRIVE steps: ``drive_replay.models`` (None: every configured one), in the
-    configured order. A model that is not configured is one clear error; one configured but not installed
-    here is left out (the study says so at planning time)."""
-    unavailable = unavailable or {}
-    if chosen is None:
-        return list(configured)
-    unknown = [m for m in chosen if m not in configured and m not in unavailable]
-    if unknown:
-        raise InputError(
-            "drive_replay.models in the config",
-            f"names {unknown}, which the study does not configure",
-            f"choose among {configured} (engines and baselines), or null for all",
-        )
-    return [m for m in configured if m in chosen]

@@ -1,5 +1,5 @@
-"""The DRIVE replay's verdict: every engine against the best per metric, over the per-step errors of
-:mod:`simpick.compare.drive`.
+"""The verdict over replayed step units (DRIVE's steps, or any reader's): every engine against the best per
+metric, over the per-step errors of :mod:`simpick.compare.steps`.
 
 The verdict is BorealTC's (:func:`simpick.score.equivalence.outcomes_table`: each engine against the best,
 Holm-adjusted one-sided tests and TOST equivalence against the practical margins). Its unit of pairing is
@@ -11,7 +11,7 @@ and a session's steps share its conditions (ground, weather, tyre pressure): the
 whether a result holds in each session. ``unit: session`` pairs by session instead (means of its steps).
 The gain error's margin, where the config bases it on the real robot's spread (``real_spread``), is the
 real robot's own step-to-step repeatability (the single-step standard deviation of the gain between steps
-of similar command within a terrain, :func:`simpick.compare.drive.gain_repeatability`), the floor no model
+of similar command within a terrain, :func:`simpick.compare.steps.gain_repeatability`), the floor no model
 can beat.
 """
 
@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import pandas as pd
 
-from simpick.compare.drive import ALL, gain_repeatability, step_errors, summary_table
+from simpick.compare.steps import ALL, gain_repeatability, step_errors, summary_table
 from simpick.score.equivalence import outcomes_table
 from simpick.score.mechanics import mechanics_table
 from simpick.score.verdict import METRICS, metric_table, per_run_long, per_run_values
@@ -114,7 +114,7 @@ def verdict_tables(
 
 
 def compare_job(inputs: dict, params: dict, outputs: dict) -> None:
-    """Rule drive_compare: the replayed steps of every engine against the real robot, into ``errors``,
+    """The replayed steps of every engine against the real robot, into ``errors``,
     ``summary`` and ``outcomes`` (CSV), and, where the study's first page rests on DRIVE (rule answer), the
     tables beside them that the verdict writes for BorealTC (results/verdict/), in the same form and over
     all terrains: ``per_test`` (one test per step, the verdict's per-test form), ``metrics`` (the per-run
