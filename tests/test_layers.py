@@ -129,3 +129,52 @@ def test_scripts_run_jobs_of_the_stages_only():
     for script in sorted((ROOT / "scripts").glob("*.py")):
         for line, target in imports(script, "scripts"):
             assert layer_of(target) < layer_of("simpick.sources"), (script.name, line, target)
+
+
+# The stages downstream of the readers, and planning: a unit reaches them in the form every reader gives
+# (simpick.real.steps, the canonical log), never by which dataset it came from.
+DOWNSTREAM = ("simulate", "compare", "score", "studies", "report", "plan")
+# A dataset's own modules: its reader (simpick.real) and its source (simpick.sources: planning reaches it by
+# its kind, simpick.sources.module, not by name).
+DATASET_MODULES = {"drive": ("simpick.real.drive", "simpick.real.logs.drive", "simpick.sources.drive")}
+
+
+def dataset_specific(name, path):
+    """(dataset, why) of every way a module is one dataset's: its name, or an import of that dataset's
+    reader or source module."""
+    found = []
+    for dataset, owned in DATASET_MODULES.items():
+        if dataset in name.rpartition(".")[2]:
+            found.append((dataset, f"is named {name.rpartition('.')[2]!r}"))
+        for line, target in imports(path, name):
+            if any(target == m or target.startswith(m + ".") or target.startswith(m + "_") for m in owned):
+                found.append((dataset, f"imports {target} (line {line})"))
+    return found
+
+
+def test_no_stage_downstream_of_the_readers_is_one_datasets():
+    """Every real dataset is a source whose reader yields the same units: nothing in simulate, compare,
+    score, studies, report or plan asks which dataset a unit came from (labels aside), so no module there
+    is named for a dataset or imports its reader or source module."""
+    downstream = {index for index, (layer, _) in enumerate(LAYERS) if layer in DOWNSTREAM}
+    found = {
+        name: why
+        for name, path in modules().items()
+        if layer_of(name) in downstream and (why := dataset_specific(name, path))
+    }
+    assert not found, "dataset-specific modules downstream of the readers:\n" + "\n".join(
+        f"  {name}: {dataset} ({reason})" for name, reasons in sorted(found.items()) for dataset, reason in reasons
+    )
+
+
+def test_the_dataset_check_sees_a_dataset_module(tmp_path):
+    """The check above is not vacuous: a module named for DRIVE, or importing its reader, is found."""
+    named = tmp_path / "drive_tables.py"
+    named.write_text("x = 1\n")
+    assert dataset_specific("simpick.compare.drive_tables", named) == [("drive", "is named 'drive_tables'")]
+    importing = tmp_path / "errors.py"
+    importing.write_text("from simpick.real.logs.drive_files import PICKLE\nimport simpick.sources.drive\n")
+    reasons = [why for _, why in dataset_specific("simpick.compare.errors", importing)]
+    assert reasons == ["imports simpick.real.logs.drive_files (line 1)", "imports simpick.sources.drive (line 2)"]
+    # the readers' own modules are where a dataset's quirks belong
+    assert layer_of("simpick.real.drive") < min(index for index, (layer, _) in enumerate(LAYERS) if layer in DOWNSTREAM)

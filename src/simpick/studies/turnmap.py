@@ -1,8 +1,8 @@
 """How the real robot turns across the command space, beside the Coulomb reference and each engine.
 
-DRIVE's steps sample the whole command space, and :mod:`simpick.real.drive` bins their yaw-rate gain
+DRIVE's steps sample the whole command space, and :mod:`simpick.real.steps` bins their yaw-rate gain
 (gyro yaw rate over the kinematic rate of the measured wheels, ``w_kin = r (w_R - w_L) / B``) per terrain
-against the commanded forward speed, turn radius and wheel-speed difference (:data:`simpick.real.drive.BINS`).
+against the commanded forward speed, turn radius and wheel-speed difference (:data:`simpick.real.steps.BINS`).
 This module puts two models at the same commands:
 
 * the quasi-static Coulomb gain for the robot's geometry and loads (:mod:`simpick.coulomb`), which depends
@@ -97,7 +97,7 @@ def _representative(group: pd.DataFrame, variable: str) -> pd.Series:
 
 def command_grid(steps: pd.DataFrame, classes: dict, bins: dict | None = None) -> pd.DataFrame:
     """One row per terrain x binned variable x bin of the real turning steps: the real gain (steps,
-    median, quartiles, as :func:`simpick.real.drive.gain_bins`), the bin's representative step (module doc)
+    median, quartiles, as :func:`simpick.real.steps.gain_bins`), the bin's representative step (module doc)
     with its measured wheel speeds (rad/s), kinematic twist and own gain, and the terrain's friction
     (``classes``: the config's ``real_data.classes``)."""
     bins = BINS if bins is None else bins
