@@ -610,17 +610,9 @@ class Plan(ReportPlanning, CalibrationPlanning):
         step, or the step's session where the verdict pairs by session; a real run) and the study's other
         real data, which the report compares in their own section."""
         robot = self.config["robot"].get("label") or self.robot.name
-        if self.answer_source == "drive":
+        if self.answer_source not in (None, "verdict"):  # a source whose own comparison the answer rests on
             name = self.config["drive_dataset"]
-            unit = self.config["drive_replay"]["unit"]
-            return {
-                "dataset": self._dataset_label(name),
-                "unit": unit,
-                "noun": f"{self._dataset_label(name)} {unit}s",
-                "title": f"the {robot}'s own sessions, each step replayed in every engine from its measured "
-                f"wheel speeds; every engine against the best, paired by {unit}",
-                "others": [],
-            }
+            return source_module(self.answer_source).answer_basis(self.config, self._dataset_label(name), robot)
         source = self.verdict_source()
         name = self.dataset if self.sources[source]["kind"] == "segments" else source
         label = "own-log" if source == "own" else self._dataset_label(name)
@@ -650,16 +642,17 @@ class Plan(ReportPlanning, CalibrationPlanning):
 
     def answer_tables(self):
         """The real-data comparison's tables the answer, its figure and the decision tree read, by name:
-        the verdict's (results/verdict/) where the study has one, else the DRIVE comparison's, written in
-        the same form beside its outcomes (rule drive_compare); {} without real data of this robot.
+        the verdict's (results/verdict/) where the study has one, else the comparison of the source the
+        answer rests on (DRIVE's, written in the same form beside its outcomes: its source module's
+        answer_tables); {} without real data of this robot.
         ``discrimination`` (what the paper's accuracy scores separate) is the verdict's alone."""
         if self.answer_source == "verdict":
             tables = {t: f"results/verdict/{t}.csv" for t in ("outcomes", "mechanics", "metrics", "table")}
             tables["discrimination"] = "results/verdict/discrimination.csv"
             tables["per_test"] = self.metrics_file(self.verdict_source(), "per_test")
             return tables
-        if self.answer_source == "drive":
-            return {t: f"{self.drive}/{t}.csv" for t in ("outcomes", "mechanics", "metrics", "table", "per_test")}
+        if self.answer_source is not None:
+            return source_module(self.answer_source).answer_tables(self.config)
         return {}
 
     def answer_inputs(self, wildcards=None):

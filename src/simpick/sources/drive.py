@@ -185,6 +185,27 @@ def compare_inputs(config: dict, source: str, spec: dict, cases: list[tuple[str,
     return {"cases": f"{root(config)}/cases.csv", "steps": f"{root(config)}/steps.csv"}
 
 
+def answer_tables(config: dict) -> dict:
+    """The comparison's tables the first page's answer reads where it rests on these steps (rule answer,
+    its figure, the decision tree: simpick.plan's answer_tables), in the verdict's form: rule drive_compare
+    writes them beside its outcomes."""
+    return {t: f"{root(config)}/{t}.csv" for t in ("outcomes", "mechanics", "metrics", "table", "per_test")}
+
+
+def answer_basis(config: dict, dataset: str, robot: str) -> dict:
+    """What the answer's sentence says it rests on: the dataset's label, its unit of pairing
+    (``drive_replay.unit``: a step, or its session) and how the units were compared."""
+    unit = config["drive_replay"]["unit"]
+    return {
+        "dataset": dataset,
+        "unit": unit,
+        "noun": f"{dataset} {unit}s",
+        "title": f"the {robot}'s own sessions, each step replayed in every engine from its measured "
+        f"wheel speeds; every engine against the best, paired by {unit}",
+        "others": [],
+    }
+
+
 def compare_settings(config: dict) -> dict:
     """The comparison's settings, less the engines it judges (the plan's)."""
     return canonical(
