@@ -18,7 +18,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 
 from simpick.plan import costs  # noqa: E402
-from simpick.plan.study import COST_TABLE  # noqa: E402
+from simpick.plan.scheduling import COST_TABLE  # noqa: E402
 
 
 def main() -> None:

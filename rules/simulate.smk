@@ -1,7 +1,7 @@
 # One simulate family for every source's cases (case tables: PLAN.sources, simpick.plan): a job steps
 # its cases on one model, each under the watchdog (simpick.simulate.jobs.simulate_job; health.timeout), and
 # writes a trace per case. The unit is one case (rule `simulate`, over {source}), except for a batched
-# source (simpick.plan.study.BATCHED: the committed segments, a job per terrain class sharing one import): Snakemake gives
+# source (simpick.plan.sources.BATCHED: the committed segments, a job per terrain class sharing one import): Snakemake gives
 # a rule a fixed number of outputs, so the same rule is stated once per class (simulate_segments_<class>).
 # A dataset folder's derived segments are one job each: their ids exist only after the checkpoint.
 for _rule, _outputs, _fixed in PLAN.simulate_units():

@@ -98,7 +98,7 @@ def test_the_longest_measured_jobs_get_the_highest_priority(config, tmp_path):
 def test_the_committed_cost_table_measures_every_registered_engine():
     from simpick.engines import ADAPTERS
     from simpick.plan import costs
-    from simpick.plan.study import COST_TABLE
+    from simpick.plan.scheduling import COST_TABLE
 
     table = costs.load(ROOT / COST_TABLE)
     for engine in ADAPTERS:

@@ -1,0 +1,50 @@
+"""How the rules order and bound the study's jobs: each job's Snakemake priority from the measured cost
+table (:mod:`simpick.plan.costs`), an engine's measured seconds in this study, and a job's time limit.
+
+It stands apart from what a job depends on: a priority or a time limit changes when jobs start and when
+they are stopped, never what they compute, and it rests on measurements rather than on the config.
+"""
+
+from __future__ import annotations
+
+import os
+
+from simpick.engines.simulators import engine_of
+from simpick.plan import costs
+
+# Measured wall time per kind of job and model (bench/job_costs.py writes it from a finished study)
+COST_TABLE = "resources/engines/job_costs.csv"
+
+
+class CostPlanning:
+    """Priorities and time limits (a mixin of :class:`simpick.plan.Plan`, set up after its sources)."""
+
+    def __init__(self):
+        basedir = self.basedir
+        # Measured cost of each kind of job per model: the longest start first (simpick.plan.costs)
+        self.costs = costs.load(os.path.join(basedir, COST_TABLE))
+
+    def job_priority(self, job: str, engine: str) -> int:
+        """Snakemake priority of a validate, cpu_load or simulate job of ``engine``: its measured wall
+        seconds (simpick.plan.costs), so that on few cores the long jobs start first."""
+        return costs.priority(self.costs, job, engine_of(engine))
+
+    def simulate_priority(self, source: str, engine: str) -> int:
+        """A simulate job's priority: the measured cost of its source's kind (lab, segments, replay)."""
+        kind = self.sources[source]["kind"]
+        return self.job_priority("replay" if kind == "own" else kind, engine)
+
+    def engine_seconds(self, engine: str) -> float | None:
+        """Measured wall seconds of one engine's jobs in this study (validation, CPU load, the lab cases,
+        the committed segments per class), from the cost table; None where a kind of job is unmeasured."""
+        jobs = {"validate": 1, "cpu_load": 1, "lab": len(self.terrains) * len(self.motions)}
+        if "segments" in self.sources:
+            jobs["segments"] = len({group for group, _ in self.sources["segments"]["cases"]})
+        if any((kind, engine) not in self.costs for kind in jobs):
+            return None
+        return sum(n * self.costs[(kind, engine)] for kind, n in jobs.items())
+
+    def simulate_runtime(self, cases: int) -> int:
+        """Minutes for a job of ``cases`` cases: each is stopped by the watchdog at health.timeout
+        (its hard fallback 30 s later)."""
+        return cases * (1 + int(self.config["health"]["timeout"]) // 60)

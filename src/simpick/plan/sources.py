@@ -1,0 +1,187 @@
+"""The study's sources of cases and the simulate, compare and summarise units over them.
+
+A source yields a case table: engine-independent (group, name) rows, each simulated once per model of
+the source; its kind's module (:mod:`simpick.sources`: lab, segments, replay, own) says what a case's
+simulation needs and how the source's traces are compared. ``lab``: terrain x motion (config);
+``segments``: terrain class x segment id (the committed table); a dataset folder's name or ``own``:
+terrain class x run (its canonical logs). A case's trace is
+``results/traces/<source>/<model>/<group>/<name>.parquet``; the source's tables lie in
+``results/metrics/<source>/``. A dataset folder's derived segment table (rule real_segments, a
+checkpoint) is a source too, ``<dataset>-segments``: its cases are known once the table is written.
+
+This is the plan's bulk (most jobs are a source's cases), kept apart
+from where the data come from (:mod:`simpick.plan.realdata`) and from what the answer rests on
+(:mod:`simpick.plan.answer`): here only which sources there are, their units, and each unit's inputs,
+parameters and code.
+"""
+
+from __future__ import annotations
+
+import csv
+import re
+
+from simpick.simulate.jobs import PREPARE
+from simpick.sources import base as source_base
+from simpick.sources import lab as lab_source
+from simpick.sources import module as source_module
+from simpick.sources.base import canonical
+
+# The unit of work of the simulate family: one case, except where a source's case table is batched
+# by group (the committed segments, per terrain class): 18 short runs, where a job per segment cost
+# about 1.2 s of fixed cost each (process, imports, robot) and the default study some 50 s more
+# on 2 cores than a job per class sharing one import (measured; see the commit that made this).
+BATCHED = {"segments"}
+
+
+class SourcePlanning:
+    """The sources of cases and their units (a mixin of :class:`simpick.plan.Plan`, set up after its
+    models and real data)."""
+
+    def __init__(self):
+        config = self.config
+        self.sources = {"lab": self._spec("lab", self.engines, lab_source.cases(config))}
+        if self.real_data_robot:
+            self.sources["segments"] = self._spec(
+                "segments",
+                self.real_models,
+                [(c, s) for c, ids in self.segments.items() for s in ids],
+                table=config["real_data"]["segments"],
+            )
+        for source, cases in self.replay_cases.items():
+            self.sources[source] = self._spec("own" if source == "own" else "replay", self.real_models, cases)
+        # Not for the folder the committed table was derived from (dataset ``dataset``): its derived
+        # table is the committed one (maintain_segments keeps them equal; tests/test_realdata checks a
+        # fresh derivation against it), already simulated as source "segments"; as a source of its own
+        # it would simulate the same 18 segments x 6 models a second time (108 jobs of the full replay).
+        self.derived = None
+        if self.replay_set and self.replay_set.name != self.dataset:
+            self.derived = f"{self.replay_set.name}-segments"  # no dataset name ends so and is also replayed
+            self.sources[self.derived] = self._spec(
+                "segments",
+                self.real_models,
+                None,
+                table=f"{self.replay}/segments.csv",
+                classes=list(self.replay_set.classes),
+            )
+
+    @staticmethod
+    def _spec(kind, models, cases, **more):
+        return {"kind": kind, "models": models, "group": source_module(kind).GROUP, "cases": cases, **more}
+
+    def source_of(self, source):
+        """The module of a source's kind (simpick.sources)."""
+        return source_module(self.sources[source]["kind"])
+
+    def source_cases(self, source):
+        """A source's (group, name) cases; a derived segment table's once its checkpoint has run."""
+        cases = self.sources[source]["cases"]
+        if cases is not None:
+            return cases
+        with open(self._derived_table(), newline="") as handle:
+            return [(row["terrain_class"], row["segment"]) for row in csv.DictReader(handle)]
+
+    def source_traces(self, source):
+        return [
+            f"results/traces/{source}/{model}/{group}/{name}.parquet"
+            for model in self.sources[source]["models"]
+            for group, name in self.source_cases(source)
+        ]
+
+    @staticmethod
+    def metrics_file(source, table):
+        return f"results/metrics/{source}/{table}.csv"
+
+    # --- the simulate family ---
+
+    def simulate_units(self):
+        """(name, output patterns, fixed values) for each rule of the simulate family; one rule over
+        the {source} wildcard for the one-case units, one per group of a batched source."""
+        single = [s for s in self.sources if s not in BATCHED]
+        units = (
+            [("simulate", ["results/traces/{source}/{engine}/{group}/{name}.parquet"], {"sources": single})]
+            if single
+            else []
+        )
+        for source in sorted(BATCHED & set(self.sources)):
+            groups = {}
+            for group, name in self.sources[source]["cases"]:
+                groups.setdefault(group, []).append(name)
+            for group, names in groups.items():
+                outputs = [f"results/traces/{source}/{{engine}}/{group}/{name}.parquet" for name in names]
+                units.append(
+                    (f"simulate_{source}_{group}", outputs, {"source": source, "group": group, "names": names})
+                )
+        return units
+
+    def one_case_constraints(self, sources):
+        known = [self.sources[s] for s in sources if self.sources[s]["cases"] is not None]
+        groups = {g for s in known for g, _ in s["cases"]} | {
+            g for s in sources for g in self.sources[s].get("classes", [])
+        }
+        names = {n for s in known for _, n in s["cases"]}
+        # a derived table's segment ids are known only after its checkpoint: any name, the source pins it
+        unknown = len(known) < len(sources)
+        return {
+            "source": "|".join(re.escape(s) for s in sources),
+            "group": "|".join(sorted(re.escape(g) for g in groups)),
+            "name": "[^/]+" if unknown else "|".join(sorted(re.escape(n) for n in names)),
+        }
+
+    @staticmethod
+    def unit(wildcards, fixed):
+        """source, engine, group and the case names of one simulate job."""
+        if "names" in fixed:
+            return fixed["source"], wildcards.engine, fixed["group"], list(fixed["names"])
+        return wildcards.source, wildcards.engine, wildcards.group, [wildcards.name]
+
+    def case_inputs(self, source, group, names):
+        """The files a unit's cases read (its source module's case_inputs)."""
+        return self.source_of(source).case_inputs(self.config, source, self.sources[source], group, names)
+
+    def case_params(self, source, engine, group, names):
+        """Everything a unit's cases on one model depend on, and nothing else."""
+        return self.source_of(source).case_params(self.config, source, self.sources[source], engine, group, names)
+
+    def case_code(self, source, engine):
+        """The library code a case runs: simulate_job, the model's adapter, and how its source's kind
+        is driven (PREPARE, which simulate_job imports by name: no other kind's code)."""
+        return self.script_code("simulate", *self.engine_modules(engine), self.prepare_module(source))
+
+    def prepare_module(self, source):
+        """The module that drives a source's cases (simpick.simulate.jobs.PREPARE of its DRIVEN kind)."""
+        return PREPARE[self.source_of(source).DRIVEN].split(":")[0]
+
+    def simulation_params(self, engine, terrain, motion_name):
+        """Everything one lab-study simulation depends on (simpick.sources.lab; cpu_load's too)."""
+        return lab_source.lab_params(self.config, engine, terrain, motion_name)
+
+    def cpu_load_params(self, engine):
+        cpu = self.config["cpu_load"]
+        return self.simulation_params(engine, cpu["terrain"], cpu["motion"]) | {"cpu_load": canonical(cpu)}
+
+    def real_params(self, engine, terrain_class):
+        return source_base.real_params(self.config, engine, terrain_class)
+
+    # --- compare and summarise ---
+
+    def compare_inputs(self, wildcards):
+        """A source's traces and what they are compared with."""
+        spec = self.sources[wildcards.source]
+        compared = self.source_of(wildcards.source).compare_inputs(self.config, wildcards.source, spec, spec["cases"])
+        return {"traces": self.source_traces(wildcards.source)} | compared
+
+    def compare_settings(self, source):
+        return self.source_of(source).compare_settings(self.config)
+
+    def compare_code(self, source):
+        """compare_job and every kind's comparison (simpick.compare.kinds): the same for every source."""
+        return self.script_code("compare")
+
+    def summarise_settings(self, source):
+        return canonical({"group": self.sources[source]["group"], "statistics": self.statistics_params()})
+
+    def statistics_params(self):
+        """How many independent runs an interval, a verdict, a rank or an improvement needs, and at
+        what level: the validated ``statistics`` settings, the one rule of every summary (real data,
+        calibration, sweep, verdict, report)."""
+        return canonical(self.settings.statistics.model_dump())
