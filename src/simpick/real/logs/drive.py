@@ -50,15 +50,16 @@ Quirks of DRIVE's files and what the reader does with each (all recorded in ``me
   name that names another terrain is reported, not trusted;
 * the next command can arrive a few samples before a step's end (counted per step).
 
-The reader's steps are named functions below (:func:`read_session` runs them in order); DRIVE's files
-on disk are :mod:`simpick.real.logs.drive_files`, the arrays turned into measurements
-:mod:`simpick.real.logs.drive_signals`.
+:func:`read_session` runs the reader's steps in order, each a named function of a module of its own:
+DRIVE's files on disk (:mod:`simpick.real.logs.drive_files`), the arrays' layout and checks
+(:mod:`simpick.real.logs.drive_layout`), the ICP's rates per window (:mod:`simpick.real.logs.drive_icp`),
+the sample and step tables (:mod:`simpick.real.logs.drive_tables`), the terrain and the quirks in words
+(:mod:`simpick.real.logs.drive_quirks`); the arrays turned into measurements are
+:mod:`simpick.real.logs.drive_signals`. The names of the reader's output are importable from here.
 """
 
 from __future__ import annotations
 
-import re
-import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -68,86 +69,31 @@ import pandas as pd
 
 from simpick.errors import InputError
 from simpick.real.logs.drive_files import METADATA, PICKLE, find_sessions, load_pickle, read_geometry, read_metadata
-from simpick.real.logs.drive_signals import (
-    DT,
-    RATE_HZ,
-    REVERSED_SPEED,
-    column_of,
-    compose_windows,
-    content_sha256,
-    fix_gyro_sign,
-    held_longest,
-    reversed_windows,
-    series_of,
-    update_rates,
-)
+from simpick.real.logs.drive_icp import icp_rates
+from simpick.real.logs.drive_layout import ACCEL_OK, MASKS, SERIES, check_gravity, read_arrays, step_layout
+from simpick.real.logs.drive_quirks import GYRO_COPY, folder_terrain_agrees, gyro_copy, session_quirks, session_terrain
+from simpick.real.logs.drive_signals import RATE_HZ, REVERSED_SPEED, content_sha256, fix_gyro_sign
+from simpick.real.logs.drive_tables import SAMPLE_COLUMNS, START_SECONDS, STEP_COLUMNS, sample_table, step_table
+
+__all__ = [  # the reader's names, and the module's former ones that now live beside it
+    "ACCEL_OK",
+    "DATASET",
+    "GYRO_COPY",
+    "MASKS",
+    "PICKLE",
+    "REVERSED_SPEED",
+    "SAMPLE_COLUMNS",
+    "SERIES",
+    "START_SECONDS",
+    "STEP_COLUMNS",
+    "DriveDataset",
+    "DriveSession",
+    "folder_terrain_agrees",
+    "read_drive",
+    "read_session",
+]
 
 DATASET = "DRIVE"
-SERIES = {  # per-sample columns read (DRIVE name -> name here); rad/s, m/s^2, m, rad
-    "cmd_left": "cmd_left",
-    "cmd_right": "cmd_right",
-    "left_wheel_vel": "wheel_left",
-    "right_wheel_vel": "wheel_right",
-    "imu_acceleration_x": "ax",
-    "imu_acceleration_y": "ay",
-    "imu_acceleration_z": "az",
-    "imu_yaw": "wz",
-    "icp_x": "icp_x",
-    "icp_y": "icp_y",
-    "icp_yaw": "icp_yaw",
-    "icp_vel_x": "vx_icp_drive",
-    "icp_vel_y": "vy_icp_drive",
-}
-MASKS = ("transitory_state_mask", "steady_state_mask")
-GYRO_COPY = "icp_vel_yaw"  # a copy of imu_yaw in DRIVE's files: checked, never used
-ACCEL_OK = (7.0, 13.0)  # m/s^2: the norm of the mean specific force (gravity; simpick.real.logs.validate's limits)
-START_SECONDS = 0.5  # s at the end of the previous step averaged for a step's start state
-SAMPLE_COLUMNS = [
-    "step",
-    "window",
-    "sample",
-    "time",
-    "t_step",
-    "steady",
-    "cmd_left",
-    "cmd_right",
-    "wheel_left",
-    "wheel_right",
-    "ax",
-    "ay",
-    "az",
-    "wz",
-    "x_icp",
-    "y_icp",
-    "yaw_icp",
-    "vx_icp_drive",
-    "vy_icp_drive",
-]
-STEP_COLUMNS = [
-    "step",
-    "t_start",
-    "steady_start",
-    "t_end",
-    "cmd_left",
-    "cmd_right",
-    "cmd_early_samples",
-    "wheel_left",
-    "wheel_right",
-    "wz_gyro",
-    "wz_icp",
-    "vx_icp",
-    "vy_icp",
-    "icp_reversed",
-    "vx_icp_drive",
-    "heading_icp",
-    "heading_gyro",
-    "start_from",
-    "start_vx",
-    "start_vy",
-    "start_wz",
-    "start_wheel_left",
-    "start_wheel_right",
-]
 
 
 @dataclass
@@ -208,45 +154,6 @@ class DriveDataset:
 # --- one session, in named steps ------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
-class _Layout:
-    """A session's shape: windows of ``n`` samples, steps of ``per_step`` windows (one transient window,
-    then steady ones), ``n_steps`` steps."""
-
-    n: int
-    per_step: int
-    n_steps: int
-
-    @property
-    def window_s(self) -> float:
-        return self.n * DT
-
-    @property
-    def steady(self) -> slice:
-        """A step's steady samples, in a row of :meth:`by_step`."""
-        return slice(self.n, self.per_step * self.n)
-
-    def by_step(self, a: np.ndarray) -> np.ndarray:  # (rows, n) -> (steps, per_step * n)
-        return a.reshape(self.n_steps, self.per_step * self.n)
-
-    def windows(self, a: np.ndarray) -> np.ndarray:  # (rows,) -> (steps, per_step)
-        return a.reshape(self.n_steps, self.per_step)
-
-
-@dataclass(frozen=True)
-class _Icp:
-    """Per window, the ICP's body velocity and yaw rate between pose updates (a reversed steady window's
-    velocity NaN), which windows were reversed, and the poses composed into each step's start frame."""
-
-    vx: np.ndarray
-    vy: np.ndarray
-    wz: np.ndarray
-    reversed: np.ndarray
-    x: np.ndarray
-    y: np.ndarray
-    yaw: np.ndarray
-
-
 def _session_pickle(folder: Path) -> Path:
     """The session's dataset pickle, once both it and metadata.yaml are there."""
     if not (folder / METADATA).is_file():
@@ -259,242 +166,6 @@ def _session_pickle(folder: Path) -> Path:
     if not path.is_file():
         raise InputError(str(path), "missing: the session holds no data", "restore it from the DRIVE repository")
     return path
-
-
-def _read_arrays(frame: pd.DataFrame, path: Path) -> tuple[dict, dict, int]:
-    """The per-sample series (DRIVE's names, (rows, n) each), the window flags, and n, the samples of a window."""
-    n = sum(1 for c in frame.columns if re.fullmatch(r"cmd_left_\d+", str(c)))
-    if n < 2:
-        raise InputError(
-            f"{path}: column 'cmd_left_0'",
-            "missing (no per-sample cmd_left_i columns)",
-            "use the pickle DRIVE's parser wrote",
-        )
-    raw = {base: series_of(frame, base, n, path) for base in SERIES}
-    masks = {m: column_of(frame, m, path) for m in MASKS}
-    return raw, masks, n
-
-
-def _layout(masks: dict, rows: int, n: int, geometry: dict, path: Path) -> _Layout:
-    """The steps the window flags mark, checked: each one transient window and the same number of steady
-    windows, as long as the session's DRIVE configuration says."""
-    trans, steady = masks["transitory_state_mask"], masks["steady_state_mask"]
-    if (
-        rows == 0
-        or not np.isin(trans, (0, 1)).all()
-        or not np.isin(steady, (0, 1)).all()
-        or (trans + steady != 1).any()
-    ):
-        raise InputError(
-            f"{path}: columns {list(MASKS)}",
-            "must be 0/1 flags, exactly one set per row",
-            "use the pickle DRIVE's parser wrote",
-        )
-    starts = np.flatnonzero(trans == 1)
-    if len(starts) == 0 or starts[0] != 0:
-        raise InputError(
-            f"{path}: column 'transitory_state_mask'",
-            "row 0 does not start a step (flag 1)",
-            "use the pickle DRIVE's parser wrote, uncut",
-        )
-    lengths = np.diff(np.append(starts, rows))
-    if len(set(lengths.tolist())) != 1 or lengths[0] < 2:
-        bad = int(starts[np.flatnonzero(lengths != np.bincount(lengths).argmax())[0]]) if len(set(lengths)) > 1 else 0
-        raise InputError(
-            f"{path}: column 'transitory_state_mask'",
-            f"steps must all be one transient window and the same number of steady windows; the step "
-            f"at row {bad} differs ({rows} rows)",
-            "drop incomplete steps (whole steps of rows)",
-        )
-    layout = _Layout(n=n, per_step=int(lengths[0]), n_steps=rows // int(lengths[0]))
-    per_step, window_s = layout.per_step, layout.window_s
-    if geometry.get("step_len") is not None and abs(geometry["step_len"] - per_step * window_s) > 1e-6:
-        raise InputError(
-            f"{path}: column 'transitory_state_mask'",
-            f"steps of {per_step} windows of {window_s:g} s, but the session's DRIVE configuration "
-            f"({geometry['source']}) says step_len {geometry['step_len']:g} s",
-            "use the pickle and the configuration of the same session",
-        )
-    return layout
-
-
-def _check_gravity(raw: dict, path: Path) -> None:
-    """The mean specific force must be gravity along +z (m/s^2): the accelerometer's units and axes."""
-    force = np.array([raw[f"imu_acceleration_{a}"].mean() for a in "xyz"])
-    norm = float(np.linalg.norm(force))
-    if not ACCEL_OK[0] <= norm <= ACCEL_OK[1] or force[2] < 0.5 * norm:
-        raise InputError(
-            f"{path}: columns imu_acceleration_*",
-            f"mean specific force ({force[0]:.2f}, {force[1]:.2f}, {force[2]:.2f}) m/s^2: not gravity "
-            f"along +z (norm {ACCEL_OK[0]:g}-{ACCEL_OK[1]:g} m/s^2 expected, as in DRIVE's own files)",
-            "use the pickle DRIVE's parser wrote (m/s^2, z up, gravity included)",
-        )
-
-
-def _icp(raw: dict, steady: np.ndarray, geometry: dict, layout: _Layout) -> _Icp:
-    """The ICP poses unwrapped, their update-to-update rates per window (reversed steady windows left
-    out) and the poses composed per step."""
-    yaw_u = np.unwrap(raw["icp_yaw"], axis=1)
-    vx_w, vy_w, wz_w = update_rates(raw["icp_x"], raw["icp_y"], yaw_u)
-    reversed_w = (steady == 1) & reversed_windows(
-        vx_w, raw["left_wheel_vel"], raw["right_wheel_vel"], geometry["wheel_radius"]
-    )  # a transient window may end moving against its wheels' mean: the robot reversing within it
-    vx_w, vy_w = np.where(reversed_w, np.nan, vx_w), np.where(reversed_w, np.nan, vy_w)
-    X, Y, Yaw = compose_windows(raw["icp_x"], raw["icp_y"], yaw_u, layout.per_step)
-    return _Icp(vx=vx_w, vy=vy_w, wz=wz_w, reversed=reversed_w, x=X, y=Y, yaw=Yaw)
-
-
-def _gyro_copy(frame: pd.DataFrame, raw: dict, n: int) -> bool | None:
-    """Whether DRIVE's icp_vel_yaw_i columns equal imu_yaw_i (None: the file has none)."""
-    if all(f"{GYRO_COPY}_{i}" in frame.columns for i in range(n)):
-        return bool(np.array_equal(frame[[f"{GYRO_COPY}_{i}" for i in range(n)]].to_numpy(float), raw["imu_yaw"]))
-    return None
-
-
-def _sample_table(raw: dict, icp: _Icp, wz: np.ndarray, layout: _Layout) -> pd.DataFrame:
-    """One row per 20 Hz sample (:data:`SAMPLE_COLUMNS`); ``wz`` the gyro with its sign fixed, by step."""
-    n, per_step, by_step = layout.n, layout.per_step, layout.by_step
-    sample = np.tile(np.arange(per_step * n), layout.n_steps)
-    step = np.repeat(np.arange(layout.n_steps), per_step * n)
-    t_step = sample * DT
-    return pd.DataFrame(
-        {
-            "step": step,
-            "window": sample // n,
-            "sample": sample,
-            "time": step * per_step * layout.window_s + t_step,
-            "t_step": t_step,
-            "steady": sample >= n,
-            **{
-                SERIES[b]: by_step(raw[b]).ravel()
-                for b in (
-                    "cmd_left",
-                    "cmd_right",
-                    "left_wheel_vel",
-                    "right_wheel_vel",
-                    "imu_acceleration_x",
-                    "imu_acceleration_y",
-                    "imu_acceleration_z",
-                )
-            },
-            "wz": wz.ravel(),
-            "x_icp": by_step(icp.x).ravel(),
-            "y_icp": by_step(icp.y).ravel(),
-            "yaw_icp": by_step(icp.yaw).ravel(),
-            "vx_icp_drive": by_step(raw["icp_vel_x"]).ravel(),
-            "vy_icp_drive": by_step(raw["icp_vel_y"]).ravel(),
-        },
-        columns=SAMPLE_COLUMNS,
-    )
-
-
-def _step_table(raw: dict, icp: _Icp, wz: np.ndarray, wz_icp: np.ndarray, layout: _Layout) -> pd.DataFrame:
-    """One row per step (:data:`STEP_COLUMNS`): the command, the steady means, the start state; ``wz``
-    the gyro with its sign fixed, by step, ``wz_icp`` the steps' steady ICP yaw rate."""
-    n_steps, per_step, window_s, steady_slice = layout.n_steps, layout.per_step, layout.window_s, layout.steady
-    cl, cr = layout.by_step(raw["cmd_left"]), layout.by_step(raw["cmd_right"])
-    wl, wr = layout.by_step(raw["left_wheel_vel"]), layout.by_step(raw["right_wheel_vel"])
-    cmd_l, cmd_r = held_longest(cl[:, steady_slice]), held_longest(cr[:, steady_slice])
-    early = ((cl[:, steady_slice] != cmd_l[:, None]) | (cr[:, steady_slice] != cmd_r[:, None])).sum(axis=1)
-    with warnings.catch_warnings():  # a step whose every steady window is unusable has no ICP speed (NaN)
-        warnings.simplefilter("ignore", RuntimeWarning)
-        vx_s = np.nanmean(layout.windows(icp.vx)[:, 1:], axis=1)
-        vy_s = np.nanmean(layout.windows(icp.vy)[:, 1:], axis=1)
-    reversed_s = layout.windows(icp.reversed)[:, 1:].sum(axis=1)
-    last = max(1, round(START_SECONDS / DT))
-    vx_w, vy_w = layout.windows(icp.vx), layout.windows(icp.vy)
-    start = {  # the previous step's last START_SECONDS (steady: its command held 4 s), or step 0's own start
-        "vx": np.r_[vx_w[0, 0], vx_w[:-1, -1]],
-        "vy": np.r_[vy_w[0, 0], vy_w[:-1, -1]],
-        "wz": np.r_[wz[0, :last].mean(), wz[:-1, -last:].mean(axis=1)],
-        "wl": np.r_[wl[0, :last].mean(), wl[:-1, -last:].mean(axis=1)],
-        "wr": np.r_[wr[0, :last].mean(), wr[:-1, -last:].mean(axis=1)],
-    }
-    return pd.DataFrame(
-        {
-            "step": np.arange(n_steps),
-            "t_start": np.arange(n_steps) * per_step * window_s,
-            "steady_start": np.full(n_steps, window_s),
-            "t_end": np.full(n_steps, per_step * window_s),
-            "cmd_left": cmd_l,
-            "cmd_right": cmd_r,
-            "cmd_early_samples": early,
-            "wheel_left": wl[:, steady_slice].mean(axis=1),
-            "wheel_right": wr[:, steady_slice].mean(axis=1),
-            "wz_gyro": wz[:, steady_slice].mean(axis=1),
-            "wz_icp": wz_icp,
-            "vx_icp": vx_s,
-            "vy_icp": vy_s,
-            "icp_reversed": reversed_s,
-            "vx_icp_drive": layout.by_step(raw["icp_vel_x"])[:, steady_slice].mean(axis=1),
-            "heading_icp": np.nansum(layout.windows(icp.wz)[:, 1:], axis=1) * window_s,
-            "heading_gyro": wz[:, steady_slice].sum(axis=1) * DT,
-            "start_from": ["own first window (no previous step)"] + ["previous step's end"] * (n_steps - 1),
-            "start_vx": start["vx"],
-            "start_vy": start["vy"],
-            "start_wz": start["wz"],
-            "start_wheel_left": start["wl"],
-            "start_wheel_right": start["wr"],
-        },
-        columns=STEP_COLUMNS,
-    )
-
-
-def folder_terrain_agrees(name: str, terrain: str) -> bool:
-    """Whether a session folder's name (DRIVE: <robot>_<traction>_<terrain>_<date>) names ``terrain``."""
-    return f"_{terrain.lower()}_" in f"_{name.lower()}_"
-
-
-def _terrain(folder: Path, md: dict, terrain_class: str | None, declared_by: str) -> tuple[str, object, bool | None]:
-    """The session's terrain class (declared, else metadata.yaml's), metadata's own terrain, and whether
-    the folder's name names it (None: metadata names none)."""
-    meta_terrain = md.get("terrain")
-    if terrain_class is None and not isinstance(meta_terrain, str):
-        raise InputError(
-            f"{folder / METADATA}: field 'metadata.terrain'",
-            "missing",
-            f"add it, or declare the session's terrain class ({declared_by})",
-        )
-    terrain = str(terrain_class if terrain_class is not None else meta_terrain).lower()
-    agrees = folder_terrain_agrees(folder.name, str(meta_terrain)) if isinstance(meta_terrain, str) else None
-    return terrain, meta_terrain, agrees
-
-
-def _quirks(
-    folder: Path,
-    gyro: dict,
-    copy: bool | None,
-    terrain: tuple[str, object, bool | None],
-    terrain_class: str | None,
-    declared_by: str,
-    icp: _Icp,
-    early: np.ndarray,
-    layout: _Layout,
-) -> list[str]:
-    """What this session's files needed (the module's quirks), in words for ``meta["quirks"]``."""
-    terrain_name, meta_terrain, agrees = terrain
-    reversed_w = icp.reversed
-    quirks = []
-    if gyro["sign"] < 0:
-        quirks.append(f"imu_yaw has the opposite sign to the ICP yaw rate here: negated ({gyro['basis']})")
-    if copy:
-        quirks.append(f"{GYRO_COPY}_i is a copy of imu_yaw_i (not an ICP yaw rate): not used")
-    if agrees is False:
-        quirks.append(f"the folder name {folder.name!r} does not name the metadata terrain {meta_terrain!r}")
-    if terrain_class is not None and isinstance(meta_terrain, str) and terrain_name != meta_terrain.lower():
-        quirks.append(f"terrain {terrain_name!r} declared by {declared_by} replaces metadata's {meta_terrain!r}")
-    if reversed_w.any():
-        quirks.append(
-            f"the ICP moves against the wheels (opposite signs, both over {REVERSED_SPEED:g} m/s) in "
-            f"{int(reversed_w.sum())} window(s) of {int((layout.windows(reversed_w).any(axis=1)).sum())} "
-            "step(s): those windows' ICP speed not used"
-        )
-    if early.any():
-        quirks.append(
-            f"the next command arrives up to {int(early.max())} sample(s) before the step's end in "
-            f"{int((early > 0).sum())} step(s)"
-        )
-    return quirks
 
 
 def read_session(
@@ -519,26 +190,26 @@ def read_session(
     frame, source = load_pickle(path)
 
     # shape: windows of n samples, steps of one transient window and its steady windows
-    raw, masks, n = _read_arrays(frame, path)
+    raw, masks, n = read_arrays(frame, path)
     rows = len(frame)
-    layout = _layout(masks, rows, n, geometry, path)
-    _check_gravity(raw, path)
+    layout = step_layout(masks, rows, n, geometry, path)
+    check_gravity(raw, path)
     content = content_sha256({**raw, **masks})
 
     # ICP rates per window, the gyro's sign from the steps' steady means
-    icp = _icp(raw, masks["steady_state_mask"], geometry, layout)
+    icp = icp_rates(raw, masks["steady_state_mask"], geometry, layout)
     gyro_raw = layout.by_step(raw["imu_yaw"])
     wz_icp = np.nanmean(layout.windows(icp.wz)[:, 1:], axis=1)
     gyro = fix_gyro_sign(gyro_raw[:, layout.steady].mean(axis=1), wz_icp, gyro_sign, path, declared_by)
-    copy = _gyro_copy(frame, raw, n)
+    copy = gyro_copy(frame, raw, n)
 
-    samples = _sample_table(raw, icp, gyro["sign"] * gyro_raw, layout)
-    steps = _step_table(raw, icp, gyro["sign"] * gyro_raw, wz_icp, layout)
+    samples = sample_table(raw, icp, gyro["sign"] * gyro_raw, layout)
+    steps = step_table(raw, icp, gyro["sign"] * gyro_raw, wz_icp, layout)
 
     md = metadata["metadata"]
-    terrain = _terrain(folder, md, terrain_class, declared_by)
+    terrain = session_terrain(folder, md, terrain_class, declared_by)
     early = steps["cmd_early_samples"].to_numpy()
-    quirks = _quirks(folder, gyro, copy, terrain, terrain_class, declared_by, icp, early, layout)
+    quirks = session_quirks(folder, gyro, copy, terrain, terrain_class, declared_by, icp, early, layout)
     per_step, window_s = layout.per_step, layout.window_s
     meta = {
         "dataset": DATASET,
