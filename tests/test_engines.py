@@ -194,6 +194,21 @@ def test_bare_loop_times_the_same_world(engine, robot):
     assert 0 < seconds < 10
 
 
+@pytest.mark.parametrize("engine", ["dart", "drake"])
+def test_an_engine_s_own_time_step_is_that_engine_at_that_step_held_between(engine, robot):
+    """An adapter's ``time_step`` of two physics steps (simpick.engines.base.engine_step_multiple): the
+    engine steps exactly as in a run at that timestep, each step on the command of the physics step it
+    starts on, and the run holds each state for its second sample."""
+    scenario, commands = setup(robot, v=0.5, w=0.5, duration=0.2)
+    commands = commands * np.linspace(0.5, 1.5, len(commands))[:, None, None]  # a new command every step
+    held = get_engine(engine).simulate(dataclasses.replace(scenario, settings={"time_step": 0.002}), commands)
+    coarse = get_engine(engine).simulate(dataclasses.replace(scenario, timestep=0.002), commands[::2])
+    assert held.steps == 2 * coarse.steps
+    for name in ("position", "quaternion", "linear_velocity", "wheel_speed"):
+        np.testing.assert_array_equal(getattr(held, name)[0::2], getattr(coarse, name), err_msg=name)
+        np.testing.assert_array_equal(getattr(held, name)[1::2], getattr(coarse, name), err_msg=name)
+
+
 # --- mechanics every engine must get right: friction, torque bound, collisions,
 # --- obstacles, slip and the IMU, each against its analytic value ----------------------------
 

@@ -54,6 +54,15 @@ class Scenario:
             object.__setattr__(self, "terrain", Terrain.of(self.terrain))
 
 
+def engine_step_multiple(time_step: float | None, timestep: float) -> int:
+    """Physics steps (``scenario.timestep``) per step of an engine with its own ``time_step`` setting: the
+    nearest whole number, at least 1 (None: 1, the engine steps at the run's timestep). The run still has a
+    sample per physics step; between two engine steps the engine's state is held, and each engine step
+    reads the command of the physics step it starts on. So a timestep sweep (physics.timestep) still moves
+    the engine's step where the sweep's is the larger."""
+    return 1 if time_step is None else max(1, round(time_step / timestep))
+
+
 class EngineSettings(BaseModel):
     """An adapter's settings: each a typed field with its default, allowed values and range.
 

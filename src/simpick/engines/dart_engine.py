@@ -136,7 +136,7 @@ from typing import Annotated, Literal, get_args
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import FRICTION, BaseStates, EngineSettings, Scenario
+from simpick.engines.base import FRICTION, BaseStates, EngineSettings, Scenario, engine_step_multiple
 from simpick.engines.kinematics import matrices_to_quaternions
 from simpick.engines.runner import Adapter
 from simpick.engines.suspension import coupled_urdf
@@ -174,6 +174,10 @@ class DartSettings(EngineSettings):
     # (module docstring). At 1e-5 right turns reach 0.30-0.33 of w, left 0.51 (Coulomb 0.478);
     # config.yaml: 1e-6, which gives 0.485 / 0.475 (module docstring).
     solver_tolerance: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 1e-5
+    # s, the world's own step, a whole multiple of physics.timestep (simpick.engines.base.engine_step_multiple:
+    # the run still records every physics step, the state held between DART's steps); None: physics.timestep.
+    # Measured in docs/engines.md (DART: its step) and config.yaml.
+    time_step: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None
 
 
 def _isometry(dart, position, rotation=None):
@@ -223,7 +227,8 @@ class DartEngine(Adapter):
         settings = DartSettings.of(scenario.settings, self.name)
         world = dart.simulation.World()
         world.setGravity(list(scenario.gravity))
-        world.setTimeStep(scenario.timestep)
+        multiple = engine_step_multiple(settings.time_step, scenario.timestep)
+        world.setTimeStep(scenario.timestep * multiple)
         solver = world.getConstraintSolver()
         solver.setCollisionDetector(self._detector(dart, settings.collision_detector))
         if settings.lcp_solver == "nsgs":
@@ -303,7 +308,7 @@ class DartEngine(Adapter):
             _suspend(skel, robot)
             world.addSkeleton(skel)
             robots.append((skel, wheels))
-        return DartWorld(world, robots, scenario)
+        return DartWorld(world, robots, scenario, multiple)
 
 
 def _suspend(skel, robot) -> None:
@@ -354,8 +359,11 @@ class DartWorld:
     coordinate convention (in dartpy 6.20 its generalized velocity is angular in the body frame
     but linear in the world frame)."""
 
-    def __init__(self, world, robots: list, scenario: Scenario):
+    def __init__(self, world, robots: list, scenario: Scenario, multiple: int = 1):
         self.world, self.robots = world, robots
+        # physics steps per DART step (the time_step setting); the world steps on the physics steps k = 0, m,
+        # 2m ... with the command set then, and its state is read (held) until its next step
+        self.multiple, self.k = multiple, 0
         skel0, wheels0 = robots[scenario.recorded_robot]
         self.skel0, self.base = skel0, skel0.getBodyNode(scenario.robot.base_link)
         self.wheel_dofs = [j.getIndexInSkeleton(0) for j in wheels0]
@@ -366,8 +374,11 @@ class DartWorld:
             joint.setCommand(0, w)
 
     def step(self, n: int = 1) -> None:
-        step = self.world.step
-        for _ in range(n):
+        step, m = self.world.step, self.multiple
+        # the world's steps among physics steps k .. k + n - 1: those on a multiple of m
+        steps = n if m == 1 else (self.k + n - 1) // m - (self.k - 1) // m
+        self.k += n
+        for _ in range(steps):
             step(False)  # False: keep the servo commands (DART resets them after a step by default)
 
     def read(self) -> tuple:

@@ -57,7 +57,7 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import FRICTION, BaseStates, Calibratable, EngineSettings, Scenario
+from simpick.engines.base import FRICTION, BaseStates, Calibratable, EngineSettings, Scenario, engine_step_multiple
 from simpick.engines.runner import Adapter
 from simpick.engines.suspension import coupled_urdf
 from simpick.errors import InputError
@@ -110,6 +110,10 @@ class DrakeSettings(EngineSettings):
     wheel_dissipation: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.2
     # m/s, the regularised friction's stiction tolerance (lagged and similar): Drake's default
     stiction_tolerance: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 1.0e-4
+    # s, the plant's own discrete step, a whole multiple of physics.timestep (simpick.engines.base.
+    # engine_step_multiple: the run still records every physics step, the plant's state held between its
+    # updates); None: physics.timestep. Measured in docs/engines.md (Drake: its step) and config.yaml.
+    time_step: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None
 
 
 def _terrain_friction(mu: float, where: str) -> float:
@@ -163,12 +167,14 @@ class DrakeEngine(Adapter):
         from pydrake.multibody.tree import PdControllerGains
         from pydrake.systems.analysis import Simulator
         from pydrake.systems.framework import DiagramBuilder
-        from pydrake.systems.primitives import LogVectorOutput
+        from pydrake.systems.primitives import LogVectorOutput, TrajectorySource
+        from pydrake.trajectories import PiecewisePolynomial
 
         settings = DrakeSettings.of(scenario.settings, self.name)
         hydro = settings.contact_model == "hydroelastic"
         builder = DiagramBuilder()
-        plant, scene_graph = AddMultibodyPlantSceneGraph(builder, time_step=scenario.timestep)
+        plant_step = scenario.timestep * engine_step_multiple(settings.time_step, scenario.timestep)
+        plant, scene_graph = AddMultibodyPlantSceneGraph(builder, time_step=plant_step)
         plant.set_discrete_contact_approximation(
             getattr(DiscreteContactApproximation, "k" + settings.discrete_approximation.capitalize())
         )
@@ -265,9 +271,19 @@ class DrakeEngine(Adapter):
             )
             robots.append((instance, wheels))
         plant.Finalize()
-        # the state after every step, sampled inside Drake (at 0, dt, 2 dt ...): the runner advances once
-        # per command change instead of once per step (per-step AdvanceTo ran at 0.6x the bare loop)
+        # the state after every physics step, sampled inside Drake (at 0, dt, 2 dt ...; with a time_step of several
+        # physics steps the state between two plant updates is held): the runner advances once per command
+        # change instead of once per step (per-step AdvanceTo ran at 0.6x the bare loop)
         logger = LogVectorOutput(plant.get_state_output_port(), builder, scenario.timestep)
+        # each robot's desired state (the PD actuators' targets) from a trajectory inside the diagram: a whole
+        # run of commands is one AdvanceTo (DrakeWorld.rollout), where a replay whose command changes every step
+        # (DRIVE's interpolated wheel speeds) took an AdvanceTo and a FixValue per step
+        sources = []
+        for instance, _ in robots:
+            width = plant.get_desired_state_input_port(instance).size()
+            source = builder.AddSystem(TrajectorySource(PiecewisePolynomial(np.zeros((width, 1)))))
+            builder.Connect(source.get_output_port(), plant.get_desired_state_input_port(instance))
+            sources.append(source)
         diagram = builder.Build()
         level = drake_log.level
         drake_log.setLevel(logging.ERROR)  # "half spaces are not supported for deformable contact": none here
@@ -285,7 +301,7 @@ class DrakeEngine(Adapter):
             simulator.Initialize()
         finally:
             drake_log.setLevel(level)
-        return DrakeWorld(simulator, plant, context, robots, logger, scenario)
+        return DrakeWorld(simulator, plant, context, robots, logger, scenario, sources)
 
 
 def _applied_friction(record: logging.LogRecord) -> bool:
@@ -319,14 +335,15 @@ def _suspend(plant, instance, robot, couplers: int) -> None:
 
 class DrakeWorld:
     """One Drake simulator (simpick.engines.base.World) whose logger records the plant's state every
-    step (``logs_states``): the runner advances it once per command change. The floating base's
-    generalized velocity is the angular velocity and the velocity of base_link's origin, both in the
-    world frame."""
+    step (``logs_states``) and whose wheel targets come from a trajectory source inside the diagram:
+    ``rollout`` runs a whole command array as one AdvanceTo. The floating base's generalized velocity is
+    the angular velocity and the velocity of base_link's origin, both in the world frame."""
 
     logs_states = True
 
-    def __init__(self, simulator, plant, context, robots: list, logger, scenario: Scenario):
+    def __init__(self, simulator, plant, context, robots: list, logger, scenario: Scenario, sources: list):
         self.simulator, self.plant, self.context, self.robots, self.logger = simulator, plant, context, robots, logger
+        self.sources = sources
         self.dt, self.k = scenario.timestep, 0
         self.friction_actuators = sum(1 for s in scenario.robot.suspension if s.friction > 0)
         instance, wheels = robots[scenario.recorded_robot]
@@ -338,14 +355,37 @@ class DrakeWorld:
         wheel_v = [nq + j.velocity_start() for j in wheels]
         self.columns = np.r_[q0 : q0 + 7, nq + v0 : nq + v0 + 6, wheel_v]  # quaternion w x y z, position; w, v; wheels
 
+    def _desired(self, speeds: np.ndarray) -> np.ndarray:
+        """(..., robots, 2 x actuators) desired states of ``speeds`` (..., robots, wheels): positions
+        (ignored, gain 0), then speeds; the suspension's friction actuators follow the wheels' (speed 0)."""
+        zeros = np.zeros((*speeds.shape[:-1], speeds.shape[-1] + self.friction_actuators))
+        velocity = zeros.copy()
+        velocity[..., : speeds.shape[-1]] = speeds
+        return np.concatenate([zeros, velocity], axis=-1)
+
+    def _hold(self, desired: np.ndarray) -> None:
+        """Each robot's source holds ``desired`` (steps, robots, width) from step self.k on: sample i over
+        [(k + i - 1/2) dt, (k + i + 1/2) dt), so the discrete update at (k + i) dt reads sample i whatever
+        the roundoff of Drake's event times (a break on the update time could fall either side of it)."""
+        from pydrake.trajectories import PiecewisePolynomial
+
+        n = desired.shape[0]
+        breaks = (self.k - 0.5 + np.arange(n + 1)) * self.dt
+        for r, source in enumerate(self.sources):
+            samples = desired[:, r, :].T
+            source.UpdateTrajectory(PiecewisePolynomial.ZeroOrderHold(breaks, np.hstack([samples, samples[:, -1:]])))
+        # the source's output is cached against the context's time, not its trajectory: invalidate it
+        root = self.simulator.get_mutable_context()
+        root.SetTime(root.get_time())
+
     def set_wheel_targets(self, speeds: np.ndarray) -> None:
-        for (instance, _), robot_speeds in zip(self.robots, speeds):
-            # desired state of the PD-controlled actuators: positions (ignored, gain 0), then speeds
-            # the suspension's friction actuators follow the wheels' (desired speed 0)
-            row = np.concatenate([robot_speeds, np.zeros(self.friction_actuators)])
-            self.plant.get_desired_state_input_port(instance).FixValue(
-                self.context, np.concatenate([np.zeros(len(row)), row])
-            )
+        self._hold(self._desired(np.asarray(speeds, dtype=float))[None])
+
+    def rollout(self, commands: np.ndarray) -> BaseStates:
+        """The whole (steps, robots, wheels) command array as one trajectory and one AdvanceTo."""
+        self._hold(self._desired(np.asarray(commands, dtype=float)))
+        self.step(commands.shape[0])
+        return self.states([])
 
     def step(self, n: int = 1) -> None:
         self.k += n
