@@ -11,6 +11,7 @@ subclasses :class:`Adapter` and writes ``build`` (and its world class); the refe
 
 from __future__ import annotations
 
+import gc
 import time
 from typing import Any
 
@@ -63,16 +64,25 @@ def simulate(adapter: Any, scenario: Scenario, wheel_commands) -> PhysicsRecord:
             targets, step, read, keep = world.set_wheel_targets, world.step, world.read, samples.append
             logs = getattr(world, "logs_states", False)
             spans = command_spans(commands)
-            cpu0, wall0 = time.process_time(), time.perf_counter()
-            for first, end in spans:
-                targets(commands[first])
-                if logs:
-                    step(end - first)
-                else:
-                    for _ in range(end - first):
-                        step()
-                        keep(read())
-            wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+            # no cyclic garbage collection while stepping (as timeit): the loop makes no reference cycles,
+            # and every sample it keeps (a few tuples a step) would otherwise be traversed again and again
+            # by the collector's passes over the growing list
+            collecting = gc.isenabled()
+            gc.disable()
+            try:
+                cpu0, wall0 = time.process_time(), time.perf_counter()
+                for first, end in spans:
+                    targets(commands[first])
+                    if logs:
+                        step(end - first)
+                    else:
+                        for _ in range(end - first):
+                            step()
+                            keep(read())
+                wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+            finally:
+                if collecting:
+                    gc.enable()
             finish = getattr(world, "states", None)
             states = finish(samples) if finish is not None else BaseStates.stacked(samples)
     finally:
