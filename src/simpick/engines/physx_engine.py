@@ -379,12 +379,14 @@ class PhysxWorld:
 
     def read(self) -> tuple:
         pose, base = self.base.entity_pose, self.base
-        return pose.p, pose.q, base.linear_velocity, base.angular_velocity, self.art.qvel[self.wheel_dofs]
+        # every joint speed, the wheels' picked out once in states (indexing here cost 0.7 us a step)
+        return pose.p, pose.q, base.linear_velocity, base.angular_velocity, self.art.qvel
 
     def states(self, samples: list) -> BaseStates:
-        position, quat, v_com, omega, wheel_speed = (
+        position, quat, v_com, omega, qvel = (
             np.array([s[i] for s in samples], dtype=float).reshape(len(samples), -1) for i in range(5)
         )
+        wheel_speed = qvel[:, self.wheel_dofs]
         quat /= np.linalg.norm(quat, axis=1, keepdims=True)
         quat *= np.where(quat[:, :1] < 0, -1.0, 1.0)
         velocity = v_com - np.cross(omega, rotation_matrices(quat) @ self.com)
