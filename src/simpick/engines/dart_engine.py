@@ -121,6 +121,13 @@ filter each step: 176 us with no robot in the world. The recording loop adds ~3 
   the robot (above).
 - detectors (3 s runs, NSGS): DART's 1 471 / 1 863 / 854, Bullet's 1 829 / 2 568 / 1 743 steps/s on
   grass / bumps / gravel against FCL's 2 244 / 1 995 / 1 492: no gain, other contact layouts (above).
+- ``time_step`` 2 ms / 4 ms (the world's own step in a 1 ms run; 2026-11-27, process CPU, loaded
+  machine, bench/ENGINE_SPEED.md): every Husky validation case passes at both, gains within 0.001 but for
+  (0.5, 0.5) at mu 0.2 (0.479 -> 0.502 / 0.480), at 0.73x / 0.52x the validation's CPU (Warthog: every
+  case too, 0.62x / 0.58x); a DRIVE step of the Warthog at 0.70x / 0.56x (NSGS needs more sweeps per
+  larger step), and the turning DRIVE step's steady speed moved from -0.51 to -0.81 / -0.70 m/s (Drake:
+  -0.48 / -0.48 / -0.44 at 1 / 2 / 4 ms): DART's answer there depends on where its solver stops. Not
+  halving a DRIVE step's cost, and moving DRIVE's answers: left at 1 ms (docs/engines.md).
 - only the terrain shapes within reach of the robot in the collision group (collision aspects
   switched per 0.25 m cell, every 20 steps): the query falls to 98 us for 200 of the 485 shapes,
   but re-syncing the group on each change eats it (gravel 1 228 -> 1 273 steps/s, n 3, within
