@@ -49,7 +49,7 @@ default); TAMSI is deprecated for removal (2026-09-01) and cannot run implicit P
 
 The plant's own step (``time_step``; config.yaml: 4 ms in a 1 ms run, the state held between updates),
 measured 2026-11-27 in process CPU on a loaded 2-core machine (bench/ENGINE_SPEED.md):
-  time_step  Husky validation        Warthog validation            CPU: validation  a DRIVE step
+  time_step  Husky validation        Warthog validation            CPU: Husky valid.  a DRIVE step
   1 ms       every case passes       all but the parked creep      1                1 (5.6 s per 9 s)
   2 ms       every case passes       the same (creep 2.6 mm/s)     0.59             0.60
   4 ms       every case passes       the same (creep 2.6 mm/s)     0.32             0.37
