@@ -1,6 +1,7 @@
 """simpick benchmark: engine limits, pipeline overhead, rerun and planning costs, memory.
 
-Run from the repository root:  .venv/bin/python bench/run.py   (about 3-4 minutes)
+Run from the repository root:  .venv/bin/python bench/run.py   (about 3-4 minutes; --real-data adds the
+BorealTC replay and DRIVE step jobs, bench/ENGINE_SPEED.md)
 Writes bench/results.csv and bench/RESULTS.md (and the table into docs/benchmark.md between the
 bench markers). Every figure is the median of --repeats runs, with min and max.
 Separate from the tests on purpose: timings are measured, not asserted.
@@ -35,6 +36,7 @@ from simpick.inputs.robot import load_robot  # noqa: E402
 
 TARGETS = {  # what the pipeline is held to, on a 2-core machine
     "job_vs_bare_ratio": (">=", 0.90),
+    "job_vs_bare_ratio_cpu": (">=", 0.90),
     # real-time factor of the lab study at 1 kHz, per engine: PyBullet and ODE 30x, MuJoCo 60x,
     # DART 10x
     ("rtf_lab_study", "pybullet"): (">=", 30.0),
@@ -120,6 +122,36 @@ def engine_throughput(config: dict, repeats: int) -> list[dict]:
     # the table's order: terrain by terrain, the engines in config order within each
     terrains, engines = list(config["terrains"]), list(config["engines"])
     return sorted(rows, key=lambda r: (terrains.index(r["terrain"]), engines.index(r["engine"])))
+
+
+def real_data_throughput(config: dict, repeats: int) -> list[dict]:
+    """The real-data jobs' loop against the bare loop, in process CPU (bench/replay_speed.py, which also
+    prints every case): the first 10 s of one BorealTC run per class (the Husky), and one DRIVE step per
+    session (the Warthog, config/robots/warthog.yaml). Terrain column: the source."""
+    sys.path.insert(0, str(ROOT / "bench"))
+    from replay_speed import bare, drive_cases, load_config, replay_cases
+
+    warthog = load_config("config/robots/warthog.yaml")
+    rows = []
+    for engine_name in config["engines"]:
+        engine = get_engine(engine_name)
+        sources = {
+            "borealtc replay": replay_cases(config, engine_name, 1, 10.0, {}),
+            "drive step": drive_cases(warthog, engine_name, 1, {}),
+        }
+        for source, cases in sources.items():
+            bare_cpu, job_cpu, steps = [0.0] * repeats, [0.0] * repeats, 0
+            for _, scenario, commands, _ in cases:
+                steps += len(commands)
+                for r in range(repeats):
+                    bare_cpu[r] += bare(engine, scenario, commands)[0]
+                    job_cpu[r] += engine.simulate(scenario, commands.reshape(len(commands), 1, -1)).cpu_time
+            b, j = spread([steps / t for t in bare_cpu]), spread([steps / t for t in job_cpu])
+            ratio = spread([bt / jt for bt, jt in zip(bare_cpu, job_cpu)])
+            rows.append({"measure": "steps_per_s_bare_cpu", "engine": engine_name, "terrain": source, **b})
+            rows.append({"measure": "steps_per_s_job_cpu", "engine": engine_name, "terrain": source, **j})
+            rows.append({"measure": "job_vs_bare_ratio_cpu", "engine": engine_name, "terrain": source, **ratio})
+    return rows
 
 
 def copy_project(dest: Path) -> None:
@@ -231,6 +263,12 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--pipeline-repeats", type=int, default=2)
     parser.add_argument(
+        "--real-data",
+        action="store_true",
+        help="also the BorealTC replay and DRIVE step jobs against the bare loop (process CPU; DART and Drake "
+        "make this about 10 minutes longer)",
+    )
+    parser.add_argument(
         "--only",
         choices=("engines", "pipeline"),
         help="measure one part again, keeping the other part's rows from bench/results.csv",
@@ -241,6 +279,8 @@ def main() -> None:
     if args.only != "pipeline":
         rows = engine_throughput(config, args.repeats)
         rows += lab_rtf(rows, config)
+        if args.real_data:
+            rows += real_data_throughput(config, args.repeats)
     if args.only != "engines":
         rows += pipeline(args.pipeline_repeats)
     if args.only:
