@@ -16,7 +16,8 @@ machine; wall time is printed beside) of:
   each command set once where it changes, nothing read or recorded: the engine's own cost of that run;
 - ``job``: the runner's loop as the job runs it (``engine.simulate``: its stepping, reading and recording,
   the figure a job's record carries as ``cpu_time``);
-- ``whole``: (drive only) the whole ``replay_step``: build, stepping, trace, health check.
+- ``whole``: (drive only) the whole ``replay_step``: build, stepping, trace, health check; the line then
+  gives the step's simulated and real steady speed and yaw rate (what a setting moves).
 
 Ratio = bare CPU / job CPU (the job's speed as a fraction of the bare loop's; >= 0.9 is the target).
 Medians over repeats with min-max; steps sampled evenly over the five sessions (``--steps`` per session).
@@ -193,6 +194,7 @@ def main() -> None:
             total_steps += n
             sim_s += n * scenario.timestep
             rates: dict[str, list[float]] = {loop: [] for loop in loops}
+            answer = ""
             walls: dict[str, list[float]] = {loop: [] for loop in loops}
             for r in range(args.repeats):
                 for loop in loops:
@@ -206,8 +208,12 @@ def main() -> None:
 
                         session, row, urdf, params = job
                         cpu0, wall0 = time.process_time(), time.perf_counter()
-                        replay_step(session, row, urdf, params, float(config["drive_replay"]["warmup"]))
+                        _, out = replay_step(session, row, urdf, params, float(config["drive_replay"]["warmup"]))
                         cpu, wall = time.process_time() - cpu0, time.perf_counter() - wall0
+                        answer = (
+                            f"  sim v {out['sim_v']:.4f} wz {out['sim_yaw_rate']:.4f} ({out['status']})"
+                            f" real v {row.v_icp:.4f} wz {row.yaw_rate:.4f}"
+                        )
                     rates[loop].append(n / cpu)
                     walls[loop].append(n / wall)
                     totals[loop][r] += cpu
@@ -217,7 +223,7 @@ def main() -> None:
             ratio = ""
             if "bare" in rates and "job" in rates:
                 ratio = f"  job/bare {statistics.median(rates['job']) / statistics.median(rates['bare']):.3f}"
-            print(f"{name:8s} {case:48s} {n:6d} steps  {line}{ratio}", flush=True)
+            print(f"{name:8s} {case:48s} {n:6d} steps  {line}{ratio}{answer}", flush=True)
         summary = []
         for loop in loops:
             rate = [total_steps / t for t in totals[loop]]
