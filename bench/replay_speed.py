@@ -5,7 +5,7 @@
     .venv/bin/python bench/replay_speed.py lab pybullet --repeats 5
     .venv/bin/python bench/replay_speed.py drive dart --set solver_sweeps=100   # a setting tried
 
-The commands are the jobs' own: ``drive`` builds each DRIVE step as ``simpick.simulate.drive.replay_step``
+The commands are the jobs' own: ``drive`` builds each DRIVE step as ``simpick.simulate.steps.replay_step``
 does (the Warthog, config/robots/warthog.yaml merged over config.yaml as Snakemake merges it, the step's
 3 s warm-up then its measured wheel speeds, interpolated: a new command every physics step); ``replay``
 a BorealTC run as ``simpick.simulate.real.replay_log`` does (the Husky, wheel speeds held at about 6.5 Hz);
@@ -63,15 +63,19 @@ def load_config(*extra: str) -> dict:
 
 def drive_cases(config: dict, engine: str, per_session: int, overrides: dict, timestep: float | None = None):
     """(name, scenario, commands) of ``per_session`` DRIVE steps per session, spread evenly over each
-    session's steps 1.., built as simpick.simulate.drive.replay_step builds them."""
-    from simpick.real.drive import open_drive, replay_cases
-    from simpick.simulate.drive import open_session, select_steps, step_wheels
+    session's steps 1.., built as simpick.simulate.steps.replay_step builds them."""
+    import pandas as pd
+
+    from simpick.real.drive import _sessions, open_drive, replay_cases, wheel_table
     from simpick.simulate.real import flat_terrain, start_heading
     from simpick.simulate.run import scenario_from
+    from simpick.simulate.steps import select_steps, step_samples, step_wheels
     from simpick.sources.base import engine_params
 
     declared = config["real_data"]["datasets"]["drive"]
-    cases = replay_cases(open_drive(str(DRIVE_DIR), declared=declared, name="drive"))
+    dataset = open_drive(str(DRIVE_DIR), declared=declared, name="drive")
+    cases = replay_cases(dataset)
+    wheels = pd.concat([wheel_table(s) for s in _sessions(dataset)], ignore_index=True)
     params = engine_params(config, engine)
     params["engine_settings"] = {**params["engine_settings"], **overrides}
     if timestep:
@@ -79,24 +83,17 @@ def drive_cases(config: dict, engine: str, per_session: int, overrides: dict, ti
     dt, warmup = params["physics"]["timestep"], float(config["drive_replay"]["warmup"])
     urdf = str(ROOT / config["robot"]["urdf"])
     for session_name, group in select_steps(cases).groupby("session", sort=True):
-        session = open_session(str(DRIVE_DIR / session_name), declared, "drive")
         picks = np.unique(np.linspace(0, len(group) - 1, per_session).round().astype(int))
         for _, case in group.sort_values("step").iloc[picks].iterrows():
-            friction = config["real_data"]["classes"][case.terrain_class]["friction"]
-            left, right, _ = step_wheels(session, case, warmup, dt)
+            samples = step_samples(wheels, session_name, int(case.step))
+            ground = config["real_data"]["classes"][case.terrain_class]
+            friction = ground["friction"]
+            left, right, _ = step_wheels(samples, case, warmup, dt)
             heading = start_heading(params["seed"], case.dataset, case.terrain_class, case.session, case.case)
-            scenario = scenario_from(
-                params,
-                urdf,
-                flat_terrain(case.terrain_class, friction),
-                ((0.0, 0.0, heading),),
-                ground_friction=friction,
-            )
-            job = params | {
-                "terrain_class": case.terrain_class,
-                "class": config["real_data"]["classes"][case.terrain_class],
-            }
-            yield case.case, scenario, scenario.robot.joint_speeds(left, right), (session, case, urdf, job)
+            terrain = flat_terrain(case.terrain_class, friction)
+            scenario = scenario_from(params, urdf, terrain, ((0.0, 0.0, heading),), ground_friction=friction)
+            job = params | {"terrain_class": case.terrain_class, "class": ground}
+            yield case.case, scenario, scenario.robot.joint_speeds(left, right), (samples, case, urdf, job)
 
 
 def replay_cases(config: dict, engine: str, runs: int, seconds: float, overrides: dict, timestep: float | None = None):
@@ -204,11 +201,11 @@ def main() -> None:
                         record = engine.simulate(scenario, commands.reshape(n, 1, -1))
                         cpu, wall = record.cpu_time, record.wall_time
                     else:
-                        from simpick.simulate.drive import replay_step
+                        from simpick.simulate.steps import replay_step
 
-                        session, row, urdf, params = job
+                        samples, row, urdf, params = job
                         cpu0, wall0 = time.process_time(), time.perf_counter()
-                        _, out = replay_step(session, row, urdf, params, float(config["drive_replay"]["warmup"]))
+                        _, out = replay_step(samples, row, urdf, params, float(config["drive_replay"]["warmup"]))
                         cpu, wall = time.process_time() - cpu0, time.perf_counter() - wall0
                         answer = (
                             f"  sim v {out['sim_v']:.4f} wz {out['sim_yaw_rate']:.4f} ({out['status']})"
