@@ -209,6 +209,18 @@ def test_an_engine_s_own_time_step_is_that_engine_at_that_step_held_between(engi
         np.testing.assert_array_equal(getattr(held, name)[1::2], getattr(coarse, name), err_msg=name)
 
 
+def test_the_timestep_sweep_moves_every_engine_s_own_step():
+    """An engine with its own time_step in config.yaml (Drake's plant at 4 ms) would step at it at every
+    sweep point below it: the sweep's config sets it back to the physics timestep."""
+    from simpick.config.load import merged
+
+    config = merged([ROOT / "config.yaml", ROOT / "config/sweeps/timestep.yaml"])
+    own = {e for e, block in merged([ROOT / "config.yaml"])["engines"].items() if "time_step" in (block or {})}
+    assert own, "no engine sets its own time_step: this test has nothing to check"
+    for engine in own:
+        assert get_engine(engine).settings_model.of(config["engines"][engine], engine).time_step is None, engine
+
+
 # --- mechanics every engine must get right: friction, torque bound, collisions,
 # --- obstacles, slip and the IMU, each against its analytic value ----------------------------
 
