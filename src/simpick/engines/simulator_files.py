@@ -277,13 +277,15 @@ def read_mjcf(text: str) -> dict:
 def write_drake(settings: Mapping, entries: Mapping, title: list[str]) -> dict[str, str]:
     model = "hydroelastic_with_fallback" if settings["contact_model"] == "hydroelastic" else "point"
     lines = [
-        "time_step: 0.001",
+        f"time_step: {_num(settings.get('time_step') or 0.001)}",
         f"contact_model: {model}",
         f"discrete_contact_approximation: {settings['discrete_approximation']}",
         f"stiction_tolerance: {_num(settings['stiction_tolerance'])}",
     ]
     notes = [
-        _meaning(entries, k) for k in ("contact_model", "discrete_approximation", "stiction_tolerance") if k in entries
+        _meaning(entries, k)
+        for k in ("time_step", "contact_model", "discrete_approximation", "stiction_tolerance")
+        if k in entries
     ]
     yaml_text = (
         _header("#", [*title, "MultibodyPlantConfig (pydrake.multibody.plant)", *notes]) + "\n".join(lines) + "\n"
@@ -308,6 +310,7 @@ def read_drake(texts: Mapping[str, str]) -> dict:
 
     config = yaml.safe_load(texts["yaml"])
     out = {
+        "time_step": float(config["time_step"]),
         "discrete_approximation": config["discrete_contact_approximation"],
         "stiction_tolerance": float(config["stiction_tolerance"]),
     }
