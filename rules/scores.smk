@@ -1,7 +1,8 @@
-# The scores (the weights reach them), and results/scores/provenance.yaml: which errors file, tests and
-# exclusions they rest on (the report reads that file rather than working it out from the config again).
-# The record reads no weight, so a job of its own writes it: a weight edit reruns the scores, not the
-# record, nor the report's appendices that read it (rule report_appendix).
+# The scores, which read no weight, and results/scores/provenance.yaml: which errors file, tests and
+# exclusions they rest on (the report reads that file rather than working it out from the config
+# again). The weights reach the weighted table only: a job of its own (rule weighted) weighs the scores,
+# so that a weight edit reruns neither the scores nor what reads them alone (the report's evidence and
+# appendices, rule report_evidence).
 rule scores:
     input:
         imu_errors=PLAN.accuracy_errors(),
@@ -12,41 +13,11 @@ rule scores:
         qualitative=PLAN.config["qualitative"],
     output:
         scores=report("results/scores/scores.csv", caption="captions/scores.rst", category="Scores"),
-        weighted=report("results/scores/weighted.csv", caption="captions/weighted.rst", category="Scores"),
-        # per engine and metric: weight, score, points; and what puts the leader ahead of each engine
-        contributions=report(
-            "results/scores/contributions.csv", caption="captions/scores_contributions.rst", category="Scores"
-        ),
-        drivers=report("results/scores/drivers.csv", caption="captions/scores_contributions.rst", category="Scores"),
+        provenance=report("results/scores/provenance.yaml", caption="captions/scores_provenance.rst", category="Scores"),
     log:
         "results/logs/scores.log",
     benchmark:
         "results/benchmarks/scores.tsv"
-    conda:
-        "../envs/simpick.yaml"
-    params:
-        engines=sorted(PLAN.engines),  # a reordered engines: block is not an edit
-        weights=canonical(PLAN.config["weights"]),
-        accuracy=canonical({k: PLAN.accuracy_source()[k] for k in ("reference", "set", "dataset")}),
-        cpu_test=f"{PLAN.config['cpu_load']['terrain']}/{PLAN.config['cpu_load']['motion']}",
-        code=PLAN.script_code("scores"),
-    script:
-        "../scripts/scores.py"
-
-
-rule scores_provenance:
-    input:
-        imu_errors=PLAN.accuracy_errors(),
-        accuracy_tests=PLAN.accuracy_source()["per_test"],
-        runs=PLAN.metrics_file("lab", "runs"),
-        rtf=PLAN.metrics_file("lab", "rtf"),
-        cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
-    output:
-        provenance=report("results/scores/provenance.yaml", caption="captions/scores_provenance.rst", category="Scores"),
-    log:
-        "results/logs/scores_provenance.log",
-    benchmark:
-        "results/benchmarks/scores_provenance.tsv"
     conda:
         "../envs/simpick.yaml"
     threads: 1
@@ -57,9 +28,38 @@ rule scores_provenance:
         engines=sorted(PLAN.engines),  # a reordered engines: block is not an edit
         accuracy=canonical({k: PLAN.accuracy_source()[k] for k in ("reference", "set", "dataset")}),
         cpu_test=f"{PLAN.config['cpu_load']['terrain']}/{PLAN.config['cpu_load']['motion']}",
-        code=PLAN.script_code("scores_provenance"),
+        code=PLAN.script_code("scores"),
     script:
-        "../scripts/scores_provenance.py"
+        "../scripts/scores.py"
+
+
+# The weighted table: the scores times the config's weights, the totals and the ranking, and per engine
+# and metric its weight x score and what puts the leader ahead of each engine. All a weight edit reruns
+# of the scores.
+rule weighted:
+    input:
+        scores="results/scores/scores.csv",
+    output:
+        weighted=report("results/scores/weighted.csv", caption="captions/weighted.rst", category="Scores"),
+        contributions=report(
+            "results/scores/contributions.csv", caption="captions/scores_contributions.rst", category="Scores"
+        ),
+        drivers=report("results/scores/drivers.csv", caption="captions/scores_contributions.rst", category="Scores"),
+    log:
+        "results/logs/weighted.log",
+    benchmark:
+        "results/benchmarks/weighted.tsv"
+    conda:
+        "../envs/simpick.yaml"
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=5,
+    params:
+        weights=canonical(PLAN.config["weights"]),
+        code=PLAN.script_code("weighted"),
+    script:
+        "../scripts/weighted.py"
 
 
 # simpick's verdict beside the paper's method (simpick.score.verdict): per real run the yaw-rate gain
@@ -106,7 +106,7 @@ if PLAN.verdict:
 
 # The answer (simpick.score.answer): one row per engine and a sentence per need, the paper's
 # weighted total with its interval over real runs, the separation table and the report's first
-# paragraph. The weights reach it: it is what a weight edit reruns besides the scores and the
+# paragraph. The weights reach it: it is what a weight edit reruns besides the weighted table and the
 # report, kept small (a resampled total, no test). It rests on the real data the study has of its
 # robot (PLAN.answer_tables): the verdict's runs above, else the DRIVE comparison's steps
 # (rules/drive.smk, which writes the same tables beside its outcomes).

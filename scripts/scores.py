@@ -8,6 +8,12 @@ with logged(snakemake.log[0]):
         snakemake.input.rtf,
         list(snakemake.input.cpu),
         snakemake.input.qualitative,
-        snakemake.params.weights,
+        None,
         dict(snakemake.output.items()),
+        {
+            "accuracy": snakemake.params.accuracy,
+            "accuracy_tests": snakemake.input.accuracy_tests,
+            "runs": snakemake.input.runs,
+            "cpu_test": snakemake.params.cpu_test,
+        },
     )

@@ -97,7 +97,8 @@ def test_the_rules_that_declare_resources_are_the_ones_the_docs_name():
         "summarise",
         "verdict",
         "answer",
-        "scores_provenance",
+        "scores",
+        "weighted",
     }
     figures = {name for name, _ in rule_blocks() if name.startswith("figure_")}
     assert declared == named | figures

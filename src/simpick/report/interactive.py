@@ -37,7 +37,7 @@ def choose_data(tree: Mapping, weighted: pd.DataFrame, weights: Mapping[str, flo
     missing = [m for m in METRICS if m not in frame.columns]
     if missing:
         raise InputError(
-            "results/scores/weighted.csv", f"lacks the score column(s) {', '.join(missing)}", "rerun rule scores"
+            "results/scores/weighted.csv", f"lacks the score column(s) {', '.join(missing)}", "rerun rule weighted"
         )
     absent = [m for m in METRICS if m not in weights]
     if absent:

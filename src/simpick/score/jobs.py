@@ -24,14 +24,16 @@ def scores_job(
     rtf: str,
     cpu_files: list[str],
     qualitative: str,
-    weights: dict,
+    weights: dict | None,
     outputs: dict[str, str],
     sources: dict | None = None,
 ) -> None:
-    """The scores and the weighted table; with ``outputs["provenance"]`` also the record of what
-    they rest on (:func:`score_provenance`; ``sources`` as it describes), which the report reads
-    instead of working it out again. The workflow writes that record in a job of its own
-    (:func:`provenance_job`, rule scores_provenance), which no weight edit reruns."""
+    """The paper's per-metric scores (``outputs["scores"]``), which read no weight; with
+    ``outputs["weighted"]`` also the weighted table (:func:`weigh`), and with ``outputs["provenance"]``
+    the record of what the scores rest on (:func:`score_provenance`; ``sources`` as it describes),
+    which the report reads instead of working it out again. The workflow writes the scores and the
+    record in one job (rule scores), which no weight edit reruns, and weighs them in another (rule
+    weighted, :func:`weighted_job`)."""
     try:
         facts = yaml.safe_load(Path(qualitative).read_text())
     except (OSError, yaml.YAMLError) as exc:
@@ -70,24 +72,30 @@ def scores_job(
     scores = pd.DataFrame.from_dict(rows, orient="index")[list(scoring.METRICS)]
     scores.index.name = "engine"
     write_csv(scores, outputs["scores"], index=True)
+    if outputs.get("weighted"):
+        weigh(scores, weights or {}, outputs)
+    if outputs.get("provenance"):
+        record = score_provenance(engines, imu_errors, rtf, cpu_files, sources or {})
+        Path(outputs["provenance"]).write_text(yaml.safe_dump(record, sort_keys=False))
+
+
+def weigh(scores: pd.DataFrame, weights: dict, outputs: dict[str, str]) -> None:
+    """The weighted table of ``scores`` (engine x metric) into ``outputs["weighted"]``; with
+    ``outputs["contributions"]`` also each weight x score and what puts the leader ahead
+    (``outputs["drivers"]``)."""
     weighted = scoring.weighted_table(scores, weights)
     write_csv(weighted, outputs["weighted"], index=True)
     if outputs.get("contributions"):
         contribution = contributions(weighted, weights)
         write_csv(contribution, outputs["contributions"])
         write_csv(drivers(contribution), outputs["drivers"])
-    if outputs.get("provenance"):
-        record = score_provenance(engines, imu_errors, rtf, cpu_files, sources or {})
-        Path(outputs["provenance"]).write_text(yaml.safe_dump(record, sort_keys=False))
 
 
-def provenance_job(
-    engines: list[str], imu_errors: str, rtf: str, cpu_files: list[str], output: str, sources: dict | None = None
-) -> None:
-    """results/scores/provenance.yaml alone (:func:`score_provenance`), in a job of its own: it reads no
-    weight, so a weight edit leaves it, and the report's appendices that read it, as they are."""
-    record = score_provenance(engines, imu_errors, rtf, cpu_files, sources or {})
-    Path(output).write_text(yaml.safe_dump(record, sort_keys=False))
+def weighted_job(scores: str, weights: dict, outputs: dict[str, str]) -> None:
+    """The weighted table, its contributions and drivers from the scores job's table (rule weighted):
+    all a weight edit recomputes of the scores."""
+    table = pd.read_csv(scores, index_col="engine")
+    weigh(table, weights, outputs)
 
 
 def _failures(path: str | None) -> dict[str, list[str]]:
