@@ -269,14 +269,17 @@ if PLAN.replay_set:
             "../scripts/figure.py"
 
 
-# The appendices (the raw tables, appendices.html.j2), which no weight reaches: a job of their own
-# renders them, an HTML fragment and a PDF, from the report's inputs less the weighted tables, the
-# verdict's and the answer's and the first page's figures, so that a weight edit does not lay them out
-# again. The report job places the fragment after the body and joins the PDFs (simpick.report.pdf):
-# the user gets one report.html and one report.pdf.
-rule report_appendix:
+# The evidence's sections 2-5 (qualitative features; speed, CPU load and IMU error; analytic mechanics; the
+# real robot's data) and the appendices (the raw tables), which no weight reaches: a job of their own
+# renders them, an HTML fragment and a PDF (evidence.html.j2), from the report's inputs less the weighted
+# tables and the answer's, the per-metric scores beside the figures from the scores job (no weight), the
+# engines in the study's order, so that a weight edit does not lay them out again. The report job places the
+# fragment after section 1 of the evidence and joins the PDFs (simpick.report.pdf): the user gets one
+# report.html and one report.pdf.
+rule report_evidence:
     input:
-        unpack(PLAN.appendix_real_inputs),
+        unpack(PLAN.evidence_real_inputs),
+        scores="results/scores/scores.csv",
         scores_provenance="results/scores/provenance.yaml",
         validation="results/validation/summary.csv",
         validation_gains="results/validation/gains.csv",
@@ -291,15 +294,15 @@ rule report_appendix:
         table11="results/published/table11.csv",
         table11_comparison="results/published/table11_comparison.csv",
         worked_example="results/published/worked_example.json",
-        figures=PLAN.appendix_figures(),
+        figures=PLAN.evidence_figures(),
         endpoints=f"{PLAN.figures}/endpoints.csv",
     output:
-        html="results/report/parts/appendices.html",
-        pdf="results/report/parts/appendices.pdf",
+        html="results/report/parts/evidence.html",
+        pdf="results/report/parts/evidence.pdf",
     log:
-        "results/logs/report_appendix.log",
+        "results/logs/report_evidence.log",
     benchmark:
-        "results/benchmarks/report_appendix.tsv"
+        "results/benchmarks/report_evidence.tsv"
     conda:
         "../envs/simpick.yaml"
     resources:
@@ -308,11 +311,11 @@ rule report_appendix:
     params:
         config=canonical(PLAN.report_config()),
         statistics=PLAN.statistics_params(),
-        engines=PLAN.figure_engines,  # the appendices' engine order (no ranking) and colours
-        code=PLAN.script_code("report_appendix"),
+        engines=PLAN.figure_engines,  # the evidence's engine order (no ranking) and colours
+        code=PLAN.script_code("report_evidence"),
         real_data=PLAN.report_real_data(),
     script:
-        "../scripts/report_appendix.py"
+        "../scripts/report_evidence.py"
 
 
 rule report:
@@ -338,8 +341,8 @@ rule report:
         table11="results/published/table11.csv",
         table11_comparison="results/published/table11_comparison.csv",
         worked_example="results/published/worked_example.json",
-        # the figure rules' files, embedded (the report draws nothing itself)
-        figures=PLAN.report_figures(),
+        # the first page's figures, embedded (the report draws nothing itself; the others are the evidence's)
+        figures=PLAN.body_figures(),
         endpoints=f"{PLAN.figures}/endpoints.csv",
         # the DRIVE comparison and turn map (--config drive_dir=PATH): the verdict against the real robot
         drive=[f"{DRIVE}/{t}.csv" for t in ("summary", "outcomes", "turning", "errors")] if SETTINGS.drive_dir else [],
@@ -361,13 +364,14 @@ rule report:
             if PLAN.simulators
             else []
         ),
-        # the appendices, rendered by rule report_appendix: placed after the body, their PDF joined
-        appendix_html="results/report/parts/appendices.html",
-        appendix_pdf="results/report/parts/appendices.pdf",
+        # the evidence's sections 2-5 and the appendices, rendered by rule report_evidence: placed after
+        # section 1 of the evidence, their PDF joined
+        evidence_html="results/report/parts/evidence.html",
+        evidence_pdf="results/report/parts/evidence.pdf",
     output:
         # report(): `snakemake --report` carries the study report (its figures are embedded in it).
         # The HTML and its PDF in one job: one process start and one context less on every rerun;
-        # the PDF lays out the body alone and joins the appendices' PDF after it.
+        # the PDF lays out the body alone and joins the evidence's PDF after it.
         html=report("results/report/report.html", caption="captions/report_html.rst", category="Study report"),
         pdf=report("results/report/report.pdf", caption="captions/report_pdf.rst", category="Study report"),
     log:

@@ -345,8 +345,8 @@ def planned_jobs_for(workdir, target):
 
 
 def test_the_calibration_template_renders_the_tables():
-    from simpick.report.build import environment
     from simpick.report.calibration import calibration_section
+    from simpick.report.render import environment
 
     best = {("a", "ice"): {"parameters": {"friction": 0.2}, "as_configured": {"friction": 0.1}}}
     section = calibration_section(summarise(_evals(), best), ["b", "a"], {})
@@ -510,8 +510,8 @@ def test_the_target_needs_both_paired_tests_and_the_gain_in_every_class():
 
 
 def test_the_report_shows_held_out_gains_multipliers_and_the_target():
-    from simpick.report.build import environment
     from simpick.report.calibration import calibration_section
+    from simpick.report.render import environment
     from simpick.studies.calibration.turning import target_table, turning_table
 
     evals = _turning_evals(0.69, 0.03)

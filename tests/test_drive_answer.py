@@ -164,8 +164,8 @@ def test_the_first_page_of_a_drive_study_is_the_answer_table(tmp_path):
     """A Warthog-like study (no BorealTC verdict: the committed segments are another robot's) whose real data
     are DRIVE's steps opens with the answer table, the speed error among its columns, and says what it rests
     on; not the "No answer table" notice."""
-    from simpick.report.build import render_html
     from simpick.report.load import load_inputs
+    from simpick.report.render import render_html
 
     drive, out = _answer(tmp_path)
     inputs = write_synthetic_inputs(tmp_path / "in", seconds=1.0, failed=None)

@@ -544,54 +544,77 @@ def test_pdf_has_several_pages(built):
     assert len(doc.pages) > 1
 
 
-# the inputs the weights reach (rule report_appendix takes none of them)
+# the inputs the weights reach (rule report_evidence takes none of them): the weighted tables, the tree the
+# interactive section answers and the answer's tables (simpick.plan.report.ANSWER_INPUTS)
 WEIGHTED_INPUTS = ("weighted", "contributions", "drivers", "tree")
+ANSWER_INPUTS = ("verdict_separation", "verdict_ranking", "verdict_answer", "verdict_headline", "verdict_sentences")
 
 
-def test_the_appendices_rendered_apart_join_the_body_in_one_pdf(tmp_path, built):
-    """The workflow's way (rules/report.smk): the appendices from the inputs no weight reaches, in a
-    job of their own (an HTML fragment and a PDF); the report job renders the body and joins. One
-    report.html with the appendices after the body; one report.pdf, the body first, every page
-    numbered "page n of N", the body's links into the appendices and the bookmarks kept."""
+def _outline(reader, items=None):
+    """The bookmarks as (title, page, children), nested."""
+    out = []
+    for item in reader.outline if items is None else items:
+        if isinstance(item, list):
+            out[-1] = (*out[-1][:2], _outline(reader, item))
+        else:
+            out.append((item.title, reader.get_destination_page_number(item), []))
+    return out
+
+
+def test_the_evidence_rendered_apart_joins_the_body_in_one_pdf(tmp_path, built):
+    """The workflow's way (rules/report.smk): the evidence's sections 2-5 and the appendices from the
+    inputs no weight reaches, in a job of their own (an HTML fragment and a PDF); the report job renders
+    the body and joins. One report.html with the evidence after the body's section 1; one report.pdf,
+    the body first, every page numbered "page n of N", the body's links into the evidence and the
+    bookmarks as laid out in one pass."""
     from pypdf import PdfReader
 
-    from simpick.report import build_appendix, build_report
+    from simpick.report import build_evidence, build_report
 
     inputs, _, single = built
     full = with_figures(inputs, PARAMS, tmp_path)
-    apart = {k: v for k, v in full.items() if k not in WEIGHTED_INPUTS and not k.startswith("verdict_")}
+    apart = {k: v for k, v in full.items() if k not in WEIGHTED_INPUTS + ANSWER_INPUTS}
+    # the scores job's table (no weight): here the per-metric columns of the synthetic weighted table
+    scores = pd.read_csv(inputs["weighted"], index_col="engine")[list(METRICS)]
+    scores.to_csv(tmp_path / "scores.csv", float_format="%.17g")
+    apart["scores"] = str(tmp_path / "scores.csv")
     parts = tmp_path / "parts"
-    build_appendix(apart, PARAMS, parts / "appendices.html", parts / "appendices.pdf")
-    fragment = (parts / "appendices.html").read_text(encoding="utf-8")
-    assert fragment.lstrip().startswith("<h2") and 'id="health"' in fragment and "<body" not in fragment
+    build_evidence(apart, PARAMS, parts / "evidence.html", parts / "evidence.pdf")
+    fragment = (parts / "evidence.html").read_text(encoding="utf-8")
+    assert 'id="qualitative"' in fragment and 'id="health"' in fragment and "<body" not in fragment
+    assert 'id="ranking"' not in fragment and 'id="rests-on"' not in fragment
 
     html, pdf = tmp_path / "out" / "report.html", tmp_path / "out" / "report.pdf"
-    build_report(full, PARAMS, html, pdf, parts / "appendices.html", parts / "appendices.pdf")
+    build_report(full, PARAMS, html, pdf, parts / "evidence.html", parts / "evidence.pdf")
     text = html.read_text(encoding="utf-8")
-    assert text.count('id="health"') == 1 and text.index('id="ranking"') < text.index('id="health"')
-    assert text.rstrip().endswith("</html>") and "simpick:appendices" not in text
+    assert text.count('id="health"') == 1 and text.count('id="qualitative"') == 1
+    assert text.index('id="ranking"') < text.index('id="rests-on"') < text.index('id="qualitative"')
+    assert text.index('id="qualitative"') < text.index('id="health"')
+    assert text.rstrip().endswith("</html>") and "simpick:evidence" not in text
 
     reader = PdfReader(str(pdf))
     pages = [page.extract_text() for page in reader.pages]
     n = len(pages)
-    assert n == len(PdfReader(str(single)).pages)  # the same document as laid out in one pass
+    one_pass = PdfReader(str(single))
+    assert n == len(one_pass.pages)  # the same document as laid out in one pass
     for i, page in enumerate(pages):  # one footer a page: the join's, none of a part's own
         assert re.findall(r"page \d+ of \d+", page) == [f"page {i + 1} of {n}"], i
         assert page.count("simpick report") == 1, i
-    first = next(i for i, page in enumerate(pages) if "Appendix A. Health of the runs" in page)
-    assert 0 < first < n - 1
-    assert not any("Appendix" in page.split("\n")[0] for page in pages[:first])
+    first = next(i for i, page in enumerate(pages) if "2. Qualitative features" in page.split("\n")[0])
+    appendix = next(i for i, page in enumerate(pages) if "Appendix A. Health of the runs" in page)
+    assert 0 < first < appendix < n - 1
     dests = {name: reader.get_destination_page_number(d) for name, d in reader.named_destinations.items()}
-    assert dests["health"] == first and dests["ranking"] < first
+    assert dests["qualitative"] == first and dests["health"] == appendix and dests["ranking"] < first
     links = [
         (i, str(annot.get_object().get("/Dest")))
         for i, page in enumerate(reader.pages[:first])
         for annot in page.get("/Annots") or []
     ]
-    # the body's table of contents links into the appendices
-    assert any(dest == "health" for _, dest in links) and any(dest == "provenance" for _, dest in links)
-    titles = [o.title for o in reader.outline if not isinstance(o, list)]
-    assert titles[-1] == "Appendices"
+    # the body's table of contents links into the evidence and the appendices
+    assert {"qualitative", "real", "health", "provenance"} <= {dest for _, dest in links}
+    # the bookmarks: the report's title, every section under it, each on its page, as in one pass
+    assert _outline(reader) == _outline(one_pass)
+    assert len(_outline(reader)) == 1 and len(_outline(reader)[0][2]) > 10
 
 
 def test_all_ok_and_optional_inputs_absent(tmp_path):
@@ -1090,7 +1113,8 @@ def test_without_the_answer_tables_the_first_page_says_so(tmp_path, built_real):
 
 
 def test_the_pdf_body_before_the_appendices_is_at_most_12_pages(built_real):
-    """The answer and its evidence fit 12 pages; the raw tables follow as appendices."""
+    """The answer and its evidence fit 12 pages (section 2 of the evidence starts a page: the PDF's parts
+    meet there); the raw tables follow as appendices."""
     import weasyprint
 
     _, text, _ = built_real
@@ -1225,8 +1249,8 @@ def test_summary_names_the_accuracy_data(built_real):
 
 
 def _render(inputs: dict, params: dict) -> str:
-    from simpick.report.build import render_html
     from simpick.report.load import load_inputs
+    from simpick.report.render import render_html
 
     return render_html(load_inputs({k: v for k, v in inputs.items() if k != "traces"}), params)
 

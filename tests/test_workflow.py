@@ -1,7 +1,8 @@
 """The workflow end to end on a tiny config, and the rerun contract.
 
 The contract (what a user relies on to iterate cheaply): nothing edited -> nothing runs;
-a weight edited -> only scoring, the answer, the printed tree and the report (not its appendices); a report
+a weight edited -> only the weighted table, the answer, the printed tree and the report's body (not its
+evidence's sections 2-5 nor its appendices: rule report_evidence); a report
 template edited -> only the report and its figures; one engine's settings or code edited -> only that
 engine's simulations and what depends on them; a library module edited -> only the jobs that can import
 it (their code versions: the modules reachable through import statements, wherever they stand:
@@ -81,7 +82,7 @@ def test_tolerance_edit_rejudges_without_stepping_an_engine(study):
             "figure_tree",
             "figure_validation",
             "report",
-            "report_appendix",  # appendix G: the validation case by case
+            "report_evidence",  # section 4 and appendix G: the validation case by case
             "validation_summary",
             "verdict",
         ]
@@ -106,9 +107,10 @@ def test_weight_edit_reruns_only_scoring_and_report(study):
         # the page draws weight x score from the scores' contributions (no figure of them); the answer gives
         # the weighted total its interval over real runs and flags it; the printed tree orders each leaf's
         # engines by the weighted total; the verdict's tests (each engine against the best) read no weight.
-        # The appendices (report_appendix) and the record of what the scores rest on (scores_provenance)
-        # read no weight: the report job lays out its body and joins the appendices' PDF
-        assert rules == ["all", "answer", "figure_tree", "report", "scores"]
+        # The scores and the record of what they rest on (rule scores) read no weight, only rule weighted does;
+        # the evidence's sections 2-5 and the appendices (report_evidence) read no weight either: the report
+        # job lays out its body and joins the evidence's PDF
+        assert rules == ["all", "answer", "figure_tree", "report", "weighted"]
     finally:
         write_config(workdir, config)
 
@@ -122,9 +124,19 @@ def test_margin_edit_reruns_only_the_verdict_and_the_report(study):
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
         # the margin reaches the verdict's rule through its params; the answer, the answer's figure (the
-        # margin shaded), the decision tree and its figure, and the report read its outcomes: no score, no
+        # margin shaded), the decision tree and its figure, and the report read its outcomes; the evidence's
+        # section 3 what the accuracy scores can tell apart, which the verdict job writes: no score, no
         # simulation, no other figure
-        assert rules == ["all", "answer", "decision_tree", "figure_answer", "figure_tree", "report", "verdict"]
+        assert rules == [
+            "all",
+            "answer",
+            "decision_tree",
+            "figure_answer",
+            "figure_tree",
+            "report",
+            "report_evidence",
+            "verdict",
+        ]
     finally:
         write_config(workdir, config)
 
@@ -153,7 +165,7 @@ def reporting_only(jobs) -> bool:
     """The jobs are the report's (HTML and PDF in one job), its appendices' and figures' (at least the
     report), nothing else."""
     rules = {rule for rule, _ in jobs}
-    reporting = ("all", "report", "report_appendix")
+    reporting = ("all", "report", "report_evidence")
     return "report" in rules and all(r in reporting or r.startswith("figure_") for r in rules)
 
 
@@ -222,7 +234,7 @@ def test_how_one_kind_is_driven_reruns_that_kinds_simulations_only(study, tmp_pa
 @pytest.mark.workflow
 def test_a_report_edit_simulates_nothing(study, tmp_path):
     workdir, _ = study
-    env = edited_library(tmp_path, "report/build.py", "\nTEMPLATE = ", "\nEDITED = True\nTEMPLATE = ")
+    env = edited_library(tmp_path, "report/render.py", "\nTEMPLATE = ", "\nEDITED = True\nTEMPLATE = ")
     assert reporting_only(planned_jobs(workdir, env))
 
 

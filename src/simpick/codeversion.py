@@ -287,7 +287,7 @@ def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
 def data_files(module: str, root: Path = ROOT) -> frozenset[Path]:
     """The templates and other non-Python files a module reads: those in a folder beside it that
     is not a package, where the module's source names the folder or the file as a string
-    (simpick.report.build: ``"templates"``)."""
+    (simpick.report.render: ``"templates"``)."""
     parsed = _parse(module, root)
     found = set()
     for folder in parsed.path.parent.iterdir():

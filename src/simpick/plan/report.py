@@ -104,16 +104,25 @@ class ReportPlanning:
             inputs["calibration_target"] = f"{self.cal_dir}/target.csv"
         return inputs
 
-    def appendix_real_inputs(self, wildcards=None):
-        """The real-robot inputs of the appendices (rule report_appendix): the report's, less the
-        verdict's and the answer's tables (the answer's read the weights; the appendices show none)."""
-        return {k: v for k, v in self.report_real_inputs().items() if not k.startswith("verdict_")}
+    def evidence_real_inputs(self, wildcards=None):
+        """The real-robot inputs of the evidence's sections 2-5 and the appendices (rule report_evidence):
+        the report's, less the answer's tables (they read the weights; the evidence shows none) and of the
+        verdict's only what the accuracy scores can tell apart (section 3), which no weight reaches."""
+        return {
+            k: v
+            for k, v in self.report_real_inputs().items()
+            if not k.startswith("verdict_") or k == "verdict_discrimination"
+        }
 
-    def appendix_figures(self):
-        """The figures the appendices embed: the report's, less the first page's (the answer's and
-        the printed tree, which orders its leaves by the weighted total)."""
+    def body_figures(self):
+        """The figures the body embeds (rule report): the first page's, the answer's and the printed
+        tree (which orders its leaves by the weighted total). The others are the evidence's."""
         fig = self.figures
-        return [f for f in self.report_figures() if f not in (f"{fig}/answer.png", f"{fig}/tree.png")]
+        return [f for f in self.report_figures() if f in (f"{fig}/answer.png", f"{fig}/tree.png")]
+
+    def evidence_figures(self):
+        """The figures the evidence's sections 2-5 and the appendices embed: the report's, less the body's."""
+        return [f for f in self.report_figures() if f not in self.body_figures()]
 
     def report_datasets(self):
         """Which dataset each real-data set comes from, and its declared rates (the report states them)."""

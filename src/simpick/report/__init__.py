@@ -43,7 +43,7 @@ from typing import Any
 
 from simpick.report.inputs import LIST_INPUTS, OPTIONAL_INPUTS, REQUIRED_INPUTS
 
-__all__ = ["build_report", "build_appendix", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
+__all__ = ["build_report", "build_evidence", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
 
 
 def build_report(
@@ -51,31 +51,32 @@ def build_report(
     params: Mapping[str, Any],
     html_path: str | Path,
     pdf_path: str | Path | None = None,
-    appendix_html: str | Path | None = None,
-    appendix_pdf: str | Path | None = None,
+    evidence_html: str | Path | None = None,
+    evidence_pdf: str | Path | None = None,
 ) -> None:
     """Write the HTML report to ``html_path`` and, if ``pdf_path`` is given, the same document as PDF
     (one job: the PDF is laid out from the HTML just rendered, with no second process or read).
 
-    With the appendices rendered by :func:`build_appendix` (``appendix_html``, the fragment, and
-    ``appendix_pdf``), the page places the fragment after the body, and the PDF is the body's, laid
-    out alone, joined with the appendices' (:func:`simpick.report.pdf.join`): one document, one
-    page count, links and bookmarks across both. Without them the appendices are rendered here
-    from the same inputs and the PDF laid out in one pass (one job does all: tests, a report by hand)."""
+    With the evidence's sections 2-5 and the appendices rendered by :func:`build_evidence`
+    (``evidence_html``, the fragment, and ``evidence_pdf``), the page places the fragment after
+    section 1 of the evidence, and the PDF is the body's, laid out alone, joined with the evidence's
+    (:func:`simpick.report.pdf.join`): one document, one page count, links and bookmarks across both.
+    Without them the evidence is rendered here from the same inputs and the PDF laid out in one pass
+    (one job does all: tests, a report by hand)."""
     import sys
     import time
 
-    from simpick.report.build import render_appendix, render_html, write_pdf
     from simpick.report.load import load_inputs
+    from simpick.report.render import render_evidence, render_html, write_pdf
 
     start = time.perf_counter()
     data = load_inputs(inputs)
-    if appendix_html:
-        fragment = Path(appendix_html).read_text(encoding="utf-8")
+    if evidence_html:
+        fragment = Path(evidence_html).read_text(encoding="utf-8")
     else:
-        fragment, appendix_pdf = render_appendix(data, params)[0], None
-    mark = "<!--simpick:appendices-->"
-    page = render_html(data, params, appendices=mark)
+        fragment, evidence_pdf = render_evidence(data, params)[0], None
+    mark = "<!--simpick:evidence-->"
+    page = render_html(data, params, evidence=mark)
     html = page.replace(mark, fragment, 1)
     rendered = time.perf_counter()
     html_path = Path(html_path)
@@ -83,12 +84,12 @@ def build_report(
     print(f"report: HTML {rendered - start:.1f} s", file=sys.stderr)
     if pdf_path is None:
         return
-    if not appendix_pdf:
+    if not evidence_pdf:
         write_pdf(html, pdf_path, base_url=str(html_path.parent))
         print(f"report: PDF {time.perf_counter() - rendered:.1f} s", file=sys.stderr)
         return
     from simpick.report import pdf
-    from simpick.report.build import anchor_ids
+    from simpick.report.render import anchor_ids
 
     body_pdf = Path(pdf_path).with_name(Path(pdf_path).name + ".body")
     try:
@@ -99,37 +100,47 @@ def build_report(
             footers=False,
         )
         laid_out = time.perf_counter()
-        n = pdf.join([body_pdf, appendix_pdf], pdf_path)
+        n = pdf.join([body_pdf, evidence_pdf], pdf_path)
     finally:
         body_pdf.unlink(missing_ok=True)
     print(
         f"report: PDF {time.perf_counter() - rendered:.1f} s (body {laid_out - rendered:.1f} s, "
-        f"joined with the appendices and numbered {time.perf_counter() - laid_out:.1f} s; {n} pages)",
+        f"joined with the evidence and numbered {time.perf_counter() - laid_out:.1f} s; {n} pages)",
         file=sys.stderr,
     )
 
 
-def build_appendix(
+def build_evidence(
     inputs: Mapping[str, Any], params: Mapping[str, Any], html_path: str | Path, pdf_path: str | Path
 ) -> None:
-    """The appendices (the raw tables, which no weight reaches): ``html_path`` the HTML fragment the
-    report places after its body, ``pdf_path`` their PDF, without page footers (the report numbers
-    the joined document). ``inputs`` as the report's, without the weighted tables (``weighted`` is
-    not required and not read)."""
+    """The evidence's sections 2-5 and the appendices, which no weight reaches: ``html_path`` the HTML
+    fragment the report places after section 1 of the evidence, ``pdf_path`` their PDF, without page
+    footers (the report numbers the joined document). ``inputs`` as the report's less the weighted
+    tables, plus ``scores`` (the scores job's per-metric scores, results/scores/scores.csv: shown beside
+    the figures; none when not given)."""
+    import dataclasses
     import sys
     import time
 
-    from simpick.report.build import render_appendix, write_pdf
+    import pandas as pd
+
     from simpick.report.load import load_inputs
+    from simpick.report.render import render_evidence, write_pdf
 
     start = time.perf_counter()
-    data = load_inputs(inputs, required=("runs",))
-    fragment, document = render_appendix(data, params)
+    inputs = dict(inputs)
+    scores = inputs.pop("scores", None)
+    data = load_inputs({k: v for k, v in inputs.items() if k != "weighted"}, required=("runs",))
+    table = pd.read_csv(scores, index_col="engine") if scores else pd.DataFrame(index=pd.Index([], name="engine"))
+    data = dataclasses.replace(
+        data, weighted=table, sources={**data.sources, **({"scores": str(scores)} if scores else {})}
+    )
+    fragment, document = render_evidence(data, params)
     rendered = time.perf_counter()
     _write_text(Path(html_path), fragment)
-    print(f"appendices: HTML {rendered - start:.1f} s", file=sys.stderr)
+    print(f"evidence: HTML {rendered - start:.1f} s", file=sys.stderr)
     write_pdf(document, pdf_path, base_url=str(Path(html_path).parent), footers=False)
-    print(f"appendices: PDF {time.perf_counter() - rendered:.1f} s", file=sys.stderr)
+    print(f"evidence: PDF {time.perf_counter() - rendered:.1f} s", file=sys.stderr)
 
 
 def _write_text(path: Path, text: str) -> None:

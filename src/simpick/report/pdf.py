@@ -1,14 +1,15 @@
-"""One report.pdf from its parts (pypdf): the body's PDF, which the weights reach, and the appendices',
-which no weight reaches and a job of their own renders (rule report_appendix), so that a weight edit lays
-out the body alone.
+"""One report.pdf from its parts (pypdf): the body's PDF, which the weights reach, and the evidence's
+(sections 2-5 and the appendices), which no weight reaches and a job of its own renders (rule
+report_evidence), so that a weight edit lays out the body alone.
 
-Each part is rendered without the page footer (:data:`simpick.report.build.NO_FOOTERS`): :func:`join`
+Each part is rendered without the page footer (:data:`simpick.report.render.NO_FOOTERS`): :func:`join`
 puts the parts' pages in one document, one after the other, and draws on every page the footer the
 report's CSS gives (the report's name, "page n of N"), laid out by WeasyPrint on blank pages of the
 joined document's count and placed on each page as a form. The links between the parts keep working:
 WeasyPrint links to a named destination (the element's id), and the body is rendered with an empty
-element of every id the appendices define (:func:`placeholders`), whose destinations the join replaces
-by the appendices' own. The outline (bookmarks) keeps the body's, then the appendices' under one entry.
+element of every id the evidence defines (:func:`placeholders`), whose destinations the join replaces
+by the evidence's own. The outline (bookmarks) is the one a single pass would give: the body's, and the
+later parts' entries under the body's last top-level entry (the report's title, the only one).
 """
 
 from __future__ import annotations
@@ -18,14 +19,13 @@ import io
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
-APPENDICES_OUTLINE = "Appendices"
 FOOTER_FORM = "/SimpickFooter"
 
 
 def placeholders(ids: Iterable[str]) -> str:
-    """Empty blocks bearing ``ids`` (the appendices' anchors), placed after the body in the document
+    """Empty blocks bearing ``ids`` (the evidence's anchors), placed after the body in the document
     the body's PDF is rendered from: WeasyPrint keeps a link only when its anchor is in the document,
-    and :func:`join` points each of these names at the appendices' element."""
+    and :func:`join` points each of these names at the evidence's element."""
     return "".join(f'<div id="{_html.escape(i, quote=True)}"></div>' for i in ids)
 
 
@@ -36,7 +36,7 @@ def footer_sheet(n_pages: int) -> bytes:
 
     import weasyprint
 
-    from simpick.report.build import environment
+    from simpick.report.render import environment
 
     logging.getLogger("weasyprint").setLevel(logging.ERROR)
     css = environment().get_template("report.css").render()
@@ -57,7 +57,7 @@ def _name_pairs(tree) -> list:
 
 def _repoint(writer, readers, offsets) -> None:
     """Where two parts name the same destination, point the joined document's name at the later
-    part's (pypdf's append keeps the first), so that the body's placeholders yield to the appendices'
+    part's (pypdf's append keeps the first), so that the body's placeholders yield to the evidence's
     anchors; the links, which name their destination, follow."""
     from pypdf.generic import ArrayObject, DictionaryObject, FloatObject, NameObject, NullObject, TextStringObject
 
@@ -80,6 +80,23 @@ def _repoint(writer, readers, offsets) -> None:
         writer.root_object[NameObject("/Names")] = DictionaryObject()
         names = writer.root_object["/Names"]
     names.get_object()[NameObject("/Dests")] = writer._add_object(DictionaryObject({NameObject("/Names"): flat}))
+
+
+def _copy_outline(writer, reader, items, offset: int, parent=None) -> list:
+    """Add ``items`` (a part's outline: entries, each followed by the list of its children, if any)
+    to ``writer`` under ``parent``, each pointing where it pointed, ``offset`` pages on. Returns the
+    entries added at this level."""
+    from pypdf.generic import Fit
+
+    added = []
+    for item in items:
+        if isinstance(item, list):
+            _copy_outline(writer, reader, item, offset, added[-1] if added else parent)
+            continue
+        fit = Fit.xyz(item.left, item.top, item.zoom) if item.typ == "/XYZ" else Fit.fit()
+        page = offset + reader.get_destination_page_number(item)
+        added.append(writer.add_outline_item(title=item.title, page_number=page, parent=parent, fit=fit))
+    return added
 
 
 def _stamp(page, footer, writer) -> None:
@@ -131,16 +148,20 @@ def join(parts: Sequence[str | Path], out: str | Path, footers: bytes | None = N
     """Write the PDFs ``parts`` (the body first) as one document ``out``, every page with its footer
     (``footers``: a footer sheet of the joined page count; made here when not given); where two parts
     name the same destination, the later part's wins (the body's placeholders yield to the
-    appendices' anchors). Returns the page count."""
+    evidence's anchors); the later parts' bookmarks go under the body's last top-level one, as in a
+    document laid out in one pass. Returns the page count."""
     from pypdf import PdfReader, PdfWriter
 
     readers = [PdfReader(str(p)) for p in parts]
     writer = PdfWriter()
     offsets = []
-    for i, reader in enumerate(readers):
+    for reader in readers:
         offsets.append(len(writer.pages))
-        writer.append(reader, outline_item=APPENDICES_OUTLINE if i and len(reader.outline) else None)
+        writer.append(reader, import_outline=False)
     _repoint(writer, readers, offsets)
+    top = _copy_outline(writer, readers[0], readers[0].outline, 0) if readers else []
+    for reader, offset in zip(readers[1:], offsets[1:]):
+        _copy_outline(writer, reader, reader.outline, offset, top[-1] if top else None)
     if readers and readers[0].metadata:
         writer.add_metadata({k: v for k, v in readers[0].metadata.items() if isinstance(k, str)})
     n = len(writer.pages)

@@ -1,6 +1,6 @@
 from simpick.joblog import logged
-from simpick.report import LIST_INPUTS, build_appendix
+from simpick.report import LIST_INPUTS, build_evidence
 
 with logged(snakemake.log[0]):
     inputs = {key: (list(value) if key in LIST_INPUTS else value) for key, value in snakemake.input.items()}
-    build_appendix(inputs, dict(snakemake.params.items()), snakemake.output.html, snakemake.output.pdf)
+    build_evidence(inputs, dict(snakemake.params.items()), snakemake.output.html, snakemake.output.pdf)
