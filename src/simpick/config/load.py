@@ -29,7 +29,7 @@ def duplicate_keys(path: str | Path) -> list[str]:
 
     found: list[str] = []
 
-    class Loader(yaml.SafeLoader):
+    class Loader(getattr(yaml, "CSafeLoader", yaml.SafeLoader)):  # libyaml's parser: read when a run plans
         pass
 
     def mapping(loader, node, deep=False):

@@ -18,7 +18,7 @@ TOP_LEVEL_KEYS = ("simulators", "table3", "table4", "table10", "table11", "worke
 def load_published(path: str | Path = DEFAULT_PATH) -> dict[str, Any]:
     """Read the published-figures YAML and check that its blocks cover every simulator."""
     with open(path, encoding="utf-8") as fh:
-        data = yaml.safe_load(fh)
+        data = yaml.load(fh, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))  # libyaml: read when a run plans
     if not isinstance(data, dict):
         raise ValueError(f"{path}: expected a mapping at the top level")
     missing = [k for k in TOP_LEVEL_KEYS if k not in data]
