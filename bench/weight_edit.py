@@ -30,12 +30,23 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 SNAKEMAKE = Path(sys.executable).with_name("snakemake")
-# the rules of the weight path that keep a benchmark file (rules/scores.smk, rules/report.smk)
-BENCHMARKS = ("scores", "scores_provenance", "verdict", "answer", "report_appendix", "report", "report_pdf")
+# the rules of the weight path, and those beside it, that keep a benchmark file (rules/scores.smk,
+# rules/tree.smk, rules/simulators.smk, rules/report.smk)
+BENCHMARKS = (
+    "scores",
+    "weighted",
+    "verdict",
+    "answer",
+    "figure_tree",
+    "simulator_scores",
+    "report_evidence",
+    "report",
+)
 
 
-def _run(config: Path, cores: int, log: Path) -> tuple[float, list[str]]:
-    """Wall seconds of one Snakemake run (GNU time's %e) and the rules of the jobs it ran."""
+def _run(config: Path, cores: int, log: Path, extra: list[str] = ()) -> tuple[float, list[str]]:
+    """Wall seconds of one Snakemake run (GNU time's %e) and the rules of the jobs it ran; ``extra``:
+    more arguments to Snakemake."""
     timing = log.with_suffix(".time")
     cmd = [
         "/usr/bin/time",
@@ -48,6 +59,7 @@ def _run(config: Path, cores: int, log: Path) -> tuple[float, list[str]]:
         str(cores),
         "--configfile",
         str(config),
+        *extra,
     ]
     with open(log, "w") as fh:
         done = subprocess.run(cmd, cwd=ROOT, stdout=fh, stderr=subprocess.STDOUT, env=os.environ.copy(), check=False)
@@ -69,6 +81,25 @@ def _job_seconds(since: float) -> dict[str, float]:
     return out
 
 
+def _report_log(since: float) -> dict[str, float]:
+    """The report job's own split of its time (results/logs/report.log, written since ``since``): HTML,
+    the body's PDF, the join with the evidence's PDF and the page numbers."""
+    path = ROOT / "results" / "logs" / "report.log"
+    if not path.is_file() or path.stat().st_mtime < since:
+        return {}
+    text = path.read_text()
+    found = {}
+    for key, pattern in (
+        ("report_html", r"report: HTML (\d+\.\d+) s"),
+        ("report_body_pdf", r"\(body (\d+\.\d+) s"),
+        ("report_join", r"numbered (\d+\.\d+) s"),
+    ):
+        m = re.search(pattern, text)
+        if m:
+            found[key] = float(m.group(1))
+    return found
+
+
 def main(argv: list[str] | None = None) -> None:
     global ROOT
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -82,6 +113,11 @@ def main(argv: list[str] | None = None) -> None:
         default=ROOT,
         help="the study's folder (a checkout with its results/; default: this repository)",
     )
+    parser.add_argument(
+        "--snakemake-args",
+        default="",
+        help="more arguments to Snakemake, as one string (to compare, e.g. '--scheduler greedy')",
+    )
     args = parser.parse_args(argv)
     ROOT = args.workdir.resolve()
 
@@ -94,7 +130,7 @@ def main(argv: list[str] | None = None) -> None:
             edited = Path(tmp) / f"edited{i}.yaml"
             edited.write_text(yaml.safe_dump(config, sort_keys=False))
             load, start = os.getloadavg()[0], time.time()
-            wall, rules = _run(edited, args.cores, Path(tmp) / f"run{i}.log")
+            wall, rules = _run(edited, args.cores, Path(tmp) / f"run{i}.log", args.snakemake_args.split())
             rows.append(
                 {
                     "repeat": i + 1,
@@ -102,13 +138,14 @@ def main(argv: list[str] | None = None) -> None:
                     "load_1min": load,
                     "jobs": " ".join(sorted(rules)),
                     **{f"{k}_s": v for k, v in _job_seconds(start).items()},
+                    **{f"{k}_s": v for k, v in _report_log(start).items()},
                 }
             )
             print(rows[-1], flush=True)
         config["weights"][args.weight] = base  # back to the study's own weights (not timed)
         restore = Path(tmp) / "restore.yaml"
         restore.write_text(yaml.safe_dump(config, sort_keys=False))
-        _run(restore, args.cores, Path(tmp) / "restore.log")
+        _run(restore, args.cores, Path(tmp) / "restore.log", args.snakemake_args.split())
     walls = [r["wall_s"] for r in rows]
     print(
         f"weight-edit rerun, {args.cores} cores: median {statistics.median(walls):.2f} s "
@@ -116,7 +153,7 @@ def main(argv: list[str] | None = None) -> None:
     )
     for key in sorted({k for r in rows for k in r if k.endswith("_s") and k != "wall_s"}):
         vals = [r[key] for r in rows if key in r]
-        print(f"  {key[:-2]} job: median {statistics.median(vals):.2f} s")
+        print(f"  {key[:-2]}: median {statistics.median(vals):.2f} s")
     if args.out:
         import csv
 

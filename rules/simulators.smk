@@ -70,6 +70,9 @@ rule simulator_scores:
         weighted="results/simulators/weighted.csv",
     log:
         "results/logs/simulator_scores.log",
+    # on the weight path: bench/weight_edit.py reads its time
+    benchmark:
+        "results/benchmarks/simulator_scores.tsv"
     conda:
         "../envs/simpick.yaml"
     params:

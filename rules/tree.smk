@@ -39,6 +39,9 @@ rule figure_tree:
         ),
     log:
         "results/logs/figures/tree.log",
+    # on the weight path: bench/weight_edit.py reads its time
+    benchmark:
+        "results/benchmarks/figure_tree.tsv"
     conda:
         "../envs/simpick.yaml"
     threads: 1
