@@ -14,7 +14,7 @@ from simpick.report import figures, tables
 from simpick.report.draw import test_label
 from simpick.report.draw import weights_of as _weights
 from simpick.report.formats import isnan
-from simpick.report.load import ReportData
+from simpick.report.load import REAL_SETS, ReportData
 from simpick.score.scoring import METRIC_LABELS, METRICS, QUALITATIVE_METRICS, QUANTITATIVE_METRICS
 
 DEFAULT_TITLE = "simpick: which physics engine reproduces the Husky best?"
@@ -225,7 +225,7 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     from simpick.report.answer import answer_section
     from simpick.report.draw import colors as draw_colors
     from simpick.report.simulators import simulators_section
-    from simpick.report.validation import validation_section
+    from simpick.report.validation import validation_headline
 
     config = dict(params.get("config") or {})
     weights = _weights(params)
@@ -236,7 +236,8 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     robot = _robot(config)
     classes = real.class_order(data, params)
     accuracy = real.accuracy(data, params, engines, classes, [test_label(t, m) for t, m in tests])
-    real_given = real.real_section(data, params, engines, colors, classes, accuracy)["given"]
+    # whether section 5 has real data to show (real_section's "given"), without building the section
+    real_given = any(data.real.get(s) for s in REAL_SETS) or data.segments is not None
     # the anchors a sentence of the answer may cite: only sections this report shows
     sections = {"answer-figure"} if "answer" in data.figures else set()
     sections |= {"quantitative", "validation"} | ({"calibration"} if data.calibration is not None else set())
@@ -273,7 +274,7 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         # the decision tree and the adjustable weights, answered in the browser (simpick.report.interactive):
         # one self-contained fragment, hidden in print where figures/tree.png stands for it
         "interactive": _interactive(data, weights, params.get("simulators")),
-        "validation": validation_section(data.validation, engines, None, data.validation_gains),
+        "validation": validation_headline(data.validation, engines),
         "title": params.get("title")
         or (
             f"simpick: which physics engine reproduces the {robot['label']} best?"
@@ -303,7 +304,7 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         "ranking": _ranking(data, weights),
         "verdict": _verdict(data, engines),
         "reference": tables.reference(data, tests),
-        "runs": tables.runs(data, tests, engines),
+        "runs": tables.run_health(data, tests, engines),
         "accuracy": accuracy,
         "real": {"given": real_given},
     }

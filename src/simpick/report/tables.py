@@ -148,13 +148,26 @@ def qualitative(data: ReportData, engines: list[str], ref_order: list[str] | Non
     return {"engines": shown, "rows": rows, "refs": refs, "family": family, "notes": notes}
 
 
-def runs(data: ReportData, tests: list[tuple[str, str]], engines: list[str]) -> dict[str, Any]:
+def _sorted_runs(data: ReportData, tests: list[tuple[str, str]], engines: list[str]):
+    """The lab runs, each with its test's label, by engine then test."""
     runs = data.runs.copy()
     runs["test"] = [test_label(t, m) for t, m in zip(runs["terrain"], runs["motion"])]
     order = {tm: i for i, tm in enumerate(tests)}
     runs["_e"] = [engines.index(e) if e in engines else len(engines) for e in runs["engine"]]
     runs["_t"] = [order.get((t, m), len(order)) for t, m in zip(runs["terrain"], runs["motion"])]
-    runs = runs.sort_values(["_e", "_t"], kind="mergesort")
+    return runs.sort_values(["_e", "_t"], kind="mergesort")
+
+
+def run_health(data: ReportData, tests: list[tuple[str, str]], engines: list[str]) -> dict[str, Any]:
+    """The runs that failed their health checks and how many ran: what the body says of them (section 1),
+    without the tables of :func:`runs`."""
+    records = _sorted_runs(data, tests, engines).to_dict("records")
+    failed = [r for r in records if str(r["status"]).strip().lower() != "ok"]
+    return {"failed": failed, "n": len(records)}
+
+
+def runs(data: ReportData, tests: list[tuple[str, str]], engines: list[str]) -> dict[str, Any]:
+    runs = _sorted_runs(data, tests, engines)
     records = runs.to_dict("records")
     failed = [r for r in records if str(r["status"]).strip().lower() != "ok"]
     pivot = []

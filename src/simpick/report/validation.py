@@ -64,6 +64,23 @@ def gain_rows(gains: pd.DataFrame | None, engines: list[str]) -> list[dict]:
     return rows
 
 
+def validation_headline(summary: pd.DataFrame | None, engines: list[str]) -> dict[str, Any]:
+    """What the body says of the validation before its section (section 1 of the evidence, the ranking's
+    mechanics column): the engines that passed every case, those that failed some (engine -> cases), the
+    number of cases; without the section's tables, which take a report job most of its context time."""
+    if summary is None or summary.empty:
+        return {"given": False}
+    present = _present(summary, engines)
+    failed = failures(summary)
+    return {
+        "given": True,
+        "engines": present,
+        "failed": failed,
+        "passed": [e for e in present if e not in failed],
+        "n_cases": len(dict.fromkeys(summary[summary.kind != "invariance"].case)),
+    }
+
+
 def validation_section(
     summary: pd.DataFrame | None, engines: list[str], figure: str | None, gains: pd.DataFrame | None = None
 ) -> dict[str, Any]:
@@ -71,8 +88,8 @@ def validation_section(
     ``gains``: the gain table (results/validation/gains.csv), None when not given."""
     if summary is None or summary.empty:
         return {"given": False}
-    present = _present(summary, engines)
-    cases = list(dict.fromkeys(summary[summary.kind != "invariance"].case))
+    headline = validation_headline(summary, engines)
+    present = headline["engines"]
     rows = []
     for case in dict.fromkeys(summary.case):
         for quantity, g in summary[summary.case == case].groupby("quantity", sort=False):
@@ -104,8 +121,6 @@ def validation_section(
                 }
             )
     uri = figures.data_uri(figure) if figure and gains is not None and len(gains) else None
-    failed = failures(summary)
-    passed = [e for e in present if e not in failed]
     costs = (
         summary[~summary.kind.isin(["invariance"]) & (summary.status != "skipped")]
         .groupby("engine")
@@ -121,15 +136,11 @@ def validation_section(
         label = case if ran.empty else f"{case} ({', '.join(_present(gone, engines))})"
         skipped[label] = "; ".join(dict.fromkeys(gone.reasons))
     return {
-        "given": True,
-        "engines": present,
+        **headline,
         "rows": rows,
         "gain_uri": uri,
         "gain_mu": mu,
         "gain_rows": gain_rows(gains, engines),
-        "failed": failed,
-        "passed": passed,
         "costs": costs,
-        "n_cases": len(cases),
         "skipped": skipped,
     }
