@@ -7,28 +7,15 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field, model_validator
 
-from simpick.config.base import NonNegative, Positive, Strict
+from simpick.config.base import Positive, Strict
+from simpick.real.settings import Ground, SegmentRules
 
 
-class SegmentRules(Strict):
-    """How constant-command segments are cut from a real log."""
+# the friction is defined once, with the ground the jobs read (simpick.real.settings.Ground)
+class TerrainClass(Ground):
+    """A real terrain class as the engines see it: rigid flat ground with one friction coefficient, and
+    where the coefficient comes from."""
 
-    tolerance: Positive = Field(description="m/s: both wheel commands within this of constant")
-    min_duration: Positive = Field(description="s of constant command after settling, at least")
-    max_duration: Positive = Field(description="s compared at most (bounds the study's simulation time)")
-    settle: NonNegative = Field(description="s driven before the compared window, to reach the new speed")
-    min_turn: Positive = Field(description="rad/s of kinematic yaw rate above which a segment is turning")
-    per_kind: Annotated[int, Field(ge=1)] = Field(
-        description="the longest straight and turning segments kept per terrain class"
-    )
-
-
-class TerrainClass(Strict):
-    """A real terrain class as the engines see it: rigid flat ground with one friction coefficient."""
-
-    friction: Annotated[float, Field(ge=0, le=10, allow_inf_nan=False)] = Field(
-        description="Coulomb coefficient the engines give this class's ground"
-    )
     source: str = Field(description="where the coefficient comes from (a handbook table, or 'assumption: ...')")
 
 

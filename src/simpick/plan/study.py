@@ -20,6 +20,7 @@ from simpick.plan.answer import AnswerPlanning
 from simpick.plan.calibration import CalibrationPlanning
 from simpick.plan.code import CodePlanning
 from simpick.plan.errors import PlanError
+from simpick.plan.jobs import JobPlanning
 from simpick.plan.models import ModelPlanning
 from simpick.plan.optin import OptInPlanning
 from simpick.plan.realdata import RealDataPlanning
@@ -43,6 +44,7 @@ class Plan(
     CodePlanning,
     ReportPlanning,
     CalibrationPlanning,
+    JobPlanning,
 ):
     """Everything the rules ask of a study, from its validated config (:class:`simpick.config.Study`),
     worked out once at planning time. ``config``: the raw dict Snakemake holds (its ``engines`` and

@@ -1,0 +1,36 @@
+"""The real data's settings as the jobs are given them: a terrain class's ground and the rules that cut
+constant-command segments. Defined here, in the real layer, so that the jobs below the config can read
+them typed; the config's ``real_data`` section (:mod:`simpick.config.real`) uses these models, so each
+field has one definition."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from pydantic import Field
+
+from simpick.params import JobParams, NonNegative, Positive
+
+
+class Ground(JobParams):
+    """A terrain class's ground as the engines see it: rigid and flat, with one friction coefficient."""
+
+    friction: Annotated[float, Field(ge=0, le=10, allow_inf_nan=False)] = Field(
+        description="Coulomb coefficient the engines give this class's ground"
+    )
+
+
+class SegmentRules(JobParams):
+    """How constant-command segments are cut from a real log."""
+
+    tolerance: Positive = Field(description="m/s: both wheel commands within this of constant")
+    min_duration: Positive = Field(description="s of constant command after settling, at least")
+    max_duration: Positive = Field(description="s compared at most (bounds the study's simulation time)")
+    settle: NonNegative = Field(description="s driven before the compared window, to reach the new speed")
+    min_turn: Positive = Field(description="rad/s of kinematic yaw rate above which a segment is turning")
+    per_kind: Annotated[int, Field(ge=1)] = Field(
+        description="the longest straight and turning segments kept per terrain class"
+    )
+
+
+__all__ = ["Ground", "SegmentRules"]

@@ -1,0 +1,103 @@
+"""Each converted rule's params are its job's typed model (simpick.params): the plan builds them from
+the typed study and validates them against the model the job reads, so a field the two disagree on
+stops the run at planning time, and a job reads typed fields, never string keys.
+
+``CONVERTED`` lists each converted rule with its job's model and the params the plan gives it; every
+entry is checked on the default study and on a robot study (the Warthog: a suspension, other engine
+settings)."""
+
+import copy
+
+import pytest
+from pydantic import ValidationError
+
+from conftest import ROOT, study_config, tiny_config
+from simpick.config import Study
+from simpick.plan import Plan, PlanError
+from simpick.plan.jobs import job_params
+from simpick.sources.base import canonical
+from simpick.studies import turnmap
+
+
+def plan_of(config: dict) -> Plan:
+    return Plan(config, Study.model_validate(config), basedir=str(ROOT))
+
+
+# rule -> (the job's model, the params of each of its jobs in a plan)
+CONVERTED = {
+    "turnmap_grid": (turnmap.TurnmapGridParams, lambda plan: [plan.turnmap_params()]),
+    "turnmap_engine": (turnmap.TurnmapEngineParams, lambda plan: [plan.turnmap_params(e) for e in plan.engines]),
+}
+
+
+@pytest.fixture(scope="module")
+def default_plan(tmp_path_factory):
+    return plan_of(tiny_config(tmp_path_factory.mktemp("default")))
+
+
+@pytest.fixture(scope="module")
+def robot_plan():
+    config = study_config("config/robots/warthog.yaml")
+    for key in ("urdf",):
+        config["robot"][key] = str(ROOT / config["robot"][key])
+    return plan_of(config)
+
+
+@pytest.mark.parametrize("rule", sorted(CONVERTED))
+@pytest.mark.parametrize("which", ["default_plan", "robot_plan"])
+def test_each_converted_rule_s_params_validate_against_its_job_s_model(rule, which, request):
+    plan = request.getfixturevalue(which)
+    model, params_of = CONVERTED[rule]
+    all_params = params_of(plan)
+    assert all_params, f"{rule}: no job in this plan"
+    for params in all_params:
+        # plain builtins, canonical: what Snakemake fingerprints by repr
+        assert params == canonical(params) and repr(params) == repr(canonical(params))
+        typed = model.model_validate(params)
+        # nothing is lost or added on the way through the model
+        assert canonical(typed.model_dump(mode="json")) == params
+
+
+def test_the_robot_study_s_params_carry_its_own_robot(default_plan, robot_plan):
+    husky, warthog = (p.turnmap_params("mujoco") for p in (default_plan, robot_plan))
+    assert warthog["robot"]["track"] == 1.08 and husky["robot"]["track"] != 1.08
+    assert warthog["robot"]["label"] == "Clearpath Warthog" and "urdf" not in warthog["robot"]
+    assert warthog["engine_settings"] != husky["engine_settings"]
+
+
+def test_a_field_the_plan_and_the_job_disagree_on_stops_the_planning_naming_rule_and_key(default_plan):
+    data = copy.deepcopy(default_plan.turnmap_params("mujoco"))
+    data["physics"] = {"time_step": data["physics"]["timestep"]}  # a renamed field
+    with pytest.raises(PlanError, match=r"rule turnmap_engine: .*TurnmapEngineParams.*physics\.timestep"):
+        job_params("turnmap_engine", turnmap.TurnmapEngineParams, data)
+
+
+def test_a_job_refuses_params_missing_a_field_it_reads_naming_the_key(default_plan, tmp_path):
+    params = copy.deepcopy(default_plan.turnmap_params())
+    del params["robot"]["track"]
+    with pytest.raises(ValidationError, match=r"robot\.track"):
+        turnmap.grid_job(tmp_path / "steps.csv", ROOT / "resources/robot/husky_a200.urdf", params, tmp_path / "out.csv")
+
+
+def test_the_job_models_are_frozen(default_plan):
+    typed = turnmap.TurnmapEngineParams.model_validate(default_plan.turnmap_params("mujoco"))
+    with pytest.raises(ValidationError):
+        typed.robot.track = 1.0  # type: ignore[misc]
+
+
+def test_the_turnmap_params_hold_only_what_its_jobs_read(tmp_path):
+    """Editing the IMU, the health limits, the validation's cases or a terrain class's source reruns no
+    turn-map job; one engine's settings rerun that engine's job only."""
+    config = tiny_config(tmp_path)
+    before = plan_of(config)
+    edited = copy.deepcopy(config)
+    edited["imu"]["accel_noise_std"] = 0.5
+    edited["health"]["timeout"] = 999.0
+    edited["validation"]["cases"]["rest_mu0.8"]["mu"] = 0.5
+    edited["real_data"]["classes"]["ice"]["source"] = "another handbook"
+    edited["engines"]["mujoco"] = dict(edited["engines"]["mujoco"] or {}, solver_iterations=77)
+    after = plan_of(edited)
+    assert after.turnmap_params() == before.turnmap_params()
+    for engine in before.engines:
+        same = after.turnmap_params(engine) == before.turnmap_params(engine)
+        assert same == (engine != "mujoco"), engine
