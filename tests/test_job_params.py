@@ -17,6 +17,7 @@ from simpick.plan import Plan, PlanError
 from simpick.plan.jobs import job_params
 from simpick.sources.base import canonical
 from simpick.studies import turnmap
+from simpick.studies.validation import job as validation_job
 
 
 def plan_of(config: dict) -> Plan:
@@ -27,6 +28,7 @@ def plan_of(config: dict) -> Plan:
 CONVERTED = {
     "turnmap_grid": (turnmap.TurnmapGridParams, lambda plan: [plan.turnmap_params()]),
     "turnmap_engine": (turnmap.TurnmapEngineParams, lambda plan: [plan.turnmap_params(e) for e in plan.engines]),
+    "validate": (validation_job.ValidateParams, lambda plan: [plan.validation_params(m) for m in plan.validated]),
 }
 
 

@@ -73,3 +73,12 @@ class JobPlanning:
         if engine is None:
             return job_params("turnmap_grid", TurnmapGridParams, data)
         return job_params("turnmap_engine", TurnmapEngineParams, data | self._engine(engine))
+
+    # --- validation against analytic mechanics (rules/validate.smk) ---
+
+    def validation_params(self, engine: str) -> dict:
+        """Rule validate's params for a model (an engine or a simulator's profile)."""
+        from simpick.studies.validation.job import ValidateParams
+
+        data = self._engine(engine) | {"robot": self._robot(), "cases": self.settings.validation.cases}
+        return job_params("validate", ValidateParams, data)
