@@ -19,6 +19,7 @@ from simpick.simulate.cpuload import CpuLoadParams
 from simpick.simulate.lab import LabCaseParams
 from simpick.sources.base import canonical
 from simpick.studies import turnmap
+from simpick.studies.sweep import SweepPointParams
 from simpick.studies.validation import job as validation_job
 
 
@@ -32,6 +33,12 @@ CONVERTED = {
     "turnmap_engine": (turnmap.TurnmapEngineParams, lambda plan: [plan.turnmap_params(e) for e in plan.engines]),
     "validate": (validation_job.ValidateParams, lambda plan: [plan.validation_params(m) for m in plan.validated]),
     "cpu_load": (CpuLoadParams, lambda plan: [plan.cpu_load_params(e) for e in plan.engines]),
+    "sweep_segments": (
+        SweepPointParams,
+        lambda plan: [
+            plan.sweep_params(e, c, dt) for e in plan.engines for c in plan.segments for dt in plan.sweep_labels
+        ],
+    ),
     # the lab's simulate jobs (their params: simpick.sources.lab.case_params)
     "simulate (lab)": (
         LabCaseParams,
@@ -44,7 +51,9 @@ CONVERTED = {
 
 @pytest.fixture(scope="module")
 def default_plan(tmp_path_factory):
-    return plan_of(tiny_config(tmp_path_factory.mktemp("default")))
+    config = tiny_config(tmp_path_factory.mktemp("default"))
+    config["sweep"] = {"name": "steps", "timesteps": [0.0005, 0.002]}  # the sweep's jobs exist
+    return plan_of(config)
 
 
 @pytest.fixture(scope="module")
@@ -61,7 +70,9 @@ def test_each_converted_rule_s_params_validate_against_its_job_s_model(rule, whi
     plan = request.getfixturevalue(which)
     model, params_of = CONVERTED[rule]
     all_params = params_of(plan)
-    assert all_params, f"{rule}: no job in this plan"
+    # the sweep runs the committed segments, which a study of another robot than theirs refuses
+    no_jobs = {("robot_plan", "sweep_segments")}
+    assert bool(all_params) != ((which, rule) in no_jobs), f"{rule}: jobs in this plan: {len(all_params)}"
     for params in all_params:
         # plain builtins, canonical: what Snakemake fingerprints by repr (the simulate family's params are
         # the source modules', whose unit keys follow the case's: equal, in another order)
@@ -70,7 +81,7 @@ def test_each_converted_rule_s_params_validate_against_its_job_s_model(rule, whi
             assert repr(params) == repr(canonical(params))
         typed = model.model_validate(params)
         # nothing is lost or added on the way through the model
-        assert canonical(typed.model_dump(mode="json")) == params
+        assert canonical(typed.model_dump(mode="json", by_alias=True)) == params
 
 
 def test_the_robot_study_s_params_carry_its_own_robot(default_plan, robot_plan):
@@ -124,3 +135,11 @@ def test_the_cpu_load_params_are_what_they_were_before_typing(default_plan):
     for engine in default_plan.engines:
         before = default_plan.simulation_params(engine, cpu["terrain"], cpu["motion"]) | {"cpu_load": canonical(cpu)}
         assert default_plan.cpu_load_params(engine) == before
+
+
+def test_the_sweep_params_are_the_segments_unit_s_at_the_sweep_step(default_plan):
+    """As before typing: the segments source's params, the timestep replaced (no spurious rerun)."""
+    for terrain_class, segments in default_plan.segments.items():
+        unit = default_plan.case_params("segments", "mujoco", terrain_class, segments)
+        before = canonical(unit | {"physics": unit["physics"] | {"timestep": 0.0005}})
+        assert default_plan.sweep_params("mujoco", terrain_class, "0.5ms") == before

@@ -8,15 +8,7 @@ from typing import Annotated, Any, Literal
 from pydantic import Field, model_validator
 
 from simpick.config.base import Positive, Strict
-from simpick.real.settings import Ground, SegmentRules
-
-
-# the friction is defined once, with the ground the jobs read (simpick.real.settings.Ground)
-class TerrainClass(Ground):
-    """A real terrain class as the engines see it: rigid flat ground with one friction coefficient, and
-    where the coefficient comes from."""
-
-    source: str = Field(description="where the coefficient comes from (a handbook table, or 'assumption: ...')")
+from simpick.real.settings import SegmentRules, TerrainClass
 
 
 class DriveSession(Strict):

@@ -29,7 +29,7 @@ def job_params(rule: str, model: type[BaseModel], data: dict[str, Any]) -> dict:
             f"rule {rule}: the plan's params do not fit its job's {model.__module__}.{model.__name__} "
             f"({lines}); the plan (simpick.plan.jobs) and the job's model must name the same fields"
         ) from None
-    return canonical(typed.model_dump(mode="json"))
+    return canonical(typed.model_dump(mode="json", by_alias=True))
 
 
 def fields_of(section: BaseModel, model: type[BaseModel]) -> dict:

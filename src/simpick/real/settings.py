@@ -1,5 +1,5 @@
-"""The real data's settings as the jobs are given them: a terrain class's ground and the rules that cut
-constant-command segments. Defined here, in the real layer, so that the jobs below the config can read
+"""The real data's settings as the jobs are given them: a terrain class (its ground, and its source) and the
+rules that cut constant-command segments. Defined here, in the real layer, so that the jobs below the config can read
 them typed; the config's ``real_data`` section (:mod:`simpick.config.real`) uses these models, so each
 field has one definition."""
 
@@ -20,6 +20,13 @@ class Ground(JobParams):
     )
 
 
+class TerrainClass(Ground):
+    """A real terrain class as the engines see it: rigid flat ground with one friction coefficient, and
+    where the coefficient comes from."""
+
+    source: str = Field(description="where the coefficient comes from (a handbook table, or 'assumption: ...')")
+
+
 class SegmentRules(JobParams):
     """How constant-command segments are cut from a real log."""
 
@@ -33,4 +40,4 @@ class SegmentRules(JobParams):
     )
 
 
-__all__ = ["Ground", "SegmentRules"]
+__all__ = ["Ground", "SegmentRules", "TerrainClass"]
