@@ -15,6 +15,7 @@ from conftest import ROOT, study_config, tiny_config
 from simpick.config import Study
 from simpick.plan import Plan, PlanError
 from simpick.plan.jobs import job_params
+from simpick.score import simulators as simulators_stage
 from simpick.simulate.cpuload import CpuLoadParams
 from simpick.simulate.lab import LabCaseParams
 from simpick.sources.base import canonical
@@ -39,6 +40,10 @@ CONVERTED = {
             plan.sweep_params(e, c, dt) for e in plan.engines for c in plan.segments for dt in plan.sweep_labels
         ],
     ),
+    "simulators": (simulators_stage.SimulatorsParams, lambda plan: [plan.simulators_params()]),
+    "simulator_settings": (simulators_stage.SimulatorSettingsParams, lambda plan: [plan.simulator_settings_params()]),
+    "simulator_scores": (simulators_stage.SimulatorScoresParams, lambda plan: [plan.simulator_scores_params()]),
+    "simulator_tree": (simulators_stage.SimulatorTreeParams, lambda plan: [plan.simulator_tree_params()]),
     # the lab's simulate jobs (their params: simpick.sources.lab.case_params)
     "simulate (lab)": (
         LabCaseParams,

@@ -38,6 +38,12 @@ def fields_of(section: BaseModel, model: type[BaseModel]) -> dict:
     return section.model_dump(mode="json", include=set(model.model_fields))
 
 
+def _plain(data: dict[str, Any]) -> dict[str, Any]:
+    """``data`` with its sections (models of the typed study) as plain data, to be validated as a job's model
+    (revalidating a plain mapping checks every field: a model instance would pass as it is)."""
+    return {k: v.model_dump(mode="json") if isinstance(v, BaseModel) else v for k, v in data.items()}
+
+
 class JobPlanning:
     """The params of the rules whose jobs read a typed model (mixed into :class:`simpick.plan.Plan`, which
     gives ``settings``, the typed study, and ``config``, its plain settings with the simulator profiles)."""
@@ -82,3 +88,56 @@ class JobPlanning:
 
         data = self._engine(engine) | {"robot": self._robot(), "cases": self.settings.validation.cases}
         return job_params("validate", ValidateParams, data)
+
+    # --- the simulators as rows (rules/simulators.smk) ---
+
+    def simulators_params(self) -> dict:
+        """Rule simulators' params: which profiles ran and what each reads, the engines beside them, the
+        statistics and the verdict's margins (no weight), and how DRIVE's steps are judged where the study
+        replays them (None without a DRIVE folder)."""
+        from simpick.score.simulators import SimulatorsParams
+        from simpick.sources import module as source_module
+
+        drive = None
+        if self.settings.drive_dir:
+            judged = source_module("drive").compare_settings(self.config)
+            drive = {"tolerance": judged["tolerance"], "unit": judged["unit"]}
+        data = {
+            "profile_results": self.profile_results,
+            "engines": self.engines,
+            "simulators": self.simulators,
+            "left_out": self.simulators_left_out,
+            "settings_files": {p: f"results/simulators/settings/{p}" for p in self.profile_results},
+            "statistics": self.settings.statistics,
+            "seed": self.settings.seed,
+            "verdict": self.settings.verdict,
+            "drive": drive,
+        }
+        return job_params("simulators", SimulatorsParams, _plain(data))
+
+    def simulator_settings_params(self) -> dict:
+        """Rule simulator_settings' params: each run profile's full settings and the robot's wheel links (the
+        files' <gazebo reference>, pairs)."""
+        from simpick.score.simulators import SimulatorSettingsParams
+
+        data = {
+            "profiles": {p: self.config["profiles"][p] for p in self.profile_results},
+            "robot": self.robot.name,
+            "wheel_links": [w.link for w in self.robot.driven],
+        }
+        return job_params("simulator_settings", SimulatorSettingsParams, data)
+
+    def simulator_scores_params(self) -> dict:
+        """Rule simulator_scores' params: the run simulators and the weights."""
+        from simpick.score.simulators import SimulatorScoresParams
+
+        data = {"simulators": self.simulators, "weights": self.settings.weights}
+        return job_params("simulator_scores", SimulatorScoresParams, data)
+
+    def simulator_tree_params(self) -> dict:
+        """Rule simulator_tree's params: the run simulators, and whether the study has a verdict."""
+        from simpick.score.simulators import SimulatorTreeParams
+
+        return job_params(
+            "simulator_tree", SimulatorTreeParams, {"simulators": self.simulators, "verdict": self.verdict}
+        )
