@@ -11,10 +11,11 @@ import copy
 import pytest
 from pydantic import ValidationError
 
-from conftest import ROOT, study_config, tiny_config
+from conftest import ROOT, study_config, tiny_config, write_dataset
 from simpick.config import Study
 from simpick.plan import Plan, PlanError
 from simpick.plan.jobs import job_params
+from simpick.real.jobs import ImportParams, SegmentsParams
 from simpick.score import simulators as simulators_stage
 from simpick.simulate.cpuload import CpuLoadParams
 from simpick.simulate.lab import LabCaseParams
@@ -148,3 +149,46 @@ def test_the_sweep_params_are_the_segments_unit_s_at_the_sweep_step(default_plan
         unit = default_plan.case_params("segments", "mujoco", terrain_class, segments)
         before = canonical(unit | {"physics": unit["physics"] | {"timestep": 0.0005}})
         assert default_plan.sweep_params("mujoco", terrain_class, "0.5ms") == before
+
+
+@pytest.fixture(scope="module")
+def replay_plan(tmp_path_factory):
+    """A study with a dataset folder (borealtc_dir): its import and segments jobs exist."""
+    workdir = tmp_path_factory.mktemp("replay")
+    folder = write_dataset(workdir / "yard", {"FLOORING": ["7"]}, seconds=2.0, imu_hz=50.0, cmd_hz=15.0)
+    config = tiny_config(workdir)
+    config["real_data"]["datasets"]["yard"] = {"label": "Husky yard", "imu_hz": 50, "commands_hz": 15}
+    config["borealtc_dir"] = str(folder)
+    return plan_of(config)
+
+
+def test_the_dataset_folder_s_job_params_validate_and_equal_what_rules_real_smk_builds(replay_plan):
+    """rules/real.smk builds these params inline today; the plan's typed ones validate against the jobs' models
+    and hold the same values (the declared rates each stated, None where not declared), so passing them
+    instead reruns only what the jobs' code change reruns."""
+    plan = replay_plan
+    segments = plan.real_segments_params()
+    SegmentsParams.model_validate(segments)
+    inline = canonical(
+        {
+            "segment_rules": plan.config["real_data"]["segment_rules"],
+            "track": plan.config["robot"]["track"],
+            "source": plan.replay_dataset()["source"],
+        }
+    )
+    assert segments == inline
+    settings = plan.import_real_params()
+    typed = ImportParams.model_validate(settings)
+    assert (typed.declared.imu_hz, typed.declared.commands_hz, typed.label) == (50.0, 15.0, "Husky yard")
+    inline = canonical(
+        {
+            "track": plan.config["robot"]["track"],
+            "dataset": plan.replay_set.name,
+            "label": plan.replay_dataset()["label"],
+            "declared": plan.replay_dataset()["declared"],
+        }
+    )
+    assert settings == inline
+    # the inline form, with an undeclared rate left out, validates too (the job reads None)
+    no_rates = dict(inline, declared={})
+    assert ImportParams.model_validate(no_rates).declared.imu_hz is None

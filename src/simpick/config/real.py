@@ -8,7 +8,7 @@ from typing import Annotated, Any, Literal
 from pydantic import Field, model_validator
 
 from simpick.config.base import Positive, Strict
-from simpick.real.settings import SegmentRules, TerrainClass
+from simpick.real.settings import DeclaredRates, SegmentRules, TerrainClass
 
 
 class DriveSession(Strict):
@@ -42,7 +42,8 @@ class DriveReplay(Strict):
     )
 
 
-class DeclaredDataset(Strict):
+# the declared rates are defined once, with what the import job reads (simpick.real.settings.DeclaredRates)
+class DeclaredDataset(DeclaredRates):
     """What is known of a dataset folder before reading it (all optional; rates are measured)."""
 
     # the folder's layout: "borealtc" (terrain-class folders of imu_/pro_ CSV pairs, simpick.real.datasets) or
@@ -55,12 +56,6 @@ class DeclaredDataset(Strict):
     )
     label: str | None = Field(None, description="the dataset's name in the report")
     source: str | None = Field(None, description="where the data come from, with their licence")
-    imu_hz: Positive | None = Field(
-        None, description="Hz the IMU is known to log at; a file more than 20 % off is refused"
-    )
-    commands_hz: Positive | None = Field(
-        None, description="Hz the wheel commands are known to log at; a file more than 20 % off is refused"
-    )
     sessions: dict[str, DriveSession] = Field(
         {}, description="DRIVE only: per-session overrides, by session folder name"
     )

@@ -141,3 +141,30 @@ class JobPlanning:
         return job_params(
             "simulator_tree", SimulatorTreeParams, {"simulators": self.simulators, "verdict": self.verdict}
         )
+
+    # --- a dataset folder's import and segments (the jobs of rules/real.smk, which builds their params inline
+    # today; these give the same content, validated, for that file to pass instead) ---
+
+    def real_segments_params(self) -> dict:
+        """Rule real_segments' params: the segment rules, the controller's track and the data's source."""
+        from simpick.real.jobs import SegmentsParams
+
+        data = {
+            "segment_rules": self.settings.real_data.segment_rules,
+            "track": self.settings.robot.track,
+            "source": self.replay_dataset()["source"],
+        }
+        return job_params("real_segments", SegmentsParams, _plain(data))
+
+    def import_real_params(self) -> dict:
+        """Rule import_real's settings: the controller's track, the dataset's name, label and declared rates."""
+        from simpick.real.jobs import ImportParams
+
+        dataset = self.replay_dataset()
+        data = {
+            "track": self.settings.robot.track,
+            "dataset": self.replay_set.name,
+            "label": dataset["label"],
+            "declared": dataset["declared"],
+        }
+        return job_params("import_real", ImportParams, data)

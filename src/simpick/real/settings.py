@@ -27,6 +27,18 @@ class TerrainClass(Ground):
     source: str = Field(description="where the coefficient comes from (a handbook table, or 'assumption: ...')")
 
 
+class DeclaredRates(JobParams):
+    """What is known of a dataset folder's logging rates before reading it (a file more than 20 % off is
+    refused); the config's declared dataset (real_data.datasets) adds what the report says of it."""
+
+    imu_hz: Positive | None = Field(
+        None, description="Hz the IMU is known to log at; a file more than 20 % off is refused"
+    )
+    commands_hz: Positive | None = Field(
+        None, description="Hz the wheel commands are known to log at; a file more than 20 % off is refused"
+    )
+
+
 class SegmentRules(JobParams):
     """How constant-command segments are cut from a real log."""
 
@@ -40,4 +52,4 @@ class SegmentRules(JobParams):
     )
 
 
-__all__ = ["Ground", "SegmentRules", "TerrainClass"]
+__all__ = ["DeclaredRates", "Ground", "SegmentRules", "TerrainClass"]
