@@ -21,6 +21,7 @@ from simpick.simulate.cpuload import CpuLoadParams
 from simpick.simulate.lab import LabCaseParams
 from simpick.sources.base import canonical
 from simpick.studies import turnmap
+from simpick.studies.calibration.settings import EvaluateSettings, SearchSettings
 from simpick.studies.sweep import SweepPointParams
 from simpick.studies.validation import job as validation_job
 
@@ -45,6 +46,11 @@ CONVERTED = {
     "simulator_settings": (simulators_stage.SimulatorSettingsParams, lambda plan: [plan.simulator_settings_params()]),
     "simulator_scores": (simulators_stage.SimulatorScoresParams, lambda plan: [plan.simulator_scores_params()]),
     "simulator_tree": (simulators_stage.SimulatorTreeParams, lambda plan: [plan.simulator_tree_params()]),
+    "calibrate": (SearchSettings, lambda plan: [plan.calibration_settings(m) for m in plan.cal_models]),
+    "calibration_evaluate": (
+        EvaluateSettings,
+        lambda plan: [plan.calibration_settings(m, search=False) for m in plan.cal_models],
+    ),
     # the lab's simulate jobs (their params: simpick.sources.lab.case_params)
     "simulate (lab)": (
         LabCaseParams,
@@ -192,3 +198,10 @@ def test_the_dataset_folder_s_job_params_validate_and_equal_what_rules_real_smk_
     # the inline form, with an undeclared rate left out, validates too (the job reads None)
     no_rates = dict(inline, declared={})
     assert ImportParams.model_validate(no_rates).declared.imu_hz is None
+
+
+def test_a_replayed_run_s_calibration_settings_carry_its_turning_windows(replay_plan):
+    settings = EvaluateSettings.model_validate(replay_plan.calibration_settings(None, search=False))
+    rules = replay_plan.settings.real_data.segment_rules
+    assert settings.source == "replay" and settings.segment_seconds is None
+    assert (settings.steady.tolerance, settings.steady.min_turn) == (rules.tolerance, rules.min_turn)

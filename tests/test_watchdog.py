@@ -284,7 +284,9 @@ def test_a_hung_calibration_and_its_evaluation_are_recorded_failed(tmp_path):
         + f"""
         from simpick.studies.calibration.search import evaluate_job
         inputs["best"] = {str(best)!r}
-        evaluate_job(inputs, real, calibration, out, timeout=1.0)
+        # the evaluation's settings: the search's less its budget, seed and bounds (the plan's search=False)
+        evaluation = {{k: calibration[k] for k in ("source", "scales", "segment_seconds")}}
+        evaluate_job(inputs, real, evaluation, out, timeout=1.0)
     """,
         evaluation,
     )

@@ -6,8 +6,9 @@ from typing import Annotated
 
 from pydantic import Field, field_validator, model_validator
 
-from simpick.config.base import Finite, NonNegative, Positive, Strict
+from simpick.config.base import NonNegative, Strict
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
+from simpick.studies.calibration.settings import CalibrationBudget, CalibrationWindows
 from simpick.studies.validation.settings import ValidationCase
 
 
@@ -63,18 +64,6 @@ class Sweep(Strict):
         return timesteps
 
 
-class CalibrationScales(Strict):
-    """Each error of the objective is divided by its scale before they are summed, so the terms count alike."""
-
-    yaw_rate: Positive = Field(description="rad/s, the low-passed yaw-rate error's scale")
-    accel_x: Positive = Field(description="m/s^2, the low-passed longitudinal-acceleration error's scale")
-    yaw_rate_gain: Positive | None = Field(
-        None,
-        description="the steady yaw-rate gain error's scale, on units that "
-        "turn under a steady command; null: no gain term",
-    )
-
-
 class CalibrationTarget(Strict):
     """What a calibrated engine must reach on held-out runs to turn like the real robot
     (simpick.studies.calibration.turning.target_table)."""
@@ -90,7 +79,8 @@ class CalibrationTarget(Strict):
     )
 
 
-class Calibration(Strict):
+# the fields a calibration job reads are defined once, with its models (simpick.studies.calibration.settings)
+class Calibration(CalibrationWindows, CalibrationBudget):
     """Calibrate every real-data model on training runs and judge it on held-out runs: what a user who
     tunes an engine to their robot and ground can expect."""
 
@@ -102,26 +92,10 @@ class Calibration(Strict):
     test_fraction: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = Field(
         description="share of each terrain class's runs held out (split by run, never within one)"
     )
-    seed: Annotated[int, Field(ge=0, lt=2**32)] = Field(description="the split and the sampler derive from it")
-    n_trials: Annotated[int, Field(ge=1)] = Field(
-        description="evaluations per model x class, each over all its "
-        "training units; the first is the as-configured model"
-    )
-    startup_trials: Annotated[int, Field(ge=1)] = Field(
-        description="random trials before the TPE sampler models the history"
-    )
-    segment_seconds: Positive | None = Field(
-        None, description="committed segments: the first seconds of each compared window"
-    )
-    replay_seconds: Positive | None = Field(None, description="full replay: the first seconds of each run")
-    scales: CalibrationScales = Field(description="the objective's scales")
     models: list[str] | None = Field(
         None,
         description="engines and reference models to calibrate; null: every one "
         "of the study's that declares parameters",
-    )
-    bounds: dict[str, dict[str, Annotated[list[Finite], Field(min_length=2, max_length=2)]]] = Field(
-        {}, description="model -> parameter -> [low, high], overriding the bounds its adapter declares"
     )
     target: CalibrationTarget = Field(
         CalibrationTarget(), description="what a calibrated engine must reach on held-out runs"

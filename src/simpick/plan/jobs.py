@@ -121,6 +121,8 @@ class JobPlanning:
         from simpick.score.simulators import SimulatorSettingsParams
 
         data = {
+            # the profiles' full settings are the plan's own (the catalog over the engine's block), kept in the
+            # plain settings beside the study's: no section of the typed study holds them
             "profiles": {p: self.config["profiles"][p] for p in self.profile_results},
             "robot": self.robot.name,
             "wheel_links": [w.link for w in self.robot.driven],

@@ -39,17 +39,22 @@ class DeclaredRates(JobParams):
     )
 
 
-class SegmentRules(JobParams):
-    """How constant-command segments are cut from a real log."""
+class SteadyRules(JobParams):
+    """When a real log's command is steady and turning: what the turning windows of a replayed run read."""
 
     tolerance: Positive = Field(description="m/s: both wheel commands within this of constant")
+    min_turn: Positive = Field(description="rad/s of kinematic yaw rate above which a segment is turning")
+
+
+class SegmentRules(SteadyRules):
+    """How constant-command segments are cut from a real log."""
+
     min_duration: Positive = Field(description="s of constant command after settling, at least")
     max_duration: Positive = Field(description="s compared at most (bounds the study's simulation time)")
     settle: NonNegative = Field(description="s driven before the compared window, to reach the new speed")
-    min_turn: Positive = Field(description="rad/s of kinematic yaw rate above which a segment is turning")
     per_kind: Annotated[int, Field(ge=1)] = Field(
         description="the longest straight and turning segments kept per terrain class"
     )
 
 
-__all__ = ["DeclaredRates", "Ground", "SegmentRules", "TerrainClass"]
+__all__ = ["DeclaredRates", "Ground", "SegmentRules", "SteadyRules", "TerrainClass"]

@@ -26,14 +26,13 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from pydantic import ConfigDict, Field
+from pydantic import Field
 
 from simpick.compare.jobs import source_tables
 from simpick.compare.kinds import BY_KIND
 from simpick.compare.real import SEGMENT_TEST_COLUMNS
-from simpick.real.settings import TerrainClass
 from simpick.simulate.jobs import simulate_job
-from simpick.simulate.settings import SimulationParams
+from simpick.simulate.settings import RealCaseParams
 from simpick.tables import write_csv
 
 # a segment's timing, from its compare job's run row, beside its per-test row
@@ -64,14 +63,10 @@ SUMMARY_COLUMNS = (
 )
 
 
-class SweepPointParams(SimulationParams):
+class SweepPointParams(RealCaseParams):
     """What rule sweep_segments' job reads: a segments unit's params (simpick.sources.segments.case_params, one
     terrain class's segments on one model) at the sweep point's timestep."""
 
-    model_config = ConfigDict(populate_by_name=True)
-
-    terrain_class: str
-    ground: TerrainClass = Field(alias="class", description="the terrain class's ground and its source")
     kind: str = Field(description="how the cases are driven: simpick.simulate.jobs.PREPARE")
     source: str
     cases: list[str] = Field(description="the class's segment ids")
