@@ -33,11 +33,6 @@ rule simulators:
         "../envs/simpick.yaml"
     params:
         **PLAN.simulators_params(),
-        drive=(
-            canonical({k: DRIVE_SOURCE.compare_settings(PLAN.config)[k] for k in ("tolerance", "unit")})
-            if SETTINGS.drive_dir
-            else {}
-        ),
         code=PLAN.script_code("simulators"),
     script:
         "../scripts/simulators.py"
@@ -76,8 +71,7 @@ rule simulator_scores:
     conda:
         "../envs/simpick.yaml"
     params:
-        simulators=PLAN.simulators,
-        weights=canonical(PLAN.config["weights"]),
+        **PLAN.simulator_scores_params(),
         code=PLAN.script_code("simulator_scores"),
     script:
         "../scripts/simulator_scores.py"
@@ -94,8 +88,7 @@ rule simulator_tree:
     conda:
         "../envs/simpick.yaml"
     params:
-        simulators=PLAN.simulators,
-        verdict=PLAN.verdict,
+        **PLAN.simulator_tree_params(),
         code=PLAN.script_code("simulator_tree"),
     script:
         "../scripts/simulator_tree.py"

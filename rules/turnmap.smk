@@ -6,8 +6,6 @@
 TURNMAP_TARGETS = []
 
 if SETTINGS.drive_dir:
-    from simpick.studies.turnmap import job_params as turnmap_params
-
     TURNMAP = f"{DRIVE}/turnmap"
     TURNMAP_TARGETS = [f"{DRIVE}/turnmap.csv", f"{DRIVE}/turnmap.png"]
 
@@ -22,7 +20,7 @@ if SETTINGS.drive_dir:
         conda:
             "../envs/simpick.yaml"
         params:
-            case=canonical(turnmap_params(PLAN.config)),
+            case=PLAN.turnmap_params(),
             code=PLAN.script_code("turnmap_grid"),
         script:
             "../scripts/turnmap_grid.py"
@@ -41,7 +39,7 @@ if SETTINGS.drive_dir:
             "../envs/simpick.yaml"
         threads: 1
         params:
-            case=lambda wc: canonical(turnmap_params(PLAN.config, wc.engine)),
+            case=lambda wc: PLAN.turnmap_params(wc.engine),
             code=lambda wc: PLAN.script_code("turnmap_engine", *PLAN.engine_modules(wc.engine)),
         script:
             "../scripts/turnmap_engine.py"

@@ -1,5 +1,10 @@
 from simpick.joblog import logged
 from simpick.score.simulators import simulator_scores_job
 
+# the params less the rule's code version (a rerun trigger, not read by the job): the job's model
 with logged(snakemake.log[0]):
-    simulator_scores_job(snakemake.input.tree_dir, dict(snakemake.params.items()), dict(snakemake.output.items()))
+    simulator_scores_job(
+        snakemake.input.tree_dir,
+        {k: v for k, v in snakemake.params.items() if k != "code"},
+        dict(snakemake.output.items()),
+    )

@@ -201,9 +201,22 @@ def test_cpu_load_runs_are_health_checked(tmp_path):
         "engine": "mujoco",
         "physics": {"timestep": 0.001, "ground_friction": 0.8},
         "robot": {"max_wheel_torque": 100.0, "track": 0.555},
+        "imu": {"rate_hz": 100.0, "accel_range": 50.0, "gyro_range": 5.0},
+        "health": dict(HealthLimits().__dict__),
+        "seed": 0,
         "engine_settings": {},
-        "motion": {"v": 0.5, "w": 0.0, "start": [0.0, 0.0, 0.0]},
-        "cpu_load": {"duration": 0.3, "repeats": 1, "robots_average": 1, "robots_intense": 2, "spacing": 1.2},
+        "terrain": "flat",
+        "motion_name": "straight",
+        "motion": {"v": 0.5, "w": 0.0, "duration": 0.3, "start": [0.0, 0.0, 0.0]},
+        "cpu_load": {
+            "terrain": "flat",
+            "motion": "straight",
+            "duration": 0.3,
+            "repeats": 1,
+            "robots_average": 1,
+            "robots_intense": 2,
+            "spacing": 1.2,
+        },
     }
     common = dict(params=params, urdf=str(ROOT / "resources/robot/husky_a200.urdf"), terrain_file=str(path))
     ok = measure(**common, limits=HealthLimits())

@@ -20,7 +20,7 @@ from simpick.studies import turnmap
 ROOT = Path(__file__).resolve().parents[1]
 WARTHOG = {"urdf": str(ROOT / "resources" / "robot" / "warthog.urdf"), "track": 1.08, "max_wheel_torque": 835.0}
 R, B = 0.3, 1.08  # DRIVE's wheel radius and baseline (its README)
-CLASSES = {"asphalt": {"friction": 0.75}, "gravel": {"friction": 0.55}}
+CLASSES = {"asphalt": 0.75, "gravel": 0.55}  # terrain class -> friction
 
 
 def _step(terrain, step, left, right, gain=0.6, session="s"):

@@ -9,6 +9,7 @@ import re
 import numpy as np
 import pytest
 import yaml
+from pydantic import ValidationError
 
 from conftest import ROOT, setup, study_config
 from simpick.config import problems
@@ -386,7 +387,7 @@ def _job_params(engine, cases):
     return {
         "engine": engine,
         "engine_settings": CONFIG["engines"][engine] or {},
-        "physics": CONFIG["physics"],
+        "physics": {"timestep": CONFIG["physics"]["timestep"]},
         "robot": {k: v for k, v in CONFIG["robot"].items() if k != "urdf"},
         "cases": cases,
     }
@@ -438,13 +439,16 @@ def test_a_case_that_crashes_is_a_failed_row_and_the_next_case_runs(tmp_path, mo
     assert (row.quantity, row.status, row.passed) == ("yaw_rate_gain", "failed", False)
     assert row.reasons == "crashed: RuntimeError: solver gave up"
     assert failures(summary) == {"pybullet": ["gain"]}
-    # an invalid case kind is the config's error, not a failed run: it stops the job
-    with pytest.raises(InputError, match="validation.cases.bad.kind"):
+    # an invalid case kind is the config's error, not a failed run: it stops the job (its params' model
+    # refuses it), and run on its own, the case names its key
+    with pytest.raises(ValidationError, match=r"cases\.bad\.kind"):
         job.validate_job(
             [str(tmp_path / "bad.json")],
             ROOT / CONFIG["robot"]["urdf"],
             _job_params("pybullet", {"bad": {"kind": "hover", "mu": 0.8}}),
         )
+    with pytest.raises(InputError, match=r"validation\.cases\.bad\.kind"):
+        run_case(_setup("pybullet"), "bad", {"kind": "hover", "mu": 0.8})
 
 
 # --- a robot on a passive suspension: rest pose and articulation -----------------------------------

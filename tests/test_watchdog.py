@@ -27,9 +27,11 @@ HANGING_MODEL = textwrap.dedent("""
     engines.ADAPTERS["hanging"] = "hanging_engine:Hanging"
     config = yaml.safe_load(open(sys.argv[1]))
     out = sys.argv[2]
-    real = {"engine": "hanging", "engine_settings": {}, "terrain_class": "flooring",
-            "class": config["real_data"]["classes"]["flooring"], "physics": config["physics"],
-            "robot": config["robot"], "imu": config["imu"], "health": config["health"], "seed": 1}
+    # what every simulation job reads (simpick.simulate.settings.SimulationParams), and a real case's ground
+    sim = {"engine": "hanging", "engine_settings": {}, "physics": config["physics"],
+           "robot": {k: v for k, v in config["robot"].items() if k != "urdf"}, "imu": config["imu"],
+           "health": config["health"], "seed": 1}
+    real = {**sim, "terrain_class": "flooring", "class": config["real_data"]["classes"]["flooring"]}
     calibration = {"source": "segments", "scales": config["calibration"]["scales"], "segment_seconds": 1.0,
                    "n_trials": 2, "startup_trials": 1, "seed": 1, "bounds": {}}
 """)
@@ -65,7 +67,7 @@ def test_a_hung_engine_is_stopped_and_reported(tmp_path):
         from simpick.inputs.jobs import terrain_job
         from simpick.simulate.jobs import simulate_job
         terrain_job(out + ".json", "grass", 1, config["terrains"]["grass"])
-        params = {**real, "terrain": "grass", "motion_name": "straight", "motion": config["motions"]["straight"],
+        params = {**sim, "terrain": "grass", "motion_name": "straight", "motion": config["motions"]["straight"],
                   "health": dict(config["health"], timeout=1.0), "kind": "lab", "source": "lab",
                   "cases": ["straight"]}
         simulate_job([out], config["robot"]["urdf"], {"terrain": out + ".json"}, params)
@@ -158,7 +160,7 @@ def test_a_hung_validation_case_fails_it_and_the_cases_after_it(tmp_path):
         rest = {"kind": "rest", "mu": 0.8, "duration": 1.2}
         cases = {"a_rest": rest, "b_slide": {"kind": "slide", "v": 0.5, "mu": 0.3}, "c_rest": rest}
         params = {"engine": "pybullet", "engine_settings": config["engines"]["pybullet"], "cases": cases,
-                  "physics": config["physics"], "robot": config["robot"]}
+                  "physics": {"timestep": config["physics"]["timestep"]}, "robot": sim["robot"]}
         # three cases in a 3 s job: 1 s each
         job.validate_job([f"{out}/{name}.json" for name in cases], config["robot"]["urdf"], params,
                                 timeout=3.0)
@@ -191,7 +193,8 @@ def test_a_hung_cpu_load_job_is_recorded_failed_and_left_out_of_the_scores(tmp_p
         from simpick.inputs.jobs import terrain_job
         from simpick.simulate.jobs import cpu_job
         terrain_job(out + ".terrain.json", "grass", 1, config["terrains"]["grass"])
-        params = {**real, "motion": config["motions"]["straight"], "cpu_load": config["cpu_load"]}
+        params = {**sim, "terrain": "grass", "motion_name": "straight", "motion": config["motions"]["straight"],
+                  "cpu_load": config["cpu_load"]}
         cpu_job(out, out + ".terrain.json", config["robot"]["urdf"], params, timeout=1.0)
     """,
         output,
@@ -281,7 +284,9 @@ def test_a_hung_calibration_and_its_evaluation_are_recorded_failed(tmp_path):
         + f"""
         from simpick.studies.calibration.search import evaluate_job
         inputs["best"] = {str(best)!r}
-        evaluate_job(inputs, real, calibration, out, timeout=1.0)
+        # the evaluation's settings: the search's less its budget, seed and bounds (the plan's search=False)
+        evaluation = {{k: calibration[k] for k in ("source", "scales", "segment_seconds")}}
+        evaluate_job(inputs, real, evaluation, out, timeout=1.0)
     """,
         evaluation,
     )

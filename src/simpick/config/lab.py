@@ -6,8 +6,9 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from simpick.config.base import Finite, Positive, Strict
+from simpick.config.base import Strict
 from simpick.inputs.terrain import RULES, TILES
+from simpick.simulate.settings import CpuLoad, Motion
 
 
 class Terrain(BaseModel):
@@ -24,28 +25,8 @@ class Terrain(BaseModel):
     tiles: Annotated[int, Field(ge=1, le=100)] = Field(TILES, description="the strip's length in 1 m x 1 m tiles")
 
 
-class Motion(Strict):
-    """An open-loop command held for the whole run, as the paper's controller drove it."""
-
-    v: Finite = Field(description="m/s, commanded forward speed")
-    w: Finite = Field(description="rad/s, commanded yaw rate (positive: left)")
-    duration: Positive = Field(description="s simulated")
-    start: tuple[Finite, Finite, Finite] = Field(
-        description="x (m), y (m), yaw (rad) of the start, relative to the strip (which spans x 0..tiles m)"
-    )
-
-
-class CpuLoad(Strict):
-    """The paper's CPU-load scenarios: CPU seconds per simulated second, % of one core."""
-
-    terrain: str = Field(description="the lab terrain driven (one of terrains)")
-    motion: str = Field(description="the motion driven (one of motions)")
-    duration: Positive = Field(description="s simulated per repeat")
-    repeats: Annotated[int, Field(ge=1)] = Field(description="repeats per scenario; the median is reported")
-    robots_average: Annotated[int, Field(ge=1)] = Field(description="robots in one world, the paper's Scenario 1")
-    robots_intense: Annotated[int, Field(ge=1)] = Field(description="robots in one world, the paper's Scenario 2")
-    spacing: Positive = Field(description="m between robots in the convoy")
-
-
 class Reference(Strict):
     published: str = Field(description="the paper's published figures (its Tables 3, 4, 6-11) as YAML")
+
+
+__all__ = ["CpuLoad", "Motion", "Reference", "Terrain"]

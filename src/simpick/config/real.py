@@ -7,29 +7,8 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field, model_validator
 
-from simpick.config.base import NonNegative, Positive, Strict
-
-
-class SegmentRules(Strict):
-    """How constant-command segments are cut from a real log."""
-
-    tolerance: Positive = Field(description="m/s: both wheel commands within this of constant")
-    min_duration: Positive = Field(description="s of constant command after settling, at least")
-    max_duration: Positive = Field(description="s compared at most (bounds the study's simulation time)")
-    settle: NonNegative = Field(description="s driven before the compared window, to reach the new speed")
-    min_turn: Positive = Field(description="rad/s of kinematic yaw rate above which a segment is turning")
-    per_kind: Annotated[int, Field(ge=1)] = Field(
-        description="the longest straight and turning segments kept per terrain class"
-    )
-
-
-class TerrainClass(Strict):
-    """A real terrain class as the engines see it: rigid flat ground with one friction coefficient."""
-
-    friction: Annotated[float, Field(ge=0, le=10, allow_inf_nan=False)] = Field(
-        description="Coulomb coefficient the engines give this class's ground"
-    )
-    source: str = Field(description="where the coefficient comes from (a handbook table, or 'assumption: ...')")
+from simpick.config.base import Positive, Strict
+from simpick.real.settings import DeclaredRates, SegmentRules, TerrainClass
 
 
 class DriveSession(Strict):
@@ -63,7 +42,8 @@ class DriveReplay(Strict):
     )
 
 
-class DeclaredDataset(Strict):
+# the declared rates are defined once, with what the import job reads (simpick.real.settings.DeclaredRates)
+class DeclaredDataset(DeclaredRates):
     """What is known of a dataset folder before reading it (all optional; rates are measured)."""
 
     # the folder's layout: "borealtc" (terrain-class folders of imu_/pro_ CSV pairs, simpick.real.datasets) or
@@ -76,12 +56,6 @@ class DeclaredDataset(Strict):
     )
     label: str | None = Field(None, description="the dataset's name in the report")
     source: str | None = Field(None, description="where the data come from, with their licence")
-    imu_hz: Positive | None = Field(
-        None, description="Hz the IMU is known to log at; a file more than 20 % off is refused"
-    )
-    commands_hz: Positive | None = Field(
-        None, description="Hz the wheel commands are known to log at; a file more than 20 % off is refused"
-    )
     sessions: dict[str, DriveSession] = Field(
         {}, description="DRIVE only: per-session overrides, by session folder name"
     )

@@ -2,77 +2,14 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import Annotated
 
 from pydantic import Field, field_validator, model_validator
 
-from simpick.config.base import Finite, NonNegative, Positive, Strict
+from simpick.config.base import NonNegative, Strict
 from simpick.engines import ADAPTERS, REFERENCE_MODELS, get_engine
-from simpick.studies.validation.measures import DEFAULT_HEADING, MIN_MEASURED_S, SETTLE_S
-
-
-class ValidationCase(Strict):
-    """A case with a known mechanical answer (simpick.studies.validation documents the kinds)."""
-
-    kind: Literal["yaw_gain", "straight", "slide", "incline", "rest", "rest_pose", "articulation"] = Field(
-        description="yaw_gain: steady yaw rate / w against the Coulomb gain; straight: speed = wheel speed x "
-        "radius; slide: locked-wheel deceleration mu g; incline: parked below atan(mu), sliding "
-        "above; rest: accelerometer g, gyro 0, no creep; a robot on a suspension (skipped on others): "
-        "rest_pose: the chassis level at its resting height; articulation: coupled rockers twisted on "
-        "two diagonal blocks h high, the chassis' pitch, roll and height as the coupling sets them"
-    )
-    h: Annotated[float, Field(gt=0, le=0.5, allow_inf_nan=False)] | None = Field(
-        None, description="m, articulation: the blocks' height (below half the wheel radius)"
-    )
-    v: Finite | None = Field(None, description="m/s, commanded forward speed (yaw_gain, straight, slide)")
-    w: Finite | None = Field(None, description="rad/s, commanded yaw rate (yaw_gain; positive: left)")
-    mu: Annotated[float, Field(gt=0, le=10, allow_inf_nan=False)] = Field(
-        description="Coulomb coefficient of the flat rigid ground"
-    )
-    angle_factor: Positive | None = Field(
-        None, description="incline: the slope as a multiple of atan(mu) (below 1 it must hold, above it must slide)"
-    )
-    heading: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = Field(
-        DEFAULT_HEADING,
-        description="deg; yaw_gain, straight, slide: the robot's start heading; incline: the "
-        "downhill direction from the robot's back (the robot starts at heading 0); "
-        "rest: refused (it would change nothing)",
-    )
-    duration: Positive | None = Field(None, description="s simulated; default: the kind's own")
-    cruise: Positive | None = Field(None, description="slide: s driven before the wheels lock; default: the kind's")
-    friction_ratio: Annotated[float, Field(gt=0, le=2, allow_inf_nan=False)] | None = Field(
-        None,
-        description="yaw_gain only: the wheels' lateral/longitudinal friction ratio given to the engine's "
-        "friction_ratio setting; the analytic gain is then the anisotropic Coulomb one (an "
-        "engine without that setting skips the case)",
-    )
-
-    @model_validator(mode="after")
-    def needed(self):
-        need = {
-            "yaw_gain": ("v", "w"),
-            "straight": ("v",),
-            "slide": ("v",),
-            "incline": ("angle_factor",),
-            "rest": (),
-            "rest_pose": (),
-            "articulation": ("h",),
-        }[self.kind]
-        missing = [k for k in need if getattr(self, k) is None]
-        if missing:
-            raise ValueError(f"a {self.kind} case needs {missing}")
-        if self.kind == "yaw_gain" and self.w == 0:
-            raise ValueError("a yaw_gain case needs w != 0 (the gain is yaw rate / w)")
-        if self.friction_ratio is not None and self.kind != "yaw_gain":
-            raise ValueError("friction_ratio is a yaw_gain case's parameter only")
-        if self.kind == "rest" and self.heading != 0:
-            raise ValueError("a rest case takes no heading (parked on level ground, it would change nothing)")
-        if self.kind in ("incline", "rest") and self.duration is not None and self.duration < SETTLE_S + MIN_MEASURED_S:
-            raise ValueError(
-                f"a {self.kind} case measures after {SETTLE_S:g} s of settling: its duration must be "
-                f"at least {SETTLE_S + MIN_MEASURED_S:g} s, got {self.duration:g}"
-            )
-        return self
+from simpick.studies.calibration.settings import CalibrationBudget, CalibrationWindows
+from simpick.studies.validation.settings import ValidationCase
 
 
 class Validation(Strict):
@@ -127,18 +64,6 @@ class Sweep(Strict):
         return timesteps
 
 
-class CalibrationScales(Strict):
-    """Each error of the objective is divided by its scale before they are summed, so the terms count alike."""
-
-    yaw_rate: Positive = Field(description="rad/s, the low-passed yaw-rate error's scale")
-    accel_x: Positive = Field(description="m/s^2, the low-passed longitudinal-acceleration error's scale")
-    yaw_rate_gain: Positive | None = Field(
-        None,
-        description="the steady yaw-rate gain error's scale, on units that "
-        "turn under a steady command; null: no gain term",
-    )
-
-
 class CalibrationTarget(Strict):
     """What a calibrated engine must reach on held-out runs to turn like the real robot
     (simpick.studies.calibration.turning.target_table)."""
@@ -154,7 +79,8 @@ class CalibrationTarget(Strict):
     )
 
 
-class Calibration(Strict):
+# the fields a calibration job reads are defined once, with its models (simpick.studies.calibration.settings)
+class Calibration(CalibrationWindows, CalibrationBudget):
     """Calibrate every real-data model on training runs and judge it on held-out runs: what a user who
     tunes an engine to their robot and ground can expect."""
 
@@ -166,26 +92,10 @@ class Calibration(Strict):
     test_fraction: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = Field(
         description="share of each terrain class's runs held out (split by run, never within one)"
     )
-    seed: Annotated[int, Field(ge=0, lt=2**32)] = Field(description="the split and the sampler derive from it")
-    n_trials: Annotated[int, Field(ge=1)] = Field(
-        description="evaluations per model x class, each over all its "
-        "training units; the first is the as-configured model"
-    )
-    startup_trials: Annotated[int, Field(ge=1)] = Field(
-        description="random trials before the TPE sampler models the history"
-    )
-    segment_seconds: Positive | None = Field(
-        None, description="committed segments: the first seconds of each compared window"
-    )
-    replay_seconds: Positive | None = Field(None, description="full replay: the first seconds of each run")
-    scales: CalibrationScales = Field(description="the objective's scales")
     models: list[str] | None = Field(
         None,
         description="engines and reference models to calibrate; null: every one "
         "of the study's that declares parameters",
-    )
-    bounds: dict[str, dict[str, Annotated[list[Finite], Field(min_length=2, max_length=2)]]] = Field(
-        {}, description="model -> parameter -> [low, high], overriding the bounds its adapter declares"
     )
     target: CalibrationTarget = Field(
         CalibrationTarget(), description="what a calibrated engine must reach on held-out runs"

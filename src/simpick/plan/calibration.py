@@ -81,29 +81,36 @@ class CalibrationPlanning:
     def calibration_settings(self, engine, search=True):
         """What a class's errors depend on; with ``search`` also the optimiser's budget, seed and
         this model's bounds (so an evaluation does not rerun on a budget edit unless the best
-        parameters change)."""
-        cal = self.calibration
-        window = (
-            {"segment_seconds": cal.get("segment_seconds")}
-            if not self.replay_set
-            else {
-                "replay_seconds": cal.get("replay_seconds"),
-                # the steady-command turning windows of the real turning analysis (rule real_turning;
-                # window and settle: simpick.real.turning.turning_windows' own)
-                "steady": {k: self.config["real_data"]["segment_rules"][k] for k in ("tolerance", "min_turn")},
-            }
-        )
-        out = {"source": self.cal_source, "scales": cal["scales"], **window}
-        if search:
-            out.update(
+        parameters change). Validated against the calibrate or evaluate job's model (simpick.plan.jobs)."""
+        from simpick.plan.jobs import job_params
+        from simpick.studies.calibration.settings import EvaluateSettings, SearchSettings
+
+        cal = self.settings.calibration
+        rules = self.settings.real_data.segment_rules
+        data = {
+            "source": self.cal_source,
+            "scales": cal.scales.model_dump(mode="json"),
+            # the units' first seconds: the committed segments', or a replayed run's with the steady-command
+            # turning windows of the real turning analysis (rule real_turning; window and settle:
+            # simpick.real.turning.turning_windows' own)
+            **(
                 {
-                    "n_trials": cal["n_trials"],
-                    "startup_trials": cal["startup_trials"],
-                    "seed": cal["seed"],
-                    "bounds": {engine: (cal.get("bounds") or {}).get(engine) or {}},
+                    "replay_seconds": cal.replay_seconds,
+                    "steady": {"tolerance": rules.tolerance, "min_turn": rules.min_turn},
                 }
-            )
-        return canonical(out)
+                if self.replay_set
+                else {"segment_seconds": cal.segment_seconds}
+            ),
+        }
+        if not search:
+            return job_params("calibration_evaluate", EvaluateSettings, data)
+        data |= {
+            "n_trials": cal.n_trials,
+            "startup_trials": cal.startup_trials,
+            "seed": cal.seed,
+            "bounds": {engine: cal.bounds.get(engine) or {}},
+        }
+        return job_params("calibrate", SearchSettings, data)
 
     def calibration_outputs(self):
         return [f"{self.cal_dir}/{e}/{c}/evaluation.csv" for e in self.cal_models for c in self.cal_classes]

@@ -12,7 +12,6 @@ from simpick.engines import get_engine, unavailable
 from simpick.engines.catalog import load_catalog
 from simpick.engines.simulators import MODEL_SETTINGS, engine_of, model_name
 from simpick.plan.errors import PlanError
-from simpick.sources.base import canonical
 
 
 def _build_failure(engine: str) -> str:
@@ -96,29 +95,3 @@ class ModelPlanning:
             else:
                 run.append(name)
         return run, out
-
-    def simulators_params(self):
-        """What rule simulators depends on: which profiles ran and what each reads, the engines beside them,
-        and the verdict's statistics and margins (no weight)."""
-        return canonical(
-            {
-                "profile_results": self.profile_results,
-                "engines": self.engines,
-                "simulators": self.simulators,
-                "left_out": self.simulators_left_out,
-                "settings_files": {p: f"results/simulators/settings/{p}" for p in self.profile_results},
-                "statistics": self.statistics_params(),
-                "seed": self.config["seed"],
-                "verdict": self.config["verdict"],
-            }
-        )
-
-    def simulator_settings_params(self):
-        """Each run profile's full settings and the robot's wheel links (the files' <gazebo reference>, pairs)."""
-        return canonical(
-            {
-                "profiles": {p: self.config["profiles"][p] for p in self.profile_results},
-                "robot": self.robot.name,
-                "wheel_links": [w.link for w in self.robot.driven],
-            }
-        )

@@ -156,8 +156,14 @@ class SourcePlanning:
         return lab_source.lab_params(self.config, engine, terrain, motion_name)
 
     def cpu_load_params(self, engine):
-        cpu = self.config["cpu_load"]
-        return self.simulation_params(engine, cpu["terrain"], cpu["motion"]) | {"cpu_load": canonical(cpu)}
+        """Rule cpu_load's params: the lab case's of its terrain and motion, and the scenarios; validated against
+        the job's model (simpick.plan.jobs)."""
+        from simpick.plan.jobs import job_params
+        from simpick.simulate.cpuload import CpuLoadParams
+
+        cpu = self.settings.cpu_load
+        data = self.simulation_params(engine, cpu.terrain, cpu.motion) | {"cpu_load": cpu.model_dump(mode="json")}
+        return job_params("cpu_load", CpuLoadParams, data)
 
     def real_params(self, engine, terrain_class):
         return source_base.real_params(self.config, engine, terrain_class)

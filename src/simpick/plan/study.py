@@ -20,6 +20,7 @@ from simpick.plan.answer import AnswerPlanning
 from simpick.plan.calibration import CalibrationPlanning
 from simpick.plan.code import CodePlanning
 from simpick.plan.errors import PlanError
+from simpick.plan.jobs import JobPlanning
 from simpick.plan.models import ModelPlanning
 from simpick.plan.optin import OptInPlanning
 from simpick.plan.realdata import RealDataPlanning
@@ -27,7 +28,6 @@ from simpick.plan.report import ReportPlanning
 from simpick.plan.scheduling import CostPlanning
 from simpick.plan.sources import SourcePlanning
 from simpick.plan.sweep import SweepPlanning
-from simpick.sources.base import canonical, model_settings
 
 __all__ = ["Plan", "PlanError"]
 
@@ -43,6 +43,7 @@ class Plan(
     CodePlanning,
     ReportPlanning,
     CalibrationPlanning,
+    JobPlanning,
 ):
     """Everything the rules ask of a study, from its validated config (:class:`simpick.config.Study`),
     worked out once at planning time. ``config``: the raw dict Snakemake holds (its ``engines`` and
@@ -81,23 +82,6 @@ class Plan(
         ReportPlanning.__init__(self)
 
     # --- validation against analytic mechanics ---
-
-    def validation_params(self, engine):
-        """What an engine's validation job depends on: the engine's settings, the robot, the timestep
-        and the cases (not the IMU model, the health limits or the tolerances)."""
-        config = self.config
-        return canonical(
-            {
-                "engine": engine,
-                "engine_settings": model_settings(config, engine),
-                "physics": {"timestep": config["physics"]["timestep"]},
-                "robot": {k: v for k, v in config["robot"].items() if k != "urdf"},
-                "cases": {
-                    name: {k: v for k, v in case.items() if v is not None}
-                    for name, case in config["validation"]["cases"].items()
-                },
-            }
-        )
 
     def validation_results(self, engines=None):
         """Every case's record of ``engines`` (all; ``"{engine}"``: one job's outputs)."""

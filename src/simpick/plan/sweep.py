@@ -8,7 +8,6 @@ source's parameters and code with the timestep replaced.
 from __future__ import annotations
 
 from simpick.config import timestep_label
-from simpick.sources.base import canonical
 
 
 class SweepPlanning:
@@ -23,9 +22,14 @@ class SweepPlanning:
 
     def sweep_params(self, engine, terrain_class, label):
         """The segments source's job of a class on ``engine`` (case_params) at the sweep point's timestep."""
+        from simpick.plan.jobs import job_params
+        from simpick.studies.sweep import SweepPointParams
+
         params = self.case_params("segments", engine, terrain_class, self.segments[terrain_class])
         dt = dict(zip(self.sweep_labels, self.sweep["timesteps"]))[label]
-        return canonical(params | {"physics": params["physics"] | {"timestep": float(dt)}})
+        return job_params(
+            "sweep_segments", SweepPointParams, params | {"physics": params["physics"] | {"timestep": float(dt)}}
+        )
 
     def sweep_code(self, engine):
         """A sweep point's code: its job (which runs the compare stage's code), the model's adapter,

@@ -17,28 +17,49 @@ import zipfile
 from pathlib import Path
 
 import yaml
+from pydantic import Field
 
 from simpick.errors import InputError
+from simpick.params import JobParams, Positive
 from simpick.real.logs import borealtc, read_canonical, write_canonical
 from simpick.real.logs.csvlog import read_csv_log
 from simpick.real.logs.rosbag import read_bag
 from simpick.real.segments import derive_from_logs, load_segments
+from simpick.real.settings import DeclaredRates, SegmentRules
 from simpick.tables import write_csv
+
+
+class SegmentsParams(JobParams):
+    """What rule real_segments' job reads: how segments are cut, the controller's track, the data's source."""
+
+    segment_rules: SegmentRules
+    track: Positive = Field(description="m, the controller's track (the config's robot.track)")
+    source: str = Field(description="where the data come from, for the table's provenance")
+
+
+class ImportParams(JobParams):
+    """What rule import_real's job reads: the controller's track, the dataset's name, label and declared rates."""
+
+    track: Positive = Field(description="m, the controller's track (the config's robot.track)")
+    dataset: str = Field(description="the dataset's name (its entry under real_data.datasets)")
+    label: str = Field(description="the dataset's name in the report")
+    declared: DeclaredRates = Field(description="the rates the config declares for the folder's files")
 
 
 def segments_job(logs: list[str], output_csv: str, output_provenance: str, params: dict) -> None:
     """The constant-command segments of a dataset's imported runs (a result, never the committed table)."""
-    rules = params["segment_rules"]
+    p = SegmentsParams.model_validate(params)
+    rules = p.segment_rules
     table, provenance = derive_from_logs(
-        (read_canonical(p) for p in logs),
-        tolerance=rules["tolerance"],
-        min_duration=rules["min_duration"],
-        max_duration=rules["max_duration"],
-        settle=rules["settle"],
-        min_turn=rules["min_turn"],
-        per_kind=int(rules["per_kind"]),
-        track=params["track"],
-        source=params["source"],
+        (read_canonical(path) for path in logs),
+        tolerance=rules.tolerance,
+        min_duration=rules.min_duration,
+        max_duration=rules.max_duration,
+        settle=rules.settle,
+        min_turn=rules.min_turn,
+        per_kind=rules.per_kind,
+        track=p.track,
+        source=p.source,
     )
     write_csv(table, output_csv)
     Path(output_provenance).write_text(yaml.safe_dump(provenance, sort_keys=False))
@@ -83,16 +104,16 @@ def dataset_manifest_job(dataset: dict, output: str) -> None:
 
 def import_job(imu: str, pro: str, terrain_class: str, output: str, params: dict) -> None:
     """One run of a dataset folder -> canonical log (rates measured, checked against any declared)."""
-    declared = params["declared"]
+    p = ImportParams.model_validate(params)
     log = borealtc.read_run(
         imu,
         pro,
         terrain_class,
-        track=params["track"],
-        imu_rate_hz=declared.get("imu_hz"),
-        command_rate_hz=declared.get("commands_hz"),
-        declared_by=f"real_data.datasets.{params['dataset']} in the config",
-        dataset=params["label"],
+        track=p.track,
+        imu_rate_hz=p.declared.imu_hz,
+        command_rate_hz=p.declared.commands_hz,
+        declared_by=f"real_data.datasets.{p.dataset} in the config",
+        dataset=p.label,
     )
     write_canonical(log, output)
 

@@ -12,16 +12,20 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import pandas as pd
 import yaml
+from pydantic import Field
 
 from simpick.engines.catalog import load_catalog
 from simpick.engines.simulators import VARIANTS, model_name
+from simpick.params import JobParams, NonNegative
 from simpick.score.equivalence import outcomes_table
 from simpick.score.mechanics import mechanics_table
 from simpick.score.scoring import FACT_KEYS
+from simpick.score.settings import Statistics, Verdict
 from simpick.score.verdict import METRICS, NO_SPEED, per_run_values, read_per_test
 from simpick.tables import write_csv
 
@@ -74,16 +78,62 @@ def _first(frame: pd.DataFrame, **where) -> pd.Series | None:
     return rows.iloc[0] if len(rows) else None
 
 
+class DriveJudging(JobParams):
+    """How DRIVE's steps are judged where the profiles replayed them (simpick.sources.drive.compare_settings)."""
+
+    tolerance: float = Field(description="the repeatability margin of DRIVE's steps")
+    unit: Literal["step", "session"] = Field(description="the verdict's unit of pairing")
+
+
+class SimulatorsParams(JobParams):
+    """What rule simulators' job reads: which profiles ran and what each reads, the engines beside them, the
+    statistics and the verdict's margins (no weight); DRIVE's judging where the study replays DRIVE."""
+
+    profile_results: dict[str, str] = Field(description="profile -> the model whose results it reads")
+    engines: list[str]
+    simulators: list[str] = Field(description="the simulators whose profiles ran")
+    left_out: dict[str, str] = Field(description="simulator -> why its profiles did not run")
+    settings_files: dict[str, str] = Field(description="profile -> its settings files' stem")
+    statistics: Statistics
+    seed: Annotated[int, Field(ge=0, lt=2**32)]
+    verdict: Verdict
+    drive: DriveJudging | None = Field(None, description="DRIVE's judging; None: the study has no DRIVE folder")
+
+
+class SimulatorSettingsParams(JobParams):
+    """What rule simulator_settings' job reads: each run profile's full settings and the robot's wheel links."""
+
+    profiles: dict[str, dict[str, Any]] = Field(
+        description="profile -> its adapter's settings in full (the plan's, checked by the adapter's model)"
+    )
+    robot: str = Field(description="the robot's URDF <robot name>")
+    wheel_links: list[str] = Field(description="the driven wheels' links (the files' <gazebo reference>)")
+
+
+class SimulatorScoresParams(JobParams):
+    """What rule simulator_scores' job reads: the run simulators and the weights of the paper's table."""
+
+    simulators: list[str]
+    weights: dict[str, NonNegative]
+
+
+class SimulatorTreeParams(JobParams):
+    """What rule simulator_tree's job reads: the run simulators, and whether the study has a verdict."""
+
+    simulators: list[str]
+    verdict: bool = Field(description="the study has real data of its robot: the leaves carry its outcomes")
+
+
 def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
     """results/simulators/: table.csv (a row per simulator and profile), outcomes.csv and mechanics.csv (every
     engine and profile on the verdict's real data, relabelled), and the tree's subjects (tree/): one per
     simulator with its tuned row's physics and its 2026 facts."""
+    p = SimulatorsParams.model_validate(params)
     catalog = load_catalog(inputs["catalog"])
-    results: dict[str, str] = params["profile_results"]
-    engines: list[str] = list(params["engines"])
-    run: list[str] = list(params["simulators"])
-    left_out: dict[str, str] = dict(params["left_out"])
-    files: dict[str, str] = dict(params.get("settings_files") or {})
+    results, engines, run = dict(p.profile_results), list(p.engines), list(p.simulators)
+    left_out, files = dict(p.left_out), dict(p.settings_files)
+    # simpick.score.equivalence and simpick.score.steps read these as mappings
+    verdict, statistics = p.verdict.model_dump(mode="json"), p.statistics.model_dump(mode="json")
     summary = pd.read_csv(inputs["validation"])
     gains = pd.read_csv(inputs["gains"])
 
@@ -100,12 +150,12 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
             models,
             METRICS,
             mechanics,
-            params["verdict"],
-            params.get("statistics"),
-            int(params.get("seed", 0)),
+            verdict,
+            statistics,
+            p.seed,
             {"speed_error": NO_SPEED},
         )
-    elif inputs.get("drive_errors") and Path(inputs["drive_errors"]).is_file():
+    elif inputs.get("drive_errors") and Path(inputs["drive_errors"]).is_file() and p.drive is not None:
         # DRIVE's steps, judged as rule drive_compare judges the engines (its repeatability margin, paired by
         # step), engines and profiles together; every terrain pooled
         from simpick.score import steps as step_units
@@ -116,12 +166,12 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
             errors,
             pd.read_csv(inputs["drive_steps"]),
             [m for m in models if m in set(errors.engine)],
-            params["verdict"],
-            float(params["drive"]["tolerance"]),
+            verdict,
+            p.drive.tolerance,
             summary,
-            params["drive"].get("unit", "step"),
-            params.get("statistics"),
-            int(params.get("seed", 0)),
+            p.drive.unit,
+            statistics,
+            p.seed,
         )
         outcomes = pooled(table).drop(columns=["paired_by"], errors="ignore")
     write_csv(mechanics, outputs["mechanics"])
@@ -229,12 +279,13 @@ def settings_files_job(inputs: dict, params: dict, output: str) -> None:
     headed by what it is, the robot, its flat-ground figures here and the command that regenerates it."""
     from simpick.engines import simulator_files as formats
 
+    p = SimulatorSettingsParams.model_validate(params)
     catalog = load_catalog(inputs["catalog"])
     table = pd.read_csv(inputs["table"])
     out = Path(output)
     out.mkdir(parents=True, exist_ok=True)
-    robot, wheels = params["robot"], list(params["wheel_links"])
-    for profile, settings in params["profiles"].items():
+    robot, wheels = p.robot, list(p.wheel_links)
+    for profile, settings in p.profiles.items():
         simulator, variant = profile.rsplit("-", 1)
         sim = catalog.simulators[simulator]
         row = table[(table.simulator == simulator) & (table.variant == variant)]
@@ -265,14 +316,15 @@ def simulator_scores_job(subjects: str, params: dict, outputs: dict) -> None:
     subjects' facts, their tuned rows' Eq. 7 errors and their engines' speed and CPU)."""
     from simpick.score.jobs import scores_job
 
+    p = SimulatorScoresParams.model_validate(params)
     folder = Path(subjects)
     scores_job(
-        list(params["simulators"]),
+        list(p.simulators),
         str(folder / "imu_errors.csv"),
         str(folder / "rtf.csv"),
         sorted(str(p) for p in (folder / "cpu").glob("*.json")),
         str(folder / "qualitative.yaml"),
-        dict(params["weights"]),
+        dict(p.weights),
         outputs,
     )
 
@@ -281,6 +333,7 @@ def simulator_tree_job(subjects: str, params: dict, output: str) -> None:
     """The decision tree with the run simulators as its leaves (simpick.score.tree over the subjects)."""
     from simpick.score.tree import decision_tree_job
 
+    p = SimulatorTreeParams.model_validate(params)
     folder = Path(subjects)
     inputs = {
         "qualitative": str(folder / "qualitative.yaml"),
@@ -288,6 +341,6 @@ def simulator_tree_job(subjects: str, params: dict, output: str) -> None:
         "rtf": str(folder / "rtf.csv"),
         "cpu": sorted(str(p) for p in (folder / "cpu").glob("*.json")),
     }
-    if params.get("verdict"):
+    if p.verdict:
         inputs |= {"outcomes": str(folder / "outcomes.csv"), "mechanics": str(folder / "mechanics.csv")}
-    decision_tree_job(list(params["simulators"]), inputs, output)
+    decision_tree_job(list(p.simulators), inputs, output)

@@ -19,10 +19,12 @@ import statistics
 
 import numpy as np
 import psutil
+from pydantic import Field
 
 from simpick.engines import get_engine
 from simpick.inputs import terrain as terrain_io
 from simpick.inputs.motions import constant_commands
+from simpick.simulate.settings import CpuLoad, Motion, SimulationParams
 
 DEFINITION = (
     "CPU load = process CPU time (user + system) spent stepping / simulated time, "
@@ -31,25 +33,42 @@ DEFINITION = (
 )
 
 
+class CpuLoadParams(SimulationParams):
+    """What rule cpu_load's job reads: the model's simulation settings, the lab terrain and motion driven, and
+    the CPU-load scenarios."""
+
+    terrain: str = Field(description="the lab terrain driven (its strip is the job's input)")
+    motion_name: str
+    motion: Motion
+    cpu_load: CpuLoad
+
+
 def convoy(robots: int, start: tuple[float, float, float], spacing: float) -> tuple:
     """Robots one behind another, so all of them cross the same strip."""
     x, y, yaw = start
     return tuple((x - i * spacing, y, yaw) for i in range(robots))
 
 
+def _robots(cpu: CpuLoad, scenario: str) -> int:
+    """Robots in one world of a scenario: the paper's Scenario 1 (average) or 2 (intense)."""
+    return {"average": cpu.robots_average, "intense": cpu.robots_intense}[scenario]
+
+
 def measure(params: dict, urdf: str, terrain_file: str, limits=None) -> dict:
-    """CPU load per scenario of the job's params (``engine``, ``physics``, ``robot``, ``engine_settings``,
-    ``motion`` and the ``cpu_load`` block: duration, repeats, robots_average, robots_intense, spacing).
+    """CPU load per scenario of the job's params (:class:`CpuLoadParams`: the model, its settings, the robot,
+    the motion and the ``cpu_load`` block: duration, repeats, robots_average, robots_intense, spacing).
     With ``limits`` (a :class:`simpick.simulate.health.HealthLimits`) every repeat is health-checked like
     a simulation job (on the lead robot, the one the engine records), and a failed repeat fails the
     measurement (``health``), so the scores leave it out."""
     from simpick.simulate.health import check
     from simpick.simulate.run import scenario_from
 
-    engine_name, cpu, motion = params["engine"], params["cpu_load"], params["motion"]
+    p = CpuLoadParams.model_validate(params)
+    engine_name, cpu, motion = p.engine, p.cpu_load, p.motion
     engine = get_engine(engine_name)
+    # simpick.simulate.run reads the params as a mapping still
     base = scenario_from(params, urdf, terrain_io.load(terrain_file))
-    timestep, duration = base.timestep, cpu["duration"]
+    timestep, duration = base.timestep, cpu.duration
     result = {
         "engine": engine_name,
         "engine_version": engine.version(),
@@ -59,13 +78,11 @@ def measure(params: dict, urdf: str, terrain_file: str, limits=None) -> dict:
     }
     all_reasons: list[str] = []
     for scenario_name in ("average", "intense"):
-        robots = int(cpu[f"robots_{scenario_name}"])
-        scenario = dataclasses.replace(base, starts=convoy(robots, tuple(motion["start"]), cpu["spacing"]))
-        commands = constant_commands(
-            motion["v"], motion["w"], duration, timestep, params["robot"]["track"], scenario.robot, robots
-        )
+        robots = _robots(cpu, scenario_name)
+        scenario = dataclasses.replace(base, starts=convoy(robots, tuple(motion.start), cpu.spacing))
+        commands = constant_commands(motion.v, motion.w, duration, timestep, p.robot.track, scenario.robot, robots)
         loads, reasons = [], []
-        for _ in range(int(cpu["repeats"])):
+        for _ in range(cpu.repeats):
             record = engine.simulate(scenario, commands)
             loads.append(100.0 * record.cpu_time / (record.steps * timestep))
             if limits is not None:
@@ -96,18 +113,19 @@ def hung_result(params: dict, timeout: float) -> dict:
     failed repeat) instead of scoring a partial measurement."""
     from simpick.simulate.watchdog import hung_reason
 
-    cpu = params["cpu_load"]
+    p = CpuLoadParams.model_validate(params)
+    cpu = p.cpu_load
     reason = hung_reason(timeout)
     return {
-        "engine": params["engine"],
+        "engine": p.engine,
         "engine_version": "",
         "definition": DEFINITION,
         **{
             scenario: {
-                "robots": int(cpu[f"robots_{scenario}"]),
+                "robots": _robots(cpu, scenario),
                 "load_percent": None,
                 "repeats_percent": [],
-                "simulated_seconds": cpu["duration"],
+                "simulated_seconds": cpu.duration,
             }
             for scenario in ("average", "intense")
         },

@@ -26,11 +26,13 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from pydantic import Field
 
 from simpick.compare.jobs import source_tables
 from simpick.compare.kinds import BY_KIND
 from simpick.compare.real import SEGMENT_TEST_COLUMNS
 from simpick.simulate.jobs import simulate_job
+from simpick.simulate.settings import RealCaseParams
 from simpick.tables import write_csv
 
 # a segment's timing, from its compare job's run row, beside its per-test row
@@ -61,20 +63,31 @@ SUMMARY_COLUMNS = (
 )
 
 
+class SweepPointParams(RealCaseParams):
+    """What rule sweep_segments' job reads: a segments unit's params (simpick.sources.segments.case_params, one
+    terrain class's segments on one model) at the sweep point's timestep."""
+
+    kind: str = Field(description="how the cases are driven: simpick.simulate.jobs.PREPARE")
+    source: str
+    cases: list[str] = Field(description="the class's segment ids")
+
+
 def sweep_job(inputs: dict, params: dict, settings: dict, output: str) -> None:
-    """Every segment of one class (``params["cases"]``) on one engine at ``params["physics"]["timestep"]``,
+    """Every segment of one class (:class:`SweepPointParams`) on one engine at the sweep point's timestep,
     simulated and compared as the segments source's jobs do; one CSV row per segment
     (:func:`compare_traces`). A case that hangs is written failed with the cases after it (the
     simulate job's watchdog), and the rows are written before the process ends, so the summary
     counts them as failed."""
+    p = SweepPointParams.model_validate(params)
     folder = tempfile.mkdtemp(prefix="simpick-sweep-")
-    traces = [str(Path(folder) / f"{name}.parquet") for name in params["cases"]]
+    traces = [str(Path(folder) / f"{name}.parquet") for name in p.cases]
 
     def compare_and_write() -> None:
         write_csv(compare_traces(traces, inputs, params, settings), output)
         shutil.rmtree(folder, ignore_errors=True)
 
     try:
+        # simulate_job (simpick.simulate.jobs) reads the params as a mapping still: its stage converts them
         simulate_job(traces, inputs["urdf"], inputs, params, after_hung=compare_and_write)
         compare_and_write()
     finally:
@@ -84,10 +97,11 @@ def sweep_job(inputs: dict, params: dict, settings: dict, output: str) -> None:
 def compare_traces(traces: list[str], inputs: dict, params: dict, settings: dict) -> pd.DataFrame:
     """A sweep point's traces compared by their kind's comparison (simpick.compare.kinds, as the
     compare job): its per-test rows with each run's timing (:data:`TIMING`) and the timestep."""
-    per_test, _, runs = BY_KIND[params["kind"]](traces, inputs, settings)
+    p = SweepPointParams.model_validate(params)
+    per_test, _, runs = BY_KIND[p.kind](traces, inputs, settings)
     timing = runs[["engine", "test", *TIMING]].astype({"test": str})
     rows = per_test.astype({"test": str}).merge(timing, on=["engine", "test"], how="left", validate="one_to_one")
-    return rows.assign(timestep=float(params["physics"]["timestep"]))
+    return rows.assign(timestep=p.physics.timestep)
 
 
 def summarise(rows: pd.DataFrame, statistics: dict | None = None) -> pd.DataFrame:

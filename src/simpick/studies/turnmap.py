@@ -33,14 +33,19 @@ import math
 import sys
 import time
 import traceback
+from typing import Any
 
 import numpy as np
 import pandas as pd
+from pydantic import Field
 
 from simpick.coulomb import ContactLayout, contact_layout, yaw_rate_gain
 from simpick.engines import get_engine
 from simpick.errors import InputError
-from simpick.inputs.robot import RobotSpec, load_from_config
+from simpick.inputs.robot import RobotSpec
+from simpick.inputs.robot.settings import RobotParams
+from simpick.params import JobParams, PhysicsStep, Positive
+from simpick.real.settings import Ground
 from simpick.real.steps import BINS, MIN_TURN, gain_bins
 from simpick.tables import write_csv
 
@@ -95,11 +100,11 @@ def _representative(group: pd.DataFrame, variable: str) -> pd.Series:
     return ordered.iloc[(len(ordered) - 1) // 2]
 
 
-def command_grid(steps: pd.DataFrame, classes: dict, bins: dict | None = None) -> pd.DataFrame:
+def command_grid(steps: pd.DataFrame, friction: dict[str, float], bins: dict | None = None) -> pd.DataFrame:
     """One row per terrain x binned variable x bin of the real turning steps: the real gain (steps,
     median, quartiles, as :func:`simpick.real.steps.gain_bins`), the bin's representative step (module doc)
     with its measured wheel speeds (rad/s), kinematic twist and own gain, and the terrain's friction
-    (``classes``: the config's ``real_data.classes``)."""
+    (``friction``: terrain class -> its Coulomb coefficient, from the config's ``real_data.classes``)."""
     bins = BINS if bins is None else bins
     turning = steps[steps.turning.astype(bool) & steps.gain.notna() & (steps.w_kin.abs() > MIN_TURN)].copy()
     rows = []
@@ -107,7 +112,7 @@ def command_grid(steps: pd.DataFrame, classes: dict, bins: dict | None = None) -
         real = gain_bins(turning, variable, edges).set_index(["terrain_class", "bin"])
         t = turning.assign(bin=pd.cut(turning[variable].abs(), edges, include_lowest=True).astype(str))
         for (terrain, label), group in t.groupby(["terrain_class", "bin"], sort=False):
-            if terrain not in classes:
+            if terrain not in friction:
                 raise InputError(
                     f"real_data.classes.{terrain}",
                     f"the DRIVE terrain {terrain!r} has no ground model, so its friction is unknown",
@@ -132,7 +137,7 @@ def command_grid(steps: pd.DataFrame, classes: dict, bins: dict | None = None) -
                     "v_kin": float(pick["v_kin"]),
                     "w_kin": float(pick["w_kin"]),
                     "real_gain": float(pick["gain"]),
-                    "friction": float(classes[terrain]["friction"]),
+                    "friction": float(friction[terrain]),
                 }
             )
     grid = pd.DataFrame(rows, columns=GRID_COLUMNS)
@@ -291,32 +296,33 @@ def wall_times(engines: list[pd.DataFrame]) -> pd.DataFrame:
 # --- the workflow's jobs (rules/turnmap.smk) ---
 
 
-def job_params(config: dict, engine: str | None = None) -> dict:
-    """What a turn-map job depends on, from the study's config: the robot and the terrains' friction; an
-    engine's job also its settings and the timestep (not the IMU model, the health limits or the validation's
-    cases, so editing those reruns no engine here)."""
-    params = {
-        "robot": {k: v for k, v in config["robot"].items() if k != "urdf"},
-        "classes": {k: {"friction": v["friction"]} for k, v in config["real_data"]["classes"].items()},
-    }
-    if engine is not None:
-        params.update(
-            engine=engine,
-            engine_settings=config["engines"][engine] or {},
-            physics={"timestep": config["physics"]["timestep"]},
-        )
-    return params
+class TurnmapGridParams(JobParams):
+    """What rule turnmap_grid reads: the robot (the Coulomb reference's geometry and loads) and each terrain
+    class's ground (its friction). Not the IMU model, the health limits or the validation's cases, so editing
+    those reruns nothing here."""
+
+    robot: RobotParams
+    classes: dict[str, Ground] = Field(description="terrain class -> its ground (the config's real_data.classes)")
 
 
-def _robot(params: dict, urdf) -> RobotSpec:
-    return load_from_config({**params["robot"], "urdf": str(urdf)})
+class TurnmapEngineParams(TurnmapGridParams):
+    """What rule turnmap_engine reads: the grid's settings, and the engine, its settings and the timestep."""
+
+    engine: str
+    engine_settings: dict[str, Any] = Field(
+        description="the engine's settings as the config gives them; its adapter's own settings model checks them "
+        "(the config's engines block at planning time, the adapter in the job)"
+    )
+    physics: PhysicsStep
+    duration: Positive = Field(DURATION, description="s simulated per command")
 
 
 def grid_job(steps_csv, urdf, params: dict, output) -> pd.DataFrame:
     """Rule turnmap_grid: the real steps' bins, their representative commands and the Coulomb gain."""
+    p = TurnmapGridParams.model_validate(params)
     steps = pd.read_csv(steps_csv)
-    grid = command_grid(steps, params["classes"])
-    grid = coulomb_gains(grid, _robot(params, urdf), params["robot"]["track"])
+    grid = command_grid(steps, {name: ground.friction for name, ground in p.classes.items()})
+    grid = coulomb_gains(grid, p.robot.spec(urdf), p.robot.track)
     write_csv(grid, output)
     return grid
 
@@ -325,15 +331,16 @@ def engine_job(grid_csv, urdf, params: dict, output) -> pd.DataFrame:
     """Rule turnmap_engine: one engine's gain at every distinct command of the grid."""
     from simpick.studies.validation.cases import Setup
 
+    p = TurnmapEngineParams.model_validate(params)
     setup = Setup(
-        engine=params["engine"],
-        robot=_robot(params, urdf),
-        timestep=params["physics"]["timestep"],
-        max_wheel_torque=params["robot"]["max_wheel_torque"],
-        track=params["robot"]["track"],
-        settings=params["engine_settings"],
+        engine=p.engine,
+        robot=p.robot.spec(urdf),
+        timestep=p.physics.timestep,
+        max_wheel_torque=p.robot.max_wheel_torque,
+        track=p.robot.track,
+        settings=p.engine_settings,
     )
-    table = engine_gains(pd.read_csv(grid_csv), setup, params.get("duration", DURATION))
+    table = engine_gains(pd.read_csv(grid_csv), setup, p.duration)
     for line in wall_times([table]).itertuples():
         print(
             f"simpick: turnmap {line.engine}: {line.ok}/{line.runs} runs ok in {line.wall_time:.1f} s", file=sys.stderr
@@ -353,7 +360,8 @@ def table_job(grid_csv, engine_csvs, outputs: dict) -> pd.DataFrame:
 
 __all__ = [
     "DURATION",
-    "job_params",
+    "TurnmapEngineParams",
+    "TurnmapGridParams",
     "coulomb_gains",
     "coulomb_layout",
     "combined_table",

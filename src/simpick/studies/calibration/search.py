@@ -16,9 +16,11 @@ import yaml
 
 from simpick.errors import InputError
 from simpick.simulate.run import config_hash, stable_seed
+from simpick.simulate.settings import RealCaseParams
 from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
 from simpick.studies.calibration.objective import FAILED_UNIT, Units, evaluate
 from simpick.studies.calibration.parameters import apply_parameters, configured_values, parameter_space
+from simpick.studies.calibration.settings import EvaluateSettings, SearchSettings
 from simpick.studies.calibration.split import read_split
 from simpick.tables import write_csv
 
@@ -46,6 +48,10 @@ def calibrate(
     units: Units, train: list[str], urdf: str, params: dict, settings: dict, journal: Path, evaluate_fn=evaluate
 ) -> tuple[dict, pd.DataFrame, dict]:
     """Run (or resume) the study until ``settings["n_trials"]`` trials have finished.
+
+    ``params`` and ``settings`` stay mappings here: the DRIVE calibration (simpick.studies.calibration.steps)
+    calls this with settings of its own form, and the study's name is their hash (:func:`study_name`). The
+    workflow's job (:func:`calibrate_job`) has checked them against its models first.
 
     Returns the best parameter values, the trial history and run facts (trials run now, wall s).
     """
@@ -135,28 +141,30 @@ def calibrate_job(
     runtime): a study still running then writes best.yaml with ``status: failed`` and the reason
     and no parameters (the journal keeps the finished trials, so a rerun resumes), and the
     evaluation reports every calibrated unit of the class as failed instead of inventing a best."""
-    split = read_split(inputs["split"], params["terrain_class"])
-    units = Units(settings["source"], inputs.get("segments"), inputs.get("logs"), params["terrain_class"])
+    # settings["code"], the job's code version (scripts/calibrate.py adds it), only names the Optuna study
+    # (calibrate's study_name): no field of the job's own
+    case = RealCaseParams.model_validate(params)
+    s = SearchSettings.model_validate({k: v for k, v in settings.items() if k != "code"})
+    split = read_split(inputs["split"], case.terrain_class)
+    units = Units(s.source, inputs.get("segments"), inputs.get("logs"), case.terrain_class)
     train = [u for u in split[split.set == "train"].unit if u in units.ids]
     if not train:
-        raise InputError(inputs["split"], f"class {params['terrain_class']!r} has no training units")
+        raise InputError(inputs["split"], f"class {case.terrain_class!r} has no training units")
     journal = Path(outputs["best"]).with_name("optuna.journal")
-    as_configured = configured_values(
-        params, parameter_space(params["engine"], (settings.get("bounds") or {}).get(params["engine"]))
-    )
+    as_configured = configured_values(params, parameter_space(case.engine, s.bounds.get(case.engine)))
 
     def write_best(status: str, reasons: list[str], values: dict, facts: dict) -> None:
         Path(outputs["best"]).write_text(
             yaml.safe_dump(
                 {
-                    "engine": params["engine"],
-                    "terrain_class": params["terrain_class"],
+                    "engine": case.engine,
+                    "terrain_class": case.terrain_class,
                     "status": status,
                     "reasons": reasons,
                     "parameters": values,
                     "as_configured": as_configured,
                     "train_units": train,
-                    "n_trials": int(settings["n_trials"]),
+                    "n_trials": s.n_trials,
                     "journal": str(journal),
                     **facts,
                 },
@@ -166,11 +174,13 @@ def calibrate_job(
 
     def hung() -> None:
         reason = hung_reason(timeout)
-        print(f"simpick: calibrate {params['engine']} {params['terrain_class']}: {reason}", file=sys.stderr)
+        print(f"simpick: calibrate {case.engine} {case.terrain_class}: {reason}", file=sys.stderr)
         write_csv(pd.DataFrame(columns=["trial", "as_configured", "objective"]), outputs["trials"])
         write_best("failed", [reason], {}, {"best_trial": None, "best_objective": None, "configured_objective": None})
 
     with Watchdog(timeout, hung):
+        # calibrate() is shared with the DRIVE calibration (simpick.studies.calibration.steps), whose settings
+        # are its own: it takes the mappings, and names the Optuna study by their hash
         values, history, facts = calibrate(units, train, inputs["urdf"], params, settings, journal)
     write_csv(history, outputs["trials"])
     write_best("ok", [], values, facts)
@@ -198,13 +208,14 @@ def evaluate_job(inputs: dict, params: dict, settings: dict, output: str, timeou
 
     Under the watchdog (``timeout``, as :func:`calibrate_job`): a job still running then writes
     the rows it has and every unit not yet evaluated as failed with the reason."""
-    split = read_split(inputs["split"], params["terrain_class"])
-    units = Units(settings["source"], inputs.get("segments"), inputs.get("logs"), params["terrain_class"])
+    case, s = RealCaseParams.model_validate(params), EvaluateSettings.model_validate(settings)
+    split = read_split(inputs["split"], case.terrain_class)
+    units = Units(s.source, inputs.get("segments"), inputs.get("logs"), case.terrain_class)
     best = yaml.safe_load(Path(inputs["best"]).read_text())
     sets = dict(zip(split.unit, split.set))
     ids = [u for u in split.unit if u in units.ids]
     rows: list[dict] = []
-    key = {"engine": params["engine"], "terrain_class": params["terrain_class"]}
+    key = {"engine": case.engine, "terrain_class": case.terrain_class}
     plan = [("configured", params)]
     if best.get("status", "ok") == "ok":
         plan.append(("calibrated", apply_parameters(params, best["parameters"])))

@@ -6,20 +6,24 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
+from pydantic import ValidationError
 
 from simpick.coulomb import braking_deceleration as coulomb_braking
 from simpick.coulomb import contact_layout, yaw_rate_gain
 from simpick.engines import get_engine
 from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario
 from simpick.engines.kinematics import euler_rpy, rotation_matrices
-from simpick.errors import InputError
+from simpick.errors import InputError, validation_problems
 from simpick.inputs.motions import side_speeds
 from simpick.inputs.robot import RobotSpec
 from simpick.simulate.imu import block_average
 from simpick.studies.validation.measures import DEFAULT_HEADING, KINDS, QUANTITIES, SETTLE_S
+from simpick.studies.validation.settings import ValidationCase
 from simpick.studies.validation.suspension import articulation, articulation_reason
 
 FLAT = {"schema": "simpick.inputs.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": 0.0}
@@ -99,9 +103,14 @@ def braking_deceleration(speed: np.ndarray, timestep: float) -> float:
     return float(-np.polyfit(window * timestep, speed[window], 1)[0])
 
 
-def _yaw_gain(setup: Setup, p: dict):
-    v, w, mu, duration, heading = p["v"], p["w"], p["mu"], p.get("duration", 6.0), p.get("heading", DEFAULT_HEADING)
-    ratio = p.get("friction_ratio")
+def _or(value, default):
+    """A case's optional setting, else its kind's own default."""
+    return default if value is None else value
+
+
+def _yaw_gain(setup: Setup, p: ValidationCase):
+    v, w, mu, duration, heading = p.v, p.w, p.mu, _or(p.duration, 6.0), p.heading
+    ratio = p.friction_ratio
     if ratio is not None:  # the engine's anisotropic friction at this ratio (run_case checked it has one)
         setup = replace(setup, settings={**dict(setup.settings), "friction_ratio": float(ratio)})
     record = get_engine(setup.engine).simulate(
@@ -117,10 +126,10 @@ def _yaw_gain(setup: Setup, p: dict):
     return record, [_check("yaw_rate_gain", gain, analytic, v=v, w=w, mu=mu, heading=heading, **extra)]
 
 
-def _straight(setup: Setup, p: dict):
-    v, mu, duration = p["v"], p["mu"], p.get("duration", 6.0)
+def _straight(setup: Setup, p: ValidationCase):
+    v, mu, duration = p.v, p.mu, _or(p.duration, 6.0)
     record = get_engine(setup.engine).simulate(
-        _scenario(setup, mu, heading=p.get("heading", DEFAULT_HEADING)), _commands(setup, [(duration, v, 0.0)])
+        _scenario(setup, mu, heading=p.heading), _commands(setup, [(duration, v, 0.0)])
     )
     half = record.steps // 2
     speed = body_velocity(record)[half:, 0].mean()
@@ -133,8 +142,8 @@ def _straight(setup: Setup, p: dict):
     ]
 
 
-def _slide(setup: Setup, p: dict):
-    v, mu, cruise, heading = p["v"], p["mu"], p.get("cruise", 2.0), p.get("heading", DEFAULT_HEADING)
+def _slide(setup: Setup, p: ValidationCase):
+    v, mu, cruise, heading = p.v, p.mu, _or(p.cruise, 2.0), p.heading
     record = get_engine(setup.engine).simulate(
         _scenario(setup, mu, heading=heading), _commands(setup, [(cruise, v, 0.0), (2.0, 0.0, 0.0)])
     )
@@ -144,13 +153,13 @@ def _slide(setup: Setup, p: dict):
     return record, [_check("deceleration", deceleration, analytic, v=v, mu=mu, heading=heading)]
 
 
-def _incline(setup: Setup, p: dict):
-    mu, factor, duration = p["mu"], p["angle_factor"], p.get("duration", 4.0)
+def _incline(setup: Setup, p: ValidationCase):
+    mu, factor, duration = p.mu, p.angle_factor, _or(p.duration, 4.0)
     angle = factor * math.atan(mu)
     # downhill points along -(cos h, sin h); h = 0: along -x, the robot's back. h = 45 deg puts the
     # slope across the world axes, where an engine with world-aligned friction directions holds
     # up to sqrt(2) mu N (ODE's default pyramid did: parked at 1.2 atan(mu))
-    heading = math.radians(p.get("heading", DEFAULT_HEADING))
+    heading = math.radians(p.heading)
     down = np.array([-math.cos(heading), -math.sin(heading)])
     horizontal = GRAVITY * math.sin(angle) * down
     gravity = (horizontal[0], horizontal[1], -GRAVITY * math.cos(angle))
@@ -172,8 +181,8 @@ def _incline(setup: Setup, p: dict):
     ]
 
 
-def _rest(setup: Setup, p: dict):
-    mu, duration = p["mu"], p.get("duration", 10.0)
+def _rest(setup: Setup, p: ValidationCase):
+    mu, duration = p.mu, _or(p.duration, 10.0)
     record = get_engine(setup.engine).simulate(_scenario(setup, mu), _commands(setup, [(duration, 0.0, 0.0)]))
     block = max(1, int(round(0.01 / setup.timestep)))  # the IMU's 100 Hz
     settle = int(round(SETTLE_S / setup.timestep))
@@ -201,8 +210,8 @@ def _chassis_pose(
     return worst(rpy[:, 1], pitch), worst(rpy[:, 0], roll), float(record.position[start:, 2].mean())
 
 
-def _rest_pose(setup: Setup, p: dict):
-    mu, duration = p["mu"], p.get("duration", 4.0)
+def _rest_pose(setup: Setup, p: ValidationCase):
+    mu, duration = p.mu, _or(p.duration, 4.0)
     record = get_engine(setup.engine).simulate(_scenario(setup, mu), _commands(setup, [(duration, 0.0, 0.0)]))
     # the rockers' damping slows the settling: the last half of the run, at least the parked cases' settle
     start = max(int(round(SETTLE_S / setup.timestep)), record.steps // 2)
@@ -214,10 +223,10 @@ def _rest_pose(setup: Setup, p: dict):
     ]
 
 
-def _articulation(setup: Setup, p: dict):
-    h, mu, v = p["h"], p["mu"], p.get("v", 0.2)
+def _articulation(setup: Setup, p: ValidationCase):
+    h, mu, v = p.h, p.mu, _or(p.v, 0.2)
     plan = articulation(setup.robot, h)
-    hold = p.get("duration", 3.0)
+    hold = _or(p.duration, 3.0)
     record = get_engine(setup.engine).simulate(
         _scenario(setup, mu, boxes=plan.boxes), _commands(setup, [(plan.travel / v, v, 0.0), (hold, 0.0, 0.0)])
     )
@@ -237,14 +246,15 @@ def braking_deceleration_of(robot: RobotSpec, mu: float) -> tuple[float, str | N
     return coulomb_braking(robot, mu)
 
 
-def not_applicable(robot: RobotSpec, kind: str, params: dict) -> str | None:
+def not_applicable(robot: RobotSpec, case: ValidationCase) -> str | None:
     """Why a case's analytic value does not describe ``robot`` (None: it does)."""
+    kind = case.kind
     if kind == "slide":
-        return braking_deceleration_of(robot, params["mu"])[1]
+        return braking_deceleration_of(robot, case.mu)[1]
     if kind == "rest_pose" and not robot.suspension:
         return "the robot has no suspension (its rest is the rest case's)"
     if kind == "articulation":
-        return articulation_reason(robot, params.get("h"))
+        return articulation_reason(robot, case.h)
     if kind == "incline" and robot.casters:
         return (
             "the robot's casters roll freely, so only its driven wheels hold it on the slope, and the "
@@ -264,28 +274,43 @@ RUNNERS = {
 }
 
 
-def run_case(setup: Setup, name: str, params: dict) -> dict:
+def case_of(name: str, case: ValidationCase | Mapping[str, Any]) -> ValidationCase:
+    """A case as its model (a mapping, e.g. a test's or a helper's, is checked as the config's are): a bad
+    case is the config's error, naming the case's key, never a failed run."""
+    if isinstance(case, ValidationCase):
+        return case
+    try:
+        return ValidationCase.model_validate(case)
+    except ValidationError as exc:
+        key, problem = validation_problems(exc, ("validation", "cases", name))[0]
+        raise InputError(key, problem, f"see the case kinds and their settings: {list(KINDS)}") from None
+
+
+def _recorded(case: ValidationCase) -> dict:
+    """A case's settings as its record states them: those it sets, without its kind (beside them)."""
+    return case.model_dump(mode="json", exclude_none=True, exclude={"kind"})
+
+
+def run_case(setup: Setup, name: str, params: ValidationCase | Mapping[str, Any]) -> dict:
     """Run one case on one engine; returns its record (checks, cost, health)."""
-    params = dict(params)
-    kind = params.pop("kind")
-    if kind not in RUNNERS:
-        raise InputError(f"validation.cases.{name}.kind", f"{kind!r} is not a case kind", f"use one of {list(KINDS)}")
+    case = case_of(name, params)
+    kind, params = case.kind, _recorded(case)
     engine = get_engine(setup.engine)
-    reason = not_applicable(setup.robot, kind, params)
+    reason = not_applicable(setup.robot, case)
     if (
         reason is None
-        and params.get("friction_ratio") is not None
+        and case.friction_ratio is not None
         and "friction_ratio" not in engine.settings_model.model_fields
     ):
         reason = (
             f"{setup.engine} has no anisotropic wheel friction here (no friction_ratio setting: "
             "see docs/engines.md, 'Turning like the real Husky')"
         )
-    elif reason is None and params.get("friction_ratio") is not None:
+    elif reason is None and case.friction_ratio is not None:
         # a set-up (a simulator's profile) whose other settings exclude the ratio: the adapter says why
         try:
             engine.settings_model.of(
-                {**dict(setup.settings), "friction_ratio": float(params["friction_ratio"])}, setup.engine
+                {**dict(setup.settings), "friction_ratio": float(case.friction_ratio)}, setup.engine
             )
         except InputError as exc:
             reason = f"this set-up takes no friction_ratio ({exc})"
@@ -305,7 +330,7 @@ def run_case(setup: Setup, name: str, params: dict) -> dict:
             "wall_time": 0.0,
         }
     start = time.perf_counter()
-    record, checks = RUNNERS[kind](setup, params)
+    record, checks = RUNNERS[kind](setup, case)
     wall = time.perf_counter() - start
     status, reasons = "ok", []
     if not _finite(record):
@@ -328,7 +353,9 @@ def run_case(setup: Setup, name: str, params: dict) -> dict:
     }
 
 
-def failed_record(setup: Setup, version: str, name: str, params: dict, reason: str, wall: float = 0.0) -> dict:
+def failed_record(
+    setup: Setup, version: str, name: str, case: ValidationCase | Mapping[str, Any], reason: str, wall: float = 0.0
+) -> dict:
     """The record of a case that ended before it measured anything (hung, crashed, or not run
     because a case before it hung): failed, no checks, the reason; the summary lists it as a
     failed row of the case's first quantity (:data:`CASE_QUANTITY`)."""
@@ -336,8 +363,8 @@ def failed_record(setup: Setup, version: str, name: str, params: dict, reason: s
         "engine": setup.engine,
         "engine_version": version,
         "case": name,
-        "kind": params["kind"],
-        "params": {k: v for k, v in params.items() if k != "kind"},
+        "kind": case_of(name, case).kind,
+        "params": _recorded(case_of(name, case)),
         "checks": [],
         "status": "failed",
         "reasons": [reason],

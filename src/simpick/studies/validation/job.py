@@ -8,36 +8,56 @@ import sys
 import time
 import traceback
 from pathlib import Path
+from typing import Any
+
+from pydantic import Field
 
 from simpick.engines import get_engine
 from simpick.errors import InputError
-from simpick.inputs.robot import load_from_config
+from simpick.inputs.robot.settings import RobotParams
+from simpick.params import JobParams, PhysicsStep
 from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
 from simpick.studies.validation.cases import Setup, failed_record, run_case
+from simpick.studies.validation.settings import ValidationCase
+
+
+class ValidateParams(JobParams):
+    """What rule validate's job reads: the model, its settings, the robot, the timestep and every case (not the
+    IMU model, the health limits or the tolerances, so editing those reruns no engine's validation)."""
+
+    engine: str
+    engine_settings: dict[str, Any] = Field(
+        description="the model's settings as the config gives them; its adapter's own settings model checks them "
+        "(the config's engines block at planning time, the adapter in the job)"
+    )
+    physics: PhysicsStep
+    robot: RobotParams
+    cases: dict[str, ValidationCase] = Field(description="case name -> its kind and settings, in the config's order")
 
 
 def validate_job(outputs: list[str], urdf: str | Path, params: dict, timeout: float = DEFAULT_TIMEOUT_S) -> list[dict]:
-    """The workflow's per-engine job: every case of ``params["cases"]`` on one engine in one process
-    (the robot and the engine's module are loaded once), one JSON record per case in ``outputs``
-    (``.../{case}.json``), in the order of ``params["cases"]``.
+    """The workflow's per-engine job: every case of ``params`` (:class:`ValidateParams`) on one engine in one
+    process (the robot and the engine's module are loaded once), one JSON record per case in ``outputs``
+    (``.../{case}.json``), in the order of its cases.
 
     ``timeout``: the job's hang limit in s of wall time (simpick.simulate.watchdog.runtime_timeout of the rule's
     runtime), shared evenly by its cases: each case runs under the watchdog with ``timeout / cases``. A
     case still running then is recorded as failed (hung) and the cases after it, which cannot run in the
     stopped process, as failed (not run), so the summary lists every case. A case whose engine raises is
     recorded as failed with the error (the traceback goes to the job's log) and the next case runs; a bad
-    case kind (InputError) still stops the job."""
-    cases = params["cases"]
+    case (its model refuses it) still stops the job."""
+    p = ValidateParams.model_validate(params)
+    cases = p.cases
     paths = {Path(p).stem: Path(p) for p in outputs}
     if sorted(paths) != sorted(cases):
         raise ValueError(f"validate_job: outputs for {sorted(paths)}, cases {sorted(cases)}")
     setup = Setup(
-        engine=params["engine"],
-        robot=load_from_config({**params["robot"], "urdf": urdf}),
-        timestep=params["physics"]["timestep"],
-        max_wheel_torque=params["robot"]["max_wheel_torque"],
-        track=params["robot"]["track"],
-        settings=params["engine_settings"],
+        engine=p.engine,
+        robot=p.robot.spec(urdf),
+        timestep=p.physics.timestep,
+        max_wheel_torque=p.robot.max_wheel_torque,
+        track=p.robot.track,
+        settings=p.engine_settings,
     )
     version = get_engine(setup.engine).version()  # before any case: the watchdog's records need it
     limit = float(timeout) / len(cases)

@@ -1,0 +1,207 @@
+"""Each converted rule's params are its job's typed model (simpick.params): the plan builds them from
+the typed study and validates them against the model the job reads, so a field the two disagree on
+stops the run at planning time, and a job reads typed fields, never string keys.
+
+``CONVERTED`` lists each converted rule with its job's model and the params the plan gives it; every
+entry is checked on the default study and on a robot study (the Warthog: a suspension, other engine
+settings)."""
+
+import copy
+
+import pytest
+from pydantic import ValidationError
+
+from conftest import ROOT, study_config, tiny_config, write_dataset
+from simpick.config import Study
+from simpick.plan import Plan, PlanError
+from simpick.plan.jobs import job_params
+from simpick.real.jobs import ImportParams, SegmentsParams
+from simpick.score import simulators as simulators_stage
+from simpick.simulate.cpuload import CpuLoadParams
+from simpick.simulate.lab import LabCaseParams
+from simpick.sources.base import canonical
+from simpick.studies import turnmap
+from simpick.studies.calibration.settings import EvaluateSettings, SearchSettings
+from simpick.studies.sweep import SweepPointParams
+from simpick.studies.validation import job as validation_job
+
+
+def plan_of(config: dict) -> Plan:
+    return Plan(config, Study.model_validate(config), basedir=str(ROOT))
+
+
+# rule -> (the job's model, the params of each of its jobs in a plan)
+CONVERTED = {
+    "turnmap_grid": (turnmap.TurnmapGridParams, lambda plan: [plan.turnmap_params()]),
+    "turnmap_engine": (turnmap.TurnmapEngineParams, lambda plan: [plan.turnmap_params(e) for e in plan.engines]),
+    "validate": (validation_job.ValidateParams, lambda plan: [plan.validation_params(m) for m in plan.validated]),
+    "cpu_load": (CpuLoadParams, lambda plan: [plan.cpu_load_params(e) for e in plan.engines]),
+    "sweep_segments": (
+        SweepPointParams,
+        lambda plan: [
+            plan.sweep_params(e, c, dt) for e in plan.engines for c in plan.segments for dt in plan.sweep_labels
+        ],
+    ),
+    "simulators": (simulators_stage.SimulatorsParams, lambda plan: [plan.simulators_params()]),
+    "simulator_settings": (simulators_stage.SimulatorSettingsParams, lambda plan: [plan.simulator_settings_params()]),
+    "simulator_scores": (simulators_stage.SimulatorScoresParams, lambda plan: [plan.simulator_scores_params()]),
+    "simulator_tree": (simulators_stage.SimulatorTreeParams, lambda plan: [plan.simulator_tree_params()]),
+    "calibrate": (SearchSettings, lambda plan: [plan.calibration_settings(m) for m in plan.cal_models]),
+    "calibration_evaluate": (
+        EvaluateSettings,
+        lambda plan: [plan.calibration_settings(m, search=False) for m in plan.cal_models],
+    ),
+    # the lab's simulate jobs (their params: simpick.sources.lab.case_params)
+    "simulate (lab)": (
+        LabCaseParams,
+        lambda plan: [
+            plan.case_params("lab", e, t, [m]) for e in plan.engines for t in plan.terrains for m in plan.motions
+        ],
+    ),
+}
+
+
+@pytest.fixture(scope="module")
+def default_plan(tmp_path_factory):
+    config = tiny_config(tmp_path_factory.mktemp("default"))
+    config["sweep"] = {"name": "steps", "timesteps": [0.0005, 0.002]}  # the sweep's jobs exist
+    return plan_of(config)
+
+
+@pytest.fixture(scope="module")
+def robot_plan():
+    config = study_config("config/robots/warthog.yaml")
+    for key in ("urdf",):
+        config["robot"][key] = str(ROOT / config["robot"][key])
+    return plan_of(config)
+
+
+@pytest.mark.parametrize("rule", sorted(CONVERTED))
+@pytest.mark.parametrize("which", ["default_plan", "robot_plan"])
+def test_each_converted_rule_s_params_validate_against_its_job_s_model(rule, which, request):
+    plan = request.getfixturevalue(which)
+    model, params_of = CONVERTED[rule]
+    all_params = params_of(plan)
+    # the sweep runs the committed segments, which a study of another robot than theirs refuses
+    no_jobs = {("robot_plan", "sweep_segments")}
+    assert bool(all_params) != ((which, rule) in no_jobs), f"{rule}: jobs in this plan: {len(all_params)}"
+    for params in all_params:
+        # plain builtins, canonical: what Snakemake fingerprints by repr (the simulate family's params are
+        # the source modules', whose unit keys follow the case's: equal, in another order)
+        assert params == canonical(params)
+        if not rule.startswith("simulate"):
+            assert repr(params) == repr(canonical(params))
+        typed = model.model_validate(params)
+        # nothing is lost or added on the way through the model
+        assert canonical(typed.model_dump(mode="json", by_alias=True)) == params
+
+
+def test_the_robot_study_s_params_carry_its_own_robot(default_plan, robot_plan):
+    husky, warthog = (p.turnmap_params("mujoco") for p in (default_plan, robot_plan))
+    assert warthog["robot"]["track"] == 1.08 and husky["robot"]["track"] != 1.08
+    assert warthog["robot"]["label"] == "Clearpath Warthog" and "urdf" not in warthog["robot"]
+    assert warthog["engine_settings"] != husky["engine_settings"]
+
+
+def test_a_field_the_plan_and_the_job_disagree_on_stops_the_planning_naming_rule_and_key(default_plan):
+    data = copy.deepcopy(default_plan.turnmap_params("mujoco"))
+    data["physics"] = {"time_step": data["physics"]["timestep"]}  # a renamed field
+    with pytest.raises(PlanError, match=r"rule turnmap_engine: .*TurnmapEngineParams.*physics\.timestep"):
+        job_params("turnmap_engine", turnmap.TurnmapEngineParams, data)
+
+
+def test_a_job_refuses_params_missing_a_field_it_reads_naming_the_key(default_plan, tmp_path):
+    params = copy.deepcopy(default_plan.turnmap_params())
+    del params["robot"]["track"]
+    with pytest.raises(ValidationError, match=r"robot\.track"):
+        turnmap.grid_job(tmp_path / "steps.csv", ROOT / "resources/robot/husky_a200.urdf", params, tmp_path / "out.csv")
+
+
+def test_the_job_models_are_frozen(default_plan):
+    typed = turnmap.TurnmapEngineParams.model_validate(default_plan.turnmap_params("mujoco"))
+    with pytest.raises(ValidationError):
+        typed.robot.track = 1.0  # type: ignore[misc]
+
+
+def test_the_turnmap_params_hold_only_what_its_jobs_read(tmp_path):
+    """Editing the IMU, the health limits, the validation's cases or a terrain class's source reruns no
+    turn-map job; one engine's settings rerun that engine's job only."""
+    config = tiny_config(tmp_path)
+    before = plan_of(config)
+    edited = copy.deepcopy(config)
+    edited["imu"]["accel_noise_std"] = 0.5
+    edited["health"]["timeout"] = 999.0
+    edited["validation"]["cases"]["rest_mu0.8"]["mu"] = 0.5
+    edited["real_data"]["classes"]["ice"]["source"] = "another handbook"
+    edited["engines"]["mujoco"] = dict(edited["engines"]["mujoco"] or {}, solver_iterations=77)
+    after = plan_of(edited)
+    assert after.turnmap_params() == before.turnmap_params()
+    for engine in before.engines:
+        same = after.turnmap_params(engine) == before.turnmap_params(engine)
+        assert same == (engine != "mujoco"), engine
+
+
+def test_the_cpu_load_params_are_what_they_were_before_typing(default_plan):
+    """Their content is the plain slices' as before (only the job's code changed): no spurious rerun."""
+    cpu = default_plan.config["cpu_load"]
+    for engine in default_plan.engines:
+        before = default_plan.simulation_params(engine, cpu["terrain"], cpu["motion"]) | {"cpu_load": canonical(cpu)}
+        assert default_plan.cpu_load_params(engine) == before
+
+
+def test_the_sweep_params_are_the_segments_unit_s_at_the_sweep_step(default_plan):
+    """As before typing: the segments source's params, the timestep replaced (no spurious rerun)."""
+    for terrain_class, segments in default_plan.segments.items():
+        unit = default_plan.case_params("segments", "mujoco", terrain_class, segments)
+        before = canonical(unit | {"physics": unit["physics"] | {"timestep": 0.0005}})
+        assert default_plan.sweep_params("mujoco", terrain_class, "0.5ms") == before
+
+
+@pytest.fixture(scope="module")
+def replay_plan(tmp_path_factory):
+    """A study with a dataset folder (borealtc_dir): its import and segments jobs exist."""
+    workdir = tmp_path_factory.mktemp("replay")
+    folder = write_dataset(workdir / "yard", {"FLOORING": ["7"]}, seconds=2.0, imu_hz=50.0, cmd_hz=15.0)
+    config = tiny_config(workdir)
+    config["real_data"]["datasets"]["yard"] = {"label": "Husky yard", "imu_hz": 50, "commands_hz": 15}
+    config["borealtc_dir"] = str(folder)
+    return plan_of(config)
+
+
+def test_the_dataset_folder_s_job_params_validate_and_equal_what_rules_real_smk_builds(replay_plan):
+    """rules/real.smk builds these params inline today; the plan's typed ones validate against the jobs' models
+    and hold the same values (the declared rates each stated, None where not declared), so passing them
+    instead reruns only what the jobs' code change reruns."""
+    plan = replay_plan
+    segments = plan.real_segments_params()
+    SegmentsParams.model_validate(segments)
+    inline = canonical(
+        {
+            "segment_rules": plan.config["real_data"]["segment_rules"],
+            "track": plan.config["robot"]["track"],
+            "source": plan.replay_dataset()["source"],
+        }
+    )
+    assert segments == inline
+    settings = plan.import_real_params()
+    typed = ImportParams.model_validate(settings)
+    assert (typed.declared.imu_hz, typed.declared.commands_hz, typed.label) == (50.0, 15.0, "Husky yard")
+    inline = canonical(
+        {
+            "track": plan.config["robot"]["track"],
+            "dataset": plan.replay_set.name,
+            "label": plan.replay_dataset()["label"],
+            "declared": plan.replay_dataset()["declared"],
+        }
+    )
+    assert settings == inline
+    # the inline form, with an undeclared rate left out, validates too (the job reads None)
+    no_rates = dict(inline, declared={})
+    assert ImportParams.model_validate(no_rates).declared.imu_hz is None
+
+
+def test_a_replayed_run_s_calibration_settings_carry_its_turning_windows(replay_plan):
+    settings = EvaluateSettings.model_validate(replay_plan.calibration_settings(None, search=False))
+    rules = replay_plan.settings.real_data.segment_rules
+    assert settings.source == "replay" and settings.segment_seconds is None
+    assert (settings.steady.tolerance, settings.steady.min_turn) == (rules.tolerance, rules.min_turn)
