@@ -22,7 +22,9 @@ try:
     PLAN = Plan(
         config,
         SETTINGS,
-        basedir=workflow.basedir,
+        # the project's folder (scripts/, resources/): the one above this file's rules/, which is also the
+        # main Snakefile's folder unless the study runs as a module of another workflow (rules/robots.smk)
+        basedir=os.path.dirname(workflow.current_basedir.get_path_or_uri(secret_free=True)),
         # a dataset folder's derived segment table: its cases are known once its checkpoint has run
         derived_table=lambda: checkpoints.real_segments.get().output.csv,
     )

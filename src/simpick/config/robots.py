@@ -1,0 +1,136 @@
+"""The benchmark across robots: which robots it runs and each robot's study config.
+
+``config/robots.yaml`` names, per robot, the config files its own study is run with (over
+``config.yaml``, in order, as ``--configfile`` would give them) and the settings given on top (as
+``--config`` would). rules/robots.smk runs each robot's study as a Snakemake module of the
+project's Snakefile with the config built here, so a robot's study in the benchmark is the study
+its own command runs, and one robot's study stays rerunnable alone with that command.
+
+Every problem of the list is reported with the file, the robot's field and the fix, before any
+study is planned.
+"""
+
+from __future__ import annotations
+
+import copy
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import yaml
+
+from simpick.errors import InputError
+
+NAME = re.compile(r"^[a-z][a-z0-9_]*$")  # a robot's name: a rule-name prefix and a folder name
+KEYS = {"configfiles", "config", "label"}
+
+
+@dataclass(frozen=True)
+class RobotStudy:
+    """One robot of the benchmark: its name, the files and settings its study runs with, and the
+    merged config (``config.yaml``, then each file, then the settings)."""
+
+    name: str
+    configfiles: tuple[str, ...]
+    overrides: dict = field(default_factory=dict)
+    config: dict = field(default_factory=dict)
+    label: str = ""
+
+    def settings(self) -> dict:
+        """The settings given on top of the files, by dotted key (as the page lists them)."""
+        return flatten(self.overrides)
+
+    def command(self) -> str:
+        """The command that runs this robot's study alone, in the project's folder."""
+        words = ["snakemake --cores 2"] + [f"--configfile {f}" for f in self.configfiles]
+        words += [f"--config {k}={_shell_value(v)}" for k, v in flatten(self.overrides).items()]
+        return " ".join(words)
+
+
+def _shell_value(value) -> str:
+    text = yaml.safe_dump(value, default_flow_style=True).strip().removesuffix("...").strip()
+    return text if re.fullmatch(r"[A-Za-z0-9_./:+-]+", text) else f"'{text}'"
+
+
+def flatten(overrides: dict, prefix: str = "") -> dict:
+    """``{"a": {"b": 1}}`` -> ``{"a.b": 1}``: each setting by its dotted key (the page lists them)."""
+    out = {}
+    for key, value in overrides.items():
+        dotted = f"{prefix}{key}"
+        if isinstance(value, dict) and value:
+            out.update(flatten(value, dotted + "."))
+        else:
+            out[dotted] = value
+    return out
+
+
+def merge(base: dict, over: dict) -> dict:
+    """``over`` merged into a copy of ``base``, mapping by mapping, as Snakemake merges a
+    ``--configfile`` or ``--config`` over the config it has."""
+    out = copy.deepcopy(base)
+    for key, value in over.items():
+        if isinstance(value, dict) and isinstance(out.get(key), dict):
+            out[key] = merge(out[key], value)
+        else:
+            out[key] = copy.deepcopy(value)
+    return out
+
+
+def _read_yaml(path: Path, where: str, fix: str) -> dict:
+    if not path.is_file():
+        raise InputError(where, f"{path} does not exist", fix)
+    try:
+        data = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as exc:
+        raise InputError(str(path), f"cannot be read as YAML: {exc}", "correct its syntax") from None
+    if not isinstance(data, dict):
+        raise InputError(str(path), "is not a mapping of settings", "give it the form of config.yaml")
+    return data
+
+
+def robot_studies(robots: dict, root: str | Path, source: str = "config/robots.yaml") -> dict[str, RobotStudy]:
+    """name -> :class:`RobotStudy` for every robot of ``robots`` (the ``robots:`` block of
+    ``source``), ``config.yaml`` and the config files relative to ``root`` (the studies' working
+    directory, where a study of its own reads them too). Raises :class:`simpick.errors.InputError`
+    naming ``source``, the robot's field and the fix for a bad entry."""
+    root = Path(root)
+    if not isinstance(robots, dict) or not robots:
+        raise InputError(
+            f"{source}, robots", "lists no robot", "give each robot a name with its configfiles and config"
+        )
+    base = _read_yaml(root / "config.yaml", f"{source}, robots", "run from the project's folder")
+    studies = {}
+    for name, entry in robots.items():
+        where = f"{source}, robots.{name}"
+        if not isinstance(name, str) or not NAME.match(name):
+            raise InputError(
+                where,
+                "is not a usable robot name",
+                "lower-case letters, digits and '_', starting with a letter (it names rules and folders)",
+            )
+        entry = entry or {}
+        if not isinstance(entry, dict):
+            raise InputError(where, f"is {entry!r}, not a mapping", "give configfiles: [...] and config: {...}")
+        unknown = sorted(set(entry) - KEYS)
+        if unknown:
+            raise InputError(where, f"unknown field(s) {unknown}", f"use only {sorted(KEYS)}")
+        files = entry.get("configfiles") or []
+        if isinstance(files, str) or not isinstance(files, list):
+            raise InputError(f"{where}.configfiles", f"is {files!r}, not a list", "write it as a list of paths")
+        overrides = entry.get("config") or {}
+        if not isinstance(overrides, dict):
+            raise InputError(f"{where}.config", f"is {overrides!r}, not a mapping", "write settings as key: value")
+        config = base
+        for i, f in enumerate(files):
+            config = merge(
+                config,
+                _read_yaml(
+                    root / f,
+                    f"{where}.configfiles[{i}]",
+                    "name a config file relative to the project's folder (e.g. config/robots/warthog.yaml)",
+                ),
+            )
+        config = merge(config, overrides)
+        label = str(entry.get("label") or (config.get("robot") or {}).get("label") or name)
+        studies[name] = RobotStudy(name, tuple(str(f) for f in files), dict(overrides), config, label)
+    return studies

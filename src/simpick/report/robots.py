@@ -1,0 +1,175 @@
+"""The page of the benchmark across robots (rule robots, rules/robots.smk): per real-data metric, each
+engine's and each simulator profile's outcome on every robot side by side, where the robots agree or
+differ and by how much, and a pooled outcome where every robot gives the same one
+(simpick.score.robots); each robot's data, its answer and the command that reruns its study alone.
+
+It reads each robot's public outputs only (answer.csv, headline.yaml, simulators/table.csv) and writes
+``benchmark.csv`` (the side-by-side rows), ``agreement.csv`` (one row per subject and metric), the HTML
+page and its PDF (WeasyPrint, as the study report).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pandas as pd
+import yaml
+
+from simpick.errors import InputError
+from simpick.score.robots import POOLING_METHOD, agreement, describe, side_by_side, summary
+from simpick.score.verdict import METRICS
+from simpick.tables import write_csv
+
+TEMPLATE = "robots.html.j2"
+KINDS = {"engine": "Engines", "simulator": "Simulators (as shipped and as tuned)"}
+
+
+def _read_csv(path: str, what: str) -> pd.DataFrame:
+    if not Path(path).is_file():
+        raise InputError(path, f"{what} does not exist", "run that robot's study first (rules/robots.smk does)")
+    return pd.read_csv(path)
+
+
+def _read_headline(path: str) -> dict:
+    if not Path(path).is_file():
+        raise InputError(path, "the robot's headline does not exist", "run that robot's study first")
+    data = yaml.safe_load(Path(path).read_text()) or {}
+    if not isinstance(data, dict):
+        raise InputError(path, "is not a mapping", "rerun that robot's rule answer")
+    return data
+
+
+def _cells(side: pd.DataFrame, agree: pd.DataFrame, kind: str, metric: str, robots: list[str]) -> list[dict]:
+    """The rows of one metric's table: per subject, each robot's cell, the agreement and the pooled outcome."""
+    rows = []
+    part = agree[(agree.kind == kind) & (agree.metric == metric)]
+    mine = side[(side.kind == kind) & (side.metric == metric)]
+    for a in part.to_dict("records"):
+        cells = []
+        for robot in robots:
+            found = mine[(mine.subject == a["subject"]) & (mine.robot == robot)]
+            if found.empty:
+                cells.append({"outcome": "not in its study", "detail": "", "mechanics": ""})
+                continue
+            r = found.iloc[0].to_dict()
+            text = describe(r)
+            head, _, rest = text.partition(", ")
+            cells.append({"outcome": head, "detail": rest, "mechanics": r["mechanics"]})
+        rows.append(
+            {
+                "subject": a["subject"],
+                "cells": cells,
+                "agreement": a["agreement"],
+                "gap": a["gap"] if isinstance(a["gap"], float) and math.isfinite(a["gap"]) else None,
+                "pooled": a["pooled"],
+                "reason": a["pooled_reason"],
+            }
+        )
+    return rows
+
+
+def _findings(agree: pd.DataFrame, kind: str) -> list[str]:
+    """The summary's lines for one kind: per metric, the subjects the robots agree on, differ on, and
+    the pooled outcomes."""
+    lines = []
+    for metric in METRICS:
+        part = agree[(agree.kind == kind) & (agree.metric == metric)]
+        if part.empty:
+            continue
+        label = metric.replace("_", " ")
+        compared = part[part.agreement.isin(["agree", "differ", "open"])]
+        if compared.empty:
+            only = part[part.agreement == "one robot"]
+            lines.append(
+                f"{label}: measured on one robot only ({len(only)} rows)"
+                if len(only)
+                else f"{label}: measured on no robot"
+            )
+            continue
+        agree_on = compared[compared.agreement == "agree"].subject.tolist()
+        differ_on = compared[compared.agreement == "differ"].subject.tolist()
+        open_on = compared[compared.agreement == "open"].subject.tolist()
+        text = f"{label}: the robots agree on {len(agree_on)} of {len(compared)}"
+        if differ_on:
+            text += f", differ on {', '.join(differ_on)}"
+        if open_on:
+            text += f"; undetermined on a robot for {', '.join(open_on)}"
+        pooled = part[part.pooled != ""]
+        if len(pooled):
+            groups: dict[str, list[str]] = {}
+            for r in pooled.itertuples():
+                groups.setdefault(r.pooled, []).append(r.subject)
+            text += ". Pooled: " + "; ".join(f"{k}: {', '.join(v)}" for k, v in groups.items())
+        else:
+            text += ". Nothing pooled"
+        lines.append(text + ".")
+    return lines
+
+
+def build_page(
+    robots: list[dict], answers: list[str], headlines: list[str], simulators: list[str], min_robots: int = 2
+) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
+    """(the side-by-side rows, the agreement rows, the page's context) from each robot's files, in the
+    order of ``robots`` (the rule's params: name, label, command, settings by dotted key, configfiles)."""
+    if not (len(robots) == len(answers) == len(headlines) == len(simulators)):
+        raise ValueError("one answer, headline and simulators' table per robot")
+    names = [r["name"] for r in robots]
+    labels = {r["name"]: r.get("label") or r["name"] for r in robots}
+    answer_frames = {n: _read_csv(p, "the robot's answer") for n, p in zip(names, answers, strict=True)}
+    simulator_frames = {
+        n: _read_csv(p, "the robot's simulators' table") for n, p in zip(names, simulators, strict=True)
+    }
+    where = {n: p for n, p in zip(names, answers, strict=True)}
+    where.update({f"{n}:simulators": p for n, p in zip(names, simulators, strict=True)})
+    side = side_by_side(answer_frames, simulator_frames, where=where)
+    agree = agreement(side, names, labels, min_robots=min_robots)
+    heads = {n: _read_headline(p) for n, p in zip(names, headlines, strict=True)}
+    sections = []
+    for kind, title in KINDS.items():
+        if not (side.kind == kind).any():
+            continue
+        tables = []
+        for metric in METRICS:
+            rows = _cells(side, agree, kind, metric, names)
+            if rows:
+                tables.append({"metric": metric, "label": metric.replace("_", " "), "rows": rows})
+        sections.append({"kind": kind, "title": title, "tables": tables, "findings": _findings(agree, kind)})
+    context = {
+        "robots": [
+            {
+                **r,
+                "label": labels[r["name"]],
+                "settings": r.get("settings") or {},
+                "headline": heads[r["name"]],
+            }
+            for r in robots
+        ],
+        "sections": sections,
+        "method": POOLING_METHOD,
+        "min_robots": min_robots,
+        "counts": summary(agree),
+    }
+    return side, agree, context
+
+
+def render(context: dict) -> str:
+    from simpick.report.build import environment
+
+    return environment().get_template(TEMPLATE).render(**context)
+
+
+def robots_job(inputs: dict, params: dict, outputs: dict) -> None:
+    """Rule robots: the tables, the page and its PDF."""
+    from simpick.report.build import write_pdf
+
+    robots = list(params["robots"])
+    min_robots = int((params.get("pooling") or {}).get("min_robots", 2))
+    side, agree, context = build_page(
+        robots, list(inputs["answers"]), list(inputs["headlines"]), list(inputs["simulators"]), min_robots
+    )
+    write_csv(side, outputs["table"])
+    write_csv(agree, outputs["agreement"])
+    html = render(context)
+    Path(outputs["html"]).write_text(html)
+    write_pdf(html, outputs["pdf"])
