@@ -49,6 +49,14 @@ for robot, study in ROBOTS.items():
 
     use rule * from robot as robot_prefix*
 
+    # the page compares the robots' answers: a study without real data of its robot plans none
+    if f"{robot}_answer" not in {r.name for r in workflow.rules}:
+        raise WorkflowError(
+            f"config/robots.yaml, robots.{robot}: its study has no real data of this robot, so no answer to set "
+            "beside the others (fix: give it its data in config, drive_dir, borealtc_dir or own_logs, or leave "
+            "it out of the list)"
+        )
+
 
 rule robots:
     """The robots side by side (simpick.score.robots) and the page (simpick.report.robots)."""
