@@ -74,10 +74,6 @@ rule robots:
         "results/logs/robots.log",
     conda:
         "../envs/simpick.yaml"
-    threads: 1
-    resources:
-        mem_mb=500,
-        runtime=10,
     params:
         robots=[
             {

@@ -103,6 +103,8 @@ def test_simulator_profiles_are_rows_of_their_own():
              "mechanics": "fail", "gain_outcome": "worse", "gain_error": 0.4, "gain_error_low": 0.3,
              "gain_error_high": 0.5, "gain_diff_to_best": 0.2, "heading_outcome": "worse", "heading_error": 0.5,
              "speed_outcome": None},
+            {"simulator": "webots", "variant": "tuned", "model": "", "engine": "ode", "mechanics": "",
+             "status": "not run: not selected", "gain_outcome": None, "heading_outcome": None},
         ]
     )  # fmt: skip
     side = side_by_side({"husky": HUSKY, "warthog": WARTHOG}, {"husky": sims, "warthog": sims.iloc[0:0]})
@@ -209,7 +211,7 @@ def test_the_page_sets_the_robots_side_by_side(tmp_path):
     html = (tmp_path / "out.html").read_text()
     assert "gain error: the robots agree on 2 of 4, differ on ode; undetermined on a robot for dart" in html
     assert "Pooled: as good as the best on every robot: mujoco; worse on every robot: pybullet" in html
-    assert "drive_replay.every=15" in html and "Simulators" not in html
+    assert "drive_replay.every=15" in html and "No simulator profile ran in the study of Husky, Warthog" in html
     assert (tmp_path / "out.pdf").read_bytes()[:4] == b"%PDF"
     agree = pd.read_csv(tmp_path / "out.agreement")
     assert len(agree) == 4 * len(METRICS)

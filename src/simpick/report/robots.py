@@ -80,10 +80,11 @@ def _findings(agree: pd.DataFrame, kind: str) -> list[str]:
         label = metric.replace("_", " ")
         compared = part[part.agreement.isin(["agree", "differ", "open"])]
         if compared.empty:
-            only = part[part.agreement == "one robot"]
+            only = sorted({r for r in part.statement if " only (" in r})
+            robots = sorted({s.split(" measured on ", 1)[1].split(" only (", 1)[0] for s in only})
             lines.append(
-                f"{label}: measured on one robot only ({len(only)} rows)"
-                if len(only)
+                f"{label}: measured on {' and '.join(robots)} only (one robot each): nothing to compare"
+                if robots
                 else f"{label}: measured on no robot"
             )
             continue
@@ -132,10 +133,12 @@ def build_page(
         tables = []
         for metric in METRICS:
             rows = _cells(side, agree, kind, metric, names)
-            if rows:
+            if any(r["agreement"] != "not measured" for r in rows):  # a metric no robot measured: no table
                 tables.append({"metric": metric, "label": metric.replace("_", " "), "rows": rows})
         sections.append({"kind": kind, "title": title, "tables": tables, "findings": _findings(agree, kind)})
+    no_simulators = [labels[n] for n in names if not (side[side.robot == n].kind == "simulator").any()]
     context = {
+        "no_simulators": no_simulators,
         "robots": [
             {
                 **r,

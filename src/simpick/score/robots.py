@@ -111,7 +111,8 @@ def side_by_side(
 ) -> pd.DataFrame:
     """One row per subject x metric x robot (``SIDE_COLUMNS``): the engines of each robot's answer
     (``answers``: robot -> its answer.csv) and the simulator profiles of its simulators' table
-    (``simulators``: robot -> its table.csv), in the robots' order. ``where``: robot -> the file each
+    (``simulators``: robot -> its table.csv; the profiles it ran, not those it lists as not run), in the
+    robots' order. ``where``: robot -> the file each
     came from, for the error a table without the expected columns raises."""
     where = where or {}
     rows = []
@@ -144,6 +145,8 @@ def side_by_side(
             continue
         _need(table, SIMULATOR_NEEDS, where.get(f"{robot}:simulators", f"{robot}: simulators/table.csv"))
         for r in table.to_dict("records"):
+            if str(r.get("status", "run")).startswith("not run"):  # listed by the catalog, not run in this study
+                continue
             for metric, short in SIMULATOR_METRICS.items():
                 outcome = r.get(f"{short}_outcome")
                 outcome = "not measurable" if outcome is None or str(outcome) in ("", "nan") else str(outcome)
