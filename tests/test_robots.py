@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from simpick.config.robots import merge, robot_studies
+from simpick.config.robots import robot_studies
 from simpick.errors import InputError
 from simpick.score.robots import agreement, klass, side_by_side
 from simpick.score.verdict import METRICS
@@ -152,7 +152,7 @@ def test_a_robots_config_is_config_yaml_then_its_files_then_its_settings(tmp_pat
     assert w.config["drive_replay"] == {"a": 1, "every": 15} and w.config["seed"] == 1
     assert w.command() == "snakemake --cores 2 --configfile config/robots/w.yaml --config drive_replay.every=15"
     assert studies["husky"].config["borealtc_dir"] == "../data" and studies["husky"].label == "Husky"
-    assert merge({"a": {"b": 1}}, {"a": None}) == {"a": None}
+    assert robot_studies({"h": {"config": {"robot": None}}}, tmp_path)["h"].config["robot"] is None
 
 
 @pytest.mark.parametrize(
@@ -170,10 +170,15 @@ def test_a_robots_config_is_config_yaml_then_its_files_then_its_settings(tmp_pat
             "robots.warthog.configfiles: is 'config/robots/w.yaml', ",
         ),
         ({}, "config/robots.yaml, robots: lists no robot"),
+        (
+            {"twice": {"configfiles": ["twice.yaml"]}},
+            "robots.twice.configfiles[0]: twice.yaml, line 2: key 'seed' appears twice",
+        ),
     ],
 )
 def test_a_bad_entry_is_refused_naming_file_field_and_fix(tmp_path, robots, message):
     project(tmp_path, {})
+    (tmp_path / "twice.yaml").write_text("seed: 1\nseed: 2\n")
     with pytest.raises(InputError) as exc:
         robot_studies(robots, tmp_path)
     assert message in str(exc.value).replace(str(tmp_path) + "/", "")

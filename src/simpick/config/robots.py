@@ -12,13 +12,13 @@ study is planned.
 
 from __future__ import annotations
 
-import copy
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import yaml
 
+from simpick.config.load import duplicate_keys, merged
 from simpick.errors import InputError
 
 NAME = re.compile(r"^[a-z][a-z0-9_]*$")  # a robot's name: a rule-name prefix and a folder name
@@ -64,19 +64,9 @@ def flatten(overrides: dict, prefix: str = "") -> dict:
     return out
 
 
-def merge(base: dict, over: dict) -> dict:
-    """``over`` merged into a copy of ``base``, mapping by mapping, as Snakemake merges a
-    ``--configfile`` or ``--config`` over the config it has."""
-    out = copy.deepcopy(base)
-    for key, value in over.items():
-        if isinstance(value, dict) and isinstance(out.get(key), dict):
-            out[key] = merge(out[key], value)
-        else:
-            out[key] = copy.deepcopy(value)
-    return out
-
-
-def _read_yaml(path: Path, where: str, fix: str) -> dict:
+def _check_file(path: Path, where: str, fix: str) -> None:
+    """A config file a robot's study reads: there, a mapping, no key said twice (the study's own checks,
+    here naming the robot's entry)."""
     if not path.is_file():
         raise InputError(where, f"{path} does not exist", fix)
     try:
@@ -85,7 +75,9 @@ def _read_yaml(path: Path, where: str, fix: str) -> dict:
         raise InputError(str(path), f"cannot be read as YAML: {exc}", "correct its syntax") from None
     if not isinstance(data, dict):
         raise InputError(str(path), "is not a mapping of settings", "give it the form of config.yaml")
-    return data
+    twice = duplicate_keys(path)
+    if twice:
+        raise InputError(where, twice[0], "say each setting once")
 
 
 def robot_studies(robots: dict, root: str | Path, source: str = "config/robots.yaml") -> dict[str, RobotStudy]:
@@ -98,7 +90,7 @@ def robot_studies(robots: dict, root: str | Path, source: str = "config/robots.y
         raise InputError(
             f"{source}, robots", "lists no robot", "give each robot a name with its configfiles and config"
         )
-    base = _read_yaml(root / "config.yaml", f"{source}, robots", "run from the project's folder")
+    _check_file(root / "config.yaml", f"{source}, robots", "run from the project's folder")
     studies = {}
     for name, entry in robots.items():
         where = f"{source}, robots.{name}"
@@ -120,17 +112,14 @@ def robot_studies(robots: dict, root: str | Path, source: str = "config/robots.y
         overrides = entry.get("config") or {}
         if not isinstance(overrides, dict):
             raise InputError(f"{where}.config", f"is {overrides!r}, not a mapping", "write settings as key: value")
-        config = base
         for i, f in enumerate(files):
-            config = merge(
-                config,
-                _read_yaml(
-                    root / f,
-                    f"{where}.configfiles[{i}]",
-                    "name a config file relative to the project's folder (e.g. config/robots/warthog.yaml)",
-                ),
+            _check_file(
+                root / f,
+                f"{where}.configfiles[{i}]",
+                "name a config file relative to the project's folder (e.g. config/robots/warthog.yaml)",
             )
-        config = merge(config, overrides)
+        # as the robot's own study reads it: config.yaml, each file, the settings (simpick.config.load.merged)
+        config = merged([root / "config.yaml", *(root / f for f in files)], overrides)
         label = str(entry.get("label") or (config.get("robot") or {}).get("label") or name)
         studies[name] = RobotStudy(name, tuple(str(f) for f in files), dict(overrides), config, label)
     return studies
