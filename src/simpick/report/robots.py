@@ -91,11 +91,14 @@ def _findings(agree: pd.DataFrame, kind: str) -> list[str]:
         agree_on = compared[compared.agreement == "agree"].subject.tolist()
         differ_on = compared[compared.agreement == "differ"].subject.tolist()
         open_on = compared[compared.agreement == "open"].subject.tolist()
-        text = f"{label}: the robots agree on {len(agree_on)} of {len(compared)}"
+        parts = []
+        if agree_on:
+            parts.append(f"the robots agree on {', '.join(agree_on)}")
         if differ_on:
-            text += f", differ on {', '.join(differ_on)}"
+            parts.append(f"they differ on {', '.join(differ_on)}")
         if open_on:
-            text += f"; undetermined on a robot for {', '.join(open_on)}"
+            parts.append(f"undetermined on at least one robot for {', '.join(open_on)}")
+        text = f"{label}: " + "; ".join(parts)
         pooled = part[part.pooled != ""]
         if len(pooled):
             groups: dict[str, list[str]] = {}

@@ -288,7 +288,9 @@ def _statement(verdict, subject, metric, robots, by_robot, classes, gap, name) -
             f"worse on {', '.join(bad)}{by}."
         )
     open_ = [name(r) for r in robots if classes[r] == "open"]
-    return f"{subject}: {label} undetermined on {', '.join(open_)}; no disagreement among the rest{by}."
+    if len(open_) == sum(classes[r] != "unmeasured" for r in robots):
+        return f"{subject}: {label} undetermined on every robot that measured it ({', '.join(open_)})."
+    return f"{subject}: {label} undetermined on {', '.join(open_)}; the other robots do not disagree{by}."
 
 
 def summary(agree: pd.DataFrame) -> dict:
