@@ -137,7 +137,7 @@ def build_page(
         for metric in METRICS:
             rows = _cells(side, agree, kind, metric, names)
             if any(r["agreement"] != "not measured" for r in rows):  # a metric no robot measured: no table
-                tables.append({"metric": metric, "label": metric.replace("_", " "), "rows": rows})
+                tables.append({"metric": metric, "label": METRICS[metric]["label"], "rows": rows})
         sections.append({"kind": kind, "title": title, "tables": tables, "findings": _findings(agree, kind)})
     no_simulators = [labels[n] for n in names if not (side[side.robot == n].kind == "simulator").any()]
     context = {
@@ -152,6 +152,7 @@ def build_page(
             for r in robots
         ],
         "sections": sections,
+        "metrics": [{"label": v["label"], "unit": v["unit"] or "no unit", "what": v["what"]} for v in METRICS.values()],
         "method": POOLING_METHOD,
         "min_robots": min_robots,
         "counts": summary(agree),

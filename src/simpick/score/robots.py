@@ -182,7 +182,8 @@ def describe(row: dict) -> str:
     """One robot's outcome in words: the outcome, the difference to the best with its interval and the
     margin where the robot's answer gives them, else the error where the simulators' table does."""
     text = row["outcome"]
-    if math.isfinite(row["diff"]) and row["outcome"] != "best":
+    reference = row["diff"] == 0 and not math.isfinite(row["diff_low"])  # the lowest mean, with too few runs
+    if math.isfinite(row["diff"]) and row["outcome"] != "best" and not reference:
         text += f", {_fmt(row['diff'])}"
         if math.isfinite(row["diff_low"]) and math.isfinite(row["diff_high"]):
             text += f" [{_fmt(row['diff_low'])}, {_fmt(row['diff_high'])}]"
