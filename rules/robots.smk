@@ -25,7 +25,7 @@ configfile: "config/robots.yaml"
 # for a study of its own (its config.yaml is the one every robot's config starts from)
 ROOT = os.path.dirname(workflow.current_basedir.get_path_or_uri(secret_free=True))
 try:
-    ROBOTS = robot_studies(config.get("robots"), ".", source="config/robots.yaml (robots)")
+    ROBOTS = robot_studies(config.get("robots"), ".", source="config/robots.yaml")
 except InputError as _exc:
     raise WorkflowError(str(_exc))
 

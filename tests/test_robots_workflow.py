@@ -70,7 +70,7 @@ def test_two_robots_run_as_modules_and_meet_on_one_page(tmp_path):
     [
         (
             {"husky": {}, "warthog": {"configfiles": ["config/robots/nope.yaml"]}},
-            "config/robots.yaml (robots), robots.warthog.configfiles[0]: config/robots/nope.yaml does not exist",
+            "config/robots.yaml, robots.warthog.configfiles[0]: config/robots/nope.yaml does not exist",
         ),
         (
             {"husky": {}, "jackal": {"config": {"robot": {"urdf": str(ROOT / "resources/robot/jackal.urdf")},
