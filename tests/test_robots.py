@@ -150,7 +150,7 @@ def test_a_robots_config_is_config_yaml_then_its_files_then_its_settings(tmp_pat
     w = studies["warthog"]
     assert w.label == "Warthog" and w.config["robot"] == {"label": "Warthog", "track": 1.08}
     assert w.config["drive_replay"] == {"a": 1, "every": 15} and w.config["seed"] == 1
-    assert w.command() == "snakemake --cores 2 --configfile config/robots/w.yaml --config drive_replay.every=15"
+    assert w.command() == "snakemake --cores 2 --configfile config/robots/w.yaml --config drive_replay='{every: 15}'"
     assert studies["husky"].config["borealtc_dir"] == "../data" and studies["husky"].label == "Husky"
     assert robot_studies({"h": {"config": {"robot": None}}}, tmp_path)["h"].config["robot"] is None
 

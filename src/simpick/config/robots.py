@@ -43,7 +43,9 @@ class RobotStudy:
     def command(self) -> str:
         """The command that runs this robot's study alone, in the project's folder."""
         words = ["snakemake --cores 2"] + [f"--configfile {f}" for f in self.configfiles]
-        words += [f"--config {k}={_shell_value(v)}" for k, v in flatten(self.overrides).items()]
+        # Snakemake's --config takes top-level keys (a mapping value is merged into that block, as here)
+        if self.overrides:
+            words += ["--config"] + [f"{k}={_shell_value(v)}" for k, v in self.overrides.items()]
         return " ".join(words)
 
 
