@@ -161,14 +161,14 @@ def build_page(
 
 
 def render(context: dict) -> str:
-    from simpick.report.build import environment
+    from simpick.report.render import environment
 
     return environment().get_template(TEMPLATE).render(**context)
 
 
 def robots_job(inputs: dict, params: dict, outputs: dict) -> None:
     """Rule robots: the tables, the page and its PDF."""
-    from simpick.report.build import write_pdf
+    from simpick.report.render import write_pdf
 
     robots = list(params["robots"])
     min_robots = int((params.get("pooling") or {}).get("min_robots", 2))
