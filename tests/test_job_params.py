@@ -205,3 +205,17 @@ def test_a_replayed_run_s_calibration_settings_carry_its_turning_windows(replay_
     rules = replay_plan.settings.real_data.segment_rules
     assert settings.source == "replay" and settings.segment_seconds is None
     assert (settings.steady.tolerance, settings.steady.min_turn) == (rules.tolerance, rules.min_turn)
+
+
+def test_an_infinite_setting_reaches_the_job_as_infinity_not_null():
+    """Webots leaves ODE's correcting velocity at ODE's infinity (the catalog's ``.inf``); the plan's typed
+    dump must hand the job that infinity, not JSON's null, which the engine's settings model refuses."""
+    from simpick.studies.validation.job import ValidateParams
+
+    config = study_config()
+    config["robot"]["urdf"] = str(ROOT / config["robot"]["urdf"])
+    plan = plan_of(config)
+    assert "webots-shipped" in plan.profiles  # the default study runs Webots as shipped
+    params = plan.validation_params("webots-shipped")
+    assert params["engine_settings"]["contact_max_correcting_vel"] == float("inf")
+    assert ValidateParams.model_validate(params).engine_settings["contact_max_correcting_vel"] == float("inf")

@@ -27,14 +27,14 @@ Finite = Annotated[float, Field(allow_inf_nan=False)]
 class Strict(BaseModel):
     """A config section: no unknown keys (a misspelt key is an error, not silently ignored)."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", ser_json_inf_nan="constants")
 
 
 class JobParams(BaseModel):
     """What one job reads: no unknown keys (the plan and the job agree on every field) and frozen (a job
     reads its parameters, never edits them)."""
 
-    model_config = ConfigDict(frozen=True, extra="forbid")
+    model_config = ConfigDict(frozen=True, extra="forbid", ser_json_inf_nan="constants")
 
 
 class PhysicsStep(JobParams):
