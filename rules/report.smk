@@ -2,8 +2,8 @@
 # or terrain class for a family) from the tables into results/report/figures/, registered with
 # report() so `snakemake --report` shows it too; the report job only embeds the files. No figure
 # shows the weights (the page draws the weighted contributions from results/scores/contributions.csv);
-# the printed decision tree (figure_tree, rules/tree.smk) orders each leaf's engines by the weighted
-# total, so a weight edit redraws that one figure. The figure inputs (PLAN.figures,
+# the printed decision tree (figure_tree, rules/tree.smk) letters its leaves and the report's table
+# under it orders each leaf's engines by the weighted total, so a weight edit redraws no figure. The figure inputs (PLAN.figures,
 # PLAN.lab_figure_tests, PLAN.report_figures ...) are in simpick.plan.report.
 
 # Figure rules: light jobs (one Matplotlib figure each), code= PLAN.figure_code, the code version of

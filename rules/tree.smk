@@ -1,8 +1,8 @@
 # The decision tree after the paper's Figure 9 (simpick.score.tree), from the study's own tables:
 # the sourced qualitative facts, the analytic mechanics checks, the real-data verdict's outcomes and
 # mechanics gate (where the study has real data), the lab's real-time factor and the CPU load. The weights only
-# order the engines within a leaf (the figure and the report do that from weighted.csv), so a
-# weight edit does not rerun decision_tree.
+# order the engines within a leaf, which the report does from weighted.csv (the table under the printed tree),
+# so a weight edit reruns neither decision_tree nor figure_tree.
 
 
 rule decision_tree:
@@ -29,17 +29,17 @@ rule decision_tree:
 
 
 rule figure_tree:
-    """The decision tree for the PDF, each leaf's engines ordered by the paper's weighted total."""
+    """The decision tree for the PDF: each leaf a letter and its engines in the tree's order. It reads no
+    weight, so a weight edit does not redraw it (Matplotlib off the weight path); the report's table under
+    the figure orders each leaf by the weighted total."""
     input:
         tree="results/verdict/tree.json",
-        weighted="results/scores/weighted.csv",
     output:
         png=report(
             f"{PLAN.figures}/tree.png", caption="captions/tree_figure.rst", category="Figures", subcategory="Verdict"
         ),
     log:
         "results/logs/figures/tree.log",
-    # on the weight path: bench/weight_edit.py reads its time
     benchmark:
         "results/benchmarks/figure_tree.tsv"
     conda:

@@ -412,26 +412,43 @@ def test_speed_answers_are_classes_at_the_gaps_and_keeping_pace_with_the_clock(t
     assert [o.label for o in question.options(["a", "b"])] == ["No need"]
 
 
-def test_the_printed_tree_draws_every_leaf_at_a4_width(study):
-    from simpick.report.tree_figure import WIDTH, draw_tree, layout
+def test_the_printed_tree_draws_every_leaf_at_a4_width_without_weights(study):
+    """The figure reads no weight (a weight edit does not redraw it): each leaf its letter and its engines
+    in the tree's order; the report's table under it (leaf_rows) orders them by the weighted total."""
+    from simpick.report.tree_figure import WIDTH, draw_tree, layout, leaf_letters, leaf_rows
 
     tree = read_tree(study["tree"])
     totals = pd.read_csv(study["weighted"], index_col="engine")["total"].to_dict()
-    fig = draw_tree(tree, totals)
+    fig = draw_tree(tree)
     _, leaves, _ = layout(tree)
     assert fig.get_size_inches()[0] == WIDTH <= 7.5
     texts = [t.get_text() for t in fig.axes[0].texts]
     empty = sum(not tree["nodes"][n]["engines"] for n in leaves)
     assert texts.count("no engine meets these answers") == empty > 0
-    picks = [leaf_order(tree["nodes"][n]["engines"], totals)[0] for n in leaves if tree["nodes"][n]["engines"]]
-    names = [t.split()[0].rstrip("\u2020") for t in texts if t.split()]
-    assert sorted(n for n in names if n in FACTS) == sorted(picks)
+    letters = leaf_letters(tree)
+    assert list(letters) == leaves and list(letters.values())[:3] == ["A", "B", "C"]
+    assert set(letters.values()) <= set(texts)
+    for n in leaves:  # the tree's order, no total printed
+        if tree["nodes"][n]["engines"]:
+            listed = ", ".join(tree["nodes"][n]["engines"])
+            assert any(t.replace("\u2020", "").replace("\n", " ") == listed for t in texts), listed
+    rows = leaf_rows(tree, totals)
+    assert [r["letter"] for r in rows] == list(letters.values())
+    for row, n in zip(rows, leaves):
+        assert [e["engine"] for e in row["engines"]] == leaf_order(tree["nodes"][n]["engines"], totals)
+        assert [e["pick"] for e in row["engines"]] == [i == 0 for i in range(len(row["engines"]))]
+    # another weighting reorders the table, never the figure
+    flipped = {e: -t for e, t in totals.items()}
+    multi = [r for r in leaf_rows(tree, flipped) if len(r["engines"]) > 1]
+    assert multi and all(
+        [e["engine"] for e in r["engines"]] == leaf_order([e["engine"] for e in r["engines"]], flipped) for r in multi
+    )
 
 
 @pytest.mark.workflow
-def test_the_rules_plan_the_tree_from_the_study_and_the_figure_from_the_weights(tmp_path):
+def test_the_rules_plan_the_tree_from_the_study_and_the_figure_without_the_weights(tmp_path):
     """A dry run: rule decision_tree reads the verdict's outcomes and gate with the lab's tables, and
-    figure_tree the weighted table (so a weight edit reaches the figure, not the tree)."""
+    figure_tree the tree alone (a weight edit reaches neither; the report orders the leaves)."""
     from conftest import snakemake, tiny_config, write_config
 
     write_config(tmp_path, tiny_config(tmp_path))
@@ -447,7 +464,8 @@ def test_the_rules_plan_the_tree_from_the_study_and_the_figure_from_the_weights(
     assert out.returncode == 0, out.stderr[-3000:]
     text = out.stdout + out.stderr
     jobs = {block.split(":")[0].split()[-1]: block for block in text.split("\nrule ")[1:]}
-    assert {"decision_tree", "figure_tree", "verdict", "scores", "validation_summary"} <= set(jobs)
+    assert {"decision_tree", "figure_tree", "verdict", "validation_summary"} <= set(jobs)
+    assert "weighted" not in jobs  # the figure needs no weighted table
     tree_inputs = jobs["decision_tree"].split("input:")[1].split("\n")[0]
     for needed in (
         "results/verdict/outcomes.csv",
@@ -459,7 +477,8 @@ def test_the_rules_plan_the_tree_from_the_study_and_the_figure_from_the_weights(
     ):
         assert needed in tree_inputs, needed
     assert "weighted.csv" not in tree_inputs
-    assert "results/scores/weighted.csv" in jobs["figure_tree"].split("input:")[1].split("\n")[0]
+    figure_inputs = jobs["figure_tree"].split("input:")[1].split("\n")[0]
+    assert "results/verdict/tree.json" in figure_inputs and "weighted.csv" not in figure_inputs
 
 
 def test_the_drive_comparison_counts_by_its_pooled_rows_only(tmp_path):

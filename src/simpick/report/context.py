@@ -209,6 +209,15 @@ def _opt_in(opt_in: Mapping[str, Any]) -> list[dict[str, Any]]:
     return found
 
 
+def _tree_leaves(data: ReportData) -> list[dict] | None:
+    """Per leaf of the printed tree its letter and engines by the weighted total (weighted.csv)."""
+    if data.tree is None or data.weighted is None:
+        return None
+    from simpick.report.tree_figure import leaf_rows
+
+    return leaf_rows(data.tree, {e: float(t) for e, t in data.weighted["total"].items()})
+
+
 def _robot(config: Mapping[str, Any]) -> dict[str, Any]:
     """name, label; real_data_robot: whose the real data are, when not the study's robot's."""
     return {"name": None, "label": None, "real_data_robot": None, **dict(config.get("robot") or {})}
@@ -269,6 +278,9 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
             (data.verdict_headline or {}).get("units") or "runs",
         ),
         "tree_uri": figures.data_uri(data.figures["tree"]) if "tree" in data.figures else None,
+        # the printed tree's leaves by the weighted total (the figure reads no weight: a weight edit
+        # changes this table, not the figure; simpick.report.tree_figure)
+        "tree_leaves": _tree_leaves(data) if "tree" in data.figures else None,
         # the simulators as rows (simpick.report.simulators), when the study runs any
         "simulators": simulators_section(params["simulators"], weights) if params.get("simulators") else None,
         # the decision tree and the adjustable weights, answered in the browser (simpick.report.interactive):

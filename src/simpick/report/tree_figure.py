@@ -1,12 +1,12 @@
 """The decision tree (results/verdict/tree.json) drawn for print: questions left to right, the answers
-on the edges, the leaves in a column on the right, each leaf's engines ordered by the paper's
-weighted total at the study's weights (results/scores/weighted.csv), the pick first."""
+on the edges, the leaves in a column on the right, each a letter (:func:`leaf_letters`) and its engines
+in the tree's order. No weight reaches the figure, so a weight edit does not redraw it (Matplotlib's
+import and drawing are off the weight-edit path): the report orders each leaf's engines by the paper's
+weighted total in a table under the figure (:func:`leaf_rows`), from the weighted table it reads."""
 
 from __future__ import annotations
 
 import textwrap
-
-import pandas as pd
 
 from simpick.score.tree import leaf_order, read_tree
 
@@ -37,16 +37,52 @@ def layout(tree: dict) -> tuple[dict[str, tuple[int, float]], list[str], int]:
     return place, leaves, depth
 
 
-def draw_tree(tree: dict, totals: dict[str, float]):
-    """The figure (matplotlib) of ``tree`` with leaves ordered by ``totals``."""
+def leaf_letters(tree: dict) -> dict[str, str]:
+    """Leaf id -> the letter the figure prints beside it (A, B, ... top to bottom; AA, AB, ... past Z),
+    by which the report's table of the leaves names them."""
+    _, leaves, _ = layout(tree)
+
+    def letter(i: int) -> str:
+        return chr(65 + i) if i < 26 else letter(i // 26 - 1) + chr(65 + i % 26)
+
+    return {nid: letter(i) for i, nid in enumerate(leaves)}
+
+
+def leaf_rows(tree: dict, totals: dict[str, float]) -> list[dict]:
+    """The report's table under the figure: per leaf (in the figure's order) its letter, its pick and the
+    others by the paper's weighted total (``totals``: engine -> total; :func:`simpick.score.tree.leaf_order`),
+    each engine with its total (None where it has none) and whether it fails analytic mechanics."""
+    fails = _mechanics_fails(tree)
+    rows = []
+    for nid, letter in leaf_letters(tree).items():
+        engines = leaf_order(tree["nodes"][nid]["engines"], totals)
+        rows.append(
+            {
+                "letter": letter,
+                "engines": [
+                    {"engine": e, "total": totals.get(e), "fails": e in fails, "pick": i == 0}
+                    for i, e in enumerate(engines)
+                ],
+            }
+        )
+    return rows
+
+
+def _mechanics_fails(tree: dict) -> set[str]:
+    mechanics = next((q for q in tree["questions"] if q["key"] == "mechanics"), None)
+    return {e for e, f in (mechanics or {"facts": {}})["facts"].items() if f["value"] is False}
+
+
+def draw_tree(tree: dict):
+    """The figure (matplotlib) of ``tree``: each leaf's letter and its engines in the tree's order."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     place, leaves, depth = layout(tree)
-    mechanics = next((q for q in tree["questions"] if q["key"] == "mechanics"), None)
-    fails = {e for e, f in (mechanics or {"facts": {}})["facts"].items() if f["value"] is False}
+    fails = _mechanics_fails(tree)
+    letters = leaf_letters(tree)
     leaf_width = 2.0
     column = (WIDTH - leaf_width - 0.1) / (depth + 1)
     height = ROW * max(len(leaves), 3) + 0.75
@@ -102,26 +138,18 @@ def draw_tree(tree: dict, totals: dict[str, float]):
     for nid in leaves:
         node = tree["nodes"][nid]
         x, y = xy(nid)
+        ax.text(x, y, letters[nid], fontsize=FONT + 0.5, va="center", fontweight="bold")
         if not node["engines"]:
-            ax.text(x, y, "no engine meets these answers", fontsize=FONT, va="center", color="#b03000")
+            ax.text(x + 0.22, y, "no engine meets these answers", fontsize=FONT, va="center", color="#b03000")
             continue
-        ordered = leaf_order(node["engines"], totals)
-
-        def name(e: str) -> str:
-            total = totals.get(e)
-            return f"{e}{'†' if e in fails else ''} {total:.1f}" if total is not None else e
-
-        ax.text(x, y - 0.045, name(ordered[0]), fontsize=FONT + 0.5, va="center", fontweight="bold")
-        if len(ordered) > 1:
-            rest = "then " + ", ".join(name(e) for e in ordered[1:])
-            ax.text(
-                x,
-                y + 0.085,
-                textwrap.shorten(rest, int(leaf_width * chars), placeholder="..."),
-                fontsize=FONT - 1,
-                va="center",
-                color="#333333",
-            )
+        names = ", ".join(f"{e}{'†' if e in fails else ''}" for e in node["engines"])
+        ax.text(
+            x + 0.22,
+            y,
+            textwrap.fill(names, int((leaf_width - 0.22) * chars * 1.1), max_lines=2, placeholder="..."),
+            fontsize=FONT - 0.5,
+            va="center",
+        )
     ax.text(
         0.05,
         0.15,
@@ -131,8 +159,9 @@ def draw_tree(tree: dict, totals: dict[str, float]):
         va="center",
     )
     legend = (
-        "Leaves: the pick in bold, then the others that meet every answer, by the paper's weighted total "
-        "at the study's weights" + ("; † fails analytic mechanics" if fails else "")
+        "Leaves: a letter and the engines that meet every answer, in the study's order (the table under the "
+        "figure orders each leaf by the paper's weighted total at the study's weights)"
+        + ("; † fails analytic mechanics" if fails else "")
     )
     if tree.get("not_asked"):
         legend += ". Not asked (no answer changes the engines): " + "; ".join(
@@ -142,13 +171,10 @@ def draw_tree(tree: dict, totals: dict[str, float]):
     return fig
 
 
-def tree_figure_job(tree_path: str, weighted_path: str, output: str) -> None:
-    """Rule figure_tree: results/report/figures/tree.png."""
+def tree_figure_job(tree_path: str, output: str) -> None:
+    """Rule figure_tree: results/report/figures/tree.png, from the tree alone (no weight)."""
     from pathlib import Path
 
-    tree = read_tree(tree_path)
-    weighted = pd.read_csv(weighted_path)
-    totals = dict(zip(weighted["engine"], weighted["total"].astype(float)))
-    fig = draw_tree(tree, totals)
+    fig = draw_tree(read_tree(tree_path))
     Path(output).parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(output, dpi=200)
