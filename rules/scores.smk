@@ -1,6 +1,6 @@
 # The scores, which read no weight, and results/scores/provenance.yaml: which errors file, tests and
 # exclusions they rest on (the report reads that file rather than working it out from the config
-# again). The weights reach the weighted table only: a job of its own (rule weighted) weighs the scores,
+# again). The weights reach the weighted table only: rule answer (or rule weighted, without an answer) weighs the scores,
 # so that a weight edit reruns neither the scores nor what reads them alone (the report's evidence and
 # appendices, rule report_evidence).
 rule scores:
@@ -35,31 +35,35 @@ rule scores:
 
 # The weighted table: the scores times the config's weights, the totals and the ranking, and per engine
 # and metric its weight x score and what puts the leader ahead of each engine. All a weight edit reruns
-# of the scores.
-rule weighted:
-    input:
-        scores="results/scores/scores.csv",
-    output:
-        weighted=report("results/scores/weighted.csv", caption="captions/weighted.rst", category="Scores"),
-        contributions=report(
-            "results/scores/contributions.csv", caption="captions/scores_contributions.rst", category="Scores"
-        ),
-        drivers=report("results/scores/drivers.csv", caption="captions/scores_contributions.rst", category="Scores"),
-    log:
-        "results/logs/weighted.log",
-    benchmark:
-        "results/benchmarks/weighted.tsv"
-    conda:
-        "../envs/simpick.yaml"
-    threads: 1
-    resources:
-        mem_mb=300,
-        runtime=5,
-    params:
-        weights=canonical(PLAN.config["weights"]),
-        code=PLAN.script_code("weighted"),
-    script:
-        "../scripts/weighted.py"
+# of the scores. Where the study has an answer (real data of its robot), rule answer writes these tables
+# itself, as it reads them: one level of jobs (a process start and a scheduling step) less on the weight
+# path, [answer, simulator_scores] -> report. Without one, a job of their own.
+if not PLAN.answer_source:
+
+    rule weighted:
+        input:
+            scores="results/scores/scores.csv",
+        output:
+            weighted=report("results/scores/weighted.csv", caption="captions/weighted.rst", category="Scores"),
+            contributions=report(
+                "results/scores/contributions.csv", caption="captions/scores_contributions.rst", category="Scores"
+            ),
+            drivers=report("results/scores/drivers.csv", caption="captions/scores_contributions.rst", category="Scores"),
+        log:
+            "results/logs/weighted.log",
+        benchmark:
+            "results/benchmarks/weighted.tsv"
+        conda:
+            "../envs/simpick.yaml"
+        threads: 1
+        resources:
+            mem_mb=300,
+            runtime=5,
+        params:
+            weights=canonical(PLAN.config["weights"]),
+            code=PLAN.script_code("weighted"),
+        script:
+            "../scripts/weighted.py"
 
 
 # simpick's verdict beside the paper's method (simpick.score.verdict): per real run the yaw-rate gain
@@ -106,8 +110,8 @@ if PLAN.verdict:
 
 # The answer (simpick.score.answer): one row per engine and a sentence per need, the paper's
 # weighted total with its interval over real runs, the separation table and the report's first
-# paragraph. The weights reach it: it is what a weight edit reruns besides the weighted table and the
-# report, kept small (a resampled total, no test). It rests on the real data the study has of its
+# paragraph, and the weighted table with its contributions and drivers (simpick.score.jobs.weigh). The
+# weights reach it: it is what a weight edit reruns besides the simulators' weighted table and the report, kept small (a resampled total, no test). It rests on the real data the study has of its
 # robot (PLAN.answer_tables): the verdict's runs above, else the DRIVE comparison's steps
 # (rules/drive.smk, which writes the same tables beside its outcomes).
 if PLAN.answer_source:
@@ -116,7 +120,8 @@ if PLAN.answer_source:
         input:
             unpack(PLAN.answer_inputs),
             accuracy_tests=PLAN.accuracy_source()["per_test"],
-            weighted="results/scores/weighted.csv",
+            # weighed here (the tables rule weighted writes without an answer), not read
+            scores="results/scores/scores.csv",
             provenance="results/scores/provenance.yaml",
             rtf=PLAN.metrics_file("lab", "rtf"),
             cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
@@ -130,6 +135,11 @@ if PLAN.answer_source:
             headline=report(
                 "results/verdict/headline.yaml", caption="captions/verdict_headline.rst", category="Verdict"
             ),
+            weighted=report("results/scores/weighted.csv", caption="captions/weighted.rst", category="Scores"),
+            contributions=report(
+                "results/scores/contributions.csv", caption="captions/scores_contributions.rst", category="Scores"
+            ),
+            drivers=report("results/scores/drivers.csv", caption="captions/scores_contributions.rst", category="Scores"),
         log:
             "results/logs/answer.log",
         benchmark:

@@ -1,7 +1,7 @@
 """The workflow end to end on a tiny config, and the rerun contract.
 
 The contract (what a user relies on to iterate cheaply): nothing edited -> nothing runs;
-a weight edited -> only the weighted table, the answer and the report's body (not the printed tree, which
+a weight edited -> only the answer (which writes the weighted table) and the report's body (not the printed tree, which
 reads no weight, nor its
 evidence's sections 2-5 nor its appendices: rule report_evidence); a report
 template edited -> only the report and its figures; one engine's settings or code edited -> only that
@@ -109,10 +109,11 @@ def test_weight_edit_reruns_only_scoring_and_report(study):
         # the weighted total its interval over real runs and flags it; the report's table under the printed tree
         # orders each leaf's engines by the weighted total (the figure reads no weight: figure_tree does not
         # rerun); the verdict's tests (each engine against the best) read no weight.
-        # The scores and the record of what they rest on (rule scores) read no weight, only rule weighted does;
+        # The scores and the record of what they rest on (rule scores) read no weight; rule answer weighs them
+        # (it writes weighted.csv, contributions.csv and drivers.csv: no job of their own before it);
         # the evidence's sections 2-5 and the appendices (report_evidence) read no weight either: the report
         # job lays out its body and joins the evidence's PDF
-        assert rules == ["all", "answer", "report", "weighted"]
+        assert rules == ["all", "answer", "report"]
     finally:
         write_config(workdir, config)
 

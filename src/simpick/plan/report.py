@@ -116,7 +116,8 @@ class ReportPlanning:
 
     def body_figures(self):
         """The figures the body embeds (rule report): the first page's, the answer's and the printed
-        tree (which reads no weight; the body orders its leaves by the weighted total in a table). The others are the evidence's."""
+        tree (which reads no weight; the body orders its leaves by the weighted total in a table). The
+        others are the evidence's."""
         fig = self.figures
         return [f for f in self.report_figures() if f in (f"{fig}/answer.png", f"{fig}/tree.png")]
 

@@ -500,8 +500,10 @@ def basis_sentence(basis: dict, n: int, left_out: list[str] | None = None) -> st
 
 def answer_job(inputs: dict, params: dict, outputs: dict) -> None:
     """Rule ``answer``: the paper's weighted ranking with its interval over real runs (ranking.csv),
-    the separation table, answer.csv, answer.yaml and the headline, from the scores (weighted.csv,
-    provenance.yaml), the real-data comparison's tables (outcomes, mechanics, table, per_test: the verdict's,
+    the separation table, answer.csv, answer.yaml and the headline, from the scores (weighted.csv, or
+    with ``inputs["scores"]`` the per-metric scores, weighed here at ``params["weights"]`` into
+    ``outputs["weighted"]``, ``["contributions"]`` and ``["drivers"]``; provenance.yaml), the real-data
+    comparison's tables (outcomes, mechanics, table, per_test: the verdict's,
     with its discrimination table, where the study has one, else the DRIVE comparison's, which writes the
     same tables beside its outcomes; simpick.plan answer_tables), the lab's real-time factor, the CPU runs
     and, where it ran, the calibration's turning table. ``params.basis``: the dataset the comparison rests
@@ -509,7 +511,13 @@ def answer_job(inputs: dict, params: dict, outputs: dict) -> None:
     statistics = params.get("statistics")
     engines = list(params["engines"])
     seed = int(params.get("seed", 0))
-    weighted = pd.read_csv(inputs["weighted"], index_col=0)
+    if inputs.get("scores"):
+        # the workflow weighs the scores here (rule answer writes weighted.csv, contributions.csv and
+        # drivers.csv): one job less before the answer on a weight edit
+        from simpick.score.jobs import weigh
+
+        weigh(pd.read_csv(inputs["scores"], index_col="engine"), params["weights"], outputs)
+    weighted = pd.read_csv(outputs["weighted"] if inputs.get("scores") else inputs["weighted"], index_col=0)
     prov = yaml.safe_load(Path(inputs["provenance"]).read_text()) or {}
     acc = prov.get("accuracy") or {}
     acc_per_test = None
