@@ -1509,3 +1509,15 @@ def test_the_decision_tree_is_interactive_on_screen_and_a_figure_in_print(tmp_pa
     assert text.index('id="answer"') < text.index('id="simpick-choose"') < text.index('id="priorities"')
     assert ".screen-only { display: none; }" in text  # hidden in print
     assert not re.search(r"<script\b[^>]*\bsrc=", text, re.I)
+
+
+def test_the_answer_s_cpu_heading_names_the_robots_the_cpu_load_measured():
+    """The CPU column's heading is read from the CPU-load records (a config with 3 robots in its intense
+    scenario is labelled 1 / 3, not the paper's 1 / 5); with no records it says what the two figures are."""
+    from types import SimpleNamespace
+
+    from simpick.report.context import _cpu_robots
+
+    records = [{"engine": e, "average": {"robots": 1}, "intense": {"robots": 3}} for e in ("ode", "mujoco")]
+    assert _cpu_robots(SimpleNamespace(cpu=records)) == "1 / 3 robots"
+    assert _cpu_robots(SimpleNamespace(cpu=[])) == "average / intense"

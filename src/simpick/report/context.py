@@ -276,7 +276,8 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
             sections,
             (data.verdict_headline or {}).get("basis"),
             (data.verdict_headline or {}).get("units") or "runs",
-        ),
+        )
+        | {"cpu_robots": _cpu_robots(data)},
         "tree_uri": figures.data_uri(data.figures["tree"]) if "tree" in data.figures else None,
         # the printed tree's leaves by the weighted total (the figure reads no weight: a weight edit
         # changes this table, not the figure; simpick.report.tree_figure)
@@ -400,3 +401,15 @@ def evidence_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, A
         "config_text": yaml.safe_dump(config, sort_keys=False, allow_unicode=True, width=100) if config else None,
         "sources": data.sources,
     }
+
+
+def _cpu_robots(data: ReportData) -> str:
+    """The answer's CPU column's heading: the robots of the average and intense scenarios as measured
+    (the CPU-load records' own counts, so a config with another count is labelled by it)."""
+    counts = {
+        scenario: sorted({(r.get(scenario) or {}).get("robots") for r in data.cpu or []} - {None})
+        for scenario in ("average", "intense")
+    }
+    if not counts["average"] or not counts["intense"]:
+        return "average / intense"
+    return " / ".join("-".join(str(n) for n in counts[s]) for s in ("average", "intense")) + " robots"
