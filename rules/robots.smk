@@ -12,7 +12,7 @@ import os
 from snakemake.utils import min_version
 
 from simpick.codeversion import job_code, script_roots
-from simpick.config.robots import robot_studies
+from simpick.config.robots import benchmark
 from simpick.errors import InputError
 
 min_version("9.0")
@@ -25,7 +25,7 @@ configfile: "config/robots.yaml"
 # for a study of its own (its config.yaml is the one every robot's config starts from)
 ROOT = os.path.dirname(workflow.current_basedir.get_path_or_uri(secret_free=True))
 try:
-    ROBOTS = robot_studies(config.get("robots"), ".", source="config/robots.yaml")
+    ROBOTS, POOLING = benchmark(config, ".", source="config/robots.yaml")
 except InputError as _exc:
     raise WorkflowError(str(_exc))
 
@@ -85,7 +85,7 @@ rule robots:
             }
             for s in ROBOTS.values()
         ],
-        pooling=config.get("pooling", {}),
+        pooling=POOLING,
         code=job_code(*script_roots(os.path.join(ROOT, "scripts", "robots.py"))),
     script:
         "../scripts/robots.py"

@@ -7,6 +7,7 @@ import pandas as pd
 import pytest
 import yaml
 
+from conftest import ROOT
 from simpick.config.robots import robot_studies
 from simpick.errors import InputError
 from simpick.score.robots import agreement, klass, side_by_side
@@ -223,3 +224,19 @@ def test_the_page_sets_the_robots_side_by_side(tmp_path):
     assert (tmp_path / "out.pdf").read_bytes()[:4] == b"%PDF"
     agree = pd.read_csv(tmp_path / "out.agreement")
     assert len(agree) == 4 * len(METRICS)
+
+
+def test_the_benchmark_config_is_checked_whole_pooling_included():
+    """config/robots.yaml as shipped reads; a stray top-level key or a pooling below two robots is refused,
+    naming the file and the key."""
+    import yaml
+
+    from simpick.config.robots import benchmark
+
+    shipped = yaml.safe_load((ROOT / "config/robots.yaml").read_text())
+    robots, pooling = benchmark(shipped, ROOT)
+    assert set(robots) == {"husky", "warthog"} and pooling == {"min_robots": 2}
+    with pytest.raises(InputError, match=r"config/robots.yaml, pool: is not a setting"):
+        benchmark({**shipped, "pool": {}}, ROOT)
+    with pytest.raises(InputError, match=r"pooling.min_robots"):
+        benchmark({**shipped, "pooling": {"min_robots": 1}}, ROOT)

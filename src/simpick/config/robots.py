@@ -125,3 +125,19 @@ def robot_studies(robots: dict, root: str | Path, source: str = "config/robots.y
         label = str(entry.get("label") or (config.get("robot") or {}).get("label") or name)
         studies[name] = RobotStudy(name, tuple(str(f) for f in files), dict(overrides), config, label)
     return studies
+
+
+def benchmark(config: dict, root: str | Path, source: str = "config/robots.yaml") -> tuple[dict[str, RobotStudy], dict]:
+    """The benchmark's whole config, checked: its robots (:func:`robot_studies`) and how the page pools
+    outcomes (``pooling.min_robots``, a whole number of robots of at least 2; default 2). Any other
+    top-level key, or another key under ``pooling``, is an InputError naming ``source`` and the key."""
+    unknown = sorted(set(config) - {"robots", "pooling"})
+    if unknown:
+        raise InputError(f"{source}, {unknown[0]}", "is not a setting of the benchmark", "use robots and pooling only")
+    pooling = config.get("pooling") or {}
+    if not isinstance(pooling, dict) or set(pooling) - {"min_robots"}:
+        raise InputError(f"{source}, pooling", f"holds {pooling!r}", "give only min_robots: a whole number >= 2")
+    min_robots = pooling.get("min_robots", 2)
+    if isinstance(min_robots, bool) or not isinstance(min_robots, int) or min_robots < 2:
+        raise InputError(f"{source}, pooling.min_robots", f"is {min_robots!r}", "give a whole number of robots >= 2")
+    return robot_studies(config.get("robots"), root, source=source), {"min_robots": min_robots}
