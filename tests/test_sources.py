@@ -94,9 +94,9 @@ def edited(library, module, old, new):
 
 
 def test_an_edit_to_how_one_kind_is_driven_changes_that_kinds_simulations_only(library):
-    assert edited(library, "simulate/lab.py", "    motion = params[", "    motion = dict(params)[") == [
-        ("lab", "prepare_case")
-    ]
+    assert edited(
+        library, "simulate/lab.py", "    motion = p.motion\n", "    motion = p.motion\n    motion = motion\n"
+    ) == [("lab", "prepare_case")]
     assert edited(library, "real/segments.py", "\nCOLUMNS = ", "\nEDITED = True\nCOLUMNS = ") == [
         ("lab", "compare"),
         ("own", "compare"),

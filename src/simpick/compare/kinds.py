@@ -14,7 +14,7 @@ from simpick.compare.rows import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, case_te
 from simpick.compare.steps import step_errors
 from simpick.inputs.published import load_published
 from simpick.inputs.reference import lab_reference
-from simpick.simulate.steps import STEP_COLUMNS, hung_row, step_row
+from simpick.simulate.step_rows import STEP_COLUMNS, hung_row, step_row
 from simpick.simulate.traces import read_trace
 
 PER_TEST_COLUMNS = [

@@ -9,11 +9,10 @@ from __future__ import annotations
 
 from typing import Annotated, Any
 
-from pydantic import ConfigDict, Field
+from pydantic import Field
 
 from simpick.inputs.robot.settings import RobotParams
 from simpick.params import Finite, JobParams, NonNegative, PhysicsStep, Positive
-from simpick.real.settings import TerrainClass
 
 
 class Physics(PhysicsStep):
@@ -98,14 +97,4 @@ class SimulationParams(JobParams):
     seed: Annotated[int, Field(ge=0, lt=2**32)]
 
 
-class RealCaseParams(SimulationParams):
-    """What a real-data case on one model reads (the plan's simpick.sources.base.real_params): the model's
-    simulation settings and its terrain class's ground, under the params' key ``class``."""
-
-    model_config = ConfigDict(populate_by_name=True)
-
-    terrain_class: str
-    ground: TerrainClass = Field(alias="class", description="the terrain class's ground and its source")
-
-
-__all__ = ["CpuLoad", "Health", "Imu", "Motion", "Physics", "RealCaseParams", "SimulationParams"]
+__all__ = ["CpuLoad", "Health", "Imu", "Motion", "Physics", "SimulationParams"]

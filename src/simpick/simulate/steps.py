@@ -38,29 +38,11 @@ import pandas as pd
 from simpick.errors import InputError
 from simpick.simulate.real import flat_terrain, start_heading
 from simpick.simulate.run import Recording, run_commands, scenario_from, stable_seed
+from simpick.simulate.step_rows import STEP_COLUMNS, hung_row, hung_rows, step_row  # noqa: F401 - the step rows the job writes
 
 WARMUP_S = 3.0  # s of the previous step's measured wheel speeds before a step (module doc)
 RAMP_S = 1.0  # s of the warm-up over which the wheels speed up from rest (no jump that the servos cannot follow)
-START_WINDOW_S = 0.5  # s at the end of the warm-up averaged for the simulated start state (as the real one)
 TRACE_COLUMNS = ["step", "t_step", "v_forward", "yaw_rate", "wz", "x", "y", "yaw", "roll", "pitch", "z", "cmd_left"]
-STEP_COLUMNS = [
-    "case",
-    "session",
-    "terrain_class",
-    "step",
-    "engine",
-    "status",
-    "reasons",
-    "warmup",
-    "start_heading_deg",
-    "sim_start_vx",
-    "sim_start_wz",
-    "sim_v",
-    "sim_yaw_rate",
-    "sim_heading",
-    "wall_time",
-    "sim_time",
-]
 
 
 def select_steps(cases: pd.DataFrame, every: int = 1, max_steps_per_session: int | None = None) -> pd.DataFrame:
@@ -120,12 +102,6 @@ def step_wheels(samples: pd.DataFrame, case, warmup: float, dt: float) -> tuple[
     return out[0], out[1], end
 
 
-def _mean(frame: dict, column: str, start: float, end: float) -> float:
-    t = np.asarray(frame["time"])
-    inside = (t > start) & (t <= end)
-    return float(np.mean(np.asarray(frame[column])[inside])) if inside.any() else float("nan")
-
-
 def drive_step(samples: pd.DataFrame, case, urdf: str, params: dict, warmup: float = WARMUP_S):
     """One step on ``params["engine"]`` (its ``class``: the terrain's ground): the engine's frame (time from
     the warm-up's start), its metadata and the start heading (rad)."""
@@ -144,35 +120,6 @@ def drive_step(samples: pd.DataFrame, case, urdf: str, params: dict, warmup: flo
     )
     meta = meta | {"wall_time_step": time.perf_counter() - began, "start_heading": float(heading), "warmup": warmup}
     return frame, meta
-
-
-def step_row(frame, meta: dict, case) -> dict:
-    """A replayed step's summary row (``STEP_COLUMNS``: the simulated start state, steady means and heading
-    change, health, wall time) from its frame and metadata (:func:`drive_step`)."""
-    warmup = float(meta["warmup"])
-    a, b = warmup + float(case.steady_start), warmup + float(case.steady_end)
-    sim_wz = _mean(frame, "yaw_rate", a, b)
-    yaw = np.asarray(frame["yaw"])
-    t = np.asarray(frame["time"])
-    inside = (t > a) & (t <= b)
-    return {
-        "case": case.case,
-        "session": case.session,
-        "terrain_class": case.terrain_class,
-        "step": int(case.step),
-        "engine": meta["engine"],
-        "status": meta["health"]["status"],
-        "reasons": "; ".join(meta["health"]["reasons"]),
-        "warmup": warmup,
-        "start_heading_deg": float(np.degrees(meta["start_heading"])),
-        "sim_start_vx": _mean(frame, "v_forward", warmup - START_WINDOW_S, warmup),
-        "sim_start_wz": _mean(frame, "yaw_rate", warmup - START_WINDOW_S, warmup),
-        "sim_v": _mean(frame, "v_forward", a, b),
-        "sim_yaw_rate": sim_wz,
-        "sim_heading": float(yaw[inside][-1] - yaw[inside][0]) if inside.sum() > 1 else float("nan"),
-        "wall_time": meta["wall_time_step"],
-        "sim_time": meta["sim_time"],
-    }
 
 
 def replay_step(samples: pd.DataFrame, case, urdf: str, params: dict, warmup: float = WARMUP_S) -> tuple[dict, dict]:
@@ -250,23 +197,6 @@ def prepare_step(urdf: str, inputs: dict, params: dict, name: str):
     }
     unit_params = ground(params, case.terrain_class, f"session {case.session}")
     return which, lambda: drive_step(samples, case, urdf, unit_params, warmup)
-
-
-def hung_row(case, engine: str, reason: str) -> dict:
-    """The step row of a step not replayed (its engine hung, or hung before it)."""
-    return {
-        "case": case.case,
-        "session": case.session,
-        "terrain_class": case.terrain_class,
-        "step": int(case.step),
-        "engine": engine,
-        "status": "failed",
-        "reasons": reason,
-    }
-
-
-def hung_rows(cases: pd.DataFrame, engine: str, reason: str) -> pd.DataFrame:
-    return pd.DataFrame([hung_row(c, engine, reason) for c in cases.itertuples()], columns=STEP_COLUMNS)
 
 
 def replay_job(inputs: dict, params: dict, outputs: dict, timeout: float) -> None:

@@ -32,7 +32,7 @@ from simpick.compare.jobs import source_tables
 from simpick.compare.kinds import BY_KIND
 from simpick.compare.real import SEGMENT_TEST_COLUMNS
 from simpick.simulate.jobs import simulate_job
-from simpick.simulate.settings import RealCaseParams
+from simpick.simulate.real_settings import RealCaseParams
 from simpick.tables import write_csv
 
 # a segment's timing, from its compare job's run row, beside its per-test row

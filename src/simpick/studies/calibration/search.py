@@ -15,8 +15,8 @@ import pandas as pd
 import yaml
 
 from simpick.errors import InputError
+from simpick.simulate.real_settings import RealCaseParams
 from simpick.simulate.run import config_hash, stable_seed
-from simpick.simulate.settings import RealCaseParams
 from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
 from simpick.studies.calibration.objective import FAILED_UNIT, Units, evaluate
 from simpick.studies.calibration.parameters import apply_parameters, configured_values, parameter_space
