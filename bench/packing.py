@@ -38,13 +38,14 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
+from simpick.joblog import read_cost  # noqa: E402 - after the path to the checkout's src
+
 STAMP = re.compile(r"^\[(\w{3} \w{3} +\d+ \d\d:\d\d:\d\d \d{4})\]$")
 START = re.compile(r"^(?:local)?(?:rule|checkpoint) (\w+):$")
 JOBID = re.compile(r"^\s+jobid: (\d+)$")
 FINISHED = re.compile(r"^Finished jobid: (\d+) \(Rule: (\w+)\)$")
 BENCH = re.compile(r"^\s+benchmark: (\S+)$")
 LOG = re.compile(r"^\s+log: (\S+)$")
-COST = re.compile(r"^simpick: job cost: cpu_s=([\d.]+) wall_s=([\d.]+)$", re.M)
 WILDCARDS = re.compile(r"^\s+wildcards: (.+)$")
 NODE = re.compile(r'^\s*(\d+)\[label = "([^"]*)"')
 EDGE = re.compile(r"^\s*(\d+) -> (\d+)")
@@ -183,8 +184,9 @@ def jobs_logged(spans: list[dict], root: Path) -> tuple[float, float, int]:
     found = 0
     for j in spans:
         path = root / j["log"] if j["log"] else None
-        if path and path.is_file() and (m := COST.search(path.read_text(errors="replace"))):
-            cpu, wall, found = cpu + float(m.group(1)), wall + float(m.group(2)), found + 1
+        cost = read_cost(path.read_text(errors="replace")) if path and path.is_file() else None
+        if cost:
+            cpu, wall, found = cpu + cost[0], wall + cost[1], found + 1
     return cpu, wall, found
 
 

@@ -17,6 +17,16 @@ from simpick.errors import InputError
 COST = "simpick: job cost: cpu_s={cpu:.3f} wall_s={wall:.3f}"
 
 
+def read_cost(text: str) -> tuple[float, float] | None:
+    """(cpu_s, wall_s) of a job log's closing cost line (:data:`COST`), or None where it has none (a failed job,
+    or a script outside :class:`logged`)."""
+    import re
+
+    pattern = re.escape(COST).replace(r"\{cpu:\.3f\}", r"([\d.]+)").replace(r"\{wall:\.3f\}", r"([\d.]+)")
+    found = re.search(f"^{pattern}$", text, re.M)
+    return None if found is None else (float(found.group(1)), float(found.group(2)))
+
+
 def cost_line() -> str:
     """This process's cost so far, as :data:`COST` formats it."""
     import resource

@@ -38,7 +38,7 @@ import pandas as pd
 from simpick.errors import InputError
 from simpick.simulate.real import flat_terrain, start_heading
 from simpick.simulate.run import Recording, run_commands, scenario_from, stable_seed
-from simpick.simulate.step_rows import STEP_COLUMNS, hung_row, hung_rows, step_row  # noqa: F401 - the step rows the job writes
+from simpick.simulate.step_rows import STEP_COLUMNS, hung_rows, step_row
 
 WARMUP_S = 3.0  # s of the previous step's measured wheel speeds before a step (module doc)
 RAMP_S = 1.0  # s of the warm-up over which the wheels speed up from rest (no jump that the servos cannot follow)
