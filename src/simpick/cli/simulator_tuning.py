@@ -14,10 +14,24 @@ from pathlib import Path
 import pandas as pd
 import yaml
 
-from simpick.config import read_study
+from simpick.config import Study, read_study
 from simpick.engines.catalog import CatalogError, load_catalog
-from simpick.inputs.robot import load_from_config
-from simpick.studies.simulator_tuning import run
+from simpick.inputs.robot.settings import RobotParams
+from simpick.params import PhysicsStep
+from simpick.plan.jobs import fields_of
+from simpick.studies.simulator_tuning import TuningParams, run
+
+
+def tuning_params(study: Study) -> TuningParams:
+    """The study's slice the search reads (:class:`simpick.studies.simulator_tuning.TuningParams`)."""
+    return TuningParams.model_validate(
+        {
+            "robot": fields_of(study.robot, RobotParams),
+            "physics": fields_of(study.physics, PhysicsStep),
+            "cases": study.validation.cases,
+            "tolerances": study.validation.tolerances,
+        }
+    )
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -29,9 +43,9 @@ def main(argv: list[str] | None = None) -> None:
     args = parser.parse_args(argv)
 
     paths = args.config or ["config.yaml"]
-    _, config = read_study(paths)
+    study, _ = read_study(paths)
     try:
-        catalog = load_catalog(config["simulators"]["catalog"])
+        catalog = load_catalog(study.simulators.catalog)
     except CatalogError as exc:
         sys.exit(f"simpick: {exc}")
     try:
@@ -39,14 +53,14 @@ def main(argv: list[str] | None = None) -> None:
     except (OSError, yaml.YAMLError) as exc:
         sys.exit(f"simpick: cannot read the tuning axes {args.axes}: {exc}")
     try:
-        table = run(config, catalog, axes, args.simulators or list(axes))
+        table = run(tuning_params(study), study.robot.urdf, catalog, axes, args.simulators or list(axes))
     except ValueError as exc:
         sys.exit(f"simpick: {args.axes}: {exc}; add its axes or name a simulator it lists")
     old = Path(args.out)
     if args.simulators and old.is_file():  # keep the other simulators' rows
         kept = pd.read_csv(old, comment="#")
         table = pd.concat([kept[~kept.simulator.isin(table.simulator)], table], ignore_index=True)
-    robot = load_from_config(config["robot"]).name
+    robot = study.robot.spec(study.robot.urdf).name
     header = (
         f"# Tuning candidates per simulator (simpick.studies.simulator_tuning), {robot}, "
         f"the validation of {' + '.join(paths)}, measured {date.today()} on {os.cpu_count()} cores; "

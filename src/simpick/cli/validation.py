@@ -9,7 +9,7 @@ import json
 import pandas as pd
 
 from simpick.config import read_study
-from simpick.inputs.robot import load_from_config
+from simpick.config.load import configured, entry_settings
 from simpick.studies.validation.cases import Setup, run_case
 from simpick.studies.validation.judge import summarise
 
@@ -22,10 +22,11 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--config", action="append", help="a config file; several are merged in order")
     parser.add_argument("--set", action="append", default=[], help="engine setting key=value (JSON value)")
     args = parser.parse_args(argv)
-    study, config = read_study(args.config or ["config.yaml"])
-    if args.engine not in config["engines"]:
-        parser.error(f"{args.engine!r} is not an engine of the config; configured: {', '.join(config['engines'])}")
-    settings = dict(config["engines"][args.engine])
+    study, _ = read_study(args.config or ["config.yaml"])
+    engines = configured(study.engines)
+    if args.engine not in engines:
+        parser.error(f"{args.engine!r} is not an engine of the config; configured: {', '.join(engines)}")
+    settings = entry_settings(study.engines, args.engine)
     for item in args.set:
         key, value = item.split("=", 1)
         try:
@@ -34,18 +35,18 @@ def main(argv: list[str] | None = None) -> None:
             settings[key] = value
     setup = Setup(
         engine=args.engine,
-        robot=load_from_config(config["robot"]),
+        robot=study.robot.spec(study.robot.urdf),
         timestep=study.physics.timestep,
         max_wheel_torque=study.robot.max_wheel_torque,
         track=study.robot.track,
         settings=settings,
     )
-    cases = config["validation"]["cases"]
+    cases = study.validation.cases
     unknown = [name for name in args.cases if name not in cases]
     if unknown:
         parser.error(f"no validation case {', '.join(unknown)} in the config; known: {', '.join(cases)}")
     results = [run_case(setup, name, cases[name]) for name in (args.cases or cases)]
-    summary = summarise(results, config["validation"]["tolerances"])
+    summary = summarise(results, study.validation.tolerances)
 
     with pd.option_context("display.width", 200, "display.max_columns", 20):
         print(

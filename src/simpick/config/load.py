@@ -7,7 +7,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
 
 from simpick.config.study import Study
 from simpick.engines import get_engine
@@ -52,6 +52,17 @@ def duplicate_keys(path: str | Path) -> list[str]:
     return found
 
 
+def configured(block: BaseModel) -> list[str]:
+    """The names an ``engines`` or ``baselines`` block configures, in the registry's order."""
+    return [name for name in type(block).model_fields if name in block.model_fields_set]
+
+
+def entry_settings(block: BaseModel, name: str) -> dict:
+    """An entry of an ``engines`` or ``baselines`` block: its adapter's settings in full, as plain data (an
+    empty entry: the adapter's defaults)."""
+    return (getattr(block, name) or get_engine(name).settings_model()).model_dump(mode="json")
+
+
 def plain(study: Study, config: dict) -> dict:
     """The validated settings as plain data, every default filled in: what the plan reads and the
     jobs receive (rules/common.smk), so a default lives in its model alone. The ``engines`` and
@@ -61,8 +72,8 @@ def plain(study: Study, config: dict) -> dict:
     for section in ("engines", "baselines"):
         block = getattr(study, section)
         data[section] = {
-            name: (getattr(block, name) or get_engine(name).settings_model()).model_dump(mode="json")
-            for name in (config.get(section) or {})
+            name: entry_settings(block, name)
+            for name in (config.get(section) or {})  # the raw config: its order, which the typed block does not keep
             if name in block.model_fields_set
         }
     return data

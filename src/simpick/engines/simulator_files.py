@@ -308,14 +308,15 @@ def write_drake(settings: Mapping, entries: Mapping, title: list[str]) -> dict[s
 def read_drake(texts: Mapping[str, str]) -> dict:
     import yaml
 
-    config = yaml.safe_load(texts["yaml"])
+    # the written file's MultibodyPlantConfig, read back by Drake's own key names (a foreign file, not the study's)
+    plant = yaml.safe_load(texts["yaml"])
     out = {
-        "time_step": float(config["time_step"]),
-        "discrete_approximation": config["discrete_contact_approximation"],
-        "stiction_tolerance": float(config["stiction_tolerance"]),
+        "time_step": float(plant["time_step"]),
+        "discrete_approximation": plant["discrete_contact_approximation"],
+        "stiction_tolerance": float(plant["stiction_tolerance"]),
     }
     tags = texts["wheels.urdf"]
-    hydro = "drake:compliant_hydroelastic" in tags and config["contact_model"] != "point"
+    hydro = "drake:compliant_hydroelastic" in tags and plant["contact_model"] != "point"
     out["contact_model"] = "hydroelastic" if hydro else "point"
     if hydro:
         out["hydroelastic_modulus"] = float(re.search(r'hydroelastic_modulus value="([^"]+)"', tags).group(1))

@@ -16,8 +16,14 @@ from __future__ import annotations
 import itertools
 import json
 import time
+from pathlib import Path
 
 import pandas as pd
+from pydantic import Field
+
+from simpick.inputs.robot.settings import RobotParams
+from simpick.params import JobParams, NonNegative, PhysicsStep
+from simpick.studies.validation.settings import ValidationCase
 
 COLUMNS = (
     "simulator",
@@ -32,6 +38,16 @@ COLUMNS = (
     "wall_s",
     "chosen",
 )
+
+
+class TuningParams(JobParams):
+    """What the search reads of the study: the robot's settings, the physics step, and the validation's cases
+    and tolerances (the robot's file is given beside it, as the validation job's input is)."""
+
+    robot: RobotParams
+    physics: PhysicsStep
+    cases: dict[str, ValidationCase] = Field(description="case name -> its kind and settings, in the config's order")
+    tolerances: dict[str, NonNegative] = Field(description="quantity -> tolerance (the config's validation section)")
 
 
 def grid(axes: dict[str, list]) -> list[dict]:
@@ -65,19 +81,16 @@ def choose(table: pd.DataFrame) -> pd.DataFrame:
     return table
 
 
-def run(config: dict, catalog, axes: dict, simulators: list[str]) -> pd.DataFrame:
-    """Every candidate of each simulator's axes through the validation of the plain study settings
-    ``config`` (simpick.config.read_study) over the simulator's shipped profile; the table, ranked
-    (:func:`choose`), one row a candidate. A simulator without axes or without an engine here is a
-    ValueError naming it."""
+def run(params: TuningParams, urdf: str | Path, catalog, axes: dict, simulators: list[str]) -> pd.DataFrame:
+    """Every candidate of each simulator's axes through the study's validation (``params``, the robot described
+    by ``urdf``) over the simulator's shipped profile; the table, ranked (:func:`choose`), one row a candidate.
+    A simulator without axes or without an engine here is a ValueError naming it."""
     from simpick.engines.simulators import SIMULATORS
-    from simpick.inputs.robot import load_from_config
     from simpick.studies.validation.cases import Setup, run_case
     from simpick.studies.validation.judge import summarise
 
-    robot = load_from_config(config["robot"])
-    cases = config["validation"]["cases"]
-    tolerances = config["validation"]["tolerances"]
+    robot = params.robot.spec(urdf)
+    cases = params.cases
     coulomb = None
     rows = []
     for simulator in simulators:
@@ -88,13 +101,13 @@ def run(config: dict, catalog, axes: dict, simulators: list[str]) -> pd.DataFram
             setup = Setup(
                 engine=SIMULATORS[simulator],
                 robot=robot,
-                timestep=config["physics"]["timestep"],
-                max_wheel_torque=config["robot"]["max_wheel_torque"],
-                track=config["robot"]["track"],
+                timestep=params.physics.timestep,
+                max_wheel_torque=params.robot.max_wheel_torque,
+                track=params.robot.track,
                 settings={**shipped, **candidate},
             )
             start = time.perf_counter()
-            summary = summarise([run_case(setup, name, cases[name]) for name in cases], tolerances)
+            summary = summarise([run_case(setup, name, cases[name]) for name in cases], params.tolerances)
             wall = time.perf_counter() - start
             if coulomb is None:
                 coulomb = float(summary[summary.quantity == "yaw_rate_gain"].analytic_value.dropna().iloc[0])
