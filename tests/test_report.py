@@ -13,6 +13,7 @@ import pandas as pd
 import pytest
 import yaml
 
+from simpick.compare.real import SEGMENT_TEST_COLUMNS
 from simpick.inputs.published import load_published
 from simpick.score.contributions import contributions, drivers
 from simpick.score.published import write_outputs
@@ -774,7 +775,7 @@ def write_synthetic_real_inputs(root: Path, replay: bool = True) -> dict:
             )
             row["heading_error"] = 0.05 * (i + 1) * (0.5 if e == "mujoco" else 1.0)
             rows.append(row)
-    per_test = pd.DataFrame(rows)
+    per_test = pd.DataFrame(rows, columns=SEGMENT_TEST_COLUMNS)  # every column, as compare.real writes it
     per_test["test"] = per_test["segment"]
     outputs = {
         k: str(root / "metrics" / f"segments_{k}.csv") for k in ("per_test", "summary", "pairwise", "imu_errors")

@@ -7,10 +7,18 @@ rather than deep in a template."""
 
 from __future__ import annotations
 
+from simpick.compare.real import REPLAY_TEST_COLUMNS, SEGMENT_TEST_COLUMNS, WINDOW_COLUMNS
+from simpick.compare.rows import DETAIL_COLUMNS
+from simpick.real.segments import COLUMNS as SEGMENT_COLUMNS
 from simpick.score.answer import ANSWER_COLUMNS
 from simpick.score.contributions import CONTRIBUTION_COLUMNS, DRIVER_COLUMNS
 from simpick.score.equivalence import OUTCOME_COLUMNS
 from simpick.score.scoring import METRICS
+from simpick.score.verdict.headings import HEADING_COLUMNS
+from simpick.score.verdict.paper import DISCRIMINATION_COLUMNS, RANKING_COLUMNS
+from simpick.score.verdict.runs import SEPARATION_COLUMNS, TABLE_COLUMNS
+from simpick.studies.calibration.turning import TARGET_COLUMNS, TURNING_COLUMNS
+from simpick.studies.validation.judge import GAIN_COLUMNS
 
 # the first page's row per engine: every column but the per-metric ones, which the report reads from outcomes,
 # and the failed runs, which reach the page in the answer's sentences (answer.yaml), not from these tables
@@ -21,6 +29,9 @@ ANSWER_REQUIRED = tuple(
     if not c.endswith(("_outcome", "_diff", "_low", "_high", "_margin")) and c not in FAILED_COLUMNS
 )
 
+# A table whose writer names its columns in a constant must have all of them (the writer's list, imported: one
+# definition); the others list the columns the report reads. Not imported: the sweep's SUMMARY_COLUMNS
+# (simpick.studies.sweep would bring the simulation code into the report's and every figure's code version).
 COLUMNS: dict[str, tuple[str, ...]] = {
     "weighted": (*METRICS, "total", "excluded", "rank"),
     "runs": (
@@ -40,22 +51,7 @@ COLUMNS: dict[str, tuple[str, ...]] = {
     "reference_stats": ("terrain", "motion", "quantity", "axis", "mean", "range", "source"),
     "imu_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
     "per_test_errors": ("engine", "terrain", "motion", "quantity", "axis", "range_error", "mean_error", "total_error"),
-    "detail": (
-        "engine",
-        "terrain",
-        "motion",
-        "quantity",
-        "axis",
-        "mean",
-        "range",
-        "status",
-        "ref_mean",
-        "ref_range",
-        "source",
-        "range_error",
-        "mean_error",
-        "total_error",
-    ),
+    "detail": tuple(DETAIL_COLUMNS),
     "rtf": ("engine", "sim_time", "wall_time", "real_time_factor", "n_runs"),
     "table11": (*METRICS, "total", "total_from_published_scores", "published_total"),
     "table11_comparison": ("simulator", "metric", "published", "recomputed", "difference", "matches"),
@@ -86,33 +82,8 @@ COLUMNS: dict[str, tuple[str, ...]] = {
         "rank_configured",
         "rank_calibrated",
     ),
-    "calibration_turning": (
-        "terrain_class",
-        "engine",
-        "variant",
-        "n_runs",
-        "gain_real",
-        "gain_sim",
-        "gain_ratio",
-        "gain_error",
-        "gain_error_low",
-        "gain_error_high",
-        "separation_multiplier",
-        "separation_multiplier_real",
-    ),
-    "calibration_target": (
-        "engine",
-        "is_engine",
-        "n_runs",
-        "error_calibrated",
-        "error_configured",
-        "error_reference",
-        "p_vs_configured",
-        "p_vs_reference",
-        "classes_off_gain",
-        "meets",
-        "best",
-    ),
+    "calibration_turning": tuple(TURNING_COLUMNS),
+    "calibration_target": tuple(TARGET_COLUMNS),
     "validation": (
         "engine",
         "case",
@@ -127,51 +98,12 @@ COLUMNS: dict[str, tuple[str, ...]] = {
         "passed",
         "status",
     ),
-    "validation_gains": (
-        "engine",
-        "v",
-        "w",
-        "mu",
-        "analytic",
-        "n_left",
-        "left_mean",
-        "left_min",
-        "left_max",
-        "n_right",
-        "right_mean",
-        "right_min",
-        "right_max",
-        "spread",
-        "headings",
-    ),
+    "validation_gains": tuple(GAIN_COLUMNS),
     # real robot data (rules/real.smk, simpick.compare.real)
     "accuracy_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
     "accuracy_per_test": ("engine", "terrain_class", "segment", "run", "status"),
-    "segments": (
-        "segment",
-        "terrain_class",
-        "run",
-        "kind",
-        "t_start",
-        "t_end",
-        "settle",
-        "duration",
-        "v_left",
-        "v_right",
-        "v",
-        "w",
-        "yaw_rate_gain",
-    ),
-    "segments_per_test": (
-        "engine",
-        "terrain_class",
-        "segment",
-        "run",
-        "kind",
-        "status",
-        "reasons",
-        "yaw_rate_gain_real",
-    ),
+    "segments": tuple(SEGMENT_COLUMNS),
+    "segments_per_test": tuple(SEGMENT_TEST_COLUMNS),
     "segments_summary": ("engine", "terrain_class", "n_tests"),
     "segments_pairwise": (
         "terrain_class",
@@ -184,47 +116,16 @@ COLUMNS: dict[str, tuple[str, ...]] = {
         "verdict",
     ),
     "segments_imu_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
-    "replay_per_window": ("engine", "terrain_class", "run", "status", "reasons"),
-    "replay_per_test": ("engine", "terrain_class", "segment", "run", "kind", "status", "reasons"),
+    "replay_per_window": tuple(WINDOW_COLUMNS),
+    "replay_per_test": tuple(REPLAY_TEST_COLUMNS),
     "replay_summary": ("engine", "terrain_class", "n_tests"),
     "replay_pairwise": ("terrain_class", "figure", "engine_a", "engine_b", "mean_a_minus_b", "low", "high", "verdict"),
     "replay_imu_errors": ("engine", "quantity", "error", "unit", "n_tests", "tests", "excluded"),
     # simpick's verdict (simpick.score.verdict): the report prints these, it computes none of them
-    "verdict_table": (
-        "metric",
-        "label",
-        "unit",
-        "model",
-        "is_engine",
-        "n_runs",
-        "mean",
-        "low",
-        "high",
-        "rank",
-        "next",
-        "p_to_next",
-        "separates_from_next",
-        "runs_needed",
-        "note",
-    ),
-    "verdict_separation": ("metric", "label", "method", "n_runs", "best", "second", "separates", "statement"),
-    "verdict_ranking": ("engine", "total", "total_low", "total_high", "share_first", "n_runs"),
-    "verdict_discrimination": (
-        "quantity",
-        "engine",
-        "error",
-        "floor",
-        "engine_part",
-        "floor_share",
-        "score",
-        "score_low",
-        "score_high",
-        "spread",
-        "half_width",
-        "separates",
-        "n_runs",
-        "floor_models",
-    ),
+    "verdict_table": tuple(TABLE_COLUMNS),
+    "verdict_separation": tuple(SEPARATION_COLUMNS),
+    "verdict_ranking": tuple(RANKING_COLUMNS),
+    "verdict_discrimination": tuple(DISCRIMINATION_COLUMNS),
     "verdict_metrics": ("run", "model", "metric", "value"),
     # the paper's weighted table cell by cell (simpick.score.contributions)
     "contributions": tuple(CONTRIBUTION_COLUMNS),
@@ -234,14 +135,7 @@ COLUMNS: dict[str, tuple[str, ...]] = {
     # note: free text, optional
     "verdict_outcomes": tuple(c for c in OUTCOME_COLUMNS if c != "note" and c not in FAILED_COLUMNS),
     "verdict_answer": ANSWER_REQUIRED,
-    "verdict_headings": (
-        "model",
-        "test",
-        "start_heading_deg",
-        "yaw_rate_gain_sim",
-        "yaw_rate_gain_reference",
-        "gain_ratio",
-    ),
+    "verdict_headings": tuple(HEADING_COLUMNS),
     # where each lab run ended against the command (rule figure_paths, beside its figure)
     "endpoints": ("engine", "terrain", "motion", "t", "dist", "dyaw_deg", "v_cmd", "w_cmd", "v_mean", "w_mean"),
 }
