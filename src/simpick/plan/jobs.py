@@ -170,3 +170,18 @@ class JobPlanning:
             "declared": dataset["declared"],
         }
         return job_params("import_real", ImportParams, data)
+
+    def real_turning_params(self) -> dict:
+        """Rule real_turning's settings: the controller's track, the steady-command windows' length and
+        settling, and the segment rules' tolerance and turn threshold."""
+        from simpick.real.turning import TurningParams
+
+        rules = self.settings.real_data.segment_rules
+        data = {
+            "track": self.settings.robot.track,
+            "window": 1.0,  # s: short enough for many windows a run, long for a mean of 100 samples
+            "settle": 0.5,  # s of held command before a window (wheel speeds settle in ~0.3 s)
+            "tolerance": rules.tolerance,
+            "min_turn": rules.min_turn,
+        }
+        return job_params("real_turning", TurningParams, data)
