@@ -185,3 +185,31 @@ class JobPlanning:
             "min_turn": rules.min_turn,
         }
         return job_params("real_turning", TurningParams, data)
+
+    # --- the calibration on step units (rules/drive.smk's drive_calibrate, which builds these params inline
+    # today; this gives the same content, validated, for that file to pass instead) ---
+
+    def drive_calibrate_params(self, model: str, terrain_class: str) -> dict:
+        """Rule drive_calibrate's settings for a model and a terrain class: the model's simulation settings,
+        every class's ground, how the steps are replayed and the calibration's search settings."""
+        from simpick.sources.base import simulation_params
+        from simpick.studies.calibration.steps import StepCalibrateParams
+
+        cal = self.settings.calibration
+        data = {
+            "engine": model,
+            "terrain_class": terrain_class,
+            "case": simulation_params(self.settings, model, model_settings(self.config, model)),
+            "classes": {name: c.model_dump(mode="json") for name, c in self.settings.real_data.classes.items()},
+            "replay": self.settings.drive_replay.model_dump(mode="json"),
+            "calibration": {
+                "source": "drive",
+                "scales": cal.scales.model_dump(mode="json"),
+                "test_fraction": cal.test_fraction,
+                "n_trials": cal.n_trials,
+                "startup_trials": cal.startup_trials,
+                "seed": cal.seed,
+                "bounds": {model: cal.bounds.get(model) or {}},
+            },
+        }
+        return job_params("drive_calibrate", StepCalibrateParams, data)

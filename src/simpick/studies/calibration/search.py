@@ -37,11 +37,13 @@ def study_name(params: dict, settings: dict, train: list[str] | None = None) -> 
     """Names the study by everything its trials depend on except the budget, so raising
     ``n_trials`` continues the same study and any other edit starts a new one: the parameters,
     the settings (with the job's code version, ``settings["code"]``: an edit to the objective or
-    an engine) and the training units (a new split): a trial of other units or code is never reused."""
+    an engine) and the training units (a new split): a trial of other units or code is never reused.
+    ``params``: a real-data case's (:class:`simpick.simulate.real_settings.RealCaseParams`), hashed as given."""
+    case = RealCaseParams.model_validate(params)
     keyed = {"params": params, "settings": {k: v for k, v in settings.items() if k != "n_trials"}}
     if train is not None:
         keyed["train"] = sorted(str(u) for u in train)
-    return f"{params['engine']}-{params['terrain_class']}-{config_hash(keyed)}"
+    return f"{case.engine}-{case.terrain_class}-{config_hash(keyed)}"
 
 
 def calibrate(
@@ -59,9 +61,11 @@ def calibrate(
     from optuna.trial import TrialState
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
-    space = parameter_space(params["engine"], (settings.get("bounds") or {}).get(params["engine"]))
+    engine = RealCaseParams.model_validate(params).engine
+    # the settings' bounds read by key: the DRIVE calibration's settings are of its own form (above)
+    space = parameter_space(engine, (settings.get("bounds") or {}).get(engine))
     if not space:
-        raise InputError(f"engines.{params['engine']}", "declares no calibratable parameters")
+        raise InputError(f"engines.{engine}", "declares no calibratable parameters")
     storage = _storage(journal)
     name = study_name(params, settings, train)
     # the sampler's seed: from the parameters and settings alone, so an edit to unrelated code starts a
@@ -232,7 +236,7 @@ def evaluate_job(inputs: dict, params: dict, settings: dict, output: str, timeou
             for r in _failed_rows(units, [u for u in ids if (variant, u) not in seen], hung_reason(timeout))
         ]
         print(
-            f"simpick: evaluate {params['engine']} {params['terrain_class']}: {len(left)} unit(s) not done: "
+            f"simpick: evaluate {case.engine} {case.terrain_class}: {len(left)} unit(s) not done: "
             f"{hung_reason(timeout)}",
             file=sys.stderr,
         )
