@@ -23,7 +23,7 @@ from simpick.simulate.lab import LabCaseParams
 from simpick.sources.base import canonical
 from simpick.studies import turnmap
 from simpick.studies.calibration.settings import EvaluateSettings, SearchSettings
-from simpick.studies.calibration.steps import StepCalibrateParams
+from simpick.studies.calibration.steps import StepCalibrateParams, StepSummaryParams
 from simpick.studies.sweep import SweepPointParams
 from simpick.studies.validation import job as validation_job
 
@@ -54,7 +54,8 @@ CONVERTED = {
         lambda plan: [plan.calibration_settings(m, search=False) for m in plan.cal_models],
     ),
     "real_turning": (TurningParams, lambda plan: [plan.real_turning_params()]),
-    # rules/drive.smk still builds them inline (test below: the same content)
+    # rules/drive.smk still builds these two inline (test below: the same content)
+    "drive_calibration": (StepSummaryParams, lambda plan: [plan.drive_calibration_params()]),
     "drive_calibrate": (
         StepCalibrateParams,
         lambda plan: [plan.drive_calibrate_params(m, c) for m in plan.engines for c in plan.settings.real_data.classes],
@@ -272,6 +273,7 @@ def test_the_step_calibration_params_equal_what_rules_drive_smk_builds(default_p
                     }
                 )
                 assert plan.drive_calibrate_params(model, terrain) == inline
+        assert plan.drive_calibration_params() == canonical({"statistics": config["statistics"]})
 
 
 def test_the_job_models_below_the_config_agree_with_its_sections():
@@ -290,3 +292,19 @@ def test_the_job_models_below_the_config_agree_with_its_sections():
         k: shape(f) for k, f in StepReplay.model_fields.items()
     }
     assert shape(Calibration.model_fields["test_fraction"]) == shape(CalibrationSplit.model_fields["test_fraction"])
+
+
+def test_the_split_s_strata_validate_and_are_what_they_were_before_typing(replay_plan):
+    from simpick.studies.calibration.split import SplitStrata
+
+    plan = replay_plan
+    strata = plan.calibration_strata()
+    rules = plan.config["real_data"]["segment_rules"]
+    before = canonical(
+        {
+            "track": plan.config["robot"]["track"],
+            "steady": {"tolerance": rules["tolerance"], "min_turn": rules["min_turn"]},
+            "duration": plan.config["calibration"]["replay_seconds"],
+        }
+    )
+    assert strata == before and SplitStrata.model_validate(strata).duration == before["duration"]

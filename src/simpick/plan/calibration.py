@@ -60,16 +60,17 @@ class CalibrationPlanning:
         its compared seconds (None for segments: their kind says it)."""
         if not self.replay_set:
             return None
+        from simpick.plan.jobs import job_params
         from simpick.studies.calibration.settings import EvaluateSettings
+        from simpick.studies.calibration.split import SplitStrata
 
         settings = EvaluateSettings.model_validate(self.calibration_settings(None, search=False))
-        return canonical(
-            {
-                "track": self.settings.robot.track,
-                "steady": settings.steady.model_dump(mode="json"),
-                "duration": settings.replay_seconds,
-            }
-        )
+        data = {
+            "track": self.settings.robot.track,
+            "steady": settings.steady.model_dump(mode="json"),
+            "duration": settings.replay_seconds,
+        }
+        return job_params("calibration_split", SplitStrata, data)
 
     def calibration_data(self, wildcards):
         """The real data a class's jobs read: the committed table, or the class's canonical logs."""

@@ -213,3 +213,10 @@ class JobPlanning:
             },
         }
         return job_params("drive_calibrate", StepCalibrateParams, data)
+
+    def drive_calibration_params(self) -> dict:
+        """Rule drive_calibration's settings: the statistics of its summary."""
+        from simpick.studies.calibration.steps import StepSummaryParams
+
+        data = {"statistics": self.settings.statistics.model_dump(mode="json")}
+        return job_params("drive_calibration", StepSummaryParams, data)

@@ -85,7 +85,7 @@ def engine_params(config: dict, engine: str) -> dict:
     """:func:`simulation_params` from the plan's plain settings (``Plan.config``), which rules/drive.smk and the
     DRIVE source still pass; the same content (tests/test_sources.py)."""
     # the plan's plain settings, keyed by section: their callers are not given the typed study yet
-    robot = {k: v for k, v in config["robot"].items() if k != "urdf"}
+    robot = {k: v for k, v in config["robot"].items() if k != "urdf"}  # plain settings, as above
     return canonical(
         {
             "engine": engine,

@@ -38,6 +38,7 @@ from simpick.inputs.robot import load_robot
 from simpick.params import JobParams
 from simpick.real.settings import StepReplay, TerrainClass
 from simpick.real.steps import MIN_TURN
+from simpick.score.settings import Statistics
 from simpick.simulate.settings import SimulationParams
 from simpick.simulate.steps import read_wheels, replay_step, select_steps, step_samples
 from simpick.simulate.watchdog import Watchdog, hung_reason
@@ -153,7 +154,7 @@ def calibrate_job(inputs: dict, params: dict, outputs: dict, timeout: float) -> 
     train = list(parts[parts.set == "train"].unit)
     test = list(parts[parts.set == "test"].unit)
     # a real-data case's params (simpick.simulate.real_settings.RealCaseParams), as given: hashed (above)
-    case_params = dict(params["case"], terrain_class=terrain, **{"class": params["classes"][terrain]})
+    case_params = dict(params["case"], terrain_class=terrain, **{"class": params["classes"][terrain]})  # as given
     journal = Path(outputs["best"]).with_name("optuna.journal")
     Path(outputs["best"]).parent.mkdir(parents=True, exist_ok=True)
 
@@ -196,6 +197,12 @@ def calibrate_job(inputs: dict, params: dict, outputs: dict, timeout: float) -> 
     Path(outputs["best"]).write_text(yaml.safe_dump(best, sort_keys=False))
     write_csv(history, outputs["trials"])
     write_csv(pd.DataFrame(rows), outputs["evals"])
+
+
+class StepSummaryParams(JobParams):
+    """What rule drive_calibration's job reads: the statistics of its summary (intervals, verdicts)."""
+
+    statistics: Statistics
 
 
 TURNING_COLUMNS = [
@@ -245,13 +252,14 @@ def turning_table(
 
 def summary_job(inputs: dict, params: dict, outputs: dict) -> None:
     """Rule drive_calibration_summary: the project's calibration summary of every engine x class, the
-    parameters found, and the held-out turning table with the multipliers."""
+    parameters found, and the held-out turning table with the multipliers. ``params``: :class:`StepSummaryParams`."""
+    p = StepSummaryParams.model_validate(params)
     evals = pd.concat([pd.read_csv(p, dtype={"run": str, "unit": str}) for p in inputs["evals"]], ignore_index=True)
     best = {}
     for path in inputs["bests"]:
         b = yaml.safe_load(Path(path).read_text())
         best[(b["engine"], b["terrain_class"])] = b
-    write_csv(summarise(evals, best, params.get("statistics")), outputs["summary"])
+    write_csv(summarise(evals, best, p.statistics.model_dump()), outputs["summary"])
     separation = load_robot(inputs["urdf"]).track
     sessions = pd.read_csv(inputs["sessions"])
     track = float(sessions[sessions.kept.astype(bool)].wheel_baseline.median())  # the baseline DRIVE's gains use
