@@ -4,7 +4,7 @@
 # borealtc_dir is set. Target: `snakemake calibration`; with calibration.enabled the default target and
 # the report include it. Library: simpick.studies.calibration; its plan in simpick.plan.calibration.
 
-if PLAN.calibration:
+if SETTINGS.calibration is not None:
 
     rule calibration_split:
         input:
@@ -18,8 +18,8 @@ if PLAN.calibration:
         params:
             units=PLAN.calibration_units(),
             strata=PLAN.calibration_strata(),
-            test_fraction=canonical(PLAN.calibration["test_fraction"]),
-            seed=int(PLAN.calibration["seed"]),
+            test_fraction=canonical(SETTINGS.calibration.test_fraction),
+            seed=int(SETTINGS.calibration.seed),
             code=PLAN.script_code("calibration_split"),
         script:
             "../scripts/calibration_split.py"
@@ -29,7 +29,7 @@ if PLAN.calibration:
         input:
             unpack(PLAN.calibration_data),
             split=f"{PLAN.cal_dir}/split.csv",
-            urdf=PLAN.config["robot"]["urdf"],
+            urdf=SETTINGS.robot.urdf,
         output:
             best=f"{PLAN.cal_dir}/{{engine}}/{{terrain_class}}/best.yaml",
             trials=f"{PLAN.cal_dir}/{{engine}}/{{terrain_class}}/trials.csv",
@@ -60,7 +60,7 @@ if PLAN.calibration:
             unpack(PLAN.calibration_data),
             split=f"{PLAN.cal_dir}/split.csv",
             best=f"{PLAN.cal_dir}/{{engine}}/{{terrain_class}}/best.yaml",
-            urdf=PLAN.config["robot"]["urdf"],
+            urdf=SETTINGS.robot.urdf,
         output:
             f"{PLAN.cal_dir}/{{engine}}/{{terrain_class}}/evaluation.csv",
         log:
@@ -88,7 +88,7 @@ if PLAN.calibration:
             evals=PLAN.calibration_outputs(),
             bests=PLAN.calibration_bests(),
             split=f"{PLAN.cal_dir}/split.csv",
-            urdf=PLAN.config["robot"]["urdf"],
+            urdf=SETTINGS.robot.urdf,
         output:
             summary=f"{PLAN.cal_dir}/summary.csv",
             units=f"{PLAN.cal_dir}/units.csv",

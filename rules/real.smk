@@ -38,14 +38,8 @@ if PLAN.replay_set:
             "../envs/simpick.yaml"
         params:
             folder_class=lambda wc: PLAN.replay_set.run(wc.terrain_class, wc.run).folder,
-            settings=canonical(
-                {
-                    "track": PLAN.config["robot"]["track"],
-                    "dataset": PLAN.replay_set.name,
-                    "label": PLAN.replay_dataset()["label"],
-                    "declared": PLAN.replay_dataset()["declared"],
-                }
-            ),
+            # the import job's model (simpick.real.jobs.ImportParams), validated at planning time
+            settings=PLAN.import_real_params(),
             code=PLAN.script_code("import_real"),
         script:
             "../scripts/import_real.py"
@@ -63,13 +57,8 @@ if PLAN.replay_set:
         conda:
             "../envs/simpick.yaml"
         params:
-            rules=canonical(
-                {
-                    "segment_rules": PLAN.config["real_data"]["segment_rules"],
-                    "track": PLAN.config["robot"]["track"],
-                    "source": PLAN.replay_dataset()["source"],
-                }
-            ),
+            # the segments job's model (simpick.real.jobs.SegmentsParams), validated at planning time
+            rules=PLAN.real_segments_params(),
             code=PLAN.script_code("real_segments"),
         script:
             "../scripts/real_segments.py"
@@ -79,7 +68,7 @@ if PLAN.replay_set:
     rule real_turning:
         input:
             logs=PLAN.real_logs(PLAN.replay_set.name),
-            urdf=PLAN.config["robot"]["urdf"],
+            urdf=SETTINGS.robot.urdf,
         output:
             windows=f"{PLAN.replay}/turning/windows.csv",
             summary=f"{PLAN.replay}/turning/summary.csv",
@@ -88,15 +77,8 @@ if PLAN.replay_set:
         conda:
             "../envs/simpick.yaml"
         params:
-            settings=canonical(
-                {
-                    "track": PLAN.config["robot"]["track"],
-                    "window": 1.0,  # s: short enough for many windows a run, long for a mean of 100 samples
-                    "settle": 0.5,  # s of held command before a window (wheel speeds settle in ~0.3 s)
-                    "tolerance": PLAN.config["real_data"]["segment_rules"]["tolerance"],
-                    "min_turn": PLAN.config["real_data"]["segment_rules"]["min_turn"],
-                }
-            ),
+            # the turning job's model (simpick.real.turning.TurningParams), validated at planning time
+            settings=PLAN.real_turning_params(),
             code=PLAN.script_code("real_turning"),
         script:
             "../scripts/real_turning.py"
@@ -117,8 +99,8 @@ rule maintain_segments:
     params:
         committed=canonical(
             {
-                "csv": PLAN.config["real_data"]["segments"],
-                "provenance": PLAN.config["real_data"]["segments"].replace(".csv", ".provenance.yaml"),
+                "csv": SETTINGS.real_data.segments,
+                "provenance": SETTINGS.real_data.segments.replace(".csv", ".provenance.yaml"),
             }
         ),
     script:
@@ -154,7 +136,7 @@ if PLAN.own_logs:
             "../envs/simpick.yaml"
         params:
             entry=lambda wc: canonical(PLAN.own_logs[wc.run]),
-            track=canonical(PLAN.config["robot"]["track"]),
+            track=canonical(SETTINGS.robot.track),
             code=PLAN.script_code("import_own_log"),
         script:
             "../scripts/import_own_log.py"

@@ -7,14 +7,14 @@ if PLAN.sweep:
 
     rule sweep_segments:
         input:
-            segments=PLAN.config["real_data"]["segments"],
-            urdf=PLAN.config["robot"]["urdf"],
+            segments=SETTINGS.real_data.segments,
+            urdf=SETTINGS.robot.urdf,
         output:
             f"{PLAN.sweep_dir}/runs/{{engine}}/{{terrain_class}}/{{dt}}.csv",
         log:
             f"{PLAN.sweep_dir}/logs/{{engine}}/{{terrain_class}}/{{dt}}.log",
         benchmark:
-            f"results/benchmarks/sweeps/{PLAN.sweep['name']}/{{engine}}/{{terrain_class}}/{{dt}}.tsv"
+            f"results/benchmarks/sweeps/{PLAN.sweep.name}/{{engine}}/{{terrain_class}}/{{dt}}.tsv"
         wildcard_constraints:
             engine="|".join(PLAN.engines),
             terrain_class="|".join(PLAN.segments),

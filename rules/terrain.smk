@@ -6,8 +6,8 @@ rule terrain:
     conda:
         "../envs/simpick.yaml"
     params:
-        spec=lambda wc: canonical(PLAN.config["terrains"][wc.terrain]),
-        seed=lambda wc: canonical(PLAN.config["seed"]),
+        spec=lambda wc: canonical(SETTINGS.terrains[wc.terrain].model_dump(mode="json")),
+        seed=lambda wc: canonical(SETTINGS.seed),
         code=PLAN.script_code("terrain"),
     script:
         "../scripts/terrain.py"

@@ -58,9 +58,10 @@ def warthog_config(tmp_path, engines=("mujoco",)):
 
 def params_of(config, engine, terrain):
     from simpick.config import plain, validate_or_exit
-    from simpick.sources.base import real_params
+    from simpick.sources.base import model_settings, real_params
 
-    return real_params(plain(validate_or_exit(config), config), engine, terrain)
+    study = validate_or_exit(config)
+    return real_params(study, engine, model_settings(plain(study, config), engine), terrain)
 
 
 @pytest.fixture(scope="module")

@@ -16,12 +16,14 @@ from simpick.config import Study
 from simpick.plan import Plan, PlanError
 from simpick.plan.jobs import job_params
 from simpick.real.jobs import ImportParams, SegmentsParams
+from simpick.real.turning import TurningParams
 from simpick.score import simulators as simulators_stage
 from simpick.simulate.cpuload import CpuLoadParams
 from simpick.simulate.lab import LabCaseParams
 from simpick.sources.base import canonical
 from simpick.studies import turnmap
 from simpick.studies.calibration.settings import EvaluateSettings, SearchSettings
+from simpick.studies.calibration.steps import StepCalibrateParams, StepSummaryParams
 from simpick.studies.sweep import SweepPointParams
 from simpick.studies.validation import job as validation_job
 
@@ -50,6 +52,13 @@ CONVERTED = {
     "calibration_evaluate": (
         EvaluateSettings,
         lambda plan: [plan.calibration_settings(m, search=False) for m in plan.cal_models],
+    ),
+    "real_turning": (TurningParams, lambda plan: [plan.real_turning_params()]),
+    # rules/drive.smk still builds these two inline (test below: the same content)
+    "drive_calibration": (StepSummaryParams, lambda plan: [plan.drive_calibration_params()]),
+    "drive_calibrate": (
+        StepCalibrateParams,
+        lambda plan: [plan.drive_calibrate_params(m, c) for m in plan.engines for c in plan.settings.real_data.classes],
     ),
     # the lab's simulate jobs (their params: simpick.sources.lab.case_params)
     "simulate (lab)": (
@@ -219,3 +228,83 @@ def test_an_infinite_setting_reaches_the_job_as_infinity_not_null():
     params = plan.validation_params("webots-shipped")
     assert params["engine_settings"]["contact_max_correcting_vel"] == float("inf")
     assert ValidateParams.model_validate(params).engine_settings["contact_max_correcting_vel"] == float("inf")
+
+
+def test_the_real_turning_params_are_what_rules_real_smk_built_inline(replay_plan):
+    """As before typing (the rule built them inline from the plain settings): no spurious rerun."""
+    plan = replay_plan
+    inline = canonical(
+        {
+            "track": plan.config["robot"]["track"],
+            "window": 1.0,
+            "settle": 0.5,
+            "tolerance": plan.config["real_data"]["segment_rules"]["tolerance"],
+            "min_turn": plan.config["real_data"]["segment_rules"]["min_turn"],
+        }
+    )
+    assert plan.real_turning_params() == inline
+
+
+def test_the_step_calibration_params_equal_what_rules_drive_smk_builds(default_plan, robot_plan):
+    """rules/drive.smk builds drive_calibrate's params inline from the plain settings; the plan's typed ones
+    validate against the job's model and hold the same content (no spurious rerun once the rule passes them)."""
+    from simpick.sources.base import engine_params
+
+    for plan in (default_plan, robot_plan):
+        config = plan.config
+        for model in plan.real_models:
+            for terrain in config["real_data"]["classes"]:
+                inline = canonical(
+                    {
+                        "engine": model,
+                        "terrain_class": terrain,
+                        "case": engine_params(config, model),
+                        "classes": config["real_data"]["classes"],
+                        "replay": config["drive_replay"],
+                        "calibration": {
+                            "source": "drive",
+                            "scales": config["calibration"]["scales"],
+                            "test_fraction": config["calibration"]["test_fraction"],
+                            "n_trials": config["calibration"]["n_trials"],
+                            "startup_trials": config["calibration"]["startup_trials"],
+                            "seed": config["calibration"]["seed"],
+                            "bounds": {model: (config["calibration"].get("bounds") or {}).get(model) or {}},
+                        },
+                    }
+                )
+                assert plan.drive_calibrate_params(model, terrain) == inline
+        assert plan.drive_calibration_params() == canonical({"statistics": config["statistics"]})
+
+
+def test_the_job_models_below_the_config_agree_with_its_sections():
+    """The step replay's and the split's fields are defined below the config for the jobs (simpick.real.settings,
+    simpick.studies.calibration.settings) beside the config's own sections, which do not yet reuse them: the
+    same fields, defaults and constraints."""
+    from simpick.config.real import DriveReplay
+    from simpick.config.studies import Calibration
+    from simpick.real.settings import StepReplay
+    from simpick.studies.calibration.settings import CalibrationSplit
+
+    def shape(field):
+        return (repr(field.annotation), field.default, repr(field.metadata), field.description)
+
+    assert {k: shape(f) for k, f in DriveReplay.model_fields.items()} == {
+        k: shape(f) for k, f in StepReplay.model_fields.items()
+    }
+    assert shape(Calibration.model_fields["test_fraction"]) == shape(CalibrationSplit.model_fields["test_fraction"])
+
+
+def test_the_split_s_strata_validate_and_are_what_they_were_before_typing(replay_plan):
+    from simpick.studies.calibration.split import SplitStrata
+
+    plan = replay_plan
+    strata = plan.calibration_strata()
+    rules = plan.config["real_data"]["segment_rules"]
+    before = canonical(
+        {
+            "track": plan.config["robot"]["track"],
+            "steady": {"tolerance": rules["tolerance"], "min_turn": rules["min_turn"]},
+            "duration": plan.config["calibration"]["replay_seconds"],
+        }
+    )
+    assert strata == before and SplitStrata.model_validate(strata).duration == before["duration"]

@@ -113,3 +113,36 @@ def test_an_edit_to_a_comparison_changes_no_simulation(library):
         library, "compare/kinds.py", "    reference = lab_reference(", "    reference = {} | lab_reference("
     )
     assert changed == [(k, "compare") for k in ("lab", "own", "replay", "segments")]
+
+
+def test_the_sources_params_from_the_typed_study_are_what_the_plain_settings_gave(tmp_path):
+    """The sources read the typed study; their params are the plain settings' slices as before (a simulation
+    whose params change reruns): every unit of the default study, and the DRIVE source's plain form."""
+    from conftest import tiny_config
+    from simpick.config import Study
+    from simpick.plan import Plan
+    from simpick.sources.base import canonical, engine_params, simulation_params
+
+    config = tiny_config(tmp_path)
+    plan = Plan(config, Study.model_validate(config), basedir=str(ROOT))
+    plain = plan.config
+    for engine in plan.real_models:
+        assert simulation_params(plan.settings, engine, plan.model_settings(engine)) == engine_params(plain, engine)
+    for terrain in plan.terrains:
+        for motion in plan.motions:
+            for engine in plan.engines:
+                before = engine_params(plain, engine) | canonical(
+                    {"terrain": terrain, "motion_name": motion, "motion": plain["motions"][motion]}
+                )
+                before |= {"kind": "lab", "source": "lab", "cases": [motion]}
+                assert plan.case_params("lab", engine, terrain, [motion]) == before
+    for terrain_class, names in plan.segments.items():
+        for engine in plan.real_models:
+            before = engine_params(plain, engine) | canonical(
+                {"terrain_class": terrain_class, "class": plain["real_data"]["classes"][terrain_class]}
+            )
+            assert plan.real_params(engine, terrain_class) == before
+            unit = before | {"kind": "segments", "source": "segments", "cases": names}
+            assert plan.case_params("segments", engine, terrain_class, names) == unit
+    assert plan.compare_settings("segments") == canonical({"track": plain["robot"]["track"]})
+    assert plan.compare_inputs(type("W", (), {"source": "lab"})())["published"] == plain["reference"]["published"]

@@ -221,8 +221,9 @@ def test_the_sweep_at_the_studys_timestep_gives_the_segments_sources_figures(tmp
     one model failed) through the source's compare and summarise jobs, and through the sweep's
     compare and summary: the same errors, intervals, run counts, Eq. 7 totals and real-time factor."""
     from simpick.compare.jobs import compare_job, summarise_job
+    from simpick.config import Study, plain
     from simpick.simulate.jobs import simulate_job, write_hung_trace
-    from simpick.sources.base import real_params, unit_params
+    from simpick.sources.base import model_settings, real_params, unit_params
     from simpick.studies.sweep import compare_traces, sweep_summary_job
     from simpick.tables import write_csv
 
@@ -235,7 +236,9 @@ def test_the_sweep_at_the_studys_timestep_gives_the_segments_sources_figures(tmp
     names = list(table.segment)
     traces = {}
     for model in ("mujoco", "coulomb"):
-        params = unit_params(real_params(config, model, "flooring"), "segments", "segments", names)
+        study = Study.model_validate(config)
+        case = real_params(study, model, model_settings(plain(study, config), model), "flooring")
+        params = unit_params(case, "segments", "segments", names)
         traces[model] = [str(tmp_path / model / f"{name}.parquet") for name in names]
         simulate_job(traces[model], inputs["urdf"], inputs, params)
     # MuJoCo's second segment (run 07's, which has two more) as its simulate job writes a hung case

@@ -12,9 +12,12 @@ from simpick.sources.base import canonical
 
 class CalibrationPlanning:
     def __init__(self):
+        # the section as plain data (None without one): simpick.plan.answer and simpick.plan.report read it so
+        # (``.get("enabled")``); this module reads the typed one, ``self.settings.calibration``
         self.calibration = self.config.get("calibration")
         self.calibration_all = []
-        if not self.calibration:
+        cal = self.settings.calibration
+        if cal is None:
             return
 
         replay = self.replay_set
@@ -26,11 +29,11 @@ class CalibrationPlanning:
             m
             # a simulator's profile is tuned only within what the simulator exposes (the catalog), never over
             # its adapter's whole space: not calibrated here
-            for m in (self.calibration.get("models") or [m for m in self.real_models if m not in self.profiles])
+            for m in (cal.models or [m for m in self.real_models if m not in self.profiles])
             if m not in self.unavailable and get_engine(m).calibratable
         ]
         self.cal_classes = sorted({c for c, _ in self.runs}) if replay else sorted(self.segments)
-        if self.calibration.get("enabled"):
+        if cal.enabled:
             self.calibration_all = [f"{self.cal_dir}/summary.csv"]
 
     def calibration_units(self):
@@ -38,7 +41,7 @@ class CalibrationPlanning:
         turns (the split stratifies by it; a replayed run's is read from its log by the split job)."""
         if self.replay_set:
             return [[c, run, run] for c, run in self.runs]
-        with open(self.config["real_data"]["segments"], newline="") as handle:
+        with open(self.settings.real_data.segments, newline="") as handle:
             return [
                 [r["terrain_class"], r["run"], r["segment"], r["kind"] == "turning"] for r in csv.DictReader(handle)
             ]
@@ -50,21 +53,24 @@ class CalibrationPlanning:
                 "dataset": f"{self.replay}/dataset.yaml",
                 "logs": [source_base.log_path(self.replay_set.name, c, run) for c, run in self.runs],
             }
-        return {"segments": self.config["real_data"]["segments"]}
+        return {"segments": self.settings.real_data.segments}
 
     def calibration_strata(self):
         """How the split job tells a replayed run that turns: the calibration's steady windows within
         its compared seconds (None for segments: their kind says it)."""
         if not self.replay_set:
             return None
-        settings = self.calibration_settings(None, search=False)
-        return canonical(
-            {
-                "track": self.config["robot"]["track"],
-                "steady": settings["steady"],
-                "duration": settings["replay_seconds"],
-            }
-        )
+        from simpick.plan.jobs import job_params
+        from simpick.studies.calibration.settings import EvaluateSettings
+        from simpick.studies.calibration.split import SplitStrata
+
+        settings = EvaluateSettings.model_validate(self.calibration_settings(None, search=False))
+        data = {
+            "track": self.settings.robot.track,
+            "steady": settings.steady.model_dump(mode="json"),
+            "duration": settings.replay_seconds,
+        }
+        return job_params("calibration_split", SplitStrata, data)
 
     def calibration_data(self, wildcards):
         """The real data a class's jobs read: the committed table, or the class's canonical logs."""
@@ -76,7 +82,7 @@ class CalibrationPlanning:
                     if c == wildcards.terrain_class
                 ]
             }
-        return {"segments": self.config["real_data"]["segments"]}
+        return {"segments": self.settings.real_data.segments}
 
     def calibration_settings(self, engine, search=True):
         """What a class's errors depend on; with ``search`` also the optimiser's budget, seed and
@@ -122,7 +128,7 @@ class CalibrationPlanning:
         """What the summary's turning and target tables depend on."""
         return canonical(
             {
-                "track": self.config["robot"]["track"],
+                "track": self.settings.robot.track,
                 "engines": self.engines,
                 "target": self.settings.calibration.target.model_dump(),
             }

@@ -171,3 +171,53 @@ class JobPlanning:
             "declared": dataset["declared"],
         }
         return job_params("import_real", ImportParams, data)
+
+    def real_turning_params(self) -> dict:
+        """Rule real_turning's settings: the controller's track, the steady-command windows' length and
+        settling, and the segment rules' tolerance and turn threshold."""
+        from simpick.real.turning import TurningParams
+
+        rules = self.settings.real_data.segment_rules
+        data = {
+            "track": self.settings.robot.track,
+            "window": 1.0,  # s: short enough for many windows a run, long for a mean of 100 samples
+            "settle": 0.5,  # s of held command before a window (wheel speeds settle in ~0.3 s)
+            "tolerance": rules.tolerance,
+            "min_turn": rules.min_turn,
+        }
+        return job_params("real_turning", TurningParams, data)
+
+    # --- the calibration on step units (rules/drive.smk's drive_calibrate, which builds these params inline
+    # today; this gives the same content, validated, for that file to pass instead) ---
+
+    def drive_calibrate_params(self, model: str, terrain_class: str) -> dict:
+        """Rule drive_calibrate's settings for a model and a terrain class: the model's simulation settings,
+        every class's ground, how the steps are replayed and the calibration's search settings."""
+        from simpick.sources.base import simulation_params
+        from simpick.studies.calibration.steps import StepCalibrateParams
+
+        cal = self.settings.calibration
+        data = {
+            "engine": model,
+            "terrain_class": terrain_class,
+            "case": simulation_params(self.settings, model, model_settings(self.config, model)),
+            "classes": {name: c.model_dump(mode="json") for name, c in self.settings.real_data.classes.items()},
+            "replay": self.settings.drive_replay.model_dump(mode="json"),
+            "calibration": {
+                "source": "drive",
+                "scales": cal.scales.model_dump(mode="json"),
+                "test_fraction": cal.test_fraction,
+                "n_trials": cal.n_trials,
+                "startup_trials": cal.startup_trials,
+                "seed": cal.seed,
+                "bounds": {model: cal.bounds.get(model) or {}},
+            },
+        }
+        return job_params("drive_calibrate", StepCalibrateParams, data)
+
+    def drive_calibration_params(self) -> dict:
+        """Rule drive_calibration's settings: the statistics of its summary."""
+        from simpick.studies.calibration.steps import StepSummaryParams
+
+        data = {"statistics": self.settings.statistics.model_dump(mode="json")}
+        return job_params("drive_calibration", StepSummaryParams, data)

@@ -47,7 +47,7 @@ class OptInPlanning:
         import yaml
 
         found = {}
-        configured = set(self.config["engines"])
+        configured = self.settings.engines.model_fields_set  # the engines the study's config names
         study = [self.engine_seconds(e) for e in self.engines]
         for path in sorted(glob.glob(os.path.join(self.basedir, OPT_IN_CONFIGS, "*.yaml"))):
             relative = os.path.relpath(path, self.basedir)

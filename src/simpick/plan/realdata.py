@@ -22,14 +22,14 @@ class RealDataPlanning:
     """The study's real data (a mixin of :class:`simpick.plan.Plan`)."""
 
     def __init__(self):
-        config = self.config
+        real_data = self.settings.real_data
         # --- real robot data ---
-        self.dataset = config["real_data"]["dataset"]  # the committed segment table's dataset
+        self.dataset = real_data.dataset  # the committed segment table's dataset
         self.real = f"results/real/{self.dataset}"
         # terrain class -> segment ids of the committed table (the config check has made sure it
         # exists; no run ever writes it)
         try:
-            self.segments = segments_source.by_class(config["real_data"]["segments"], config["real_data"]["classes"])
+            self.segments = segments_source.by_class(real_data.segments, real_data.classes)
         except ValueError as exc:
             raise PlanError(str(exc)) from None
 
@@ -37,15 +37,16 @@ class RealDataPlanning:
         # now: a folder that is not a dataset, an empty class folder, an unpaired file or a class with
         # no ground model stops the run here with one `simpick:` line each, before any job.
         self.replay_set = None
-        if config.get("borealtc_dir"):
+        if self.settings.borealtc_dir:
             self.replay_set = open_dataset_or_exit(
-                config["borealtc_dir"], classes=config["real_data"]["classes"], name=config.get("real_dataset")
+                self.settings.borealtc_dir, classes=real_data.classes, name=self.settings.real_dataset
             )
         self.replay = f"results/real/{self.replay_set.name}" if self.replay_set else None
         self.runs = replay_source.cases(self.replay_set) if self.replay_set else []
 
         self.own = "results/real/own"
-        self.own_logs = {entry["name"]: entry for entry in config.get("own_logs") or []}
+        # name -> the entry as plain data: rule import_own_log's params (simpick.real.jobs.import_own_job)
+        self.own_logs = {entry.name: entry.model_dump(mode="json") for entry in self.settings.own_logs}
 
         # The replay sources and their case tables: a source is the dataset folder (its name) or the
         # user's own logs ("own"); a case is one (terrain class, run) whose canonical log lies at
@@ -54,20 +55,21 @@ class RealDataPlanning:
         # No dataset is called "own" (simpick.real.datasets.RESERVED_NAMES).
         self.replay_cases = {self.replay_set.name: self.runs} if self.replay_set else {}
         if self.own_logs:
-            self.replay_cases["own"] = own_source.cases(config)
+            self.replay_cases["own"] = own_source.cases(self.settings)
 
     def real_logs(self, source):
         return [source_base.log_path(source, c, run) for c, run in self.replay_cases[source]]
 
     def replay_dataset(self):
         """The replay dataset as the rules see it: name, label, source and declared rates."""
-        declared = (self.config["real_data"].get("datasets") or {}).get(self.replay_set.name) or {}
+        declared = self.settings.real_data.datasets.get(self.replay_set.name)  # by dataset name: data
+        rates = {"imu_hz": declared.imu_hz, "commands_hz": declared.commands_hz} if declared else {}
         return {
             "name": self.replay_set.name,
             "folder": str(self.replay_set.folder),
-            "label": declared.get("label") or self.replay_set.name,
-            "source": declared.get("source") or f"dataset folder {self.replay_set.folder}",
-            "declared": {k: declared[k] for k in ("imu_hz", "commands_hz") if declared.get(k)},
+            "label": (declared and declared.label) or self.replay_set.name,
+            "source": (declared and declared.source) or f"dataset folder {self.replay_set.folder}",
+            "declared": {k: v for k, v in rates.items() if v},
         }
 
     def maintained_table(self, wildcards=None):
@@ -80,7 +82,7 @@ class RealDataPlanning:
             )
         elif self.replay_set.name != self.dataset:
             problem = (
-                f"maintain_segments rewrites {self.config['real_data']['segments']}, the table of dataset "
+                f"maintain_segments rewrites {self.settings.real_data.segments}, the table of dataset "
                 f"{self.dataset!r}, but {self.replay_set.folder} is dataset {self.replay_set.name!r} (fix: pass "
                 f"--config real_dataset={self.dataset} if that folder holds {self.dataset}; its own table is "
                 f"{self.replay}/segments.csv)"

@@ -47,4 +47,4 @@ class CostPlanning:
     def simulate_runtime(self, cases: int) -> int:
         """Minutes for a job of ``cases`` cases: each is stopped by the watchdog at health.timeout
         (its hard fallback 30 s later)."""
-        return cases * (1 + int(self.config["health"]["timeout"]) // 60)
+        return cases * (1 + int(self.settings.health.timeout) // 60)

@@ -38,14 +38,13 @@ class SourcePlanning:
     models and real data)."""
 
     def __init__(self):
-        config = self.config
-        self.sources = {"lab": self._spec("lab", self.engines, lab_source.cases(config))}
+        self.sources = {"lab": self._spec("lab", self.engines, lab_source.cases(self.settings))}
         if self.real_data_robot:
             self.sources["segments"] = self._spec(
                 "segments",
                 self.real_models,
                 [(c, s) for c, ids in self.segments.items() for s in ids],
-                table=config["real_data"]["segments"],
+                table=self.settings.real_data.segments,
             )
         for source, cases in self.replay_cases.items():
             self.sources[source] = self._spec("own" if source == "own" else "replay", self.real_models, cases)
@@ -136,11 +135,19 @@ class SourcePlanning:
 
     def case_inputs(self, source, group, names):
         """The files a unit's cases read (its source module's case_inputs)."""
-        return self.source_of(source).case_inputs(self.config, source, self.sources[source], group, names)
+        return self.source_of(source).case_inputs(self.settings, source, self.sources[source], group, names)
+
+    def model_settings(self, model):
+        """A model's settings: an engine's block, a simulator profile's (the plan's, over the catalog) or a
+        reference model's (simpick.sources.base.model_settings)."""
+        return source_base.model_settings(self.config, model)
 
     def case_params(self, source, engine, group, names):
         """Everything a unit's cases on one model depend on, and nothing else."""
-        return self.source_of(source).case_params(self.config, source, self.sources[source], engine, group, names)
+        spec = self.sources[source]
+        return self.source_of(source).case_params(
+            self.settings, source, spec, engine, self.model_settings(engine), group, names
+        )
 
     def case_code(self, source, engine):
         """The library code a case runs: simulate_job, the model's adapter, and how its source's kind
@@ -153,7 +160,7 @@ class SourcePlanning:
 
     def simulation_params(self, engine, terrain, motion_name):
         """Everything one lab-study simulation depends on (simpick.sources.lab; cpu_load's too)."""
-        return lab_source.lab_params(self.config, engine, terrain, motion_name)
+        return lab_source.lab_params(self.settings, engine, self.model_settings(engine), terrain, motion_name)
 
     def cpu_load_params(self, engine):
         """Rule cpu_load's params: the lab case's of its terrain and motion, and the scenarios; validated against
@@ -166,18 +173,18 @@ class SourcePlanning:
         return job_params("cpu_load", CpuLoadParams, data)
 
     def real_params(self, engine, terrain_class):
-        return source_base.real_params(self.config, engine, terrain_class)
+        return source_base.real_params(self.settings, engine, self.model_settings(engine), terrain_class)
 
     # --- compare and summarise ---
 
     def compare_inputs(self, wildcards):
         """A source's traces and what they are compared with."""
         spec = self.sources[wildcards.source]
-        compared = self.source_of(wildcards.source).compare_inputs(self.config, wildcards.source, spec, spec["cases"])
+        compared = self.source_of(wildcards.source).compare_inputs(self.settings, wildcards.source, spec, spec["cases"])
         return {"traces": self.source_traces(wildcards.source)} | compared
 
     def compare_settings(self, source):
-        return self.source_of(source).compare_settings(self.config)
+        return self.source_of(source).compare_settings(self.settings)
 
     def compare_code(self, source):
         """compare_job and every kind's comparison (simpick.compare.kinds): the same for every source."""

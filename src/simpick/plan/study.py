@@ -66,12 +66,13 @@ class Plan(
         # problem). The committed segments and a dataset folder were recorded on real_data.robot
         # (BorealTC: a Husky A200): they are compared with the study only when its robot is that one
         # (else the config check has refused every part that rests on them).
-        self.robot = load_from_config(config["robot"])
-        self.real_data_robot = self.robot.name == (config["real_data"].get("robot") or self.robot.name)
+        # (its plain form: load_from_config reads the robot section as the config gives it, files and all)
+        self.robot = load_from_config(settings.robot.model_dump(mode="json"))
+        self.real_data_robot = self.robot.name == (settings.real_data.robot or self.robot.name)
         ModelPlanning.__init__(self)
-        self.terrains = list(config["terrains"])
-        self.motions = list(config["motions"])
-        self.validation_cases = list(config["validation"]["cases"])
+        self.terrains = list(settings.terrains)
+        self.motions = list(settings.motions)
+        self.validation_cases = list(settings.validation.cases)
         RealDataPlanning.__init__(self)
         SweepPlanning.__init__(self)
         SourcePlanning.__init__(self)

@@ -14,22 +14,20 @@ class SweepPlanning:
     """The sweep's points and jobs (a mixin of :class:`simpick.plan.Plan`)."""
 
     def __init__(self):
-        config = self.config
-        # Speed-accuracy sweep: timesteps as wildcard labels ("0.5ms")
-        self.sweep = config.get("sweep")
-        self.sweep_dir = f"results/sweeps/{self.sweep['name']}" if self.sweep else None
-        self.sweep_labels = [timestep_label(t) for t in self.sweep["timesteps"]] if self.sweep else []
+        # Speed-accuracy sweep (the typed section, None without one): timesteps as wildcard labels ("0.5ms")
+        self.sweep = self.settings.sweep
+        self.sweep_dir = f"results/sweeps/{self.sweep.name}" if self.sweep else None
+        self.sweep_labels = [timestep_label(t) for t in self.sweep.timesteps] if self.sweep else []
 
     def sweep_params(self, engine, terrain_class, label):
         """The segments source's job of a class on ``engine`` (case_params) at the sweep point's timestep."""
         from simpick.plan.jobs import job_params
         from simpick.studies.sweep import SweepPointParams
 
-        params = self.case_params("segments", engine, terrain_class, self.segments[terrain_class])
-        dt = dict(zip(self.sweep_labels, self.sweep["timesteps"]))[label]
-        return job_params(
-            "sweep_segments", SweepPointParams, params | {"physics": params["physics"] | {"timestep": float(dt)}}
-        )
+        unit = self.case_params("segments", engine, terrain_class, self.segments[terrain_class])
+        dt = dict(zip(self.sweep_labels, self.sweep.timesteps))[label]
+        physics = self.settings.physics.model_dump(mode="json") | {"timestep": float(dt)}
+        return job_params("sweep_segments", SweepPointParams, unit | {"physics": physics})
 
     def sweep_code(self, engine):
         """A sweep point's code: its job (which runs the compare stage's code), the model's adapter,

@@ -5,7 +5,7 @@ field has one definition."""
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Literal
 
 from pydantic import Field
 
@@ -57,4 +57,29 @@ class SegmentRules(SteadyRules):
     )
 
 
-__all__ = ["DeclaredRates", "Ground", "SegmentRules", "SteadyRules", "TerrainClass"]
+# the config's drive_replay section (simpick.config.real.DriveReplay) holds the same fields: the jobs that replay
+# step units are given that section whole, so this model is its form below the config (tests/test_job_params.py
+# checks that the two agree)
+class StepReplay(JobParams):
+    """How step units (DRIVE's steps) are replayed in the engines: which steps, from how long a warm-up."""
+
+    models: list[str] | None = Field(
+        None, description="the engines and reference models that replay the steps; default: every configured one"
+    )
+    every: Annotated[int, Field(ge=1)] = Field(
+        1, description="replay every N-th step of each session, counted from step 1 (1: every step)"
+    )
+    max_steps_per_session: Annotated[int, Field(ge=1)] | None = Field(
+        None, description="at most this many of those steps per session, the earliest (None: no limit)"
+    )
+    warmup: Annotated[float, Field(gt=0, le=20)] = Field(
+        3.0,
+        description="s driven at the real robot's wheel speeds before each step (the first 1 s a ramp from rest), "
+        "to reach the engine's own steady state for them",
+    )
+    unit: Literal["step", "session"] = Field(
+        "step", description="the verdict's unit of pairing: each step, or each session (its steps averaged)"
+    )
+
+
+__all__ = ["DeclaredRates", "Ground", "SegmentRules", "SteadyRules", "StepReplay", "TerrainClass"]

@@ -24,10 +24,13 @@ from functools import cache
 
 import numpy as np
 import pandas as pd
+from pydantic import Field
 
 from simpick.coulomb import load_layout, ratio_for_gain, wheel_separation_multiplier, yaw_rate_gain
 from simpick.inputs.robot import load_robot
+from simpick.params import NonNegative, Positive
 from simpick.real.logs import read_canonical
+from simpick.real.settings import SteadyRules
 from simpick.tables import write_csv
 
 WINDOW_COLUMNS = [
@@ -187,17 +190,27 @@ def with_equivalents(summary: pd.DataFrame, layout, track: float, separation: fl
     return out
 
 
+class TurningParams(SteadyRules):
+    """What rule real_turning's job reads: the controller's track, the windows' length and settling, and when
+    a command is steady and turning (the segment rules' tolerance and min_turn)."""
+
+    track: Positive = Field(description="m, the controller's track (the config's robot.track)")
+    window: Positive = Field(description="s, the length of a steady-command window")
+    settle: NonNegative = Field(description="s of held command before a window")
+
+
 def turning_job(logs: list[str], urdf: str, params: dict, outputs: dict[str, str]) -> None:
     """Rule real_turning: the windows of every canonical log of a replayed dataset and their
     per-class summary, with the rigid-Coulomb gain of the study's robot at each command."""
-    track = float(params["track"])
+    p = TurningParams.model_validate(params)
+    track = p.track
     layout = load_layout(urdf)
 
     @cache
     def coulomb(v: float, w: float) -> float:
         return yaw_rate_gain(layout, v, w, track)
 
-    options = {k: float(params[k]) for k in ("window", "settle", "tolerance", "min_turn")}
+    options = {"window": p.window, "settle": p.settle, "tolerance": p.tolerance, "min_turn": p.min_turn}
     frames = [
         turning_windows(read_canonical(path), track, coulomb=lambda v, w: coulomb(round(v, 3), round(w, 3)), **options)
         for path in logs

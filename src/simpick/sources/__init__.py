@@ -42,7 +42,7 @@ KINDS = {
 
 
 def module(kind: str):
-    """The module of a kind of source (a job's ``params["kind"]``, or a source's kind when planning)."""
+    """The module of a kind of source (a job's params' ``kind``, or a source's kind when planning)."""
     try:
         return importlib.import_module(KINDS[kind])
     except KeyError:

@@ -16,6 +16,10 @@ the canonical step tables the rest reads). What this module says at planning tim
 
 The steps themselves are known once the import step has run (a checkpoint): :func:`cases` reads its
 case table.
+
+Unlike the other kinds (``study``, :mod:`simpick.sources.base`), this module's planning functions are given the
+plan's plain settings (``Plan.config``): rules/drive.smk, simpick.plan.answer and simpick.plan.jobs call them
+with it, so they read it by key until those callers pass the typed study.
 """
 
 from __future__ import annotations
@@ -47,7 +51,7 @@ def root(config: dict) -> str:
 def declared(config: dict) -> dict:
     """What the jobs read of the dataset's declaration (``real_data.datasets.<drive_dataset>``): all but its
     robot, which is planning's alone (:func:`problems`)."""
-    found = config["real_data"]["datasets"][config["drive_dataset"]]
+    found = config["real_data"]["datasets"][config["drive_dataset"]]  # the plan's plain settings (module doc)
     return canonical({k: v for k, v in found.items() if k != "robot"})
 
 
@@ -169,16 +173,16 @@ def cases(path: str) -> list[tuple[str, str]]:
 def case_inputs(config: dict, source: str, spec: dict, group: str, names: list[str]) -> dict:
     """A session's replay job: the import step's case and wheels tables, and the robot (never the session's
     own files: the import step alone reads them)."""
-    return {"cases": f"{root(config)}/cases.csv", "wheels": f"{root(config)}/{WHEELS}", "urdf": config["robot"]["urdf"]}
+    urdf = config["robot"]["urdf"]  # the plan's plain settings (module doc)
+    return {"cases": f"{root(config)}/cases.csv", "wheels": f"{root(config)}/{WHEELS}", "urdf": urdf}
 
 
 def case_params(config: dict, source: str, spec: dict, engine: str, group: str, names: list[str]) -> dict:
     """What a session's replay on ``engine`` depends on: the engine's, every terrain class's ground (the
     session's is in the case table), the replay's settings and the session."""
-    return canonical(
-        engine_params(config, engine)
-        | {"classes": config["real_data"]["classes"], "replay": config["drive_replay"], "session": group}
-    )
+    classes = config["real_data"]["classes"]  # the plan's plain settings (module doc)
+    replay = config["drive_replay"]  # plain settings, as above
+    return canonical(engine_params(config, engine) | {"classes": classes, "replay": replay, "session": group})
 
 
 def compare_inputs(config: dict, source: str, spec: dict, cases: list[tuple[str, str]]) -> dict:
@@ -195,7 +199,7 @@ def answer_tables(config: dict) -> dict:
 def answer_basis(config: dict, dataset: str, robot: str) -> dict:
     """What the answer's sentence says it rests on: the dataset's label, its unit of pairing
     (``drive_replay.unit``: a step, or its session) and how the units were compared."""
-    unit = config["drive_replay"]["unit"]
+    unit = config["drive_replay"]["unit"]  # the plan's plain settings (module doc)
     return {
         "dataset": dataset,
         "unit": unit,
@@ -210,10 +214,10 @@ def compare_settings(config: dict) -> dict:
     """The comparison's settings, less the engines it judges (the plan's)."""
     return canonical(
         {
-            "verdict": config["verdict"],
-            "statistics": config["statistics"],
-            "unit": config["drive_replay"]["unit"],
+            "verdict": config["verdict"],  # the plan's plain settings (module doc)
+            "statistics": config["statistics"],  # plain settings, as above
+            "unit": config["drive_replay"]["unit"],  # plain settings, as above
             "tolerance": SIMILAR,
-            "seed": config["seed"],
+            "seed": config["seed"],  # plain settings, as above
         }
     )

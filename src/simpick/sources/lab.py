@@ -3,44 +3,46 @@ compared with the paper's real statistics (Farley et al. 2022, Tables 8-9; simpi
 
 from __future__ import annotations
 
-from simpick.sources.base import canonical, engine_params, unit_params
+from simpick.sources.base import canonical, simulation_params, unit_params
 
 KIND = DRIVEN = "lab"
 GROUP = "terrain"
 MEM_MB = 400
 
 
-# --- planning ---
+# --- planning (``study``: the typed study, simpick.sources.base) ---
 
 
-def cases(config: dict) -> list[tuple[str, str]]:
-    """Every terrain x every motion of the config."""
-    return [(t, m) for t in config["terrains"] for m in config["motions"]]
+def cases(study) -> list[tuple[str, str]]:
+    """Every terrain x every motion of the study."""
+    return [(t, m) for t in study.terrains for m in study.motions]
 
 
-def lab_params(config: dict, engine: str, terrain: str, motion_name: str) -> dict:
+def lab_params(study, engine: str, engine_settings: dict, terrain: str, motion_name: str) -> dict:
     """Everything one lab-study simulation depends on, and nothing else."""
-    return engine_params(config, engine) | canonical(
+    return simulation_params(study, engine, engine_settings) | canonical(
         {
             "terrain": terrain,
             "motion_name": motion_name,
-            "motion": config["motions"][motion_name],
+            "motion": study.motions[motion_name].model_dump(mode="json"),
         }
     )
 
 
-def case_inputs(config: dict, source: str, spec: dict, group: str, names: list[str]) -> dict:
-    return {"urdf": config["robot"]["urdf"], "terrain": f"results/terrains/{group}.json"}
+def case_inputs(study, source: str, spec: dict, group: str, names: list[str]) -> dict:
+    return {"urdf": study.robot.urdf, "terrain": f"results/terrains/{group}.json"}
 
 
-def case_params(config: dict, source: str, spec: dict, engine: str, group: str, names: list[str]) -> dict:
+def case_params(
+    study, source: str, spec: dict, engine: str, engine_settings: dict, group: str, names: list[str]
+) -> dict:
     (name,) = names  # a lab case is one job
-    return unit_params(lab_params(config, engine, group, name), DRIVEN, source, names)
+    return unit_params(lab_params(study, engine, engine_settings, group, name), DRIVEN, source, names)
 
 
-def compare_inputs(config: dict, source: str, spec: dict, cases: list[tuple[str, str]]) -> dict:
-    return {"published": config["reference"]["published"]}
+def compare_inputs(study, source: str, spec: dict, cases: list[tuple[str, str]]) -> dict:
+    return {"published": study.reference.published}
 
 
-def compare_settings(config: dict) -> dict:
+def compare_settings(study) -> dict:
     return {}

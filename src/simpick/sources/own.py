@@ -17,6 +17,6 @@ KIND = "own"
 DRIVEN = "replay"
 
 
-def cases(config: dict) -> list[tuple[str, str]]:
-    """(terrain class, name) of every entry of ``own_logs``."""
-    return [(entry["terrain_class"], entry["name"]) for entry in config.get("own_logs") or []]
+def cases(study) -> list[tuple[str, str]]:
+    """(terrain class, name) of every entry of ``own_logs`` (``study``: the typed study, simpick.sources.base)."""
+    return [(entry.terrain_class, entry.name) for entry in study.own_logs]

@@ -11,7 +11,7 @@ GROUP = "terrain_class"
 MEM_MB = 800  # a whole run's trace and log in memory
 
 
-# --- planning ---
+# --- planning (``study``: the typed study, simpick.sources.base) ---
 
 
 def cases(dataset) -> list[tuple[str, str]]:
@@ -19,18 +19,20 @@ def cases(dataset) -> list[tuple[str, str]]:
     return [(r.terrain_class, r.run) for r in dataset.runs]
 
 
-def case_inputs(config: dict, source: str, spec: dict, group: str, names: list[str]) -> dict:
+def case_inputs(study, source: str, spec: dict, group: str, names: list[str]) -> dict:
     (name,) = names  # a replay is never batched: one log per job
-    return {"urdf": config["robot"]["urdf"], "log": log_path(source, group, name)}
+    return {"urdf": study.robot.urdf, "log": log_path(source, group, name)}
 
 
-def case_params(config: dict, source: str, spec: dict, engine: str, group: str, names: list[str]) -> dict:
-    return unit_params(real_params(config, engine, group), DRIVEN, source, names)
+def case_params(
+    study, source: str, spec: dict, engine: str, engine_settings: dict, group: str, names: list[str]
+) -> dict:
+    return unit_params(real_params(study, engine, engine_settings, group), DRIVEN, source, names)
 
 
-def compare_inputs(config: dict, source: str, spec: dict, cases: list[tuple[str, str]]) -> dict:
+def compare_inputs(study, source: str, spec: dict, cases: list[tuple[str, str]]) -> dict:
     return {"logs": [log_path(source, c, run) for c, run in cases]}
 
 
-def compare_settings(config: dict) -> dict:
-    return canonical({"track": config["robot"]["track"], "window": config["real_data"]["window"]})
+def compare_settings(study) -> dict:
+    return canonical({"track": study.robot.track, "window": study.real_data.window})

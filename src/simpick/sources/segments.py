@@ -15,7 +15,7 @@ GROUP = "terrain_class"
 MEM_MB = 400
 
 
-# --- planning ---
+# --- planning (``study``: the typed study, simpick.sources.base) ---
 
 
 def by_class(path: str, classes: dict | list) -> dict[str, list[str]]:
@@ -36,17 +36,19 @@ def cases(path: str, classes: dict | list) -> list[tuple[str, str]]:
     return [(c, s) for c, ids in by_class(path, classes).items() for s in ids]
 
 
-def case_inputs(config: dict, source: str, spec: dict, group: str, names: list[str]) -> dict:
-    return {"urdf": config["robot"]["urdf"], "segments": spec["table"]}
+def case_inputs(study, source: str, spec: dict, group: str, names: list[str]) -> dict:
+    return {"urdf": study.robot.urdf, "segments": spec["table"]}
 
 
-def case_params(config: dict, source: str, spec: dict, engine: str, group: str, names: list[str]) -> dict:
-    return unit_params(real_params(config, engine, group), DRIVEN, source, names)
+def case_params(
+    study, source: str, spec: dict, engine: str, engine_settings: dict, group: str, names: list[str]
+) -> dict:
+    return unit_params(real_params(study, engine, engine_settings, group), DRIVEN, source, names)
 
 
-def compare_inputs(config: dict, source: str, spec: dict, cases: list[tuple[str, str]]) -> dict:
+def compare_inputs(study, source: str, spec: dict, cases: list[tuple[str, str]]) -> dict:
     return {"segments": spec.get("table")}
 
 
-def compare_settings(config: dict) -> dict:
-    return canonical({"track": config["robot"]["track"]})
+def compare_settings(study) -> dict:
+    return canonical({"track": study.robot.track})

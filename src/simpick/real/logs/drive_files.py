@@ -157,12 +157,13 @@ def read_geometry(folder: Path, wheel_radius: float | None, wheel_baseline: floa
         except (OSError, yaml.YAMLError, UnicodeDecodeError):
             continue
         for node in (data or {}).values() if isinstance(data, dict) else ():
-            params = node.get("ros__parameters") if isinstance(node, dict) else None
-            if isinstance(params, dict) and "wheel_radius" in params and "wheel_baseline" in params:
+            # a ROS node's parameters in DRIVE's own file (its keys are DRIVE's: data, not a job's params)
+            ros = node.get("ros__parameters") if isinstance(node, dict) else None
+            if isinstance(ros, dict) and "wheel_radius" in ros and "wheel_baseline" in ros:
                 found = {
-                    "wheel_radius": float(params["wheel_radius"]),
-                    "wheel_baseline": float(params["wheel_baseline"]),
-                    "step_len": float(params["step_len"]) if "step_len" in params else None,
+                    "wheel_radius": float(ros["wheel_radius"]),
+                    "wheel_baseline": float(ros["wheel_baseline"]),
+                    "step_len": float(ros["step_len"]) if "step_len" in ros else None,
                     "source": str(path),
                 }
     given = {k: v for k, v in (("wheel_radius", wheel_radius), ("wheel_baseline", wheel_baseline)) if v is not None}

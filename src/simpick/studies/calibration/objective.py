@@ -14,13 +14,16 @@ from simpick.compare.real import compared_window, real_imu_at, trace_rate
 from simpick.real.logs import read_canonical
 from simpick.real.turning import turning_windows
 from simpick.simulate.real import class_segments, replay_log, simulate_segment
+from simpick.simulate.real_settings import RealCaseParams
 
 FAILED_UNIT = 10.0  # objective counted for a unit the engine fails (10x the scale of either error)
 
 
 def segment_errors(seg: pd.Series, urdf: str, params: dict, window: float | None) -> dict:
     """A committed segment: |mean sim - mean real| of yaw rate and longitudinal acceleration over
-    the first ``window`` seconds of its compared window (all of it when None)."""
+    the first ``window`` seconds of its compared window (all of it when None). ``params``: a real-data case's
+    (:class:`simpick.simulate.real_settings.RealCaseParams`), handed on to the simulate stage as given."""
+    track = RealCaseParams.model_validate(params).robot.track
     seg = seg.copy()
     if window is not None:
         seg["duration"] = min(float(seg.duration), float(window))
@@ -32,7 +35,7 @@ def segment_errors(seg: pd.Series, urdf: str, params: dict, window: float | None
         out["error_accel_x"] = abs(float(w.ax.mean()) - float(seg.linear_x_mean))
         out["error_accel_x_offset_free"] = 0.0  # a window mean less its mean (module docstring)
         if np.isfinite(float(seg.yaw_rate_gain)):  # a turning segment: the gain under its constant command
-            kinematic = (float(seg.v_right) - float(seg.v_left)) / float(params["robot"]["track"])
+            kinematic = (float(seg.v_right) - float(seg.v_left)) / track
             out.update(_gain_figures(float(w.wz.mean()) / kinematic, float(seg.yaw_rate_gain), 1))
     return out
 
@@ -57,7 +60,9 @@ def steady_windows(log, track: float, steady: dict) -> pd.DataFrame:
 def replay_errors(log, urdf: str, params: dict, duration: float | None, steady: dict | None = None) -> dict:
     """A replayed run: RMS difference of the low-passed yaw rate and longitudinal acceleration
     (the replay metrics' rmse_yaw_rate and rmse_ax, over the first ``duration`` seconds), and the
-    steady yaw-rate gain, simulated and real, in its steady-command turning windows."""
+    steady yaw-rate gain, simulated and real, in its steady-command turning windows. ``params``: as
+    :func:`segment_errors`'."""
+    track = RealCaseParams.model_validate(params).robot.track
     frame, meta = replay_log(log, urdf, params, duration=duration)
     out = {"status": meta["health"]["status"], "wall_time": float(meta["wall_time"]), "steps": int(meta["steps"])}
     if out["status"] == "ok":
@@ -74,7 +79,7 @@ def replay_errors(log, urdf: str, params: dict, duration: float | None, steady: 
         # mean yaw rate over the kinematic one, simulated and real, averaged over the run's windows.
         # Not a fit over every turning sample: the real yaw rate lags a changed command by ~0.3 s, which
         # would mix the response's lag into the gain of a run with many short turns
-        windows = steady_windows(log, float(params["robot"]["track"]), steady or {})
+        windows = steady_windows(log, track, steady or {})
         windows = windows[windows.t_end <= float(sim.time.iloc[-1])]
         if len(windows):
             t, wz = sim.time.to_numpy(), sim.wz.to_numpy()

@@ -9,6 +9,7 @@ from dataclasses import replace
 
 from simpick.engines import get_engine
 from simpick.errors import InputError
+from simpick.simulate.real_settings import RealCaseParams
 
 
 def parameter_space(engine: str, overrides: dict | None = None) -> dict:
@@ -26,12 +27,13 @@ def parameter_space(engine: str, overrides: dict | None = None) -> dict:
 
 
 def configured_values(params: dict, space: dict) -> dict:
-    """The as-configured value of each parameter (clipped into its bounds)."""
-    engine = params["engine"]
-    settings = get_engine(engine).settings_model.of(params.get("engine_settings"), engine)
+    """The as-configured value of each parameter (clipped into its bounds); ``params``: a real-data case's
+    (:class:`simpick.simulate.real_settings.RealCaseParams`)."""
+    case = RealCaseParams.model_validate(params)
+    settings = get_engine(case.engine).settings_model.of(case.engine_settings, case.engine)
     out = {}
     for name, p in space.items():
-        value = float(params["class"]["friction"]) if name == "friction" else getattr(settings, name)
+        value = case.ground.friction if name == "friction" else getattr(settings, name)
         out[name] = min(max(value, p.low), p.high)
     return out
 

@@ -20,7 +20,7 @@ from simpick.simulate.run import config_hash, stable_seed
 from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
 from simpick.studies.calibration.objective import FAILED_UNIT, Units, evaluate
 from simpick.studies.calibration.parameters import apply_parameters, configured_values, parameter_space
-from simpick.studies.calibration.settings import EvaluateSettings, SearchSettings
+from simpick.studies.calibration.settings import CalibrationBudget, EvaluateSettings, SearchSettings
 from simpick.studies.calibration.split import read_split
 from simpick.tables import write_csv
 
@@ -37,17 +37,19 @@ def study_name(params: dict, settings: dict, train: list[str] | None = None) -> 
     """Names the study by everything its trials depend on except the budget, so raising
     ``n_trials`` continues the same study and any other edit starts a new one: the parameters,
     the settings (with the job's code version, ``settings["code"]``: an edit to the objective or
-    an engine) and the training units (a new split): a trial of other units or code is never reused."""
+    an engine) and the training units (a new split): a trial of other units or code is never reused.
+    ``params``: a real-data case's (:class:`simpick.simulate.real_settings.RealCaseParams`), hashed as given."""
+    case = RealCaseParams.model_validate(params)
     keyed = {"params": params, "settings": {k: v for k, v in settings.items() if k != "n_trials"}}
     if train is not None:
         keyed["train"] = sorted(str(u) for u in train)
-    return f"{params['engine']}-{params['terrain_class']}-{config_hash(keyed)}"
+    return f"{case.engine}-{case.terrain_class}-{config_hash(keyed)}"
 
 
 def calibrate(
     units: Units, train: list[str], urdf: str, params: dict, settings: dict, journal: Path, evaluate_fn=evaluate
 ) -> tuple[dict, pd.DataFrame, dict]:
-    """Run (or resume) the study until ``settings["n_trials"]`` trials have finished.
+    """Run (or resume) the study until ``n_trials`` (of the settings) trials have finished.
 
     ``params`` and ``settings`` stay mappings here: the DRIVE calibration (simpick.studies.calibration.steps)
     calls this with settings of its own form, and the study's name is their hash (:func:`study_name`). The
@@ -59,9 +61,12 @@ def calibrate(
     from optuna.trial import TrialState
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
-    space = parameter_space(params["engine"], (settings.get("bounds") or {}).get(params["engine"]))
+    engine = RealCaseParams.model_validate(params).engine
+    # the search's budget, typed: both callers' settings hold its fields beside their own (above)
+    budget = CalibrationBudget.model_validate({k: settings[k] for k in CalibrationBudget.model_fields if k in settings})
+    space = parameter_space(engine, budget.bounds.get(engine))
     if not space:
-        raise InputError(f"engines.{params['engine']}", "declares no calibratable parameters")
+        raise InputError(f"engines.{engine}", "declares no calibratable parameters")
     storage = _storage(journal)
     name = study_name(params, settings, train)
     # the sampler's seed: from the parameters and settings alone, so an edit to unrelated code starts a
@@ -90,10 +95,10 @@ def calibrate(
         return float(np.mean([r["objective"] for r in rows]))
 
     ran, start = 0, time.perf_counter()
-    while done(study) < int(settings["n_trials"]):
+    while done(study) < budget.n_trials:
         sampler = optuna.samplers.TPESampler(
-            seed=stable_seed(int(settings["seed"]), seed_key, done(study)),
-            n_startup_trials=int(settings["startup_trials"]),
+            seed=stable_seed(budget.seed, seed_key, done(study)),
+            n_startup_trials=budget.startup_trials,
         )
         study = optuna.load_study(study_name=name, storage=storage, sampler=sampler)
         study.optimize(objective, n_trials=1)
@@ -115,7 +120,7 @@ def calibrate(
         ]
     )
     # the best of the first n_trials finished trials (a larger earlier budget may have left more)
-    history = history.sort_values("trial").head(int(settings["n_trials"])).reset_index(drop=True)
+    history = history.sort_values("trial").head(budget.n_trials).reset_index(drop=True)
     best = history.loc[history.objective.idxmin()]
     values = {k: float(best[f"param_{k}"]) for k in space}
     facts = {
@@ -232,7 +237,7 @@ def evaluate_job(inputs: dict, params: dict, settings: dict, output: str, timeou
             for r in _failed_rows(units, [u for u in ids if (variant, u) not in seen], hung_reason(timeout))
         ]
         print(
-            f"simpick: evaluate {params['engine']} {params['terrain_class']}: {len(left)} unit(s) not done: "
+            f"simpick: evaluate {case.engine} {case.terrain_class}: {len(left)} unit(s) not done: "
             f"{hung_reason(timeout)}",
             file=sys.stderr,
         )

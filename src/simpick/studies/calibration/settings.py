@@ -51,6 +51,14 @@ class CalibrationBudget(JobParams):
     )
 
 
+class CalibrationSplit(JobParams):
+    """How the units are split: the held-out share (the config's ``calibration.test_fraction``)."""
+
+    test_fraction: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = Field(
+        description="share of each terrain class's runs held out (split by run, never within one)"
+    )
+
+
 class EvaluateSettings(CalibrationWindows):
     """What rule calibration_evaluate's job reads besides its case: the source of the units, the windows, the
     scales and, for a replayed run, the steady-command rules of its turning windows."""
@@ -66,6 +74,7 @@ class SearchSettings(EvaluateSettings, CalibrationBudget):
 
 __all__ = [
     "CalibrationBudget",
+    "CalibrationSplit",
     "CalibrationScales",
     "CalibrationWindows",
     "EvaluateSettings",

@@ -5,13 +5,25 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+from pydantic import Field
 
+from simpick.params import JobParams, Positive
 from simpick.real.logs import read_canonical
+from simpick.real.settings import SteadyRules
 from simpick.simulate.run import stable_seed
 from simpick.studies.calibration.objective import steady_windows
 from simpick.tables import write_csv
 
 SPLIT_COLUMNS = ("terrain_class", "run", "unit", "set")
+
+
+class SplitStrata(JobParams):
+    """How rule calibration_split's job tells a replayed run that turns (the plan's calibration_strata): the
+    controller's track, the steady-command rules of the turning windows, and the compared seconds."""
+
+    track: Positive = Field(description="m, the controller's track (the config's robot.track)")
+    steady: SteadyRules
+    duration: Positive | None = Field(description="s compared of each run (None: all of it)")
 
 
 def split_runs(units: pd.DataFrame, test_fraction: float, seed: int) -> pd.DataFrame:
@@ -74,11 +86,12 @@ def split_job(
     columns = ["terrain_class", "run", "unit", "turns"]
     frame = pd.DataFrame(units, columns=columns[: len(units[0])] if units else columns[:3]).astype({"run": str})
     if logs:
+        s = SplitStrata.model_validate(strata)
         turns = {}
         for path in logs:
             log = read_canonical(path)
             key = (str(log.meta["terrain_class"]).lower(), str(log.meta["run_id"]))
-            turns[key] = run_turns(log, float(strata["track"]), strata["steady"], strata.get("duration"))
+            turns[key] = run_turns(log, s.track, s.steady.model_dump(), s.duration)
         frame["turns"] = [turns.get((c, r), False) for c, r in zip(frame.terrain_class, frame.run)]
     write_csv(split_runs(frame, test_fraction, seed), output)
 

@@ -30,22 +30,50 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import yaml
+from pydantic import Field
 
 from simpick.coulomb import wheel_separation_multiplier
 from simpick.errors import InputError
 from simpick.inputs.robot import load_robot
+from simpick.params import JobParams
+from simpick.real.settings import StepReplay, TerrainClass
 from simpick.real.steps import MIN_TURN
+from simpick.score.settings import Statistics
+from simpick.simulate.settings import SimulationParams
 from simpick.simulate.steps import read_wheels, replay_step, select_steps, step_samples
 from simpick.simulate.watchdog import Watchdog, hung_reason
 from simpick.studies.calibration.objective import FAILED_UNIT
 from simpick.studies.calibration.parameters import apply_parameters, configured_values, parameter_space
 from simpick.studies.calibration.search import calibrate
+from simpick.studies.calibration.settings import CalibrationBudget, CalibrationScales, CalibrationSplit
 from simpick.studies.calibration.split import split_runs
 from simpick.studies.calibration.summary import summarise
 from simpick.tables import write_csv
 
 SPEED_SCALE = 0.2  # m/s: about the as-configured engines' median steady speed error on the Warthog's steps
 # (fixed-rocker Warthog, asphalt: 0.28-0.42 m/s), so the speed and the yaw-rate terms count alike
+
+
+class StepSearchSettings(CalibrationBudget, CalibrationSplit):
+    """What the step calibration reads of the calibration section: the search's budget, seed and this model's
+    bounds, the held-out share, and the objective's scales (its yaw-rate term's; the speed's is
+    :data:`SPEED_SCALE`)."""
+
+    source: str = Field(description="the units' source kind (step units)")
+    scales: CalibrationScales = Field(description="the objective's scales")
+
+
+class StepCalibrateParams(JobParams):
+    """What rule drive_calibrate's job reads: the model and the terrain class, the model's simulation settings,
+    every class's ground (a step's own class is the case table's), how the steps are replayed, and the
+    search's settings."""
+
+    engine: str
+    terrain_class: str
+    case: SimulationParams
+    classes: dict[str, TerrainClass]
+    replay: StepReplay
+    calibration: StepSearchSettings
 
 
 class StepUnits:
@@ -91,9 +119,9 @@ def evaluate(units: StepUnits, ids: list[str], urdf: str, params: dict, settings
     return rows
 
 
-def class_units(cases: pd.DataFrame, steps: pd.DataFrame, terrain: str, replay: dict) -> pd.DataFrame:
+def class_units(cases: pd.DataFrame, steps: pd.DataFrame, terrain: str, replay: StepReplay) -> pd.DataFrame:
     """The chosen steps of one terrain class with their turning flag (the split's strata)."""
-    chosen = select_steps(cases[cases.terrain_class == terrain], replay["every"], replay["max_steps_per_session"])
+    chosen = select_steps(cases[cases.terrain_class == terrain], replay.every, replay.max_steps_per_session)
     kin = steps.set_index(["session", "step"]).w_kin
     turns = [abs(kin.get((s, k), 0.0)) > MIN_TURN for s, k in zip(chosen.session, chosen.step)]
     return chosen.assign(turns=turns)
@@ -107,20 +135,26 @@ def split(units: pd.DataFrame, test_fraction: float, seed: int) -> pd.DataFrame:
 def calibrate_job(inputs: dict, params: dict, outputs: dict, timeout: float) -> None:
     """One engine x one terrain class. Splits the class's chosen steps, calibrates on
     the training steps and evaluates the as-configured and the calibrated engine on every step; writes the
-    split, best.yaml, the trials and the evaluated units (CSV)."""
+    split, best.yaml, the trials and the evaluated units (CSV). ``params``: :class:`StepCalibrateParams`."""
+    p = StepCalibrateParams.model_validate(params)
+    terrain, engine = p.terrain_class, p.engine
+    # The search's settings and the real-data case stay the mappings the rule passed (canonical: numbers as
+    # floats): calibrate() names the Optuna study, and seeds its sampler, by their hash, so a typed dump (an int
+    # seed) would start another study with other trials. What this job reads itself is read from ``p``.
+    settings = dict(params["calibration"])  # as given: hashed (above)
     cases, steps = pd.read_csv(inputs["cases"]), pd.read_csv(inputs["steps"])
-    terrain, settings = params["terrain_class"], dict(params["calibration"])
-    units_table = class_units(cases, steps, terrain, params["replay"])
+    units_table = class_units(cases, steps, terrain, p.replay)
     if units_table.empty:
         raise InputError(inputs["cases"], f"has no chosen steps on {terrain!r}", "choose drive_replay.every smaller")
     wheels = read_wheels(inputs["wheels"])
-    parts = split(units_table, float(settings["test_fraction"]), int(settings["seed"]))
+    parts = split(units_table, p.calibration.test_fraction, p.calibration.seed)
     write_csv(parts, outputs["split"])
     wheels = wheels[wheels.session.isin(set(units_table.session))]
-    units = StepUnits(wheels, units_table, float(params["replay"]["warmup"]))
+    units = StepUnits(wheels, units_table, p.replay.warmup)
     train = list(parts[parts.set == "train"].unit)
     test = list(parts[parts.set == "test"].unit)
-    case_params = dict(params["case"], terrain_class=terrain, **{"class": params["classes"][terrain]})
+    # a real-data case's params (simpick.simulate.real_settings.RealCaseParams), as given: hashed (above)
+    case_params = dict(params["case"], terrain_class=terrain, **{"class": params["classes"][terrain]})  # as given
     journal = Path(outputs["best"]).with_name("optuna.journal")
     Path(outputs["best"]).parent.mkdir(parents=True, exist_ok=True)
 
@@ -129,7 +163,7 @@ def calibrate_job(inputs: dict, params: dict, outputs: dict, timeout: float) -> 
         Path(outputs["best"]).write_text(
             yaml.safe_dump(
                 {
-                    "engine": params["engine"],
+                    "engine": engine,
                     "terrain_class": terrain,
                     "status": "failed",
                     "reasons": [reason],
@@ -142,29 +176,33 @@ def calibrate_job(inputs: dict, params: dict, outputs: dict, timeout: float) -> 
 
     with Watchdog(timeout, hung):
         values, history, facts = calibrate(units, train, inputs["urdf"], case_params, settings, journal, evaluate)
-        space = parameter_space(params["engine"], (settings.get("bounds") or {}).get(params["engine"]))
+        space = parameter_space(engine, p.calibration.bounds.get(engine))
         configured = configured_values(case_params, space)
         rows = []
         for variant, chosen in (("configured", configured), ("calibrated", values)):
             for set_, ids in (("train", train), ("test", test)):
                 for row in evaluate(units, ids, inputs["urdf"], apply_parameters(case_params, chosen), settings):
-                    rows.append(
-                        {"terrain_class": terrain, "engine": params["engine"], "variant": variant, "set": set_, **row}
-                    )
+                    rows.append({"terrain_class": terrain, "engine": engine, "variant": variant, "set": set_, **row})
     best = {
-        "engine": params["engine"],
+        "engine": engine,
         "terrain_class": terrain,
         "status": "ok",
         "reasons": [],
         "parameters": values,
         "as_configured": configured,
         "train_units": train,
-        "n_trials": int(settings["n_trials"]),
+        "n_trials": p.calibration.n_trials,
         **facts,
     }
     Path(outputs["best"]).write_text(yaml.safe_dump(best, sort_keys=False))
     write_csv(history, outputs["trials"])
     write_csv(pd.DataFrame(rows), outputs["evals"])
+
+
+class StepSummaryParams(JobParams):
+    """What rule drive_calibration's job reads: the statistics of its summary (intervals, verdicts)."""
+
+    statistics: Statistics
 
 
 TURNING_COLUMNS = [
@@ -214,13 +252,14 @@ def turning_table(
 
 def summary_job(inputs: dict, params: dict, outputs: dict) -> None:
     """Rule drive_calibration_summary: the project's calibration summary of every engine x class, the
-    parameters found, and the held-out turning table with the multipliers."""
+    parameters found, and the held-out turning table with the multipliers. ``params``: :class:`StepSummaryParams`."""
+    p = StepSummaryParams.model_validate(params)
     evals = pd.concat([pd.read_csv(p, dtype={"run": str, "unit": str}) for p in inputs["evals"]], ignore_index=True)
     best = {}
     for path in inputs["bests"]:
         b = yaml.safe_load(Path(path).read_text())
         best[(b["engine"], b["terrain_class"])] = b
-    write_csv(summarise(evals, best, params.get("statistics")), outputs["summary"])
+    write_csv(summarise(evals, best, p.statistics.model_dump()), outputs["summary"])
     separation = load_robot(inputs["urdf"]).track
     sessions = pd.read_csv(inputs["sessions"])
     track = float(sessions[sessions.kept.astype(bool)].wheel_baseline.median())  # the baseline DRIVE's gains use

@@ -136,9 +136,9 @@ def summarise(evals: pd.DataFrame, best: dict[tuple[str, str], dict], statistics
             "normalised": False,
             **_summary_row(g, g.run, min_runs, level),
         }
-        params = best.get((engine, cls), {})
-        row["parameters"] = "; ".join(f"{k}={v:.4g}" for k, v in (params.get("parameters") or {}).items())
-        row["parameters_configured"] = "; ".join(f"{k}={v:.4g}" for k, v in (params.get("as_configured") or {}).items())
+        found = best.get((engine, cls), {})  # the calibrate job's best.yaml (a result file, not params)
+        row["parameters"] = "; ".join(f"{k}={v:.4g}" for k, v in (found.get("parameters") or {}).items())
+        row["parameters_configured"] = "; ".join(f"{k}={v:.4g}" for k, v in (found.get("as_configured") or {}).items())
         rows.append(row)
     if evals.terrain_class.nunique() > 1:
         for (engine, set_), g in _normalised(evals).groupby(["engine", "set"], sort=True):

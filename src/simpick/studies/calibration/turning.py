@@ -95,7 +95,7 @@ def turning_table(
             mean, low, high = interval_over_runs(gain_error.to_numpy(), list(gain_error.index), min_runs, level)
             g_real, g_sim = float(real.mean()), float(sim.mean())
             ratio = g_sim / g_real if g_real else math.nan
-            params = best.get((engine, cls), {}) if variant == "calibrated" else {}
+            found = best.get((engine, cls), {}) if variant == "calibrated" else {}  # best.yaml (a result file)
             rows.append(
                 {
                     "terrain_class": cls,
@@ -114,7 +114,7 @@ def turning_table(
                     "error_yaw_rate": float(_per_run(g, "error_yaw_rate").mean()),
                     "separation_multiplier": wheel_separation_multiplier(g_sim, track, separation),
                     "separation_multiplier_real": wheel_separation_multiplier(g_real, track, separation),
-                    "parameters": "; ".join(f"{k}={v:.4g}" for k, v in (params.get("parameters") or {}).items()),
+                    "parameters": "; ".join(f"{k}={v:.4g}" for k, v in (found.get("parameters") or {}).items()),
                 }
             )
     return pd.DataFrame(rows, columns=TURNING_COLUMNS)
