@@ -17,6 +17,9 @@ from simpick.plan import Plan, PlanError
 from simpick.plan.jobs import job_params
 from simpick.real.jobs import ImportParams, SegmentsParams
 from simpick.score import simulators as simulators_stage
+from simpick.score.answer import AnswerParams
+from simpick.score.steps import CompareParams
+from simpick.score.verdict.job import VerdictParams
 from simpick.simulate.cpuload import CpuLoadParams
 from simpick.simulate.lab import LabCaseParams
 from simpick.sources.base import canonical
@@ -51,6 +54,11 @@ CONVERTED = {
         EvaluateSettings,
         lambda plan: [plan.calibration_settings(m, search=False) for m in plan.cal_models],
     ),
+    # --- the verdict, the answer and DRIVE's step verdict ---
+    "verdict": (VerdictParams, lambda plan: [plan.verdict_settings()] if plan.verdict else []),
+    "answer": (AnswerParams, lambda plan: [plan.answer_settings()] if plan.answer_source else []),
+    # the rule exists where drive_dir is set; its params do not depend on the folder: the study's engines
+    "drive_compare": (CompareParams, lambda plan: [plan.drive_compare_params(plan.engines)]),
     # the lab's simulate jobs (their params: simpick.sources.lab.case_params)
     "simulate (lab)": (
         LabCaseParams,
@@ -84,6 +92,8 @@ def test_each_converted_rule_s_params_validate_against_its_job_s_model(rule, whi
     all_params = params_of(plan)
     # the sweep runs the committed segments, which a study of another robot than theirs refuses
     no_jobs = {("robot_plan", "sweep_segments")}
+    # the Warthog's study has no real data of its robot: no verdict, no answer
+    no_jobs |= {("robot_plan", "verdict"), ("robot_plan", "answer")}
     assert bool(all_params) != ((which, rule) in no_jobs), f"{rule}: jobs in this plan: {len(all_params)}"
     for params in all_params:
         # plain builtins, canonical: what Snakemake fingerprints by repr (the simulate family's params are
@@ -219,3 +229,32 @@ def test_an_infinite_setting_reaches_the_job_as_infinity_not_null():
     params = plan.validation_params("webots-shipped")
     assert params["engine_settings"]["contact_max_correcting_vel"] == float("inf")
     assert ValidateParams.model_validate(params).engine_settings["contact_max_correcting_vel"] == float("inf")
+
+
+def test_the_verdict_answer_and_drive_compare_params_keep_their_content(default_plan, tmp_path):
+    """Built from the typed study, they hold what the plain slices gave (the answer's basis gains its noun,
+    None where the sentences say "real runs"); DRIVE's comparison's are what simpick.sources.drive gave."""
+    from simpick.sources import module as source_module
+
+    plan = default_plan
+    old_verdict = {
+        "engines": sorted(plan.engines),
+        "baselines": sorted(plan.baselines),
+        "statistics": plan.statistics_params(),
+        "seed": plan.config["seed"],
+        "accuracy_set": plan.accuracy_source()["set"],
+        "verdict": plan.config["verdict"],
+    }
+    assert plan.verdict_settings() == canonical(old_verdict)
+    answer = plan.answer_settings()
+    assert answer["weights"] == canonical(plan.config["weights"]) and answer["basis"]["noun"] is None
+    engines = ["mujoco", "ode"]
+    old_compare = source_module("drive").compare_settings(plan.config) | {"engines": engines}
+    assert plan.drive_compare_params(engines) == canonical(old_compare)
+
+
+def test_only_the_answer_s_params_hold_the_weights(default_plan):
+    """The rerun contract: a weight edit reruns the answer, not the verdict nor DRIVE's comparison."""
+    assert "weights" in default_plan.answer_settings()
+    assert "weights" not in default_plan.verdict_settings()
+    assert "weights" not in default_plan.drive_compare_params(default_plan.engines)

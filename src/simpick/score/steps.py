@@ -17,11 +17,16 @@ can beat.
 
 from __future__ import annotations
 
+from typing import Annotated, Literal
+
 import pandas as pd
+from pydantic import Field
 
 from simpick.compare.steps import ALL, gain_repeatability, step_errors, summary_table
+from simpick.params import JobParams
 from simpick.score.equivalence import outcomes_table
 from simpick.score.mechanics import mechanics_table
+from simpick.score.settings import Statistics, Verdict
 from simpick.score.verdict import METRICS, metric_table, per_run_long, per_run_values
 from simpick.tables import write_csv
 
@@ -113,6 +118,21 @@ def verdict_tables(
     }
 
 
+class CompareParams(JobParams):
+    """What rule drive_compare's job reads: the engines it judges, the verdict's margins and mechanics, the
+    statistics, the unit of pairing (``drive_replay.unit``), the similar-command tolerance and the seed."""
+
+    engines: list[str] = Field(description="the study's engines the replay ran (drive_replay.models)")
+    verdict: Verdict
+    statistics: Statistics
+    unit: Literal["step", "session"] = Field(description="the verdict's unit of pairing")
+    tolerance: float = Field(
+        description="rad/s, two steps are of similar command when both wheels' commands differ by at most this "
+        "(simpick.real.steps.SIMILAR): the gain's repeatability pairs them"
+    )
+    seed: Annotated[int, Field(ge=0, lt=2**32)]
+
+
 def compare_job(inputs: dict, params: dict, outputs: dict) -> None:
     """The replayed steps of every engine against the real robot, into ``errors``,
     ``summary`` and ``outcomes`` (CSV), and, where the study's first page rests on DRIVE (rule answer), the
@@ -120,32 +140,22 @@ def compare_job(inputs: dict, params: dict, outputs: dict) -> None:
     all terrains: ``per_test`` (one test per step, the verdict's per-test form), ``metrics`` (the per-run
     values the answer's figure draws), ``table`` (each engine against the next) and ``mechanics`` (the
     gate)."""
+    p = CompareParams.model_validate(params)
     cases = pd.read_csv(inputs["cases"])
     steps = pd.read_csv(inputs["steps"])
     replayed = pd.concat([pd.read_csv(p) for p in inputs["replayed"]], ignore_index=True)
     validation = pd.read_csv(inputs["validation"]) if inputs.get("validation") else None
     errors = step_errors(cases, steps, replayed)
-    tolerance = float(params["tolerance"])
-    seed = int(params.get("seed", 0))  # the rules' canonical params carry numbers as floats
+    # simpick.compare.steps and simpick.score.equivalence read these as mappings
+    statistics, verdict = p.statistics.model_dump(mode="json"), p.verdict.model_dump(mode="json")
+    engines = list(p.engines)
     write_csv(errors, outputs["errors"])
-    write_csv(summary_table(errors, steps, tolerance, params.get("statistics"), seed), outputs["summary"])
+    write_csv(summary_table(errors, steps, p.tolerance, statistics, p.seed), outputs["summary"])
     write_csv(
-        outcomes(
-            errors,
-            steps,
-            list(params["engines"]),
-            params["verdict"],
-            tolerance,
-            validation,
-            params.get("unit", "step"),
-            params.get("statistics"),
-            seed,
-        ),
+        outcomes(errors, steps, engines, verdict, p.tolerance, validation, p.unit, statistics, p.seed),
         outputs["outcomes"],
     )
-    tables = verdict_tables(
-        errors, list(params["engines"]), validation, params.get("unit", "step"), params.get("statistics"), seed
-    )
+    tables = verdict_tables(errors, engines, validation, p.unit, statistics, p.seed)
     for name, frame in tables.items():
         if outputs.get(name):
             write_csv(frame, outputs[name])
