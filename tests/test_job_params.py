@@ -16,6 +16,8 @@ from simpick.config import Study
 from simpick.plan import Plan, PlanError
 from simpick.plan.jobs import job_params
 from simpick.real.jobs import ImportParams, SegmentsParams
+from simpick.report import draw
+from simpick.report import params as report_params
 from simpick.score import simulators as simulators_stage
 from simpick.score.answer import AnswerParams
 from simpick.score.steps import CompareParams
@@ -59,6 +61,17 @@ CONVERTED = {
     "answer": (AnswerParams, lambda plan: [plan.answer_settings()] if plan.answer_source else []),
     # the rule exists where drive_dir is set; its params do not depend on the folder: the study's engines
     "drive_compare": (CompareParams, lambda plan: [plan.drive_compare_params(plan.engines)]),
+    # --- the report: its figures, its evidence and the report itself ---
+    **{
+        rule: (model, lambda plan, rule=rule: [plan.figure_params(rule)])
+        for rule, (_, _, _, model) in draw.RULES.items()
+    },
+    "report_evidence": (report_params.EvidenceParams, lambda plan: [plan.evidence_params()]),
+    # with what rule report adds from its inputs (the DRIVE tables' and simulators' folders; here: none)
+    "report": (
+        report_params.ReportParams,
+        lambda plan: [canonical(plan.report_params() | {"drive": "", "drive_calibration": "", "simulators": ""})],
+    ),
     # the lab's simulate jobs (their params: simpick.sources.lab.case_params)
     "simulate (lab)": (
         LabCaseParams,
@@ -258,3 +271,26 @@ def test_only_the_answer_s_params_hold_the_weights(default_plan):
     assert "weights" in default_plan.answer_settings()
     assert "weights" not in default_plan.verdict_settings()
     assert "weights" not in default_plan.drive_compare_params(default_plan.engines)
+
+
+def test_only_the_report_s_params_hold_the_weights_of_the_report_s_jobs(default_plan):
+    """The rerun contract: a weight edit reruns the report, neither a figure nor the evidence."""
+    assert default_plan.report_params()["weights"] == canonical(default_plan.config["weights"])
+    assert "weights" not in default_plan.evidence_params()
+    for rule in draw.RULES:
+        assert "weights" not in default_plan.figure_params(rule), rule
+
+
+def test_the_benchmark_s_page_params_validate_against_its_job_s_model():
+    """Rule robots (rules/robots.smk) is given simpick.config.robots.robots_params: each robot's name, label,
+    command, settings and files, and the pooling, as rule robots' job reads them."""
+    import yaml
+
+    from simpick.config.robots import benchmark, robots_params
+    from simpick.report.robots import RobotsParams
+
+    robots, pooling = benchmark(yaml.safe_load((ROOT / "config/robots.yaml").read_text()), ROOT)
+    params = robots_params(robots, pooling)
+    typed = RobotsParams.model_validate(params)
+    assert [r.name for r in typed.robots] == list(robots) and typed.pooling.min_robots == pooling["min_robots"]
+    assert typed.model_dump(mode="json") == params
