@@ -287,7 +287,7 @@ rule report_evidence:
         runs=PLAN.metrics_file("lab", "runs"),
         rtf=PLAN.metrics_file("lab", "rtf"),
         cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
-        qualitative=PLAN.config["qualitative"],
+        qualitative=SETTINGS.qualitative,
         table11="results/published/table11.csv",
         table11_comparison="results/published/table11_comparison.csv",
         worked_example="results/published/worked_example.json",
@@ -333,7 +333,7 @@ rule report:
         runs=PLAN.metrics_file("lab", "runs"),
         rtf=PLAN.metrics_file("lab", "rtf"),
         cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
-        qualitative=PLAN.config["qualitative"],
+        qualitative=SETTINGS.qualitative,
         table11="results/published/table11.csv",
         table11_comparison="results/published/table11_comparison.csv",
         worked_example="results/published/worked_example.json",
@@ -345,7 +345,7 @@ rule report:
         # with calibration.enabled: the held-out multipliers (simpick.studies.calibration.steps)
         drive_calibration=(
             [f"{DRIVE}/calibration/turning.csv"]
-            if SETTINGS.drive_dir and PLAN.config["calibration"]["enabled"]
+            if SETTINGS.drive_dir and SETTINGS.calibration and SETTINGS.calibration.enabled
             else []
         ),
         turnmap=TURNMAP_TARGETS,
