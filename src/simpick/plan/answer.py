@@ -164,6 +164,6 @@ class AnswerPlanning:
         figure draws), and the calibration's turning table where the calibration is part of the study and the
         answer rests on its runs (the DRIVE calibration's table has another form: not read here)."""
         inputs = {k: v for k, v in self.answer_tables().items() if k != "metrics"}
-        if self.answer_source == "verdict" and self.calibration and self.calibration.get("enabled"):
+        if self.answer_source == "verdict" and self.settings.calibration and self.settings.calibration.enabled:
             inputs["calibration_turning"] = f"{self.cal_dir}/turning.csv"
         return inputs

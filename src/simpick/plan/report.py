@@ -146,7 +146,7 @@ class ReportPlanning:
             inputs["verdict_sentences"] = "results/verdict/answer.yaml"
         if self.sweep:
             inputs["sweep"] = f"{self.sweep_dir}/summary.csv"
-        if self.calibration and self.calibration.get("enabled"):  # rules/calibration.smk
+        if self.settings.calibration and self.settings.calibration.enabled:  # rules/calibration.smk
             inputs["calibration"] = f"{self.cal_dir}/summary.csv"
             inputs["calibration_turning"] = f"{self.cal_dir}/turning.csv"
             inputs["calibration_target"] = f"{self.cal_dir}/target.csv"

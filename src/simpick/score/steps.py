@@ -17,7 +17,8 @@ can beat.
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from collections.abc import Mapping
+from typing import Annotated, Any, Literal
 
 import pandas as pd
 from pydantic import Field
@@ -26,7 +27,7 @@ from simpick.compare.steps import ALL, gain_repeatability, step_errors, summary_
 from simpick.params import JobParams
 from simpick.score.equivalence import outcomes_table
 from simpick.score.mechanics import mechanics_table
-from simpick.score.settings import Statistics, Verdict
+from simpick.score.settings import Margin, Statistics, Verdict
 from simpick.score.verdict import METRICS, metric_table, per_run_long, per_run_values
 from simpick.tables import write_csv
 
@@ -42,14 +43,15 @@ def per_test(errors: pd.DataFrame, unit: str = "step") -> pd.DataFrame:
     )
 
 
-def gain_margin_spec(spec: dict, steps: pd.DataFrame, tolerance: float) -> tuple[dict, str | None]:
-    """The gain error's margin spec for DRIVE: where the config bases it on the real robot's spread, the
-    real robot's step-to-step repeatability (absolute) and the sentence saying so; else the config's spec."""
-    if spec["basis"] != "real_spread":
-        return spec, None
+def gain_margin_spec(spec: Margin, steps: pd.DataFrame, tolerance: float) -> tuple[dict, str | None]:
+    """The gain error's margin spec for DRIVE, as simpick.score.equivalence reads it: where the config bases
+    it on the real robot's spread, the real robot's step-to-step repeatability (absolute) and the sentence
+    saying so; else the config's spec."""
+    if spec.basis != "real_spread":
+        return spec.model_dump(mode="json"), None
     sd, pairs = gain_repeatability(steps, tolerance)
-    value = float(spec["value"]) * sd
-    factor = "" if float(spec["value"]) == 1 else f"{float(spec['value']):g} x "
+    value = spec.value * sd
+    factor = "" if spec.value == 1 else f"{spec.value:g} x "
     return {"basis": "absolute", "value": value}, (
         f"{factor}the real robot's own step-to-step repeatability of its yaw-rate gain: the single-step "
         f"standard deviation between the {pairs} pairs of steps of similar command (within a terrain), {sd:.3g}"
@@ -69,7 +71,7 @@ def outcomes(
     errors: pd.DataFrame,
     steps: pd.DataFrame,
     engines: list[str],
-    verdict: dict,
+    verdict: Verdict | Mapping[str, Any],
     tolerance: float,
     validation: pd.DataFrame | None = None,
     unit: str = "step",
@@ -79,14 +81,18 @@ def outcomes(
     """Every engine against the best per metric (:func:`simpick.score.equivalence.outcomes_table`), over
     all terrains (``scope`` all) and per terrain, paired by ``unit``. ``validation``: the validation
     summary (the mechanics gate: an engine failing the cases a metric rests on is never the best); None:
-    no engine validated, the lowest mean is the reference and is named so."""
+    no engine validated, the lowest mean is the reference and is named so. ``verdict``: the margins and
+    mechanics (a mapping is validated as :class:`simpick.score.settings.Verdict`)."""
+    typed = verdict if isinstance(verdict, Verdict) else Verdict.model_validate(verdict)
+    # simpick.score.equivalence reads the margins and mechanics as mappings
+    margins, gate = typed.margins.model_dump(mode="json"), typed.mechanics.model_dump(mode="json")
     mechanics = mechanics_gate(validation, engines)
     frames = []
     for scope, e in [(ALL, errors)] + list(errors.groupby("terrain_class", sort=True)):
         real = steps if scope == ALL else steps[steps.terrain_class == scope]
         tests = per_test(e, unit)
-        spec, basis = gain_margin_spec(verdict["margins"]["gain_error"], real, tolerance)
-        settings = {"margins": {**verdict["margins"], "gain_error": spec}, "mechanics": verdict["mechanics"]}
+        spec, basis = gain_margin_spec(typed.margins.gain_error, real, tolerance)
+        settings = {"margins": {**margins, "gain_error": spec}, "mechanics": gate}
         walls = {metric: per_run_values(tests, metric) for metric in METRICS}
         table = outcomes_table(walls, tests, engines, METRICS, mechanics, settings, statistics, seed)
         if basis:
@@ -146,8 +152,8 @@ def compare_job(inputs: dict, params: dict, outputs: dict) -> None:
     replayed = pd.concat([pd.read_csv(p) for p in inputs["replayed"]], ignore_index=True)
     validation = pd.read_csv(inputs["validation"]) if inputs.get("validation") else None
     errors = step_errors(cases, steps, replayed)
-    # simpick.compare.steps and simpick.score.equivalence read these as mappings
-    statistics, verdict = p.statistics.model_dump(mode="json"), p.verdict.model_dump(mode="json")
+    # simpick.compare.steps and simpick.score.verdict read the statistics as a mapping
+    statistics, verdict = p.statistics.model_dump(mode="json"), p.verdict
     engines = list(p.engines)
     write_csv(errors, outputs["errors"])
     write_csv(summary_table(errors, steps, p.tolerance, statistics, p.seed), outputs["summary"])
