@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import os
 
-from simpick.plan.jobs import job_params
+from simpick.plan.jobs import fields_of, job_params
 
 FIGURES = "results/report/figures"
 # simpick's verdict tables (rule verdict), each an input of the report
@@ -77,7 +77,7 @@ class ReportPlanning:
 
     def evidence_params(self):
         """Rule report_evidence's params (:class:`simpick.report.params.EvidenceParams`): no weight, so that a
-        weight edit lays the evidence out not again."""
+        weight edit does not lay the evidence out again."""
         from simpick.report.params import EvidenceParams
 
         data = {
@@ -175,7 +175,6 @@ class ReportPlanning:
 
     def report_datasets(self):
         """Which dataset each real-data set comes from, and its declared rates (the report states them)."""
-        from simpick.plan.jobs import fields_of
         from simpick.real.settings import DeclaredRates
 
         # real_data.datasets: keyed by the dataset's name (data, not fields)
