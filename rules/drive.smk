@@ -120,10 +120,7 @@ if SETTINGS.drive_dir:
         conda:
             "../envs/simpick.yaml"
         params:
-            settings=canonical(
-                DRIVE_SOURCE.compare_settings(PLAN.config)
-                | {"engines": [m for m in DRIVE_MODELS if m in PLAN.engines]}
-            ),
+            settings=PLAN.drive_compare_params([m for m in DRIVE_MODELS if m in PLAN.engines]),
             code=PLAN.script_code("drive_compare"),
         script:
             "../scripts/drive_compare.py"

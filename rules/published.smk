@@ -1,6 +1,6 @@
 rule published_table11:
     input:
-        PLAN.config["reference"]["published"],
+        SETTINGS.reference.published,
     output:
         table11="results/published/table11.csv",
         comparison="results/published/table11_comparison.csv",

@@ -36,7 +36,7 @@ if PLAN.answer_source:
             mem_mb=300,
             runtime=5,
         params:
-            engines=PLAN.figure_engines,
+            settings=PLAN.figure_params("figure_answer"),
             code=PLAN.figure_code("figure_answer"),
         script:
             "../scripts/figure.py"
@@ -69,7 +69,7 @@ rule figure_imu_stats:
         mem_mb=300,
         runtime=5,
     params:
-        engines=PLAN.figure_engines,
+        settings=PLAN.figure_params("figure_imu_stats"),
         code=PLAN.figure_code("figure_imu_stats"),
     script:
         "../scripts/figure.py"
@@ -97,7 +97,7 @@ rule figure_traces:
         mem_mb=400,
         runtime=5,
     params:
-        engines=PLAN.figure_engines,
+        settings=PLAN.figure_params("figure_traces"),
         code=PLAN.figure_code("figure_traces"),
     script:
         "../scripts/figure.py"
@@ -120,9 +120,8 @@ rule figure_paths:
         mem_mb=400,
         runtime=5,
     params:
-        engines=PLAN.figure_engines,
-        # the strip geometry and commanded paths: the report's own slice of the config
-        config=canonical(PLAN.report_config()),
+        # the engines, the strip geometry and commanded paths: the report's own slice of the config
+        settings=PLAN.figure_params("figure_paths"),
         code=PLAN.figure_code("figure_paths"),
     script:
         "../scripts/figure.py"
@@ -149,7 +148,7 @@ rule figure_validation:
         mem_mb=300,
         runtime=5,
     params:
-        engines=PLAN.figure_engines,
+        settings=PLAN.figure_params("figure_validation"),
         code=PLAN.figure_code("figure_validation"),
     script:
         "../scripts/figure.py"
@@ -175,9 +174,7 @@ rule figure_real_gain:
         mem_mb=300,
         runtime=5,
     params:
-        engines=PLAN.figure_engines,
-        statistics=PLAN.statistics_params(),
-        real_data=canonical({"classes": PLAN.config["real_data"]["classes"]}),
+        settings=PLAN.figure_params("figure_real_gain"),
         code=PLAN.figure_code("figure_real_gain"),
     script:
         "../scripts/figure.py"
@@ -205,7 +202,7 @@ if PLAN.sweep:
             mem_mb=300,
             runtime=5,
         params:
-            engines=PLAN.figure_engines,
+            settings=PLAN.figure_params("figure_sweep"),
             code=PLAN.figure_code("figure_sweep"),
         script:
             "../scripts/figure.py"
@@ -233,6 +230,7 @@ if PLAN.replay_set:
             mem_mb=300,
             runtime=5,
         params:
+            settings=PLAN.figure_params("figure_real_turning"),
             code=PLAN.figure_code("figure_real_turning"),
         script:
             "../scripts/figure.py"
@@ -262,8 +260,7 @@ if PLAN.replay_set:
             mem_mb=800,
             runtime=10,
         params:
-            engines=PLAN.figure_engines,
-            config=canonical({"robot": {"track": PLAN.config["robot"]["track"]}}),
+            settings=PLAN.figure_params("figure_replay"),
             code=PLAN.figure_code("figure_replay"),
         script:
             "../scripts/figure.py"
@@ -290,7 +287,7 @@ rule report_evidence:
         runs=PLAN.metrics_file("lab", "runs"),
         rtf=PLAN.metrics_file("lab", "rtf"),
         cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
-        qualitative=PLAN.config["qualitative"],
+        qualitative=SETTINGS.qualitative,
         table11="results/published/table11.csv",
         table11_comparison="results/published/table11_comparison.csv",
         worked_example="results/published/worked_example.json",
@@ -309,11 +306,10 @@ rule report_evidence:
         mem_mb=800,
         runtime=10,
     params:
-        config=canonical(PLAN.report_config()),
-        statistics=PLAN.statistics_params(),
-        engines=PLAN.figure_engines,  # the evidence's engine order (no ranking) and colours
+        # the report's slice of the config, the statistics, the engines in the study's order (no ranking) and
+        # the real data's settings: no weight
+        settings=PLAN.evidence_params(),
         code=PLAN.script_code("report_evidence"),
-        real_data=PLAN.report_real_data(),
     script:
         "../scripts/report_evidence.py"
 
@@ -337,7 +333,7 @@ rule report:
         runs=PLAN.metrics_file("lab", "runs"),
         rtf=PLAN.metrics_file("lab", "rtf"),
         cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
-        qualitative=PLAN.config["qualitative"],
+        qualitative=SETTINGS.qualitative,
         table11="results/published/table11.csv",
         table11_comparison="results/published/table11_comparison.csv",
         worked_example="results/published/worked_example.json",
@@ -349,7 +345,7 @@ rule report:
         # with calibration.enabled: the held-out multipliers (simpick.studies.calibration.steps)
         drive_calibration=(
             [f"{DRIVE}/calibration/turning.csv"]
-            if SETTINGS.drive_dir and PLAN.config["calibration"]["enabled"]
+            if SETTINGS.drive_dir and SETTINGS.calibration and SETTINGS.calibration.enabled
             else []
         ),
         turnmap=TURNMAP_TARGETS,
@@ -381,16 +377,12 @@ rule report:
     conda:
         "../envs/simpick.yaml"
     params:
-        weights=canonical(PLAN.config["weights"]),
-        # only the keys the report reads (strip geometry, commanded paths, test order): an edit
-        # elsewhere reaches it through its inputs or not at all
-        config=canonical(PLAN.report_config()),
-        statistics=PLAN.statistics_params(),
-        engines=PLAN.figure_engines,
-        unavailable=canonical(PLAN.unavailable),  # configured engines this machine cannot run: listed, not dropped
-        opt_in=canonical(PLAN.opt_in),  # registered engines an opt-in config adds: named as not run, with the switch
+        # the weights, and only the keys of the config the report reads (strip geometry, commanded paths, test
+        # order, the real data's settings): an edit elsewhere reaches it through its inputs or not at all; the
+        # configured engines this machine cannot run (listed, not dropped) and the registered engines an opt-in
+        # config adds (named as not run, with the switch)
+        settings=PLAN.report_params(),
         code=PLAN.script_code("report"),
-        real_data=PLAN.report_real_data(),
         # the DRIVE tables' folder (results/drive/<name>), from the inputs: empty without drive_dir
         drive=lambda wildcards, input: os.path.dirname(input.drive[0]) if input.drive else "",
         drive_calibration=lambda wildcards, input: input.drive_calibration[0] if input.drive_calibration else "",

@@ -12,7 +12,7 @@ import os
 from snakemake.utils import min_version
 
 from simpick.codeversion import job_code, script_roots
-from simpick.config.robots import benchmark
+from simpick.config.robots import benchmark, robots_params
 from simpick.errors import InputError
 
 min_version("9.0")
@@ -75,17 +75,9 @@ rule robots:
     conda:
         "../envs/simpick.yaml"
     params:
-        robots=[
-            {
-                "name": s.name,
-                "label": s.label,
-                "command": s.command(),
-                "settings": s.settings(),
-                "configfiles": list(s.configfiles),
-            }
-            for s in ROBOTS.values()
-        ],
-        pooling=POOLING,
+        # the robots in order (name, label, command, settings, files) and the pooling: rule robots' job's model
+        # (simpick.report.robots.RobotsParams)
+        settings=robots_params(ROBOTS, POOLING),
         code=job_code(*script_roots(os.path.join(ROOT, "scripts", "robots.py"))),
     script:
         "../scripts/robots.py"

@@ -10,7 +10,7 @@ rule scores:
         runs=PLAN.metrics_file("lab", "runs"),
         rtf=PLAN.metrics_file("lab", "rtf"),
         cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
-        qualitative=PLAN.config["qualitative"],
+        qualitative=SETTINGS.qualitative,
     output:
         scores=report("results/scores/scores.csv", caption="captions/scores.rst", category="Scores"),
         provenance=report("results/scores/provenance.yaml", caption="captions/scores_provenance.rst", category="Scores"),
@@ -27,7 +27,7 @@ rule scores:
     params:
         engines=sorted(PLAN.engines),  # a reordered engines: block is not an edit
         accuracy=canonical({k: PLAN.accuracy_source()[k] for k in ("reference", "set", "dataset")}),
-        cpu_test=f"{PLAN.config['cpu_load']['terrain']}/{PLAN.config['cpu_load']['motion']}",
+        cpu_test=f"{SETTINGS.cpu_load.terrain}/{SETTINGS.cpu_load.motion}",
         code=PLAN.script_code("scores"),
     script:
         "../scripts/scores.py"
@@ -60,7 +60,7 @@ if not PLAN.answer_source:
             mem_mb=300,
             runtime=5,
         params:
-            weights=canonical(PLAN.config["weights"]),
+            weights=canonical(SETTINGS.weights),
             code=PLAN.script_code("weighted"),
         script:
             "../scripts/weighted.py"

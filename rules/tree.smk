@@ -11,7 +11,7 @@ rule decision_tree:
         # mechanics gate where the study has one, else the DRIVE comparison's (its steps replayed against
         # the real robot) when drive_dir is set
         **{k: v for k, v in PLAN.answer_tables().items() if k in ("outcomes", "mechanics")},
-        qualitative=PLAN.config["qualitative"],
+        qualitative=SETTINGS.qualitative,
         validation="results/validation/summary.csv",
         rtf=PLAN.metrics_file("lab", "rtf"),
         cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),

@@ -6,7 +6,7 @@ with logged(snakemake.log[0]):
     figure_job(
         snakemake.rule,
         {k: (list(v) if k in ("traces", "real_logs", "replay_traces") else v) for k, v in snakemake.input.items()},
-        dict(snakemake.params.items()),
+        snakemake.params.settings,  # the rule's model (simpick.report.draw.RULES), built by the plan
         dict(snakemake.wildcards.items()),
         dict(snakemake.output.items()),
     )

@@ -9,9 +9,13 @@ with logged(snakemake.log[0]):
         for key, value in snakemake.input.items()
         if key not in EVIDENCE
     }
+    # the plan's params (simpick.report.params.ReportParams) and the folders the rule takes from its inputs
+    params = dict(snakemake.params.settings) | {
+        key: getattr(snakemake.params, key) for key in ("drive", "drive_calibration", "simulators")
+    }
     build_report(
         inputs,
-        dict(snakemake.params.items()),
+        params,
         snakemake.output.html,
         snakemake.output.pdf,
         evidence_html=snakemake.input.evidence_html,

@@ -17,7 +17,12 @@ from simpick.plan import Plan, PlanError
 from simpick.plan.jobs import job_params
 from simpick.real.jobs import ImportParams, SegmentsParams
 from simpick.real.turning import TurningParams
+from simpick.report import draw
+from simpick.report import params as report_params
 from simpick.score import simulators as simulators_stage
+from simpick.score.answer import AnswerParams
+from simpick.score.steps import CompareParams
+from simpick.score.verdict.job import VerdictParams
 from simpick.simulate.cpuload import CpuLoadParams
 from simpick.simulate.lab import LabCaseParams
 from simpick.sources.base import canonical
@@ -60,6 +65,22 @@ CONVERTED = {
         StepCalibrateParams,
         lambda plan: [plan.drive_calibrate_params(m, c) for m in plan.engines for c in plan.settings.real_data.classes],
     ),
+    # --- the verdict, the answer and DRIVE's step verdict ---
+    "verdict": (VerdictParams, lambda plan: [plan.verdict_settings()] if plan.verdict else []),
+    "answer": (AnswerParams, lambda plan: [plan.answer_settings()] if plan.answer_source else []),
+    # the rule exists where drive_dir is set; its params do not depend on the folder: the study's engines
+    "drive_compare": (CompareParams, lambda plan: [plan.drive_compare_params(plan.engines)]),
+    # --- the report: its figures, its evidence and the report itself ---
+    **{
+        rule: (model, lambda plan, rule=rule: [plan.figure_params(rule)])
+        for rule, (_, _, _, model) in draw.RULES.items()
+    },
+    "report_evidence": (report_params.EvidenceParams, lambda plan: [plan.evidence_params()]),
+    # with what rule report adds from its inputs (the DRIVE tables' and simulators' folders; here: none)
+    "report": (
+        report_params.ReportParams,
+        lambda plan: [canonical(plan.report_params() | {"drive": "", "drive_calibration": "", "simulators": ""})],
+    ),
     # the lab's simulate jobs (their params: simpick.sources.lab.case_params)
     "simulate (lab)": (
         LabCaseParams,
@@ -93,6 +114,8 @@ def test_each_converted_rule_s_params_validate_against_its_job_s_model(rule, whi
     all_params = params_of(plan)
     # the sweep runs the committed segments, which a study of another robot than theirs refuses
     no_jobs = {("robot_plan", "sweep_segments")}
+    # the Warthog's study has no real data of its robot: no verdict, no answer
+    no_jobs |= {("robot_plan", "verdict"), ("robot_plan", "answer")}
     assert bool(all_params) != ((which, rule) in no_jobs), f"{rule}: jobs in this plan: {len(all_params)}"
     for params in all_params:
         # plain builtins, canonical: what Snakemake fingerprints by repr (the simulate family's params are
@@ -308,3 +331,55 @@ def test_the_split_s_strata_validate_and_are_what_they_were_before_typing(replay
         }
     )
     assert strata == before and SplitStrata.model_validate(strata).duration == before["duration"]
+
+
+def test_the_verdict_answer_and_drive_compare_params_keep_their_content(default_plan, tmp_path):
+    """Built from the typed study, they hold what the plain slices gave (the answer's basis gains its noun,
+    None where the sentences say "real runs"); DRIVE's comparison's are what simpick.sources.drive gave."""
+    from simpick.sources import module as source_module
+
+    plan = default_plan
+    old_verdict = {
+        "engines": sorted(plan.engines),
+        "baselines": sorted(plan.baselines),
+        "statistics": plan.statistics_params(),
+        "seed": plan.config["seed"],
+        "accuracy_set": plan.accuracy_source()["set"],
+        "verdict": plan.config["verdict"],
+    }
+    assert plan.verdict_settings() == canonical(old_verdict)
+    answer = plan.answer_settings()
+    assert answer["weights"] == canonical(plan.config["weights"]) and answer["basis"]["noun"] is None
+    engines = ["mujoco", "ode"]
+    old_compare = source_module("drive").compare_settings(plan.config) | {"engines": engines}
+    assert plan.drive_compare_params(engines) == canonical(old_compare)
+
+
+def test_only_the_answer_s_params_hold_the_weights(default_plan):
+    """The rerun contract: a weight edit reruns the answer, not the verdict nor DRIVE's comparison."""
+    assert "weights" in default_plan.answer_settings()
+    assert "weights" not in default_plan.verdict_settings()
+    assert "weights" not in default_plan.drive_compare_params(default_plan.engines)
+
+
+def test_only_the_report_s_params_hold_the_weights_of_the_report_s_jobs(default_plan):
+    """The rerun contract: a weight edit reruns the report, neither a figure nor the evidence."""
+    assert default_plan.report_params()["weights"] == canonical(default_plan.config["weights"])
+    assert "weights" not in default_plan.evidence_params()
+    for rule in draw.RULES:
+        assert "weights" not in default_plan.figure_params(rule), rule
+
+
+def test_the_benchmark_s_page_params_validate_against_its_job_s_model():
+    """Rule robots (rules/robots.smk) is given simpick.config.robots.robots_params: each robot's name, label,
+    command, settings and files, and the pooling, as rule robots' job reads them."""
+    import yaml
+
+    from simpick.config.robots import benchmark, robots_params
+    from simpick.report.robots import RobotsParams
+
+    robots, pooling = benchmark(yaml.safe_load((ROOT / "config/robots.yaml").read_text()), ROOT)
+    params = robots_params(robots, pooling)
+    typed = RobotsParams.model_validate(params)
+    assert [r.name for r in typed.robots] == list(robots) and typed.pooling.min_robots == pooling["min_robots"]
+    assert typed.model_dump(mode="json") == params

@@ -355,9 +355,11 @@ def write_synthetic_inputs(
     }
 
 
+# the report's slice of the study (simpick.report.params.ReportConfig: rules/report.smk's PLAN.report_config)
+REPORT_CONFIG = {k: CONFIG[k] for k in ("terrains", "motions")}
 PARAMS = {
     "weights": dict(DEFAULT_WEIGHTS),
-    "config": CONFIG,
+    "config": REPORT_CONFIG,
     "title": "Synthetic test report",
     "engines": list(ENGINES),
 }
@@ -378,6 +380,7 @@ def draw_all(inputs: dict, params: dict, folder: Path) -> dict:
         traces,
         validation,
     )
+    from simpick.report.params import ReportConfig
 
     folder = Path(folder)
     out: list[str] = []
@@ -388,10 +391,12 @@ def draw_all(inputs: dict, params: dict, folder: Path) -> dict:
         out.append(str(p))
         return str(p)
 
+    # each figure rule's params (simpick.report.draw.RULES: its model), from the report's
+    engines = {"engines": params.get("engines") or []}
     report = {k: v for k, v in inputs.items() if k != "traces"}
     if inputs.get("verdict_outcomes"):
         answer(
-            {"outcomes": inputs["verdict_outcomes"], "metrics": inputs["verdict_metrics"]}, params, path("answer.png")
+            {"outcomes": inputs["verdict_outcomes"], "metrics": inputs["verdict_metrics"]}, engines, path("answer.png")
         )
 
     def pairs(key: str) -> list[tuple[str, str]]:
@@ -400,32 +405,33 @@ def draw_all(inputs: dict, params: dict, folder: Path) -> dict:
         frame = pd.read_csv(inputs[key], dtype=str)
         return list(zip(frame["terrain"], frame["motion"]))
 
-    config = params.get("config") or {}
+    config = ReportConfig.model_validate(params.get("config") or {})
     tests = _tests(config, pairs("runs"))
     if inputs.get("trace_stats"):  # the paper's reference tests too, drawn with the reference alone
         for t, m in _tests(config, tests + pairs("reference_stats")):
-            imu_stats(inputs, params, t, m, path(f"imu_stats/{t}/{m}.png"))
+            imu_stats(inputs, engines, t, m, path(f"imu_stats/{t}/{m}.png"))
     if inputs.get("traces"):
         for t, m in tests:
-            traces(inputs, params, t, m, path(f"traces/{t}/{m}.png"))
+            traces(inputs, engines, t, m, path(f"traces/{t}/{m}.png"))
         ends = folder / "endpoints.csv"
-        paths(inputs, params, path("paths.png"), str(ends))
+        paths(inputs, {**engines, "config": config}, path("paths.png"), str(ends))
         report["endpoints"] = str(ends)
     if inputs.get("validation_gains"):
-        validation(inputs, params, path("validation_gain.png"))
+        validation(inputs, engines, path("validation_gain.png"))
     if inputs.get("sweep"):
-        sweep(inputs, params, path("sweep.png"))
+        sweep(inputs, engines, path("sweep.png"))
     real_keys = {
         k: v
         for k, v in inputs.items()
         if k.startswith(("segments_", "replay_")) and k != "replay_traces" and not k.endswith("provenance")
     }
     if real_keys:
-        real_gain(real_keys, params, path("real_gain.png"))
+        classes = (params.get("real_data") or {}).get("classes") or {}
+        real_gain(real_keys, {**engines, "real_data": {"classes": classes}}, path("real_gain.png"))
     if inputs.get("real_logs") and inputs.get("replay_traces"):
         classes = sorted({Path(p).parent.name.lower() for p in inputs["real_logs"]})
         for c in classes:
-            replay(inputs, params, c, path(f"replay/{c}.png"), path(f"replay/{c}.json"))
+            replay(inputs, {**engines, "track": TRACK}, c, path(f"replay/{c}.png"), path(f"replay/{c}.json"))
     report["figures"] = out
     return report
 
@@ -624,7 +630,7 @@ def test_all_ok_and_optional_inputs_absent(tmp_path):
     inputs = write_synthetic_inputs(tmp_path / "in", seconds=1.0, failed=None)
     minimal = {k: inputs[k] for k in ("weighted", "runs")}
     html, pdf = tmp_path / "report.html", tmp_path / "report.pdf"
-    build_report(minimal, {"config": CONFIG}, html, pdf)
+    build_report(minimal, {"config": REPORT_CONFIG}, html, pdf)
     text = html.read_text(encoding="utf-8")
     assert "All 12 simulation runs passed the health checks" in text
     assert "No traces were given" in text
@@ -858,7 +864,14 @@ def _real_params() -> dict:
             "dataset": "borealtc",
             "classes": REAL_CLASSES,
             "window": 10.0,
-            "segment_rules": {"settle": 1.0, "per_kind": 2},
+            "segment_rules": {
+                "tolerance": 0.02,
+                "min_turn": 0.1,
+                "min_duration": 4.0,
+                "max_duration": 10.0,
+                "settle": 1.0,
+                "per_kind": 2,
+            },
         },
     }
 
@@ -1351,6 +1364,7 @@ def test_the_sample_rate_table_is_read_from_the_replay_table_not_the_logs(built_
     for the full replay it reads them from the compare step's per-test table (real_imu_hz,
     real_commands_hz, sim_imu_hz), so it needs no log or trace of its own."""
     from simpick.report.load import load_inputs
+    from simpick.report.params import ShownDatasets
     from simpick.report.real import datasets
 
     inputs, text, _ = built_real
@@ -1364,7 +1378,7 @@ def test_the_sample_rate_table_is_read_from_the_replay_table_not_the_logs(built_
         assert hz in replay, (col, replay)
     # the same row from the tables alone: no logs, no traces given
     tables_only = {k: v for k, v in inputs.items() if k not in ("real_logs", "replay_traces", "traces", "figures")}
-    row = next(r for r in datasets(load_inputs(tables_only), _real_params()) if r["set"] == "replay")
+    row = next(r for r in datasets(load_inputs(tables_only), ShownDatasets()) if r["set"] == "replay")
     assert (row["n"], row["imu"], row["commands"], row["simulated"]) == (
         f"{len(runs)} runs",
         "100 Hz",

@@ -189,7 +189,7 @@ def test_the_report_shows_left_right_and_headings_and_names_the_failed_check(tmp
     gain_table(summary).to_csv(paths["validation_gains"], index=False)
     png = tmp_path / "figures" / "validation_gain.png"
     png.parent.mkdir()
-    draw_validation({"validation_gains": str(paths["validation_gains"])}, PARAMS, str(png))
+    draw_validation({"validation_gains": str(paths["validation_gains"])}, {"engines": PARAMS["engines"]}, str(png))
     inputs = write_synthetic_inputs(tmp_path / "in", seconds=1.0, failed=None)
     text = re.sub(
         r">\s+<",

@@ -122,6 +122,7 @@ def robot_studies(robots: dict, root: str | Path, source: str = "config/robots.y
             )
         # as the robot's own study reads it: config.yaml, each file, the settings (simpick.config.load.merged)
         config = merged([root / "config.yaml", *(root / f for f in files)], overrides)
+        # the robot's merged study config, plain: its own study validates it when planned (simpick.config.Study)
         label = str(entry.get("label") or (config.get("robot") or {}).get("label") or name)
         studies[name] = RobotStudy(name, tuple(str(f) for f in files), dict(overrides), config, label)
     return studies
@@ -131,13 +132,45 @@ def benchmark(config: dict, root: str | Path, source: str = "config/robots.yaml"
     """The benchmark's whole config, checked: its robots (:func:`robot_studies`) and how the page pools
     outcomes (``pooling.min_robots``, a whole number of robots of at least 2; default 2). Any other
     top-level key, or another key under ``pooling``, is an InputError naming ``source`` and the key."""
+    from pydantic import ValidationError
+
+    from simpick.report.robots import Pooling
+
+    # Snakemake's config dict of config/robots.yaml: its two blocks checked here, the robots by robot_studies
     unknown = sorted(set(config) - {"robots", "pooling"})
     if unknown:
         raise InputError(f"{source}, {unknown[0]}", "is not a setting of the benchmark", "use robots and pooling only")
-    pooling = config.get("pooling") or {}
-    if not isinstance(pooling, dict) or set(pooling) - {"min_robots"}:
-        raise InputError(f"{source}, pooling", f"holds {pooling!r}", "give only min_robots: a whole number >= 2")
-    min_robots = pooling.get("min_robots", 2)
-    if isinstance(min_robots, bool) or not isinstance(min_robots, int) or min_robots < 2:
-        raise InputError(f"{source}, pooling.min_robots", f"is {min_robots!r}", "give a whole number of robots >= 2")
-    return robot_studies(config.get("robots"), root, source=source), {"min_robots": min_robots}
+    raw = config.get("pooling") or {}  # Snakemake's config dict: validated as Pooling just below
+    if not isinstance(raw, dict):
+        raise InputError(f"{source}, pooling", f"holds {raw!r}", "give only min_robots: a whole number >= 2")
+    try:
+        pooling = Pooling.model_validate(raw)
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        key = ".".join(str(part) for part in ("pooling", *first["loc"]))
+        raise InputError(
+            f"{source}, {key}",
+            f"is {first.get('input')!r}: {first['msg']}",
+            "give only min_robots: a whole number >= 2",
+        ) from None
+    robots = config.get("robots")  # Snakemake's config dict: each entry checked by robot_studies
+    return robot_studies(robots, root, source=source), pooling.model_dump()
+
+
+def robots_params(robots: dict[str, RobotStudy], pooling: dict) -> dict:
+    """Rule robots' params (:class:`simpick.report.robots.RobotsParams`), validated, as plain data (the
+    settings as given: the page shows them, a whole number as such)."""
+    from simpick.report.robots import RobotsParams
+
+    shown = [
+        {
+            "name": s.name,
+            "label": s.label,
+            "command": s.command(),
+            "settings": s.settings(),
+            "configfiles": list(s.configfiles),
+        }
+        for s in robots.values()
+    ]
+    typed = RobotsParams.model_validate({"robots": shown, "pooling": pooling})
+    return typed.model_dump(mode="json")

@@ -8,8 +8,8 @@ tree, the scores) and must be made in one place, after the sources are known.
 
 from __future__ import annotations
 
+from simpick.plan.jobs import job_params
 from simpick.sources import module as source_module
-from simpick.sources.base import canonical
 
 
 class AnswerPlanning:
@@ -23,7 +23,8 @@ class AnswerPlanning:
         # The real data the first page's answer rests on (rule answer, its figure, the decision tree): the
         # verdict's runs where the study has them, else the DRIVE comparison's steps (--config drive_dir=PATH),
         # which replay the study's own robot; None: no real data of this robot, no answer table.
-        self.drive = source_module("drive").root(config) if config.get("drive_dir") else None
+        # the drive module reads its folder from the plain settings (its own API, shared with its rules)
+        self.drive = source_module("drive").root(config) if self.settings.drive_dir else None
         self.answer_source = "verdict" if self.verdict else ("drive" if self.drive else None)
 
     def accuracy_source(self):
@@ -31,7 +32,7 @@ class AnswerPlanning:
         (lab, segments, replay or own), its dataset, its Eq. 7 totals and the per-test table beside
         them. Only the rules use this; the scores job records it in results/scores/provenance.yaml,
         which is what the report reads."""
-        reference = self.config["accuracy"]["reference"]
+        reference = self.settings.accuracy.reference
         if reference == "paper":
             kind, source, dataset = "lab", "lab", None
         elif reference == "own":
@@ -62,33 +63,57 @@ class AnswerPlanning:
     def verdict_source_title(self):
         """How the report names the verdict's real data."""
         if self.sources[self.verdict_source()]["kind"] == "segments":
-            label = (self.config["real_data"].get("datasets") or {}).get(self.dataset, {}).get("label") or self.dataset
-            return f"committed constant-command segments of {label}"
+            return f"committed constant-command segments of {self._dataset_label(self.dataset)}"
         return f"full replay of {self.verdict_source()}"
 
     def verdict_settings(self):
-        """What the verdict's tests depend on: no weight (a weight edit reruns the answer, not them)."""
-        return canonical(
-            {
-                "engines": sorted(self.engines),
-                "baselines": sorted(self.baselines),
-                "statistics": self.statistics_params(),
-                "seed": self.config["seed"],
-                "accuracy_set": self.accuracy_source()["set"],
-                "verdict": self.config["verdict"],
-            }
-        )
+        """Rule verdict's params (:class:`simpick.score.verdict.job.VerdictParams`): what its tests depend
+        on, no weight (a weight edit reruns the answer, not them)."""
+        from simpick.score.verdict.job import VerdictParams
+
+        data = {
+            "engines": sorted(self.engines),
+            "baselines": sorted(self.baselines),
+            "statistics": self.settings.statistics.model_dump(mode="json"),
+            "seed": self.settings.seed,
+            "accuracy_set": self.accuracy_source()["set"],
+            "verdict": self.settings.verdict.model_dump(mode="json"),
+        }
+        return job_params("verdict", VerdictParams, data)
+
+    def drive_compare_params(self, engines):
+        """Rule drive_compare's params (:class:`simpick.score.steps.CompareParams`) for the study's ``engines``
+        the DRIVE replay ran: the verdict's margins and mechanics, the statistics, the unit of pairing, the
+        similar-command tolerance and the seed (no weight)."""
+        from simpick.real.steps import SIMILAR
+        from simpick.score.steps import CompareParams
+
+        data = {
+            "engines": list(engines),
+            "verdict": self.settings.verdict.model_dump(mode="json"),
+            "statistics": self.settings.statistics.model_dump(mode="json"),
+            "unit": self.settings.drive_replay.unit,
+            "tolerance": SIMILAR,
+            "seed": self.settings.seed,
+        }
+        return job_params("drive_compare", CompareParams, data)
 
     def _dataset_label(self, name):
-        return ((self.config["real_data"].get("datasets") or {}).get(name) or {}).get("label") or name
+        """A dataset's label in the report (real_data.datasets is keyed by dataset name: data, not fields)."""
+        declared = self.settings.real_data.datasets.get(name)
+        return (declared.label if declared else None) or name
+
+    def _robot_label(self):
+        return self.settings.robot.label or self.robot.name
 
     def answer_basis(self):
         """The real data the answer rests on, as its sentence names them: the dataset, its unit (a DRIVE
         step, or the step's session where the verdict pairs by session; a real run) and the study's other
         real data, which the report compares in their own section."""
-        robot = self.config["robot"].get("label") or self.robot.name
+        robot = self._robot_label()
         if self.answer_source not in (None, "verdict"):  # a source whose own comparison the answer rests on
-            name = self.config["drive_dataset"]
+            name = self.settings.drive_dataset
+            # a source module's API takes the plain settings (shared with its rules)
             return source_module(self.answer_source).answer_basis(self.config, self._dataset_label(name), robot)
         source = self.verdict_source()
         name = self.dataset if self.sources[source]["kind"] == "segments" else source
@@ -97,25 +122,27 @@ class AnswerPlanning:
             "dataset": label,
             "unit": "run",
             "title": self.verdict_source_title(),
-            "others": [self._dataset_label(self.config["drive_dataset"])] if self.drive else [],
+            "others": [self._dataset_label(self.settings.drive_dataset)] if self.drive else [],
         }
 
     def answer_settings(self):
-        """What the answer and the paper's ranking with its interval depend on: the weights, and
-        the words the sentences use."""
+        """Rule answer's params (:class:`simpick.score.answer.AnswerParams`): what the answer and the paper's
+        ranking with its interval depend on, the weights, and the words the sentences use."""
+        from simpick.score.answer import AnswerParams
+
         drive = self.answer_source == "drive"
-        return canonical(
-            {
-                "engines": sorted(self.engines),
-                "statistics": self.statistics_params(),
-                "weights": self.config["weights"],
-                "seed": self.config["seed"],
-                "source": self.config["drive_dataset"] if drive else self.verdict_source(),
-                "source_title": self.answer_basis()["title"] if drive else self.verdict_source_title(),
-                "robot": self.config["robot"].get("label") or self.robot.name,
-                "basis": self.answer_basis(),
-            }
-        )
+        basis = self.answer_basis()
+        data = {
+            "engines": sorted(self.engines),
+            "statistics": self.settings.statistics.model_dump(mode="json"),
+            "weights": dict(self.settings.weights),
+            "seed": self.settings.seed,
+            "source": self.settings.drive_dataset if drive else self.verdict_source(),
+            "source_title": basis["title"] if drive else self.verdict_source_title(),
+            "robot": self._robot_label(),
+            "basis": basis,
+        }
+        return job_params("answer", AnswerParams, data)
 
     def answer_tables(self):
         """The real-data comparison's tables the answer, its figure and the decision tree read, by name:
@@ -137,6 +164,6 @@ class AnswerPlanning:
         figure draws), and the calibration's turning table where the calibration is part of the study and the
         answer rests on its runs (the DRIVE calibration's table has another form: not read here)."""
         inputs = {k: v for k, v in self.answer_tables().items() if k != "metrics"}
-        if self.answer_source == "verdict" and self.calibration and self.calibration.get("enabled"):
+        if self.answer_source == "verdict" and self.settings.calibration and self.settings.calibration.enabled:
             inputs["calibration_turning"] = f"{self.cal_dir}/turning.csv"
         return inputs

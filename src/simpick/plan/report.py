@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import os
 
-from simpick.sources.base import canonical
+from simpick.plan.jobs import fields_of, job_params
 
 FIGURES = "results/report/figures"
 # simpick's verdict tables (rule verdict), each an input of the report
@@ -29,40 +29,88 @@ class ReportPlanning:
         from simpick.inputs.reference import lab_reference
 
         tests = [(t, m) for t in self.terrains for m in self.motions]
-        published = lab_reference(load_published(self.config["reference"]["published"]))
+        published = lab_reference(load_published(self.settings.reference.published))
         return tests + [tm for tm in published if tm not in tests]
 
     def report_config(self):
-        """The slice of the config the report shows and reads: terrains (strip geometry), motions
-        (commanded paths, test order) and the track."""
-        config = self.config
+        """The slice of the config the report shows and reads (:class:`simpick.report.params.ReportConfig`):
+        terrains (strip geometry), motions (commanded paths, test order) and the robot."""
+        study = self.settings
         return {
-            "terrains": config["terrains"],
-            "motions": config["motions"],
+            "terrains": {name: terrain.model_dump(mode="json") for name, terrain in study.terrains.items()},
+            "motions": {name: motion.model_dump(mode="json") for name, motion in study.motions.items()},
             "robot": {
-                "track": config["robot"]["track"],
+                "track": study.robot.track,
                 "name": self.robot.name,
-                "label": config["robot"].get("label") or self.robot.name,
-                "real_data_robot": config["real_data"].get("robot") if not self.real_data_robot else None,
+                "label": study.robot.label or self.robot.name,
+                "real_data_robot": study.real_data.robot if not self.real_data_robot else None,
             },
         }
 
     def report_real_data(self):
-        real_data = self.config["real_data"]
-        return canonical(
-            {
-                "dataset": self.dataset,
-                "datasets": self.report_datasets(),
-                "classes": real_data["classes"],
-                "window": real_data["window"],
-                "segment_rules": real_data["segment_rules"],
-            }
-        )
+        """The real data's settings the report shows (:class:`simpick.report.params.ReportRealData`)."""
+        real_data = self.settings.real_data
+        return {
+            "dataset": self.dataset,
+            "datasets": self.report_datasets(),
+            "classes": {name: c.model_dump(mode="json") for name, c in real_data.classes.items()},
+            "window": real_data.window,
+            "segment_rules": real_data.segment_rules.model_dump(mode="json"),
+        }
+
+    def figure_params(self, rule):
+        """Figure rule ``rule``'s params (simpick.report.draw.RULES gives its model): the engines, whose
+        order gives their colours, and what the figure reads beside them; no weight."""
+        from simpick.report.draw import RULES
+
+        data = {"engines": self.figure_engines}
+        if rule == "figure_paths":
+            data["config"] = self.report_config()
+        elif rule == "figure_real_gain":
+            data["statistics"] = self.settings.statistics.model_dump(mode="json")
+            data["real_data"] = {"classes": self.report_real_data()["classes"]}
+        elif rule == "figure_replay":
+            data["track"] = self.settings.robot.track
+        elif rule == "figure_real_turning":
+            data = {}  # the real robot's turning windows alone: no engine
+        return job_params(rule, RULES[rule][3], data)
+
+    def evidence_params(self):
+        """Rule report_evidence's params (:class:`simpick.report.params.EvidenceParams`): no weight, so that a
+        weight edit does not lay the evidence out again."""
+        from simpick.report.params import EvidenceParams
+
+        data = {
+            "config": self.report_config(),
+            "statistics": self.settings.statistics.model_dump(mode="json"),
+            "engines": self.figure_engines,  # the evidence's engine order (no ranking) and colours
+            "real_data": self.report_real_data(),
+        }
+        return job_params("report_evidence", EvidenceParams, data)
+
+    def report_params(self):
+        """Rule report's params (:class:`simpick.report.params.ReportParams`) less what the rule takes from its
+        inputs (the DRIVE tables' and the simulators' folders): the evidence's, the weights, and the
+        configured engines this machine cannot run and the opt-in ones, named as not run."""
+        from simpick.report.params import ReportParams
+
+        data = {
+            "config": self.report_config(),
+            "statistics": self.settings.statistics.model_dump(mode="json"),
+            "engines": self.figure_engines,
+            "real_data": self.report_real_data(),
+            "weights": dict(self.settings.weights),
+            "unavailable": self.unavailable,
+            "opt_in": self.opt_in,
+        }
+        params = job_params("report", ReportParams, data)
+        # the rule gives these from its inputs (Snakemake resolves them when the job runs)
+        return {k: v for k, v in params.items() if k not in ("drive", "drive_calibration", "simulators")}
 
     def report_real_inputs(self, wildcards=None):
         """The real-robot inputs of the report: the accuracy scores' errors file, the committed
         segments' comparison always, the full replay of the dataset folder when one is given."""
-        segments = self.config["real_data"]["segments"]
+        segments = self.settings.real_data.segments
         provenance = segments.replace(".csv", ".provenance.yaml")
         inputs = {"accuracy_errors": self.accuracy_errors()}
         if self.real_data_robot:  # the committed segments are real_data.robot's
@@ -98,7 +146,7 @@ class ReportPlanning:
             inputs["verdict_sentences"] = "results/verdict/answer.yaml"
         if self.sweep:
             inputs["sweep"] = f"{self.sweep_dir}/summary.csv"
-        if self.calibration and self.calibration.get("enabled"):  # rules/calibration.smk
+        if self.settings.calibration and self.settings.calibration.enabled:  # rules/calibration.smk
             inputs["calibration"] = f"{self.cal_dir}/summary.csv"
             inputs["calibration_turning"] = f"{self.cal_dir}/turning.csv"
             inputs["calibration_target"] = f"{self.cal_dir}/target.csv"
@@ -127,20 +175,20 @@ class ReportPlanning:
 
     def report_datasets(self):
         """Which dataset each real-data set comes from, and its declared rates (the report states them)."""
-        declared = self.config["real_data"].get("datasets") or {}
-        committed = declared.get(self.dataset) or {}
-        return canonical(
-            {
-                "segments": {
-                    "name": self.dataset,
-                    "label": committed.get("label") or self.dataset,
-                    "source": committed.get("source") or "",
-                    "declared": {k: committed[k] for k in ("imu_hz", "commands_hz") if committed.get(k)},
-                    "simulated_imu_hz": self.config["imu"]["rate_hz"],
-                },
-                "replay": self.replay_dataset() if self.replay_set else None,
-            }
-        )
+        from simpick.real.settings import DeclaredRates
+
+        # real_data.datasets: keyed by the dataset's name (data, not fields)
+        committed = self.settings.real_data.datasets.get(self.dataset)
+        return {
+            "segments": {
+                "name": self.dataset,
+                "label": (committed.label if committed else None) or self.dataset,
+                "source": (committed.source if committed else None) or "",
+                "declared": fields_of(committed, DeclaredRates) if committed else {},
+                "simulated_imu_hz": self.settings.imu.rate_hz,
+            },
+            "replay": self.replay_dataset() if self.replay_set else None,
+        }
 
     def report_figures(self):
         """Every figure file the report embeds (and the notes beside the replay figures)."""

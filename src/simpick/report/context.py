@@ -15,6 +15,7 @@ from simpick.report.draw import test_label
 from simpick.report.draw import weights_of as _weights
 from simpick.report.formats import isnan
 from simpick.report.load import REAL_SETS, ReportData
+from simpick.report.params import OptIn, ReportConfig, ReportParams, report_params
 from simpick.score.scoring import METRIC_LABELS, METRICS, QUALITATIVE_METRICS, QUANTITATIVE_METRICS
 
 DEFAULT_TITLE = "simpick: which physics engine reproduces the Husky best?"
@@ -185,17 +186,17 @@ def _interactive(data: ReportData, weights: dict[str, float], simulators: str | 
     return choose_fragment(data.tree, data.weighted, weights)
 
 
-def _opt_in(opt_in: Mapping[str, Any]) -> list[dict[str, Any]]:
+def _opt_in(opt_in: Mapping[str, OptIn]) -> list[dict[str, Any]]:
     """The opt-in engines this study did not run, one entry per switch: the engines, the command, and
     what they would add (their jobs' measured wall seconds on one core, against the configured
     engines'), or that their cost is not measured yet."""
     by_switch: dict[str, list[str]] = {}
     for engine, entry in sorted(opt_in.items()):
-        by_switch.setdefault(entry["switch"], []).append(engine)
+        by_switch.setdefault(entry.switch, []).append(engine)
     found = []
     for switch, engines in by_switch.items():
-        seconds = [opt_in[e]["seconds"] for e in engines]
-        study = opt_in[engines[0]]["study_seconds"]
+        seconds = [opt_in[e].seconds for e in engines]
+        study = opt_in[engines[0]].study_seconds
         added = None if None in seconds or not study else sum(seconds)
         found.append(
             {
@@ -218,17 +219,25 @@ def _tree_leaves(data: ReportData) -> list[dict] | None:
     return leaf_rows(data.tree, {e: float(t) for e, t in data.weighted["total"].items()})
 
 
-def _robot(config: Mapping[str, Any]) -> dict[str, Any]:
-    """name, label; real_data_robot: whose the real data are, when not the study's robot's."""
-    return {"name": None, "label": None, "real_data_robot": None, **dict(config.get("robot") or {})}
+def _robot(config: ReportConfig) -> dict[str, Any]:
+    """name, label, track; real_data_robot: whose the real data are, when not the study's robot's."""
+    return config.robot.model_dump(mode="json")
 
 
-def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]:
+def _config_text(config: ReportConfig) -> str | None:
+    """The report's slice of the study as the appendix shows it (None: none given)."""
+    import yaml
+
+    shown = config.model_dump(mode="json", exclude_defaults=True)
+    return yaml.safe_dump(shown, sort_keys=False, allow_unicode=True, width=100) if shown else None
+
+
+def build_context(data: ReportData, params: Mapping[str, Any] | ReportParams) -> dict[str, Any]:
     """The body's context (report.html.j2): the header, the answer, the DRIVE comparison, the decision
     tree, the ranking and weighted table, the simulators and section 1 of the evidence (what the answer
     rests on, with the verdict's outcomes), which the weights reach: the engines in the ranking's order,
     the weight points in the text. The evidence's sections 2-5 and the appendices are
-    :func:`evidence_context`'s."""
+    :func:`evidence_context`'s. ``params``: :class:`simpick.report.params.ReportParams`."""
     from simpick.engines.simulators import is_profile
     from simpick.report import real
     from simpick.report.answer import answer_section
@@ -236,15 +245,15 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     from simpick.report.simulators import simulators_section
     from simpick.report.validation import validation_headline
 
-    config = dict(params.get("config") or {})
-    weights = _weights(params)
+    p = report_params(params)
+    weights = _weights(p.weights)
     engines = tables.engine_order(data)
     # the figures' colours: params engines (rules/report.smk FIGURE_ENGINES), not the ranking
-    colors = draw_colors(params.get("engines"), engines)
-    tests = tables.test_order(data, config)
-    robot = _robot(config)
-    classes = real.class_order(data, params)
-    accuracy = real.accuracy(data, params, engines, classes, [test_label(t, m) for t, m in tests])
+    colors = draw_colors(p.engines, engines)
+    tests = tables.test_order(data, p.config)
+    robot = _robot(p.config)
+    classes = real.class_order(data, p.real_data)
+    accuracy = real.accuracy(data, p.statistics, engines, classes, [test_label(t, m) for t, m in tests])
     # whether section 5 has real data to show (real_section's "given"), without building the section
     real_given = any(data.real.get(s) for s in REAL_SETS) or data.segments is not None
     # the anchors a sentence of the answer may cite: only sections this report shows
@@ -252,15 +261,15 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     sections |= {"quantitative", "validation"} | ({"calibration"} if data.calibration is not None else set())
     sections |= {"real"} if real_given else set()
     drive, turnmap_uri = None, None
-    if params.get("drive"):
+    if p.drive:
         from simpick.report.steps import drive_section
 
         drive = drive_section(
-            params["drive"],
-            robot.get("label") or robot.get("name") or "robot",
-            calibration=params.get("drive_calibration") or None,
+            p.drive,
+            p.config.robot.label or p.config.robot.name or "robot",
+            calibration=p.drive_calibration or None,
         )
-        turnmap = Path(params["drive"]) / "turnmap.png"
+        turnmap = Path(p.drive) / "turnmap.png"
         turnmap_uri = figures.data_uri(turnmap) if turnmap.is_file() else None
     return {
         # the DRIVE comparison (simpick.report.steps): the verdict against the real robot where its
@@ -283,15 +292,15 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         # changes this table, not the figure; simpick.report.tree_figure)
         "tree_leaves": _tree_leaves(data) if "tree" in data.figures else None,
         # the simulators as rows (simpick.report.simulators), when the study runs any
-        "simulators": simulators_section(params["simulators"], weights) if params.get("simulators") else None,
+        "simulators": simulators_section(p.simulators, weights) if p.simulators else None,
         # the decision tree and the adjustable weights, answered in the browser (simpick.report.interactive):
         # one self-contained fragment, hidden in print where figures/tree.png stands for it
-        "interactive": _interactive(data, weights, params.get("simulators")),
+        "interactive": _interactive(data, weights, p.simulators or None),
         "validation": validation_headline(data.validation, engines),
-        "title": params.get("title")
+        "title": p.title
         or (
-            f"simpick: which physics engine reproduces the {robot['label']} best?"
-            if robot.get("label")
+            f"simpick: which physics engine reproduces the {p.config.robot.label} best?"
+            if p.config.robot.label
             else DEFAULT_TITLE
         ),
         "robot": robot,
@@ -301,10 +310,10 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
         "header_engines": [e for e in engines if not is_profile(e)],
         "header_profiles": [e for e in engines if is_profile(e)],
         # configured engines the machine could not run (simpick.plan: Plan.unavailable): engine -> why
-        "unavailable": dict(params.get("unavailable") or {}),
+        "unavailable": dict(p.unavailable),
         # registered engines this study leaves out and an opt-in config adds (simpick.plan: Plan.opt_in):
         # engine -> the switch that runs them and their jobs' measured seconds
-        "opt_in": _opt_in(params.get("opt_in") or {}),
+        "opt_in": _opt_in(p.opt_in),
         "colors": colors,
         "weights": weights,
         "metrics": list(METRICS),
@@ -323,26 +332,26 @@ def build_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]
     }
 
 
-def evidence_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, Any]:
+def evidence_context(data: ReportData, params: Mapping[str, Any] | ReportParams) -> dict[str, Any]:
     """The context of the evidence's sections 2-5 and the appendices (evidence.html.j2), which no weight
     reaches: the engines in the study's order (params ``engines``, the figures' order), not the
     ranking's, and beside the figures the per-metric scores of ``data.weighted``, which the workflow
     gives as the scores job's table (results/scores/scores.csv: no weight, no total, no rank), so that a
-    weight edit leaves the evidence's job and its files as they are."""
-    import yaml
-
+    weight edit leaves the evidence's job and its files as they are. ``params``:
+    :class:`simpick.report.params.EvidenceParams` (rule report_evidence's), or the report's, of which the
+    evidence reads the same fields (a report job rendering the evidence itself: :func:`report_params`)."""
     from simpick.report import provenance, real
     from simpick.report.calibration import calibration_section
     from simpick.report.draw import colors as draw_colors
     from simpick.report.sweep import sweep_section
     from simpick.report.validation import validation_section
 
-    config = dict(params.get("config") or {})
-    engines = tables.engine_order(data, params.get("engines") or [])
-    colors = draw_colors(params.get("engines"), engines)
-    tests = tables.test_order(data, config)
-    classes = real.class_order(data, params)
-    accuracy = real.accuracy(data, params, engines, classes, [test_label(t, m) for t, m in tests])
+    p = report_params(params)
+    engines = tables.engine_order(data, list(p.engines))
+    colors = draw_colors(p.engines, engines)
+    tests = tables.test_order(data, p.config)
+    classes = real.class_order(data, p.real_data)
+    accuracy = real.accuracy(data, p.statistics, engines, classes, [test_label(t, m) for t, m in tests])
     paths_uri = (
         figures.data_uri(data.figures["paths"])
         if "paths" in data.figures and data.endpoints is not None and len(data.endpoints)
@@ -356,8 +365,8 @@ def evidence_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, A
             rtf_rows.append(r)
         rtf_rows.sort(key=lambda r: engines.index(r["engine"]) if r["engine"] in engines else len(engines))
     return {
-        "title": params.get("title") or DEFAULT_TITLE,
-        "robot": _robot(config),
+        "title": p.title or DEFAULT_TITLE,
+        "robot": _robot(p.config),
         "engines": engines,
         "colors": colors,
         "runs": tables.runs(data, tests, engines),
@@ -372,7 +381,7 @@ def evidence_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, A
         "cpu": tables.cpu(data, engines),
         "imu": tables.imu(data, engines, tests),
         "accuracy": accuracy,
-        "real": real.real_section(data, params, engines, colors, classes, accuracy),
+        "real": real.real_section(data, p, engines, colors, classes, accuracy),
         "sweep": sweep_section(data.sweep, engines, data.figures.get("sweep")),
         "calibration": calibration_section(
             data.calibration,
@@ -398,7 +407,7 @@ def evidence_context(data: ReportData, params: Mapping[str, Any]) -> dict[str, A
         "qualitative": tables.qualitative(data, engines),
         "versions": provenance.package_versions(),
         "machine": provenance.machine(),
-        "config_text": yaml.safe_dump(config, sort_keys=False, allow_unicode=True, width=100) if config else None,
+        "config_text": _config_text(p.config),
         "sources": data.sources,
     }
 

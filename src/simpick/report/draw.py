@@ -26,6 +26,13 @@ import pandas as pd
 from simpick.inputs.terrain import TILES
 from simpick.report import figures
 from simpick.report.load import load_inputs
+from simpick.report.params import (
+    FigureParams,
+    PathsFigureParams,
+    RealGainFigureParams,
+    ReplayFigureParams,
+    ReportConfig,
+)
 
 
 def colors(engines: Sequence[str] | None, seen: Sequence[str] = ()) -> dict[str, str]:
@@ -57,23 +64,30 @@ def test_label(terrain: str, motion: str) -> str:
     return f"{terrain}/{motion}"
 
 
-def weights_of(params: Mapping[str, Any]) -> dict[str, float]:
-    """The weights in ``params`` (the paper's defaults when absent), one per metric."""
+def weights_of(raw: Mapping[str, float] | None) -> dict[str, float]:
+    """The report's weights (the paper's defaults when None), one per metric."""
     from simpick.errors import InputError
     from simpick.score.scoring import DEFAULT_WEIGHTS, METRICS
 
-    raw = params.get("weights")
     if raw is None:
         return dict(DEFAULT_WEIGHTS)
     missing = [m for m in METRICS if m not in raw]
     if missing:
-        raise InputError("report params['weights']", f"metrics {missing} have no weight")
+        raise InputError("the report's weights (rule report's params)", f"metrics {missing} have no weight")
     return {m: float(raw[m]) for m in METRICS}
 
 
-def _endpoints(config: Mapping[str, Any], motion: str, series, engines: list[str]):
+def _typed(model: type[FigureParams], params: Mapping[str, Any] | FigureParams) -> Any:
+    """A figure's params as its rule's model (validated where given as a mapping, less ``code``, the rules'
+    rerun trigger)."""
+    if isinstance(params, model):
+        return params
+    return model.model_validate({k: v for k, v in dict(params).items() if k != "code"})
+
+
+def _endpoints(config: ReportConfig, motion: str, series, engines: list[str]):
     """Per engine: where the run ended against where the no-slip command would have taken it."""
-    spec = (config.get("motions") or {}).get(motion)
+    spec = config.motions.get(motion)  # a mapping keyed by the study's motion names
     have = {label: frame for label, _, frame in series}
     out = []
     for e in engines:
@@ -81,11 +95,14 @@ def _endpoints(config: Mapping[str, Any], motion: str, series, engines: list[str
         if frame is None or not len(frame):
             out.append(None)
             continue
+        if spec is None:
+            out.append(None)
+            continue
         try:
             t_end = float(frame["time"].iloc[-1])
-            cmd = figures.commanded_path(spec["start"], float(spec["v"]), float(spec["w"]), t_end)
-            yaw_cmd = float(spec["start"][2]) + float(spec["w"]) * t_end
-        except (TypeError, KeyError, ValueError, IndexError):
+            cmd = figures.commanded_path(spec.start, spec.v, spec.w, t_end)
+            yaw_cmd = spec.start[2] + spec.w * t_end
+        except (KeyError, ValueError, IndexError):
             out.append(None)
             continue
         dx = float(frame["x"].iloc[-1]) - float(cmd[-1, 0])
@@ -97,8 +114,8 @@ def _endpoints(config: Mapping[str, Any], motion: str, series, engines: list[str
                 "t": t_end,
                 "dist": math.hypot(dx, dy),
                 "dyaw_deg": math.degrees(dyaw),
-                "v_cmd": float(spec["v"]),
-                "w_cmd": float(spec["w"]),
+                "v_cmd": spec.v,
+                "w_cmd": spec.w,
                 "v_mean": float(frame["v_forward"].mean()),
                 "w_mean": float(frame["yaw_rate"].mean()),
             }
@@ -106,31 +123,34 @@ def _endpoints(config: Mapping[str, Any], motion: str, series, engines: list[str
     return out
 
 
-def _strip(config: Mapping[str, Any], terrain: str):
-    terrains = config.get("terrains") or {}
-    if terrain not in terrains:
+def _strip(config: ReportConfig, terrain: str):
+    if terrain not in config.terrains:
         return None
-    tiles = int((terrains[terrain] or {}).get("tiles", TILES))
+    # a strip's settings as configured (simpick.report.params.ReportConfig: the config's Terrain validated them)
+    tiles = int((config.terrains[terrain] or {}).get("tiles", TILES))
     return (0.0, float(tiles), -0.5, 0.5)
 
 
-def _commanded(config: Mapping[str, Any], motion: str):
-    spec = (config.get("motions") or {}).get(motion)
+def _commanded(config: ReportConfig, motion: str):
+    spec = config.motions.get(motion)
+    if spec is None:
+        return None
     try:
-        return figures.commanded_path(spec["start"], float(spec["v"]), float(spec["w"]), float(spec["duration"]))
-    except (TypeError, KeyError, ValueError):
+        return figures.commanded_path(spec.start, spec.v, spec.w, spec.duration)
+    except ValueError:
         return None
 
 
-def imu_stats(inputs: Mapping[str, Any], params: Mapping[str, Any], terrain: str, motion: str, output: str) -> None:
+def imu_stats(inputs: Mapping[str, Any], params: FigureParams, terrain: str, motion: str, output: str) -> None:
     """One lab test's IMU mean and range per axis, every healthy engine and the paper's reference."""
+    p = _typed(FigureParams, params)
     data = load_inputs(
         {k: inputs[k] for k in ("trace_stats", "reference_stats", "runs") if k in inputs}, required=("trace_stats",)
     )
     ts, ref, status = data.trace_stats, data.reference_stats, _status(data.runs)
-    palette = colors(params.get("engines"), list(ts["engine"]))
+    palette = colors(p.engines, list(ts["engine"]))
     series = []
-    for e in _order(params.get("engines"), list(ts["engine"])):
+    for e in _order(p.engines, list(ts["engine"])):
         sel = ts[(ts["engine"] == e) & (ts["terrain"] == terrain) & (ts["motion"] == motion)]
         if not len(sel) or _failed(status, e, terrain, motion) or (sel["status"].str.lower() != "ok").any():
             continue
@@ -145,16 +165,15 @@ def imu_stats(inputs: Mapping[str, Any], params: Mapping[str, Any], terrain: str
         figures.nothing_to_draw(output, f"no engine finished {terrain}/{motion} healthily")
 
 
-def traces(inputs: Mapping[str, Any], params: Mapping[str, Any], terrain: str, motion: str, output: str) -> None:
+def traces(inputs: Mapping[str, Any], params: FigureParams, terrain: str, motion: str, output: str) -> None:
     """One lab test's IMU time series, every engine whose run passed the health checks."""
+    p = _typed(FigureParams, params)
     data = load_inputs({"traces": list(inputs["traces"]), "runs": inputs["runs"]}, required=("traces", "runs"))
     status = _status(data.runs)
     have = {t.engine: t for t in data.traces if (t.terrain, t.motion) == (terrain, motion)}
-    palette = colors(params.get("engines"), list(have))
+    palette = colors(p.engines, list(have))
     series = [
-        (e, palette[e], have[e].frame)
-        for e in _order(params.get("engines"), list(have))
-        if not _failed(status, e, terrain, motion)
+        (e, palette[e], have[e].frame) for e in _order(p.engines, list(have)) if not _failed(status, e, terrain, motion)
     ]
     if series:
         figures.timeseries_figure(series, output)
@@ -162,10 +181,9 @@ def traces(inputs: Mapping[str, Any], params: Mapping[str, Any], terrain: str, m
         figures.nothing_to_draw(output, f"no engine finished {terrain}/{motion} healthily")
 
 
-def _tests(config: Mapping[str, Any], seen: Sequence[tuple[str, str]]) -> list[tuple[str, str]]:
+def _tests(config: ReportConfig, seen: Sequence[tuple[str, str]]) -> list[tuple[str, str]]:
     """The tests in config order (terrain, then motion); any other test after them."""
-    terrains = list((config.get("terrains") or {}).keys())
-    motions = list((config.get("motions") or {}).keys())
+    terrains, motions = list(config.terrains), list(config.motions)
     seen = list(dict.fromkeys(seen))
 
     def key(tm):
@@ -179,15 +197,16 @@ def _tests(config: Mapping[str, Any], seen: Sequence[tuple[str, str]]) -> list[t
     return sorted(seen, key=key)
 
 
-def paths(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str, endpoints: str) -> None:
+def paths(inputs: Mapping[str, Any], params: PathsFigureParams, output: str, endpoints: str) -> None:
     """Top-down paths of every test in one figure, and beside it the table of where each run
     ended against the no-slip command (the report's endpoints table)."""
-    config = dict(params.get("config") or {})
+    p = _typed(PathsFigureParams, params)
+    config = p.config
     data = load_inputs({"traces": list(inputs["traces"]), "runs": inputs["runs"]}, required=("traces", "runs"))
     status = _status(data.runs)
     by_test = {(t.engine, t.terrain, t.motion): t for t in data.traces}
-    engines = _order(params.get("engines"), [t.engine for t in data.traces] + list(data.runs["engine"]))
-    palette = colors(params.get("engines"), engines)
+    engines = _order(p.engines, [t.engine for t in data.traces] + list(data.runs["engine"]))
+    palette = colors(p.engines, engines)
     tests = _tests(
         config, list(zip(data.runs["terrain"], data.runs["motion"])) + [(t.terrain, t.motion) for t in data.traces]
     )
@@ -217,27 +236,29 @@ def paths(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str, end
         figures.nothing_to_draw(output, "no run finished healthily")
 
 
-def validation(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str) -> None:
+def validation(inputs: Mapping[str, Any], params: FigureParams, output: str) -> None:
     """Yaw-rate gain against commanded yaw rate, left and right turns with their spread over start
     headings, every engine and the quasi-static Coulomb gain."""
     from simpick.report.validation import gain_series
 
+    p = _typed(FigureParams, params)
     data = load_inputs({"validation_gains": inputs["validation_gains"]}, required=("validation_gains",))
-    series, analytic, _ = gain_series(data.validation_gains, list(params.get("engines") or []))
+    series, analytic, _ = gain_series(data.validation_gains, list(p.engines))
     if series:
-        figures.validation_gain_figure(series, analytic, colors(params.get("engines"), [e for e, _ in series]), output)
+        figures.validation_gain_figure(series, analytic, colors(p.engines, [e for e, _ in series]), output)
     else:
         figures.nothing_to_draw(output, "no yaw-rate-gain case at v = 0.5 m/s")
 
 
-def sweep(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str) -> None:
+def sweep(inputs: Mapping[str, Any], params: FigureParams, output: str) -> None:
     """Per terrain class: real-data error against real-time factor over the sweep's timesteps."""
     from simpick.report.sweep import sweep_panels
 
+    p = _typed(FigureParams, params)
     data = load_inputs({"sweep": inputs["sweep"]}, required=("sweep",))
-    panels = sweep_panels(data.sweep, list(params.get("engines") or []))
+    panels = sweep_panels(data.sweep, list(p.engines))
     if panels:
-        figures.sweep_figure(panels, colors(params.get("engines"), list(data.sweep.engine)), output)
+        figures.sweep_figure(panels, colors(p.engines, list(data.sweep.engine)), output)
     else:
         figures.nothing_to_draw(output, "no sweep point finished healthily")
 
@@ -247,16 +268,17 @@ def sweep(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str) -> 
 # --------------------------------------------------------------------------
 
 
-def real_gain(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str) -> None:
+def real_gain(inputs: Mapping[str, Any], params: RealGainFigureParams, output: str) -> None:
     """Yaw-rate gain per terrain class, the real robot against every model, one panel per set."""
     from simpick.report import real
 
+    p = _typed(RealGainFigureParams, params)
     data = load_inputs(dict(inputs), required=())
     engines = _order(
-        params.get("engines"),
+        p.engines,
         [e for s in data.real.values() for t in s.values() if "engine" in t.columns for e in t["engine"]],
     )
-    panels = real.gain_panels(data, params, engines, colors(params.get("engines"), engines))
+    panels = real.gain_panels(data, p, engines, colors(p.engines, engines))
     if panels:
         figures.gain_figure(panels, output)
     else:
@@ -302,7 +324,7 @@ def _f(x: Any) -> float:
         return float("nan")
 
 
-def replay(inputs: Mapping[str, Any], params: Mapping[str, Any], cls: str, output: str, notes: str) -> None:
+def replay(inputs: Mapping[str, Any], params: ReplayFigureParams, cls: str, output: str, notes: str) -> None:
     """One terrain class of the full replay: time plots of one representative run and the mean
     vertical-acceleration spectra over the class's runs. ``notes`` (JSON) tells the report which
     run was drawn and why, what the spectra average over and what was left out."""
@@ -310,10 +332,10 @@ def replay(inputs: Mapping[str, Any], params: Mapping[str, Any], cls: str, outpu
     from simpick.report.real import TIME_PLOT_MAX_S
     from simpick.simulate.traces import read_metadata, read_trace
 
+    settings = _typed(ReplayFigureParams, params)
     cls = cls.lower()
     data = load_inputs(dict(inputs), required=("real_logs",))
-    config = params.get("config") or {}
-    track = float(((config.get("robot") or {}).get("track")) or 0.555)
+    track = settings.track
     logs = {Path(p).stem: p for p in data.real_logs or [] if Path(p).parent.name.lower() == cls}
     traces: dict[tuple[str, str], tuple[str, dict]] = {}
     for p in data.replay_traces or []:
@@ -323,8 +345,8 @@ def replay(inputs: Mapping[str, Any], params: Mapping[str, Any], cls: str, outpu
             continue
         engine = str(meta.get("engine") or path.parent.parent.name)
         traces[(engine, str(meta.get("run") or path.stem))] = (p, meta)
-    engines = _order(params.get("engines"), [e for e, _ in traces])
-    palette = colors(params.get("engines"), engines)
+    engines = _order(settings.engines, [e for e, _ in traces])
+    palette = colors(settings.engines, engines)
     runs = sorted(logs)
     if not runs:
         figures.nothing_to_draw(output, f"no real log of class {cls}")
@@ -420,8 +442,8 @@ def replay(inputs: Mapping[str, Any], params: Mapping[str, Any], cls: str, outpu
     )
 
 
-# The figure rules, by name: rule -> (function, wildcard names passed after params, output names)
-def real_turning(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str) -> None:
+# The figure rules, by name: rule -> (function, wildcard names passed after params, output names, params model)
+def real_turning(inputs: Mapping[str, Any], params: FigureParams, output: str) -> None:
     """How the real robot turns: the turning windows of a replayed dataset (rule real_turning)."""
     windows = pd.read_csv(inputs["windows"])
     if windows.empty:
@@ -430,14 +452,15 @@ def real_turning(inputs: Mapping[str, Any], params: Mapping[str, Any], output: s
         figures.turning_figure(windows, output)
 
 
-def answer(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str) -> None:
+def answer(inputs: Mapping[str, Any], params: FigureParams, output: str) -> None:
     """The first page's figure: per real-data metric and engine, the values on every real run and
     the difference to the best engine with its interval, the margin shaded (the verdict's tables:
     outcomes.csv and the per-run metrics.csv)."""
+    p = _typed(FigureParams, params)
     data = load_inputs({"verdict_outcomes": inputs["outcomes"], "verdict_metrics": inputs["metrics"]}, required=())
     outcomes, per_run = data.verdict["outcomes"], data.verdict["metrics"]
     seen = list(dict.fromkeys(outcomes["engine"]))
-    engines = _order(params.get("engines"), seen)
+    engines = _order(p.engines, seen)
     panels = []
     for metric, g in outcomes.groupby("metric", sort=False):
         rows = {r["engine"]: r for r in g.to_dict("records")}
@@ -468,7 +491,7 @@ def answer(inputs: Mapping[str, Any], params: Mapping[str, Any], output: str) ->
     if not any(p["engines"] for p in panels):
         figures.nothing_to_draw(output, "no real-data metric was measured for any engine")
         return
-    figures.answer_figure(panels, colors(params.get("engines"), seen), output)
+    figures.answer_figure(panels, colors(p.engines, seen), output)
 
 
 def _value(x: Any) -> float | None:
@@ -480,15 +503,15 @@ def _value(x: Any) -> float | None:
 
 
 RULES = {
-    "figure_answer": (answer, (), ("png",)),
-    "figure_imu_stats": (imu_stats, ("lab_terrain", "lab_motion"), ("png",)),
-    "figure_traces": (traces, ("terrain", "motion"), ("png",)),
-    "figure_paths": (paths, (), ("png", "endpoints")),
-    "figure_validation": (validation, (), ("png",)),
-    "figure_sweep": (sweep, (), ("png",)),
-    "figure_real_gain": (real_gain, (), ("png",)),
-    "figure_replay": (replay, ("terrain_class",), ("png", "notes")),
-    "figure_real_turning": (real_turning, (), ("png",)),
+    "figure_answer": (answer, (), ("png",), FigureParams),
+    "figure_imu_stats": (imu_stats, ("lab_terrain", "lab_motion"), ("png",), FigureParams),
+    "figure_traces": (traces, ("terrain", "motion"), ("png",), FigureParams),
+    "figure_paths": (paths, (), ("png", "endpoints"), PathsFigureParams),
+    "figure_validation": (validation, (), ("png",), FigureParams),
+    "figure_sweep": (sweep, (), ("png",), FigureParams),
+    "figure_real_gain": (real_gain, (), ("png",), RealGainFigureParams),
+    "figure_replay": (replay, ("terrain_class",), ("png", "notes"), ReplayFigureParams),
+    "figure_real_turning": (real_turning, (), ("png",), FigureParams),
 }
 
 
@@ -499,5 +522,6 @@ def figure_job(
     wildcards: Mapping[str, str],
     outputs: Mapping[str, str],
 ) -> None:
-    function, names, outs = RULES[rule]
-    function(inputs, params, *(wildcards[n] for n in names), *(outputs[o] for o in outs))
+    """Rule ``rule``'s figure: its params validated as the rule's model (RULES), drawn by its function."""
+    function, names, outs, model = RULES[rule]
+    function(inputs, _typed(model, params), *(wildcards[n] for n in names), *(outputs[o] for o in outs))

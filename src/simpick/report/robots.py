@@ -12,11 +12,14 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Annotated, Any
 
 import pandas as pd
 import yaml
+from pydantic import Field
 
 from simpick.errors import InputError
+from simpick.params import JobParams
 from simpick.score.robots import POOLING_METHOD, agreement, describe, side_by_side, summary
 from simpick.score.verdict import METRICS
 from simpick.tables import write_csv
@@ -111,15 +114,41 @@ def _findings(agree: pd.DataFrame, kind: str) -> list[str]:
     return lines
 
 
+class RobotShown(JobParams):
+    """One robot of the benchmark as the page shows it (simpick.config.robots.RobotStudy)."""
+
+    name: str = Field(description="the robot's name in config/robots.yaml (its rules' prefix)")
+    label: str = Field("", description="its name on the page ('': the name)")
+    command: str = Field(description="the command that runs its study alone")
+    settings: dict[str, Any] = Field({}, description="the settings given on top of its files, by dotted key")
+    configfiles: list[str] = Field([], description="the config files its study runs with, in order")
+
+
+class Pooling(JobParams):
+    """How the page puts one engine's outcomes on the robots together (config/robots.yaml, pooling)."""
+
+    # strict: a whole number, not True nor "2" (a YAML typo)
+    min_robots: Annotated[int, Field(ge=2, strict=True)] = Field(
+        2, description="a pooled outcome needs an outcome on at least this many robots, and none undetermined"
+    )
+
+
+class RobotsParams(JobParams):
+    """What rule robots' job reads: the robots in order, and the pooling."""
+
+    robots: list[RobotShown]
+    pooling: Pooling = Field(Pooling(), description="how outcomes are pooled over the robots")
+
+
 def build_page(
-    robots: list[dict], answers: list[str], headlines: list[str], simulators: list[str], min_robots: int = 2
+    robots: list[RobotShown], answers: list[str], headlines: list[str], simulators: list[str], min_robots: int = 2
 ) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
     """(the side-by-side rows, the agreement rows, the page's context) from each robot's files, in the
-    order of ``robots`` (the rule's params: name, label, command, settings by dotted key, configfiles)."""
+    order of ``robots`` (the rule's params)."""
     if not (len(robots) == len(answers) == len(headlines) == len(simulators)):
         raise ValueError("one answer, headline and simulators' table per robot")
-    names = [r["name"] for r in robots]
-    labels = {r["name"]: r.get("label") or r["name"] for r in robots}
+    names = [r.name for r in robots]
+    labels = {r.name: r.label or r.name for r in robots}
     answer_frames = {n: _read_csv(p, "the robot's answer") for n, p in zip(names, answers, strict=True)}
     simulator_frames = {
         n: _read_csv(p, "the robot's simulators' table") for n, p in zip(names, simulators, strict=True)
@@ -144,10 +173,9 @@ def build_page(
         "no_simulators": no_simulators,
         "robots": [
             {
-                **r,
-                "label": labels[r["name"]],
-                "settings": r.get("settings") or {},
-                "headline": heads[r["name"]],
+                **r.model_dump(mode="json"),
+                "label": labels[r.name],
+                "headline": heads[r.name],
             }
             for r in robots
         ],
@@ -170,10 +198,13 @@ def robots_job(inputs: dict, params: dict, outputs: dict) -> None:
     """Rule robots: the tables, the page and its PDF."""
     from simpick.report.render import write_pdf
 
-    robots = list(params["robots"])
-    min_robots = int((params.get("pooling") or {}).get("min_robots", 2))
+    p = RobotsParams.model_validate(params)
     side, agree, context = build_page(
-        robots, list(inputs["answers"]), list(inputs["headlines"]), list(inputs["simulators"]), min_robots
+        list(p.robots),
+        list(inputs["answers"]),
+        list(inputs["headlines"]),
+        list(inputs["simulators"]),
+        p.pooling.min_robots,
     )
     write_csv(side, outputs["table"])
     write_csv(agree, outputs["agreement"])

@@ -14,6 +14,7 @@ from simpick.report import figures
 from simpick.report.draw import test_label
 from simpick.report.formats import isnan
 from simpick.report.load import ReportData
+from simpick.report.params import ReportConfig
 from simpick.score.scoring import DEFAULT_WEIGHTS, METRIC_LABELS, METRICS
 
 ROS_TEXT = {
@@ -26,7 +27,8 @@ FACT_ROWS = ("free", "open_source", "ros", "languages", "ui", "model_formats", "
 QUANTITY_UNITS = {"angular": "rad/s", "linear": "m/s²"}
 
 
-def test_order(data: ReportData, config: Mapping[str, Any]) -> list[tuple[str, str]]:
+def test_order(data: ReportData, config: ReportConfig) -> list[tuple[str, str]]:
+    """The lab tests the tables hold, in the config's order (terrain, then motion); any other after them."""
     seen: list[tuple[str, str]] = []
     frames = [data.runs]
     for df in (data.trace_stats, data.per_test_errors, data.reference_stats):
@@ -36,8 +38,7 @@ def test_order(data: ReportData, config: Mapping[str, Any]) -> list[tuple[str, s
         for t, m in zip(df["terrain"], df["motion"]):
             if (t, m) not in seen:
                 seen.append((t, m))
-    terrains = list((config.get("terrains") or {}).keys())
-    motions = list((config.get("motions") or {}).keys())
+    terrains, motions = list(config.terrains), list(config.motions)
 
     def key(tm):
         t, m = tm

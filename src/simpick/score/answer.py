@@ -20,13 +20,17 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Annotated
 
 import numpy as np
 import pandas as pd
 import yaml
+from pydantic import Field
 
 from simpick.errors import InputError
+from simpick.params import JobParams, NonNegative
 from simpick.score.equivalence import FAILED_SEPARATOR, pooled
+from simpick.score.settings import Statistics
 from simpick.score.verdict import (
     DISCRIMINATION_COLUMNS,
     METRICS,
@@ -480,19 +484,46 @@ def _and(names: list[str]) -> str:
     return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
 
 
-def basis_sentence(basis: dict, n: int, left_out: list[str] | None = None) -> str:
+class AnswerBasis(JobParams):
+    """The real data the answer rests on, as its sentences name them (simpick.plan's answer_basis)."""
+
+    dataset: str = Field(description="the dataset's label ('' : none, no sentence)")
+    unit: str = Field("run", description="the unit of pairing: a real run, a DRIVE step or its session")
+    noun: str | None = Field(None, description="what the sentences call the units (None: 'real runs')")
+    title: str = Field("", description="how the units were compared, in brackets after them")
+    others: list[str] = Field([], description="the study's other real data, compared in their own section")
+
+
+class AnswerParams(JobParams):
+    """What rule answer's job reads: the study's engines, the statistics, the weights (the answer is what a
+    weight edit reruns), the seed, the real data's source and title, the robot's name and the basis."""
+
+    engines: list[str]
+    statistics: Statistics
+    weights: dict[str, NonNegative]
+    seed: Annotated[int, Field(ge=0, lt=2**32)]
+    source: str = Field(description="the real data's source (a source's name, or the DRIVE dataset)")
+    source_title: str = Field(description="how the headline names the real data")
+    robot: str = Field(description="the robot's name in the sentences")
+    basis: AnswerBasis | None = Field(None, description="the real data the answer rests on; None: not named")
+
+
+def basis_sentence(basis: AnswerBasis | dict | None, n: int, left_out: list[str] | None = None) -> str:
     """Which real data the answer rests on, named with its units ("345 DRIVE steps", "12 BorealTC runs"),
     the study's engines the comparison did not judge, and the study's other real data, reported apart."""
-    if not basis.get("dataset"):
+    if not basis:
         return ""
-    unit = basis.get("unit") or "run"
-    text = f"The answer rests on {n} {basis['dataset']} {unit}{'' if n == 1 else 's'}"
-    if basis.get("title"):
-        text += f" ({basis['title']})"
+    b = basis if isinstance(basis, AnswerBasis) else AnswerBasis.model_validate(basis)
+    if not b.dataset:
+        return ""
+    unit = b.unit or "run"
+    text = f"The answer rests on {n} {b.dataset} {unit}{'' if n == 1 else 's'}"
+    if b.title:
+        text += f" ({b.title})"
     if left_out:
         text += f"; {_and(left_out)} {'was' if len(left_out) == 1 else 'were'} not replayed on these data and "
         text += f"{'is' if len(left_out) == 1 else 'are'} not in the table"
-    others = list(basis.get("others") or [])
+    others = list(b.others)
     if others:
         text += f"; the study's other real data ({_and(others)}) are compared in their own section, not here"
     return text + "."
@@ -501,22 +532,24 @@ def basis_sentence(basis: dict, n: int, left_out: list[str] | None = None) -> st
 def answer_job(inputs: dict, params: dict, outputs: dict) -> None:
     """Rule ``answer``: the paper's weighted ranking with its interval over real runs (ranking.csv),
     the separation table, answer.csv, answer.yaml and the headline, from the scores (weighted.csv, or
-    with ``inputs["scores"]`` the per-metric scores, weighed here at ``params["weights"]`` into
+    with ``inputs["scores"]`` the per-metric scores, weighed here at the params' weights into
     ``outputs["weighted"]``, ``["contributions"]`` and ``["drivers"]``; provenance.yaml), the real-data
     comparison's tables (outcomes, mechanics, table, per_test: the verdict's,
     with its discrimination table, where the study has one, else the DRIVE comparison's, which writes the
     same tables beside its outcomes; simpick.plan answer_tables), the lab's real-time factor, the CPU runs
     and, where it ran, the calibration's turning table. ``params.basis``: the dataset the comparison rests
-    on, its unit ("step", "run") and the study's other real data, for the sentence that names them."""
-    statistics = params.get("statistics")
-    engines = list(params["engines"])
-    seed = int(params.get("seed", 0))
+    on, its unit ("step", "run") and the study's other real data, for the sentence that names them
+    (``params``: :class:`AnswerParams`)."""
+    p = AnswerParams.model_validate(params)
+    # simpick.score.verdict's ranking reads the statistics as a mapping
+    statistics, weights = p.statistics.model_dump(mode="json"), dict(p.weights)
+    engines, seed = list(p.engines), p.seed
     if inputs.get("scores"):
         # the workflow weighs the scores here (rule answer writes weighted.csv, contributions.csv and
         # drivers.csv): one job less before the answer on a weight edit
         from simpick.score.jobs import weigh
 
-        weigh(pd.read_csv(inputs["scores"], index_col="engine"), params["weights"], outputs)
+        weigh(pd.read_csv(inputs["scores"], index_col="engine"), weights, outputs)
     weighted = pd.read_csv(outputs["weighted"] if inputs.get("scores") else inputs["weighted"], index_col=0)
     prov = yaml.safe_load(Path(inputs["provenance"]).read_text()) or {}
     acc = prov.get("accuracy") or {}
@@ -524,9 +557,7 @@ def answer_job(inputs: dict, params: dict, outputs: dict) -> None:
     if acc.get("set") not in (None, "lab") and Path(inputs["accuracy_tests"]).is_file():
         acc_per_test = read_per_test(inputs["accuracy_tests"])
     scored = [e for e in engines if e in weighted.index]
-    rank = ranking(
-        weighted.loc[scored], acc_per_test, acc.get("tests") or None, params["weights"], statistics, seed=seed
-    )
+    rank = ranking(weighted.loc[scored], acc_per_test, acc.get("tests") or None, weights, statistics, seed=seed)
     write_csv(rank, outputs["ranking"])
     table = pd.read_csv(inputs["table"])
     # what the paper's accuracy scores separate: the verdict's, where the scores rest on its real runs; none
@@ -536,9 +567,7 @@ def answer_job(inputs: dict, params: dict, outputs: dict) -> None:
         if inputs.get("discrimination")
         else pd.DataFrame(columns=DISCRIMINATION_COLUMNS)
     )
-    separation = separation_rows(table, int((statistics or {}).get("min_runs", 6))) + paper_rows(
-        rank, disc, params["weights"]
-    )
+    separation = separation_rows(table, p.statistics.min_runs) + paper_rows(rank, disc, weights)
     write_csv(pd.DataFrame(separation, columns=SEPARATION_COLUMNS), outputs["separation"])
 
     outcomes = read_outcomes(inputs["outcomes"])
@@ -553,26 +582,24 @@ def answer_job(inputs: dict, params: dict, outputs: dict) -> None:
     cal = calibrated(inputs.get("calibration_turning"))
     answer = answer_table(outcomes, mechanics, weighted, engines, gain_ratios(tests, engines), cal, rtfs, cpu)
     write_csv(answer, outputs["answer"])
-    robot = params.get("robot") or "real robot"
-    basis = dict(params.get("basis") or {})
-    noun = basis.get("noun") or RUNS
+    robot = p.robot or "real robot"
+    noun = (p.basis.noun if p.basis else None) or RUNS
     said = sentences(outcomes, answer, cal, robot, noun)
     Path(outputs["answer_yaml"]).write_text(
         yaml.safe_dump({"robot": robot, "sentences": said}, sort_keys=False, allow_unicode=True, width=10_000)
     )
     n_runs = int(run_key(tests[tests.status == "ok"]).nunique()) if len(tests) else 0
-    min_runs = int((statistics or {}).get("min_runs", 6))
-    source = params.get("source_title") or params.get("source") or "real data"
+    source = p.source_title or p.source or "real data"
     Path(outputs["headline"]).write_text(
         yaml.safe_dump(
             {
-                "source": params.get("source"),
+                "source": p.source,
                 "source_title": source,
                 "n_runs": n_runs,
-                "min_runs": min_runs,
+                "min_runs": p.statistics.min_runs,
                 "units": _plain(noun),
-                "basis": basis_sentence(basis, n_runs, left_out),
-                "level": float((statistics or {}).get("level", 0.95)),
+                "basis": basis_sentence(p.basis, n_runs, left_out),
+                "level": p.statistics.level,
                 "paragraph": headline(said, separation, rank),
             },
             sort_keys=False,

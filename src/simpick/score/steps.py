@@ -17,11 +17,17 @@ can beat.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Annotated, Any, Literal
+
 import pandas as pd
+from pydantic import Field
 
 from simpick.compare.steps import ALL, gain_repeatability, step_errors, summary_table
+from simpick.params import JobParams
 from simpick.score.equivalence import outcomes_table
 from simpick.score.mechanics import mechanics_table
+from simpick.score.settings import Margin, Statistics, Verdict
 from simpick.score.verdict import METRICS, metric_table, per_run_long, per_run_values
 from simpick.tables import write_csv
 
@@ -37,14 +43,15 @@ def per_test(errors: pd.DataFrame, unit: str = "step") -> pd.DataFrame:
     )
 
 
-def gain_margin_spec(spec: dict, steps: pd.DataFrame, tolerance: float) -> tuple[dict, str | None]:
-    """The gain error's margin spec for DRIVE: where the config bases it on the real robot's spread, the
-    real robot's step-to-step repeatability (absolute) and the sentence saying so; else the config's spec."""
-    if spec["basis"] != "real_spread":
-        return spec, None
+def gain_margin_spec(spec: Margin, steps: pd.DataFrame, tolerance: float) -> tuple[dict, str | None]:
+    """The gain error's margin spec for DRIVE, as simpick.score.equivalence reads it: where the config bases
+    it on the real robot's spread, the real robot's step-to-step repeatability (absolute) and the sentence
+    saying so; else the config's spec."""
+    if spec.basis != "real_spread":
+        return spec.model_dump(mode="json"), None
     sd, pairs = gain_repeatability(steps, tolerance)
-    value = float(spec["value"]) * sd
-    factor = "" if float(spec["value"]) == 1 else f"{float(spec['value']):g} x "
+    value = spec.value * sd
+    factor = "" if spec.value == 1 else f"{spec.value:g} x "
     return {"basis": "absolute", "value": value}, (
         f"{factor}the real robot's own step-to-step repeatability of its yaw-rate gain: the single-step "
         f"standard deviation between the {pairs} pairs of steps of similar command (within a terrain), {sd:.3g}"
@@ -64,7 +71,7 @@ def outcomes(
     errors: pd.DataFrame,
     steps: pd.DataFrame,
     engines: list[str],
-    verdict: dict,
+    verdict: Verdict | Mapping[str, Any],
     tolerance: float,
     validation: pd.DataFrame | None = None,
     unit: str = "step",
@@ -74,14 +81,18 @@ def outcomes(
     """Every engine against the best per metric (:func:`simpick.score.equivalence.outcomes_table`), over
     all terrains (``scope`` all) and per terrain, paired by ``unit``. ``validation``: the validation
     summary (the mechanics gate: an engine failing the cases a metric rests on is never the best); None:
-    no engine validated, the lowest mean is the reference and is named so."""
+    no engine validated, the lowest mean is the reference and is named so. ``verdict``: the margins and
+    mechanics (a mapping is validated as :class:`simpick.score.settings.Verdict`)."""
+    typed = verdict if isinstance(verdict, Verdict) else Verdict.model_validate(verdict)
+    # simpick.score.equivalence reads the margins and mechanics as mappings
+    margins, gate = typed.margins.model_dump(mode="json"), typed.mechanics.model_dump(mode="json")
     mechanics = mechanics_gate(validation, engines)
     frames = []
     for scope, e in [(ALL, errors)] + list(errors.groupby("terrain_class", sort=True)):
         real = steps if scope == ALL else steps[steps.terrain_class == scope]
         tests = per_test(e, unit)
-        spec, basis = gain_margin_spec(verdict["margins"]["gain_error"], real, tolerance)
-        settings = {"margins": {**verdict["margins"], "gain_error": spec}, "mechanics": verdict["mechanics"]}
+        spec, basis = gain_margin_spec(typed.margins.gain_error, real, tolerance)
+        settings = {"margins": {**margins, "gain_error": spec}, "mechanics": gate}
         walls = {metric: per_run_values(tests, metric) for metric in METRICS}
         table = outcomes_table(walls, tests, engines, METRICS, mechanics, settings, statistics, seed)
         if basis:
@@ -113,6 +124,21 @@ def verdict_tables(
     }
 
 
+class CompareParams(JobParams):
+    """What rule drive_compare's job reads: the engines it judges, the verdict's margins and mechanics, the
+    statistics, the unit of pairing (``drive_replay.unit``), the similar-command tolerance and the seed."""
+
+    engines: list[str] = Field(description="the study's engines the replay ran (drive_replay.models)")
+    verdict: Verdict
+    statistics: Statistics
+    unit: Literal["step", "session"] = Field(description="the verdict's unit of pairing")
+    tolerance: float = Field(
+        description="rad/s, two steps are of similar command when both wheels' commands differ by at most this "
+        "(simpick.real.steps.SIMILAR): the gain's repeatability pairs them"
+    )
+    seed: Annotated[int, Field(ge=0, lt=2**32)]
+
+
 def compare_job(inputs: dict, params: dict, outputs: dict) -> None:
     """The replayed steps of every engine against the real robot, into ``errors``,
     ``summary`` and ``outcomes`` (CSV), and, where the study's first page rests on DRIVE (rule answer), the
@@ -120,32 +146,22 @@ def compare_job(inputs: dict, params: dict, outputs: dict) -> None:
     all terrains: ``per_test`` (one test per step, the verdict's per-test form), ``metrics`` (the per-run
     values the answer's figure draws), ``table`` (each engine against the next) and ``mechanics`` (the
     gate)."""
+    p = CompareParams.model_validate(params)
     cases = pd.read_csv(inputs["cases"])
     steps = pd.read_csv(inputs["steps"])
     replayed = pd.concat([pd.read_csv(p) for p in inputs["replayed"]], ignore_index=True)
     validation = pd.read_csv(inputs["validation"]) if inputs.get("validation") else None
     errors = step_errors(cases, steps, replayed)
-    tolerance = float(params["tolerance"])
-    seed = int(params.get("seed", 0))  # the rules' canonical params carry numbers as floats
+    # simpick.compare.steps and simpick.score.verdict read the statistics as a mapping
+    statistics, verdict = p.statistics.model_dump(mode="json"), p.verdict
+    engines = list(p.engines)
     write_csv(errors, outputs["errors"])
-    write_csv(summary_table(errors, steps, tolerance, params.get("statistics"), seed), outputs["summary"])
+    write_csv(summary_table(errors, steps, p.tolerance, statistics, p.seed), outputs["summary"])
     write_csv(
-        outcomes(
-            errors,
-            steps,
-            list(params["engines"]),
-            params["verdict"],
-            tolerance,
-            validation,
-            params.get("unit", "step"),
-            params.get("statistics"),
-            seed,
-        ),
+        outcomes(errors, steps, engines, verdict, p.tolerance, validation, p.unit, statistics, p.seed),
         outputs["outcomes"],
     )
-    tables = verdict_tables(
-        errors, list(params["engines"]), validation, params.get("unit", "step"), params.get("statistics"), seed
-    )
+    tables = verdict_tables(errors, engines, validation, p.unit, statistics, p.seed)
     for name, frame in tables.items():
         if outputs.get(name):
             write_csv(frame, outputs[name])

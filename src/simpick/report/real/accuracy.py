@@ -8,9 +8,12 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from simpick.report.load import ReportData
+
+if TYPE_CHECKING:
+    from simpick.score.settings import Statistics
 from simpick.report.real.common import (
     SET_TITLES,
     SET_UNITS,
@@ -27,7 +30,7 @@ def _same_file(a: Any, b: Any) -> bool:
 
 
 def accuracy(
-    data: ReportData, params: Mapping[str, Any], engines: list[str], classes: list[str], lab_tests: list[str]
+    data: ReportData, settings: Statistics, engines: list[str], classes: list[str], lab_tests: list[str]
 ) -> dict[str, Any] | None:
     """The Eq. 7 totals the accuracy scores were computed from, and what they cover, as the
     scores job recorded them (results/scores/provenance.yaml): this reads that record, it
@@ -77,7 +80,7 @@ def accuracy(
     excluded = sorted(why)
     groups = group_tests(data, tests, classes) if kind != "lab" else []
     n_by_q = {q: sorted({int(x) for x in sel["n_tests"] if not _isnan(x)}) for q, sel in ie.groupby("quantity")}
-    discrimination = _discrimination(data, statistics(params))
+    discrimination = _discrimination(data, statistics(settings))
     n = len(tests)
     noun = {"segments": "constant-command segment", "replay": "replayed run", "own": "replayed own log"}.get(
         kind, "test"

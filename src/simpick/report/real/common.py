@@ -9,9 +9,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from simpick.report.load import ReportData
+
+if TYPE_CHECKING:
+    from simpick.report.params import ReportRealData
+    from simpick.score.settings import Statistics
 
 SET_TITLES = {"segments": "constant-command segments", "replay": "full replay", "own": "own logs"}
 SET_UNITS = {"segments": "segment", "replay": "run", "own": "log"}
@@ -52,8 +56,9 @@ def _f(x: Any) -> float:
         return float("nan")
 
 
-def class_order(data: ReportData, params: Mapping[str, Any]) -> list[str]:
-    order = [str(c) for c in ((params.get("real_data") or {}).get("classes") or {})]
+def class_order(data: ReportData, real_data: ReportRealData) -> list[str]:
+    """The terrain classes in the config's order (``real_data.classes``), then any other the tables hold."""
+    order = [str(c) for c in real_data.classes]
     frames = [data.segments] + [t for s in data.real.values() for t in s.values()]
     for df in frames:
         if df is not None and "terrain_class" in df.columns:
@@ -98,11 +103,11 @@ def _cell(row: Mapping[str, Any] | None, fig: str) -> dict[str, Any] | None:
     return {"mean": _f(row.get(fig)), "low": _f(row.get(f"{fig}_low")), "high": _f(row.get(f"{fig}_high"))}
 
 
-def statistics(params: Mapping[str, Any]) -> dict[str, Any]:
-    """The config's statistics slice (minimum independent runs, level), with its defaults."""
-    from simpick.compare.realmetrics import smallest_p, statistics_settings
+def statistics(settings: Statistics) -> dict[str, Any]:
+    """The statistics settings (minimum independent runs, level) as the templates and the summaries read
+    them, with the smallest p-value a group below the minimum could give."""
+    from simpick.compare.realmetrics import smallest_p
 
-    st = dict(params.get("statistics") or {})
-    st["min_runs"], st["level"] = statistics_settings(st)
-    st["smallest_p_below"] = smallest_p(st["min_runs"] - 1)
+    st = settings.model_dump(mode="json")
+    st["smallest_p_below"] = smallest_p(settings.min_runs - 1)
     return st

@@ -7,7 +7,7 @@ statistic itself."""
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -28,6 +28,9 @@ from simpick.report.real.common import (
     statistics,
 )
 from simpick.report.real.sets import datasets
+
+if TYPE_CHECKING:
+    from simpick.report.params import EvidenceParams, RealGainFigureParams
 
 
 def _real_gain(
@@ -104,14 +107,17 @@ def _set_block(
 
 
 def _blocks(
-    data: ReportData, params: Mapping[str, Any], engines: list[str], classes: list[str]
+    data: ReportData,
+    params: RealGainFigureParams | EvidenceParams,
+    engines: list[str],
+    classes: list[str],
+    scored_set: str | None = None,
 ) -> tuple[list[str], list[dict], dict[str, list[dict]]]:
-    """Per shown class and real-data set, the block of tables and verdicts (:func:`_set_block`)."""
-    rd = dict(params.get("real_data") or {})
-    class_params = {str(k): (v or {}) for k, v in (rd.get("classes") or {}).items()}
+    """Per shown class and real-data set, the block of tables and verdicts (:func:`_set_block`);
+    ``scored_set``: the set the accuracy scores rest on."""
+    class_params = params.real_data.classes
     sets = [s for s in REAL_SETS if data.real.get(s)]
-    scored_set = params.get("_scored_set")
-    stats = statistics(params)
+    stats = statistics(params.statistics)
     blocks_by_set: dict[str, list[dict]] = {s: [] for s in sets}
     class_blocks = []
     shown_classes = [
@@ -124,12 +130,12 @@ def _blocks(
         )
     ]
     for cls in shown_classes:
-        cp = class_params.get(cls, {})
+        cp = class_params.get(cls)  # terrain class -> its ground: a mapping keyed by the data's class names
         item = {
             "cls": cls,
             "label": cls.replace("_", " "),
-            "friction": cp.get("friction"),
-            "source": cp.get("source"),
+            "friction": cp.friction if cp else None,
+            "source": cp.source if cp else None,
             "sets": [],
         }
         for s in sets:
@@ -142,10 +148,10 @@ def _blocks(
 
 
 def gain_panels(
-    data: ReportData, params: Mapping[str, Any], engines: list[str], colors: Mapping[str, str]
+    data: ReportData, params: RealGainFigureParams, engines: list[str], colors: Mapping[str, str]
 ) -> list[dict]:
     """The yaw-rate-gain figure's panels (rule figure_real_gain): one per real-data set."""
-    classes = class_order(data, params)
+    classes = class_order(data, params.real_data)
     _, _, blocks_by_set = _blocks(data, params, engines, classes)
     return _gain_panels(blocks_by_set, classes, engines, colors)
 
@@ -232,14 +238,14 @@ def _segments_table(data: ReportData, classes: list[str], engines: list[str]) ->
 
 def real_section(
     data: ReportData,
-    params: Mapping[str, Any],
+    params: EvidenceParams,
     engines: list[str],
     colors: Mapping[str, str],
     classes: list[str],
     acc: dict | None,
 ) -> dict[str, Any]:
-    rd = dict(params.get("real_data") or {})
-    class_params = {str(k): (v or {}) for k, v in (rd.get("classes") or {}).items()}
+    rd = params.real_data
+    class_params = rd.classes
     sets = [s for s in REAL_SETS if data.real.get(s)]
     missing: list[str] = []
     for s in sets:
@@ -254,8 +260,8 @@ def real_section(
         if pt is not None and not (pt["status"].astype(str).str.lower() == "ok").any():
             empty.append({"set": s_, "title": SET_TITLES[s_], "n_rows": len(pt)})
     scored_set = acc.get("kind") if acc and acc.get("kind") in REAL_SETS else None
-    stats = statistics(params)
-    shown_classes, class_blocks, _ = _blocks(data, {**params, "_scored_set": scored_set}, engines, classes)
+    stats = statistics(params.statistics)
+    shown_classes, class_blocks, _ = _blocks(data, params, engines, classes, scored_set)
 
     # at a glance: per class and error, the closest engine and the class's typed outcome, as the summarise
     # job wrote them (simpick.compare.real.class_verdicts: <figure>_closest, <figure>_outcome)
@@ -345,8 +351,8 @@ def real_section(
         {
             "cls": c,
             "label": c.replace("_", " "),
-            "friction": class_params.get(c, {}).get("friction"),
-            "source": class_params.get(c, {}).get("source"),
+            "friction": class_params[c].friction if c in class_params else None,
+            "source": class_params[c].source if c in class_params else None,
         }
         for c in (list(class_params) + [c for c in shown_classes if c not in class_params])
     ]
@@ -377,13 +383,14 @@ def real_section(
         "replay_figs": replay_figs,
         "replay_notes": replay_notes,
         "limits_classes": limits_classes,
-        "dataset": (rd.get("dataset") or (acc or {}).get("dataset")),
+        "dataset": (rd.dataset or (acc or {}).get("dataset")),
         "dataset_text": prov.get("dataset"),
         "scored_set": scored_set,
-        "window": rd.get("window"),
-        "segment_rules": rd.get("segment_rules") or {},
+        "window": rd.window,
+        "segment_rules": rd.segment_rules.model_dump(mode="json") if rd.segment_rules else {},
         "n_small": n_small,
         "stats": stats,
-        "replay_wanted": bool((params.get("accuracy") or {}).get("replay")),
-        "datasets": datasets(data, params),
+        # a dataset folder was given (the plan states its dataset): its replay's results were wanted
+        "replay_wanted": rd.datasets.replay is not None,
+        "datasets": datasets(data, rd.datasets),
     }

@@ -4,14 +4,18 @@ per-test table; a reader needs these to judge what the comparison rests on."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from typing import Any
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 
 from simpick.report.load import ReportData
 from simpick.report.real.common import (
     SET_TITLES,
     _isnan,
 )
+
+if TYPE_CHECKING:
+    from simpick.real.settings import DeclaredRates
+    from simpick.report.params import ShownDatasets
 
 
 def _hz_range(values: Sequence[float]) -> str | None:
@@ -23,27 +27,26 @@ def _hz_range(values: Sequence[float]) -> str | None:
     return f"{lo} Hz" if lo == hi else f"{lo}–{hi} Hz"
 
 
-def _declared_text(declared: Mapping[str, Any] | None) -> str | None:
-    declared = declared or {}
+def _declared_text(declared: DeclaredRates) -> str | None:
     parts = [
-        f"{what} {float(declared[key]):g} Hz"
-        for key, what in (("imu_hz", "IMU"), ("commands_hz", "wheels"))
-        if declared.get(key)
+        f"{what} {rate:g} Hz" for rate, what in ((declared.imu_hz, "IMU"), (declared.commands_hz, "wheels")) if rate
     ]
     return ", ".join(parts) or None
 
 
-def datasets(data: ReportData, params: Mapping[str, Any]) -> list[dict[str, Any]]:
+def datasets(data: ReportData, declared: ShownDatasets) -> list[dict[str, Any]]:
     """Per real-data set: the dataset it comes from and its sample rates (measured, declared, and
     the simulated IMU's, which the comparison uses). Measured rates of the full replay come from
-    its canonical logs' meta; those of the committed segments from the table's provenance."""
-    declared = (params.get("real_data") or {}).get("datasets") or {}
+    its canonical logs' meta; those of the committed segments from the table's provenance. ``declared``:
+    each set's dataset as the plan states it."""
+    from simpick.report.params import ShownDataset
+
     rows = []
     if data.segments is not None:
-        d = declared.get("segments") or {}
+        d = declared.segments or ShownDataset()
         prov = data.segments_provenance or {}
         rates = prov.get("rates_hz") or {}
-        label = d.get("label") or (
+        label = d.label or (
             str(data.segments["dataset"].iloc[0]) if "dataset" in data.segments.columns and len(data.segments) else None
         )
         rows.append(
@@ -55,30 +58,31 @@ def datasets(data: ReportData, params: Mapping[str, Any]) -> list[dict[str, Any]
                 "n": f"{len(data.segments)} segments",
                 "imu": _hz_range(rates.get("imu") or []),
                 "commands": _hz_range(rates.get("commands") or []),
-                "declared": _declared_text(d.get("declared")),
-                "simulated": _hz_range([d["simulated_imu_hz"]] if d.get("simulated_imu_hz") else []),
+                "declared": _declared_text(d.declared),
+                "simulated": _hz_range([d.simulated_imu_hz] if d.simulated_imu_hz else []),
             }
         )
     replay = (data.real.get("replay") or {}).get("per_test")
     if replay is not None and "real_imu_hz" in replay:
         # the replay's per-test table carries each run's measured rates and each trace's IMU rate
         # (simpick.compare.real.replay_compare): the report reads no log or trace itself
-        d = declared.get("replay") or {}
+        d = declared.replay or ShownDataset()
         per_run = replay.drop_duplicates(["terrain_class", "run"])
         rows.append(
             {
                 "set": "replay",
                 "title": SET_TITLES["replay"],
-                "label": d.get("label") or d.get("name") or "(not named)",
-                "where": d.get("folder") or "",
+                "label": d.label or d.name or "(not named)",
+                "where": d.folder or "",
                 "n": f"{len(per_run)} runs",
                 "imu": _hz_range(per_run.real_imu_hz.dropna().tolist()),
                 "commands": _hz_range(per_run.real_commands_hz.dropna().tolist()),
-                "declared": _declared_text(d.get("declared")),
+                "declared": _declared_text(d.declared),
                 "simulated": _hz_range(replay.sim_imu_hz.dropna().tolist()),
             }
         )
-    for row, d in zip(rows, [declared.get(r["set"]) or {} for r in rows]):
-        stated = (d.get("declared") or {}).get("commands_hz")
+    for row in rows:
+        shown = getattr(declared, row["set"])  # the set's dataset: segments or replay, fields of ShownDatasets
+        stated = shown.declared.commands_hz if shown else None
         row["wheel_rate"] = row["commands"] or (f"{float(stated):g} Hz (declared)" if stated else None)
     return rows

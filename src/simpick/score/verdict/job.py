@@ -7,11 +7,15 @@ Reading and writing files stays here so that the statistics modules take and ret
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Annotated, Literal
 
 import pandas as pd
+from pydantic import Field
 
+from simpick.params import JobParams
 from simpick.score.equivalence import outcomes_table
 from simpick.score.mechanics import mechanics_table
+from simpick.score.settings import Statistics, Verdict
 from simpick.score.verdict.headings import heading_spread
 from simpick.score.verdict.paper import DISCRIMINATION_COLUMNS, score_discrimination
 from simpick.score.verdict.runs import METRICS, NO_SPEED, metric_table, per_run_long, per_run_values
@@ -35,6 +39,20 @@ def read_per_test(path: str) -> pd.DataFrame:
     return tests
 
 
+class VerdictParams(JobParams):
+    """What rule verdict's job reads: the engines judged, the reference models that floor the paper's scores,
+    the statistics, the seed, the accuracy scores' set and the verdict's margins and mechanics (no weight)."""
+
+    engines: list[str]
+    baselines: list[str] = Field([], description="the reference models (a floor under the paper's scores)")
+    statistics: Statistics
+    seed: Annotated[int, Field(ge=0, lt=2**32)]
+    accuracy_set: Literal["lab", "segments", "replay", "own"] = Field(
+        description="the set of tests the accuracy scores rest on (lab: the paper's, no discrimination)"
+    )
+    verdict: Verdict
+
+
 def verdict_job(inputs: dict, params: dict, outputs: dict) -> None:
     """results/verdict/: per-run metrics, the metric x model table (each engine against the next),
     each engine against the best (outcomes.csv: simpick.score.equivalence) with the mechanics gate
@@ -44,11 +62,11 @@ def verdict_job(inputs: dict, params: dict, outputs: dict) -> None:
 
     ``inputs``: ``per_test`` (the verdict's real data), ``validation`` (the validation summary),
     ``accuracy_tests`` and ``accuracy_errors`` (the accuracy scores' per-test table and Eq. 7
-    totals); ``params``: engines, baselines, statistics, seed, ``accuracy_set`` (lab, segments,
-    replay or own) and ``verdict`` (the config's margins and mechanics)."""
-    statistics = params.get("statistics")
-    engines, floor_models = list(params["engines"]), list(params.get("baselines") or [])
-    seed = int(params.get("seed", 0))
+    totals); ``params``: :class:`VerdictParams`."""
+    p = VerdictParams.model_validate(params)
+    # the statistics modules (simpick.score.equivalence, .verdict) read these as mappings
+    statistics, verdict = p.statistics.model_dump(mode="json"), p.verdict.model_dump(mode="json")
+    engines, floor_models, seed = list(p.engines), list(p.baselines), p.seed
     tests = read_per_test(inputs["per_test"])
     walls = {metric: per_run_values(tests, metric) for metric in METRICS}
     write_csv(per_run_long(walls), outputs["metrics"])
@@ -59,11 +77,11 @@ def verdict_job(inputs: dict, params: dict, outputs: dict) -> None:
     mechanics = mechanics_table(pd.read_csv(inputs["validation"]), engines)
     write_csv(mechanics, outputs["mechanics"])
     absent = {"speed_error": NO_SPEED}
-    outcomes = outcomes_table(walls, tests, engines, METRICS, mechanics, params["verdict"], statistics, seed, absent)
+    outcomes = outcomes_table(walls, tests, engines, METRICS, mechanics, verdict, statistics, seed, absent)
     write_csv(outcomes, outputs["outcomes"])
 
     disc = pd.DataFrame(columns=DISCRIMINATION_COLUMNS)
-    if params.get("accuracy_set") not in (None, "lab") and Path(inputs["accuracy_tests"]).is_file():
+    if p.accuracy_set != "lab" and Path(inputs["accuracy_tests"]).is_file():
         acc_per_test = read_per_test(inputs["accuracy_tests"])
         scored = [e for e in engines if e in set(acc_per_test.engine)]
         if len(acc_per_test) and scored:
