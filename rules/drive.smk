@@ -92,7 +92,7 @@ if SETTINGS.drive_dir:
         resources:
             runtime=120,
         params:
-            case=lambda wc: DRIVE_SOURCE.case_params(PLAN.config, "drive", DRIVE_SPEC, wc.model, wc.session, []),
+            case=lambda wc: PLAN.drive_replay_params(wc.model, wc.session),
             code=lambda wc: PLAN.script_code("drive_replay", *PLAN.engine_modules(wc.model)),
         script:
             "../scripts/drive_replay.py"
