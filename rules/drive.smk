@@ -38,8 +38,8 @@ if SETTINGS.drive_dir:
     try:
         # simulator profiles replay DRIVE only with simulators.drive: each adds its engine's replay time
         DRIVE_MODELS = DRIVE_SOURCE.models(
-            PLAN.config["drive_replay"]["models"],
-            [m for m in PLAN.real_models if PLAN.config["simulators"]["drive"] or m not in PLAN.profiles],
+            SETTINGS.drive_replay.models,
+            [m for m in PLAN.real_models if SETTINGS.simulators.drive or m not in PLAN.profiles],
             PLAN.unavailable,
         )
     except InputError as _exc:

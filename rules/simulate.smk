@@ -43,7 +43,7 @@ for _rule, _outputs, _fixed in PLAN.simulate_units():
 
 rule cpu_load:
     input:
-        terrain=f"results/terrains/{PLAN.config['cpu_load']['terrain']}.json",
+        terrain=f"results/terrains/{SETTINGS.cpu_load.terrain}.json",
         urdf=PLAN.config["robot"]["urdf"],
     output:
         "results/cpu/{engine}.json",
