@@ -38,8 +38,8 @@ if SETTINGS.drive_dir:
     try:
         # simulator profiles replay DRIVE only with simulators.drive: each adds its engine's replay time
         DRIVE_MODELS = DRIVE_SOURCE.models(
-            PLAN.config["drive_replay"]["models"],
-            [m for m in PLAN.real_models if PLAN.config["simulators"]["drive"] or m not in PLAN.profiles],
+            SETTINGS.drive_replay.models,
+            [m for m in PLAN.real_models if SETTINGS.simulators.drive or m not in PLAN.profiles],
             PLAN.unavailable,
         )
     except InputError as _exc:
@@ -92,7 +92,7 @@ if SETTINGS.drive_dir:
         resources:
             runtime=120,
         params:
-            case=lambda wc: DRIVE_SOURCE.case_params(PLAN.config, "drive", DRIVE_SPEC, wc.model, wc.session, []),
+            case=lambda wc: PLAN.drive_replay_params(wc.model, wc.session),
             code=lambda wc: PLAN.script_code("drive_replay", *PLAN.engine_modules(wc.model)),
         script:
             "../scripts/drive_replay.py"

@@ -26,7 +26,7 @@ rule compare:
         runtime=30,
     params:
         kind=lambda wc: PLAN.source_of(wc.source).DRIVEN,
-        settings=lambda wc: PLAN.compare_settings(wc.source),
+        settings=lambda wc: PLAN.compare_params(wc.source),
         code=lambda wc: PLAN.compare_code(wc.source),
     script:
         "../scripts/compare.py"
@@ -54,7 +54,7 @@ rule summarise:
         mem_mb=400,
         runtime=10,
     params:
-        settings=lambda wc: PLAN.summarise_settings(wc.source),
+        settings=lambda wc: PLAN.summarise_params(wc.source),
         code=PLAN.script_code("summarise"),
     script:
         "../scripts/summarise.py"

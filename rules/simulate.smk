@@ -35,7 +35,7 @@ for _rule, _outputs, _fixed in PLAN.simulate_units():
             # each case is stopped by the watchdog at health.timeout (its hard fallback 30 s later)
             runtime=lambda wc, fixed=_fixed: PLAN.simulate_runtime(len(PLAN.unit(wc, fixed)[3])),
         params:
-            case=lambda wc, fixed=_fixed: PLAN.case_params(*PLAN.unit(wc, fixed)),
+            case=lambda wc, fixed=_fixed: PLAN.simulate_params(*PLAN.unit(wc, fixed)),
             code=lambda wc, fixed=_fixed: PLAN.case_code(PLAN.unit(wc, fixed)[0], wc.engine),
         script:
             "../scripts/simulate.py"
@@ -43,7 +43,7 @@ for _rule, _outputs, _fixed in PLAN.simulate_units():
 
 rule cpu_load:
     input:
-        terrain=f"results/terrains/{PLAN.config['cpu_load']['terrain']}.json",
+        terrain=f"results/terrains/{SETTINGS.cpu_load.terrain}.json",
         urdf=PLAN.config["robot"]["urdf"],
     output:
         "results/cpu/{engine}.json",

@@ -191,7 +191,8 @@ def test_a_step_is_a_case_of_the_generic_simulate_and_compare_jobs(tmp_path, asp
     asphalt["cases"].to_csv(files["cases"], index=False)
     asphalt["steps"].to_csv(files["steps"], index=False)
     asphalt["wheels"].to_parquet(tmp_path / "wheels.parquet")
-    params = p | {
+    # a steps unit's params (simpick.simulate.steps.StepUnitParams): every class's ground, none of its own
+    params = {k: v for k, v in p.items() if k not in ("terrain_class", "class")} | {
         "classes": {"asphalt": p["class"]},
         "replay": {"warmup": 3.0},
         "kind": "steps",
@@ -372,7 +373,9 @@ def test_a_session_on_a_terrain_without_a_ground_model_is_refused_in_one_line(tm
     tables = {"cases": str(tmp_path / "cases.csv"), "wheels": str(tmp_path / "wheels.parquet")}
     write_tables(open_drive(asphalt["folder"]), tables)
     config = warthog_config(tmp_path)
-    params = params_of(config, "mujoco", "asphalt") | {
+    # a session's params (simpick.simulate.steps.SessionReplayParams): every class's ground, none of its own
+    params = {k: v for k, v in params_of(config, "mujoco", "asphalt").items() if k not in ("terrain_class", "class")}
+    params |= {
         "classes": {"snow": {"friction": 0.2, "source": "x"}},
         "replay": {"every": 5, "max_steps_per_session": 1, "warmup": 3.0},
         "session": ASPHALT,

@@ -12,9 +12,12 @@ import pytest
 from pydantic import ValidationError
 
 from conftest import ROOT, study_config, tiny_config, write_dataset
+from simpick.compare.kinds import SETTINGS as COMPARE_SETTINGS
+from simpick.compare.settings import SummariseSettings
 from simpick.config import Study
 from simpick.plan import Plan, PlanError
 from simpick.plan.jobs import job_params
+from simpick.plan.sources import BATCHED
 from simpick.real.jobs import ImportParams, SegmentsParams
 from simpick.real.turning import TurningParams
 from simpick.report import draw
@@ -25,7 +28,10 @@ from simpick.score.steps import CompareParams
 from simpick.score.verdict.job import VerdictParams
 from simpick.simulate.cpuload import CpuLoadParams
 from simpick.simulate.lab import LabCaseParams
-from simpick.sources.base import canonical
+from simpick.simulate.real import RealUnitParams
+from simpick.simulate.steps import SessionReplayParams
+from simpick.sources import module as source_module
+from simpick.sources.base import canonical, model_settings
 from simpick.studies import turnmap
 from simpick.studies.calibration.settings import EvaluateSettings, SearchSettings
 from simpick.studies.calibration.steps import StepCalibrateParams, StepSummaryParams
@@ -35,6 +41,43 @@ from simpick.studies.validation import job as validation_job
 
 def plan_of(config: dict) -> Plan:
     return Plan(config, Study.model_validate(config), basedir=str(ROOT))
+
+
+def real_units(kind: str):
+    """A real-data kind's simulate params: the plan's (simulate_params) for each source of the kind it has, else,
+    where it has none (no dataset folder, another robot than the committed segments'), its source module's for
+    every real model and terrain class."""
+
+    def params_of(plan: Plan) -> list[dict]:
+        sources = [s for s in plan.sources if plan.sources[s]["kind"] == kind and plan.sources[s]["cases"]]
+        if sources:
+            units = []
+            for s in sources:
+                groups: dict[str, list[str]] = {}
+                for group, name in plan.sources[s]["cases"]:
+                    groups.setdefault(group, []).append(name)
+                # a batched source's unit is a group's cases (simpick.plan.sources.BATCHED), another's one case
+                batched = s in BATCHED
+                units += [(s, g, names if batched else [n]) for g, names in groups.items() for n in names[:1]]
+            return [plan.simulate_params(s, m, g, names) for s, g, names in units for m in plan.sources[s]["models"]]
+        module = source_module(kind)
+        return [
+            module.case_params(plan.settings, kind, {}, m, plan.model_settings(m), c, ["a-case"])
+            for m in plan.real_models
+            for c in plan.settings.real_data.classes
+        ]
+
+    return params_of
+
+
+def compare_settings_of(kind: str):
+    """Rule compare's settings for each source of a driven kind in the plan, else the kind's source module's."""
+
+    def params_of(plan: Plan) -> list[dict]:
+        found = [plan.compare_params(s) for s in plan.sources if plan.source_of(s).DRIVEN == kind]
+        return found or [canonical(source_module(kind).compare_settings(plan.settings))]
+
+    return params_of
 
 
 # rule -> (the job's model, the params of each of its jobs in a plan)
@@ -88,6 +131,17 @@ CONVERTED = {
             plan.case_params("lab", e, t, [m]) for e in plan.engines for t in plan.terrains for m in plan.motions
         ],
     ),
+    # the real-data simulate jobs (simpick.simulate.jobs.PARAMS), DRIVE's replay, the comparisons and summaries
+    "simulate (segments)": (RealUnitParams, real_units("segments")),
+    "simulate (replay)": (RealUnitParams, real_units("replay")),
+    "drive_replay": (
+        SessionReplayParams,
+        lambda plan: [plan.drive_replay_params(m, "a-session") for m in plan.real_models],
+    ),
+    "compare (lab)": (COMPARE_SETTINGS["lab"], compare_settings_of("lab")),
+    "compare (segments)": (COMPARE_SETTINGS["segments"], compare_settings_of("segments")),
+    "compare (replay)": (COMPARE_SETTINGS["replay"], compare_settings_of("replay")),
+    "summarise": (SummariseSettings, lambda plan: [plan.summarise_params(s) for s in plan.sources]),
 }
 
 
@@ -311,9 +365,7 @@ def test_the_job_models_below_the_config_agree_with_its_sections():
     def shape(field):
         return (repr(field.annotation), field.default, repr(field.metadata), field.description)
 
-    assert {k: shape(f) for k, f in DriveReplay.model_fields.items()} == {
-        k: shape(f) for k, f in StepReplay.model_fields.items()
-    }
+    assert issubclass(DriveReplay, StepReplay) and set(DriveReplay.model_fields) == set(StepReplay.model_fields)
     assert shape(Calibration.model_fields["test_fraction"]) == shape(CalibrationSplit.model_fields["test_fraction"])
 
 
@@ -383,3 +435,68 @@ def test_the_benchmark_s_page_params_validate_against_its_job_s_model():
     typed = RobotsParams.model_validate(params)
     assert [r.name for r in typed.robots] == list(robots) and typed.pooling.min_robots == pooling["min_robots"]
     assert typed.model_dump(mode="json") == params
+
+
+# --- the simulate, compare and summarise families and DRIVE's replay: typed, their params unchanged ---
+
+
+def test_the_real_data_simulate_params_are_what_they_were_before_typing(default_plan, replay_plan):
+    """A segments or replay unit's params, validated at planning, are passed exactly as before typing (the same
+    content in the same key order: their repr is what Snakemake fingerprints), so no trace is simulated again."""
+    for plan, source in ((default_plan, "segments"), (replay_plan, "yard")):
+        config = plan.config
+        group, name = plan.sources[source]["cases"][0]
+        names = plan.segments[group] if source == "segments" else [name]
+        for model in plan.sources[source]["models"]:
+            before = canonical(
+                {
+                    "engine": model,
+                    "engine_settings": model_settings(config, model),
+                    "physics": config["physics"],
+                    "robot": {k: v for k, v in config["robot"].items() if k != "urdf"},
+                    "imu": config["imu"],
+                    "health": config["health"],
+                    "seed": config["seed"],
+                }
+            ) | canonical({"terrain_class": group, "class": config["real_data"]["classes"][group]})
+            before |= {"kind": plan.sources[source]["kind"], "source": source, "cases": names}
+            params = plan.simulate_params(source, model, group, names)
+            assert repr(params) == repr(before), (source, model)
+            RealUnitParams.model_validate(params)
+
+
+def test_the_drive_replay_params_are_what_they_were_before_typing(default_plan, robot_plan):
+    """Built from the typed study, they equal, repr and all, what rules/drive.smk passed before (the DRIVE
+    source module's case_params): no session is replayed again."""
+    for plan in (default_plan, robot_plan):
+        for model in plan.real_models:
+            before = source_module("drive").case_params(plan.config, "drive", {}, model, "a-session", [])
+            assert repr(plan.drive_replay_params(model, "a-session")) == repr(before), model
+
+
+def test_the_compare_and_summarise_settings_are_what_they_were_before_typing(default_plan, replay_plan):
+    for plan in (default_plan, replay_plan):
+        for source in plan.sources:
+            assert repr(plan.compare_params(source)) == repr(plan.compare_settings(source)), source
+            assert repr(plan.summarise_params(source)) == repr(plan.summarise_settings(source)), source
+
+
+def test_a_replay_s_noise_seed_is_the_plain_params_one(replay_plan):
+    """The jobs hashed the params' seed as the plan gives it (a float) into a replay's noise seed; read typed
+    (an int), it is hashed as that float still, so a replayed trace's noise is unchanged."""
+    from simpick.seeds import stable_seed
+    from simpick.simulate.real import noise_seed_of
+
+    group, name = replay_plan.sources["yard"]["cases"][0]
+    params = replay_plan.simulate_params("yard", "mujoco", group, [name])
+    typed = RealUnitParams.model_validate(params)
+    assert isinstance(typed.seed, int) and isinstance(params["seed"], float)
+    assert noise_seed_of(typed, "mujoco", name) == stable_seed(params["seed"], "mujoco", name)
+
+
+def test_a_unit_s_params_the_plan_and_its_kind_s_model_disagree_on_stop_the_planning(default_plan, monkeypatch):
+    group = next(iter(default_plan.segments))
+    good = default_plan.case_params("segments", "mujoco", group, default_plan.segments[group])
+    monkeypatch.setattr(type(default_plan), "case_params", lambda *args: {k: v for k, v in good.items() if k != "seed"})
+    with pytest.raises(PlanError, match=r"simulate \(segments\): .*RealUnitParams.*seed"):
+        default_plan.simulate_params("segments", "mujoco", group, default_plan.segments[group])

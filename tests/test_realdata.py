@@ -87,12 +87,12 @@ def test_replay_of_a_straight_run_covers_the_recorded_distance(engine):
         "engine": engine,
         "engine_settings": CONFIG["engines"][engine],
         "physics": CONFIG["physics"],
-        "robot": CONFIG["robot"],
+        "robot": {k: v for k, v in CONFIG["robot"].items() if k != "urdf"},  # the job's input, not a param
         "imu": CONFIG["imu"],
         "health": CONFIG["health"],
         "seed": 1,
         "terrain_class": "flooring",
-        "class": {"friction": 0.9},
+        "class": {"friction": 0.9, "source": "the test's"},
     }
     frame, meta = replay_log(log, str(ROOT / CONFIG["robot"]["urdf"]), params, duration=duration)
     assert meta["health"]["status"] == "ok", meta["health"]
@@ -446,7 +446,7 @@ def test_a_replay_starts_from_its_seeded_heading_and_records_it():
         "engine": "kinematic",
         "engine_settings": {"track": 0.555},
         "terrain_class": "flooring",
-        "class": {"friction": 0.6},
+        "class": {"friction": 0.6, "source": "the test's"},
         "physics": {"timestep": 0.002, "ground_friction": 0.6},
         "robot": {"track": 0.555, "max_wheel_torque": 100.0},
         "imu": CONFIG["imu"],

@@ -232,7 +232,9 @@ def test_the_sweep_at_the_studys_timestep_gives_the_segments_sources_figures(tmp
     table = table[table.terrain_class == "flooring"].assign(duration=1.0)  # 4 segments of 2 runs
     table.to_csv(tmp_path / "segments.csv", index=False)
     inputs = {"segments": str(tmp_path / "segments.csv"), "urdf": config["robot"]["urdf"]}
-    settings, statistics = {"track": config["robot"]["track"]}, {"min_runs": 2, "level": 0.9}
+    # intervals from 2 runs, at a level a 2-run sign-flip test can reach (the summarise job's Statistics refuses
+    # one it cannot: simpick.compare.settings)
+    settings, statistics = {"track": config["robot"]["track"]}, {"min_runs": 2, "level": 0.4}
     names = list(table.segment)
     traces = {}
     for model in ("mujoco", "coulomb"):

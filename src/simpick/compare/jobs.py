@@ -9,6 +9,7 @@ import pandas as pd
 from simpick.compare import metrics
 from simpick.compare.kinds import BY_KIND
 from simpick.compare.real import class_verdicts, pairwise_table, summary_table
+from simpick.compare.settings import SummariseSettings
 from simpick.tables import write_csv
 
 
@@ -26,11 +27,13 @@ def compare_job(kind: str, traces: list[str], inputs: dict, params: dict, output
 
 
 def summarise_job(per_test: str, runs: str, params: dict, outputs: dict[str, str]) -> None:
-    """A source's per-test rows summed and summarised (:func:`source_tables`), each table written
-    to its ``outputs`` entry."""
+    """A source's per-test rows summed and summarised (:func:`source_tables`; :class:`SummariseSettings`: the
+    group column and the statistics), each table written to its ``outputs`` entry."""
+    p = SummariseSettings.model_validate(params)
     tests = pd.read_csv(per_test, dtype={"run": str, "test": str})
     run_table = pd.read_csv(runs, dtype={"terrain": str, "motion": str, "test": str})
-    for name, table in source_tables(tests, run_table, params["group"], params.get("statistics")).items():
+    statistics = None if p.statistics is None else p.statistics.model_dump()
+    for name, table in source_tables(tests, run_table, p.group, statistics).items():
         write_csv(table, outputs[name])
 
 

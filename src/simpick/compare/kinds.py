@@ -11,6 +11,7 @@ import pandas as pd
 from simpick.compare import metrics
 from simpick.compare.real import replay_compare, segment_compare
 from simpick.compare.rows import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, case_test, run_row
+from simpick.compare.settings import NoSettings, ReplaySettings, SegmentSettings
 from simpick.compare.steps import step_errors
 from simpick.inputs.published import load_published
 from simpick.inputs.reference import lab_reference
@@ -34,7 +35,8 @@ PER_TEST_COLUMNS = [
 def compare_lab(traces: list[str], inputs: dict, params: dict):
     """The lab tests against the paper's real statistics (simpick.inputs.reference, ``inputs["published"]``):
     per engine, test, quantity and axis (``detail``), and Eq. 7 per test where the paper has a
-    reference (``per_test``; a failed run of such a test is a failed row)."""
+    reference (``per_test``; a failed run of such a test is a failed row). No settings (:class:`NoSettings`)."""
+    NoSettings.model_validate(params)
     reference = lab_reference(load_published(inputs["published"]))
     detail, per_test, runs = [], [], []
     for path in traces:
@@ -73,8 +75,9 @@ def compare_lab(traces: list[str], inputs: dict, params: dict):
 
 
 def compare_segments(traces: list[str], inputs: dict, params: dict):
-    """Every simulated segment against its real window statistics (simpick.compare.real.segment_compare)."""
-    return segment_compare(inputs["segments"], traces, params["track"])
+    """Every simulated segment against its real window statistics (simpick.compare.real.segment_compare;
+    :class:`SegmentSettings`: the track)."""
+    return segment_compare(inputs["segments"], traces, SegmentSettings.model_validate(params).track)
 
 
 def compare_replay(traces: list[str], inputs: dict, params: dict):
@@ -86,7 +89,9 @@ def compare_steps(traces: list[str], inputs: dict, params: dict):
     """Every replayed step unit (traces of simpick.simulate.steps.prepare_step) against the real robot over
     its steady part (simpick.compare.steps.step_errors: the reader's case table ``inputs["cases"]`` and step
     table ``inputs["steps"]``): ``per_test`` the per-step errors (a metric a unit does not carry is NaN),
-    ``detail`` the replayed step rows they rest on, ``runs`` each trace's timing and health."""
+    ``detail`` the replayed step rows they rest on, ``runs`` each trace's timing and health. No settings
+    (:class:`NoSettings`)."""
+    NoSettings.model_validate(params)
     cases = pd.read_csv(inputs["cases"])
     by_case = cases.set_index("case", drop=False)
     rows, runs = [], []
@@ -105,3 +110,5 @@ def compare_steps(traces: list[str], inputs: dict, params: dict):
 
 # kind -> its comparison: (per_test, detail, runs) tables
 BY_KIND = {"lab": compare_lab, "segments": compare_segments, "replay": compare_replay, "steps": compare_steps}
+# kind -> the settings its comparison reads (rule compare's ``settings``, the source module's compare_settings)
+SETTINGS = {"lab": NoSettings, "segments": SegmentSettings, "replay": ReplaySettings, "steps": NoSettings}

@@ -11,6 +11,7 @@ import pandas as pd
 from simpick.compare import metrics, realmetrics
 from simpick.compare.metrics import AXES
 from simpick.compare.rows import DETAIL_COLUMNS, RUN_COLUMNS, axis_rows, run_row
+from simpick.compare.settings import ReplaySettings
 from simpick.real.logs import read_canonical
 from simpick.real.segments import load_segments
 from simpick.simulate.traces import read_trace
@@ -163,10 +164,11 @@ REPLAY_TEST_COLUMNS = [
 
 
 def replay_compare(logs: list[str], traces: list[str], params: dict):
-    """Every replay trace against its real log, window by window: Eq. 7 errors, yaw-rate gains,
-    aligned errors, PSD distance (the per-window rows), summed per run (the per-test rows: one
-    test = one run), and each trace's run row."""
-    track, window_s = params["track"], params["window"]
+    """Every replay trace against its real log, window by window (:class:`ReplaySettings`: the track, the
+    window's length): Eq. 7 errors, yaw-rate gains, aligned errors, PSD distance (the per-window rows),
+    summed per run (the per-test rows: one test = one run), and each trace's run row."""
+    settings = ReplaySettings.model_validate(params)
+    track, window_s = settings.track, settings.window
     real = {}
     for path in logs:
         log = read_canonical(path)

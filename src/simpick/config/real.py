@@ -8,7 +8,7 @@ from typing import Annotated, Any, Literal
 from pydantic import Field, model_validator
 
 from simpick.config.base import Positive, Strict
-from simpick.real.settings import DeclaredRates, SegmentRules, TerrainClass
+from simpick.real.settings import DeclaredRates, SegmentRules, StepReplay, TerrainClass
 
 
 class DriveSession(Strict):
@@ -20,26 +20,10 @@ class DriveSession(Strict):
     )
 
 
-class DriveReplay(Strict):
+# how the steps are replayed is defined once, below the config, for the replay and calibration jobs that read it
+# (simpick.real.settings)
+class DriveReplay(StepReplay):
     """How the DRIVE steps are replayed in the engines (rules/drive.smk, simpick.simulate.steps)."""
-
-    models: list[str] | None = Field(
-        None, description="the engines and reference models that replay the steps; default: every configured one"
-    )
-    every: Annotated[int, Field(ge=1)] = Field(
-        1, description="replay every N-th step of each session, counted from step 1 (1: every step)"
-    )
-    max_steps_per_session: Annotated[int, Field(ge=1)] | None = Field(
-        None, description="at most this many of those steps per session, the earliest (None: no limit)"
-    )
-    warmup: Annotated[float, Field(gt=0, le=20)] = Field(
-        3.0,
-        description="s driven at the real robot's wheel speeds before each step (the first 1 s a ramp from rest), "
-        "to reach the engine's own steady state for them",
-    )
-    unit: Literal["step", "session"] = Field(
-        "step", description="the verdict's unit of pairing: each step, or each session (its steps averaged)"
-    )
 
 
 # the declared rates are defined once, with what the import job reads (simpick.real.settings.DeclaredRates)

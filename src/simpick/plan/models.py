@@ -8,6 +8,8 @@ failed) or folds a profile into the engine or profile whose settings it repeats 
 
 from __future__ import annotations
 
+import importlib
+
 from simpick.engines import get_engine, unavailable
 from simpick.engines.catalog import load_catalog
 from simpick.engines.simulators import MODEL_SETTINGS, engine_of, model_name
@@ -33,40 +35,49 @@ class ModelPlanning:
 
     def __init__(self):
         config = self.config
+        # The configured engines are the plain settings' engines block (simpick.config.load.plain: the configured
+        # entries in the config's order, each with its adapter's settings in full), keyed by engine name; the
+        # typed study's block has a field for every known adapter, and its set of configured ones no order.
+        configured = config["engines"]  # keyed by engine name, in the config's order (above)
         # Engines this machine cannot run (simpick.engines.unavailable: not installed): the study
         # runs without them, and its report lists them.
-        self.unavailable = {e: why + _build_failure(e) for e, why in unavailable(config["engines"]).items()}
-        self.engines = [e for e in config["engines"] if e not in self.unavailable]
+        self.unavailable = {e: why + _build_failure(e) for e, why in unavailable(configured).items()}
+        self.engines = [e for e in configured if e not in self.unavailable]
         if not self.engines:
             raise PlanError(f"none of the configured engines can run here: {self.unavailable}")
         # Simulators as rows (simpick.engines.simulators): each simulator's profiles whose engine this study runs,
         # as models of their own. They run the validation and every real-data source like an engine, never
         # the lab scenario or the CPU load (their engine's figures), and their settings are the catalog's.
-        self.catalog = load_catalog(config["simulators"]["catalog"])
+        simulators = self.settings.simulators
+        self.catalog = load_catalog(simulators.catalog)
         self.simulators, self.simulators_left_out = self._simulators()
-        config["profiles"] = {
+        # the profiles' full settings, keyed by profile name, join the plain settings beside the engines' block
+        # (simpick.sources.base.model_settings reads a model's settings there): no section of the typed study
+        # holds them
+        config["profiles"] = {  # keyed by profile name: the plan's own settings (above)
             model_name(sim, variant): self._profile_settings(sim, variant)
             for sim in self.simulators
-            for variant in config["simulators"]["variants"]
+            for variant in simulators.variants
         }
         # A profile whose settings are exactly its engine's in this study (MuJoCo and Drake as tuned: every
         # setting simpick's engine block makes is an MJCF attribute or a Drake tag) runs nothing of its own:
         # its figures are the engine's, the same traces (a run is deterministic in its settings).
         # The same holds between profiles: a tuned profile the search left at its shipped settings reads those.
         self.profile_results = {}
-        for p, settings in config["profiles"].items():
+        profiles = config["profiles"]  # keyed by profile name (set above)
+        for p, settings in profiles.items():
             same = [
                 m
                 for m, s in [
-                    (engine_of(p), config["engines"].get(engine_of(p))),
-                    *((q, config["profiles"][q]) for q in self.profile_results if self.profile_results[q] == q),
+                    (engine_of(p), configured.get(engine_of(p))),
+                    *((q, profiles[q]) for q in self.profile_results if self.profile_results[q] == q),
                 ]
                 if s == settings
             ]
             self.profile_results[p] = same[0] if same else p
         self.profiles = [p for p, model in self.profile_results.items() if model == p]
         # Reference models (kinematic, coulomb) join the real-data comparison only, never the scores.
-        self.baselines = list(config.get("baselines") or {})
+        self.baselines = list(config["baselines"])  # keyed by reference model, in the config's order (plain)
         self.real_models = self.engines + self.profiles + self.baselines
         self.validated = self.engines + self.profiles
 
@@ -74,14 +85,14 @@ class ModelPlanning:
         """A profile's full adapter settings: the adapter's defaults, the study's robot-model settings of that
         engine (its wheel actuators: simpick.engines.simulators.MODEL_SETTINGS), then the catalog's profile."""
         engine = engine_of(model_name(simulator, variant))
-        block = self.config["engines"].get(engine) or {}
+        block = self.config["engines"].get(engine) or {}  # keyed by engine name: its full settings (plain)
         model = {k: value for k, value in block.items() if k in MODEL_SETTINGS.get(engine, ())}
         settings = model | self.catalog.settings(simulator, variant, self.robot.name)
         return get_engine(engine).settings_model.model_validate(settings).model_dump(mode="json")
 
     def _simulators(self):
         """(simulators whose profiles run, {simulator: why not} for the catalog's others)."""
-        wanted = self.config["simulators"]["run"]
+        wanted = self.settings.simulators.run
         run, out = [], {}
         for name, sim in self.catalog.simulators.items():
             if wanted is not None and name not in wanted:
@@ -95,3 +106,60 @@ class ModelPlanning:
             else:
                 run.append(name)
         return run, out
+
+    # --- the params of the jobs that simulate or compare a source's cases, validated against their jobs' models
+    # (simpick.simulate, simpick.compare) ---
+
+    def simulate_params(self, source: str, engine: str, group: str, names: list[str]) -> dict:
+        """A simulate job's params (its source module's, :meth:`case_params`), validated against its kind's
+        model (:data:`simpick.simulate.jobs.PARAMS`) and passed as the source module builds them: their keys in
+        its order, which their repr, Snakemake's fingerprint, shows (a canonical dump would reorder them and so
+        rerun every simulation)."""
+        from simpick.plan.jobs import job_params
+        from simpick.simulate.jobs import PARAMS
+
+        params = self.case_params(source, engine, group, names)
+        module, _, name = PARAMS[self.source_of(source).DRIVEN].partition(":")
+        job_params(f"simulate ({source})", getattr(importlib.import_module(module), name), params)
+        return params
+
+    def compare_params(self, source: str) -> dict:
+        """Rule compare's settings for a source: its module's compare settings, validated against what its kind's
+        comparison reads (:data:`simpick.compare.kinds.SETTINGS`)."""
+        from simpick.compare.kinds import SETTINGS
+        from simpick.plan.jobs import job_params
+
+        model = SETTINGS[self.source_of(source).DRIVEN]
+        return job_params("compare", model, self.compare_settings(source))
+
+    def summarise_params(self, source: str) -> dict:
+        """Rule summarise's settings for a source: its group column and the statistics
+        (:class:`simpick.compare.settings.SummariseSettings`)."""
+        from simpick.compare.settings import SummariseSettings
+        from simpick.plan.jobs import job_params
+
+        data = {"group": self.sources[source]["group"], "statistics": self.settings.statistics.model_dump()}
+        return job_params("summarise", SummariseSettings, data)
+
+    def drive_replay_params(self, model: str, session: str) -> dict:
+        """Rule drive_replay's params (:class:`simpick.simulate.steps.SessionReplayParams`): what every
+        simulation on the model reads, every terrain class's ground, how the steps are replayed (the whole
+        ``drive_replay`` section, as the jobs have always been given it) and the session."""
+        from simpick.plan.jobs import job_params
+        from simpick.simulate.steps import SessionReplayParams
+        from simpick.sources.base import model_settings
+
+        study = self.settings
+        data = {
+            "engine": model,
+            "engine_settings": model_settings(self.config, model),
+            "physics": study.physics.model_dump(mode="json"),
+            "robot": self._robot(),
+            "imu": study.imu.model_dump(mode="json"),
+            "health": study.health.model_dump(mode="json"),
+            "seed": study.seed,
+            "classes": {name: c.model_dump(mode="json") for name, c in study.real_data.classes.items()},
+            "replay": study.drive_replay.model_dump(mode="json"),
+            "session": session,
+        }
+        return job_params("drive_replay", SessionReplayParams, data)

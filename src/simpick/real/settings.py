@@ -57,9 +57,10 @@ class SegmentRules(SteadyRules):
     )
 
 
-# the config's drive_replay section (simpick.config.real.DriveReplay) holds the same fields: the jobs that replay
-# step units are given that section whole, so this model is its form below the config (tests/test_job_params.py
-# checks that the two agree)
+# the config's drive_replay section is this model (simpick.config.real.DriveReplay subclasses it): the jobs that
+# replay step units are given that section whole, so it also holds which models replay the steps and the verdict's
+# unit of pairing, which no replay job reads (leaving them out would change every replay job's params, and Snakemake
+# would replay every session again)
 class StepReplay(JobParams):
     """How step units (DRIVE's steps) are replayed in the engines: which steps, from how long a warm-up."""
 

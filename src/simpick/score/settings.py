@@ -1,42 +1,16 @@
-"""How results are judged, as the jobs are given it: the statistics over independent real runs and the
-verdict's margins and mechanics gate. Defined here, in the score layer, so that the jobs read them typed; the
-config's sections (:mod:`simpick.config.verdict`) are these models, so each field has one definition."""
+"""How results are judged, as the jobs are given it: the statistics over independent real runs (defined with the
+comparison that applies them, :mod:`simpick.compare.settings`) and the verdict's margins and mechanics gate.
+Defined here, in the score layer, so that the jobs read them typed; the config's sections
+(:mod:`simpick.config.verdict`) are these models, so each field has one definition."""
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import Literal
 
 from pydantic import Field, model_validator
 
-from simpick.compare.realmetrics import LEVEL, MIN_RUNS
+from simpick.compare.settings import Statistics  # noqa: F401 - defined with the comparison that applies it
 from simpick.params import JobParams, Positive
-
-
-class Statistics(JobParams):
-    """How sure the real-data comparison may claim to be; the defaults are simpick.compare.realmetrics'
-    (MIN_RUNS, LEVEL: stated once, there, with their reasons)."""
-
-    min_runs: Annotated[int, Field(ge=2)] = Field(
-        MIN_RUNS,
-        description="independent real runs below which a group gets no interval and no verdict, only "
-        "'too few runs' (a sign-flip test over n runs cannot give p below 2/2^n)",
-    )
-    level: Annotated[float, Field(gt=0, lt=1)] = Field(
-        LEVEL, description="confidence of the BCa intervals; a verdict needs a sign-flip p below 1 - level"
-    )
-
-    @model_validator(mode="after")
-    def reachable(self):
-        from simpick.compare.realmetrics import smallest_p
-
-        if smallest_p(self.min_runs) >= 1 - self.level:
-            raise ValueError(
-                f"statistics.min_runs {self.min_runs}: a sign-flip test over {self.min_runs} runs "
-                f"cannot give p below {smallest_p(self.min_runs):.3g}, so no verdict could ever reach "
-                f"level {self.level:g}; use at least {_runs_for(self.level)}"
-            )
-        return self
-
 
 VERDICT_METRICS = ("gain_error", "heading_error", "speed_error")
 
@@ -100,12 +74,3 @@ class Verdict(JobParams):
         description="the validation case kinds each metric depends on: an engine failing "
         "one is shown with a flag and never named best on that metric",
     )
-
-
-def _runs_for(level: float) -> int:
-    from simpick.compare.realmetrics import smallest_p
-
-    n = 2
-    while smallest_p(n) >= 1 - level:
-        n += 1
-    return n

@@ -7,11 +7,12 @@ from __future__ import annotations
 import importlib
 import json
 import sys
+from collections.abc import Mapping
 from pathlib import Path
 
 from simpick.simulate.cpuload import hung_result, measure
 from simpick.simulate.health import HealthLimits
-from simpick.simulate.run import config_hash
+from simpick.simulate.run import UnitParams, config_hash, fields_of, simulation
 from simpick.simulate.traces import COLUMNS, write_trace
 from simpick.simulate.watchdog import DEFAULT_TIMEOUT_S, Watchdog, hung_reason
 
@@ -25,27 +26,37 @@ PREPARE = {
     "steps": "simpick.simulate.steps:prepare_step",
 }
 
+# What a unit of each kind reads (its PREPARE function's model), by name as PREPARE: the plan validates each
+# simulate job's params against it (simpick.plan.models.ModelPlanning.simulate_params).
+PARAMS = {
+    "lab": "simpick.simulate.lab:LabCaseParams",
+    "segments": "simpick.simulate.real:RealUnitParams",
+    "replay": "simpick.simulate.real:RealUnitParams",
+    "steps": "simpick.simulate.steps:StepUnitParams",
+}
+
 TRACE_KEYS = ("source", "test", "engine", "terrain", "motion", "dataset", "run", "segment", "window")
 
 
-def simulate_job(outputs: list[str], urdf: str, inputs: dict, params: dict, after_hung=None) -> list[dict]:
-    """A unit's cases (``params["cases"]``, one trace each in ``outputs``) on one model, each under
-    the watchdog: a case still running after ``health.timeout`` s of wall time is written as a
-    failed (hung) trace, and so are the unit's cases after it, which cannot run in the stopped
-    process; the source's compare job lists them like any failed run. ``params["kind"]`` says how
-    a case is driven (lab, segments, replay: its :data:`PREPARE` function, imported by name);
-    ``inputs`` holds the files it reads. ``after_hung``: called once the hung traces are
+def simulate_job(outputs: list[str], urdf: str, inputs: dict, params: Mapping, after_hung=None) -> list[dict]:
+    """A unit's cases (:class:`simpick.simulate.run.UnitParams`: ``cases``, one trace each in ``outputs``) on
+    one model, each under the watchdog: a case still running after ``health.timeout`` s of wall time is
+    written as a failed (hung) trace, and so are the unit's cases after it, which cannot run in the stopped
+    process; the source's compare job lists them like any failed run. ``kind`` says how a case is driven
+    (lab, segments, replay, steps: its :data:`PREPARE` function, imported by name, which reads the params as
+    its kind's model); ``inputs`` holds the files it reads. ``after_hung``: called once the hung traces are
     written, before the process ends (a job that compares its own traces, the sweep, does so then)."""
-    if len(outputs) != len(params["cases"]):
-        raise ValueError(f"{len(params['cases'])} cases for {len(outputs)} outputs")
-    module, _, function = PREPARE[params["kind"]].partition(":")
+    unit = fields_of(UnitParams, params)
+    if len(outputs) != len(unit.cases):
+        raise ValueError(f"{len(unit.cases)} cases for {len(outputs)} outputs")
+    module, _, function = PREPARE[unit.kind].partition(":")
     prepare = getattr(importlib.import_module(module), function)
     units = []
-    for name, output in zip(params["cases"], outputs):
+    for name, output in zip(unit.cases, outputs):
         described, run = prepare(urdf, inputs, params, name)
-        which = {key: None for key in TRACE_KEYS} | described | {"source": params["source"], "engine": params["engine"]}
+        which = {key: None for key in TRACE_KEYS} | described | {"source": unit.source, "engine": unit.engine}
         units.append((which, run, output))
-    timeout = params["health"]["timeout"]
+    timeout = unit.health.timeout
     done = []
     for i, (which, run, output) in enumerate(units):
 
@@ -58,16 +69,18 @@ def simulate_job(outputs: list[str], urdf: str, inputs: dict, params: dict, afte
 
         with Watchdog(timeout, hung):
             frame, meta = run()
+        # the fingerprint of the params as the rule gave them (simpick.seeds.config_hash)
         meta = meta | which | {"config_hash": config_hash(params)}
         write_trace(frame, meta, output)
         done.append(meta)
     return done
 
 
-def write_hung_trace(output: str, which: dict, params: dict, timeout: float, reason: str | None = None) -> None:
+def write_hung_trace(output: str, which: dict, params: Mapping, timeout: float, reason: str | None = None) -> None:
     """An empty trace whose health record says the engine hung (or ``reason``), so the run is
     reported. ``which``: the metadata that names the case (TRACE_KEYS), so the job that compares
-    it finds it like any other."""
+    it finds it like any other; ``params``: the unit's, as the rule gave them."""
+    sim = simulation(params)
     waited = 0.0 if reason else float(timeout)  # a case not run used no time
     reason = reason or hung_reason(timeout)
     print(f"simpick: {which['engine']} {which['source']} {which['test']}: {reason}", file=sys.stderr)
@@ -76,8 +89,9 @@ def write_hung_trace(output: str, which: dict, params: dict, timeout: float, rea
         {
             "engine_version": "",
             **which,
-            "timestep": params["physics"]["timestep"],
-            "seed": params["seed"],
+            "timestep": sim.physics.timestep,
+            # the seed as the rule's params carry it (canonical: a float)
+            "seed": float(sim.seed),
             "steps": 0,
             "sim_time": 0.0,
             "wall_time": waited,
@@ -91,9 +105,11 @@ def write_hung_trace(output: str, which: dict, params: dict, timeout: float, rea
 
 
 def cpu_job(output: str, terrain_file: str, urdf: str, params: dict, timeout: float = DEFAULT_TIMEOUT_S) -> None:
-    """The CPU-load measurement of one engine (simpick.simulate.cpuload), under the watchdog: still running
-    after ``timeout`` s of wall time (simpick.simulate.watchdog.runtime_timeout of the rule's runtime), the
-    job writes :func:`simpick.simulate.cpuload.hung_result` instead, which the scores leave out and name."""
+    """The CPU-load measurement of one engine (simpick.simulate.cpuload: its params, CpuLoadParams), under the
+    watchdog: still running after ``timeout`` s of wall time (simpick.simulate.watchdog.runtime_timeout of the
+    rule's runtime), the job writes :func:`simpick.simulate.cpuload.hung_result` instead, which the scores
+    leave out and name."""
+    sim = simulation(params)
 
     def write(result: dict) -> None:
         Path(output).parent.mkdir(parents=True, exist_ok=True)
@@ -101,11 +117,9 @@ def cpu_job(output: str, terrain_file: str, urdf: str, params: dict, timeout: fl
 
     def hung() -> None:
         result = hung_result(params, timeout)
-        print(f"simpick: cpu_load {params['engine']}: {result['health']['reasons'][0]}", file=sys.stderr)
+        print(f"simpick: cpu_load {sim.engine}: {result['health']['reasons'][0]}", file=sys.stderr)
         write(result)
 
     with Watchdog(timeout, hung):
-        result = measure(
-            params, urdf, terrain_file, limits=HealthLimits(**params["health"]) if params.get("health") else None
-        )
+        result = measure(params, urdf, terrain_file, limits=HealthLimits(**sim.health.model_dump()))
     write(result)

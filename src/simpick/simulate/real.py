@@ -5,6 +5,9 @@ the segments and replay sources (simpick.sources: :func:`prepare_segment`, :func
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Any
+
 import numpy as np
 import pandas as pd
 
@@ -13,7 +16,36 @@ from simpick.inputs.terrain import generate
 from simpick.real.logs import read_canonical
 from simpick.real.segments import load_segments
 from simpick.simulate.imu import model_at_rate
-from simpick.simulate.run import Case, Recording, config_hash, run_case, run_commands, scenario_from, stable_seed
+from simpick.simulate.real_settings import RealCaseParams
+from simpick.simulate.run import (
+    Case,
+    Recording,
+    Unit,
+    config_hash,
+    run_case,
+    run_commands,
+    scenario_from,
+    stable_seed,
+)
+
+
+class RealUnitParams(RealCaseParams, Unit):
+    """What a simulate job of the segments or the replay kind reads (the plan's
+    simpick.sources.segments / replay case_params): a real-data case's params on one model (its terrain
+    class's ground) and which unit of cases it is."""
+
+
+def real_case(params: RealCaseParams | Mapping[str, Any]) -> RealCaseParams:
+    """A real-data case's params, typed: a job's model extending :class:`RealCaseParams` as it is, else the
+    mapping validated (the calibration's, simpick.studies.calibration, which are exactly these)."""
+    return RealCaseParams.model_validate(params)
+
+
+def noise_seed_of(p: RealCaseParams, *names: object) -> int:
+    """The IMU noise seed of a replayed case: the study seed as the params carry it (the plan's canonical
+    params hold every number as a float, and the seed is hashed with the names as written), so a replay's
+    noise is the one it had when the jobs read the seed from the plain params."""
+    return stable_seed(float(p.seed), *names)
 
 
 def flat_terrain(name: str, friction: float) -> dict:
@@ -33,22 +65,23 @@ def start_heading(seed: int, dataset: object, terrain_class: object, run: object
     return float(2.0 * np.pi * u)
 
 
-def simulate_segment(seg: pd.Series, urdf: str, params: dict) -> tuple[pd.DataFrame, dict]:
-    """One real segment's command driven on ``params["engine"]`` over its class's flat ground,
+def simulate_segment(seg: pd.Series, urdf: str, params: RealCaseParams | Mapping) -> tuple[pd.DataFrame, dict]:
+    """One real segment's command driven on the params' model over its class's flat ground,
     from its seeded start heading (:func:`start_heading`)."""
-    friction = params["class"]["friction"]
-    heading = start_heading(params["seed"], seg.dataset, seg.terrain_class, seg.run, seg.name)
+    p = real_case(params)
+    friction = p.ground.friction
+    heading = start_heading(p.seed, seg.dataset, seg.terrain_class, seg.run, seg.name)
     case = Case(
-        engine=params["engine"],
-        terrain=params["terrain_class"],
+        engine=p.engine,
+        terrain=p.terrain_class,
         motion=seg.name,
         v=float(seg.v),
         w=float(seg.w),
         duration=float(seg.settle + seg.duration),
         start=(0.0, 0.0, heading),
     )
-    scenario = scenario_from(params, urdf, flat_terrain(params["terrain_class"], friction), ground_friction=friction)
-    frame, meta = run_case(case, scenario, params["robot"]["track"], Recording.from_params(params))
+    scenario = scenario_from(p, urdf, flat_terrain(p.terrain_class, friction), ground_friction=friction)
+    frame, meta = run_case(case, scenario, p.robot.track, Recording.from_params(p))
     meta.update(
         {
             "dataset": seg.dataset,
@@ -56,8 +89,8 @@ def simulate_segment(seg: pd.Series, urdf: str, params: dict) -> tuple[pd.DataFr
             "segment": seg.name,
             "start_heading_deg": float(np.degrees(heading)),
             "window": [float(seg.settle), float(seg.settle + seg.duration)],
-            "friction_source": params["class"].get("source", ""),
-            "config_hash": config_hash(params),
+            "friction_source": p.ground.source,
+            "config_hash": config_hash(params if isinstance(params, Mapping) else p.model_dump(by_alias=True)),
         }
     )
     return frame, meta
@@ -74,34 +107,33 @@ def log_imu_rate(log) -> float:
     return float(rate) if rate else float(1.0 / np.median(np.diff(log.imu["time"].to_numpy(dtype=float))))
 
 
-def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> tuple[pd.DataFrame, dict]:
+def replay_log(
+    log, urdf: str, params: RealCaseParams | Mapping, duration: float | None = None
+) -> tuple[pd.DataFrame, dict]:
     """Drive one engine with a real run's recorded wheel speeds (zero-order hold, from rest, from
     the run's seeded start heading: :func:`start_heading`)."""
-    dt = params["physics"]["timestep"]
-    cmd = log.wheel_commands(params["robot"]["track"])
+    p = real_case(params)
+    dt = p.physics.timestep
+    cmd = log.wheel_commands(p.robot.track)
     end = float(min(log.imu.time.iloc[-1], cmd.time.iloc[-1]))
     t = dt * np.arange(int(round((end if duration is None else min(end, duration)) / dt)))
     held = np.clip(np.searchsorted(cmd.time.to_numpy(), t, side="right") - 1, 0, len(cmd) - 1)
     left, right = cmd.v_left.to_numpy()[held], cmd.v_right.to_numpy()[held]
-    friction = params["class"]["friction"]
-    heading = start_heading(
-        params["seed"], log.meta.get("dataset"), params["terrain_class"], log.meta["run_id"], log.meta["name"]
-    )
+    friction = p.ground.friction
+    heading = start_heading(p.seed, log.meta.get("dataset"), p.terrain_class, log.meta["run_id"], log.meta["name"])
     scenario = scenario_from(
-        params, urdf, flat_terrain(params["terrain_class"], friction), ((0.0, 0.0, heading),), ground_friction=friction
+        p, urdf, flat_terrain(p.terrain_class, friction), ((0.0, 0.0, heading),), ground_friction=friction
     )
     wheels = scenario.robot.joint_speeds(left, right)  # (steps, driven wheels): the Husky's [l, r, l, r] / radius
-    recording = Recording.from_params(params, imu=model_at_rate(params["imu"], log_imu_rate(log), dt))
-    frame, meta = run_commands(
-        params["engine"], wheels, scenario, recording, stable_seed(params["seed"], params["engine"], log.meta["name"])
-    )
+    recording = Recording.from_params(p, imu=model_at_rate(p.imu.model_dump(), log_imu_rate(log), dt))
+    frame, meta = run_commands(p.engine, wheels, scenario, recording, noise_seed_of(p, p.engine, log.meta["name"]))
     meta.update(
         {
-            "terrain": params["terrain_class"],
+            "terrain": p.terrain_class,
             "motion": f"replay-{log.meta['run_id']}",
             "dataset": log.meta.get("dataset"),
             "run": str(log.meta["run_id"]),
-            "seed": params["seed"],
+            "seed": float(p.seed),
             "replay_of": log.meta.get("source_files"),
             "real_imu_rate_hz": log_imu_rate(log),
             "start_heading_deg": float(np.degrees(heading)),
@@ -110,15 +142,16 @@ def replay_log(log, urdf: str, params: dict, duration: float | None = None) -> t
     return frame, meta
 
 
-def prepare_segment(urdf: str, inputs: dict, params: dict, name: str):
+def prepare_segment(urdf: str, inputs: dict, params: Mapping, name: str):
     """A segment of the table (the segments source): its constant command on its class's flat
     ground, compared in its window."""
-    table = class_segments(inputs["segments"], params["terrain_class"])
+    p = RealUnitParams.model_validate(params)
+    table = class_segments(inputs["segments"], p.terrain_class)
     if name not in table.index:
-        raise InputError(inputs["segments"], f"has no {params['terrain_class']} segment {name!r}", "rerun snakemake")
+        raise InputError(inputs["segments"], f"has no {p.terrain_class} segment {name!r}", "rerun snakemake")
     seg = table.loc[name]
     which = {
-        "terrain": params["terrain_class"],
+        "terrain": p.terrain_class,
         "motion": seg.name,
         "test": seg.name,
         "dataset": seg.dataset,
@@ -126,19 +159,20 @@ def prepare_segment(urdf: str, inputs: dict, params: dict, name: str):
         "segment": seg.name,
         "window": [float(seg.settle), float(seg.settle + seg.duration)],
     }
-    return which, lambda: simulate_segment(seg, urdf, params)
+    return which, lambda: simulate_segment(seg, urdf, p)
 
 
-def prepare_replay(urdf: str, inputs: dict, params: dict, name: str):
+def prepare_replay(urdf: str, inputs: dict, params: Mapping, name: str):
     """A replayed run (the replay source: a dataset folder's or an own log) driven by its recorded
     wheel speeds."""
+    p = RealUnitParams.model_validate(params)
     log = read_canonical(inputs["log"])
     run = str(log.meta["run_id"])
     which = {
-        "terrain": params["terrain_class"],
+        "terrain": p.terrain_class,
         "motion": f"replay-{run}",
-        "test": f"{params['terrain_class']}-{run}",
+        "test": f"{p.terrain_class}-{run}",
         "dataset": log.meta.get("dataset"),
         "run": run,
     }
-    return which, lambda: replay_log(log, urdf, params)
+    return which, lambda: replay_log(log, urdf, p)

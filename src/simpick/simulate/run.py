@@ -10,20 +10,23 @@ import platform
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
+from pydantic import BaseModel, Field
 
 import simpick
 from simpick.engines import get_engine
 from simpick.engines.base import PhysicsRecord, Scenario
 from simpick.engines.kinematics import euler_rpy, rotation_matrices
 from simpick.inputs.motions import constant_commands
-from simpick.inputs.robot import RobotSpec, load_from_config
+from simpick.inputs.robot import RobotSpec
 from simpick.inputs.terrain import Terrain
+from simpick.params import JobParams
 from simpick.seeds import config_hash, stable_seed  # noqa: F401 (re-exported: the jobs import them from here)
 from simpick.simulate.health import HealthLimits, check
 from simpick.simulate.imu import ImuModel, block_average, interval_average, sensor_output
+from simpick.simulate.settings import SimulationParams
 
 
 @dataclass(frozen=True)
@@ -114,35 +117,68 @@ class Recording:
     seed: int = 0
 
     @classmethod
-    def from_params(cls, params: Mapping[str, Any], imu: ImuModel | None = None) -> Recording:
-        """From a job's params (``imu``, ``health``, ``seed``); ``imu``: another sensor model (a replay's
-        at the real log's rate)."""
-        limits = HealthLimits(**params["health"]) if params.get("health") else HealthLimits()
-        return cls(imu=ImuModel(**params["imu"]) if imu is None else imu, limits=limits, seed=int(params["seed"]))
+    def from_params(cls, params: SimulationParams | Mapping[str, Any], imu: ImuModel | None = None) -> Recording:
+        """From a job's params (:class:`~simpick.simulate.settings.SimulationParams`: ``imu``, ``health``,
+        ``seed``); ``imu``: another sensor model (a replay's at the real log's rate)."""
+        p = simulation(params)
+        limits = HealthLimits(**p.health.model_dump())
+        return cls(imu=ImuModel(**p.imu.model_dump()) if imu is None else imu, limits=limits, seed=p.seed)
+
+
+class Unit(JobParams):
+    """Which unit of cases a simulate job runs (:func:`simpick.simulate.jobs.simulate_job`): how its cases are
+    driven, the source they belong to and their names; each kind's params model extends it."""
+
+    kind: str = Field(description="how the cases are driven: simpick.simulate.jobs.PREPARE")
+    source: str = Field(description="the source of cases the traces belong to (the plan's sources)")
+    cases: list[str] = Field(description="the unit's case names, one trace each")
+
+
+class UnitParams(SimulationParams, Unit):
+    """What :func:`simpick.simulate.jobs.simulate_job` reads of any unit's params, whatever its kind: the
+    model's simulation settings and which cases (the kind's prepare function reads the rest, typed)."""
+
+
+Typed = TypeVar("Typed", bound=BaseModel)
+
+
+def fields_of(model: type[Typed], params: BaseModel | Mapping[str, Any]) -> Typed:
+    """``model``'s fields of a job's params, typed: an instance of ``model`` (a job's own model extending it)
+    as it is, else those fields of the params (a mapping a job hands on, or another model's dump), validated;
+    the params' other keys are their job's own, which its model checks."""
+    if isinstance(params, model):
+        return params
+    data = params.model_dump(mode="json", by_alias=True) if isinstance(params, BaseModel) else params
+    return model.model_validate({k: v for k, v in data.items() if k in model.model_fields})
+
+
+def simulation(params: SimulationParams | Mapping[str, Any]) -> SimulationParams:
+    """What every simulation on one model reads of a job's params (:func:`fields_of`
+    :class:`~simpick.simulate.settings.SimulationParams`)."""
+    return fields_of(SimulationParams, params)
 
 
 def scenario_from(
-    params: Mapping[str, Any],
+    params: SimulationParams | Mapping[str, Any],
     urdf: str | Path,
     terrain: Terrain | Mapping,
     starts=((0.0, 0.0, 0.0),),
     *,
     ground_friction: float | None = None,
 ) -> Scenario:
-    """A job's params read once into the typed :class:`~simpick.engines.base.Scenario` its engine
-    builds: the robot (``params["robot"]``: its options, ``max_wheel_torque``; the description ``urdf``),
-    ``terrain`` (a Terrain or a terrain file's dict), the physics (``timestep``, ``ground_friction``
-    unless the case sets its own) and ``engine_settings``."""
-    robot = load_from_config({**params["robot"], "urdf": urdf})
-    physics = params["physics"]
+    """A job's params (:func:`simulation`) read once into the typed :class:`~simpick.engines.base.Scenario`
+    its engine builds: the robot (its settings, ``max_wheel_torque``; the description ``urdf``), ``terrain``
+    (a Terrain or a terrain file's dict), the physics (``timestep``, ``ground_friction`` unless the case sets
+    its own) and the model's ``engine_settings``."""
+    p = simulation(params)
     return Scenario(
-        robot=robot,
+        robot=p.robot.spec(urdf),
         terrain=Terrain.of(terrain),
-        ground_friction=physics["ground_friction"] if ground_friction is None else ground_friction,
-        timestep=physics["timestep"],
-        max_wheel_torque=params["robot"]["max_wheel_torque"],
+        ground_friction=p.physics.ground_friction if ground_friction is None else ground_friction,
+        timestep=p.physics.timestep,
+        max_wheel_torque=p.robot.max_wheel_torque,
         starts=tuple(tuple(start) for start in starts),
-        settings=params["engine_settings"],
+        settings=p.engine_settings,
     )
 
 

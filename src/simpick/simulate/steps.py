@@ -30,19 +30,45 @@ motion, the part an engine models (as the BorealTC replay does).
 from __future__ import annotations
 
 import time
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from pydantic import Field
 
 from simpick.errors import InputError
-from simpick.simulate.real import flat_terrain, start_heading
-from simpick.simulate.run import Recording, run_commands, scenario_from, stable_seed
+from simpick.real.settings import StepReplay, TerrainClass
+from simpick.simulate.real import flat_terrain, noise_seed_of, real_case, start_heading
+from simpick.simulate.real_settings import RealCaseParams
+from simpick.simulate.run import Recording, Unit, run_commands, scenario_from
+from simpick.simulate.settings import SimulationParams
 from simpick.simulate.step_rows import STEP_COLUMNS, hung_rows, step_row
 
-WARMUP_S = 3.0  # s of the previous step's measured wheel speeds before a step (module doc)
+# s of the previous step's measured wheel speeds before a step (module doc): the replay section's default
+WARMUP_S = StepReplay.model_fields["warmup"].default
 RAMP_S = 1.0  # s of the warm-up over which the wheels speed up from rest (no jump that the servos cannot follow)
 TRACE_COLUMNS = ["step", "t_step", "v_forward", "yaw_rate", "wz", "x", "y", "yaw", "roll", "pitch", "z", "cmd_left"]
+
+
+class StepsParams(SimulationParams):
+    """What a replay of step units on one model reads: the model's simulation settings, every terrain class's
+    ground (a step's is its case's) and how the steps are replayed."""
+
+    classes: dict[str, TerrainClass] = Field(description="real_data.classes: each terrain class's ground")
+    replay: StepReplay
+
+
+class SessionReplayParams(StepsParams):
+    """What rule drive_replay's job (:func:`replay_job`) reads (the plan's simpick.sources.drive.case_params):
+    the steps' settings and the session replayed."""
+
+    session: str = Field(description="the session whose chosen steps the job replays")
+
+
+class StepUnitParams(StepsParams, Unit):
+    """What a simulate job of the ``steps`` kind (:func:`prepare_step`) reads: the steps' settings and which
+    unit of step cases it is."""
 
 
 def select_steps(cases: pd.DataFrame, every: int = 1, max_steps_per_session: int | None = None) -> pd.DataFrame:
@@ -102,28 +128,29 @@ def step_wheels(samples: pd.DataFrame, case, warmup: float, dt: float) -> tuple[
     return out[0], out[1], end
 
 
-def drive_step(samples: pd.DataFrame, case, urdf: str, params: dict, warmup: float = WARMUP_S):
-    """One step on ``params["engine"]`` (its ``class``: the terrain's ground): the engine's frame (time from
-    the warm-up's start), its metadata and the start heading (rad)."""
-    dt = params["physics"]["timestep"]
+def drive_step(samples: pd.DataFrame, case, urdf: str, params: RealCaseParams | Mapping, warmup: float = WARMUP_S):
+    """One step on the params' model (:class:`RealCaseParams`: its ``class``, the terrain's ground): the engine's
+    frame (time from the warm-up's start), its metadata and the start heading (rad)."""
+    p = real_case(params)
+    dt = p.physics.timestep
     left, right, _ = step_wheels(samples, case, warmup, dt)
-    friction = params["class"]["friction"]
-    heading = start_heading(params["seed"], case.dataset, case.terrain_class, case.session, case.case)
+    friction = p.ground.friction
+    heading = start_heading(p.seed, case.dataset, case.terrain_class, case.session, case.case)
     scenario = scenario_from(
-        params, urdf, flat_terrain(case.terrain_class, friction), ((0.0, 0.0, heading),), ground_friction=friction
+        p, urdf, flat_terrain(case.terrain_class, friction), ((0.0, 0.0, heading),), ground_friction=friction
     )
     wheels = scenario.robot.joint_speeds(left, right)
-    recording = Recording.from_params(params)
+    recording = Recording.from_params(p)
     began = time.perf_counter()
-    frame, meta = run_commands(
-        params["engine"], wheels, scenario, recording, stable_seed(params["seed"], params["engine"], case.case)
-    )
+    frame, meta = run_commands(p.engine, wheels, scenario, recording, noise_seed_of(p, p.engine, case.case))
     meta = meta | {"wall_time_step": time.perf_counter() - began, "start_heading": float(heading), "warmup": warmup}
     return frame, meta
 
 
-def replay_step(samples: pd.DataFrame, case, urdf: str, params: dict, warmup: float = WARMUP_S) -> tuple[dict, dict]:
-    """One step on ``params["engine"]`` (its measured wheel speeds: :func:`step_samples`): its trace (time
+def replay_step(
+    samples: pd.DataFrame, case, urdf: str, params: RealCaseParams | Mapping, warmup: float = WARMUP_S
+) -> tuple[dict, dict]:
+    """One step on the params' model (its measured wheel speeds: :func:`step_samples`): its trace (time
     from the step's start) and its summary row (:func:`step_row`)."""
     frame, meta = drive_step(samples, case, urdf, params, warmup)
     row = step_row(frame, meta, case)
@@ -147,15 +174,21 @@ def session_cases(cases: pd.DataFrame, session: str, cases_csv: str = "cases.csv
 
 
 def replay_session(
-    wheels: pd.DataFrame, cases: pd.DataFrame, urdf: str, params: dict, warmup: float = WARMUP_S, where: str = ""
+    wheels: pd.DataFrame,
+    cases: pd.DataFrame,
+    urdf: str,
+    params: RealCaseParams | Mapping,
+    warmup: float = WARMUP_S,
+    where: str = "",
 ):
     """Every chosen step of one session on one engine: the traces (``TRACE_COLUMNS``) and the step table
     (``STEP_COLUMNS``). A step whose engine diverges is kept with its health status and reasons (the
     project's health check), so the comparison reports it instead of averaging it."""
+    p = real_case(params)
     traces, rows = [], []
     for _, case in cases.sort_values("step").iterrows():
         samples = step_samples(wheels, case.session, int(case.step), where or "the wheels table")
-        trace, row = replay_step(samples, case, urdf, params, warmup)
+        trace, row = replay_step(samples, case, urdf, p, warmup)
         row.pop("_meta")
         traces.append(pd.DataFrame(trace)[TRACE_COLUMNS])
         rows.append(row)
@@ -163,28 +196,31 @@ def replay_session(
     return trace, pd.DataFrame(rows, columns=STEP_COLUMNS)
 
 
-def ground(params: dict, terrain: str, unit: str) -> dict:
-    """A unit's parameters with its terrain class's ground (``params["classes"]``: real_data.classes)."""
-    if terrain not in params["classes"]:
+def ground(p: StepsParams, terrain: str, unit: str) -> RealCaseParams:
+    """A real-data case's params on the unit's model: its settings with terrain class ``terrain``'s ground
+    (``classes``: real_data.classes)."""
+    if terrain not in p.classes:
         raise InputError(
             "real_data.classes in the config",
             f"has no terrain class {terrain!r} ({unit})",
             f"add {terrain}: {{friction: ..., source: ...}} under real_data.classes",
         )
-    return dict(params, terrain_class=terrain, **{"class": params["classes"][terrain]})
+    simulation = {name: getattr(p, name) for name in SimulationParams.model_fields}
+    return RealCaseParams(**simulation, terrain_class=terrain, ground=p.classes[terrain])
 
 
-def prepare_step(urdf: str, inputs: dict, params: dict, name: str):
+def prepare_step(urdf: str, inputs: dict, params: Mapping, name: str):
     """One step unit (the ``steps`` kind, :data:`simpick.simulate.jobs.PREPARE`): case ``name`` of the case
     table ``inputs["cases"]``, driven by its measured wheel speeds (``inputs["wheels"]``) after the warm-up
-    (``params["replay"]["warmup"]``). Its trace keeps the warm-up (time from the warm-up's start); its
-    ``window`` is the steady part compared."""
+    (:class:`StepUnitParams`: ``replay.warmup``). Its trace keeps the warm-up (time from the warm-up's start);
+    its ``window`` is the steady part compared."""
+    p = StepUnitParams.model_validate(params)
     cases = pd.read_csv(inputs["cases"])
     found = cases[cases.case == name]
     if found.empty:
         raise InputError(inputs["cases"], f"has no case {name!r}", "rerun the import step over the dataset folder")
     case = found.iloc[0]
-    warmup = float(params["replay"]["warmup"])
+    warmup = p.replay.warmup
     samples = step_samples(read_wheels(inputs["wheels"]), case.session, int(case.step), inputs["wheels"])
     which = {
         "terrain": case.terrain_class,
@@ -195,35 +231,35 @@ def prepare_step(urdf: str, inputs: dict, params: dict, name: str):
         "segment": f"{int(case.step):03d}",
         "window": [warmup + float(case.steady_start), warmup + float(case.steady_end)],
     }
-    unit_params = ground(params, case.terrain_class, f"session {case.session}")
+    unit_params = ground(p, case.terrain_class, f"session {case.session}")
     return which, lambda: drive_step(samples, case, urdf, unit_params, warmup)
 
 
-def replay_job(inputs: dict, params: dict, outputs: dict, timeout: float) -> None:
-    """One engine x one session: its chosen steps (``params["replay"]``: every, max_steps_per_session,
-    warmup), driven by the wheels table (``inputs["wheels"]``, written by the reader's import step), into
-    the traces (``outputs["trace"]``, Parquet) and the step table (``outputs["steps"]``, CSV). Under the
-    watchdog: a job still running after ``timeout`` s writes every step as failed ("hung") and ends."""
+def replay_job(inputs: dict, params: Mapping, outputs: dict, timeout: float) -> None:
+    """One engine x one session (:class:`SessionReplayParams`): its chosen steps (``replay``: every,
+    max_steps_per_session, warmup), driven by the wheels table (``inputs["wheels"]``, written by the reader's
+    import step), into the traces (``outputs["trace"]``, Parquet) and the step table (``outputs["steps"]``,
+    CSV). Under the watchdog: a job still running after ``timeout`` s writes every step as failed ("hung") and
+    ends."""
     from simpick.simulate.watchdog import Watchdog, hung_reason
     from simpick.tables import write_csv
 
-    replay = params["replay"]
-    cases = session_cases(pd.read_csv(inputs["cases"]), params["session"], inputs["cases"])
-    chosen = select_steps(cases, replay["every"], replay["max_steps_per_session"])
+    p = SessionReplayParams.model_validate(params)
+    replay = p.replay
+    cases = session_cases(pd.read_csv(inputs["cases"]), p.session, inputs["cases"])
+    chosen = select_steps(cases, replay.every, replay.max_steps_per_session)
     terrains = sorted(set(cases.terrain_class))
     if len(terrains) != 1:
-        raise InputError(inputs["cases"], f"gives session {params['session']!r} terrains {terrains}", "one a session")
-    case_params = ground(params, terrains[0], f"session {params['session']}")
+        raise InputError(inputs["cases"], f"gives session {p.session!r} terrains {terrains}", "one a session")
+    case_params = ground(p, terrains[0], f"session {p.session}")
 
     def hung() -> None:
-        write_csv(hung_rows(chosen, params["engine"], hung_reason(timeout)), outputs["steps"])
+        write_csv(hung_rows(chosen, p.engine, hung_reason(timeout)), outputs["steps"])
         pd.DataFrame(columns=TRACE_COLUMNS).to_parquet(outputs["trace"])
 
     Path(outputs["trace"]).parent.mkdir(parents=True, exist_ok=True)
     wheels = read_wheels(inputs["wheels"])
     with Watchdog(timeout, hung):
-        trace, rows = replay_session(
-            wheels, chosen, inputs["urdf"], case_params, float(replay["warmup"]), inputs["wheels"]
-        )
+        trace, rows = replay_session(wheels, chosen, inputs["urdf"], case_params, replay.warmup, inputs["wheels"])
     trace.to_parquet(outputs["trace"])
     write_csv(rows, outputs["steps"])
