@@ -21,6 +21,8 @@
 #   per timestep. Both simulate in-process and feed the report when run.
 from snakemake.utils import min_version
 
+from simpick.plan.scheduling import release_scheduler_timers
+
 min_version("9.0")
 
 
@@ -42,6 +44,16 @@ include: "rules/tree.smk"
 include: "rules/simulators.smk"
 include: "rules/published.smk"
 include: "rules/report.smk"
+
+
+# Snakemake's process would wait up to a second for its scheduler's last timer before it exits
+# (simpick.plan.scheduling.release_scheduler_timers)
+onsuccess:
+    release_scheduler_timers()
+
+
+onerror:
+    release_scheduler_timers()
 
 
 rule all:
