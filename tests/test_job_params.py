@@ -43,6 +43,22 @@ def plan_of(config: dict) -> Plan:
     return Plan(config, Study.model_validate(config), basedir=str(ROOT))
 
 
+def simulation_before_typing(config: dict, model: str) -> dict:
+    """What every simulation on ``model`` was given before typing, from the plan's plain settings (the retired
+    simpick.sources.base.engine_params): the params built from the typed study must keep this content."""
+    return canonical(
+        {
+            "engine": model,
+            "engine_settings": model_settings(config, model),
+            "physics": config["physics"],
+            "robot": {k: v for k, v in config["robot"].items() if k != "urdf"},
+            "imu": config["imu"],
+            "health": config["health"],
+            "seed": config["seed"],
+        }
+    )
+
+
 def real_units(kind: str):
     """A real-data kind's simulate params: the plan's (simulate_params) for each source of the kind it has, else,
     where it has none (no dataset folder, another robot than the committed segments'), its source module's for
@@ -322,11 +338,9 @@ def test_the_real_turning_params_are_what_rules_real_smk_built_inline(replay_pla
     assert plan.real_turning_params() == inline
 
 
-def test_the_step_calibration_params_equal_what_rules_drive_smk_builds(default_plan, robot_plan):
-    """rules/drive.smk builds drive_calibrate's params inline from the plain settings; the plan's typed ones
-    validate against the job's model and hold the same content (no spurious rerun once the rule passes them)."""
-    from simpick.sources.base import engine_params
-
+def test_the_step_calibration_params_equal_what_rules_drive_smk_built(default_plan, robot_plan):
+    """rules/drive.smk built drive_calibrate's params inline from the plain settings; the plan's typed ones, which
+    it passes now, validate against the job's model and hold the same content (no calibration searched again)."""
     for plan in (default_plan, robot_plan):
         config = plan.config
         for model in plan.real_models:
@@ -335,7 +349,7 @@ def test_the_step_calibration_params_equal_what_rules_drive_smk_builds(default_p
                     {
                         "engine": model,
                         "terrain_class": terrain,
-                        "case": engine_params(config, model),
+                        "case": simulation_before_typing(config, model),
                         "classes": config["real_data"]["classes"],
                         "replay": config["drive_replay"],
                         "calibration": {
@@ -388,7 +402,7 @@ def test_the_split_s_strata_validate_and_are_what_they_were_before_typing(replay
 def test_the_verdict_answer_and_drive_compare_params_keep_their_content(default_plan, tmp_path):
     """Built from the typed study, they hold what the plain slices gave (the answer's basis gains its noun,
     None where the sentences say "real runs"); DRIVE's comparison's are what simpick.sources.drive gave."""
-    from simpick.sources import module as source_module
+    from simpick.real.steps import SIMILAR
 
     plan = default_plan
     old_verdict = {
@@ -403,8 +417,16 @@ def test_the_verdict_answer_and_drive_compare_params_keep_their_content(default_
     answer = plan.answer_settings()
     assert answer["weights"] == canonical(plan.config["weights"]) and answer["basis"]["noun"] is None
     engines = ["mujoco", "ode"]
-    old_compare = source_module("drive").compare_settings(plan.config) | {"engines": engines}
-    assert plan.drive_compare_params(engines) == canonical(old_compare)
+    config = plan.config
+    old_drive = {  # what simpick.sources.drive.compare_settings gave from the plain settings
+        "verdict": config["verdict"],
+        "statistics": config["statistics"],
+        "unit": config["drive_replay"]["unit"],
+        "tolerance": SIMILAR,
+        "seed": config["seed"],
+    }
+    assert source_module("drive").compare_settings(plan.settings) == canonical(old_drive)
+    assert plan.drive_compare_params(engines) == canonical(old_drive | {"engines": engines})
 
 
 def test_only_the_answer_s_params_hold_the_weights(default_plan):
@@ -467,11 +489,20 @@ def test_the_real_data_simulate_params_are_what_they_were_before_typing(default_
 
 def test_the_drive_replay_params_are_what_they_were_before_typing(default_plan, robot_plan):
     """Built from the typed study, they equal, repr and all, what rules/drive.smk passed before (the DRIVE
-    source module's case_params): no session is replayed again."""
+    source module's case_params from the plain settings), as does the typed source module's: no session is
+    replayed again."""
+    drive = source_module("drive")
     for plan in (default_plan, robot_plan):
+        config = plan.config
         for model in plan.real_models:
-            before = source_module("drive").case_params(plan.config, "drive", {}, model, "a-session", [])
+            before = canonical(
+                simulation_before_typing(config, model)
+                | {"classes": config["real_data"]["classes"], "replay": config["drive_replay"], "session": "a-session"}
+            )
             assert repr(plan.drive_replay_params(model, "a-session")) == repr(before), model
+            typed = drive.case_params(plan.settings, "drive", {}, model, plan.model_settings(model), "a-session", [])
+            assert repr(typed) == repr(before), model
+            SessionReplayParams.model_validate(typed)
 
 
 def test_the_compare_and_summarise_settings_are_what_they_were_before_typing(default_plan, replay_plan):
