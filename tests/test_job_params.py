@@ -22,6 +22,7 @@ from simpick.real.jobs import ImportParams, SegmentsParams
 from simpick.real.turning import TurningParams
 from simpick.report import draw
 from simpick.report import params as report_params
+from simpick.report.weighing import WeighingParams
 from simpick.score import simulators as simulators_stage
 from simpick.score.answer import AnswerParams
 from simpick.score.steps import CompareParams
@@ -110,7 +111,12 @@ CONVERTED = {
     ),
     "simulators": (simulators_stage.SimulatorsParams, lambda plan: [plan.simulators_params()]),
     "simulator_settings": (simulators_stage.SimulatorSettingsParams, lambda plan: [plan.simulator_settings_params()]),
-    "simulator_scores": (simulators_stage.SimulatorScoresParams, lambda plan: [plan.simulator_scores_params()]),
+    # the report job's weighing (simpick.report.weighing): its simulators' and answer's parts below
+    "report (weighing)": (WeighingParams, lambda plan: [plan.weighing_params()]),
+    "report (weighing: simulators)": (
+        simulators_stage.SimulatorScoresParams,
+        lambda plan: [plan.simulator_scores_params()],
+    ),
     "simulator_tree": (simulators_stage.SimulatorTreeParams, lambda plan: [plan.simulator_tree_params()]),
     "calibrate": (SearchSettings, lambda plan: [plan.calibration_settings(m) for m in plan.cal_models]),
     "calibration_evaluate": (
@@ -126,7 +132,7 @@ CONVERTED = {
     ),
     # --- the verdict, the answer and DRIVE's step verdict ---
     "verdict": (VerdictParams, lambda plan: [plan.verdict_settings()] if plan.verdict else []),
-    "answer": (AnswerParams, lambda plan: [plan.answer_settings()] if plan.answer_source else []),
+    "report (weighing: answer)": (AnswerParams, lambda plan: [plan.answer_settings()] if plan.answer_source else []),
     # the rule exists where drive_dir is set; its params do not depend on the folder: the study's engines
     "drive_compare": (CompareParams, lambda plan: [plan.drive_compare_params(plan.engines)]),
     # --- the report: its figures, its evidence and the report itself ---
@@ -185,7 +191,7 @@ def test_each_converted_rule_s_params_validate_against_its_job_s_model(rule, whi
     # the sweep runs the committed segments, which a study of another robot than theirs refuses
     no_jobs = {("robot_plan", "sweep_segments")}
     # the Warthog's study has no real data of its robot: no verdict, no answer
-    no_jobs |= {("robot_plan", "verdict"), ("robot_plan", "answer")}
+    no_jobs |= {("robot_plan", "verdict"), ("robot_plan", "report (weighing: answer)")}
     assert bool(all_params) != ((which, rule) in no_jobs), f"{rule}: jobs in this plan: {len(all_params)}"
     for params in all_params:
         # plain builtins, canonical: what Snakemake fingerprints by repr (the simulate family's params are

@@ -43,7 +43,7 @@ from typing import Any
 
 from simpick.report.inputs import LIST_INPUTS, OPTIONAL_INPUTS, REQUIRED_INPUTS
 
-__all__ = ["build_report", "build_evidence", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
+__all__ = ["build_report", "build_evidence", "report_job", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
 
 
 def build_report(
@@ -148,3 +148,27 @@ def _write_text(path: Path, text: str) -> None:
     tmp = path.with_name(path.name + ".partial")
     tmp.write_text(text, encoding="utf-8")
     tmp.replace(path)
+
+
+def report_job(inputs: Mapping, weighing: Mapping, settings: Mapping, outputs: Mapping[str, str], lists=()) -> None:
+    """Rule report: the weighing (:func:`simpick.report.weighing.weigh`) into the job's outputs, then the page
+    and its PDF (:func:`build_report`) from the job's other inputs and the weighed tables. ``settings``:
+    the plan's report params with the folders the rule takes from its inputs; ``lists``: the input names
+    that are lists of files."""
+    from simpick.report.weighing import PREFIX, weigh
+
+    weighed = weigh(inputs, weighing, outputs)
+    evidence = ("evidence_html", "evidence_pdf")  # rule report_evidence's files, placed by build_report
+    page_inputs = {
+        key: (list(value) if key in lists else value)
+        for key, value in inputs.items()
+        if key not in evidence and not key.startswith(PREFIX)
+    } | weighed
+    build_report(
+        page_inputs,
+        settings,
+        outputs["html"],
+        outputs["pdf"],
+        evidence_html=inputs["evidence_html"],
+        evidence_pdf=inputs["evidence_pdf"],
+    )
