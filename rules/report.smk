@@ -382,6 +382,8 @@ rule report:
         "results/benchmarks/report.tsv"
     conda:
         "../envs/simpick.yaml"
+    # the PDF's body is laid out in two parts at once (simpick.report.pdf.split_body); fewer cores: one by one
+    threads: 2
     params:
         # the weights, and only the keys of the config the report reads (strip geometry, commanded paths, test
         # order, the real data's settings): an edit elsewhere reaches it through its inputs or not at all; the

@@ -10,4 +10,5 @@ with logged(snakemake.log[0]):
         | {key: getattr(snakemake.params, key) for key in ("drive", "drive_calibration", "simulators")},
         dict(snakemake.output.items()),
         lists=LIST_INPUTS,
+        workers=snakemake.threads,
     )

@@ -569,12 +569,15 @@ def _outline(reader, items=None):
     return out
 
 
-def test_the_evidence_rendered_apart_joins_the_body_in_one_pdf(tmp_path, built):
+@pytest.mark.parametrize("workers", [1, 2])
+def test_the_evidence_rendered_apart_joins_the_body_in_one_pdf(tmp_path, built, workers):
     """The workflow's way (rules/report.smk): the evidence's sections 2-5 and the appendices from the
     inputs no weight reaches, in a job of their own (an HTML fragment and a PDF); the report job renders
     the body and joins. One report.html with the evidence after the body's section 1; one report.pdf,
     the body first, every page numbered "page n of N", the body's links into the evidence and the
-    bookmarks as laid out in one pass."""
+    bookmarks as laid out in one pass. The body's two parts (before and after the priorities) are laid out
+    one after the other or at once (``workers``): the same document, and each part's links into the other
+    land on the element, not on the placeholder at the end of the part that links."""
     from pypdf import PdfReader
 
     from simpick.report import build_evidence, build_report
@@ -593,7 +596,7 @@ def test_the_evidence_rendered_apart_joins_the_body_in_one_pdf(tmp_path, built):
     assert 'id="ranking"' not in fragment and 'id="rests-on"' not in fragment
 
     html, pdf = tmp_path / "out" / "report.html", tmp_path / "out" / "report.pdf"
-    build_report(full, PARAMS, html, pdf, parts / "evidence.html", parts / "evidence.pdf")
+    build_report(full, PARAMS, html, pdf, parts / "evidence.html", parts / "evidence.pdf", workers=workers)
     text = html.read_text(encoding="utf-8")
     assert text.count('id="health"') == 1 and text.count('id="qualitative"') == 1
     assert text.index('id="ranking"') < text.index('id="rests-on"') < text.index('id="qualitative"')
@@ -613,6 +616,9 @@ def test_the_evidence_rendered_apart_joins_the_body_in_one_pdf(tmp_path, built):
     assert 0 < first < appendix < n - 1
     dests = {name: reader.get_destination_page_number(d) for name, d in reader.named_destinations.items()}
     assert dests["qualitative"] == first and dests["health"] == appendix and dests["ranking"] < first
+    # the second part of the body starts a page with the priorities; the first part's ids stay on its pages
+    priorities = next(i for i, page in enumerate(pages) if "Your priorities: the paper's weighted method" in page)
+    assert dests["ranking"] == dests["priorities"] == priorities and dests["answer"] < priorities
     links = [
         (i, str(annot.get_object().get("/Dest")))
         for i, page in enumerate(reader.pages[:first])

@@ -57,6 +57,7 @@ def build_report(
     evidence_html: str | Path | None = None,
     evidence_pdf: str | Path | None = None,
     footer_cache: str | Path | None = None,
+    workers: int = 1,
 ) -> None:
     """Write the HTML report to ``html_path`` and, if ``pdf_path`` is given, the same document as PDF
     (one job: the PDF is laid out from the HTML just rendered, with no second process or read).
@@ -66,6 +67,7 @@ def build_report(
     section 1 of the evidence, and the PDF is the body's, laid out alone, joined with the evidence's
     (:func:`simpick.report.pdf.join`): one document, one page count, links and bookmarks across both; its
     page footers kept in ``footer_cache`` where that names a folder (:func:`simpick.report.pdf.footer_sheet`).
+    The body's PDF is laid out in two parts (:func:`simpick.report.pdf.split_body`), ``workers`` at once.
     Without them the evidence is rendered here from the same inputs and the PDF laid out in one pass
     (one job does all: tests, a report by hand)."""
     import sys
@@ -96,23 +98,47 @@ def build_report(
     from simpick.report import pdf
     from simpick.report.render import anchor_ids
 
-    body_pdf = Path(pdf_path).with_name(Path(pdf_path).name + ".body")
+    evidence_ids = anchor_ids(fragment)
+    parts = pdf.split_body(page, mark, evidence_ids)
+    paths = [Path(pdf_path).with_name(f"{Path(pdf_path).name}.body{i}") for i in range(len(parts))]
     try:
-        write_pdf(
-            page.replace(mark, pdf.placeholders(anchor_ids(fragment)), 1),
-            body_pdf,
-            base_url=str(html_path.parent),
-            footers=False,
-        )
+        _lay_out([document for document, _ in parts], paths, str(html_path.parent), workers)
         laid_out = time.perf_counter()
-        n = pdf.join([body_pdf, evidence_pdf], pdf_path, footer_cache=footer_cache)
+        owners = [ids for _, ids in parts] + [set(evidence_ids)]
+        n = pdf.join([*paths, evidence_pdf], pdf_path, footer_cache=footer_cache, owners=owners)
     finally:
-        body_pdf.unlink(missing_ok=True)
+        for path in paths:
+            path.unlink(missing_ok=True)
     print(
-        f"report: PDF {time.perf_counter() - rendered:.1f} s (body {laid_out - rendered:.1f} s, "
-        f"joined with the evidence and numbered {time.perf_counter() - laid_out:.1f} s; {n} pages)",
+        f"report: PDF {time.perf_counter() - rendered:.1f} s (body in {len(parts)} part(s), "
+        f"{min(workers, len(parts))} at once, {laid_out - rendered:.1f} s, joined with the evidence and numbered "
+        f"{time.perf_counter() - laid_out:.1f} s; {n} pages)",
         file=sys.stderr,
     )
+
+
+def _lay_out(documents: list[str], paths: list[Path], base_url: str, workers: int) -> None:
+    """WeasyPrint's PDF of each document (the body's parts, no footers), ``workers`` at once: the parts
+    after the first in processes forked from this one (WeasyPrint already imported, so a child starts
+    laying out at once), the first here."""
+    from simpick.report.render import write_pdf
+
+    if workers < 2 or len(documents) < 2:
+        for document, path in zip(documents, paths):
+            write_pdf(document, path, base_url=base_url, footers=False)
+        return
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    import weasyprint  # noqa: F401  (imported before the fork, for the children)
+
+    with ProcessPoolExecutor(min(workers, len(documents)) - 1, mp_context=multiprocessing.get_context("fork")) as pool:
+        later = [
+            pool.submit(write_pdf, document, path, base_url, False) for document, path in zip(documents[1:], paths[1:])
+        ]
+        write_pdf(documents[0], paths[0], base_url=base_url, footers=False)
+        for done in later:
+            done.result()
 
 
 def build_evidence(
@@ -155,11 +181,13 @@ def _write_text(path: Path, text: str) -> None:
     tmp.replace(path)
 
 
-def report_job(inputs: Mapping, weighing: Mapping, settings: Mapping, outputs: Mapping[str, str], lists=()) -> None:
+def report_job(
+    inputs: Mapping, weighing: Mapping, settings: Mapping, outputs: Mapping[str, str], lists=(), workers: int = 1
+) -> None:
     """Rule report: the weighing (:func:`simpick.report.weighing.weigh`) into the job's outputs, then the page
     and its PDF (:func:`build_report`) from the job's other inputs and the weighed tables. ``settings``:
     the plan's report params with the folders the rule takes from its inputs; ``lists``: the input names
-    that are lists of files."""
+    that are lists of files; ``workers``: the processes that lay out the PDF's body (the job's threads)."""
     from simpick.report.weighing import PREFIX, weigh
 
     weighed = weigh(inputs, weighing, outputs)
@@ -178,4 +206,5 @@ def report_job(inputs: Mapping, weighing: Mapping, settings: Mapping, outputs: M
         evidence_pdf=inputs["evidence_pdf"],
         # beside the code versions' cache of the working directory's Snakemake folder (simpick.codeversion)
         footer_cache=FOOTER_CACHE,
+        workers=workers,
     )

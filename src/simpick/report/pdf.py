@@ -20,6 +20,9 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 FOOTER_FORM = "/SimpickFooter"
+# where the report's template lets its body be laid out as two parts (before it: the answer and the decision
+# tree; after: the priorities, the simulators and section 1 of the evidence, from a new page)
+PART = "<!--simpick:part-->"
 
 
 def placeholders(ids: Iterable[str]) -> str:
@@ -27,6 +30,28 @@ def placeholders(ids: Iterable[str]) -> str:
     the body's PDF is rendered from: WeasyPrint keeps a link only when its anchor is in the document,
     and :func:`join` points each of these names at the evidence's element."""
     return "".join(f'<div id="{_html.escape(i, quote=True)}"></div>' for i in ids)
+
+
+def split_body(page: str, mark: str, elsewhere: Iterable[str]) -> list[tuple[str, set[str]]]:
+    """The report's page (``mark``: where the evidence goes) as the documents of the body's parts, split at
+    :data:`PART`, each with the ids it defines: a document has the page's head and an empty element of every
+    id the other part and ``elsewhere`` (the evidence's anchors) define, so that its links are kept
+    (:func:`placeholders`). One document when the page has no :data:`PART`."""
+    from simpick.report.render import anchor_ids
+
+    elsewhere = list(elsewhere)
+    if PART not in page:
+        body = page.replace(mark, "", 1)
+        return [(page.replace(mark, placeholders(elsewhere), 1), set(anchor_ids(body)))]
+    opened = page.index("<body>") + len("<body>")
+    closed = page.rindex("</body>")
+    cut = page.index(PART)
+    head, first, second, tail = page[:opened], page[opened:cut], page[cut:closed].replace(mark, "", 1), page[closed:]
+    first_ids, second_ids = anchor_ids(first), anchor_ids(second)
+    return [
+        (head + first + placeholders(second_ids + elsewhere) + tail, set(first_ids)),
+        (head + second + placeholders(first_ids + elsewhere) + tail, set(second_ids)),
+    ]
 
 
 def footer_sheet(n_pages: int, cache: str | Path | None = None) -> bytes:
@@ -74,15 +99,20 @@ def _name_pairs(tree) -> list:
     return out
 
 
-def _repoint(writer, readers, offsets) -> None:
-    """Where two parts name the same destination, point the joined document's name at the later
-    part's (pypdf's append keeps the first), so that the body's placeholders yield to the evidence's
-    anchors; the links, which name their destination, follow."""
+def _repoint(writer, readers, offsets, owners=None) -> None:
+    """Where two parts name the same destination, point the joined document's name at the part that
+    defines it (``owners``: each part's ids; without them the later part's): pypdf's append keeps the
+    first, and a part's placeholders must yield to the element they stand for; the links, which name their
+    destination, follow."""
     from pypdf.generic import ArrayObject, DictionaryObject, FloatObject, NameObject, NullObject, TextStringObject
 
     later = {}
-    for reader, offset in zip(readers[1:], offsets[1:]):
+    for i, (reader, offset) in enumerate(zip(readers, offsets)):
+        if i == 0:
+            continue
         for name, dest in reader.named_destinations.items():
+            if owners is not None and name not in owners[i]:
+                continue
             page = writer.pages[offset + reader.get_destination_page_number(dest)].indirect_reference
             coords = [FloatObject(v) if v is not None else NullObject() for v in (dest.left, dest.top, dest.zoom)]
             later[name] = ArrayObject([page, NameObject("/XYZ"), *coords])
@@ -164,14 +194,18 @@ def _stamp(page, footer, writer) -> None:
 
 
 def join(
-    parts: Sequence[str | Path], out: str | Path, footers: bytes | None = None, footer_cache: str | Path | None = None
+    parts: Sequence[str | Path],
+    out: str | Path,
+    footers: bytes | None = None,
+    footer_cache: str | Path | None = None,
+    owners: Sequence[set[str]] | None = None,
 ) -> int:
     """Write the PDFs ``parts`` (the body first) as one document ``out``, every page with its footer
     (``footers``: a footer sheet of the joined page count; made here when not given, kept in ``footer_cache``
-    when that names a folder: :func:`footer_sheet`); where two parts
-    name the same destination, the later part's wins (the body's placeholders yield to the
-    evidence's anchors); the later parts' bookmarks go under the body's last top-level one, as in a
-    document laid out in one pass. Returns the page count."""
+    when that names a folder: :func:`footer_sheet`); where two parts name the same destination, the part
+    that defines it wins (``owners``: the ids each part defines; without them the later part: the body's
+    placeholders yield to the evidence's anchors); the later parts' bookmarks go under the body's last
+    top-level one, as in a document laid out in one pass. Returns the page count."""
     from pypdf import PdfReader, PdfWriter
 
     readers = [PdfReader(str(p)) for p in parts]
@@ -180,7 +214,7 @@ def join(
     for reader in readers:
         offsets.append(len(writer.pages))
         writer.append(reader, import_outline=False)
-    _repoint(writer, readers, offsets)
+    _repoint(writer, readers, offsets, owners)
     top = _copy_outline(writer, readers[0], readers[0].outline, 0) if readers else []
     for reader, offset in zip(readers[1:], offsets[1:]):
         _copy_outline(writer, reader, reader.outline, offset, top[-1] if top else None)
