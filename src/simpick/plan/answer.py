@@ -123,8 +123,9 @@ class AnswerPlanning:
         }
 
     def answer_settings(self):
-        """Rule answer's params (:class:`simpick.score.answer.AnswerParams`): what the answer and the paper's
-        ranking with its interval depend on, the weights, and the words the sentences use."""
+        """The answer's params, part of the report job's weighing (:class:`simpick.score.answer.AnswerParams`):
+        what the answer and the paper's ranking with its interval depend on, the weights, and the words the
+        sentences use."""
         from simpick.score.answer import AnswerParams
 
         drive = self.answer_source == "drive"
@@ -139,7 +140,7 @@ class AnswerPlanning:
             "robot": self._robot_label(),
             "basis": basis,
         }
-        return job_params("answer", AnswerParams, data)
+        return job_params("report", AnswerParams, data)
 
     def answer_tables(self):
         """The real-data comparison's tables the answer, its figure and the decision tree read, by name:

@@ -131,11 +131,11 @@ class JobPlanning:
         return job_params("simulator_settings", SimulatorSettingsParams, data)
 
     def simulator_scores_params(self) -> dict:
-        """Rule simulator_scores' params: the run simulators and the weights."""
+        """The simulators' weighing (the report job's, simpick.report.weighing): the run simulators and the weights."""
         from simpick.score.simulators import SimulatorScoresParams
 
         data = {"simulators": self.simulators, "weights": self.settings.weights}
-        return job_params("simulator_scores", SimulatorScoresParams, data)
+        return job_params("report", SimulatorScoresParams, data)
 
     def simulator_tree_params(self) -> dict:
         """Rule simulator_tree's params: the run simulators, and whether the study has a verdict."""
