@@ -30,15 +30,12 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 SNAKEMAKE = Path(sys.executable).with_name("snakemake")
-# the rules of the weight path, and those beside it, that keep a benchmark file (rules/scores.smk,
-# rules/tree.smk, rules/simulators.smk, rules/report.smk)
+# the rule of the weight path (the report job, which weighs the scores before it writes the page), and those
+# beside it that keep a benchmark file (rules/scores.smk, rules/tree.smk, rules/report.smk)
 BENCHMARKS = (
     "scores",
-    "weighted",
     "verdict",
-    "answer",
     "figure_tree",
-    "simulator_scores",
     "report_evidence",
     "report",
 )

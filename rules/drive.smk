@@ -11,23 +11,22 @@ DRIVE_TARGETS = []
 if SETTINGS.drive_dir:
     from simpick.errors import InputError
     from simpick.sources import module as source_module
-    from simpick.sources.base import engine_params
 
     # the DRIVE source (simpick.sources.drive): which folders are sessions, which this study can replay,
     # which models replay them, and each job's inputs and parameters
     DRIVE_SOURCE = source_module("drive")
-    DRIVE = DRIVE_SOURCE.root(PLAN.config)
+    DRIVE = DRIVE_SOURCE.root(SETTINGS)
     DRIVE_SESSIONS = DRIVE_SOURCE.folders(SETTINGS.drive_dir)
     DRIVE_FOLDERS = {p.name: p for p in DRIVE_SESSIONS}
     DRIVE_SPEC = {"folders": DRIVE_FOLDERS}
     # what the jobs read of the declaration (its robot is the plan's alone: checked below)
-    DRIVE_DECLARED = DRIVE_SOURCE.declared(PLAN.config)
+    DRIVE_DECLARED = DRIVE_SOURCE.declared(SETTINGS)
     # each session's metadata.yaml (YAML, no pickle): another robot's session, a tracked one, or one whose
     # terrain has no ground model is refused now, one line each, before any job
     _problems = DRIVE_SOURCE.problems(
         DRIVE_SESSIONS,
-        PLAN.config["real_data"]["datasets"][SETTINGS.drive_dataset],
-        PLAN.config["real_data"]["classes"],
+        SETTINGS.real_data.datasets[SETTINGS.drive_dataset],  # keyed by dataset name (data)
+        SETTINGS.real_data.classes,
         PLAN.robot.name,
         SETTINGS.drive_dataset,
     )
@@ -74,7 +73,7 @@ if SETTINGS.drive_dir:
         """One model x one DRIVE session: its chosen steps (drive_replay.every, max_steps_per_session),
         each from its warm-up, under the watchdog, driven by the wheels table (simpick.simulate.steps)."""
         input:
-            **DRIVE_SOURCE.case_inputs(PLAN.config, "drive", DRIVE_SPEC, "", []),
+            **DRIVE_SOURCE.case_inputs(SETTINGS, "drive", DRIVE_SPEC, "", []),
         output:
             trace=f"{DRIVE}/replay/{{model}}/{{session}}.parquet",
             steps=f"{DRIVE}/replay/{{model}}/{{session}}.csv",
@@ -139,7 +138,7 @@ if SETTINGS.drive_dir:
             cases=f"{DRIVE}/cases.csv",
             steps=f"{DRIVE}/steps.csv",
             wheels=f"{DRIVE}/{DRIVE_SOURCE.WHEELS}",
-            urdf=PLAN.config["robot"]["urdf"],
+            urdf=SETTINGS.robot.urdf,
         output:
             best=f"{DRIVE_CAL}/{{model}}/{{terrain}}/best.yaml",
             trials=f"{DRIVE_CAL}/{{model}}/{{terrain}}/trials.csv",
@@ -149,30 +148,13 @@ if SETTINGS.drive_dir:
             f"results/logs/drive/{SETTINGS.drive_dataset}/calibrate/{{model}}/{{terrain}}.log",
         wildcard_constraints:
             model="|".join(DRIVE_CAL_MODELS) or "no-model",
-            terrain="|".join(re.escape(c) for c in PLAN.config["real_data"]["classes"]),
+            terrain="|".join(re.escape(c) for c in SETTINGS.real_data.classes),
         conda:
             "../envs/simpick.yaml"
         resources:
             runtime=240,
         params:
-            settings=lambda wc: canonical(
-                {
-                    "engine": wc.model,
-                    "terrain_class": wc.terrain,
-                    "case": engine_params(PLAN.config, wc.model),
-                    "classes": PLAN.config["real_data"]["classes"],
-                    "replay": PLAN.config["drive_replay"],
-                    "calibration": {
-                        "source": "drive",
-                        "scales": PLAN.config["calibration"]["scales"],
-                        "test_fraction": PLAN.config["calibration"]["test_fraction"],
-                        "n_trials": PLAN.config["calibration"]["n_trials"],
-                        "startup_trials": PLAN.config["calibration"]["startup_trials"],
-                        "seed": PLAN.config["calibration"]["seed"],
-                        "bounds": {wc.model: (PLAN.config["calibration"].get("bounds") or {}).get(wc.model) or {}},
-                    },
-                }
-            ),
+            settings=lambda wc: PLAN.drive_calibrate_params(wc.model, wc.terrain),
             code=lambda wc: PLAN.script_code("drive_calibrate", *PLAN.engine_modules(wc.model)),
         script:
             "../scripts/drive_calibrate.py"
@@ -186,7 +168,7 @@ if SETTINGS.drive_dir:
             cases=f"{DRIVE}/cases.csv",
             steps=f"{DRIVE}/steps.csv",
             sessions=f"{DRIVE}/sessions.csv",
-            urdf=PLAN.config["robot"]["urdf"],
+            urdf=SETTINGS.robot.urdf,
         output:
             summary=f"{DRIVE_CAL}/summary.csv",
             turning=f"{DRIVE_CAL}/turning.csv",
@@ -195,10 +177,10 @@ if SETTINGS.drive_dir:
         conda:
             "../envs/simpick.yaml"
         params:
-            settings=canonical({"statistics": PLAN.config["statistics"]}),
+            settings=PLAN.drive_calibration_params(),
             code=PLAN.script_code("drive_calibration"),
         script:
             "../scripts/drive_calibration.py"
 
-    if PLAN.config["calibration"]["enabled"]:
+    if SETTINGS.calibration and SETTINGS.calibration.enabled:
         DRIVE_TARGETS += [f"{DRIVE_CAL}/summary.csv", f"{DRIVE_CAL}/turning.csv"]

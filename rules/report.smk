@@ -314,12 +314,14 @@ rule report_evidence:
         "../scripts/report_evidence.py"
 
 
+# The report job first weighs the scores (the weighted tables, the answer where the study has real data of
+# its robot, and the simulators' weighted table: simpick.report.weighing), which no other job reads before
+# it, then writes the page: a weight edit reruns this job alone.
 rule report:
     input:
         unpack(PLAN.report_real_inputs),
-        weighted="results/scores/weighted.csv",
-        contributions="results/scores/contributions.csv",
-        drivers="results/scores/drivers.csv",
+        # what the weighing reads, named weighing_* (PLAN.weighing_inputs)
+        unpack(PLAN.weighing_inputs),
         # the decision tree's data: the page's interactive section answers it (rules/tree.smk)
         tree="results/verdict/tree.json",
         scores_provenance="results/scores/provenance.yaml",
@@ -353,7 +355,6 @@ rule report:
         simulators=(
             [
                 "results/simulators/table.csv",
-                "results/simulators/weighted.csv",
                 "results/simulators/tree.json",
                 "results/simulators/settings",
             ]
@@ -365,11 +366,16 @@ rule report:
         evidence_html="results/report/parts/evidence.html",
         evidence_pdf="results/report/parts/evidence.pdf",
     output:
+        **{
+            name: report(path, caption=caption, category=category)
+            for name, (path, caption, category) in PLAN.weighing_outputs().items()
+        },
         # report(): `snakemake --report` carries the study report (its figures are embedded in it).
         # The HTML and its PDF in one job: one process start and one context less on every rerun;
         # the PDF lays out the body alone and joins the evidence's PDF after it.
         html=report("results/report/report.html", caption="captions/report_html.rst", category="Study report"),
         pdf=report("results/report/report.pdf", caption="captions/report_pdf.rst", category="Study report"),
+        # the weighing's tables (PLAN.weighing_outputs)
     log:
         "results/logs/report.log",
     benchmark:
@@ -382,6 +388,7 @@ rule report:
         # configured engines this machine cannot run (listed, not dropped) and the registered engines an opt-in
         # config adds (named as not run, with the switch)
         settings=PLAN.report_params(),
+        weighing=PLAN.weighing_params(),
         code=PLAN.script_code("report"),
         # the DRIVE tables' folder (results/drive/<name>), from the inputs: empty without drive_dir
         drive=lambda wildcards, input: os.path.dirname(input.drive[0]) if input.drive else "",

@@ -1,7 +1,7 @@
 # The simulators as rows (simpick.engines.simulators): each simulator's profiles run the validation and the real data
 # as models of the study (rules/validate.smk, rules/simulate.smk); here their results are put together by
-# simulator, without simulating anything. No weight reaches rule simulators; simulator_scores reads the weights
-# (the paper's table per simulator), simulator_tree the evidence alone (weights only order a leaf).
+# simulator, without simulating anything. No weight reaches rule simulators; the report job weighs their scores
+# (the paper's table per simulator), simulator_tree reads the evidence alone (weights only order a leaf).
 
 
 rule simulators:
@@ -56,25 +56,8 @@ rule simulator_settings:
         "../scripts/simulator_settings.py"
 
 
-rule simulator_scores:
-    """The paper's weighted table with simulators as its rows: their 2026 facts and their tuned rows' physics."""
-    input:
-        tree_dir="results/simulators/subjects",
-    output:
-        scores="results/simulators/scores.csv",
-        weighted="results/simulators/weighted.csv",
-    log:
-        "results/logs/simulator_scores.log",
-    # on the weight path: bench/weight_edit.py reads its time
-    benchmark:
-        "results/benchmarks/simulator_scores.tsv"
-    conda:
-        "../envs/simpick.yaml"
-    params:
-        **PLAN.simulator_scores_params(),
-        code=PLAN.script_code("simulator_scores"),
-    script:
-        "../scripts/simulator_scores.py"
+# The paper's weighted table with simulators as its rows (simpick.score.simulators.simulator_scores_job):
+# weighed by the report job (simpick.report.weighing), which the weights reach.
 
 
 rule simulator_tree:

@@ -410,6 +410,7 @@ def test_the_workflow_writes_the_drive_tables_of_a_named_folder(tmp_path):
 def test_sessions_of_another_robot_on_tracks_or_an_unmodelled_terrain_are_refused_at_planning(tmp_path):
     """simpick.sources.drive reads each session's metadata.yaml only (no pickle): one problem per session, each
     naming the file, the field and the fix."""
+    from simpick.config.real import DeclaredDataset
     from simpick.sources.drive import problems as session_problems
 
     classes = {"asphalt": {}, "gravel": {}, "grass": {}}
@@ -425,18 +426,22 @@ def test_sessions_of_another_robot_on_tracks_or_an_unmodelled_terrain_are_refuse
         cut(tmp_path, GRAVEL, steps=2, name="on_snow", metadata=block(terrain="snow")),
     ]
     (tmp_path / "husky_gravel" / PICKLE).write_text("never read: planning opens no pickle\n")
-    problems = [str(p) for p in session_problems(folders, {}, classes, "warthog")]
+    problems = [str(p) for p in session_problems(folders, DeclaredDataset(kind="drive"), classes, "warthog")]
     assert len(problems) == 3, problems
     assert "husky_gravel/metadata.yaml: field 'metadata.robot': is 'husky'" in problems[0]
     assert "real_data.datasets.drive.robot: husky" in problems[0]
     assert "marmotte/metadata.yaml: field 'metadata.traction': is 'tracks'" in problems[1]
     assert "on_snow/metadata.yaml: field 'metadata.terrain'" in problems[2] and "'snow'" in problems[2]
     # declared: the session's terrain and the name DRIVE gives the study's robot
-    declared = {"robot": "husky", "sessions": {"on_snow": {"terrain_class": "gravel"}}}
+    sessions = {"on_snow": {"terrain_class": "gravel"}}
+    declared = DeclaredDataset(kind="drive", robot="husky", sessions=sessions)
     problems = [str(p) for p in session_problems(folders, declared, classes, "warthog")]
     refused = [str(f / "metadata.yaml") for f in (folders[0], folders[2], folders[3])]  # now the other robot's
     assert [p.split(":")[0] for p in problems] == refused
-    assert session_problems([folders[3]], {"sessions": declared["sessions"]}, classes, "warthog") == []
+    only_sessions = DeclaredDataset(kind="drive", sessions=sessions)
+    assert session_problems([folders[3]], only_sessions, classes, "warthog") == []
+    # no declaration: the URDF's robot name, each session's own terrain
+    assert len(session_problems(folders, None, classes, "warthog")) == 3
 
 
 def test_the_config_names_a_drive_folder(tmp_path):

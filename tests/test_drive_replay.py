@@ -315,7 +315,7 @@ def test_calibration_on_drive_steps_splits_searches_and_gives_the_multiplier(tmp
 
     from simpick.config import plain, validate_or_exit
     from simpick.real.drive import open_drive, write_tables
-    from simpick.sources.base import engine_params
+    from simpick.sources.base import model_settings, simulation_params
     from simpick.studies.calibration import steps as DC
 
     tables = {k: str(tmp_path / f"{k}.csv") for k in ("cases", "steps", "sessions")} | {
@@ -323,7 +323,8 @@ def test_calibration_on_drive_steps_splits_searches_and_gives_the_multiplier(tmp
     }
     write_tables(open_drive(asphalt["folder"]), tables)
     config = warthog_config(tmp_path)
-    pc = plain(validate_or_exit(config), config)
+    study = validate_or_exit(config)
+    pc = plain(study, config)
     settings = {
         "source": "drive",
         "scales": pc["calibration"]["scales"],
@@ -338,7 +339,7 @@ def test_calibration_on_drive_steps_splits_searches_and_gives_the_multiplier(tmp
         "terrain_class": "asphalt",
         "calibration": settings,
         "replay": {"every": 3, "max_steps_per_session": 6, "warmup": 3.0},
-        "case": engine_params(pc, "mujoco"),
+        "case": simulation_params(study, "mujoco", model_settings(pc, "mujoco")),
         "classes": pc["real_data"]["classes"],
     }
     out = {

@@ -22,6 +22,7 @@ from simpick.real.jobs import ImportParams, SegmentsParams
 from simpick.real.turning import TurningParams
 from simpick.report import draw
 from simpick.report import params as report_params
+from simpick.report.weighing import WeighingParams
 from simpick.score import simulators as simulators_stage
 from simpick.score.answer import AnswerParams
 from simpick.score.steps import CompareParams
@@ -41,6 +42,22 @@ from simpick.studies.validation import job as validation_job
 
 def plan_of(config: dict) -> Plan:
     return Plan(config, Study.model_validate(config), basedir=str(ROOT))
+
+
+def simulation_before_typing(config: dict, model: str) -> dict:
+    """What every simulation on ``model`` was given before typing, from the plan's plain settings (the retired
+    simpick.sources.base.engine_params): the params built from the typed study must keep this content."""
+    return canonical(
+        {
+            "engine": model,
+            "engine_settings": model_settings(config, model),
+            "physics": config["physics"],
+            "robot": {k: v for k, v in config["robot"].items() if k != "urdf"},
+            "imu": config["imu"],
+            "health": config["health"],
+            "seed": config["seed"],
+        }
+    )
 
 
 def real_units(kind: str):
@@ -94,7 +111,12 @@ CONVERTED = {
     ),
     "simulators": (simulators_stage.SimulatorsParams, lambda plan: [plan.simulators_params()]),
     "simulator_settings": (simulators_stage.SimulatorSettingsParams, lambda plan: [plan.simulator_settings_params()]),
-    "simulator_scores": (simulators_stage.SimulatorScoresParams, lambda plan: [plan.simulator_scores_params()]),
+    # the report job's weighing (simpick.report.weighing): its simulators' and answer's parts below
+    "report (weighing)": (WeighingParams, lambda plan: [plan.weighing_params()]),
+    "report (weighing: simulators)": (
+        simulators_stage.SimulatorScoresParams,
+        lambda plan: [plan.simulator_scores_params()],
+    ),
     "simulator_tree": (simulators_stage.SimulatorTreeParams, lambda plan: [plan.simulator_tree_params()]),
     "calibrate": (SearchSettings, lambda plan: [plan.calibration_settings(m) for m in plan.cal_models]),
     "calibration_evaluate": (
@@ -110,7 +132,7 @@ CONVERTED = {
     ),
     # --- the verdict, the answer and DRIVE's step verdict ---
     "verdict": (VerdictParams, lambda plan: [plan.verdict_settings()] if plan.verdict else []),
-    "answer": (AnswerParams, lambda plan: [plan.answer_settings()] if plan.answer_source else []),
+    "report (weighing: answer)": (AnswerParams, lambda plan: [plan.answer_settings()] if plan.answer_source else []),
     # the rule exists where drive_dir is set; its params do not depend on the folder: the study's engines
     "drive_compare": (CompareParams, lambda plan: [plan.drive_compare_params(plan.engines)]),
     # --- the report: its figures, its evidence and the report itself ---
@@ -169,7 +191,7 @@ def test_each_converted_rule_s_params_validate_against_its_job_s_model(rule, whi
     # the sweep runs the committed segments, which a study of another robot than theirs refuses
     no_jobs = {("robot_plan", "sweep_segments")}
     # the Warthog's study has no real data of its robot: no verdict, no answer
-    no_jobs |= {("robot_plan", "verdict"), ("robot_plan", "answer")}
+    no_jobs |= {("robot_plan", "verdict"), ("robot_plan", "report (weighing: answer)")}
     assert bool(all_params) != ((which, rule) in no_jobs), f"{rule}: jobs in this plan: {len(all_params)}"
     for params in all_params:
         # plain builtins, canonical: what Snakemake fingerprints by repr (the simulate family's params are
@@ -322,11 +344,9 @@ def test_the_real_turning_params_are_what_rules_real_smk_built_inline(replay_pla
     assert plan.real_turning_params() == inline
 
 
-def test_the_step_calibration_params_equal_what_rules_drive_smk_builds(default_plan, robot_plan):
-    """rules/drive.smk builds drive_calibrate's params inline from the plain settings; the plan's typed ones
-    validate against the job's model and hold the same content (no spurious rerun once the rule passes them)."""
-    from simpick.sources.base import engine_params
-
+def test_the_step_calibration_params_equal_what_rules_drive_smk_built(default_plan, robot_plan):
+    """rules/drive.smk built drive_calibrate's params inline from the plain settings; the plan's typed ones, which
+    it passes now, validate against the job's model and hold the same content (no calibration searched again)."""
     for plan in (default_plan, robot_plan):
         config = plan.config
         for model in plan.real_models:
@@ -335,7 +355,7 @@ def test_the_step_calibration_params_equal_what_rules_drive_smk_builds(default_p
                     {
                         "engine": model,
                         "terrain_class": terrain,
-                        "case": engine_params(config, model),
+                        "case": simulation_before_typing(config, model),
                         "classes": config["real_data"]["classes"],
                         "replay": config["drive_replay"],
                         "calibration": {
@@ -388,7 +408,7 @@ def test_the_split_s_strata_validate_and_are_what_they_were_before_typing(replay
 def test_the_verdict_answer_and_drive_compare_params_keep_their_content(default_plan, tmp_path):
     """Built from the typed study, they hold what the plain slices gave (the answer's basis gains its noun,
     None where the sentences say "real runs"); DRIVE's comparison's are what simpick.sources.drive gave."""
-    from simpick.sources import module as source_module
+    from simpick.real.steps import SIMILAR
 
     plan = default_plan
     old_verdict = {
@@ -403,8 +423,16 @@ def test_the_verdict_answer_and_drive_compare_params_keep_their_content(default_
     answer = plan.answer_settings()
     assert answer["weights"] == canonical(plan.config["weights"]) and answer["basis"]["noun"] is None
     engines = ["mujoco", "ode"]
-    old_compare = source_module("drive").compare_settings(plan.config) | {"engines": engines}
-    assert plan.drive_compare_params(engines) == canonical(old_compare)
+    config = plan.config
+    old_drive = {  # what simpick.sources.drive.compare_settings gave from the plain settings
+        "verdict": config["verdict"],
+        "statistics": config["statistics"],
+        "unit": config["drive_replay"]["unit"],
+        "tolerance": SIMILAR,
+        "seed": config["seed"],
+    }
+    assert source_module("drive").compare_settings(plan.settings) == canonical(old_drive)
+    assert plan.drive_compare_params(engines) == canonical(old_drive | {"engines": engines})
 
 
 def test_only_the_answer_s_params_hold_the_weights(default_plan):
@@ -485,11 +513,20 @@ def test_a_segment_reads_what_its_class_s_job_read(default_plan, replay_plan):
 
 def test_the_drive_replay_params_are_what_they_were_before_typing(default_plan, robot_plan):
     """Built from the typed study, they equal, repr and all, what rules/drive.smk passed before (the DRIVE
-    source module's case_params): no session is replayed again."""
+    source module's case_params from the plain settings), as does the typed source module's: no session is
+    replayed again."""
+    drive = source_module("drive")
     for plan in (default_plan, robot_plan):
+        config = plan.config
         for model in plan.real_models:
-            before = source_module("drive").case_params(plan.config, "drive", {}, model, "a-session", [])
+            before = canonical(
+                simulation_before_typing(config, model)
+                | {"classes": config["real_data"]["classes"], "replay": config["drive_replay"], "session": "a-session"}
+            )
             assert repr(plan.drive_replay_params(model, "a-session")) == repr(before), model
+            typed = drive.case_params(plan.settings, "drive", {}, model, plan.model_settings(model), "a-session", [])
+            assert repr(typed) == repr(before), model
+            SessionReplayParams.model_validate(typed)
 
 
 def test_the_compare_and_summarise_settings_are_what_they_were_before_typing(default_plan, replay_plan):

@@ -99,9 +99,7 @@ def test_the_rules_that_declare_resources_are_the_ones_the_docs_name():
         "compare",
         "summarise",
         "verdict",
-        "answer",
         "scores",
-        "weighted",
     }
     figures = {name for name, _ in rule_blocks() if name.startswith("figure_")}
     assert declared == named | figures

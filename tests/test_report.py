@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import html
+import io
 import json
 import math
 import re
@@ -1536,3 +1537,24 @@ def test_the_answer_s_cpu_heading_names_the_robots_the_cpu_load_measured():
     records = [{"engine": e, "average": {"robots": 1}, "intense": {"robots": 3}} for e in ("ode", "mujoco")]
     assert _cpu_robots(SimpleNamespace(cpu=records)) == "1 / 3 robots"
     assert _cpu_robots(SimpleNamespace(cpu=[])) == "average / intense"
+
+
+def test_the_footer_sheet_is_kept_and_read_back_for_the_same_page_count(tmp_path, monkeypatch):
+    """A weight edit leaves the page count as it was: the report job reads the footer sheet it laid out
+    last time (simpick.report.pdf.footer_sheet with a cache folder) instead of laying it out again; another
+    page count gets a sheet of its own."""
+    import weasyprint
+    from pypdf import PdfReader
+
+    from simpick.report import pdf
+
+    first = pdf.footer_sheet(3, tmp_path / "cache")
+    assert len(PdfReader(io.BytesIO(first)).pages) == 3 and len(list((tmp_path / "cache").iterdir())) == 1
+
+    def no_layout(*args, **kwargs):
+        raise AssertionError("laid out again")
+
+    monkeypatch.setattr(weasyprint, "HTML", no_layout)
+    assert pdf.footer_sheet(3, tmp_path / "cache") == first
+    with pytest.raises(AssertionError, match="laid out again"):
+        pdf.footer_sheet(4, tmp_path / "cache")

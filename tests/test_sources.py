@@ -116,15 +116,32 @@ def test_an_edit_to_a_comparison_changes_no_simulation(library):
 
 def test_the_sources_params_from_the_typed_study_are_what_the_plain_settings_gave(tmp_path):
     """The sources read the typed study; their params are the plain settings' slices as before (a simulation
-    whose params change reruns): every unit of the default study, and the DRIVE source's plain form."""
+    whose params change reruns): every unit of the default study, and the DRIVE source's."""
     from conftest import tiny_config
     from simpick.config import Study
     from simpick.plan import Plan
-    from simpick.sources.base import canonical, engine_params, simulation_params
+    from simpick.real.steps import SIMILAR
+    from simpick.sources.base import canonical, model_settings, simulation_params
 
     config = tiny_config(tmp_path)
     plan = Plan(config, Study.model_validate(config), basedir=str(ROOT))
     plain = plan.config
+
+    def engine_params(plain: dict, engine: str) -> dict:
+        """What every simulation on ``engine`` was given from the plain settings before typing."""
+        robot = {k: v for k, v in plain["robot"].items() if k != "urdf"}
+        return canonical(
+            {
+                "engine": engine,
+                "engine_settings": model_settings(plain, engine),
+                "physics": plain["physics"],
+                "robot": robot,
+                "imu": plain["imu"],
+                "health": plain["health"],
+                "seed": plain["seed"],
+            }
+        )
+
     for engine in plan.real_models:
         assert simulation_params(plan.settings, engine, plan.model_settings(engine)) == engine_params(plain, engine)
     motions = list(plan.motions)
@@ -150,3 +167,20 @@ def test_the_sources_params_from_the_typed_study_are_what_the_plain_settings_gav
         assert plan.case_params("segments", engine, None, names) == unit
     assert plan.compare_settings("segments") == canonical({"track": plain["robot"]["track"]})
     assert plan.compare_inputs(type("W", (), {"source": "lab"})())["published"] == plain["reference"]["published"]
+    # the DRIVE source: its replay's params, inputs and comparison's settings as the plain settings gave them
+    drive = sources.module("drive")
+    study = plan.settings
+    for engine in plan.real_models:
+        before = engine_params(plain, engine) | canonical(
+            {"classes": plain["real_data"]["classes"], "replay": plain["drive_replay"], "session": "s"}
+        )
+        assert drive.case_params(study, "drive", {}, engine, plan.model_settings(engine), "s", []) == before
+    root = f"results/drive/{plain['drive_dataset']}"
+    assert drive.case_inputs(study, "drive", {}, "", []) == {
+        "cases": f"{root}/cases.csv",
+        "wheels": f"{root}/{drive.WHEELS}",
+        "urdf": plain["robot"]["urdf"],
+    }
+    judged = {"verdict": plain["verdict"], "statistics": plain["statistics"], "seed": plain["seed"]}
+    judged |= {"unit": plain["drive_replay"]["unit"], "tolerance": SIMILAR}
+    assert drive.compare_settings(study) == canonical(judged)

@@ -73,11 +73,11 @@ def test_tolerance_edit_rejudges_without_stepping_an_engine(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        # the validation is re-judged; the verdict's mechanics gate rests on it (and the answer, its
-        # figure, the decision tree and its figure on the verdict): no engine steps, no lab or real-data job
+        # the validation is re-judged; the verdict's mechanics gate rests on it (and the answer, which the
+        # report job writes, its figure, the decision tree and its figure on the verdict): no engine steps,
+        # no lab or real-data job
         assert rules == [
             "all",
-            "answer",
             "decision_tree",
             "figure_answer",
             "figure_tree",
@@ -109,11 +109,11 @@ def test_weight_edit_reruns_only_scoring_and_report(study):
         # the weighted total its interval over real runs and flags it; the report's table under the printed tree
         # orders each leaf's engines by the weighted total (the figure reads no weight: figure_tree does not
         # rerun); the verdict's tests (each engine against the best) read no weight.
-        # The scores and the record of what they rest on (rule scores) read no weight; rule answer weighs them
-        # (it writes weighted.csv, contributions.csv and drivers.csv: no job of their own before it);
-        # the evidence's sections 2-5 and the appendices (report_evidence) read no weight either: the report
-        # job lays out its body and joins the evidence's PDF
-        assert rules == ["all", "answer", "report"]
+        # The scores and the record of what they rest on (rule scores) read no weight; the report job weighs
+        # them (it writes weighted.csv, contributions.csv, drivers.csv and the answer before the page: no job
+        # of their own before it); the evidence's sections 2-5 and the appendices (report_evidence) read no
+        # weight either: the report job lays out its body and joins the evidence's PDF
+        assert rules == ["all", "report"]
     finally:
         write_config(workdir, config)
 
@@ -126,13 +126,12 @@ def test_margin_edit_reruns_only_the_verdict_and_the_report(study):
     write_config(workdir, edited)
     try:
         rules = sorted({rule for rule, _ in planned_jobs(workdir)})
-        # the margin reaches the verdict's rule through its params; the answer, the answer's figure (the
-        # margin shaded), the decision tree and its figure, and the report read its outcomes; the evidence's
-        # section 3 what the accuracy scores can tell apart, which the verdict job writes: no score, no
-        # simulation, no other figure
+        # the margin reaches the verdict's rule through its params; the answer's figure (the margin shaded),
+        # the decision tree and its figure, and the report (with the answer it writes) read its outcomes; the
+        # evidence's section 3 what the accuracy scores can tell apart, which the verdict job writes: no
+        # score, no simulation, no other figure
         assert rules == [
             "all",
-            "answer",
             "decision_tree",
             "figure_answer",
             "figure_tree",

@@ -17,14 +17,12 @@ class AnswerPlanning:
     its sources)."""
 
     def __init__(self):
-        config = self.config
         # simpick's verdict rests on real runs: none where the study's robot has no real data
         self.verdict = self.verdict_source() in self.sources
         # The real data the first page's answer rests on (rule answer, its figure, the decision tree): the
         # verdict's runs where the study has them, else the DRIVE comparison's steps (--config drive_dir=PATH),
         # which replay the study's own robot; None: no real data of this robot, no answer table.
-        # the drive module reads its folder from the plain settings (its own API, shared with its rules)
-        self.drive = source_module("drive").root(config) if self.settings.drive_dir else None
+        self.drive = source_module("drive").root(self.settings) if self.settings.drive_dir else None
         self.answer_source = "verdict" if self.verdict else ("drive" if self.drive else None)
 
     def accuracy_source(self):
@@ -113,8 +111,7 @@ class AnswerPlanning:
         robot = self._robot_label()
         if self.answer_source not in (None, "verdict"):  # a source whose own comparison the answer rests on
             name = self.settings.drive_dataset
-            # a source module's API takes the plain settings (shared with its rules)
-            return source_module(self.answer_source).answer_basis(self.config, self._dataset_label(name), robot)
+            return source_module(self.answer_source).answer_basis(self.settings, self._dataset_label(name), robot)
         source = self.verdict_source()
         name = self.dataset if self.sources[source]["kind"] == "segments" else source
         label = "own-log" if source == "own" else self._dataset_label(name)
@@ -156,7 +153,7 @@ class AnswerPlanning:
             tables["per_test"] = self.metrics_file(self.verdict_source(), "per_test")
             return tables
         if self.answer_source is not None:
-            return source_module(self.answer_source).answer_tables(self.config)
+            return source_module(self.answer_source).answer_tables(self.settings)
         return {}
 
     def answer_inputs(self, wildcards=None):

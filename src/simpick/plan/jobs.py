@@ -100,7 +100,7 @@ class JobPlanning:
 
         drive = None
         if self.settings.drive_dir:
-            judged = source_module("drive").compare_settings(self.config)
+            judged = source_module("drive").compare_settings(self.settings)
             drive = {"tolerance": judged["tolerance"], "unit": judged["unit"]}
         data = {
             "profile_results": self.profile_results,
@@ -187,8 +187,7 @@ class JobPlanning:
         }
         return job_params("real_turning", TurningParams, data)
 
-    # --- the calibration on step units (rules/drive.smk's drive_calibrate, which builds these params inline
-    # today; this gives the same content, validated, for that file to pass instead) ---
+    # --- the calibration on step units (rules/drive.smk's drive_calibrate and drive_calibration) ---
 
     def drive_calibrate_params(self, model: str, terrain_class: str) -> dict:
         """Rule drive_calibrate's settings for a model and a terrain class: the model's simulation settings,

@@ -10,8 +10,27 @@ from simpick.plan.jobs import fields_of, job_params
 FIGURES = "results/report/figures"
 # simpick's verdict tables (rule verdict), each an input of the report
 VERDICT_TABLES = ("metrics", "table", "separation", "ranking", "discrimination", "headings", "outcomes", "answer")
-# of those, rule answer's (the rest are the real-data comparison's: Plan.answer_tables)
+# of those, the answer's, which the report job writes itself (simpick.report.weighing; the rest are the
+# real-data comparison's: Plan.answer_tables)
 ANSWER_TABLES = ("separation", "ranking", "answer")
+# what the report job's weighing writes (simpick.report.weighing): output name -> (path, caption, category of
+# `snakemake --report`); the answer's where the study has one, the simulators' where it runs any
+WEIGHED = {
+    "weighted": ("results/scores/weighted.csv", "captions/weighted.rst", "Scores"),
+    "contributions": ("results/scores/contributions.csv", "captions/scores_contributions.rst", "Scores"),
+    "drivers": ("results/scores/drivers.csv", "captions/scores_contributions.rst", "Scores"),
+}
+ANSWERED = {
+    "ranking": ("results/verdict/ranking.csv", "captions/verdict_ranking.rst", "Verdict"),
+    "separation": ("results/verdict/separation.csv", "captions/verdict_separation.rst", "Verdict"),
+    "answer": ("results/verdict/answer.csv", "captions/verdict_answer.rst", "Verdict"),
+    "answer_yaml": ("results/verdict/answer.yaml", "captions/verdict_answer.rst", "Verdict"),
+    "headline": ("results/verdict/headline.yaml", "captions/verdict_headline.rst", "Verdict"),
+}
+SIMULATORS_WEIGHED = {
+    "simulators_scores": ("results/simulators/scores.csv", "captions/simulators.rst", "Simulators"),
+    "simulators_weighted": ("results/simulators/weighted.csv", "captions/simulators.rst", "Simulators"),
+}
 
 
 class ReportPlanning:
@@ -136,14 +155,11 @@ class ReportPlanning:
             inputs["replay_per_window"] = self.metrics_file(name, "detail")
             inputs["real_turning"] = f"{self.replay}/turning/summary.csv"
         if self.answer_source:
-            # the answer's own tables (rule answer writes them into results/verdict/ whichever real data it
-            # rests on), and the comparison's tables it rests on: the verdict's, or the DRIVE comparison's
-            inputs.update({f"verdict_{t}": f"results/verdict/{t}.csv" for t in ANSWER_TABLES})
+            # the comparison's tables the answer rests on: the verdict's, or the DRIVE comparison's (the answer's
+            # own tables the report job writes itself: weighing_outputs)
             inputs.update({f"verdict_{t}": p for t, p in self.answer_tables().items() if t in VERDICT_TABLES})
             if self.answer_source == "verdict":
                 inputs["verdict_headings"] = "results/verdict/headings.csv"
-            inputs["verdict_headline"] = "results/verdict/headline.yaml"
-            inputs["verdict_sentences"] = "results/verdict/answer.yaml"
         if self.sweep:
             inputs["sweep"] = f"{self.sweep_dir}/summary.csv"
         if self.settings.calibration and self.settings.calibration.enabled:  # rules/calibration.smk
@@ -234,3 +250,39 @@ class ReportPlanning:
             ],
             "replay_per_test": self.metrics_file(self.replay_set.name, "per_test"),
         }
+
+    # --- the weighing, the report job's first step (simpick.report.weighing) ---
+
+    def weighing_inputs(self, wildcards=None):
+        """What the weighing reads, each named with simpick.report.weighing.PREFIX: the scores, and where the
+        study has an answer what rule answer read before (the comparison's tables, the scores' record, the
+        lab's real-time factor, the CPU runs); the simulators' subjects where it runs any."""
+        from simpick.report.weighing import PREFIX
+
+        inputs = {"scores": "results/scores/scores.csv"}
+        if self.answer_source:
+            inputs |= self.answer_inputs() | {
+                "accuracy_tests": self.accuracy_source()["per_test"],
+                "provenance": "results/scores/provenance.yaml",
+                "rtf": self.metrics_file("lab", "rtf"),
+                "cpu": [f"results/cpu/{engine}.json" for engine in self.engines],
+            }
+        if self.simulators:
+            inputs["simulator_subjects"] = "results/simulators/subjects"
+        return {PREFIX + k: v for k, v in inputs.items()}
+
+    def weighing_outputs(self):
+        """The tables the weighing writes: output name -> (path, caption, category)."""
+        return WEIGHED | (ANSWERED if self.answer_source else {}) | (SIMULATORS_WEIGHED if self.simulators else {})
+
+    def weighing_params(self):
+        """The weighing's params (simpick.report.weighing.WeighingParams): the answer's, which hold the weights,
+        or the weights alone; the simulators' scoring."""
+        from simpick.report.weighing import WeighingParams
+
+        data = {
+            "answer": self.answer_settings() if self.answer_source else None,
+            "weights": dict(self.settings.weights),
+            "simulators": self.simulator_scores_params() if self.simulators else None,
+        }
+        return job_params("report", WeighingParams, data)

@@ -43,7 +43,10 @@ from typing import Any
 
 from simpick.report.inputs import LIST_INPUTS, OPTIONAL_INPUTS, REQUIRED_INPUTS
 
-__all__ = ["build_report", "build_evidence", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
+# where the report job keeps the PDF's footer sheets between runs (simpick.report.pdf.footer_sheet)
+FOOTER_CACHE = ".snakemake/simpick/footers"
+
+__all__ = ["build_report", "build_evidence", "report_job", "REQUIRED_INPUTS", "OPTIONAL_INPUTS", "LIST_INPUTS"]
 
 
 def build_report(
@@ -53,6 +56,7 @@ def build_report(
     pdf_path: str | Path | None = None,
     evidence_html: str | Path | None = None,
     evidence_pdf: str | Path | None = None,
+    footer_cache: str | Path | None = None,
 ) -> None:
     """Write the HTML report to ``html_path`` and, if ``pdf_path`` is given, the same document as PDF
     (one job: the PDF is laid out from the HTML just rendered, with no second process or read).
@@ -60,7 +64,8 @@ def build_report(
     With the evidence's sections 2-5 and the appendices rendered by :func:`build_evidence`
     (``evidence_html``, the fragment, and ``evidence_pdf``), the page places the fragment after
     section 1 of the evidence, and the PDF is the body's, laid out alone, joined with the evidence's
-    (:func:`simpick.report.pdf.join`): one document, one page count, links and bookmarks across both.
+    (:func:`simpick.report.pdf.join`): one document, one page count, links and bookmarks across both; its
+    page footers kept in ``footer_cache`` where that names a folder (:func:`simpick.report.pdf.footer_sheet`).
     Without them the evidence is rendered here from the same inputs and the PDF laid out in one pass
     (one job does all: tests, a report by hand)."""
     import sys
@@ -100,7 +105,7 @@ def build_report(
             footers=False,
         )
         laid_out = time.perf_counter()
-        n = pdf.join([body_pdf, evidence_pdf], pdf_path)
+        n = pdf.join([body_pdf, evidence_pdf], pdf_path, footer_cache=footer_cache)
     finally:
         body_pdf.unlink(missing_ok=True)
     print(
@@ -148,3 +153,29 @@ def _write_text(path: Path, text: str) -> None:
     tmp = path.with_name(path.name + ".partial")
     tmp.write_text(text, encoding="utf-8")
     tmp.replace(path)
+
+
+def report_job(inputs: Mapping, weighing: Mapping, settings: Mapping, outputs: Mapping[str, str], lists=()) -> None:
+    """Rule report: the weighing (:func:`simpick.report.weighing.weigh`) into the job's outputs, then the page
+    and its PDF (:func:`build_report`) from the job's other inputs and the weighed tables. ``settings``:
+    the plan's report params with the folders the rule takes from its inputs; ``lists``: the input names
+    that are lists of files."""
+    from simpick.report.weighing import PREFIX, weigh
+
+    weighed = weigh(inputs, weighing, outputs)
+    evidence = ("evidence_html", "evidence_pdf")  # rule report_evidence's files, placed by build_report
+    page_inputs = {
+        key: (list(value) if key in lists else value)
+        for key, value in inputs.items()
+        if key not in evidence and not key.startswith(PREFIX)
+    } | weighed
+    build_report(
+        page_inputs,
+        settings,
+        outputs["html"],
+        outputs["pdf"],
+        evidence_html=inputs["evidence_html"],
+        evidence_pdf=inputs["evidence_pdf"],
+        # beside the code versions' cache of the working directory's Snakemake folder (simpick.codeversion)
+        footer_cache=FOOTER_CACHE,
+    )

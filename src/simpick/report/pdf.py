@@ -29,20 +29,39 @@ def placeholders(ids: Iterable[str]) -> str:
     return "".join(f'<div id="{_html.escape(i, quote=True)}"></div>' for i in ids)
 
 
-def footer_sheet(n_pages: int) -> bytes:
+def footer_sheet(n_pages: int, cache: str | Path | None = None) -> bytes:
     """``n_pages`` blank pages with the report's footers ("page n of N"), as a PDF (WeasyPrint,
-    the report's own CSS: same page size, margins, font)."""
+    the report's own CSS: same page size, margins, font). With ``cache``, a folder: the sheet is kept there
+    under a name that hashes the page count, the CSS and WeasyPrint's version, and read back when one of that
+    name is there: a weight edit leaves the page count as it was, and laying out the sheet again took about
+    0.26 s of the report job for 60 pages on this machine."""
+    import hashlib
     import logging
 
     import weasyprint
 
     from simpick.report.render import environment
 
-    logging.getLogger("weasyprint").setLevel(logging.ERROR)
     css = environment().get_template("report.css").render()
+    kept = None
+    if cache is not None:
+        key = hashlib.sha256(f"{n_pages}\n{weasyprint.__version__}\n{css}".encode()).hexdigest()[:32]
+        kept = Path(cache) / f"footers-{key}.pdf"
+        if kept.is_file():
+            return kept.read_bytes()
+    logging.getLogger("weasyprint").setLevel(logging.ERROR)
     pages = '<div class="pagebreak"></div>' * n_pages
     document = f"<!DOCTYPE html><html><head><style>{css}</style></head><body>{pages}</body></html>"
-    return weasyprint.HTML(string=document).write_pdf()
+    sheet = weasyprint.HTML(string=document).write_pdf()
+    if kept is not None:
+        try:  # a cache that cannot be written costs time, never a result
+            kept.parent.mkdir(parents=True, exist_ok=True)
+            tmp = kept.with_name(f"{kept.name}.{id(sheet)}.partial")
+            tmp.write_bytes(sheet)
+            tmp.replace(kept)
+        except OSError:
+            pass
+    return sheet
 
 
 def _name_pairs(tree) -> list:
@@ -144,9 +163,12 @@ def _stamp(page, footer, writer) -> None:
     )
 
 
-def join(parts: Sequence[str | Path], out: str | Path, footers: bytes | None = None) -> int:
+def join(
+    parts: Sequence[str | Path], out: str | Path, footers: bytes | None = None, footer_cache: str | Path | None = None
+) -> int:
     """Write the PDFs ``parts`` (the body first) as one document ``out``, every page with its footer
-    (``footers``: a footer sheet of the joined page count; made here when not given); where two parts
+    (``footers``: a footer sheet of the joined page count; made here when not given, kept in ``footer_cache``
+    when that names a folder: :func:`footer_sheet`); where two parts
     name the same destination, the later part's wins (the body's placeholders yield to the
     evidence's anchors); the later parts' bookmarks go under the body's last top-level one, as in a
     document laid out in one pass. Returns the page count."""
@@ -165,7 +187,7 @@ def join(parts: Sequence[str | Path], out: str | Path, footers: bytes | None = N
     if readers and readers[0].metadata:
         writer.add_metadata({k: v for k, v in readers[0].metadata.items() if isinstance(k, str)})
     n = len(writer.pages)
-    sheet = PdfReader(io.BytesIO(footers if footers is not None else footer_sheet(n)))
+    sheet = PdfReader(io.BytesIO(footers if footers is not None else footer_sheet(n, footer_cache)))
     if len(sheet.pages) != n:
         raise ValueError(f"footer sheet has {len(sheet.pages)} pages, the joined document {n}")
     for page, footer in zip(writer.pages, sheet.pages):

@@ -83,7 +83,7 @@ class CpuLoad(JobParams):
 
 class SimulationParams(JobParams):
     """What every simulation on one model reads, whatever it drives over (the plan's
-    :func:`simpick.sources.base.engine_params`)."""
+    :func:`simpick.sources.base.simulation_params`)."""
 
     engine: str
     engine_settings: dict[str, Any] = Field(

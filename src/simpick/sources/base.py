@@ -7,9 +7,7 @@ Planning (:mod:`simpick.plan`, at DAG time, from the typed study and the source'
 
 ``study`` is the typed study (:class:`simpick.config.Study`, read by attribute: the config lies in a layer
 above this one, tests/test_layers.py); a model's settings (an engine's block, a simulator profile's or a
-reference model's) come from the plan (:func:`model_settings`), as the profiles are the plan's own. The DRIVE
-source's planning functions are still given the plan's plain settings (``Plan.config``) by rules/drive.smk
-and simpick.plan.answer; its module says so where it reads them.
+reference model's) come from the plan (:func:`model_settings`), as the profiles are the plan's own.
 """
 
 from __future__ import annotations
@@ -77,24 +75,6 @@ def simulation_params(study, engine: str, engine_settings: dict) -> dict:
             "imu": study.imu.model_dump(mode="json"),
             "health": study.health.model_dump(mode="json"),
             "seed": study.seed,
-        }
-    )
-
-
-def engine_params(config: dict, engine: str) -> dict:
-    """:func:`simulation_params` from the plan's plain settings (``Plan.config``), which rules/drive.smk and the
-    DRIVE source still pass; the same content (tests/test_sources.py)."""
-    # the plan's plain settings, keyed by section: their callers are not given the typed study yet
-    robot = {k: v for k, v in config["robot"].items() if k != "urdf"}  # plain settings, as above
-    return canonical(
-        {
-            "engine": engine,
-            "engine_settings": model_settings(config, engine),
-            "physics": config["physics"],  # plain settings, as above
-            "robot": robot,
-            "imu": config["imu"],  # plain settings, as above
-            "health": config["health"],  # plain settings, as above
-            "seed": config["seed"],  # plain settings, as above
         }
     )
 

@@ -17,9 +17,9 @@ the canonical step tables the rest reads). What this module says at planning tim
 The steps themselves are known once the import step has run (a checkpoint): :func:`cases` reads its
 case table.
 
-Unlike the other kinds (``study``, :mod:`simpick.sources.base`), this module's planning functions are given the
-plan's plain settings (``Plan.config``): rules/drive.smk, simpick.plan.answer and simpick.plan.jobs call them
-with it, so they read it by key until those callers pass the typed study.
+Like the other kinds' (:mod:`simpick.sources.base`), this module's planning functions read the typed study
+(``study``, :class:`simpick.config.Study`, by attribute): rules/drive.smk, simpick.plan.answer and
+simpick.plan.jobs pass it.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from simpick.errors import InputError
 from simpick.real.datasets import DatasetProblems
 from simpick.real.drive import SIMILAR, unmodelled_terrain
 from simpick.real.logs.drive_files import METADATA, PICKLE, find_sessions, read_metadata, unrecognised
-from simpick.sources.base import canonical, engine_params
+from simpick.sources.base import canonical, simulation_params
 
 KIND = "drive"
 DRIVEN = "steps"  # simpick.simulate.jobs.PREPARE / simpick.compare.kinds.BY_KIND: a step unit's replay
@@ -43,16 +43,16 @@ TABLES = ("sessions", "steps", "turning", "bins", "cases")  # what the import st
 WHEELS = "wheels.parquet"  # and the wheels table the steps are driven by (simpick.real.steps.WHEEL_COLUMNS)
 
 
-def root(config: dict) -> str:
+def root(study) -> str:
     """Where the source's tables lie: ``results/drive/<drive_dataset>``."""
-    return f"results/drive/{config['drive_dataset']}"
+    return f"results/drive/{study.drive_dataset}"
 
 
-def declared(config: dict) -> dict:
+def declared(study) -> dict:
     """What the jobs read of the dataset's declaration (``real_data.datasets.<drive_dataset>``): all but its
     robot, which is planning's alone (:func:`problems`)."""
-    found = config["real_data"]["datasets"][config["drive_dataset"]]  # the plan's plain settings (module doc)
-    return canonical({k: v for k, v in found.items() if k != "robot"})
+    found = study.real_data.datasets[study.drive_dataset]  # keyed by dataset name (data)
+    return canonical(found.model_dump(mode="json", exclude={"robot"}))
 
 
 def session_files(folder: Path) -> list[str]:
@@ -85,17 +85,18 @@ def folders(folder) -> list[Path]:
 
 def problems(
     sessions: list[Path],
-    declared: Mapping,
+    declared,
     classes: Mapping,
     robot_name: str,
     name: str = "drive",
 ) -> list[InputError]:
     """One problem per session folder that this study cannot replay: driven by a robot other than the
-    study's (``metadata.robot`` against ``declared["robot"]``, else the study's URDF ``<robot name>``), on
+    study's (``metadata.robot`` against ``declared.robot``, else the study's URDF ``<robot name>``), on
     tracks, or on a terrain (``metadata.terrain``, or the config's per-session ``terrain_class``) that has
-    no entry in ``classes`` (``real_data.classes``)."""
-    expected = str(declared.get("robot") or robot_name)
-    overrides = declared.get("sessions") or {}
+    no entry in ``classes`` (``real_data.classes``). ``declared``: the dataset's declaration
+    (:class:`simpick.config.real.DeclaredDataset`), None where the study declares none."""
+    expected = str((declared.robot if declared else None) or robot_name)
+    overrides = declared.sessions if declared else {}  # keyed by session folder name (data)
     key = f"real_data.datasets.{name}"
     found: list[InputError] = []
     for folder in sessions:
@@ -123,7 +124,8 @@ def problems(
                     "name a folder without this session",
                 )
             )
-        declared_terrain = (overrides.get(Path(folder).name) or {}).get("terrain_class")
+        override = overrides.get(Path(folder).name)
+        declared_terrain = override.terrain_class if override else None
         terrain = declared_terrain or md.get("terrain")
         if not isinstance(terrain, str):
             found.append(
@@ -170,36 +172,40 @@ def cases(path: str) -> list[tuple[str, str]]:
 # --- planning: what a job reads and depends on (the Source names) ---
 
 
-def case_inputs(config: dict, source: str, spec: dict, group: str, names: list[str]) -> dict:
+def case_inputs(study, source: str, spec: dict, group: str, names: list[str]) -> dict:
     """A session's replay job: the import step's case and wheels tables, and the robot (never the session's
     own files: the import step alone reads them)."""
-    urdf = config["robot"]["urdf"]  # the plan's plain settings (module doc)
-    return {"cases": f"{root(config)}/cases.csv", "wheels": f"{root(config)}/{WHEELS}", "urdf": urdf}
+    return {"cases": f"{root(study)}/cases.csv", "wheels": f"{root(study)}/{WHEELS}", "urdf": study.robot.urdf}
 
 
-def case_params(config: dict, source: str, spec: dict, engine: str, group: str, names: list[str]) -> dict:
+def case_params(
+    study, source: str, spec: dict, engine: str, engine_settings: dict, group: str, names: list[str]
+) -> dict:
     """What a session's replay on ``engine`` depends on: the engine's, every terrain class's ground (the
-    session's is in the case table), the replay's settings and the session."""
-    classes = config["real_data"]["classes"]  # the plan's plain settings (module doc)
-    replay = config["drive_replay"]  # plain settings, as above
-    return canonical(engine_params(config, engine) | {"classes": classes, "replay": replay, "session": group})
+    session's is in the case table), the replay's settings and the session (``group``): the fields of
+    :class:`simpick.simulate.steps.SessionReplayParams`."""
+    classes = {c: ground.model_dump(mode="json") for c, ground in study.real_data.classes.items()}
+    replay = study.drive_replay.model_dump(mode="json")
+    return canonical(
+        simulation_params(study, engine, engine_settings) | {"classes": classes, "replay": replay, "session": group}
+    )
 
 
-def compare_inputs(config: dict, source: str, spec: dict, cases: list[tuple[str, str]]) -> dict:
-    return {"cases": f"{root(config)}/cases.csv", "steps": f"{root(config)}/steps.csv"}
+def compare_inputs(study, source: str, spec: dict, cases: list[tuple[str, str]]) -> dict:
+    return {"cases": f"{root(study)}/cases.csv", "steps": f"{root(study)}/steps.csv"}
 
 
-def answer_tables(config: dict) -> dict:
+def answer_tables(study) -> dict:
     """The comparison's tables the first page's answer reads where it rests on these steps (rule answer,
     its figure, the decision tree: simpick.plan's answer_tables), in the verdict's form: rule drive_compare
     writes them beside its outcomes."""
-    return {t: f"{root(config)}/{t}.csv" for t in ("outcomes", "mechanics", "metrics", "table", "per_test")}
+    return {t: f"{root(study)}/{t}.csv" for t in ("outcomes", "mechanics", "metrics", "table", "per_test")}
 
 
-def answer_basis(config: dict, dataset: str, robot: str) -> dict:
+def answer_basis(study, dataset: str, robot: str) -> dict:
     """What the answer's sentence says it rests on: the dataset's label, its unit of pairing
     (``drive_replay.unit``: a step, or its session) and how the units were compared."""
-    unit = config["drive_replay"]["unit"]  # the plan's plain settings (module doc)
+    unit = study.drive_replay.unit
     return {
         "dataset": dataset,
         "unit": unit,
@@ -210,14 +216,14 @@ def answer_basis(config: dict, dataset: str, robot: str) -> dict:
     }
 
 
-def compare_settings(config: dict) -> dict:
+def compare_settings(study) -> dict:
     """The comparison's settings, less the engines it judges (the plan's)."""
     return canonical(
         {
-            "verdict": config["verdict"],  # the plan's plain settings (module doc)
-            "statistics": config["statistics"],  # plain settings, as above
-            "unit": config["drive_replay"]["unit"],  # plain settings, as above
+            "verdict": study.verdict.model_dump(mode="json"),
+            "statistics": study.statistics.model_dump(mode="json"),
+            "unit": study.drive_replay.unit,
             "tolerance": SIMILAR,
-            "seed": config["seed"],  # plain settings, as above
+            "seed": study.seed,
         }
     )
