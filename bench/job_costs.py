@@ -37,7 +37,7 @@ def main() -> None:
     if not rows:
         raise SystemExit(f"simpick: no validate, cpu_load or simulate benchmark files under {args.benchmarks}")
     header = (
-        f"Median wall seconds per job, by kind of job and model, measured by bench/job_costs.py from\n"
+        f"Median wall seconds and cases per job, by kind of job and model, measured by bench/job_costs.py from\n"
         f"{args.benchmarks} on {datetime.date.today()} ({platform.processor() or platform.machine()}, 2 cores).\n"
         + (f"{args.note}\n" if args.note else "")
         + "The rules' priority: (simpick.plan.costs). Refresh after a study: python bench/job_costs.py"

@@ -190,26 +190,40 @@ def jobs_logged(spans: list[dict], root: Path) -> tuple[float, float, int]:
     return cpu, wall, found
 
 
-def table_priority(costs_path: Path | None):
+def table_priority(costs_path: Path | None, cases: dict[str, int] | None = None):
     """The rules' priority of a job (rules/validate.smk, rules/simulate.smk: simpick.plan.costs) from a cost
-    table; with no table every job's is 0 (Snakemake without priorities)."""
+    table; with no table every job's is 0 (Snakemake without priorities). ``cases``: the cases of a simulate
+    job of each kind (a lab job's motions, a model's segments), which a DAG's labels do not give; one each if
+    not given."""
     from simpick.plan import costs
 
     table = costs.load(costs_path) if costs_path else {}
+    cases = cases or {}
 
     def priority(rule: str, wildcards: dict) -> int:
         engine = wildcards.get("engine", "")
         if rule in ("validate", "cpu_load"):
             kind = rule
-        elif rule.startswith("simulate_segments"):
-            kind = "segments"
+        elif rule in ("simulate_segments", "simulate_lab"):
+            kind = rule.removeprefix("simulate_")
         elif rule == "simulate":
-            kind = "lab" if wildcards.get("source") == "lab" else "replay"
+            kind = "replay"
         else:
             return 0
-        return costs.priority(table, kind, engine)
+        return costs.priority(table, kind, engine, cases.get(kind, 1))
 
     return priority
+
+
+def default_cases() -> dict[str, int]:
+    """The cases of a lab and a segments job in the default study (config.yaml): a terrain's motions, every
+    committed segment."""
+    import pandas as pd
+
+    from simpick.config import read_study
+
+    config = read_study([Path("config.yaml")])[1]
+    return {"lab": len(config["motions"]), "segments": len(pd.read_csv(config["real_data"]["segments"]))}
 
 
 def main() -> None:
@@ -261,7 +275,7 @@ def main() -> None:
         for name, path in (("unprioritised", None), ("prioritised", args.costs)):
             if name == "prioritised" and not path:
                 continue
-            for key, value in replay(args.dag, spans, table_priority(path)).items():
+            for key, value in replay(args.dag, spans, table_priority(path, default_cases())).items():
                 row[f"replay_{name}_{key}"] = value
     print("| " + " | ".join(str(v) for v in row.values()) + " |")
     if args.csv:

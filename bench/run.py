@@ -194,13 +194,11 @@ def pipeline(repeats: int) -> list[dict]:
             to_html.append((work / "results/report/report.html").stat().st_mtime - started)
             bench = list((work / "results/benchmarks/simulate/lab").rglob("*.tsv"))
             runs = pd.read_csv(work / "results/metrics/lab/runs.csv")
-            for path in bench:
-                engine, terrain, motion = (
-                    path.relative_to(work / "results/benchmarks/simulate/lab").with_suffix("").parts
-                )
+            for path in bench:  # a lab job: a terrain's motions on one engine
+                engine, terrain = path.relative_to(work / "results/benchmarks/simulate/lab").with_suffix("").parts
                 b = pd.read_csv(path, sep="\t").iloc[0]
-                r = runs[(runs.engine == engine) & (runs.terrain == terrain) & (runs.motion == motion)].iloc[0]
-                job_rows.append({"engine": engine, "wall": b["s"], "stepping": r.wall_time, "rss": b["max_rss"]})
+                stepping = runs[(runs.engine == engine) & (runs.terrain == terrain)].wall_time.sum()
+                job_rows.append({"engine": engine, "wall": b["s"], "stepping": stepping, "rss": b["max_rss"]})
             sweep = copy.deepcopy(config)
             base_terrain = config["terrains"]["grass"]
             sweep["terrains"] = {f"grass{i}": dict(base_terrain, friction=0.1 + 0.02 * i) for i in range(25)}

@@ -1,10 +1,12 @@
 # One simulate family for every source's cases (case tables: PLAN.sources, simpick.plan): a job steps
 # its cases on one model, each under the watchdog (simpick.simulate.jobs.simulate_job; health.timeout), and
 # writes a trace per case. The unit is one case (rule `simulate`, over {source}), except for a batched
-# source (simpick.plan.sources.BATCHED: the committed segments, a job per terrain class sharing one import): Snakemake gives
-# a rule a fixed number of outputs, so the same rule is stated once per class (simulate_segments_<class>).
-# A dataset folder's derived segments are one job each: their ids exist only after the checkpoint.
-for _rule, _outputs, _fixed in PLAN.simulate_units():
+# source (simpick.plan.sources.BATCHED), whose cases share one process and its imports: the committed
+# segments, every segment on one model in one job (simulate_segments); the lab, a terrain's motions on one
+# engine (simulate_lab, over {group}). Snakemake gives a rule a fixed number of outputs, so a batched
+# source has a rule of its own. A dataset folder's derived segments are one job each: their ids exist only
+# after the checkpoint.
+for _rule, _outputs, _stem, _fixed in PLAN.simulate_units():
 
     rule:
         name:
@@ -14,19 +16,13 @@ for _rule, _outputs, _fixed in PLAN.simulate_units():
         output:
             _outputs,
         log:
-            "results/logs/simulate/{source}/{engine}/{group}/{name}.log"
-            if "sources" in _fixed
-            else f"results/logs/simulate/{_fixed['source']}/{{engine}}/{_fixed['group']}.log",
+            f"results/logs/simulate/{_stem}.log",
         benchmark:
-            (
-                "results/benchmarks/simulate/{source}/{engine}/{group}/{name}.tsv"
-                if "sources" in _fixed
-                else f"results/benchmarks/simulate/{_fixed['source']}/{{engine}}/{_fixed['group']}.tsv"
-            )
+            f"results/benchmarks/simulate/{_stem}.tsv"
         wildcard_constraints:
-            **(PLAN.one_case_constraints(_fixed["sources"]) if "sources" in _fixed else {}),
-        # long jobs first (measured cost: simpick.plan.costs)
-        priority: lambda wc, fixed=_fixed: PLAN.simulate_priority(PLAN.unit(wc, fixed)[0], wc.engine)
+            **PLAN.unit_constraints(_fixed),
+        # long jobs first (measured cost per case, times the unit's cases: simpick.plan.costs)
+        priority: lambda wc, fixed=_fixed: PLAN.simulate_priority(*PLAN.unit(wc, fixed)[:2], len(PLAN.unit(wc, fixed)[3]))
         conda:
             "../envs/simpick.yaml"
         threads: 1

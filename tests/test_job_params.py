@@ -28,8 +28,8 @@ from simpick.score.answer import AnswerParams
 from simpick.score.steps import CompareParams
 from simpick.score.verdict.job import VerdictParams
 from simpick.simulate.cpuload import CpuLoadParams
-from simpick.simulate.lab import LabCaseParams
-from simpick.simulate.real import RealUnitParams
+from simpick.simulate.lab import LabUnitParams
+from simpick.simulate.real import RealUnitParams, SegmentsUnitParams
 from simpick.simulate.steps import SessionReplayParams
 from simpick.sources import module as source_module
 from simpick.sources.base import canonical, model_settings
@@ -70,12 +70,12 @@ def real_units(kind: str):
         if sources:
             units = []
             for s in sources:
-                groups: dict[str, list[str]] = {}
-                for group, name in plan.sources[s]["cases"]:
-                    groups.setdefault(group, []).append(name)
-                # a batched source's unit is a group's cases (simpick.plan.sources.BATCHED), another's one case
-                batched = s in BATCHED
-                units += [(s, g, names if batched else [n]) for g, names in groups.items() for n in names[:1]]
+                cases = plan.sources[s]["cases"]
+                # a source batched whole is one unit per model (simpick.plan.sources.BATCHED), another's one case
+                if BATCHED.get(s) == "source":
+                    units.append((s, None, [n for _, n in cases]))
+                else:
+                    units += [(s, g, [n]) for g, n in dict(cases).items()]  # a case of each group
             return [plan.simulate_params(s, m, g, names) for s, g, names in units for m in plan.sources[s]["models"]]
         module = source_module(kind)
         return [
@@ -146,15 +146,15 @@ CONVERTED = {
         report_params.ReportParams,
         lambda plan: [canonical(plan.report_params() | {"drive": "", "drive_calibration": "", "simulators": ""})],
     ),
-    # the lab's simulate jobs (their params: simpick.sources.lab.case_params)
+    # the lab's simulate jobs, a terrain's motions on one engine (their params: simpick.sources.lab.case_params)
     "simulate (lab)": (
-        LabCaseParams,
+        LabUnitParams,
         lambda plan: [
-            plan.case_params("lab", e, t, [m]) for e in plan.engines for t in plan.terrains for m in plan.motions
+            plan.simulate_params("lab", e, t, list(plan.motions)) for e in plan.engines for t in plan.terrains
         ],
     ),
     # the real-data simulate jobs (simpick.simulate.jobs.PARAMS), DRIVE's replay, the comparisons and summaries
-    "simulate (segments)": (RealUnitParams, real_units("segments")),
+    "simulate (segments)": (SegmentsUnitParams, real_units("segments")),
     "simulate (replay)": (RealUnitParams, real_units("replay")),
     "drive_replay": (
         SessionReplayParams,
@@ -469,28 +469,46 @@ def test_the_benchmark_s_page_params_validate_against_its_job_s_model():
 
 
 def test_the_real_data_simulate_params_are_what_they_were_before_typing(default_plan, replay_plan):
-    """A segments or replay unit's params, validated at planning, are passed exactly as before typing (the same
-    content in the same key order: their repr is what Snakemake fingerprints), so no trace is simulated again."""
-    for plan, source in ((default_plan, "segments"), (replay_plan, "yard")):
-        config = plan.config
-        group, name = plan.sources[source]["cases"][0]
-        names = plan.segments[group] if source == "segments" else [name]
-        for model in plan.sources[source]["models"]:
-            before = canonical(
-                {
-                    "engine": model,
-                    "engine_settings": model_settings(config, model),
-                    "physics": config["physics"],
-                    "robot": {k: v for k, v in config["robot"].items() if k != "urdf"},
-                    "imu": config["imu"],
-                    "health": config["health"],
-                    "seed": config["seed"],
-                }
-            ) | canonical({"terrain_class": group, "class": config["real_data"]["classes"][group]})
-            before |= {"kind": plan.sources[source]["kind"], "source": source, "cases": names}
-            params = plan.simulate_params(source, model, group, names)
-            assert repr(params) == repr(before), (source, model)
-            RealUnitParams.model_validate(params)
+    """A replay unit's params, validated at planning, are passed exactly as before typing (the same content in the
+    same key order: their repr is what Snakemake fingerprints), so no trace is simulated again."""
+    plan, source = replay_plan, "yard"
+    config = plan.config
+    group, name = plan.sources[source]["cases"][0]
+    for model in plan.sources[source]["models"]:
+        before = canonical(
+            {
+                "engine": model,
+                "engine_settings": model_settings(config, model),
+                "physics": config["physics"],
+                "robot": {k: v for k, v in config["robot"].items() if k != "urdf"},
+                "imu": config["imu"],
+                "health": config["health"],
+                "seed": config["seed"],
+            }
+        ) | canonical({"terrain_class": group, "class": config["real_data"]["classes"][group]})
+        before |= {"kind": plan.sources[source]["kind"], "source": source, "cases": [name]}
+        params = plan.simulate_params(source, model, group, [name])
+        assert repr(params) == repr(before), (source, model)
+        RealUnitParams.model_validate(params)
+
+
+def test_a_segment_reads_what_its_class_s_job_read(default_plan, replay_plan):
+    """The committed segments run in one job per model (its unit holds every class's ground); what each segment
+    reads, its class's case params, is what a job of its class read (the plan's real_params): the same simulation.
+    A derived table's segment, one job each, holds its own class's ground only."""
+    cases = default_plan.sources["segments"]["cases"]
+    names = [name for _, name in cases]
+    for model in default_plan.sources["segments"]["models"]:
+        unit = SegmentsUnitParams.model_validate(default_plan.simulate_params("segments", model, None, names))
+        assert unit.cases == names and list(unit.classes) == list(dict.fromkeys(c for c, _ in cases))
+        for terrain_class in unit.classes:
+            case = unit.case(terrain_class).model_dump(mode="json", by_alias=True)
+            assert canonical(case) == default_plan.real_params(model, terrain_class), (model, terrain_class)
+    spec = {"cases": None}
+    params = source_module("segments").case_params(
+        replay_plan.settings, "yard-segments", spec, "mujoco", replay_plan.model_settings("mujoco"), "flooring", ["a"]
+    )
+    assert list(SegmentsUnitParams.model_validate(params).classes) == ["flooring"]
 
 
 def test_the_drive_replay_params_are_what_they_were_before_typing(default_plan, robot_plan):
@@ -532,8 +550,8 @@ def test_a_replay_s_noise_seed_is_the_plain_params_one(replay_plan):
 
 
 def test_a_unit_s_params_the_plan_and_its_kind_s_model_disagree_on_stop_the_planning(default_plan, monkeypatch):
-    group = next(iter(default_plan.segments))
-    good = default_plan.case_params("segments", "mujoco", group, default_plan.segments[group])
+    names = [name for _, name in default_plan.sources["segments"]["cases"]]
+    good = default_plan.case_params("segments", "mujoco", None, names)
     monkeypatch.setattr(type(default_plan), "case_params", lambda *args: {k: v for k, v in good.items() if k != "seed"})
-    with pytest.raises(PlanError, match=r"simulate \(segments\): .*RealUnitParams.*seed"):
-        default_plan.simulate_params("segments", "mujoco", group, default_plan.segments[group])
+    with pytest.raises(PlanError, match=r"simulate \(segments\): .*SegmentsUnitParams.*seed"):
+        default_plan.simulate_params("segments", "mujoco", None, names)

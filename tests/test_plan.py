@@ -90,9 +90,21 @@ def test_the_longest_measured_jobs_get_the_highest_priority(config, tmp_path):
     plan = plan_of(config)
     plan.costs = costs.load(tmp_path / "costs.csv")
     assert plan.job_priority("validate", "dart") == 72 > plan.job_priority("validate", "mujoco") == 5
-    assert plan.simulate_priority("lab", "dart") == 10
+    # a simulate job's: the measured cost of a case times its cases
+    assert plan.simulate_priority("lab", "dart", 1) == 10 and plan.simulate_priority("lab", "dart", 2) == 21
     # not measured: no priority, nothing invented
-    assert plan.job_priority("cpu_load", "dart") == 0 and plan.simulate_priority("segments", "dart") == 0
+    assert plan.job_priority("cpu_load", "dart") == 0 and plan.simulate_priority("segments", "dart", 4) == 0
+
+
+def test_a_cost_measured_over_several_cases_is_a_case_s_times_the_job_s_cases(config, tmp_path):
+    from simpick.plan import costs
+
+    rows = [{"job": "segments", "engine": "dart", "wall_s": 13.4, "jobs": 5, "cases": 4}]
+    costs.write(rows, tmp_path / "costs.csv", "measured in a test")
+    plan = plan_of(config)
+    plan.costs = costs.load(tmp_path / "costs.csv")
+    assert plan.costs[("segments", "dart")] == pytest.approx(13.4 / 4)
+    assert plan.simulate_priority("segments", "dart", 18) == round(18 * 13.4 / 4)
 
 
 def test_the_committed_cost_table_measures_every_registered_engine():
@@ -110,24 +122,32 @@ def test_the_cost_table_is_measured_from_a_study_s_benchmark_files(tmp_path):
     from simpick.plan import costs
 
     header = "s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"
+    benchmarks = tmp_path / "benchmarks"
     for path, seconds in [
         ("validate/dart.tsv", 70.0),
-        ("simulate/lab/dart/grass/straight.tsv", 9.0),
-        ("simulate/lab/dart/grass/circle.tsv", 13.0),
-        ("simulate/lab/dart/bumps/circle.tsv", 11.0),
-        ("simulate/segments/coulomb/ice.tsv", 1.5),
+        ("simulate/lab/dart/grass.tsv", 9.0),  # a terrain's motions in one job
+        ("simulate/lab/dart/bumps.tsv", 13.0),
+        ("simulate/lab/dart/gravel.tsv", 11.0),
+        ("simulate/segments/coulomb.tsv", 1.5),  # every segment of a model in one job
         ("drive/drive/replay/dart/warthog_wheels_asphalt.tsv", 1200.0),  # a DRIVE folder's replay
         ("drive/drive/replay/dart/warthog_wheels_grass_2024_7_29_14h46s15.tsv", 230.0),
         ("drive/drive/replay/dart/warthog_wheels_gravel_2024_8_6_11h37s32.tsv", 1250.0),
     ]:
-        (tmp_path / path).parent.mkdir(parents=True, exist_ok=True)
-        (tmp_path / path).write_text(header + f"{seconds}\t0:00:00\t1\t1\t1\t1\t0\t0\t90\t{seconds}\n")
-    rows = {(r["job"], r["engine"]): (r["wall_s"], r["jobs"]) for r in costs.measure(tmp_path)}
+        (benchmarks / path).parent.mkdir(parents=True, exist_ok=True)
+        (benchmarks / path).write_text(header + f"{seconds}\t0:00:00\t1\t1\t1\t1\t0\t0\t90\t{seconds}\n")
+    # the jobs' traces, beside the benchmarks: how many cases each ran
+    for trace in ["lab/dart/grass/straight", "lab/dart/grass/circle", "lab/dart/bumps/straight"]:
+        (tmp_path / "traces" / f"{trace}.parquet").parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / "traces" / f"{trace}.parquet").write_bytes(b"")
+    for cls, segment in [("ice", "a"), ("ice", "b"), ("snow", "c")]:
+        (tmp_path / "traces/segments/coulomb" / cls).mkdir(parents=True, exist_ok=True)
+        (tmp_path / "traces/segments/coulomb" / cls / f"{segment}.parquet").write_bytes(b"")
+    rows = {(r["job"], r["engine"]): (r["wall_s"], r["jobs"], r["cases"]) for r in costs.measure(benchmarks)}
     assert rows == {
-        ("validate", "dart"): (70.0, 1),
-        ("lab", "dart"): (11.0, 3),
-        ("segments", "coulomb"): (1.5, 1),
-        ("drive_replay", "dart"): (1200.0, 3),
+        ("validate", "dart"): (70.0, 1, 1),
+        ("lab", "dart"): (11.0, 3, 1),  # 2, 1 and (no traces: unknown) 1 cases
+        ("segments", "coulomb"): (1.5, 1, 3),
+        ("drive_replay", "dart"): (1200.0, 3, 1),
     }
 
 

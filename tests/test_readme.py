@@ -31,11 +31,13 @@ def counts(tmp_path_factory):
         "reference_models": len(config["baselines"]),
         "terrains": len(config["terrains"]),
         "motions": len(config["motions"]),
-        "lab_cases": jobs["simulate"],
+        # a lab job runs a terrain's motions on one engine
+        "lab_cases": jobs["simulate_lab"] * len(config["motions"]),
+        "lab_jobs": jobs["simulate_lab"],
         "segments": len(segments),
         "jobs": sum(jobs.values()),
         "validate_jobs": jobs["validate"],
-        "segment_batches": sum(n for rule, n in jobs.items() if rule.startswith("simulate_segments_")),
+        "segment_jobs": jobs["simulate_segments"],  # every segment of a model in one job
         "cpu_load_jobs": jobs["cpu_load"],
         # the simulators the default study runs, and their profiles that simulate (not read from an engine)
         "simulators": len(_default_plan().simulators),
@@ -68,7 +70,8 @@ def test_every_marked_count_is_the_workflows(counts):
     )
     assert not wrong, "stale counts: " + "; ".join(wrong)
     # the dry run agrees with the config it was made from
-    assert counts["lab_cases"] == counts["engines"] * counts["terrains"] * counts["motions"]
+    assert counts["lab_jobs"] == counts["engines"] * counts["terrains"]
+    assert counts["segment_jobs"] == counts["engines"] + counts["profiles"] + counts["reference_models"]
     # one job runs all of an engine's or a simulating profile's cases
     assert counts["validate_jobs"] == counts["engines"] + counts["profiles"]
 

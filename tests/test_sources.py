@@ -94,9 +94,8 @@ def edited(library, module, old, new):
 
 
 def test_an_edit_to_how_one_kind_is_driven_changes_that_kinds_simulations_only(library):
-    assert edited(
-        library, "simulate/lab.py", "    motion = p.motion\n", "    motion = p.motion\n    motion = motion\n"
-    ) == [("lab", "prepare_case")]
+    line = "    motion = p.motions[name]\n"
+    assert edited(library, "simulate/lab.py", line, line + "    motion = motion\n") == [("lab", "prepare_case")]
     assert edited(library, "real/segments.py", "\nCOLUMNS = ", "\nEDITED = True\nCOLUMNS = ") == [
         ("lab", "compare"),
         ("own", "compare"),
@@ -145,22 +144,27 @@ def test_the_sources_params_from_the_typed_study_are_what_the_plain_settings_gav
 
     for engine in plan.real_models:
         assert simulation_params(plan.settings, engine, plan.model_settings(engine)) == engine_params(plain, engine)
+    motions = list(plan.motions)
     for terrain in plan.terrains:
-        for motion in plan.motions:
-            for engine in plan.engines:
-                before = engine_params(plain, engine) | canonical(
-                    {"terrain": terrain, "motion_name": motion, "motion": plain["motions"][motion]}
-                )
-                before |= {"kind": "lab", "source": "lab", "cases": [motion]}
-                assert plan.case_params("lab", engine, terrain, [motion]) == before
-    for terrain_class, names in plan.segments.items():
-        for engine in plan.real_models:
+        for engine in plan.engines:
+            # a lab unit: a terrain's motions on one engine
+            before = engine_params(plain, engine) | canonical(
+                {"terrain": terrain, "motions": {m: plain["motions"][m] for m in motions}}
+            )
+            before |= {"kind": "lab", "source": "lab", "cases": motions}
+            assert plan.case_params("lab", engine, terrain, motions) == before
+    names = [name for _, name in plan.sources["segments"]["cases"]]
+    grounds = {c: plain["real_data"]["classes"][c] for c in plan.segments}
+    for engine in plan.real_models:
+        for terrain_class in plan.segments:
             before = engine_params(plain, engine) | canonical(
                 {"terrain_class": terrain_class, "class": plain["real_data"]["classes"][terrain_class]}
             )
             assert plan.real_params(engine, terrain_class) == before
-            unit = before | {"kind": "segments", "source": "segments", "cases": names}
-            assert plan.case_params("segments", engine, terrain_class, names) == unit
+        # the committed segments: every class's on one model
+        unit = engine_params(plain, engine) | canonical({"classes": grounds})
+        unit |= {"kind": "segments", "source": "segments", "cases": names}
+        assert plan.case_params("segments", engine, None, names) == unit
     assert plan.compare_settings("segments") == canonical({"track": plain["robot"]["track"]})
     assert plan.compare_inputs(type("W", (), {"source": "lab"})())["published"] == plain["reference"]["published"]
     # the DRIVE source: its replay's params, inputs and comparison's settings as the plain settings gave them

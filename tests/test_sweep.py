@@ -223,7 +223,8 @@ def test_the_sweep_at_the_studys_timestep_gives_the_segments_sources_figures(tmp
     from simpick.compare.jobs import compare_job, summarise_job
     from simpick.config import Study, plain
     from simpick.simulate.jobs import simulate_job, write_hung_trace
-    from simpick.sources.base import model_settings, real_params, unit_params
+    from simpick.sources import segments as segments_source
+    from simpick.sources.base import model_settings
     from simpick.studies.sweep import compare_traces, sweep_summary_job
     from simpick.tables import write_csv
 
@@ -239,8 +240,8 @@ def test_the_sweep_at_the_studys_timestep_gives_the_segments_sources_figures(tmp
     traces = {}
     for model in ("mujoco", "coulomb"):
         study = Study.model_validate(config)
-        case = real_params(study, model, model_settings(plain(study, config), model), "flooring")
-        params = unit_params(case, "segments", "segments", names)
+        own = model_settings(plain(study, config), model)
+        params = segments_source.case_params(study, "segments", {}, model, own, "flooring", names)
         traces[model] = [str(tmp_path / model / f"{name}.parquet") for name in names]
         simulate_job(traces[model], inputs["urdf"], inputs, params)
     # MuJoCo's second segment (run 07's, which has two more) as its simulate job writes a hung case

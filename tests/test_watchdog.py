@@ -67,7 +67,7 @@ def test_a_hung_engine_is_stopped_and_reported(tmp_path):
         from simpick.inputs.jobs import terrain_job
         from simpick.simulate.jobs import simulate_job
         terrain_job(out + ".json", "grass", 1, config["terrains"]["grass"])
-        params = {**sim, "terrain": "grass", "motion_name": "straight", "motion": config["motions"]["straight"],
+        params = {**sim, "terrain": "grass", "motions": {"straight": config["motions"]["straight"]},
                   "health": dict(config["health"], timeout=1.0), "kind": "lab", "source": "lab",
                   "cases": ["straight"]}
         simulate_job([out], config["robot"]["urdf"], {"terrain": out + ".json"}, params)
@@ -115,15 +115,16 @@ def test_a_hung_replay_is_stopped_and_reported_like_a_run(tmp_path):
 
 
 def test_a_hung_case_of_a_batch_fails_it_and_the_cases_after_it(tmp_path):
-    """The committed segments run a class per job: when one case hangs, the watchdog ends the
+    """The committed segments run a model's segments per job: when one case hangs, the watchdog ends the
     process, so the cases after it are written as failed (not run) traces, never left missing."""
     _run_hanging(
         tmp_path,
         "hang_batch",
         """
-        params = {**real, "terrain_class": "ice", "class": config["real_data"]["classes"]["ice"],
+        classes = config["real_data"]["classes"]
+        params = {**sim, "classes": {c: classes[c] for c in ("flooring", "ice")},
                   "health": dict(config["health"], timeout=1.0), "kind": "segments", "source": "segments",
-                  "cases": ["ice-straight-02-0020p23s", "ice-turning-02-0009p46s"]}
+                  "cases": ["ice-straight-02-0020p23s", "flooring-turning-01-0012p69s"]}
         from simpick.simulate.jobs import simulate_job
         simulate_job([out + "-a.parquet", out + "-b.parquet"], config["robot"]["urdf"],
                      {"segments": config["real_data"]["segments"]}, params)
@@ -133,7 +134,8 @@ def test_a_hung_case_of_a_batch_fails_it_and_the_cases_after_it(tmp_path):
     (_, first), (_, second) = read_trace(tmp_path / "t-a.parquet"), read_trace(tmp_path / "t-b.parquet")
     assert (first["source"], first["segment"], first["terrain"]) == ("segments", "ice-straight-02-0020p23s", "ice")
     assert "hung: no result after 1 s" in first["health"]["reasons"][0]
-    assert second["segment"] == "ice-turning-02-0009p46s" and second["health"]["status"] == "failed"
+    assert second["segment"] == "flooring-turning-01-0012p69s" and second["health"]["status"] == "failed"
+    assert second["terrain"] == "flooring"
     assert second["health"]["reasons"] == ["not run: ice-straight-02-0020p23s hung before it"]
     assert sorted(first) == sorted(second)  # the same metadata layout
 
@@ -226,7 +228,8 @@ def test_a_hung_sweep_point_records_every_segment_failed(tmp_path):
         import pandas as pd
         from simpick.studies.sweep import sweep_job
         segments = pd.read_csv(config["real_data"]["segments"])
-        params = {**real, "health": dict(config["health"], timeout=1.0), "kind": "segments", "source": "segments",
+        params = {**sim, "classes": {"flooring": config["real_data"]["classes"]["flooring"]},
+                  "health": dict(config["health"], timeout=1.0), "kind": "segments", "source": "segments",
                   "cases": list(segments.segment[segments.terrain_class == "flooring"])}
         sweep_job({"segments": config["real_data"]["segments"], "urdf": config["robot"]["urdf"]}, params,
                   {"track": config["robot"]["track"]}, out)

@@ -191,7 +191,7 @@ def edited_library(tmp_path, module: str, old: str | None, new: str) -> dict:
     return {"PYTHONPATH": str(copy)}
 
 
-SIMULATING = ("simulate", "cpu_load", "validate", "terrain")  # and the batched simulate_<source>_<group>
+SIMULATING = ("simulate", "cpu_load", "validate", "terrain")  # and the batched simulate_<source>
 
 
 def simulated(jobs):
@@ -207,7 +207,7 @@ def test_a_segments_module_edit_reruns_the_segment_jobs_and_no_lab_simulation(st
     env = edited_library(tmp_path, "real/segments.py", "\nCOLUMNS = ", "\nEDITED = True\nCOLUMNS = ")
     jobs = planned_jobs(workdir, env)
     models = sorted([*config["engines"], *config["baselines"]])
-    assert simulated(jobs) == [("simulate_segments_flooring", f"engine={m}") for m in models]
+    assert simulated(jobs) == [("simulate_segments", f"engine={m}") for m in models]
     assert ("compare", "source=segments") in jobs and ("summarise", "source=segments") in jobs
     assert not {rule for rule, _ in jobs} & {"validation_summary", "published_table11"}
 
@@ -221,14 +221,14 @@ def test_how_one_kind_is_driven_reruns_that_kinds_simulations_only(study, tmp_pa
     env = edited_library(tmp_path / "segments", "simulate/real.py", None, "\nEDITED = True\n")
     jobs = planned_jobs(workdir, env)
     models = sorted([*config["engines"], *config["baselines"]])
-    assert simulated(jobs) == [("simulate_segments_flooring", f"engine={m}") for m in models]
+    assert simulated(jobs) == [("simulate_segments", f"engine={m}") for m in models]
     assert ("compare", "source=segments") in jobs
-    assert not [job for job in jobs if "source=lab" in job[1]], jobs
+    assert not [job for job in jobs if "source=lab" in job[1] or job[0] == "simulate_lab"], jobs
     env = edited_library(tmp_path / "lab", "simulate/lab.py", None, "\nEDITED = True\n")
     jobs = planned_jobs(workdir, env)
-    assert {rule for rule, _ in simulated(jobs)} == {"simulate"}
+    assert {rule for rule, _ in simulated(jobs)} == {"simulate_lab"}
     assert ("compare", "source=lab") in jobs
-    assert not [job for job in jobs if "source=segments" in job[1] or job[0].startswith("simulate_")], jobs
+    assert not [job for job in jobs if "source=segments" in job[1] or job[0] == "simulate_segments"], jobs
     env = edited_library(tmp_path / "source", "sources/segments.py", None, "\nEDITED = True\n")
     assert planned_jobs(workdir, env) == []
 
@@ -293,9 +293,12 @@ def test_engine_edit_reruns_only_that_engine(study):
         jobs = planned_jobs(workdir)
         simulated = sorted(w for rule, w in jobs if rule in ("simulate", "cpu_load") or rule.startswith("simulate_"))
         assert simulated and all("engine=mujoco" in w for w in simulated), simulated
-        # the lab's 2 tests, one job each, and the segments' one class in one job
-        assert sorted(w.split(",")[0] for rule, w in jobs if rule == "simulate") == ["source=lab"] * 2
-        assert [rule for rule, _ in jobs if rule.startswith("simulate_")] == ["simulate_segments_flooring"]
+        # the lab's 2 terrains, a job each (its motions in one), and the segments in one job
+        assert sorted(w for rule, w in jobs if rule == "simulate_lab") == [
+            "engine=mujoco, group=bumps",
+            "engine=mujoco, group=grass",
+        ]
+        assert [rule for rule, _ in jobs if rule.startswith("simulate_segments")] == ["simulate_segments"]
         # its validation cases, all in its one job, and no other engine's
         assert [w for rule, w in jobs if rule == "validate"] == ["engine=mujoco"]
         assert not {rule for rule, _ in jobs} & {"terrain", "published_table11"}

@@ -30,20 +30,21 @@ class CostPlanning:
         seconds (simpick.plan.costs), so that on few cores the long jobs start first."""
         return costs.priority(self.costs, job, engine_of(engine))
 
-    def simulate_priority(self, source: str, engine: str) -> int:
-        """A simulate job's priority: the measured cost of its source's kind (lab, segments, replay)."""
+    def simulate_priority(self, source: str, engine: str, cases: int) -> int:
+        """A simulate job's priority: the measured cost of a case of its source's kind (lab, segments, replay)
+        times the job's ``cases``."""
         kind = self.sources[source]["kind"]
-        return self.job_priority("replay" if kind == "own" else kind, engine)
+        return costs.priority(self.costs, "replay" if kind == "own" else kind, engine_of(engine), cases)
 
     def engine_seconds(self, engine: str) -> float | None:
         """Measured wall seconds of one engine's jobs in this study (validation, CPU load, the lab cases,
-        the committed segments per class), from the cost table; None where a kind of job is unmeasured."""
-        jobs = {"validate": 1, "cpu_load": 1, "lab": len(self.terrains) * len(self.motions)}
+        the committed segments), from the cost table; None where a kind of job is unmeasured."""
+        cases = {"validate": 1, "cpu_load": 1, "lab": len(self.terrains) * len(self.motions)}
         if "segments" in self.sources:
-            jobs["segments"] = len({group for group, _ in self.sources["segments"]["cases"]})
-        if any((kind, engine) not in self.costs for kind in jobs):
+            cases["segments"] = len(self.sources["segments"]["cases"])
+        if any((kind, engine) not in self.costs for kind in cases):
             return None
-        return sum(n * self.costs[(kind, engine)] for kind, n in jobs.items())
+        return sum(n * self.costs[(kind, engine)] for kind, n in cases.items())
 
     def simulate_runtime(self, cases: int) -> int:
         """Minutes for a job of ``cases`` cases: each is stopped by the watchdog at health.timeout

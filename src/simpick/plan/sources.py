@@ -26,11 +26,13 @@ from simpick.sources import lab as lab_source
 from simpick.sources import module as source_module
 from simpick.sources.base import canonical
 
-# The unit of work of the simulate family: one case, except where a source's case table is batched
-# by group (the committed segments, per terrain class): 18 short runs, where a job per segment cost
-# about 1.2 s of fixed cost each (process, imports, robot) and the default study some 50 s more
-# on 2 cores than a job per class sharing one import (measured; see the commit that made this).
-BATCHED = {"segments"}
+# The unit of work of the simulate family: one case, except for a batched source, whose job runs several cases
+# on one model in one process. A job's fixed cost (Snakemake's own, about 0.4 s of CPU, and the job's
+# imports, about 0.8 s) is paid once per job; a lab case takes about 3 s of CPU, a segment less.
+# "source": every case of the source in one job per model (the committed segments: 18 short runs);
+# "group": a group's cases in one job per model and group (the lab: a terrain's motions, whose strip is
+# the job's one terrain input), every group having the same case names.
+BATCHED = {"lab": "group", "segments": "source"}
 
 
 class SourcePlanning:
@@ -93,23 +95,30 @@ class SourcePlanning:
     # --- the simulate family ---
 
     def simulate_units(self):
-        """(name, output patterns, fixed values) for each rule of the simulate family; one rule over
-        the {source} wildcard for the one-case units, one per group of a batched source."""
+        """(name, output patterns, log stem, fixed values) for each rule of the simulate family: one rule over
+        the {source} wildcard for the one-case units, one per batched source (:data:`BATCHED`)."""
         single = [s for s in self.sources if s not in BATCHED]
-        units = (
-            [("simulate", ["results/traces/{source}/{engine}/{group}/{name}.parquet"], {"sources": single})]
-            if single
-            else []
-        )
-        for source in sorted(BATCHED & set(self.sources)):
-            groups = {}
-            for group, name in self.sources[source]["cases"]:
-                groups.setdefault(group, []).append(name)
-            for group, names in groups.items():
-                outputs = [f"results/traces/{source}/{{engine}}/{group}/{name}.parquet" for name in names]
+        units = []
+        if single:
+            one = "{source}/{engine}/{group}/{name}"
+            units.append(("simulate", [f"results/traces/{one}.parquet"], one, {"sources": single}))
+        for source in sorted(set(BATCHED) & set(self.sources)):
+            cases = self.sources[source]["cases"]
+            if BATCHED[source] == "source":
+                outputs = [f"results/traces/{source}/{{engine}}/{group}/{name}.parquet" for group, name in cases]
                 units.append(
-                    (f"simulate_{source}_{group}", outputs, {"source": source, "group": group, "names": names})
+                    (f"simulate_{source}", outputs, f"{source}/{{engine}}", {"source": source, "cases": cases})
                 )
+                continue
+            groups: dict[str, list[str]] = {}
+            for group, name in cases:
+                groups.setdefault(group, []).append(name)
+            names = next(iter(groups.values()), [])
+            if any(found != names for found in groups.values()):
+                raise ValueError(f"source {source}: its groups' cases differ, so one rule cannot run each group's")
+            outputs = [f"results/traces/{source}/{{engine}}/{{group}}/{name}.parquet" for name in names]
+            fixed = {"source": source, "names": names, "groups": list(groups)}
+            units.append((f"simulate_{source}", outputs, f"{source}/{{engine}}/{{group}}", fixed))
         return units
 
     def one_case_constraints(self, sources):
@@ -126,11 +135,22 @@ class SourcePlanning:
             "name": "[^/]+" if unknown else "|".join(sorted(re.escape(n) for n in names)),
         }
 
+    def unit_constraints(self, fixed):
+        """The wildcard constraints of a simulate rule (:meth:`simulate_units`' fixed values)."""
+        if "sources" in fixed:
+            return self.one_case_constraints(fixed["sources"])
+        if "groups" in fixed:
+            return {"group": "|".join(sorted(re.escape(g) for g in fixed["groups"]))}
+        return {}
+
     @staticmethod
     def unit(wildcards, fixed):
-        """source, engine, group and the case names of one simulate job."""
+        """source, engine, group and the case names of one simulate job; the group is None for a unit over
+        several groups (a source batched whole: each case's group is the source's case table's)."""
+        if "cases" in fixed:
+            return fixed["source"], wildcards.engine, None, [name for _, name in fixed["cases"]]
         if "names" in fixed:
-            return fixed["source"], wildcards.engine, fixed["group"], list(fixed["names"])
+            return fixed["source"], wildcards.engine, wildcards.group, list(fixed["names"])
         return wildcards.source, wildcards.engine, wildcards.group, [wildcards.name]
 
     def case_inputs(self, source, group, names):

@@ -29,8 +29,8 @@ PREPARE = {
 # What a unit of each kind reads (its PREPARE function's model), by name as PREPARE: the plan validates each
 # simulate job's params against it (simpick.plan.models.ModelPlanning.simulate_params).
 PARAMS = {
-    "lab": "simpick.simulate.lab:LabCaseParams",
-    "segments": "simpick.simulate.real:RealUnitParams",
+    "lab": "simpick.simulate.lab:LabUnitParams",
+    "segments": "simpick.simulate.real:SegmentsUnitParams",
     "replay": "simpick.simulate.real:RealUnitParams",
     "steps": "simpick.simulate.steps:StepUnitParams",
 }

@@ -6,15 +6,18 @@ the segments and replay sources (simpick.sources: :func:`prepare_segment`, :func
 from __future__ import annotations
 
 from collections.abc import Mapping
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
 import pandas as pd
+from pydantic import Field
 
 from simpick.errors import InputError
 from simpick.inputs.terrain import generate
 from simpick.real.logs import read_canonical
 from simpick.real.segments import load_segments
+from simpick.real.settings import TerrainClass
 from simpick.simulate.imu import model_at_rate
 from simpick.simulate.real_settings import RealCaseParams
 from simpick.simulate.run import (
@@ -27,12 +30,27 @@ from simpick.simulate.run import (
     scenario_from,
     stable_seed,
 )
+from simpick.simulate.settings import SimulationParams
 
 
 class RealUnitParams(RealCaseParams, Unit):
-    """What a simulate job of the segments or the replay kind reads (the plan's
-    simpick.sources.segments / replay case_params): a real-data case's params on one model (its terrain
-    class's ground) and which unit of cases it is."""
+    """What a simulate job of the replay kind reads (the plan's simpick.sources.replay case_params): a
+    real-data case's params on one model (its terrain class's ground) and which unit of cases it is."""
+
+
+class SegmentsUnitParams(SimulationParams, Unit):
+    """What a simulate job of the segments kind reads (the plan's simpick.sources.segments case_params): the
+    model's simulation settings, the ground of each terrain class its segments lie on (a job runs every
+    segment of the committed table on one model; each segment's class is the table's) and which cases."""
+
+    classes: dict[str, TerrainClass] = Field(description="each terrain class's ground, by class name")
+
+    def case(self, terrain_class: str) -> RealCaseParams:
+        """One class's real-data case params: what a segment of it reads, as a job of one class read them."""
+        if terrain_class not in self.classes:
+            raise ValueError(f"no terrain class {terrain_class!r} in the unit's classes {sorted(self.classes)}")
+        fields = {name: getattr(self, name) for name in SimulationParams.model_fields}
+        return RealCaseParams(**fields, terrain_class=terrain_class, ground=self.classes[terrain_class])
 
 
 def real_case(params: RealCaseParams | Mapping[str, Any]) -> RealCaseParams:
@@ -101,6 +119,22 @@ def class_segments(segments_csv: str, terrain_class: str) -> pd.DataFrame:
     return segments[segments.terrain_class == terrain_class].set_index("segment")
 
 
+@lru_cache(maxsize=4)
+def _segment_table(segments_csv: str) -> pd.DataFrame:
+    # read once per job: a unit's cases share its table
+    return load_segments(segments_csv).set_index("segment")
+
+
+def table_segment(segments_csv: str, name: str) -> pd.Series:
+    """The row of segment ``name`` (its id) of a segment table; an InputError unless exactly one."""
+    table = _segment_table(segments_csv)
+    rows = table.loc[[name]] if name in table.index else table.iloc[:0]
+    if len(rows) != 1:
+        found = "no segment" if rows.empty else f"{len(rows)} segments named"
+        raise InputError(segments_csv, f"has {found} {name!r}", "rerun snakemake")
+    return rows.iloc[0]
+
+
 def log_imu_rate(log) -> float:
     """A real log's IMU rate (Hz): the reader's measured median rate, else from its times."""
     rate = ((log.meta.get("rates") or {}).get("imu") or {}).get("median_hz")
@@ -144,12 +178,16 @@ def replay_log(
 
 def prepare_segment(urdf: str, inputs: dict, params: Mapping, name: str):
     """A segment of the table (the segments source): its constant command on its class's flat
-    ground, compared in its window."""
-    p = RealUnitParams.model_validate(params)
-    table = class_segments(inputs["segments"], p.terrain_class)
-    if name not in table.index:
-        raise InputError(inputs["segments"], f"has no {p.terrain_class} segment {name!r}", "rerun snakemake")
-    seg = table.loc[name]
+    ground (the unit's ground of the class the table gives it), compared in its window."""
+    unit = SegmentsUnitParams.model_validate(params)
+    seg = table_segment(inputs["segments"], name)
+    if seg.terrain_class not in unit.classes:
+        raise InputError(
+            inputs["segments"],
+            f"gives segment {name!r} class {seg.terrain_class!r}, not one of the job's",
+            "rerun snakemake",
+        )
+    p = unit.case(seg.terrain_class)
     which = {
         "terrain": p.terrain_class,
         "motion": seg.name,

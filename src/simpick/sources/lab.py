@@ -19,7 +19,7 @@ def cases(study) -> list[tuple[str, str]]:
 
 
 def lab_params(study, engine: str, engine_settings: dict, terrain: str, motion_name: str) -> dict:
-    """Everything one lab-study simulation depends on, and nothing else."""
+    """Everything one lab-study simulation depends on, and nothing else (the CPU-load job's case)."""
     return simulation_params(study, engine, engine_settings) | canonical(
         {
             "terrain": terrain,
@@ -36,8 +36,10 @@ def case_inputs(study, source: str, spec: dict, group: str, names: list[str]) ->
 def case_params(
     study, source: str, spec: dict, engine: str, engine_settings: dict, group: str, names: list[str]
 ) -> dict:
-    (name,) = names  # a lab case is one job
-    return unit_params(lab_params(study, engine, engine_settings, group, name), DRIVEN, source, names)
+    """A unit of motions on one terrain (a job per engine x terrain): the terrain and each case's motion."""
+    motions = {name: study.motions[name].model_dump(mode="json") for name in names}
+    params = simulation_params(study, engine, engine_settings) | canonical({"terrain": group, "motions": motions})
+    return unit_params(params, DRIVEN, source, names)
 
 
 def compare_inputs(study, source: str, spec: dict, cases: list[tuple[str, str]]) -> dict:

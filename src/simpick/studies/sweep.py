@@ -26,13 +26,12 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from pydantic import Field
 
 from simpick.compare.jobs import source_tables
 from simpick.compare.kinds import BY_KIND
 from simpick.compare.real import SEGMENT_TEST_COLUMNS
 from simpick.simulate.jobs import simulate_job
-from simpick.simulate.real_settings import RealCaseParams
+from simpick.simulate.real import SegmentsUnitParams
 from simpick.tables import write_csv
 
 # a segment's timing, from its compare job's run row, beside its per-test row
@@ -63,13 +62,9 @@ SUMMARY_COLUMNS = (
 )
 
 
-class SweepPointParams(RealCaseParams):
-    """What rule sweep_segments' job reads: a segments unit's params (simpick.sources.segments.case_params, one
-    terrain class's segments on one model) at the sweep point's timestep."""
-
-    kind: str = Field(description="how the cases are driven: simpick.simulate.jobs.PREPARE")
-    source: str
-    cases: list[str] = Field(description="the class's segment ids")
+class SweepPointParams(SegmentsUnitParams):
+    """What rule sweep_segments' job reads: a segments unit's params (simpick.sources.segments.case_params) of one
+    terrain class's segments on one model, at the sweep point's timestep."""
 
 
 def sweep_job(inputs: dict, params: dict, settings: dict, output: str) -> None:
