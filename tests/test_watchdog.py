@@ -302,3 +302,53 @@ def test_a_hung_calibration_and_its_evaluation_are_recorded_failed(tmp_path):
     summary = summarise(rows, {("hanging", "flooring"): record})
     assert (summary.n_failed_configured == summary.n_units).all()
     assert (summary.n_failed_calibrated == summary.n_units).all() and (summary.parameters == "").all()
+
+
+def test_after_a_hung_case_a_fresh_process_runs_the_cases_after_it(tmp_path):
+    """A simulate job given its log (the workflow's) does not give up the cases after a hung one: its process
+    is replaced by a fresh one that runs them (simpick.simulate.jobs.resume), appending to the log. Here every
+    case hangs, so each is recorded hung by the process that ran it, none "not run"; the job's hand-over file
+    is gone once read."""
+    # the hanging model, registered in every Python this test starts (the fresh process included)
+    site = tmp_path / "site"
+    site.mkdir()
+    (site / "sitecustomize.py").write_text(
+        "from simpick import engines\nengines.ADAPTERS['hanging'] = 'hanging_model:Hanging'\n"
+    )
+    (site / "hanging_model.py").write_text(
+        "import time\nfrom simpick.engines.baselines import CoulombModel\n\n\n"
+        "class Hanging(CoulombModel):\n    name = 'hanging'\n\n    def simulate(self, scenario, commands):\n"
+        "        while True:\n            time.sleep(0.01)\n"
+    )
+    log = tmp_path / "job.log"
+    job = f"""
+        classes = config["real_data"]["classes"]
+        params = {{**sim, "classes": {{c: classes[c] for c in ("flooring", "ice")}},
+                  "health": dict(config["health"], timeout=1.0), "kind": "segments", "source": "segments",
+                  "cases": ["ice-straight-02-0020p23s", "flooring-turning-01-0012p69s"]}}
+        from simpick.joblog import logged
+        from simpick.simulate.jobs import simulate_job
+        with logged({str(log)!r}):
+            simulate_job([out + "-a.parquet", out + "-b.parquet"], config["robot"]["urdf"],
+                         {{"segments": config["real_data"]["segments"]}}, params, log={str(log)!r})
+    """
+    script = tmp_path / "resume.py"
+    script.write_text(HANGING_MODEL + textwrap.dedent(job) + '\nprint("not reached")\n')
+    path = os.pathsep.join([str(site), str(ROOT / "src"), str(ROOT / "tests")])
+    run = subprocess.run(
+        [sys.executable, str(script), str(ROOT / "config.yaml"), str(tmp_path / "t")],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "PYTHONPATH": path},
+    )
+    assert run.returncode == 0, run.stderr
+    assert "not reached" not in run.stdout
+    (_, first), (_, second) = read_trace(tmp_path / "t-a.parquet"), read_trace(tmp_path / "t-b.parquet")
+    assert first["segment"] == "ice-straight-02-0020p23s" and second["segment"] == "flooring-turning-01-0012p69s"
+    for meta in (first, second):
+        assert meta["health"]["status"] == "failed" and "hung: no result after 1 s" in meta["health"]["reasons"][0]
+    text = log.read_text()
+    assert "the 1 case(s) after it go on in a fresh process" in text and text.count("hung: no result after 1 s") == 2
+    assert not (tmp_path / "job.log.resume.json").exists()

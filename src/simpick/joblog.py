@@ -42,15 +42,17 @@ def cost_line() -> str:
 class logged:
     """Send a job's stderr to its log; report a bad input as one clear line, not a traceback."""
 
-    def __init__(self, log_path: str):
+    def __init__(self, log_path: str, append: bool = False):
         self.log_path = Path(log_path)
+        # append: a process that takes over a job's work (simpick.simulate.resume) goes on with its log
+        self.mode = "a" if append else "w"
 
     def __enter__(self):
         import sys
 
         self.log_path.parent.mkdir(parents=True, exist_ok=True)
         self._stderr = sys.stderr
-        sys.stderr = self.log_path.open("w")
+        sys.stderr = self.log_path.open(self.mode)
         return self
 
     def __exit__(self, exc_type, exc, tb):

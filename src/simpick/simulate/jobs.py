@@ -38,21 +38,31 @@ PARAMS = {
 TRACE_KEYS = ("source", "test", "engine", "terrain", "motion", "dataset", "run", "segment", "window")
 
 
-def simulate_job(outputs: list[str], urdf: str, inputs: dict, params: Mapping, after_hung=None) -> list[dict]:
+def simulate_job(
+    outputs: list[str],
+    urdf: str,
+    inputs: dict,
+    params: Mapping,
+    after_hung=None,
+    log: str | None = None,
+    start: int = 0,
+) -> list[dict]:
     """A unit's cases (:class:`simpick.simulate.run.UnitParams`: ``cases``, one trace each in ``outputs``) on
     one model, each under the watchdog: a case still running after ``health.timeout`` s of wall time is
-    written as a failed (hung) trace, and so are the unit's cases after it, which cannot run in the stopped
-    process; the source's compare job lists them like any failed run. ``kind`` says how a case is driven
+    written as a failed (hung) trace. The stopped process cannot run the cases after it: with ``log`` (the
+    job's log) a fresh process takes them up (:func:`resume`), else they are written as failed (not run)
+    traces; the source's compare job lists either like any failed run. ``kind`` says how a case is driven
     (lab, segments, replay, steps: its :data:`PREPARE` function, imported by name, which reads the params as
     its kind's model); ``inputs`` holds the files it reads. ``after_hung``: called once the hung traces are
-    written, before the process ends (a job that compares its own traces, the sweep, does so then)."""
+    written, before the process ends (a job that compares its own traces, the sweep, does so then).
+    ``start``: the first case to run (the cases before it were run by the process this one took over from)."""
     unit = fields_of(UnitParams, params)
     if len(outputs) != len(unit.cases):
         raise ValueError(f"{len(unit.cases)} cases for {len(outputs)} outputs")
     module, _, function = PREPARE[unit.kind].partition(":")
     prepare = getattr(importlib.import_module(module), function)
     units = []
-    for name, output in zip(unit.cases, outputs):
+    for name, output in list(zip(unit.cases, outputs))[start:]:
         described, run = prepare(urdf, inputs, params, name)
         which = {key: None for key in TRACE_KEYS} | described | {"source": unit.source, "engine": unit.engine}
         units.append((which, run, output))
@@ -62,6 +72,8 @@ def simulate_job(outputs: list[str], urdf: str, inputs: dict, params: Mapping, a
 
         def hung(i=i):
             write_hung_trace(units[i][2], units[i][0], params, timeout)
+            if log is not None and after_hung is None and i + 1 < len(units):
+                resume(outputs, urdf, inputs, params, log, start + i + 1)  # does not return
             for later, _, path in units[i + 1 :]:
                 write_hung_trace(path, later, params, timeout, reason=f"not run: {units[i][0]['test']} hung before it")
             if after_hung is not None:
@@ -74,6 +86,32 @@ def simulate_job(outputs: list[str], urdf: str, inputs: dict, params: Mapping, a
         write_trace(frame, meta, output)
         done.append(meta)
     return done
+
+
+def resume(outputs: list[str], urdf: str, inputs: Mapping, params: Mapping, log: str, start: int) -> None:
+    """Replace this process (a simulate job whose case ``start - 1`` hung: the engine cannot be trusted to
+    step again in it) by a fresh Python that runs the job's cases from ``start`` on
+    (:mod:`simpick.simulate.resume`), so that one hung case does not cost the cases after it. The same
+    process id, so Snakemake waits for it as for the job; the job's log goes on. What it needs is written
+    beside the log as JSON (plain data: the rule's params, the file names)."""
+    import os
+
+    from simpick.simulate import resume as take_over
+
+    state = {
+        "outputs": list(outputs),
+        "urdf": urdf,
+        "inputs": {k: v if isinstance(v, str) else list(v) for k, v in inputs.items()},
+        "params": dict(params),
+        "log": log,
+        "start": start,
+    }
+    path = Path(f"{log}.resume.json")
+    path.write_text(json.dumps(state))
+    print(f"simpick: the {len(outputs) - start} case(s) after it go on in a fresh process", file=sys.stderr)
+    sys.stderr.flush()
+    sys.stdout.flush()
+    os.execv(sys.executable, [sys.executable, "-m", take_over.__name__, str(path)])
 
 
 def write_hung_trace(output: str, which: dict, params: Mapping, timeout: float, reason: str | None = None) -> None:
