@@ -1564,3 +1564,28 @@ def test_the_footer_sheet_is_kept_and_read_back_for_the_same_page_count(tmp_path
     assert pdf.footer_sheet(3, tmp_path / "cache") == first
     with pytest.raises(AssertionError, match="laid out again"):
         pdf.footer_sheet(4, tmp_path / "cache")
+
+
+def test_the_layout_worker_lays_out_what_it_is_sent_and_reports_a_failure(tmp_path):
+    """The process the report job forks when it starts (simpick.report.layout): it lays out the document it is
+    sent; one it is never sent ends when closed; a failure in it is raised in the job with its message."""
+    from pypdf import PdfReader
+
+    from simpick.report.layout import LayoutWorker
+
+    worker = LayoutWorker()
+    worker.submit("<html><body><p>a part</p></body></html>", tmp_path / "part.pdf", None)
+    worker.wait()
+    worker.close()
+    assert "a part" in PdfReader(str(tmp_path / "part.pdf")).pages[0].extract_text()
+
+    unused = LayoutWorker()
+    unused.close()
+    assert not unused._process.is_alive()
+
+    failing = LayoutWorker()
+    (tmp_path / "taken").write_text("a file where the PDF's folder would be")
+    failing.submit("<html><body><p>x</p></body></html>", tmp_path / "taken" / "part.pdf", None)
+    with pytest.raises(RuntimeError, match="laying out .*part.pdf"):
+        failing.wait()
+    failing.close()

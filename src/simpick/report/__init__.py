@@ -58,6 +58,7 @@ def build_report(
     evidence_pdf: str | Path | None = None,
     footer_cache: str | Path | None = None,
     workers: int = 1,
+    worker=None,
 ) -> None:
     """Write the HTML report to ``html_path`` and, if ``pdf_path`` is given, the same document as PDF
     (one job: the PDF is laid out from the HTML just rendered, with no second process or read).
@@ -67,7 +68,8 @@ def build_report(
     section 1 of the evidence, and the PDF is the body's, laid out alone, joined with the evidence's
     (:func:`simpick.report.pdf.join`): one document, one page count, links and bookmarks across both; its
     page footers kept in ``footer_cache`` where that names a folder (:func:`simpick.report.pdf.footer_sheet`).
-    The body's PDF is laid out in two parts (:func:`simpick.report.pdf.split_body`), ``workers`` at once.
+    The body's PDF is laid out in two parts (:func:`simpick.report.pdf.split_body`), ``workers`` at once, the
+    second by ``worker`` where given (:class:`simpick.report.layout.LayoutWorker`, started with the job).
     Without them the evidence is rendered here from the same inputs and the PDF laid out in one pass
     (one job does all: tests, a report by hand)."""
     import sys
@@ -102,7 +104,7 @@ def build_report(
     parts = pdf.split_body(page, mark, evidence_ids)
     paths = [Path(pdf_path).with_name(f"{Path(pdf_path).name}.body{i}") for i in range(len(parts))]
     try:
-        _lay_out([document for document, _ in parts], paths, str(html_path.parent), workers)
+        _lay_out([document for document, _ in parts], paths, str(html_path.parent), workers, worker)
         laid_out = time.perf_counter()
         owners = [ids for _, ids in parts] + [set(evidence_ids)]
         n = pdf.join([*paths, evidence_pdf], pdf_path, footer_cache=footer_cache, owners=owners)
@@ -117,28 +119,28 @@ def build_report(
     )
 
 
-def _lay_out(documents: list[str], paths: list[Path], base_url: str, workers: int) -> None:
-    """WeasyPrint's PDF of each document (the body's parts, no footers), ``workers`` at once: the parts
-    after the first in processes forked from this one (WeasyPrint already imported, so a child starts
-    laying out at once), the first here."""
+def _lay_out(documents: list[str], paths: list[Path], base_url: str, workers: int, worker=None) -> None:
+    """WeasyPrint's PDF of each document (the body's parts, no footers), ``workers`` at once: the second by
+    ``worker`` (a process started with the job, WeasyPrint imported meanwhile) or by a process forked now,
+    the first here."""
     from simpick.report.render import write_pdf
 
     if workers < 2 or len(documents) < 2:
         for document, path in zip(documents, paths):
             write_pdf(document, path, base_url=base_url, footers=False)
         return
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
+    if worker is None:
+        from simpick.report.layout import LayoutWorker
 
-    import weasyprint  # noqa: F401  (imported before the fork, for the children)
-
-    with ProcessPoolExecutor(min(workers, len(documents)) - 1, mp_context=multiprocessing.get_context("fork")) as pool:
-        later = [
-            pool.submit(write_pdf, document, path, base_url, False) for document, path in zip(documents[1:], paths[1:])
-        ]
-        write_pdf(documents[0], paths[0], base_url=base_url, footers=False)
-        for done in later:
-            done.result()
+        worker = LayoutWorker()
+    try:
+        (second, *rest), (second_path, *rest_paths) = documents[1:], paths[1:]
+        worker.submit(second, second_path, base_url)
+        for document, path in [(documents[0], paths[0]), *zip(rest, rest_paths)]:
+            write_pdf(document, path, base_url=base_url, footers=False)
+        worker.wait()
+    finally:
+        worker.close()
 
 
 def build_evidence(
@@ -188,6 +190,19 @@ def report_job(
     and its PDF (:func:`build_report`) from the job's other inputs and the weighed tables. ``settings``:
     the plan's report params with the folders the rule takes from its inputs; ``lists``: the input names
     that are lists of files; ``workers``: the processes that lay out the PDF's body (the job's threads)."""
+    worker = None
+    if workers > 1:  # forked first, so that it imports WeasyPrint while this process weighs and writes the HTML
+        from simpick.report.layout import LayoutWorker
+
+        worker = LayoutWorker()
+    try:
+        _report(inputs, weighing, settings, outputs, lists, workers, worker)
+    finally:
+        if worker is not None:
+            worker.close()
+
+
+def _report(inputs, weighing, settings, outputs, lists, workers, worker) -> None:
     from simpick.report.weighing import PREFIX, weigh
 
     weighed = weigh(inputs, weighing, outputs)
@@ -207,4 +222,5 @@ def report_job(
         # beside the code versions' cache of the working directory's Snakemake folder (simpick.codeversion)
         footer_cache=FOOTER_CACHE,
         workers=workers,
+        worker=worker,
     )
