@@ -44,7 +44,7 @@ class logged:
 
     def __init__(self, log_path: str, append: bool = False):
         self.log_path = Path(log_path)
-        # append: a process that takes over a job's work (simpick.simulate.resume) goes on with its log
+        # append: a process that takes over a job's work (simpick.simulate.jobs.take_over) goes on with its log
         self.mode = "a" if append else "w"
 
     def __enter__(self):

@@ -91,12 +91,10 @@ def simulate_job(
 def resume(outputs: list[str], urdf: str, inputs: Mapping, params: Mapping, log: str, start: int) -> None:
     """Replace this process (a simulate job whose case ``start - 1`` hung: the engine cannot be trusted to
     step again in it) by a fresh Python that runs the job's cases from ``start`` on
-    (:mod:`simpick.simulate.resume`), so that one hung case does not cost the cases after it. The same
+    (:func:`take_over`, this module run as a program), so that one hung case does not cost the cases after it. The same
     process id, so Snakemake waits for it as for the job; the job's log goes on. What it needs is written
     beside the log as JSON (plain data: the rule's params, the file names)."""
     import os
-
-    from simpick.simulate import resume as take_over
 
     state = {
         "outputs": list(outputs),
@@ -111,7 +109,24 @@ def resume(outputs: list[str], urdf: str, inputs: Mapping, params: Mapping, log:
     print(f"simpick: the {len(outputs) - start} case(s) after it go on in a fresh process", file=sys.stderr)
     sys.stderr.flush()
     sys.stdout.flush()
-    os.execv(sys.executable, [sys.executable, "-m", take_over.__name__, str(path)])
+    # this module run as a program (its take_over); named by the function, so a rename is caught at once
+    os.execv(sys.executable, [sys.executable, "-m", take_over.__module__, str(path)])
+
+
+def take_over(state_file: str) -> None:
+    """The rest of a simulate job after one of its cases hung (:func:`resume`): what the job was given, read
+    from ``state_file`` (JSON beside the job's log, removed once read); its cases from the one after the hung
+    case on, the job's log appended to. Run as ``python -m simpick.simulate.jobs STATE`` in the job's
+    process, which the hung one was replaced by."""
+    from simpick.joblog import logged
+
+    path = Path(state_file)
+    state = json.loads(path.read_text())
+    path.unlink()
+    with logged(state["log"], append=True):
+        simulate_job(
+            state["outputs"], state["urdf"], state["inputs"], state["params"], log=state["log"], start=state["start"]
+        )
 
 
 def write_hung_trace(output: str, which: dict, params: Mapping, timeout: float, reason: str | None = None) -> None:
@@ -161,3 +176,7 @@ def cpu_job(output: str, terrain_file: str, urdf: str, params: dict, timeout: fl
     with Watchdog(timeout, hung):
         result = measure(params, urdf, terrain_file, limits=HealthLimits(**sim.health.model_dump()))
     write(result)
+
+
+if __name__ == "__main__":  # a simulate job's rest after a hung case (resume)
+    take_over(sys.argv[1])
