@@ -522,6 +522,10 @@ def figure_job(
     wildcards: Mapping[str, str],
     outputs: Mapping[str, str],
 ) -> None:
-    """Rule ``rule``'s figure: its params validated as the rule's model (RULES), drawn by its function."""
-    function, names, outs, model = RULES[rule]
+    """Rule ``rule``'s figure: its params validated as the rule's model (RULES), drawn by its function. A rule
+    used from the study as a module (rules/robots.smk: ``use rule * from husky as husky_*``) carries a prefix."""
+    known = [name for name in RULES if rule == name or rule.endswith("_" + name)]
+    if not known:
+        raise KeyError(f"rule {rule!r} draws no figure this module knows (simpick.report.draw.RULES)")
+    function, names, outs, model = RULES[max(known, key=len)]
     function(inputs, _typed(model, params), *(wildcards[n] for n in names), *(outputs[o] for o in outs))
