@@ -315,7 +315,7 @@ def test_the_heading_spread_is_each_gain_over_the_coulomb_gain_on_the_same_test(
 
 
 def test_the_headline_says_plainly_when_the_papers_order_is_not_decided_by_the_imu_scores():
-    from simpick.score.answer import headline
+    from simpick.score.sentences import headline
     from simpick.score.verdict import paper_rows
 
     weighted = _weighted().assign(total=[60.0, 49.0])  # the rest: 40 and 32; IMU 20 and 17 points
@@ -535,8 +535,9 @@ def test_per_class_verdicts_are_typed_columns_a_reader_takes_as_they_are():
 
 
 def test_the_answer_takes_the_calibrated_gain_ratio_from_the_calibrations_turning_table(tmp_path):
-    from simpick.score.answer import answer_table, calibrated, settings_sentence
+    from simpick.score.answer import answer_table, calibrated
     from simpick.score.mechanics import mechanics_table
+    from simpick.score.sentences import settings_sentence
 
     turning = tmp_path / "turning.csv"
     pd.DataFrame(
@@ -632,7 +633,8 @@ def test_engines_are_compared_on_the_runs_every_compared_engine_completed():
 
 
 def test_an_engine_that_failed_runs_is_named_closest_only_with_its_failures_in_the_same_sentence():
-    from simpick.score.answer import answer_table, closest_sentence, failed_sentence
+    from simpick.score.answer import answer_table
+    from simpick.score.sentences import closest_sentence, failed_sentence
 
     frame, values, lost, mechanics, table = _failure_case()
     closest = closest_sentence(table, "Husky")["text"]
@@ -653,7 +655,8 @@ def test_an_engine_that_failed_runs_is_named_closest_only_with_its_failures_in_t
 
 def test_the_first_page_lists_the_runs_an_engine_failed_and_why():
     from simpick.report.answer import answer_section
-    from simpick.score.answer import answer_table, sentences
+    from simpick.score.answer import answer_table
+    from simpick.score.sentences import sentences
 
     _, values, _, mechanics, table = _failure_case()
     answer = answer_table(
