@@ -475,17 +475,9 @@ def test_the_real_data_simulate_params_are_what_they_were_before_typing(default_
     config = plan.config
     group, name = plan.sources[source]["cases"][0]
     for model in plan.sources[source]["models"]:
-        before = canonical(
-            {
-                "engine": model,
-                "engine_settings": model_settings(config, model),
-                "physics": config["physics"],
-                "robot": {k: v for k, v in config["robot"].items() if k != "urdf"},
-                "imu": config["imu"],
-                "health": config["health"],
-                "seed": config["seed"],
-            }
-        ) | canonical({"terrain_class": group, "class": config["real_data"]["classes"][group]})
+        before = simulation_before_typing(config, model) | canonical(
+            {"terrain_class": group, "class": config["real_data"]["classes"][group]}
+        )
         before |= {"kind": plan.sources[source]["kind"], "source": source, "cases": [name]}
         params = plan.simulate_params(source, model, group, [name])
         assert repr(params) == repr(before), (source, model)

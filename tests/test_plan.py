@@ -208,3 +208,19 @@ def test_the_answer_rests_on_the_verdicts_runs_else_on_drives_steps(config, tmp_
     plan = plan_of(config)
     assert plan.answer_source is None and plan.answer_tables() == {}
     assert "results/report/figures/answer.png" not in plan.report_figures()
+
+
+def test_the_scheduler_s_pending_timers_are_cancelled_when_the_workflow_ends():
+    """Snakemake's scheduler leaves a non-daemon threading.Timer after each scheduling pass, which the
+    interpreter would wait for at exit; the Snakefile's onsuccess/onerror cancel every pending one."""
+    import threading
+
+    from simpick.plan.scheduling import release_scheduler_timers
+
+    fired = []
+    timer = threading.Timer(60.0, lambda: fired.append(True))
+    timer.start()
+    assert release_scheduler_timers() >= 1
+    timer.join(timeout=5)
+    assert not timer.is_alive() and not fired
+    assert release_scheduler_timers() == 0

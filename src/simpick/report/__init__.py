@@ -129,7 +129,8 @@ def _lay_out(documents: list[str], paths: list[Path], base_url: str, workers: in
         for document, path in zip(documents, paths):
             write_pdf(document, path, base_url=base_url, footers=False)
         return
-    if worker is None:
+    own = worker is None  # a worker forked here, else the job's, which it closes itself
+    if own:
         from simpick.report.layout import LayoutWorker
 
         worker = LayoutWorker()
@@ -140,7 +141,8 @@ def _lay_out(documents: list[str], paths: list[Path], base_url: str, workers: in
             write_pdf(document, path, base_url=base_url, footers=False)
         worker.wait()
     finally:
-        worker.close()
+        if own:
+            worker.close()
 
 
 def build_evidence(
