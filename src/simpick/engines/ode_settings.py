@@ -129,6 +129,14 @@ class OdeSettings(EngineSettings):
     # combines two surfaces' <mu> (ODEPhysics.cc): a contact gets min(ground, surface_mu). None: the
     # ground's coefficient alone (simpick's terrains carry the whole coefficient).
     surface_mu: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None
+    # The robot's per-body contact limits, as Gazebo Classic sets them from each link's collision surface
+    # (SDF <surface><contact><ode><max_vel>, default 0.01 m/s, and <min_depth>, default 0 m; ODESurfaceParams.cc:30)
+    # through its ODE fork's dBodySetMaxVel / dBodySetMinDepth (ODELink::UpdateSurface). In the fork a body's
+    # values replace the world's contact_surface_layer and cap its contact_max_correcting_vel (contact.cpp,
+    # dxJointContact::getInfo2); ODE 0.16 lacks the per-body calls, so the collision callback applies them to
+    # each contact (simpick.engines.ode_contacts.surface_limits). None: the world's values alone (ODE's way).
+    contact_max_vel: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None  # m/s
+    contact_min_depth: Annotated[float, Field(ge=0, allow_inf_nan=False)] | None = None  # m
 
     @model_validator(mode="after")
     def _one_softness(self):

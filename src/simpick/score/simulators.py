@@ -303,7 +303,7 @@ def settings_files_job(inputs: dict, params: dict, output: str) -> None:
             f"simpick settings: {sim.label}, {variant}, for {robot}",
             f"{sim.shipped.basis if variant == 'shipped' else sim.tuned.basis}",
             f"measured by simpick through {sim.simpick_build}: {figures}",
-            "regenerate: snakemake --cores 2 results/simulators/settings (docs/simulators.md)",
+            "regenerate: snakemake -c 2 results/simulators/settings (docs/simulators.md)",
         ]
         entries = catalog.entries(simulator, variant, robot)
         texts = formats.write(sim.settings_format, sim.engine, settings, entries, title, wheels)

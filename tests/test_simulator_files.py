@@ -1,0 +1,254 @@
+"""The settings files a simulator's user pastes, read by the simulators' own readers: every XML file through a
+strict parser, the wheels' <gazebo> tags through sdformat's URDF conversion (Debian's sdformat 12, ``ign sdf``)
+with each value asserted at the element Gazebo reads, the MJCF merged into the robot and stepped in MuJoCo, the
+Drake YAML and tags through Drake's own loaders, the Genesis and Newton blocks through their own classes (in
+their venvs), and the names of the simulators no reader here installs against tables quoted from their source."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import xml.etree.ElementTree as ET
+
+import pandas as pd
+import pytest
+from lxml import etree
+
+from conftest import ROOT, tiny_config
+from simpick.config import Study
+from simpick.engines import get_engine
+from simpick.engines import simulator_files as formats
+from simpick.engines.catalog import load_catalog
+from simpick.engines.simulators import SIMULATORS, VARIANTS
+from simpick.plan import Plan
+
+CATALOG = ROOT / "resources/simulators/simulators.yaml"
+HUSKY_URDF = ROOT / "resources/robot/husky_a200.urdf"
+HUSKY = "husky_a200"
+WHEELS = ["front_left_wheel", "front_right_wheel", "rear_left_wheel", "rear_right_wheel"]
+
+
+@pytest.fixture(scope="module")
+def catalog():
+    return load_catalog(CATALOG)
+
+
+def _settings(catalog, simulator: str, variant: str, robot: str = HUSKY, **over) -> dict:
+    model = get_engine(catalog.simulators[simulator].engine).settings_model
+    return model.model_validate({**catalog.settings(simulator, variant, robot), **over}).model_dump(mode="json")
+
+
+@pytest.fixture(scope="module")
+def written(tmp_path_factory, catalog):
+    """Every file rule simulator_settings writes for every runnable profile, with the job's real header."""
+    from simpick.score.simulators import settings_files_job
+
+    tmp = tmp_path_factory.mktemp("settings")
+    config = tiny_config(tmp)
+    config["simulators"]["run"] = None
+    config["engines"] = {SIMULATORS[s]: None for s in SIMULATORS if SIMULATORS[s] is not None}
+    plan = Plan(config, Study.model_validate(config), basedir=str(ROOT))
+    params = {k: v for k, v in plan.simulator_settings_params().items() if k != "code"}
+    rows = [
+        {
+            "simulator": s,
+            "variant": v,
+            "gain_flat": 0.47,
+            "gain_flat_min": 0.46,
+            "gain_flat_max": 0.48,
+            "gain_coulomb": 0.478,
+            "mechanics": "passes",
+            "mechanics_cases": 20,
+            "mechanics_failed": 0,
+            "gain_error": 0.2,
+            "gain_outcome": "undetermined",
+        }
+        for s in SIMULATORS
+        for v in VARIANTS
+    ]
+    table = tmp / "table.csv"
+    pd.DataFrame(rows).to_csv(table, index=False)
+    out = tmp / "out"
+    settings_files_job({"catalog": str(CATALOG), "table": str(table)}, params, str(out))
+    return out, params
+
+
+def test_every_xml_file_the_job_writes_parses_in_a_strict_parser(written):
+    out, params = written
+    xml = sorted(p for p in out.iterdir() if p.suffix in (".sdf", ".urdf", ".xml"))
+    # the Gazebo pair for both Gazebos, the MJCF, Drake's tags: every simulator with an XML format
+    assert {p.name.split("-")[0] for p in xml} >= {"gazebo", "gazebo_classic", "mujoco", "drake"}, xml
+    for path in xml:
+        text = path.read_text()
+        assert "regenerate: snakemake" in text, path.name  # the job's own header, not a test's
+        etree.fromstring(text.encode(), etree.XMLParser(resolve_entities=False))  # raises on `--` in a comment
+        ET.fromstring(text)
+
+
+def test_a_long_option_in_a_header_stays_a_legal_comment():
+    text = formats.xml_comment(["snakemake --cores 2 --configfile x.yaml", "ends with -"])
+    root = etree.fromstring((text + "<robot/>").encode(), etree.XMLParser())
+    assert root.tag == "robot"
+    assert "- -cores 2" in text
+
+
+# --- Gazebo Classic and Gazebo: sdformat's own conversion ---
+
+
+def _ign(*args: str) -> str:
+    ign = shutil.which("ign")
+    if ign is None:
+        pytest.fail("ign (Debian ignition-tools with sdformat 12) is not installed: make (the set-up) installs it")
+    done = subprocess.run([ign, "sdf", *args], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    return done.stdout
+
+
+def _merged(tags: str, tmp_path) -> str:
+    """The Husky URDF with the file's <gazebo> tags pasted into its <robot>, converted by sdformat (ign sdf -p)."""
+    robot = ET.parse(HUSKY_URDF).getroot()
+    for gazebo in ET.fromstring(tags).findall("gazebo"):
+        robot.append(gazebo)
+    path = tmp_path / "husky_with_tags.urdf"
+    ET.ElementTree(robot).write(path)
+    _ign("-k", str(path))
+    return _ign("-p", str(path))
+
+
+def _surfaces(sdf: str) -> dict[str, ET.Element]:
+    """link name -> the surface of its (first) collision in the converted SDF."""
+    model = ET.fromstring(sdf).find("model")
+    return {link.get("name"): link.find("collision/surface") for link in model.findall("link")}
+
+
+def test_gazebo_classic_tags_land_in_each_wheel_collision_s_surface_after_sdformat(catalog, tmp_path):
+    # the tuned Husky profile with every surface setting the writer knows set, as a calibrated one may
+    settings = _settings(catalog, "gazebo_classic", "tuned", friction_ratio=0.62, contact_max_vel=0.02)
+    texts = formats.write_profile_file("sdf", "ode", settings, ["t"], WHEELS, ground_mu=0.8)
+    sdf = _merged(texts["wheels.urdf"], tmp_path)
+    surfaces = _surfaces(sdf)
+    for wheel in WHEELS:
+        s = surfaces[wheel]
+        assert s is not None, wheel
+        f, c = s.find("friction/ode"), s.find("contact/ode")
+        assert float(f.findtext("mu")) == pytest.approx(0.8)
+        assert float(f.findtext("mu2")) == pytest.approx(0.62 * 0.8)
+        assert f.findtext("fdir1").split() == ["1", "0", "0"]
+        # Gazebo Classic sums the two surfaces' slip and multiplies by the pair's contact count (2 here)
+        assert float(f.findtext("slip1")) == pytest.approx(settings["contact_slip"] / 2)
+        assert float(f.findtext("slip2")) == pytest.approx(settings["contact_slip"] / 2)
+        # kp in series with the ground's 1e12 gives the contact's; kd summed with its 1
+        kp = float(c.findtext("kp"))
+        assert 1 / (1 / kp + 1 / 1e12) == pytest.approx(settings["contact_kp"], rel=1e-5)
+        assert float(c.findtext("kd")) + 1.0 == pytest.approx(settings["contact_kd"])
+        assert float(c.findtext("max_vel")) == pytest.approx(0.02)
+        assert float(c.findtext("min_depth")) == pytest.approx(0.0)
+    # nothing left on the links, where Gazebo reads no surface
+    model = ET.fromstring(sdf).find("model")
+    assert not [e for link in model.findall("link") for e in link if e.tag in ("slip1", "slip2", "surface")]
+
+
+def test_the_old_way_leaves_slip_on_the_link(tmp_path):
+    # the reason for the <collision> blob: sdformat maps only a list of <gazebo> children into <collision>
+    tags = '<robot name="t"><gazebo reference="front_left_wheel"><mu1>0.8</mu1><slip1>0.002</slip1></gazebo></robot>'
+    sdf = _merged(tags, tmp_path)
+    link = ET.fromstring(sdf).find("model/link[@name='front_left_wheel']")
+    assert link.find("slip1") is not None and link.find("collision/surface/friction/ode/slip1") is None
+    assert float(link.findtext("collision/surface/friction/ode/mu")) == pytest.approx(0.8)
+
+
+def test_gazebo_sdf_settings_named_after_the_elements_reach_their_elements(tmp_path):
+    # a gz-physics profile names its settings after the SDF elements (and friction_ratio for mu2)
+    settings = {
+        "collision_detector": "bullet",
+        "solver_type": "pgs",
+        "mu": 0.9,
+        "friction_ratio": 0.6,
+        "fdir1": [1, 0, 0],
+        "slip1": 0.003,
+        "slip2": 0.001,
+        "kp": 1e6,
+        "kd": 50.0,
+    }
+    texts = formats.write_profile_file("sdf", "gz_physics", settings, ["snakemake --cores 2"], WHEELS)
+    world = tmp_path / "world.sdf"
+    world.write_text(texts["world.sdf"])
+    _ign("-k", str(world))
+    physics = ET.fromstring(_ign("-p", str(world))).find("world/physics")
+    assert physics.get("type") == "dart"
+    assert physics.findtext("dart/collision_detector") == "bullet"
+    assert physics.findtext("dart/solver/solver_type") == "pgs"
+    s = _surfaces(_merged(texts["wheels.urdf"], tmp_path))["rear_right_wheel"]
+    f, c = s.find("friction/ode"), s.find("contact/ode")
+    assert float(f.findtext("mu")) == pytest.approx(0.9) and float(f.findtext("mu2")) == pytest.approx(0.54)
+    assert f.findtext("fdir1").split() == ["1", "0", "0"]
+    assert float(f.findtext("slip1")) == pytest.approx(0.003) and float(f.findtext("slip2")) == pytest.approx(0.001)
+    assert float(c.findtext("kp")) == pytest.approx(1e6) and float(c.findtext("kd")) == pytest.approx(50.0)
+    assert formats.read("sdf", "gz_physics", texts)["slip2"] == pytest.approx(0.001)
+
+
+@pytest.mark.parametrize("simulator", ["gazebo", "gazebo_classic"])
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_the_catalog_s_gazebo_worlds_are_valid_sdf(catalog, simulator, variant, tmp_path):
+    sim = catalog.simulators[simulator]
+    settings = _settings(catalog, simulator, variant)
+    texts = formats.write_profile_file("sdf", sim.engine, settings, ["t"], WHEELS, catalog.entries(simulator, variant))
+    path = tmp_path / "world.sdf"
+    path.write_text(texts["world.sdf"])
+    _ign("-k", str(path))
+    physics = ET.fromstring(_ign("-p", str(path))).find("world/physics")
+    if sim.engine == "ode":
+        assert physics.findtext("ode/solver/type") == settings["stepper"]
+        assert int(physics.findtext("ode/solver/iters")) == settings["quick_iterations"]
+        assert float(physics.findtext("ode/constraints/contact_max_correcting_vel")) == pytest.approx(
+            settings["contact_max_correcting_vel"]
+        )
+    else:
+        assert physics.findtext("dart/collision_detector") == settings["collision_detector"]
+
+
+# --- Drake: its own YAML loader and URDF parser ---
+
+
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_the_drake_files_load_through_drake_s_own_readers(catalog, variant, tmp_path):
+    from pydrake.common.yaml import yaml_load_typed
+    from pydrake.geometry import Role
+    from pydrake.multibody.parsing import Parser
+    from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlantConfig
+    from pydrake.systems.framework import DiagramBuilder
+
+    settings = _settings(catalog, "drake", variant)
+    texts = formats.write_profile_file("drake", "drake", settings, ["t"], WHEELS, catalog.entries("drake", variant))
+    config = yaml_load_typed(schema=MultibodyPlantConfig, data=texts["yaml"])
+    assert config.time_step == pytest.approx(settings.get("time_step") or 0.001)
+    assert config.contact_model == ("hydroelastic_with_fallback" if settings["contact_model"] == "hydroelastic" else "point")
+    assert config.discrete_contact_approximation == settings["discrete_approximation"]
+    assert config.stiction_tolerance == pytest.approx(settings["stiction_tolerance"])
+
+    # the tags pasted inside each wheel's <collision> of the Husky URDF, parsed by Drake
+    props = ET.fromstring(texts["wheels.urdf"]).find("{http://drake.mit.edu}proximity_properties")
+    text = HUSKY_URDF.read_text().replace("<robot ", '<robot xmlns:drake="http://drake.mit.edu" ', 1)
+    robot = ET.fromstring(text)
+    for link in robot.findall("link"):
+        if link.get("name") in WHEELS:
+            link.find("collision").append(props)
+    ET.register_namespace("drake", "http://drake.mit.edu")  # Drake's parser reads the literal drake: prefix
+    path = tmp_path / "husky.urdf"
+    path.write_text(ET.tostring(robot, encoding="unicode"))
+    assert "<drake:hunt_crossley_dissipation" in path.read_text()
+    builder = DiagramBuilder()
+    plant, scene_graph = AddMultibodyPlant(config, builder)
+    Parser(plant).AddModels(str(path))
+    plant.Finalize()
+    inspector = scene_graph.model_inspector()
+    for wheel in WHEELS:
+        (geometry,) = plant.GetCollisionGeometriesForBody(plant.GetBodyByName(wheel))
+        p = inspector.GetProperties(geometry, Role.kProximity)
+        assert p.GetProperty("material", "hunt_crossley_dissipation") == pytest.approx(settings["wheel_dissipation"])
+        if settings["contact_model"] == "hydroelastic":
+            assert p.GetProperty("hydroelastic", "hydroelastic_modulus") == pytest.approx(
+                settings["hydroelastic_modulus"]
+            )
+            assert p.HasProperty("hydroelastic", "compliance_type")
+            assert p.GetProperty("hydroelastic", "resolution_hint") == pytest.approx(settings["mesh_resolution"])
