@@ -252,3 +252,128 @@ def test_the_drake_files_load_through_drake_s_own_readers(catalog, variant, tmp_
             )
             assert p.HasProperty("hydroelastic", "compliance_type")
             assert p.GetProperty("hydroelastic", "resolution_hint") == pytest.approx(settings["mesh_resolution"])
+
+
+# --- Newton and Genesis: their own classes, in their own venvs ---
+
+
+def _venv_run(engine: str, code: str) -> str:
+    from simpick.engines import isolated
+
+    python = isolated.venv_python(engine)
+    if not python or not shutil.os.path.exists(python):
+        pytest.fail(f"{engine}'s venv is missing: make engine-venvs")
+    done = subprocess.run([python, "-c", code], capture_output=True, text=True, timeout=600, cwd=ROOT)
+    assert done.returncode == 0, done.stderr[-3000:]
+    return done.stdout
+
+
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_the_newton_file_s_keywords_build_newton_s_solver_and_pairs(catalog, variant, tmp_path):
+    settings = _settings(catalog, "isaac_lab_newton", variant)
+    text = formats.write_profile_file("newton", "newton", settings, ["t"], WHEELS, ground_mu=0.7)["py"]
+    assert "contact_kwargs" not in text
+    path = tmp_path / "newton_settings.py"
+    path.write_text(text)
+    out = _venv_run(
+        "newton",
+        f"""
+import runpy, newton, mujoco
+from newton.solvers import SolverMuJoCo
+file = runpy.run_path({str(path)!r})
+builder = newton.ModelBuilder()
+SolverMuJoCo.register_custom_attributes(builder)
+ground = builder.add_ground_plane()
+body = builder.add_body()
+wheel = builder.add_shape_sphere(body, radius=0.1)
+pairs = file.get("add_custom_values_kwargs")
+if pairs is not None:
+    builder.add_shape_collision_filter_pair(ground, wheel)
+    builder.add_custom_values(**{{"mujoco:pair_geom1": ground, "mujoco:pair_geom2": wheel, **pairs}})
+model = builder.finalize(device="cpu")
+solver = SolverMuJoCo(model, use_mujoco_cpu=True, **file["solvermujoco_kwargs"])
+m = solver.mj_model
+print("R", m.npair, int(m.opt.cone), float(m.opt.impratio))
+if m.npair:
+    print("R", *m.pair_friction[0][:2], *m.pair_solref[0], *m.pair_solreffriction[0], m.pair_solimp[0][0])
+""",
+    )
+    out = [line[2:] for line in out.splitlines() if line.startswith("R ")]
+    npair, cone, impratio = out[0].split()
+    assert int(cone) == (1 if settings["mujoco_cone"] == "elliptic" else 0)
+    if settings["wheel_contact"] == "pairs":
+        d = settings["wheel_contact_impedance"]
+        df = settings["wheel_friction_impedance"]
+        assert int(npair) == 1 and float(impratio) == pytest.approx(((1 - d) / d) / ((1 - df) / df), rel=1e-5)
+        f1, f2, r1, r2, rf1, rf2, solimp = (float(x) for x in out[1].split())
+        assert (f1, f2) == pytest.approx((0.7, 0.7))
+        assert (r1, rf1, solimp) == pytest.approx((0.02, 0.02 * 0.95 / d, d), rel=1e-5)
+    else:
+        assert int(npair) == 0
+
+
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_the_genesis_file_s_keywords_pass_genesis_s_strict_options(catalog, variant, tmp_path):
+    settings = _settings(catalog, "genesis", variant)
+    text = formats.write_profile_file("genesis", "genesis", settings, ["t"], WHEELS)["py"]
+    path = tmp_path / "genesis_settings.py"
+    path.write_text(text)
+    out = _venv_run(
+        "genesis",
+        f"""
+import runpy, genesis as gs
+gs.init(backend=gs.cpu, logging_level="warning")
+file = runpy.run_path({str(path)!r})
+rigid = gs.options.RigidOptions(**file["rigidoptions_kwargs"])
+urdf = gs.morphs.URDF(file={str(HUSKY_URDF)!r}, **file["urdf_kwargs"])
+print("R", rigid.friction_cone == getattr(gs.friction_cone, {settings["friction_cone"]!r}), urdf.default_armature)
+try:
+    gs.options.RigidOptions(friction_cone={settings["friction_cone"]!r})
+    print("R string accepted")
+except Exception as error:
+    print("R string refused")
+""",
+    )
+    out = [line[2:] for line in out.splitlines() if line.startswith("R ")]
+    same, armature = out[-2].split()
+    assert same == "True"
+    assert armature == str(settings["default_armature"])
+    assert out[-1] == "string refused"  # why the file gives the enum
+
+
+# --- Webots, CoppeliaSim, Isaac Lab: every name the files use, in the simulator's own source ---
+
+
+def _names(fmt: str, text: str) -> set[str]:
+    import re
+
+    body = "\n".join(line.split("#")[0] if fmt == "webots" else line for line in text.splitlines())
+    if fmt == "webots":
+        return set(re.findall(r"^\s*([A-Za-z]\w*)\b", body, re.M)) - {"}"}
+    if fmt == "coppeliasim":
+        code = "\n".join(line for line in body.splitlines() if not line.lstrip().startswith("--"))
+        return set(re.findall(r"\bsim\.\w+", code))
+    import ast
+
+    names = set()
+    for node in ast.parse(text).body:
+        if isinstance(node, ast.ImportFrom):
+            names |= {f"{node.module}.{a.name}" for a in node.names}
+        if isinstance(node, ast.Assign) and isinstance(node.value, ast.Dict):
+            cls = node.targets[0].id.removesuffix("_kwargs")
+            names |= {f"{cls}.{ast.literal_eval(k)}" for k in node.value.keys}
+    return names
+
+
+@pytest.mark.parametrize("simulator,fmt", [("webots", "webots"), ("coppeliasim", "coppeliasim"), ("isaac_sim", "isaaclab")])
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_every_name_a_file_uses_is_in_the_simulator_s_quoted_reference(catalog, simulator, fmt, variant):
+    from simpick.engines.simulator_names import NAMES
+
+    settings = _settings(catalog, simulator, variant)
+    texts = formats.write_profile_file(fmt, SIMULATORS[simulator], settings, ["t"], WHEELS)
+    (text,) = texts.values()
+    used = _names(fmt, text)
+    table = NAMES[fmt]
+    assert used and used <= set(table["names"]), sorted(used - set(table["names"]))
+    assert table["version"] and all(table["names"][n].strip() for n in used)

@@ -590,8 +590,8 @@ def python_blocks(fmt: str, settings: Mapping, ground_mu: float = GROUND_MU) -> 
 
 
 def _variable(call: str) -> str:
-    name = call.split(".")[-1]
-    return re.sub(r"(?<!^)(?=[A-Z])", "_", name).lower().replace("__", "_") + "_kwargs"
+    """The dict's name in the file: the class or call's own name, lower case (PhysxCfg -> physxcfg_kwargs)."""
+    return call.split(".")[-1].lower() + "_kwargs"
 
 
 def write_python(
