@@ -377,3 +377,93 @@ def test_every_name_a_file_uses_is_in_the_simulator_s_quoted_reference(catalog, 
     table = NAMES[fmt]
     assert used and used <= set(table["names"]), sorted(used - set(table["names"]))
     assert table["version"] and all(table["names"][n].strip() for n in used)
+
+
+# --- MuJoCo: the fragment merged into the robot's MJCF, loaded and stepped by MuJoCo ---
+
+
+def _husky_mjcf() -> str:
+    """The Husky as MuJoCo imports its URDF, with a floor, a free base and the adapter's wheel servos (intvelocity,
+    kp 1000, 100 N m), its wheel geoms named after their links: the robot file a user pastes the fragment into."""
+    import mujoco
+
+    spec = mujoco.MjSpec.from_file(str(HUSKY_URDF))
+    spec.compiler.discardvisual = False  # the URDF importer's default would drop the non-colliding wheel geoms
+    spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1], friction=[1.0, 0, 0])
+    spec.body("base_link").add_freejoint()
+    spec.body("base_link").pos = [0, 0, 0.1323 + 0.002]
+    for wheel in WHEELS:
+        (geom,) = spec.body(wheel).geoms
+        geom.name = wheel
+        geom.contype = geom.conaffinity = 0  # the pairs alone touch the floor, as in the adapter
+        act = spec.add_actuator(name=wheel, target=f"{wheel}_joint", trntype=mujoco.mjtTrn.mjTRN_JOINT)
+        act.set_to_intvelocity(kp=1000.0, dampratio=1.0)
+        act.actlimited = mujoco.mjtLimited.mjLIMITED_FALSE
+        act.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+        act.forcerange = [-100.0, 100.0]
+    spec.option.timestep = 0.001
+    return spec.to_xml()
+
+
+def _merge(robot: str, fragment: str) -> str:
+    root, frag = ET.fromstring(robot), ET.fromstring(fragment)
+    option = root.find("option")
+    if option is None:
+        option = ET.SubElement(root, "option")
+    option.attrib.update(frag.find("option").attrib)
+    root.append(frag.find("contact"))
+    return ET.tostring(root, encoding="unicode")
+
+
+def _mjcf_gain(xml: str, v: float = 0.5, w: float = 0.5, track: float = 0.555, seconds: float = 4.0) -> float:
+    import mujoco
+    import numpy as np
+
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    radius = 0.1651
+    left, right = (v - w * track / 2) / radius, (v + w * track / 2) / radius
+    data.ctrl[:] = [left if "left" in model.actuator(i).name else right for i in range(model.nu)]
+    steps = int(seconds / model.opt.timestep)
+    yaw = []
+    for k in range(steps):
+        mujoco.mj_step(model, data)
+        if k >= steps // 2:
+            yaw.append(data.qvel[5])
+    return float(np.mean(yaw)) / w
+
+
+@pytest.fixture(scope="module")
+def husky_mjcf():
+    return _husky_mjcf()
+
+
+def test_the_mjcf_pairs_carry_the_ground_s_friction_in_mujoco(catalog, husky_mjcf):
+    import mujoco
+
+    settings = _settings(catalog, "mujoco", "tuned")
+    fragment = formats.write_profile_file("mjcf", "mujoco", settings, ["snakemake --cores 2"], WHEELS, ground_mu=0.3)
+    model = mujoco.MjModel.from_xml_string(_merge(husky_mjcf, fragment["xml"]))
+    assert model.npair == 4
+    for i in range(model.npair):
+        assert model.pair_friction[i][:2] == pytest.approx([0.3, 0.3])  # the ground's, not MuJoCo's pair default 1
+        assert model.pair_solimp[i][0] == pytest.approx(settings["wheel_contact_impedance"])
+    assert model.opt.impratio == pytest.approx(
+        ((1 - settings["wheel_contact_impedance"]) / settings["wheel_contact_impedance"])
+        / ((1 - settings["wheel_friction_impedance"]) / settings["wheel_friction_impedance"]),
+        rel=1e-5,
+    )
+
+
+def test_the_merged_mjcf_turns_as_the_adapter_at_both_ground_frictions(catalog, husky_mjcf, tmp_path):
+    from test_simulators import _gain
+
+    settings = _settings(catalog, "mujoco", "tuned")
+    for mu in (0.8, 0.2):
+        fragment = formats.write_profile_file("mjcf", "mujoco", settings, ["t"], WHEELS, ground_mu=mu)["xml"]
+        pasted = _mjcf_gain(_merge(husky_mjcf, fragment))
+        adapter = _gain("mujoco", {**settings}, tmp_path, mu=mu)
+        # measured 2026-11-28: 0.4617 / 0.4617 at mu 0.8, 0.4664 / 0.4665 at mu 0.2 (pasted / adapter); the same
+        # pairs without the friction attribute (MuJoCo's pair default 1) turn at 0.4616 on the 0.2 ground,
+        # 0.005 off: the tolerance tells the ground's friction from the default
+        assert pasted == pytest.approx(adapter, abs=0.002), (mu, pasted, adapter)

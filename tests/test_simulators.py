@@ -167,7 +167,7 @@ def test_a_settings_file_reads_back_into_the_settings_it_was_written_from(catalo
     ), sorted(set(entries) - set(back))
 
 
-def _gain(engine: str, settings: dict, tmp_path) -> float:
+def _gain(engine: str, settings: dict, tmp_path, mu: float = 0.8) -> float:
     from simpick.inputs.robot import load_from_config
     from simpick.studies.validation.cases import Setup, run_case
     from simpick.studies.validation.judge import summarise
@@ -181,7 +181,7 @@ def _gain(engine: str, settings: dict, tmp_path) -> float:
         track=config["robot"]["track"],
         settings=settings,
     )
-    case = {"kind": "yaw_gain", "v": 0.5, "w": 0.5, "mu": 0.8, "duration": 2.0}
+    case = {"kind": "yaw_gain", "v": 0.5, "w": 0.5, "mu": mu, "duration": 2.0}
     summary = summarise([run_case(setup, "gain", case)], config["validation"]["tolerances"])
     return float(summary[summary.quantity == "yaw_rate_gain"].engine_value.iloc[0])
 
