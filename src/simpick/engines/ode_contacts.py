@@ -135,16 +135,16 @@ def near_callback(owner) -> _ode.dNearCallback:
 
 
 def surface_limits(owner):
-    """Gazebo Classic's per-body contact limits (OdeSettings.contact_max_vel / contact_min_depth) on one
-    contact, or None when neither is set.
+    """Per-body contact limits (OdeSettings.contact_max_vel / contact_min_depth) on one contact, or None when
+    neither is set.
 
     Gazebo Classic hands each link's collision surface <max_vel> and <min_depth> to its ODE fork per body
-    (ODELink::UpdateSurface: dBodySetMaxVel, dBodySetMinDepth), and the fork's contact joint then uses the
-    body's values in place of the world's: depth less the body's min_depth, the correcting velocity capped by
-    the body's max_vel, itself truncated by the world's contact_max_correcting_vel (deps/opende/src/joints/
-    contact.cpp, dxJointContact::getInfo2). ODE 0.16 has only the world's two, so the contact is given them
-    here: its depth shifted so that ODE's subtraction of the world's surface layer leaves depth - min_depth,
-    and its ERP lowered (dContactSoftERP) so that ERP x depth / step does not exceed max_vel."""
+    (ODELink::UpdateSurface: dBodySetMaxVel, dBodySetMinDepth), and the fork's contact joint takes the depth less
+    the body's min_depth in place of the world's surface layer (deps/opende/src/joints/contact.cpp,
+    dxJointContact::getInfo2). ODE 0.16 has only the world's layer, so the contact's depth is shifted here so
+    that ODE's subtraction of the world's layer leaves depth - min_depth. ``contact_max_vel`` lowers the
+    contact's ERP (dContactSoftERP) so that ERP x depth / step does not exceed it: ODE 0.16's own cap, on
+    position and velocity alike (the fork's quickstep caps only the velocity: OdeSettings)."""
     s = owner.settings
     if s.contact_max_vel is None and s.contact_min_depth is None:
         return None

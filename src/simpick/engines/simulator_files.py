@@ -1,8 +1,11 @@
 """The settings to paste: a simulator's profile written in that simulator's own format, and read back.
 
 Each format has a writer (adapter settings -> the text a user pastes, every value with its meaning, its source
-and the figure it gave here) and a reader (that text -> the adapter settings it sets), so a test can load a
-written file into simpick's engines and check it reproduces the profile. Formats:
+and the figure it gave here; :func:`write_profile_file` is the entry point) and a reader (that text -> the adapter
+settings it sets), so a test can load a written file into simpick's engines and check it reproduces the profile.
+tests/test_simulator_files.py reads every file with the simulator's own reader where one installs here
+(sdformat, MuJoCo, Drake, Newton, Genesis) and checks the names of the others against
+:mod:`simpick.engines.simulator_names`. Formats:
 
 * ``sdf``: Gazebo and Gazebo Classic: the world's ``<physics>`` (an SDF file) and the wheels' ``<gazebo>`` tags
   (a URDF fragment to include in the robot's description)
@@ -84,6 +87,9 @@ def _tostring(root) -> str:
 # Classic's, src/parser_urdf.cc:1341, 1646). So the wheels' tags are written as one <collision><surface>
 # blob, with the SDF's own element names, which lands each value where Gazebo reads it.
 
+# gz-physics' dartsim plugin (Ignition Physics 5, Fortress) reads mu, mu2, slip1, slip2 and fdir1 of a collision's
+# <surface><friction><ode> (dartsim/src/SDFFeatures.cc:813-835 at ignition-physics5_5.1.0), not kp/kd, which the
+# file still carries for the other engines that read them.
 # SDF surface element (its path under <surface>) -> the settings that give it: named after the SDF element
 # (a gz-physics profile) or the ODE adapter's name (Gazebo Classic, whose combination rules the writer undoes)
 SURFACE = {
@@ -163,7 +169,8 @@ def _surface_element(values: Mapping[str, str]):
     return surface
 
 
-# gz-sim's <physics><dart> children (gz-sim src/SdfEntityCreator.cc reads them into the physics system) -> settings
+# gz-sim's <physics><dart> children -> settings: gz-sim reads collision_detector and solver/solver_type into its physics
+# components (ignition-gazebo6_6.18.0, Fortress, src/SdfEntityCreator.cc:303-315; gz-sim10 :423-439)
 DART_PHYSICS = {
     "solver/solver_type": ("solver_type", "lcp_solver"),
     "collision_detector": ("collision_detector",),
