@@ -257,88 +257,101 @@ def test_the_drake_files_load_through_drake_s_own_readers(catalog, variant, tmp_
 # --- Newton and Genesis: their own classes, in their own venvs ---
 
 
-def _venv_run(engine: str, code: str) -> str:
+def _venv_run(engine: str, code: str, *args: str) -> list[str]:
+    """The ``R ...`` lines ``code`` prints in ``engine``'s own venv."""
     from simpick.engines import isolated
 
     python = isolated.venv_python(engine)
     if not python or not shutil.os.path.exists(python):
         pytest.fail(f"{engine}'s venv is missing: make engine-venvs")
-    done = subprocess.run([python, "-c", code], capture_output=True, text=True, timeout=600, cwd=ROOT)
+    done = subprocess.run([python, "-c", code, *args], capture_output=True, text=True, timeout=600, cwd=ROOT)
     assert done.returncode == 0, done.stderr[-3000:]
-    return done.stdout
+    return [line[2:] for line in done.stdout.splitlines() if line.startswith("R ")]
 
 
-@pytest.mark.parametrize("variant", VARIANTS)
-def test_the_newton_file_s_keywords_build_newton_s_solver_and_pairs(catalog, variant, tmp_path):
-    settings = _settings(catalog, "isaac_lab_newton", variant)
-    text = formats.write_profile_file("newton", "newton", settings, ["t"], WHEELS, ground_mu=0.7)["py"]
-    assert "contact_kwargs" not in text
-    path = tmp_path / "newton_settings.py"
-    path.write_text(text)
-    out = _venv_run(
-        "newton",
-        f"""
-import runpy, newton, mujoco
+NEWTON_CHECK = """
+import runpy, sys, newton
 from newton.solvers import SolverMuJoCo
-file = runpy.run_path({str(path)!r})
-builder = newton.ModelBuilder()
-SolverMuJoCo.register_custom_attributes(builder)
-ground = builder.add_ground_plane()
-body = builder.add_body()
-wheel = builder.add_shape_sphere(body, radius=0.1)
-pairs = file.get("add_custom_values_kwargs")
-if pairs is not None:
-    builder.add_shape_collision_filter_pair(ground, wheel)
-    builder.add_custom_values(**{{"mujoco:pair_geom1": ground, "mujoco:pair_geom2": wheel, **pairs}})
-model = builder.finalize(device="cpu")
-solver = SolverMuJoCo(model, use_mujoco_cpu=True, **file["solvermujoco_kwargs"])
-m = solver.mj_model
-print("R", m.npair, int(m.opt.cone), float(m.opt.impratio))
-if m.npair:
-    print("R", *m.pair_friction[0][:2], *m.pair_solref[0], *m.pair_solreffriction[0], m.pair_solimp[0][0])
-""",
-    )
-    out = [line[2:] for line in out.splitlines() if line.startswith("R ")]
-    npair, cone, impratio = out[0].split()
-    assert int(cone) == (1 if settings["mujoco_cone"] == "elliptic" else 0)
-    if settings["wheel_contact"] == "pairs":
-        d = settings["wheel_contact_impedance"]
-        df = settings["wheel_friction_impedance"]
-        assert int(npair) == 1 and float(impratio) == pytest.approx(((1 - d) / d) / ((1 - df) / df), rel=1e-5)
-        f1, f2, r1, r2, rf1, rf2, solimp = (float(x) for x in out[1].split())
-        assert (f1, f2) == pytest.approx((0.7, 0.7))
-        assert (r1, rf1, solimp) == pytest.approx((0.02, 0.02 * 0.95 / d, d), rel=1e-5)
-    else:
-        assert int(npair) == 0
+for path in sys.argv[1:]:
+    file = runpy.run_path(path)
+    builder = newton.ModelBuilder()
+    SolverMuJoCo.register_custom_attributes(builder)
+    ground = builder.add_ground_plane()
+    wheel = builder.add_shape_sphere(builder.add_body(), radius=0.1)
+    pairs = file.get("add_custom_values_kwargs")
+    if pairs is not None:
+        builder.add_shape_collision_filter_pair(ground, wheel)
+        builder.add_custom_values(**{"mujoco:pair_geom1": ground, "mujoco:pair_geom2": wheel, **pairs})
+    solver = SolverMuJoCo(builder.finalize(device="cpu"), use_mujoco_cpu=True, **file["solvermujoco_kwargs"])
+    m = solver.mj_model
+    row = [m.npair, int(m.opt.cone), float(m.opt.impratio)]
+    if m.npair:
+        row += [*m.pair_friction[0][:2], *m.pair_solref[0], *m.pair_solreffriction[0], m.pair_solimp[0][0]]
+    print("R", *row)
+"""
 
 
-@pytest.mark.parametrize("variant", VARIANTS)
-def test_the_genesis_file_s_keywords_pass_genesis_s_strict_options(catalog, variant, tmp_path):
-    settings = _settings(catalog, "genesis", variant)
-    text = formats.write_profile_file("genesis", "genesis", settings, ["t"], WHEELS)["py"]
-    path = tmp_path / "genesis_settings.py"
-    path.write_text(text)
-    out = _venv_run(
-        "genesis",
-        f"""
-import runpy, genesis as gs
+@pytest.mark.slow  # Newton's own venv (make engine-venvs)
+def test_the_newton_file_s_keywords_build_newton_s_solver_and_pairs(catalog, tmp_path):
+    paths, profiles = [], []
+    for variant in VARIANTS:
+        settings = _settings(catalog, "isaac_lab_newton", variant)
+        text = formats.write_profile_file("newton", "newton", settings, ["t"], WHEELS, ground_mu=0.7)["py"]
+        assert "contact_kwargs" not in text
+        path = tmp_path / f"newton_{variant}.py"
+        path.write_text(text)
+        paths.append(str(path))
+        profiles.append(settings)
+    rows = _venv_run("newton", NEWTON_CHECK, *paths)
+    assert len(rows) == len(profiles)
+    for settings, row in zip(profiles, rows, strict=True):
+        values = [float(x) for x in row.split()]
+        assert int(values[1]) == (1 if settings["mujoco_cone"] == "elliptic" else 0)
+        if settings["wheel_contact"] == "pairs":
+            d, df = settings["wheel_contact_impedance"], settings["wheel_friction_impedance"]
+            assert int(values[0]) == 1
+            assert values[2] == pytest.approx(((1 - d) / d) / ((1 - df) / df), rel=1e-5)
+            f1, f2, r1, _, rf1, _, solimp = values[3:]
+            assert (f1, f2) == pytest.approx((0.7, 0.7))  # the ground's, not MuJoCo's pair default 1
+            assert (r1, rf1, solimp) == pytest.approx((0.02, 0.02 * 0.95 / d, d), rel=1e-5)
+        else:
+            assert int(values[0]) == 0
+
+
+GENESIS_CHECK = """
+import runpy, sys, genesis as gs
 gs.init(backend=gs.cpu, logging_level="warning")
-file = runpy.run_path({str(path)!r})
-rigid = gs.options.RigidOptions(**file["rigidoptions_kwargs"])
-urdf = gs.morphs.URDF(file={str(HUSKY_URDF)!r}, **file["urdf_kwargs"])
-print("R", rigid.friction_cone == getattr(gs.friction_cone, {settings["friction_cone"]!r}), urdf.default_armature)
-try:
-    gs.options.RigidOptions(friction_cone={settings["friction_cone"]!r})
-    print("R string accepted")
-except Exception as error:
-    print("R string refused")
-""",
-    )
-    out = [line[2:] for line in out.splitlines() if line.startswith("R ")]
-    same, armature = out[-2].split()
-    assert same == "True"
-    assert armature == str(settings["default_armature"])
-    assert out[-1] == "string refused"  # why the file gives the enum
+urdf_file = sys.argv[1]
+for path in sys.argv[2:]:
+    file = runpy.run_path(path)
+    rigid = gs.options.RigidOptions(**file["rigidoptions_kwargs"])
+    urdf = gs.morphs.URDF(file=urdf_file, **file["urdf_kwargs"])
+    name = file["rigidoptions_kwargs"]["friction_cone"].name
+    try:
+        gs.options.RigidOptions(friction_cone=name)
+        refused = False
+    except Exception:
+        refused = True
+    print("R", name, rigid.friction_cone == getattr(gs.friction_cone, name), urdf.default_armature, refused)
+"""
+
+
+@pytest.mark.slow  # Genesis's own venv (make engine-venvs)
+def test_the_genesis_file_s_keywords_pass_genesis_s_strict_options(catalog, tmp_path):
+    paths, profiles = [], []
+    for variant in VARIANTS:
+        settings = _settings(catalog, "genesis", variant)
+        path = tmp_path / f"genesis_{variant}.py"
+        path.write_text(formats.write_profile_file("genesis", "genesis", settings, ["t"], WHEELS)["py"])
+        paths.append(str(path))
+        profiles.append(settings)
+    rows = _venv_run("genesis", GENESIS_CHECK, str(HUSKY_URDF), *paths)
+    assert len(rows) == len(profiles)
+    for settings, row in zip(profiles, rows, strict=True):
+        name, same, armature, refused = row.split()
+        assert name == settings["friction_cone"] and same == "True"
+        assert armature == str(settings["default_armature"])
+        assert refused == "True"  # Genesis's strict options take the enum, not its name: why the file gives the enum
 
 
 # --- Webots, CoppeliaSim, Isaac Lab: every name the files use, in the simulator's own source ---
