@@ -480,3 +480,10 @@ def test_the_merged_mjcf_turns_as_the_adapter_at_both_ground_frictions(catalog, 
         # pairs without the friction attribute (MuJoCo's pair default 1) turn at 0.4616 on the 0.2 ground,
         # 0.005 off: the tolerance tells the ground's friction from the default
         assert pasted == pytest.approx(adapter, abs=0.002), (mu, pasted, adapter)
+
+
+def test_isaac_lab_iteration_counts_are_written_as_the_integers_its_fields_take(catalog):
+    settings = {**_settings(catalog, "isaac_sim", "shipped"), "position_iterations": 32.0}  # as a JSON round trip gives
+    text = formats.write_profile_file("isaaclab", "physx", settings, ["t"], WHEELS)["py"]
+    assert "'solver_position_iteration_count': 32," in text and "32.0" not in text
+    assert formats.read("isaaclab", "physx", {"py": text})["position_iterations"] == 32

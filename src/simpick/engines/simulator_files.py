@@ -513,8 +513,8 @@ def _isaaclab(settings: Mapping) -> list[tuple[str, str, dict]]:
             "from isaaclab.sim.schemas import ArticulationRootPropertiesCfg",
             "ArticulationRootPropertiesCfg",
             {
-                "solver_position_iteration_count": settings["position_iterations"],
-                "solver_velocity_iteration_count": settings["velocity_iterations"],
+                "solver_position_iteration_count": int(settings["position_iterations"]),
+                "solver_velocity_iteration_count": int(settings["velocity_iterations"]),
             },
         ),
         (
@@ -604,9 +604,10 @@ def _variable(call: str) -> str:
 def write_python(
     fmt: str, settings: Mapping, entries: Mapping | None, title: list[str], ground_mu: float = GROUND_MU
 ) -> dict:
-    lines = []
+    lines: list[str] = []
     for imp, call, kwargs in python_blocks(fmt, settings, ground_mu):
-        lines.append(imp)
+        if imp not in lines:
+            lines.append(imp)
         body = ", ".join(f"{k!r}: {v!r}" for k, v in kwargs.items())
         lines.append(f"{_variable(call)} = {{{body}}}  # {call}(**{_variable(call)})")
     notes = _meanings(entries, PYTHON_KEYS[fmt].values())
