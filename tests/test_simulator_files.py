@@ -222,7 +222,9 @@ def test_the_drake_files_load_through_drake_s_own_readers(catalog, variant, tmp_
     texts = formats.write_profile_file("drake", "drake", settings, ["t"], WHEELS, catalog.entries("drake", variant))
     config = yaml_load_typed(schema=MultibodyPlantConfig, data=texts["yaml"])
     assert config.time_step == pytest.approx(settings.get("time_step") or 0.001)
-    assert config.contact_model == ("hydroelastic_with_fallback" if settings["contact_model"] == "hydroelastic" else "point")
+    assert config.contact_model == (
+        "hydroelastic_with_fallback" if settings["contact_model"] == "hydroelastic" else "point"
+    )
     assert config.discrete_contact_approximation == settings["discrete_approximation"]
     assert config.stiction_tolerance == pytest.approx(settings["stiction_tolerance"])
 
@@ -378,7 +380,9 @@ def _names(fmt: str, text: str) -> set[str]:
     return names
 
 
-@pytest.mark.parametrize("simulator,fmt", [("webots", "webots"), ("coppeliasim", "coppeliasim"), ("isaac_sim", "isaaclab")])
+@pytest.mark.parametrize(
+    "simulator,fmt", [("webots", "webots"), ("coppeliasim", "coppeliasim"), ("isaac_sim", "isaaclab")]
+)
 @pytest.mark.parametrize("variant", VARIANTS)
 def test_every_name_a_file_uses_is_in_the_simulator_s_quoted_reference(catalog, simulator, fmt, variant):
     from simpick.engines.simulator_names import NAMES

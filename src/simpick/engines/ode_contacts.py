@@ -151,7 +151,9 @@ def surface_limits(owner):
     real = ctypes.sizeof(_ode.dReal)
     D = (_ode.dContact.geom.offset + _ode.dContactGeom.depth.offset) // real
     E = (_ode.dContact.surface.offset + _ode.dSurfaceParameters.soft_erp.offset) // real
-    shift = s.contact_surface_layer - (s.contact_min_depth if s.contact_min_depth is not None else s.contact_surface_layer)
+    shift = s.contact_surface_layer - (
+        s.contact_min_depth if s.contact_min_depth is not None else s.contact_surface_layer
+    )
     max_vel = s.contact_max_vel
     fps = 1.0 / owner.dt
     erp = owner.contact_erp  # the contact's ERP before the cap: its own soft ERP, or the world's

@@ -248,7 +248,11 @@ def write_sdf(
                 f"kp/kd: the wheel's own values; Gazebo puts them in series with (adds them to) the ground's "
                 f"{GROUND_KP:g} / {GROUND_KD:g}. slip1/slip2: the per-contact slip / {CONTACTS_PER_WHEEL} (Gazebo "
                 "multiplies by the pair's contact count). mu/mu2 combine with the ground's by the minimum"
-                + (f"; mu is the ground's {ground_mu:g} where only a ratio is set" if "friction_ratio" in settings else "")
+                + (
+                    f"; mu is the ground's {ground_mu:g} where only a ratio is set"
+                    if "friction_ratio" in settings
+                    else ""
+                )
             )
         texts["wheels.urdf"] = xml_comment([*title, *notes]) + _tostring(robot) + "\n"
     return texts
@@ -697,7 +701,9 @@ def write_profile_file(
         return write_coppeliasim(settings, entries, header)
     if fmt in PYTHON_BLOCKS:
         return write_python(fmt, settings, entries, header, ground_mu)
-    raise ValueError(f"no settings file format {fmt!r}; known: sdf, webots, mjcf, drake, coppeliasim, {', '.join(PYTHON_BLOCKS)}")
+    raise ValueError(
+        f"no settings file format {fmt!r}; known: sdf, webots, mjcf, drake, coppeliasim, {', '.join(PYTHON_BLOCKS)}"
+    )
 
 
 def write(fmt: str, engine: str, settings: Mapping, entries: Mapping, title: list[str], wheels: list[str]) -> dict:

@@ -37,8 +37,12 @@ NAMES = {
         "version": "CoppeliaSim 4.10 (CoppeliaRobotics/coppeliaSimLib)",
         "names": {
             "sim.setInt32Param": f"{_COPPELIA} (sim.setInt32Param(int parameter, int intState))",
-            "sim.intparam_dynamic_engine": f'{_COPPELIA}: {{"sim.intparam_dynamic_engine", sim_intparam_dynamic_engine}}',
-            "sim.physics_bullet": f"{_COPPELIA} (the engine constant; Bullet 2.78 by default, dynamicsContainer.cpp:33-34)",
+            "sim.intparam_dynamic_engine": (
+                f'{_COPPELIA}: {{"sim.intparam_dynamic_engine", sim_intparam_dynamic_engine}}'
+            ),
+            "sim.physics_bullet": (
+                f"{_COPPELIA} (the engine constant; Bullet 2.78 by default, dynamicsContainer.cpp:33-34)"
+            ),
             "sim.setEngineInt32Param": (
                 f"{_COPPELIA} (sim.setEngineInt32Param(int paramId, int objectHandle, int int32Param); "
                 "CoppeliaRobotics/lua sim-ce.lua)"
