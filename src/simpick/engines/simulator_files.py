@@ -326,10 +326,17 @@ def write_webots(settings: Mapping, entries: Mapping | None, title: list[str], g
         "    ContactProperties {",
         '      material2 "wheel"  # the wheels\' contactMaterial',
         f"      coulombFriction [ {friction} ]  # the ground's coefficient (simpick's validation: {ground_mu:g})"
-        + ("; the second value: the second friction direction" if ratio != 1.0 else ""),
+        + (
+            "; two values: the first and second friction directions, the first turned by frictionRotation "
+            "(ContactProperties.wrl:6-7; which way they lie on a wheel was not checked in a Webots run)"
+            if ratio != 1.0
+            else ""
+        ),
     ]
     for field, key in WEBOTS_FIELDS.items():
-        value = settings[key]
+        value = settings.get(key)
+        if value is None:  # not set: Webots' own default holds
+            continue
         text = (
             f"[ {_num(value)} ]"
             if field == "forceDependentSlip"
