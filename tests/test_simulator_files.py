@@ -472,6 +472,17 @@ def test_the_mjcf_pairs_carry_the_ground_s_friction_in_mujoco(catalog, husky_mjc
     )
 
 
+def test_a_friction_ratio_gives_the_pairs_two_tangential_frictions_in_mujoco(catalog, husky_mjcf):
+    import mujoco
+
+    settings = _settings(catalog, "mujoco", "tuned", friction_ratio=0.6)
+    fragment = formats.write_profile_file("mjcf", "mujoco", settings, ["t"], WHEELS, ground_mu=0.8)["xml"]
+    model = mujoco.MjModel.from_xml_string(_merge(husky_mjcf, fragment))
+    # tangent 1 along the axle (ratio x mu), tangent 2 rolling (mu), as the adapter's capsule pairs
+    assert [list(model.pair_friction[i][:2]) for i in range(model.npair)] == [pytest.approx([0.48, 0.8])] * 4
+    assert "capsule" in fragment  # the file says why the wheel geoms must be capsules for the two directions
+
+
 def test_the_merged_mjcf_turns_as_the_adapter_at_both_ground_frictions(catalog, husky_mjcf, tmp_path):
     from test_simulators import _gain
 
