@@ -5,6 +5,7 @@ Built from a simulators' table written here in rule simulators' columns (results
 from __future__ import annotations
 
 import html
+import json
 import re
 from pathlib import Path
 
@@ -206,7 +207,11 @@ def test_the_simulators_come_before_the_engines_their_physics(real_study):
 @pytest.mark.parametrize(
     "calibrated, heldout, why",
     [
-        ("absent", False, "this simulators' table has no calibrated rows: it was written before the calibrated profiles"),
+        (
+            "absent",
+            False,
+            "this simulators' table has no calibrated rows: it was written before the calibrated profiles",
+        ),
         ("off", True, "no calibrated profile ran in this study: variant not selected (simulators.variants)"),
     ],
 )
@@ -236,3 +241,70 @@ def test_without_simulators_the_page_asks_the_engines_question(real_study):
     text = _render(inputs, params)
     assert "which physics engine reproduces" in text and 'id="simulators-answer"' not in text
     assert 'id="engines-answer"' not in text and 'id="answer-table"' in text
+
+
+def _simulators_tree():
+    """A simulators' tree over two questions: ROS 2 (Gazebo Classic and Isaac Sim out of the box) and closeness
+    to the real robot (Gazebo Classic and Webots as close as the best)."""
+    from simpick.score.tree import Fact, Question, _binary, build_tree
+
+    sims = ["gazebo_classic", "mujoco", "webots", "isaac_sim"]
+    ros = _binary(
+        "ros",
+        "Do you need ROS 2?",
+        "qualitative.yaml",
+        {s: Fact(s in ("gazebo_classic", "isaac_sim"), s, "") for s in sims},
+    )
+    close = {s: Fact(s in ("gazebo_classic", "webots"), f"{s} closeness", "outcomes.csv") for s in sims}
+    closeness = Question(
+        "closeness",
+        "Must it be as close to the real robot as the best?",
+        "outcomes.csv",
+        close,
+        _binary("closeness", "", "", close, yes="Yes, on its yaw-rate gain error").options,
+    )
+    return build_tree([ros, closeness], sims)
+
+
+def _leaf(tree: dict, **answers) -> dict:
+    from simpick.score.tree import walk
+
+    return walk(tree, answers)
+
+
+def test_the_tree_s_leaves_name_the_calibrated_profile_where_the_user_asks_for_closeness(tmp_path):
+    from simpick.report.simulators import simulators_section
+    from simpick.score.scoring import DEFAULT_WEIGHTS
+    from simpick.score.tree import name_profiles
+
+    folder = write_simulators(tmp_path / "simulators")
+    tree = name_profiles(_simulators_tree(), pd.read_csv(folder / "table.csv"), str(folder / "settings"))
+    close = _leaf(tree, ros="Yes", closeness="Yes, on its yaw-rate gain error")
+    assert close["engines"] == ["gazebo_classic"]
+    (named,) = close["profiles"]
+    assert named["variant"] == "calibrated" and named["text"] == (
+        "Gazebo Classic, calibrated: friction_ratio 0.62 "
+        "(settings file results/simulators/settings/gazebo_classic-calibrated.sdf)"
+    )
+    # closeness not asked for: the tuned profile, the calibrated one beside it
+    anyhow = {p["simulator"]: p for p in _leaf(tree, ros="Yes", closeness="No")["profiles"]}
+    assert anyhow["gazebo_classic"]["variant"] == "tuned"
+    assert anyhow["gazebo_classic"]["closest"].startswith("Gazebo Classic, calibrated: friction_ratio 0.62")
+    # a calibrated profile that breaks its own mechanics, or one that cannot move the turning, is never named
+    webots = {p["simulator"]: p for p in _leaf(tree, ros="No", closeness="Yes, on its yaw-rate gain error")["profiles"]}
+    assert webots["webots"]["variant"] == "tuned" and "fails 3/20 of its own mechanics" in webots["webots"]["closest"]
+    isaac = {p["simulator"]: p for p in _leaf(tree, ros="Yes", closeness="No")["profiles"]}["isaac_sim"]
+    assert isaac["variant"] == "tuned" and "not settable: PhysX materials are isotropic" in isaac["closest"]
+    assert tree["profiles"] == {"calibrated": True, "why_not": "", "closeness_asked": True}
+
+    # the report's ROS 2 paths (the most demanding answer to closeness) name the same profile
+    (folder / "tree.json").write_text(json.dumps(tree))
+    paths = {p["answer"]: p for p in simulators_section(str(folder), dict(DEFAULT_WEIGHTS))["ros_paths"]}
+    assert paths["Yes"]["leaf"] == named["text"]
+
+    # without calibrated rows every leaf keeps the tuned profile
+    old = write_simulators(tmp_path / "old", calibrated="absent", heldout=False)
+    tree = name_profiles(_simulators_tree(), pd.read_csv(old / "table.csv"), str(old / "settings"))
+    leaf = _leaf(tree, ros="Yes", closeness="Yes, on its yaw-rate gain error")
+    assert [(p["variant"], p.get("closest")) for p in leaf["profiles"]] == [("tuned", None)]
+    assert tree["profiles"]["calibrated"] is False and "no calibrated rows" in tree["profiles"]["why_not"]

@@ -236,7 +236,7 @@ def _simulator_answer(
         return None, []
     import pandas as pd
 
-    from simpick.report.simulators import simulator_answer
+    from simpick.score.profiles import simulator_answer
     from simpick.score.sentences import simulator_sentences
 
     gain = next((m for m in answer.get("metrics") or [] if m["key"] == "gain_error"), None)
@@ -314,7 +314,7 @@ def build_context(data: ReportData, params: Mapping[str, Any] | ReportParams) ->
     label = p.config.robot.label or p.config.robot.name or "robot"
     simulator_answer, simulator_sentences = _simulator_answer(p.simulators, answer, label, units)
     return {
-        # the first page's answer on the simulators (simpick.report.simulators.simulator_answer): None where the
+        # the first page's answer on the simulators (simpick.score.profiles.simulator_answer): None where the
         # study runs none, and the engines' answer is the page's
         "simulator_answer": simulator_answer,
         "simulator_sentences": simulator_sentences,

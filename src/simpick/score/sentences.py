@@ -364,7 +364,7 @@ def _against_spread(p: dict, spread: float | None) -> str:
 
 
 def simulator_sentences(answer: dict, robot: str, noun: str = RUNS) -> list[dict]:
-    """The first page's sentences on the simulators (simpick.report.simulators.simulator_answer's arrangement
+    """The first page's sentences on the simulators (simpick.score.profiles.simulator_answer
     of the simulators' table): the closest profile and its settings, the closest per variant, where a simulator
     cannot move its turning within its own settings, a profile that fits the runs by breaking its mechanics,
     and why no calibrated profile is there. Each names the table's figures it rests on."""
@@ -372,7 +372,11 @@ def simulator_sentences(answer: dict, robot: str, noun: str = RUNS) -> list[dict
         return []
     spread, lead = answer.get("spread"), answer["lead"]
     runs = lead.get("runs")
-    over = f"{int(runs)} held-out {units(noun)}" if answer["heldout"] and runs else ("held-out " + noun if answer["heldout"] else noun)
+    over = (
+        f"{int(runs)} held-out {units(noun)}"
+        if answer["heldout"] and runs
+        else ("held-out " + noun if answer["heldout"] else noun)
+    )
     metric = "yaw-rate gain error"
     text = f"Closest to the real {robot} on {over}: {_profile(lead)}, {metric} {_against_spread(lead, spread)}"
     if not lead["passes"]:
@@ -404,7 +408,10 @@ def simulator_sentences(answer: dict, robot: str, noun: str = RUNS) -> list[dict
             }
         )
     fixed = [
-        (s, p) for s in answer["simulators"] for p in s["profiles"] if p["variant"] == "calibrated" and p["not_settable"]
+        (s, p)
+        for s in answer["simulators"]
+        for p in s["profiles"]
+        if p["variant"] == "calibrated" and p["not_settable"]
     ]
     if fixed:
         said.append(
