@@ -224,7 +224,7 @@ def test_without_calibrated_rows_the_page_answers_with_shipped_and_tuned_and_say
     # the closest of shipped and tuned: Webots as tuned, over every real run where the table has no held-out runs
     assert "Webots, tuned" in lead and "calibrated" not in lead
     assert ("0.2 [0.18, 0.218]" if not heldout else "0.196 [0.18, 0.21]") in lead
-    assert ("14 runs" not in lead) and ("held-out" in lead) == heldout
+    assert ("on 6 held-out runs" if heldout else "on 14 real runs") in lead
     assert '<a href="../simulators/settings/webots-tuned.wbt">' in text
     sentences = " ".join(html.unescape(re.search(r'id="simulators-sentences">(.*?)</ul>', text, re.S).group(1)).split())
     assert why[0].upper() + why[1:] in sentences and "the answer rests on the shipped and tuned profiles" in sentences
@@ -308,3 +308,53 @@ def test_the_tree_s_leaves_name_the_calibrated_profile_where_the_user_asks_for_c
     leaf = _leaf(tree, ros="Yes", closeness="Yes, on its yaw-rate gain error")
     assert [(p["variant"], p.get("closest")) for p in leaf["profiles"]] == [("tuned", None)]
     assert tree["profiles"]["calibrated"] is False and "no calibrated rows" in tree["profiles"]["why_not"]
+
+
+def test_the_page_across_robots_answers_which_simulator_per_robot(tmp_path):
+    """The robots page opens with each robot's closest simulator profile and its settings file, and a table of
+    each simulator's pick per robot: the Husky's table with calibrated rows, the Warthog's from before them."""
+    import yaml
+
+    from simpick.report.robots import robots_job
+    from test_robots import HUSKY, WARTHOG
+
+    inputs = {"answers": [], "headlines": [], "simulators": [], "settings": []}
+    for robot, frame, units, calibrated in (
+        ("husky", HUSKY, "runs", "run"),
+        ("warthog", WARTHOG, "steps", "absent"),
+    ):
+        folder = tmp_path / "robots" / robot
+        sims = write_simulators(folder / "simulators", calibrated=calibrated, heldout=calibrated == "run")
+        frame.to_csv(folder / "answer.csv", index=False)
+        (folder / "headline.yaml").write_text(
+            yaml.safe_dump({"source_title": "data", "n_runs": 12, "units": units, "basis": "", "paragraph": "p."})
+        )
+        inputs["answers"].append(str(folder / "answer.csv"))
+        inputs["headlines"].append(str(folder / "headline.yaml"))
+        inputs["simulators"].append(str(sims / "table.csv"))
+        inputs["settings"].append(str(sims / "settings"))
+    params = {
+        "robots": [
+            {"name": "husky", "label": "Husky", "command": "snakemake --cores 2", "settings": {}},
+            {"name": "warthog", "label": "Warthog", "command": "c", "settings": {}},
+        ],
+        "pooling": {"min_robots": 2},
+    }
+    outputs = {k: str(tmp_path / "robots" / f"benchmark.{k}") for k in ("table", "agreement", "html", "pdf")}
+    robots_job(inputs, params, outputs)
+    text = html.unescape((tmp_path / "robots" / "benchmark.html").read_text())
+    leads = re.search(r'id="simulators-leads">(.*?)</ul>', text, re.S).group(1)
+    husky, warthog = leads.split("</li>")[:2]
+    assert "Closest to the real Husky on 6 held-out runs: Gazebo Classic, calibrated (friction_ratio 0.62)" in husky
+    assert '<a href="husky/simulators/settings/gazebo_classic-calibrated.sdf">' in husky
+    assert "Closest to the real Warthog on 14 real steps: Webots, tuned" in warthog
+    assert '<a href="warthog/simulators/settings/webots-tuned.wbt">' in warthog and "no calibrated rows" in warthog
+    # the simulators' answer comes before the engines' side-by-side tables
+    assert text.index('id="simulators-per-robot"') < text.index('id="engine"')
+    table = re.search(r'<table[^>]*id="simulators-per-robot".*?</table>', text, re.S).group(0)
+    rows = dict(re.findall(r'<tr data-simulator="(\w+)">(.*?)</tr>', table, re.S))
+    assert list(rows)[:2] == ["gazebo_classic", "mujoco"]
+    husky_cell, warthog_cell = re.findall(r'<td class="cell">(.*?)</td>', rows["gazebo_classic"], re.S)
+    assert "<b>calibrated</b>" in husky_cell and "within the robot's spread" in husky_cell
+    assert "<b>tuned</b>" in warthog_cell and "gazebo_classic-tuned.sdf" in warthog_cell
+    assert "not run: pydrake is not installed" in rows["drake"]

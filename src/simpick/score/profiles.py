@@ -193,7 +193,7 @@ def _why_no_calibrated(table: pd.DataFrame, variants: list[str], heldout: bool) 
     if "calibrated" not in variants:
         why = "this simulators' table has no calibrated rows: it was written before the calibrated profiles"
         if not heldout:
-            why += " (nor held-out columns), so the errors are over every real run"
+            why += " (nor held-out columns), so the errors are over all the real data"
         return why
     ran = table.status.astype(str).str.startswith("run")
     if (ran & (table.variant == "calibrated")).any():

@@ -372,11 +372,9 @@ def simulator_sentences(answer: dict, robot: str, noun: str = RUNS) -> list[dict
         return []
     spread, lead = answer.get("spread"), answer["lead"]
     runs = lead.get("runs")
-    over = (
-        f"{int(runs)} held-out {units(noun)}"
-        if answer["heldout"] and runs
-        else ("held-out " + noun if answer["heldout"] else noun)
-    )
+    # held-out: the real runs no profile was fitted on; else every real run (no profile saw any)
+    counted = f"{int(runs)} " if runs else ""
+    over = f"{counted}held-out {units(noun)}" if answer["heldout"] else f"{counted}{noun}"
     metric = "yaw-rate gain error"
     text = f"Closest to the real {robot} on {over}: {_profile(lead)}, {metric} {_against_spread(lead, spread)}"
     if not lead["passes"]:
