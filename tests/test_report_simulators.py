@@ -358,3 +358,40 @@ def test_the_page_across_robots_answers_which_simulator_per_robot(tmp_path):
     assert "<b>calibrated</b>" in husky_cell and "within the robot's spread" in husky_cell
     assert "<b>tuned</b>" in warthog_cell and "gazebo_classic-tuned.sdf" in warthog_cell
     assert "not run: pydrake is not installed" in rows["drake"]
+
+
+def test_the_warthog_s_first_page_answers_on_its_drive_steps(tmp_path):
+    """A DRIVE study (the Warthog's): the simulators' answer counts held-out steps against the robot's
+    step-to-step spread; where the profiles did not replay DRIVE, the page says so and how to switch them on."""
+    from test_drive_answer import _answer
+    from test_report import PARAMS, _render, write_synthetic_inputs
+
+    drive, out = _answer(tmp_path)
+    inputs = write_synthetic_inputs(tmp_path / "in", seconds=1.0, failed=None)
+    inputs |= {
+        "verdict_outcomes": drive["outcomes"],
+        "verdict_answer": out["answer"],
+        "verdict_sentences": out["answer_yaml"],
+        "verdict_headline": out["headline"],
+    }
+    config = {**PARAMS["config"], "robot": {"label": "Clearpath Warthog", "real_data_robot": "husky_a200"}}
+    params = {k: v for k, v in PARAMS.items() if k != "title"} | {"config": config}
+    table = table_rows()
+    table["real_spread"] = 0.015
+    table["within_spread"] = table.heldout_gain_error <= 0.015
+    folder = tmp_path / "simulators"
+    write_simulators(folder)
+    table.to_csv(folder / "table.csv", index=False)
+    text = _render(inputs, params | {"simulators": str(folder)})
+    assert "which simulator reproduces the Clearpath Warthog" in text
+    lead = _lead(text)
+    assert "Closest to the real Clearpath Warthog on 6 held-out steps: Gazebo Classic, calibrated" in lead
+    assert "0.031 [0.02, 0.042], 2.1 times the robot's own spread of 0.015" in lead
+
+    # the profiles did not replay DRIVE (simulators.drive false): no figure on the real steps
+    for column in ("gain_error", "gain_error_low", "gain_error_high", *HELDOUT_COLUMNS[:3]):
+        table[column] = float("nan")
+    table.to_csv(folder / "table.csv", index=False)
+    text = " ".join(html.unescape(_render(inputs, params | {"simulators": str(folder)})).split())
+    assert 'id="simulators-answer-missing"' in text and "--config simulators.drive=true" in text
+    assert 'id="answer-table"' in text  # the engines still answer
