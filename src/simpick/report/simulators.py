@@ -104,6 +104,14 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
                 "heading_error": _f(r.get("heading_error")),
                 "heading_outcome": OUTCOME_WORDS.get(str(r.get("heading_outcome")), "") if ran else "",
                 "runs_failed": int(r["runs_failed"]) if ran and pd.notna(r.get("runs_failed")) else 0,
+                # on the real runs no profile was fitted on (tables with calibrated profiles)
+                "heldout_error": _f(r.get("heldout_gain_error")),
+                "heldout_interval": (
+                    f"[{_f(r.get('heldout_gain_error_low'))}, {_f(r.get('heldout_gain_error_high'))}]"
+                    if ran and "heldout_gain_error" in r
+                    else ""
+                ),
+                "mechanics_own": str(r.get("mechanics_own") or "") if r["variant"] == "calibrated" and ran else "",
                 "settings": [f"../simulators/settings/{name}" for name in settings],
             }
         )
@@ -124,6 +132,7 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
     return {
         "rows": rows,
         "variants": sorted(set(table.variant.astype(str))),
+        "heldout": "heldout_gain_error" in table.columns and table.heldout_gain_error.notna().any(),
         "weighted": weighted,
         "ros_paths": ros_paths(tree, labels) if tree else [],
         "not_run": sorted({r["label"]: r["status"] for r in rows if not r["ran"]}.items()),
