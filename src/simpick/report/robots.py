@@ -269,9 +269,9 @@ def render(context: dict) -> str:
 
 def robots_job(inputs: dict, params: dict, outputs: dict) -> None:
     """Rule robots: the tables, the page and its PDF."""
-    from simpick.report.render import write_pdf
-
     import os
+
+    from simpick.report.render import write_pdf
 
     p = RobotsParams.model_validate(params)
     page = Path(outputs["html"]).parent
