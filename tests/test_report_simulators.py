@@ -395,3 +395,14 @@ def test_the_warthog_s_first_page_answers_on_its_drive_steps(tmp_path):
     text = " ".join(html.unescape(_render(inputs, params | {"simulators": str(folder)})).split())
     assert 'id="simulators-answer-missing"' in text and "--config simulators.drive=true" in text
     assert 'id="answer-table"' in text  # the engines still answer
+
+
+def test_a_table_with_no_rows_says_no_simulator_ran(real_study, tmp_path):
+    from test_report import _render
+
+    root, inputs, params = real_study
+    folder = tmp_path / "simulators"
+    folder.mkdir()
+    pd.DataFrame(columns=TABLE_COLUMNS).to_csv(folder / "table.csv", index=False)
+    text = " ".join(html.unescape(_render(inputs, params | {"simulators": str(folder)})).split())
+    assert "No simulator can be named: the study ran no simulator profile." in text

@@ -96,7 +96,18 @@ def simulator_answer(
     profile of a simulator is its smallest error among the profiles that pass their mechanics, else its
     smallest error, named as failing. Nothing is computed that the table does not hold but the choice of the
     smallest and the ratio to the spread."""
-    empty = {"given": False, "simulators": [], "variants": [], "by_variant": {}, "lead": None}
+    empty = {
+        "given": False,
+        "heldout": False,
+        "metric": "gain error",
+        "spread": None,
+        "variants": [],
+        "calibrated": False,
+        "no_calibrated": "",
+        "simulators": [],
+        "by_variant": {},
+        "lead": None,
+    }
     if table is None or table.empty or "variant" not in table:
         return empty | {"why_none": "the study ran no simulator profile"}
     heldout = HELDOUT in table.columns and pd.to_numeric(table[HELDOUT], errors="coerce").notna().any()
