@@ -171,7 +171,7 @@ def test_the_first_page_names_the_simulator_its_profile_and_its_settings_file(re
     # the closest profile that passes its own mechanics (Webots' calibrated profile comes closer by failing it)
     assert lead.startswith("Closest to the real")
     assert "Gazebo Classic, calibrated (friction_ratio 0.62)" in lead
-    assert "0.031 [0.02, 0.042], within the robot's own spread of 0.045" in lead
+    assert "0.031 [0.020, 0.042], within the robot's own spread of 0.045" in lead
     assert "6 held-out runs" in lead
     assert '<a href="../simulators/settings/gazebo_classic-calibrated.sdf">gazebo_classic-calibrated.sdf</a>' in text
     rows = _rows(text)
@@ -184,7 +184,7 @@ def test_the_first_page_names_the_simulator_its_profile_and_its_settings_file(re
     assert "6.1× the spread" in rows["gazebo_classic"]  # as shipped: 0.300 / 0.045
     assert "not run: pydrake is not installed" in rows["drake"]
     sentences = html.unescape(re.search(r'id="simulators-sentences">(.*?)</ul>', text, re.S).group(1))
-    assert "as shipped, MuJoCo (0.25, 5.6x the spread)" in sentences
+    assert "as shipped, MuJoCo (0.250, 5.6x the spread)" in sentences
     assert "as tuned, Webots (0.196" in sentences
     assert "Isaac Sim cannot move its turning within its own settings (PhysX materials are isotropic)" in sentences
     assert "Webots, calibrated (friction_ratio 0.20) comes closer (0.012) but fails 3/20" in sentences
@@ -210,7 +210,7 @@ def test_the_simulators_come_before_the_engines_their_physics(real_study):
         (
             "absent",
             False,
-            "this simulators' table has no calibrated rows: it was written before the calibrated profiles",
+            "this study's simulators' table has no calibrated rows: it was written before the calibrated profiles",
         ),
         ("off", True, "no calibrated profile ran in this study: variant not selected (simulators.variants)"),
     ],
@@ -223,7 +223,7 @@ def test_without_calibrated_rows_the_page_answers_with_shipped_and_tuned_and_say
     lead = _lead(text)
     # the closest of shipped and tuned: Webots as tuned, over every real run where the table has no held-out runs
     assert "Webots, tuned" in lead and "calibrated" not in lead
-    assert ("0.2 [0.18, 0.218]" if not heldout else "0.196 [0.18, 0.21]") in lead
+    assert ("0.200 [0.180, 0.218]" if not heldout else "0.196 [0.180, 0.210]") in lead
     assert ("on 6 held-out runs" if heldout else "on 14 real runs") in lead
     assert '<a href="../simulators/settings/webots-tuned.wbt">' in text
     sentences = " ".join(html.unescape(re.search(r'id="simulators-sentences">(.*?)</ul>', text, re.S).group(1)).split())
@@ -386,7 +386,7 @@ def test_the_warthog_s_first_page_answers_on_its_drive_steps(tmp_path):
     assert "which simulator reproduces the Clearpath Warthog" in text
     lead = _lead(text)
     assert "Closest to the real Clearpath Warthog on 6 held-out steps: Gazebo Classic, calibrated" in lead
-    assert "0.031 [0.02, 0.042], 2.1 times the robot's own spread of 0.015" in lead
+    assert "0.031 [0.020, 0.042], 2.1 times the robot's own spread of 0.015" in lead
 
     # the profiles did not replay DRIVE (simulators.drive false): no figure on the real steps
     for column in ("gain_error", "gain_error_low", "gain_error_high", *HELDOUT_COLUMNS[:3]):

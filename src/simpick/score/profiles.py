@@ -202,7 +202,7 @@ def simulator_answer(
 def _why_no_calibrated(table: pd.DataFrame, variants: list[str], heldout: bool) -> str:
     """Why the table has no calibrated profile that ran ('' where it has one)."""
     if "calibrated" not in variants:
-        why = "this simulators' table has no calibrated rows: it was written before the calibrated profiles"
+        why = "this study's simulators' table has no calibrated rows: it was written before the calibrated profiles"
         if not heldout:
             why += " (nor held-out columns), so the errors are over all the real data"
         return why

@@ -346,6 +346,11 @@ def basis_sentence(basis: AnswerBasis | dict | None, n: int, left_out: list[str]
 # --------------------------------------------------------------------------
 
 
+def _e(x) -> str:
+    """A gain error as the simulators' table prints it (three decimals)."""
+    return "–" if x is None or not np.isfinite(float(x)) else f"{float(x):.3f}"
+
+
 def _profile(p: dict) -> str:
     """A simulator's profile as a sentence names it: ``Gazebo Classic, calibrated (friction_ratio 0.62)``."""
     text = f"{p['label']}, {p['variant']}"
@@ -354,13 +359,13 @@ def _profile(p: dict) -> str:
 
 def _against_spread(p: dict, spread: float | None) -> str:
     """A profile's gain error against the robot's own run-to-run spread of its gain."""
-    interval = f" [{_f(p['low'])}, {_f(p['high'])}]" if p.get("low") is not None else ""
-    text = f"{_f(p['error'])}{interval}"
+    interval = f" [{_e(p['low'])}, {_e(p['high'])}]" if p.get("low") is not None else ""
+    text = f"{_e(p['error'])}{interval}"
     if spread is None or p.get("spread_ratio") is None:
         return text
     if p.get("within"):
-        return f"{text}, within the robot's own spread of {_f(spread)}"
-    return f"{text}, {p['spread_ratio']:.1f} times the robot's own spread of {_f(spread)}"
+        return f"{text}, within the robot's own spread of {_e(spread)}"
+    return f"{text}, {p['spread_ratio']:.1f} times the robot's own spread of {_e(spread)}"
 
 
 def simulator_sentences(answer: dict, robot: str, noun: str = RUNS) -> list[dict]:
@@ -389,7 +394,7 @@ def simulator_sentences(answer: dict, robot: str, noun: str = RUNS) -> list[dict
         }
     ]
     per_variant = [
-        f"{p['words']}, {p['label']} ({_f(p['error'])}"
+        f"{p['words']}, {p['label']} ({_e(p['error'])}"
         + (f", {p['spread_ratio']:.1f}x the spread" if p.get("spread_ratio") is not None else "")
         + ("" if p["passes"] else f"; {p['mechanics']}")
         + ")"
@@ -399,7 +404,7 @@ def simulator_sentences(answer: dict, robot: str, noun: str = RUNS) -> list[dict
         said.append(
             {
                 "need": "variants",
-                "title": "Shipped, tuned, calibrated",
+                "title": ", ".join(answer["by_variant"]).capitalize(),
                 "text": "The closest simulator " + "; ".join(per_variant) + ".",
                 "files": [],
                 "rests_on": [f"simulators/table.csv: {answer['metric']} per variant"],
@@ -418,7 +423,7 @@ def simulator_sentences(answer: dict, robot: str, noun: str = RUNS) -> list[dict
                 "title": "Where the settings cannot move the turning",
                 "text": "; ".join(
                     f"{s['label']} cannot move its turning within its own settings ({p['not_settable']}): the best "
-                    f"it reaches is {_f(s['best']['error'])} ({s['best']['variant']})"
+                    f"it reaches is {_e(s['best']['error'])} ({s['best']['variant']})"
                     for s, p in fixed
                 )
                 + ".",
@@ -438,7 +443,7 @@ def simulator_sentences(answer: dict, robot: str, noun: str = RUNS) -> list[dict
                 "need": "broken",
                 "title": "Fits by breaking mechanics",
                 "text": "; ".join(
-                    f"{_profile({**p, 'label': s['label']})} comes closer ({_f(p['error'])}) but {p['mechanics']}: "
+                    f"{_profile({**p, 'label': s['label']})} comes closer ({_e(p['error'])}) but {p['mechanics']}: "
                     "never the pick"
                     for s, p in broken
                 )
