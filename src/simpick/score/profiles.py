@@ -185,7 +185,13 @@ def simulator_answer(
     )
     return {
         "given": lead is not None,
-        "why_none": "" if lead is not None else "no simulator profile was measured on the real runs",
+        "why_none": ""
+        if lead is not None
+        else (
+            f"no profile's {'held-out ' if heldout else ''}yaw-rate gain error could be measured on these real data"
+            if any(s["profiles"] for s in simulators)
+            else "no simulator profile ran in this study"
+        ),
         "heldout": heldout,
         "metric": "held-out gain error" if heldout else "gain error",
         "spread": spread,
