@@ -219,10 +219,12 @@ def _tree_leaves(data: ReportData) -> list[dict] | None:
     return leaf_rows(data.tree, {e: float(t) for e, t in data.weighted["total"].items()})
 
 
-def _title(robot: str, simulators: bool) -> str:
+def _title(config: ReportConfig, simulators: bool) -> str:
     """The question the page answers: which simulator, where the study runs simulators, else which engine."""
+    robot = config.robot.label
     if simulators:
-        return f"simpick: which simulator reproduces the {robot or 'Husky'} on its real runs, and with which settings?"
+        name = robot or config.robot.name or "robot"
+        return f"simpick: which simulator reproduces the {name} on its real runs, and with which settings?"
     return f"simpick: which physics engine reproduces the {robot} best?" if robot else DEFAULT_TITLE
 
 
@@ -334,7 +336,7 @@ def build_context(data: ReportData, params: Mapping[str, Any] | ReportParams) ->
         # one self-contained fragment, hidden in print where figures/tree.png stands for it
         "interactive": _interactive(data, weights, p.simulators or None),
         "validation": validation_headline(data.validation, engines),
-        "title": p.title or _title(p.config.robot.label, simulator_answer is not None),
+        "title": p.title or _title(p.config, simulator_answer is not None),
         "robot": robot,
         "generated": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         "engines": engines,
