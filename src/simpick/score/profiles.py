@@ -56,9 +56,10 @@ def _mechanics(r: dict) -> tuple[bool, str]:
         if counted:  # "passes 19/20": one case failed
             passed, cases = int(counted.group(2)), int(counted.group(3))
             passes = passed == cases if counted.group(1).lower().startswith("pass") else passed == 0
-        else:
+        else:  # "not validated"
             passes = own.lower().startswith("pass")
-        return passes, f"{own} of its own mechanics"
+        # "passes 17/19; breaks mechanics its tuned profile keeps: ..." (rule simulators' words) as it stands
+        return passes, f"its own mechanics: {own}"
     cases, failed = _num(r.get("mechanics_cases")), _num(r.get("mechanics_failed"))
     passes = _text(r.get("mechanics")) == "pass"
     if cases is None:
@@ -154,7 +155,12 @@ def simulator_answer(
                 "mechanics": mechanics,
                 "settings": settings_words(r.get("calibrated_settings")),
                 "settable": settable,
-                "not_settable": settable.removeprefix("no:").strip() if settable.startswith("no") else "",
+                # a simulator whose settings cannot move the turning: said of its calibrated profile
+                "not_settable": (
+                    settable.removeprefix("no:").strip()
+                    if settable.startswith("no") and str(r["variant"]) == "calibrated"
+                    else ""
+                ),
                 "files": _files(folder, link, str(r["simulator"]), str(r["variant"]), _text(r.get("settings_file"))),
             }
         )

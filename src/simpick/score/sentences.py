@@ -443,7 +443,7 @@ def simulator_sentences(answer: dict, robot: str, noun: str = RUNS) -> list[dict
                 "need": "broken",
                 "title": "Fits by breaking mechanics",
                 "text": "; ".join(
-                    f"{_profile({**p, 'label': s['label']})} comes closer ({_e(p['error'])}) but {p['mechanics']}: "
+                    f"{_profile({**p, 'label': s['label']})} comes closer ({_e(p['error'])}), but {p['mechanics']}: "
                     "never the pick"
                     for s, p in broken
                 )
