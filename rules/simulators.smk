@@ -61,9 +61,12 @@ rule simulator_settings:
 
 
 rule simulator_tree:
-    """The decision tree with simulators as its leaves (simpick.score.tree over results/simulators/subjects)."""
+    """The decision tree with simulators as its leaves (simpick.score.tree over results/simulators/subjects), each
+    leaf naming the profile its answers ask for: the calibrated one where they ask for closeness to the robot."""
     input:
         tree_dir="results/simulators/subjects",
+        table="results/simulators/table.csv",
+        settings="results/simulators/settings",
     output:
         tree="results/simulators/tree.json",
     log:
