@@ -29,10 +29,26 @@ and the gain is 0.51 (the Coulomb value for Bullet's own one-edge contact layout
 thus varies with heading with a period of 90 deg (long-run mean ~0.26 for 0.478). Upstream:
 bullet3 PR #4539 (open) and bullet3 issue #2590. No PyBullet setting changes it: enableConeFriction=0
 (world-aligned pyramid) over-turns (0.69, |f| up to 1.1 mu N), the Dantzig MLCP solver, friction
-anchors, 200 solver iterations and mesh cylinders leave it; useMaximalCoordinates collapses the
-URDF into one rigid body without wheel joints. Also: a rolling implicit cylinder touches the plane
-at one point, always the same (-y) edge of every wheel, which shifts the contact layout 56 mm to
-the right of the wheel centres.
+anchors, 200 solver iterations and mesh cylinders leave it. Also: a rolling implicit cylinder touches
+the plane at one point, always the same (-y) edge of every wheel, which shifts the contact layout 56 mm
+to the right of the wheel centres.
+
+Maximal coordinates, as CoppeliaSim and MORSE build a robot (rigid bodies joined by constraints), would
+remove the artefact: Bullet's rigid-body solver gives a sliding contact its friction row along the slip
+(btSequentialImpulseConstraintSolver, velocity-dependent friction direction). PyBullet builds such a robot
+with loadURDF(useMaximalCoordinates=True) (a btRigidBody per link, a btGeneric6DofSpring2Constraint per
+joint; bullet3 6c888f4a examples/SharedMemory/PhysicsServerCommandProcessor.cpp:3416-3436) and drives a
+joint through the constraint's angular motor (:7796-7804), but the in-process DIRECT client this adapter
+uses parses only multibodies into joint info (PhysicsDirect.cpp:706): the robot reports no joints and
+every motor call is refused (pybullet.c:2619-2651; tests/test_bullet_simulators.py). The shared-memory
+client sees the joints, yet the server reports a rigid-body robot's base only (no wheel speeds,
+PhysicsServerCommandProcessor.cpp:8122-8172) and each command is a round trip of 1.7-4 ms here. Measured
+that way (bench/bullet_rows.py maximal; 5 ms, 100 iterations, mu 0.8, Coulomb 0.478; five commands and
+headings) the maximal Husky turns at 0.46-0.59 of the command, the multibody at 0.01-0.28, and each 6 s run
+costs 18-47 s of wall time against about 1 s (its wheels also turn the other way for the same target: the
+rigid-body motor's sense is the opposite of the multibody's). So the Bullet
+simulators' rows (CoppeliaSim, MORSE) run this multibody at their own step and solver constants
+(PyBulletSettings time_step, sub_steps, contact_erp).
 """
 
 from __future__ import annotations
