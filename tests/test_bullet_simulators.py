@@ -179,6 +179,36 @@ def test_each_bullet_row_gets_a_settings_file(catalog):
     assert "simpick sub_steps = 2" in text and text.startswith("# title\n")
 
 
+def test_the_settings_job_writes_both_rows_files(catalog, tmp_path):
+    """The study's settings job (rule simulator_settings): a Lua snippet per CoppeliaSim profile, a text of builder
+    calls per MORSE profile, each headed by its figures from the simulators' table."""
+    import pandas as pd
+
+    from simpick.score.simulators import settings_files_job
+
+    profiles = {f"{s}-{v}": catalog.settings(s, v, HUSKY) for s in BULLET_ROWS for v in ("shipped", "tuned")}
+    table = tmp_path / "table.csv"
+    row = {"simulator": "morse", "variant": "shipped", "gain_flat": 0.283, "gain_flat_min": 0.007}
+    row |= {"gain_flat_max": 0.412, "gain_coulomb": 0.478, "mechanics": "fail", "mechanics_cases": 20}
+    pd.DataFrame([row | {"mechanics_failed": 14}]).to_csv(table, index=False)
+    params = {"profiles": profiles, "robot": HUSKY, "wheel_links": ["front_left_wheel_link"]}
+    settings_files_job({"catalog": str(CATALOG), "table": str(table)}, params, str(tmp_path / "settings"))
+    written = sorted(p.name for p in (tmp_path / "settings").iterdir())
+    assert written == [
+        "coppeliasim-shipped.lua",
+        "coppeliasim-tuned.lua",
+        "morse-shipped.txt",
+        "morse-tuned.txt",
+    ]
+    assert "yaw-rate gain on flat ground 0.283 (0.007-0.412" in (tmp_path / "settings/morse-shipped.txt").read_text()
+    tuned = (tmp_path / "settings/morse-tuned.txt").read_text()
+    assert "env.set_physics_step_sub(4)" in tuned and "simpick sub_steps = 4" in tuned
+    assert (
+        "sim.bullet_global_constraintsolvingiterations, -1, 200)"
+        in (tmp_path / "settings/coppeliasim-tuned.lua").read_text()
+    )
+
+
 def test_pybullets_in_process_client_cannot_drive_a_maximal_coordinate_robot():
     """Why the rows run the multibody: loadURDF(useMaximalCoordinates=True) builds the Husky as rigid bodies on
     constraints, but the DIRECT client parses only multibodies into joint info (bullet3 PhysicsDirect.cpp), so it
