@@ -1,6 +1,6 @@
 """The two Bullet simulators of the paper as rows: CoppeliaSim (Bullet 2.78, 5 ms step, 100 iterations) and MORSE
 (Bullet 2.84 in Blender's game engine, 60 Hz in two substeps), each run by the PyBullet adapter at its own step and
-solver constants. The step held between Bullet's steps, the rows' validation figures as measured, the catalog's
+contact correction. The step held between Bullet's steps, the rows' validation figures as measured, the catalog's
 entries and their files, and why the robot stays a multibody (PyBullet's in-process client cannot drive a
 maximal-coordinate robot)."""
 
