@@ -238,6 +238,7 @@ SIMULATOR_FAILS = {  # analytic cases failed (of 6): the out-of-the-box simulato
     "mujoco": 0,
     "drake": 0,
     "coppeliasim": 3,
+    "morse": 3,
     "genesis": 0,
 }
 

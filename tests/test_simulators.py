@@ -49,8 +49,8 @@ def test_the_paper_simulators_keep_their_rows(catalog):
     # the paper's four: CoppeliaSim, Gazebo (Classic, its Gazebo), MORSE, Webots
     for name in ("coppeliasim", "gazebo_classic", "morse", "webots"):
         assert name in catalog.simulators
-    assert catalog.simulators["morse"].engine is None
-    assert "Blender" in catalog.simulators["morse"].not_reproduced
+    # MORSE runs as Bullet at its 60 Hz in two substeps (tests/test_bullet_simulators.py)
+    assert catalog.simulators["morse"].engine == "pybullet"
 
 
 def test_a_profile_is_named_by_simulator_and_variant_and_runs_on_its_engine():
@@ -110,7 +110,7 @@ def test_the_profiles_run_the_validation_and_the_real_data_but_not_the_lab(tmp_p
     config["engines"] = {"mujoco": None, "ode": None}
     plan = _plan(config)
     assert plan.simulators == ["gazebo_classic", "mujoco"]
-    assert "Blender" in plan.simulators_left_out["morse"]
+    assert "not among this study's engines" in plan.simulators_left_out["morse"]  # its engine, pybullet, is not
     assert "gazebo_classic-shipped" in plan.sources["segments"]["models"]
     assert "gazebo_classic-shipped" not in plan.sources["lab"]["models"]
     assert any("validation/gazebo_classic-tuned/" in p for p in plan.validation_results())
@@ -142,7 +142,13 @@ def test_the_tuned_profiles_are_the_choice_of_their_search(catalog):
         )
 
 
-RUNNABLE = [(name, variant) for name, engine in SIMULATORS.items() if engine is not None for variant in VARIANTS]
+# every simulator with a settings file format of its own (MORSE has none: tests/test_bullet_simulators.py)
+RUNNABLE = [
+    (name, variant)
+    for name, sim in load_catalog(CATALOG).simulators.items()
+    if sim.engine is not None and sim.settings_format is not None
+    for variant in VARIANTS
+]
 
 
 @pytest.mark.parametrize("simulator,variant", RUNNABLE)
@@ -162,9 +168,15 @@ def test_a_settings_file_reads_back_into_the_settings_it_was_written_from(catalo
         {"contact_bounce", "contact_bounce_vel", "contact_soft_erp", "contact_soft_cfm"}
         if sim.settings_format == "sdf"
         else set()
-    ) | ({"contact_stiffness", "contact_damping"} if sim.settings_format == "coppeliasim" else set()) | (
-        {"stepper", "friction_direction", "contact_surface_layer"} if sim.settings_format == "webots" else set()
-    ), sorted(set(entries) - set(back))
+    ) | (
+        # values CoppeliaSim fixes (Bullet 2.78's rigid contacts and contact correction), and its dynamics step,
+        # which the Lua snippet does not set yet (sim.setFloatParam(sim.floatparam_physicstimestep, dt))
+        {"contact_stiffness", "contact_damping", "contact_erp", "time_step"}
+        if sim.settings_format == "coppeliasim"
+        else set()
+    ) | ({"stepper", "friction_direction", "contact_surface_layer"} if sim.settings_format == "webots" else set()), (
+        sorted(set(entries) - set(back))
+    )
 
 
 def _gain(engine: str, settings: dict, tmp_path, mu: float = 0.8) -> float:

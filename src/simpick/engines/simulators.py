@@ -29,7 +29,7 @@ SIMULATORS: dict[str, str | None] = {
     "gazebo_classic": "ode",  # Gazebo Classic 11: ODE by default (the paper's Gazebo)
     "webots": "ode",  # Webots: its own fork of ODE
     "coppeliasim": "pybullet",  # CoppeliaSim: Bullet 2.78 (the paper's choice) by default
-    "morse": None,  # MORSE: Bullet inside the Blender Game Engine; not reproduced (catalog: why)
+    "morse": "pybullet",  # MORSE: Bullet 2.8x inside the Blender Game Engine, 60 Hz with 2 substeps
     "isaac_sim": "physx",  # Isaac Sim / Isaac Lab 2: PhysX 5
     "isaac_lab_newton": "newton",  # Isaac Lab 3 with its Newton backend
     "mujoco": "mujoco",  # MuJoCo itself (with its ROS 2 control bridge)

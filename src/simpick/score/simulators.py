@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -274,6 +275,16 @@ def _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs) 
     write_csv(pd.DataFrame(rows, columns=rtf.columns), out / "rtf.csv")
 
 
+def exposed_settings_text(settings: Mapping[str, Any], entries: Mapping, title: list[str]) -> str:
+    """A profile of a simulator without a settings file format (MORSE: a builder script sets its scene): each
+    setting the profile states, as its user sets it (the catalog's exposed_as), with simpick's value and source."""
+    lines = [f"# {line}" for line in title]
+    for key, (_, entry) in entries.items():
+        lines.append(f"{entry.exposed_as}")
+        lines.append(f"    simpick {key} = {settings.get(key, entry.value)!r}; source: {entry.source}")
+    return "\n".join(lines) + "\n"
+
+
 def settings_files_job(inputs: dict, params: dict, output: str) -> None:
     """results/simulators/settings/: each run profile in its simulator's format (simpick.engines.simulator_files),
     headed by what it is, the robot, its flat-ground figures here and the command that regenerates it."""
@@ -306,7 +317,10 @@ def settings_files_job(inputs: dict, params: dict, output: str) -> None:
             "regenerate: snakemake -c 2 results/simulators/settings (docs/simulators.md)",
         ]
         entries = catalog.entries(simulator, variant, robot)
-        texts = formats.write(sim.settings_format, sim.engine, settings, entries, title, wheels)
+        if sim.settings_format is None:  # no file format of its own: where its user sets each value
+            texts = {"txt": exposed_settings_text(settings, entries, title)}
+        else:
+            texts = formats.write(sim.settings_format, sim.engine, settings, entries, title, wheels)
         for suffix, text in texts.items():
             (out / f"{profile}.{suffix}").write_text(text)
 
