@@ -19,7 +19,9 @@ adapter that reproduces it. The facts, defaults and sources are data
 
 from __future__ import annotations
 
-VARIANTS = ("shipped", "tuned")
+VARIANTS = ("shipped", "tuned", "calibrated")
+# the variants the catalog writes down; the calibrated profile starts from the tuned one
+CATALOG_VARIANTS = ("shipped", "tuned")
 SEPARATOR = "-"
 
 # simulator -> the engine adapter (simpick.engines.ADAPTERS) that reproduces its physics; None: a
