@@ -188,7 +188,9 @@ def write_webots(settings: Mapping, entries: Mapping, title: list[str]) -> dict[
         "  contactProperties [",
         "    ContactProperties {",
         '      material2 "wheel"  # the wheels\' contactMaterial',
-        "      coulombFriction [ 0.8 ]  # the ground's coefficient (simpick's validation: 0.8; real classes: config)",
+        "      coulombFriction [ 0.8 ]  # the ground's coefficient (simpick's validation: 0.8; real classes: config)"
+        if settings.get("friction_ratio", 1.0) == 1.0  # two values: along the wheel Cylinder's U, then across it
+        else f"      coulombFriction [ 0.8 {_num(0.8 * settings['friction_ratio'])} ]  # the ground's, rolling and across",
     ]
     for field, key in WEBOTS_FIELDS.items():
         value = settings[key]
@@ -243,6 +245,8 @@ def write_mjcf(settings: Mapping, entries: Mapping, title: list[str], wheels: li
                 solimp=f"{_num(d)} {_num(d)} 0.001 0.5 2",
                 solref=f"{MUJOCO_TIMECONST} 1",
                 solreffriction=f"{_num(MUJOCO_TIMECONST * MUJOCO_DMAX / d)} 1",
+                # two tangential frictions where the profile sets a ratio (across the wheel capsule, then rolling)
+                **({"friction": f"{_num(0.8 * settings['friction_ratio'])} 0.8 0 0 0"} if settings.get("friction_ratio", 1.0) != 1.0 else {}),
             )
     ET.indent(root)
     notes = [_meaning(entries, k) for k in ("integrator", "cone", "solver_iterations", "wheel_contact") if k in entries]
