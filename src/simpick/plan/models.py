@@ -126,7 +126,7 @@ class ModelPlanning:
         nothing}) over the run simulators (simpick.studies.simulator_calibration.resolve)."""
         from simpick.studies.simulator_calibration import load_search_spaces, resolve
 
-        if "calibrated" not in variants:
+        if "calibrated" not in variants or not self.simulators:
             return {}, [], {}
         path = self.settings.simulators.calibration
         spaces = load_search_spaces(path)
