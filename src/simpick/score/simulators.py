@@ -109,6 +109,7 @@ class SimulatorsParams(JobParams):
     seed: Annotated[int, Field(ge=0, lt=2**32)]
     verdict: Verdict
     drive: DriveJudging | None = Field(None, description="DRIVE's judging; None: the study has no DRIVE folder")
+    calibrated_left_out: str = Field("", description="why the study runs no calibrated profile (empty: it does)")
 
 
 class SimulatorSettingsParams(JobParams):
@@ -199,7 +200,8 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
                 rows.append(dict(base, model="", status=f"not run: {left_out.get(name, 'not selected')}"))
                 continue
             if profile not in results:
-                rows.append(dict(base, model="", status="not run: variant not selected (simulators.variants)"))
+                why = p.calibrated_left_out if variant == "calibrated" and p.calibrated_left_out else ""
+                rows.append(dict(base, model="", status=f"not run: {why or 'variant not selected (simulators.variants)'}"))
                 continue
             model = results[profile]
             m = _first(mechanics, engine=model)
