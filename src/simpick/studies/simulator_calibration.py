@@ -178,10 +178,11 @@ class CalibrateParams(JobParams):
     space: dict[str, Any] = Field(description="the simulator's search space (SearchSpace)")
     classes: list[str] = Field(description="the firm terrain classes pooled (calibration.target.classes)")
     grounds: dict[str, Annotated[float, Field(gt=0)]] = Field(description="terrain class -> its friction")
-    commands: list[tuple[float, float]] = Field(
-        [(0.5, 0.5), (0.0, 0.5)],
-        description="(v m/s, w rad/s) of the steady-turn cases whose mean gain is fitted: a moving turn and a "
-        "spin, as the training runs' turning segments are",
+    commands: list[tuple[float, float]] | None = Field(
+        None,
+        description="(v m/s, w rad/s) of the steady-turn cases whose mean gain is fitted; None: the training "
+        "runs' turning segments' own commands (an engine whose gain depends on the turn rate, ODE's force-"
+        "dependent slip, is fitted where the robot turned)",
     )
     duration: Positive = Field(6.0, description="s of the steady-turn case (its second half is measured)")
     tolerance: Positive = Field(0.005, description="|engine gain - real gain| at which the fit stops")
@@ -214,13 +215,18 @@ def read_split(path: str | Path) -> tuple[list[str], list[str]]:
     return train, test
 
 
-def real_gains(segments: str | Path, runs: list[str], classes: list[str]) -> pd.DataFrame:
-    """Per run of ``runs`` in ``classes``: the real steady yaw-rate gain, its turning segments averaged
-    (terrain_class, run, gain); runs with no turning segment are left out."""
+def turning_segments(segments: str | Path, runs: list[str], classes: list[str]) -> pd.DataFrame:
+    """The turning segments of ``runs`` in ``classes`` with a real steady gain."""
     seg = pd.read_csv(segments, dtype={"run": str})
     seg = seg[(seg.kind == "turning") & seg.terrain_class.isin(classes)]
     seg = seg[(seg.terrain_class + "/" + seg.run).isin(set(runs))]
-    seg = seg[np.isfinite(pd.to_numeric(seg.yaw_rate_gain, errors="coerce"))]
+    return seg[np.isfinite(pd.to_numeric(seg.yaw_rate_gain, errors="coerce"))]
+
+
+def real_gains(segments: str | Path, runs: list[str], classes: list[str]) -> pd.DataFrame:
+    """Per run of ``runs`` in ``classes``: the real steady yaw-rate gain, its turning segments averaged
+    (terrain_class, run, gain); runs with no turning segment are left out."""
+    seg = turning_segments(segments, runs, classes)
     return seg.groupby(["terrain_class", "run"], as_index=False).yaw_rate_gain.mean().rename(
         columns={"yaw_rate_gain": "gain"}
     )
@@ -308,7 +314,12 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     bounds = tuple(space.settings[name].bounds)
     mu = float(np.median([p.grounds[c] for c in p.classes]))
     fixed = {k: r.value for k, r in space.requires.items()}
-    v0, w0 = p.commands[0]
+    commands = p.commands or [
+        (round(float(r.v), 3), round(float(r.w), 3))
+        for r in turning_segments(inputs["segments"], train, list(p.classes)).itertuples()
+    ]
+    # the Coulomb placement at a moving turn: the quasi-static gain hardly depends on the command
+    v0, w0 = 0.5, 0.5
 
     def coulomb_ratio(gain: float) -> float:
         return ratio_for_gain(layout, gain, v0, w0, track, bounds)
@@ -334,7 +345,7 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
         measured = {}
 
         def measure(ratio: float, setup=setup, measured=measured) -> float:
-            gains = [_engine_gain(run_case, setup, ratio, v, w, mu, p.duration) for v, w in p.commands]
+            gains = [_engine_gain(run_case, setup, ratio, v, w, mu, p.duration) for v, w in commands]
             measured[round(ratio, 4)] = gains
             return float(np.mean(gains))
 
@@ -363,7 +374,7 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     out["fit"].update(
         {
             "coulomb_ratio": _r(coulomb_start),
-            "cases": {"commands": [list(c) for c in p.commands], "mu": mu, "duration": p.duration},
+            "cases": {"commands": [list(c) for c in commands], "mu": mu, "duration": p.duration},
             "trials": [[_r(r), _r(g)] for r, g in trials],  # (ratio, mean gain) at the kept settings
             "all_trials": [
                 {"settings": {**e, name: _r(r)}, "gain": _r(g), "gains": [_r(x) for x in m.get(round(r, 4), [])]}
