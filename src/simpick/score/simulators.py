@@ -445,7 +445,7 @@ def calibrated_header(sim, simulator: str, fit: dict, row) -> list[str]:
     if row is not None:
         lines.append(
             f"held out: gain error {_num(row.get('heldout_gain_error'))} [{_num(row.get('heldout_gain_error_low'))}, "
-            f"{_num(row.get('heldout_gain_error_high'))}] over {row.get('heldout_runs')} runs against the robot's own "
+            f"{_num(row.get('heldout_gain_error_high'))}] over {int(row['heldout_runs']) if pd.notna(row.get('heldout_runs')) else 0} runs against the robot's own "
             f"spread {_num(row.get('real_spread'))} (within: {row.get('within_spread')}); heading error "
             f"{_num(row.get('heldout_heading_error'))} rad; mechanics of its own parameters: {row.get('mechanics_own')}"
         )
