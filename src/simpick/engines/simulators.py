@@ -1,7 +1,7 @@
 """Simulators as rows: the simulators a mobile roboticist picks, each run through the engine it ships.
 
 A simulator is not an engine: Gazebo runs DART with its own defaults, Gazebo Classic and Webots run
-ODE with theirs, Isaac Sim runs PhysX. simpick reproduces each through its engine's adapter, twice:
+ODE with theirs, Isaac Sim runs PhysX. simpick reproduces each through its engine's adapter, in three profiles:
 
 * ``shipped``: the engine with the settings the simulator applies by default and, where the robot's
   maker publishes simulator tags (Clearpath's Gazebo tags for the Husky and the Warthog), those tags;
