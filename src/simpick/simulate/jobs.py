@@ -56,7 +56,7 @@ def simulate_job(
     its kind's model); ``inputs`` holds the files it reads. ``after_hung``: called once the hung traces are
     written, before the process ends (a job that compares its own traces, the sweep, does so then).
     ``start``: the first case to run (the cases before it were run by the process this one took over from)."""
-    from simpick.studies.simulator_calibration import with_calibrated
+    from simpick.simulate.calibrated import with_calibrated
 
     # a calibrated profile's fitted settings (its fit's file, an input) over its plan-time (tuned) settings
     params, provenance = with_calibrated(params, inputs.get("calibrated"))

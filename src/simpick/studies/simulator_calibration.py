@@ -41,6 +41,9 @@ from simpick.params import JobParams, PhysicsStep, Positive
 
 CALIBRATED = "calibrated"
 
+# what a calibrated profile's simulate and validate jobs use, in a module of its own (they import nothing else)
+from simpick.simulate.calibrated import read_calibrated, with_calibrated  # noqa: E402,F401
+
 
 class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -408,26 +411,3 @@ def _r(x: float) -> float | None:
 def _write(data: dict, output: str) -> None:
     Path(output).parent.mkdir(parents=True, exist_ok=True)
     Path(output).write_text(yaml.safe_dump(data, sort_keys=False, allow_unicode=True, width=110))
-
-
-# --- the calibrated profile's jobs: its fitted settings merged at run time ---
-
-
-def read_calibrated(path: str | Path) -> dict[str, Any]:
-    """The fitted settings of a calibration file (empty where nothing was fitted)."""
-    data = yaml.safe_load(Path(path).read_text()) or {}
-    settings = data.get("settings") or {}
-    if not isinstance(settings, dict):
-        raise ValueError(f"{path}: settings: a mapping of adapter setting -> value expected")
-    return dict(settings)
-
-
-def with_calibrated(params: dict, calibrated: str | None) -> tuple[dict, dict]:
-    """A simulate or validate job's params with the calibration file's settings merged over its
-    ``engine_settings``, and the provenance to record (the file and the settings); unchanged without one."""
-    if not calibrated:
-        return params, {}
-    settings = read_calibrated(calibrated)
-    merged = dict(params)
-    merged["engine_settings"] = {**dict(params["engine_settings"]), **settings}
-    return merged, {"calibrated_from": str(calibrated), "calibrated_settings": settings}

@@ -55,7 +55,7 @@ def validate_job(
 
     ``calibrated``: a calibrated profile's fit (simpick.studies.simulator_calibration), whose settings are merged
     over the params' and recorded in every record."""
-    from simpick.studies.simulator_calibration import with_calibrated
+    from simpick.simulate.calibrated import with_calibrated
 
     params, provenance = with_calibrated(params, calibrated)
     p = ValidateParams.model_validate(params)
