@@ -1,7 +1,7 @@
 """Simulators as rows: the simulators a mobile roboticist picks, each run through the engine it ships.
 
 A simulator is not an engine: Gazebo runs DART with its own defaults, Gazebo Classic and Webots run
-ODE with theirs, Isaac Sim runs PhysX. simpick reproduces each through its engine's adapter, twice:
+ODE with theirs, Isaac Sim runs PhysX. simpick reproduces each through its engine's adapter, in three profiles:
 
 * ``shipped``: the engine with the settings the simulator applies by default and, where the robot's
   maker publishes simulator tags (Clearpath's Gazebo tags for the Husky and the Warthog), those tags;
@@ -19,7 +19,9 @@ adapter that reproduces it. The facts, defaults and sources are data
 
 from __future__ import annotations
 
-VARIANTS = ("shipped", "tuned")
+VARIANTS = ("shipped", "tuned", "calibrated")
+# the variants the catalog writes down; the calibrated profile starts from the tuned one
+CATALOG_VARIANTS = ("shipped", "tuned")
 SEPARATOR = "-"
 
 # simulator -> the engine adapter (simpick.engines.ADAPTERS) that reproduces its physics; None: a
