@@ -22,6 +22,8 @@ ADAPTERS = {
     "dart": "simpick.engines.dart_engine:DartEngine",
     "physx": "simpick.engines.physx_engine:PhysxEngine",
     "drake": "simpick.engines.drake_engine:DrakeEngine",
+    # Gazebo Fortress's physics layer, a compiled program (make gzphysics): the Gazebo (gz-sim) profiles' engine
+    "gzphysics": "simpick.engines.gzphysics_engine:GzPhysicsEngine",
     # in their own environments (simpick.engines.isolated), opt-in: config/engines/newton_genesis.yaml
     "newton": "simpick.engines.newton_engine:NewtonEngine",
     "genesis": "simpick.engines.genesis_engine:GenesisEngine",
@@ -46,6 +48,7 @@ REQUIREMENTS = {
     "dart": "dartpy",
     "physx": "sapien",
     "drake": "pydrake",
+    "gzphysics": "simpick.engines.gzphysics_engine:require_program",
     # their own venvs (make engine-venvs): found there, or importable here
     "newton": "simpick.engines.isolated:require_newton",
     "genesis": "simpick.engines.isolated:require_genesis",

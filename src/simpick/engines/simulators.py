@@ -25,7 +25,7 @@ SEPARATOR = "-"
 # simulator -> the engine adapter (simpick.engines.ADAPTERS) that reproduces its physics; None: a
 # simulator whose physics simpick cannot reproduce (it keeps its row, with the reason, in the catalog)
 SIMULATORS: dict[str, str | None] = {
-    "gazebo": "dart",  # gz-sim: gz-physics' dartsim plugin, its default engine
+    "gazebo": "gzphysics",  # gz-sim: gz-physics' dartsim plugin, its default engine, itself (Fortress's build)
     "gazebo_classic": "ode",  # Gazebo Classic 11: ODE by default (the paper's Gazebo)
     "webots": "ode",  # Webots: its own fork of ODE
     "coppeliasim": "pybullet",  # CoppeliaSim: Bullet 2.78 (the paper's choice) by default
@@ -37,6 +37,11 @@ SIMULATORS: dict[str, str | None] = {
     "genesis": "genesis",  # Genesis
 }
 
+
+# Engines that run only behind simulators' profiles, never as engines of the study (no lab scenario, no CPU-load
+# runs): gz-physics is DART under Gazebo's settings, and the study already runs DART as an engine (dartpy), so
+# the Gazebo profiles are its only rows. A study runs such an engine's profiles whenever it can run the engine.
+PROFILE_ENGINES: tuple[str, ...] = ("gzphysics",)
 
 # Adapter settings that describe the robot model rather than the simulator: the wheels' actuators, which a
 # model's author writes for any simulator (an MJCF <intvelocity> and its gain, a PhysX or Drake drive's gain,
