@@ -10,9 +10,9 @@ from xml.etree import ElementTree as ET
 
 import numpy as np
 import pytest
+
 from conformance import check_adapter
 from conftest import study_config
-
 from simpick.engines import get_engine, gzphysics_engine, unavailable
 from simpick.engines.base import Scenario
 from simpick.engines.gzphysics_engine import GzPhysicsSettings, world_sdf
@@ -63,8 +63,14 @@ def test_the_adapter_passes_the_runner_conformance_check(robot):
 
 def test_each_setting_lands_on_the_element_gz_physics_reads(robot):
     settings = GzPhysicsSettings(
-        collision_detector="fcl", solver_type="pgs", fdir1="wheel_x", friction_ratio=0.6, slip1=0.01, slip2=0.02,
-        contact_kp=1e7, contact_kd=1.0,
+        collision_detector="fcl",
+        solver_type="pgs",
+        fdir1="wheel_x",
+        friction_ratio=0.6,
+        slip1=0.01,
+        slip2=0.02,
+        contact_kp=1e7,
+        contact_kd=1.0,
     )
     scenario = Scenario(
         robot=robot,
@@ -103,13 +109,20 @@ def test_a_ratio_without_a_direction_or_beside_the_wheels_own_mu2_is_refused():
         GzPhysicsSettings.of({"friction_ratio": 0.6}, "gzphysics")
     with pytest.raises(InputError, match="wheel_mu2"):
         GzPhysicsSettings.of({"friction_ratio": 0.6, "fdir1": "wheel_x", "wheel_mu2": 0.5}, "gzphysics")
+    # the wheels' mu2 at their mu caps nothing: the ground's ratio is the contact's
+    assert GzPhysicsSettings.of({"friction_ratio": 0.6, "fdir1": "wheel_x", "wheel_mu2": 1.0}, "gzphysics")
 
 
 def test_kp_and_kd_change_nothing_under_dartsim(robot):
     """Clearpath's <kp>/<kd> are written, but no dartsim source reads them: the same record with other values."""
     scenario = Scenario(
-        robot=robot, terrain=Terrain.flat(0.8), ground_friction=0.8, timestep=0.001, max_wheel_torque=100.0,
-        starts=((0.0, 0.0, 0.0),), settings=HUSKY_TAGS,
+        robot=robot,
+        terrain=Terrain.flat(0.8),
+        ground_friction=0.8,
+        timestep=0.001,
+        max_wheel_torque=100.0,
+        starts=((0.0, 0.0, 0.0),),
+        settings=HUSKY_TAGS,
     )
     commands = np.broadcast_to(robot.joint_speeds(0.3, 0.6), (1500, 1, len(robot.wheel_joints)))
     engine = get_engine("gzphysics")
@@ -122,9 +135,7 @@ def test_kp_and_kd_change_nothing_under_dartsim(robot):
     assert stiff.position[-1, 1] > 0.02  # it did drive and turn left
 
 
-@pytest.mark.parametrize(
-    "settings", [{}, HUSKY_TAGS], ids=["gz-sim defaults", "Clearpath's wheel tags"]
-)
+@pytest.mark.parametrize("settings", [{}, HUSKY_TAGS], ids=["gz-sim defaults", "Clearpath's wheel tags"])
 def test_straight_rolling_and_rest_agree_with_mechanics(robot, settings):
     straight = _check(robot, settings, {"kind": "straight", "v": 0.5, "mu": 0.8})
     assert straight["speed_over_wheel_speed"]["passed"], straight

@@ -68,11 +68,12 @@ SOURCE = ROOT / "src" / "simpick" / "engines" / "gz"
 # where `make gzphysics` builds it; SIMPICK_GZPHYSICS names another build
 PROGRAM = Path(os.environ.get("SIMPICK_GZPHYSICS", ROOT / "build" / "gz" / "gzphysics_run"))
 SPAWN_CLEARANCE = 0.002  # m above resting height, as for the other engines
-PLUGINS = {
-    # the engine libraries' names as gz-sim's <engine><filename> takes them (Physics.cc:728: the default)
-    "dartsim": "libignition-physics-dartsim-plugin.so",
-    "bullet": "libignition-physics-bullet-plugin.so",
-}
+# the engine library by the name gz-sim's Physics system looks for by default (gz-sim ign-gazebo6
+# src/systems/physics/Physics.cc:726-729). Its Bullet plugin is not offered: Ignition Physics 5.1.0's bullet plugin
+# has no GetEntities features (bullet/src/plugin.cc:36-44 lists none), which the program uses to find the robot's
+# links and joints in the world ConstructSdfWorld built; gz-sim keeps the entities its per-entity construct calls
+# return instead.
+PLUGIN = "libignition-physics-dartsim-plugin.so"
 
 
 def require_program() -> None:
@@ -88,12 +89,6 @@ class GzPhysicsSettings(EngineSettings):
     """config ``engines.gzphysics``, or a Gazebo profile's settings: each field an SDF element that gz-sim
     reads, where the program writes it, and the default Gazebo applies when it is not written."""
 
-    # <engine><filename> of gz-sim's physics system (the source and the default: description)
-    plugin: Literal["dartsim", "bullet"] = Field(
-        "dartsim",
-        description="the physics engine plugin, <plugin filename='gz-sim-physics-system'><engine><filename>; "
-        "gz-sim's default is dartsim (gz-sim ign-gazebo6 src/systems/physics/Physics.cc:726-729)",
-    )
     # <physics><dart><collision_detector>
     collision_detector: Literal["ode", "fcl", "bullet", "dart"] = Field(
         "ode",
@@ -129,8 +124,8 @@ class GzPhysicsSettings(EngineSettings):
     # the wheels' <surface><friction><ode><mu2>
     wheel_mu2: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = Field(
         None,
-        description="<surface><friction><ode><mu2> on the driven wheels' collisions (dartsim/src/SDFFeatures.cc:814-817): "
-        "the coefficient across fdir1; None: the wheels' mu",
+        description="<surface><friction><ode><mu2> on the driven wheels' collisions "
+        "(dartsim/src/SDFFeatures.cc:814-817): the coefficient across fdir1; None: the wheels' mu",
     )
     # the ground's and terrain's <mu2> / <mu>
     friction_ratio: Annotated[float, Field(gt=0, allow_inf_nan=False)] = Field(
@@ -171,8 +166,12 @@ class GzPhysicsSettings(EngineSettings):
         # wheel <mu2> of its own caps the ground's, so the ratio would not be the contact's
         if self.friction_ratio != 1.0 and self.fdir1 != "wheel_x":
             raise ValueError("friction_ratio needs fdir1: wheel_x (without <fdir1> <mu2> acts along the world's y)")
-        if self.friction_ratio != 1.0 and self.wheel_mu2 is not None:
-            raise ValueError("friction_ratio with wheel_mu2: the wheels' <mu2> caps the contact's; set one of them")
+        wheel_mu = 1.0 if self.wheel_mu is None else self.wheel_mu  # None: at least 1 (world_sdf)
+        if self.friction_ratio != 1.0 and self.wheel_mu2 is not None and self.wheel_mu2 < wheel_mu:
+            raise ValueError(
+                "friction_ratio with a wheel_mu2 below the wheels' mu: the wheels' <mu2> caps the contact's, so the "
+                "ratio would not be the contact's; leave wheel_mu2 out (or at the wheels' mu) or friction_ratio at 1"
+            )
         return self
 
 
@@ -252,9 +251,7 @@ def world_sdf(scenario: Scenario, settings: GzPhysicsSettings) -> str:
     if settings.fdir1 == "wheel_x":
         wheel_extra["fdir1"] = (1.0, 0.0, 0.0)
     contact = {
-        tag: value
-        for tag, value in (("kp", settings.contact_kp), ("kd", settings.contact_kd))
-        if value is not None
+        tag: value for tag, value in (("kp", settings.contact_kp), ("kd", settings.contact_kd)) if value is not None
     }
     joints = {j.get("name"): j for j in model_xml.findall("joint")}
     wheel_links = set()
@@ -302,7 +299,7 @@ class GzPhysicsEngine(Adapter):
     def build(self, scenario: Scenario) -> GzPhysicsWorld:
         settings = GzPhysicsSettings.of(scenario.settings, self.name)
         require_program()
-        self.built = GzPhysicsWorld(scenario, settings, world_sdf(scenario, settings))
+        self.built = GzPhysicsWorld(scenario, world_sdf(scenario, settings))
         return self.built
 
     def simulate(self, scenario: Scenario, wheel_commands) -> PhysicsRecord:
@@ -319,7 +316,7 @@ class GzPhysicsWorld:
     command array and reads every step's state back in one exchange; ``step``/``read`` do the same a span at
     a time (the conformance check and the bare loop)."""
 
-    def __init__(self, scenario: Scenario, settings: GzPhysicsSettings, sdf: str):
+    def __init__(self, scenario: Scenario, sdf: str):
         robot = scenario.robot
         self.wheels = len(robot.wheel_joints)
         self.robots = len(scenario.starts)
@@ -333,7 +330,7 @@ class GzPhysicsWorld:
                 str(PROGRAM),
                 "run",
                 str(path),
-                PLUGINS[settings.plugin],
+                PLUGIN,
                 f"robot{scenario.recorded_robot}",
                 robot.base_link,
                 *robot.wheel_joints,
@@ -344,8 +341,10 @@ class GzPhysicsWorld:
         )
         ready = self.process.stdout.readline().decode().split()
         if ready[:1] != ["ready"] or ready[1:] != [str(self.robots), str(self.wheels)]:
+            self.process.wait(timeout=30)
+            error = self._error()
             self.close()
-            raise RuntimeError(f"gzphysics_run did not build the world: {ready} {self._error()}")
+            raise RuntimeError(f"gzphysics_run did not build the world: {error}")
         self.targets = np.zeros(self.robots * self.wheels)
         self.last = None
         self.wall = self.cpu = 0.0  # s, the program's own, of every step so far
