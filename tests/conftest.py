@@ -116,13 +116,13 @@ subprocess.Popen.__init__ = _popen_init_checked
 # on two cores; the full suite (make test) runs them. Newton and Genesis too: they run in venvs of their own,
 # which make test builds and make test-fast does not, and their tests add about 6 minutes on two cores
 # (engine start-up included: Genesis builds the gravel strip in 87 s).
-# gzphysics too: DART under Gazebo's settings, in a program that make test builds and make test-fast does not.
-SLOW_ENGINES = {"dart", "drake", "newton", "genesis", "gzphysics"}
+SLOW_ENGINES = {"dart", "drake", "newton", "genesis"}
 
 
 def pytest_collection_modifyitems(config, items):
     for item in items:
         params = item.callspec.params.values() if hasattr(item, "callspec") else ()
+        # test_gzphysics.py: DART under Gazebo's settings, in a program make test builds and make test-fast does not
         slow_file = item.path.name in ("test_dart_engine.py", "test_new_engines.py", "test_gzphysics.py")
         if slow_file or any(isinstance(v, str) and v in SLOW_ENGINES for v in params):
             item.add_marker(pytest.mark.slow)

@@ -151,9 +151,6 @@ LEFT_TURN_XFAIL = {
     "physx": "PhysX's friction is a box (two rows per anchor, each clamped to mu N on its own, along tangents from "
     "the bodies' linear velocities), so a skidding wheel keeps full lateral friction: the Husky turns at "
     "0.050 rad/s for 0.5 commanded (gain 0.10, Coulomb 0.478); physx_engine docstring",
-    "gzphysics": "Gazebo's defaults: DART's Dantzig friction box along the world's x and y (no <fdir1>) with the ODE "
-    "detector: the right wheels grip and the Husky goes nearly straight, yaw rate creeping from 0.005 to 0.012 rad/s "
-    "over 1-3 s for 0.5 commanded (gain about 0.01, Coulomb 0.478); gzphysics_engine docstring, docs/simulators.md",
 }
 
 
@@ -515,8 +512,6 @@ STEADY_TURN_XFAIL = {
     "physx": "a steady turn, but hardly a turn: PhysX's box friction (LEFT_TURN_XFAIL) holds the yaw rate at "
     "0.043-0.045 rad/s in 0.25 s blocks over 1-3 s, so v x yaw rate is 0.027 m/s^2, below the 0.1 a real "
     "turn gives",
-    "gzphysics": "hardly a turn and not steady: Gazebo's default friction box (LEFT_TURN_XFAIL) lets the yaw rate "
-    "creep from 0.0048 to 0.0122 rad/s in 0.25 s blocks over 1-3 s",
 }
 
 

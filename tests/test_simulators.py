@@ -125,7 +125,7 @@ def test_an_engine_left_out_leaves_its_simulators_out_with_the_reason(tmp_path):
     config["simulators"]["run"] = None
     config["engines"] = {"mujoco": None}
     plan = _plan(config)
-    # Gazebo's engine runs only behind its profiles (simpick.engines.simulators.PROFILE_ENGINES): its rows run
+    # Gazebo's engine runs only behind its profiles (simpick.engines.PROFILE_ADAPTERS): its rows run
     # wherever the program is built, and are left out with the reason where it is not
     built = not unavailable(["gzphysics"])
     assert plan.simulators == (["gazebo", "mujoco"] if built else ["mujoco"])

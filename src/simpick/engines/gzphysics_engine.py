@@ -86,7 +86,7 @@ def require_program() -> None:
 
 
 class GzPhysicsSettings(EngineSettings):
-    """config ``engines.gzphysics``, or a Gazebo profile's settings: each field an SDF element that gz-sim
+    """A Gazebo (gz-sim) profile's settings (simulators.yaml): each field an SDF element that gz-sim
     reads, where the program writes it, and the default Gazebo applies when it is not written."""
 
     # <physics><dart><collision_detector>

@@ -22,7 +22,7 @@ from __future__ import annotations
 VARIANTS = ("shipped", "tuned")
 SEPARATOR = "-"
 
-# simulator -> the engine adapter (simpick.engines.ADAPTERS) that reproduces its physics; None: a
+# simulator -> the engine adapter (simpick.engines.ADAPTERS, or PROFILE_ADAPTERS) that reproduces its physics; None: a
 # simulator whose physics simpick cannot reproduce (it keeps its row, with the reason, in the catalog)
 SIMULATORS: dict[str, str | None] = {
     "gazebo": "gzphysics",  # gz-sim: gz-physics' dartsim plugin, its default engine, itself (Fortress's build)
@@ -37,11 +37,6 @@ SIMULATORS: dict[str, str | None] = {
     "genesis": "genesis",  # Genesis
 }
 
-
-# Engines that run only behind simulators' profiles, never as engines of the study (no lab scenario, no CPU-load
-# runs): gz-physics is DART under Gazebo's settings, and the study already runs DART as an engine (dartpy), so
-# the Gazebo profiles are its only rows. A study runs such an engine's profiles whenever it can run the engine.
-PROFILE_ENGINES: tuple[str, ...] = ("gzphysics",)
 
 # Adapter settings that describe the robot model rather than the simulator: the wheels' actuators, which a
 # model's author writes for any simulator (an MJCF <intvelocity> and its gain, a PhysX or Drake drive's gain,

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import importlib
 
-from simpick.engines import get_engine, unavailable
+from simpick.engines import PROFILE_ADAPTERS, get_engine, unavailable
 from simpick.engines.catalog import load_catalog
-from simpick.engines.simulators import MODEL_SETTINGS, PROFILE_ENGINES, engine_of, model_name
+from simpick.engines.simulators import MODEL_SETTINGS, engine_of, model_name
 from simpick.plan.errors import PlanError
 
 
@@ -101,7 +101,7 @@ class ModelPlanning:
                 out[name] = sim.not_reproduced
             elif sim.engine in self.unavailable:
                 out[name] = f"its engine {sim.engine} cannot run here: {self.unavailable[sim.engine]}"
-            elif sim.engine in PROFILE_ENGINES:
+            elif sim.engine in PROFILE_ADAPTERS:
                 # an engine that runs only behind profiles: checked here, as the configured ones are above
                 why = unavailable([sim.engine]).get(sim.engine)
                 adapter = get_engine(sim.engine)
