@@ -12,15 +12,16 @@
 //   - the world: the sdformat DOM of the file handed to the plugin's ConstructSdfWorld, which builds
 //     every model, link, collision (with its <surface>: dartsim/src/SDFFeatures.cc:803-876) and joint
 //     (with its <limit><effort>: dartsim/src/SDFFeatures.cc:138-139). gz-sim builds the same entities
-//     one at a time from its entity-component store with the same plugin calls (Physics.cc:903-906,
-//     ConstructSdfModel/Link/Collision/Joint): the same constructors on the same DOM;
+//     one at a time from its entity-component store with the same plugin calls (Physics.cc:871-883;
+//     ConstructModel 1038, ConstructLink 1172, ConstructJoint 1515): the same constructors on the same DOM;
 //   - the <physics><dart> options: gz-sim reads <collision_detector> and <solver><solver_type> only where
 //     the element is written (src/SdfEntityCreator.cc:299-320) and sets them through the world's
 //     CollisionDetector and Solver features (Physics.cc:912-960; dartsim/src/WorldFeatures.cc:40-138);
 //     otherwise the world keeps ConstructEmptyWorld's ODE detector and DART's Dantzig solver
 //     (dartsim/src/EntityManagementFeatures.cc:720-736);
 //   - the wheels: a velocity command per joint every step through SetJointVelocityCommandFeature, as
-//     Physics.cc:1993-2033 applies the JointVelocityCmd that gz-sim's DiffDrive and JointController
+//     Physics.cc:1993-2033 applies the JointVelocityCmd that gz-sim's DiffDrive (src/systems/diff_drive/
+//     DiffDrive.cc:458-490) and JointController (src/systems/joint_controller/JointController.cc:238-250)
 //     systems write each iteration. dartsim makes the joint a DART SERVO bounded by its effort limit
 //     (dartsim/src/JointFeatures.cc:147-184), and DART clears the command after each step
 //     (dartsim/src/SimulationFeatures.cc:69, World::step's default), so it is set before every step;
