@@ -12,12 +12,14 @@ import numpy as np
 import pytest
 
 from conformance import check_adapter
-from conftest import study_config
+from conftest import ROOT, study_config, tiny_config
+from simpick.config import Study
 from simpick.engines import get_engine, gzphysics_engine, unavailable
 from simpick.engines.base import Scenario
 from simpick.engines.gzphysics_engine import GzPhysicsSettings, world_sdf
 from simpick.errors import InputError
 from simpick.inputs.terrain import Terrain
+from simpick.plan import Plan
 from simpick.studies.validation.cases import Setup, run_case
 from simpick.studies.validation.judge import summarise
 
@@ -55,6 +57,18 @@ def test_a_missing_program_is_named_with_the_command_that_builds_it(monkeypatch,
     why = unavailable(["gzphysics", "gazebo-shipped"])
     assert set(why) == {"gzphysics", "gazebo-shipped"}
     assert "make gzphysics" in why["gzphysics"] and str(tmp_path) in why["gzphysics"]
+
+
+def test_a_study_without_the_program_runs_without_the_gazebo_rows_and_says_why(monkeypatch, tmp_path):
+    config = tiny_config(tmp_path)
+    config["simulators"]["run"] = None
+    config["engines"] = {"mujoco": None}
+    built = Plan(config, Study.model_validate(config), basedir=str(ROOT))
+    assert "gazebo" in built.simulators and "gazebo-shipped" in built.sources["segments"]["models"]
+    monkeypatch.setattr(gzphysics_engine, "PROGRAM", tmp_path / "gzphysics_run")
+    plan = Plan(config, Study.model_validate(config), basedir=str(ROOT))
+    assert "gazebo" not in plan.simulators and "mujoco" in plan.simulators
+    assert "make gzphysics" in plan.simulators_left_out["gazebo"]
 
 
 def test_the_adapter_passes_the_runner_conformance_check(robot):
