@@ -24,10 +24,10 @@ VARIANTS = ("shipped", "tuned", "calibrated")
 CATALOG_VARIANTS = ("shipped", "tuned")
 SEPARATOR = "-"
 
-# simulator -> the engine adapter (simpick.engines.ADAPTERS) that reproduces its physics; None: a
+# simulator -> the engine adapter (simpick.engines.ADAPTERS, or PROFILE_ADAPTERS) that reproduces its physics; None: a
 # simulator whose physics simpick cannot reproduce (it keeps its row, with the reason, in the catalog)
 SIMULATORS: dict[str, str | None] = {
-    "gazebo": "dart",  # gz-sim: gz-physics' dartsim plugin, its default engine
+    "gazebo": "gzphysics",  # gz-sim: gz-physics' dartsim plugin, its default engine, itself (Fortress's build)
     "gazebo_classic": "ode",  # Gazebo Classic 11: ODE by default (the paper's Gazebo)
     "webots": "ode",  # Webots: its own fork of ODE
     "coppeliasim": "pybullet",  # CoppeliaSim: Bullet 2.78 (the paper's choice) by default

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import importlib
 
-from simpick.engines import get_engine, unavailable
+from simpick.engines import PROFILE_ADAPTERS, get_engine, unavailable
 from simpick.engines.catalog import load_catalog
 from simpick.engines.simulators import MODEL_SETTINGS, SEPARATOR, engine_of, model_name
 from simpick.plan.errors import PlanError
@@ -150,6 +150,16 @@ class ModelPlanning:
                 out[name] = sim.not_reproduced
             elif sim.engine in self.unavailable:
                 out[name] = f"its engine {sim.engine} cannot run here: {self.unavailable[sim.engine]}"
+            elif sim.engine in PROFILE_ADAPTERS:
+                # an engine that runs only behind profiles: checked here, as the configured ones are above
+                why = unavailable([sim.engine]).get(sim.engine)
+                adapter = get_engine(sim.engine)
+                if why is not None:
+                    out[name] = f"its engine {sim.engine} cannot run here: {why}"
+                elif self.robot.suspension and not adapter.simulates_suspension:
+                    out[name] = f"its engine {sim.engine} does not simulate {self.robot.name}'s passive suspension"
+                else:
+                    run.append(name)
             elif sim.engine not in self.engines:
                 out[name] = f"its engine {sim.engine} is not among this study's engines"
             else:
