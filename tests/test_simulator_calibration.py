@@ -99,9 +99,13 @@ def test_planning_refuses_a_setting_the_engine_lacks(tmp_path):
         _plan(config)
     # a setting the simulator exposes but the adapter cannot bind is said, not fitted
     spaces = cal.load_search_spaces(SPACES)
-    ok, why = cal.resolve(SPACES, "gazebo", spaces["gazebo"], "dart")
-    if "friction_ratio" not in get_engine("dart").settings_model.model_fields:
-        assert ok is False and "dartpy" in why
+    assert "friction_ratio" not in get_engine("newton").settings_model.model_fields
+    ok, why = cal.resolve(SPACES, "isaac_lab_newton", spaces["isaac_lab_newton"], "newton")
+    assert ok is False and "isotropic" in why
+    # Gazebo's <mu2>/<fdir1> are bound by its own physics layer (gz-physics), not by dartpy
+    assert cal.resolve(SPACES, "gazebo", spaces["gazebo"], "gzphysics")[0] is True
+    with pytest.raises(cal.SearchSpaceError, match="the dart adapter has no such setting"):
+        cal.resolve(SPACES, "gazebo", spaces["gazebo"], "dart")
 
 
 def test_a_search_space_without_its_reason_is_refused(tmp_path):

@@ -46,7 +46,12 @@ def written(tmp_path_factory, catalog):
     tmp = tmp_path_factory.mktemp("settings")
     config = tiny_config(tmp)
     config["simulators"]["run"] = None
-    config["engines"] = {SIMULATORS[s]: None for s in SIMULATORS if SIMULATORS[s] is not None}
+    from simpick.engines import PROFILE_ADAPTERS
+
+    # the study's engines: every simulator's, less those that run only behind a simulator's profiles (gz-physics)
+    config["engines"] = {
+        SIMULATORS[s]: None for s in SIMULATORS if SIMULATORS[s] is not None and SIMULATORS[s] not in PROFILE_ADAPTERS
+    }
     plan = Plan(config, Study.model_validate(config), basedir=str(ROOT))
     params = {k: v for k, v in plan.simulator_settings_params().items() if k != "code"}
     rows = [

@@ -137,24 +137,31 @@ def surface_values(engine: str, settings: Mapping, ground_mu: float = GROUND_MU)
         if settings.get("contact_min_depth") is not None:
             out["contact/ode/min_depth"] = _num(settings["contact_min_depth"])
         return out
-    mu = settings.get("mu")
-    if mu is None and ("mu2" in settings or ratio != 1.0):
+    # the gz-physics adapter's names (simpick.engines.gzphysics_engine: wheel_mu, wheel_mu2, contact_kp, ...) or the
+    # SDF elements' own
+    def first(*keys):
+        return next((settings[k] for k in keys if settings.get(k) is not None), None)
+
+    mu, mu2 = first("mu", "wheel_mu"), first("mu2", "wheel_mu2")
+    if mu is None and (mu2 is not None or ratio != 1.0):
         mu = ground_mu
     if mu is not None:
         out["friction/ode/mu"] = _num(mu)
-    if settings.get("mu2") is not None:
-        out["friction/ode/mu2"] = _num(settings["mu2"])
+    if mu2 is not None:
+        out["friction/ode/mu2"] = _num(mu2)
     elif ratio != 1.0:
         out["friction/ode/mu2"] = _num(mu * ratio)
     fdir1 = settings.get("fdir1")
     if fdir1 is None and settings.get("friction_direction") == "wheel_x":
         fdir1 = "1 0 0"
+    fdir1 = {"wheel_x": "1 0 0", "none": None}.get(fdir1, fdir1) if isinstance(fdir1, str) else fdir1
     if fdir1 is not None:
         out["friction/ode/fdir1"] = fdir1 if isinstance(fdir1, str) else " ".join(_num(x) for x in fdir1)
     for key in ("slip1", "slip2", "kp", "kd", "max_vel", "min_depth"):
-        if settings.get(key) is not None:
+        value = first(key, f"contact_{key}")
+        if value is not None:
             path = next(p for p in SURFACE if p.endswith("/" + key))
-            out[path] = _num(settings[key])
+            out[path] = _num(value)
     return out
 
 
@@ -266,6 +273,22 @@ def read_sdf(engine: str, texts: Mapping[str, str], ground_mu: float = GROUND_MU
     if "wheels.urdf" in texts:
         surface = ET.fromstring(texts["wheels.urdf"]).find("gazebo/collision/surface")
     values = {} if surface is None else {p: surface.findtext(p) for p in SURFACE if surface.find(p) is not None}
+    if engine == "gzphysics":  # the gz-physics adapter's names (simpick.engines.gzphysics_engine)
+        for path, keys in DART_PHYSICS.items():
+            if physics.find(f"dart/{path}") is not None:
+                out[keys[0]] = physics.findtext(f"dart/{path}")
+        names = {"mu": "wheel_mu", "mu2": "wheel_mu2", "kp": "contact_kp", "kd": "contact_kd"}
+        for path, text in values.items():
+            key = SURFACE[path][0]
+            if key == "fdir1":
+                out["fdir1"] = "wheel_x" if text.split() == ["1", "0", "0"] else text
+            else:
+                out[names.get(key, key)] = float(text)
+        # a ratio alone is written as the ground's mu with mu2 = ratio x mu (write_sdf); else the wheels' own
+        out["friction_ratio"] = 1.0
+        if out.get("wheel_mu") == ground_mu and "wheel_mu2" in out:
+            out["friction_ratio"] = out.pop("wheel_mu2") / out.pop("wheel_mu")
+        return out
     if engine != "ode":
         for path, keys in DART_PHYSICS.items():
             if physics.find(f"dart/{path}") is not None:
