@@ -686,20 +686,30 @@ COPPELIASIM_CALLS = [
 
 
 def write_coppeliasim(settings: Mapping, entries: Mapping | None, title: list[str]) -> dict[str, str]:
-    notes = _meanings(entries, ("solver_iterations", "contact_stiffness", "contact_damping"))
+    notes = _meanings(entries, ("solver_iterations", "time_step", "contact_stiffness", "contact_damping"))
+    step = settings.get("time_step")
     lines = [
         "-- in a customization script of the scene (Lua), before the simulation starts",
-        "-- simpick ran a 1 ms physics step; CoppeliaSim's default is 5 ms (Dynamics dialog: dt)",
         "sim.setInt32Param(sim.intparam_dynamic_engine, sim.physics_bullet)",
         "sim.setEngineInt32Param(sim.bullet_global_constraintsolvingiterations, -1, "
         f"{int(settings['solver_iterations'])})",
+        *(
+            ["-- the physics step: the engine steps dt / this many times per simulation step (simDyn)",
+             f"sim.setFloatParam(sim.floatparam_physicstimestep, {_num(step)})"]
+            if step is not None
+            else ["-- simpick ran a 1 ms physics step; CoppeliaSim's default is 5 ms (Dynamics dialog: dt)"]
+        ),
     ]
     return {"lua": _header("--", [*title, *notes]) + "\n".join(lines) + "\n"}
 
 
 def read_coppeliasim(text: str) -> dict:
     m = re.search(r"constraintsolvingiterations, -1, (\d+)\)", text)
-    return {"solver_iterations": int(m.group(1))}
+    out = {"solver_iterations": int(m.group(1))}
+    step = re.search(r"floatparam_physicstimestep, ([0-9.eE+-]+)\)", text)
+    if step:
+        out["time_step"] = float(step.group(1))
+    return out
 
 
 def write_profile_file(

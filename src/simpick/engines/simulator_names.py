@@ -51,6 +51,12 @@ NAMES = {
                 f'{_COPPELIA}: "sim_bullet_global_constraintsolvingiterations", '
                 '"sim.bullet_global_constraintsolvingiterations"; read by CDynamicsContainer::getIterationCount'
             ),
+            "sim.setFloatParam": f"{_COPPELIA} (sim.setFloatParam(int parameter, float floatState))",
+            "sim.floatparam_physicstimestep": (
+                f'{_COPPELIA}: {{"sim.floatparam_physicstimestep", sim_floatparam_physicstimestep}}; the physics '
+                "step simDyn reads when it steps (CoppeliaRobotics/simDyn CRigidBodyContainerDyn::handleDynamics: "
+                "passes = dt / that step)"
+            ),
         },
     },
     "isaaclab": {

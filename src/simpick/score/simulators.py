@@ -482,7 +482,10 @@ def _calibrated_file(formats, sim, simulator, settings, fit, table, catalog, rob
         entries[key] = ("calibrated", Setting(value=value, exposed_as=text, source=f"fitted: {fit.get('source')}"))
     row = table[(table.simulator == simulator) & (table.variant == "calibrated")]
     header = calibrated_header(sim, simulator, fit, row.iloc[0].to_dict() if len(row) else None)
-    texts = formats.write(sim.settings_format, sim.engine, settings, entries, header, wheels)
+    if sim.settings_format is None:  # no file format of its own (MORSE): where its user sets each value
+        texts = {"txt": exposed_settings_text(settings, entries, header)}
+    else:
+        texts = formats.write(sim.settings_format, sim.engine, settings, entries, header, wheels)
     for suffix, text in texts.items():
         (out / f"{model_name(simulator, 'calibrated')}.{suffix}").write_text(text)
 
