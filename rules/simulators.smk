@@ -15,13 +15,13 @@ rule simulators:
             if not PLAN.verdict and SETTINGS.drive_dir and PLAN.config["simulators"]["drive"]
             else {}
         ),
+        **({"split": f"{PLAN.CALIBRATION_DIR}/split.csv"} if PLAN.calibration_spaces else {}),
         catalog=PLAN.config["simulators"]["catalog"],
         validation="results/validation/summary.csv",
         gains="results/validation/gains.csv",
         rtf=PLAN.metrics_file("lab", "rtf"),
         cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
         # the calibrated profiles' fits and the split whose test runs judge every row held out
-        **({"split": f"{PLAN.CALIBRATION_DIR}/split.csv"} if PLAN.calibration_spaces else {}),
         calibrations=PLAN.calibration_files(),
     output:
         table=report("results/simulators/table.csv", caption="captions/simulators.rst", category="Simulators"),

@@ -95,7 +95,9 @@ def test_planning_refuses_a_setting_the_engine_lacks(tmp_path):
     bad.write_text(yaml.safe_dump(data))
     config = _config(run=["webots"])
     config["simulators"]["calibration"] = str(bad)
-    with pytest.raises(cal.SearchSpaceError, match=r"calibration\.yaml: simulators\.webots\.settings\.wheel_separation"):
+    with pytest.raises(
+        cal.SearchSpaceError, match=r"calibration\.yaml: simulators\.webots\.settings\.wheel_separation"
+    ):
         _plan(config)
     # a setting the simulator exposes but the adapter cannot bind is said, not fitted
     spaces = cal.load_search_spaces(SPACES)
@@ -154,7 +156,9 @@ def test_coulomb_places_the_ratio_whose_gain_is_the_real_one(husky):
     for gain in (0.55, 0.645, 0.70):
         r = ratio_for_gain(layout, gain, 0.5, 0.5, section["track"], (0.3, 1.8))
         assert r < 1.0 and gain > isotropic  # more turning than isotropic Coulomb: less lateral friction
-        assert yaw_rate_gain(with_friction_ratio(layout, r), 0.5, 0.5, section["track"]) == pytest.approx(gain, abs=2e-3)
+        assert yaw_rate_gain(with_friction_ratio(layout, r), 0.5, 0.5, section["track"]) == pytest.approx(
+            gain, abs=2e-3
+        )
 
 
 def test_the_secant_steps_reach_a_monotone_gain_and_stay_in_the_bracket_of_a_jumping_one():
@@ -186,15 +190,17 @@ def test_the_fit_moves_the_engine_gain_toward_the_real_one(tmp_path):
     split = tmp_path / "split.csv"
     cal.split_job(str(SEGMENTS), 0.5, 11, str(split))
     out = tmp_path / "mujoco.yaml"
-    inputs = {"split": str(split), "segments": str(SEGMENTS), "urdf": params["robot"]["urdf"] if "urdf" in params["robot"] else str(ROOT / "resources/robot/husky_a200.urdf")}
+    inputs = {
+        "split": str(split),
+        "segments": str(SEGMENTS),
+        "urdf": params["robot"]["urdf"] if "urdf" in params["robot"] else str(ROOT / "resources/robot/husky_a200.urdf"),
+    }
     fit = cal.calibrate(inputs, params, str(out))
     assert yaml.safe_load(out.read_text())["settings"] == fit["settings"]
     real, ratio = fit["fit"]["real_gain"], fit["settings"]["friction_ratio"]
     assert not set(fit["fit"]["real_runs"]) & set(fit["test_runs"])  # the test runs never reach the fit
     # the tuned profile (ratio 1) turns at about the isotropic Coulomb gain, well below the real robot's
-    tuned = cal._engine_gain(
-        run_case, _setup(plan, "mujoco", params), 1.0, 0.5, 0.5, 0.6, 3.0
-    )
+    tuned = cal._engine_gain(run_case, _setup(plan, "mujoco", params), 1.0, 0.5, 0.5, 0.6, 3.0)
     assert ratio < 1.0 and abs(fit["fit"]["engine_gain"] - real) < 0.5 * abs(tuned - real)
     assert fit["fit"]["trials"][0][0] == pytest.approx(fit["fit"]["coulomb_ratio"], abs=1e-3)
 
@@ -251,7 +257,10 @@ def test_a_job_merges_the_fit_over_its_settings_and_records_where_they_came_from
     merged, provenance = cal.with_calibrated(params, str(path))
     assert merged["engine_settings"] == {"friction_ratio": 0.6, "contact_slip": 0.001, "erp": 0.2}
     assert params["engine_settings"]["friction_ratio"] == 1.0  # the plan's params are not edited
-    assert provenance == {"calibrated_from": str(path), "calibrated_settings": {"friction_ratio": 0.6, "contact_slip": 0.001}}
+    assert provenance == {
+        "calibrated_from": str(path),
+        "calibrated_settings": {"friction_ratio": 0.6, "contact_slip": 0.001},
+    }
 
 
 # --- the mechanics of its own parameters ---
@@ -259,9 +268,18 @@ def test_a_job_merges_the_fit_over_its_settings_and_records_where_they_came_from
 
 def test_a_yaw_gain_case_without_a_ratio_is_judged_against_the_model_s_own_ratio(husky):
     robot, section = husky
-    settings = get_engine("mujoco").settings_model.model_validate(
-        {"cone": "elliptic", "wheel_contact": "decoupled", "integrator": "implicitfast", "wheel_servo": "intvelocity"}
-    ).model_dump(mode="json")
+    settings = (
+        get_engine("mujoco")
+        .settings_model.model_validate(
+            {
+                "cone": "elliptic",
+                "wheel_contact": "decoupled",
+                "integrator": "implicitfast",
+                "wheel_servo": "intvelocity",
+            }
+        )
+        .model_dump(mode="json")
+    )
     case = {"kind": "yaw_gain", "v": 0.5, "w": 0.5, "mu": 0.8, "duration": 3.0}
     layout = contact_layout(robot)
     for ratio in (1.0, 0.7):
@@ -300,12 +318,32 @@ def test_the_table_has_the_held_out_columns_computed_on_the_test_runs_only(tmp_p
         assert column in stage.TABLE_COLUMNS
     split = tmp_path / "split.csv"
     pd.DataFrame(
-        {"terrain_class": ["a", "a", "b", "b"], "run": ["1", "2", "1", "2"], "unit": list("wxyz"), "set": ["train", "test", "train", "test"]}
+        {
+            "terrain_class": ["a", "a", "b", "b"],
+            "run": ["1", "2", "1", "2"],
+            "unit": list("wxyz"),
+            "set": ["train", "test", "train", "test"],
+        }
     ).to_csv(split, index=False)
     rows = []
-    for cls, run, real, err in [("a", "1", 0.70, 0.5), ("a", "2", 0.74, 0.02), ("b", "1", 0.60, 0.5), ("b", "2", 0.64, 0.06)]:
-        rows.append({"engine": "m", "terrain_class": cls, "run": run, "test": f"{cls}{run}", "status": "ok",
-                     "gain_error": err, "heading_error": 2 * err, "yaw_rate_gain_real": real})
+    for cls, run, real, err in [
+        ("a", "1", 0.70, 0.5),
+        ("a", "2", 0.74, 0.02),
+        ("b", "1", 0.60, 0.5),
+        ("b", "2", 0.64, 0.06),
+    ]:
+        rows.append(
+            {
+                "engine": "m",
+                "terrain_class": cls,
+                "run": run,
+                "test": f"{cls}{run}",
+                "status": "ok",
+                "gain_error": err,
+                "heading_error": 2 * err,
+                "yaw_rate_gain_real": real,
+            }
+        )
     tests = pd.DataFrame(rows)
     verdict = {"margins": {"gain_error": {"basis": "real_spread", "value": 1.0}}}
     columns = stage._heldout({"split": str(split)}, tests, verdict, {"min_runs": 6, "level": 0.95}, 0)("m")
@@ -329,19 +367,34 @@ def test_the_calibrated_settings_file_is_headed_by_its_data_figures_and_command_
         "why_not": None,
         "settings": {"contact_slip": 0.001, "friction_ratio": 0.49},
         "exposed": {"friction_ratio": "<mu2>0.49 x mu</mu2> with <fdir1>1 0 0</fdir1>"},
-        "fit": {"real_gain": 0.645, "real_runs": ["flooring/07", "ice/02"], "coulomb_ratio": 0.73,
-                "trials": [[0.73, 0.53], [0.49, 0.644]], "engine_gain": 0.644, "reached": True, "tolerance": 0.005},
+        "fit": {
+            "real_gain": 0.645,
+            "real_runs": ["flooring/07", "ice/02"],
+            "coulomb_ratio": 0.73,
+            "trials": [[0.73, 0.53], [0.49, 0.644]],
+            "engine_gain": 0.644,
+            "reached": True,
+            "tolerance": 0.005,
+        },
     }
-    row = {"heldout_gain_error": 0.031, "heldout_gain_error_low": math.nan, "heldout_gain_error_high": math.nan,
-           "heldout_runs": 4, "real_spread": 0.045, "within_spread": True, "heldout_heading_error": 0.04,
-           "mechanics_own": "passes 17/20"}
+    row = {
+        "heldout_gain_error": 0.031,
+        "heldout_gain_error_low": math.nan,
+        "heldout_gain_error_high": math.nan,
+        "heldout_runs": 4,
+        "real_spread": 0.045,
+        "within_spread": True,
+        "heldout_heading_error": 0.04,
+        "mechanics_own": "passes 17/20",
+    }
     table = pd.DataFrame([dict(row, simulator="gazebo_classic", variant="calibrated")])
     from simpick.engines import simulator_files as formats
 
     settings = catalog.settings("gazebo_classic", "tuned", "husky_a200")
     settings = get_engine("ode").settings_model.model_validate(settings).model_dump(mode="json")
-    stage._calibrated_file(formats, sim, "gazebo_classic", settings, fit, table, catalog, "husky_a200",
-                           ["front_left_wheel_link"], tmp_path)
+    stage._calibrated_file(
+        formats, sim, "gazebo_classic", settings, fit, table, catalog, "husky_a200", ["front_left_wheel_link"], tmp_path
+    )
     texts = {p.name.split(".", 1)[1]: p.read_text() for p in tmp_path.glob("gazebo_classic-calibrated.*")}
     assert set(texts) == {"world.sdf", "wheels.urdf"}
     head = texts["wheels.urdf"]

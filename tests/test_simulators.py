@@ -174,9 +174,7 @@ def test_a_settings_file_reads_back_into_the_settings_it_was_written_from(catalo
         else set()
     ) | (
         # values CoppeliaSim fixes (Bullet 2.78's rigid contacts and contact correction)
-        {"contact_stiffness", "contact_damping", "contact_erp"}
-        if sim.settings_format == "coppeliasim"
-        else set()
+        {"contact_stiffness", "contact_damping", "contact_erp"} if sim.settings_format == "coppeliasim" else set()
     ) | ({"stepper", "friction_direction", "contact_surface_layer"} if sim.settings_format == "webots" else set()), (
         sorted(set(entries) - set(back))
     )

@@ -137,6 +137,7 @@ def surface_values(engine: str, settings: Mapping, ground_mu: float = GROUND_MU)
         if settings.get("contact_min_depth") is not None:
             out["contact/ode/min_depth"] = _num(settings["contact_min_depth"])
         return out
+
     # the gz-physics adapter's names (simpick.engines.gzphysics_engine: wheel_mu, wheel_mu2, contact_kp, ...) or the
     # SDF elements' own
     def first(*keys):
@@ -694,8 +695,10 @@ def write_coppeliasim(settings: Mapping, entries: Mapping | None, title: list[st
         "sim.setEngineInt32Param(sim.bullet_global_constraintsolvingiterations, -1, "
         f"{int(settings['solver_iterations'])})",
         *(
-            ["-- the physics step: the engine steps dt / this many times per simulation step (simDyn)",
-             f"sim.setFloatParam(sim.floatparam_physicstimestep, {_num(step)})"]
+            [
+                "-- the physics step: the engine steps dt / this many times per simulation step (simDyn)",
+                f"sim.setFloatParam(sim.floatparam_physicstimestep, {_num(step)})",
+            ]
             if step is not None
             else ["-- simpick ran a 1 ms physics step; CoppeliaSim's default is 5 ms (Dynamics dialog: dt)"]
         ),

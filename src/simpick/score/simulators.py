@@ -202,7 +202,9 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
                 continue
             if profile not in results:
                 why = p.calibrated_left_out if variant == "calibrated" and p.calibrated_left_out else ""
-                rows.append(dict(base, model="", status=f"not run: {why or 'variant not selected (simulators.variants)'}"))
+                rows.append(
+                    dict(base, model="", status=f"not run: {why or 'variant not selected (simulators.variants)'}")
+                )
                 continue
             model = results[profile]
             m = _first(mechanics, engine=model)
@@ -287,7 +289,9 @@ def _fits(inputs: dict) -> dict[str, dict]:
 
 def _failed_cases(summary: pd.DataFrame, model: str) -> tuple[set[str], int]:
     """(the analytic cases a model fails, how many it ran) in the validation summary."""
-    own = summary[(summary.engine == model) & (summary.status.astype(str) != "skipped") & (summary.kind != "invariance")]
+    own = summary[
+        (summary.engine == model) & (summary.status.astype(str) != "skipped") & (summary.kind != "invariance")
+    ]
     from simpick.score.mechanics import _bool
 
     return set(own.case[~_bool(own.passed)].astype(str)), int(own.case.nunique())
@@ -457,9 +461,10 @@ def calibrated_header(sim, simulator: str, fit: dict, row) -> list[str]:
     else:
         lines.append(f"no setting fitted: {fit.get('why_not')}; these are the tuned settings, the best it reaches")
     if row is not None:
+        runs = int(row["heldout_runs"]) if pd.notna(row.get("heldout_runs")) else 0
         lines.append(
             f"held out: gain error {_num(row.get('heldout_gain_error'))} [{_num(row.get('heldout_gain_error_low'))}, "
-            f"{_num(row.get('heldout_gain_error_high'))}] over {int(row['heldout_runs']) if pd.notna(row.get('heldout_runs')) else 0} runs against the robot's own "
+            f"{_num(row.get('heldout_gain_error_high'))}] over {runs} runs against the robot's own "
             f"spread {_num(row.get('real_spread'))} (within: {row.get('within_spread')}); heading error "
             f"{_num(row.get('heldout_heading_error'))} rad; mechanics of its own parameters: {row.get('mechanics_own')}"
         )

@@ -230,8 +230,10 @@ def real_gains(segments: str | Path, runs: list[str], classes: list[str]) -> pd.
     """Per run of ``runs`` in ``classes``: the real steady yaw-rate gain, its turning segments averaged
     (terrain_class, run, gain); runs with no turning segment are left out."""
     seg = turning_segments(segments, runs, classes)
-    return seg.groupby(["terrain_class", "run"], as_index=False).yaw_rate_gain.mean().rename(
-        columns={"yaw_rate_gain": "gain"}
+    return (
+        seg.groupby(["terrain_class", "run"], as_index=False)
+        .yaw_rate_gain.mean()
+        .rename(columns={"yaw_rate_gain": "gain"})
     )
 
 
