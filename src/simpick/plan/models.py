@@ -273,7 +273,11 @@ class ModelPlanning:
             "searchable": model_name(simulator, "calibrated") in self.calibrated,
             "why_not": self.calibrated_why_not.get(simulator),
             "space": space.model_dump(mode="json") if space is not None else {"searchable": False, "why_not": "-"},
-            "classes": list(study.calibration.target.classes),
-            "grounds": {c: float(study.real_data.classes[c].friction) for c in study.calibration.target.classes},
+            # the target's firm classes; none named: every class (calibration.target.classes)
+            "classes": list(study.calibration.target.classes or study.real_data.classes),
+            "grounds": {
+                c: float(study.real_data.classes[c].friction)
+                for c in (study.calibration.target.classes or study.real_data.classes)
+            },
         }
         return job_params("simulator_calibrate", CalibrateParams, data)
