@@ -1,5 +1,5 @@
 from simpick.joblog import logged
-from simpick.score.tree import simulator_tree_job
+from simpick.score.simulators import simulator_tree_job
 
 # the params less the rule's code version (a rerun trigger, not read by the job): the job's model
 with logged(snakemake.log[0]):

@@ -240,6 +240,18 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
     _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs)
 
 
+def read_split(path: str | Path) -> tuple[list[str], list[str]]:
+    """(training runs, test runs), each ``class/run``."""
+    split = pd.read_csv(path, dtype={"run": str, "unit": str})
+    key = split.terrain_class.astype(str) + "/" + split.run.astype(str)
+    train = sorted(set(key[split.set == "train"]))
+    test = sorted(set(key[split.set == "test"]))
+    both = sorted(set(train) & set(test))
+    if both:
+        raise ValueError(f"{path}: runs on both sides of the split: {both}")
+    return train, test
+
+
 def _heldout(inputs: dict, tests: pd.DataFrame | None, verdict: dict, statistics: dict, seed: int):
     """model -> its held-out columns: the gain error over the split's test runs with its BCa interval (NaN
     below statistics.min_runs runs), their number, the real robot's run-to-run spread of its gain (the verdict's
@@ -247,7 +259,6 @@ def _heldout(inputs: dict, tests: pd.DataFrame | None, verdict: dict, statistics
     from simpick.compare.realmetrics import mean_ci, statistics_settings
     from simpick.score.equivalence import margin
     from simpick.score.verdict.runs import run_key
-    from simpick.studies.simulator_calibration import read_split
 
     empty = dict.fromkeys(
         ("heldout_gain_error", "heldout_gain_error_low", "heldout_gain_error_high", "real_spread"), math.nan
@@ -513,7 +524,21 @@ def simulator_scores_job(subjects: str, params: dict, outputs: dict) -> None:
     )
 
 
-def simulator_tree_job(subjects: str, params: dict, output: str) -> None:
+def simulator_tree_job(subjects: str, params: dict, table: str, settings: str | None, output: str) -> None:
+    """Rule simulator_tree: the decision tree with the run simulators as its leaves (:func:`leaves_tree_job`),
+    each leaf naming the profile its answers ask for (simpick.score.tree.name_profiles, from the simulators'
+    table and its settings folder)."""
+    import json
+
+    from simpick.score.tree import _read_csv, name_profiles, read_tree
+
+    leaves_tree_job(subjects, params, output)
+    frame = _read_csv(table, ("simulator", "label", "variant", "status"), "the simulators' table")
+    tree = name_profiles(read_tree(output), frame, settings)
+    Path(output).write_text(json.dumps(tree, indent=1, allow_nan=False) + "\n")
+
+
+def leaves_tree_job(subjects: str, params: dict, output: str) -> None:
     """The decision tree with the run simulators as its leaves (simpick.score.tree over the subjects)."""
     from simpick.score.tree import decision_tree_job
 

@@ -640,15 +640,3 @@ def name_profiles(tree: dict, table, settings: str | None = None, link: str = "r
         "closeness_asked": any(q["key"] == "closeness" and q["asked"] for q in tree.get("questions", [])),
     }
     return tree
-
-
-def simulator_tree_job(subjects: str, params: dict, table: str, settings: str | None, output: str) -> None:
-    """Rule simulator_tree: the decision tree with the run simulators as its leaves
-    (simpick.score.simulators.simulator_tree_job over the subjects), each leaf naming the profile its answers ask
-    for (:func:`name_profiles`, from the simulators' table and its settings folder)."""
-    from simpick.score.simulators import simulator_tree_job as leaves_of_simulators
-
-    leaves_of_simulators(subjects, params, output)
-    frame = _read_csv(table, ("simulator", "label", "variant", "status"), "the simulators' table")
-    tree = name_profiles(read_tree(output), frame, settings)
-    Path(output).write_text(json.dumps(tree, indent=1, allow_nan=False) + "\n")

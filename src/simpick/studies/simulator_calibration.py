@@ -38,6 +38,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 from simpick.engines.simulators import SIMULATORS
 from simpick.inputs.robot.settings import RobotParams
 from simpick.params import JobParams, PhysicsStep, Positive
+from simpick.score.simulators import read_split
 
 CALIBRATED = "calibrated"
 
@@ -204,18 +205,6 @@ def split_job(segments: str, test_fraction: float, seed: int, output: str) -> No
         rows = [[r["terrain_class"], r["run"], r["segment"], r["kind"] == "turning"] for r in csv.DictReader(handle)]
     units = pd.DataFrame(rows, columns=["terrain_class", "run", "unit", "turns"]).astype({"run": str})
     write_csv(split_runs(units, test_fraction, seed), output)
-
-
-def read_split(path: str | Path) -> tuple[list[str], list[str]]:
-    """(training runs, test runs), each ``class/run``."""
-    split = pd.read_csv(path, dtype={"run": str, "unit": str})
-    key = split.terrain_class.astype(str) + "/" + split.run.astype(str)
-    train = sorted(set(key[split.set == "train"]))
-    test = sorted(set(key[split.set == "test"]))
-    both = sorted(set(train) & set(test))
-    if both:
-        raise ValueError(f"{path}: runs on both sides of the split: {both}")
-    return train, test
 
 
 def turning_segments(segments: str | Path, runs: list[str], classes: list[str]) -> pd.DataFrame:
