@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed
 
-.PHONY: study test test-fast docs bench clean lock schema engine-venvs study-eight
+.PHONY: study test test-fast docs bench clean lock schema engine-venvs study-eight gzphysics
 
 $(STAMP): pyproject.toml constraints.txt
 	@# ODE comes from the system (Debian libode8); headers for the binding's own tests
@@ -12,6 +12,10 @@ $(STAMP): pyproject.toml constraints.txt
 	@# the browser the interactive report's test drives (tests/test_browser.py): the system's Chromium
 	command -v chromium >/dev/null || { apt-get update && apt-get install -y chromium; } || \
 	  { echo "simpick: install Chromium first: apt-get install chromium (as root)"; exit 1; }
+	@# sdformat 12's own reader (ign sdf), which the settings files' tests convert the Gazebo tags with
+	command -v ign >/dev/null || { apt-get update && apt-get install -y --no-install-recommends libsdformat-dev \
+	  ignition-tools ruby sdformat-sdf; } || \
+	  echo "simpick: ign sdf could not be installed; the study runs without it, tests/test_simulator_files.py fails"
 	$(PYTHON) -m venv $(VENV)
 	$(VENV)/bin/pip install --quiet --upgrade pip
 	$(VENV)/bin/pip install --quiet -c constraints.txt -e '.[test]'
@@ -20,8 +24,23 @@ $(STAMP): pyproject.toml constraints.txt
 	  echo "simpick: engine $$extra could not be installed; the study will run without it"; done
 	touch $(STAMP)
 
-study: $(STAMP)
+study: $(STAMP) gzphysics
 	$(VENV)/bin/snakemake --cores 2
+
+# Gazebo (gz-sim)'s rows run Gazebo Fortress's own physics layer (Ignition Physics 5's dartsim plugin, sdformat 12:
+# Debian's packages) through a small program, src/simpick/engines/gz, built into build/gz. A machine that cannot
+# install or build it runs the study without the Gazebo rows, and the study says why (build/gz.log keeps the error).
+GZ_PACKAGES := cmake g++ libignition-physics-dev libignition-physics5-dartsim-plugin5 libignition-physics5-bullet-plugin5 \
+  libsdformat-dev
+gzphysics: build/gz/gzphysics_run
+
+build/gz/gzphysics_run: src/simpick/engines/gz/gzphysics_run.cc src/simpick/engines/gz/CMakeLists.txt
+	mkdir -p build && : >build/gz.log
+	{ dpkg -s $(GZ_PACKAGES) >/dev/null 2>&1 || \
+	    { apt-get update && apt-get install -y --no-install-recommends $(GZ_PACKAGES); } >>build/gz.log 2>&1; } && \
+	  cmake -S src/simpick/engines/gz -B build/gz -DCMAKE_BUILD_TYPE=Release >>build/gz.log 2>&1 && \
+	  cmake --build build/gz >>build/gz.log 2>&1 || \
+	  { rm -f $@; echo "simpick: the Gazebo physics program could not be built (build/gz.log); the study will run without the Gazebo (gz-sim) rows"; }
 
 # Newton and Genesis pin what the study cannot (newton[sim]: mujoco 3.17 against 4.0.0; genesis-world: pillow<12
 # against 13, and torch): each gets a venv of its own, from the same Python (the study talks to it with pickle,
@@ -49,13 +68,13 @@ engine-venvs: .venv-newton/.installed .venv-genesis/.installed
 	    echo "simpick: genesis could not be installed (.venv-genesis.failed); the study will run without it"; }
 
 # The study with eight engines: config.yaml's six, Newton and Genesis (config/engines/newton_genesis.yaml)
-study-eight: $(STAMP) engine-venvs
+study-eight: $(STAMP) engine-venvs gzphysics
 	$(VENV)/bin/snakemake --cores 2 --configfile config.yaml config/engines/newton_genesis.yaml
 
 # The suite steps every registered engine, Newton and Genesis included: engine-venvs builds their venvs
 # (measured: 72 s and 97 s from the registries of a CI machine). One that cannot be built is left out with the
 # reason printed above, and its engine's tests fail (tests/test_engines.py checks every engine is installed).
-test: $(STAMP) engine-venvs
+test: $(STAMP) engine-venvs gzphysics
 	$(VENV)/bin/python -m pytest
 
 # The tests that start no Snakemake run and step neither DART nor Drake; `make test` runs them all.

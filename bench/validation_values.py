@@ -47,7 +47,7 @@ def main() -> None:
         timestep=args.timestep or config["physics"]["timestep"],
         max_wheel_torque=config["robot"]["max_wheel_torque"],
         track=config["robot"]["track"],
-        settings={**(config["engines"][args.engine] or {}), **overrides},
+        settings={**(config["engines"].get(args.engine) or {}), **overrides},
     )
     cases = config["validation"]["cases"]
     cpu = time.process_time()

@@ -38,7 +38,11 @@ if SETTINGS.drive_dir:
         # simulator profiles replay DRIVE only with simulators.drive: each adds its engine's replay time
         DRIVE_MODELS = DRIVE_SOURCE.models(
             SETTINGS.drive_replay.models,
-            [m for m in PLAN.real_models if SETTINGS.simulators.drive or m not in PLAN.profiles],
+            [
+                m
+                for m in PLAN.real_models
+                if (SETTINGS.simulators.drive or m not in PLAN.profiles) and m not in PLAN.calibrated
+            ],
             PLAN.unavailable,
         )
     except InputError as _exc:

@@ -66,6 +66,8 @@ rule robots:
         answers=[f"{robot_results(r)}/verdict/answer.csv" for r in ROBOTS],
         headlines=[f"{robot_results(r)}/verdict/headline.yaml" for r in ROBOTS],
         simulators=[f"{robot_results(r)}/simulators/table.csv" for r in ROBOTS],
+        # the settings files each robot's simulators' answer links to
+        settings=[f"{robot_results(r)}/simulators/settings" for r in ROBOTS],
     output:
         table="results/robots/benchmark.csv",
         agreement="results/robots/agreement.csv",

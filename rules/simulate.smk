@@ -12,7 +12,7 @@ for _rule, _outputs, _stem, _fixed in PLAN.simulate_units():
         name:
             _rule
         input:
-            unpack(lambda wc, fixed=_fixed: PLAN.case_inputs(*[PLAN.unit(wc, fixed)[i] for i in (0, 2, 3)])),
+            unpack(lambda wc, fixed=_fixed: PLAN.unit_inputs(*PLAN.unit(wc, fixed))),
         output:
             _outputs,
         log:

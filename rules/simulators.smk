@@ -15,11 +15,14 @@ rule simulators:
             if not PLAN.verdict and SETTINGS.drive_dir and PLAN.config["simulators"]["drive"]
             else {}
         ),
+        **({"split": f"{PLAN.CALIBRATION_DIR}/split.csv"} if PLAN.calibration_spaces else {}),
         catalog=PLAN.config["simulators"]["catalog"],
         validation="results/validation/summary.csv",
         gains="results/validation/gains.csv",
         rtf=PLAN.metrics_file("lab", "rtf"),
         cpu=expand("results/cpu/{engine}.json", engine=PLAN.engines),
+        # the calibrated profiles' fits and the split whose test runs judge every row held out
+        calibrations=PLAN.calibration_files(),
     output:
         table=report("results/simulators/table.csv", caption="captions/simulators.rst", category="Simulators"),
         outcomes="results/simulators/outcomes.csv",
@@ -43,6 +46,7 @@ rule simulator_settings:
     input:
         catalog=PLAN.config["simulators"]["catalog"],
         table="results/simulators/table.csv",
+        calibrations=PLAN.calibration_files(),
     output:
         directory("results/simulators/settings"),
     log:
@@ -61,9 +65,12 @@ rule simulator_settings:
 
 
 rule simulator_tree:
-    """The decision tree with simulators as its leaves (simpick.score.tree over results/simulators/subjects)."""
+    """The decision tree with simulators as its leaves (simpick.score.tree over results/simulators/subjects), each
+    leaf naming the profile its answers ask for: the calibrated one where they ask for closeness to the robot."""
     input:
         tree_dir="results/simulators/subjects",
+        table="results/simulators/table.csv",
+        settings="results/simulators/settings",
     output:
         tree="results/simulators/tree.json",
     log:
@@ -75,3 +82,52 @@ rule simulator_tree:
         code=PLAN.script_code("simulator_tree"),
     script:
         "../scripts/simulator_tree.py"
+
+
+# The calibrated profiles (simpick.studies.simulator_calibration): the committed segments' runs split as the
+# calibration splits them, then per simulator its turning settings fitted on the training runs within what it
+# exposes (resources/simulators/calibration.yaml), placed by the anisotropic Coulomb model and confirmed on its
+# engine in 2-4 steady-turn runs. Its validate and simulate jobs read the fit and merge its settings.
+if PLAN.calibration_spaces:
+
+    rule simulator_split:
+        input:
+            segments=SETTINGS.real_data.segments,
+        output:
+            f"{PLAN.CALIBRATION_DIR}/split.csv",
+        log:
+            "results/logs/simulators/split.log",
+        conda:
+            "../envs/simpick.yaml"
+        params:
+            **PLAN.simulator_split_params(),
+            code=PLAN.script_code("simulator_split"),
+        script:
+            "../scripts/simulator_split.py"
+
+    rule simulator_calibrate:
+        input:
+            split=f"{PLAN.CALIBRATION_DIR}/split.csv",
+            segments=SETTINGS.real_data.segments,
+            urdf=PLAN.config["robot"]["urdf"],
+        output:
+            f"{PLAN.CALIBRATION_DIR}/{{simulator}}.yaml",
+        log:
+            "results/logs/simulators/calibrate/{simulator}.log",
+        benchmark:
+            "results/benchmarks/simulators/calibrate/{simulator}.tsv"
+        wildcard_constraints:
+            simulator="|".join(PLAN.simulators),
+        conda:
+            "../envs/simpick.yaml"
+        threads: 1
+        resources:
+            mem_mb=600,
+            runtime=20,
+        params:
+            case=lambda wc: PLAN.simulator_calibrate_params(wc.simulator),
+            code=lambda wc: PLAN.script_code(
+                "simulator_calibrate", *PLAN.engine_modules(PLAN.catalog.simulators[wc.simulator].engine)
+            ),
+        script:
+            "../scripts/simulator_calibrate.py"

@@ -8,7 +8,8 @@
 
 rule validate:
     input:
-        urdf=PLAN.config["robot"]["urdf"],
+        # a calibrated profile's jobs read its fit too, and merge its settings at run time
+        unpack(lambda wc: PLAN.validation_inputs(wc.engine)),
     output:
         PLAN.validation_results("{engine}"),
     log:

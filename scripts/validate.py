@@ -8,4 +8,5 @@ with logged(snakemake.log[0]):
         snakemake.input.urdf,
         snakemake.params.case,
         timeout=runtime_timeout(snakemake.resources.get("runtime")),
+        calibrated=dict(snakemake.input.items()).get("calibrated"),
     )

@@ -122,7 +122,8 @@ SLOW_ENGINES = {"dart", "drake", "newton", "genesis"}
 def pytest_collection_modifyitems(config, items):
     for item in items:
         params = item.callspec.params.values() if hasattr(item, "callspec") else ()
-        slow_file = item.path.name in ("test_dart_engine.py", "test_new_engines.py")
+        # test_gzphysics.py: DART under Gazebo's settings, in a program make test builds and make test-fast does not
+        slow_file = item.path.name in ("test_dart_engine.py", "test_new_engines.py", "test_gzphysics.py")
         if slow_file or any(isinstance(v, str) and v in SLOW_ENGINES for v in params):
             item.add_marker(pytest.mark.slow)
 

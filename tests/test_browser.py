@@ -238,6 +238,7 @@ SIMULATOR_FAILS = {  # analytic cases failed (of 6): the out-of-the-box simulato
     "mujoco": 0,
     "drake": 0,
     "coppeliasim": 3,
+    "morse": 3,
     "genesis": 0,
 }
 
@@ -299,4 +300,44 @@ def test_the_ros2_paths_of_the_simulators_tree_end_at_a_simulator_that_passes_me
         node = tree["nodes"][next(a for a in node["answers"] if a["label"] == label)["next"]]
     pick = page.get_attribute("#sc-pick", "data-engine")
     assert pick in meets and pick in leaf["engines"]
+    page.close()
+
+
+def test_the_pick_names_the_calibrated_profile_and_its_file_where_closeness_is_asked(
+    browser, simulators_study, tmp_path
+):
+    """The simulators' tree with each leaf's profiles (simpick.score.tree.name_profiles): answered as the
+    report's ROS 2 paths answer it (closeness demanded), the page lists the leaf's simulators with the profile
+    its answers ask for, MuJoCo's calibrated profile with its settings and file."""
+    from simpick.report.simulators import leaf_for
+    from simpick.score.tree import name_profiles
+    from test_report_simulators import write_simulators
+
+    folder = write_simulators(tmp_path / "simulators")
+    tree = name_profiles(read_tree(simulators_study["tree"]), pd.read_csv(folder / "table.csv"), folder / "settings")
+    ros = "Yes; an official plugin built by hand will do"
+    leaf = leaf_for(tree, {"ros": ros})
+    assert "mujoco" in leaf["engines"] and any(s["question"] == "closeness" for s in leaf["path"])
+    mujoco = next(p for p in leaf["profiles"] if p["simulator"] == "mujoco")
+    assert mujoco["variant"] == "calibrated" and mujoco["text"] == (
+        "MuJoCo, calibrated: friction_ratio 0.70, impratio 10 "
+        "(settings file results/simulators/settings/mujoco-calibrated.xml)"
+    )
+    page_file = tmp_path / "page.html"
+    page_file.write_text(choose_page(tree, pd.read_csv(simulators_study["weighted"]), WEIGHTS))
+    page = browser.new_page()
+    page.goto(page_file.as_uri())
+    page.wait_for_selector("#simpick-choose[data-ready=true]")
+    node = tree["nodes"][tree["root"]]
+    while node["kind"] == "question":
+        q = node["question"]
+        label = (
+            ros
+            if q == "ros"
+            else (node["answers"][0]["label"] if q in ("closeness", "mechanics") else node["answers"][-1]["label"])
+        )
+        answer(page, q, label)
+        node = tree["nodes"][next(a for a in node["answers"] if a["label"] == label)["next"]]
+    shown = page.locator("#sc-profiles li[data-engine=mujoco]")
+    assert shown.get_attribute("data-variant") == "calibrated" and shown.inner_text() == mujoco["text"]
     page.close()

@@ -53,7 +53,11 @@ def tiny_paths(workdir):
         "reference": config["reference"],
         "qualitative": config["qualitative"],
         "real_data": config["real_data"] | {"segments": str(ROOT / config["real_data"]["segments"])},
-        "simulators": {"catalog": config["simulators"]["catalog"]},  # every simulator the engines allow
+        # every simulator the engines allow
+        "simulators": {
+            "catalog": config["simulators"]["catalog"],
+            "calibration": str(ROOT / "resources/simulators/calibration.yaml"),
+        },
     }
 
 

@@ -577,7 +577,8 @@ def test_an_engine_that_is_not_installed_is_reported_with_the_fix(monkeypatch):
     from simpick import engines
 
     assert engines.unavailable(CONFIG["engines"]) == {}  # this machine runs every engine of the default study
-    assert set(engines.REQUIREMENTS) == set(ADAPTERS)  # every adapter says what it needs
+    # every adapter says what it needs, the profiles' engines too
+    assert set(engines.REQUIREMENTS) == set(ADAPTERS) | set(engines.PROFILE_ADAPTERS)
     monkeypatch.setitem(engines.REQUIREMENTS, "drake", "no_such_module_for_simpick")
     monkeypatch.setitem(engines.REQUIREMENTS, "ode", "simpick.engines._ode:no_such_loader")
     found = engines.unavailable(["drake", "ode", "mujoco"])

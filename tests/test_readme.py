@@ -96,6 +96,7 @@ def test_the_rules_that_declare_resources_are_the_ones_the_docs_name():
         "sweep_segments",
         "calibrate",
         "calibration_evaluate",
+        "simulator_calibrate",
         "compare",
         "summarise",
         "verdict",

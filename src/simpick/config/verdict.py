@@ -30,8 +30,15 @@ class Simulators(Strict):
         description="simulators whose profiles the study runs; null: every one whose engine the study "
         "runs (an engine the study leaves out leaves its simulators out, named in the report)",
     )
-    variants: list[Literal["shipped", "tuned"]] = Field(
-        ["shipped", "tuned"], description="which profiles of each simulator run"
+    variants: list[Literal["shipped", "tuned", "calibrated"]] = Field(
+        ["shipped", "tuned", "calibrated"],
+        description="which profiles of each simulator run; calibrated: fitted on training runs of the real robot "
+        "(needs the study's calibration section and its committed segments)",
+    )
+    calibration: str = Field(
+        "resources/simulators/calibration.yaml",
+        description="per simulator, the settings its users can set that move the steady turning, each with its "
+        "bounds and source: the calibrated profile's search space (simpick.studies.simulator_calibration)",
     )
     drive: bool = Field(
         False,

@@ -27,6 +27,14 @@ ADAPTERS = {
     "genesis": "simpick.engines.genesis_engine:GenesisEngine",
 }
 
+# Engines that run only behind simulators' profiles (simpick.engines.simulators), never as engines of the study:
+# not in the config's engines: block, the lab scenario or the CPU-load runs. gz-physics is DART under Gazebo's
+# own settings, a compiled program (make gzphysics), and the study already measures DART as an engine (dartpy),
+# so the Gazebo (gz-sim) profiles are its only rows. A study runs them wherever the engine can run.
+PROFILE_ADAPTERS = {
+    "gzphysics": "simpick.engines.gzphysics_engine:GzPhysicsEngine",
+}
+
 # Reference models (simpick.engines.baselines): same interface, but formulas, not simulators.
 # They join the real-data comparison (config ``baselines``) and are never scored.
 REFERENCE_MODELS = {
@@ -46,6 +54,7 @@ REQUIREMENTS = {
     "dart": "dartpy",
     "physx": "sapien",
     "drake": "pydrake",
+    "gzphysics": "simpick.engines.gzphysics_engine:require_program",
     # their own venvs (make engine-venvs): found there, or importable here
     "newton": "simpick.engines.isolated:require_newton",
     "genesis": "simpick.engines.isolated:require_genesis",
@@ -85,10 +94,11 @@ def get_engine(name: str) -> Engine:
     from simpick.engines.simulators import engine_of
 
     name = engine_of(name)
-    known = {**ADAPTERS, **REFERENCE_MODELS}
+    known = {**ADAPTERS, **PROFILE_ADAPTERS, **REFERENCE_MODELS}
     if name not in known:
         raise KeyError(
-            f"unknown engine {name!r}; known engines: {sorted(ADAPTERS)}, reference models: {sorted(REFERENCE_MODELS)}"
+            f"unknown engine {name!r}; known engines: {sorted(ADAPTERS)}, profiles' engines: "
+            f"{sorted(PROFILE_ADAPTERS)}, reference models: {sorted(REFERENCE_MODELS)}"
         )
     module, cls = known[name].split(":")
     return getattr(importlib.import_module(module), cls)()

@@ -13,7 +13,7 @@ from typing import Any, Literal
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from simpick.engines.simulators import SIMULATORS, VARIANTS, model_name
+from simpick.engines.simulators import CATALOG_VARIANTS, SIMULATORS, VARIANTS, model_name
 
 
 class _Strict(BaseModel):
@@ -108,14 +108,16 @@ class Catalog(_Strict):
     path: str
 
     def profile(self, simulator: str, variant: str) -> Profile:
-        return getattr(self.simulators[simulator], variant)
+        """A variant's catalog profile (the calibrated variant's is the tuned one it starts from)."""
+        return getattr(self.simulators[simulator], _catalog_variants(variant)[-1])
 
     def settings(self, simulator: str, variant: str, robot: str | None = None) -> dict[str, Any]:
         """The adapter settings of a profile for ``robot`` (URDF name): the tuned profile is the
-        shipped one with the tuned values over it."""
+        shipped one with the tuned values over it; the calibrated profile starts from the tuned one (its
+        fitted values come from a job: simpick.studies.simulator_calibration)."""
         sim = self.simulators[simulator]
         out: dict[str, Any] = {}
-        for v in VARIANTS[: VARIANTS.index(variant) + 1]:
+        for v in _catalog_variants(variant):
             profile = getattr(sim, v)
             out.update({k: s.value for k, s in profile.settings.items()})
             if robot is not None:
@@ -126,7 +128,7 @@ class Catalog(_Strict):
         """setting -> (the profile that sets it, its entry), as :meth:`settings` merges them."""
         sim = self.simulators[simulator]
         out: dict[str, tuple[str, Setting]] = {}
-        for v in VARIANTS[: VARIANTS.index(variant) + 1]:
+        for v in _catalog_variants(variant):
             profile = getattr(sim, v)
             out.update({k: (v, s) for k, s in profile.settings.items()})
             if robot is not None:
@@ -140,6 +142,14 @@ class Catalog(_Strict):
         """Profile model names (``gazebo-shipped``) of ``simulators`` (default: every runnable one)."""
         names = self.runnable() if simulators is None else simulators
         return [model_name(s, v) for s in names for v in variants]
+
+
+def _catalog_variants(variant: str) -> tuple[str, ...]:
+    """The catalog's profiles a variant's settings merge, in order: the calibrated one's are the tuned one's."""
+    if variant not in VARIANTS:
+        raise KeyError(f"no simulator variant {variant!r}; the variants are {VARIANTS}")
+    stop = "tuned" if variant == "calibrated" else variant
+    return CATALOG_VARIANTS[: CATALOG_VARIANTS.index(stop) + 1]
 
 
 class CatalogError(ValueError):
@@ -183,8 +193,8 @@ def load_catalog(path: str | Path) -> Catalog:
         if sim.engine is None:
             continue
         model = get_engine(sim.engine).settings_model
-        robots = {r for v in VARIANTS for r in getattr(sim, v).robots}
-        for variant in VARIANTS:
+        robots = {r for v in CATALOG_VARIANTS for r in getattr(sim, v).robots}
+        for variant in CATALOG_VARIANTS:
             for robot in [None, *sorted(robots)]:
                 settings = catalog.settings(name, variant, robot)
                 try:

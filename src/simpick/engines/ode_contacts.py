@@ -54,8 +54,23 @@ def near_callback(owner) -> _ode.dNearCallback:
     axles = owner.axles if ratio != 1.0 else {}  # empty: the isotropic path, unchanged
     r2 = ratio * ratio
 
+    limit = surface_limits(owner)
+
     if owner.wheel_directions:
-        return _ode.dNearCallback(_wheel_near(owner, contact_state=(collide, create, attach, stride)))
+        return _ode.dNearCallback(_wheel_near(owner, contact_state=(collide, create, attach, stride), limit=limit))
+
+    if not owner.slip_directions and limit is not None:
+
+        def near(_data, g1, g2):
+            contacts = surface_of.get(g1) or surface_of.get(g2) or robot_contacts
+            n = collide(g1, g2, max_contacts, contacts[0], stride)
+            if n:
+                b1, b2 = body_of.get(g1), body_of.get(g2)
+                for i in range(n):
+                    limit(contacts[2][i])
+                    attach(create(world, group, contacts[1][i]), b1, b2)
+
+        return _ode.dNearCallback(near)
 
     if not owner.slip_directions:
 
@@ -112,9 +127,45 @@ def near_callback(owner) -> _ode.dNearCallback:
                         c[MU] = contacts[3]
                         if s2 <= min_slip2:
                             c[MU2] = c[MU]
+                if limit is not None:
+                    limit(c)
                 attach(create(world, group, contacts[1][i]), b1, b2)
 
     return _ode.dNearCallback(near)
+
+
+def surface_limits(owner):
+    """Per-body contact limits (OdeSettings.contact_max_vel / contact_min_depth) on one contact, or None when
+    neither is set.
+
+    Gazebo Classic hands each link's collision surface <max_vel> and <min_depth> to its ODE fork per body
+    (ODELink::UpdateSurface: dBodySetMaxVel, dBodySetMinDepth), and the fork's contact joint takes the depth less
+    the body's min_depth in place of the world's surface layer (deps/opende/src/joints/contact.cpp,
+    dxJointContact::getInfo2). ODE 0.16 has only the world's layer, so the contact's depth is shifted here so
+    that ODE's subtraction of the world's layer leaves depth - min_depth. ``contact_max_vel`` lowers the
+    contact's ERP (dContactSoftERP) so that ERP x depth / step does not exceed it: ODE 0.16's own cap, on
+    position and velocity alike (the fork's quickstep caps only the velocity: OdeSettings)."""
+    s = owner.settings
+    if s.contact_max_vel is None and s.contact_min_depth is None:
+        return None
+    real = ctypes.sizeof(_ode.dReal)
+    D = (_ode.dContact.geom.offset + _ode.dContactGeom.depth.offset) // real
+    E = (_ode.dContact.surface.offset + _ode.dSurfaceParameters.soft_erp.offset) // real
+    shift = s.contact_surface_layer - (
+        s.contact_min_depth if s.contact_min_depth is not None else s.contact_surface_layer
+    )
+    max_vel = s.contact_max_vel
+    fps = 1.0 / owner.dt
+    erp = owner.contact_erp  # the contact's ERP before the cap: its own soft ERP, or the world's
+
+    def limit(c) -> None:
+        depth = c[D] + shift  # ODE subtracts the world's layer from this: depth - min_depth remains
+        c[D] = depth
+        if max_vel is not None:
+            pushout = depth - s.contact_surface_layer
+            c[E] = erp if pushout <= 0 else min(erp, max_vel / (fps * pushout))
+
+    return limit
 
 
 def elliptic(c, wheel, mu, nx, ny, nz, vx, vy, vz, sliding, ratio, r2, F, MU, MU2) -> None:
@@ -144,7 +195,7 @@ def elliptic(c, wheel, mu, nx, ny, nz, vx, vy, vz, sliding, ratio, r2, F, MU, MU
         c[MU], c[MU2] = mu, ratio * mu
 
 
-def _wheel_near(owner, contact_state):
+def _wheel_near(owner, contact_state, limit=None):
     """The callback of ``friction_direction`` "wheel": a driven wheel's contacts get fdir1 along the
     wheel's rolling direction and mu2 = friction_ratio x mu across it (the pyramid turned with the
     wheel, as an SDF <fdir1> along the wheel sets it); every other contact gets dPlaneSpace's fdir1
@@ -184,6 +235,8 @@ def _wheel_near(owner, contact_state):
                         k = 1.0 / math.sqrt(nx * nx + ny * ny)
                         c[F], c[F + 1], c[F + 2] = -ny * k, nx * k, 0.0
                     c[MU] = c[MU2] = contacts[3]
+                if limit is not None:
+                    limit(c)
                 attach(create(world, group, contacts[1][i]), b1, b2)
 
     return near

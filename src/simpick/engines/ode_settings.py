@@ -129,6 +129,18 @@ class OdeSettings(EngineSettings):
     # combines two surfaces' <mu> (ODEPhysics.cc): a contact gets min(ground, surface_mu). None: the
     # ground's coefficient alone (simpick's terrains carry the whole coefficient).
     surface_mu: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None
+    # The robot's per-body contact limits, as Gazebo Classic sets them from each link's collision surface
+    # (SDF <surface><contact><ode><max_vel>, default 0.01 m/s, and <min_depth>, default 0 m; ODESurfaceParams.cc:30)
+    # through its ODE fork's dBodySetMaxVel / dBodySetMinDepth (ODELink::UpdateSurface). In the fork a body's
+    # min_depth replaces the world's contact_surface_layer (contact.cpp, dxJointContact::getInfo2), as
+    # contact_min_depth does here, per contact in the collision callback (ode_contacts.surface_limits).
+    # contact_max_vel caps the contact's push-out (ERP x depth / step) as ODE 0.16 caps it with the world's
+    # contact_max_correcting_vel, position and velocity alike; the fork's quickstep caps only the velocity left
+    # after the step and corrects the position with the full ERP (quickstep.cpp, dxQuickStepper), which ODE 0.16
+    # cannot do: measured, 0.01 m/s here sank the Warthog 6.5 cm at rest, so the Gazebo Classic profile leaves it
+    # unset. None: the world's values alone (ODE's way).
+    contact_max_vel: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None  # m/s
+    contact_min_depth: Annotated[float, Field(ge=0, allow_inf_nan=False)] | None = None  # m
 
     @model_validator(mode="after")
     def _one_softness(self):

@@ -119,6 +119,7 @@ class OdeWorld:
             | (_ode.dContactMu2 if self.coulomb or self.wheel_directions else 0)
             | (_ode.dContactSlip1 | _ode.dContactSlip2 if slip > 0 else 0)
             | (_ode.dContactSoftERP | _ode.dContactSoftCFM if soft else 0)
+            | (_ode.dContactSoftERP if s.contact_max_vel is not None else 0)  # the per-body cap (ode_contacts)
             | (_ode.dContactBounce if s.contact_bounce > 0 else 0)
         )
         if s.contact_kp is not None:  # SDF <kp>/<kd> as Gazebo Classic turns them into ERP and CFM
@@ -127,6 +128,7 @@ class OdeWorld:
         else:  # given directly; an unset one is the world's
             soft_erp = s.erp if s.contact_soft_erp is None else s.contact_soft_erp
             soft_cfm = s.cfm if s.contact_soft_cfm is None else s.contact_soft_cfm
+        self.contact_erp = soft_erp  # a contact's ERP before a per-body max_vel caps it (ode_contacts)
 
         def contacts_for(mu: float) -> tuple:
             if mu not in buffers:
@@ -135,7 +137,7 @@ class OdeWorld:
                     c.surface.mode = mode
                     c.surface.mu = c.surface.mu2 = mu  # both rows bounded by mu unless sliding ("coulomb")
                     c.surface.slip1 = c.surface.slip2 = slip
-                    if soft:
+                    if soft or s.contact_max_vel is not None:
                         c.surface.soft_erp, c.surface.soft_cfm = soft_erp, soft_cfm
                     c.surface.bounce, c.surface.bounce_vel = s.contact_bounce, s.contact_bounce_vel
                 self._keep.append(array)

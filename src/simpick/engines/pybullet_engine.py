@@ -29,10 +29,26 @@ and the gain is 0.51 (the Coulomb value for Bullet's own one-edge contact layout
 thus varies with heading with a period of 90 deg (long-run mean ~0.26 for 0.478). Upstream:
 bullet3 PR #4539 (open) and bullet3 issue #2590. No PyBullet setting changes it: enableConeFriction=0
 (world-aligned pyramid) over-turns (0.69, |f| up to 1.1 mu N), the Dantzig MLCP solver, friction
-anchors, 200 solver iterations and mesh cylinders leave it; useMaximalCoordinates collapses the
-URDF into one rigid body without wheel joints. Also: a rolling implicit cylinder touches the plane
-at one point, always the same (-y) edge of every wheel, which shifts the contact layout 56 mm to
-the right of the wheel centres.
+anchors, 200 solver iterations and mesh cylinders leave it. Also: a rolling implicit cylinder touches
+the plane at one point, always the same (-y) edge of every wheel, which shifts the contact layout 56 mm
+to the right of the wheel centres.
+
+Maximal coordinates, as CoppeliaSim and MORSE build a robot (rigid bodies joined by constraints), would
+remove the artefact: Bullet's rigid-body solver gives a sliding contact its friction row along the slip
+(btSequentialImpulseConstraintSolver, velocity-dependent friction direction). PyBullet builds such a robot
+with loadURDF(useMaximalCoordinates=True) (a btRigidBody per link, a btGeneric6DofSpring2Constraint per
+joint; bullet3 6c888f4a examples/SharedMemory/PhysicsServerCommandProcessor.cpp:3416-3436) and drives a
+joint through the constraint's angular motor (:7796-7804), but the in-process DIRECT client this adapter
+uses parses only multibodies into joint info (PhysicsDirect.cpp:706): the robot reports no joints and
+every motor call is refused (pybullet.c:2619-2651; tests/test_bullet_simulators.py). The shared-memory
+client sees the joints, yet the server reports a rigid-body robot's base only (no wheel speeds,
+PhysicsServerCommandProcessor.cpp:8122-8172) and each command is a round trip of 1.7-4 ms here. Measured
+that way (bench/bullet_rows.py maximal; 5 ms, 100 iterations, mu 0.8, Coulomb 0.478; five commands and
+headings) the maximal Husky turns at 0.46-0.59 of the command, the multibody at 0.01-0.28, and each 6 s run
+costs 18-47 s of wall time against about 1 s (its wheels also turn the other way for the same target: the
+rigid-body motor's sense is the opposite of the multibody's). So the Bullet
+simulators' rows (CoppeliaSim, MORSE) run this multibody at their own step and solver constants
+(PyBulletSettings time_step, sub_steps, contact_erp).
 """
 
 from __future__ import annotations
@@ -43,7 +59,15 @@ from typing import Annotated
 import numpy as np
 from pydantic import Field
 
-from simpick.engines.base import FRICTION, FRICTION_RATIO, BaseStates, Calibratable, EngineSettings, Scenario
+from simpick.engines.base import (
+    FRICTION,
+    FRICTION_RATIO,
+    BaseStates,
+    Calibratable,
+    EngineSettings,
+    Scenario,
+    engine_step_multiple,
+)
 from simpick.engines.kinematics import rotation_matrices
 from simpick.engines.runner import Adapter
 
@@ -84,6 +108,28 @@ class PyBulletSettings(EngineSettings):
     # it raises the gain, but Bullet's world-aligned friction rows keep it low and heading-dependent
     # (r 0.63, 4 s: 0.45 / 0.41 / 0.21 from headings 0 / 112.5 / -135 turning left).
     friction_ratio: Annotated[float, Field(gt=0, le=2, allow_inf_nan=False)] = 1.0
+    # s, Bullet's own step (setPhysicsEngineParameter fixedTimeStep), a whole multiple of physics.timestep
+    # (simpick.engines.base.engine_step_multiple, as Drake's time_step): the run still records every
+    # physics step, the state held between Bullet's steps, and each Bullet step reads the command of the
+    # physics step it starts on. None: physics.timestep (the default run, 1 ms). A simulator's own step:
+    # CoppeliaSim 5 ms, MORSE 1/60 s (resources/simulators/simulators.yaml).
+    time_step: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None
+    # setPhysicsEngineParameter numSubSteps: Bullet splits each step into this many substeps of equal
+    # length (Blender's game engine: physics_step_sub, MORSE 2). 0: one step, PyBullet's own default.
+    sub_steps: Annotated[int, Field(ge=0, le=100)] = 0
+    # setPhysicsEngineParameter contactERP: the share of a contact's penetration corrected per step, None:
+    # PyBullet's 0.08 (bullet3 6c888f4a examples/SharedMemory/PhysicsServerCommandProcessor.cpp:2800). The
+    # multibody's contacts read btContactSolverInfo::m_erp2 (btMultiBodyConstraintSolver.cpp:541); Bullet
+    # 2.78's rigid contacts read m_erp, 0.2, split impulse being off (bullet3 8bc27b39f, the 2.78 release:
+    # btContactSolverInfo.h:73, 77; btSequentialImpulseConstraintSolver.cpp:568-582), Bullet 2.84's m_erp2, 0.2
+    # (tag 2.84: btContactSolverInfo.h:80; btSequentialImpulseConstraintSolver.cpp:785). Measured on the Husky
+    # (0.5 s at (0.5, 0.5), rigid contacts, CoppeliaSim's row at 5 ms): PyBullet's 0.08 instead of 0.2 moves the
+    # base by up to 9.9 mm and its yaw rate by 0.038 rad/s (MORSE's row at 60 Hz: 0.05 mm, 0.0013 rad/s).
+    # What the Bullet 2.x simulators also fix and the multibody does not read (measured: bit-identical traces
+    # when changed): the joint ERP m_erp (the Husky has no joint limit), split impulse (commented out in
+    # btMultiBodyConstraintSolver.cpp:812-824) and the rigid bodies' warm starting factor (a multibody's contacts
+    # warm-start only through articulatedWarmStartingFactor, a keyword PyPI's PyBullet 3.2.7 does not accept).
+    contact_erp: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] | None = None
 
 
 # getJointStates costs about half a Bullet step; wheel speeds are read every 10th step (the
@@ -217,10 +263,12 @@ class PyBulletEngine(Adapter):
         # plane translates forward without turning (measured: 1.38 m, 0.02 rad in 10 s; without
         # it 1.23 rad). Runs are deterministic without it: the world is built in a fixed order
         # (tests/test_determinism.py).
+        solver = {} if settings.contact_erp is None else {"contactERP": settings.contact_erp}
         pb.setPhysicsEngineParameter(
-            fixedTimeStep=scenario.timestep,
-            numSubSteps=0,
+            fixedTimeStep=scenario.timestep * engine_step_multiple(settings.time_step, scenario.timestep),
+            numSubSteps=settings.sub_steps,
             numSolverIterations=settings.solver_iterations,
+            **solver,
             physicsClientId=cid,
         )
         self._build_terrain(pb, cid, scenario)
@@ -339,7 +387,13 @@ class PyBulletWorld:
         self.pb, self.cid, self.bodies, self.wheel_index = pb, cid, bodies, wheel_index
         self.body0 = bodies[scenario.recorded_robot]
         self.torque = [scenario.max_wheel_torque] * len(wheel_index)
-        self.k = 0  # steps taken
+        self.k = 0  # physics steps taken (scenario.timestep each)
+        # physics steps per Bullet step (PyBulletSettings.time_step); above 1 the state is held between
+        # Bullet's steps and read once after each of them (self.held)
+        self.every = engine_step_multiple(
+            PyBulletSettings.of(scenario.settings, PyBulletEngine.name).time_step, scenario.timestep
+        )
+        self.held: tuple | None = None
 
     def set_wheel_targets(self, speeds: np.ndarray) -> None:
         pb, cid = self.pb, self.cid
@@ -355,13 +409,31 @@ class PyBulletWorld:
 
     def step(self, n: int = 1) -> None:
         step, cid = self.pb.stepSimulation, self.cid
-        for _ in range(n):
+        if self.every == 1:
+            for _ in range(n):
+                step(physicsClientId=cid)
+            self.k += n
+            return
+        # Bullet steps on the physics steps k = 0, every, 2 every ... (each advancing every x timestep)
+        bullet_steps = -(-(self.k + n) // self.every) - (-(-self.k // self.every))
+        for _ in range(bullet_steps):
             step(physicsClientId=cid)
+        if bullet_steps:
+            self.held = None
         self.k += n
 
     def read(self) -> tuple:
-        """(pose, velocity, wheel joint states or None): the wheels every WHEEL_SAMPLE_EVERY steps."""
+        """(pose, velocity, wheel joint states or None): the wheels every WHEEL_SAMPLE_EVERY steps; with
+        a coarser Bullet step (self.every > 1), everything once after each Bullet step, then held."""
         pb, cid, body = self.pb, self.cid, self.body0
+        if self.every > 1:
+            if self.held is None:
+                self.held = (
+                    pb.getBasePositionAndOrientation(body, physicsClientId=cid),
+                    pb.getBaseVelocity(body, physicsClientId=cid),
+                    pb.getJointStates(body, self.wheel_index, physicsClientId=cid),
+                )
+            return self.held
         wheels = (
             pb.getJointStates(body, self.wheel_index, physicsClientId=cid) if self.k % WHEEL_SAMPLE_EVERY == 0 else None
         )

@@ -1,7 +1,7 @@
 """Simulators as rows: the simulators a mobile roboticist picks, each run through the engine it ships.
 
 A simulator is not an engine: Gazebo runs DART with its own defaults, Gazebo Classic and Webots run
-ODE with theirs, Isaac Sim runs PhysX. simpick reproduces each through its engine's adapter, twice:
+ODE with theirs, Isaac Sim runs PhysX. simpick reproduces each through its engine's adapter, in three profiles:
 
 * ``shipped``: the engine with the settings the simulator applies by default and, where the robot's
   maker publishes simulator tags (Clearpath's Gazebo tags for the Husky and the Warthog), those tags;
@@ -19,17 +19,19 @@ adapter that reproduces it. The facts, defaults and sources are data
 
 from __future__ import annotations
 
-VARIANTS = ("shipped", "tuned")
+VARIANTS = ("shipped", "tuned", "calibrated")
+# the variants the catalog writes down; the calibrated profile starts from the tuned one
+CATALOG_VARIANTS = ("shipped", "tuned")
 SEPARATOR = "-"
 
-# simulator -> the engine adapter (simpick.engines.ADAPTERS) that reproduces its physics; None: a
+# simulator -> the engine adapter (simpick.engines.ADAPTERS, or PROFILE_ADAPTERS) that reproduces its physics; None: a
 # simulator whose physics simpick cannot reproduce (it keeps its row, with the reason, in the catalog)
 SIMULATORS: dict[str, str | None] = {
-    "gazebo": "dart",  # gz-sim: gz-physics' dartsim plugin, its default engine
+    "gazebo": "gzphysics",  # gz-sim: gz-physics' dartsim plugin, its default engine, itself (Fortress's build)
     "gazebo_classic": "ode",  # Gazebo Classic 11: ODE by default (the paper's Gazebo)
     "webots": "ode",  # Webots: its own fork of ODE
     "coppeliasim": "pybullet",  # CoppeliaSim: Bullet 2.78 (the paper's choice) by default
-    "morse": None,  # MORSE: Bullet inside the Blender Game Engine; not reproduced (catalog: why)
+    "morse": "pybullet",  # MORSE: Bullet 2.8x inside the Blender Game Engine, 60 Hz with 2 substeps
     "isaac_sim": "physx",  # Isaac Sim / Isaac Lab 2: PhysX 5
     "isaac_lab_newton": "newton",  # Isaac Lab 3 with its Newton backend
     "mujoco": "mujoco",  # MuJoCo itself (with its ROS 2 control bridge)

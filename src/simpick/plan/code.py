@@ -12,7 +12,7 @@ from __future__ import annotations
 import os
 
 from simpick.codeversion import job_code, modules, script_roots
-from simpick.engines import ADAPTERS, REFERENCE_MODELS
+from simpick.engines import ADAPTERS, PROFILE_ADAPTERS, REFERENCE_MODELS
 from simpick.engines.simulators import engine_of
 
 
@@ -34,11 +34,11 @@ class CodePlanning:
     @staticmethod
     def engine_modules(engine):
         """The modules of a model that the registry reaches by name only: its adapter (simpick.engines
-        ADAPTERS, REFERENCE_MODELS), every module of simpick.engines named after the engine
+        ADAPTERS, PROFILE_ADAPTERS, REFERENCE_MODELS), every module of simpick.engines named after the engine
         (``<engine>_*``, ``_<engine>*``, a ``<engine>`` package), and the engines' shared base and
         runner. What these import counts too (simpick.codeversion); no other engine's adapter does."""
         engine = engine_of(engine)
-        adapter = {**ADAPTERS, **REFERENCE_MODELS}[engine].split(":")[0]
+        adapter = {**ADAPTERS, **PROFILE_ADAPTERS, **REFERENCE_MODELS}[engine].split(":")[0]
         found = {adapter}
         for name in modules():
             parts = name.split(".")

@@ -112,6 +112,7 @@ class JobPlanning:
             "seed": self.settings.seed,
             "verdict": self.settings.verdict,
             "drive": drive,
+            "calibrated_left_out": self.calibrated_left_out,
         }
         return job_params("simulators", SimulatorsParams, _plain(data))
 

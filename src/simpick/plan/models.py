@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import importlib
 
-from simpick.engines import get_engine, unavailable
+from simpick.engines import PROFILE_ADAPTERS, get_engine, unavailable
 from simpick.engines.catalog import load_catalog
-from simpick.engines.simulators import MODEL_SETTINGS, engine_of, model_name
+from simpick.engines.simulators import MODEL_SETTINGS, SEPARATOR, engine_of, model_name
 from simpick.plan.errors import PlanError
 
 
@@ -54,11 +54,18 @@ class ModelPlanning:
         # the profiles' full settings, keyed by profile name, join the plain settings beside the engines' block
         # (simpick.sources.base.model_settings reads a model's settings there): no section of the typed study
         # holds them
+        self.calibrated_left_out = self._calibrated_left_out()
+        variants = [v for v in simulators.variants if v != "calibrated" or not self.calibrated_left_out]
         config["profiles"] = {  # keyed by profile name: the plan's own settings (above)
             model_name(sim, variant): self._profile_settings(sim, variant)
             for sim in self.simulators
-            for variant in simulators.variants
+            for variant in variants
         }
+        # The calibrated profiles (simpick.studies.simulator_calibration): per simulator, whether a setting it
+        # exposes moves its turning here ({simulator: why not} for the others). Their fitted values come from a
+        # job, so their plan-time settings are the tuned ones: one with settings to fit runs as a model of its
+        # own (its jobs merge the fit's file at run time), one without reads its tuned profile's results.
+        self.calibration_spaces, self.calibrated, self.calibrated_why_not = self._calibration_spaces(variants)
         # A profile whose settings are exactly its engine's in this study (MuJoCo and Drake as tuned: every
         # setting simpick's engine block makes is an MJCF attribute or a Drake tag) runs nothing of its own:
         # its figures are the engine's, the same traces (a run is deterministic in its settings).
@@ -66,11 +73,21 @@ class ModelPlanning:
         self.profile_results = {}
         profiles = config["profiles"]  # keyed by profile name (set above)
         for p, settings in profiles.items():
+            if p in self.calibrated:  # its settings are the fit's, known only when its job has run
+                self.profile_results[p] = p
+                continue
+            if p.endswith(f"{SEPARATOR}calibrated"):  # nothing to fit: the tuned profile is the best it reaches
+                self.profile_results[p] = self.profile_results[p.rsplit(SEPARATOR, 1)[0] + f"{SEPARATOR}tuned"]
+                continue
             same = [
                 m
                 for m, s in [
                     (engine_of(p), configured.get(engine_of(p))),
-                    *((q, profiles[q]) for q in self.profile_results if self.profile_results[q] == q),
+                    *(
+                        (q, profiles[q])
+                        for q in self.profile_results
+                        if self.profile_results[q] == q and q not in self.calibrated
+                    ),
                 ]
                 if s == settings
             ]
@@ -90,6 +107,38 @@ class ModelPlanning:
         settings = model | self.catalog.settings(simulator, variant, self.robot.name)
         return get_engine(engine).settings_model.model_validate(settings).model_dump(mode="json")
 
+    def _calibrated_left_out(self) -> str:
+        """Why this study runs no calibrated profile (empty when it does): it fits on the committed segments of
+        the real robot, with the calibration's split."""
+        if "calibrated" not in self.settings.simulators.variants:
+            return "not in simulators.variants"
+        if self.settings.calibration is None:
+            return "the study has no calibration section (its split: test_fraction, seed, target classes)"
+        if not self.real_data_robot or not self.settings.real_data.segments:
+            return (
+                "no real runs of this robot to fit on here (the committed segments are the Husky's); "
+                "a calibration on DRIVE's steps is not built"
+            )
+        return ""
+
+    def _calibration_spaces(self, variants):
+        """(search spaces, calibrated profiles with settings to fit, {simulator: why its calibrated profile fits
+        nothing}) over the run simulators (simpick.studies.simulator_calibration.resolve)."""
+        from simpick.studies.simulator_calibration import load_search_spaces, resolve
+
+        if "calibrated" not in variants or not self.simulators:
+            return {}, [], {}
+        path = self.settings.simulators.calibration
+        spaces = load_search_spaces(path)
+        fitted, why_not = [], {}
+        for sim in self.simulators:
+            ok, why = resolve(path, sim, spaces.get(sim), self.catalog.simulators[sim].engine)
+            if ok:
+                fitted.append(model_name(sim, "calibrated"))
+            else:
+                why_not[sim] = why
+        return spaces, fitted, why_not
+
     def _simulators(self):
         """(simulators whose profiles run, {simulator: why not} for the catalog's others)."""
         wanted = self.settings.simulators.run
@@ -101,6 +150,16 @@ class ModelPlanning:
                 out[name] = sim.not_reproduced
             elif sim.engine in self.unavailable:
                 out[name] = f"its engine {sim.engine} cannot run here: {self.unavailable[sim.engine]}"
+            elif sim.engine in PROFILE_ADAPTERS:
+                # an engine that runs only behind profiles: checked here, as the configured ones are above
+                why = unavailable([sim.engine]).get(sim.engine)
+                adapter = get_engine(sim.engine)
+                if why is not None:
+                    out[name] = f"its engine {sim.engine} cannot run here: {why}"
+                elif self.robot.suspension and not adapter.simulates_suspension:
+                    out[name] = f"its engine {sim.engine} does not simulate {self.robot.name}'s passive suspension"
+                else:
+                    run.append(name)
             elif sim.engine not in self.engines:
                 out[name] = f"its engine {sim.engine} is not among this study's engines"
             else:
@@ -163,3 +222,62 @@ class ModelPlanning:
             "session": session,
         }
         return job_params("drive_replay", SessionReplayParams, data)
+
+    # --- the calibrated profiles (rules/simulators.smk: simulator_split, simulator_calibrate) ---
+
+    CALIBRATION_DIR = "results/simulators/calibration"
+
+    def calibration_file(self, simulator: str) -> str:
+        """The fit of a simulator's calibrated profile (rule simulator_calibrate)."""
+        return f"{self.CALIBRATION_DIR}/{simulator}.yaml"
+
+    def calibration_files(self) -> list[str]:
+        """Every run simulator's fit (its searchable false ones say why and what they reach)."""
+        return [self.calibration_file(s) for s in self.simulators] if self.calibration_spaces else []
+
+    def calibrated_input(self, model: str) -> dict:
+        """A model's jobs' extra input: a calibrated profile's fit, whose settings they merge at run time."""
+        if model in self.calibrated:
+            return {"calibrated": self.calibration_file(model.rsplit(SEPARATOR, 1)[0])}
+        return {}
+
+    def unit_inputs(self, source, engine, group, names):
+        """The files a simulate job reads: its source's (case_inputs) and a calibrated profile's fit."""
+        return self.case_inputs(source, group, names) | self.calibrated_input(engine)
+
+    def validation_inputs(self, engine):
+        """The files a validate job reads: the robot and a calibrated profile's fit."""
+        return {"urdf": self.config["robot"]["urdf"]} | self.calibrated_input(engine)
+
+    def simulator_split_params(self) -> dict:
+        """Rule simulator_split's params: the calibration's test share and seed."""
+        cal = self.settings.calibration
+        return {"test_fraction": float(cal.test_fraction), "seed": int(cal.seed)}
+
+    def simulator_calibrate_params(self, simulator: str) -> dict:
+        """Rule simulator_calibrate's params (simpick.studies.simulator_calibration.CalibrateParams)."""
+        from simpick.plan.jobs import job_params
+        from simpick.studies.simulator_calibration import CalibrateParams
+
+        study = self.settings
+        space = self.calibration_spaces.get(simulator)
+        tuned = model_name(simulator, "tuned")
+        data = {
+            "simulator": simulator,
+            "engine": engine_of(tuned),
+            "robot_name": self.robot.name,
+            "source": f"segments-{self.dataset}",
+            "engine_settings": self.config["profiles"][tuned],
+            "physics": {"timestep": study.physics.timestep},
+            "robot": self._robot(),
+            "searchable": model_name(simulator, "calibrated") in self.calibrated,
+            "why_not": self.calibrated_why_not.get(simulator),
+            "space": space.model_dump(mode="json") if space is not None else {"searchable": False, "why_not": "-"},
+            # the target's firm classes; none named: every class (calibration.target.classes)
+            "classes": list(study.calibration.target.classes or study.real_data.classes),
+            "grounds": {
+                c: float(study.real_data.classes[c].friction)
+                for c in (study.calibration.target.classes or study.real_data.classes)
+            },
+        }
+        return job_params("simulator_calibrate", CalibrateParams, data)

@@ -219,6 +219,37 @@ def _tree_leaves(data: ReportData) -> list[dict] | None:
     return leaf_rows(data.tree, {e: float(t) for e, t in data.weighted["total"].items()})
 
 
+def _title(config: ReportConfig, simulators: bool) -> str:
+    """The question the page answers: which simulator, where the study runs simulators, else which engine."""
+    robot = config.robot.label
+    if simulators:
+        name = robot or config.robot.name or "robot"
+        return f"simpick: which simulator reproduces the {name} on its real runs, and with which settings?"
+    return f"simpick: which physics engine reproduces the {robot} best?" if robot else DEFAULT_TITLE
+
+
+def _simulator_answer(
+    folder: str | None, answer: dict[str, Any], robot: str, units: str
+) -> tuple[dict[str, Any] | None, list[dict]]:
+    """The simulators' answer and its sentences from the simulators' table (results/simulators/table.csv, its
+    settings folder beside it): (None, []) where the study runs no simulator. The robot's run-to-run spread
+    of its gain, where the table has none, is the verdict's gain margin (the same figure)."""
+    if not folder or not (Path(folder) / "table.csv").is_file():
+        return None, []
+    import pandas as pd
+
+    from simpick.score.profiles import simulator_answer
+    from simpick.score.sentences import simulator_sentences
+
+    gain = next((m for m in answer.get("metrics") or [] if m["key"] == "gain_error"), None)
+    found = simulator_answer(
+        pd.read_csv(Path(folder) / "table.csv"),
+        Path(folder) / "settings",
+        spread=gain["margin"] if gain else None,
+    )
+    return found, simulator_sentences(found, robot, f"real {units}")
+
+
 def _robot(config: ReportConfig) -> dict[str, Any]:
     """name, label, track; real_data_robot: whose the real data are, when not the study's robot's."""
     return config.robot.model_dump(mode="json")
@@ -271,22 +302,30 @@ def build_context(data: ReportData, params: Mapping[str, Any] | ReportParams) ->
         )
         turnmap = Path(p.drive) / "turnmap.png"
         turnmap_uri = figures.data_uri(turnmap) if turnmap.is_file() else None
+    units = (data.verdict_headline or {}).get("units") or "runs"
+    answer = answer_section(
+        data.verdict.get("answer"),
+        data.verdict.get("outcomes"),
+        data.verdict_sentences,
+        engines,
+        figures.data_uri(data.figures["answer"]) if "answer" in data.figures else None,
+        sections,
+        (data.verdict_headline or {}).get("basis"),
+        units,
+    ) | {"cpu_robots": _cpu_robots(data)}
+    label = p.config.robot.label or p.config.robot.name or "robot"
+    simulator_answer, simulator_sentences = _simulator_answer(p.simulators, answer, label, units)
     return {
+        # the first page's answer on the simulators (simpick.score.profiles.simulator_answer): None where the
+        # study runs none, and the engines' answer is the page's
+        "simulator_answer": simulator_answer,
+        "simulator_sentences": simulator_sentences,
+        "simulator_units": units,
         # the DRIVE comparison (simpick.report.steps): the verdict against the real robot where its
         # steps were replayed, with the turn map (simpick.report.turnmap) beside it
         "drive": drive,
         "turnmap_uri": turnmap_uri,
-        "answer": answer_section(
-            data.verdict.get("answer"),
-            data.verdict.get("outcomes"),
-            data.verdict_sentences,
-            engines,
-            figures.data_uri(data.figures["answer"]) if "answer" in data.figures else None,
-            sections,
-            (data.verdict_headline or {}).get("basis"),
-            (data.verdict_headline or {}).get("units") or "runs",
-        )
-        | {"cpu_robots": _cpu_robots(data)},
+        "answer": answer,
         "tree_uri": figures.data_uri(data.figures["tree"]) if "tree" in data.figures else None,
         # the printed tree's leaves by the weighted total (the figure reads no weight: a weight edit
         # changes this table, not the figure; simpick.report.tree_figure)
@@ -297,12 +336,7 @@ def build_context(data: ReportData, params: Mapping[str, Any] | ReportParams) ->
         # one self-contained fragment, hidden in print where figures/tree.png stands for it
         "interactive": _interactive(data, weights, p.simulators or None),
         "validation": validation_headline(data.validation, engines),
-        "title": p.title
-        or (
-            f"simpick: which physics engine reproduces the {p.config.robot.label} best?"
-            if p.config.robot.label
-            else DEFAULT_TITLE
-        ),
+        "title": p.title or _title(p.config, simulator_answer is not None),
         "robot": robot,
         "generated": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         "engines": engines,

@@ -25,7 +25,7 @@ from simpick.score.verdict import METRICS
 from simpick.tables import write_csv
 
 TEMPLATE = "robots.html.j2"
-KINDS = {"engine": "Engines", "simulator": "Simulators (as shipped and as tuned)"}
+KINDS = {"engine": "Engines", "simulator": "Simulator profiles (as shipped, tuned and calibrated)"}
 
 
 def _read_csv(path: str, what: str) -> pd.DataFrame:
@@ -140,11 +140,77 @@ class RobotsParams(JobParams):
     pooling: Pooling = Field(Pooling(), description="how outcomes are pooled over the robots")
 
 
+def simulators_per_robot(
+    frames: dict[str, pd.DataFrame],
+    labels: dict[str, str],
+    units: dict[str, str],
+    settings: dict[str, tuple[str, str]] | None = None,
+) -> dict[str, Any]:
+    """Which simulator reproduces each robot, side by side: per robot its simulators' answer (the closest
+    profile, shipped, tuned or calibrated, on its held-out runs, with its settings file:
+    simpick.score.profiles.simulator_answer) and its sentence; per simulator a row with each robot's pick.
+    ``frames``: robot -> its simulators' table; ``units``: what its real data's units are called; ``settings``:
+    robot -> (its settings folder, the link to it from the page)."""
+    from simpick.score.profiles import simulator_answer
+    from simpick.score.sentences import simulator_sentences
+
+    robots = list(frames)
+    answers = {}
+    for robot, frame in frames.items():
+        folder, link = (settings or {}).get(robot, (None, ""))
+        answers[robot] = simulator_answer(frame, folder, link=link)
+    leads = []
+    for robot in robots:
+        said = simulator_sentences(answers[robot], labels[robot], f"real {units.get(robot) or 'runs'}")
+        a = answers[robot]
+        leads.append(
+            {
+                "robot": labels[robot],
+                "text": said[0]["text"] if said else f"No simulator can be named: {a['why_none']}.",
+                "files": said[0]["files"] if said else [],
+                "no_calibrated": a.get("no_calibrated", ""),
+            }
+        )
+    names: dict[str, str] = {}
+    for a in answers.values():
+        for s in a["simulators"]:
+            names.setdefault(s["simulator"], s["label"])
+    rows = []
+    for simulator, label in names.items():
+        cells = []
+        for robot in robots:
+            s = next((s for s in answers[robot]["simulators"] if s["simulator"] == simulator), None)
+            if s is None:
+                cells.append({"text": "not in its study"})
+            elif not s["ran"]:
+                cells.append({"text": "not run: " + (s["not_run"][0]["why"] if s["not_run"] else "–")})
+            elif s["best"] is None:
+                cells.append({"text": "not measured on its real data"})
+            else:
+                cells.append({"pick": s["best"], "spread": answers[robot]["spread"]})
+        rows.append({"simulator": simulator, "label": label, "cells": cells})
+    # the simulators by their best pick over the robots, those measured on no robot last
+    rows.sort(key=lambda r: min((c["pick"]["error"] for c in r["cells"] if "pick" in c), default=math.inf))
+    return {
+        "given": any(a["given"] for a in answers.values()),
+        "robots": [labels[r] for r in robots],
+        "leads": leads,
+        "rows": rows,
+        "heldout": {labels[r]: answers[r].get("heldout", False) for r in robots},
+    }
+
+
 def build_page(
-    robots: list[RobotShown], answers: list[str], headlines: list[str], simulators: list[str], min_robots: int = 2
+    robots: list[RobotShown],
+    answers: list[str],
+    headlines: list[str],
+    simulators: list[str],
+    min_robots: int = 2,
+    settings: list[tuple[str, str]] | None = None,
 ) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
     """(the side-by-side rows, the agreement rows, the page's context) from each robot's files, in the
-    order of ``robots`` (the rule's params)."""
+    order of ``robots`` (the rule's params); ``settings``: per robot its simulators' settings folder and the
+    link to it from the page, where the rule gives them."""
     if not (len(robots) == len(answers) == len(headlines) == len(simulators)):
         raise ValueError("one answer, headline and simulators' table per robot")
     names = [r.name for r in robots]
@@ -170,6 +236,13 @@ def build_page(
         sections.append({"kind": kind, "title": title, "tables": tables, "findings": _findings(agree, kind)})
     no_simulators = [labels[n] for n in names if not (side[side.robot == n].kind == "simulator").any()]
     context = {
+        # the question first: which simulator, per robot, with which settings file
+        "simulator_answers": simulators_per_robot(
+            simulator_frames,
+            labels,
+            {n: str(heads[n].get("units") or "runs") for n in names},
+            dict(zip(names, settings, strict=True)) if settings else None,
+        ),
         "no_simulators": no_simulators,
         "robots": [
             {
@@ -196,15 +269,20 @@ def render(context: dict) -> str:
 
 def robots_job(inputs: dict, params: dict, outputs: dict) -> None:
     """Rule robots: the tables, the page and its PDF."""
+    import os
+
     from simpick.report.render import write_pdf
 
     p = RobotsParams.model_validate(params)
+    page = Path(outputs["html"]).parent
+    settings = [(str(f), os.path.relpath(f, page)) for f in inputs.get("settings") or []] or None
     side, agree, context = build_page(
         list(p.robots),
         list(inputs["answers"]),
         list(inputs["headlines"]),
         list(inputs["simulators"]),
         p.pooling.min_robots,
+        settings,
     )
     write_csv(side, outputs["table"])
     write_csv(agree, outputs["agreement"])

@@ -55,7 +55,15 @@ def ros_paths(tree: dict, labels: dict[str, str]) -> list[dict[str, str]]:
     for label in answers:
         leaf = leaf_for(tree, {"ros": label})
         names = [labels.get(e, e) for e in leaf.get("engines", [])]
-        out.append({"answer": label, "leaf": ", ".join(names) if names else "none"})
+        # the profile each simulator's leaf names (simpick.score.tree.name_profiles), where the tree has them
+        profiles = leaf.get("profiles") or []
+        out.append(
+            {
+                "answer": label,
+                "leaf": "; ".join(p["text"] for p in profiles) if profiles else (", ".join(names) or "none"),
+                "closest": [p["closest"] for p in profiles if p.get("closest")],
+            }
+        )
     return out
 
 
@@ -96,6 +104,14 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
                 "heading_error": _f(r.get("heading_error")),
                 "heading_outcome": OUTCOME_WORDS.get(str(r.get("heading_outcome")), "") if ran else "",
                 "runs_failed": int(r["runs_failed"]) if ran and pd.notna(r.get("runs_failed")) else 0,
+                # on the real runs no profile was fitted on (tables with calibrated profiles)
+                "heldout_error": _f(r.get("heldout_gain_error")),
+                "heldout_interval": (
+                    f"[{_f(r.get('heldout_gain_error_low'))}, {_f(r.get('heldout_gain_error_high'))}]"
+                    if ran and "heldout_gain_error" in r
+                    else ""
+                ),
+                "mechanics_own": str(r.get("mechanics_own") or "") if r["variant"] == "calibrated" and ran else "",
                 "settings": [f"../simulators/settings/{name}" for name in settings],
             }
         )
@@ -115,6 +131,8 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
     tree = read_tree(str(folder_path / "tree.json")) if (folder_path / "tree.json").is_file() else None
     return {
         "rows": rows,
+        "variants": sorted(set(table.variant.astype(str))),
+        "heldout": "heldout_gain_error" in table.columns and table.heldout_gain_error.notna().any(),
         "weighted": weighted,
         "ros_paths": ros_paths(tree, labels) if tree else [],
         "not_run": sorted({r["label"]: r["status"] for r in rows if not r["ran"]}.items()),

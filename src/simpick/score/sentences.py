@@ -339,3 +339,128 @@ def basis_sentence(basis: AnswerBasis | dict | None, n: int, left_out: list[str]
     if others:
         text += f"; the study's other real data ({_and(others)}) are compared in their own section, not here"
     return text + "."
+
+
+# --------------------------------------------------------------------------
+# The simulators' answer: which simulator, as shipped, tuned or calibrated, and with which settings
+# --------------------------------------------------------------------------
+
+
+def _e(x) -> str:
+    """A gain error as the simulators' table prints it (three decimals)."""
+    return "–" if x is None or not np.isfinite(float(x)) else f"{float(x):.3f}"
+
+
+def _profile(p: dict) -> str:
+    """A simulator's profile as a sentence names it: ``Gazebo Classic, calibrated (friction_ratio 0.62)``."""
+    text = f"{p['label']}, {p['variant']}"
+    return text + (f" ({p['settings']})" if p.get("settings") else "")
+
+
+def _against_spread(p: dict, spread: float | None) -> str:
+    """A profile's gain error against the robot's own run-to-run spread of its gain."""
+    interval = f" [{_e(p['low'])}, {_e(p['high'])}]" if p.get("low") is not None else ""
+    text = f"{_e(p['error'])}{interval}"
+    if spread is None or p.get("spread_ratio") is None:
+        return text
+    if p.get("within"):
+        return f"{text}, within the robot's own spread of {_e(spread)}"
+    return f"{text}, {p['spread_ratio']:.1f} times the robot's own spread of {_e(spread)}"
+
+
+def simulator_sentences(answer: dict, robot: str, noun: str = RUNS) -> list[dict]:
+    """The first page's sentences on the simulators (simpick.score.profiles.simulator_answer
+    of the simulators' table): the closest profile and its settings, the closest per variant, where a simulator
+    cannot move its turning within its own settings, a profile that fits the runs by breaking its mechanics,
+    and why no calibrated profile is there. Each names the table's figures it rests on."""
+    if not answer.get("given"):
+        return []
+    spread, lead = answer.get("spread"), answer["lead"]
+    runs = lead.get("runs")
+    # held-out: the real runs no profile was fitted on; else every real run (no profile saw any)
+    counted = f"{int(runs)} " if runs else ""
+    over = f"{counted}held-out {units(noun)}" if answer["heldout"] else f"{counted}{noun}"
+    metric = "yaw-rate gain error"
+    text = f"Closest to the real {robot} on {over}: {_profile(lead)}, {metric} {_against_spread(lead, spread)}"
+    if not lead["passes"]:
+        text += f"; it {lead['mechanics']}, so no simulator reproduced here passes mechanics"
+    said = [
+        {
+            "need": "closest",
+            "title": "Which simulator",
+            "text": text + ".",
+            "files": lead["files"],
+            "rests_on": [f"simulators/table.csv: {lead['simulator']} {lead['variant']} {answer['metric']}"],
+        }
+    ]
+    per_variant = [
+        f"{p['words']}, {p['label']} ({_e(p['error'])}"
+        + (f", {p['spread_ratio']:.1f}x the spread" if p.get("spread_ratio") is not None else "")
+        + ("" if p["passes"] else f"; {p['mechanics']}")
+        + ")"
+        for v, p in answer["by_variant"].items()
+    ]
+    if len(per_variant) > 1:
+        said.append(
+            {
+                "need": "variants",
+                "title": ", ".join(answer["by_variant"]).capitalize(),
+                "text": "The closest simulator " + "; ".join(per_variant) + ".",
+                "files": [],
+                "rests_on": [f"simulators/table.csv: {answer['metric']} per variant"],
+            }
+        )
+    fixed = [
+        (s, p)
+        for s in answer["simulators"]
+        for p in s["profiles"]
+        if p["variant"] == "calibrated" and p["not_settable"]
+    ]
+    if fixed:
+        said.append(
+            {
+                "need": "not_settable",
+                "title": "Where the settings cannot move the turning",
+                "text": "; ".join(
+                    f"{s['label']} cannot move its turning within its own settings ({p['not_settable']}): the best "
+                    f"it reaches is {_e(s['best']['error'])} ({s['best']['variant']})"
+                    for s, p in fixed
+                )
+                + ".",
+                "files": [],
+                "rests_on": ["simulators/table.csv: turning_settable"],
+            }
+        )
+    broken = [
+        (s, p)
+        for s in answer["simulators"]
+        for p in s["profiles"]
+        if not p["passes"] and p["error"] is not None and s["best"] is not None and p["error"] < s["best"]["error"]
+    ]
+    if broken:
+        said.append(
+            {
+                "need": "broken",
+                "title": "Fits by breaking mechanics",
+                "text": "; ".join(
+                    f"{_profile({**p, 'label': s['label']})} comes closer ({_e(p['error'])}), but {p['mechanics']}: "
+                    "never the pick"
+                    for s, p in broken
+                )
+                + ".",
+                "files": [],
+                "rests_on": ["simulators/table.csv: mechanics, mechanics_own"],
+            }
+        )
+    if answer.get("no_calibrated"):
+        said.append(
+            {
+                "need": "no_calibrated",
+                "title": "No calibrated profile",
+                "text": answer["no_calibrated"][0].upper() + answer["no_calibrated"][1:] + "; the answer rests on the "
+                "shipped and tuned profiles.",
+                "files": [],
+                "rests_on": ["simulators/table.csv: variant, status"],
+            }
+        )
+    return said

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -56,6 +57,17 @@ TABLE_COLUMNS = [
     "n_runs",
     "runs_failed",
     "settings_file",
+    # judged on the held-out runs only (the calibration's split: no run of them reached any fit), every row alike
+    "heldout_gain_error",
+    "heldout_gain_error_low",
+    "heldout_gain_error_high",
+    "heldout_runs",
+    "real_spread",
+    "within_spread",
+    "heldout_heading_error",
+    "calibrated_settings",
+    "turning_settable",
+    "mechanics_own",
 ]
 
 
@@ -98,6 +110,7 @@ class SimulatorsParams(JobParams):
     seed: Annotated[int, Field(ge=0, lt=2**32)]
     verdict: Verdict
     drive: DriveJudging | None = Field(None, description="DRIVE's judging; None: the study has no DRIVE folder")
+    calibrated_left_out: str = Field("", description="why the study runs no calibrated profile (empty: it does)")
 
 
 class SimulatorSettingsParams(JobParams):
@@ -140,7 +153,7 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
     # every model the real data compare: the engines and the profiles that simulate (aliases read their engine)
     models = engines + [m for m in dict.fromkeys(results.values()) if m not in engines]
     mechanics = mechanics_table(summary, models)
-    outcomes = pd.DataFrame()
+    outcomes, tests = pd.DataFrame(), None
     if inputs.get("per_test") and Path(inputs["per_test"]).is_file():
         tests = read_per_test(inputs["per_test"])
         walls = {metric: per_run_values(tests, metric) for metric in METRICS}
@@ -177,6 +190,8 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
     write_csv(mechanics, outputs["mechanics"])
     write_csv(outcomes, outputs["outcomes"])
 
+    heldout = _heldout(inputs, tests if len(outcomes) else None, verdict, statistics, p.seed)
+    fits = _fits(inputs)
     rows = []
     for name, sim in catalog.simulators.items():
         for variant in VARIANTS:
@@ -186,7 +201,10 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
                 rows.append(dict(base, model="", status=f"not run: {left_out.get(name, 'not selected')}"))
                 continue
             if profile not in results:
-                rows.append(dict(base, model="", status="not run: variant not selected (simulators.variants)"))
+                why = p.calibrated_left_out if variant == "calibrated" and p.calibrated_left_out else ""
+                rows.append(
+                    dict(base, model="", status=f"not run: {why or 'variant not selected (simulators.variants)'}")
+                )
                 continue
             model = results[profile]
             m = _first(mechanics, engine=model)
@@ -215,9 +233,104 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
                 else:
                     row[f"{prefix}_error"], row[f"{prefix}_outcome"] = o["mean"], o["outcome"]
             row["settings_file"] = files.get(profile, "")
+            row.update(heldout(model))
+            row.update(_calibration_columns(fits.get(name), variant, row, summary, results, name))
             rows.append(row)
     write_csv(pd.DataFrame(rows, columns=TABLE_COLUMNS), outputs["table"])
     _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs)
+
+
+def read_split(path: str | Path) -> tuple[list[str], list[str]]:
+    """(training runs, test runs), each ``class/run``."""
+    split = pd.read_csv(path, dtype={"run": str, "unit": str})
+    key = split.terrain_class.astype(str) + "/" + split.run.astype(str)
+    train = sorted(set(key[split.set == "train"]))
+    test = sorted(set(key[split.set == "test"]))
+    both = sorted(set(train) & set(test))
+    if both:
+        raise ValueError(f"{path}: runs on both sides of the split: {both}")
+    return train, test
+
+
+def _heldout(inputs: dict, tests: pd.DataFrame | None, verdict: dict, statistics: dict, seed: int):
+    """model -> its held-out columns: the gain error over the split's test runs with its BCa interval (NaN
+    below statistics.min_runs runs), their number, the real robot's run-to-run spread of its gain (the verdict's
+    gain margin, over every run), whether the error is within it, and the heading error on the same runs."""
+    from simpick.compare.realmetrics import mean_ci, statistics_settings
+    from simpick.score.equivalence import margin
+    from simpick.score.verdict.runs import run_key
+
+    empty = dict.fromkeys(
+        ("heldout_gain_error", "heldout_gain_error_low", "heldout_gain_error_high", "real_spread"), math.nan
+    ) | {"heldout_runs": 0, "within_spread": "", "heldout_heading_error": math.nan}
+    if tests is None or not inputs.get("split") or not Path(inputs["split"]).is_file():
+        return lambda model: dict(empty)
+    _, test_runs = read_split(inputs["split"])
+    min_runs, level = statistics_settings(statistics)
+    spread, _ = margin(tests, "gain_error", verdict["margins"]["gain_error"])
+    ok = tests[tests.status.astype(str) == "ok"] if "status" in tests else tests
+    ok = ok[run_key(ok).isin(set(test_runs))]
+
+    def columns(model: str) -> dict:
+        own = ok[ok.engine == model]
+        gain = pd.to_numeric(own.get("gain_error", pd.Series(dtype=float)), errors="coerce")
+        runs = run_key(own)
+        mean, low, high, n = mean_ci(gain.to_numpy(float), runs.to_numpy(object), min_runs, level, seed)
+        heading = pd.to_numeric(own.get("heading_error", pd.Series(dtype=float)), errors="coerce")
+        heading_mean, *_ = mean_ci(heading.to_numpy(float), runs.to_numpy(object), 10**9, level, seed)
+        return {
+            "heldout_gain_error": mean,
+            "heldout_gain_error_low": low,
+            "heldout_gain_error_high": high,
+            "heldout_runs": n,
+            "real_spread": spread,
+            "within_spread": bool(mean <= spread) if np.isfinite(mean) and np.isfinite(spread) else "",
+            "heldout_heading_error": heading_mean,
+        }
+
+    return columns
+
+
+def _fits(inputs: dict) -> dict[str, dict]:
+    """simulator -> its calibration file (results/simulators/calibration/<simulator>.yaml)."""
+    files = inputs.get("calibrations") or []
+    files = [files] if isinstance(files, str) else list(files)
+    return {Path(f).stem: yaml.safe_load(Path(f).read_text()) for f in files if Path(f).is_file()}
+
+
+def _failed_cases(summary: pd.DataFrame, model: str) -> tuple[set[str], int]:
+    """(the analytic cases a model fails, how many it ran) in the validation summary."""
+    own = summary[
+        (summary.engine == model) & (summary.status.astype(str) != "skipped") & (summary.kind != "invariance")
+    ]
+    from simpick.score.mechanics import _bool
+
+    return set(own.case[~_bool(own.passed)].astype(str)), int(own.case.nunique())
+
+
+def _calibration_columns(fit: dict | None, variant: str, row: dict, summary, results, simulator) -> dict:
+    """A row's calibrated_settings, turning_settable and mechanics_own: for the calibrated row, its validation
+    against the mechanics of its own parameters (the yaw-gain cases against the Coulomb gain of its fitted ratio)
+    and, where it fails a case its tuned profile passes, that it fits by breaking mechanics."""
+    out = {"calibrated_settings": "", "turning_settable": "", "mechanics_own": ""}
+    if fit is not None:
+        out["turning_settable"] = "yes" if fit.get("searchable") else f"no: {fit.get('why_not') or 'not searched'}"
+        if variant == "calibrated":
+            out["calibrated_settings"] = "; ".join(f"{k}={v}" for k, v in (fit.get("settings") or {}).items())
+    model = row.get("model")
+    if not model:
+        return out
+    failed, n = _failed_cases(summary, model)
+    if not n:
+        out["mechanics_own"] = "not validated"
+        return out
+    out["mechanics_own"] = f"passes {n - len(failed)}/{n}"
+    tuned = results.get(model_name(simulator, "tuned"))
+    if variant == "calibrated" and tuned and tuned != model:
+        broken = sorted(failed - _failed_cases(summary, tuned)[0])
+        if broken:
+            out["mechanics_own"] += f"; breaks mechanics its tuned profile keeps: {', '.join(broken)}"
+    return out
 
 
 def _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs) -> None:
@@ -274,6 +387,16 @@ def _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs) 
     write_csv(pd.DataFrame(rows, columns=rtf.columns), out / "rtf.csv")
 
 
+def exposed_settings_text(settings: Mapping[str, Any], entries: Mapping, title: list[str]) -> str:
+    """A profile of a simulator without a settings file format (MORSE: a builder script sets its scene): each
+    setting the profile states, as its user sets it (the catalog's exposed_as), with simpick's value and source."""
+    lines = [f"# {line}" for line in title]
+    for key, (_, entry) in entries.items():
+        lines.append(f"{entry.exposed_as}")
+        lines.append(f"    simpick {key} = {settings.get(key, entry.value)!r}; source: {entry.source}")
+    return "\n".join(lines) + "\n"
+
+
 def settings_files_job(inputs: dict, params: dict, output: str) -> None:
     """results/simulators/settings/: each run profile in its simulator's format (simpick.engines.simulator_files),
     headed by what it is, the robot, its flat-ground figures here and the command that regenerates it."""
@@ -285,9 +408,13 @@ def settings_files_job(inputs: dict, params: dict, output: str) -> None:
     out = Path(output)
     out.mkdir(parents=True, exist_ok=True)
     robot, wheels = p.robot, list(p.wheel_links)
+    fits = _fits(inputs)
     for profile, settings in p.profiles.items():
         simulator, variant = profile.rsplit("-", 1)
         sim = catalog.simulators[simulator]
+        if variant == "calibrated":
+            _calibrated_file(formats, sim, simulator, settings, fits.get(simulator), table, catalog, robot, wheels, out)
+            continue
         row = table[(table.simulator == simulator) & (table.variant == variant)]
         r = row.iloc[0] if len(row) else None
         figures = "not measured"
@@ -303,12 +430,80 @@ def settings_files_job(inputs: dict, params: dict, output: str) -> None:
             f"simpick settings: {sim.label}, {variant}, for {robot}",
             f"{sim.shipped.basis if variant == 'shipped' else sim.tuned.basis}",
             f"measured by simpick through {sim.simpick_build}: {figures}",
-            "regenerate: snakemake --cores 2 results/simulators/settings (docs/simulators.md)",
+            REGENERATE,
         ]
         entries = catalog.entries(simulator, variant, robot)
-        texts = formats.write(sim.settings_format, sim.engine, settings, entries, title, wheels)
+        if sim.settings_format is None:  # no file format of its own: where its user sets each value
+            texts = {"txt": exposed_settings_text(settings, entries, title)}
+        else:
+            texts = formats.write(sim.settings_format, sim.engine, settings, entries, title, wheels)
         for suffix, text in texts.items():
             (out / f"{profile}.{suffix}").write_text(text)
+
+
+# no double hyphen: the line heads XML comments too
+REGENERATE = "regenerate: snakemake -c 2 results/simulators/settings (docs/simulators.md)"
+
+
+def _num(x) -> str:
+    return f"{float(x):.3f}" if x is not None and np.isfinite(float(x)) else "n/a"
+
+
+def calibrated_header(sim, simulator: str, fit: dict, row) -> list[str]:
+    """The head of a calibrated profile's settings file: what it was fitted on, the fit, its held-out figures
+    beside the real robot's spread and its mechanics, and the command that regenerates it."""
+    f = fit.get("fit") or {}
+    lines = [
+        f"simpick settings: {sim.label}, calibrated, for {fit.get('robot')}",
+        f"fitted on {fit.get('source')}: training runs {', '.join(fit.get('train_runs') or [])}; the turning ones "
+        f"({', '.join(f.get('real_runs') or [])}) give the real steady yaw-rate gain {_num(f.get('real_gain'))}; "
+        f"held out: {', '.join(fit.get('test_runs') or [])}",
+    ]
+    if fit.get("searchable"):
+        trials = "; ".join(f"r {r} gain {g}" for r, g in f.get("trials") or [])
+        lines.append(
+            f"fit: anisotropic Coulomb places the ratio at {f.get('coulomb_ratio')}; engine trials {trials}; kept "
+            + ", ".join(f"{k} = {v}" for k, v in (fit.get("settings") or {}).items())
+            + f" (engine gain {_num(f.get('engine_gain'))}, "
+            + ("within" if f.get("reached") else "not within")
+            + f" {f.get('tolerance')} of the real gain)"
+        )
+        lines += [f"as {sim.label} sets it: {text}" for text in (fit.get("exposed") or {}).values()]
+    else:
+        lines.append(f"no setting fitted: {fit.get('why_not')}; these are the tuned settings, the best it reaches")
+    if row is not None:
+        runs = int(row["heldout_runs"]) if pd.notna(row.get("heldout_runs")) else 0
+        lines.append(
+            f"held out: gain error {_num(row.get('heldout_gain_error'))} [{_num(row.get('heldout_gain_error_low'))}, "
+            f"{_num(row.get('heldout_gain_error_high'))}] over {runs} runs against the robot's own "
+            f"spread {_num(row.get('real_spread'))} (within: {row.get('within_spread')}); heading error "
+            f"{_num(row.get('heldout_heading_error'))} rad; mechanics of its own parameters: {row.get('mechanics_own')}"
+        )
+    lines.append(REGENERATE)
+    return [line.replace("--", "-") for line in lines]
+
+
+def _calibrated_file(formats, sim, simulator, settings, fit, table, catalog, robot, wheels, out: Path) -> None:
+    """A calibrated profile's file: its tuned settings with the fit's over them, in the simulator's format."""
+    from simpick.engines import get_engine
+    from simpick.engines.catalog import Setting
+
+    if fit is None:
+        return
+    fitted = dict(fit.get("settings") or {})
+    settings = get_engine(sim.engine).settings_model.model_validate({**settings, **fitted}).model_dump(mode="json")
+    entries = dict(catalog.entries(simulator, "calibrated", robot))
+    for key, value in fitted.items():
+        text = (fit.get("exposed") or {}).get(key, "not exposed")
+        entries[key] = ("calibrated", Setting(value=value, exposed_as=text, source=f"fitted: {fit.get('source')}"))
+    row = table[(table.simulator == simulator) & (table.variant == "calibrated")]
+    header = calibrated_header(sim, simulator, fit, row.iloc[0].to_dict() if len(row) else None)
+    if sim.settings_format is None:  # no file format of its own (MORSE): where its user sets each value
+        texts = {"txt": exposed_settings_text(settings, entries, header)}
+    else:
+        texts = formats.write(sim.settings_format, sim.engine, settings, entries, header, wheels)
+    for suffix, text in texts.items():
+        (out / f"{model_name(simulator, 'calibrated')}.{suffix}").write_text(text)
 
 
 def simulator_scores_job(subjects: str, params: dict, outputs: dict) -> None:
@@ -329,7 +524,21 @@ def simulator_scores_job(subjects: str, params: dict, outputs: dict) -> None:
     )
 
 
-def simulator_tree_job(subjects: str, params: dict, output: str) -> None:
+def simulator_tree_job(subjects: str, params: dict, table: str, settings: str | None, output: str) -> None:
+    """Rule simulator_tree: the decision tree with the run simulators as its leaves (:func:`leaves_tree_job`),
+    each leaf naming the profile its answers ask for (simpick.score.tree.name_profiles, from the simulators'
+    table and its settings folder)."""
+    import json
+
+    from simpick.score.tree import _read_csv, name_profiles, read_tree
+
+    leaves_tree_job(subjects, params, output)
+    frame = _read_csv(table, ("simulator", "label", "variant", "status"), "the simulators' table")
+    tree = name_profiles(read_tree(output), frame, settings)
+    Path(output).write_text(json.dumps(tree, indent=1, allow_nan=False) + "\n")
+
+
+def leaves_tree_job(subjects: str, params: dict, output: str) -> None:
     """The decision tree with the run simulators as its leaves (simpick.score.tree over the subjects)."""
     from simpick.score.tree import decision_tree_job
 

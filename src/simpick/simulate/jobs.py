@@ -56,6 +56,10 @@ def simulate_job(
     its kind's model); ``inputs`` holds the files it reads. ``after_hung``: called once the hung traces are
     written, before the process ends (a job that compares its own traces, the sweep, does so then).
     ``start``: the first case to run (the cases before it were run by the process this one took over from)."""
+    from simpick.simulate.calibrated import with_calibrated
+
+    # a calibrated profile's fitted settings (its fit's file, an input) over its plan-time (tuned) settings
+    params, provenance = with_calibrated(params, inputs.get("calibrated"))
     unit = fields_of(UnitParams, params)
     if len(outputs) != len(unit.cases):
         raise ValueError(f"{len(unit.cases)} cases for {len(outputs)} outputs")
@@ -82,7 +86,7 @@ def simulate_job(
         with Watchdog(timeout, hung):
             frame, meta = run()
         # the fingerprint of the params as the rule gave them (simpick.seeds.config_hash)
-        meta = meta | which | {"config_hash": config_hash(params)}
+        meta = meta | which | provenance | {"config_hash": config_hash(params)}
         write_trace(frame, meta, output)
         done.append(meta)
     return done

@@ -120,7 +120,10 @@ def _yaw_gain(setup: Setup, p: ValidationCase):
     # body yaw rate: the angular velocity's component on the body z axis
     rate = np.einsum("nji,nj->ni", rotation_matrices(record.quaternion), record.angular_velocity)[:, 2]
     gain = rate[half:].mean() / w
-    layout = contact_layout(setup.robot, friction_ratio=1.0 if ratio is None else float(ratio))
+    # the mechanics of the set-up's own parameters: a case that sets no ratio is judged against the Coulomb
+    # solution with the model's own friction ratio (a calibrated profile's fitted one; 1 for every other)
+    own = float(dict(setup.settings).get("friction_ratio", 1.0))
+    layout = contact_layout(setup.robot, friction_ratio=own if ratio is None else float(ratio))
     analytic = yaw_rate_gain(layout, v, w, setup.track)
     extra = {} if ratio is None else {"friction_ratio": float(ratio)}
     return record, [_check("yaw_rate_gain", gain, analytic, v=v, w=w, mu=mu, heading=heading, **extra)]

@@ -35,7 +35,13 @@ class ValidateParams(JobParams):
     cases: dict[str, ValidationCase] = Field(description="case name -> its kind and settings, in the config's order")
 
 
-def validate_job(outputs: list[str], urdf: str | Path, params: dict, timeout: float = DEFAULT_TIMEOUT_S) -> list[dict]:
+def validate_job(
+    outputs: list[str],
+    urdf: str | Path,
+    params: dict,
+    timeout: float = DEFAULT_TIMEOUT_S,
+    calibrated: str | None = None,
+) -> list[dict]:
     """The workflow's per-engine job: every case of ``params`` (:class:`ValidateParams`) on one engine in one
     process (the robot and the engine's module are loaded once), one JSON record per case in ``outputs``
     (``.../{case}.json``), in the order of its cases.
@@ -45,7 +51,13 @@ def validate_job(outputs: list[str], urdf: str | Path, params: dict, timeout: fl
     case still running then is recorded as failed (hung) and the cases after it, which cannot run in the
     stopped process, as failed (not run), so the summary lists every case. A case whose engine raises is
     recorded as failed with the error (the traceback goes to the job's log) and the next case runs; a bad
-    case (its model refuses it) still stops the job."""
+    case (its model refuses it) still stops the job.
+
+    ``calibrated``: a calibrated profile's fit (simpick.studies.simulator_calibration), whose settings are merged
+    over the params' and recorded in every record."""
+    from simpick.simulate.calibrated import with_calibrated
+
+    params, provenance = with_calibrated(params, calibrated)
     p = ValidateParams.model_validate(params)
     cases = p.cases
     paths = {Path(p).stem: Path(p) for p in outputs}
@@ -84,6 +96,7 @@ def validate_job(outputs: list[str], urdf: str | Path, params: dict, timeout: fl
             except Exception as exc:  # noqa: BLE001 - recorded as the case's failure; the others run on
                 traceback.print_exc()
                 result = failed(name, f"crashed: {type(exc).__name__}: {exc}", time.perf_counter() - start)
+        result = result | provenance
         _write_record(paths[name], result)
         results.append(result)
     return results

@@ -211,6 +211,22 @@
       var leaf = el("ol", {"class": "sc-leaf", id: "sc-leaf"});
       ordered.forEach(function (e) { leaf.appendChild(el("li", {"data-engine": e, text: e})); });
       box.appendChild(leaf);
+      // the simulators' tree: the profile each leaf's answers ask for, with its settings file
+      // (simpick.score.tree.name_profiles); the calibrated one where they ask for closeness to the robot
+      if (node.profiles && node.profiles.length) {
+        var named = {};
+        node.profiles.forEach(function (p) { named[p.simulator] = p; });
+        var profiles = el("ul", {"class": "sc-profiles", id: "sc-profiles"});
+        ordered.forEach(function (e) {
+          var p = named[e];
+          if (p) {
+            profiles.appendChild(el("li", {"data-engine": e, "data-variant": p.variant,
+              text: p.text + (p.closest ? "; closest to the robot: " + p.closest : "")}));
+          }
+        });
+        box.appendChild(el("p", {text: "With its settings:"}));
+        box.appendChild(profiles);
+      }
       box.appendChild(el("p", {text: "Why, on the study's evidence:"}));
       box.appendChild(evidenceTable(ordered));
     }

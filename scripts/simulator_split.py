@@ -1,0 +1,10 @@
+from simpick.joblog import logged
+from simpick.studies.simulator_calibration import split_job
+
+with logged(snakemake.log[0]):
+    split_job(
+        snakemake.input.segments,
+        snakemake.params.test_fraction,
+        snakemake.params.seed,
+        snakemake.output[0],
+    )

@@ -1,0 +1,415 @@
+"""The calibrated simulator profile (simpick.studies.simulator_calibration): its search spaces hold only what each
+simulator exposes, each with its source; the split keeps every run on one side; the fit places the ratio by the
+anisotropic Coulomb model and moves the engine's gain toward the real one; the profile is judged against the
+mechanics of its own ratio; the table's held-out columns and the settings file's header."""
+
+import copy
+import math
+import re
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from conftest import ROOT, study_config
+from simpick.config import Study
+from simpick.coulomb import contact_layout, ratio_for_gain, with_friction_ratio, yaw_rate_gain
+from simpick.engines import get_engine
+from simpick.engines.catalog import load_catalog
+from simpick.engines.simulators import SIMULATORS, VARIANTS
+from simpick.inputs.robot import load_from_config
+from simpick.plan import Plan
+from simpick.score import simulators as stage
+from simpick.studies import simulator_calibration as cal
+from simpick.studies.validation.cases import Setup, run_case
+
+SPACES = ROOT / "resources/simulators/calibration.yaml"
+SEGMENTS = ROOT / "resources/real/borealtc_segments.csv"
+# what the robot's description or its controller fixes, never a simulator setting to fit
+NOT_THE_SIMULATOR_S = {"wheel_separation_multiplier", "track", "wheel_radius", "wheel_separation", "mass", "inertia"}
+LINE = re.compile(r"\S+\.\w+:\d+")  # a repository path with a line
+
+
+def _plan(config: dict) -> Plan:
+    return Plan(config, Study.model_validate(config), basedir=str(ROOT))
+
+
+def _config(run: list[str] | None = None) -> dict:
+    config = study_config()
+    config["robot"]["urdf"] = str(ROOT / config["robot"]["urdf"])
+    config["simulators"]["catalog"] = str(ROOT / "resources/simulators/simulators.yaml")
+    config["simulators"]["calibration"] = str(SPACES)
+    if run is not None:
+        config["simulators"]["run"] = run
+    return config
+
+
+@pytest.fixture(scope="module")
+def husky():
+    config = study_config()
+    config["robot"]["urdf"] = str(ROOT / config["robot"]["urdf"])
+    return load_from_config(config["robot"]), config["robot"]
+
+
+# --- the search spaces ---
+
+
+def test_every_runnable_simulator_has_a_search_space_of_exposed_settings_each_with_its_source():
+    spaces = cal.load_search_spaces(SPACES)
+    runnable = {name for name, engine in SIMULATORS.items() if engine is not None}
+    assert runnable <= set(spaces)
+    for name, space in spaces.items():
+        assert not set(space.settings) & NOT_THE_SIMULATOR_S, name
+        if not space.searchable:
+            assert LINE.search(space.why_not), (name, space.why_not)  # quoted from the source, with its line
+            continue
+        fields = get_engine(SIMULATORS[name]).settings_model.model_fields
+        for key, setting in space.settings.items():
+            assert setting.exposed_as.strip() and setting.source.strip(), (name, key)
+            assert LINE.search(setting.source) or "XMLreference" in setting.source, (name, key, setting.source)
+            if key in fields:  # bounds the adapter accepts
+                model = get_engine(SIMULATORS[name]).settings_model
+                for bound in setting.bounds:
+                    model.model_validate({key: bound, **{k: r.value for k, r in space.requires.items()}})
+            else:
+                assert space.if_unbound, (name, key)
+        for alternative in space.alternatives:
+            assert alternative.source.strip() and alternative.exposed_as.strip()
+    # the isotropic ones say so; the two-direction ones are searchable where their engine binds the ratio
+    for name in ("isaac_sim", "drake", "coppeliasim"):
+        assert spaces[name].searchable is False
+    for name in ("gazebo_classic", "webots", "mujoco"):
+        assert cal.resolve(SPACES, name, spaces[name], SIMULATORS[name]) == (True, None)
+
+
+def test_planning_refuses_a_setting_the_engine_lacks(tmp_path):
+    data = yaml.safe_load(SPACES.read_text())
+    data["simulators"]["webots"]["settings"]["wheel_separation"] = {
+        "exposed_as": "x",
+        "bounds": [0.5, 1.0],
+        "source": "nowhere.md:1",
+    }
+    bad = tmp_path / "calibration.yaml"
+    bad.write_text(yaml.safe_dump(data))
+    config = _config(run=["webots"])
+    config["simulators"]["calibration"] = str(bad)
+    with pytest.raises(
+        cal.SearchSpaceError, match=r"calibration\.yaml: simulators\.webots\.settings\.wheel_separation"
+    ):
+        _plan(config)
+    # a setting the simulator exposes but the adapter cannot bind is said, not fitted
+    spaces = cal.load_search_spaces(SPACES)
+    assert "friction_ratio" not in get_engine("newton").settings_model.model_fields
+    ok, why = cal.resolve(SPACES, "isaac_lab_newton", spaces["isaac_lab_newton"], "newton")
+    assert ok is False and "isotropic" in why
+    # Gazebo's <mu2>/<fdir1> are bound by its own physics layer (gz-physics), not by dartpy
+    assert cal.resolve(SPACES, "gazebo", spaces["gazebo"], "gzphysics")[0] is True
+    with pytest.raises(cal.SearchSpaceError, match="the dart adapter has no such setting"):
+        cal.resolve(SPACES, "gazebo", spaces["gazebo"], "dart")
+
+
+def test_a_search_space_without_its_reason_is_refused(tmp_path):
+    data = yaml.safe_load(SPACES.read_text())
+    del data["simulators"]["drake"]["why_not"]
+    path = tmp_path / "calibration.yaml"
+    path.write_text(yaml.safe_dump(data))
+    with pytest.raises(cal.SearchSpaceError, match="simulators.drake: .*why_not"):
+        cal.load_search_spaces(path)
+
+
+# --- the split ---
+
+
+def test_the_split_keeps_every_run_on_one_side_and_repeats(tmp_path):
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"
+    cal.split_job(str(SEGMENTS), 0.5, 11, str(a))
+    cal.split_job(str(SEGMENTS), 0.5, 11, str(b))
+    assert a.read_text() == b.read_text()
+    train, test = cal.read_split(a)
+    assert train and test and not set(train) & set(test)
+    segments = pd.read_csv(SEGMENTS, dtype={"run": str})
+    runs = set(segments.terrain_class + "/" + segments.run)
+    assert set(train) | set(test) == runs
+    # stratified by turning: a class with two turning runs has one on each side
+    turning = segments[segments.kind == "turning"]
+    for cls, g in turning.groupby("terrain_class"):
+        keys = set(cls + "/" + g.run)
+        if len(keys) == 2:
+            assert keys & set(train) and keys & set(test), cls
+    split = pd.read_csv(a, dtype={"run": str})
+    split.loc[0, "set"] = "train" if split.loc[0, "set"] == "test" else "test"
+    split = pd.concat([split, split.iloc[[0]].assign(set="test" if split.loc[0, "set"] == "train" else "train")])
+    split.to_csv(b, index=False)
+    with pytest.raises(ValueError, match="both sides"):
+        cal.read_split(b)
+
+
+# --- the fit ---
+
+
+def test_coulomb_places_the_ratio_whose_gain_is_the_real_one(husky):
+    robot, section = husky
+    layout = contact_layout(robot)
+    isotropic = yaw_rate_gain(layout, 0.5, 0.5, section["track"])
+    for gain in (0.55, 0.645, 0.70):
+        r = ratio_for_gain(layout, gain, 0.5, 0.5, section["track"], (0.3, 1.8))
+        assert r < 1.0 and gain > isotropic  # more turning than isotropic Coulomb: less lateral friction
+        assert yaw_rate_gain(with_friction_ratio(layout, r), 0.5, 0.5, section["track"]) == pytest.approx(
+            gain, abs=2e-3
+        )
+
+
+def test_the_secant_steps_reach_a_monotone_gain_and_stay_in_the_bracket_of_a_jumping_one():
+    def coulomb(g):  # a made-up Coulomb: gain 1 - 0.5 r
+        return (1 - g) / 0.5
+
+    calls = []
+
+    def smooth(r):
+        calls.append(r)
+        return 0.95 - 0.5 * r  # the engine turns 0.05 less than "Coulomb"
+
+    trials, (r, g) = cal.secant_fit(smooth, 0.6, coulomb(0.6), coulomb, (0.3, 1.8), 0.005, 5)
+    assert abs(g - 0.6) <= 0.005 and r == pytest.approx(0.7, abs=0.01) and len(trials) <= 3
+
+    def jumping(r):  # locks above r 0.8: the gain drops from 0.55 to 0.3
+        return 0.95 - 0.5 * r if r < 0.8 else 0.3
+
+    trials, (r, g) = cal.secant_fit(jumping, 0.5, 0.9, coulomb, (0.3, 1.8), 0.005, 6)
+    assert all(0.3 <= t[0] <= 1.8 for t in trials)
+    assert g == pytest.approx(0.55, abs=0.02)  # the nearest it reaches, never the locked branch
+    assert abs(g - 0.5) > 0.005
+
+
+def test_the_fit_moves_the_engine_gain_toward_the_real_one(tmp_path):
+    plan = _plan(_config(run=["mujoco"]))
+    params = plan.simulator_calibrate_params("mujoco")
+    params = dict(params, duration=3.0, max_trials=3)
+    split = tmp_path / "split.csv"
+    cal.split_job(str(SEGMENTS), 0.5, 11, str(split))
+    out = tmp_path / "mujoco.yaml"
+    inputs = {
+        "split": str(split),
+        "segments": str(SEGMENTS),
+        "urdf": params["robot"]["urdf"] if "urdf" in params["robot"] else str(ROOT / "resources/robot/husky_a200.urdf"),
+    }
+    fit = cal.calibrate(inputs, params, str(out))
+    assert yaml.safe_load(out.read_text())["settings"] == fit["settings"]
+    real, ratio = fit["fit"]["real_gain"], fit["settings"]["friction_ratio"]
+    assert not set(fit["fit"]["real_runs"]) & set(fit["test_runs"])  # the test runs never reach the fit
+    # the tuned profile (ratio 1) turns at about the isotropic Coulomb gain, well below the real robot's
+    tuned = cal._engine_gain(run_case, _setup(plan, "mujoco", params), 1.0, 0.5, 0.5, 0.6, 3.0)
+    assert ratio < 1.0 and abs(fit["fit"]["engine_gain"] - real) < 0.5 * abs(tuned - real)
+    assert fit["fit"]["trials"][0][0] == pytest.approx(fit["fit"]["coulomb_ratio"], abs=1e-3)
+
+
+def _setup(plan, simulator, params):
+    robot = load_from_config(plan.config["robot"])
+    return Setup(
+        engine=params["engine"],
+        robot=robot,
+        timestep=params["physics"]["timestep"],
+        max_wheel_torque=params["robot"]["max_wheel_torque"],
+        track=params["robot"]["track"],
+        settings=params["engine_settings"],
+    )
+
+
+def test_a_simulator_without_a_turning_setting_writes_why_and_fits_nothing(tmp_path):
+    plan = _plan(_config(run=["drake"]))
+    params = plan.simulator_calibrate_params("drake")
+    split = tmp_path / "split.csv"
+    cal.split_job(str(SEGMENTS), 0.5, 11, str(split))
+    fit = cal.calibrate(
+        {"split": str(split), "segments": str(SEGMENTS), "urdf": str(ROOT / "resources/robot/husky_a200.urdf")},
+        params,
+        str(tmp_path / "drake.yaml"),
+    )
+    assert fit["searchable"] is False and fit["settings"] == {} and "CoulombFriction" in fit["why_not"]
+    assert plan.profile_results["drake-calibrated"] == plan.profile_results["drake-tuned"]
+
+
+# --- the plan and the jobs ---
+
+
+def test_the_calibrated_profile_reads_its_fit_and_leaves_the_other_profiles_jobs_alone():
+    config = _config(run=["gazebo_classic", "isaac_sim"])
+    with_cal = _plan(copy.deepcopy(config))
+    config["simulators"]["variants"] = ["shipped", "tuned"]
+    without = _plan(config)
+    assert "gazebo_classic-calibrated" in with_cal.profiles and "gazebo_classic-calibrated" in with_cal.calibrated
+    assert with_cal.profile_results["isaac_sim-calibrated"] == with_cal.profile_results["isaac_sim-tuned"]
+    assert with_cal.validation_inputs("gazebo_classic-calibrated")["calibrated"].endswith("gazebo_classic.yaml")
+    assert "calibrated" not in with_cal.validation_inputs("gazebo_classic-tuned")
+    for model in ("gazebo_classic-shipped", "gazebo_classic-tuned", "ode"):
+        assert repr(with_cal.validation_params(model)) == repr(without.validation_params(model))
+    params = with_cal.validation_params("gazebo_classic-calibrated")
+    merged, provenance = cal.with_calibrated(params, None)
+    assert merged is params and provenance == {}
+
+
+def test_a_job_merges_the_fit_over_its_settings_and_records_where_they_came_from(tmp_path):
+    path = tmp_path / "fit.yaml"
+    path.write_text(yaml.safe_dump({"settings": {"friction_ratio": 0.6, "contact_slip": 0.001}}))
+    params = {"engine": "ode", "engine_settings": {"friction_ratio": 1.0, "contact_slip": 0.004, "erp": 0.2}}
+    merged, provenance = cal.with_calibrated(params, str(path))
+    assert merged["engine_settings"] == {"friction_ratio": 0.6, "contact_slip": 0.001, "erp": 0.2}
+    assert params["engine_settings"]["friction_ratio"] == 1.0  # the plan's params are not edited
+    assert provenance == {
+        "calibrated_from": str(path),
+        "calibrated_settings": {"friction_ratio": 0.6, "contact_slip": 0.001},
+    }
+
+
+# --- the mechanics of its own parameters ---
+
+
+def test_a_yaw_gain_case_without_a_ratio_is_judged_against_the_model_s_own_ratio(husky):
+    robot, section = husky
+    settings = (
+        get_engine("mujoco")
+        .settings_model.model_validate(
+            {
+                "cone": "elliptic",
+                "wheel_contact": "decoupled",
+                "integrator": "implicitfast",
+                "wheel_servo": "intvelocity",
+            }
+        )
+        .model_dump(mode="json")
+    )
+    case = {"kind": "yaw_gain", "v": 0.5, "w": 0.5, "mu": 0.8, "duration": 3.0}
+    layout = contact_layout(robot)
+    for ratio in (1.0, 0.7):
+        setup = Setup(
+            engine="mujoco",
+            robot=robot,
+            timestep=0.001,
+            max_wheel_torque=section["max_wheel_torque"],
+            track=section["track"],
+            settings={**settings, "friction_ratio": ratio},
+        )
+        check = run_case(setup, "gain", case)["checks"][0]
+        expected = yaw_rate_gain(with_friction_ratio(layout, ratio), 0.5, 0.5, section["track"])
+        assert check["analytic_value"] == pytest.approx(expected, rel=1e-6)
+        assert "friction_ratio" not in check  # an isotropic case of its own set-up (gains.csv keeps it)
+        assert check["engine_value"] == pytest.approx(expected, rel=0.10)  # MuJoCo follows its own Coulomb gain
+    assert yaw_rate_gain(with_friction_ratio(layout, 0.7), 0.5, 0.5, section["track"]) > 0.6 > 0.478
+
+
+# --- the table and the file ---
+
+
+def test_the_table_has_the_held_out_columns_computed_on_the_test_runs_only(tmp_path):
+    for column in (
+        "heldout_gain_error",
+        "heldout_gain_error_low",
+        "heldout_gain_error_high",
+        "heldout_runs",
+        "real_spread",
+        "within_spread",
+        "heldout_heading_error",
+        "calibrated_settings",
+        "turning_settable",
+        "mechanics_own",
+    ):
+        assert column in stage.TABLE_COLUMNS
+    split = tmp_path / "split.csv"
+    pd.DataFrame(
+        {
+            "terrain_class": ["a", "a", "b", "b"],
+            "run": ["1", "2", "1", "2"],
+            "unit": list("wxyz"),
+            "set": ["train", "test", "train", "test"],
+        }
+    ).to_csv(split, index=False)
+    rows = []
+    for cls, run, real, err in [
+        ("a", "1", 0.70, 0.5),
+        ("a", "2", 0.74, 0.02),
+        ("b", "1", 0.60, 0.5),
+        ("b", "2", 0.64, 0.06),
+    ]:
+        rows.append(
+            {
+                "engine": "m",
+                "terrain_class": cls,
+                "run": run,
+                "test": f"{cls}{run}",
+                "status": "ok",
+                "gain_error": err,
+                "heading_error": 2 * err,
+                "yaw_rate_gain_real": real,
+            }
+        )
+    tests = pd.DataFrame(rows)
+    verdict = {"margins": {"gain_error": {"basis": "real_spread", "value": 1.0}}}
+    columns = stage._heldout({"split": str(split)}, tests, verdict, {"min_runs": 6, "level": 0.95}, 0)("m")
+    assert columns["heldout_gain_error"] == pytest.approx(0.04)  # the training runs' 0.5 never counts
+    assert columns["heldout_runs"] == 2 and math.isnan(columns["heldout_gain_error_low"])  # too few runs
+    assert columns["heldout_heading_error"] == pytest.approx(0.08)
+    assert columns["real_spread"] == pytest.approx(math.sqrt(0.02**2 * 2 * 2 / 2))  # pooled within-class sd
+    assert columns["within_spread"] is False
+
+
+def test_the_calibrated_settings_file_is_headed_by_its_data_figures_and_command_and_reads_back(tmp_path):
+    catalog = load_catalog(ROOT / "resources/simulators/simulators.yaml")
+    sim = catalog.simulators["gazebo_classic"]
+    fit = {
+        "simulator": "gazebo_classic",
+        "robot": "husky_a200",
+        "source": "segments-borealtc",
+        "train_runs": ["flooring/07", "ice/02"],
+        "test_runs": ["flooring/01", "ice/04"],
+        "searchable": True,
+        "why_not": None,
+        "settings": {"contact_slip": 0.001, "friction_ratio": 0.49},
+        "exposed": {"friction_ratio": "<mu2>0.49 x mu</mu2> with <fdir1>1 0 0</fdir1>"},
+        "fit": {
+            "real_gain": 0.645,
+            "real_runs": ["flooring/07", "ice/02"],
+            "coulomb_ratio": 0.73,
+            "trials": [[0.73, 0.53], [0.49, 0.644]],
+            "engine_gain": 0.644,
+            "reached": True,
+            "tolerance": 0.005,
+        },
+    }
+    row = {
+        "heldout_gain_error": 0.031,
+        "heldout_gain_error_low": math.nan,
+        "heldout_gain_error_high": math.nan,
+        "heldout_runs": 4,
+        "real_spread": 0.045,
+        "within_spread": True,
+        "heldout_heading_error": 0.04,
+        "mechanics_own": "passes 17/20",
+    }
+    table = pd.DataFrame([dict(row, simulator="gazebo_classic", variant="calibrated")])
+    from simpick.engines import simulator_files as formats
+
+    settings = catalog.settings("gazebo_classic", "tuned", "husky_a200")
+    settings = get_engine("ode").settings_model.model_validate(settings).model_dump(mode="json")
+    stage._calibrated_file(
+        formats, sim, "gazebo_classic", settings, fit, table, catalog, "husky_a200", ["front_left_wheel_link"], tmp_path
+    )
+    texts = {p.name.split(".", 1)[1]: p.read_text() for p in tmp_path.glob("gazebo_classic-calibrated.*")}
+    assert set(texts) == {"world.sdf", "wheels.urdf"}
+    head = texts["wheels.urdf"]
+    assert "flooring/07" in head and "0.031" in head and "0.045" in head and "passes 17/20" in head
+    assert "regenerate: snakemake" in head and "results/simulators/settings" in head
+    for text in texts.values():
+        comments = re.findall(r"<!--(.*?)-->", text, flags=re.S)
+        assert comments and not any("--" in c for c in comments)
+        ET.fromstring(re.sub(r"<!--.*?-->\n?", "", text, flags=re.S))
+    back = formats.read("sdf", "ode", texts)
+    assert back["friction_ratio"] == pytest.approx(0.49) and back["contact_slip"] == pytest.approx(0.001)
+
+
+def test_the_calibrated_variant_is_a_model_of_its_own_in_the_registry():
+    assert VARIANTS == ("shipped", "tuned", "calibrated")
+    catalog = load_catalog(ROOT / "resources/simulators/simulators.yaml")
+    assert catalog.settings("webots", "calibrated", "husky_a200") == catalog.settings("webots", "tuned", "husky_a200")
+    assert np.isfinite(0.0)
