@@ -507,3 +507,21 @@ def test_isaac_lab_iteration_counts_are_written_as_the_integers_its_fields_take(
     text = formats.write_profile_file("isaaclab", "physx", settings, ["t"], WHEELS)["py"]
     assert "'solver_position_iteration_count': 32," in text and "32.0" not in text
     assert formats.read("isaaclab", "physx", {"py": text})["position_iterations"] == 32
+
+
+def test_a_fitted_friction_ratio_reaches_the_gazebo_wheels_as_the_contact_s_coefficients():
+    """The calibrated Gazebo profile sets the ratio on the ground's <mu2> in the gz-physics adapter; the file a user
+    pastes carries it on the wheels: the ground's mu along fdir1 and ratio x mu across it, whatever the wheels' own
+    Clearpath values were, so that DART's lower-of-the-two rule gives the fitted contact."""
+    from simpick.engines.gzphysics_engine import GzPhysicsSettings
+
+    settings = GzPhysicsSettings.model_validate(
+        {"fdir1": "wheel_x", "wheel_mu": 1.0, "wheel_mu2": 1.0, "friction_ratio": 0.7306, "contact_kp": 1e7}
+    ).model_dump(mode="json")
+    texts = formats.write_profile_file("sdf", "gzphysics", settings, ["test"], ["front_left_wheel"], ground_mu=0.8)
+    surface = ET.fromstring(texts["wheels.urdf"]).find("gazebo/collision/surface")
+    assert float(surface.findtext("friction/ode/mu")) == pytest.approx(0.8)
+    assert float(surface.findtext("friction/ode/mu2")) == pytest.approx(0.8 * 0.7306, rel=1e-4)
+    assert surface.findtext("friction/ode/fdir1") == "1 0 0"
+    back = formats.read_sdf("gzphysics", texts, ground_mu=0.8)
+    assert back["friction_ratio"] == pytest.approx(0.7306, rel=1e-4)

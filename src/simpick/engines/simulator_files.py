@@ -144,7 +144,12 @@ def surface_values(engine: str, settings: Mapping, ground_mu: float = GROUND_MU)
         return next((settings[k] for k in keys if settings.get(k) is not None), None)
 
     mu, mu2 = first("mu", "wheel_mu"), first("mu2", "wheel_mu2")
-    if mu is None and (mu2 is not None or ratio != 1.0):
+    if ratio != 1.0:
+        # the ratio is the contact's (the gz-physics adapter sets it on the ground's <mu2>): on the wheels it holds
+        # only as the ground's coefficient along and ratio x it across, each surface's lower value governing
+        # (a profile named after the elements keeps its own <mu>)
+        mu, mu2 = (ground_mu if settings.get("mu") is None else settings["mu"]), None
+    elif mu is None and mu2 is not None:
         mu = ground_mu
     if mu is not None:
         out["friction/ode/mu"] = _num(mu)
@@ -285,9 +290,9 @@ def read_sdf(engine: str, texts: Mapping[str, str], ground_mu: float = GROUND_MU
                 out["fdir1"] = "wheel_x" if text.split() == ["1", "0", "0"] else text
             else:
                 out[names.get(key, key)] = float(text)
-        # a ratio alone is written as the ground's mu with mu2 = ratio x mu (write_sdf); else the wheels' own
+        # a ratio is written as the ground's mu with mu2 = ratio x mu (surface_values); else the wheels' own
         out["friction_ratio"] = 1.0
-        if out.get("wheel_mu") == ground_mu and "wheel_mu2" in out:
+        if out.get("wheel_mu") == ground_mu and "wheel_mu2" in out and out["wheel_mu2"] != ground_mu:
             out["friction_ratio"] = out.pop("wheel_mu2") / out.pop("wheel_mu")
         return out
     if engine != "ode":
