@@ -171,10 +171,15 @@ def test_the_dot_test_configuration_runs_end_to_end(tmp_path):
     # the simulators' rows, their files to paste and the report's section
     table = pd.read_csv(workdir / "results/simulators/table.csv")
     ran = table[table.status.str.startswith("run")]
-    assert sorted(ran.simulator + "-" + ran.variant) == profiles
+    # CoppeliaSim exposes no setting that moves the turning: its calibrated row reads its tuned profile's results
+    rows = sorted(["coppeliasim-calibrated", *profiles])
+    assert sorted(ran.simulator + "-" + ran.variant) == rows
+    assert table.set_index("variant").loc["calibrated"].query("simulator == 'coppeliasim'").model.tolist() == [
+        "coppeliasim-tuned"
+    ]
     assert ran.mechanics.isin(["pass", "fail"]).all()  # (.test has no turning case: no flat-ground gain)
     files = sorted(p.name for p in (workdir / "results/simulators/settings").glob("*.lua"))
-    assert files == [f"{p}.lua" for p in profiles]
+    assert files == [f"{p}.lua" for p in rows]
     assert 'id="simulators-table"' in (workdir / "results/report/report.html").read_text()
     again = run([*SNAKEMAKE, "--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir), "-n"], ROOT)
     assert "Nothing to be done" in again.stdout + again.stderr  # same code and config: nothing reruns
