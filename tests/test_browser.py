@@ -306,11 +306,11 @@ def test_the_ros2_paths_of_the_simulators_tree_end_at_a_simulator_that_passes_me
 def test_the_pick_names_the_calibrated_profile_and_its_file_where_closeness_is_asked(
     browser, simulators_study, tmp_path
 ):
-    """The simulators' tree with each leaf's profiles (simpick.score.tree.name_profiles): answered as the
+    """The simulators' tree with each leaf's profiles (simpick.score.profiles.name_profiles): answered as the
     report's ROS 2 paths answer it (closeness demanded), the page lists the leaf's simulators with the profile
     its answers ask for, MuJoCo's calibrated profile with its settings and file."""
     from simpick.report.simulators import leaf_for
-    from simpick.score.tree import name_profiles
+    from simpick.score.profiles import name_profiles
     from test_report_simulators import write_simulators
 
     folder = write_simulators(tmp_path / "simulators")

@@ -288,8 +288,8 @@ def _leaf(tree: dict, **answers) -> dict:
 
 def test_the_tree_s_leaves_name_the_calibrated_profile_where_the_user_asks_for_closeness(tmp_path):
     from simpick.report.simulators import simulators_section
+    from simpick.score.profiles import name_profiles
     from simpick.score.scoring import DEFAULT_WEIGHTS
-    from simpick.score.tree import name_profiles
 
     folder = write_simulators(tmp_path / "simulators")
     tree = name_profiles(_simulators_tree(), pd.read_csv(folder / "table.csv"), str(folder / "settings"))

@@ -247,7 +247,7 @@ class ModelPlanning:
 
     def validation_inputs(self, engine):
         """The files a validate job reads: the robot and a calibrated profile's fit."""
-        return {"urdf": self.config["robot"]["urdf"]} | self.calibrated_input(engine)
+        return {"urdf": self.settings.robot.urdf} | self.calibrated_input(engine)
 
     def simulator_split_params(self) -> dict:
         """Rule simulator_split's params: the calibration's test share and seed."""

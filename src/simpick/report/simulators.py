@@ -55,7 +55,7 @@ def ros_paths(tree: dict, labels: dict[str, str]) -> list[dict[str, str]]:
     for label in answers:
         leaf = leaf_for(tree, {"ros": label})
         names = [labels.get(e, e) for e in leaf.get("engines", [])]
-        # the profile each simulator's leaf names (simpick.score.tree.name_profiles), where the tree has them
+        # the profile each simulator's leaf names (simpick.score.profiles.name_profiles), where the tree has them
         profiles = leaf.get("profiles") or []
         out.append(
             {

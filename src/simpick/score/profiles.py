@@ -225,3 +225,68 @@ def _why_no_calibrated(table: pd.DataFrame, variants: list[str], heldout: bool) 
     rows = table[(table.variant == "calibrated") & table.simulator.isin(table.simulator[ran])]
     reasons = sorted({str(s).removeprefix("not run: ") for s in rows.status})
     return "no calibrated profile ran in this study: " + "; ".join(reasons)
+
+
+# --------------------------------------------------------------------------
+# The simulators' tree: the profile each leaf's answers ask for
+# --------------------------------------------------------------------------
+
+
+def _profile_text(label: str, p: dict) -> str:
+    """``Gazebo Classic, calibrated: friction_ratio 0.62 (settings file results/simulators/settings/...)``."""
+    text = f"{label}, {p['variant']}" + (f": {p['settings']}" if p.get("settings") else "")
+    files = [f["href"] or f["name"] for f in p.get("files") or []]
+    return text + (f" (settings file {', '.join(files)})" if files else "")
+
+
+def name_profiles(tree: dict, table, settings: str | None = None, link: str = "results/simulators/settings") -> dict:
+    """The simulators' tree (leaves of simulators, not profiles) with, per leaf, the profile of each of its
+    simulators that the leaf's answers ask for (``profiles``): where the path asks for closeness to the real
+    robot, the simulator's calibrated profile (the closest of its profiles on the held-out runs that passes the
+    mechanics of its own parameters: simpick.score.profiles), with its settings and file; elsewhere its tuned
+    profile, the set-up that passes mechanics as the simulator's users set it, and the calibrated one beside it
+    as ``closest``. ``table``: the simulators' table (results/simulators/table.csv) as a frame; ``settings``: its
+    settings folder. A simulator without a calibrated row keeps its tuned profile on every path."""
+    found = simulator_answer(table, settings, link=link)
+    by_sim = {s["simulator"]: s for s in found["simulators"]}
+    for node in tree["nodes"].values():
+        if node["kind"] != "leaf":
+            continue
+        close = any(step["question"] == "closeness" and step["answer"] != "No" for step in node.get("path", []))
+        named = []
+        for simulator in node["engines"]:
+            s = by_sim.get(simulator)
+            if s is None or not s["profiles"]:
+                continue
+            variants = {p["variant"]: p for p in s["profiles"]}
+            calibrated = variants.get("calibrated")
+            usable = calibrated is not None and calibrated["passes"] and not calibrated["not_settable"]
+            tuned = variants.get("tuned") or s["best"] or s["profiles"][0]
+            chosen = calibrated if close and usable else tuned
+            entry = {
+                "simulator": simulator,
+                "variant": chosen["variant"],
+                "settings": chosen["settings"],
+                "files": [f["href"] or f["name"] for f in chosen["files"]],
+                "text": _profile_text(s["label"], chosen),
+            }
+            if usable and chosen is not calibrated:
+                entry["closest"] = _profile_text(s["label"], calibrated)
+            elif calibrated is not None and not usable:
+                entry["closest"] = (
+                    f"{s['label']}: no calibrated profile to name ("
+                    + (
+                        f"its turning is not settable: {calibrated['not_settable']}"
+                        if calibrated["not_settable"]
+                        else calibrated["mechanics"]
+                    )
+                    + ")"
+                )
+            named.append(entry)
+        node["profiles"] = named
+    tree["profiles"] = {
+        "calibrated": found.get("calibrated", False),
+        "why_not": found.get("no_calibrated", ""),
+        "closeness_asked": any(q["key"] == "closeness" and q["asked"] for q in tree.get("questions", [])),
+    }
+    return tree

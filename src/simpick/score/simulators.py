@@ -526,11 +526,12 @@ def simulator_scores_job(subjects: str, params: dict, outputs: dict) -> None:
 
 def simulator_tree_job(subjects: str, params: dict, table: str, settings: str | None, output: str) -> None:
     """Rule simulator_tree: the decision tree with the run simulators as its leaves (:func:`leaves_tree_job`),
-    each leaf naming the profile its answers ask for (simpick.score.tree.name_profiles, from the simulators'
+    each leaf naming the profile its answers ask for (simpick.score.profiles.name_profiles, from the simulators'
     table and its settings folder)."""
     import json
 
-    from simpick.score.tree import _read_csv, name_profiles, read_tree
+    from simpick.score.profiles import name_profiles
+    from simpick.score.tree import _read_csv, read_tree
 
     leaves_tree_job(subjects, params, output)
     frame = _read_csv(table, ("simulator", "label", "variant", "status"), "the simulators' table")

@@ -212,7 +212,7 @@
       ordered.forEach(function (e) { leaf.appendChild(el("li", {"data-engine": e, text: e})); });
       box.appendChild(leaf);
       // the simulators' tree: the profile each leaf's answers ask for, with its settings file
-      // (simpick.score.tree.name_profiles); the calibrated one where they ask for closeness to the robot
+      // (simpick.score.profiles.name_profiles); the calibrated one where they ask for closeness to the robot
       if (node.profiles && node.profiles.length) {
         var named = {};
         node.profiles.forEach(function (p) { named[p.simulator] = p; });
