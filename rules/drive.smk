@@ -35,14 +35,11 @@ if SETTINGS.drive_dir:
     if _problems:
         sys.exit(1)
     try:
-        # simulator profiles replay DRIVE only with simulators.drive: each adds its engine's replay time
+        # simulator profiles replay DRIVE only with simulators.drive: each adds its engine's replay time (a
+        # calibrated profile's fit is then made on DRIVE's training steps, its replay merges it)
         DRIVE_MODELS = DRIVE_SOURCE.models(
             SETTINGS.drive_replay.models,
-            [
-                m
-                for m in PLAN.real_models
-                if (SETTINGS.simulators.drive or m not in PLAN.profiles) and m not in PLAN.calibrated
-            ],
+            [m for m in PLAN.real_models if SETTINGS.simulators.drive or m not in PLAN.profiles],
             PLAN.unavailable,
         )
     except InputError as _exc:
@@ -77,6 +74,8 @@ if SETTINGS.drive_dir:
         """One model x one DRIVE session: its chosen steps (drive_replay.every, max_steps_per_session),
         each from its warm-up, under the watchdog, driven by the wheels table (simpick.simulate.steps)."""
         input:
+            # a calibrated profile's fit (its settings merged at run time)
+            unpack(lambda wc: PLAN.calibrated_input(wc.model)),
             **DRIVE_SOURCE.case_inputs(SETTINGS, "drive", DRIVE_SPEC, "", []),
         output:
             trace=f"{DRIVE}/replay/{{model}}/{{session}}.parquet",

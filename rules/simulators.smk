@@ -84,15 +84,16 @@ rule simulator_tree:
         "../scripts/simulator_tree.py"
 
 
-# The calibrated profiles (simpick.studies.simulator_calibration): the committed segments' runs split as the
-# calibration splits them, then per simulator its turning settings fitted on the training runs within what it
-# exposes (resources/simulators/calibration.yaml), placed by the anisotropic Coulomb model and confirmed on its
-# engine in 2-4 steady-turn runs. Its validate and simulate jobs read the fit and merge its settings.
+# The calibrated profiles (simpick.studies.simulator_calibration): the real runs split as the calibration
+# splits them (the committed segments' runs; DRIVE's steps where the profiles replay them, each step a unit of
+# its own), then per simulator its turning settings fitted on the training runs within what it exposes
+# (resources/simulators/calibration.yaml), placed by the anisotropic Coulomb model and confirmed on its engine
+# in 2-4 steady-turn runs. Its validate, simulate and replay jobs read the fit and merge its settings.
 if PLAN.calibration_spaces:
 
     rule simulator_split:
         input:
-            segments=SETTINGS.real_data.segments,
+            **PLAN.calibration_real_input(),
         output:
             f"{PLAN.CALIBRATION_DIR}/split.csv",
         log:
@@ -107,8 +108,8 @@ if PLAN.calibration_spaces:
 
     rule simulator_calibrate:
         input:
+            **PLAN.calibration_real_input(),
             split=f"{PLAN.CALIBRATION_DIR}/split.csv",
-            segments=SETTINGS.real_data.segments,
             urdf=PLAN.config["robot"]["urdf"],
         output:
             f"{PLAN.CALIBRATION_DIR}/{{simulator}}.yaml",

@@ -124,8 +124,8 @@ def test_a_search_space_without_its_reason_is_refused(tmp_path):
 
 def test_the_split_keeps_every_run_on_one_side_and_repeats(tmp_path):
     a, b = tmp_path / "a.csv", tmp_path / "b.csv"
-    cal.split_job(str(SEGMENTS), 0.5, 11, str(a))
-    cal.split_job(str(SEGMENTS), 0.5, 11, str(b))
+    cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(a))
+    cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(b))
     assert a.read_text() == b.read_text()
     train, test = cal.read_split(a)
     assert train and test and not set(train) & set(test)
@@ -188,7 +188,7 @@ def test_the_fit_moves_the_engine_gain_toward_the_real_one(tmp_path):
     params = plan.simulator_calibrate_params("mujoco")
     params = dict(params, duration=3.0, max_trials=3)
     split = tmp_path / "split.csv"
-    cal.split_job(str(SEGMENTS), 0.5, 11, str(split))
+    cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(split))
     out = tmp_path / "mujoco.yaml"
     inputs = {
         "split": str(split),
@@ -221,7 +221,7 @@ def test_a_simulator_without_a_turning_setting_writes_why_and_fits_nothing(tmp_p
     plan = _plan(_config(run=["drake"]))
     params = plan.simulator_calibrate_params("drake")
     split = tmp_path / "split.csv"
-    cal.split_job(str(SEGMENTS), 0.5, 11, str(split))
+    cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(split))
     fit = cal.calibrate(
         {"split": str(split), "segments": str(SEGMENTS), "urdf": str(ROOT / "resources/robot/husky_a200.urdf")},
         params,

@@ -108,18 +108,35 @@ class ModelPlanning:
         return get_engine(engine).settings_model.model_validate(settings).model_dump(mode="json")
 
     def _calibrated_left_out(self) -> str:
-        """Why this study runs no calibrated profile (empty when it does): it fits on the committed segments of
-        the real robot, with the calibration's split."""
+        """Why this study runs no calibrated profile (empty when it does): it fits on the real robot's runs with
+        the calibration's split, the committed segments where they are this robot's, else DRIVE's steps where the
+        profiles replay them (:attr:`calibration_source`)."""
         if "calibrated" not in self.settings.simulators.variants:
             return "not in simulators.variants"
         if self.settings.calibration is None:
             return "the study has no calibration section (its split: test_fraction, seed, target classes)"
-        if not self.real_data_robot or not self.settings.real_data.segments:
+        if self.calibration_source is None:
+            if self.settings.drive_dir:
+                return (
+                    "the profiles do not replay DRIVE's steps here (simulators.drive: false), and the calibrated "
+                    "profile is judged on held-out steps: set simulators.drive: true"
+                )
             return (
-                "no real runs of this robot to fit on here (the committed segments are the Husky's); "
-                "a calibration on DRIVE's steps is not built"
+                "no real runs of this robot to fit on here (the committed segments are the Husky's); give its "
+                "DRIVE steps (drive_dir) with simulators.drive: true, or its own logs"
             )
         return ""
+
+    @property
+    def calibration_source(self) -> str | None:
+        """The real runs the calibrated profiles fit on and are judged on: ``segments`` (the committed
+        segments, where they are this robot's), ``drive`` (DRIVE's steps, where the profiles replay them) or
+        None (neither)."""
+        if self.real_data_robot and self.settings.real_data.segments:
+            return "segments"
+        if self.settings.drive_dir and self.settings.simulators.drive:
+            return "drive"
+        return None
 
     def _calibration_spaces(self, variants):
         """(search spaces, calibrated profiles with settings to fit, {simulator: why its calibrated profile fits
@@ -249,6 +266,15 @@ class ModelPlanning:
         """The files a validate job reads: the robot and a calibrated profile's fit."""
         return {"urdf": self.settings.robot.urdf} | self.calibrated_input(engine)
 
+    def calibration_real_input(self) -> dict:
+        """The real runs rule simulator_split splits and simulator_calibrate fits on: the committed segments
+        (``segments``) or DRIVE's steps table (``steps``, written by its import step)."""
+        if self.calibration_source == "drive":
+            from simpick.sources import module as source_module
+
+            return {"steps": f"{source_module('drive').root(self.settings)}/steps.csv"}
+        return {"segments": self.settings.real_data.segments}
+
     def simulator_split_params(self) -> dict:
         """Rule simulator_split's params: the calibration's test share and seed."""
         cal = self.settings.calibration
@@ -266,7 +292,9 @@ class ModelPlanning:
             "simulator": simulator,
             "engine": engine_of(tuned),
             "robot_name": self.robot.name,
-            "source": f"segments-{self.dataset}",
+            "source": f"segments-{self.dataset}"
+            if self.calibration_source != "drive"
+            else f"drive-{study.drive_dataset}",
             "engine_settings": self.config["profiles"][tuned],
             "physics": {"timestep": study.physics.timestep},
             "robot": self._robot(),
@@ -280,4 +308,10 @@ class ModelPlanning:
                 for c in (study.calibration.target.classes or study.real_data.classes)
             },
         }
+        if self.calibration_source == "drive":
+            # DRIVE's sessions name their terrain in their steps table, known when the job runs: the fit pools
+            # the target classes among them (every class of them where none is a target), so every class's
+            # ground is given
+            data["kind"] = "drive"
+            data["grounds"] = {c: float(k.friction) for c, k in study.real_data.classes.items()}
         return job_params("simulator_calibrate", CalibrateParams, data)

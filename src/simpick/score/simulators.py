@@ -65,6 +65,7 @@ TABLE_COLUMNS = [
     "real_spread",
     "within_spread",
     "heldout_heading_error",
+    "heldout_speed_error",  # DRIVE: against the lidar-measured speed (the committed segments measure none)
     "calibrated_settings",
     "turning_settable",
     "mechanics_own",
@@ -190,7 +191,10 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
     write_csv(mechanics, outputs["mechanics"])
     write_csv(outcomes, outputs["outcomes"])
 
-    heldout = _heldout(inputs, tests if len(outcomes) else None, verdict, statistics, p.seed)
+    if tests is None and len(outcomes) and p.drive is not None:
+        heldout = _heldout_steps(inputs, p.drive.tolerance, statistics, p.seed)
+    else:
+        heldout = _heldout(inputs, tests if len(outcomes) else None, verdict, statistics, p.seed)
     fits = _fits(inputs)
     rows = []
     for name, sim in catalog.simulators.items():
@@ -262,7 +266,7 @@ def _heldout(inputs: dict, tests: pd.DataFrame | None, verdict: dict, statistics
 
     empty = dict.fromkeys(
         ("heldout_gain_error", "heldout_gain_error_low", "heldout_gain_error_high", "real_spread"), math.nan
-    ) | {"heldout_runs": 0, "within_spread": "", "heldout_heading_error": math.nan}
+    ) | {"heldout_runs": 0, "within_spread": "", "heldout_heading_error": math.nan, "heldout_speed_error": math.nan}
     if tests is None or not inputs.get("split") or not Path(inputs["split"]).is_file():
         return lambda model: dict(empty)
     _, test_runs = read_split(inputs["split"])
@@ -286,6 +290,47 @@ def _heldout(inputs: dict, tests: pd.DataFrame | None, verdict: dict, statistics
             "real_spread": spread,
             "within_spread": bool(mean <= spread) if np.isfinite(mean) and np.isfinite(spread) else "",
             "heldout_heading_error": heading_mean,
+        }
+
+    return columns
+
+
+def _heldout_steps(inputs: dict, spread: float, statistics: dict, seed: int):
+    """model -> its held-out columns on DRIVE's steps (the split's test steps, each a unit: DRIVE draws each
+    step's command independently): the gain error over the turning ones with its BCa interval (NaN below
+    statistics.min_runs steps), their number, the robot's step-to-step repeatability of its gain (DRIVE's
+    margin, ``spread``), whether the error is within it, and the heading and speed errors on every test step."""
+    from simpick.compare.realmetrics import mean_ci, statistics_settings
+
+    empty = dict.fromkeys(
+        ("heldout_gain_error", "heldout_gain_error_low", "heldout_gain_error_high", "real_spread"), math.nan
+    ) | {"heldout_runs": 0, "within_spread": "", "heldout_heading_error": math.nan, "heldout_speed_error": math.nan}
+    if not inputs.get("split") or not Path(inputs["split"]).is_file():
+        return lambda model: dict(empty)
+    _, test_runs = read_split(inputs["split"])
+    min_runs, level = statistics_settings(statistics)
+    errors = pd.read_csv(inputs["drive_errors"])
+    ok = errors[errors.status.astype(str) == "ok"]
+    ok = ok[(ok.terrain_class.astype(str) + "/" + ok.case.astype(str)).isin(set(test_runs))]
+
+    def columns(model: str) -> dict:
+        own = ok[ok.engine == model]
+        gain = pd.to_numeric(own.gain_error, errors="coerce")
+        steps = own.case.to_numpy(object)
+        mean, low, high, n = mean_ci(gain.to_numpy(float), steps, min_runs, level, seed)
+        every = {}
+        for metric in ("heading_error", "speed_error"):
+            values = pd.to_numeric(own[metric], errors="coerce").to_numpy(float)
+            every[metric] = mean_ci(values, steps, 10**9, level, seed)[0]
+        return {
+            "heldout_gain_error": mean,
+            "heldout_gain_error_low": low,
+            "heldout_gain_error_high": high,
+            "heldout_runs": n,
+            "real_spread": spread,
+            "within_spread": bool(mean <= spread) if np.isfinite(mean) and np.isfinite(spread) else "",
+            "heldout_heading_error": every["heading_error"],
+            "heldout_speed_error": every["speed_error"],
         }
 
     return columns

@@ -241,9 +241,12 @@ def replay_job(inputs: dict, params: Mapping, outputs: dict, timeout: float) -> 
     import step), into the traces (``outputs["trace"]``, Parquet) and the step table (``outputs["steps"]``,
     CSV). Under the watchdog: a job still running after ``timeout`` s writes every step as failed ("hung") and
     ends."""
+    from simpick.simulate.calibrated import with_calibrated
     from simpick.simulate.watchdog import Watchdog, hung_reason
     from simpick.tables import write_csv
 
+    # a calibrated profile's fitted settings (its fit's file, an input) over its plan-time (tuned) settings
+    params, _ = with_calibrated(params, inputs.get("calibrated"))
     p = SessionReplayParams.model_validate(params)
     replay = p.replay
     cases = session_cases(pd.read_csv(inputs["cases"]), p.session, inputs["cases"])

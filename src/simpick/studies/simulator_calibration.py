@@ -28,7 +28,7 @@ from __future__ import annotations
 import csv
 import math
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import pandas as pd
@@ -173,7 +173,12 @@ class CalibrateParams(JobParams):
     simulator: str
     engine: str
     robot_name: str = Field(description="the robot's URDF <robot name>")
-    source: str = Field(description="the real data fitted on (segments-<dataset>)")
+    source: str = Field(description="the real data fitted on (segments-<dataset>, drive-<dataset>)")
+    kind: Literal["segments", "drive"] = Field(
+        "segments",
+        description="segments: the committed segments' runs; drive: DRIVE's steps, each a unit of its own, "
+        "pooled over the target classes among the steps' (all of them where none is a target)",
+    )
     engine_settings: dict[str, Any] = Field(description="the simulator's tuned profile in full (the fit starts there)")
     physics: PhysicsStep
     robot: RobotParams
@@ -191,20 +196,55 @@ class CalibrateParams(JobParams):
     duration: Positive = Field(6.0, description="s of the steady-turn case (its second half is measured)")
     tolerance: Positive = Field(0.005, description="|engine gain - real gain| at which the fit stops")
     max_trials: Annotated[int, Field(ge=1, le=8)] = 5
+    drive_commands: Annotated[int, Field(ge=1, le=12)] = Field(
+        4,
+        description="kind drive: how many of the training steps' commands the engine runs (the median step of "
+        "each of as many equal bins of |w|): DRIVE has some 170 training steps, each a 6 s engine run",
+    )
 
 
 SPLIT_COLUMNS = ("terrain_class", "run", "unit", "set")
 
 
-def split_job(segments: str, test_fraction: float, seed: int, output: str) -> None:
-    """Rule simulator_split: the committed segments' runs split as the calibration splits them."""
+def split_job(inputs: dict, test_fraction: float, seed: int, output: str) -> None:
+    """Rule simulator_split: the real runs split as the calibration splits them (by run, seeded, stratified by
+    turning): the committed segments' runs (``inputs["segments"]``), or DRIVE's steps (``inputs["steps"]``),
+    each step a unit of its own: DRIVE draws each step's command independently at random, so steps are
+    independent runs of the robot, and its 5 sessions are too few to hold out."""
     from simpick.studies.calibration.split import split_runs
     from simpick.tables import write_csv
 
-    with open(segments, newline="") as handle:
-        rows = [[r["terrain_class"], r["run"], r["segment"], r["kind"] == "turning"] for r in csv.DictReader(handle)]
+    if "steps" in inputs:
+        steps = pd.read_csv(inputs["steps"])
+        key = steps_key(steps)
+        rows = list(zip(steps.terrain_class, key, key, steps.turning.astype(bool)))
+    else:
+        with open(inputs["segments"], newline="") as handle:
+            rows = [
+                [r["terrain_class"], r["run"], r["segment"], r["kind"] == "turning"] for r in csv.DictReader(handle)
+            ]
     units = pd.DataFrame(rows, columns=["terrain_class", "run", "unit", "turns"]).astype({"run": str})
     write_csv(split_runs(units, test_fraction, seed), output)
+
+
+def steps_key(steps: pd.DataFrame) -> pd.Series:
+    """A DRIVE step's run name in the split: its case, ``<session>/<step:03d>`` (the replay's and errors' key)."""
+    return steps.session.astype(str) + "/" + steps.step.astype(int).map("{:03d}".format)
+
+
+def real_turns(inputs: dict, runs: list[str], classes: list[str]) -> pd.DataFrame:
+    """The units of ``runs`` (``class/run``) in ``classes`` that turn under a steady command with a real steady
+    gain: (terrain_class, run, gain, v, w), from the committed segments (``inputs["segments"]``) or DRIVE's
+    steps (``inputs["steps"]``: the gain over the wheels' measured speeds, the command those speeds)."""
+    if "steps" not in inputs:
+        seg = turning_segments(inputs["segments"], runs, classes)
+        return seg.rename(columns={"yaw_rate_gain": "gain"})[["terrain_class", "run", "gain", "v", "w"]]
+    steps = pd.read_csv(inputs["steps"])
+    steps = steps.assign(run=steps_key(steps))
+    steps = steps[steps.turning.astype(bool) & steps.terrain_class.isin(classes)]
+    steps = steps[(steps.terrain_class + "/" + steps.run).isin(set(runs))]
+    steps = steps.rename(columns={"v_kin": "v", "w_kin": "w"})
+    return steps[np.isfinite(pd.to_numeric(steps.gain, errors="coerce"))][["terrain_class", "run", "gain", "v", "w"]]
 
 
 def turning_segments(segments: str | Path, runs: list[str], classes: list[str]) -> pd.DataFrame:
@@ -215,15 +255,18 @@ def turning_segments(segments: str | Path, runs: list[str], classes: list[str]) 
     return seg[np.isfinite(pd.to_numeric(seg.yaw_rate_gain, errors="coerce"))]
 
 
-def real_gains(segments: str | Path, runs: list[str], classes: list[str]) -> pd.DataFrame:
-    """Per run of ``runs`` in ``classes``: the real steady yaw-rate gain, its turning segments averaged
-    (terrain_class, run, gain); runs with no turning segment are left out."""
-    seg = turning_segments(segments, runs, classes)
-    return (
-        seg.groupby(["terrain_class", "run"], as_index=False)
-        .yaw_rate_gain.mean()
-        .rename(columns={"yaw_rate_gain": "gain"})
-    )
+def real_gains(turns: pd.DataFrame) -> pd.DataFrame:
+    """Per run of ``turns`` (:func:`real_turns`): the real steady yaw-rate gain, its turning units averaged
+    (terrain_class, run, gain); runs with no turning unit are left out."""
+    return turns.groupby(["terrain_class", "run"], as_index=False).gain.mean()
+
+
+def drive_commands(turns: pd.DataFrame, n: int) -> list[tuple[float, float]]:
+    """(v, w) of ``n`` representative turning steps: the median step, by |w|, of each of ``n`` equal bins of
+    the steps sorted by |w| (fewer where there are fewer steps)."""
+    order = turns.assign(aw=turns.w.abs()).sort_values(["aw", "run"]).reset_index(drop=True)
+    bins = np.array_split(np.arange(len(order)), min(n, len(order)))
+    return [(round(float(order.v[b[len(b) // 2]]), 3), round(float(order.w[b[len(b) // 2]]), 3)) for b in bins]
 
 
 def secant_fit(measure, target: float, start: float, coulomb_ratio, bounds, tolerance: float, max_trials: int):
@@ -273,7 +316,12 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     p = CalibrateParams.model_validate(params)
     space = SearchSpace.model_validate(p.space)
     train, test = read_split(inputs["split"])
-    gains = real_gains(inputs["segments"], train, list(p.classes))
+    classes = list(p.classes)
+    if p.kind == "drive":  # the target classes among DRIVE's steps, else every class its steps have
+        present = set(real_turns(inputs, train, sorted(p.grounds)).terrain_class)
+        classes = [c for c in classes if c in present] or sorted(present)
+    turns = real_turns(inputs, train, classes)
+    gains = real_gains(turns)
     real = float(gains.gain.mean()) if len(gains) else math.nan
     robot = p.robot.spec(inputs["urdf"])
     layout = contact_layout(robot)
@@ -293,7 +341,7 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
         "fit": {
             "real_gain": _r(real),
             "real_runs": [f"{c}/{r}" for c, r in zip(gains.terrain_class, gains.run)],
-            "classes": list(p.classes),
+            "classes": classes,
         },
     }
     if not p.searchable or not math.isfinite(real):
@@ -306,12 +354,14 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     if set(space.settings) != {name}:
         raise ValueError(f"the fit knows the setting {name!r} only; the search space has {sorted(space.settings)}")
     bounds = tuple(space.settings[name].bounds)
-    mu = float(np.median([p.grounds[c] for c in p.classes]))
+    mu = float(np.median([p.grounds[c] for c in classes]))
     fixed = {k: r.value for k, r in space.requires.items()}
-    commands = p.commands or [
-        (round(float(r.v), 3), round(float(r.w), 3))
-        for r in turning_segments(inputs["segments"], train, list(p.classes)).itertuples()
-    ]
+    if p.commands:
+        commands = p.commands
+    elif p.kind == "drive":
+        commands = drive_commands(turns, p.drive_commands)
+    else:
+        commands = [(round(float(r.v), 3), round(float(r.w), 3)) for r in turns.itertuples()]
     # the Coulomb placement at a moving turn: the quasi-static gain hardly depends on the command
     v0, w0 = 0.5, 0.5
 
@@ -351,7 +401,9 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
         fits, key=lambda f: abs(f[3][1] - real) if math.isfinite(f[3][1]) else math.inf
     )
     offset = engine_gain - coulomb_gain(ratio)
-    for cls, g in gains.groupby("terrain_class"):
+    # per class: DRIVE's classes outside the target too (the user of a gravel or grass robot reads theirs)
+    by_class = real_gains(real_turns(inputs, train, sorted(p.grounds))) if p.kind == "drive" else gains
+    for cls, g in by_class.groupby("terrain_class"):
         gain = float(g.gain.mean())
         placed = coulomb_ratio(gain - offset)
         out["per_class"][str(cls)] = {
