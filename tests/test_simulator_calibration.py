@@ -413,3 +413,118 @@ def test_the_calibrated_variant_is_a_model_of_its_own_in_the_registry():
     catalog = load_catalog(ROOT / "resources/simulators/simulators.yaml")
     assert catalog.settings("webots", "calibrated", "husky_a200") == catalog.settings("webots", "tuned", "husky_a200")
     assert np.isfinite(0.0)
+
+
+# --- on DRIVE's steps (a robot whose real runs are DRIVE's: the Warthog) ---
+
+CALIB = ROOT.parent / "shared/data/drive/calib_data"
+needs_drive = pytest.mark.skipif(
+    not CALIB.is_dir(), reason=f"DRIVE sessions not present at {CALIB} (the shared data folder; see its README)"
+)
+
+
+@pytest.fixture(scope="module")
+def drive_steps(tmp_path_factory):
+    """DRIVE's steps table of the shared sessions, as its import step writes it."""
+    from simpick.real import drive as D
+    from simpick.real.logs.drive import read_drive
+
+    path = tmp_path_factory.mktemp("drive") / "steps.csv"
+    D.step_table(read_drive(CALIB)).to_csv(path, index=False)
+    return path
+
+
+def _warthog_config(drive: bool = True, run: list[str] | None = None) -> dict:
+    config = study_config("config/robots/warthog.yaml")
+    config["robot"]["urdf"] = str(ROOT / config["robot"]["urdf"])
+    config["simulators"]["catalog"] = str(ROOT / "resources/simulators/simulators.yaml")
+    config["simulators"]["calibration"] = str(SPACES)
+    config["simulators"]["drive"] = drive
+    config["drive_dir"] = str(CALIB)
+    if run is not None:
+        config["simulators"]["run"] = run
+    return config
+
+
+@needs_drive
+def test_drive_steps_are_split_one_by_one_stratified_by_turning_and_the_same_every_time(drive_steps, tmp_path):
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"
+    cal.split_job({"steps": str(drive_steps)}, 0.5, 11, str(a))
+    cal.split_job({"steps": str(drive_steps)}, 0.5, 11, str(b))
+    assert a.read_text() == b.read_text()
+    train, test = cal.read_split(a)
+    steps = pd.read_csv(drive_steps)
+    keys = steps.terrain_class + "/" + cal.steps_key(steps)
+    assert set(train) | set(test) == set(keys) and not set(train) & set(test)
+    assert len(keys) == 350  # DRIVE's README: 100 + 100 + 30 + 20 + 100 steps in the 5 sessions, each once
+    # half of each class's turning steps, and of its straight ones, on each side (within one of a half)
+    for (cls, turns), g in steps.assign(key=keys).groupby(["terrain_class", "turning"]):
+        held = g.key.isin(set(test)).sum()
+        assert abs(held - len(g) / 2) <= 1, (cls, turns, held, len(g))
+
+
+@needs_drive
+def test_the_fit_on_drive_pools_the_target_class_s_training_steps_and_never_a_held_out_one(drive_steps, tmp_path):
+    plan = _plan(_warthog_config(run=["mujoco"]))
+    assert plan.calibration_source == "drive" and "mujoco-calibrated" in plan.calibrated
+    assert plan.calibration_real_input() == {"steps": "results/drive/drive/steps.csv"}
+    params = dict(plan.simulator_calibrate_params("mujoco"), duration=3.0, max_trials=2, drive_commands=2)
+    assert params["kind"] == "drive" and params["source"] == "drive-drive"
+    split = tmp_path / "split.csv"
+    cal.split_job({"steps": str(drive_steps)}, 0.5, 11, str(split))
+    inputs = {"split": str(split), "steps": str(drive_steps), "urdf": str(ROOT / "resources/robot/warthog.urdf")}
+    fit = cal.calibrate(inputs, params, str(tmp_path / "mujoco.yaml"))
+    train, test = cal.read_split(split)
+    steps = pd.read_csv(drive_steps)
+    steps["key"] = steps.terrain_class + "/" + cal.steps_key(steps)
+    # DRIVE's terrains are asphalt, grass and gravel: of the target classes only asphalt
+    assert fit["fit"]["classes"] == ["asphalt"]
+    fitted = steps[steps.key.isin(set(train)) & steps.turning & (steps.terrain_class == "asphalt")]
+    assert fit["fit"]["real_gain"] == pytest.approx(fitted.gain.mean(), abs=1e-4)
+    assert set(fit["fit"]["real_runs"]) == set(fitted.key) and not set(fit["fit"]["real_runs"]) & set(test)
+    assert sorted(fit["per_class"]) == ["asphalt", "grass", "gravel"]
+    assert len(fit["fit"]["cases"]["commands"]) == 2
+    # the Warthog's real gain on asphalt (0.58) is about its isotropic Coulomb gain (0.57): a ratio near 1
+    assert 0.8 < fit["settings"]["friction_ratio"] < 1.3
+
+
+def test_drive_without_the_profiles_replaying_it_leaves_the_calibrated_row_out_and_says_how():
+    plan = _plan(_warthog_config(drive=False, run=["mujoco"]))
+    assert plan.calibration_source is None and not plan.calibrated
+    assert "simulators.drive: true" in plan.calibrated_left_out
+
+
+def test_held_out_drive_steps_judge_every_row_on_the_test_steps_only(tmp_path):
+    split = pd.DataFrame(
+        {
+            "terrain_class": ["asphalt"] * 8,
+            "run": [f"s/{k:03d}" for k in range(8)],
+            "unit": [f"s/{k:03d}" for k in range(8)],
+            "set": ["train", "test"] * 4,
+        }
+    )
+    split.to_csv(tmp_path / "split.csv", index=False)
+    rows = []
+    for k in range(8):  # a training step's error is 1.0, a test step's 0.01 k: only the latter may count
+        held = k % 2 == 1
+        rows.append(
+            {
+                "case": f"s/{k:03d}",
+                "engine": "m",
+                "terrain_class": "asphalt",
+                "status": "ok",
+                "gain_error": 0.01 * k if held else 1.0,
+                "heading_error": 0.1 if held else 5.0,
+                "speed_error": 0.2 if held else 5.0,
+            }
+        )
+    pd.DataFrame(rows).to_csv(tmp_path / "errors.csv", index=False)
+    statistics = {"min_runs": 3, "confidence": 0.95}
+    columns = stage._heldout_steps(
+        {"split": str(tmp_path / "split.csv"), "drive_errors": str(tmp_path / "errors.csv")}, 0.015, statistics, 1
+    )("m")
+    assert columns["heldout_runs"] == 4 and columns["heldout_gain_error"] == pytest.approx(0.04)
+    assert columns["heldout_heading_error"] == pytest.approx(0.1)
+    assert columns["heldout_speed_error"] == pytest.approx(0.2)
+    assert columns["real_spread"] == 0.015 and columns["within_spread"] is False
+    assert columns["heldout_gain_error_low"] <= 0.04 <= columns["heldout_gain_error_high"]
