@@ -437,6 +437,32 @@ def test_webots_coulomb_friction_is_lateral_then_longitudinal_on_the_wheel_as_we
     assert formats.read_webots(text)["friction_ratio"] == pytest.approx(0.6)
 
 
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_a_newton_file_says_why_it_has_no_friction_ratio_in_the_calibration_s_words(catalog, variant):
+    """The Newton adapter has no friction_ratio, so no Isaac Lab 3 profile carries one (calibration.yaml's
+    if_unbound): the file writes the pairs' tangential frictions equal and its header quotes that reason."""
+    import ast
+
+    import yaml
+
+    from simpick.engines.newton_engine import NewtonSettings
+
+    assert "friction_ratio" not in NewtonSettings.model_fields  # else the ratio belongs in mujoco:pair_friction
+    reason = yaml.safe_load((ROOT / "resources/simulators/calibration.yaml").read_text())["simulators"][
+        "isaac_lab_newton"
+    ]["if_unbound"]
+    settings = _settings(catalog, "isaac_lab_newton", variant)
+    text = formats.write_profile_file("newton", SIMULATORS["isaac_lab_newton"], settings, ["t"], WHEELS)["py"]
+    header = " ".join(line.removeprefix("# ") for line in text.splitlines() if line.startswith("#"))
+    assert reason in header and "no friction ratio" in header
+    for node in ast.parse(text).body:
+        if isinstance(node, ast.Assign) and isinstance(node.value, ast.Dict):
+            values = dict(zip(map(ast.literal_eval, node.value.keys), node.value.values, strict=True))
+            if "mujoco:pair_friction" in values:
+                tangent1, tangent2, *_ = ast.literal_eval(values["mujoco:pair_friction"])
+                assert tangent1 == tangent2 == formats.GROUND_MU
+
+
 # --- MuJoCo: the fragment merged into the robot's MJCF, loaded and stepped by MuJoCo ---
 
 

@@ -641,6 +641,14 @@ class _Code(str):
 
 
 PYTHON_BLOCKS = {"isaaclab": _isaaclab, "newton": _newton, "genesis": _genesis}
+# Why an Isaac Lab 3 (Newton) file has no lateral/longitudinal friction ratio, as the calibration's search space
+# says it (tests/test_simulator_files.py holds the two to the same words): the adapter has no such setting, so
+# neither the tuned nor the calibrated profile carries one, and the pairs' two tangential frictions are equal
+NEWTON_NO_RATIO = (
+    "no friction ratio (both tangential frictions the ground's): resources/simulators/calibration.yaml, "
+    "isaac_lab_newton, if_unbound: simpick's Newton adapter writes the pairs' friction isotropic (no friction_ratio "
+    "setting), so no calibrated setting can be run; its calibrated row is its tuned profile"
+)
 # the adapter setting behind each keyword, for the reader (keyword -> setting)
 PYTHON_KEYS = {
     "isaaclab": {
@@ -682,6 +690,8 @@ def write_python(
             f"pair values: one add_custom_values call per wheel shape and ground shape, with 'mujoco:pair_geom1' "
             f"(the ground's shape) and 'mujoco:pair_geom2' (the wheel's); friction: the ground's ({ground_mu:g} here)"
         )
+    if fmt == "newton":
+        notes.append(NEWTON_NO_RATIO)
     return {"py": _header("#", [*title, *notes]) + "\n".join(lines) + "\n"}
 
 
