@@ -233,3 +233,38 @@ def test_each_models_jobs_hold_its_own_adapter_only():
             others = {m.removeprefix("simpick.") for e, m in adapters.items() if m != adapter}
             assert not files & others, (engine, step, files & others)
             assert not [f for f in files if f.split(".")[0] in ("report", "plan", "config", "schema")], files
+
+
+def test_the_gazebo_programs_sources_are_in_the_code_of_the_jobs_that_run_it_only(tmp_path):
+    """The Gazebo profiles run a compiled program (simpick/engines/gz, built by make gzphysics): an edit to
+    its C++ or its CMakeLists.txt changes the code version of every job that reaches the gzphysics adapter,
+    and of no other job (here on a copy of src/simpick, the real sources untouched)."""
+    from simpick.engines import ADAPTERS
+    from simpick.plan.study import Plan
+
+    copy = tmp_path / "simpick"
+    shutil.copytree(ROOT / "src" / "simpick", copy, ignore=shutil.ignore_patterns("__pycache__"))
+    steps = ("simulate", "validate", "cpu_load", "calibrate")
+    models = ("gzphysics", *ADAPTERS)
+
+    def versions():
+        clear_cache()
+        return {
+            (step, model): job_code(
+                *script_roots(ROOT / "scripts" / f"{step}.py"), *Plan.engine_modules(model), root=copy
+            )
+            for step in steps
+            for model in models
+        } | {script.stem: job_code(*script_roots(script), root=copy) for script in (ROOT / "scripts").glob("*.py")}
+
+    try:
+        before = versions()
+        assert "ode" in models and len(before) > len(steps) * 3
+        for name, comment in (("gzphysics_run.cc", "// an edit"), ("CMakeLists.txt", "# an edit")):
+            path = copy / "engines" / "gz" / name
+            path.write_text(f"{path.read_text()}\n{comment}\n")
+            after = versions()
+            assert sorted(k for k in before if before[k] != after[k]) == [(step, "gzphysics") for step in sorted(steps)]
+            before = after
+    finally:
+        clear_cache()

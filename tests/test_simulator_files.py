@@ -401,6 +401,68 @@ def test_every_name_a_file_uses_is_in_the_simulator_s_quoted_reference(catalog, 
     assert table["version"] and all(table["names"][n].strip() for n in used)
 
 
+def test_webots_coulomb_friction_is_lateral_then_longitudinal_on_the_wheel_as_webots_reads_it(catalog):
+    """Webots' rule (simpick.engines.simulator_files, quoted in simulator_names): ODE's fdir1 is material1's first
+    friction direction, a Cylinder's is its axis on its side, and three values give mu = [0] + [2] along fdir1 and
+    mu2 = [1] + [2] across it. The Husky's wheel Cylinder lies along its joint's axis, so [0] is the friction across
+    the wheel and [1] along its rolling direction: their ratio is the profile's friction_ratio."""
+    import math
+    import re
+
+    from simpick.engines.simulator_names import NAMES
+
+    quoted = NAMES["webots"]["names"]
+    assert "[0] + [2]" in quoted["coulombFriction"] and "WbCylinder.cpp:549-556" in quoted["coulombFriction"]
+    assert "fdir1" in quoted["material1"]
+    # the wheel Cylinder's axis (URDF: the collision frame's z, turned by its rpy) is its joint's axis, the axle
+    robot = ET.parse(HUSKY_URDF).getroot()
+    link = robot.find(f"link[@name='{WHEELS[0]}']")
+    roll, pitch, _ = (float(x) for x in link.find("collision/origin").get("rpy").split())
+    cylinder_axis = (math.sin(pitch), -math.sin(roll) * math.cos(pitch), math.cos(roll) * math.cos(pitch))
+    joint_axis = [float(x) for x in robot.find(f"joint[@name='{WHEELS[0]}_joint']/axis").get("xyz").split()]
+    assert link.find("collision/geometry/cylinder") is not None
+    assert abs(sum(a * b for a, b in zip(cylinder_axis, joint_axis))) == pytest.approx(1.0)
+
+    settings = _settings(catalog, "webots", "tuned", friction_ratio=0.6, friction_direction="wheel")  # calibration.yaml
+    text = formats.write_profile_file("webots", SIMULATORS["webots"], settings, ["t"], WHEELS)["wbt"]
+    body = "\n".join(line.split("#")[0] for line in text.splitlines())
+    assert re.search(r'material1\s+"wheel"', body) and "material2" not in body  # the wheel's directions first
+    values = [float(v) for v in re.search(r"coulombFriction\s+\[([^\]]*)\]", body).group(1).split()]
+    assert len(values) == 3  # the ground symmetric: no mixing by the heading
+    along_axle, along_rolling = values[0] + values[2], values[1] + values[2]
+    assert along_rolling == pytest.approx(formats.GROUND_MU)
+    assert along_axle / along_rolling == pytest.approx(0.6)
+    rotation = re.search(r"frictionRotation\s+(\S+)\s+(\S+)", body)
+    assert rotation is None or float(rotation.group(1)) == 0.0  # fdir1 not turned off the axis
+    assert formats.read_webots(text)["friction_ratio"] == pytest.approx(0.6)
+
+
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_a_newton_file_says_why_it_has_no_friction_ratio_in_the_calibration_s_words(catalog, variant):
+    """The Newton adapter has no friction_ratio, so no Isaac Lab 3 profile carries one (calibration.yaml's
+    if_unbound): the file writes the pairs' tangential frictions equal and its header quotes that reason."""
+    import ast
+
+    import yaml
+
+    from simpick.engines.newton_engine import NewtonSettings
+
+    assert "friction_ratio" not in NewtonSettings.model_fields  # else the ratio belongs in mujoco:pair_friction
+    reason = yaml.safe_load((ROOT / "resources/simulators/calibration.yaml").read_text())["simulators"][
+        "isaac_lab_newton"
+    ]["if_unbound"]
+    settings = _settings(catalog, "isaac_lab_newton", variant)
+    text = formats.write_profile_file("newton", SIMULATORS["isaac_lab_newton"], settings, ["t"], WHEELS)["py"]
+    header = " ".join(line.removeprefix("# ") for line in text.splitlines() if line.startswith("#"))
+    assert reason in header and "no friction ratio" in header
+    for node in ast.parse(text).body:
+        if isinstance(node, ast.Assign) and isinstance(node.value, ast.Dict):
+            values = dict(zip(map(ast.literal_eval, node.value.keys), node.value.values, strict=True))
+            if "mujoco:pair_friction" in values:
+                tangent1, tangent2, *_ = ast.literal_eval(values["mujoco:pair_friction"])
+                assert tangent1 == tangent2 == formats.GROUND_MU
+
+
 # --- MuJoCo: the fragment merged into the robot's MJCF, loaded and stepped by MuJoCo ---
 
 

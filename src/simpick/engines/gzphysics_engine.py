@@ -64,6 +64,9 @@ from simpick.engines.runner import Adapter
 from simpick.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[3]
+# the program's sources (gzphysics_run.cc, CMakeLists.txt). Named here as the string "gz" so that the code
+# version of every job that reaches this adapter hashes them (simpick.codeversion.data_files: a folder beside a
+# reached module that the module names): editing the program reruns the Gazebo jobs, and no other engine's
 SOURCE = ROOT / "src" / "simpick" / "engines" / "gz"
 # where `make gzphysics` builds it; SIMPICK_GZPHYSICS names another build
 PROGRAM = Path(os.environ.get("SIMPICK_GZPHYSICS", ROOT / "build" / "gz" / "gzphysics_run"))
@@ -81,7 +84,7 @@ def require_program() -> None:
     if not PROGRAM.is_file() or not os.access(PROGRAM, os.X_OK):
         raise FileNotFoundError(
             f"{PROGRAM} is not built (Gazebo Fortress's physics layer: Debian's libignition-physics-dev, "
-            "libignition-physics5-dartsim-plugin5 and libsdformat-dev); build it with `make gzphysics`"
+            f"libignition-physics5-dartsim-plugin5 and libsdformat-dev); build it from {SOURCE} with `make gzphysics`"
         )
 
 

@@ -22,9 +22,22 @@ NAMES = {
             "ERP": f"{_WEBOTS_WI}:10 (SFFloat, ODE world error reduction)",
             "contactProperties": f"{_WEBOTS_WI}:26 (MFNode)",
             "ContactProperties": f"{_WEBOTS_CP}:3 (the node)",
+            "material1": (
+                f"{_WEBOTS_CP}:4 (SFString, default \"default\"); its solid's geometry gives ODE's first friction "
+                "direction fdir1 (cyberbotics/webots eee8e098 src/webots/engine/WbSimulationCluster.cpp:262-268, "
+                "283-289: 'respect the order: material1 -> material2')"
+            ),
             "material2": f"{_WEBOTS_CP}:5 (SFString)",
-            "coulombFriction": f"{_WEBOTS_CP}:6 (MFFloat: one value, or one per friction direction)",
-            "frictionRotation": f"{_WEBOTS_CP}:7 (SFVec2f, rotation of the first friction direction)",
+            "coulombFriction": (
+                f"{_WEBOTS_CP}:6 (MFFloat: one value, or one per friction direction); three values: mu along fdir1 = "
+                "[0] + [2], mu2 across it = [1] + [2], material1 taking [0] and [1] (cyberbotics/webots eee8e098 "
+                "src/webots/engine/WbSimulationCluster.cpp:303-305, 315-317); a Cylinder's first direction on its "
+                "side is its axis (927d975a src/webots/nodes/WbCylinder.cpp:549-556)"
+            ),
+            "frictionRotation": (
+                f"{_WEBOTS_CP}:7 (SFVec2f, rotation of the first friction direction: of material1's by the first "
+                "angle, about the contact normal; WbSimulationCluster.cpp:277-282)"
+            ),
             "bounce": f"{_WEBOTS_CP}:9 (SFFloat)",
             "bounceVelocity": f"{_WEBOTS_CP}:10 (SFFloat, m/s)",
             "forceDependentSlip": f"{_WEBOTS_CP}:11 (MFFloat, 'see ODE')",
