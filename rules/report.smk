@@ -355,6 +355,7 @@ rule report:
         simulators=(
             [
                 "results/simulators/table.csv",
+                "results/simulators/per_class.csv",
                 "results/simulators/tree.json",
                 "results/simulators/settings",
             ]

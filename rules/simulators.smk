@@ -27,6 +27,8 @@ rule simulators:
         table=report("results/simulators/table.csv", caption="captions/simulators.rst", category="Simulators"),
         outcomes="results/simulators/outcomes.csv",
         mechanics="results/simulators/mechanics.csv",
+        # the calibrated profiles' per-class fits beside the pooled one
+        per_class="results/simulators/per_class.csv",
         tree_dir=directory("results/simulators/subjects"),
     log:
         "results/logs/simulators.log",

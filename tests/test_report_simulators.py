@@ -423,3 +423,47 @@ def test_a_table_with_no_rows_says_no_simulator_ran(real_study, tmp_path):
     pd.DataFrame(columns=TABLE_COLUMNS).to_csv(folder / "table.csv", index=False)
     text = " ".join(html.unescape(_render(inputs, params | {"simulators": str(folder)})).split())
     assert "No simulator can be named: the study ran no simulator profile." in text
+
+
+def test_the_per_class_fits_stand_beside_the_pooled_with_their_held_out_runs_and_files(real_study):
+    from test_report import _render
+
+    root, inputs, params = real_study
+    folder = write_simulators(root / "per_class" / "simulators")
+    rows = [
+        ("MuJoCo", "mujoco", "flooring", 0.576, 0.698, 1, 0.011, 0.079, True),
+        ("MuJoCo", "mujoco", "sandy_loam", 0.8755, 0.698, 1, 0.060, 0.043, True),
+        ("Gazebo Classic", "gazebo_classic", "ice", 0.70, 0.698, 0, None, None, False),
+    ]
+    table = pd.DataFrame(
+        [
+            {
+                "simulator": sim,
+                "label": label,
+                "terrain_class": cls,
+                "train_runs": 2,
+                "real_gain": 0.7,
+                "pooled_ratio": pooled,
+                "class_ratio": ratio,
+                "engine_gain": 0.7,
+                "heldout_runs": held,
+                "class_fit_error": own,
+                "pooled_fit_error": other,
+                "settings_file": f"results/simulators/settings/{sim}-calibrated-{cls}" if has_file else "",
+            }
+            for label, sim, cls, ratio, pooled, held, own, other, has_file in rows
+        ]
+    )
+    table.to_csv(folder / "per_class.csv", index=False)
+    for _label, sim, cls, *_ in rows[:2]:
+        (folder / "settings" / f"{sim}-calibrated-{cls}.xml").write_text("settings\n")
+    text = _render(inputs, {**params, "simulators": str(folder)})
+    found = re.search(r'<table[^>]*id="simulators-per-class-table".*?</table>', text, re.S)
+    assert found, "no per-class table"
+    body = html.unescape(found.group(0))
+    assert body.split("<tbody>")[1].count("<tr>") == 3
+    assert "mujoco-calibrated-flooring.xml" in body and "mujoco-calibrated-sandy_loam.xml" in body
+    assert "0.576 (0.698)" in body and "0.011" in body and "0.079" in body
+    # a class without held-out runs shows no error, not a zero
+    ice = re.search(r"<tr><td>Gazebo Classic</td><td>ice</td>.*?</tr>", body, re.S).group(0)
+    assert ice.count("–") == 2

@@ -203,6 +203,23 @@ def test_the_fit_moves_the_engine_gain_toward_the_real_one(tmp_path):
     tuned = cal._engine_gain(run_case, _setup(plan, "mujoco", params), 1.0, 0.5, 0.5, 0.6, 3.0)
     assert ratio < 1.0 and abs(fit["fit"]["engine_gain"] - real) < 0.5 * abs(tuned - real)
     assert fit["fit"]["trials"][0][0] == pytest.approx(fit["fit"]["coulomb_ratio"], abs=1e-3)
+    # each class with a training run that turns has its own fit on the engine, from the Coulomb placement,
+    # and both fits are judged on the class's held-out runs (never a training one)
+    assert fit["per_class"] and set(fit["per_class"]) <= set(params["classes"])
+    judged = 0
+    for cls, entry in fit["per_class"].items():
+        assert entry["placed_by"].startswith("its own fit on the engine")
+        assert 1 <= len(entry["trials"]) <= 3 and entry["trials"][0][0] == pytest.approx(entry["coulomb_ratio"])
+        assert (
+            abs(entry["engine_gain"] - entry["real_gain"]) < abs(fit["fit"]["engine_gain"] - entry["real_gain"]) + 0.01
+        )
+        assert entry["cases"]["mu"] == params["grounds"][cls]
+        assert not set(entry["runs"]) & set(fit["test_runs"]) and set(entry["runs"]) <= set(fit["train_runs"])
+        held = entry.get("heldout")
+        if held:
+            judged += 1
+            assert held["runs"] >= 1 and held["class_fit_error"] >= 0 and held["pooled_fit_error"] >= 0
+    assert judged >= 1
 
 
 def _setup(plan, simulator, params):
@@ -406,6 +423,69 @@ def test_the_calibrated_settings_file_is_headed_by_its_data_figures_and_command_
         ET.fromstring(re.sub(r"<!--.*?-->\n?", "", text, flags=re.S))
     back = formats.read("sdf", "ode", texts)
     assert back["friction_ratio"] == pytest.approx(0.49) and back["contact_slip"] == pytest.approx(0.001)
+
+
+def test_a_class_whose_own_fit_differs_gets_its_own_file_and_a_row_beside_the_pooled(tmp_path):
+    catalog = load_catalog(ROOT / "resources/simulators/simulators.yaml")
+    sim = catalog.simulators["mujoco"]
+    entry = {
+        "friction_ratio": 0.576,
+        "real_gain": 0.712,
+        "runs": ["flooring/07"],
+        "placed_by": "its own fit on the engine (2 trials from the Coulomb placement)",
+        "engine_gain": 0.7115,
+        "reached": True,
+        "heldout": {"runs": 1, "real_gain": 0.72, "class_fit_error": 0.011, "pooled_fit_error": 0.079},
+    }
+    same = dict(entry, friction_ratio=0.702, heldout=None)  # within 0.01 of the pooled: no file of its own
+    placed = {k: v for k, v in entry.items() if k != "engine_gain"}  # placed by Coulomb alone: no file
+    fit = {
+        "simulator": "mujoco",
+        "robot": "husky_a200",
+        "source": "segments-borealtc",
+        "searchable": True,
+        "settings": {"friction_ratio": 0.698},
+        "exposed": {"friction_ratio": 'friction="0.698 x mu mu 0 0 0"'},
+        "per_class": {"flooring": entry, "ice": same, "snow": placed},
+        "fit": {"real_gain": 0.645},
+    }
+    assert set(stage.class_files(fit)) == {"flooring"}
+    table = stage.per_class_table({"mujoco": fit}, catalog)
+    assert list(table.terrain_class) == ["flooring", "ice", "snow"]
+    row = table.set_index("terrain_class").loc["flooring"]
+    assert (row.class_ratio, row.pooled_ratio, row.class_fit_error, row.pooled_fit_error) == (
+        0.576,
+        0.698,
+        0.011,
+        0.079,
+    )
+    assert row.settings_file.endswith("mujoco-calibrated-flooring")
+    assert table.set_index("terrain_class").loc["ice"].settings_file == ""
+
+    settings = catalog.settings("mujoco", "tuned", "husky_a200")
+    settings = get_engine("mujoco").settings_model.model_validate(settings).model_dump(mode="json")
+    from simpick.engines import simulator_files as formats
+
+    stage._calibrated_file(
+        formats,
+        sim,
+        "mujoco",
+        settings,
+        fit,
+        pd.DataFrame(columns=["simulator", "variant"]),
+        catalog,
+        "husky_a200",
+        ["front_left_wheel_link"],
+        tmp_path,
+    )
+    names = sorted(p.name for p in tmp_path.iterdir())
+    assert names == ["mujoco-calibrated-flooring.xml", "mujoco-calibrated.xml"], names
+    own = (tmp_path / "mujoco-calibrated-flooring.xml").read_text()
+    assert "calibrated for flooring" in own and "0.079" in own and "not a replay" in own
+    back = formats.read("mjcf", "mujoco", {"xml": own})
+    assert back["friction_ratio"] == pytest.approx(0.576)
+    pooled = formats.read("mjcf", "mujoco", {"xml": (tmp_path / "mujoco-calibrated.xml").read_text()})
+    assert pooled["friction_ratio"] == pytest.approx(0.698)
 
 
 def test_the_calibrated_variant_is_a_model_of_its_own_in_the_registry():

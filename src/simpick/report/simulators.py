@@ -128,9 +128,31 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
                     "rank": int(r["rank"]) if "rank" in r else None,
                 }
             )
+    per_class = []
+    if (folder_path / "per_class.csv").is_file():
+        for r in pd.read_csv(folder_path / "per_class.csv").to_dict("records"):
+            held = int(r["heldout_runs"]) if pd.notna(r.get("heldout_runs")) else 0
+            stem = Path(str(r["settings_file"])).name if pd.notna(r.get("settings_file")) else ""
+            files = sorted(p.name for p in (folder_path / "settings").glob(f"{stem}.*")) if stem else []
+            per_class.append(
+                {
+                    "label": r["label"],
+                    "terrain_class": r["terrain_class"],
+                    "train_runs": int(r["train_runs"]) if pd.notna(r.get("train_runs")) else 0,
+                    "real_gain": _f(r.get("real_gain")),
+                    "class_ratio": _f(r.get("class_ratio")),
+                    "pooled_ratio": _f(r.get("pooled_ratio")),
+                    "engine_gain": _f(r.get("engine_gain")),
+                    "heldout_runs": held,
+                    "class_error": _f(r.get("class_fit_error")) if held else "–",
+                    "pooled_error": _f(r.get("pooled_fit_error")) if held else "–",
+                    "settings": [f"../simulators/settings/{name}" for name in files],
+                }
+            )
     tree = read_tree(str(folder_path / "tree.json")) if (folder_path / "tree.json").is_file() else None
     return {
         "rows": rows,
+        "per_class": per_class,
         "variants": sorted(set(table.variant.astype(str))),
         "heldout": "heldout_gain_error" in table.columns and table.heldout_gain_error.notna().any(),
         "weighted": weighted,

@@ -241,6 +241,8 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
             row.update(_calibration_columns(fits.get(name), variant, row, summary, results, name))
             rows.append(row)
     write_csv(pd.DataFrame(rows, columns=TABLE_COLUMNS), outputs["table"])
+    if outputs.get("per_class"):
+        write_csv(per_class_table(fits, catalog), outputs["per_class"])
     _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs)
 
 
@@ -500,9 +502,9 @@ def calibrated_header(sim, simulator: str, fit: dict, row) -> list[str]:
     f = fit.get("fit") or {}
     lines = [
         f"simpick settings: {sim.label}, calibrated, for {fit.get('robot')}",
-        f"fitted on {fit.get('source')}: training runs {', '.join(fit.get('train_runs') or [])}; the turning ones "
-        f"({', '.join(f.get('real_runs') or [])}) give the real steady yaw-rate gain {_num(f.get('real_gain'))}; "
-        f"held out: {', '.join(fit.get('test_runs') or [])}",
+        f"fitted on {fit.get('source')}: training runs {_runs(fit.get('train_runs'))}; the turning ones of "
+        f"{', '.join(f.get('classes') or [])} ({_runs(f.get('real_runs'))}) give the real steady yaw-rate gain "
+        f"{_num(f.get('real_gain'))}; held out: {_runs(fit.get('test_runs'))}",
     ]
     if fit.get("searchable"):
         trials = "; ".join(f"r {r} gain {g}" for r, g in f.get("trials") or [])
@@ -528,6 +530,109 @@ def calibrated_header(sim, simulator: str, fit: dict, row) -> list[str]:
     return [line.replace("--", "-") for line in lines]
 
 
+def _runs(runs, most: int = 12) -> str:
+    """Runs named one by one up to ``most``; beyond that (DRIVE's steps) their number and where the split is."""
+    runs = list(runs or [])
+    if len(runs) <= most:
+        return ", ".join(runs) or "none"
+    return f"{len(runs)} (listed in results/simulators/calibration/split.csv and the fit's file)"
+
+
+# a class's own ratio gets a file of its own where it differs from the pooled one by at least this much
+CLASS_FILE_RATIO = 0.01
+
+
+def class_header(sim, simulator: str, fit: dict, terrain: str, entry: dict) -> list[str]:
+    """The head of a class's calibrated file: what it was fitted on, its engine fit, and both fits on the
+    class's held-out runs (a steady-turn case at their commands, not a replay)."""
+    held = entry.get("heldout") or {}
+    lines = [
+        f"simpick settings: {sim.label}, calibrated for {terrain}, for {fit.get('robot')}",
+        f"fitted on {fit.get('source')}, {terrain} only: training runs {_runs(entry.get('runs'))}, real steady "
+        f"yaw-rate gain {_num(entry.get('real_gain'))}; {entry.get('placed_by')}: friction_ratio "
+        f"{entry.get('friction_ratio')}, engine gain {_num(entry.get('engine_gain'))} (the pooled fit's ratio "
+        f"{(fit.get('settings') or {}).get('friction_ratio')})",
+    ]
+    if held:
+        lines.append(
+            f"held out: {held.get('runs')} {terrain} runs, real gain {_num(held.get('real_gain'))}; the engine's "
+            f"steady gain at their commands, this file {_num(held.get('class_fit_gain'))} (error "
+            f"{_num(held.get('class_fit_error'))}), the pooled fit {_num(held.get('pooled_fit_gain'))} (error "
+            f"{_num(held.get('pooled_fit_error'))}): a steady-turn case, not a replay of those runs"
+        )
+    else:
+        lines.append(f"held out: no {terrain} run that turns under a steady command: not judged")
+    lines.append(REGENERATE)
+    return [line.replace("--", "-") for line in lines]
+
+
+def class_files(fit: dict | None) -> dict[str, dict]:
+    """terrain class -> its own fit, for the classes whose ratio, fitted on the engine, differs from the pooled."""
+    if not fit or not fit.get("searchable"):
+        return {}
+    pooled = (fit.get("settings") or {}).get("friction_ratio")
+    return {
+        c: e
+        for c, e in (fit.get("per_class") or {}).items()
+        if pooled is not None
+        and e.get("engine_gain") is not None
+        and e.get("friction_ratio") is not None
+        and abs(float(e["friction_ratio"]) - float(pooled)) >= CLASS_FILE_RATIO
+    }
+
+
+def per_class_table(fits: dict[str, dict], catalog) -> pd.DataFrame:
+    """results/simulators/per_class.csv: per simulator and terrain class, the class's own fit beside the pooled
+    one, both judged on the class's held-out runs (a steady-turn case at their commands)."""
+    rows = []
+    for simulator, fit in fits.items():
+        pooled = (fit.get("settings") or {}).get("friction_ratio")
+        files = class_files(fit)
+        for cls, e in (fit.get("per_class") or {}).items():
+            held = e.get("heldout") or {}
+            rows.append(
+                {
+                    "simulator": simulator,
+                    "label": catalog.simulators[simulator].label if simulator in catalog.simulators else simulator,
+                    "terrain_class": cls,
+                    "train_runs": len(e.get("runs") or []),
+                    "real_gain": e.get("real_gain"),
+                    "pooled_ratio": pooled,
+                    "class_ratio": e.get("friction_ratio"),
+                    "placed_by": e.get("placed_by"),
+                    "engine_gain": e.get("engine_gain"),
+                    "reached": e.get("reached"),
+                    "heldout_runs": held.get("runs", 0),
+                    "heldout_real_gain": held.get("real_gain"),
+                    "class_fit_error": held.get("class_fit_error"),
+                    "pooled_fit_error": held.get("pooled_fit_error"),
+                    "settings_file": f"results/simulators/settings/{model_name(simulator, 'calibrated')}-{cls}"
+                    if cls in files
+                    else "",
+                }
+            )
+    return pd.DataFrame(rows, columns=PER_CLASS_COLUMNS)
+
+
+PER_CLASS_COLUMNS = [
+    "simulator",
+    "label",
+    "terrain_class",
+    "train_runs",
+    "real_gain",
+    "pooled_ratio",
+    "class_ratio",
+    "placed_by",
+    "engine_gain",
+    "reached",
+    "heldout_runs",
+    "heldout_real_gain",
+    "class_fit_error",
+    "pooled_fit_error",
+    "settings_file",
+]
+
+
 def _calibrated_file(formats, sim, simulator, settings, fit, table, catalog, robot, wheels, out: Path) -> None:
     """A calibrated profile's file: its tuned settings with the fit's over them, in the simulator's format."""
     from simpick.engines import get_engine
@@ -543,12 +648,29 @@ def _calibrated_file(formats, sim, simulator, settings, fit, table, catalog, rob
         entries[key] = ("calibrated", Setting(value=value, exposed_as=text, source=f"fitted: {fit.get('source')}"))
     row = table[(table.simulator == simulator) & (table.variant == "calibrated")]
     header = calibrated_header(sim, simulator, fit, row.iloc[0].to_dict() if len(row) else None)
-    if sim.settings_format is None:  # no file format of its own (MORSE): where its user sets each value
-        texts = {"txt": exposed_settings_text(settings, entries, header)}
-    else:
-        texts = formats.write(sim.settings_format, sim.engine, settings, entries, header, wheels)
-    for suffix, text in texts.items():
-        (out / f"{model_name(simulator, 'calibrated')}.{suffix}").write_text(text)
+    files = [("", settings, entries, header)]
+    for cls, entry in class_files(fit).items():  # a class whose own fit differs: a file of its own
+        own = get_engine(sim.engine).settings_model.model_validate(
+            {**settings, "friction_ratio": entry["friction_ratio"]}
+        )
+        text = str((fit.get("exposed") or {}).get("friction_ratio", "not exposed"))
+        text = text.replace(str((fit.get("settings") or {}).get("friction_ratio")), str(entry["friction_ratio"]))
+        setting = Setting(value=entry["friction_ratio"], exposed_as=text, source=f"fitted: {fit.get('source')}, {cls}")
+        files.append(
+            (
+                f"-{cls}",
+                own.model_dump(mode="json"),
+                {**entries, "friction_ratio": ("calibrated", setting)},
+                class_header(sim, simulator, fit, cls, entry),
+            )
+        )
+    for tail, values, named, head in files:
+        if sim.settings_format is None:  # no file format of its own (MORSE): where its user sets each value
+            texts = {"txt": exposed_settings_text(values, named, head)}
+        else:
+            texts = formats.write(sim.settings_format, sim.engine, values, named, head, wheels)
+        for suffix, text in texts.items():
+            (out / f"{model_name(simulator, 'calibrated')}{tail}.{suffix}").write_text(text)
 
 
 def simulator_scores_job(subjects: str, params: dict, outputs: dict) -> None:

@@ -196,6 +196,11 @@ class CalibrateParams(JobParams):
     duration: Positive = Field(6.0, description="s of the steady-turn case (its second half is measured)")
     tolerance: Positive = Field(0.005, description="|engine gain - real gain| at which the fit stops")
     max_trials: Annotated[int, Field(ge=1, le=8)] = 5
+    class_trials: Annotated[int, Field(ge=0, le=8)] = Field(
+        3,
+        description="engine trials of each class's own fit (its training runs' gain, its ground, its commands), "
+        "started from the Coulomb placement; 0: the Coulomb placement alone",
+    )
     drive_commands: Annotated[int, Field(ge=1, le=12)] = Field(
         4,
         description="kind drive: how many of the training steps' commands the engine runs (the median step of "
@@ -394,24 +399,24 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
             return float(np.mean(gains))
 
         trials, best = secant_fit(measure, real, start, coulomb_ratio, bounds, p.tolerance, p.max_trials)
-        fits.append((alternative, extra, trials, best, measured))
+        fits.append((alternative, extra, trials, best, measured, setup))
         if abs(best[1] - real) <= p.tolerance:
             break
-    alternative, extra, trials, (ratio, engine_gain), measured = min(
+    alternative, extra, trials, (ratio, engine_gain), measured, kept = min(
         fits, key=lambda f: abs(f[3][1] - real) if math.isfinite(f[3][1]) else math.inf
     )
     offset = engine_gain - coulomb_gain(ratio)
     # per class: DRIVE's classes outside the target too (the user of a gravel or grass robot reads theirs)
-    by_class = real_gains(real_turns(inputs, train, sorted(p.grounds))) if p.kind == "drive" else gains
-    for cls, g in by_class.groupby("terrain_class"):
-        gain = float(g.gain.mean())
-        placed = coulomb_ratio(gain - offset)
-        out["per_class"][str(cls)] = {
-            name: _r(placed),
-            "real_gain": _r(gain),
-            "runs": [f"{cls}/{r}" for r in g.run],
-            "placed_by": "anisotropic Coulomb, shifted by the engine's offset at the pooled fit (no engine run)",
-        }
+    every = sorted(p.grounds) if p.kind == "drive" else classes
+    out["per_class"] = _class_fits(
+        p,
+        kept,
+        real_turns(inputs, train, every),
+        real_turns(inputs, test, every),
+        ratio,
+        lambda gain: coulomb_ratio(gain - offset),
+        bounds,
+    )
     out["settings"] = {**fixed, **extra, name: _r(ratio)}
     text = space.settings[name].exposed_as.replace("r x mu", f"{_r(ratio)} x mu")
     out["exposed"] = {name: text, **{k: r.exposed_as for k, r in space.requires.items()}}
@@ -424,7 +429,7 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
             "trials": [[_r(r), _r(g)] for r, g in trials],  # (ratio, mean gain) at the kept settings
             "all_trials": [
                 {"settings": {**e, name: _r(r)}, "gain": _r(g), "gains": [_r(x) for x in m.get(round(r, 4), [])]}
-                for _, e, t, _, m in fits
+                for _, e, t, _, m, _ in fits
                 for r, g in t
             ],
             "engine_gain": _r(engine_gain),
@@ -435,6 +440,79 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     )
     _write(out, output)
     return out
+
+
+def _class_fits(p, setup, train: pd.DataFrame, test: pd.DataFrame, pooled: float, placed, bounds) -> dict:
+    """Per terrain class with training turns: the ratio of the class's own fit (its training runs' gain on its
+    own ground at its own commands, ``p.class_trials`` engine trials from the Coulomb placement ``placed``:
+    gain -> ratio, shifted by the engine's offset at the pooled fit), and both fits judged on the class's
+    held-out runs: the engine's steady gain at those runs' commands (DRIVE: 4 representative ones) against
+    each run's real gain. That is a steady-turn case at their commands, not a replay of them: a replay runs
+    the pooled fit only (the calibrated profile)."""
+    from simpick.studies.validation.cases import run_case
+
+    def commands(turns: pd.DataFrame) -> list[tuple[float, float]]:
+        if p.kind == "drive":
+            return drive_commands(turns, p.drive_commands)
+        return [(round(float(r.v), 3), round(float(r.w), 3)) for r in turns.itertuples()]
+
+    def engine(ratio: float, cmds, mu: float) -> float:
+        return float(np.mean([_engine_gain(run_case, setup, ratio, v, w, mu, p.duration) for v, w in cmds]))
+
+    out = {}
+    for cls, t in train.groupby("terrain_class"):
+        gains = real_gains(t)
+        gain = float(gains.gain.mean())
+        start = placed(gain)
+        entry: dict[str, Any] = {
+            "friction_ratio": _r(start),
+            "real_gain": _r(gain),
+            "runs": [f"{cls}/{r}" for r in gains.run],
+            "placed_by": "anisotropic Coulomb, shifted by the engine's offset at the pooled fit (no engine run)",
+        }
+        mu = p.grounds.get(str(cls))
+        if p.class_trials and mu is not None:
+            cmds = commands(t)
+            trials, (ratio, engine_gain) = secant_fit(
+                lambda r, cmds=cmds, mu=mu: engine(r, cmds, mu),
+                gain,
+                start if math.isfinite(start) else pooled,
+                placed,
+                bounds,
+                p.tolerance,
+                p.class_trials,
+            )
+            entry.update(
+                {
+                    "friction_ratio": _r(ratio),
+                    "placed_by": f"its own fit on the engine ({_trials(len(trials))} from the Coulomb placement)",
+                    "coulomb_ratio": _r(start),
+                    "engine_gain": _r(engine_gain),
+                    "reached": bool(abs(engine_gain - gain) <= p.tolerance),
+                    "cases": {"commands": [list(c) for c in cmds], "mu": mu, "duration": p.duration},
+                    "trials": [[_r(r), _r(g)] for r, g in trials],
+                }
+            )
+            held = test[test.terrain_class == cls]
+            if len(held):
+                runs = real_gains(held)
+                hcmds = commands(held)
+                own, pooled_gain = engine(ratio, hcmds, mu), engine(pooled, hcmds, mu)
+                entry["heldout"] = {
+                    "runs": len(runs),
+                    "real_gain": _r(float(runs.gain.mean())),
+                    "commands": [list(c) for c in hcmds],
+                    "class_fit_gain": _r(own),
+                    "pooled_fit_gain": _r(pooled_gain),
+                    "class_fit_error": _r(float(np.mean(np.abs(own - runs.gain)))),
+                    "pooled_fit_error": _r(float(np.mean(np.abs(pooled_gain - runs.gain)))),
+                }
+        out[str(cls)] = entry
+    return out
+
+
+def _trials(n: int) -> str:
+    return f"{n} trial" + ("s" if n != 1 else "")
 
 
 def _engine_gain(run_case, setup, ratio: float, v: float, w: float, mu: float, duration: float) -> float:
