@@ -385,3 +385,34 @@ def test_a_session_on_a_terrain_without_a_ground_model_is_refused_in_one_line(tm
     with pytest.raises(InputError, match="real_data.classes.*'asphalt'"):
         SD.replay_job({**tables, "urdf": config["robot"]["urdf"]}, params, outputs, 60)
     assert not (tmp_path / "r.csv").exists()
+
+
+def test_a_calibrated_profile_s_replay_merges_its_fit_over_its_settings(tmp_path, asphalt, monkeypatch):
+    """Rule drive_replay gives a calibrated profile's job its fit's file: the steps are replayed with the fitted
+    settings over the plan-time (tuned) ones, and without the file with the plan's."""
+    from simpick.real.drive import open_drive, write_tables
+
+    tables = {"cases": str(tmp_path / "cases.csv"), "wheels": str(tmp_path / "wheels.parquet")}
+    write_tables(open_drive(asphalt["folder"]), tables)
+    config = warthog_config(tmp_path)
+    params = {k: v for k, v in params_of(config, "mujoco", "asphalt").items() if k not in ("terrain_class", "class")}
+    params |= {
+        "classes": {"asphalt": {"friction": 0.75, "source": "x"}},
+        "replay": {"every": 5, "max_steps_per_session": 1, "warmup": 3.0},
+        "session": ASPHALT,
+    }
+    seen = []
+
+    def replay_session(wheels, chosen, urdf, case_params, warmup, where):
+        seen.append(dict(case_params.engine_settings))
+        return pd.DataFrame(columns=SD.TRACE_COLUMNS), pd.DataFrame({"case": []})
+
+    monkeypatch.setattr(SD, "replay_session", replay_session)
+    fit = tmp_path / "mujoco.yaml"
+    fit.write_text("settings:\n  friction_ratio: 0.81\n")
+    outputs = {"trace": str(tmp_path / "r.parquet"), "steps": str(tmp_path / "r.csv")}
+    inputs = {**tables, "urdf": config["robot"]["urdf"]}
+    SD.replay_job({**inputs, "calibrated": str(fit)}, params, outputs, 60)
+    SD.replay_job(inputs, params, outputs, 60)
+    assert seen[0]["friction_ratio"] == 0.81
+    assert seen[1].get("friction_ratio") == params["engine_settings"].get("friction_ratio") != 0.81
