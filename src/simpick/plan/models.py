@@ -122,8 +122,9 @@ class ModelPlanning:
                     "profile is judged on held-out steps: set simulators.drive: true"
                 )
             return (
-                "no real runs of this robot to fit on here (the committed segments are the Husky's); give its "
-                "DRIVE steps (drive_dir) with simulators.drive: true, or its own logs"
+                "no real runs of this robot to fit on here (the committed segments are the Husky's): give its "
+                "DRIVE steps (drive_dir) with simulators.drive: true, or a segments table of its own runs "
+                "(real_data.segments, real_data.robot); logs under own_logs are replayed and compared, not fitted on"
             )
         return ""
 
