@@ -608,3 +608,55 @@ def test_held_out_drive_steps_judge_every_row_on_the_test_steps_only(tmp_path):
     assert columns["heldout_speed_error"] == pytest.approx(0.2)
     assert columns["real_spread"] == 0.015 and columns["within_spread"] is False
     assert columns["heldout_gain_error_low"] <= 0.04 <= columns["heldout_gain_error_high"]
+
+
+# --- on the full replay's runs (borealtc_dir): the calibration's split, the steady turning windows ---
+
+
+def test_the_full_replay_fits_on_its_training_runs_windows_with_the_calibration_s_split(tmp_path):
+    config = _config(run=["mujoco"])
+    config["borealtc_dir"] = str(ROOT.parent / "shared/data/borealtc")
+    plan = _plan(config)
+    assert plan.calibration_source == "replay"
+    assert plan.calibration_real_input() == {
+        "windows": "results/real/borealtc/turning/windows.csv",
+        "calibration_split": "results/calibration/replay-borealtc/split.csv",
+    }
+    params = dict(
+        plan.simulator_calibrate_params("mujoco"), duration=3.0, max_trials=2, class_trials=1, drive_commands=2
+    )
+    assert params["kind"] == "replay" and params["source"] == "replay-borealtc"
+    # the calibration's split of the replay's runs, taken as it is
+    runs = [("flooring", f"{k:02d}") for k in range(1, 7)] + [("ice", f"{k:02d}") for k in range(1, 5)]
+    calibration_split = tmp_path / "calibration_split.csv"
+    pd.DataFrame(
+        [[c, r, r, "test" if i % 2 else "train"] for i, (c, r) in enumerate(runs)],
+        columns=["terrain_class", "run", "unit", "set"],
+    ).to_csv(calibration_split, index=False)
+    split = tmp_path / "split.csv"
+    cal.split_job({"calibration_split": str(calibration_split), "windows": "unused"}, 0.5, 11, str(split))
+    assert pd.read_csv(split).equals(pd.read_csv(calibration_split))
+    # two steady turning windows a run; a test run's gain is 0.1, a training one's 0.7 (flooring) or 0.6 (ice)
+    windows = pd.DataFrame(
+        [
+            {
+                "terrain_class": c,
+                "run": r,
+                "v": 0.3,
+                "w_kinematic": 0.4 * (1 + k),
+                "yaw_rate_gain": 0.1 if i % 2 else (0.7 if c == "flooring" else 0.6) + 0.01 * k,
+            }
+            for i, (c, r) in enumerate(runs)
+            for k in range(2)
+        ]
+    )
+    windows.to_csv(tmp_path / "windows.csv", index=False)
+    inputs = {"split": str(split), "windows": str(tmp_path / "windows.csv"), "urdf": config["robot"]["urdf"]}
+    train, test = cal.read_split(split)
+    turns = cal.real_turns(inputs, train, ["flooring", "ice"])
+    assert set(turns.terrain_class + "/" + turns.run) == set(train) and (turns.gain > 0.5).all()
+    fit = cal.calibrate(inputs, params, str(tmp_path / "mujoco.yaml"))
+    # the runs' means (flooring 0.705 x 3 runs, ice 0.605 x 2 runs), averaged over the runs
+    assert fit["fit"]["real_gain"] == pytest.approx((3 * 0.705 + 2 * 0.605) / 5, abs=1e-4)
+    assert len(fit["fit"]["cases"]["commands"]) == 2 and not set(fit["fit"]["real_runs"]) & set(test)
+    assert fit["per_class"]["flooring"]["heldout"]["runs"] == 3

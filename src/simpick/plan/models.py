@@ -133,6 +133,11 @@ class ModelPlanning:
         """The real runs the calibrated profiles fit on and are judged on: ``segments`` (the committed
         segments, where they are this robot's), ``drive`` (DRIVE's steps, where the profiles replay them) or
         None (neither)."""
+        # the verdict rests on the full replay (simpick.plan.answer.accuracy_source), known from the settings
+        # alone: the dataset folder is opened after this planning step
+        replayed = self.settings.borealtc_dir and self.settings.accuracy.reference not in ("paper", "own")
+        if self.real_data_robot and replayed:
+            return "replay"
         if self.real_data_robot and self.settings.real_data.segments:
             return "segments"
         if self.settings.drive_dir and self.settings.simulators.drive:
@@ -269,7 +274,11 @@ class ModelPlanning:
 
     def calibration_real_input(self) -> dict:
         """The real runs rule simulator_split splits and simulator_calibrate fits on: the committed segments
-        (``segments``) or DRIVE's steps table (``steps``, written by its import step)."""
+        (``segments``), the full replay's steady turning windows (``windows``, rule real_turning) with the
+        calibration's split of its runs (``calibration_split``), or DRIVE's steps table (``steps``, written by
+        its import step)."""
+        if self.calibration_source == "replay":
+            return {"windows": f"{self.replay}/turning/windows.csv", "calibration_split": f"{self.cal_dir}/split.csv"}
         if self.calibration_source == "drive":
             from simpick.sources import module as source_module
 
@@ -293,9 +302,10 @@ class ModelPlanning:
             "simulator": simulator,
             "engine": engine_of(tuned),
             "robot_name": self.robot.name,
-            "source": f"segments-{self.dataset}"
-            if self.calibration_source != "drive"
-            else f"drive-{study.drive_dataset}",
+            "source": {
+                "drive": f"drive-{study.drive_dataset}",
+                "replay": f"replay-{self.replay_set.name if self.replay_set else ''}",
+            }.get(self.calibration_source, f"segments-{self.dataset}"),
             "engine_settings": self.config["profiles"][tuned],
             "physics": {"timestep": study.physics.timestep},
             "robot": self._robot(),
@@ -309,6 +319,8 @@ class ModelPlanning:
                 for c in (study.calibration.target.classes or study.real_data.classes)
             },
         }
+        if self.calibration_source == "replay":
+            data["kind"] = "replay"
         if self.calibration_source == "drive":
             # DRIVE's sessions name their terrain in their steps table, known when the job runs: the fit pools
             # the target classes among them (every class of them where none is a target), so every class's

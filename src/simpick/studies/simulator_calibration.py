@@ -174,10 +174,11 @@ class CalibrateParams(JobParams):
     engine: str
     robot_name: str = Field(description="the robot's URDF <robot name>")
     source: str = Field(description="the real data fitted on (segments-<dataset>, drive-<dataset>)")
-    kind: Literal["segments", "drive"] = Field(
+    kind: Literal["segments", "replay", "drive"] = Field(
         "segments",
-        description="segments: the committed segments' runs; drive: DRIVE's steps, each a unit of its own, "
-        "pooled over the target classes among the steps' (all of them where none is a target)",
+        description="segments: the committed segments' runs; replay: the full replay's runs, their steady "
+        "turning windows; drive: DRIVE's steps, each a unit of its own, pooled over the target classes among "
+        "the steps' (all of them where none is a target)",
     )
     engine_settings: dict[str, Any] = Field(description="the simulator's tuned profile in full (the fit starts there)")
     physics: PhysicsStep
@@ -203,8 +204,9 @@ class CalibrateParams(JobParams):
     )
     drive_commands: Annotated[int, Field(ge=1, le=12)] = Field(
         4,
-        description="kind drive: how many of the training steps' commands the engine runs (the median step of "
-        "each of as many equal bins of |w|): DRIVE has some 170 training steps, each a 6 s engine run",
+        description="kinds drive and replay: how many of the training units' commands the engine runs (the "
+        "median unit of each of as many equal bins of |w|): DRIVE has some 170 training steps, a full BorealTC "
+        "replay hundreds of turning windows, each a 6 s engine run",
     )
 
 
@@ -219,6 +221,10 @@ def split_job(inputs: dict, test_fraction: float, seed: int, output: str) -> Non
     from simpick.studies.calibration.split import split_runs
     from simpick.tables import write_csv
 
+    if "calibration_split" in inputs:  # the full replay's runs: the calibration's own split, as it is
+        split = pd.read_csv(inputs["calibration_split"], dtype={"run": str, "unit": str})
+        write_csv(split, output)
+        return
     if "steps" in inputs:
         steps = pd.read_csv(inputs["steps"])
         key = steps_key(steps)
@@ -241,6 +247,11 @@ def real_turns(inputs: dict, runs: list[str], classes: list[str]) -> pd.DataFram
     """The units of ``runs`` (``class/run``) in ``classes`` that turn under a steady command with a real steady
     gain: (terrain_class, run, gain, v, w), from the committed segments (``inputs["segments"]``) or DRIVE's
     steps (``inputs["steps"]``: the gain over the wheels' measured speeds, the command those speeds)."""
+    if "windows" in inputs:  # the full replay's steady turning windows (rule real_turning)
+        win = pd.read_csv(inputs["windows"], dtype={"run": str})
+        win = win[win.terrain_class.isin(classes) & (win.terrain_class + "/" + win.run).isin(set(runs))]
+        win = win.rename(columns={"yaw_rate_gain": "gain", "w_kinematic": "w"})
+        return win[np.isfinite(pd.to_numeric(win.gain, errors="coerce"))][["terrain_class", "run", "gain", "v", "w"]]
     if "steps" not in inputs:
         seg = turning_segments(inputs["segments"], runs, classes)
         return seg.rename(columns={"yaw_rate_gain": "gain"})[["terrain_class", "run", "gain", "v", "w"]]
@@ -363,7 +374,7 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     fixed = {k: r.value for k, r in space.requires.items()}
     if p.commands:
         commands = p.commands
-    elif p.kind == "drive":
+    elif p.kind in ("drive", "replay"):
         commands = drive_commands(turns, p.drive_commands)
     else:
         commands = [(round(float(r.v), 3), round(float(r.w), 3)) for r in turns.itertuples()]
@@ -452,7 +463,7 @@ def _class_fits(p, setup, train: pd.DataFrame, test: pd.DataFrame, pooled: float
     from simpick.studies.validation.cases import run_case
 
     def commands(turns: pd.DataFrame) -> list[tuple[float, float]]:
-        if p.kind == "drive":
+        if p.kind in ("drive", "replay"):
             return drive_commands(turns, p.drive_commands)
         return [(round(float(r.v), 3), round(float(r.w), 3)) for r in turns.itertuples()]
 
