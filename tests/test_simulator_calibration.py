@@ -660,3 +660,15 @@ def test_the_full_replay_fits_on_its_training_runs_windows_with_the_calibration_
     assert fit["fit"]["real_gain"] == pytest.approx((3 * 0.705 + 2 * 0.605) / 5, abs=1e-4)
     assert len(fit["fit"]["cases"]["commands"]) == 2 and not set(fit["fit"]["real_runs"]) & set(test)
     assert fit["per_class"]["flooring"]["heldout"]["runs"] == 3
+
+
+@needs_drive
+def test_the_held_out_steps_spread_is_the_warthog_s_step_to_step_repeatability(drive_steps):
+    """The spread a DRIVE row is set beside is the verdict's gain margin on DRIVE: the real robot's step-to-step
+    repeatability of its gain over similar commands (0.015 on the shared sessions), not a tolerance."""
+    from simpick.score.settings import Verdict
+    from simpick.sources.drive import SIMILAR
+
+    verdict = Verdict.model_validate(study_config()["verdict"])
+    spread = stage.drive_spread({"drive_steps": str(drive_steps)}, verdict, SIMILAR)
+    assert spread == pytest.approx(0.0153, abs=5e-4)

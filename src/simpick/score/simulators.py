@@ -192,7 +192,7 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
     write_csv(outcomes, outputs["outcomes"])
 
     if tests is None and len(outcomes) and p.drive is not None:
-        heldout = _heldout_steps(inputs, p.drive.tolerance, statistics, p.seed)
+        heldout = _heldout_steps(inputs, drive_spread(inputs, p.verdict, p.drive.tolerance), statistics, p.seed)
     else:
         heldout = _heldout(inputs, tests if len(outcomes) else None, verdict, statistics, p.seed)
     fits = _fits(inputs)
@@ -295,6 +295,16 @@ def _heldout(inputs: dict, tests: pd.DataFrame | None, verdict: dict, statistics
         }
 
     return columns
+
+
+def drive_spread(inputs: dict, verdict: Verdict, tolerance: float) -> float:
+    """The gain error's margin on DRIVE's steps, as rule drive_compare sets it (simpick.score.steps): where the
+    verdict bases it on the real robot's spread, the robot's step-to-step repeatability of its gain between
+    steps of similar command (``tolerance``); NaN where the margin is not an absolute gain."""
+    from simpick.score.steps import gain_margin_spec
+
+    spec, _ = gain_margin_spec(verdict.margins.gain_error, pd.read_csv(inputs["drive_steps"]), tolerance)
+    return float(spec["value"]) if spec.get("basis") == "absolute" else math.nan
 
 
 def _heldout_steps(inputs: dict, spread: float, statistics: dict, seed: int):
