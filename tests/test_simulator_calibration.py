@@ -214,6 +214,9 @@ def test_the_fit_moves_the_engine_gain_toward_the_real_one(tmp_path):
             abs(entry["engine_gain"] - entry["real_gain"]) < abs(fit["fit"]["engine_gain"] - entry["real_gain"]) + 0.01
         )
         assert entry["cases"]["mu"] == params["grounds"][cls]
+        # "improves": the class's fit turns closer to its training runs than the pooled fit, on the same cases
+        closer = abs(entry["engine_gain"] - entry["real_gain"]) < abs(entry["pooled_engine_gain"] - entry["real_gain"])
+        assert entry["improves"] == closer
         assert not set(entry["runs"]) & set(fit["test_runs"]) and set(entry["runs"]) <= set(fit["train_runs"])
         held = entry.get("heldout")
         if held:
@@ -439,6 +442,7 @@ def test_a_class_whose_own_fit_differs_gets_its_own_file_and_a_row_beside_the_po
     }
     same = dict(entry, friction_ratio=0.702, heldout=None)  # within 0.01 of the pooled: no file of its own
     placed = {k: v for k, v in entry.items() if k != "engine_gain"}  # placed by Coulomb alone: no file
+    worse = dict(entry, friction_ratio=0.9, improves=False)  # turns farther from its training runs: no file
     fit = {
         "simulator": "mujoco",
         "robot": "husky_a200",
@@ -446,12 +450,12 @@ def test_a_class_whose_own_fit_differs_gets_its_own_file_and_a_row_beside_the_po
         "searchable": True,
         "settings": {"friction_ratio": 0.698},
         "exposed": {"friction_ratio": 'friction="0.698 x mu mu 0 0 0"'},
-        "per_class": {"flooring": entry, "ice": same, "snow": placed},
+        "per_class": {"flooring": entry, "ice": same, "snow": placed, "asphalt": worse},
         "fit": {"real_gain": 0.645},
     }
     assert set(stage.class_files(fit)) == {"flooring"}
     table = stage.per_class_table({"mujoco": fit}, catalog)
-    assert list(table.terrain_class) == ["flooring", "ice", "snow"]
+    assert list(table.terrain_class) == ["flooring", "ice", "snow", "asphalt"]
     row = table.set_index("terrain_class").loc["flooring"]
     assert (row.class_ratio, row.pooled_ratio, row.class_fit_error, row.pooled_fit_error) == (
         0.576,

@@ -577,7 +577,8 @@ def class_header(sim, simulator: str, fit: dict, terrain: str, entry: dict) -> l
 
 
 def class_files(fit: dict | None) -> dict[str, dict]:
-    """terrain class -> its own fit, for the classes whose ratio, fitted on the engine, differs from the pooled."""
+    """terrain class -> its own fit, for the classes whose ratio, fitted on the engine, differs from the pooled
+    and turns closer to the class's training runs than the pooled fit does (``improves``: training runs alone)."""
     if not fit or not fit.get("searchable"):
         return {}
     pooled = (fit.get("settings") or {}).get("friction_ratio")
@@ -586,6 +587,7 @@ def class_files(fit: dict | None) -> dict[str, dict]:
         for c, e in (fit.get("per_class") or {}).items()
         if pooled is not None
         and e.get("engine_gain") is not None
+        and e.get("improves", True)
         and e.get("friction_ratio") is not None
         and abs(float(e["friction_ratio"]) - float(pooled)) >= CLASS_FILE_RATIO
     }
@@ -611,6 +613,7 @@ def per_class_table(fits: dict[str, dict], catalog) -> pd.DataFrame:
                     "class_ratio": e.get("friction_ratio"),
                     "placed_by": e.get("placed_by"),
                     "engine_gain": e.get("engine_gain"),
+                    "pooled_engine_gain": e.get("pooled_engine_gain"),
                     "reached": e.get("reached"),
                     "heldout_runs": held.get("runs", 0),
                     "heldout_real_gain": held.get("real_gain"),
@@ -634,6 +637,7 @@ PER_CLASS_COLUMNS = [
     "class_ratio",
     "placed_by",
     "engine_gain",
+    "pooled_engine_gain",
     "reached",
     "heldout_runs",
     "heldout_real_gain",

@@ -493,12 +493,17 @@ def _class_fits(p, setup, train: pd.DataFrame, test: pd.DataFrame, pooled: float
                 p.tolerance,
                 p.class_trials,
             )
+            # the pooled fit on the same training runs: the class's own fit is worth a file only where it
+            # turns closer to them (decided on training runs alone)
+            pooled_gain = engine(pooled, cmds, mu)
             entry.update(
                 {
                     "friction_ratio": _r(ratio),
                     "placed_by": f"its own fit on the engine ({_trials(len(trials))} from the Coulomb placement)",
                     "coulomb_ratio": _r(start),
                     "engine_gain": _r(engine_gain),
+                    "pooled_engine_gain": _r(pooled_gain),
+                    "improves": bool(abs(engine_gain - gain) < abs(pooled_gain - gain)),
                     "reached": bool(abs(engine_gain - gain) <= p.tolerance),
                     "cases": {"commands": [list(c) for c in cmds], "mu": mu, "duration": p.duration},
                     "trials": [[_r(r), _r(g)] for r, g in trials],
