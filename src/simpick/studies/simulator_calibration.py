@@ -503,7 +503,8 @@ def _class_fits(p, setup, train: pd.DataFrame, test: pd.DataFrame, pooled: float
                     "coulomb_ratio": _r(start),
                     "engine_gain": _r(engine_gain),
                     "pooled_engine_gain": _r(pooled_gain),
-                    "improves": bool(abs(engine_gain - gain) < abs(pooled_gain - gain)),
+                    # by more than the fit's tolerance: a tie within the engine's noise keeps the pooled file
+                    "improves": bool(abs(engine_gain - gain) + p.tolerance < abs(pooled_gain - gain)),
                     "reached": bool(abs(engine_gain - gain) <= p.tolerance),
                     "cases": {"commands": [list(c) for c in cmds], "mu": mu, "duration": p.duration},
                     "trials": [[_r(r), _r(g)] for r, g in trials],
