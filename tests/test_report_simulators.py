@@ -467,3 +467,16 @@ def test_the_per_class_fits_stand_beside_the_pooled_with_their_held_out_runs_and
     # a class without held-out runs shows no error, not a zero
     ice = re.search(r"<tr><td>Gazebo Classic</td><td>ice</td>.*?</tr>", body, re.S).group(0)
     assert ice.count("–") == 2
+
+
+def test_the_first_page_names_at_most_three_broken_cases_of_a_calibrated_profile():
+    """A calibrated profile that breaks many cases its tuned profile keeps (Webots on the Warthog: 13) is named
+    with three of them and the count of the rest on the first page; the simulators' section lists them all."""
+    from simpick.score.profiles import _mechanics
+
+    cases = [f"gain_case_{k}" for k in range(13)]
+    own = f"passes 7/22; breaks mechanics its tuned profile keeps: {', '.join(cases)}"
+    passes, words = _mechanics({"variant": "calibrated", "mechanics_own": own})
+    assert not passes and words.endswith("gain_case_0, gain_case_1, gain_case_2 and 10 more")
+    passes, words = _mechanics({"variant": "calibrated", "mechanics_own": own.replace(", gain_case_3", "", 1)[:90]})
+    assert "more" not in words

@@ -58,7 +58,12 @@ def _mechanics(r: dict) -> tuple[bool, str]:
             passes = passed == cases if counted.group(1).lower().startswith("pass") else passed == 0
         else:  # "not validated"
             passes = own.lower().startswith("pass")
-        # "passes 17/19; breaks mechanics its tuned profile keeps: ..." (rule simulators' words) as it stands
+        # "passes 17/19; breaks mechanics its tuned profile keeps: ..." (rule simulators' words), the cases named
+        # up to three (the simulators' section lists them all)
+        head, sep, cases = own.partition("keeps: ")
+        names = [c.strip() for c in cases.split(",") if c.strip()]
+        if sep and len(names) > 3:
+            own = f"{head}keeps: {', '.join(names[:3])} and {len(names) - 3} more"
         return passes, f"its own mechanics: {own}"
     cases, failed = _num(r.get("mechanics_cases")), _num(r.get("mechanics_failed"))
     passes = _text(r.get("mechanics")) == "pass"
