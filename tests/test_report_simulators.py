@@ -462,7 +462,8 @@ def test_the_per_class_fits_stand_beside_the_pooled_with_their_held_out_runs_and
     assert found, "no per-class table"
     body = html.unescape(found.group(0))
     assert body.split("<tbody>")[1].count("<tr>") == 3
-    assert "mujoco-calibrated-flooring.xml" in body and "mujoco-calibrated-sandy_loam.xml" in body
+    assert 'href="../simulators/settings/mujoco-calibrated-flooring.xml"' in body
+    assert 'href="../simulators/settings/mujoco-calibrated-sandy_loam.xml"' in body
     assert "0.576 (0.698)" in body and "0.011" in body and "0.079" in body
     # a class without held-out runs shows no error, not a zero
     ice = re.search(r"<tr><td>Gazebo Classic</td><td>ice</td>.*?</tr>", body, re.S).group(0)
