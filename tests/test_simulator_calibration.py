@@ -368,6 +368,7 @@ def test_the_table_has_the_held_out_columns_computed_on_the_test_runs_only(tmp_p
     verdict = {"margins": {"gain_error": {"basis": "real_spread", "value": 1.0}}}
     columns = stage._heldout({"split": str(split)}, tests, verdict, {"min_runs": 6, "level": 0.95}, 0)("m")
     assert columns["heldout_gain_error"] == pytest.approx(0.04)  # the training runs' 0.5 never counts
+    assert columns["train_gain_error"] == pytest.approx(0.5)  # they count beside it, apart
     assert columns["heldout_runs"] == 2 and math.isnan(columns["heldout_gain_error_low"])  # too few runs
     assert columns["heldout_heading_error"] == pytest.approx(0.08)
     assert columns["real_spread"] == pytest.approx(math.sqrt(0.02**2 * 2 * 2 / 2))  # pooled within-class sd
@@ -610,6 +611,7 @@ def test_held_out_drive_steps_judge_every_row_on_the_test_steps_only(tmp_path):
     assert columns["heldout_runs"] == 4 and columns["heldout_gain_error"] == pytest.approx(0.04)
     assert columns["heldout_heading_error"] == pytest.approx(0.1)
     assert columns["heldout_speed_error"] == pytest.approx(0.2)
+    assert columns["train_gain_error"] == pytest.approx(1.0)  # the training steps' own error, beside it
     assert columns["real_spread"] == 0.015 and columns["within_spread"] is False
     assert columns["heldout_gain_error_low"] <= 0.04 <= columns["heldout_gain_error_high"]
 
