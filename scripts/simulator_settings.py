@@ -1,5 +1,5 @@
 from simpick.joblog import logged
-from simpick.score.simulators import settings_files_job
+from simpick.score.simulator_settings import settings_files_job
 
 # the params less the rule's code version (a rerun trigger, not read by the job): the job's model
 with logged(snakemake.log[0]):

@@ -17,7 +17,7 @@ from simpick.engines import simulator_files as formats
 from simpick.engines.catalog import load_catalog
 from simpick.engines.pybullet_engine import WHEEL_SAMPLE_EVERY, PyBulletSettings
 from simpick.engines.simulators import SIMULATORS
-from simpick.score.simulators import exposed_settings_text
+from simpick.score.simulator_settings import exposed_settings_text
 
 CATALOG = ROOT / "resources/simulators/simulators.yaml"
 HUSKY = "husky_a200"
@@ -165,7 +165,7 @@ def test_the_catalog_runs_both_bullet_simulators_on_pybullet_with_every_setting_
 
 def test_each_bullet_row_gets_a_settings_file(catalog):
     """CoppeliaSim's Lua snippet (simpick.engines.simulator_files) and, for MORSE, which has no settings file of
-    its own, the text naming each builder call (simpick.score.simulators.exposed_settings_text)."""
+    its own, the text naming each builder call (simpick.score.simulator_settings.exposed_settings_text)."""
     for variant in ("shipped", "tuned"):
         settings = catalog.settings("coppeliasim", variant, HUSKY)
         entries = catalog.entries("coppeliasim", variant, HUSKY)
@@ -184,7 +184,7 @@ def test_the_settings_job_writes_both_rows_files(catalog, tmp_path):
     calls per MORSE profile, each headed by its figures from the simulators' table."""
     import pandas as pd
 
-    from simpick.score.simulators import settings_files_job
+    from simpick.score.simulator_settings import settings_files_job
 
     profiles = {f"{s}-{v}": catalog.settings(s, v, HUSKY) for s in BULLET_ROWS for v in ("shipped", "tuned")}
     table = tmp_path / "table.csv"

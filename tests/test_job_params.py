@@ -23,6 +23,7 @@ from simpick.real.turning import TurningParams
 from simpick.report import draw
 from simpick.report import params as report_params
 from simpick.report.weighing import WeighingParams
+from simpick.score import simulator_settings as settings_stage
 from simpick.score import simulators as simulators_stage
 from simpick.score.answer import AnswerParams
 from simpick.score.steps import CompareParams
@@ -110,7 +111,7 @@ CONVERTED = {
         ],
     ),
     "simulators": (simulators_stage.SimulatorsParams, lambda plan: [plan.simulators_params()]),
-    "simulator_settings": (simulators_stage.SimulatorSettingsParams, lambda plan: [plan.simulator_settings_params()]),
+    "simulator_settings": (settings_stage.SimulatorSettingsParams, lambda plan: [plan.simulator_settings_params()]),
     # the report job's weighing (simpick.report.weighing): its simulators' and answer's parts below
     "report (weighing)": (WeighingParams, lambda plan: [plan.weighing_params()]),
     "report (weighing: simulators)": (

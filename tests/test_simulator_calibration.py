@@ -21,6 +21,7 @@ from simpick.engines.catalog import load_catalog
 from simpick.engines.simulators import SIMULATORS, VARIANTS
 from simpick.inputs.robot import load_from_config
 from simpick.plan import Plan
+from simpick.score import simulator_settings as settings_stage
 from simpick.score import simulators as stage
 from simpick.studies import simulator_calibration as cal
 from simpick.studies.validation.cases import Setup, run_case
@@ -413,7 +414,7 @@ def test_the_calibrated_settings_file_is_headed_by_its_data_figures_and_command_
 
     settings = catalog.settings("gazebo_classic", "tuned", "husky_a200")
     settings = get_engine("ode").settings_model.model_validate(settings).model_dump(mode="json")
-    stage._calibrated_file(
+    settings_stage._calibrated_file(
         formats, sim, "gazebo_classic", settings, fit, table, catalog, "husky_a200", ["front_left_wheel_link"], tmp_path
     )
     texts = {p.name.split(".", 1)[1]: p.read_text() for p in tmp_path.glob("gazebo_classic-calibrated.*")}
@@ -454,7 +455,7 @@ def test_a_class_whose_own_fit_differs_gets_its_own_file_and_a_row_beside_the_po
         "per_class": {"flooring": entry, "ice": same, "snow": placed, "asphalt": worse},
         "fit": {"real_gain": 0.645},
     }
-    assert set(stage.class_files(fit)) == {"flooring"}
+    assert set(settings_stage.class_files(fit)) == {"flooring"}
     table = stage.per_class_table({"mujoco": fit}, catalog)
     assert list(table.terrain_class) == ["flooring", "ice", "snow", "asphalt"]
     row = table.set_index("terrain_class").loc["flooring"]
@@ -471,7 +472,7 @@ def test_a_class_whose_own_fit_differs_gets_its_own_file_and_a_row_beside_the_po
     settings = get_engine("mujoco").settings_model.model_validate(settings).model_dump(mode="json")
     from simpick.engines import simulator_files as formats
 
-    stage._calibrated_file(
+    settings_stage._calibrated_file(
         formats,
         sim,
         "mujoco",

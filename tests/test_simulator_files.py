@@ -41,7 +41,7 @@ def _settings(catalog, simulator: str, variant: str, robot: str = HUSKY, **over)
 @pytest.fixture(scope="module")
 def written(tmp_path_factory, catalog):
     """Every file rule simulator_settings writes for every runnable profile, with the job's real header."""
-    from simpick.score.simulators import settings_files_job
+    from simpick.score.simulator_settings import settings_files_job
 
     tmp = tmp_path_factory.mktemp("settings")
     config = tiny_config(tmp)

@@ -119,7 +119,7 @@ class JobPlanning:
     def simulator_settings_params(self) -> dict:
         """Rule simulator_settings' params: each run profile's full settings and the robot's wheel links (the
         files' <gazebo reference>, pairs)."""
-        from simpick.score.simulators import SimulatorSettingsParams
+        from simpick.score.simulator_settings import SimulatorSettingsParams
 
         # the profiles' full settings are the plan's own (the catalog over the engine's block), kept in the
         # plain settings beside the study's: no section of the typed study holds them

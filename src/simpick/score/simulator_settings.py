@@ -1,0 +1,225 @@
+"""The settings files a user pastes into each simulator (rule simulator_settings): every run profile in its
+simulator's own format (:mod:`simpick.engines.simulator_files`), headed by what it is, the robot, its figures here
+and the command that regenerates it; a calibrated profile's headed by the data it was fitted on and its held-out
+figures, and a class's own file where its fit beats the pooled one (:func:`class_files`)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import yaml
+from pydantic import Field
+
+from simpick.engines.catalog import load_catalog
+from simpick.engines.simulators import model_name
+from simpick.params import JobParams
+
+
+class SimulatorSettingsParams(JobParams):
+    """What rule simulator_settings' job reads: each run profile's full settings and the robot's wheel links."""
+
+    profiles: dict[str, dict[str, Any]] = Field(
+        description="profile -> its adapter's settings in full (the plan's, checked by the adapter's model)"
+    )
+    robot: str = Field(description="the robot's URDF <robot name>")
+    wheel_links: list[str] = Field(description="the driven wheels' links (the files' <gazebo reference>)")
+
+
+def read_fits(inputs: dict) -> dict[str, dict]:
+    """simulator -> its calibration file (results/simulators/calibration/<simulator>.yaml)."""
+    files = inputs.get("calibrations") or []
+    files = [files] if isinstance(files, str) else list(files)
+    return {Path(f).stem: yaml.safe_load(Path(f).read_text()) for f in files if Path(f).is_file()}
+
+
+def exposed_settings_text(settings: Mapping[str, Any], entries: Mapping, title: list[str]) -> str:
+    """A profile of a simulator without a settings file format (MORSE: a builder script sets its scene): each
+    setting the profile states, as its user sets it (the catalog's exposed_as), with simpick's value and source."""
+    lines = [f"# {line}" for line in title]
+    for key, (_, entry) in entries.items():
+        lines.append(f"{entry.exposed_as}")
+        lines.append(f"    simpick {key} = {settings.get(key, entry.value)!r}; source: {entry.source}")
+    return "\n".join(lines) + "\n"
+
+
+def settings_files_job(inputs: dict, params: dict, output: str) -> None:
+    """results/simulators/settings/: each run profile in its simulator's format (simpick.engines.simulator_files),
+    headed by what it is, the robot, its flat-ground figures here and the command that regenerates it."""
+    from simpick.engines import simulator_files as formats
+
+    p = SimulatorSettingsParams.model_validate(params)
+    catalog = load_catalog(inputs["catalog"])
+    table = pd.read_csv(inputs["table"])
+    out = Path(output)
+    out.mkdir(parents=True, exist_ok=True)
+    robot, wheels = p.robot, list(p.wheel_links)
+    fits = read_fits(inputs)
+    for profile, settings in p.profiles.items():
+        simulator, variant = profile.rsplit("-", 1)
+        sim = catalog.simulators[simulator]
+        if variant == "calibrated":
+            _calibrated_file(formats, sim, simulator, settings, fits.get(simulator), table, catalog, robot, wheels, out)
+            continue
+        row = table[(table.simulator == simulator) & (table.variant == variant)]
+        r = row.iloc[0] if len(row) else None
+        figures = "not measured"
+        if r is not None and pd.notna(r.get("gain_flat")):
+            figures = (
+                f"yaw-rate gain on flat ground {r.gain_flat:.3f} ({r.gain_flat_min:.3f}-{r.gain_flat_max:.3f}; "
+                f"Coulomb {r.gain_coulomb:.3f}), mechanics {r.mechanics} "
+                f"({int(r.mechanics_cases - r.mechanics_failed)} of {int(r.mechanics_cases)} analytic cases)"
+            )
+            if pd.notna(r.get("gain_error")):
+                figures += f"; real gain error {r.gain_error:.3f} ({r.gain_outcome})"
+        title = [
+            f"simpick settings: {sim.label}, {variant}, for {robot}",
+            f"{sim.shipped.basis if variant == 'shipped' else sim.tuned.basis}",
+            f"measured by simpick through {sim.simpick_build}: {figures}",
+            REGENERATE,
+        ]
+        entries = catalog.entries(simulator, variant, robot)
+        if sim.settings_format is None:  # no file format of its own: where its user sets each value
+            texts = {"txt": exposed_settings_text(settings, entries, title)}
+        else:
+            texts = formats.write(sim.settings_format, sim.engine, settings, entries, title, wheels)
+        for suffix, text in texts.items():
+            (out / f"{profile}.{suffix}").write_text(text)
+
+
+# no double hyphen: the line heads XML comments too
+REGENERATE = "regenerate: snakemake -c 2 results/simulators/settings (docs/simulators.md)"
+
+
+def _num(x) -> str:
+    return f"{float(x):.3f}" if x is not None and np.isfinite(float(x)) else "n/a"
+
+
+def calibrated_header(sim, simulator: str, fit: dict, row) -> list[str]:
+    """The head of a calibrated profile's settings file: what it was fitted on, the fit, its held-out figures
+    beside the real robot's spread and its mechanics, and the command that regenerates it."""
+    f = fit.get("fit") or {}
+    lines = [
+        f"simpick settings: {sim.label}, calibrated, for {fit.get('robot')}",
+        f"fitted on {fit.get('source')}: training runs {_runs(fit.get('train_runs'))}; the turning ones of "
+        f"{', '.join(f.get('classes') or [])} ({_runs(f.get('real_runs'))}) give the real steady yaw-rate gain "
+        f"{_num(f.get('real_gain'))}; held out: {_runs(fit.get('test_runs'))}",
+    ]
+    if fit.get("searchable"):
+        trials = "; ".join(f"r {r} gain {g}" for r, g in f.get("trials") or [])
+        lines.append(
+            f"fit: anisotropic Coulomb places the ratio at {f.get('coulomb_ratio')}; engine trials {trials}; kept "
+            + ", ".join(f"{k} = {v}" for k, v in (fit.get("settings") or {}).items())
+            + f" (engine gain {_num(f.get('engine_gain'))}, "
+            + ("within" if f.get("reached") else "not within")
+            + f" {f.get('tolerance')} of the real gain)"
+        )
+        lines += [f"as {sim.label} sets it: {text}" for text in (fit.get("exposed") or {}).values()]
+    else:
+        lines.append(f"no setting fitted: {fit.get('why_not')}; these are the tuned settings, the best it reaches")
+    if row is not None:
+        runs = int(row["heldout_runs"]) if pd.notna(row.get("heldout_runs")) else 0
+        lines.append(
+            f"held out: gain error {_num(row.get('heldout_gain_error'))} [{_num(row.get('heldout_gain_error_low'))}, "
+            f"{_num(row.get('heldout_gain_error_high'))}] over {runs} runs against the robot's own "
+            f"spread {_num(row.get('real_spread'))} (within: {row.get('within_spread')}); heading error "
+            f"{_num(row.get('heldout_heading_error'))} rad; mechanics of its own parameters: {row.get('mechanics_own')}"
+        )
+    lines.append(REGENERATE)
+    return [line.replace("--", "-") for line in lines]
+
+
+def _runs(runs, most: int = 12) -> str:
+    """Runs named one by one up to ``most``; beyond that (DRIVE's steps) their number and where the split is."""
+    runs = list(runs or [])
+    if len(runs) <= most:
+        return ", ".join(runs) or "none"
+    return f"{len(runs)} (listed in results/simulators/calibration/split.csv and the fit's file)"
+
+
+# a class's own ratio gets a file of its own where it differs from the pooled one by at least this much
+CLASS_FILE_RATIO = 0.01
+
+
+def class_header(sim, simulator: str, fit: dict, terrain: str, entry: dict) -> list[str]:
+    """The head of a class's calibrated file: what it was fitted on, its engine fit, and both fits on the
+    class's held-out runs (a steady-turn case at their commands, not a replay)."""
+    held = entry.get("heldout") or {}
+    lines = [
+        f"simpick settings: {sim.label}, calibrated for {terrain}, for {fit.get('robot')}",
+        f"fitted on {fit.get('source')}, {terrain} only: training runs {_runs(entry.get('runs'))}, real steady "
+        f"yaw-rate gain {_num(entry.get('real_gain'))}; {entry.get('placed_by')}: friction_ratio "
+        f"{entry.get('friction_ratio')}, engine gain {_num(entry.get('engine_gain'))} (the pooled fit's ratio "
+        f"{(fit.get('settings') or {}).get('friction_ratio')})",
+    ]
+    if held:
+        lines.append(
+            f"held out: {held.get('runs')} {terrain} runs, real gain {_num(held.get('real_gain'))}; the engine's "
+            f"steady gain at their commands, this file {_num(held.get('class_fit_gain'))} (error "
+            f"{_num(held.get('class_fit_error'))}), the pooled fit {_num(held.get('pooled_fit_gain'))} (error "
+            f"{_num(held.get('pooled_fit_error'))}): a steady-turn case, not a replay of those runs"
+        )
+    else:
+        lines.append(f"held out: no {terrain} run that turns under a steady command: not judged")
+    lines.append(REGENERATE)
+    return [line.replace("--", "-") for line in lines]
+
+
+def class_files(fit: dict | None) -> dict[str, dict]:
+    """terrain class -> its own fit, for the classes whose ratio, fitted on the engine, differs from the pooled
+    and turns closer to the class's training runs than the pooled fit does (``improves``: training runs alone)."""
+    if not fit or not fit.get("searchable"):
+        return {}
+    pooled = (fit.get("settings") or {}).get("friction_ratio")
+    return {
+        c: e
+        for c, e in (fit.get("per_class") or {}).items()
+        if pooled is not None
+        and e.get("engine_gain") is not None
+        and e.get("improves", True)
+        and e.get("friction_ratio") is not None
+        and abs(float(e["friction_ratio"]) - float(pooled)) >= CLASS_FILE_RATIO
+    }
+
+
+def _calibrated_file(formats, sim, simulator, settings, fit, table, catalog, robot, wheels, out: Path) -> None:
+    """A calibrated profile's file: its tuned settings with the fit's over them, in the simulator's format."""
+    from simpick.engines import get_engine
+    from simpick.engines.catalog import Setting
+
+    if fit is None:
+        return
+    fitted = dict(fit.get("settings") or {})
+    settings = get_engine(sim.engine).settings_model.model_validate({**settings, **fitted}).model_dump(mode="json")
+    entries = dict(catalog.entries(simulator, "calibrated", robot))
+    for key, value in fitted.items():
+        text = (fit.get("exposed") or {}).get(key, "not exposed")
+        entries[key] = ("calibrated", Setting(value=value, exposed_as=text, source=f"fitted: {fit.get('source')}"))
+    row = table[(table.simulator == simulator) & (table.variant == "calibrated")]
+    header = calibrated_header(sim, simulator, fit, row.iloc[0].to_dict() if len(row) else None)
+    files = [("", settings, entries, header)]
+    for cls, entry in class_files(fit).items():  # a class whose own fit differs: a file of its own
+        own = get_engine(sim.engine).settings_model.model_validate(
+            {**settings, "friction_ratio": entry["friction_ratio"]}
+        )
+        text = str((fit.get("exposed") or {}).get("friction_ratio", "not exposed"))
+        text = text.replace(str((fit.get("settings") or {}).get("friction_ratio")), str(entry["friction_ratio"]))
+        setting = Setting(value=entry["friction_ratio"], exposed_as=text, source=f"fitted: {fit.get('source')}, {cls}")
+        files.append(
+            (
+                f"-{cls}",
+                own.model_dump(mode="json"),
+                {**entries, "friction_ratio": ("calibrated", setting)},
+                class_header(sim, simulator, fit, cls, entry),
+            )
+        )
+    for tail, values, named, head in files:
+        if sim.settings_format is None:  # no file format of its own (MORSE): where its user sets each value
+            texts = {"txt": exposed_settings_text(values, named, head)}
+        else:
+            texts = formats.write(sim.settings_format, sim.engine, values, named, head, wheels)
+        for suffix, text in texts.items():
+            (out / f"{model_name(simulator, 'calibrated')}{tail}.{suffix}").write_text(text)
