@@ -251,53 +251,29 @@ def read_split(path: str | Path) -> tuple[list[str], list[str]]:
     return train, test
 
 
+# a row's held-out columns where nothing was held out (no split, or no real data judged)
+NOT_HELD_OUT = dict.fromkeys(
+    ("heldout_gain_error", "heldout_gain_error_low", "heldout_gain_error_high", "real_spread"), math.nan
+) | {
+    "heldout_runs": 0,
+    "within_spread": "",
+    "heldout_heading_error": math.nan,
+    "heldout_speed_error": math.nan,
+    "train_gain_error": math.nan,
+}
+
+
 def _heldout(inputs: dict, tests: pd.DataFrame | None, verdict: dict, statistics: dict, seed: int):
-    """model -> its held-out columns: the gain error over the split's test runs with its BCa interval (NaN
-    below statistics.min_runs runs), their number, the real robot's run-to-run spread of its gain (the verdict's
-    gain margin, over every run), whether the error is within it, and the heading error on the same runs."""
-    from simpick.compare.realmetrics import mean_ci, statistics_settings
+    """model -> its held-out columns over the verdict's runs (:func:`_judge_heldout`), beside the real robot's
+    run-to-run spread of its gain (the verdict's gain margin, over every run)."""
     from simpick.score.equivalence import margin
     from simpick.score.verdict.runs import run_key
 
-    empty = dict.fromkeys(
-        ("heldout_gain_error", "heldout_gain_error_low", "heldout_gain_error_high", "real_spread"), math.nan
-    ) | {
-        "heldout_runs": 0,
-        "within_spread": "",
-        "heldout_heading_error": math.nan,
-        "heldout_speed_error": math.nan,
-        "train_gain_error": math.nan,
-    }
     if tests is None or not inputs.get("split") or not Path(inputs["split"]).is_file():
-        return lambda model: dict(empty)
-    train_runs, test_runs = read_split(inputs["split"])
-    min_runs, level = statistics_settings(statistics)
+        return lambda model: dict(NOT_HELD_OUT)
     spread, _ = margin(tests, "gain_error", verdict["margins"]["gain_error"])
-    every = tests[tests.status.astype(str) == "ok"] if "status" in tests else tests
-    ok = every[run_key(every).isin(set(test_runs))]
-    trained = every[run_key(every).isin(set(train_runs))]
-
-    def columns(model: str) -> dict:
-        fitted = trained[trained.engine == model]
-        train_gain = pd.to_numeric(fitted.get("gain_error", pd.Series(dtype=float)), errors="coerce")
-        own = ok[ok.engine == model]
-        gain = pd.to_numeric(own.get("gain_error", pd.Series(dtype=float)), errors="coerce")
-        runs = run_key(own)
-        mean, low, high, n = mean_ci(gain.to_numpy(float), runs.to_numpy(object), min_runs, level, seed)
-        heading = pd.to_numeric(own.get("heading_error", pd.Series(dtype=float)), errors="coerce")
-        heading_mean, *_ = mean_ci(heading.to_numpy(float), runs.to_numpy(object), 10**9, level, seed)
-        return {
-            "heldout_gain_error": mean,
-            "heldout_gain_error_low": low,
-            "heldout_gain_error_high": high,
-            "heldout_runs": n,
-            "real_spread": spread,
-            "within_spread": bool(mean <= spread) if np.isfinite(mean) and np.isfinite(spread) else "",
-            "heldout_heading_error": heading_mean,
-            "train_gain_error": mean_ci(train_gain.to_numpy(float), run_key(fitted).to_numpy(object), 10**9)[0],
-        }
-
-    return columns
+    ok = tests[tests.status.astype(str) == "ok"] if "status" in tests else tests
+    return _judge_heldout(ok, run_key(ok), inputs["split"], spread, statistics, seed)
 
 
 def drive_spread(inputs: dict, verdict: Verdict, tolerance: float) -> float:
@@ -311,51 +287,47 @@ def drive_spread(inputs: dict, verdict: Verdict, tolerance: float) -> float:
 
 
 def _heldout_steps(inputs: dict, spread: float, statistics: dict, seed: int):
-    """model -> its held-out columns on DRIVE's steps (the split's test steps, each a unit: DRIVE draws each
-    step's command independently): the gain error over the turning ones with its BCa interval (NaN below
-    statistics.min_runs steps), their number, the robot's step-to-step repeatability of its gain (DRIVE's
-    margin, ``spread``), whether the error is within it, and the heading and speed errors on every test step."""
+    """model -> its held-out columns on DRIVE's steps (:func:`_judge_heldout`, each step a unit: DRIVE draws each
+    step's command independently), beside the robot's step-to-step repeatability of its gain (``spread``)."""
+    if not inputs.get("split") or not Path(inputs["split"]).is_file():
+        return lambda model: dict(NOT_HELD_OUT)
+    errors = pd.read_csv(inputs["drive_errors"])
+    ok = errors[errors.status.astype(str) == "ok"]
+    key = ok.terrain_class.astype(str) + "/" + ok.case.astype(str)
+    return _judge_heldout(ok, key, inputs["split"], spread, statistics, seed)
+
+
+def _judge_heldout(rows: pd.DataFrame, units: pd.Series, split: str, spread: float, statistics: dict, seed: int):
+    """model -> its columns over ``rows`` (a model's errors per real unit, ``units`` their ``class/run`` key): the
+    gain error over the split's test units with its BCa interval (NaN below statistics.min_runs units), their
+    number, ``spread`` and whether the error is within it, the heading and speed errors over the same units
+    (NaN where the data measure none), and the gain error over the training units."""
     from simpick.compare.realmetrics import mean_ci, statistics_settings
 
-    empty = dict.fromkeys(
-        ("heldout_gain_error", "heldout_gain_error_low", "heldout_gain_error_high", "real_spread"), math.nan
-    ) | {
-        "heldout_runs": 0,
-        "within_spread": "",
-        "heldout_heading_error": math.nan,
-        "heldout_speed_error": math.nan,
-        "train_gain_error": math.nan,
-    }
-    if not inputs.get("split") or not Path(inputs["split"]).is_file():
-        return lambda model: dict(empty)
-    train_runs, test_runs = read_split(inputs["split"])
+    train_runs, test_runs = read_split(split)
     min_runs, level = statistics_settings(statistics)
-    errors = pd.read_csv(inputs["drive_errors"])
-    every = errors[errors.status.astype(str) == "ok"]
-    key = every.terrain_class.astype(str) + "/" + every.case.astype(str)
-    ok, trained = every[key.isin(set(test_runs))], every[key.isin(set(train_runs))]
+    rows = rows.assign(unit_key=units.to_numpy(object))
+    test, train = rows[rows.unit_key.isin(set(test_runs))], rows[rows.unit_key.isin(set(train_runs))]
+
+    def values(frame: pd.DataFrame, metric: str) -> np.ndarray:
+        return pd.to_numeric(frame.get(metric, pd.Series(math.nan, index=frame.index)), errors="coerce").to_numpy(float)
+
+    def mean(frame: pd.DataFrame, metric: str) -> float:
+        return mean_ci(values(frame, metric), frame.unit_key.to_numpy(object), 10**9, level, seed)[0]
 
     def columns(model: str) -> dict:
-        fitted = trained[trained.engine == model]
-        train_gain = pd.to_numeric(fitted.gain_error, errors="coerce").to_numpy(float)
-        own = ok[ok.engine == model]
-        gain = pd.to_numeric(own.gain_error, errors="coerce")
-        steps = own.case.to_numpy(object)
-        mean, low, high, n = mean_ci(gain.to_numpy(float), steps, min_runs, level, seed)
-        means = {}
-        for metric in ("heading_error", "speed_error"):
-            values = pd.to_numeric(own[metric], errors="coerce").to_numpy(float)
-            means[metric] = mean_ci(values, steps, 10**9, level, seed)[0]
+        own, fitted = test[test.engine == model], train[train.engine == model]
+        gain, low, high, n = mean_ci(values(own, "gain_error"), own.unit_key.to_numpy(object), min_runs, level, seed)
         return {
-            "heldout_gain_error": mean,
+            "heldout_gain_error": gain,
             "heldout_gain_error_low": low,
             "heldout_gain_error_high": high,
             "heldout_runs": n,
             "real_spread": spread,
-            "within_spread": bool(mean <= spread) if np.isfinite(mean) and np.isfinite(spread) else "",
-            "heldout_heading_error": means["heading_error"],
-            "heldout_speed_error": means["speed_error"],
-            "train_gain_error": mean_ci(train_gain, fitted.case.to_numpy(object), 10**9)[0],
+            "within_spread": bool(gain <= spread) if np.isfinite(gain) and np.isfinite(spread) else "",
+            "heldout_heading_error": mean(own, "heading_error"),
+            "heldout_speed_error": mean(own, "speed_error"),
+            "train_gain_error": mean(fitted, "gain_error"),
         }
 
     return columns
