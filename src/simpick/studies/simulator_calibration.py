@@ -332,11 +332,14 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     p = CalibrateParams.model_validate(params)
     space = SearchSpace.model_validate(p.space)
     train, test = read_split(inputs["split"])
+    # the classes fitted one by one: DRIVE's outside the target too (a gravel or grass robot's user reads theirs)
+    every = sorted(p.grounds) if p.kind == "drive" else list(p.classes)
+    trained = real_turns(inputs, train, every)
     classes = list(p.classes)
     if p.kind == "drive":  # the target classes among DRIVE's steps, else every class its steps have
-        present = set(real_turns(inputs, train, sorted(p.grounds)).terrain_class)
+        present = set(trained.terrain_class)
         classes = [c for c in classes if c in present] or sorted(present)
-    turns = real_turns(inputs, train, classes)
+    turns = trained[trained.terrain_class.isin(classes)]
     gains = real_gains(turns)
     real = float(gains.gain.mean()) if len(gains) else math.nan
     robot = p.robot.spec(inputs["urdf"])
@@ -417,12 +420,10 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
         fits, key=lambda f: abs(f[3][1] - real) if math.isfinite(f[3][1]) else math.inf
     )
     offset = engine_gain - coulomb_gain(ratio)
-    # per class: DRIVE's classes outside the target too (the user of a gravel or grass robot reads theirs)
-    every = sorted(p.grounds) if p.kind == "drive" else classes
     out["per_class"] = _class_fits(
         p,
         kept,
-        real_turns(inputs, train, every),
+        trained,
         real_turns(inputs, test, every),
         ratio,
         lambda gain: coulomb_ratio(gain - offset),
