@@ -368,39 +368,35 @@ def test_calibration_on_drive_steps_splits_searches_and_gives_the_multiplier(tmp
     assert {"test", "train"} == set(summary.set) and "change_verdict" in summary
 
 
-def test_a_session_on_a_terrain_without_a_ground_model_is_refused_in_one_line(tmp_path, asphalt):
+def session_job(tmp_path, asphalt, classes: dict):
+    """(config, inputs, params) of rule drive_replay's job on the asphalt session's tables: a session's params
+    (simpick.simulate.steps.SessionReplayParams) with ``classes`` as every class's ground, none of its own."""
     from simpick.real.drive import open_drive, write_tables
 
     tables = {"cases": str(tmp_path / "cases.csv"), "wheels": str(tmp_path / "wheels.parquet")}
     write_tables(open_drive(asphalt["folder"]), tables)
     config = warthog_config(tmp_path)
-    # a session's params (simpick.simulate.steps.SessionReplayParams): every class's ground, none of its own
     params = {k: v for k, v in params_of(config, "mujoco", "asphalt").items() if k not in ("terrain_class", "class")}
     params |= {
-        "classes": {"snow": {"friction": 0.2, "source": "x"}},
+        "classes": classes,
         "replay": {"every": 5, "max_steps_per_session": 1, "warmup": 3.0},
         "session": ASPHALT,
     }
+    return config, {**tables, "urdf": config["robot"]["urdf"]}, params
+
+
+def test_a_session_on_a_terrain_without_a_ground_model_is_refused_in_one_line(tmp_path, asphalt):
+    _, inputs, params = session_job(tmp_path, asphalt, {"snow": {"friction": 0.2, "source": "x"}})
     outputs = {"trace": str(tmp_path / "r.parquet"), "steps": str(tmp_path / "r.csv")}
     with pytest.raises(InputError, match="real_data.classes.*'asphalt'"):
-        SD.replay_job({**tables, "urdf": config["robot"]["urdf"]}, params, outputs, 60)
+        SD.replay_job(inputs, params, outputs, 60)
     assert not (tmp_path / "r.csv").exists()
 
 
 def test_a_calibrated_profile_s_replay_merges_its_fit_over_its_settings(tmp_path, asphalt, monkeypatch):
     """Rule drive_replay gives a calibrated profile's job its fit's file: the steps are replayed with the fitted
     settings over the plan-time (tuned) ones, and without the file with the plan's."""
-    from simpick.real.drive import open_drive, write_tables
-
-    tables = {"cases": str(tmp_path / "cases.csv"), "wheels": str(tmp_path / "wheels.parquet")}
-    write_tables(open_drive(asphalt["folder"]), tables)
-    config = warthog_config(tmp_path)
-    params = {k: v for k, v in params_of(config, "mujoco", "asphalt").items() if k not in ("terrain_class", "class")}
-    params |= {
-        "classes": {"asphalt": {"friction": 0.75, "source": "x"}},
-        "replay": {"every": 5, "max_steps_per_session": 1, "warmup": 3.0},
-        "session": ASPHALT,
-    }
+    _, inputs, params = session_job(tmp_path, asphalt, {"asphalt": {"friction": 0.75, "source": "x"}})
     seen = []
 
     def replay_session(wheels, chosen, urdf, case_params, warmup, where):
@@ -411,7 +407,6 @@ def test_a_calibrated_profile_s_replay_merges_its_fit_over_its_settings(tmp_path
     fit = tmp_path / "mujoco.yaml"
     fit.write_text("settings:\n  friction_ratio: 0.81\n")
     outputs = {"trace": str(tmp_path / "r.parquet"), "steps": str(tmp_path / "r.csv")}
-    inputs = {**tables, "urdf": config["robot"]["urdf"]}
     SD.replay_job({**inputs, "calibrated": str(fit)}, params, outputs, 60)
     SD.replay_job(inputs, params, outputs, 60)
     assert seen[0]["friction_ratio"] == 0.81
