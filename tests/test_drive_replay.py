@@ -369,7 +369,7 @@ def test_calibration_on_drive_steps_splits_searches_and_gives_the_multiplier(tmp
 
 
 def session_job(tmp_path, asphalt, classes: dict):
-    """(config, inputs, params) of rule drive_replay's job on the asphalt session's tables: a session's params
+    """(inputs, params) of rule drive_replay's job on the asphalt session's tables: a session's params
     (simpick.simulate.steps.SessionReplayParams) with ``classes`` as every class's ground, none of its own."""
     from simpick.real.drive import open_drive, write_tables
 
@@ -382,11 +382,11 @@ def session_job(tmp_path, asphalt, classes: dict):
         "replay": {"every": 5, "max_steps_per_session": 1, "warmup": 3.0},
         "session": ASPHALT,
     }
-    return config, {**tables, "urdf": config["robot"]["urdf"]}, params
+    return {**tables, "urdf": config["robot"]["urdf"]}, params
 
 
 def test_a_session_on_a_terrain_without_a_ground_model_is_refused_in_one_line(tmp_path, asphalt):
-    _, inputs, params = session_job(tmp_path, asphalt, {"snow": {"friction": 0.2, "source": "x"}})
+    inputs, params = session_job(tmp_path, asphalt, {"snow": {"friction": 0.2, "source": "x"}})
     outputs = {"trace": str(tmp_path / "r.parquet"), "steps": str(tmp_path / "r.csv")}
     with pytest.raises(InputError, match="real_data.classes.*'asphalt'"):
         SD.replay_job(inputs, params, outputs, 60)
@@ -396,7 +396,7 @@ def test_a_session_on_a_terrain_without_a_ground_model_is_refused_in_one_line(tm
 def test_a_calibrated_profile_s_replay_merges_its_fit_over_its_settings(tmp_path, asphalt, monkeypatch):
     """Rule drive_replay gives a calibrated profile's job its fit's file: the steps are replayed with the fitted
     settings over the plan-time (tuned) ones, and without the file with the plan's."""
-    _, inputs, params = session_job(tmp_path, asphalt, {"asphalt": {"friction": 0.75, "source": "x"}})
+    inputs, params = session_job(tmp_path, asphalt, {"asphalt": {"friction": 0.75, "source": "x"}})
     seen = []
 
     def replay_session(wheels, chosen, urdf, case_params, warmup, where):
