@@ -121,11 +121,9 @@ class JobPlanning:
         files' <gazebo reference>, pairs)."""
         from simpick.score.simulator_settings import SimulatorSettingsParams
 
-        # the profiles' full settings are the plan's own (the catalog over the engine's block), kept in the
-        # plain settings beside the study's: no section of the typed study holds them
-        profiles = self.config["profiles"]  # the plan's, keyed by profile name (data): no field of the study
+        # the profiles' full settings are the plan's own (the catalog over the engine's block)
         data = {
-            "profiles": {p: profiles[p] for p in self.profile_results},
+            "profiles": {p: self.profile_settings[p] for p in self.profile_results},
             "robot": self.robot.name,
             "wheel_links": [w.link for w in self.robot.driven],
         }

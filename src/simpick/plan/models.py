@@ -56,11 +56,13 @@ class ModelPlanning:
         # holds them
         self.calibrated_left_out = self._calibrated_left_out()
         variants = [v for v in simulators.variants if v != "calibrated" or not self.calibrated_left_out]
-        config["profiles"] = {  # keyed by profile name: the plan's own settings (above)
+        # profile -> its full adapter settings: the plan's own, read by the plan's jobs' params from here
+        self.profile_settings: dict[str, dict] = {
             model_name(sim, variant): self._profile_settings(sim, variant)
             for sim in self.simulators
             for variant in variants
         }
+        config["profiles"] = self.profile_settings  # simpick.sources.base.model_settings reads a model's there
         # The calibrated profiles (simpick.studies.simulator_calibration): per simulator, whether a setting it
         # exposes moves its turning here ({simulator: why not} for the others). Their fitted values come from a
         # job, so their plan-time settings are the tuned ones: one with settings to fit runs as a model of its
@@ -71,7 +73,7 @@ class ModelPlanning:
         # its figures are the engine's, the same traces (a run is deterministic in its settings).
         # The same holds between profiles: a tuned profile the search left at its shipped settings reads those.
         self.profile_results = {}
-        profiles = config["profiles"]  # keyed by profile name (set above)
+        profiles = self.profile_settings
         for p, settings in profiles.items():
             if p in self.calibrated:  # its settings are the fit's, known only when its job has run
                 self.profile_results[p] = p
@@ -306,7 +308,7 @@ class ModelPlanning:
                 "drive": f"drive-{study.drive_dataset}",
                 "replay": f"replay-{self.replay_set.name if self.replay_set else ''}",
             }.get(self.calibration_source, f"segments-{self.dataset}"),
-            "engine_settings": self.config["profiles"][tuned],
+            "engine_settings": self.profile_settings[tuned],
             "physics": {"timestep": study.physics.timestep},
             "robot": self._robot(),
             "searchable": model_name(simulator, "calibrated") in self.calibrated,
