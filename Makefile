@@ -3,19 +3,30 @@ PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed
 
-.PHONY: study test test-fast docs bench clean lock schema engine-venvs study-eight gzphysics
+.PHONY: study test test-fast docs bench clean lock schema engine-venvs study-eight gzphysics system-packages
 
-$(STAMP): pyproject.toml constraints.txt
-	@# ODE comes from the system (Debian libode8); headers for the binding's own tests
-	ldconfig -p | grep -q 'libode\.so\.8' || { apt-get update && apt-get install -y --no-install-recommends libode8 libode-dev; } || \
-	  { echo "simpick: install ODE 0.16 first: apt-get install libode8 libode-dev (as root)"; exit 1; }
-	@# the browser the interactive report's test drives (tests/test_browser.py): the system's Chromium
-	command -v chromium >/dev/null || { apt-get update && apt-get install -y chromium; } || \
-	  { echo "simpick: install Chromium first: apt-get install chromium (as root)"; exit 1; }
-	@# sdformat 12's own reader (ign sdf), which the settings files' tests convert the Gazebo tags with
-	command -v ign >/dev/null || { apt-get update && apt-get install -y --no-install-recommends libsdformat-dev \
-	  ignition-tools ruby sdformat-sdf; } || \
-	  echo "simpick: ign sdf could not be installed; the study runs without it, tests/test_simulator_files.py fails"
+# The system's packages in one apt pass (an apt-get update at most once): ODE (Debian libode8, and its headers for
+# the binding's own tests), the browser the interactive report's test drives (tests/test_browser.py), sdformat 12's
+# own reader (ign sdf, with which the settings files' tests convert the Gazebo tags) and what the Gazebo physics
+# program builds against (GZ_PACKAGES, below). ODE and Chromium are required; the others, where they cannot be
+# installed, leave out what needs them, and the study says so. Order-only prerequisite of the venv and the Gazebo
+# program: it runs first, and never by itself makes them rebuild.
+system-packages:
+	@need=; ldconfig -p | grep -q 'libode\.so\.8' || need="$$need libode8 libode-dev"; \
+	command -v ign >/dev/null || need="$$need libsdformat-dev ignition-tools ruby sdformat-sdf"; \
+	dpkg -s $(GZ_PACKAGES) >/dev/null 2>&1 || need="$$need $(GZ_PACKAGES)"; \
+	browser=; command -v chromium >/dev/null || browser=chromium; \
+	if [ -n "$$need$$browser" ]; then \
+	  apt-get update -qq || echo "simpick: apt-get update failed"; \
+	  [ -z "$$need" ] || apt-get install -y -qq --no-install-recommends $$need >/dev/null || \
+	    echo "simpick: apt-get could not install some of:$$need"; \
+	  [ -z "$$browser" ] || apt-get install -y -qq chromium >/dev/null || echo "simpick: apt-get could not install chromium"; \
+	fi
+	@ldconfig -p | grep -q 'libode\.so\.8' || { echo "simpick: install ODE 0.16 first: apt-get install libode8 libode-dev (as root)"; exit 1; }
+	@command -v chromium >/dev/null || { echo "simpick: install Chromium first: apt-get install chromium (as root)"; exit 1; }
+	@command -v ign >/dev/null || echo "simpick: ign sdf could not be installed; the study runs without it, tests/test_simulator_files.py fails"
+
+$(STAMP): pyproject.toml constraints.txt | system-packages
 	$(PYTHON) -m venv $(VENV)
 	$(VENV)/bin/pip install --quiet --upgrade pip
 	$(VENV)/bin/pip install --quiet -c constraints.txt -e '.[test]'
@@ -30,14 +41,11 @@ study: $(STAMP) gzphysics
 # Gazebo (gz-sim)'s rows run Gazebo Fortress's own physics layer (Ignition Physics 5's dartsim plugin, sdformat 12:
 # Debian's packages) through a small program, src/simpick/engines/gz, built into build/gz. A machine that cannot
 # install or build it runs the study without the Gazebo rows, and the study says why (build/gz.log keeps the error).
-GZ_PACKAGES := cmake g++ libignition-physics-dev libignition-physics5-dartsim-plugin5 libignition-physics5-bullet-plugin5 \
-  libsdformat-dev
 gzphysics: build/gz/gzphysics_run
 
-build/gz/gzphysics_run: src/simpick/engines/gz/gzphysics_run.cc src/simpick/engines/gz/CMakeLists.txt
+build/gz/gzphysics_run: src/simpick/engines/gz/gzphysics_run.cc src/simpick/engines/gz/CMakeLists.txt | system-packages
 	mkdir -p build && : >build/gz.log
-	{ dpkg -s $(GZ_PACKAGES) >/dev/null 2>&1 || \
-	    { apt-get update && apt-get install -y --no-install-recommends $(GZ_PACKAGES); } >>build/gz.log 2>&1; } && \
+	{ dpkg -s $(GZ_PACKAGES) >>build/gz.log 2>&1 || { echo "system packages missing: $(GZ_PACKAGES)" >>build/gz.log; false; }; } && \
 	  cmake -S src/simpick/engines/gz -B build/gz -DCMAKE_BUILD_TYPE=Release >>build/gz.log 2>&1 && \
 	  cmake --build build/gz >>build/gz.log 2>&1 || \
 	  { rm -f $@; echo "simpick: the Gazebo physics program could not be built (build/gz.log); the study will run without the Gazebo (gz-sim) rows"; }

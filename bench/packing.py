@@ -206,7 +206,7 @@ def table_priority(costs_path: Path | None, cases: dict[str, int] | None = None)
             kind = rule
         elif rule in ("simulate_segments", "simulate_lab"):
             kind = rule.removeprefix("simulate_")
-        elif rule == "simulate":
+        elif rule.startswith("simulate"):  # a replayed run, one a job or a class's in one (simulate_<source>_<class>)
             kind = "replay"
         else:
             return 0

@@ -3,9 +3,10 @@
 # writes a trace per case. The unit is one case (rule `simulate`, over {source}), except for a batched
 # source (simpick.plan.sources.BATCHED), whose cases share one process and its imports: the committed
 # segments, every segment on one model in one job (simulate_segments); the lab, a terrain's motions on one
-# engine (simulate_lab, over {group}). Snakemake gives a rule a fixed number of outputs, so a batched
-# source has a rule of its own. A dataset folder's derived segments are one job each: their ids exist only
-# after the checkpoint.
+# engine (simulate_lab, over {group}); a replayed dataset folder's or own logs' runs, a terrain class's on one
+# model in one job (simulate_<source>_<class>, BATCHED_KINDS). Snakemake gives a rule a fixed number of
+# outputs, so a batched source (or class) has a rule of its own. A dataset folder's derived segments are one
+# job each: their ids exist only after the checkpoint.
 for _rule, _outputs, _stem, _fixed in PLAN.simulate_units():
 
     rule:

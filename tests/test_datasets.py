@@ -292,5 +292,8 @@ def test_the_committed_tables_own_folder_is_not_simulated_a_second_time(tmp_path
     jobs = planned_jobs(tmp_path)
     dry = snakemake(tmp_path, "-n")
     assert "real_segments" in dry.stdout + dry.stderr  # the folder's own table is still derived (a checkpoint)
-    assert any("source=borealtc," in w for rule, w in jobs if rule == "simulate")  # its runs are replayed
+    # its runs are replayed, a job per model and terrain class (simpick.plan.sources.BATCHED_KINDS)
+    assert {rule for rule, _ in jobs if rule.startswith("simulate_borealtc_")} == {
+        f"simulate_borealtc_{c}" for c in ("asphalt", "flooring", "ice", "sandy_loam", "snow")
+    }
     assert not [w for _, w in jobs if "borealtc-segments" in w]

@@ -548,3 +548,51 @@ def test_a_unit_s_params_the_plan_and_its_kind_s_model_disagree_on_stop_the_plan
     monkeypatch.setattr(type(default_plan), "case_params", lambda *args: {k: v for k, v in good.items() if k != "seed"})
     with pytest.raises(PlanError, match=r"simulate \(segments\): .*SegmentsUnitParams.*seed"):
         default_plan.simulate_params("segments", "mujoco", None, names)
+
+
+def test_a_dataset_folder_s_runs_are_simulated_a_job_per_model_and_terrain_class(tmp_path):
+    """A replayed folder's runs share a process per model and class (plan.sources.BATCHED_KINDS): a rule per
+    class whose outputs are that class's runs, its inputs their logs in the same order, its params the class's
+    ground; a job's prepare step replays each run from its own log, whatever the order."""
+    from simpick.plan.sources import BATCHED_KINDS
+    from simpick.simulate.real import prepare_replay
+
+    folder = write_dataset(tmp_path / "yard", {"FLOORING": ["7", "12"], "ICE": ["3"]}, seconds=2.0)
+    config = tiny_config(tmp_path)
+    config["real_data"]["datasets"]["yard"] = {"label": "Husky yard", "imu_hz": 100, "commands_hz": 6.5}
+    config["borealtc_dir"] = str(folder)
+    plan = plan_of(config)
+    assert BATCHED_KINDS["replay"] == "class" and plan.batching("yard") == "class"
+    units = {name: (outputs, fixed) for name, outputs, _, fixed in plan.simulate_units()}
+    assert not [f for _, f in units.values() if "sources" in f and "yard" in f["sources"]]  # no one-case jobs
+    outputs, fixed = units["simulate_yard_flooring"]
+    assert outputs == [
+        "results/traces/yard/{engine}/flooring/7.parquet",
+        "results/traces/yard/{engine}/flooring/12.parquet",
+    ]
+    assert units["simulate_yard_ice"][0] == ["results/traces/yard/{engine}/ice/3.parquet"]
+
+    class Wildcards:
+        engine = "mujoco"
+
+    source, engine, group, names = plan.unit(Wildcards, fixed)
+    assert (source, engine, group, names) == ("yard", "mujoco", "flooring", ["7", "12"])
+    inputs = plan.case_inputs(source, group, names)
+    assert inputs["logs"] == ["results/real/yard/logs/flooring/7.parquet", "results/real/yard/logs/flooring/12.parquet"]
+    params = plan.simulate_params(source, engine, group, names)
+    assert RealUnitParams.model_validate(params).terrain_class == "flooring"
+
+    # the prepare step reads each case's own log: two canonical logs told apart by their run ids
+    from simpick.real.logs import borealtc, write_canonical
+
+    logs = []
+    for run in names:
+        log = borealtc.read_run(
+            folder / "FLOORING" / f"imu_{run}.csv", folder / "FLOORING" / f"pro_{run}.csv", "flooring"
+        )
+        path = tmp_path / f"{run}.parquet"
+        write_canonical(log, path)
+        logs.append(str(path))
+    for name in reversed(names):
+        which, _ = prepare_replay(str(ROOT / config["robot"]["urdf"]), {"logs": logs}, params, name)
+        assert which["run"] == name and which["test"] == f"flooring-{name}"

@@ -32,7 +32,13 @@ from simpick.sources.base import canonical
 # "source": every case of the source in one job per model (the committed segments: 18 short runs);
 # "group": a group's cases in one job per model and group (the lab: a terrain's motions, whose strip is
 # the job's one terrain input), every group having the same case names.
+# "class": a terrain class's cases in one job per model and class, a rule per class (a replayed dataset
+# folder's runs and own logs, keyed by their kind: the source is named after its dataset). Each job reads
+# its class's logs and its class's ground; the full replay of the shared BorealTC's 29 runs is 5 jobs per
+# model instead of 29. A source whose cases are known only after a checkpoint (a derived segment table)
+# stays one case per job.
 BATCHED = {"lab": "group", "segments": "source"}
+BATCHED_KINDS = {"replay": "class", "own": "class"}
 
 
 class SourcePlanning:
@@ -97,11 +103,20 @@ class SourcePlanning:
     def simulate_units(self):
         """(name, output patterns, log stem, fixed values) for each rule of the simulate family: one rule over
         the {source} wildcard for the one-case units, one per batched source (:data:`BATCHED`)."""
-        single = [s for s in self.sources if s not in BATCHED]
+        single = [s for s in self.sources if self.batching(s) is None]
         units = []
         if single:
             one = "{source}/{engine}/{group}/{name}"
             units.append(("simulate", [f"results/traces/{one}.parquet"], one, {"sources": single}))
+        for source in [s for s in self.sources if self.batching(s) == "class"]:
+            classes: dict[str, list[str]] = {}
+            for group, name in self.sources[source]["cases"]:
+                classes.setdefault(group, []).append(name)
+            for group, names in classes.items():
+                outputs = [f"results/traces/{source}/{{engine}}/{group}/{name}.parquet" for name in names]
+                fixed = {"source": source, "group": group, "names": names}
+                rule = "simulate_" + re.sub(r"\W", "_", f"{source}_{group}")
+                units.append((rule, outputs, f"{source}/{{engine}}/{group}", fixed))
         for source in sorted(set(BATCHED) & set(self.sources)):
             cases = self.sources[source]["cases"]
             if BATCHED[source] == "source":
@@ -120,6 +135,14 @@ class SourcePlanning:
             fixed = {"source": source, "names": names, "groups": list(groups)}
             units.append((f"simulate_{source}", outputs, f"{source}/{{engine}}/{{group}}", fixed))
         return units
+
+    def batching(self, source):
+        """How a source's cases are batched into simulate jobs (:data:`BATCHED`), None for one case a job."""
+        if source in BATCHED:
+            return BATCHED[source]
+        if self.sources[source]["cases"] is None:  # known only after its checkpoint
+            return None
+        return BATCHED_KINDS.get(self.sources[source]["kind"])
 
     def one_case_constraints(self, sources):
         known = [self.sources[s] for s in sources if self.sources[s]["cases"] is not None]
@@ -150,7 +173,8 @@ class SourcePlanning:
         if "cases" in fixed:
             return fixed["source"], wildcards.engine, None, [name for _, name in fixed["cases"]]
         if "names" in fixed:
-            return fixed["source"], wildcards.engine, wildcards.group, list(fixed["names"])
+            group = fixed["group"] if "group" in fixed else wildcards.group
+            return fixed["source"], wildcards.engine, group, list(fixed["names"])
         return wildcards.source, wildcards.engine, wildcards.group, [wildcards.name]
 
     def case_inputs(self, source, group, names):

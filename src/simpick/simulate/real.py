@@ -204,7 +204,9 @@ def prepare_replay(urdf: str, inputs: dict, params: Mapping, name: str):
     """A replayed run (the replay source: a dataset folder's or an own log) driven by its recorded
     wheel speeds."""
     p = RealUnitParams.model_validate(params)
-    log = read_canonical(inputs["log"])
+    # the unit's logs are its cases' in order (one terrain class's runs: simpick.sources.replay.case_inputs)
+    logs = [inputs["logs"]] if isinstance(inputs["logs"], str) else list(inputs["logs"])
+    log = read_canonical(logs[list(p.cases).index(name)])
     run = str(log.meta["run_id"])
     which = {
         "terrain": p.terrain_class,

@@ -20,8 +20,8 @@ def cases(dataset) -> list[tuple[str, str]]:
 
 
 def case_inputs(study, source: str, spec: dict, group: str, names: list[str]) -> dict:
-    (name,) = names  # a replay is never batched: one log per job
-    return {"urdf": study.robot.urdf, "log": log_path(source, group, name)}
+    """The robot and the logs of the unit's runs, in the order of ``names`` (one terrain class's runs)."""
+    return {"urdf": study.robot.urdf, "logs": [log_path(source, group, name) for name in names]}
 
 
 def case_params(
