@@ -9,10 +9,11 @@ import time
 import pandas as pd
 import pytest
 
-from conftest import ROOT, snakemake, tiny_config, write_config
+from conftest import ROOT, TINY_STUDY, snakemake, tiny_config, write_config
 from simpick.simulate.traces import read_trace
 
-pytestmark = pytest.mark.workflow  # every test here runs Snakemake
+# every test here runs Snakemake, against the session's uninterrupted tiny study (conftest.tiny_study)
+pytestmark = [pytest.mark.workflow, pytest.mark.xdist_group(TINY_STUDY)]
 
 
 def start(workdir):
@@ -46,11 +47,9 @@ def traces(workdir):
 
 
 @pytest.fixture(scope="module")
-def reference(tmp_path_factory):
-    workdir = tmp_path_factory.mktemp("uninterrupted")
-    write_config(workdir, tiny_config(workdir))
-    assert snakemake(workdir).returncode == 0
-    return workdir
+def reference(tiny_study):
+    """The uninterrupted run: the session's tiny study (read, never edited)."""
+    return tiny_study[0]
 
 
 @pytest.mark.parametrize("how", [signal.SIGINT, signal.SIGKILL], ids=["SIGINT", "SIGKILL"])
