@@ -135,12 +135,28 @@ def _shares_a_fixture(item) -> bool:
     return False
 
 
+def _name_the_groups(items) -> None:
+    """Append each test's group to its id, which is what --dist loadgroup schedules by. pytest-xdist 3.8.0 writes
+    it to ``item._nodeid`` (xdist/remote.py, WorkerInteractor.pytest_collection_modifyitems), which pytest 9.2 no
+    longer reads: its ``Node.nodeid`` is ``str(item._id)`` (_pytest/nodes.py), so every group would be ignored
+    and a shared fixture made on both workers."""
+    from _pytest.nodeid import NodeId
+
+    for item in items:
+        names = sorted({str(mark.args[0]) for mark in item.iter_markers("xdist_group")})
+        if names and not item.nodeid.endswith("@" + "_".join(names)):
+            item._id = NodeId.parse(f"{item.nodeid}@{'_'.join(names)}")
+
+
+@pytest.hookimpl(tryfirst=True)  # before pytest-xdist's own, which reads the groups
 def pytest_collection_modifyitems(config, items):
     for item in items:
         # make test runs the suite on two pytest-xdist workers with --dist loadgroup: the tests of a module that
         # share a fixture go to one worker (its module's group) unless they name a group of their own
         if item.get_closest_marker("xdist_group") is None and _shares_a_fixture(item):
             item.add_marker(pytest.mark.xdist_group(item.module.__name__))
+    if config.getvalue("loadgroup"):  # on an xdist worker of --dist loadgroup
+        _name_the_groups(items)
         params = item.callspec.params.values() if hasattr(item, "callspec") else ()
         # test_gzphysics.py: DART under Gazebo's settings, in a program make test builds and make test-fast does not
         slow_file = item.path.name in ("test_dart_engine.py", "test_new_engines.py", "test_gzphysics.py")
