@@ -119,6 +119,14 @@ subprocess.Popen.__init__ = _popen_init_checked
 SLOW_ENGINES = {"dart", "drake", "newton", "genesis"}
 
 
+ISOLATED_ENGINES = "newton_genesis"
+
+
+def _isolated_engine(item, params) -> bool:
+    """Whether ``item`` steps Newton or Genesis (in the venvs of their own: simpick.engines.isolated)."""
+    return item.path.name == "test_new_engines.py" or any(v in ("newton", "genesis") for v in params)
+
+
 def _shares_a_fixture(item) -> bool:
     """Whether ``item`` uses a fixture made once for several tests of its module (module, class or package scope,
     or session scope defined in the module itself): such a module's tests must run on one pytest-xdist worker,
@@ -151,17 +159,21 @@ def _name_the_groups(items) -> None:
 @pytest.hookimpl(tryfirst=True)  # before pytest-xdist's own, which reads the groups
 def pytest_collection_modifyitems(config, items):
     for item in items:
-        # make test runs the suite on two pytest-xdist workers with --dist loadgroup: the tests of a module that
-        # share a fixture go to one worker (its module's group) unless they name a group of their own
-        if item.get_closest_marker("xdist_group") is None and _shares_a_fixture(item):
-            item.add_marker(pytest.mark.xdist_group(item.module.__name__))
-    if config.getvalue("loadgroup"):  # on an xdist worker of --dist loadgroup
-        _name_the_groups(items)
         params = item.callspec.params.values() if hasattr(item, "callspec") else ()
         # test_gzphysics.py: DART under Gazebo's settings, in a program make test builds and make test-fast does not
         slow_file = item.path.name in ("test_dart_engine.py", "test_new_engines.py", "test_gzphysics.py")
         if slow_file or any(isinstance(v, str) and v in SLOW_ENGINES for v in params):
             item.add_marker(pytest.mark.slow)
+        # make test runs the suite on two pytest-xdist workers with --dist loadgroup: the tests of a module that
+        # share a fixture go to one worker (its module's group) unless they name a group of their own
+        if _isolated_engine(item, params):
+            # one worker steps Newton and Genesis: each process pays an engine's start (its venv's imports, Genesis'
+            # kernels) once, about a minute and a half for Genesis on two cores
+            item.add_marker(pytest.mark.xdist_group(ISOLATED_ENGINES))
+        elif item.get_closest_marker("xdist_group") is None and _shares_a_fixture(item):
+            item.add_marker(pytest.mark.xdist_group(item.module.__name__))
+    if getattr(config.option, "loadgroup", False):  # on an xdist worker of --dist loadgroup
+        _name_the_groups(items)
 
 
 def study_config(*files: str, overrides: dict | None = None) -> dict:
