@@ -211,6 +211,39 @@ def test_the_fit_recovers_a_known_ratio_within_its_interval(tmp_path):
     assert not set(f["real_runs"]) & set(fit["test_runs"])  # the test runs never reach the fit
 
 
+def test_the_intervals_name_a_setting_that_does_nothing_or_jumps_and_bound_one_that_slopes():
+    """Without an engine: three runs' gains as functions of two settings. The ratio's gain slopes: it is fitted
+    and its interval holds the truth; the other does nothing: unidentifiable, kept at its start. With a gain that
+    steps (DART's friction box locking) at the optimum, the ratio gets no interval."""
+    space = {
+        "friction_ratio": cal.SearchSetting(exposed_as="r", bounds=(0.3, 1.8), source="a.c:1"),
+        "other": cal.SearchSetting(exposed_as="o", bounds=(1.0, 100.0), source="a.c:2", log=True),
+    }
+    axes = [cal.Axis(k, v) for k, v in space.items()]
+    real = np.array([0.70, 0.66, 0.69])
+
+    def sloping(settings):
+        return 0.95 - 0.4 * settings["friction_ratio"] + np.array([0.0, 0.0, 0.0])
+
+    units = cal.Units(["a/1", "b/1", "c/1"], real, ["a", "b", "c"], sloping, {})
+    fit = cal.least_squares_fit(units, axes, {}, {"friction_ratio": 1.0, "other": 10.0}, 8, 0.05, 0.045)
+    truth = (0.95 - real.mean()) / 0.4
+    ratio, other = fit["parameters"]["friction_ratio"], fit["parameters"]["other"]
+    assert ratio["identifiable"] and ratio["interval"][0] <= truth <= ratio["interval"][1]
+    assert fit["settings"]["friction_ratio"] == pytest.approx(truth, abs=0.01)
+    assert other["identifiable"] is False and fit["settings"]["other"] == pytest.approx(10.0)
+    assert fit["error"] < fit["start_error"] and fit["residual_sd_from"].startswith("the residuals (2 degrees")
+
+    def stepping(settings):  # turns at 0.81 below r 0.74, locks above
+        r = settings["friction_ratio"]
+        return np.full(3, 0.81 if r < 0.74 else 0.0) - 0.2 * max(0.0, r - 0.6)
+
+    units = cal.Units(["a/1", "b/1", "c/1"], real, ["a", "b", "c"], stepping, {})
+    fit = cal.least_squares_fit(units, axes[:1], {}, {"friction_ratio": 0.72}, 4, 0.05, 0.045)
+    assert fit["parameters"]["friction_ratio"]["identifiable"] is False
+    assert "jumps" in fit["parameters"]["friction_ratio"]["why"]
+
+
 def test_a_fit_that_cannot_beat_the_tuned_profile_keeps_the_tuned_settings_and_says_so(tmp_path):
     """Real runs that the tuned profile already reproduces: no optimum lies below its training error, so the
     calibrated settings are the tuned ones, and the file says so."""

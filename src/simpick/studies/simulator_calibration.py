@@ -312,6 +312,9 @@ FAILED_RESIDUAL = 1.0
 # a setting whose column of the Jacobian moves the residuals by less than this over its whole range, or that lies
 # along a direction whose singular value is below RELATIVE_SINGULAR of the largest, is unidentifiable from the runs
 MIN_SENSITIVITY, RELATIVE_SINGULAR = 0.01, 0.01
+# a run's gain moving by more than this within one Jacobian step is a jump of the engine's (DART's friction box
+# locking, PyBullet's), not a slope: the linearised interval is then no measure of what the runs fix
+JUMP = 0.2
 Z95 = 1.959964  # a normal 95 % interval
 
 
@@ -454,9 +457,15 @@ def least_squares_fit(
     sensitivity = np.linalg.norm(J, axis=0)
     if n > m:
         unidentifiable.update({a.name: "more settings than runs" for a in active[m:]})
-    for a, s in zip(active, sensitivity):
+    for a, s, column in zip(active, sensitivity, J.T):
         if s < MIN_SENSITIVITY:
             unidentifiable.setdefault(a.name, f"the gain moves {s:.4f} over its whole range at the optimum")
+        jump = float(np.max(np.abs(column)) * diff_step)
+        if jump > JUMP:
+            unidentifiable.setdefault(
+                a.name,
+                f"a run's gain jumps by {jump:.3f} within the Jacobian's step at the optimum (a step, not a slope)",
+            )
     scaled = J / np.where(sensitivity > 0, sensitivity, 1.0)
     _, singular, vt = np.linalg.svd(scaled, full_matrices=False)
     for k, sv in enumerate(singular):
