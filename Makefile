@@ -2,15 +2,20 @@
 PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed
+# The set-up's independent parts (the study's venv, Newton's and Genesis' venvs, the Gazebo program) are built side
+# by side: on a fresh machine they are mostly downloads. Each target's output is printed whole when it ends.
+MAKEFLAGS += --jobs=4 --output-sync=target
 
 .PHONY: study test test-fast docs bench clean lock schema engine-venvs study-eight gzphysics system-packages
 
 # The system's packages in one apt pass (an apt-get update at most once): ODE (Debian libode8, and its headers for
 # the binding's own tests), the browser the interactive report's test drives (tests/test_browser.py), sdformat 12's
 # own reader (ign sdf, with which the settings files' tests convert the Gazebo tags) and what the Gazebo physics
-# program builds against (GZ_PACKAGES, below). ODE and Chromium are required; the others, where they cannot be
+# program builds against (GZ_PACKAGES). ODE and Chromium are required; the others, where they cannot be
 # installed, leave out what needs them, and the study says so. Order-only prerequisite of the venv and the Gazebo
 # program: it runs first, and never by itself makes them rebuild.
+GZ_PACKAGES := cmake g++ libignition-physics-dev libignition-physics5-dartsim-plugin5 libignition-physics5-bullet-plugin5 \
+  libsdformat-dev
 system-packages:
 	@need=; ldconfig -p | grep -q 'libode\.so\.8' || need="$$need libode8 libode-dev"; \
 	command -v ign >/dev/null || need="$$need libsdformat-dev ignition-tools ruby sdformat-sdf"; \
@@ -45,7 +50,7 @@ gzphysics: build/gz/gzphysics_run
 
 build/gz/gzphysics_run: src/simpick/engines/gz/gzphysics_run.cc src/simpick/engines/gz/CMakeLists.txt | system-packages
 	mkdir -p build && : >build/gz.log
-	{ dpkg -s $(GZ_PACKAGES) >>build/gz.log 2>&1 || { echo "system packages missing: $(GZ_PACKAGES)" >>build/gz.log; false; }; } && \
+	{ dpkg -s $(GZ_PACKAGES) >/dev/null 2>&1 || { echo "system packages missing: $(GZ_PACKAGES)" >>build/gz.log; false; }; } && \
 	  cmake -S src/simpick/engines/gz -B build/gz -DCMAKE_BUILD_TYPE=Release >>build/gz.log 2>&1 && \
 	  cmake --build build/gz >>build/gz.log 2>&1 || \
 	  { rm -f $@; echo "simpick: the Gazebo physics program could not be built (build/gz.log); the study will run without the Gazebo (gz-sim) rows"; }
@@ -79,15 +84,19 @@ engine-venvs: .venv-newton/.installed .venv-genesis/.installed
 study-eight: $(STAMP) engine-venvs gzphysics
 	$(VENV)/bin/snakemake --cores 2 --configfile config.yaml config/engines/newton_genesis.yaml
 
+# Two pytest-xdist workers, one a core: the tests of a module that share a fixture (a Snakemake run, an engine's
+# records) run on one worker, as do those of one named group (tests/conftest.py: the session's tiny study).
+PYTEST_PARALLEL ?= -n 2 --dist loadgroup
+
 # The suite steps every registered engine, Newton and Genesis included: engine-venvs builds their venvs
 # (measured: 72 s and 97 s from the registries of a CI machine). One that cannot be built is left out with the
 # reason printed above, and its engine's tests fail (tests/test_engines.py checks every engine is installed).
 test: $(STAMP) engine-venvs gzphysics
-	$(VENV)/bin/python -m pytest
+	$(VENV)/bin/python -m pytest $(PYTEST_PARALLEL) --durations=25
 
 # The tests that start no Snakemake run and step neither DART nor Drake; `make test` runs them all.
 test-fast: $(STAMP)
-	$(VENV)/bin/python -m pytest -m "not workflow and not slow"
+	$(VENV)/bin/python -m pytest $(PYTEST_PARALLEL) -m "not workflow and not slow"
 
 # The documentation site (docs/, mkdocs.yml) into site/
 docs: $(STAMP)

@@ -119,8 +119,44 @@ subprocess.Popen.__init__ = _popen_init_checked
 SLOW_ENGINES = {"dart", "drake", "newton", "genesis"}
 
 
+def _shares_a_fixture(item) -> bool:
+    """Whether ``item`` uses a fixture made once for several tests of its module (module, class or package scope,
+    or session scope defined in the module itself): such a module's tests must run on one pytest-xdist worker,
+    else each worker makes the fixture again."""
+    info = getattr(item, "_fixtureinfo", None)
+    if info is None:
+        return False
+    for name in info.names_closure:
+        for fixture in info.name2fixturedefs.get(name, ()):
+            scope = fixture.scope
+            here = getattr(fixture.func, "__module__", None) == item.module.__name__
+            if scope in ("module", "class", "package") or (scope == "session" and here):
+                return True
+    return False
+
+
+def _name_the_groups(items) -> None:
+    """Append each test's group to its id, which is what --dist loadgroup schedules by. pytest-xdist 3.8.0 writes
+    it to ``item._nodeid`` (xdist/remote.py, WorkerInteractor.pytest_collection_modifyitems), which pytest 9.2 no
+    longer reads: its ``Node.nodeid`` is ``str(item._id)`` (_pytest/nodes.py), so every group would be ignored
+    and a shared fixture made on both workers."""
+    from _pytest.nodeid import NodeId
+
+    for item in items:
+        names = sorted({str(mark.args[0]) for mark in item.iter_markers("xdist_group")})
+        if names and not item.nodeid.endswith("@" + "_".join(names)):
+            item._id = NodeId.parse(f"{item.nodeid}@{'_'.join(names)}")
+
+
+@pytest.hookimpl(tryfirst=True)  # before pytest-xdist's own, which reads the groups
 def pytest_collection_modifyitems(config, items):
     for item in items:
+        # make test runs the suite on two pytest-xdist workers with --dist loadgroup: the tests of a module that
+        # share a fixture go to one worker (its module's group) unless they name a group of their own
+        if item.get_closest_marker("xdist_group") is None and _shares_a_fixture(item):
+            item.add_marker(pytest.mark.xdist_group(item.module.__name__))
+    if config.getvalue("loadgroup"):  # on an xdist worker of --dist loadgroup
+        _name_the_groups(items)
         params = item.callspec.params.values() if hasattr(item, "callspec") else ()
         # test_gzphysics.py: DART under Gazebo's settings, in a program make test builds and make test-fast does not
         slow_file = item.path.name in ("test_dart_engine.py", "test_new_engines.py", "test_gzphysics.py")
@@ -196,6 +232,33 @@ def planned_jobs(workdir: Path, env: dict | None = None) -> list[tuple[str, str]
 
 def write_config(workdir: Path, config: dict) -> None:
     (workdir / "config.yaml").write_text(yaml.safe_dump(config, sort_keys=False))
+
+
+# The tiny study is run once per test session and read by every test that needs its outputs; a test that edits
+# the study (its config, its results) works on a copy (copy_study). Under pytest-xdist a session fixture is a
+# worker's: the tests that use it carry @pytest.mark.xdist_group(TINY_STUDY) and so run on one worker (make test:
+# --dist loadgroup), which makes the run once.
+TINY_STUDY = "tiny_study"
+
+
+@pytest.fixture(scope="session")
+def tiny_study(tmp_path_factory) -> tuple[Path, dict]:
+    """(working directory, config) of the tiny study (:func:`tiny_config`) run to the end; read it, never edit it."""
+    workdir = tmp_path_factory.mktemp("tiny_study")
+    config = tiny_config(workdir)
+    write_config(workdir, config)
+    run = snakemake(workdir)
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    return workdir, config
+
+
+def copy_study(workdir: Path, target: Path) -> Path:
+    """A finished study's working directory copied to ``target`` with its files' times and Snakemake's records
+    (.snakemake/), so that the copy is as up to date as the original: nothing reruns in it unless edited."""
+    import shutil
+
+    shutil.copytree(workdir, target, symlinks=True, ignore=shutil.ignore_patterns("locks", "incomplete"))
+    return target
 
 
 # --- dataset folders in the BorealTC layout, made up in the test ---

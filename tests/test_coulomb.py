@@ -437,3 +437,158 @@ def test_rockers_whose_wheels_do_not_all_touch_at_zero_are_refused(tmp_path):
     path.write_text(text)
     with pytest.raises(InputError, match=r"do not touch flat ground with every joint at zero.*resting pose"):
         contact_layout(load_robot(path))
+
+
+# --- locked wheels on a slope: elliptic anisotropic Coulomb friction (METHOD.md section 10) ---
+
+G = 9.81
+
+
+def _downhill(heading: float) -> tuple[float, float]:
+    """The incline case's downhill direction in the wheel frame (the robot at heading 0): -(cos h, sin h)."""
+    h = math.radians(heading)
+    return (-math.cos(h), -math.sin(h))
+
+
+def _config_case(name: str) -> dict:
+    import yaml
+
+    from conftest import ROOT
+
+    return yaml.safe_load((ROOT / "config.yaml").read_text())["validation"]["cases"][name]
+
+
+@pytest.mark.parametrize("heading", [0.0, 30.0, 45.0, 90.0, 135.0, -60.0])
+def test_an_isotropic_slope_slide_is_the_closed_form_at_every_heading(heading):
+    from simpick.coulomb import hold_angle, slope_holds, slope_slide
+
+    mu, down = 0.5, _downhill(heading)
+    angle = 1.2 * math.atan(mu)
+    law = slope_slide(angle, down, mu, 1.0, duration=2.0)
+    expected = G * (math.sin(angle) - mu * math.cos(angle))
+    assert law.downhill_acceleration == pytest.approx(expected, rel=1e-9)
+    assert law.acceleration == pytest.approx(expected, rel=1e-9)
+    assert law.drift == pytest.approx(0.0, abs=1e-9)
+    # a straight path down the slope at the constant acceleration: s = a t^2 / 2
+    assert np.allclose(law.position, np.outer(expected * law.time**2 / 2, down), rtol=0, atol=1e-9)
+    assert not law.holds
+    assert hold_angle(down, mu) == pytest.approx(math.atan(mu), rel=1e-12)
+    assert slope_holds(0.999 * math.atan(mu), down, mu) and not slope_holds(1.001 * math.atan(mu), down, mu)
+    parked = slope_slide(0.8 * math.atan(mu), down, mu, 1.0, duration=2.0)
+    assert parked.holds and not parked.position.any() and parked.acceleration == 0.0
+
+
+@pytest.mark.parametrize("ratio", [0.698, 1.5])
+@pytest.mark.parametrize("heading,across", [(0.0, False), (180.0, False), (90.0, True), (-90.0, True)])
+def test_a_slope_along_an_axis_of_the_ellipse_is_the_closed_form_with_that_axis_coefficient(heading, across, ratio):
+    from simpick.coulomb import hold_angle, slope_slide
+
+    mu = 0.5
+    own = ratio * mu if across else mu  # mu_t across the wheels, mu_l along them
+    angle = 1.2 * math.atan(own)
+    law = slope_slide(angle, _downhill(heading), mu, ratio, duration=2.0)
+    assert law.downhill_acceleration == pytest.approx(G * (math.sin(angle) - own * math.cos(angle)), rel=1e-9)
+    assert law.acceleration == pytest.approx(law.downhill_acceleration, rel=1e-9)
+    assert law.drift == pytest.approx(0.0, abs=1e-9)
+    assert hold_angle(_downhill(heading), mu, ratio) == pytest.approx(math.atan(own), rel=1e-12)
+
+
+def test_the_diagonal_slope_slides_faster_on_wheels_that_slip_sideways_and_drifts_across_them():
+    from scipy.optimize import minimize
+
+    from simpick.coulomb import slope_slide
+
+    case = _config_case("incline_slide_diagonal_mu0.5")
+    mu, heading = case["mu"], case["heading"]
+    angle = case["angle_factor"] * math.atan(mu)
+    down = np.array(_downhill(heading))
+    isotropic = G * (math.sin(angle) - mu * math.cos(angle))
+    assert isotropic == pytest.approx(1.016, abs=5e-4)
+    law = slope_slide(angle, down, mu, 0.698, duration=4.0, timestep=0.001)
+    # what the case measures: s(t) along the downhill direction, fitted from 1 s (SETTLE_S) to the end
+    window = law.time >= 1.0
+    fitted = 2 * np.polyfit(law.time[window], law.position[window] @ down, 2)[0]
+    assert fitted == pytest.approx(law.downhill_acceleration, rel=1e-9)
+    assert law.downhill_acceleration == pytest.approx(1.6915, abs=1e-4)  # MuJoCo at ratio 0.698: 1.6937
+    assert law.acceleration == pytest.approx(1.7390, abs=1e-4)
+    assert law.acceleration > law.downhill_acceleration > isotropic
+    # towards the low-friction axis (y): from -135 degrees towards -90, counter-clockwise
+    assert law.drift == pytest.approx(0.2343, abs=1e-4)
+    # independently: from rest the motion is u = c t, c the minimiser of |c|^2 / 2 - g sin a d.c + g cos a |M c|
+    m = np.array([mu, 0.698 * mu])
+
+    def objective(c):
+        norm = np.linalg.norm(m * c)
+        value = c @ c / 2 - G * math.sin(angle) * down @ c + G * math.cos(angle) * norm
+        return value, c - G * math.sin(angle) * down + G * math.cos(angle) * m * m * c / norm
+
+    c = minimize(objective, G * math.sin(angle) * down, jac=True, method="BFGS", options={"gtol": 1e-12}).x
+    assert law.velocity[-1] / law.time[-1] == pytest.approx(c, rel=1e-7)
+    assert np.allclose(law.velocity, np.outer(law.time, law.velocity[-1] / law.time[-1]), rtol=0, atol=1e-9)
+    # wheels that grip harder across than along (ratio 1.5) slide slower and drift towards their x axis
+    grippy = slope_slide(angle, down, mu, 1.5, duration=1.0)
+    assert grippy.downhill_acceleration < isotropic and grippy.drift < 0
+
+
+def test_a_slope_the_isotropic_ellipse_holds_slides_on_wheels_that_slip_sideways():
+    from simpick.coulomb import hold_angle, slope_holds, slope_slide
+
+    mu = 0.5
+    angle = _config_case("incline_hold_mu0.5")["angle_factor"] * math.atan(mu)  # 0.8 atan(mu)
+    across = _downhill(90.0)
+    assert slope_holds(angle, across, mu, 1.0) and not slope_holds(angle, across, mu, 0.698)
+    law = slope_slide(angle, across, mu, 0.698, duration=2.0)
+    assert not law.holds
+    assert law.downhill_acceleration == pytest.approx(G * (math.sin(angle) - 0.698 * mu * math.cos(angle)), rel=1e-9)
+    held = slope_slide(angle, across, mu, 1.0, duration=2.0)
+    assert held.holds and not held.velocity.any()
+    # the threshold follows the heading: at 45 degrees 0.829 atan(mu) for ratio 0.698
+    diagonal = _downhill(45.0)
+    assert hold_angle(diagonal, mu, 0.698) / math.atan(mu) == pytest.approx(0.8294, abs=1e-4)
+    assert slope_holds(0.82 * math.atan(mu), diagonal, mu, 0.698)
+    assert not slope_holds(0.84 * math.atan(mu), diagonal, mu, 0.698)
+    # just inside the ellipse the implicit step holds it exactly: no creep
+    assert not slope_slide(0.999 * hold_angle(diagonal, mu, 0.698), diagonal, mu, 0.698).position.any()
+
+
+@pytest.mark.parametrize(
+    "bad", [dict(ratio=0.0), dict(mu=-0.5), dict(down=(0.0, 0.0)), dict(angle=math.pi / 2), dict(timestep=0.0)]
+)
+def test_slope_slide_refuses_what_is_no_slope(bad):
+    from simpick.coulomb import slope_slide
+
+    args = dict(angle=0.5, down=(-1.0, 0.0), mu=0.5, ratio=1.0, duration=1.0, timestep=0.001) | bad
+    with pytest.raises(InputError):
+        slope_slide(**args)
+
+
+def test_slope_slide_follows_the_law_for_any_slope_heading_and_ratio():
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    from simpick.coulomb import slope_holds, slope_slide
+
+    @settings(max_examples=40, deadline=None)
+    @given(
+        mu=st.floats(0.1, 1.5),
+        ratio=st.floats(0.2, 2.0),
+        heading=st.floats(-180.0, 180.0),
+        factor=st.floats(0.3, 1.7),
+    )
+    def check(mu, ratio, heading, factor):
+        angle = min(factor * math.atan(mu), 1.5)
+        down = np.array(_downhill(heading))
+        law = slope_slide(angle, down, mu, ratio, duration=0.05, timestep=0.001)
+        assert law.holds == slope_holds(angle, down, mu, ratio)
+        if law.holds:
+            assert not law.velocity.any()
+            return
+        # a constant acceleration c from rest, which satisfies the law: c = g sin a d - g cos a M^2 c / |M c|
+        c = law.velocity[-1] / law.time[-1]
+        assert np.allclose(law.velocity, np.outer(law.time, c), rtol=0, atol=1e-9)
+        m = np.array([mu, ratio * mu])
+        residual = c - G * math.sin(angle) * down + G * math.cos(angle) * m * m * c / np.linalg.norm(m * c)
+        assert np.abs(residual).max() <= 1e-7 * G
+        assert law.acceleration >= law.downhill_acceleration - 1e-12
+
+    check()

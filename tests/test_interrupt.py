@@ -9,10 +9,11 @@ import time
 import pandas as pd
 import pytest
 
-from conftest import ROOT, snakemake, tiny_config, write_config
+from conftest import ROOT, TINY_STUDY, snakemake, tiny_config, write_config
 from simpick.simulate.traces import read_trace
 
-pytestmark = pytest.mark.workflow  # every test here runs Snakemake
+# every test here runs Snakemake, against the session's uninterrupted tiny study (conftest.tiny_study)
+pytestmark = [pytest.mark.workflow, pytest.mark.xdist_group(TINY_STUDY)]
 
 
 def start(workdir):
@@ -46,36 +47,46 @@ def traces(workdir):
 
 
 @pytest.fixture(scope="module")
-def reference(tmp_path_factory):
-    workdir = tmp_path_factory.mktemp("uninterrupted")
-    write_config(workdir, tiny_config(workdir))
-    assert snakemake(workdir).returncode == 0
-    return workdir
+def reference(tiny_study):
+    """The uninterrupted run: the session's tiny study (read, never edited)."""
+    return tiny_study[0]
 
 
-@pytest.mark.parametrize("how", [signal.SIGINT, signal.SIGKILL], ids=["SIGINT", "SIGKILL"])
-def test_killed_and_restarted_run_equals_an_uninterrupted_one(how, reference, tmp_path):
+def interrupt(workdir, how, more_than: int) -> None:
+    """Start the study in ``workdir`` and send ``how`` to its process group (Snakemake and its running jobs) once
+    more than ``more_than`` traces exist: in the middle of the run. Whatever carries a trace's name afterwards is
+    complete and readable (traces are written to a ``.partial`` file and renamed; a truncated one would raise)."""
+    proc = start(workdir)
+    deadline = time.time() + 120
+    while time.time() < deadline and len(traces(workdir)) <= more_than and proc.poll() is None:
+        time.sleep(0.05)
+    # it got there: a run refused (a lock left by the previous one) writes nothing
+    made = len(traces(workdir))
+    if made <= more_than:
+        proc.kill()
+        pytest.fail(f"the run wrote {made} traces, not more than {more_than}, before {how.name} (exit {proc.wait()})")
+    os.killpg(proc.pid, how)
+    proc.wait(timeout=120)  # a hang guard, not a timing check
+    assert proc.returncode != 0, f"the run had finished before {how.name} could interrupt it"
+    for path in traces(workdir):
+        frame, meta = read_trace(workdir / path)
+        assert len(frame) > 0 and meta["config_hash"], path
+
+
+def test_interrupted_killed_and_restarted_run_equals_an_uninterrupted_one(reference, tmp_path):
+    """A run stopped by Ctrl-C (SIGINT) and restarted, the restart killed (SIGKILL) in its middle and restarted
+    again, ends with the traces and scores of the uninterrupted run. One run serves both ways of stopping it
+    (each was a run of its own, the same cost each): after SIGINT Snakemake releases its lock and the restart
+    just runs; after SIGKILL the lock stays, the next run refuses and names --unlock."""
     config = tiny_config(tmp_path)
     config["real_data"]["segments"] = str(reference / "segments.csv")  # the very same cases
     write_config(tmp_path, config)
-    proc = start(tmp_path)
-    deadline = time.time() + 120
-    while time.time() < deadline and len(traces(tmp_path)) < 2:  # kill it in the middle
-        time.sleep(0.05)
-    os.killpg(proc.pid, how)  # the whole process group: snakemake and its running jobs
-    proc.wait(timeout=120)  # a hang guard, not a timing check
-    assert proc.returncode != 0, "the run had finished before it could be interrupted"
-    # traces are written to a ``.partial`` file and renamed: whatever carries a trace's name
-    # after the kill is complete and readable (a truncated one would raise here)
-    for path in traces(tmp_path):
-        frame, meta = read_trace(tmp_path / path)
-        assert len(frame) > 0 and meta["config_hash"], path
-
-    if how == signal.SIGKILL:
-        # a killed Snakemake cannot release its lock; it says so and names --unlock
-        refused = snakemake(tmp_path)
-        assert refused.returncode != 0 and "--unlock" in refused.stdout + refused.stderr
-        assert snakemake(tmp_path, "--unlock").returncode == 0
+    interrupt(tmp_path, signal.SIGINT, more_than=1)
+    interrupt(tmp_path, signal.SIGKILL, more_than=len(traces(tmp_path)) + 1)
+    # a killed Snakemake cannot release its lock; it says so and names --unlock
+    refused = snakemake(tmp_path)
+    assert refused.returncode != 0 and "--unlock" in refused.stdout + refused.stderr
+    assert snakemake(tmp_path, "--unlock").returncode == 0
     restart = snakemake(tmp_path)
     assert restart.returncode == 0, restart.stderr[-3000:]
     assert traces(tmp_path) == traces(reference)

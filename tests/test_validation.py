@@ -363,6 +363,65 @@ def test_engine_turns_alike_left_and_right_and_from_any_heading(engine):
     assert bad.empty, bad[["case", "quantity", "engine_value", "tolerance"]].to_string()
 
 
+# A profile with anisotropic wheel friction is judged on the slopes by the elliptic Coulomb law of its own
+# friction_ratio (simpick.coulomb.slope_slide). MuJoCo's capsule wheels with friction [r mu, mu] under its
+# elliptic cone, measured at r 0.698 (mu 0.5, 4 s): 1.6937 m/s^2 down the diagonal slope at 1.2 atan(mu) for
+# the law's 1.6915 (the isotropic 1.016 it used to be judged by is 67 % off), 0.2336 rad off downhill for the
+# law's 0.2343; across the wheels at 0.8 atan(mu), which r 1 holds, 0.36498 for 0.36498.
+ANISOTROPIC_RATIO = 0.698
+
+
+def _anisotropic(engine: str, ratio: float = ANISOTROPIC_RATIO) -> Setup:
+    from dataclasses import replace
+
+    setup = _setup(engine)
+    return replace(setup, settings={**dict(setup.settings), "friction_ratio": ratio})
+
+
+def test_an_anisotropic_profile_slides_down_the_diagonal_slope_by_its_own_friction_law():
+    record = run_case(
+        _anisotropic("mujoco"),
+        "incline_slide_diagonal_mu0.5",
+        CONFIG["validation"]["cases"]["incline_slide_diagonal_mu0.5"],
+    )
+    summary = summarise([record], TOLERANCES)
+    assert summary.passed.all(), summary[["quantity", "engine_value", "analytic_value", "error", "tolerance"]]
+    assert (summary.friction_ratio == ANISOTROPIC_RATIO).all()
+    slide = record["checks"][0]
+    assert slide["quantity"] == "slide_acceleration" and slide["expected"] == "slide"
+    assert slide["analytic_value"] == pytest.approx(1.6915, abs=1e-4)
+    assert abs(slide["engine_value"] / 1.016 - 1) > TOLERANCES["slide_acceleration"]
+    assert slide["drift"] == pytest.approx(slide["analytic_drift"], abs=0.01)
+    assert slide["analytic_drift"] == pytest.approx(0.2343, abs=1e-4)
+
+
+def test_a_case_set_to_hold_that_the_profile_s_ellipse_cannot_hold_is_judged_as_a_slide():
+    # downhill across the wheels at 0.8 atan(mu): the isotropic ellipse holds it, mu_t = 0.698 mu does not
+    case = dict(CONFIG["validation"]["cases"]["incline_hold_mu0.5"], heading=90.0)
+    held = run_case(_setup("mujoco"), "hold_across", case)
+    assert [c["quantity"] for c in held["checks"]] == ["creep_speed"] and held["checks"][0]["expected"] == "hold"
+    slid = run_case(_anisotropic("mujoco"), "hold_across", case)
+    assert [c["quantity"] for c in slid["checks"]] == ["slide_acceleration", "slide_yaw"]
+    check = slid["checks"][0]
+    assert check["expected"] == "slide" and check["hold_angle"] < check["angle"]
+    mu_t = ANISOTROPIC_RATIO * case["mu"]
+    assert check["analytic_value"] == pytest.approx(9.81 * (math.sin(check["angle"]) - mu_t * math.cos(check["angle"])))
+    for record in (held, slid):
+        summary = summarise([record], TOLERANCES)
+        assert summary.passed.all(), summary[["quantity", "engine_value", "analytic_value", "error", "tolerance"]]
+
+
+def test_the_slope_cases_skip_skids_beside_anisotropic_wheels(tmp_path):
+    from test_robot import write_skid_robot
+
+    skid = load_robot(write_skid_robot(tmp_path))
+    case = CONFIG["validation"]["cases"]["incline_slide_mu0.5"]
+    setup = Setup("mujoco", skid, 0.001, 10.0, 0.16, {"friction_ratio": ANISOTROPIC_RATIO})
+    out = run_case(setup, "incline_slide_mu0.5", case)
+    assert out["status"] == "skipped" and out["checks"] == [], out
+    assert "skids slide with isotropic friction" in out["reasons"][0]
+
+
 def test_the_lab_circle_starts_where_its_driven_arc_crosses_the_strip(robot):
     from simpick.coulomb import contact_layout, yaw_rate_gain
     from simpick.inputs.motions import arc_start_over_strip

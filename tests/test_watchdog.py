@@ -104,7 +104,7 @@ def test_a_hung_replay_is_stopped_and_reported_like_a_run(tmp_path):
                                           "label": "yard"})
         params = {**real, "health": dict(config["health"], timeout=1.0), "kind": "replay", "source": "yard",
                   "cases": ["7"]}
-        simulate_job([out], config["robot"]["urdf"], {"log": out + ".log.parquet"}, params)
+        simulate_job([out], config["robot"]["urdf"], {"logs": [out + ".log.parquet"]}, params)
     """,
         output,
     )

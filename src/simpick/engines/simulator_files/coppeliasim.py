@@ -7,14 +7,6 @@ from collections.abc import Mapping
 
 from simpick.engines.simulator_files.common import _header, _meanings, _num
 
-COPPELIASIM_CALLS = [
-    "sim.setInt32Param",
-    "sim.intparam_dynamic_engine",
-    "sim.physics_bullet",
-    "sim.setEngineInt32Param",
-    "sim.bullet_global_constraintsolvingiterations",
-]
-
 
 def write_coppeliasim(settings: Mapping, entries: Mapping | None, title: list[str]) -> dict[str, str]:
     notes = _meanings(entries, ("solver_iterations", "time_step", "contact_stiffness", "contact_damping"))

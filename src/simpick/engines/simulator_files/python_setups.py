@@ -11,7 +11,7 @@ from simpick.engines.simulator_files.mjcf import MUJOCO_DMAX, MUJOCO_TIMECONST
 # Each block is Python a user runs: the configuration classes' keyword arguments as dicts, named after the
 # class they go to, with the import that gives the class. The names are checked against each simulator's
 # own classes where they install here (Newton, Genesis: tests/test_simulator_files.py in their venvs) and
-# against SIMULATOR_NAMES (quoted from the source) where they do not (Isaac Lab, Webots, CoppeliaSim).
+# against simpick.engines.simulator_names.NAMES (quoted from the source) where they do not (Isaac Lab).
 
 PHYSX_SOLVER = {"tgs": 1, "pgs": 0}
 

@@ -20,11 +20,25 @@ Case kinds (their parameters come from ``validation.cases`` in the config):
 ``straight``  (v, mu, heading) forward speed against measured wheel speed x radius (rolling
     without slip), and the heading drift (none expected).
 ``slide``     (v, mu, heading) cruise from start heading ``heading``, then every wheel commanded
-    to stop (locked by its servo): the robot slides to rest with deceleration mu g.
+    to stop (locked by its servo): the robot slides to rest with deceleration mu g. The contacts
+    slide along the wheels, so an anisotropic profile's ``friction_ratio`` does not enter: mu is the
+    coefficient along the wheel.
 ``incline``   (mu, angle_factor, heading) parked with locked wheels on a slope of angle_factor x
     atan(mu) (gravity tilted, same mechanics as a tilted plane), downhill at ``heading`` degrees
-    from the robot's back (0: along -x; 45: across the world axes): below atan(mu) it stays
-    (creep speed 0), above it slides down with g (sin a - mu cos a) and does not yaw.
+    from the robot's back (0: along -x; 45: across the world axes and the wheels). Judged by the
+    elliptic anisotropic Coulomb law with the set-up's own ``friction_ratio`` r (a calibrated
+    profile's fitted one; 1, isotropic, for every other), mu along the wheels and r mu across them
+    (:func:`simpick.coulomb.slope_slide`): inside the friction ellipse, sin a |M^-1 d| <= cos a, it
+    stays (creep speed 0); outside it slides down and does not yaw, its acceleration fitted along the
+    downhill direction over the same window on the engine's record and on the law's path. For r = 1
+    that is a parked robot below atan(mu) and g (sin a - mu cos a) above it (1.016 m/s^2 at 1.2
+    atan(0.5)); across the wheels' axes with r < 1 the robot holds less and slides faster, off the
+    downhill direction towards the wheels' axis (r 0.698 at 45 degrees: holds up to 0.829 atan(mu),
+    1.691 m/s^2 at 1.2 atan(0.5), 0.234 rad off downhill). The factor sets the slope, not the
+    answer: a case set to hold that the profile's ellipse cannot hold is judged as a slide, and its
+    checks record which (``expected`` hold or slide, ``hold_angle``, the ``friction_ratio`` where it
+    is not 1), and the path's angle from downhill (``drift``, the law's ``analytic_drift``),
+    not judged.
 ``rest``      (mu) parked on level ground: accelerometer z = g, gyro 0, no creep.
 
 Cases for a robot on a passive suspension (rockers; skipped, saying so, on a robot without one):

@@ -14,7 +14,7 @@ import numpy as np
 from pydantic import ValidationError
 
 from simpick.coulomb import braking_deceleration as coulomb_braking
-from simpick.coulomb import contact_layout, yaw_rate_gain
+from simpick.coulomb import contact_layout, hold_angle, slope_holds, slope_slide, yaw_rate_gain
 from simpick.engines import get_engine
 from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario
 from simpick.engines.kinematics import euler_rpy, rotation_matrices
@@ -108,6 +108,12 @@ def _or(value, default):
     return default if value is None else value
 
 
+def own_friction_ratio(setup: Setup) -> float:
+    """The lateral/longitudinal wheel friction ratio of the set-up's own settings (a calibrated profile's
+    fitted one; 1 for every other): the ratio of the mechanics a case without one of its own is judged by."""
+    return float(dict(setup.settings).get("friction_ratio", 1.0))
+
+
 def _yaw_gain(setup: Setup, p: ValidationCase):
     v, w, mu, duration, heading = p.v, p.w, p.mu, _or(p.duration, 6.0), p.heading
     ratio = p.friction_ratio
@@ -122,7 +128,7 @@ def _yaw_gain(setup: Setup, p: ValidationCase):
     gain = rate[half:].mean() / w
     # the mechanics of the set-up's own parameters: a case that sets no ratio is judged against the Coulomb
     # solution with the model's own friction ratio (a calibrated profile's fitted one; 1 for every other)
-    own = float(dict(setup.settings).get("friction_ratio", 1.0))
+    own = own_friction_ratio(setup)
     layout = contact_layout(setup.robot, friction_ratio=own if ratio is None else float(ratio))
     analytic = yaw_rate_gain(layout, v, w, setup.track)
     extra = {} if ratio is None else {"friction_ratio": float(ratio)}
@@ -146,6 +152,10 @@ def _straight(setup: Setup, p: ValidationCase):
 
 
 def _slide(setup: Setup, p: ValidationCase):
+    """Locked wheels after cruising: the contacts slide along the wheels (the base's x), so their friction
+    is the longitudinal coefficient's, mu g, whatever the profile's lateral/longitudinal ``friction_ratio``
+    (elliptic friction acts along the slip when the slip lies on an axis of the ellipse): the reference
+    needs no ratio."""
     v, mu, cruise, heading = p.v, p.mu, _or(p.cruise, 2.0), p.heading
     record = get_engine(setup.engine).simulate(
         _scenario(setup, mu, heading=heading), _commands(setup, [(cruise, v, 0.0), (2.0, 0.0, 0.0)])
@@ -156,7 +166,28 @@ def _slide(setup: Setup, p: ValidationCase):
     return record, [_check("deceleration", deceleration, analytic, v=v, mu=mu, heading=heading)]
 
 
+def downhill_acceleration(position: np.ndarray, down: np.ndarray, start: int, timestep: float) -> float:
+    """Acceleration along ``down`` fitted to the distance travelled downhill from sample ``start`` on:
+    s = s0 + v0 t + a t^2 / 2 (the engine's record and the reference's path, measured alike)."""
+    s = position[start:, :2] @ down
+    t = np.arange(start, len(position)) * timestep
+    return float(2 * np.polyfit(t, s, 2)[0])
+
+
+def path_angle(position: np.ndarray, down: np.ndarray, start: int) -> float:
+    """Angle (rad, counter-clockwise) of the displacement from sample ``start`` to the last from ``down``."""
+    dx, dy = position[-1, :2] - position[start, :2]
+    return float(math.atan2(down[0] * dy - down[1] * dx, down[0] * dx + down[1] * dy)) + 0.0  # no -0.0
+
+
 def _incline(setup: Setup, p: ValidationCase):
+    """Parked on locked wheels on a slope of ``angle_factor`` x atan(mu) (gravity tilted): judged by the
+    elliptic anisotropic Coulomb law with the set-up's own ``friction_ratio`` (:func:`simpick.coulomb.slope_slide`;
+    1: isotropic). Whether the robot holds follows that law's friction ellipse at this downhill
+    direction, not the factor: a case set below atan(mu) that the profile's ellipse cannot hold is judged
+    as a slide, and the checks say which (``expected``, ``hold_angle``). A slide is judged by the same fit
+    of the distance travelled downhill, over the same window, on the engine's record and on the law's
+    path; the path's angle from downhill (``drift``, the law's ``analytic_drift``) is recorded, not judged."""
     mu, factor, duration = p.mu, p.angle_factor, _or(p.duration, 4.0)
     angle = factor * math.atan(mu)
     # downhill points along -(cos h, sin h); h = 0: along -x, the robot's back. h = 45 deg puts the
@@ -168,19 +199,29 @@ def _incline(setup: Setup, p: ValidationCase):
     gravity = (horizontal[0], horizontal[1], -GRAVITY * math.cos(angle))
     record = get_engine(setup.engine).simulate(_scenario(setup, mu, gravity), _commands(setup, [(duration, 0.0, 0.0)]))
     settle = int(round(SETTLE_S / setup.timestep))
-    s = record.position[:, :2] @ down  # distance travelled downhill
-    if factor < 1:
+    # the wheels' frame: the robot starts at the default heading (0: the world's)
+    yaw = math.radians(DEFAULT_HEADING)
+    turn = np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]])
+    ratio = own_friction_ratio(setup)
+    wheel_down = turn.T @ down
+    limit = hold_angle(wheel_down, mu, ratio)
+    extra = {"mu": mu, "angle": angle, "hold_angle": limit, **({} if ratio == 1.0 else {"friction_ratio": ratio})}
+    if slope_holds(angle, wheel_down, mu, ratio):
+        s = record.position[:, :2] @ down  # distance travelled downhill
         creep = abs(s[-1] - s[settle]) / ((record.steps - 1 - settle) * setup.timestep)
-        return record, [_check("creep_speed", creep, 0.0, mu=mu, angle=angle)]
-    t = np.arange(settle, record.steps) * setup.timestep
-    accel = 2 * np.polyfit(t, s[settle:], 2)[0]  # s = s0 + v0 t + a t^2 / 2
-    analytic = GRAVITY * (math.sin(angle) - mu * math.cos(angle))
-    # all contacts slide the same way, so Coulomb friction has no yaw moment about the centre of
-    # mass and damps any yaw rate: the robot slides without turning
-    yaw = np.unwrap(euler_rpy(record.quaternion)[:, 2])
+        return record, [_check("creep_speed", creep, 0.0, expected="hold", **extra)]
+    # the law from rest over the record's steps: its sample k + 1 (time (k + 1) h) is the record's k
+    law = slope_slide(angle, wheel_down, mu, ratio, duration=record.steps * setup.timestep, timestep=setup.timestep)
+    path = law.position[1:] @ turn.T
+    accel = downhill_acceleration(record.position, down, settle, setup.timestep)
+    analytic = downhill_acceleration(path, down, settle, setup.timestep)
+    drift = {"drift": path_angle(record.position, down, settle), "analytic_drift": path_angle(path, down, settle)}
+    # all contacts slide the same way, so Coulomb friction (isotropic or elliptic) has no yaw moment about
+    # the centre of mass and damps any yaw rate: the robot slides without turning
+    rpy_yaw = np.unwrap(euler_rpy(record.quaternion)[:, 2])
     return record, [
-        _check("slide_acceleration", accel, analytic, mu=mu, angle=angle),
-        _check("slide_yaw", yaw[-1] - yaw[settle], 0.0, mu=mu, angle=angle),
+        _check("slide_acceleration", accel, analytic, expected="slide", **drift, **extra),
+        _check("slide_yaw", rpy_yaw[-1] - rpy_yaw[settle], 0.0, expected="slide", **extra),
     ]
 
 
@@ -261,7 +302,7 @@ def not_applicable(robot: RobotSpec, case: ValidationCase) -> str | None:
     if kind == "incline" and robot.casters:
         return (
             "the robot's casters roll freely, so only its driven wheels hold it on the slope, and the "
-            "analytic values (every wheel locked: parked below atan(mu), sliding above it) do not apply"
+            "analytic values (every wheel locked: parked inside the friction ellipse, sliding outside it) do not apply"
         )
     return None
 
@@ -317,6 +358,12 @@ def run_case(setup: Setup, name: str, params: ValidationCase | Mapping[str, Any]
             )
         except InputError as exc:
             reason = f"this set-up takes no friction_ratio ({exc})"
+    elif reason is None and kind == "incline" and setup.robot.skids and own_friction_ratio(setup) != 1.0:
+        reason = (
+            f"the robot's skids slide with isotropic friction beside its wheels' anisotropic friction (friction_ratio "
+            f"{own_friction_ratio(setup):g}): their forces point different ways, and the slope's law (one friction "
+            "ellipse for every contact) does not describe it"
+        )
     if reason is not None:  # skipped, with the reason in the summary and the report
         return {
             "engine": setup.engine,

@@ -17,10 +17,11 @@ class ValidationCase(JobParams):
 
     kind: Literal["yaw_gain", "straight", "slide", "incline", "rest", "rest_pose", "articulation"] = Field(
         description="yaw_gain: steady yaw rate / w against the Coulomb gain; straight: speed = wheel speed x "
-        "radius; slide: locked-wheel deceleration mu g; incline: parked below atan(mu), sliding "
-        "above; rest: accelerometer g, gyro 0, no creep; a robot on a suspension (skipped on others): "
-        "rest_pose: the chassis level at its resting height; articulation: coupled rockers twisted on "
-        "two diagonal blocks h high, the chassis' pitch, roll and height as the coupling sets them"
+        "radius; slide: locked-wheel deceleration mu g; incline: parked inside the friction ellipse, sliding "
+        "by the anisotropic Coulomb law outside it; rest: accelerometer g, gyro 0, no creep; a robot on a "
+        "suspension (skipped on others): rest_pose: the chassis level at its resting height; articulation: "
+        "coupled rockers twisted on two diagonal blocks h high, the chassis' pitch, roll and height as the "
+        "coupling sets them"
     )
     h: Annotated[float, Field(gt=0, le=0.5, allow_inf_nan=False)] | None = Field(
         None, description="m, articulation: the blocks' height (below half the wheel radius)"
@@ -31,7 +32,9 @@ class ValidationCase(JobParams):
         description="Coulomb coefficient of the flat rigid ground"
     )
     angle_factor: Positive | None = Field(
-        None, description="incline: the slope as a multiple of atan(mu) (below 1 it must hold, above it must slide)"
+        None,
+        description="incline: the slope as a multiple of atan(mu); whether it must hold or slide follows the "
+        "friction ellipse of the set-up's own friction_ratio at the case's heading (ratio 1: it holds below 1)",
     )
     heading: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = Field(
         DEFAULT_HEADING,
