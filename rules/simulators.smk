@@ -89,8 +89,9 @@ rule simulator_tree:
 # The calibrated profiles (simpick.studies.simulator_calibration): the real runs split as the calibration
 # splits them (the committed segments' runs; DRIVE's steps where the profiles replay them, each step a unit of
 # its own), then per simulator its turning settings fitted on the training runs within what it exposes
-# (resources/simulators/calibration.yaml), placed by the anisotropic Coulomb model and confirmed on its engine
-# in 2-4 steady-turn runs. Its validate, simulate and replay jobs read the fit and merge its settings.
+# (resources/simulators/calibration.yaml): least squares of the training runs' gain residuals, their turning
+# segments replayed as the simulate jobs replay them. Its validate, simulate and replay jobs read the fit and
+# merge its settings.
 if PLAN.calibration_spaces:
 
     rule simulator_split:

@@ -329,4 +329,10 @@ class ModelPlanning:
             # ground is given
             data["kind"] = "drive"
             data["grounds"] = {c: float(k.friction) for c, k in study.real_data.classes.items()}
+        searchable = model_name(simulator, "calibrated") in self.calibrated
+        if searchable and self.calibration_source not in ("replay", "drive") and "segments" in self.sources:
+            # the committed segments: the fit replays the training runs' turning segments as the calibrated
+            # profile's simulate job replays them (its params over every segment, its plan-time settings)
+            names = [name for _, name in self.sources["segments"]["cases"]]
+            data["segments_case"] = self.case_params("segments", model_name(simulator, "calibrated"), None, names)
         return job_params("simulator_calibrate", CalibrateParams, data)

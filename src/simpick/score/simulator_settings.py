@@ -109,13 +109,12 @@ def calibrated_header(sim, simulator: str, fit: dict, row) -> list[str]:
         f"{_num(f.get('real_gain'))}; held out: {_runs(fit.get('test_runs'))}",
     ]
     if fit.get("searchable"):
-        trials = "; ".join(f"r {r} gain {g}" for r, g in f.get("trials") or [])
+        fitted = "; ".join(_parameter(k, e) for k, e in (f.get("parameters") or {}).items())
         lines.append(
-            f"fit: anisotropic Coulomb places the ratio at {f.get('coulomb_ratio')}; engine trials {trials}; kept "
+            f"fit: least squares of the training runs' gain residuals ({len(f.get('trials') or [])} engine "
+            f"evaluations), {fitted}; training gain error tuned {_num(f.get('train_error_tuned'))}, "
+            f"calibrated {_num(f.get('train_error'))}; kept {f.get('kept')}: "
             + ", ".join(f"{k} = {v}" for k, v in (fit.get("settings") or {}).items())
-            + f" (engine gain {_num(f.get('engine_gain'))}, "
-            + ("within" if f.get("reached") else "not within")
-            + f" {f.get('tolerance')} of the real gain)"
         )
         lines += [f"as {sim.label} sets it: {text}" for text in (fit.get("exposed") or {}).values()]
     else:
@@ -132,6 +131,15 @@ def calibrated_header(sim, simulator: str, fit: dict, row) -> list[str]:
     return [line.replace("--", "-") for line in lines]
 
 
+def _parameter(name: str, entry: dict) -> str:
+    """A fitted setting as the header gives it: its value and 95 % interval, or why the runs cannot fix it."""
+    if not entry.get("identifiable"):
+        return f"{name} {entry.get('value')} ({entry.get('why')})"
+    low, high = entry.get("interval") or [None, None]
+    bound = f", at its {entry['at_bound']} bound" if entry.get("at_bound") else ""
+    return f"{name} {entry.get('value')} [{low}, {high}]{bound}"
+
+
 def _runs(runs, most: int = 12) -> str:
     """Runs named one by one up to ``most``; beyond that (DRIVE's steps) their number and where the split is."""
     runs = list(runs or [])
@@ -146,7 +154,8 @@ CLASS_FILE_RATIO = 0.01
 
 def class_header(sim, simulator: str, fit: dict, terrain: str, entry: dict) -> list[str]:
     """The head of a class's calibrated file: what it was fitted on, its engine fit, and both fits on the
-    class's held-out runs (a steady-turn case at their commands, not a replay)."""
+    class's held-out runs (their turning segments replayed; DRIVE and the full replay: a steady-turn case at
+    their commands, not a replay)."""
     held = entry.get("heldout") or {}
     lines = [
         f"simpick settings: {sim.label}, calibrated for {terrain}, for {fit.get('robot')}",
@@ -158,9 +167,14 @@ def class_header(sim, simulator: str, fit: dict, terrain: str, entry: dict) -> l
     if held:
         lines.append(
             f"held out: {held.get('runs')} {terrain} runs, real gain {_num(held.get('real_gain'))}; the engine's "
-            f"steady gain at their commands, this file {_num(held.get('class_fit_gain'))} (error "
+            f"gain on them, this file {_num(held.get('class_fit_gain'))} (error "
             f"{_num(held.get('class_fit_error'))}), the pooled fit {_num(held.get('pooled_fit_gain'))} (error "
-            f"{_num(held.get('pooled_fit_error'))}): a steady-turn case, not a replay of those runs"
+            f"{_num(held.get('pooled_fit_error'))}): "
+            + (
+                "their turning segments replayed"
+                if "segments" in (held.get("cases") or {})
+                else "a steady-turn case, not a replay of those runs"
+            )
         )
     else:
         lines.append(f"held out: no {terrain} run that turns under a steady command: not judged")

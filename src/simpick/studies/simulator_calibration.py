@@ -1,24 +1,27 @@
 """Each simulator calibrated on real runs within the settings its users can set: the calibrated profile.
 
 The search space is data (``resources/simulators/calibration.yaml``): per simulator, the adapter settings that
-move the robot's steady turning, each with the simulator's own name for it, its bounds and its source. Today
-that is the wheels' lateral/longitudinal friction ratio wherever the simulator exposes two friction
+move the robot's steady turning, each with the simulator's own name for it, its bounds and its source: the
+wheels' lateral/longitudinal friction ratio wherever the simulator exposes two friction
 directions (Gazebo's ``<mu2>`` with ``<fdir1>``, Webots' two ``coulombFriction`` values, a MuJoCo pair's two
-tangential frictions); a simulator with isotropic friction only has none, says why, and its calibrated row is
-its tuned profile.
+tangential frictions), and beside it what else the simulator's user sets that may move it (Gazebo Classic's
+and Webots' force-dependent slip, MuJoCo's wheel servo gain); a simulator with isotropic friction only has
+none, says why, and its calibrated row is its tuned profile.
 
-The fit (:func:`calibrate`) is cheap because the steady turning gain falls monotonically with the ratio:
+The fit (:func:`calibrate`) fits what the table judges. On the committed segments (kind ``segments``) the
+objective is the held-out figure's own metric over the training runs: the training runs' turning segments (the
+target classes', calibration.target.classes) are replayed on the engine as the calibrated profile's segments
+simulate job replays them (simpick.simulate.real.prepare_segment, its params, the trial's settings merged over
+them), each simulated gain taken as the comparison takes it (simpick.compare.real.segment_row, in the segment's
+compared window), and the per-run gain residuals (engine - real) minimised by bounded least squares
+(scipy.optimize.least_squares, trf, a forward-difference Jacobian) from the tuned profile (:func:`least_squares_fit`).
+Each setting gets an interval from the Jacobian at the optimum, or is named unidentifiable from these runs; the
+file gives the tuned profile's training error (the first evaluation) beside the optimum's, and keeps the tuned
+settings where the optimum is not below it. Kinds drive and replay fit the same way on steady-turn cases at the
+training units' representative commands (:func:`steady_units`).
 
-1. the real steady yaw-rate gain of the training runs' turning segments (firm classes, each run's segments
-   averaged, then the runs);
-2. the ratio whose anisotropic Coulomb gain equals it (:func:`simpick.coulomb.ratio_for_gain`);
-3. the engine, as the simulator's tuned profile with that ratio, on the validation's steady-turn case
-   (flat ground, the target classes' median friction), its gain measured, and the ratio corrected by
-   secant steps until the engine's gain is within ``tolerance`` of the real one (2-4 engine runs; every
-   trial recorded).
-
-Per class, where a class has a training run that turns, the ratio is placed the same way from the class's
-gain, shifted by the engine's offset from Coulomb at the pooled fit (not run on the engine: a user's start).
+Per class, where a class has a training run that turns, its own ratio is fitted the same way on its runs (the
+other settings at the pooled fit's), beside the pooled fit, and both are judged on its held-out runs.
 The split is the calibration's (:func:`simpick.studies.calibration.split.split_runs`: by run, seeded,
 stratified by turning): nothing of a test run reaches the fit.
 """
@@ -56,11 +59,14 @@ class SearchSetting(_Strict):
     exposed_as: str = Field(description="how the simulator's user sets it, in the simulator's own names")
     bounds: tuple[float, float] = Field(description="[low, high] of the adapter's value")
     source: str = Field(description="where the simulator reads it: repository path:line, or a manual page")
+    log: bool = Field(False, description="fitted over the logarithm of its value (a setting spanning decades)")
 
     @model_validator(mode="after")
     def _ordered(self):
         if not self.bounds[0] < self.bounds[1]:
             raise ValueError(f"bounds {list(self.bounds)}: low must be below high")
+        if self.log and not self.bounds[0] > 0:
+            raise ValueError(f"bounds {list(self.bounds)}: a log setting needs a positive low bound")
         return self
 
 
@@ -72,26 +78,19 @@ class Required(_Strict):
     source: str
 
 
-class Alternative(_Strict):
-    """Other values of settings the simulator exposes, tried with the fitted ones (each gets its own fit)."""
-
-    settings: dict[str, Any]
-    exposed_as: str
-    source: str
-
-
 class SearchSpace(_Strict):
     """A simulator's calibrated-profile search space."""
 
     searchable: bool = Field(description="a setting it exposes moves the steady turning")
     settings: dict[str, SearchSetting] = {}
     requires: dict[str, Required] = {}
-    alternatives: list[Alternative] = Field(
-        [],
-        description="after the tuned values, other values of exposed settings the fit is repeated with (the "
-        "engine's gain need not reach the real one at the tuned values); the nearest to the real gain is kept",
-    )
     why_not: str | None = Field(None, description="searchable false: why, quoting the source")
+    scan: Annotated[int, Field(ge=0, le=12)] = Field(
+        0,
+        description="the fit first evaluates the first setting at this many points over its bounds and starts "
+        "from the best (0: from the tuned profile): where the engine's gain jumps with it, a local fit cannot leave "
+        "the jump it starts in; the reason is given beside it",
+    )
     if_unbound: str | None = Field(
         None, description="the simulator exposes the settings, but simpick's adapter binds none of them: why"
     )
@@ -102,7 +101,7 @@ class SearchSpace(_Strict):
             raise ValueError("searchable true needs settings: the adapter settings the fit changes")
         if not self.searchable and not self.why_not:
             raise ValueError("searchable false needs why_not: why no setting it exposes moves the turning")
-        if not self.searchable and (self.settings or self.requires or self.alternatives):
+        if not self.searchable and (self.settings or self.requires):
             raise ValueError("searchable false takes no settings or requires")
         return self
 
@@ -152,8 +151,7 @@ def resolve(path: str | Path, name: str, space: SearchSpace | None, engine: str)
     if not space.searchable:
         return False, space.why_not
     fields = get_engine(engine).settings_model.model_fields
-    missing = [k for k in [*space.settings, *space.requires, *(k for a in space.alternatives for k in a.settings)]]
-    missing = [k for k in missing if k not in fields]
+    missing = [k for k in [*space.settings, *space.requires] if k not in fields]
     if missing:
         if space.if_unbound:
             return False, space.if_unbound
@@ -188,19 +186,43 @@ class CalibrateParams(JobParams):
     space: dict[str, Any] = Field(description="the simulator's search space (SearchSpace)")
     classes: list[str] = Field(description="the firm terrain classes pooled (calibration.target.classes)")
     grounds: dict[str, Annotated[float, Field(gt=0)]] = Field(description="terrain class -> its friction")
+    segments_case: dict[str, Any] | None = Field(
+        None,
+        description="kind segments: the calibrated profile's segments simulate job's params over every segment "
+        "(simpick.simulate.real.SegmentsUnitParams, its plan-time settings: the tuned ones); the fit replays the "
+        "training runs' turning segments with them, each trial's settings merged as the job merges the fit's",
+    )
     commands: list[tuple[float, float]] | None = Field(
         None,
-        description="(v m/s, w rad/s) of the steady-turn cases whose mean gain is fitted; None: the training "
-        "runs' turning segments' own commands (an engine whose gain depends on the turn rate, ODE's force-"
-        "dependent slip, is fitted where the robot turned)",
+        description="kinds drive and replay: (v m/s, w rad/s) of the steady-turn cases fitted; None: the "
+        "training units' own (drive_commands of them)",
     )
-    duration: Positive = Field(6.0, description="s of the steady-turn case (its second half is measured)")
-    tolerance: Positive = Field(0.005, description="|engine gain - real gain| at which the fit stops")
-    max_trials: Annotated[int, Field(ge=1, le=8)] = 5
-    class_trials: Annotated[int, Field(ge=0, le=8)] = Field(
+    duration: Positive = Field(6.0, description="s of a steady-turn case, kinds drive and replay (its second half)")
+    tolerance: Positive = Field(
+        0.005,
+        description="gain within which a fit is said to reach the real one, and by which a class's own fit must "
+        "beat the pooled one on its training runs to get a file of its own (the engine's noise)",
+    )
+    max_nfev: Annotated[int, Field(ge=1, le=20)] = Field(
+        6,
+        description="least_squares' max_nfev of the pooled fit: its iterations' evaluations, each a replay of "
+        "the training runs' turning segments; the finite-difference Jacobian adds one evaluation per setting each",
+    )
+    class_nfev: Annotated[int, Field(ge=0, le=12)] = Field(
         3,
-        description="engine trials of each class's own fit (its training runs' gain, its ground, its commands), "
-        "started from the Coulomb placement; 0: the Coulomb placement alone",
+        description="the same for each class's own fit (its friction_ratio alone, from the pooled fit); 0: none",
+    )
+    diff_step: Annotated[float, Field(gt=0, lt=0.5)] = Field(
+        0.05,
+        description="the Jacobian's forward step, as a share of each setting's range (of its logarithm's for a "
+        "log setting): well above the engines' roughness (ODE's gain moves by up to 0.01 between ratios 1e-3 "
+        "apart), well below the range",
+    )
+    noise: Positive = Field(
+        0.045,
+        description="gain: the real robot's run-to-run spread within a class (the committed segments' 0.045, "
+        "config verdict.margins.gain_error), the residuals' standard deviation of the intervals where the runs "
+        "leave no degree of freedom (as many settings as runs)",
     )
     drive_commands: Annotated[int, Field(ge=1, le=12)] = Field(
         4,
@@ -285,49 +307,279 @@ def drive_commands(turns: pd.DataFrame, n: int) -> list[tuple[float, float]]:
     return [(round(float(order.v[b[len(b) // 2]]), 3), round(float(order.w[b[len(b) // 2]]), 3)) for b in bins]
 
 
-def secant_fit(measure, target: float, start: float, coulomb_ratio, bounds, tolerance: float, max_trials: int):
-    """Trials [(ratio, gain)] of ``measure`` (ratio -> engine gain, falling with the ratio) from ``start`` until
-    a gain within ``tolerance`` of ``target``: the second trial corrects the target by the first trial's offset
-    from it through ``coulomb_ratio`` (gain -> the Coulomb ratio, NaN outside its range); the later ones are
-    secant steps, kept within the bracket of trials on either side of the target once there is one, and
-    halving it where a secant step would leave it (an engine whose gain jumps: ODE's friction box locking).
-    Returns (trials, the trial nearest the target)."""
-    low, high = bounds
-    clip = lambda r: float(min(max(r, low), high))  # noqa: E731
-    trials = [(clip(start), float(measure(clip(start))))]
-    while len(trials) < max_trials and abs(trials[-1][1] - target) > tolerance and math.isfinite(trials[-1][1]):
-        r1, g1 = trials[-1]
-        above = [t for t in trials if math.isfinite(t[1]) and t[1] > target]  # turn too much: ratio too low
-        below = [t for t in trials if math.isfinite(t[1]) and t[1] < target]
-        if len(trials) == 1:
-            r = coulomb_ratio(target + (target - g1))
-            if not math.isfinite(r):  # past Coulomb's range: a step the right way
-                r = r1 * (0.8 if g1 < target else 1.25)
-        elif above and below:
-            a = max(above, key=lambda t: t[0])
-            b = min(below, key=lambda t: t[0])
-            lo, hi = sorted((a[0], b[0]))
-            r = a[0] - (a[1] - target) * (b[0] - a[0]) / (b[1] - a[1]) if b[1] != a[1] else math.nan
-            if not (math.isfinite(r) and lo + 0.05 * (hi - lo) < r < hi - 0.05 * (hi - lo)):
-                r = 0.5 * (lo + hi)
+# a failed replay (the health checks) counts as this gain residual: the fit steers away from it
+FAILED_RESIDUAL = 1.0
+# a setting whose column of the Jacobian moves the residuals by less than this over its whole range, or that lies
+# along a direction whose singular value is below RELATIVE_SINGULAR of the largest, is unidentifiable from the runs
+MIN_SENSITIVITY, RELATIVE_SINGULAR = 0.01, 0.01
+# a run's gain moving by more than this within one Jacobian step is a jump of the engine's (DART's friction box
+# locking, PyBullet's), not a slope: the linearised interval is then no measure of what the runs fix
+JUMP = 0.2
+Z95 = 1.959964  # a normal 95 % interval
+
+
+class Axis:
+    """A fitted setting as the optimiser sees it: u in [0, 1] over its bounds (over their logarithms for a log
+    setting), so that one Jacobian step and one trust region suit every setting."""
+
+    def __init__(self, name: str, setting: SearchSetting):
+        self.name, self.low, self.high, self.log = name, *map(float, setting.bounds), bool(setting.log)
+
+    def to_u(self, x: float) -> float:
+        if self.log:
+            return math.log(x / self.low) / math.log(self.high / self.low)
+        return (x - self.low) / (self.high - self.low)
+
+    def to_x(self, u: float) -> float:
+        u = min(max(float(u), 0.0), 1.0)
+        if self.log:
+            return self.low * (self.high / self.low) ** u
+        return self.low + u * (self.high - self.low)
+
+    def dx_du(self, u: float) -> float:
+        return self.to_x(u) * math.log(self.high / self.low) if self.log else self.high - self.low
+
+
+class Units:
+    """The real units a fit is judged on: per unit its run (``class/run``), its real gain, and how the engine
+    gives its simulated gain for a set of adapter settings (``simulate``: settings -> gains, NaN where failed)."""
+
+    def __init__(self, runs: list[str], real: np.ndarray, names: list[str], simulate, describe: dict):
+        self.runs, self.real, self.names, self.simulate, self.describe = (
+            runs,
+            np.asarray(real, float),
+            names,
+            simulate,
+            describe,
+        )
+        counts = pd.Series(runs).value_counts()
+        # each run weighs alike (the judged figure is a mean over runs of each run's mean over its units)
+        self.weights = np.array([1.0 / math.sqrt(counts[r]) for r in runs])
+
+    def residuals(self, sims: np.ndarray) -> np.ndarray:
+        r = np.where(np.isfinite(sims), sims - self.real, FAILED_RESIDUAL)
+        return r * self.weights
+
+    def error(self, sims: np.ndarray) -> float:
+        """The judged figure on these units: each run's mean |simulated - real gain| over its healthy units, then
+        the mean over runs (simpick.compare.realmetrics.mean_ci, as the table's held-out columns)."""
+        from simpick.compare.realmetrics import mean_ci
+
+        ok = np.isfinite(sims)
+        if not ok.any():
+            return math.nan
+        return mean_ci(np.abs(sims - self.real)[ok], np.asarray(self.runs, object)[ok], 10**9)[0]
+
+
+def least_squares_fit(
+    units: Units,
+    axes: list[Axis],
+    base: dict,
+    start: dict,
+    max_nfev: int,
+    diff_step: float,
+    noise: float,
+    scan: int = 0,
+):
+    """Bounded least squares (scipy.optimize.least_squares, trf) of the units' per-run gain residuals over the
+    ``axes`` settings, the others ``base``, from ``start``; the Jacobian forward differences of ``diff_step`` of
+    each setting's range (inward at a bound), every evaluation cached and recorded. A setting whose column of the
+    Jacobian at the start moves the residuals by less than MIN_SENSITIVITY over its whole range is not fitted
+    (kept at its start: these runs cannot tell its values apart). Returns a dict: the optimum's settings, its
+    gains and error, the first evaluation's (the start), the evaluations, least_squares' report, and per setting
+    its interval from the Jacobian at the optimum (covariance (J^T J)^-1 s^2, s^2 the residual variance, or
+    ``noise`` squared where the runs leave no degree of freedom) or why it has none. ``scan``: first the first
+    setting at as many points evenly over its bounds, least squares then starting from the one of the lowest sum
+    of squares (the start included): an engine whose gain jumps with it (PyBullet's), where a local fit from the
+    tuned value stays in the jump it starts in."""
+    from scipy.optimize import least_squares
+
+    evaluations: list[tuple[dict, np.ndarray]] = []
+    cache: dict[tuple, np.ndarray] = {}
+    u_start = {a.name: min(max(a.to_u(start[a.name]), 1e-6), 1 - 1e-6) for a in axes}
+
+    def sims(at: dict) -> np.ndarray:
+        """The units' simulated gains with the settings at ``at`` (name -> u; the others at the start)."""
+        u = {**u_start, **at}
+        key = tuple(round(float(u[a.name]), 6) for a in axes)
+        if key not in cache:
+            x = {a.name: a.to_x(u[a.name]) for a in axes}
+            cache[key] = np.asarray(units.simulate({**base, **x}), float)
+            evaluations.append((x, cache[key]))
+        return cache[key]
+
+    def problem(active: list[Axis]):
+        def f(u):
+            return units.residuals(sims({a.name: v for a, v in zip(active, u)}))
+
+        def jac(u):
+            r0 = f(u)
+            out = np.empty((len(r0), len(active)))
+            for j in range(len(active)):
+                step = diff_step if u[j] + diff_step <= 1.0 else -diff_step
+                v = np.array(u, float)
+                v[j] += step
+                out[:, j] = (f(v) - r0) / step
+            return out
+
+        return f, jac
+
+    first = sims({})
+    if scan:
+        lead = axes[0].name
+        points = [u_start[lead], *np.linspace(1e-6, 1 - 1e-6, scan)]
+        best = min(points, key=lambda v: float(np.sum(units.residuals(sims({lead: v})) ** 2)))
+        u_start[lead] = float(best)
+    _, jac_all = problem(axes)
+    start_sensitivity = np.linalg.norm(jac_all(np.array([u_start[a.name] for a in axes])), axis=0)
+    unidentifiable = {
+        a.name: f"the gain moves {s:.4f} over its whole range at the start; kept at its start"
+        for a, s in zip(axes, start_sensitivity)
+        if s < MIN_SENSITIVITY
+    }
+    active = [a for a in axes if a.name not in unidentifiable]
+    if not active:  # nothing moves the gain at the start: the first is fitted all the same (judged at the optimum)
+        active = axes[:1]
+        unidentifiable.pop(active[0].name)
+    f, jac = problem(active)
+    u0 = np.array([u_start[a.name] for a in active])
+    result = least_squares(
+        f, u0, jac=jac, bounds=(0.0, 1.0), method="trf", max_nfev=max_nfev, x_scale=1.0, xtol=0.01, ftol=1e-3
+    )
+    u = np.clip(result.x, 0.0, 1.0)
+    optimum = {**u_start, **{a.name: v for a, v in zip(active, u)}}
+    at = sims(optimum)
+    J = jac(u)
+    r = f(u)
+    m, n = J.shape
+    dof = m - n
+    s2 = float(r @ r) / dof if dof > 0 else noise**2
+    sensitivity = np.linalg.norm(J, axis=0)
+    if n > m:
+        unidentifiable.update({a.name: "more settings than runs" for a in active[m:]})
+    for a, s, column in zip(active, sensitivity, J.T):
+        if s < MIN_SENSITIVITY:
+            unidentifiable.setdefault(a.name, f"the gain moves {s:.4f} over its whole range at the optimum")
+        jump = float(np.max(np.abs(column)) * diff_step)
+        if jump > JUMP:
+            unidentifiable.setdefault(
+                a.name,
+                f"a run's gain jumps by {jump:.3f} within the Jacobian's step at the optimum (a step, not a slope)",
+            )
+    scaled = J / np.where(sensitivity > 0, sensitivity, 1.0)
+    _, singular, vt = np.linalg.svd(scaled, full_matrices=False)
+    for k, sv in enumerate(singular):
+        if sv < RELATIVE_SINGULAR * singular[0]:
+            for a, load in zip(active, vt[k]):
+                if abs(load) > 0.5:
+                    unidentifiable.setdefault(a.name, "its column is near-collinear with another's")
+    Jx = J / np.array([a.dx_du(v) for a, v in zip(active, u)])
+    cov = np.linalg.pinv(Jx.T @ Jx) * s2
+    parameters = {}
+    column = {a.name: j for j, a in enumerate(active)}
+    for a, s0 in zip(axes, start_sensitivity):
+        x = a.to_x(optimum[a.name])
+        j = column.get(a.name)
+        entry = {
+            "value": _r(x),
+            "bounds": [a.low, a.high],
+            "log": a.log,
+            "sensitivity": _r(float(sensitivity[j] if j is not None else s0)),
+        }
+        if a.name in unidentifiable:
+            entry.update(identifiable=False, why=f"unidentifiable from these runs: {unidentifiable[a.name]}")
         else:
-            r0, g0 = trials[-2]
-            if g1 == g0:
-                break
-            r = r1 - (g1 - target) * (r1 - r0) / (g1 - g0)
-        r = clip(r)
-        if any(abs(r - t[0]) < 1e-4 for t in trials):
-            break
-        trials.append((r, float(measure(r))))
-    finite = [t for t in trials if math.isfinite(t[1])]
-    best = min(finite, key=lambda t: abs(t[1] - target)) if finite else trials[-1]
-    return trials, best
+            sd = math.sqrt(max(float(cov[j, j]), 0.0))
+            # 95 %, within the bounds (the linearisation does not know them)
+            low, high = max(x - Z95 * sd, a.low), min(x + Z95 * sd, a.high)
+            entry.update(identifiable=True, sd=_r(sd), interval=[_r(low), _r(high)])
+        if optimum[a.name] <= 1e-3 or optimum[a.name] >= 1 - 1e-3:
+            entry["at_bound"] = "low" if optimum[a.name] <= 1e-3 else "high"
+        parameters[a.name] = entry
+    return {
+        "settings": {a.name: a.to_x(optimum[a.name]) for a in axes},
+        "gains": at,
+        "error": units.error(at),
+        "start_gains": first,
+        "start_error": units.error(first),
+        "evaluations": evaluations,
+        "parameters": parameters,
+        "fitted": [a.name for a in active],
+        "residual_sd": math.sqrt(s2),
+        "residual_sd_from": f"the residuals ({dof} degrees of freedom)"
+        if dof > 0
+        else f"no degree of freedom ({m} runs, {n} settings): the real robot's run-to-run spread {noise}",
+        "report": {
+            "status": int(result.status),
+            "message": str(result.message),
+            "nfev": int(result.nfev),
+            "njev": int(result.njev or 0),
+            "engine_evaluations": len(evaluations),
+        },
+    }
+
+
+def segment_units(p: CalibrateParams, inputs: dict, runs: list[str], classes: list[str]) -> Units:
+    """The turning segments of ``runs`` in ``classes`` (the committed table), each replayed as the calibrated
+    profile's segments simulate job replays it (simpick.simulate.real.prepare_segment with the job's params, the
+    trial's settings merged over them as simpick.simulate.calibrated merges the fit's) and its simulated gain
+    taken as the comparison takes it (simpick.compare.real.segment_row, in the segment's compared window)."""
+    from simpick.compare.real import segment_row
+    from simpick.simulate.real import prepare_segment, table_segment
+
+    seg = turning_segments(inputs["segments"], runs, classes)
+    names = list(seg.segment)
+    rows = [table_segment(inputs["segments"], name) for name in names]
+    track = p.robot.track
+
+    def simulate(settings: dict) -> np.ndarray:
+        params = dict(p.segments_case)  # the fit's settings over the job's, as with_calibrated merges a fit's
+        params["engine_settings"] = {**dict(params["engine_settings"]), **settings}
+        out = []
+        for name, row in zip(names, rows):
+            _, run = prepare_segment(inputs["urdf"], inputs, params, name)
+            frame, meta = run()
+            compared = segment_row(pd.DataFrame(frame), meta, row, track)
+            out.append(float(compared.get("yaw_rate_gain_sim", math.nan)) if compared["status"] == "ok" else math.nan)
+        return np.array(out)
+
+    describe = {"segments": names, "window": "each segment's compared window in full (settle, then its duration)"}
+    return Units(
+        [f"{c}/{r}" for c, r in zip(seg.terrain_class, seg.run)],
+        seg.yaw_rate_gain.to_numpy(float),
+        names,
+        simulate,
+        describe,
+    )
+
+
+def steady_units(p: CalibrateParams, robot, commands, mu: float, real: float, runs: list[str]) -> Units:
+    """Kinds drive and replay: the engine's steady turn from rest at each of ``commands`` on flat ground of
+    friction ``mu`` (the validation's steady-turn case), each against the training units' real gain ``real``:
+    a unit per command (not a replay of the runs: a DRIVE step or a full replay's window per evaluation costs
+    more than these kinds' fits are given)."""
+    from simpick.studies.validation.cases import Setup, run_case
+
+    def simulate(settings: dict) -> np.ndarray:
+        setup = Setup(
+            engine=p.engine,
+            robot=robot,
+            timestep=p.physics.timestep,
+            max_wheel_torque=p.robot.max_wheel_torque,
+            track=p.robot.track,
+            settings={**p.engine_settings, **settings},
+        )
+        ratio = float(settings.get("friction_ratio", p.engine_settings.get("friction_ratio", 1.0)))
+        return np.array([_engine_gain(run_case, setup, ratio, v, w, mu, p.duration) for v, w in commands])
+
+    describe = {"commands": [list(c) for c in commands], "mu": mu, "duration": p.duration}
+    names = [f"v{v}_w{w}" for v, w in commands]
+    return Units(names, np.full(len(commands), real), names, simulate, describe)
 
 
 def calibrate(inputs: dict, params: dict, output: str) -> dict:
     """Rule simulator_calibrate: ``results/simulators/calibration/<simulator>.yaml`` (docs/simulators.md)."""
-    from simpick.coulomb import contact_layout, ratio_for_gain, with_friction_ratio, yaw_rate_gain
-    from simpick.studies.validation.cases import Setup, run_case
+    from simpick.coulomb import contact_layout, ratio_for_gain
 
     p = CalibrateParams.model_validate(params)
     space = SearchSpace.model_validate(p.space)
@@ -343,9 +595,6 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     gains = real_gains(turns)
     real = float(gains.gain.mean()) if len(gains) else math.nan
     robot = p.robot.spec(inputs["urdf"])
-    layout = contact_layout(robot)
-    track = p.robot.track
-    name = "friction_ratio"
     out: dict[str, Any] = {
         "simulator": p.simulator,
         "robot": p.robot_name,
@@ -370,167 +619,195 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
         out["fit"]["note"] = "no setting fitted: the calibrated row is the tuned profile, the best it reaches"
         _write(out, output)
         return out
-    if set(space.settings) != {name}:
-        raise ValueError(f"the fit knows the setting {name!r} only; the search space has {sorted(space.settings)}")
-    bounds = tuple(space.settings[name].bounds)
-    mu = float(np.median([p.grounds[c] for c in classes]))
+    if "friction_ratio" not in space.settings:
+        raise ValueError(
+            f"the fit needs friction_ratio among the settings; the search space has {sorted(space.settings)}"
+        )
     fixed = {k: r.value for k, r in space.requires.items()}
+    units = _units(p, inputs, robot, train, classes, turns, real)
+    # as many settings as the runs can identify at most, in the search space's order (the ratio first)
+    names = list(space.settings)[: max(1, len(set(units.runs)))]
+    axes = [Axis(k, space.settings[k]) for k in names]
+    tuned = {
+        k: float(p.engine_settings.get(k, 1.0 if k == "friction_ratio" else space.settings[k].bounds[0])) for k in names
+    }
+    start = {a.name: min(max(tuned[a.name], a.low), a.high) for a in axes}
+    fit = least_squares_fit(units, axes, fixed, start, p.max_nfev, p.diff_step, p.noise, space.scan)
+    # the tuned profile's own error on the same units: the first evaluation, unless the required settings (or a
+    # tuned value outside the bounds) make that evaluation differ from the tuned profile
+    if fixed or start != tuned:
+        tuned_gains = np.asarray(units.simulate({}), float)
+    else:
+        tuned_gains = fit["start_gains"]
+    tuned_error = units.error(tuned_gains)
+    improved = math.isfinite(fit["error"]) and (not math.isfinite(tuned_error) or fit["error"] < tuned_error)
+    kept = {k: _r(v) for k, v in fit["settings"].items()} if improved else {k: _r(v) for k, v in tuned.items()}
+    out["settings"] = {**fixed, **kept} if improved else kept
+    ratio = float(kept["friction_ratio"])
+    at = fit["gains"] if improved else tuned_gains
+    exposed = {}
+    for k in names:
+        text = space.settings[k].exposed_as
+        exposed[k] = text.replace("r x mu", f"{_r(ratio)} x mu") if k == "friction_ratio" else f"{text} (= {kept[k]})"
+    if improved:
+        exposed.update({k: r.exposed_as for k, r in space.requires.items()})
+    out["exposed"] = exposed
+    layout = contact_layout(robot)
+    bounds = tuple(space.settings["friction_ratio"].bounds)
+    coulomb = ratio_for_gain(layout, real, 0.5, 0.5, p.robot.track, bounds)
+    engine_gain = float(np.nanmean(at)) if np.isfinite(at).any() else math.nan
+    out["fit"].update(
+        {
+            "method": "scipy.optimize.least_squares (trf, bounded; forward-difference Jacobian of "
+            f"{p.diff_step} of each setting's range), max_nfev {p.max_nfev}: the per-run gain residuals "
+            "(engine - real) of the training runs' turning "
+            + (
+                "segments replayed as the segments' simulate jobs replay them"
+                if p.kind == "segments"
+                else "units, each a steady-turn case at a representative command"
+            ),
+            "objective": "sum over training runs of each run's mean squared gain residual; judged as the held-out "
+            "figure is: each run's mean |engine - real gain|, then the mean over runs",
+            "cases": units.describe,
+            "units": [
+                {"run": r, "unit": n, "real_gain": _r(g), "tuned_gain": _r(t), "calibrated_gain": _r(c)}
+                for r, n, g, t, c in zip(units.runs, units.names, units.real, tuned_gains, at)
+            ],
+            "start": {k: _r(v) for k, v in start.items()},
+            "fixed": fixed,
+            "train_error_tuned": _r(tuned_error),
+            "train_error": _r(fit["error"]) if improved else _r(tuned_error),
+            "optimum_error": _r(fit["error"]),
+            "kept": "the fit"
+            if improved
+            else (
+                "the tuned settings: the optimum's training error "
+                f"{_r(fit['error'])} is not below the tuned profile's {_r(tuned_error)}"
+            ),
+            "parameters": fit["parameters"],
+            "residual_sd": _r(fit["residual_sd"]),
+            "residual_sd_from": fit["residual_sd_from"],
+            "least_squares": fit["report"],
+            "coulomb_ratio": _r(coulomb),
+            # (ratio, mean engine gain over the units) of each evaluation, in order
+            "trials": [
+                [_r(s["friction_ratio"]), _r(float(np.nanmean(g)) if np.isfinite(g).any() else math.nan)]
+                for s, g in fit["evaluations"]
+            ],
+            "all_trials": [
+                {
+                    "settings": {k: _r(v) for k, v in s.items()},
+                    "gain": _r(float(np.nanmean(g)) if np.isfinite(g).any() else math.nan),
+                    "gains": [_r(x) for x in g],
+                    "error": _r(units.error(g)),
+                }
+                for s, g in fit["evaluations"]
+            ],
+            "engine_gain": _r(engine_gain),
+            "reached": bool(math.isfinite(engine_gain) and abs(engine_gain - real) <= p.tolerance),
+            "tolerance": p.tolerance,
+            "bounds": list(bounds),
+        }
+    )
+    test_turns = real_turns(inputs, test, every)
+    pooled = {**fixed, **fit["settings"]} if improved else {}
+    out["per_class"] = _class_fits(p, inputs, robot, trained, test_turns, pooled, space, fixed)
+    _write(out, output)
+    return out
+
+
+def _units(p: CalibrateParams, inputs: dict, robot, runs: list[str], classes: list[str], turns, real: float) -> Units:
+    """The fitted units: the training runs' turning segments (kind segments), else steady-turn cases at their
+    representative commands (:func:`steady_units`) on the classes' median friction."""
+    if p.kind == "segments" and p.segments_case is not None:
+        return segment_units(p, inputs, runs, classes)
+    mu = float(np.median([p.grounds[c] for c in classes]))
     if p.commands:
         commands = p.commands
     elif p.kind in ("drive", "replay"):
         commands = drive_commands(turns, p.drive_commands)
     else:
         commands = [(round(float(r.v), 3), round(float(r.w), 3)) for r in turns.itertuples()]
-    # the Coulomb placement at a moving turn: the quasi-static gain hardly depends on the command
-    v0, w0 = 0.5, 0.5
-
-    def coulomb_ratio(gain: float) -> float:
-        return ratio_for_gain(layout, gain, v0, w0, track, bounds)
-
-    def coulomb_gain(ratio: float) -> float:
-        return yaw_rate_gain(with_friction_ratio(layout, ratio), v0, w0, track)
-
-    start = coulomb_ratio(real)
-    coulomb_start = start
-    if not math.isfinite(start):  # the real gain lies beyond Coulomb's range within the bounds
-        start = bounds[0] if real > coulomb_gain(bounds[0]) else bounds[1]
-    fits = []
-    for alternative in [None, *space.alternatives]:
-        extra = {} if alternative is None else dict(alternative.settings)
-        setup = Setup(
-            engine=p.engine,
-            robot=robot,
-            timestep=p.physics.timestep,
-            max_wheel_torque=p.robot.max_wheel_torque,
-            track=track,
-            settings={**p.engine_settings, **fixed, **extra},
-        )
-        measured = {}
-
-        def measure(ratio: float, setup=setup, measured=measured) -> float:
-            gains = [_engine_gain(run_case, setup, ratio, v, w, mu, p.duration) for v, w in commands]
-            measured[round(ratio, 4)] = gains
-            return float(np.mean(gains))
-
-        trials, best = secant_fit(measure, real, start, coulomb_ratio, bounds, p.tolerance, p.max_trials)
-        fits.append((alternative, extra, trials, best, measured, setup))
-        if abs(best[1] - real) <= p.tolerance:
-            break
-    alternative, extra, trials, (ratio, engine_gain), measured, kept = min(
-        fits, key=lambda f: abs(f[3][1] - real) if math.isfinite(f[3][1]) else math.inf
-    )
-    offset = engine_gain - coulomb_gain(ratio)
-    out["per_class"] = _class_fits(
-        p,
-        kept,
-        trained,
-        real_turns(inputs, test, every),
-        ratio,
-        lambda gain: coulomb_ratio(gain - offset),
-        bounds,
-    )
-    out["settings"] = {**fixed, **extra, name: _r(ratio)}
-    text = space.settings[name].exposed_as.replace("r x mu", f"{_r(ratio)} x mu")
-    out["exposed"] = {name: text, **{k: r.exposed_as for k, r in space.requires.items()}}
-    if alternative is not None:
-        out["exposed"].update({k: alternative.exposed_as for k in alternative.settings})
-    out["fit"].update(
-        {
-            "coulomb_ratio": _r(coulomb_start),
-            "cases": {"commands": [list(c) for c in commands], "mu": mu, "duration": p.duration},
-            "trials": [[_r(r), _r(g)] for r, g in trials],  # (ratio, mean gain) at the kept settings
-            "all_trials": [
-                {"settings": {**e, name: _r(r)}, "gain": _r(g), "gains": [_r(x) for x in m.get(round(r, 4), [])]}
-                for _, e, t, _, m, _ in fits
-                for r, g in t
-            ],
-            "engine_gain": _r(engine_gain),
-            "reached": bool(abs(engine_gain - real) <= p.tolerance),
-            "tolerance": p.tolerance,
-            "bounds": list(bounds),
-        }
-    )
-    _write(out, output)
-    return out
+    return steady_units(p, robot, commands, mu, real, runs)
 
 
-def _class_fits(p, setup, train: pd.DataFrame, test: pd.DataFrame, pooled: float, placed, bounds) -> dict:
-    """Per terrain class with training turns: the ratio of the class's own fit (its training runs' gain on its
-    own ground at its own commands, ``p.class_trials`` engine trials from the Coulomb placement ``placed``:
-    gain -> ratio, shifted by the engine's offset at the pooled fit), and both fits judged on the class's
-    held-out runs: the engine's steady gain at those runs' commands (DRIVE: 4 representative ones) against
-    each run's real gain. That is a steady-turn case at their commands, not a replay of them: a replay runs
-    the pooled fit only (the calibrated profile)."""
-    from simpick.studies.validation.cases import run_case
-
-    def commands(turns: pd.DataFrame) -> list[tuple[float, float]]:
-        if p.kind in ("drive", "replay"):
-            return drive_commands(turns, p.drive_commands)
-        return [(round(float(r.v), 3), round(float(r.w), 3)) for r in turns.itertuples()]
-
-    def engine(ratio: float, cmds, mu: float) -> float:
-        return float(np.mean([_engine_gain(run_case, setup, ratio, v, w, mu, p.duration) for v, w in cmds]))
-
+def _class_fits(p, inputs, robot, train: pd.DataFrame, test: pd.DataFrame, pooled: dict, space, fixed) -> dict:
+    """Per terrain class with training turns: its own fit (the friction_ratio alone, one class's runs identifying
+    no more, the other settings at the pooled fit's; ``p.class_nfev`` least-squares evaluations from the pooled
+    fit) on its training runs' units, beside the pooled fit on the same units, and both judged on the class's
+    held-out runs the same way (its turning segments replayed; kinds drive and replay: steady-turn cases at their
+    commands)."""
     out = {}
+    ratio_axis = Axis("friction_ratio", space.settings["friction_ratio"])
+    pooled_ratio = float(pooled.get("friction_ratio", p.engine_settings.get("friction_ratio", 1.0)))
     for cls, t in train.groupby("terrain_class"):
         gains = real_gains(t)
         gain = float(gains.gain.mean())
-        start = placed(gain)
+        runs = [f"{cls}/{r}" for r in gains.run]
         entry: dict[str, Any] = {
-            "friction_ratio": _r(start),
+            "friction_ratio": _r(pooled_ratio),
             "real_gain": _r(gain),
-            "runs": [f"{cls}/{r}" for r in gains.run],
-            "placed_by": "anisotropic Coulomb, shifted by the engine's offset at the pooled fit (no engine run)",
+            "runs": runs,
+            "placed_by": "the pooled fit (no fit of its own)",
         }
-        mu = p.grounds.get(str(cls))
-        if p.class_trials and mu is not None:
-            cmds = commands(t)
-            trials, (ratio, engine_gain) = secant_fit(
-                lambda r, cmds=cmds, mu=mu: engine(r, cmds, mu),
-                gain,
-                start if math.isfinite(start) else pooled,
-                placed,
-                bounds,
-                p.tolerance,
-                p.class_trials,
+        if p.class_nfev and str(cls) in p.grounds:
+            units = _units(p, inputs, robot, runs, [str(cls)], t, gain)
+            others = {**fixed, **{k: v for k, v in pooled.items() if k != "friction_ratio"}}
+            fit = least_squares_fit(
+                units, [ratio_axis], others, {"friction_ratio": pooled_ratio}, p.class_nfev, p.diff_step, p.noise
             )
-            # the pooled fit on the same training runs: the class's own fit is worth a file only where it
-            # turns closer to them (decided on training runs alone)
-            pooled_gain = engine(pooled, cmds, mu)
+            own_ratio = float(fit["settings"]["friction_ratio"])
+            pooled_gains = fit["start_gains"]
+            pooled_error = units.error(pooled_gains)
+            better = math.isfinite(fit["error"]) and fit["error"] < pooled_error
+            ratio = own_ratio if better else pooled_ratio
+            at = fit["gains"] if better else pooled_gains
+            engine_gain = float(np.nanmean(at)) if np.isfinite(at).any() else math.nan
             entry.update(
                 {
                     "friction_ratio": _r(ratio),
-                    "placed_by": f"its own fit on the engine ({_trials(len(trials))} from the Coulomb placement)",
-                    "coulomb_ratio": _r(start),
+                    "placed_by": "its own least-squares fit on the engine "
+                    f"({_trials(fit['report']['engine_evaluations'])} from the pooled fit)",
                     "engine_gain": _r(engine_gain),
-                    "pooled_engine_gain": _r(pooled_gain),
+                    "pooled_engine_gain": _r(
+                        float(np.nanmean(pooled_gains)) if np.isfinite(pooled_gains).any() else math.nan
+                    ),
+                    "train_error": _r(units.error(at)),
+                    "pooled_train_error": _r(pooled_error),
                     # by more than the fit's tolerance: a tie within the engine's noise keeps the pooled file
-                    "improves": bool(abs(engine_gain - gain) + p.tolerance < abs(pooled_gain - gain)),
-                    "reached": bool(abs(engine_gain - gain) <= p.tolerance),
-                    "cases": {"commands": [list(c) for c in cmds], "mu": mu, "duration": p.duration},
-                    "trials": [[_r(r), _r(g)] for r, g in trials],
+                    "improves": bool(better and units.error(at) + p.tolerance < pooled_error),
+                    "reached": bool(math.isfinite(engine_gain) and abs(engine_gain - gain) <= p.tolerance),
+                    "parameters": fit["parameters"],
+                    "cases": units.describe,
+                    "trials": [[_r(s["friction_ratio"]), _r(float(np.nanmean(g)))] for s, g in fit["evaluations"]],
                 }
             )
             held = test[test.terrain_class == cls]
             if len(held):
-                runs = real_gains(held)
-                hcmds = commands(held)
-                own, pooled_gain = engine(ratio, hcmds, mu), engine(pooled, hcmds, mu)
+                hgains = real_gains(held)
+                hruns = [f"{cls}/{r}" for r in hgains.run]
+                hunits = _units(p, inputs, robot, hruns, [str(cls)], held, float(hgains.gain.mean()))
+                pooled_held = np.asarray(hunits.simulate({**fixed, **pooled}), float)
+                own_held = (
+                    np.asarray(hunits.simulate({**others, "friction_ratio": ratio}), float)
+                    if abs(ratio - pooled_ratio) > 1e-9
+                    else pooled_held
+                )
                 entry["heldout"] = {
-                    "runs": len(runs),
-                    "real_gain": _r(float(runs.gain.mean())),
-                    "commands": [list(c) for c in hcmds],
-                    "class_fit_gain": _r(own),
-                    "pooled_fit_gain": _r(pooled_gain),
-                    "class_fit_error": _r(float(np.mean(np.abs(own - runs.gain)))),
-                    "pooled_fit_error": _r(float(np.mean(np.abs(pooled_gain - runs.gain)))),
+                    "runs": len(hgains),
+                    "real_gain": _r(float(hgains.gain.mean())),
+                    "cases": hunits.describe,
+                    "class_fit_gain": _r(float(np.nanmean(own_held))),
+                    "pooled_fit_gain": _r(float(np.nanmean(pooled_held))),
+                    "class_fit_error": _r(hunits.error(own_held)),
+                    "pooled_fit_error": _r(hunits.error(pooled_held)),
                 }
         out[str(cls)] = entry
     return out
 
 
 def _trials(n: int) -> str:
-    return f"{n} trial" + ("s" if n != 1 else "")
+    return f"{n} engine evaluation" + ("s" if n != 1 else "")
 
 
 def _engine_gain(run_case, setup, ratio: float, v: float, w: float, mu: float, duration: float) -> float:
