@@ -3,8 +3,9 @@ PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed
 # The set-up's independent parts (the study's venv, Newton's and Genesis' venvs, the Gazebo program) are built side
-# by side: on a fresh machine they are mostly downloads. Each target's output is printed whole when it ends.
-MAKEFLAGS += --jobs=4 --output-sync=target
+# by side: on a fresh machine they are mostly downloads (pip is quiet, so their lines hardly interleave; the suite's
+# output is printed as it runs).
+MAKEFLAGS += --jobs=4
 
 .PHONY: study test test-fast docs bench clean lock schema engine-venvs study-eight gzphysics system-packages
 
