@@ -587,3 +587,45 @@ def test_a_fitted_friction_ratio_reaches_the_gazebo_wheels_as_the_contact_s_coef
     assert surface.findtext("friction/ode/fdir1") == "1 0 0"
     back = formats.read_sdf("gzphysics", texts, ground_mu=0.8)
     assert back["friction_ratio"] == pytest.approx(0.7306, rel=1e-4)
+
+
+# --- the headers state what the file holds ---
+
+
+def test_a_fitted_value_is_stated_as_written_and_the_catalog_s_beside_it(catalog):
+    """A calibrated profile's value differs from the catalog's: the header gives the written one (the catalog's
+    beside it as the start), never the catalog's alone; Gazebo's wheels' mu/mu2 are stated as written."""
+    fitted = _settings(catalog, "mujoco", "tuned", friction_ratio=0.7)
+    entries = dict(catalog.entries("mujoco", "tuned"))
+    text = formats.write_profile_file("mjcf", "mujoco", fitted, ["t"], WHEELS, entries)["xml"]
+    if "friction_ratio" in entries:
+        assert "friction_ratio = 0.7 (written;" in text
+    kp = fitted["solver_iterations"]
+    assert f"solver_iterations = {kp} (tuned)" in text  # an unfitted value: the catalog's, as written
+
+    sim = catalog.simulators["gazebo"]
+    # as the calibrated file is written (simpick.score.simulator_settings): the fit's ratio with what it requires
+    settings = _settings(catalog, "gazebo", "tuned", friction_ratio=0.7, wheel_mu2=1.0)
+    from simpick.engines.catalog import Setting
+
+    fitted_entry = Setting(value=1.0, exposed_as="the wheels' <mu2>", source="fitted: a test")
+    entries = {**catalog.entries("gazebo", "calibrated"), "wheel_mu2": ("calibrated", fitted_entry)}
+    texts = formats.write_profile_file("sdf", sim.engine, settings, ["t"], WHEELS, entries)
+    header = texts["wheels.urdf"].split("<robot")[0]
+    mu = float(ET.fromstring(texts["wheels.urdf"]).find(".//friction/ode/mu").text)
+    mu2 = float(ET.fromstring(texts["wheels.urdf"]).find(".//friction/ode/mu2").text)
+    assert mu2 == pytest.approx(0.7 * mu)
+    assert f"<mu> {mu:g}, <mu2> {mu2:g}" in header
+    assert "wheel_mu2 =" not in header and "wheel_mu =" not in header  # not in the file: not stated
+
+
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_the_drake_header_names_drake_s_own_keys_and_values(catalog, variant):
+    settings = _settings(catalog, "drake", variant)
+    texts = formats.write_profile_file("drake", "drake", settings, ["t"], WHEELS, catalog.entries("drake", variant))
+    header = [line for line in texts["yaml"].splitlines() if line.startswith("#")]
+    said = "\n".join(header)
+    assert "discrete_approximation =" not in said and "contact_model = 'hydroelastic' " not in said
+    if settings["contact_model"] == "hydroelastic":
+        assert "contact_model = 'hydroelastic_with_fallback'" in said
+    assert f"discrete_contact_approximation = '{settings['discrete_approximation']}'" in said

@@ -34,18 +34,46 @@ def xml_comment(lines: list[str]) -> str:
     return "\n".join(out) + "\n"
 
 
-def _meaning(entries: Mapping | None, key: str) -> str | None:
+def _written(value) -> str:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return repr(value)
+    return _num(value)
+
+
+def _same(a, b) -> bool:
+    try:
+        return abs(float(a) - float(b)) <= 1e-9 * max(1.0, abs(float(b)))
+    except (TypeError, ValueError):
+        return a == b
+
+
+def _meaning(entries: Mapping | None, key: str, settings: Mapping | None = None, name: str | None = None) -> str | None:
+    """A header line for the setting ``key``: its value, its source and the catalog's note.
+
+    The value is what the file is written from (``settings``, the profile's full settings, where given): a fitted
+    value differs from the catalog's, and the catalog's is then named beside it as the profile's start, so that a
+    header never states a value the file does not hold. ``name``: the file's own name for the setting where it is
+    not the adapter's (Drake's YAML keys, say)."""
     if not entries or key not in entries:
         return None
     variant, s = entries[key]
-    bits = [f"{key} = {s.value!r} ({variant})", f"source: {s.source}"]
+    label = name or key
+    held = settings.get(key) if settings is not None else None
+    if held is not None and not _same(held, s.value):
+        value = f"{_written(held)} (written; the {variant} profile's catalog value is {s.value!r})"
+    else:
+        value = f"{repr(s.value) if held is None else _written(held)} ({variant})"
+    bits = [f"{label} = {value}", f"source: {s.source}"]
     if s.note:
         bits.append(s.note)
     return "; ".join(bits)
 
 
-def _meanings(entries: Mapping | None, keys) -> list[str]:
-    return [m for m in (_meaning(entries, k) for k in keys) if m]
+def _meanings(
+    entries: Mapping | None, keys, settings: Mapping | None = None, names: Mapping[str, str] | None = None
+) -> list[str]:
+    names = names or {}
+    return [m for m in (_meaning(entries, k, settings, names.get(k)) for k in keys) if m]
 
 
 def _tostring(root) -> str:

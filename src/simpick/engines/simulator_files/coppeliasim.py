@@ -9,7 +9,7 @@ from simpick.engines.simulator_files.common import _header, _meanings, _num
 
 
 def write_coppeliasim(settings: Mapping, entries: Mapping | None, title: list[str]) -> dict[str, str]:
-    notes = _meanings(entries, ("solver_iterations", "time_step", "contact_stiffness", "contact_damping"))
+    notes = _meanings(entries, ("solver_iterations", "time_step", "contact_stiffness", "contact_damping"), settings)
     step = settings.get("time_step")
     lines = [
         "-- in a customization script of the scene (Lua), before the simulation starts",

@@ -17,7 +17,18 @@ def write_drake(settings: Mapping, entries: Mapping | None, title: list[str]) ->
         f"discrete_contact_approximation: {settings['discrete_approximation']}",
         f"stiction_tolerance: {_num(settings['stiction_tolerance'])}",
     ]
-    notes = _meanings(entries, ("time_step", "contact_model", "discrete_approximation", "stiction_tolerance"))
+    # under Drake's own keys and values (its YAML loader refuses the adapter's names): the header names what the
+    # file sets, the adapter's name beside it
+    written = {**settings, "contact_model": model}
+    names = {"discrete_approximation": "discrete_contact_approximation"}
+    notes = _meanings(entries, ("time_step", "discrete_approximation", "stiction_tolerance"), written, names)
+    if entries and "contact_model" in entries:
+        variant, s = entries["contact_model"]
+        notes.insert(
+            1,
+            f"contact_model = {model!r} (the adapter's contact_model {settings['contact_model']!r}, {variant}); "
+            f"source: {s.source}" + (f"; {s.note}" if s.note else ""),
+        )
     yaml_text = (
         _header("#", [*title, "MultibodyPlantConfig (pydrake.multibody.plant)", *notes]) + "\n".join(lines) + "\n"
     )
@@ -33,7 +44,16 @@ def write_drake(settings: Mapping, entries: Mapping | None, title: list[str]) ->
         if settings.get(key) is not None:
             ET.SubElement(props, f"drake:{key}", value=_num(settings[key]))
     tag_notes = _meanings(
-        entries, ("hydroelastic_modulus", "mesh_resolution", "wheel_dissipation", "mu_dynamic", "mu_static")
+        entries,
+        ("hydroelastic_modulus", "mesh_resolution", "wheel_dissipation", "mu_dynamic", "mu_static"),
+        settings,
+        {
+            "hydroelastic_modulus": "drake:hydroelastic_modulus",
+            "mesh_resolution": "drake:mesh_resolution_hint",
+            "wheel_dissipation": "drake:hunt_crossley_dissipation",
+            "mu_dynamic": "drake:mu_dynamic",
+            "mu_static": "drake:mu_static",
+        },
     )
     # the fragment alone is not a document (the drake: prefix is declared by the robot's <robot> element):
     # it is given inside a <robot> that declares it, to paste the <drake:proximity_properties> element from

@@ -42,7 +42,7 @@ def write_mjcf(
                 solref=f"{MUJOCO_TIMECONST} 1",
                 solreffriction=f"{_num(MUJOCO_TIMECONST * MUJOCO_DMAX / d)} 1",
             )
-    notes = _meanings(entries, ("integrator", "cone", "solver_iterations", "wheel_contact", "friction_ratio"))
+    notes = _meanings(entries, ("integrator", "cone", "solver_iterations", "wheel_contact", "friction_ratio"), settings)
     notes.append(
         f"pairs: geom2 names the robot's wheel geoms, geom1 the ground; friction: the ground's coefficient "
         f"({ground_mu:g} here; one set of pairs per ground surface)"

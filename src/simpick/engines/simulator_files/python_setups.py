@@ -136,7 +136,7 @@ def write_python(
             lines.append(imp)
         body = ", ".join(f"{k!r}: {v!r}" for k, v in kwargs.items())
         lines.append(f"{_variable(call)} = {{{body}}}  # {call}(**{_variable(call)})")
-    notes = _meanings(entries, PYTHON_KEYS[fmt].values())
+    notes = _meanings(entries, PYTHON_KEYS[fmt].values(), settings)
     if fmt == "newton" and settings.get("wheel_contact") == "pairs":
         notes.append(
             f"pair values: one add_custom_values call per wheel shape and ground shape, with 'mujoco:pair_geom1' "

@@ -154,6 +154,7 @@ def write_sdf(
         comments += _meanings(
             entries,
             ("stepper", "quick_iterations", "cfm", "erp", "contact_max_correcting_vel", "contact_surface_layer"),
+            settings,
         )
     else:
         dart = ET.SubElement(physics, "dart")
@@ -165,7 +166,7 @@ def write_sdf(
                     found = node.find(part)
                     node = found if found is not None else ET.SubElement(node, part)
                 node.text = str(settings[key])
-                comments += _meanings(entries, (key,))
+                comments += _meanings(entries, (key,), settings)
     world_text = xml_comment([*title, *comments]) + _tostring(sdf) + "\n"
 
     values = surface_values(engine, settings, ground_mu)
@@ -175,23 +176,29 @@ def write_sdf(
         for link in wheels:
             gazebo = ET.SubElement(robot, "gazebo", reference=link)
             ET.SubElement(gazebo, "collision").append(_surface_element(values))
+        keys = [
+            "friction_direction",
+            "contact_kp",
+            "contact_kd",
+            "contact_slip",
+            "surface_mu",
+            "friction_ratio",
+            "contact_max_vel",
+            "contact_min_depth",
+            *[k for keys in SURFACE.values() for k in keys[:1]],
+            "wheel_mu",
+            "wheel_mu2",
+        ]
+        if engine != "ode" and float(settings.get("friction_ratio") or 1.0) != 1.0:
+            # the ratio is written as the wheels' own <mu>/<mu2> (surface_values): the wheels' other mu settings
+            # are not in the file, so the header does not state them
+            keys = [k for k in keys if k not in ("wheel_mu", "wheel_mu2", "mu", "mu2")]
+        written = ", ".join(f"<{path.rsplit('/', 1)[1]}> {text}" for path, text in values.items())
         notes = [
             "each wheel's <gazebo reference> carries a <collision><surface> that sdformat's URDF parser copies into "
             "every collision of the link (parser_urdf.cc), where Gazebo reads it",
-            *_meanings(
-                entries,
-                (
-                    "friction_direction",
-                    "contact_kp",
-                    "contact_kd",
-                    "contact_slip",
-                    "surface_mu",
-                    "friction_ratio",
-                    "contact_max_vel",
-                    "contact_min_depth",
-                    *[k for keys in SURFACE.values() for k in keys[:1]],
-                ),
-            ),
+            f"written on each wheel: {written}",
+            *_meanings(entries, keys, settings),
         ]
         if engine == "ode":
             notes.append(

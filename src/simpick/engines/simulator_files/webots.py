@@ -38,7 +38,7 @@ WEBOTS_FRICTION_SOURCE = (
 
 
 def write_webots(settings: Mapping, entries: Mapping | None, title: list[str], ground_mu: float = GROUND_MU) -> dict:
-    notes = _meanings(entries, ("cfm", "erp", "friction_ratio", *WEBOTS_FIELDS.values()))
+    notes = _meanings(entries, ("cfm", "erp", "friction_ratio", *WEBOTS_FIELDS.values()), settings)
     ratio = float(settings.get("friction_ratio") or 1.0)
     lines = [
         "WorldInfo {",
