@@ -1,4 +1,6 @@
-"""The tiny study through a real SLURM scheduler (profiles/slurm) gives what a local run gives.
+"""The tiny study through a real SLURM scheduler (profiles/slurm) gives what the local run gives.
+
+The local run is the session's tiny study (conftest.tiny_study); only the run through the scheduler is made here.
 
 Needs a running SLURM whose jobs see this file system: ``cluster/local-slurm.sh start`` (root)
 starts a one-node cluster on this machine; ``.ci/run`` does so and sets SIMPICK_SLURM=1, which
@@ -14,10 +16,11 @@ import time
 import pandas as pd
 import pytest
 
-from conftest import ROOT, snakemake, tiny_config, write_config
+from conftest import ROOT, TINY_STUDY, snakemake, tiny_config, write_config
 from simpick.simulate.traces import read_trace
 
-pytestmark = pytest.mark.workflow  # every test here runs Snakemake
+# every test here runs Snakemake, and compares with the session's tiny study (run once, on one worker)
+pytestmark = [pytest.mark.workflow, pytest.mark.xdist_group(TINY_STUDY)]
 
 REQUIRED = os.environ.get("SIMPICK_SLURM") == "1"
 
@@ -35,7 +38,7 @@ def _slurm_up() -> str | None:
 
 
 @pytest.fixture(scope="module")
-def runs(tmp_path_factory):
+def runs(tmp_path_factory, tiny_study):
     problem = _slurm_up()
     if problem:
         if REQUIRED:
@@ -43,27 +46,30 @@ def runs(tmp_path_factory):
                 f"SIMPICK_SLURM=1 but SLURM is not usable: {problem}; start it with cluster/local-slurm.sh start"
             )
         pytest.skip(f"no SLURM here ({problem}); cluster/local-slurm.sh start, then SIMPICK_SLURM=1")
-    out = {}
-    for how in ("local", "slurm"):
-        workdir = tmp_path_factory.mktemp(how)
-        write_config(workdir, tiny_config(workdir))
-        extra = (
-            ()
-            if how == "local"
-            else (
-                "--profile",
-                str(ROOT / "profiles" / "slurm"),
-                # the test cluster has no accounting database and no accounts (cluster/local-slurm.sh)
-                "--slurm-status-command",
-                "squeue",
-                "--slurm-no-account",
-            )
-        )
-        start = time.perf_counter()
-        run = snakemake(workdir, *extra)
-        assert run.returncode == 0, how + ":\n" + run.stdout[-3000:] + run.stderr[-3000:]
-        out[how] = (workdir, time.perf_counter() - start, run.stdout + run.stderr)
-    return out
+    workdir = tmp_path_factory.mktemp("slurm")
+    config = tiny_config(workdir)
+    config["real_data"]["segments"] = str(tiny_study[0] / "segments.csv")  # the very same cases
+    write_config(workdir, config)
+    start = time.perf_counter()
+    run = snakemake(
+        workdir,
+        "--profile",
+        str(ROOT / "profiles" / "slurm"),
+        # the test cluster has no accounting database and no accounts (cluster/local-slurm.sh)
+        "--slurm-status-command",
+        "squeue",
+        "--slurm-no-account",
+        # the plugin waits 40 s after each round of submissions before it asks for their states, and 10 s more
+        # each round nothing finished: sized for a busy cluster. On the one-node test cluster every layer of the
+        # study's graph would wait that long (the run took 860 s for a 3-minute study); ask after 1 s instead.
+        "--slurm-init-seconds-before-status-checks",
+        "1",
+    )
+    assert run.returncode == 0, "slurm:\n" + run.stdout[-3000:] + run.stderr[-3000:]
+    return {
+        "local": (tiny_study[0], None, ""),
+        "slurm": (workdir, time.perf_counter() - start, run.stdout + run.stderr),
+    }
 
 
 def test_every_job_went_through_the_scheduler(runs):
