@@ -318,6 +318,10 @@ def test_the_mujoco_fit_recovers_known_settings_within_its_intervals(tmp_path, m
     assert params["engine_settings"]["friction_ratio"] == 1.0 and params["engine_settings"]["wheel_servo_kp"] == 1000
     f = out["fit"]
     assert f["optimizer"]["name"] == "mujoco.sysid.optimize" and f["kept"] == "the fit"
+    # the settings file's header says which optimizer fitted it
+    catalog = load_catalog(ROOT / "resources/simulators/simulators.yaml")
+    head = "\n".join(settings_stage.calibrated_header(catalog.simulators["mujoco"], "mujoco", out, None))
+    assert "gain residuals by mujoco.sysid.optimize 4." in head, head
     assert f["residual_sd_from"] == "the residuals (5 degrees of freedom)"  # 6 runs' 7 units, 2 settings
     for name, true in truth.items():
         entry = f["parameters"][name]
