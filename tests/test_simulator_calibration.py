@@ -1,7 +1,8 @@
 """The calibrated simulator profile (simpick.studies.simulator_calibration): its search spaces hold only what each
 simulator exposes, each with its source; the split keeps every run on one side; the fit places the ratio by the
-anisotropic Coulomb model and moves the engine's gain toward the real one; the profile is judged against the
-mechanics of its own ratio; the table's held-out columns and the settings file's header."""
+anisotropic Coulomb model and moves the engine's gain toward the real one (MuJoCo's through mujoco.sysid, which
+recovers known settings within its intervals); the profile is judged against the mechanics of its own ratio; the
+table's held-out columns and the settings file's header."""
 
 import copy
 import math
@@ -207,14 +208,17 @@ def test_the_fit_recovers_a_known_ratio_within_its_interval(tmp_path):
     assert f["train_error"] == pytest.approx(np.mean(np.abs(spread)), abs=0.01)
     assert f["train_error"] < f["train_error_tuned"] and f["kept"] == "the fit"
     assert f["trials"][0][0] == 1.0  # the first evaluation is the tuned profile
-    assert f["least_squares"]["nfev"] <= 5
+    # MuJoCo's own system identification ran it, within the evaluations it was given
+    assert f["optimizer"]["name"] == "mujoco.sysid.optimize" and f["optimizer"]["evaluations"] <= 5
     assert not set(f["real_runs"]) & set(fit["test_runs"])  # the test runs never reach the fit
 
 
-def test_the_intervals_name_a_setting_that_does_nothing_or_jumps_and_bound_one_that_slopes():
+@pytest.mark.parametrize("optimizer", ["scipy", "mujoco.sysid"])
+def test_the_intervals_name_a_setting_that_does_nothing_or_jumps_and_bound_one_that_slopes(optimizer):
     """Without an engine: three runs' gains as functions of two settings. The ratio's gain slopes: it is fitted
     and its interval holds the truth; the other does nothing: unidentifiable, kept at its start. With a gain that
-    steps (DART's friction box locking) at the optimum, the ratio gets no interval."""
+    steps (DART's friction box locking) at the optimum, the ratio gets no interval. The same with either
+    optimizer: the checks are the fit's, not the optimizer's."""
     space = {
         "friction_ratio": cal.SearchSetting(exposed_as="r", bounds=(0.3, 1.8), source="a.c:1"),
         "other": cal.SearchSetting(exposed_as="o", bounds=(1.0, 100.0), source="a.c:2", log=True),
@@ -226,7 +230,7 @@ def test_the_intervals_name_a_setting_that_does_nothing_or_jumps_and_bound_one_t
         return 0.95 - 0.4 * settings["friction_ratio"] + np.array([0.0, 0.0, 0.0])
 
     units = cal.Units(["a/1", "b/1", "c/1"], real, ["a", "b", "c"], sloping, {})
-    fit = cal.least_squares_fit(units, axes, {}, {"friction_ratio": 1.0, "other": 10.0}, 8, 0.05, 0.045)
+    fit = cal.least_squares_fit(units, axes, {}, {"friction_ratio": 1.0, "other": 10.0}, 8, 0.05, 0.045, 0, optimizer)
     truth = (0.95 - real.mean()) / 0.4
     ratio, other = fit["parameters"]["friction_ratio"], fit["parameters"]["other"]
     assert ratio["identifiable"] and ratio["interval"][0] <= truth <= ratio["interval"][1]
@@ -239,9 +243,96 @@ def test_the_intervals_name_a_setting_that_does_nothing_or_jumps_and_bound_one_t
         return np.full(3, 0.81 if r < 0.74 else 0.0) - 0.2 * max(0.0, r - 0.6)
 
     units = cal.Units(["a/1", "b/1", "c/1"], real, ["a", "b", "c"], stepping, {})
-    fit = cal.least_squares_fit(units, axes[:1], {}, {"friction_ratio": 0.72}, 4, 0.05, 0.045)
+    fit = cal.least_squares_fit(units, axes[:1], {}, {"friction_ratio": 0.72}, 4, 0.05, 0.045, 0, optimizer)
     assert fit["parameters"]["friction_ratio"]["identifiable"] is False
     assert "jumps" in fit["parameters"]["friction_ratio"]["why"]
+
+
+# a generated robot for the fit without an engine: per unit its commanded turn rate (rad/s) and its run; the gain
+# falls with the friction ratio (a little more on the faster turns) and, on the faster turns, with a softer wheel
+# servo (a wheel lagging its command), a tenth of the ratio's effect
+TURN_RATES = np.array([0.2, 0.35, 0.5, 0.65, 0.8, 0.95, 0.6])
+UNIT_RUNS = ["flooring/07", "flooring/09", "ice/02", "ice/03", "sandy_loam/02", "sandy_loam/05", "flooring/07"]
+
+
+def _generated_gains(settings: dict, servo: float = 0.05) -> np.ndarray:
+    ratio, kp = settings["friction_ratio"], settings["wheel_servo_kp"]
+    return 0.95 - 0.4 * ratio * (1 + 0.1 * TURN_RATES) - servo * TURN_RATES * math.sqrt(1000.0 / kp)
+
+
+def _generated_fit(tmp_path, monkeypatch, truth: dict, noise: np.ndarray, servo: float, **over):
+    """The MuJoCo profile's fit (rule simulator_calibrate's params for mujoco, its search space) with the engine's
+    replays replaced by :func:`_generated_gains`, its real gains those at ``truth`` plus ``noise``: the file."""
+    params = _mujoco_params(class_nfev=0, **over)
+    real = _generated_gains(truth, servo) + noise
+
+    def simulate(settings: dict) -> np.ndarray:
+        return _generated_gains({**params["engine_settings"], **settings}, servo)
+
+    units = cal.Units(UNIT_RUNS, real, [f"u{k}" for k in range(len(real))], simulate, {"generated": True})
+    monkeypatch.setattr(cal, "_units", lambda *args: units)
+    split = tmp_path / "split.csv"
+    cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(split))
+    inputs = {"split": str(split), "segments": str(SEGMENTS), "urdf": str(ROOT / "resources/robot/husky_a200.urdf")}
+    cal.calibrate(inputs, params, str(tmp_path / "mujoco.yaml"))
+    return params, yaml.safe_load((tmp_path / "mujoco.yaml").read_text())
+
+
+def test_the_mujoco_fit_runs_mujoco_s_own_system_identification_and_says_so(tmp_path, monkeypatch):
+    """The MuJoCo profile's file names its optimizer (mujoco.sysid, MuJoCo's version, its iterations and
+    evaluations) and gives each setting an interval or the reason it has none (the servo gain, which these runs
+    do not move); every other simulator keeps scipy's least squares."""
+    import mujoco
+
+    spaces = cal.load_search_spaces(SPACES)
+    assert spaces["mujoco"].optimizer == "mujoco.sysid"
+    assert {s.optimizer for name, s in spaces.items() if name != "mujoco"} == {"scipy"}
+    truth = {"friction_ratio": 0.7, "wheel_servo_kp": 1000.0}
+    params, out = _generated_fit(tmp_path, monkeypatch, truth, np.zeros(len(TURN_RATES)), servo=0.0)
+    f = out["fit"]
+    assert f["method"].startswith("MuJoCo's own system identification (mujoco.sysid.optimize")
+    ran = f["optimizer"]
+    assert ran["name"] == "mujoco.sysid.optimize" and ran["version"] == mujoco.__version__
+    assert ran["iterations"] >= 1 and 1 <= ran["evaluations"] <= params["max_nfev"]
+    assert ran["engine_evaluations"] == len(f["all_trials"]) and ran["message"].startswith("Terminated")
+    assert f["intervals"].startswith("mujoco.sysid.calculate_intervals at the optimum: 95 %")
+    assert set(f["parameters"]) == {"friction_ratio", "wheel_servo_kp"}
+    for name, entry in f["parameters"].items():
+        if entry["identifiable"]:
+            low, high = entry["interval"]
+            assert entry["bounds"][0] <= low <= entry["value"] <= high <= entry["bounds"][1], name
+        else:
+            assert entry["why"].startswith("unidentifiable from these runs: "), name
+    assert f["parameters"]["friction_ratio"]["identifiable"] and not f["parameters"]["wheel_servo_kp"]["identifiable"]
+    assert out["settings"]["friction_ratio"] == pytest.approx(0.7, abs=1e-3)
+
+
+def test_the_mujoco_fit_recovers_known_settings_within_its_intervals(tmp_path, monkeypatch):
+    """A generated robot with known settings (friction ratio 0.7, wheel servo gain 400: both move the gains, the
+    servo on the faster turns only) and noisy real gains (sd 0.003): the MuJoCo profile's fit from the tuned
+    profile (1.0, 1000) recovers both within their 95 % intervals, and the intervals are narrow enough to say
+    something."""
+    truth = {"friction_ratio": 0.7, "wheel_servo_kp": 400.0}
+    noise = np.random.default_rng(3).normal(0.0, 0.003, len(TURN_RATES))
+    params, out = _generated_fit(tmp_path, monkeypatch, truth, noise, servo=0.05)
+    assert params["engine_settings"]["friction_ratio"] == 1.0 and params["engine_settings"]["wheel_servo_kp"] == 1000
+    f = out["fit"]
+    assert f["optimizer"]["name"] == "mujoco.sysid.optimize" and f["kept"] == "the fit"
+    # the settings file's header says which optimizer fitted it
+    catalog = load_catalog(ROOT / "resources/simulators/simulators.yaml")
+    head = "\n".join(settings_stage.calibrated_header(catalog.simulators["mujoco"], "mujoco", out, None))
+    assert "gain residuals by mujoco.sysid.optimize 4." in head, head
+    assert f["residual_sd_from"] == "the residuals (5 degrees of freedom)"  # 6 runs' 7 units, 2 settings
+    for name, true in truth.items():
+        entry = f["parameters"][name]
+        assert entry["identifiable"], (name, entry)
+        low, high = entry["interval"]
+        assert low <= true <= high, (name, entry)
+        assert out["settings"][name] == pytest.approx(true, rel=0.05), (name, entry)
+    ratio, servo = f["parameters"]["friction_ratio"]["interval"], f["parameters"]["wheel_servo_kp"]["interval"]
+    # the ratio to a fifteenth of its range; the servo's smaller effect to a tenth of its range's factor 50
+    assert ratio[1] - ratio[0] < 0.1 and servo[1] / servo[0] < 5
+    assert f["train_error"] < 0.005 < f["train_error_tuned"]
 
 
 def test_a_fit_that_cannot_beat_the_tuned_profile_keeps_the_tuned_settings_and_says_so(tmp_path):

@@ -110,8 +110,10 @@ def calibrated_header(sim, simulator: str, fit: dict, row) -> list[str]:
     ]
     if fit.get("searchable"):
         fitted = "; ".join(_parameter(k, e) for k, e in (f.get("parameters") or {}).items())
+        ran = f.get("optimizer") or {}
+        by = f" by {ran['name']} {ran.get('version', '')}".rstrip() if ran.get("name") else ""
         lines.append(
-            f"fit: least squares of the training runs' gain residuals ({len(f.get('trials') or [])} engine "
+            f"fit: least squares of the training runs' gain residuals{by} ({len(f.get('trials') or [])} engine "
             f"evaluations), {fitted}; training gain error tuned {_num(f.get('train_error_tuned'))}, "
             f"calibrated {_num(f.get('train_error'))}; kept {f.get('kept')}: "
             + ", ".join(f"{k} = {v}" for k, v in (fit.get("settings") or {}).items())

@@ -13,12 +13,17 @@ objective is the held-out figure's own metric over the training runs: the traini
 target classes', calibration.target.classes) are replayed on the engine as the calibrated profile's segments
 simulate job replays them (simpick.simulate.real.prepare_segment, its params, the trial's settings merged over
 them), each simulated gain taken as the comparison takes it (simpick.compare.real.segment_row, in the segment's
-compared window), and the per-run gain residuals (engine - real) minimised by bounded least squares
-(scipy.optimize.least_squares, trf, a forward-difference Jacobian) from the tuned profile (:func:`least_squares_fit`).
-Each setting gets an interval from the Jacobian at the optimum, or is named unidentifiable from these runs; the
-file gives the tuned profile's training error (the first evaluation) beside the optimum's, and keeps the tuned
-settings where the optimum is not below it. Kinds drive and replay fit the same way on steady-turn cases at the
-training units' representative commands (:func:`steady_units`).
+compared window), and the per-run gain residuals (engine - real) minimised by bounded least squares from the tuned
+profile (:func:`least_squares_fit`), over each setting's range mapped to [0, 1]. The search space names the
+optimizer: MuJoCo's profile is fitted by MuJoCo's own system identification (mujoco.sysid.optimize, its optimizer
+"mujoco": mujoco.minimize.least_squares, with mujoco.minimize's finite-difference Jacobian), every other
+simulator's by scipy.optimize.least_squares (trf, a forward-difference Jacobian); both get the same residuals and
+the same budget of evaluations, and the file names the one that ran (its version, iterations and evaluations).
+Each setting gets a 95 % interval from the Jacobian at the optimum (mujoco.sysid's from its calculate_intervals),
+or is named unidentifiable from these runs; the file gives the tuned profile's training error (the first
+evaluation) beside the optimum's, and keeps the tuned settings where the optimum is not below it. Kinds drive and
+replay fit the same way on steady-turn cases at the training units' representative commands
+(:func:`steady_units`).
 
 Per class, where a class has a training run that turns, its own ratio is fitted the same way on its runs (the
 other settings at the pooled fit's), beside the pooled fit, and both are judged on its held-out runs.
@@ -93,6 +98,12 @@ class SearchSpace(_Strict):
     )
     if_unbound: str | None = Field(
         None, description="the simulator exposes the settings, but simpick's adapter binds none of them: why"
+    )
+    optimizer: Literal["scipy", "mujoco.sysid"] = Field(
+        "scipy",
+        description="what fits the settings: scipy (scipy.optimize.least_squares, trf) or mujoco.sysid (MuJoCo's "
+        "own system identification, mujoco.sysid.optimize with its optimizer 'mujoco', the intervals from its "
+        "calculate_intervals); the residuals, the budget and the unidentifiability checks are the same",
     )
 
     @model_validator(mode="after")
@@ -205,8 +216,9 @@ class CalibrateParams(JobParams):
     )
     max_nfev: Annotated[int, Field(ge=1, le=20)] = Field(
         6,
-        description="least_squares' max_nfev of the pooled fit: its iterations' evaluations, each a replay of "
-        "the training runs' turning segments; the finite-difference Jacobian adds one evaluation per setting each",
+        description="the pooled fit's evaluations of the residuals (scipy's max_nfev; mujoco.sysid's iterations are "
+        "one fewer, its rejected steps held to the same count), each a replay of the training runs' turning "
+        "segments; the finite-difference Jacobian adds one evaluation per setting each",
     )
     class_nfev: Annotated[int, Field(ge=0, le=12)] = Field(
         3,
@@ -214,9 +226,9 @@ class CalibrateParams(JobParams):
     )
     diff_step: Annotated[float, Field(gt=0, lt=0.5)] = Field(
         0.05,
-        description="the Jacobian's forward step, as a share of each setting's range (of its logarithm's for a "
-        "log setting): well above the engines' roughness (ODE's gain moves by up to 0.01 between ratios 1e-3 "
-        "apart), well below the range",
+        description="the Jacobian's step, as a share of each setting's range (of its logarithm's for a log "
+        "setting; scipy's forward, inward at a bound, mujoco.sysid's away from the nearer bound): well above the "
+        "engines' roughness (ODE's gain moves by up to 0.01 between ratios 1e-3 apart), well below the range",
     )
     noise: Positive = Field(
         0.045,
@@ -380,20 +392,25 @@ def least_squares_fit(
     diff_step: float,
     noise: float,
     scan: int = 0,
+    optimizer: str = "scipy",
 ):
-    """Bounded least squares (scipy.optimize.least_squares, trf) of the units' per-run gain residuals over the
-    ``axes`` settings, the others ``base``, from ``start``; the Jacobian forward differences of ``diff_step`` of
-    each setting's range (inward at a bound), every evaluation cached and recorded. A setting whose column of the
-    Jacobian at the start moves the residuals by less than MIN_SENSITIVITY over its whole range is not fitted
-    (kept at its start: these runs cannot tell its values apart). Returns a dict: the optimum's settings, its
-    gains and error, the first evaluation's (the start), the evaluations, least_squares' report, and per setting
-    its interval from the Jacobian at the optimum (covariance (J^T J)^-1 s^2, s^2 the residual variance, or
-    ``noise`` squared where the runs leave no degree of freedom) or why it has none. ``scan``: first the first
-    setting at as many points evenly over its bounds, least squares then starting from the one of the lowest sum
-    of squares (the start included): an engine whose gain jumps with it (PyBullet's), where a local fit from the
-    tuned value stays in the jump it starts in."""
-    from scipy.optimize import least_squares
-
+    """Bounded least squares of the units' per-run gain residuals over the ``axes`` settings, the others ``base``,
+    from ``start``, by ``optimizer`` (:data:`OPTIMIZERS`): scipy.optimize.least_squares (trf), or MuJoCo's own
+    system identification (mujoco.sysid.optimize, its optimizer "mujoco"), both in the axes' u coordinates with
+    ``max_nfev`` evaluations of the residuals and a finite-difference Jacobian of ``diff_step`` of each setting's
+    range (scipy's forward, inward at a bound; mujoco.sysid's mujoco.minimize.jacobian_fd, away from the nearer
+    bound), every evaluation cached and recorded. A setting whose column of the Jacobian at the start moves the
+    residuals by less than MIN_SENSITIVITY over its whole range is not fitted (kept at its start: these runs cannot
+    tell its values apart). Returns a dict: the optimum's settings, its gains and error, the first evaluation's
+    (the start), the evaluations, the optimizer's report, and per setting its 95 % interval from the Jacobian at
+    the optimum, or why it has none: scipy's covariance (J^T J)^-1 s^2 with a normal quantile,
+    mujoco.sysid.calculate_intervals' (Student's t over the residuals' degrees of freedom) mapped from u to the
+    setting's units; s^2 the residual variance, or ``noise`` squared (a normal quantile) where the runs leave no
+    degree of freedom. ``scan``: first the first setting at as many points evenly over its bounds, the optimizer
+    then starting from the one of the lowest sum of squares (the start included): an engine whose gain jumps with
+    it (PyBullet's), where a local fit from the tuned value stays in the jump it starts in."""
+    if optimizer not in OPTIMIZERS:
+        raise ValueError(f"unknown optimizer {optimizer!r}; known: {sorted(OPTIMIZERS)}")
     evaluations: list[tuple[dict, np.ndarray]] = []
     cache: dict[tuple, np.ndarray] = {}
     u_start = {a.name: min(max(a.to_u(start[a.name]), 1e-6), 1 - 1e-6) for a in axes}
@@ -408,21 +425,27 @@ def least_squares_fit(
             evaluations.append((x, cache[key]))
         return cache[key]
 
-    def problem(active: list[Axis]):
-        def f(u):
-            return units.residuals(sims({a.name: v for a, v in zip(active, u)}))
+    def residuals(active: list[Axis], points) -> np.ndarray:
+        """The residuals at each column of ``points`` (the ``active`` settings' u), a column each."""
+        columns = np.asarray(points, float).reshape(len(active), -1).T
+        return np.stack([units.residuals(sims({a.name: v for a, v in zip(active, c)})) for c in columns], axis=1)
 
-        def jac(u):
-            r0 = f(u)
-            out = np.empty((len(r0), len(active)))
-            for j in range(len(active)):
-                step = diff_step if u[j] + diff_step <= 1.0 else -diff_step
-                v = np.array(u, float)
-                v[j] += step
-                out[:, j] = (f(v) - r0) / step
-            return out
+    def jacobian(active: list[Axis], u) -> np.ndarray:
+        u = np.asarray(u, float).ravel()
+        r0 = residuals(active, u)
+        if optimizer == "mujoco.sysid":  # the finite differences mujoco.minimize.least_squares itself takes
+            from mujoco import minimize
 
-        return f, jac
+            box = [np.zeros((len(active), 1)), np.ones((len(active), 1))]
+            point = u.reshape(-1, 1)
+            return minimize.jacobian_fd(lambda p: residuals(active, p), point, r0, np.float64(diff_step), 0, box)[0]
+        out = np.empty((r0.shape[0], len(active)))
+        for j in range(len(active)):
+            step = diff_step if u[j] + diff_step <= 1.0 else -diff_step
+            v = u.copy()
+            v[j] += step
+            out[:, j] = (residuals(active, v)[:, 0] - r0[:, 0]) / step
+        return out
 
     first = sims({})
     if scan:
@@ -430,8 +453,7 @@ def least_squares_fit(
         points = [u_start[lead], *np.linspace(1e-6, 1 - 1e-6, scan)]
         best = min(points, key=lambda v: float(np.sum(units.residuals(sims({lead: v})) ** 2)))
         u_start[lead] = float(best)
-    _, jac_all = problem(axes)
-    start_sensitivity = np.linalg.norm(jac_all(np.array([u_start[a.name] for a in axes])), axis=0)
+    start_sensitivity = np.linalg.norm(jacobian(axes, [u_start[a.name] for a in axes]), axis=0)
     unidentifiable = {
         a.name: f"the gain moves {s:.4f} over its whole range at the start; kept at its start"
         for a, s in zip(axes, start_sensitivity)
@@ -441,16 +463,14 @@ def least_squares_fit(
     if not active:  # nothing moves the gain at the start: the first is fitted all the same (judged at the optimum)
         active = axes[:1]
         unidentifiable.pop(active[0].name)
-    f, jac = problem(active)
     u0 = np.array([u_start[a.name] for a in active])
-    result = least_squares(
-        f, u0, jac=jac, bounds=(0.0, 1.0), method="trf", max_nfev=max_nfev, x_scale=1.0, xtol=0.01, ftol=1e-3
+    u, J, report = OPTIMIZERS[optimizer](
+        lambda p: residuals(active, p), lambda v: jacobian(active, v), u0, [a.name for a in active], max_nfev
     )
-    u = np.clip(result.x, 0.0, 1.0)
-    optimum = {**u_start, **{a.name: v for a, v in zip(active, u)}}
+    u = np.clip(np.asarray(u, float), 0.0, 1.0)
+    optimum = {**u_start, **{a.name: float(v) for a, v in zip(active, u)}}
     at = sims(optimum)
-    J = jac(u)
-    r = f(u)
+    r = residuals(active, u)[:, 0]
     m, n = J.shape
     dof = m - n
     s2 = float(r @ r) / dof if dof > 0 else noise**2
@@ -473,8 +493,8 @@ def least_squares_fit(
             for a, load in zip(active, vt[k]):
                 if abs(load) > 0.5:
                     unidentifiable.setdefault(a.name, "its column is near-collinear with another's")
-    Jx = J / np.array([a.dx_du(v) for a, v in zip(active, u)])
-    cov = np.linalg.pinv(Jx.T @ Jx) * s2
+    bounds_of = _sysid_intervals if optimizer == "mujoco.sysid" else _normal_intervals
+    intervals, intervals_from = bounds_of(active, u, J, r, dof, noise)
     parameters = {}
     column = {a.name: j for j, a in enumerate(active)}
     for a, s0 in zip(axes, start_sensitivity):
@@ -486,12 +506,12 @@ def least_squares_fit(
             "log": a.log,
             "sensitivity": _r(float(sensitivity[j] if j is not None else s0)),
         }
+        if j is not None and a.name not in unidentifiable and not all(map(math.isfinite, intervals[j][1:])):
+            unidentifiable[a.name] = "its interval is unbounded (J^T J singular along it)"
         if a.name in unidentifiable:
             entry.update(identifiable=False, why=f"unidentifiable from these runs: {unidentifiable[a.name]}")
         else:
-            sd = math.sqrt(max(float(cov[j, j]), 0.0))
-            # 95 %, within the bounds (the linearisation does not know them)
-            low, high = max(x - Z95 * sd, a.low), min(x + Z95 * sd, a.high)
+            sd, low, high = intervals[j]
             entry.update(identifiable=True, sd=_r(sd), interval=[_r(low), _r(high)])
         if optimum[a.name] <= 1e-3 or optimum[a.name] >= 1 - 1e-3:
             entry["at_bound"] = "low" if optimum[a.name] <= 1e-3 else "high"
@@ -504,19 +524,165 @@ def least_squares_fit(
         "start_error": units.error(first),
         "evaluations": evaluations,
         "parameters": parameters,
+        "intervals_from": intervals_from,
         "fitted": [a.name for a in active],
         "residual_sd": math.sqrt(s2),
         "residual_sd_from": f"the residuals ({dof} degrees of freedom)"
         if dof > 0
         else f"no degree of freedom ({m} runs, {n} settings): the real robot's run-to-run spread {noise}",
-        "report": {
-            "status": int(result.status),
-            "message": str(result.message),
-            "nfev": int(result.nfev),
-            "njev": int(result.njev or 0),
-            "engine_evaluations": len(evaluations),
-        },
+        "report": {**report, "engine_evaluations": len(evaluations)},
     }
+
+
+def _scipy_least_squares(residuals, jacobian, u0: np.ndarray, names: list[str], max_nfev: int):
+    """scipy.optimize.least_squares (trf) over u in [0, 1]: (the optimum, the Jacobian there, its report)."""
+    import scipy
+    from scipy.optimize import least_squares
+
+    result = least_squares(
+        lambda u: residuals(u)[:, 0],
+        u0,
+        jac=jacobian,
+        bounds=(0.0, 1.0),
+        method="trf",
+        max_nfev=max_nfev,
+        x_scale=1.0,
+        xtol=0.01,
+        ftol=1e-3,
+    )
+    u = np.clip(result.x, 0.0, 1.0)
+    report = {
+        "name": "scipy.optimize.least_squares",
+        "method": "trf, bounded",
+        "version": scipy.__version__,
+        # trf takes a new Jacobian after each accepted step, the first at the start
+        "iterations": max(int(result.njev or 1) - 1, 0),
+        "evaluations": int(result.nfev),
+        "jacobians": int(result.njev or 0),
+        "status": int(result.status),
+        "message": str(result.message),
+    }
+    return u, jacobian(u), report
+
+
+# mujoco.minimize.least_squares' regularizer (its Levenberg-Marquardt mu, added to J^T J over u): from the J^T J
+# diagonal of the least sensitive setting the fit keeps (MIN_SENSITIVITY squared), a decade per rejected step
+# (Marquardt's factor). MuJoCo's defaults, 1e-6 and 10^0.1, damp a step at all (mu a tenth of J^T J: 0.2 for the
+# Husky's ratio, its column 1.5) only after some 50 rejected steps, each an evaluation that replays every training
+# segment.
+SYSID_MU = {"mu_min": MIN_SENSITIVITY**2, "mu_factor": 10.0}
+
+
+def _sysid_least_squares(residuals, jacobian, u0: np.ndarray, names: list[str], max_nfev: int):
+    """MuJoCo's own system identification over u in [0, 1]: mujoco.sysid.optimize with its optimizer "mujoco"
+    (mujoco.minimize.least_squares: Gauss-Newton steps in the box, a Levenberg-Marquardt regularizer, Armijo's
+    test), a mujoco.sysid ParameterDict of the settings (nominal the start), the residuals' Jacobian from
+    mujoco.minimize.jacobian_fd: (the optimum, the optimizer's own Jacobian there, its report).
+
+    Its iterations are bounded by ``max_iters``, its evaluations are not (each rejected step evaluates again):
+    ``max_nfev`` bounds them as it bounds scipy's, ``max_nfev - 1`` iterations of one evaluation each after the
+    start's. Once they are spent, a further step's residuals are infinite without an engine run, which the
+    optimizer's Armijo test rejects until it stops at its last accepted point (its own "insufficient reduction")."""
+    import io
+
+    import mujoco
+    from mujoco import sysid
+
+    if not hasattr(sysid, "optimize"):  # mujoco.sysid imports nothing where one of the extra's packages is missing
+        raise ImportError(
+            "mujoco.sysid cannot be imported without its optional packages (absl-py, colorama, tabulate, ...): "
+            "install simpick's dependencies, which include mujoco[sysid] (pip install -c constraints.txt -e .)"
+        )
+    m = residuals(u0).shape[0]
+    spent = {"evaluations": 0, "refused": 0, "jacobians": 0}
+
+    def residual_fn(x, params):  # mujoco.sysid's signature: the settings are x itself, in ``names``' order
+        points = np.asarray(x, float).reshape(len(u0), -1)
+        if spent["evaluations"] + points.shape[1] > max_nfev:
+            spent["refused"] += points.shape[1]
+            out = np.full((m, points.shape[1]), np.inf)
+        else:
+            spent["evaluations"] += points.shape[1]
+            out = residuals(points)
+        return [out if np.ndim(x) > 1 else out[:, 0]], [], []
+
+    params = sysid.ParameterDict(
+        {name: sysid.Parameter(name, nominal=float(v), min_value=0.0, max_value=1.0) for name, v in zip(names, u0)}
+    )
+    trace = io.StringIO()
+
+    def jac(x, r):  # mujoco.minimize.jacobian_fd's, outside the budget: a Jacobian is one per iteration
+        spent["jacobians"] += 1
+        return jacobian(x[:, 0])
+
+    fitted, result = sysid.optimize(
+        params,
+        residual_fn,
+        optimizer="mujoco",
+        verbose=False,
+        max_iters=max(max_nfev - 1, 0),
+        jacobian=jac,
+        xtol=0.01,
+        output=trace,
+        **SYSID_MU,
+    )
+    u = np.array([float(fitted[name].value.item()) for name in names])
+    lines = [line for line in trace.getvalue().splitlines() if line.startswith("Terminated")]
+    message = lines[-1] if lines else ""
+    if spent["refused"]:
+        message += f" (its {max_nfev} evaluations spent: {spent['refused']} more refused without an engine run)"
+    J = np.asarray(result.jac, float) if result.jac is not None else jacobian(u)
+    report = {
+        "name": "mujoco.sysid.optimize",
+        "method": "optimizer 'mujoco': mujoco.minimize.least_squares, bounded",
+        "version": mujoco.__version__,
+        # the optimizer's log: one entry per accepted step, and the end point's
+        "iterations": len(result.extras.get("objective", [None])) - 1,
+        "evaluations": spent["evaluations"],
+        "jacobians": spent["jacobians"],
+        "message": message,
+    }
+    return u, J, report
+
+
+OPTIMIZERS = {"scipy": _scipy_least_squares, "mujoco.sysid": _sysid_least_squares}
+
+
+def _normal_intervals(active: list[Axis], u: np.ndarray, J: np.ndarray, r: np.ndarray, dof: int, noise: float):
+    """Per active setting (sd, low, high) in its units: the covariance (J^T J)^-1 s^2 over the settings' units,
+    a normal 95 % interval about the optimum clipped to the bounds (the linearisation does not know them)."""
+    s2 = float(r @ r) / dof if dof > 0 else noise**2
+    Jx = J / np.array([a.dx_du(v) for a, v in zip(active, u)])
+    cov = np.linalg.pinv(Jx.T @ Jx) * s2
+    out = []
+    for j, (a, v) in enumerate(zip(active, u)):
+        x, sd = a.to_x(v), math.sqrt(max(float(cov[j, j]), 0.0))
+        out.append((sd, max(x - Z95 * sd, a.low), min(x + Z95 * sd, a.high)))
+    source = "the residuals" if dof > 0 else f"the real robot's run-to-run spread {noise} (no degree of freedom)"
+    return out, f"the Jacobian at the optimum: (J^T J)^-1 s^2, s^2 from {source}; 95 % normal, clipped to the bounds"
+
+
+def _sysid_intervals(active: list[Axis], u: np.ndarray, J: np.ndarray, r: np.ndarray, dof: int, noise: float):
+    """Per active setting (sd, low, high) in its units: mujoco.sysid.calculate_intervals at the optimum (95 %, its
+    half-widths over u: Student's t over the residuals' degrees of freedom, s^2 from the residuals), u +- the
+    half-width mapped to the setting's units (over the logarithm for a log setting) and clipped to the bounds.
+    Without a degree of freedom it has no s^2: the real robot's spread ``noise`` stands for it, a normal quantile."""
+    if dof > 0:
+        from mujoco import sysid
+
+        sigma, half = sysid.calculate_intervals([r], J, alpha=0.05)
+        source = f"mujoco.sysid.calculate_intervals at the optimum: 95 %, Student's t with {dof} degrees of freedom"
+    else:
+        sigma = np.linalg.pinv(J.T @ J) * noise**2
+        half = Z95 * np.sqrt(np.maximum(np.diag(sigma), 0.0))
+        source = f"the Jacobian at the optimum, s the real robot's run-to-run spread {noise} (no degree of freedom): "
+        source += "95 % normal"
+    out = []
+    for j, (a, v) in enumerate(zip(active, u)):
+        sd = math.sqrt(max(float(sigma[j, j]), 0.0)) * a.dx_du(v)
+        h = float(half[j])
+        out.append((sd, a.to_x(v - h), a.to_x(v + h)) if math.isfinite(h) else (sd, math.nan, math.nan))
+    return out, source + "; u +- the half-width in each setting's units, clipped to the bounds"
 
 
 def segment_units(p: CalibrateParams, inputs: dict, runs: list[str], classes: list[str]) -> Units:
@@ -632,7 +798,7 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
         k: float(p.engine_settings.get(k, 1.0 if k == "friction_ratio" else space.settings[k].bounds[0])) for k in names
     }
     start = {a.name: min(max(tuned[a.name], a.low), a.high) for a in axes}
-    fit = least_squares_fit(units, axes, fixed, start, p.max_nfev, p.diff_step, p.noise, space.scan)
+    fit = least_squares_fit(units, axes, fixed, start, p.max_nfev, p.diff_step, p.noise, space.scan, space.optimizer)
     # the tuned profile's own error on the same units: the first evaluation, unless the required settings (or a
     # tuned value outside the bounds) make that evaluation differ from the tuned profile
     if fixed or start != tuned:
@@ -658,9 +824,8 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     engine_gain = float(np.nanmean(at)) if np.isfinite(at).any() else math.nan
     out["fit"].update(
         {
-            "method": "scipy.optimize.least_squares (trf, bounded; forward-difference Jacobian of "
-            f"{p.diff_step} of each setting's range), max_nfev {p.max_nfev}: the per-run gain residuals "
-            "(engine - real) of the training runs' turning "
+            "method": _method(space.optimizer, p.diff_step, p.max_nfev)
+            + ": the per-run gain residuals (engine - real) of the training runs' turning "
             + (
                 "segments replayed as the segments' simulate jobs replay them"
                 if p.kind == "segments"
@@ -686,8 +851,9 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
             ),
             "parameters": fit["parameters"],
             "residual_sd": _r(fit["residual_sd"]),
+            "intervals": fit["intervals_from"],
             "residual_sd_from": fit["residual_sd_from"],
-            "least_squares": fit["report"],
+            "optimizer": fit["report"],
             "coulomb_ratio": _r(coulomb),
             # (ratio, mean engine gain over the units) of each evaluation, in order
             "trials": [
@@ -754,7 +920,14 @@ def _class_fits(p, inputs, robot, train: pd.DataFrame, test: pd.DataFrame, poole
             units = _units(p, inputs, robot, runs, [str(cls)], t, gain)
             others = {**fixed, **{k: v for k, v in pooled.items() if k != "friction_ratio"}}
             fit = least_squares_fit(
-                units, [ratio_axis], others, {"friction_ratio": pooled_ratio}, p.class_nfev, p.diff_step, p.noise
+                units,
+                [ratio_axis],
+                others,
+                {"friction_ratio": pooled_ratio},
+                p.class_nfev,
+                p.diff_step,
+                p.noise,
+                optimizer=space.optimizer,
             )
             own_ratio = float(fit["settings"]["friction_ratio"])
             pooled_gains = fit["start_gains"]
@@ -767,7 +940,7 @@ def _class_fits(p, inputs, robot, train: pd.DataFrame, test: pd.DataFrame, poole
                 {
                     "friction_ratio": _r(ratio),
                     "placed_by": "its own least-squares fit on the engine "
-                    f"({_trials(fit['report']['engine_evaluations'])} from the pooled fit)",
+                    f"({_trials(fit['report']['engine_evaluations'])} from the pooled fit, {fit['report']['name']})",
                     "engine_gain": _r(engine_gain),
                     "pooled_engine_gain": _r(
                         float(np.nanmean(pooled_gains)) if np.isfinite(pooled_gains).any() else math.nan
@@ -804,6 +977,23 @@ def _class_fits(p, inputs, robot, train: pd.DataFrame, test: pd.DataFrame, poole
                 }
         out[str(cls)] = entry
     return out
+
+
+def _method(optimizer: str, diff_step: float, max_nfev: int) -> str:
+    """The fit's method in words (the file's ``method``)."""
+    if optimizer == "mujoco.sysid":
+        import mujoco
+
+        return (
+            f"MuJoCo's own system identification (mujoco.sysid.optimize, MuJoCo {mujoco.__version__}, optimizer "
+            "'mujoco': mujoco.minimize.least_squares, bounded; its finite-difference Jacobian, mujoco.minimize."
+            f"jacobian_fd, of {diff_step} of each setting's range; intervals from mujoco.sysid.calculate_intervals), "
+            f"{max_nfev} evaluations at most"
+        )
+    return (
+        "scipy.optimize.least_squares (trf, bounded; forward-difference Jacobian of "
+        f"{diff_step} of each setting's range), max_nfev {max_nfev}"
+    )
 
 
 def _trials(n: int) -> str:
