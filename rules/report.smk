@@ -358,6 +358,8 @@ rule report:
                 "results/simulators/per_class.csv",
                 "results/simulators/tree.json",
                 "results/simulators/settings",
+                # the models that open as they are, which the simulators' section links to
+                *([PLAN.MODELS_DIR] if PLAN.model_profiles else []),
             ]
             if PLAN.simulators
             else []

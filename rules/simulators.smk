@@ -62,6 +62,27 @@ rule simulator_settings:
         "../scripts/simulator_settings.py"
 
 
+rule simulator_models:
+    """Each profile of a simulator whose engine writes one (MuJoCo) as a model that opens as it is
+    (simpick.studies.simulator_models): the robot on flat ground with its actuators, contacts and options, and the
+    yaw-rate gains the validation's own cases measure on it. It reads no table: no weight or verdict reaches it."""
+    input:
+        **PLAN.simulator_models_input(),
+    output:
+        directory(PLAN.MODELS_DIR),
+    log:
+        "results/logs/simulator_models.log",
+    benchmark:
+        "results/benchmarks/simulator_models.tsv"
+    conda:
+        "../envs/simpick.yaml"
+    params:
+        **PLAN.simulator_models_params(),
+        code=PLAN.script_code("simulator_models", *PLAN.model_code_roots()),
+    script:
+        "../scripts/simulator_models.py"
+
+
 # The paper's weighted table with simulators as its rows (simpick.score.simulators.simulator_scores_job):
 # weighed by the report job (simpick.report.weighing), which the weights reach.
 

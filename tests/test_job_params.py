@@ -37,6 +37,7 @@ from simpick.sources.base import canonical, model_settings
 from simpick.studies import turnmap
 from simpick.studies.calibration.settings import EvaluateSettings, SearchSettings
 from simpick.studies.calibration.steps import StepCalibrateParams, StepSummaryParams
+from simpick.studies.simulator_models import SimulatorModelsParams
 from simpick.studies.sweep import SweepPointParams
 from simpick.studies.validation import job as validation_job
 
@@ -112,6 +113,7 @@ CONVERTED = {
     ),
     "simulators": (simulators_stage.SimulatorsParams, lambda plan: [plan.simulators_params()]),
     "simulator_settings": (settings_stage.SimulatorSettingsParams, lambda plan: [plan.simulator_settings_params()]),
+    "simulator_models": (SimulatorModelsParams, lambda plan: [plan.simulator_models_params()]),
     # the report job's weighing (simpick.report.weighing): its simulators' and answer's parts below
     "report (weighing)": (WeighingParams, lambda plan: [plan.weighing_params()]),
     "report (weighing: simulators)": (

@@ -8,7 +8,7 @@ and gyro at the IMU mount (they already follow REP-145). The whole run is steppe
 
 Passive suspension (RobotSpec.suspension): MuJoCo's URDF importer makes each rocker a limited hinge
 with the description's damping and frictionloss; the couplings are RobotSpec's joint equalities (the
-importer's own, from <mimic>, are dropped so that each is applied once), see :meth:`MujocoEngine.compile`.
+importer's own, from <mimic>, are dropped so that each is applied once), see :meth:`MujocoEngine.spec`.
 
 Friction: MuJoCo combines two geoms' friction by taking the maximum unless one has higher
 ``priority``; terrain and floor get priority 1 so their coefficient is the contact's.
@@ -143,7 +143,7 @@ class MujocoEngine(Adapter):
     }
     name = "mujoco"
     settings_model = MujocoSettings
-    simulates_suspension = True  # rockers: the importer's limits, damping and frictionloss; couplings in compile()
+    simulates_suspension = True  # rockers: the importer's limits, damping and frictionloss; couplings in spec()
 
     def version(self) -> str:
         return importlib.metadata.version("mujoco")
@@ -153,6 +153,11 @@ class MujocoEngine(Adapter):
 
     def compile(self, scenario: Scenario):
         """The compiled MjModel of the scenario's world."""
+        return self.spec(scenario).compile()
+
+    def spec(self, scenario: Scenario):
+        """The scenario's world as an uncompiled ``mujoco.MjSpec``: what :meth:`compile` compiles, and what
+        :mod:`simpick.engines.simulator_models.mujoco` writes out as a model a user opens (``to_xml``)."""
         import mujoco
 
         settings = MujocoSettings.of(scenario.settings, self.name)
@@ -247,7 +252,7 @@ class MujocoEngine(Adapter):
                     spec.add_sensor(type=kind, objtype=O.mjOBJ_XBODY, objname=prefix + robot.base_link)
                 for joint in robot.wheel_joints:
                     spec.add_sensor(type=S.mjSENS_JOINTVEL, objtype=O.mjOBJ_JOINT, objname=prefix + joint)
-        return spec.compile()
+        return spec
 
     @staticmethod
     def _wheel_pairs(spec, settings: MujocoSettings, wheels, grounds, prefix: str) -> None:

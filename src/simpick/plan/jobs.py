@@ -108,6 +108,7 @@ class JobPlanning:
             "simulators": self.simulators,
             "left_out": self.simulators_left_out,
             "settings_files": {p: f"results/simulators/settings/{p}" for p in self.profile_results},
+            "model_files": self.model_files(),
             "statistics": self.settings.statistics,
             "seed": self.settings.seed,
             "verdict": self.settings.verdict,
@@ -128,6 +129,34 @@ class JobPlanning:
             "wheel_links": [w.link for w in self.robot.driven],
         }
         return job_params("simulator_settings", SimulatorSettingsParams, data)
+
+    def simulator_models_params(self) -> dict:
+        """Rule simulator_models' params: each model profile's full settings (a calibrated one's: its tuned
+        profile's, the fit merged in the job), the catalog's words for where they come from, the robot, the step,
+        the ground of the settings files and the validation's turning cases on it (simpick.studies.simulator_models)."""
+        from simpick.engines.simulator_files import GROUND_MU
+        from simpick.engines.simulators import MODEL_SETTINGS, engine_of, split
+        from simpick.studies.simulator_models import SimulatorModelsParams, claimed_cases
+
+        profiles = {}
+        for p in self.model_profiles:
+            simulator, variant = split(p)
+            sim, engine = self.catalog.simulators[simulator], engine_of(p)
+            # a calibrated profile starts from the tuned one (its fit is merged in the job); the catalog's profile
+            # lies over the study's robot-model settings of its engine (its wheel actuators: MODEL_SETTINGS)
+            catalogued = "tuned" if variant == "calibrated" else variant
+            basis = f"the catalog's {catalogued} profile ({getattr(sim, catalogued).basis})"
+            if MODEL_SETTINGS.get(engine):
+                basis += f"; {', '.join(MODEL_SETTINGS[engine])} from the study's engines.{engine}"
+            profiles[p] = {"settings": self.profile_settings[p], "label": sim.label, "basis": basis}
+        data = {
+            "profiles": profiles,
+            "robot": self._robot(),
+            "physics": {"timestep": self.settings.physics.timestep},
+            "ground_mu": GROUND_MU,
+            "cases": claimed_cases(self.settings.validation.cases, GROUND_MU),
+        }
+        return job_params("simulator_models", SimulatorModelsParams, _plain(data))
 
     def simulator_scores_params(self) -> dict:
         """The simulators' weighing (the report job's, simpick.report.weighing): the run simulators and the weights."""

@@ -260,6 +260,36 @@ class ModelPlanning:
         """Every run simulator's fit (its searchable false ones say why and what they reach)."""
         return [self.calibration_file(s) for s in self.simulators] if self.calibration_spaces else []
 
+    @property
+    def model_profiles(self) -> list[str]:
+        """The profiles that get a model a user opens as it is (rule simulator_models): those whose engine writes
+        one (simpick.engines.simulator_models.WRITERS), aliases of an engine's results included."""
+        from simpick.engines.simulator_models import WRITERS
+
+        return [p for p in self.profile_results if engine_of(p) in WRITERS]
+
+    MODELS_DIR = "results/simulators/models"
+
+    def model_files(self) -> dict[str, str]:
+        """profile -> its model's path (rule simulator_models; a calibrated terrain class's beside it, named
+        ``<profile>-<class>``, where the fit gives the class a file of its own)."""
+        from simpick.engines.simulator_models import WRITERS
+
+        return {p: f"{self.MODELS_DIR}/{p}.{WRITERS[engine_of(p)][0]}" for p in self.model_profiles}
+
+    def model_code_roots(self) -> tuple[str, ...]:
+        """The modules rule simulator_models' job reaches by name only: its profiles' engines' adapters (the
+        validation's run_case finds an adapter in the registry), as rule validate's code counts them."""
+        return tuple(sorted({m for p in self.model_profiles for m in self.engine_modules(p)}))
+
+    def simulator_models_input(self) -> dict:
+        """Rule simulator_models' input: the robot's description and the fits of the calibrated model profiles."""
+        fitted = dict.fromkeys(
+            p.rsplit(SEPARATOR, 1)[0] for p in self.model_profiles if p.endswith(f"{SEPARATOR}calibrated")
+        )
+        calibrations = [self.calibration_file(s) for s in fitted] if self.calibration_spaces else []
+        return {"urdf": self.config["robot"]["urdf"], "calibrations": calibrations}
+
     def calibrated_input(self, model: str) -> dict:
         """A model's jobs' extra input: a calibrated profile's fit, whose settings they merge at run time."""
         if model in self.calibrated:

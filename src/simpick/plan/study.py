@@ -114,6 +114,8 @@ class Plan(
                 "results/simulators/weighted.csv",
                 "results/simulators/tree.json",
             ]
+        if self.model_profiles:
+            targets.append(self.MODELS_DIR)
         targets += [
             "results/scores/weighted.csv",
             "results/published/table11.csv",

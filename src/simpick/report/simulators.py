@@ -67,6 +67,11 @@ def ros_paths(tree: dict, labels: dict[str, str]) -> list[dict[str, str]]:
     return out
 
 
+def _model_link(path) -> str:
+    """The report's link to a model that opens as it is (the table's ``model_file``; empty where none)."""
+    return f"../simulators/models/{Path(str(path)).name}" if isinstance(path, str) and path else ""
+
+
 def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any] | None:
     folder_path = Path(folder)
     table_path = folder_path / "table.csv"
@@ -113,6 +118,7 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
                 ),
                 "mechanics_own": str(r.get("mechanics_own") or "") if r["variant"] == "calibrated" and ran else "",
                 "settings": [f"../simulators/settings/{name}" for name in settings],
+                "model": _model_link(r.get("model_file")) if ran else "",
             }
         )
     weighted = []
@@ -147,6 +153,7 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
                     "class_error": _f(r.get("class_fit_error")) if held else "–",
                     "pooled_error": _f(r.get("pooled_fit_error")) if held else "–",
                     "settings": [f"../simulators/settings/{name}" for name in files],
+                    "model": _model_link(r.get("model_file")),
                 }
             )
     tree = read_tree(str(folder_path / "tree.json")) if (folder_path / "tree.json").is_file() else None

@@ -201,15 +201,30 @@ def class_files(fit: dict | None) -> dict[str, dict]:
     }
 
 
+def calibrated_settings(engine: str, settings: Mapping[str, Any], fit: dict) -> dict[str, dict]:
+    """A calibrated profile's full adapter settings per file (its name's tail): ``""`` its tuned ``settings`` with
+    the fit's over them, ``"-<class>"`` those with a class's own friction ratio, for each class with a file of its
+    own (:func:`class_files`). The settings files and the models (rule simulator_models) are written from these."""
+    from simpick.engines import get_engine
+
+    model = get_engine(engine).settings_model
+    pooled = model.model_validate({**settings, **(fit.get("settings") or {})}).model_dump(mode="json")
+    out = {"": pooled}
+    for cls, entry in class_files(fit).items():
+        own = model.model_validate({**pooled, "friction_ratio": entry["friction_ratio"]})
+        out[f"-{cls}"] = own.model_dump(mode="json")
+    return out
+
+
 def _calibrated_file(formats, sim, simulator, settings, fit, table, catalog, robot, wheels, out: Path) -> None:
     """A calibrated profile's file: its tuned settings with the fit's over them, in the simulator's format."""
-    from simpick.engines import get_engine
     from simpick.engines.catalog import Setting
 
     if fit is None:
         return
     fitted = dict(fit.get("settings") or {})
-    settings = get_engine(sim.engine).settings_model.model_validate({**settings, **fitted}).model_dump(mode="json")
+    variants = calibrated_settings(sim.engine, settings, fit)
+    settings = variants[""]
     entries = dict(catalog.entries(simulator, "calibrated", robot))
     for key, value in fitted.items():
         text = (fit.get("exposed") or {}).get(key, "not exposed")
@@ -218,16 +233,13 @@ def _calibrated_file(formats, sim, simulator, settings, fit, table, catalog, rob
     header = calibrated_header(sim, simulator, fit, row.iloc[0].to_dict() if len(row) else None)
     files = [("", settings, entries, header)]
     for cls, entry in class_files(fit).items():  # a class whose own fit differs: a file of its own
-        own = get_engine(sim.engine).settings_model.model_validate(
-            {**settings, "friction_ratio": entry["friction_ratio"]}
-        )
         text = str((fit.get("exposed") or {}).get("friction_ratio", "not exposed"))
         text = text.replace(str((fit.get("settings") or {}).get("friction_ratio")), str(entry["friction_ratio"]))
         setting = Setting(value=entry["friction_ratio"], exposed_as=text, source=f"fitted: {fit.get('source')}, {cls}")
         files.append(
             (
                 f"-{cls}",
-                own.model_dump(mode="json"),
+                variants[f"-{cls}"],
                 {**entries, "friction_ratio": ("calibrated", setting)},
                 class_header(sim, simulator, fit, cls, entry),
             )

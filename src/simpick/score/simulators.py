@@ -57,6 +57,8 @@ TABLE_COLUMNS = [
     "n_runs",
     "runs_failed",
     "settings_file",
+    # the model that opens as it is (rule simulator_models), where the profile's engine writes one
+    "model_file",
     # judged on the held-out runs only (the calibration's split: no run of them reached any fit), every row alike
     "heldout_gain_error",
     "heldout_gain_error_low",
@@ -110,6 +112,9 @@ class SimulatorsParams(JobParams):
     simulators: list[str] = Field(description="the simulators whose profiles ran")
     left_out: dict[str, str] = Field(description="simulator -> why its profiles did not run")
     settings_files: dict[str, str] = Field(description="profile -> its settings files' stem")
+    model_files: dict[str, str] = Field(
+        description="profile -> the path of its model that opens as it is (rule simulator_models), where it has one"
+    )
     statistics: Statistics
     seed: Annotated[int, Field(ge=0, lt=2**32)]
     verdict: Verdict
@@ -230,12 +235,13 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
                 else:
                     row[f"{prefix}_error"], row[f"{prefix}_outcome"] = o["mean"], o["outcome"]
             row["settings_file"] = files.get(profile, "")
+            row["model_file"] = p.model_files.get(profile, "")
             row.update(heldout(model))
             row.update(_calibration_columns(fits.get(name), variant, row, summary, results, name))
             rows.append(row)
     write_csv(pd.DataFrame(rows, columns=TABLE_COLUMNS), outputs["table"])
     if outputs.get("per_class"):
-        write_csv(per_class_table(fits, catalog), outputs["per_class"])
+        write_csv(per_class_table(fits, catalog, p.model_files), outputs["per_class"])
     _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs)
 
 
@@ -422,13 +428,15 @@ def _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs) 
     write_csv(pd.DataFrame(rows, columns=rtf.columns), out / "rtf.csv")
 
 
-def per_class_table(fits: dict[str, dict], catalog) -> pd.DataFrame:
+def per_class_table(fits: dict[str, dict], catalog, model_files: dict[str, str] | None = None) -> pd.DataFrame:
     """results/simulators/per_class.csv: per simulator and terrain class, the class's own fit beside the pooled
-    one, both judged on the class's held-out runs (a steady-turn case at their commands)."""
+    one, both judged on the class's held-out runs (a steady-turn case at their commands); ``model_files``: profile
+    -> its model's path, beside which a class with a file of its own has its model (rule simulator_models)."""
     rows = []
     for simulator, fit in fits.items():
         pooled = (fit.get("settings") or {}).get("friction_ratio")
         files = class_files(fit)
+        model = (model_files or {}).get(model_name(simulator, "calibrated"))
         for cls, e in (fit.get("per_class") or {}).items():
             held = e.get("heldout") or {}
             rows.append(
@@ -451,9 +459,16 @@ def per_class_table(fits: dict[str, dict], catalog) -> pd.DataFrame:
                     "settings_file": f"results/simulators/settings/{model_name(simulator, 'calibrated')}-{cls}"
                     if cls in files
                     else "",
+                    "model_file": _class_model(model, cls) if cls in files and model else "",
                 }
             )
     return pd.DataFrame(rows, columns=PER_CLASS_COLUMNS)
+
+
+def _class_model(model: str, cls: str) -> str:
+    """The path of a terrain class's model beside its calibrated profile's (``<profile>-<class>``)."""
+    path = Path(model)
+    return str(path.with_name(f"{path.stem}-{cls}{path.suffix}"))
 
 
 PER_CLASS_COLUMNS = [
@@ -473,6 +488,7 @@ PER_CLASS_COLUMNS = [
     "class_fit_error",
     "pooled_fit_error",
     "settings_file",
+    "model_file",
 ]
 
 
