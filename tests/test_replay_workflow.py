@@ -51,6 +51,9 @@ def replay(tmp_path_factory):
     )
     config = tiny_config()
     config["engines"] = {k: config["engines"][k] for k in ENGINES}
+    # what this module checks is the dataset's replay: the lab scenario and the validation are cut to one job each
+    config["terrains"] = {"grass": config["terrains"]["grass"]}
+    config["validation"]["cases"] = {"rest_mu0.8": config["validation"]["cases"]["rest_mu0.8"]}
     config["real_data"]["segments"] = str(COMMITTED[0])  # the committed table itself, by absolute path
     config["real_data"]["classes"]["concrete"] = {"friction": 0.7, "source": "test: a made-up dataset"}
     config["real_data"]["datasets"][NAME] = {"label": "Husky yard", "imu_hz": 50, "commands_hz": 15}
