@@ -260,14 +260,16 @@ def _generated_gains(settings: dict, servo: float = 0.05) -> np.ndarray:
     return 0.95 - 0.4 * ratio * (1 + 0.1 * TURN_RATES) - servo * TURN_RATES * math.sqrt(1000.0 / kp)
 
 
-def _generated_fit(tmp_path, monkeypatch, truth: dict, noise: np.ndarray, servo: float, **over):
+def _generated_fit(tmp_path, monkeypatch, truth: dict, noise: np.ndarray, servo: float, gains=None, **over):
     """The MuJoCo profile's fit (rule simulator_calibrate's params for mujoco, its search space) with the engine's
-    replays replaced by :func:`_generated_gains`, its real gains those at ``truth`` plus ``noise``: the file."""
+    replays replaced by ``gains`` (:func:`_generated_gains` by default), its real gains those at ``truth`` plus
+    ``noise``: the file."""
+    gains = gains or _generated_gains
     params = _mujoco_params(class_nfev=0, **over)
     real = _generated_gains(truth, servo) + noise
 
     def simulate(settings: dict) -> np.ndarray:
-        return _generated_gains({**params["engine_settings"], **settings}, servo)
+        return gains({**params["engine_settings"], **settings}, servo)
 
     units = cal.Units(UNIT_RUNS, real, [f"u{k}" for k in range(len(real))], simulate, {"generated": True})
     monkeypatch.setattr(cal, "_units", lambda *args: units)
@@ -841,3 +843,31 @@ def test_the_held_out_steps_spread_is_the_warthog_s_step_to_step_repeatability(d
     verdict = Verdict.model_validate(study_config()["verdict"])
     spread = stage.drive_spread({"drive_steps": str(drive_steps)}, verdict, SIMILAR)
     assert spread == pytest.approx(0.0153, abs=5e-4)
+
+
+def test_a_fit_within_two_percent_of_a_step_in_the_engine_s_gain_is_no_calibration(tmp_path, monkeypatch):
+    """An engine whose gain steps to 0 below a ratio of 0.69 (as DART's friction box in gz-physics locks the
+    Husky's turn on one side of a ratio between 0.74 and 0.78), runs made at 0.70: from the tuned 1.0 the fit lands
+    1.4 % above the step. Stepped 2 % of its value down, the gains jump, so the fit is not kept: the calibrated
+    settings are the tuned ones, and the file says why and where it probed. The same runs on an engine without the
+    step keep the fit."""
+
+    def locking(settings: dict, servo: float) -> np.ndarray:
+        smooth = _generated_gains(settings, servo)
+        return np.where(settings["friction_ratio"] >= 0.69, smooth, 0.0)
+
+    truth = {"friction_ratio": 0.7, "wheel_servo_kp": 1000.0}
+    noise = np.zeros(len(TURN_RATES))
+    params, out = _generated_fit(tmp_path, monkeypatch, truth, noise, servo=0.0, gains=locking)
+    f = out["fit"]
+    assert f["optimum_error"] < f["train_error_tuned"]  # the optimum itself fits the runs
+    margin = f["step_margins"]["friction_ratio"]
+    assert margin["step"] is True and margin["probed"] == [
+        pytest.approx(0.7 * 0.98, abs=2e-3),
+        pytest.approx(0.714, abs=2e-3),
+    ]
+    assert f["kept"].startswith("the tuned settings: the optimum's friction_ratio lies within 2% of a step")
+    assert out["settings"]["friction_ratio"] == params["engine_settings"]["friction_ratio"]
+
+    _, smooth = _generated_fit(tmp_path, monkeypatch, truth, noise, servo=0.0)
+    assert smooth["fit"]["step_margins"]["friction_ratio"]["step"] is False and smooth["fit"]["kept"] == "the fit"

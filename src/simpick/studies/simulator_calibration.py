@@ -327,6 +327,12 @@ MIN_SENSITIVITY, RELATIVE_SINGULAR = 0.01, 0.01
 # a run's gain moving by more than this within one Jacobian step is a jump of the engine's (DART's friction box
 # locking, PyBullet's), not a slope: the linearised interval is then no measure of what the runs fix
 JUMP = 0.2
+# A fitted value this close to a step of the engine's response is no calibration: a setting whose gain jumps within
+# 2 % of it (DART's friction box in gz-physics locks the Husky's turn between a <mu2>/<mu> of 0.74 and 0.78) would
+# turn differently in the user's simulator for any rounding of the value, another step size or another version.
+# Each fitted value is stepped by STEP_MARGIN of itself both ways; a run's gain moving by more than STEP_GAIN there
+# (about seven times what the anisotropic Coulomb slope moves it, 0.7 per unit of ratio) is a step.
+STEP_MARGIN, STEP_GAIN = 0.02, 0.1
 Z95 = 1.959964  # a normal 95 % interval
 
 
@@ -685,6 +691,35 @@ def _sysid_intervals(active: list[Axis], u: np.ndarray, J: np.ndarray, r: np.nda
     return out, source + "; u +- the half-width in each setting's units, clipped to the bounds"
 
 
+def step_margins(units: Units, base: dict, settings: dict, gains: np.ndarray, axes: list[Axis], fitted) -> dict:
+    """Per fitted setting, the units' gains with it STEP_MARGIN of its value lower and higher (within its bounds),
+    the others at the optimum ``settings``: the largest change of a unit's gain from the optimum's ``gains`` and
+    whether that is a step (more than STEP_GAIN): two engine evaluations a setting."""
+    out = {}
+    for a in axes:
+        if a.name not in fitted:
+            continue
+        x = float(settings[a.name])
+        probes = sorted(
+            {min(max(x * (1 - STEP_MARGIN), a.low), a.high), min(max(x * (1 + STEP_MARGIN), a.low), a.high)}
+        )
+        moved = []
+        for value in probes:
+            if value == x:
+                continue
+            at = np.asarray(units.simulate({**base, **settings, a.name: value}), float)
+            both = np.isfinite(at) & np.isfinite(gains)
+            # a run that fails on one side of the value and not the other is a step too
+            moved.append(float(np.max(np.abs(at[both] - gains[both]))) if both.all() else math.inf)
+        largest = max(moved) if moved else 0.0
+        out[a.name] = {
+            "probed": [_r(v) for v in probes],
+            "largest_gain_change": _r(largest) if math.isfinite(largest) else "a run failed",
+            "step": bool(largest > STEP_GAIN),
+        }
+    return out
+
+
 def segment_units(p: CalibrateParams, inputs: dict, runs: list[str], classes: list[str]) -> Units:
     """The turning segments of ``runs`` in ``classes`` (the committed table), each replayed as the calibrated
     profile's segments simulate job replays it (simpick.simulate.real.prepare_segment with the job's params, the
@@ -807,6 +842,9 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
         tuned_gains = fit["start_gains"]
     tuned_error = units.error(tuned_gains)
     improved = math.isfinite(fit["error"]) and (not math.isfinite(tuned_error) or fit["error"] < tuned_error)
+    steps = step_margins(units, fixed, fit["settings"], fit["gains"], axes, fit["fitted"]) if improved else {}
+    near_step = sorted(k for k, m in steps.items() if m["step"])
+    improved = improved and not near_step
     kept = {k: _r(v) for k, v in fit["settings"].items()} if improved else {k: _r(v) for k, v in tuned.items()}
     out["settings"] = {**fixed, **kept} if improved else kept
     ratio = float(kept["friction_ratio"])
@@ -846,9 +884,14 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
             "kept": "the fit"
             if improved
             else (
-                "the tuned settings: the optimum's training error "
+                f"the tuned settings: the optimum's {', '.join(near_step)} lies within {STEP_MARGIN:.0%} of a step in "
+                "the engine's response (a run's gain moves by more than "
+                f"{STEP_GAIN} there): not a calibration"
+                if near_step
+                else "the tuned settings: the optimum's training error "
                 f"{_r(fit['error'])} is not below the tuned profile's {_r(tuned_error)}"
             ),
+            "step_margins": steps,
             "parameters": fit["parameters"],
             "residual_sd": _r(fit["residual_sd"]),
             "intervals": fit["intervals_from"],
@@ -933,6 +976,12 @@ def _class_fits(p, inputs, robot, train: pd.DataFrame, test: pd.DataFrame, poole
             pooled_gains = fit["start_gains"]
             pooled_error = units.error(pooled_gains)
             better = math.isfinite(fit["error"]) and fit["error"] < pooled_error
+            steps = (
+                step_margins(units, others, fit["settings"], fit["gains"], [ratio_axis], fit["fitted"])
+                if better
+                else {}
+            )
+            better = better and not any(m["step"] for m in steps.values())
             ratio = own_ratio if better else pooled_ratio
             at = fit["gains"] if better else pooled_gains
             engine_gain = float(np.nanmean(at)) if np.isfinite(at).any() else math.nan
@@ -951,6 +1000,7 @@ def _class_fits(p, inputs, robot, train: pd.DataFrame, test: pd.DataFrame, poole
                     "improves": bool(better and units.error(at) + p.tolerance < pooled_error),
                     "reached": bool(math.isfinite(engine_gain) and abs(engine_gain - gain) <= p.tolerance),
                     "parameters": fit["parameters"],
+                    "step_margins": steps,
                     "cases": units.describe,
                     "trials": [[_r(s["friction_ratio"]), _r(float(np.nanmean(g)))] for s, g in fit["evaluations"]],
                 }
