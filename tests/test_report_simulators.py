@@ -186,12 +186,15 @@ def test_the_first_page_names_the_simulator_its_profile_and_its_settings_file(re
     # the simulators by their pick's held-out error; the one that did not run last, with why
     assert list(rows) == ["gazebo_classic", "mujoco", "webots", "isaac_sim", "drake"]
     assert 'data-best="calibrated"' in rows["gazebo_classic"] and "its own mechanics: passes 20/20" in rows["mujoco"]
-    assert (
-        'data-best="tuned"' in rows["webots"]
-        and "✗ its own mechanics: passes 17/20; breaks mechanics its tuned profile keeps" in rows["webots"]
-    )
+    # a cell gives the count of the mechanics a profile breaks, not the cases nor the reasons (the simulators'
+    # section does): the first page holds the whole answer
+    assert 'data-best="tuned"' in rows["webots"] and "✗ its own mechanics: passes 17/20</span>" in rows["webots"]
+    assert "breaks mechanics its tuned profile keeps" not in rows["webots"]
     assert "webots-tuned.wbt" in rows["webots"] and "webots-calibrated" not in rows["webots"].split("The pick")[-1]
-    assert "turning not settable: PhysX materials are isotropic" in rows["isaac_sim"]
+    assert (
+        "turning not settable</span>" in rows["isaac_sim"] and "PhysX materials are isotropic" not in rows["isaac_sim"]
+    )
+    assert "<code>" not in "".join(rows.values())  # no settings in the cells: the lead and the files name them
     assert "6.1× the spread" in rows["gazebo_classic"]  # as shipped: 0.300 / 0.045
     assert "not run: pydrake is not installed" in rows["drake"]
     sentences = html.unescape(re.search(r'id="simulators-sentences">(.*?)</ul>', text, re.S).group(1))
@@ -481,3 +484,24 @@ def test_the_first_page_names_at_most_three_broken_cases_of_a_calibrated_profile
     assert not passes and words.endswith("gain_case_0, gain_case_1, gain_case_2 and 10 more")
     passes, words = _mechanics({"variant": "calibrated", "mechanics_own": own.replace(", gain_case_3", "", 1)[:90]})
     assert "more" not in words
+
+
+def test_the_first_page_links_a_picked_profile_s_model_that_opens_as_it_is():
+    """Where rule simulator_models wrote a model of the profile (the table's model_file), the first page's file
+    column links it beside the settings file; a profile without one names its settings file alone."""
+    from simpick.score.profiles import simulator_answer
+
+    table = table_rows()
+    table = table.loc[:, ~table.columns.duplicated()]  # the held-out columns are among the table's own now
+    table["model_file"] = ""
+    table.loc[(table.simulator == "mujoco") & (table.variant == "calibrated"), "model_file"] = (
+        "results/simulators/models/mujoco-calibrated.xml"
+    )
+    answer = simulator_answer(table, spread=SPREAD)
+    by = {s["simulator"]: s for s in answer["simulators"]}
+    mujoco = {p["variant"]: p for p in by["mujoco"]["profiles"]}
+    assert mujoco["calibrated"]["model"] == {
+        "name": "mujoco-calibrated.xml",
+        "href": "../simulators/models/mujoco-calibrated.xml",
+    }
+    assert mujoco["tuned"]["model"] is None and by["webots"]["profiles"][0]["model"] is None

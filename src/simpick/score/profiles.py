@@ -84,6 +84,14 @@ def _files(folder: Path | None, link: str, simulator: str, variant: str, stem: s
     return []
 
 
+def _model(path: str, link: str) -> dict[str, str] | None:
+    """The profile's model file as the report links it: beside the settings folder's link (``link``)."""
+    if not path:
+        return None
+    name = Path(path).name
+    return {"name": name, "href": f"{link.rsplit('/', 1)[0]}/models/{name}"}
+
+
 def simulator_answer(
     table: pd.DataFrame | None,
     settings: str | Path | None = None,
@@ -158,6 +166,8 @@ def simulator_answer(
                 "heading": _num(r.get("heldout_heading_error" if heldout else "heading_error")),
                 "passes": passes,
                 "mechanics": mechanics,
+                # the first page's words: the count alone (the cases it breaks are in the simulators' section)
+                "mechanics_short": mechanics.split(";")[0],
                 "settings": settings_words(r.get("calibrated_settings")),
                 "settable": settable,
                 # a simulator whose settings cannot move the turning: said of its calibrated profile
@@ -167,6 +177,8 @@ def simulator_answer(
                     else ""
                 ),
                 "files": _files(folder, link, str(r["simulator"]), str(r["variant"]), _text(r.get("settings_file"))),
+                # the model that opens as it is in the simulator, where simpick writes one (rule simulator_models)
+                "model": _model(_text(r.get("model_file")), link),
             }
         )
     simulators = []

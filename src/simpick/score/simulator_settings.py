@@ -210,8 +210,11 @@ def calibrated_settings(engine: str, settings: Mapping[str, Any], fit: dict) -> 
     model = get_engine(engine).settings_model
     pooled = model.model_validate({**settings, **(fit.get("settings") or {})}).model_dump(mode="json")
     out = {"": pooled}
+    # a class's fit ran with the settings its search space requires beside the ratio (fit.fixed, Gazebo's wheels'
+    # <mu2> raised to their <mu>), also where the pooled fit was not kept and the pooled file has none of them
+    fixed = dict((fit.get("fit") or {}).get("fixed") or {})
     for cls, entry in class_files(fit).items():
-        own = model.model_validate({**pooled, "friction_ratio": entry["friction_ratio"]})
+        own = model.model_validate({**pooled, **fixed, "friction_ratio": entry["friction_ratio"]})
         out[f"-{cls}"] = own.model_dump(mode="json")
     return out
 
