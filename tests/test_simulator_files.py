@@ -629,3 +629,16 @@ def test_the_drake_header_names_drake_s_own_keys_and_values(catalog, variant):
     if settings["contact_model"] == "hydroelastic":
         assert "contact_model = 'hydroelastic_with_fallback'" in said
     assert f"discrete_contact_approximation = '{settings['discrete_approximation']}'" in said
+
+
+def test_the_webots_file_states_the_ground_shapes_its_anisotropy_needs(catalog):
+    """Webots takes the friction direction from the geometry in contact, and only a Box, Plane or Cylinder gives
+    one: an anisotropic file says so before its values, an isotropic one has nothing to assume."""
+    entries = catalog.entries("webots", "tuned")
+    settings = _settings(catalog, "webots", "tuned", friction_ratio=0.7, friction_direction="wheel")
+    text = formats.write_profile_file("webots", "ode", settings, ["t"], WHEELS, entries)["wbt"]
+    header = [line for line in text.splitlines() if line.startswith("#")]
+    assert header[1].startswith("# ASSUMES the ground the wheels touch is a Box, a Plane or a Cylinder")
+    assert "ElevationGrid or a Mesh" in header[1] and "0.56, across the wheel" in header[1]
+    settings = _settings(catalog, "webots", "tuned", friction_ratio=1.0)
+    assert "ASSUMES" not in formats.write_profile_file("webots", "ode", settings, ["t"], WHEELS, entries)["wbt"]

@@ -74,6 +74,16 @@ def write_webots(settings: Mapping, entries: Mapping | None, title: list[str], g
         )
         lines.append(f"      {field} {text}")
     lines += ["    }", "  ]", "}"]
+    if ratio != 1.0:
+        # where the anisotropy holds, in the header's first lines: Webots takes a contact's first friction direction
+        # from the geometry in contact (WbSimulationCluster.cpp), and only a Box, a Plane or a Cylinder gives one
+        notes.insert(
+            0,
+            "ASSUMES the ground the wheels touch is a Box, a Plane or a Cylinder: on an ElevationGrid or a Mesh "
+            f"Webots finds no friction direction and applies the first value ({_num(ratio * ground_mu)}, across the "
+            "wheel) in every direction, so the wheels turn as with isotropic friction of that value "
+            f"({WEBOTS_FRICTION_SOURCE})",
+        )
     return {"wbt": _header("#", [*title, *notes]) + "\n".join(lines) + "\n"}
 
 
