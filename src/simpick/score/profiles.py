@@ -167,7 +167,7 @@ def simulator_answer(
                 "passes": passes,
                 "mechanics": mechanics,
                 # the first page's words: the count alone (the cases it breaks are in the simulators' section)
-                "mechanics_short": mechanics.split(";")[0],
+                "mechanics_short": mechanics.split(";")[0].replace("its own mechanics: passes", "own mechanics"),
                 "settings": settings_words(r.get("calibrated_settings")),
                 "settable": settable,
                 # a simulator whose settings cannot move the turning: said of its calibrated profile
