@@ -595,19 +595,19 @@ def test_a_fitted_friction_ratio_reaches_the_gazebo_wheels_as_the_contact_s_coef
 def test_a_fitted_value_is_stated_as_written_and_the_catalog_s_beside_it(catalog):
     """A calibrated profile's value differs from the catalog's: the header gives the written one (the catalog's
     beside it as the start), never the catalog's alone; Gazebo's wheels' mu/mu2 are stated as written."""
+    from simpick.engines.catalog import Setting
+
     fitted = _settings(catalog, "mujoco", "tuned", friction_ratio=0.7)
-    entries = dict(catalog.entries("mujoco", "tuned"))
+    start = Setting(value=1.0, exposed_as="the pairs' friction", source="the tuned profile")
+    entries = {**catalog.entries("mujoco", "tuned"), "friction_ratio": ("calibrated", start)}
     text = formats.write_profile_file("mjcf", "mujoco", fitted, ["t"], WHEELS, entries)["xml"]
-    if "friction_ratio" in entries:
-        assert "friction_ratio = 0.7 (written;" in text
-    kp = fitted["solver_iterations"]
-    assert f"solver_iterations = {kp} (tuned)" in text  # an unfitted value: the catalog's, as written
+    assert "friction_ratio = 0.7 (written; the calibrated profile's catalog value is 1.0)" in text
+    iterations = fitted["solver_iterations"]
+    assert f"solver_iterations = {iterations} (tuned)" in text  # an unfitted value: the catalog's, as written
 
     sim = catalog.simulators["gazebo"]
     # as the calibrated file is written (simpick.score.simulator_settings): the fit's ratio with what it requires
     settings = _settings(catalog, "gazebo", "tuned", friction_ratio=0.7, wheel_mu2=1.0)
-    from simpick.engines.catalog import Setting
-
     fitted_entry = Setting(value=1.0, exposed_as="the wheels' <mu2>", source="fitted: a test")
     entries = {**catalog.entries("gazebo", "calibrated"), "wheel_mu2": ("calibrated", fitted_entry)}
     texts = formats.write_profile_file("sdf", sim.engine, settings, ["t"], WHEELS, entries)
