@@ -871,3 +871,42 @@ def test_a_fit_within_two_percent_of_a_step_in_the_engine_s_gain_is_no_calibrati
 
     _, smooth = _generated_fit(tmp_path, monkeypatch, truth, noise, servo=0.0)
     assert smooth["fit"]["step_margins"]["friction_ratio"]["step"] is False and smooth["fit"]["kept"] == "the fit"
+
+
+def test_the_contact_s_and_the_actuator_s_shares_of_a_fit_are_measured_apart():
+    """Without an engine: a gain falling with the friction ratio (contact) and with a softer servo (actuator). Each
+    part alone at its fitted value, the other at its tuned one, gives its own training error; the contact, whose
+    effect is ten times the servo's here, takes most of the fall. A fit with no actuator setting says so."""
+    space = cal.SearchSpace.model_validate(
+        {
+            "searchable": True,
+            "settings": {
+                "friction_ratio": {"exposed_as": "r", "bounds": [0.3, 1.8], "source": "a.c:1"},
+                "wheel_servo_kp": {
+                    "exposed_as": "k",
+                    "bounds": [100.0, 5000.0],
+                    "source": "a.c:2",
+                    "log": True,
+                    "part": "actuator",
+                },
+            },
+        }
+    )
+    runs = ["a/1", "b/1", "c/1"]
+    rates = np.array([0.2, 0.5, 0.9])
+
+    def gains(settings):
+        return 0.95 - 0.4 * settings["friction_ratio"] - 0.04 * rates * math.sqrt(1000.0 / settings["wheel_servo_kp"])
+
+    tuned = {"friction_ratio": 1.0, "wheel_servo_kp": 1000.0}
+    fitted = {"friction_ratio": 0.62, "wheel_servo_kp": 4000.0}
+    units = cal.Units(runs, gains(fitted), runs, lambda s: gains({**tuned, **s}), {})
+    tuned_error, error = units.error(gains(tuned)), units.error(gains(fitted))
+    parts = cal.part_shares(units, space, {}, tuned, fitted, tuned_error, error, True)
+    assert parts["contact"]["settings"] == ["friction_ratio"] and parts["actuator"]["settings"] == ["wheel_servo_kp"]
+    contact_alone = units.error(gains({**tuned, "friction_ratio": 0.62}))
+    assert parts["contact"]["train_error"] == pytest.approx(contact_alone, abs=1e-4)
+    assert 0.8 < parts["contact"]["share"] < 1.0 and 0.0 < parts["actuator"]["share"] < 0.2, parts
+    alone = cal.part_shares(units, space, {}, tuned, {"friction_ratio": 0.62}, tuned_error, error, True)
+    assert alone["contact"]["share"] == 1.0 and alone["actuator"]["settings"] == []
+    assert "no actuator setting" in alone["actuator"]["why_none"]

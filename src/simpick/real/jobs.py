@@ -57,7 +57,7 @@ def segments_job(logs: list[str], output_csv: str, output_provenance: str, param
         max_duration=rules.max_duration,
         settle=rules.settle,
         min_turn=rules.min_turn,
-        per_kind=rules.per_kind,
+        per_kind=rules.per_kind if isinstance(rules.per_kind, int) else rules.per_kind.model_dump(),
         track=p.track,
         source=p.source,
     )

@@ -10,6 +10,7 @@ commit, so the default study has real-data accuracy on a machine with no network
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -117,17 +118,19 @@ def _segment(
     return row
 
 
-def select(rows: list[dict], per_kind: int) -> pd.DataFrame:
-    """The ``per_kind`` longest straight and turning segments of each terrain class."""
+def select(rows: list[dict], per_kind: int | Mapping[str, int]) -> pd.DataFrame:
+    """The ``per_kind`` longest straight and turning segments of each terrain class: one count for both kinds, or
+    a count per kind (``{"straight": N, "turning": M}``)."""
     frame = pd.DataFrame(rows)
     if frame.empty:
         return pd.DataFrame(columns=COLUMNS)
+    counts = per_kind if isinstance(per_kind, Mapping) else {"straight": per_kind, "turning": per_kind}
+    frame = frame.sort_values(
+        ["terrain_class", "kind", "duration", "run", "t_start"], ascending=[True, True, False, True, True]
+    )
+    rank = frame.groupby(["terrain_class", "kind"], sort=True).cumcount()
     frame = (
-        frame.sort_values(
-            ["terrain_class", "kind", "duration", "run", "t_start"], ascending=[True, True, False, True, True]
-        )
-        .groupby(["terrain_class", "kind"], sort=True)
-        .head(per_kind)
+        frame[rank < frame.kind.map(counts).fillna(0)]
         .sort_values(["terrain_class", "kind", "run", "t_start"])
         .reset_index(drop=True)
     )
@@ -149,7 +152,7 @@ def derive(
     max_duration: float,
     settle: float,
     min_turn: float,
-    per_kind: int,
+    per_kind: int | Mapping[str, int],
     track: float,
     source: str = BOREALTC_SOURCE,
     **read_options,
@@ -179,7 +182,7 @@ def derive_from_logs(
     max_duration: float,
     settle: float,
     min_turn: float,
-    per_kind: int,
+    per_kind: int | Mapping[str, int],
     track: float,
     source: str,
 ) -> tuple[pd.DataFrame, dict]:
@@ -211,7 +214,7 @@ def derive_from_logs(
             "max_duration_s": max_duration,
             "settle_s": settle,
             "min_turn_rad_s": min_turn,
-            "per_kind": per_kind,
+            "per_kind": dict(per_kind) if isinstance(per_kind, Mapping) else per_kind,
             "track_m": track,
         },
         "segments_found": len(rows),

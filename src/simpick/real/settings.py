@@ -46,14 +46,22 @@ class SteadyRules(JobParams):
     min_turn: Positive = Field(description="rad/s of kinematic yaw rate above which a segment is turning")
 
 
+class KindCounts(JobParams):
+    """A count per kind of segment."""
+
+    straight: Annotated[int, Field(ge=0)] = Field(description="straight segments kept per terrain class")
+    turning: Annotated[int, Field(ge=0)] = Field(description="turning segments kept per terrain class")
+
+
 class SegmentRules(SteadyRules):
     """How constant-command segments are cut from a real log."""
 
     min_duration: Positive = Field(description="s of constant command after settling, at least")
     max_duration: Positive = Field(description="s compared at most (bounds the study's simulation time)")
     settle: NonNegative = Field(description="s driven before the compared window, to reach the new speed")
-    per_kind: Annotated[int, Field(ge=1)] = Field(
-        description="the longest straight and turning segments kept per terrain class"
+    per_kind: Annotated[int, Field(ge=1)] | KindCounts = Field(
+        description="the longest straight and turning segments kept per terrain class: one count for both kinds, "
+        "or a count per kind ({straight: N, turning: M})"
     )
 
 

@@ -10,6 +10,7 @@ from typing import Any
 
 import pandas as pd
 
+from simpick.score.profiles import _text
 from simpick.score.tree import read_tree
 
 OUTCOME_WORDS = {
@@ -117,6 +118,10 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
                     else ""
                 ),
                 "mechanics_own": str(r.get("mechanics_own") or "") if r["variant"] == "calibrated" and ran else "",
+                # the same error on the runs the calibration fitted on: a fit must fall below the tuned row's here
+                "train_error": _f(r.get("train_gain_error")),
+                "fitted": _text(r.get("fitted_parameters")) if r["variant"] == "calibrated" and ran else "",
+                "parts": _text(r.get("fit_parts")) if r["variant"] == "calibrated" and ran else "",
                 "settings": [f"../simulators/settings/{name}" for name in settings],
                 "model": _model_link(r.get("model_file")) if ran else "",
             }

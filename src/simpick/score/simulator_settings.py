@@ -109,7 +109,7 @@ def calibrated_header(sim, simulator: str, fit: dict, row) -> list[str]:
         f"{_num(f.get('real_gain'))}; held out: {_runs(fit.get('test_runs'))}",
     ]
     if fit.get("searchable"):
-        fitted = "; ".join(_parameter(k, e) for k, e in (f.get("parameters") or {}).items())
+        fitted = fitted_parameters(fit)
         ran = f.get("optimizer") or {}
         by = f" by {ran['name']} {ran.get('version', '')}".rstrip() if ran.get("name") else ""
         lines.append(
@@ -118,6 +118,8 @@ def calibrated_header(sim, simulator: str, fit: dict, row) -> list[str]:
             f"calibrated {_num(f.get('train_error'))}; kept {f.get('kept')}: "
             + ", ".join(f"{k} = {v}" for k, v in (fit.get("settings") or {}).items())
         )
+        if f.get("parts"):
+            lines.append(f"share of the training error's fall: {fit_parts(fit)}")
         lines += [f"as {sim.label} sets it: {text}" for text in (fit.get("exposed") or {}).values()]
     else:
         lines.append(f"no setting fitted: {fit.get('why_not')}; these are the tuned settings, the best it reaches")
@@ -131,6 +133,26 @@ def calibrated_header(sim, simulator: str, fit: dict, row) -> list[str]:
         )
     lines.append(REGENERATE)
     return [line.replace("--", "-") for line in lines]
+
+
+def fitted_parameters(fit: dict) -> str:
+    """Each setting the fit searched, as the table and the header give it (:func:`_parameter`), ``; ``-joined."""
+    return "; ".join(_parameter(k, e) for k, e in ((fit.get("fit") or {}).get("parameters") or {}).items())
+
+
+def fit_parts(fit: dict) -> str:
+    """The contact's and the actuator's share of what the fit gained on its training runs, in words (the fit's
+    ``parts``: simpick.studies.simulator_calibration.part_shares)."""
+    words = []
+    for part, e in ((fit.get("fit") or {}).get("parts") or {}).items():
+        if not e.get("settings"):
+            words.append(f"{part}: none searched")
+        elif e.get("share") is None:
+            words.append(f"{part}: {e.get('why_none', 'no share')}")
+        else:
+            alone = _num(e.get("train_error"))
+            words.append(f"{part} ({', '.join(e['settings'])}) {_num(e['share'])} (training error alone {alone})")
+    return "; ".join(words)
 
 
 def _parameter(name: str, entry: dict) -> str:

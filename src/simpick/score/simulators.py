@@ -26,7 +26,7 @@ from simpick.score.equivalence import outcomes_table
 from simpick.score.mechanics import mechanics_table
 from simpick.score.scoring import FACT_KEYS
 from simpick.score.settings import Statistics, Verdict
-from simpick.score.simulator_settings import class_files, read_fits
+from simpick.score.simulator_settings import class_files, fit_parts, fitted_parameters, read_fits
 from simpick.score.verdict import METRICS, NO_SPEED, per_run_values, read_per_test
 from simpick.tables import write_csv
 
@@ -72,6 +72,10 @@ TABLE_COLUMNS = [
     # was fitted on (its steady-turn cases misled it) from one that does not carry over
     "train_gain_error",
     "calibrated_settings",
+    # the calibrated row's fitted settings with their 95 % intervals (or why the runs cannot fix one), and the
+    # contact's and the actuator's share of what the fit gained on its training runs
+    "fitted_parameters",
+    "fit_parts",
     "turning_settable",
     "mechanics_own",
 ]
@@ -353,11 +357,19 @@ def _calibration_columns(fit: dict | None, variant: str, row: dict, summary, res
     """A row's calibrated_settings, turning_settable and mechanics_own: for the calibrated row, its validation
     against the mechanics of its own parameters (the yaw-gain cases against the Coulomb gain of its fitted ratio)
     and, where it fails a case its tuned profile passes, that it fits by breaking mechanics."""
-    out = {"calibrated_settings": "", "turning_settable": "", "mechanics_own": ""}
+    out = {
+        "calibrated_settings": "",
+        "fitted_parameters": "",
+        "fit_parts": "",
+        "turning_settable": "",
+        "mechanics_own": "",
+    }
     if fit is not None:
         out["turning_settable"] = "yes" if fit.get("searchable") else f"no: {fit.get('why_not') or 'not searched'}"
         if variant == "calibrated":
             out["calibrated_settings"] = "; ".join(f"{k}={v}" for k, v in (fit.get("settings") or {}).items())
+            out["fitted_parameters"] = fitted_parameters(fit)
+            out["fit_parts"] = fit_parts(fit)
     model = row.get("model")
     if not model:
         return out

@@ -65,6 +65,12 @@ class SearchSetting(_Strict):
     bounds: tuple[float, float] = Field(description="[low, high] of the adapter's value")
     source: str = Field(description="where the simulator reads it: repository path:line, or a manual page")
     log: bool = Field(False, description="fitted over the logarithm of its value (a setting spanning decades)")
+    part: Literal["contact", "actuator"] = Field(
+        "contact",
+        description="what it belongs to: the wheel-ground contact (friction, slip, compliance) or the wheel "
+        "actuator (a servo's gain, a drive's stiffness or damping, an effort limit); the fit reports each part's "
+        "share of what it gained",
+    )
 
     @model_validator(mode="after")
     def _ordered(self):
@@ -918,10 +924,43 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
             "bounds": list(bounds),
         }
     )
+    out["fit"]["parts"] = part_shares(units, space, fixed, start, fit["settings"], tuned_error, fit["error"], improved)
     test_turns = real_turns(inputs, test, every)
     pooled = {**fixed, **fit["settings"]} if improved else {}
     out["per_class"] = _class_fits(p, inputs, robot, trained, test_turns, pooled, space, fixed)
     _write(out, output)
+    return out
+
+
+def part_shares(
+    units: Units, space, fixed: dict, start: dict, fitted: dict, tuned_error: float, error: float, improved: bool
+) -> dict:
+    """The contact's and the actuator's share of the fit (:attr:`SearchSetting.part`): per part with a fitted
+    setting, the training error with that part's settings at the fit and the other part's at their start (the
+    tuned values), and its share of the fit's gain, (tuned error - that error) / (tuned error - the fit's error).
+    The shares need not add to 1: what one part gains can depend on the other's value. A part alone in the fit
+    has the whole fit's error and share 1, with no evaluation of its own."""
+    parts: dict[str, list[str]] = {}
+    for name in fitted:
+        parts.setdefault(space.settings[name].part, []).append(name)
+    gained = tuned_error - error
+    out: dict[str, Any] = {}
+    for part, names in sorted(parts.items()):
+        entry: dict[str, Any] = {"settings": names}
+        if not improved:
+            entry["share"] = None
+            entry["why_none"] = "the fit was not kept"
+        elif len(parts) == 1:
+            entry.update({"train_error": _r(error), "share": 1.0})
+        else:
+            alone = {k: (fitted[k] if k in names else start[k]) for k in fitted}
+            part_error = units.error(np.asarray(units.simulate({**fixed, **alone}), float))
+            share = (tuned_error - part_error) / gained if gained > 0 else math.nan
+            entry.update({"train_error": _r(part_error), "share": _r(share)})
+        out[part] = entry
+    for part in ("contact", "actuator"):
+        if part not in out:
+            out[part] = {"settings": [], "share": 0.0, "why_none": f"no {part} setting in the search space"}
     return out
 
 
