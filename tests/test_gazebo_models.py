@@ -180,3 +180,14 @@ def test_the_plan_names_the_gazebo_models_and_the_class_table_links_one(plan):
     catalog = load_catalog(ROOT / "resources/simulators/simulators.yaml")
     row = per_class_table({"gazebo": FIT}, catalog, plan.model_files()).iloc[0]
     assert row.model_file == "results/simulators/models/gazebo-calibrated-grass.sdf"
+
+
+def test_without_the_program_the_plan_writes_no_gazebo_model(monkeypatch, tmp_path):
+    """A study whose gzphysics_run is not built leaves Gazebo's rows out (tests/test_gzphysics.py), and with them
+    its models: rule simulator_models is not asked for a world it cannot measure."""
+    from simpick.engines import gzphysics_engine
+
+    monkeypatch.setattr(gzphysics_engine, "PROGRAM", tmp_path / "gzphysics_run")
+    config = study_config()
+    plan = Plan(config, Study.model_validate(config), basedir=str(ROOT))
+    assert plan.model_profiles == ["mujoco-shipped", "mujoco-tuned", "mujoco-calibrated"]
