@@ -160,8 +160,14 @@ def _name_the_groups(items) -> None:
 def pytest_collection_modifyitems(config, items):
     for item in items:
         params = item.callspec.params.values() if hasattr(item, "callspec") else ()
-        # test_gzphysics.py: DART under Gazebo's settings, in a program make test builds and make test-fast does not
-        slow_file = item.path.name in ("test_dart_engine.py", "test_new_engines.py", "test_gzphysics.py")
+        # test_gzphysics.py, test_gazebo_models.py: DART under Gazebo's settings, in a program make test builds and
+        # make test-fast does not
+        slow_file = item.path.name in (
+            "test_dart_engine.py",
+            "test_new_engines.py",
+            "test_gzphysics.py",
+            "test_gazebo_models.py",
+        )
         if slow_file or any(isinstance(v, str) and v in SLOW_ENGINES for v in params):
             item.add_marker(pytest.mark.slow)
         # make test runs the suite on two pytest-xdist workers with --dist loadgroup: the tests of a module that

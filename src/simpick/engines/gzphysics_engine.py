@@ -212,6 +212,12 @@ def converted_model(urdf: str, mtime_ns: int) -> str:
 
 def world_sdf(scenario: Scenario, settings: GzPhysicsSettings) -> str:
     """The scenario as one SDF world: physics, the terrain's static model and a model per robot."""
+    return ET.tostring(world_tree(scenario, settings), encoding="unicode")
+
+
+def world_tree(scenario: Scenario, settings: GzPhysicsSettings) -> ET.Element:
+    """:func:`world_sdf`'s ``<sdf>`` element, which the model a user opens (simpick.engines.simulator_models.gazebo)
+    writes with what drives it added and nothing else changed."""
     robot, terrain = scenario.robot, scenario.terrain
     model_xml = ET.fromstring(converted_model(str(robot.urdf), robot.urdf.stat().st_mtime_ns)).find("model")
     if model_xml is None:
@@ -286,7 +292,7 @@ def world_sdf(scenario: Scenario, settings: GzPhysicsSettings) -> str:
         pose.text = " ".join(repr(float(v)) for v in (x, y, robot.base_height + SPAWN_CLEARANCE, 0.0, 0.0, yaw))
         model.insert(0, pose)
         world.append(model)
-    return ET.tostring(root, encoding="unicode")
+    return root
 
 
 class GzPhysicsEngine(Adapter):

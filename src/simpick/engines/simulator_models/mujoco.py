@@ -14,12 +14,11 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 
-from simpick.engines.base import Scenario
 from simpick.engines.mujoco_engine import SENSORS, SPAWN_CLEARANCE, MujocoEngine, MujocoSettings
 from simpick.engines.simulator_files.common import _num, xml_comment
+from simpick.engines.simulator_models.common import TurningClaim, flat_scenario
 from simpick.inputs.robot.settings import RobotParams
 
 # the names the file gives the recorded robot's sensors (the adapter leaves them unnamed), in SENSORS' order
@@ -33,34 +32,6 @@ SENSOR_NAMES = {
 }
 # attributes through which an MJCF names another file (an asset's, or the folders they are read from)
 FILE_ATTRIBUTES = ("file", "meshdir", "texturedir", "assetdir")
-
-
-@dataclass(frozen=True)
-class TurningClaim:
-    """A yaw-rate gain the model claims: ``case`` (a validation case's name) run from the file's pose at rest
-    with the command (``v`` m/s, ``w`` rad/s) held for ``duration`` s gave ``gain``: the mean yaw rate about the
-    base's own z axis over the second half of the run, over ``w``."""
-
-    case: str
-    v: float
-    w: float
-    duration: float
-    gain: float
-
-
-def flat_scenario(robot, settings: Mapping, ground_mu: float, timestep: float, max_wheel_torque: float) -> Scenario:
-    """One robot at rest at the origin, heading 0, on a flat floor of friction ``ground_mu`` and no terrain shape:
-    the world of the validation's flat cases (simpick.studies.validation.cases)."""
-    terrain = {"schema": "simpick.inputs.terrain/1", "name": "flat", "boxes": [], "spheres": [], "friction": ground_mu}
-    return Scenario(
-        robot=robot,
-        terrain=terrain,
-        ground_friction=ground_mu,
-        timestep=timestep,
-        max_wheel_torque=max_wheel_torque,
-        starts=((0.0, 0.0, 0.0),),
-        settings=dict(settings),
-    )
 
 
 def write_mujoco_model(
