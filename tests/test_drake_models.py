@@ -180,3 +180,31 @@ def test_every_drake_profile_gets_a_model_named_by_its_urdf():
     files = plan.model_files()
     assert files["drake-tuned"] == "results/simulators/models/drake-tuned.urdf"
     assert files["drake-shipped"] == "results/simulators/models/drake-shipped.urdf"
+
+
+def test_a_suspended_robot_s_model_turns_as_the_adapter_turns_it(tmp_path):
+    """The Warthog's rockers: their limits and damping on the joints, the coupling as the <mimic> Drake turns into
+    a coupler constraint, their Coulomb friction as the still actuators (PD towards speed 0, effort limit the
+    friction). Loaded by Drake alone it spins at the gain simpick's validation measures on the adapter (measured:
+    0.5768 for 1 s at both)."""
+    from simpick.engines.simulator_models import write_drake_model
+    from simpick.inputs.robot.settings import RobotParams
+    from simpick.studies.validation.cases import Setup, run_case
+    from simpick.studies.validation.settings import ValidationCase
+
+    config = study_config()
+    plan = Plan(config, Study.model_validate(config), basedir=str(ROOT))
+    urdf = str(ROOT / "resources/robot/warthog.urdf")
+    robot = RobotParams.model_validate({"track": 1.1, "max_wheel_torque": 500.0})
+    settings = plan.profile_settings["drake-tuned"]
+    for tail, text in write_drake_model(urdf, settings, 0.8, ["a test"], robot=robot, timestep=0.001).items():
+        (tmp_path / f"drake.{tail}").write_text(text)
+    _, plant, _, _, data = load(tmp_path, "drake")
+    assert data["drive"]["still"] == ["left_diff_unit_jnt_friction", "right_diff_unit_jnt_friction"]
+    assert plant.num_constraints() == 1  # the rockers' coupling
+    setup = Setup(
+        engine="drake", robot=robot.spec(urdf), timestep=0.001, max_wheel_torque=500.0, track=1.1, settings=settings
+    )
+    case = ValidationCase.model_validate({"kind": "yaw_gain", "v": 0.0, "w": 0.5, "mu": 0.8, "duration": DURATION})
+    claimed = run_case(setup, "spin", case)["checks"][0]["engine_value"]
+    assert abs(loader_gain(tmp_path, "drake", 0.0, 0.5, DURATION) - claimed) < 0.01
