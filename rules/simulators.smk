@@ -63,7 +63,7 @@ rule simulator_settings:
 
 
 rule simulator_models:
-    """Each profile of a simulator whose engine writes one (MuJoCo, Gazebo) as a model that opens as it is
+    """Each profile of a simulator whose engine writes one (MuJoCo, Gazebo, Drake) as a model that opens as it is
     (simpick.studies.simulator_models): the robot on flat ground with its actuators, contacts and options, and the
     yaw-rate gains the validation's own cases measure on it. It reads no table: no weight or verdict reaches it."""
     input:

@@ -92,7 +92,7 @@ def _models(profile: str, entry: ModelProfile, fit: dict | None, robot: str) -> 
         fitted = f", fitted for {cls}," if cls else ""
         return (
             f"simpick model: {robot} in {entry.label}, {variant} profile{fitted} on flat ground ({stem}): robot, "
-            "actuators, contacts, ground and options in one file"
+            "actuators, contacts, ground and options"
         )
 
     if variant != "calibrated":
@@ -118,7 +118,8 @@ def _models(profile: str, entry: ModelProfile, fit: dict | None, robot: str) -> 
 
 def simulator_models_job(inputs: Mapping[str, Any], params: dict, output: str) -> dict[str, list[TurningClaim]]:
     """results/simulators/models/: each profile's model (:class:`SimulatorModelsParams`), named by the profile (a
-    calibrated terrain class's: ``<profile>-<class>``) with its format's suffix; returns each model's claims."""
+    calibrated terrain class's: ``<profile>-<class>``) with its format's suffixes (a model of several files: one
+    per suffix); returns each model's claims."""
     p = SimulatorModelsParams.model_validate(params)
     urdf = inputs["urdf"]
     robot = p.robot.spec(urdf)
@@ -128,7 +129,7 @@ def simulator_models_job(inputs: Mapping[str, Any], params: dict, output: str) -
     written = {}
     for profile, entry in p.profiles.items():
         engine = engine_of(profile)
-        suffix, write = WRITERS[engine]
+        _, write = WRITERS[engine]
         for stem, settings, header in _models(profile, entry, fits.get(split(profile)[0]), robot.name):
             setup = Setup(
                 engine=engine,
@@ -139,7 +140,7 @@ def simulator_models_job(inputs: Mapping[str, Any], params: dict, output: str) -
                 settings=settings,
             )
             claims = turning_claims(setup, p.cases)
-            text = write(
+            files = write(
                 urdf,
                 settings,
                 p.ground_mu,
@@ -148,8 +149,10 @@ def simulator_models_job(inputs: Mapping[str, Any], params: dict, output: str) -
                 timestep=p.physics.timestep,
                 claims=claims,
                 name=f"{robot.name} ({stem})",
+                stem=stem,
             )
-            (out / f"{stem}.{suffix}").write_text(text)
+            for tail, text in files.items():  # the file named <stem>.<suffix> (the plan's model_files) opens it
+                (out / f"{stem}.{tail}").write_text(text)
             written[stem] = claims
             print(f"simpick: {stem}: " + ", ".join(f"{c.case} {c.gain:.4f}" for c in claims), file=sys.stderr)
     return written
