@@ -460,7 +460,7 @@ def _config_case(name: str) -> dict:
 
 @pytest.mark.parametrize("heading", [0.0, 30.0, 45.0, 90.0, 135.0, -60.0])
 def test_an_isotropic_slope_slide_is_the_closed_form_at_every_heading(heading):
-    from simpick.coulomb import hold_angle, slope_holds, slope_slide
+    from simpick.slope import hold_angle, slope_holds, slope_slide
 
     mu, down = 0.5, _downhill(heading)
     angle = 1.2 * math.atan(mu)
@@ -481,7 +481,7 @@ def test_an_isotropic_slope_slide_is_the_closed_form_at_every_heading(heading):
 @pytest.mark.parametrize("ratio", [0.698, 1.5])
 @pytest.mark.parametrize("heading,across", [(0.0, False), (180.0, False), (90.0, True), (-90.0, True)])
 def test_a_slope_along_an_axis_of_the_ellipse_is_the_closed_form_with_that_axis_coefficient(heading, across, ratio):
-    from simpick.coulomb import hold_angle, slope_slide
+    from simpick.slope import hold_angle, slope_slide
 
     mu = 0.5
     own = ratio * mu if across else mu  # mu_t across the wheels, mu_l along them
@@ -496,7 +496,7 @@ def test_a_slope_along_an_axis_of_the_ellipse_is_the_closed_form_with_that_axis_
 def test_the_diagonal_slope_slides_faster_on_wheels_that_slip_sideways_and_drifts_across_them():
     from scipy.optimize import minimize
 
-    from simpick.coulomb import slope_slide
+    from simpick.slope import slope_slide
 
     case = _config_case("incline_slide_diagonal_mu0.5")
     mu, heading = case["mu"], case["heading"]
@@ -531,7 +531,7 @@ def test_the_diagonal_slope_slides_faster_on_wheels_that_slip_sideways_and_drift
 
 
 def test_a_slope_the_isotropic_ellipse_holds_slides_on_wheels_that_slip_sideways():
-    from simpick.coulomb import hold_angle, slope_holds, slope_slide
+    from simpick.slope import hold_angle, slope_holds, slope_slide
 
     mu = 0.5
     angle = _config_case("incline_hold_mu0.5")["angle_factor"] * math.atan(mu)  # 0.8 atan(mu)
@@ -555,7 +555,7 @@ def test_a_slope_the_isotropic_ellipse_holds_slides_on_wheels_that_slip_sideways
     "bad", [dict(ratio=0.0), dict(mu=-0.5), dict(down=(0.0, 0.0)), dict(angle=math.pi / 2), dict(timestep=0.0)]
 )
 def test_slope_slide_refuses_what_is_no_slope(bad):
-    from simpick.coulomb import slope_slide
+    from simpick.slope import slope_slide
 
     args = dict(angle=0.5, down=(-1.0, 0.0), mu=0.5, ratio=1.0, duration=1.0, timestep=0.001) | bad
     with pytest.raises(InputError):
@@ -566,7 +566,7 @@ def test_slope_slide_follows_the_law_for_any_slope_heading_and_ratio():
     from hypothesis import given, settings
     from hypothesis import strategies as st
 
-    from simpick.coulomb import slope_holds, slope_slide
+    from simpick.slope import slope_holds, slope_slide
 
     @settings(max_examples=40, deadline=None)
     @given(

@@ -6,7 +6,7 @@ The order, lowest first, and why each sits where it does:
 - core: the package, errors, seeds, writing a table (tables), the job log (joblog), the statistics
   of an IMU window shared by real and simulated data (imustats);
 - inputs: the robot, terrains, motions, the paper's published figures and reference statistics;
-- mechanics: the analytic Coulomb model of the robot (simpick.coulomb; it reads the robot);
+- mechanics: the analytic Coulomb model of the robot (simpick.coulomb, simpick.slope; it reads the robot);
 - real: real logs, datasets, their segments and turning windows (inputs too, read from the real robot);
 - engines: the adapters and their registry;
 - simulate: driving an engine over a case (and the jobs that do), traces;
@@ -34,7 +34,7 @@ from simpick.codeversion import modules
 LAYERS = (
     ("core", ("simpick", "simpick.errors", "simpick.seeds", "simpick.tables", "simpick.joblog", "simpick.imustats")),
     ("inputs", ("simpick.inputs",)),
-    ("mechanics", ("simpick.coulomb",)),
+    ("mechanics", ("simpick.coulomb", "simpick.slope")),
     ("real", ("simpick.real",)),
     ("engines", ("simpick.engines",)),
     ("simulate", ("simpick.simulate",)),

@@ -364,7 +364,7 @@ def test_engine_turns_alike_left_and_right_and_from_any_heading(engine):
 
 
 # A profile with anisotropic wheel friction is judged on the slopes by the elliptic Coulomb law of its own
-# friction_ratio (simpick.coulomb.slope_slide). MuJoCo's capsule wheels with friction [r mu, mu] under its
+# friction_ratio (simpick.slope.slope_slide). MuJoCo's capsule wheels with friction [r mu, mu] under its
 # elliptic cone, measured at r 0.698 (mu 0.5, 4 s): 1.6937 m/s^2 down the diagonal slope at 1.2 atan(mu) for
 # the law's 1.6915 (the isotropic 1.016 it used to be judged by is 67 % off), 0.2336 rad off downhill for the
 # law's 0.2343; across the wheels at 0.8 atan(mu), which r 1 holds, 0.36498 for 0.36498.

@@ -28,7 +28,7 @@ Case kinds (their parameters come from ``validation.cases`` in the config):
     from the robot's back (0: along -x; 45: across the world axes and the wheels). Judged by the
     elliptic anisotropic Coulomb law with the set-up's own ``friction_ratio`` r (a calibrated
     profile's fitted one; 1, isotropic, for every other), mu along the wheels and r mu across them
-    (:func:`simpick.coulomb.slope_slide`): inside the friction ellipse, sin a |M^-1 d| <= cos a, it
+    (:func:`simpick.slope.slope_slide`): inside the friction ellipse, sin a |M^-1 d| <= cos a, it
     stays (creep speed 0); outside it slides down and does not yaw, its acceleration fitted along the
     downhill direction over the same window on the engine's record and on the law's path. For r = 1
     that is a parked robot below atan(mu) and g (sin a - mu cos a) above it (1.016 m/s^2 at 1.2

@@ -14,7 +14,7 @@ import numpy as np
 from pydantic import ValidationError
 
 from simpick.coulomb import braking_deceleration as coulomb_braking
-from simpick.coulomb import contact_layout, hold_angle, slope_holds, slope_slide, yaw_rate_gain
+from simpick.coulomb import contact_layout, yaw_rate_gain
 from simpick.engines import get_engine
 from simpick.engines.base import GRAVITY, PhysicsRecord, Scenario
 from simpick.engines.kinematics import euler_rpy, rotation_matrices
@@ -22,6 +22,7 @@ from simpick.errors import InputError, validation_problems
 from simpick.inputs.motions import side_speeds
 from simpick.inputs.robot import RobotSpec
 from simpick.simulate.imu import block_average
+from simpick.slope import hold_angle, slope_holds, slope_slide
 from simpick.studies.validation.measures import DEFAULT_HEADING, KINDS, QUANTITIES, SETTLE_S
 from simpick.studies.validation.settings import ValidationCase
 from simpick.studies.validation.suspension import articulation, articulation_reason
@@ -182,7 +183,7 @@ def path_angle(position: np.ndarray, down: np.ndarray, start: int) -> float:
 
 def _incline(setup: Setup, p: ValidationCase):
     """Parked on locked wheels on a slope of ``angle_factor`` x atan(mu) (gravity tilted): judged by the
-    elliptic anisotropic Coulomb law with the set-up's own ``friction_ratio`` (:func:`simpick.coulomb.slope_slide`;
+    elliptic anisotropic Coulomb law with the set-up's own ``friction_ratio`` (:func:`simpick.slope.slope_slide`;
     1: isotropic). Whether the robot holds follows that law's friction ellipse at this downhill
     direction, not the factor: a case set below atan(mu) that the profile's ellipse cannot hold is judged
     as a slide, and the checks say which (``expected``, ``hold_angle``). A slide is judged by the same fit
