@@ -533,6 +533,13 @@ def test_the_table_has_the_held_out_columns_computed_on_the_test_runs_only(tmp_p
     assert columns["heldout_heading_error"] == pytest.approx(0.08)
     assert columns["real_spread"] == pytest.approx(math.sqrt(0.02**2 * 2 * 2 / 2))  # pooled within-class sd
     assert columns["within_spread"] is False
+    # the training column over the fitted classes only: the runs the fit's objective covers
+    tests.loc[tests.terrain_class == "b", "gain_error"] = [0.9, 0.06]
+    fitted = stage._heldout({"split": str(split)}, tests, verdict, {"min_runs": 6, "level": 0.95}, 0, ["a"])("m")
+    assert fitted["train_gain_error"] == pytest.approx(0.5)  # b/1's 0.9 is not a fitted class's
+    every = stage._heldout({"split": str(split)}, tests, verdict, {"min_runs": 6, "level": 0.95}, 0)("m")
+    assert every["train_gain_error"] == pytest.approx(0.7)
+    assert fitted["heldout_gain_error"] == every["heldout_gain_error"]  # the held-out runs stay every class's
 
 
 def test_the_calibrated_settings_file_is_headed_by_its_data_figures_and_command_and_reads_back(tmp_path):

@@ -68,8 +68,9 @@ TABLE_COLUMNS = [
     "within_spread",
     "heldout_heading_error",
     "heldout_speed_error",  # DRIVE: against the lidar-measured speed (the committed segments measure none)
-    # the same gain error on the training runs: beside the held-out one it tells a fit that missed the runs it
-    # was fitted on (its steady-turn cases misled it) from one that does not carry over
+    # the same gain error on the training runs of the classes the calibration fits (the runs its objective
+    # covers): beside the held-out one it tells a fit that missed the runs it was fitted on from one that does
+    # not carry over; a calibrated row is never above its tuned row here (a fit that gains nothing is not kept)
     "train_gain_error",
     "calibrated_settings",
     # the calibrated row's fitted settings with their 95 % intervals (or why the runs cannot fix one), and the
@@ -193,11 +194,16 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
     write_csv(mechanics, outputs["mechanics"])
     write_csv(outcomes, outputs["outcomes"])
 
-    if tests is None and len(outcomes) and p.drive is not None:
-        heldout = _heldout_steps(inputs, drive_spread(inputs, p.verdict, p.drive.tolerance), statistics, p.seed)
-    else:
-        heldout = _heldout(inputs, tests if len(outcomes) else None, verdict, statistics, p.seed)
     fits = read_fits(inputs)
+    # the classes the calibration fits (its target): the training column is each row's error on the runs the fit
+    # was fitted on, so that a calibrated row's training error is the fit's objective and the tuned row's beside it
+    # is on the same runs
+    fitted = sorted({str(c) for f in fits.values() for c in ((f.get("fit") or {}).get("classes") or [])})
+    if tests is None and len(outcomes) and p.drive is not None:
+        spread = drive_spread(inputs, p.verdict, p.drive.tolerance)
+        heldout = _heldout_steps(inputs, spread, statistics, p.seed, fitted)
+    else:
+        heldout = _heldout(inputs, tests if len(outcomes) else None, verdict, statistics, p.seed, fitted)
     rows = []
     for name, sim in catalog.simulators.items():
         for variant in VARIANTS:
@@ -273,7 +279,7 @@ NOT_HELD_OUT = dict.fromkeys(
 }
 
 
-def _heldout(inputs: dict, tests: pd.DataFrame | None, verdict: dict, statistics: dict, seed: int):
+def _heldout(inputs: dict, tests: pd.DataFrame | None, verdict: dict, statistics: dict, seed: int, classes=()):
     """model -> its held-out columns over the verdict's runs (:func:`_judge_heldout`), beside the real robot's
     run-to-run spread of its gain (the verdict's gain margin, over every run)."""
     from simpick.score.equivalence import margin
@@ -283,7 +289,7 @@ def _heldout(inputs: dict, tests: pd.DataFrame | None, verdict: dict, statistics
         return lambda model: dict(NOT_HELD_OUT)
     spread, _ = margin(tests, "gain_error", verdict["margins"]["gain_error"])
     ok = tests[tests.status.astype(str) == "ok"] if "status" in tests else tests
-    return _judge_heldout(ok, run_key(ok), inputs["split"], spread, statistics, seed)
+    return _judge_heldout(ok, run_key(ok), inputs["split"], spread, statistics, seed, classes)
 
 
 def drive_spread(inputs: dict, verdict: Verdict, tolerance: float) -> float:
@@ -296,7 +302,7 @@ def drive_spread(inputs: dict, verdict: Verdict, tolerance: float) -> float:
     return float(spec["value"]) if spec.get("basis") == "absolute" else math.nan
 
 
-def _heldout_steps(inputs: dict, spread: float, statistics: dict, seed: int):
+def _heldout_steps(inputs: dict, spread: float, statistics: dict, seed: int, classes=()):
     """model -> its held-out columns on DRIVE's steps (:func:`_judge_heldout`, each step a unit: DRIVE draws each
     step's command independently), beside the robot's step-to-step repeatability of its gain (``spread``)."""
     if not inputs.get("split") or not Path(inputs["split"]).is_file():
@@ -304,17 +310,22 @@ def _heldout_steps(inputs: dict, spread: float, statistics: dict, seed: int):
     errors = pd.read_csv(inputs["drive_errors"])
     ok = errors[errors.status.astype(str) == "ok"]
     key = ok.terrain_class.astype(str) + "/" + ok.case.astype(str)
-    return _judge_heldout(ok, key, inputs["split"], spread, statistics, seed)
+    return _judge_heldout(ok, key, inputs["split"], spread, statistics, seed, classes)
 
 
-def _judge_heldout(rows: pd.DataFrame, units: pd.Series, split: str, spread: float, statistics: dict, seed: int):
+def _judge_heldout(
+    rows: pd.DataFrame, units: pd.Series, split: str, spread: float, statistics: dict, seed: int, classes=()
+):
     """model -> its columns over ``rows`` (a model's errors per real unit, ``units`` their ``class/run`` key): the
     gain error over the split's test units with its BCa interval (NaN below statistics.min_runs units), their
     number, ``spread`` and whether the error is within it, the heading and speed errors over the same units
-    (NaN where the data measure none), and the gain error over the training units."""
+    (NaN where the data measure none), and the gain error over the training units of ``classes`` (the classes the
+    calibration fits; every class where none is given)."""
     from simpick.compare.realmetrics import mean_ci, statistics_settings
 
     train_runs, test_runs = read_split(split)
+    if classes:
+        train_runs = [r for r in train_runs if r.split("/", 1)[0] in set(classes)]
     min_runs, level = statistics_settings(statistics)
     rows = rows.assign(unit_key=units.to_numpy(object))
     test, train = rows[rows.unit_key.isin(set(test_runs))], rows[rows.unit_key.isin(set(train_runs))]
