@@ -927,7 +927,8 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     out["fit"]["parts"] = part_shares(units, space, fixed, start, fit["settings"], tuned_error, fit["error"], improved)
     test_turns = real_turns(inputs, test, every)
     pooled = {**fixed, **fit["settings"]} if improved else {}
-    out["per_class"] = _class_fits(p, inputs, robot, trained, test_turns, pooled, space, fixed)
+    tuned_by_unit = dict(zip(units.names, np.asarray(tuned_gains, float)))
+    out["per_class"] = _class_fits(p, inputs, robot, trained, test_turns, pooled, space, fixed, tuned_by_unit)
     _write(out, output)
     return out
 
@@ -979,24 +980,34 @@ def _units(p: CalibrateParams, inputs: dict, robot, runs: list[str], classes: li
     return steady_units(p, robot, commands, mu, real, runs)
 
 
-def _class_fits(p, inputs, robot, train: pd.DataFrame, test: pd.DataFrame, pooled: dict, space, fixed) -> dict:
+def _class_fits(
+    p, inputs, robot, train: pd.DataFrame, test: pd.DataFrame, pooled: dict, space, fixed, tuned_by_unit=None
+) -> dict:
     """Per terrain class with training turns: its own fit (the friction_ratio alone, one class's runs identifying
     no more, the other settings at the pooled fit's; ``p.class_nfev`` least-squares evaluations from the pooled
-    fit) on its training runs' units, beside the pooled fit on the same units, and both judged on the class's
-    held-out runs the same way (its turning segments replayed; kinds drive and replay: steady-turn cases at their
-    commands)."""
+    fit) on its training runs' units, beside the pooled fit and the tuned profile on the same units (the tuned
+    gains from ``tuned_by_unit``, unit -> the pooled fit's tuned evaluation, where it has them), and both fits
+    judged on the class's held-out runs the same way (its turning segments replayed; kinds drive and replay:
+    steady-turn cases at their commands). The class's own spread is the standard deviation of its runs' real
+    gains, training and held-out (NaN below two runs). A class keeps a fit of its own only where its training
+    error is below both the pooled fit's (by the fit's tolerance) and the tuned profile's."""
     out = {}
+    tuned_by_unit = tuned_by_unit or {}
     ratio_axis = Axis("friction_ratio", space.settings["friction_ratio"])
     pooled_ratio = float(pooled.get("friction_ratio", p.engine_settings.get("friction_ratio", 1.0)))
     for cls, t in train.groupby("terrain_class"):
         gains = real_gains(t)
         gain = float(gains.gain.mean())
         runs = [f"{cls}/{r}" for r in gains.run]
+        held = test[test.terrain_class == cls]
+        every = pd.concat([gains, real_gains(held)]) if len(held) else gains
         entry: dict[str, Any] = {
             "friction_ratio": _r(pooled_ratio),
             "real_gain": _r(gain),
             "runs": runs,
             "placed_by": "the pooled fit (no fit of its own)",
+            "class_spread": _r(float(every.gain.std(ddof=1)) if len(every) > 1 else math.nan),
+            "spread_runs": len(every),
         }
         if p.class_nfev and str(cls) in p.grounds:
             units = _units(p, inputs, robot, runs, [str(cls)], t, gain)
@@ -1014,6 +1025,10 @@ def _class_fits(p, inputs, robot, train: pd.DataFrame, test: pd.DataFrame, poole
             own_ratio = float(fit["settings"]["friction_ratio"])
             pooled_gains = fit["start_gains"]
             pooled_error = units.error(pooled_gains)
+            if all(n in tuned_by_unit for n in units.names):
+                tuned_error = units.error(np.array([tuned_by_unit[n] for n in units.names], float))
+            else:
+                tuned_error = units.error(np.asarray(units.simulate({}), float))
             better = math.isfinite(fit["error"]) and fit["error"] < pooled_error
             steps = (
                 step_margins(units, others, fit["settings"], fit["gains"], [ratio_axis], fit["fitted"])
@@ -1035,8 +1050,12 @@ def _class_fits(p, inputs, robot, train: pd.DataFrame, test: pd.DataFrame, poole
                     ),
                     "train_error": _r(units.error(at)),
                     "pooled_train_error": _r(pooled_error),
-                    # by more than the fit's tolerance: a tie within the engine's noise keeps the pooled file
-                    "improves": bool(better and units.error(at) + p.tolerance < pooled_error),
+                    "tuned_train_error": _r(tuned_error),
+                    # by more than the fit's tolerance: a tie within the engine's noise keeps the pooled file; and
+                    # below the tuned profile's: a class file that fits its runs worse than tuned has fitted nothing
+                    "improves": bool(
+                        better and units.error(at) + p.tolerance < pooled_error and units.error(at) < tuned_error
+                    ),
                     "reached": bool(math.isfinite(engine_gain) and abs(engine_gain - gain) <= p.tolerance),
                     "parameters": fit["parameters"],
                     "step_margins": steps,
@@ -1044,7 +1063,6 @@ def _class_fits(p, inputs, robot, train: pd.DataFrame, test: pd.DataFrame, poole
                     "trials": [[_r(s["friction_ratio"]), _r(float(np.nanmean(g)))] for s, g in fit["evaluations"]],
                 }
             )
-            held = test[test.terrain_class == cls]
             if len(held):
                 hgains = real_gains(held)
                 hruns = [f"{cls}/{r}" for r in hgains.run]
