@@ -507,3 +507,27 @@ def test_the_first_page_links_a_picked_profile_s_model_that_opens_as_it_is():
         "href": "../simulators/models/mujoco-calibrated.xml",
     }
     assert mujoco["tuned"]["model"] is None and by["webots"]["profiles"][0]["model"] is None
+
+
+def test_the_simulators_section_says_where_a_model_was_not_opened_in_its_simulator(tmp_path):
+    """A model whose simulator has no loader here (the table's model_note, from the writer's opened_here) is listed
+    with "fields checked; not opened in <simulator> here" beside its link; one opened in the tests is not."""
+    from test_report import PARAMS, _render, write_synthetic_inputs
+
+    inputs = write_synthetic_inputs(tmp_path / "in", seconds=1.0, failed=None)
+    folder = tmp_path / "simulators"
+    write_simulators(folder)
+    table = table_rows()
+    table = table.loc[:, ~table.columns.duplicated()]
+    table["model_file"], table["model_note"] = "", ""
+    webots = (table.simulator == "webots") & (table.variant == "tuned")
+    mujoco = (table.simulator == "mujoco") & (table.variant == "tuned")
+    table.loc[webots, "model_file"] = "results/simulators/models/webots-tuned.wbt"
+    table.loc[webots, "model_note"] = "fields checked; not opened in Webots here"
+    table.loc[mujoco, "model_file"] = "results/simulators/models/mujoco-tuned.xml"
+    table.to_csv(folder / "table.csv", index=False)
+    params = {k: v for k, v in PARAMS.items() if k != "title"}
+    text = " ".join(html.unescape(_render(inputs, params | {"simulators": str(folder)})).split())
+    models = text[text.index('id="simulators-models"') :].split("</p>")[0]
+    assert "webots-tuned.wbt</a> (fields checked; not opened in Webots here)" in models
+    assert "mujoco-tuned.xml</a>;" in models or "mujoco-tuned.xml</a>." in models

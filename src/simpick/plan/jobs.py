@@ -109,6 +109,7 @@ class JobPlanning:
             "left_out": self.simulators_left_out,
             "settings_files": {p: f"results/simulators/settings/{p}" for p in self.profile_results},
             "model_files": self.model_files(),
+            "model_notes": self.model_notes(),
             "statistics": self.settings.statistics,
             "seed": self.settings.seed,
             "verdict": self.settings.verdict,

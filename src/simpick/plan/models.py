@@ -12,7 +12,7 @@ import importlib
 
 from simpick.engines import PROFILE_ADAPTERS, get_engine, unavailable
 from simpick.engines.catalog import load_catalog
-from simpick.engines.simulators import MODEL_SETTINGS, SEPARATOR, engine_of, model_name
+from simpick.engines.simulators import MODEL_SETTINGS, SEPARATOR, engine_of, model_name, split
 from simpick.plan.errors import PlanError
 
 
@@ -262,11 +262,16 @@ class ModelPlanning:
 
     @property
     def model_profiles(self) -> list[str]:
-        """The profiles that get a model a user opens as it is (rule simulator_models): those whose engine writes
-        one (simpick.engines.simulator_models.WRITERS), aliases of an engine's results included."""
+        """The profiles that get a model a user opens as it is (rule simulator_models): those of a simulator that
+        has a model writer (simpick.engines.simulator_models.WRITERS, by simulator: Gazebo Classic and Webots share
+        the ODE adapter) able to write the study's robot, aliases of an engine's results included."""
         from simpick.engines.simulator_models import WRITERS
 
-        return [p for p in self.profile_results if engine_of(p) in WRITERS]
+        def writer(profile: str):
+            parts = split(profile)
+            return WRITERS.get(parts[0]) if parts else None
+
+        return [p for p in self.profile_results if (w := writer(p)) is not None and w.writes(self.robot)]
 
     MODELS_DIR = "results/simulators/models"
 
@@ -275,7 +280,18 @@ class ModelPlanning:
         ``<profile>-<class>``, where the fit gives the class a file of its own)."""
         from simpick.engines.simulator_models import WRITERS
 
-        return {p: f"{self.MODELS_DIR}/{p}.{WRITERS[engine_of(p)][0]}" for p in self.model_profiles}
+        return {p: f"{self.MODELS_DIR}/{p}.{WRITERS[split(p)[0]].suffix}" for p in self.model_profiles}
+
+    def model_notes(self) -> dict[str, str]:
+        """profile -> the words beside its model's link where no loader of its simulator runs here (the writer's
+        ``opened_here``): its fields are checked, the file is not opened in the simulator."""
+        from simpick.engines.simulator_models import WRITERS, not_opened_note
+
+        return {
+            p: not_opened_note(self.catalog.simulators[split(p)[0]].label)
+            for p in self.model_profiles
+            if not WRITERS[split(p)[0]].opened_here
+        }
 
     def model_code_roots(self) -> tuple[str, ...]:
         """The modules rule simulator_models' job reaches by name only: its profiles' engines' adapters (the

@@ -73,6 +73,12 @@ def _model_link(path) -> str:
     return f"../simulators/models/{Path(str(path)).name}" if isinstance(path, str) and path else ""
 
 
+def _model_note(note) -> str:
+    """The words beside a model's link (the table's ``model_note``: empty where the simulator's own loader opens it
+    in the tests, "fields checked; not opened in <simulator> here" where none installs)."""
+    return note if isinstance(note, str) else ""
+
+
 def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any] | None:
     folder_path = Path(folder)
     table_path = folder_path / "table.csv"
@@ -124,6 +130,7 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
                 "parts": _text(r.get("fit_parts")) if r["variant"] == "calibrated" and ran else "",
                 "settings": [f"../simulators/settings/{name}" for name in settings],
                 "model": _model_link(r.get("model_file")) if ran else "",
+                "model_note": _model_note(r.get("model_note")) if ran else "",
             }
         )
     weighted = []
@@ -164,6 +171,7 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
                     "pooled_error": _f(r.get("pooled_fit_error")) if held else "–",
                     "settings": [f"../simulators/settings/{name}" for name in files],
                     "model": _model_link(r.get("model_file")),
+                    "model_note": _model_note(r.get("model_note")),
                 }
             )
     tree = read_tree(str(folder_path / "tree.json")) if (folder_path / "tree.json").is_file() else None

@@ -57,8 +57,10 @@ TABLE_COLUMNS = [
     "n_runs",
     "runs_failed",
     "settings_file",
-    # the model that opens as it is (rule simulator_models), where the profile's engine writes one
+    # the model that opens as it is (rule simulator_models), where the profile's simulator has a model writer, and
+    # what the report says beside its link where no loader of the simulator runs here ("fields checked; ...")
     "model_file",
+    "model_note",
     # judged on the held-out runs only (the calibration's split: no run of them reached any fit), every row alike
     "heldout_gain_error",
     "heldout_gain_error_low",
@@ -119,6 +121,10 @@ class SimulatorsParams(JobParams):
     settings_files: dict[str, str] = Field(description="profile -> its settings files' stem")
     model_files: dict[str, str] = Field(
         description="profile -> the path of its model that opens as it is (rule simulator_models), where it has one"
+    )
+    model_notes: dict[str, str] = Field(
+        default_factory=dict,
+        description="profile -> the words beside its model's link where the simulator's own loader does not run here",
     )
     statistics: Statistics
     seed: Annotated[int, Field(ge=0, lt=2**32)]
@@ -246,12 +252,13 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
                     row[f"{prefix}_error"], row[f"{prefix}_outcome"] = o["mean"], o["outcome"]
             row["settings_file"] = files.get(profile, "")
             row["model_file"] = p.model_files.get(profile, "")
+            row["model_note"] = p.model_notes.get(profile, "")
             row.update(heldout(model))
             row.update(_calibration_columns(fits.get(name), variant, row, summary, results, name))
             rows.append(row)
     write_csv(pd.DataFrame(rows, columns=TABLE_COLUMNS), outputs["table"])
     if outputs.get("per_class"):
-        write_csv(per_class_table(fits, catalog, p.model_files), outputs["per_class"])
+        write_csv(per_class_table(fits, catalog, p.model_files, p.model_notes), outputs["per_class"])
     _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs)
 
 
@@ -451,15 +458,22 @@ def _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs) 
     write_csv(pd.DataFrame(rows, columns=rtf.columns), out / "rtf.csv")
 
 
-def per_class_table(fits: dict[str, dict], catalog, model_files: dict[str, str] | None = None) -> pd.DataFrame:
+def per_class_table(
+    fits: dict[str, dict],
+    catalog,
+    model_files: dict[str, str] | None = None,
+    model_notes: dict[str, str] | None = None,
+) -> pd.DataFrame:
     """results/simulators/per_class.csv: per simulator and terrain class, the class's own fit beside the pooled
     one, both judged on the class's held-out runs (a steady-turn case at their commands); ``model_files``: profile
-    -> its model's path, beside which a class with a file of its own has its model (rule simulator_models)."""
+    -> its model's path, beside which a class with a file of its own has its model (rule simulator_models), and
+    ``model_notes`` what the report says beside it (SimulatorsParams.model_notes)."""
     rows = []
     for simulator, fit in fits.items():
         pooled = (fit.get("settings") or {}).get("friction_ratio")
         files = class_files(fit)
         model = (model_files or {}).get(model_name(simulator, "calibrated"))
+        note = (model_notes or {}).get(model_name(simulator, "calibrated"), "")
         for cls, e in (fit.get("per_class") or {}).items():
             held = e.get("heldout") or {}
             rows.append(
@@ -488,6 +502,7 @@ def per_class_table(fits: dict[str, dict], catalog, model_files: dict[str, str] 
                     if cls in files
                     else "",
                     "model_file": _class_model(model, cls) if cls in files and model else "",
+                    "model_note": note if cls in files and model else "",
                 }
             )
     return pd.DataFrame(rows, columns=PER_CLASS_COLUMNS)
@@ -522,6 +537,7 @@ PER_CLASS_COLUMNS = [
     "pooled_fit_error",
     "settings_file",
     "model_file",
+    "model_note",
 ]
 
 

@@ -1,4 +1,4 @@
-"""The models a user opens as they are (rule simulator_models): each profile of a simulator whose engine writes one
+"""The models a user opens as they are (rule simulator_models): each profile of a simulator that has a model writer
 (:data:`simpick.engines.simulator_models.WRITERS`) as the robot on flat ground in that simulator's own format, headed
 by the profile, where its values come from and the yaw-rate gains simpick's validation measures on it.
 
@@ -6,8 +6,10 @@ The gains are the validation's own: each claimed case (:func:`claimed_cases`) is
 :func:`simpick.studies.validation.cases.run_case`, the function the validate job calls, on the model's settings, so a
 profile's claim is the value its validate record holds for that case (a run is deterministic in its settings), and a
 calibrated terrain class's model, which the validation does not run, is measured the same way. Nothing here reads a
-written model back: tests/test_simulator_models.py opens each with the simulator's own loader alone and measures the
-same gains there.
+written model back: tests/test_simulator_models.py (and test_gazebo_models.py, test_drake_models.py) open each with the
+simulator's own loader alone and measure the same gains there; where no loader of the simulator installs here (Gazebo
+Classic, Webots: the writer's ``opened_here``), tests/test_classic_models.py checks the file's fields against the
+catalog's quoted values and the robot instead.
 """
 
 from __future__ import annotations
@@ -129,7 +131,7 @@ def simulator_models_job(inputs: Mapping[str, Any], params: dict, output: str) -
     written = {}
     for profile, entry in p.profiles.items():
         engine = engine_of(profile)
-        _, write = WRITERS[engine]
+        write = WRITERS[split(profile)[0]].write
         for stem, settings, header in _models(profile, entry, fits.get(split(profile)[0]), robot.name):
             setup = Setup(
                 engine=engine,

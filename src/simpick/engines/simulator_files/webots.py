@@ -37,31 +37,33 @@ WEBOTS_FRICTION_SOURCE = (
 )
 
 
-def write_webots(settings: Mapping, entries: Mapping | None, title: list[str], ground_mu: float = GROUND_MU) -> dict:
-    notes = _meanings(entries, ("cfm", "erp", "friction_ratio", *WEBOTS_FIELDS.values()), settings)
+def contact_properties(
+    settings: Mapping, ground_mu: float, material1: str = "wheel", wheel_directions: bool = False
+) -> list[str]:
+    """The lines of the ContactProperties node of ``material1`` against the ground's "default" (unindented; the
+    values after ``#`` are comments): the ground's coefficient, once (symmetric) or, where the profile sets a
+    friction ratio or ``wheel_directions`` asks for the friction pyramid turned with the wheel, three times
+    [across the wheel, along it, the ground's share 0] on material1's Cylinder (:data:`WEBOTS_FRICTION_SOURCE`),
+    and the fields of :data:`WEBOTS_FIELDS` the profile sets."""
     ratio = float(settings.get("friction_ratio") or 1.0)
     lines = [
-        "WorldInfo {",
-        "  basicTimeStep 1  # ms: the step simpick ran (Webots' default is 32)",
-        f"  CFM {_num(settings['cfm'])}",
-        f"  ERP {_num(settings['erp'])}",
-        "  contactProperties [",
-        "    ContactProperties {",
-        '      material1 "wheel"  # the wheels\' contactMaterial; material2 stays "default", the ground\'s',
+        "ContactProperties {",
+        f'  material1 "{material1}"  # the wheels\' contactMaterial; material2 stays "default", the ground\'s'
+        if material1 == "wheel"
+        else f'  material1 "{material1}"',
     ]
-    if ratio == 1.0:
+    if ratio == 1.0 and not wheel_directions:
         lines.append(
-            f"      coulombFriction [ {_num(ground_mu)} ]  # the ground's coefficient "
-            f"(simpick's validation: {ground_mu:g})"
+            f"  coulombFriction [ {_num(ground_mu)} ]  # the ground's coefficient (simpick's validation: {ground_mu:g})"
         )
     else:
         lines += [
-            f"      coulombFriction [ {_num(ratio * ground_mu)} {_num(ground_mu)} 0 ]  # across the wheel (along its "
+            f"  coulombFriction [ {_num(ratio * ground_mu)} {_num(ground_mu)} 0 ]  # across the wheel (along its "
             f"Cylinder's axis: friction_ratio {_num(ratio)} x the ground's {ground_mu:g}), along its rolling direction "
             "(the ground's), the ground's own share 0: material1's first friction direction on a Cylinder's side is "
             f"its axis ({WEBOTS_FRICTION_SOURCE}); the ground a Box, a Plane or a Cylinder, else Webots applies the "
             "first value alone",
-            "      frictionRotation 0 0  # the first direction left on the wheel's axis",
+            "  frictionRotation 0 0  # the first direction left on the wheel's axis",
         ]
     for field, key in WEBOTS_FIELDS.items():
         value = settings.get(key)
@@ -72,8 +74,23 @@ def write_webots(settings: Mapping, entries: Mapping | None, title: list[str], g
             if field == "forceDependentSlip"
             else (str(int(value)) if field == "maxContactJoints" else _num(value))
         )
-        lines.append(f"      {field} {text}")
-    lines += ["    }", "  ]", "}"]
+        lines.append(f"  {field} {text}")
+    return [*lines, "}"]
+
+
+def write_webots(settings: Mapping, entries: Mapping | None, title: list[str], ground_mu: float = GROUND_MU) -> dict:
+    notes = _meanings(entries, ("cfm", "erp", "friction_ratio", *WEBOTS_FIELDS.values()), settings)
+    ratio = float(settings.get("friction_ratio") or 1.0)
+    lines = [
+        "WorldInfo {",
+        "  basicTimeStep 1  # ms: the step simpick ran (Webots' default is 32)",
+        f"  CFM {_num(settings['cfm'])}",
+        f"  ERP {_num(settings['erp'])}",
+        "  contactProperties [",
+        *("    " + line for line in contact_properties(settings, ground_mu)),
+        "  ]",
+        "}",
+    ]
     if ratio != 1.0:
         # where the anisotropy holds, in the header's first lines: Webots takes a contact's first friction direction
         # from the geometry in contact (WbSimulationCluster.cpp), and only a Box, a Plane or a Cylinder gives one

@@ -6,15 +6,23 @@ adds); a model holds all of it: the robot, its actuators, its contacts, the grou
 Menagerie ships a robot, with the commands that drive it and the figures simpick measured on it in its header. One
 module per simulator whose engine can write such a model (MuJoCo: :mod:`.mujoco`, one MJCF file from the adapter's
 own ``MjSpec``; Gazebo: :mod:`.gazebo`, one SDF world from the adapter's own; Drake: :mod:`.drake`, a URDF with
-Drake's tags, the ground's SDFormat file and the plant's YAML); :data:`WRITERS` names them, and rule
-simulator_models writes one model per profile of those simulators (:mod:`simpick.studies.simulator_models`)."""
+Drake's tags, the ground's SDFormat file and the plant's YAML; Gazebo Classic: :mod:`.gazebo_classic`, an SDF 1.7
+world; Webots: :mod:`.webots`, a .wbt world); :data:`WRITERS` names them by simulator (Gazebo Classic and Webots
+share the ODE adapter, each with a format of its own), and rule simulator_models writes one model per profile of
+those simulators (:mod:`simpick.studies.simulator_models`)."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import NamedTuple
+
+from simpick.engines import gzphysics_engine
 from simpick.engines.simulator_models.common import TurningClaim
 from simpick.engines.simulator_models.drake import write_drake_model
 from simpick.engines.simulator_models.gazebo import write_gazebo_model
+from simpick.engines.simulator_models.gazebo_classic import write_gazebo_classic_model
 from simpick.engines.simulator_models.mujoco import write_mujoco_model
+from simpick.engines.simulator_models.webots import write_webots_model
 
 
 def _mujoco_files(*args, stem: str, **kwargs) -> dict[str, str]:
@@ -27,13 +35,69 @@ def _gazebo_files(*args, stem: str, **kwargs) -> dict[str, str]:
     return {"sdf": write_gazebo_model(*args, **kwargs)}
 
 
-# engine -> (the suffix of the model's file that opens it, its writer): a profile whose engine is here gets a model
-# of its own. A writer returns {suffix: text}, one file per suffix, each named <stem>.<suffix> (``stem``: the
-# profile's name, by which a model's files name each other)
+def _gazebo_classic_files(*args, stem: str, **kwargs) -> dict[str, str]:
+    """Gazebo Classic's model is one SDF 1.7 world."""
+    return {"world": write_gazebo_classic_model(*args, **kwargs)}
+
+
+def _webots_files(*args, stem: str, **kwargs) -> dict[str, str]:
+    """Webots' model is one world file."""
+    return {"wbt": write_webots_model(*args, **kwargs)}
+
+
+def _always(robot) -> bool:
+    return True
+
+
+def _converts(robot) -> bool:
+    """sdformat's URDF conversion runs here (the gzphysics program, read at call time) and the robot has no
+    coupled joints, which an SDF world cannot hold without a plugin."""
+    return gzphysics_engine.PROGRAM.is_file() and not robot.couplings
+
+
+def _plain_wheels(robot) -> bool:
+    """The robot's moving joints are its driven wheels on its base (what the Webots writer builds)."""
+    return not (robot.suspension or robot.casters or robot.couplings)
+
+
+class ModelWriter(NamedTuple):
+    """How a simulator's model is written: ``suffix``, that of the file that opens it; ``write``, its writer,
+    returning {suffix: text}, one file per suffix, each named <stem>.<suffix> (``stem``: the profile's name, by which
+    a model's files name each other); ``opened_here``, whether the tests open it with the simulator's own loader
+    (False: no loader of the simulator installs here, so its fields are checked against the catalog's quoted values
+    instead, and the report says so beside its link); ``writes``, whether it can write the study's robot (a
+    :class:`~simpick.inputs.robot.RobotSpec`)."""
+
+    suffix: str
+    write: Callable[..., dict[str, str]]
+    opened_here: bool
+    writes: Callable[..., bool] = _always
+
+
+# simulator -> its model's writer: each profile of a simulator here gets a model of its own, keyed by simulator
+# because two simulators share an engine (Gazebo Classic's and Webots' profiles both run on the ODE adapter)
 WRITERS = {
-    "mujoco": ("xml", _mujoco_files),
-    "gzphysics": ("sdf", _gazebo_files),
-    "drake": ("urdf", write_drake_model),
+    "mujoco": ModelWriter("xml", _mujoco_files, opened_here=True),
+    "gazebo": ModelWriter("sdf", _gazebo_files, opened_here=True),
+    "drake": ModelWriter("urdf", write_drake_model, opened_here=True),
+    "gazebo_classic": ModelWriter("world", _gazebo_classic_files, opened_here=False, writes=_converts),
+    "webots": ModelWriter("wbt", _webots_files, opened_here=False, writes=_plain_wheels),
 }
 
-__all__ = ["WRITERS", "TurningClaim", "write_drake_model", "write_gazebo_model", "write_mujoco_model"]
+
+def not_opened_note(label: str) -> str:
+    """The words beside the link of a model whose simulator has no loader here (``label``: the catalog's name)."""
+    return f"fields checked; not opened in {label} here"
+
+
+__all__ = [
+    "WRITERS",
+    "ModelWriter",
+    "TurningClaim",
+    "not_opened_note",
+    "write_drake_model",
+    "write_gazebo_classic_model",
+    "write_gazebo_model",
+    "write_mujoco_model",
+    "write_webots_model",
+]
