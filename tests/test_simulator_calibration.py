@@ -871,3 +871,29 @@ def test_a_fit_within_two_percent_of_a_step_in_the_engine_s_gain_is_no_calibrati
 
     _, smooth = _generated_fit(tmp_path, monkeypatch, truth, noise, servo=0.0)
     assert smooth["fit"]["step_margins"]["friction_ratio"]["step"] is False and smooth["fit"]["kept"] == "the fit"
+
+
+def test_a_setting_listed_before_the_ratio_is_fitted_first_and_alone_on_one_run(tmp_path, monkeypatch):
+    """Gazebo's search space lists slip2 before the ratio (the ratio only switches DART's turn, slip2 grades it):
+    the fit takes the settings in the listed order, so one training run fits the first alone, and the file keeps
+    the tuned ratio. Here the MuJoCo fit with its servo gain listed first, on one run."""
+    params = _mujoco_params(class_nfev=0)
+    settings = params["space"]["settings"]
+    params["space"] = {**params["space"], "settings": {k: settings[k] for k in ("wheel_servo_kp", "friction_ratio")}}
+    truth = {"friction_ratio": params["engine_settings"]["friction_ratio"], "wheel_servo_kp": 400.0}
+    real = _generated_gains(truth, 0.05)
+
+    def simulate(s: dict) -> np.ndarray:
+        return _generated_gains({**params["engine_settings"], **s}, 0.05)
+
+    runs = ["flooring/07"] * len(real)
+    units = cal.Units(runs, real, [f"u{k}" for k in range(len(real))], simulate, {"generated": True})
+    monkeypatch.setattr(cal, "_units", lambda *args: units)
+    split = tmp_path / "split.csv"
+    cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(split))
+    inputs = {"split": str(split), "segments": str(SEGMENTS), "urdf": str(ROOT / "resources/robot/husky_a200.urdf")}
+    out = cal.calibrate(inputs, params, str(tmp_path / "mujoco.yaml"))
+    f = out["fit"]
+    assert list(f["parameters"]) == ["wheel_servo_kp"] and "friction_ratio" not in out["settings"]
+    assert f["kept"] == "the fit" and f["train_error"] < f["train_error_tuned"]
+    assert all(t[0] == params["engine_settings"]["friction_ratio"] for t in f["trials"])

@@ -826,7 +826,8 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
         )
     fixed = {k: r.value for k, r in space.requires.items()}
     units = _units(p, inputs, robot, train, classes, turns, real)
-    # as many settings as the runs can identify at most, in the search space's order (the ratio first)
+    # as many settings as the runs can identify at most, in the search space's order (the ratio first, except where
+    # another setting grades the turn and the ratio only switches it: Gazebo's slip2)
     names = list(space.settings)[: max(1, len(set(units.runs)))]
     axes = [Axis(k, space.settings[k]) for k in names]
     tuned = {
@@ -847,7 +848,7 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     improved = improved and not near_step
     kept = {k: _r(v) for k, v in fit["settings"].items()} if improved else {k: _r(v) for k, v in tuned.items()}
     out["settings"] = {**fixed, **kept} if improved else kept
-    ratio = float(kept["friction_ratio"])
+    ratio = float(kept.get("friction_ratio", p.engine_settings.get("friction_ratio", 1.0)))  # not fitted: one run
     at = fit["gains"] if improved else tuned_gains
     exposed = {}
     for k in names:
@@ -900,7 +901,7 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
             "coulomb_ratio": _r(coulomb),
             # (ratio, mean engine gain over the units) of each evaluation, in order
             "trials": [
-                [_r(s["friction_ratio"]), _r(float(np.nanmean(g)) if np.isfinite(g).any() else math.nan)]
+                [_r(s.get("friction_ratio", ratio)), _r(float(np.nanmean(g)) if np.isfinite(g).any() else math.nan)]
                 for s, g in fit["evaluations"]
             ],
             "all_trials": [
