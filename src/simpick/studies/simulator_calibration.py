@@ -5,8 +5,9 @@ move the robot's steady turning, each with the simulator's own name for it, its 
 wheels' lateral/longitudinal friction ratio wherever the simulator exposes two friction
 directions (Gazebo's ``<mu2>`` with ``<fdir1>``, Webots' two ``coulombFriction`` values, a MuJoCo pair's two
 tangential frictions), and beside it what else the simulator's user sets that may move it (Gazebo Classic's
-and Webots' force-dependent slip, MuJoCo's wheel servo gain); a simulator with isotropic friction only has
-none, says why, and its calibrated row is its tuned profile.
+and Webots' force-dependent slip, MuJoCo's wheel servo gain; Gazebo's wheels' slip2 at a required slip1, listed
+before its ratio, which only switches DART's turn where the slips grade it); a simulator with isotropic friction
+only has none, says why, and its calibrated row is its tuned profile.
 
 The fit (:func:`calibrate`) fits what the table judges. On the committed segments (kind ``segments``) the
 objective is the held-out figure's own metric over the training runs: the training runs' turning segments (the
