@@ -198,11 +198,11 @@ def _gain(robot, settings, v: float, w: float, duration: float = 2.0) -> float:
 
 def test_slip2_grades_the_turn_where_the_ratio_only_switches_it(robot):
     """Gazebo's calibrated profile fits the wheels' <slip2> (resources/simulators/calibration.yaml, with its
-    required <slip1>): over its bounds the Husky's gain rises smoothly, the same at the spin and at (0.5, 0.2)
-    (measured 0.376 / 0.367 at 5e-4, 0.695 at the bounds' geometric middle, 0.868 at 1e-2), with no step within
-    2 % of the middle (0.007 between its 0.98 and 1.02 times) and the ratio's step gone (0.674 at a <mu2>/<mu> of
-    0.7 and 0.8 at slip2 2e-3). Without slip the ratio switches the turn: 0.810 at 0.7, 0 at 0.8
-    (docs/gazebo_slip_grid.csv)."""
+    required <slip1> and the ground's <mu2>/<mu> fixed at 1): over its bounds the Husky's gain rises smoothly, the
+    same at the spin and at (0.5, 0.2) (measured 0.376 / 0.367 at 5e-4, 0.695 at the bounds' geometric middle,
+    0.868 at 1e-2), with no step within 2 % of the middle (0.007 between its 0.98 and 1.02 times), and the
+    ratio's step is gone (0.674 at a <mu2>/<mu> of 0.7 and 0.8 at slip2 2e-3). Without slip the ratio switches
+    the turn: 0.810 at 0.7, 0 at 0.8 (docs/gazebo_slip_grid.csv)."""
     from simpick.studies.simulator_calibration import load_search_spaces
 
     space = load_search_spaces(ROOT / "resources/simulators/calibration.yaml")["gazebo"]

@@ -33,8 +33,9 @@ gz-physics file and line of each. This module writes the SDF, starts the program
   (ContactConstraint::getVelocityChange): a sliding speed of slip x friction force, whatever the step. Without
   slip the ground's ratio only switches the Husky's turn (gain 0.810 up to 0.7, 0 from 0.8, with fdir1); with
   both set (slip1 1e-3) the contact forces stay inside DART's box and the gain follows slip2 / slip1 smoothly
-  (0.37 at slip2 5e-4, 0.674 at 2e-3, 0.868 at 1e-2), the same at every command: what Gazebo's calibrated
-  profile fits (resources/simulators/calibration.yaml; the measurements in docs/gazebo_slip_grid.csv).
+  (0.37 at slip2 5e-4, 0.674 at 2e-3, 0.868 at 1e-2 at mu 0.6-0.8), the same at every command: what Gazebo's
+  calibrated profile fits, the ratio fixed at 1 (resources/simulators/calibration.yaml; the measurements in
+  docs/gazebo_slip_grid.csv).
 - IMU: dartsim has none that the physics layer exposes; :func:`simpick.engines.kinematics.imu_from_kinematics`.
 
 Not read here because dartsim reads them nowhere (gz-physics dartsim/src at ignition-physics5_5.1.0 and at
