@@ -188,3 +188,40 @@ def test_mu2_across_fdir1_turns_the_robot_as_lower_lateral_friction_does(robot):
     world_y = {**HUSKY_TAGS, "fdir1": "none"}
     gains = [_check(robot, world_y, {**case, "heading": h})["yaw_rate_gain"]["engine_value"] for h in (0.0, 90.0)]
     assert abs(gains[0] - gains[1]) > 0.05, gains
+
+
+def _gain(robot, settings, v: float, w: float, duration: float = 2.0) -> float:
+    """The engine's steady yaw-rate gain on the validation's turn at mu 0.8 (settled within the first second)."""
+    case = {"kind": "yaw_gain", "v": v, "w": w, "mu": 0.8, "duration": duration}
+    return _check(robot, settings, case)["yaw_rate_gain"]["engine_value"]
+
+
+def test_slip2_grades_the_turn_where_the_ratio_only_switches_it(robot):
+    """Gazebo's calibrated profile fits the wheels' <slip2> (resources/simulators/calibration.yaml, with its
+    required <slip1> and the ground's <mu2>/<mu> fixed at 1): over its bounds the Husky's gain rises smoothly, the
+    same at the spin and at (0.5, 0.2) (measured 0.376 / 0.367 at 5e-4, 0.695 at the bounds' geometric middle,
+    0.868 at 1e-2), with no step within 2 % of the middle (0.007 between its 0.98 and 1.02 times), and the
+    ratio's step is gone (0.674 at a <mu2>/<mu> of 0.7 and 0.8 at slip2 2e-3). Without slip the ratio switches
+    the turn: 0.810 at 0.7, 0 at 0.8 (docs/gazebo_slip_grid.csv)."""
+    from simpick.studies.simulator_calibration import load_search_spaces
+
+    space = load_search_spaces(ROOT / "resources/simulators/calibration.yaml")["gazebo"]
+    low, high = space.settings["slip2"].bounds
+    middle = (low * high) ** 0.5
+    base = {**HUSKY_TAGS, **{k: r.value for k, r in space.requires.items()}}
+    for v, w in ((0.0, 0.5), (0.5, 0.2)):
+        gains = [_gain(robot, {**base, "slip2": s}, v, w) for s in (low, middle, high)]
+        assert gains[0] < gains[1] - 0.1 < gains[2] - 0.2, (v, w, gains)
+        assert 0.3 < gains[0] and gains[2] < 0.95, (v, w, gains)
+        near = [_gain(robot, {**base, "slip2": middle * f}, v, w) for f in (0.98, 1.02)]
+        assert near[0] < gains[1] < near[1] and near[1] - near[0] < 0.03, (v, w, near, gains[1])
+    # the same gain at either command: a gain, not a yaw rate
+    assert _gain(robot, {**base, "slip2": middle}, 0.0, 0.5) == pytest.approx(
+        _gain(robot, {**base, "slip2": middle}, 0.5, 0.2), abs=0.015
+    )
+    # the ratio across the old step: a switch without slip, nothing with it
+    rigid = {k: v for k, v in base.items() if k not in ("slip1", "slip2")}
+    below, above = (_gain(robot, {**rigid, "friction_ratio": r}, 0.5, 0.5) for r in (0.7, 0.8))
+    assert below > 0.75 and above < 0.05, (below, above)
+    slipping = [_gain(robot, {**base, "slip2": 2e-3, "friction_ratio": r}, 0.5, 0.5) for r in (0.7, 0.8)]
+    assert slipping[0] == pytest.approx(slipping[1], abs=0.02), slipping

@@ -917,3 +917,91 @@ def test_the_contact_s_and_the_actuator_s_shares_of_a_fit_are_measured_apart():
     alone = cal.part_shares(units, space, {}, tuned, {"friction_ratio": 0.62}, tuned_error, error, True)
     assert alone["contact"]["share"] == 1.0 and alone["actuator"]["settings"] == []
     assert "no actuator setting" in alone["actuator"]["why_none"]
+
+
+def test_a_setting_listed_before_the_ratio_is_fitted_first_and_alone_on_one_run(tmp_path, monkeypatch):
+    """The fit takes the settings in the params' order, which the job's canonical params sort (Gazebo Classic's
+    and Webots' contact_slip before the ratio): one training run fits the first alone, and the file keeps the
+    tuned ratio. Here the MuJoCo fit with its servo gain listed first, on one run."""
+    params = _mujoco_params(class_nfev=0)
+    settings = params["space"]["settings"]
+    params["space"] = {**params["space"], "settings": {k: settings[k] for k in ("wheel_servo_kp", "friction_ratio")}}
+    truth = {"friction_ratio": params["engine_settings"]["friction_ratio"], "wheel_servo_kp": 400.0}
+    real = _generated_gains(truth, 0.05)
+
+    def simulate(s: dict) -> np.ndarray:
+        return _generated_gains({**params["engine_settings"], **s}, 0.05)
+
+    runs = ["flooring/07"] * len(real)
+    units = cal.Units(runs, real, [f"u{k}" for k in range(len(real))], simulate, {"generated": True})
+    monkeypatch.setattr(cal, "_units", lambda *args: units)
+    split = tmp_path / "split.csv"
+    cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(split))
+    inputs = {"split": str(split), "segments": str(SEGMENTS), "urdf": str(ROOT / "resources/robot/husky_a200.urdf")}
+    out = cal.calibrate(inputs, params, str(tmp_path / "mujoco.yaml"))
+    f = out["fit"]
+    assert list(f["parameters"]) == ["wheel_servo_kp"] and "friction_ratio" not in out["settings"]
+    assert f["kept"] == "the fit" and f["train_error"] < f["train_error_tuned"]
+    assert all(t[0] == params["engine_settings"]["friction_ratio"] for t in f["trials"])
+
+
+def test_a_setting_the_tuned_profile_leaves_unset_starts_at_its_bounds_middle(tmp_path, monkeypatch):
+    """Gazebo's tuned profile writes no <slip2> (its value None): the fit starts that setting at its bounds' middle
+    (over their logarithms for a log setting), since from a bound scipy's trf starts its trust region as small as
+    the start and stops there, and where the fit is not kept the file leaves the setting unset. Here the MuJoCo
+    fit with its servo gain unset in the tuned profile."""
+    params = _mujoco_params(class_nfev=0, max_nfev=4)
+    params["engine_settings"] = {**params["engine_settings"], "wheel_servo_kp": None}
+    low, high = params["space"]["settings"]["wheel_servo_kp"]["bounds"]
+    truth = {"friction_ratio": 0.7, "wheel_servo_kp": 1000.0}
+    real = _generated_gains(truth, 0.05)
+
+    def simulate(s: dict) -> np.ndarray:
+        merged = {**params["engine_settings"], **s}
+        return _generated_gains({**merged, "wheel_servo_kp": merged["wheel_servo_kp"] or 1000.0}, 0.05)
+
+    units = cal.Units(UNIT_RUNS, real, [f"u{k}" for k in range(len(real))], simulate, {"generated": True})
+    monkeypatch.setattr(cal, "_units", lambda *args: units)
+    split = tmp_path / "split.csv"
+    cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(split))
+    inputs = {"split": str(split), "segments": str(SEGMENTS), "urdf": str(ROOT / "resources/robot/husky_a200.urdf")}
+    out = cal.calibrate(inputs, params, str(tmp_path / "mujoco.yaml"))
+    assert out["fit"]["start"]["wheel_servo_kp"] == pytest.approx(math.sqrt(low * high), rel=1e-3)
+    assert out["fit"]["kept"] == "the fit" and out["settings"]["friction_ratio"] == pytest.approx(0.7, abs=0.03)
+    # the same runs where the tuned profile cannot be beaten: the unset setting stays unset
+    units.real = simulate({})
+    out = cal.calibrate(inputs, params, str(tmp_path / "mujoco.yaml"))
+    assert out["fit"]["kept"].startswith("the tuned settings") and "wheel_servo_kp" not in out["settings"]
+
+
+def test_a_ratio_the_search_space_fixes_is_set_not_fitted_and_gets_no_class_fit(tmp_path, monkeypatch):
+    """Gazebo's search space fixes the ratio among its required settings (it only switches DART's turn) and fits
+    the wheels' slip2: the fit runs with the ratio fixed, the file states it with the fit, no class gets a fit of
+    its own ratio, and the Coulomb reference keeps the calibration's ratio bounds. Here the MuJoCo fit with its
+    ratio fixed at the runs' own 0.7 and its servo gain fitted."""
+    params = _mujoco_params(class_nfev=3, max_nfev=4)
+    space = params["space"]
+    ratio = {"value": 0.7, "exposed_as": "the pairs' friction ratio, fixed", "source": "a test"}
+    params["space"] = {
+        **space,
+        "settings": {"wheel_servo_kp": space["settings"]["wheel_servo_kp"]},
+        "requires": {**space.get("requires", {}), "friction_ratio": ratio},
+    }
+    truth = {"friction_ratio": 0.7, "wheel_servo_kp": 400.0}
+    real = _generated_gains(truth, 0.05)
+
+    def simulate(s: dict) -> np.ndarray:
+        return _generated_gains({**params["engine_settings"], **s}, 0.05)
+
+    units = cal.Units(UNIT_RUNS, real, [f"u{k}" for k in range(len(real))], simulate, {"generated": True})
+    monkeypatch.setattr(cal, "_units", lambda *args: units)
+    split = tmp_path / "split.csv"
+    cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(split))
+    inputs = {"split": str(split), "segments": str(SEGMENTS), "urdf": str(ROOT / "resources/robot/husky_a200.urdf")}
+    out = cal.calibrate(inputs, params, str(tmp_path / "mujoco.yaml"))
+    f = out["fit"]
+    assert list(f["parameters"]) == ["wheel_servo_kp"] and f["kept"] == "the fit"
+    assert out["settings"]["friction_ratio"] == 0.7 and f["fixed"]["friction_ratio"] == 0.7
+    assert out["settings"]["wheel_servo_kp"] == pytest.approx(400.0, rel=0.1)
+    assert f["bounds"] == [0.3, 1.8] and all(t[0] == 0.7 for t in f["trials"])
+    assert out["per_class"] and all(e["placed_by"].startswith("the pooled fit") for e in out["per_class"].values())

@@ -28,6 +28,14 @@ gz-physics file and line of each. This module writes the SDF, starts the program
   (getTangentBasisMatrixODE: T.col(0) is n x (n x fdir1) turned back, "the same as mFirstFrictionalDirection").
   Without fdir1 DART's default direction is +z, parallel to a level ground's normal, and the tangents fall
   back to the world's x and y (the same function): the friction box is aligned with the world.
+- slip: the wheels' ``<slip1>``/``<slip2>`` are DART's primary/secondary slip compliance (SDFFeatures.cc:818-825),
+  the two shapes' summed, added as slip / dt to the friction rows' diagonal of DART's impulse LCP
+  (ContactConstraint::getVelocityChange): a sliding speed of slip x friction force, whatever the step. Without
+  slip the ground's ratio only switches the Husky's turn (gain 0.810 up to 0.7, 0 from 0.8, with fdir1); with
+  both set (slip1 1e-3) the contact forces stay inside DART's box and the gain follows slip2 / slip1 smoothly
+  (0.37 at slip2 5e-4, 0.674 at 2e-3, 0.868 at 1e-2 at mu 0.6-0.8), the same at every command: what Gazebo's
+  calibrated profile fits, the ratio fixed at 1 (resources/simulators/calibration.yaml; the measurements in
+  docs/gazebo_slip_grid.csv).
 - IMU: dartsim has none that the physics layer exposes; :func:`simpick.engines.kinematics.imu_from_kinematics`.
 
 Not read here because dartsim reads them nowhere (gz-physics dartsim/src at ignition-physics5_5.1.0 and at
@@ -141,14 +149,15 @@ class GzPhysicsSettings(EngineSettings):
     # the wheels' <surface><friction><ode><slip1>
     slip1: Annotated[float, Field(ge=0, allow_inf_nan=False)] | None = Field(
         None,
-        description="<surface><friction><ode><slip1> on the driven wheels' collisions, s/(N): DART's primary slip "
-        "compliance (dartsim/src/SDFFeatures.cc:818-821); None: not written, DART's default (no slip)",
+        description="<surface><friction><ode><slip1> on the driven wheels' collisions, m/s per N: DART's primary "
+        "slip compliance, along fdir1 (dartsim/src/SDFFeatures.cc:818-821); None: not written, DART's default "
+        "(no slip)",
     )
     # the wheels' <surface><friction><ode><slip2>
     slip2: Annotated[float, Field(ge=0, allow_inf_nan=False)] | None = Field(
         None,
-        description="<surface><friction><ode><slip2> on the driven wheels' collisions: DART's secondary slip "
-        "compliance (dartsim/src/SDFFeatures.cc:822-825); None: not written",
+        description="<surface><friction><ode><slip2> on the driven wheels' collisions, m/s per N: DART's secondary "
+        "slip compliance, across fdir1 (dartsim/src/SDFFeatures.cc:822-825); None: not written",
     )
     # the wheels' <surface><contact><ode><kp> (read by no dartsim source)
     contact_kp: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = Field(

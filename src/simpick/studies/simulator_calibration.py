@@ -5,8 +5,9 @@ move the robot's steady turning, each with the simulator's own name for it, its 
 wheels' lateral/longitudinal friction ratio wherever the simulator exposes two friction
 directions (Gazebo's ``<mu2>`` with ``<fdir1>``, Webots' two ``coulombFriction`` values, a MuJoCo pair's two
 tangential frictions), and beside it what else the simulator's user sets that may move it (Gazebo Classic's
-and Webots' force-dependent slip, MuJoCo's wheel servo gain); a simulator with isotropic friction only has
-none, says why, and its calibrated row is its tuned profile.
+and Webots' force-dependent slip, MuJoCo's wheel servo gain; Gazebo's wheels' slip2 at a required slip1, listed
+before its ratio, which only switches DART's turn where the slips grade it); a simulator with isotropic friction
+only has none, says why, and its calibrated row is its tuned profile.
 
 The fit (:func:`calibrate`) fits what the table judges. On the committed segments (kind ``segments``) the
 objective is the held-out figure's own metric over the training runs: the training runs' turning segments (the
@@ -43,6 +44,7 @@ import pandas as pd
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
+from simpick.engines.base import FRICTION_RATIO
 from simpick.engines.simulators import SIMULATORS
 from simpick.inputs.robot.settings import RobotParams
 from simpick.params import JobParams, PhysicsStep, Positive
@@ -826,19 +828,24 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
         out["fit"]["note"] = "no setting fitted: the calibrated row is the tuned profile, the best it reaches"
         _write(out, output)
         return out
-    if "friction_ratio" not in space.settings:
+    if "friction_ratio" not in space.settings and "friction_ratio" not in space.requires:
         raise ValueError(
-            f"the fit needs friction_ratio among the settings; the search space has {sorted(space.settings)}"
+            "the fit needs friction_ratio among the settings, or fixed among the required ones (Gazebo's, where "
+            f"the ratio only switches DART's turn); the search space has {sorted(space.settings)}"
         )
     fixed = {k: r.value for k, r in space.requires.items()}
     units = _units(p, inputs, robot, train, classes, turns, real)
-    # as many settings as the runs can identify at most, in the search space's order (the ratio first)
+    # as many settings as the runs can identify at most, in the params' order (the job's params are canonical, their
+    # keys sorted: Gazebo Classic's and Webots' contact_slip before the ratio)
     names = list(space.settings)[: max(1, len(set(units.runs)))]
     axes = [Axis(k, space.settings[k]) for k in names]
-    tuned = {
-        k: float(p.engine_settings.get(k, 1.0 if k == "friction_ratio" else space.settings[k].bounds[0])) for k in names
-    }
-    start = {a.name: min(max(tuned[a.name], a.low), a.high) for a in axes}
+    # the tuned profile's values; None where it does not set the setting (Gazebo's <slip2>: no slip written)
+    tuned = {k: p.engine_settings.get(k, 1.0 if k == "friction_ratio" else None) for k in names}
+    tuned = {k: None if v is None else float(v) for k, v in tuned.items()}
+    # the fit starts from the tuned value, or from the middle of the bounds (of their logarithms for a log setting)
+    # where the profile sets none: from a bound, scipy's trf starts its trust region as small as the start (u 1e-6)
+    # and stops there
+    start = {a.name: a.to_x(0.5) if tuned[a.name] is None else min(max(tuned[a.name], a.low), a.high) for a in axes}
     fit = least_squares_fit(units, axes, fixed, start, p.max_nfev, p.diff_step, p.noise, space.scan, space.optimizer)
     # the tuned profile's own error on the same units: the first evaluation, unless the required settings (or a
     # tuned value outside the bounds) make that evaluation differ from the tuned profile
@@ -851,19 +858,25 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     steps = step_margins(units, fixed, fit["settings"], fit["gains"], axes, fit["fitted"]) if improved else {}
     near_step = sorted(k for k, m in steps.items() if m["step"])
     improved = improved and not near_step
-    kept = {k: _r(v) for k, v in fit["settings"].items()} if improved else {k: _r(v) for k, v in tuned.items()}
+    kept = (
+        {k: _r(v) for k, v in fit["settings"].items()}
+        if improved
+        else {k: _r(v) for k, v in tuned.items() if v is not None}
+    )
     out["settings"] = {**fixed, **kept} if improved else kept
-    ratio = float(kept["friction_ratio"])
+    # the ratio fitted, else fixed by the search space (Gazebo's), else the tuned one (not fitted: one run)
+    ratio = float(kept.get("friction_ratio", fixed.get("friction_ratio", p.engine_settings.get("friction_ratio", 1.0))))
     at = fit["gains"] if improved else tuned_gains
     exposed = {}
-    for k in names:
+    for k in (k for k in names if k in kept):
         text = space.settings[k].exposed_as
         exposed[k] = text.replace("r x mu", f"{_r(ratio)} x mu") if k == "friction_ratio" else f"{text} (= {kept[k]})"
     if improved:
         exposed.update({k: r.exposed_as for k, r in space.requires.items()})
     out["exposed"] = exposed
     layout = contact_layout(robot)
-    bounds = tuple(space.settings["friction_ratio"].bounds)
+    ratio_space = space.settings.get("friction_ratio")
+    bounds = tuple(ratio_space.bounds) if ratio_space else (FRICTION_RATIO.low, FRICTION_RATIO.high)
     coulomb = ratio_for_gain(layout, real, 0.5, 0.5, p.robot.track, bounds)
     engine_gain = float(np.nanmean(at)) if np.isfinite(at).any() else math.nan
     out["fit"].update(
@@ -906,7 +919,7 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
             "coulomb_ratio": _r(coulomb),
             # (ratio, mean engine gain over the units) of each evaluation, in order
             "trials": [
-                [_r(s["friction_ratio"]), _r(float(np.nanmean(g)) if np.isfinite(g).any() else math.nan)]
+                [_r(s.get("friction_ratio", ratio)), _r(float(np.nanmean(g)) if np.isfinite(g).any() else math.nan)]
                 for s, g in fit["evaluations"]
             ],
             "all_trials": [
@@ -993,7 +1006,10 @@ def _class_fits(
     error is below both the pooled fit's (by the fit's tolerance) and the tuned profile's."""
     out = {}
     tuned_by_unit = tuned_by_unit or {}
-    ratio_axis = Axis("friction_ratio", space.settings["friction_ratio"])
+    # a ratio the search space fixes (Gazebo's) gets no class fit: every class is placed by the pooled fit
+    ratio_axis = (
+        Axis("friction_ratio", space.settings["friction_ratio"]) if "friction_ratio" in space.settings else None
+    )
     pooled_ratio = float(pooled.get("friction_ratio", p.engine_settings.get("friction_ratio", 1.0)))
     for cls, t in train.groupby("terrain_class"):
         gains = real_gains(t)
@@ -1009,7 +1025,7 @@ def _class_fits(
             "class_spread": _r(float(every.gain.std(ddof=1)) if len(every) > 1 else math.nan),
             "spread_runs": len(every),
         }
-        if p.class_nfev and str(cls) in p.grounds:
+        if p.class_nfev and str(cls) in p.grounds and ratio_axis is not None:
             units = _units(p, inputs, robot, runs, [str(cls)], t, gain)
             others = {**fixed, **{k: v for k, v in pooled.items() if k != "friction_ratio"}}
             fit = least_squares_fit(
