@@ -23,8 +23,9 @@ the same budget of evaluations, and the file names the one that ran (its version
 Each setting gets a 95 % interval from the Jacobian at the optimum (mujoco.sysid's from its calculate_intervals),
 or is named unidentifiable from these runs; the file gives the tuned profile's training error (the first
 evaluation) beside the optimum's, and keeps the tuned settings where the optimum is not below it. Kinds drive and
-replay fit the same way on steady-turn cases at the training units' representative commands
-(:func:`steady_units`).
+replay fit the same per-run residuals, each run (a DRIVE step is one) a steady turn from rest at its own
+representative command on its own class's ground against its own real gain (:func:`representative_units`,
+:func:`run_units`): not a replay of every window, which costs more than these fits are given.
 
 Per class, where a class has a training run that turns, its own ratio is fitted the same way on its runs (the
 other settings at the pooled fit's), beside the pooled fit, and both are judged on its held-out runs.
@@ -213,8 +214,8 @@ class CalibrateParams(JobParams):
     )
     commands: list[tuple[float, float]] | None = Field(
         None,
-        description="kinds drive and replay: (v m/s, w rad/s) of the steady-turn cases fitted; None: the "
-        "training units' own (drive_commands of them)",
+        description="kinds drive and replay: (v m/s, w rad/s) of steady-turn cases fitted against the training "
+        "runs' pooled gain on the classes' median ground; None: the training units' own (representative_units)",
     )
     duration: Positive = Field(6.0, description="s of a steady-turn case, kinds drive and replay (its second half)")
     tolerance: Positive = Field(
@@ -245,10 +246,11 @@ class CalibrateParams(JobParams):
         "leave no degree of freedom (as many settings as runs)",
     )
     drive_commands: Annotated[int, Field(ge=1, le=12)] = Field(
-        4,
-        description="kinds drive and replay: how many of the training units' commands the engine runs (the "
-        "median unit of each of as many equal bins of |w|): DRIVE has some 170 training steps, a full BorealTC "
-        "replay hundreds of turning windows, each a 6 s engine run",
+        6,
+        description="kinds drive and replay: how many training units (runs, DRIVE's steps) the fit runs, each "
+        "at its own command and class ground against its own real gain (the median unit by |w| of each of as "
+        "many equal bins): DRIVE has some 170 training steps, a full BorealTC replay hundreds of turning windows, "
+        "each a 6 s engine run",
     )
 
 
@@ -317,14 +319,6 @@ def real_gains(turns: pd.DataFrame) -> pd.DataFrame:
     """Per run of ``turns`` (:func:`real_turns`): the real steady yaw-rate gain, its turning units averaged
     (terrain_class, run, gain); runs with no turning unit are left out."""
     return turns.groupby(["terrain_class", "run"], as_index=False).gain.mean()
-
-
-def drive_commands(turns: pd.DataFrame, n: int) -> list[tuple[float, float]]:
-    """(v, w) of ``n`` representative turning steps: the median step, by |w|, of each of ``n`` equal bins of
-    the steps sorted by |w| (fewer where there are fewer steps)."""
-    order = turns.assign(aw=turns.w.abs()).sort_values(["aw", "run"]).reset_index(drop=True)
-    bins = np.array_split(np.arange(len(order)), min(n, len(order)))
-    return [(round(float(order.v[b[len(b) // 2]]), 3), round(float(order.w[b[len(b) // 2]]), 3)) for b in bins]
 
 
 # a failed replay (the health checks) counts as this gain residual: the fit steers away from it
@@ -983,14 +977,67 @@ def _units(p: CalibrateParams, inputs: dict, robot, runs: list[str], classes: li
     representative commands (:func:`steady_units`) on the classes' median friction."""
     if p.kind == "segments" and p.segments_case is not None:
         return segment_units(p, inputs, runs, classes)
+    if not p.commands:  # each unit its own: the run's command, its class's ground, its real gain
+        picked = representative_units(turns, p.drive_commands)
+        return run_units(p, robot, picked)
     mu = float(np.median([p.grounds[c] for c in classes]))
-    if p.commands:
-        commands = p.commands
-    elif p.kind in ("drive", "replay"):
-        commands = drive_commands(turns, p.drive_commands)
-    else:
-        commands = [(round(float(r.v), 3), round(float(r.w), 3)) for r in turns.itertuples()]
-    return steady_units(p, robot, commands, mu, real, runs)
+    return steady_units(p, robot, p.commands, mu, real, runs)
+
+
+def representative_units(turns: pd.DataFrame, n: int) -> pd.DataFrame:
+    """Kinds drive and replay (and segments without a replay case): the training units the fit runs, at most
+    ``n``, each with its own command, class and real gain. Per unit (a run; a DRIVE step is one) its turning window
+    of median |w| gives the command and the mean of its windows' gains the real gain, as the held-out figure
+    averages a run's windows; where there are more than ``n`` units, the median unit by |w| of each of ``n`` equal
+    bins of them (terrain_class, run, v, w, gain)."""
+    rows = []
+    for (cls, run), g in turns.groupby(["terrain_class", "run"], sort=True):
+        g = g.assign(aw=g.w.abs()).sort_values(["aw"], kind="stable").reset_index(drop=True)
+        mid = g.iloc[len(g) // 2]
+        rows.append({"terrain_class": cls, "run": run, "v": round(float(mid.v), 3), "w": round(float(mid.w), 3)})
+        rows[-1]["gain"] = float(g.gain.mean())
+    if not rows:
+        return pd.DataFrame(columns=["terrain_class", "run", "v", "w", "gain"])
+    order = pd.DataFrame(rows)
+    order = order.assign(aw=order.w.abs()).sort_values(["aw", "terrain_class", "run"]).reset_index(drop=True)
+    bins = np.array_split(np.arange(len(order)), min(n, len(order)))
+    return order.iloc[[int(b[len(b) // 2]) for b in bins]].drop(columns="aw").reset_index(drop=True)
+
+
+def run_units(p: CalibrateParams, robot, picked: pd.DataFrame) -> Units:
+    """The engine's steady turn from rest at each picked unit's command on its class's ground (the validation's
+    steady-turn case), against that unit's own real gain: the per-run gain residuals the held-out figure takes,
+    at each run's representative command (a replay of every DRIVE step or full-replay window per evaluation costs
+    more than these kinds' fits are given)."""
+    from simpick.studies.validation.cases import Setup, run_case
+
+    commands = list(zip(picked.v.astype(float), picked.w.astype(float)))
+    grounds = [float(p.grounds[str(c)]) for c in picked.terrain_class]
+
+    def simulate(settings: dict) -> np.ndarray:
+        setup = Setup(
+            engine=p.engine,
+            robot=robot,
+            timestep=p.physics.timestep,
+            max_wheel_torque=p.robot.max_wheel_torque,
+            track=p.robot.track,
+            settings={**p.engine_settings, **settings},
+        )
+        ratio = float(settings.get("friction_ratio", p.engine_settings.get("friction_ratio", 1.0)))
+        return np.array(
+            [_engine_gain(run_case, setup, ratio, v, w, mu, p.duration) for (v, w), mu in zip(commands, grounds)]
+        )
+
+    runs = [f"{c}/{r}" for c, r in zip(picked.terrain_class, picked.run)]
+    describe = {
+        "units": runs,
+        "commands": [[v, w] for v, w in commands],
+        "grounds": grounds,
+        "duration": p.duration,
+        "from": "each unit's turning window of median |w| (a steady turn from rest on its class's ground), against "
+        "its windows' mean real gain",
+    }
+    return Units(runs, picked.gain.to_numpy(float), runs, simulate, describe)
 
 
 def _class_fits(
