@@ -6,15 +6,19 @@ adds); a model holds all of it: the robot, its actuators, its contacts, the grou
 Menagerie ships a robot, with the commands that drive it and the figures simpick measured on it in its header. One
 module per simulator whose engine can write such a model (MuJoCo: :mod:`.mujoco`, one MJCF file from the adapter's
 own ``MjSpec``; Gazebo: :mod:`.gazebo`, one SDF world from the adapter's own; Drake: :mod:`.drake`, a URDF with
-Drake's tags, the ground's SDFormat file and the plant's YAML); :data:`WRITERS` names them, and rule
-simulator_models writes one model per profile of those simulators (:mod:`simpick.studies.simulator_models`)."""
+Drake's tags, the ground's SDFormat file and the plant's YAML; Newton: :mod:`.newton_script` and Genesis:
+:mod:`.genesis_script`, a Python script that builds the robot with the simulator's own API, beside the URDF it
+loads); :data:`WRITERS` names them, and rule simulator_models writes one model per profile of those simulators
+(:mod:`simpick.studies.simulator_models`), where the profile's engine is configured."""
 
 from __future__ import annotations
 
 from simpick.engines.simulator_models.common import TurningClaim
 from simpick.engines.simulator_models.drake import write_drake_model
 from simpick.engines.simulator_models.gazebo import write_gazebo_model
+from simpick.engines.simulator_models.genesis_script import write_genesis_model
 from simpick.engines.simulator_models.mujoco import write_mujoco_model
+from simpick.engines.simulator_models.newton_script import write_newton_model
 
 
 def _mujoco_files(*args, stem: str, **kwargs) -> dict[str, str]:
@@ -34,6 +38,16 @@ WRITERS = {
     "mujoco": ("xml", _mujoco_files),
     "gzphysics": ("sdf", _gazebo_files),
     "drake": ("urdf", write_drake_model),
+    "newton": ("py", write_newton_model),
+    "genesis": ("py", write_genesis_model),
 }
 
-__all__ = ["WRITERS", "TurningClaim", "write_drake_model", "write_gazebo_model", "write_mujoco_model"]
+__all__ = [
+    "WRITERS",
+    "TurningClaim",
+    "write_drake_model",
+    "write_gazebo_model",
+    "write_genesis_model",
+    "write_mujoco_model",
+    "write_newton_model",
+]
