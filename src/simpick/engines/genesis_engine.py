@@ -69,6 +69,23 @@ class GenesisSettings(EngineSettings):
     iterations: Annotated[int, Field(ge=1)] = 25
 
 
+# gs.init's keywords beside the CPU backend
+INIT_OPTIONS = {"precision": "64", "logging_level": "warning", "seed": 0}
+# the RigidOptions keywords whose value is a member of a Genesis enum, and that enum's name in genesis
+ENUM_OPTIONS = {"constraint_solver": "constraint_solver", "friction_cone": "friction_cone"}
+
+
+def rigid_options(settings: GenesisSettings) -> dict:
+    """``gs.options.RigidOptions``' keywords as the adapter passes them, an enum's member by its name
+    (:data:`ENUM_OPTIONS`)."""
+    return {
+        "constraint_solver": settings.constraint_solver,
+        "friction_cone": settings.friction_cone,
+        "iterations": settings.iterations,
+        "enable_self_collision": False,
+    }
+
+
 def _quat_wxyz(yaw: float) -> tuple[float, float, float, float]:
     return (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
 
@@ -102,14 +119,14 @@ class GenesisWorld:
         import genesis as gs
 
         if not _INITIALISED:
-            gs.init(backend=gs.cpu, precision="64", logging_level="warning", seed=0)
+            gs.init(backend=gs.cpu, **INIT_OPTIONS)
             _INITIALISED = True
         self.scenario, self.settings = scenario, settings
         rigid = gs.options.RigidOptions(
-            constraint_solver=getattr(gs.constraint_solver, settings.constraint_solver),
-            friction_cone=getattr(gs.friction_cone, settings.friction_cone),
-            iterations=settings.iterations,
-            enable_self_collision=False,
+            **{
+                k: getattr(getattr(gs, ENUM_OPTIONS[k]), v) if k in ENUM_OPTIONS else v
+                for k, v in rigid_options(settings).items()
+            }
         )
         scene = gs.Scene(
             sim_options=gs.options.SimOptions(dt=scenario.timestep, gravity=tuple(scenario.gravity)),

@@ -128,23 +128,72 @@ class NewtonSettings(EngineSettings):
     steel_constraint_max: Annotated[int, Field(ge=32)] = 128
 
 
+def intvelocity_actuator(kp: float, bound: float) -> dict:
+    """``newton.solvers.mujoco.add_actuator_general``'s keywords, its target aside, of a MuJoCo <intvelocity>
+    actuator (its control: the speed, integrated into a position setpoint; biasprm[2] 1: MuJoCo's dampratio,
+    critically damped), force within +-``bound``."""
+    return {
+        "dyntype": "integrator",
+        "gaintype": "fixed",
+        "biastype": "affine",
+        "gainprm": (kp,),
+        "biasprm": (0.0, -kp, 1.0),
+        "actlimited": False,  # a continuous joint: no setpoint range
+        "forcerange": (-bound, bound),
+        "forcelimited": True,
+    }
+
+
 def _intvelocity(builder, joint: int, kp: float, bound: float) -> int:
-    """A MuJoCo <intvelocity> actuator on ``joint`` (its control: the speed, integrated into a position
-    setpoint; biasprm[2] 1: MuJoCo's dampratio, critically damped), force within +-``bound``; its row index."""
+    """A MuJoCo <intvelocity> actuator on ``joint`` (:func:`intvelocity_actuator`); its row index."""
     from newton.solvers import mujoco
 
-    return mujoco.add_actuator_general(
-        builder,
-        mujoco.ActuatorTarget.joint(joint),
-        dyntype="integrator",
-        gaintype="fixed",
-        biastype="affine",
-        gainprm=(kp,),
-        biasprm=(0.0, -kp, 1.0),
-        actlimited=False,  # a continuous joint: no setpoint range
-        forcerange=(-bound, bound),
-        forcelimited=True,
-    )
+    return mujoco.add_actuator_general(builder, mujoco.ActuatorTarget.joint(joint), **intvelocity_actuator(kp, bound))
+
+
+def solver_mujoco_options(settings: NewtonSettings) -> dict:
+    """SolverMuJoCo's keywords, its model aside, as the adapter passes them."""
+    options: dict = {"use_mujoco_cpu": settings.mujoco_backend == "c", "cone": settings.mujoco_cone}
+    options["integrator"] = "implicitfast"
+    if settings.wheel_contact != "default":
+        d, df = settings.wheel_contact_impedance, settings.wheel_friction_impedance
+        options["impratio"] = ((1 - d) / d) / ((1 - df) / df)
+    if settings.iterations != 0:
+        options["iterations"] = settings.iterations
+    return options
+
+
+def wheel_solimp(settings: NewtonSettings) -> tuple:
+    """The MuJoCo solimp of the wheels' contacts under ``wheel_contact`` "decoupled" or "pairs": impedance
+    ``wheel_contact_impedance``, constant with depth."""
+    d = settings.wheel_contact_impedance
+    return (d, d, 0.001, 0.5, 2.0)
+
+
+def pair_values(settings: NewtonSettings, mu: float) -> dict:
+    """The ``mujoco:pair_*`` values, its two shapes aside, of a wheel x ground shape pair of friction ``mu``
+    (``wheel_contact`` "pairs": the MuJoCo adapter's pairs)."""
+    d = settings.wheel_contact_impedance
+    return {
+        "mujoco:pair_condim": 3,
+        "mujoco:pair_friction": (mu, mu, 0.0, 0.0, 0.0),
+        "mujoco:pair_solref": (MUJOCO_TIMECONST, 1.0),
+        "mujoco:pair_solreffriction": (MUJOCO_TIMECONST * MUJOCO_DMAX / d, 1.0),
+        "mujoco:pair_solimp": wheel_solimp(settings),
+        "mujoco:pair_margin": 0.0,
+        "mujoco:pair_gap": 0.0,
+    }
+
+
+def robot_shape(mu: float) -> dict:
+    """The robot shapes' ``ModelBuilder.ShapeConfig`` keywords: the ground's coefficient ``mu`` (on flat ground every
+    solver's combination rule, MuJoCo: the larger, unless priority; XPBD and Steel: the mean, then gives mu itself)
+    and no restitution."""
+    return {"mu": mu, "restitution": 0.0}
+
+
+# MuJoCo takes the friction (and every contact parameter) of the higher-priority geom: the ground's
+GROUND_ATTRIBUTES = {"mujoco:geom_priority": 1}
 
 
 def _yaw_quat_xyzw(yaw: float) -> tuple[float, float, float, float]:
@@ -169,12 +218,9 @@ class NewtonWorld:
         elif solver == "kamino":
             newton.solvers.SolverKamino.register_custom_attributes(builder)
         ShapeConfig = newton.ModelBuilder.ShapeConfig
-        # Robot shapes carry the ground's coefficient: on flat ground every solver's combination rule
-        # (MuJoCo: the larger, unless priority; XPBD and Steel: the mean) then gives mu itself.
-        robot_cfg = ShapeConfig(mu=scenario.ground_friction, restitution=0.0)
+        robot_cfg = ShapeConfig(**robot_shape(scenario.ground_friction))
         builder.default_shape_cfg = robot_cfg
-        # MuJoCo takes the friction (and every contact parameter) of the higher-priority geom: the ground's
-        ground_attrs = {"mujoco:geom_priority": 1} if solver == "mujoco" else None
+        ground_attrs = dict(GROUND_ATTRIBUTES) if solver == "mujoco" else None
         self.ground_shapes = [builder.shape_count]
         builder.add_shape_plane(
             cfg=ShapeConfig(mu=scenario.ground_friction), width=0.0, length=0.0, custom_attributes=ground_attrs
@@ -308,20 +354,18 @@ class NewtonWorld:
         only on explicit contact pairs (``mujoco:pair_*``), which SolverMuJoCo passes as MuJoCo
         <pair> elements; the shape-level attributes used here leave the friction rows' reference
         at MuJoCo's rule (it follows solref)."""
-        d = self.settings.wheel_contact_impedance
         solimp = builder.custom_attributes["mujoco:geom_solimp"]
         if solimp.values is None:
             solimp.values = {}
         # the ground shapes too: they have priority (their friction is the contact's), and MuJoCo
         # then takes every contact parameter from the higher-priority geom
         for s in wheel_shapes + self.ground_shapes:
-            solimp.values[s] = (d, d, 0.001, 0.5, 2.0)
+            solimp.values[s] = wheel_solimp(self.settings)
 
     def _mujoco_pairs(self, builder, wheel_shapes: list[int]) -> None:
         """The MuJoCo adapter's contact pairs (simpick.engines.mujoco_engine.MujocoEngine._wheel_pairs) through
         Newton's ``mujoco:pair_*`` attributes, which SolverMuJoCo writes as MuJoCo <pair> elements; each
         wheel's automatic contact with each ground shape is filtered out, so every contact is counted once."""
-        d = self.settings.wheel_contact_impedance
         mu = builder.shape_material_mu
         for wheel in wheel_shapes:
             for ground in self.ground_shapes:
@@ -330,13 +374,7 @@ class NewtonWorld:
                     **{
                         "mujoco:pair_geom1": ground,
                         "mujoco:pair_geom2": wheel,
-                        "mujoco:pair_condim": 3,
-                        "mujoco:pair_friction": (mu[ground], mu[ground], 0.0, 0.0, 0.0),
-                        "mujoco:pair_solref": (MUJOCO_TIMECONST, 1.0),
-                        "mujoco:pair_solreffriction": (MUJOCO_TIMECONST * MUJOCO_DMAX / d, 1.0),
-                        "mujoco:pair_solimp": (d, d, 0.001, 0.5, 2.0),
-                        "mujoco:pair_margin": 0.0,
-                        "mujoco:pair_gap": 0.0,
+                        **pair_values(self.settings, mu[ground]),
                     }
                 )
 
@@ -344,18 +382,7 @@ class NewtonWorld:
         s = self.settings
         its = {} if s.iterations == 0 else {"iterations": s.iterations}
         if s.solver == "mujoco":
-            extra = {}
-            if s.wheel_contact != "default":
-                d, df = s.wheel_contact_impedance, s.wheel_friction_impedance
-                extra["impratio"] = ((1 - d) / d) / ((1 - df) / df)
-            return newton.solvers.SolverMuJoCo(
-                model,
-                use_mujoco_cpu=s.mujoco_backend == "c",
-                cone=s.mujoco_cone,
-                integrator="implicitfast",
-                **extra,
-                **its,
-            )
+            return newton.solvers.SolverMuJoCo(model, **solver_mujoco_options(s))
         if s.solver == "xpbd":
             return newton.solvers.SolverXPBD(model, **its)
         if s.solver == "steel":

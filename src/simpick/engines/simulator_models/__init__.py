@@ -7,9 +7,11 @@ Menagerie ships a robot, with the commands that drive it and the figures simpick
 module per simulator whose engine can write such a model (MuJoCo: :mod:`.mujoco`, one MJCF file from the adapter's
 own ``MjSpec``; Gazebo: :mod:`.gazebo`, one SDF world from the adapter's own; Drake: :mod:`.drake`, a URDF with
 Drake's tags, the ground's SDFormat file and the plant's YAML; Gazebo Classic: :mod:`.gazebo_classic`, an SDF 1.7
-world; Webots: :mod:`.webots`, a .wbt world); :data:`WRITERS` names them by simulator (Gazebo Classic and Webots
-share the ODE adapter, each with a format of its own), and rule simulator_models writes one model per profile of
-those simulators (:mod:`simpick.studies.simulator_models`)."""
+world; Webots: :mod:`.webots`, a .wbt world; Newton: :mod:`.newton_script` and Genesis: :mod:`.genesis_script`, a
+Python script that builds the robot with the simulator's own API, beside the URDF it loads); :data:`WRITERS` names
+them by simulator (Gazebo Classic and Webots share the ODE adapter, each with a format of its own), and rule
+simulator_models writes one model per profile of those simulators (:mod:`simpick.studies.simulator_models`), where
+the profile's engine is configured."""
 
 from __future__ import annotations
 
@@ -21,7 +23,9 @@ from simpick.engines.simulator_models.common import TurningClaim
 from simpick.engines.simulator_models.drake import write_drake_model
 from simpick.engines.simulator_models.gazebo import write_gazebo_model
 from simpick.engines.simulator_models.gazebo_classic import write_gazebo_classic_model
+from simpick.engines.simulator_models.genesis_script import write_genesis_model
 from simpick.engines.simulator_models.mujoco import write_mujoco_model
+from simpick.engines.simulator_models.newton_script import write_newton_model
 from simpick.engines.simulator_models.webots import write_webots_model
 
 
@@ -82,6 +86,8 @@ WRITERS = {
     "drake": ModelWriter("urdf", write_drake_model, opened_here=True),
     "gazebo_classic": ModelWriter("world", _gazebo_classic_files, opened_here=False, writes=_converts),
     "webots": ModelWriter("wbt", _webots_files, opened_here=False, writes=_plain_wheels),
+    "isaac_lab_newton": ModelWriter("py", write_newton_model, opened_here=True),
+    "genesis": ModelWriter("py", write_genesis_model, opened_here=True),
 }
 
 
@@ -98,6 +104,8 @@ __all__ = [
     "write_drake_model",
     "write_gazebo_classic_model",
     "write_gazebo_model",
+    "write_genesis_model",
     "write_mujoco_model",
+    "write_newton_model",
     "write_webots_model",
 ]
