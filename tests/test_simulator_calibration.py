@@ -1005,3 +1005,25 @@ def test_a_ratio_the_search_space_fixes_is_set_not_fitted_and_gets_no_class_fit(
     assert out["settings"]["wheel_servo_kp"] == pytest.approx(400.0, rel=0.1)
     assert f["bounds"] == [0.3, 1.8] and all(t[0] == 0.7 for t in f["trials"])
     assert out["per_class"] and all(e["placed_by"].startswith("the pooled fit") for e in out["per_class"].values())
+
+
+def test_the_replay_s_units_are_its_runs_each_at_its_own_command_and_real_gain():
+    """Kinds replay and drive fit per-run residuals: each run at its turning window of median |w| against the mean
+    of its windows' real gains (the held-out figure averages a run's windows), at most n runs, the median run of
+    each of n bins by |w|."""
+    turns = pd.DataFrame(
+        {
+            "terrain_class": ["ice", "ice", "ice", "flooring", "flooring", "snow"],
+            "run": ["02", "02", "02", "01", "01", "04"],
+            "gain": [0.6, 0.7, 0.8, 0.72, 0.70, 0.1],
+            "v": [0.1, 0.2, 0.3, 0.0, 0.1, 0.0],
+            "w": [0.2, -0.5, 0.3, 0.4, -0.1, 0.34],
+        }
+    )
+    picked = cal.representative_units(turns, 6)
+    by = {f"{r.terrain_class}/{r.run}": r for r in picked.itertuples()}
+    assert sorted(by) == ["flooring/01", "ice/02", "snow/04"]
+    assert (by["ice/02"].v, by["ice/02"].w) == (0.3, 0.3) and by["ice/02"].gain == pytest.approx(0.7)
+    assert (by["flooring/01"].v, by["flooring/01"].w) == (0.0, 0.4) and by["flooring/01"].gain == pytest.approx(0.71)
+    two = cal.representative_units(turns, 2)  # bins by |w|: [ice 0.3, snow 0.34] and [flooring 0.4]
+    assert len(two) == 2 and set(two.run) == {"04", "01"}
