@@ -40,7 +40,8 @@ def validation_gain_figure(
                 ax.errorbar(
                     x[side],
                     means[side],
-                    yerr=[means[side] - lows[side], highs[side] - means[side]],
+                    # a mean over one heading is its min and max, to rounding: bars never below zero
+                    yerr=np.clip([means[side] - lows[side], highs[side] - means[side]], 0.0, None),
                     fmt="o-",
                     color=colors.get(engine),
                     label=label,
