@@ -592,3 +592,13 @@ def test_suspension_cases_tell_coupled_rockers_from_free_ones():
     # free rockers: the chassis pitches onto the 0.15 rad stops (measured 8.6 deg), never level
     assert not rest.loc["chassis_pitch", "passed"], rest
     assert abs(rest.loc["chassis_pitch", "engine_value"]) == pytest.approx(0.15, abs=0.01), rest
+
+
+def test_the_validation_figure_draws_a_mean_over_one_heading_that_rounding_puts_above_its_max(tmp_path):
+    """A gain measured from one heading is its own mean, min and max; the mean, a sum over one value divided by
+    one, can land a rounding error off the min, and the figure's error bars must not go below zero for it."""
+    from simpick.report.figures.studies import validation_gain_figure
+
+    points = [(0.5, 0.4, 0.4 + 1e-17, 0.4), (-0.5, 0.41, 0.40, 0.42)]
+    path = validation_gain_figure([("mujoco", points)], 0.478, {"mujoco": "C0"}, tmp_path / "gain.png")
+    assert path.stat().st_size > 0
