@@ -599,6 +599,7 @@ def test_the_validation_figure_draws_a_mean_over_one_heading_that_rounding_puts_
     one, can land a rounding error off the min, and the figure's error bars must not go below zero for it."""
     from simpick.report.figures.studies import validation_gain_figure
 
-    points = [(0.5, 0.4, 0.4 + 1e-17, 0.4), (-0.5, 0.41, 0.40, 0.42)]
+    above = float(np.nextafter(0.4, 1.0))  # the min one float above the mean
+    points = [(0.5, 0.4, above, above), (-0.5, 0.41, 0.40, 0.42)]
     path = validation_gain_figure([("mujoco", points)], 0.478, {"mujoco": "C0"}, tmp_path / "gain.png")
     assert path.stat().st_size > 0
