@@ -272,7 +272,7 @@ def _generated_fit(tmp_path, monkeypatch, truth: dict, noise: np.ndarray, servo:
         return gains({**params["engine_settings"], **settings}, servo)
 
     units = cal.Units(UNIT_RUNS, real, [f"u{k}" for k in range(len(real))], simulate, {"generated": True})
-    monkeypatch.setattr(cal, "_units", lambda *args: units)
+    monkeypatch.setattr(cal.job, "_units", lambda *args: units)
     split = tmp_path / "split.csv"
     cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(split))
     inputs = {"split": str(split), "segments": str(SEGMENTS), "urdf": str(ROOT / "resources/robot/husky_a200.urdf")}
@@ -934,7 +934,7 @@ def test_a_setting_listed_before_the_ratio_is_fitted_first_and_alone_on_one_run(
 
     runs = ["flooring/07"] * len(real)
     units = cal.Units(runs, real, [f"u{k}" for k in range(len(real))], simulate, {"generated": True})
-    monkeypatch.setattr(cal, "_units", lambda *args: units)
+    monkeypatch.setattr(cal.job, "_units", lambda *args: units)
     split = tmp_path / "split.csv"
     cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(split))
     inputs = {"split": str(split), "segments": str(SEGMENTS), "urdf": str(ROOT / "resources/robot/husky_a200.urdf")}
@@ -961,7 +961,7 @@ def test_a_setting_the_tuned_profile_leaves_unset_starts_at_its_bounds_middle(tm
         return _generated_gains({**merged, "wheel_servo_kp": merged["wheel_servo_kp"] or 1000.0}, 0.05)
 
     units = cal.Units(UNIT_RUNS, real, [f"u{k}" for k in range(len(real))], simulate, {"generated": True})
-    monkeypatch.setattr(cal, "_units", lambda *args: units)
+    monkeypatch.setattr(cal.job, "_units", lambda *args: units)
     split = tmp_path / "split.csv"
     cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(split))
     inputs = {"split": str(split), "segments": str(SEGMENTS), "urdf": str(ROOT / "resources/robot/husky_a200.urdf")}
@@ -994,7 +994,7 @@ def test_a_ratio_the_search_space_fixes_is_set_not_fitted_and_gets_no_class_fit(
         return _generated_gains({**params["engine_settings"], **s}, 0.05)
 
     units = cal.Units(UNIT_RUNS, real, [f"u{k}" for k in range(len(real))], simulate, {"generated": True})
-    monkeypatch.setattr(cal, "_units", lambda *args: units)
+    monkeypatch.setattr(cal.job, "_units", lambda *args: units)
     split = tmp_path / "split.csv"
     cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(split))
     inputs = {"split": str(split), "segments": str(SEGMENTS), "urdf": str(ROOT / "resources/robot/husky_a200.urdf")}

@@ -1,0 +1,355 @@
+"""Rule simulator_calibrate's job (:func:`calibrate`): the pooled fit, each part's share of it, the
+classes' own fits, and the file that says what was fitted and kept."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import yaml
+
+from simpick.engines.base import FRICTION_RATIO
+from simpick.score.simulators import read_split
+from simpick.studies.simulator_calibration.fit import (
+    STEP_GAIN,
+    STEP_MARGIN,
+    Axis,
+    Units,
+    _r,
+    least_squares_fit,
+    step_margins,
+)
+from simpick.studies.simulator_calibration.params import CalibrateParams
+from simpick.studies.simulator_calibration.runs import real_gains, real_turns
+from simpick.studies.simulator_calibration.space import SearchSpace
+from simpick.studies.simulator_calibration.units import _units
+
+
+def calibrate(inputs: dict, params: dict, output: str) -> dict:
+    """Rule simulator_calibrate: ``results/simulators/calibration/<simulator>.yaml`` (docs/simulators.md)."""
+    from simpick.coulomb import contact_layout, ratio_for_gain
+
+    p = CalibrateParams.model_validate(params)
+    space = SearchSpace.model_validate(p.space)
+    train, test = read_split(inputs["split"])
+    # the classes fitted one by one: DRIVE's outside the target too (a gravel or grass robot's user reads theirs)
+    every = sorted(p.grounds) if p.kind == "drive" else list(p.classes)
+    trained = real_turns(inputs, train, every)
+    classes = list(p.classes)
+    if p.kind == "drive":  # the target classes among DRIVE's steps, else every class its steps have
+        present = set(trained.terrain_class)
+        classes = [c for c in classes if c in present] or sorted(present)
+    turns = trained[trained.terrain_class.isin(classes)]
+    gains = real_gains(turns)
+    real = float(gains.gain.mean()) if len(gains) else math.nan
+    robot = p.robot.spec(inputs["urdf"])
+    out: dict[str, Any] = {
+        "simulator": p.simulator,
+        "robot": p.robot_name,
+        "source": p.source,
+        "train_runs": train,
+        "test_runs": test,
+        "searchable": bool(p.searchable),
+        "why_not": p.why_not,
+        "settings": {},
+        "exposed": {},
+        "per_class": {},
+        "fit": {
+            "real_gain": _r(real),
+            "real_runs": [f"{c}/{r}" for c, r in zip(gains.terrain_class, gains.run)],
+            "classes": classes,
+        },
+    }
+    if not p.searchable or not math.isfinite(real):
+        if p.searchable:
+            out["why_not"] = "no training run of the target classes turns under a steady command: nothing to fit"
+            out["searchable"] = False
+        out["fit"]["note"] = "no setting fitted: the calibrated row is the tuned profile, the best it reaches"
+        _write(out, output)
+        return out
+    if "friction_ratio" not in space.settings and "friction_ratio" not in space.requires:
+        raise ValueError(
+            "the fit needs friction_ratio among the settings, or fixed among the required ones (Gazebo's, where "
+            f"the ratio only switches DART's turn); the search space has {sorted(space.settings)}"
+        )
+    fixed = {k: r.value for k, r in space.requires.items()}
+    units = _units(p, inputs, robot, train, classes, turns, real)
+    # as many settings as the runs can identify at most, in the params' order (the job's params are canonical, their
+    # keys sorted: Gazebo Classic's and Webots' contact_slip before the ratio)
+    names = list(space.settings)[: max(1, len(set(units.runs)))]
+    axes = [Axis(k, space.settings[k]) for k in names]
+    # the tuned profile's values; None where it does not set the setting (Gazebo's <slip2>: no slip written)
+    tuned = {k: p.engine_settings.get(k, 1.0 if k == "friction_ratio" else None) for k in names}
+    tuned = {k: None if v is None else float(v) for k, v in tuned.items()}
+    # the fit starts from the tuned value, or from the middle of the bounds (of their logarithms for a log setting)
+    # where the profile sets none: from a bound, scipy's trf starts its trust region as small as the start (u 1e-6)
+    # and stops there
+    start = {a.name: a.to_x(0.5) if tuned[a.name] is None else min(max(tuned[a.name], a.low), a.high) for a in axes}
+    fit = least_squares_fit(units, axes, fixed, start, p.max_nfev, p.diff_step, p.noise, space.scan, space.optimizer)
+    # the tuned profile's own error on the same units: the first evaluation, unless the required settings (or a
+    # tuned value outside the bounds) make that evaluation differ from the tuned profile
+    if fixed or start != tuned:
+        tuned_gains = np.asarray(units.simulate({}), float)
+    else:
+        tuned_gains = fit["start_gains"]
+    tuned_error = units.error(tuned_gains)
+    improved = math.isfinite(fit["error"]) and (not math.isfinite(tuned_error) or fit["error"] < tuned_error)
+    steps = step_margins(units, fixed, fit["settings"], fit["gains"], axes, fit["fitted"]) if improved else {}
+    near_step = sorted(k for k, m in steps.items() if m["step"])
+    improved = improved and not near_step
+    kept = (
+        {k: _r(v) for k, v in fit["settings"].items()}
+        if improved
+        else {k: _r(v) for k, v in tuned.items() if v is not None}
+    )
+    out["settings"] = {**fixed, **kept} if improved else kept
+    # the ratio fitted, else fixed by the search space (Gazebo's), else the tuned one (not fitted: one run)
+    ratio = float(kept.get("friction_ratio", fixed.get("friction_ratio", p.engine_settings.get("friction_ratio", 1.0))))
+    at = fit["gains"] if improved else tuned_gains
+    exposed = {}
+    for k in (k for k in names if k in kept):
+        text = space.settings[k].exposed_as
+        exposed[k] = text.replace("r x mu", f"{_r(ratio)} x mu") if k == "friction_ratio" else f"{text} (= {kept[k]})"
+    if improved:
+        exposed.update({k: r.exposed_as for k, r in space.requires.items()})
+    out["exposed"] = exposed
+    layout = contact_layout(robot)
+    ratio_space = space.settings.get("friction_ratio")
+    bounds = tuple(ratio_space.bounds) if ratio_space else (FRICTION_RATIO.low, FRICTION_RATIO.high)
+    coulomb = ratio_for_gain(layout, real, 0.5, 0.5, p.robot.track, bounds)
+    engine_gain = float(np.nanmean(at)) if np.isfinite(at).any() else math.nan
+    out["fit"].update(
+        {
+            "method": _method(space.optimizer, p.diff_step, p.max_nfev)
+            + ": the per-run gain residuals (engine - real) of the training runs' turning "
+            + (
+                "segments replayed as the segments' simulate jobs replay them"
+                if p.kind == "segments"
+                else "units, each a steady-turn case at a representative command"
+            ),
+            "objective": "sum over training runs of each run's mean squared gain residual; judged as the held-out "
+            "figure is: each run's mean |engine - real gain|, then the mean over runs",
+            "cases": units.describe,
+            "units": [
+                {"run": r, "unit": n, "real_gain": _r(g), "tuned_gain": _r(t), "calibrated_gain": _r(c)}
+                for r, n, g, t, c in zip(units.runs, units.names, units.real, tuned_gains, at)
+            ],
+            "start": {k: _r(v) for k, v in start.items()},
+            "fixed": fixed,
+            "train_error_tuned": _r(tuned_error),
+            "train_error": _r(fit["error"]) if improved else _r(tuned_error),
+            "optimum_error": _r(fit["error"]),
+            "kept": "the fit"
+            if improved
+            else (
+                f"the tuned settings: the optimum's {', '.join(near_step)} lies within {STEP_MARGIN:.0%} of a step in "
+                "the engine's response (a run's gain moves by more than "
+                f"{STEP_GAIN} there): not a calibration"
+                if near_step
+                else "the tuned settings: the optimum's training error "
+                f"{_r(fit['error'])} is not below the tuned profile's {_r(tuned_error)}"
+            ),
+            "step_margins": steps,
+            "parameters": fit["parameters"],
+            "residual_sd": _r(fit["residual_sd"]),
+            "intervals": fit["intervals_from"],
+            "residual_sd_from": fit["residual_sd_from"],
+            "optimizer": fit["report"],
+            "coulomb_ratio": _r(coulomb),
+            # (ratio, mean engine gain over the units) of each evaluation, in order
+            "trials": [
+                [_r(s.get("friction_ratio", ratio)), _r(float(np.nanmean(g)) if np.isfinite(g).any() else math.nan)]
+                for s, g in fit["evaluations"]
+            ],
+            "all_trials": [
+                {
+                    "settings": {k: _r(v) for k, v in s.items()},
+                    "gain": _r(float(np.nanmean(g)) if np.isfinite(g).any() else math.nan),
+                    "gains": [_r(x) for x in g],
+                    "error": _r(units.error(g)),
+                }
+                for s, g in fit["evaluations"]
+            ],
+            "engine_gain": _r(engine_gain),
+            "reached": bool(math.isfinite(engine_gain) and abs(engine_gain - real) <= p.tolerance),
+            "tolerance": p.tolerance,
+            "bounds": list(bounds),
+        }
+    )
+    out["fit"]["parts"] = part_shares(units, space, fixed, start, fit["settings"], tuned_error, fit["error"], improved)
+    test_turns = real_turns(inputs, test, every)
+    pooled = {**fixed, **fit["settings"]} if improved else {}
+    tuned_by_unit = dict(zip(units.names, np.asarray(tuned_gains, float)))
+    out["per_class"] = _class_fits(p, inputs, robot, trained, test_turns, pooled, space, fixed, tuned_by_unit)
+    _write(out, output)
+    return out
+
+
+def part_shares(
+    units: Units, space, fixed: dict, start: dict, fitted: dict, tuned_error: float, error: float, improved: bool
+) -> dict:
+    """The contact's and the actuator's share of the fit (:attr:`SearchSetting.part`): per part with a fitted
+    setting, the training error with that part's settings at the fit and the other part's at their start (the
+    tuned values), and its share of the fit's gain, (tuned error - that error) / (tuned error - the fit's error).
+    The shares need not add to 1: what one part gains can depend on the other's value. A part alone in the fit
+    has the whole fit's error and share 1, with no evaluation of its own."""
+    parts: dict[str, list[str]] = {}
+    for name in fitted:
+        parts.setdefault(space.settings[name].part, []).append(name)
+    gained = tuned_error - error
+    out: dict[str, Any] = {}
+    for part, names in sorted(parts.items()):
+        entry: dict[str, Any] = {"settings": names}
+        if not improved:
+            entry["share"] = None
+            entry["why_none"] = "the fit was not kept"
+        elif len(parts) == 1:
+            entry.update({"train_error": _r(error), "share": 1.0})
+        else:
+            alone = {k: (fitted[k] if k in names else start[k]) for k in fitted}
+            part_error = units.error(np.asarray(units.simulate({**fixed, **alone}), float))
+            share = (tuned_error - part_error) / gained if gained > 0 else math.nan
+            entry.update({"train_error": _r(part_error), "share": _r(share)})
+        out[part] = entry
+    for part in ("contact", "actuator"):
+        if part not in out:
+            out[part] = {"settings": [], "share": 0.0, "why_none": f"no {part} setting in the search space"}
+    return out
+
+
+def _class_fits(
+    p, inputs, robot, train: pd.DataFrame, test: pd.DataFrame, pooled: dict, space, fixed, tuned_by_unit=None
+) -> dict:
+    """Per terrain class with training turns: its own fit (the friction_ratio alone, one class's runs identifying
+    no more, the other settings at the pooled fit's; ``p.class_nfev`` least-squares evaluations from the pooled
+    fit) on its training runs' units, beside the pooled fit and the tuned profile on the same units (the tuned
+    gains from ``tuned_by_unit``, unit -> the pooled fit's tuned evaluation, where it has them), and both fits
+    judged on the class's held-out runs the same way (its turning segments replayed; kinds drive and replay:
+    steady-turn cases at their commands). The class's own spread is the standard deviation of its runs' real
+    gains, training and held-out (NaN below two runs). A class keeps a fit of its own only where its training
+    error is below both the pooled fit's (by the fit's tolerance) and the tuned profile's."""
+    out = {}
+    tuned_by_unit = tuned_by_unit or {}
+    # a ratio the search space fixes (Gazebo's) gets no class fit: every class is placed by the pooled fit
+    ratio_axis = (
+        Axis("friction_ratio", space.settings["friction_ratio"]) if "friction_ratio" in space.settings else None
+    )
+    pooled_ratio = float(pooled.get("friction_ratio", p.engine_settings.get("friction_ratio", 1.0)))
+    for cls, t in train.groupby("terrain_class"):
+        gains = real_gains(t)
+        gain = float(gains.gain.mean())
+        runs = [f"{cls}/{r}" for r in gains.run]
+        held = test[test.terrain_class == cls]
+        every = pd.concat([gains, real_gains(held)]) if len(held) else gains
+        entry: dict[str, Any] = {
+            "friction_ratio": _r(pooled_ratio),
+            "real_gain": _r(gain),
+            "runs": runs,
+            "placed_by": "the pooled fit (no fit of its own)",
+            "class_spread": _r(float(every.gain.std(ddof=1)) if len(every) > 1 else math.nan),
+            "spread_runs": len(every),
+        }
+        if p.class_nfev and str(cls) in p.grounds and ratio_axis is not None:
+            units = _units(p, inputs, robot, runs, [str(cls)], t, gain)
+            others = {**fixed, **{k: v for k, v in pooled.items() if k != "friction_ratio"}}
+            fit = least_squares_fit(
+                units,
+                [ratio_axis],
+                others,
+                {"friction_ratio": pooled_ratio},
+                p.class_nfev,
+                p.diff_step,
+                p.noise,
+                optimizer=space.optimizer,
+            )
+            own_ratio = float(fit["settings"]["friction_ratio"])
+            pooled_gains = fit["start_gains"]
+            pooled_error = units.error(pooled_gains)
+            if all(n in tuned_by_unit for n in units.names):
+                tuned_error = units.error(np.array([tuned_by_unit[n] for n in units.names], float))
+            else:
+                tuned_error = units.error(np.asarray(units.simulate({}), float))
+            better = math.isfinite(fit["error"]) and fit["error"] < pooled_error
+            steps = (
+                step_margins(units, others, fit["settings"], fit["gains"], [ratio_axis], fit["fitted"])
+                if better
+                else {}
+            )
+            better = better and not any(m["step"] for m in steps.values())
+            ratio = own_ratio if better else pooled_ratio
+            at = fit["gains"] if better else pooled_gains
+            engine_gain = float(np.nanmean(at)) if np.isfinite(at).any() else math.nan
+            entry.update(
+                {
+                    "friction_ratio": _r(ratio),
+                    "placed_by": "its own least-squares fit on the engine "
+                    f"({_trials(fit['report']['engine_evaluations'])} from the pooled fit, {fit['report']['name']})",
+                    "engine_gain": _r(engine_gain),
+                    "pooled_engine_gain": _r(
+                        float(np.nanmean(pooled_gains)) if np.isfinite(pooled_gains).any() else math.nan
+                    ),
+                    "train_error": _r(units.error(at)),
+                    "pooled_train_error": _r(pooled_error),
+                    "tuned_train_error": _r(tuned_error),
+                    # by more than the fit's tolerance: a tie within the engine's noise keeps the pooled file; and
+                    # below the tuned profile's: a class file that fits its runs worse than tuned has fitted nothing
+                    "improves": bool(
+                        better and units.error(at) + p.tolerance < pooled_error and units.error(at) < tuned_error
+                    ),
+                    "reached": bool(math.isfinite(engine_gain) and abs(engine_gain - gain) <= p.tolerance),
+                    "parameters": fit["parameters"],
+                    "step_margins": steps,
+                    "cases": units.describe,
+                    "trials": [[_r(s["friction_ratio"]), _r(float(np.nanmean(g)))] for s, g in fit["evaluations"]],
+                }
+            )
+            if len(held):
+                hgains = real_gains(held)
+                hruns = [f"{cls}/{r}" for r in hgains.run]
+                hunits = _units(p, inputs, robot, hruns, [str(cls)], held, float(hgains.gain.mean()))
+                pooled_held = np.asarray(hunits.simulate({**fixed, **pooled}), float)
+                own_held = (
+                    np.asarray(hunits.simulate({**others, "friction_ratio": ratio}), float)
+                    if abs(ratio - pooled_ratio) > 1e-9
+                    else pooled_held
+                )
+                entry["heldout"] = {
+                    "runs": len(hgains),
+                    "real_gain": _r(float(hgains.gain.mean())),
+                    "cases": hunits.describe,
+                    "class_fit_gain": _r(float(np.nanmean(own_held))),
+                    "pooled_fit_gain": _r(float(np.nanmean(pooled_held))),
+                    "class_fit_error": _r(hunits.error(own_held)),
+                    "pooled_fit_error": _r(hunits.error(pooled_held)),
+                }
+        out[str(cls)] = entry
+    return out
+
+
+def _method(optimizer: str, diff_step: float, max_nfev: int) -> str:
+    """The fit's method in words (the file's ``method``)."""
+    if optimizer == "mujoco.sysid":
+        import mujoco
+
+        return (
+            f"MuJoCo's own system identification (mujoco.sysid.optimize, MuJoCo {mujoco.__version__}, optimizer "
+            "'mujoco': mujoco.minimize.least_squares, bounded; its finite-difference Jacobian, mujoco.minimize."
+            f"jacobian_fd, of {diff_step} of each setting's range; intervals from mujoco.sysid.calculate_intervals), "
+            f"{max_nfev} evaluations at most"
+        )
+    return (
+        "scipy.optimize.least_squares (trf, bounded; forward-difference Jacobian of "
+        f"{diff_step} of each setting's range), max_nfev {max_nfev}"
+    )
+
+
+def _trials(n: int) -> str:
+    return f"{n} engine evaluation" + ("s" if n != 1 else "")
+
+
+def _write(data: dict, output: str) -> None:
+    Path(output).parent.mkdir(parents=True, exist_ok=True)
+    Path(output).write_text(yaml.safe_dump(data, sort_keys=False, allow_unicode=True, width=110))
