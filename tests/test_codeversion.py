@@ -238,7 +238,8 @@ def test_each_models_jobs_hold_its_own_adapter_only():
 def test_the_gazebo_programs_sources_are_in_the_code_of_the_jobs_that_run_it_only(tmp_path):
     """The Gazebo profiles run a compiled program (simpick/engines/gz, built by make gzphysics): an edit to
     its C++ or its CMakeLists.txt changes the code version of every job that reaches the gzphysics adapter
-    (the models job among them, which writes Gazebo's worlds with it), and of no other job (here on a copy of src/simpick, the real sources untouched)."""
+    (the models job among them, which writes Gazebo's worlds with it), and of no other job (here on a copy of
+    src/simpick, the real sources untouched)."""
     from simpick.engines import ADAPTERS
     from simpick.plan.study import Plan
 
