@@ -271,3 +271,16 @@ def test_the_gazebo_programs_sources_are_in_the_code_of_the_jobs_that_run_it_onl
             before = after
     finally:
         clear_cache()
+
+
+def test_a_report_or_table_edit_leaves_the_calibration_jobs_code_as_it_is():
+    """The calibration's jobs read the split through simpick.score.split alone: the simulators' table, its
+    report words and the first page's answer (simpick.score.simulators, .profiles, .sentences) are not their
+    code, so an edit there does not refit every simulator."""
+    for script in ("simulator_calibrate", "simulator_split"):
+        files = {
+            p.relative_to(ROOT / "src").as_posix() for p in job_files(*script_roots(ROOT / "scripts" / f"{script}.py"))
+        }
+        assert "simpick/score/split.py" in files or script == "simulator_split", script
+        reached = {f for f in files if f.startswith("simpick/score/") or f.startswith("simpick/report/")}
+        assert reached <= {"simpick/score/__init__.py", "simpick/score/split.py"}, (script, sorted(reached))

@@ -238,14 +238,15 @@ def _simulator_answer(
         return None, []
     import pandas as pd
 
-    from simpick.score.profiles import simulator_answer
+    from simpick.score.profiles import class_answer, simulator_answer
     from simpick.score.sentences import simulator_sentences
 
     gain = next((m for m in answer.get("metrics") or [] if m["key"] == "gain_error"), None)
-    found = simulator_answer(
-        pd.read_csv(Path(folder) / "table.csv"),
-        Path(folder) / "settings",
-        spread=gain["margin"] if gain else None,
+    table = pd.read_csv(Path(folder) / "table.csv")
+    found = simulator_answer(table, Path(folder) / "settings", spread=gain["margin"] if gain else None)
+    per_class = Path(folder) / "per_class.csv"
+    found["per_class"] = (
+        class_answer(pd.read_csv(per_class), table, Path(folder) / "settings") if per_class.is_file() else []
     )
     return found, simulator_sentences(found, robot, f"real {units}")
 

@@ -228,6 +228,62 @@ def simulator_answer(
     }
 
 
+def class_answer(
+    per_class: pd.DataFrame | None,
+    table: pd.DataFrame | None,
+    settings: str | Path | None = None,
+    link: str = "../simulators/settings",
+) -> list[dict[str, Any]]:
+    """Per terrain class with held-out runs, the calibrated file that turned closest to the robot on them: among
+    the simulators whose calibrated profile passes the mechanics of its own parameters, each one's class file
+    (where the class has one) or its pooled calibrated file, judged on the class's held-out runs (per_class.csv,
+    rule simulators), with the class's own spread beside it. A class's held-out runs are few (their number is
+    given): a hint per class, beside the table's judgement over every held-out run."""
+    if per_class is None or per_class.empty or table is None or table.empty:
+        return []
+    calibrated = table[table.variant.astype(str) == "calibrated"]
+    passing = {str(r["simulator"]) for r in calibrated.to_dict("records") if _mechanics(r)[0]}
+    labels = dict(zip(table.simulator.astype(str), table.label.astype(str)))
+    folder = Path(settings) if settings else None
+    out = []
+    for cls, rows in per_class.groupby("terrain_class", sort=True):
+        options = []
+        for r in rows.to_dict("records"):
+            sim = str(r["simulator"])
+            if sim not in passing or not (_num(r.get("heldout_runs")) or 0):
+                continue
+            own = _text(r.get("settings_file"))
+            error = _num(r.get("class_fit_error") if own else r.get("pooled_fit_error"))
+            if error is None:
+                continue
+            stem = Path(own).name if own else f"{sim}-calibrated"
+            files = (
+                [{"name": n, "href": f"{link}/{n}"} for n in sorted(p.name for p in folder.glob(f"{stem}.*"))]
+                if folder is not None and folder.is_dir()
+                else [{"name": f"{stem}.*", "href": ""}]
+            )
+            model = _text(r.get("model_file")) if own else _text(calibrated.set_index("simulator").model_file.get(sim))
+            spread = _num(r.get("class_spread"))
+            options.append(
+                {
+                    "terrain_class": str(cls),
+                    "simulator": sim,
+                    "label": labels.get(sim, sim),
+                    "fit": "its class's own fit" if own else "the pooled fit",
+                    "error": error,
+                    "runs": int(_num(r.get("heldout_runs")) or 0),
+                    "spread": spread,
+                    "spread_runs": int(_num(r.get("spread_runs")) or 0),
+                    "spread_ratio": error / spread if spread else None,
+                    "files": files,
+                    "model": _model(model, link),
+                }
+            )
+        if options:
+            out.append(min(options, key=lambda o: o["error"]))
+    return out
+
+
 def _why_no_calibrated(table: pd.DataFrame, variants: list[str], heldout: bool) -> str:
     """Why the table has no calibrated profile that ran ('' where it has one)."""
     if "calibrated" not in variants:

@@ -27,6 +27,7 @@ from simpick.score.mechanics import mechanics_table
 from simpick.score.scoring import FACT_KEYS
 from simpick.score.settings import Statistics, Verdict
 from simpick.score.simulator_settings import class_files, fit_parts, fitted_parameters, read_fits
+from simpick.score.split import read_split
 from simpick.score.verdict import METRICS, NO_SPEED, per_run_values, read_per_test
 from simpick.tables import write_csv
 
@@ -260,18 +261,6 @@ def simulators_job(inputs: dict, params: dict, outputs: dict) -> None:
     if outputs.get("per_class"):
         write_csv(per_class_table(fits, catalog, p.model_files, p.model_notes), outputs["per_class"])
     _tree_subjects(catalog, run, results, mechanics, outcomes, inputs, outputs)
-
-
-def read_split(path: str | Path) -> tuple[list[str], list[str]]:
-    """(training runs, test runs), each ``class/run``."""
-    split = pd.read_csv(path, dtype={"run": str, "unit": str})
-    key = split.terrain_class.astype(str) + "/" + split.run.astype(str)
-    train = sorted(set(key[split.set == "train"]))
-    test = sorted(set(key[split.set == "test"]))
-    both = sorted(set(train) & set(test))
-    if both:
-        raise ValueError(f"{path}: runs on both sides of the split: {both}")
-    return train, test
 
 
 # a row's held-out columns where nothing was held out (no split, or no real data judged)

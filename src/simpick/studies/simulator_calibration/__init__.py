@@ -43,7 +43,7 @@ margins), ``units`` (what an evaluation runs on the engine: the segments replaye
 
 from __future__ import annotations
 
-from simpick.score.simulators import read_split
+from simpick.score.split import read_split
 
 # what a calibrated profile's simulate and validate jobs use, in a module of its own (they import nothing else)
 from simpick.simulate.calibrated import read_calibrated, with_calibrated

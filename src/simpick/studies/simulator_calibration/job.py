@@ -12,7 +12,7 @@ import pandas as pd
 import yaml
 
 from simpick.engines.base import FRICTION_RATIO
-from simpick.score.simulators import read_split
+from simpick.score.split import read_split
 from simpick.studies.simulator_calibration.fit import (
     STEP_GAIN,
     STEP_MARGIN,
