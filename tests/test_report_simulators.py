@@ -531,3 +531,43 @@ def test_the_simulators_section_says_where_a_model_was_not_opened_in_its_simulat
     models = text[text.index('id="simulators-models"') :].split("</p>")[0]
     assert "webots-tuned.wbt</a> (fields checked; not opened in Webots here)" in models
     assert "mujoco-tuned.xml</a>;" in models or "mujoco-tuned.xml</a>." in models
+
+
+def test_per_class_the_first_page_names_the_closest_calibrated_file_that_keeps_its_mechanics():
+    """Per class with held-out runs: the class file (or the pooled calibrated file) of the smallest held-out error
+    among the simulators whose calibrated profile passes its own mechanics, with the class's spread. Webots'
+    calibrated profile breaks mechanics: its better figure on flooring is not the pick. A class without held-out
+    runs gets no line."""
+    from simpick.score.profiles import class_answer
+
+    table = table_rows()
+    per_class = pd.DataFrame(
+        [
+            # simulator, class, held-out runs, class file, class fit error, pooled fit error, class spread
+            ("mujoco", "flooring", 1, "results/simulators/settings/mujoco-calibrated-flooring", 0.012, 0.080, 0.007),
+            ("gazebo_classic", "flooring", 1, "", 0.30, 0.05, 0.007),
+            ("webots", "flooring", 1, "", 0.001, 0.001, 0.007),
+            ("mujoco", "ice", 1, "", 0.02, 0.065, 0.018),
+            ("gazebo_classic", "ice", 1, "", 0.11, 0.117, 0.018),
+            ("mujoco", "snow", 0, "", None, None, None),
+        ],
+        columns=[
+            "simulator",
+            "terrain_class",
+            "heldout_runs",
+            "settings_file",
+            "class_fit_error",
+            "pooled_fit_error",
+            "class_spread",
+        ],
+    )
+    answer = {a["terrain_class"]: a for a in class_answer(per_class, table)}
+    assert sorted(answer) == ["flooring", "ice"]
+    assert answer["flooring"]["simulator"] == "mujoco" and answer["flooring"]["fit"] == "its class's own fit"
+    assert answer["flooring"]["error"] == pytest.approx(0.012) and answer["flooring"]["files"][0]["name"] == (
+        "mujoco-calibrated-flooring.*"
+    )
+    assert answer["flooring"]["spread_ratio"] == pytest.approx(0.012 / 0.007)
+    # on ice MuJoCo has no class file: its pooled file, judged by the pooled fit's error
+    assert answer["ice"]["fit"] == "the pooled fit" and answer["ice"]["error"] == pytest.approx(0.065)
+    assert answer["ice"]["files"][0]["name"] == "mujoco-calibrated.*"
