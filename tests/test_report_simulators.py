@@ -568,6 +568,10 @@ def test_per_class_the_first_page_names_the_closest_calibrated_file_that_keeps_i
         "mujoco-calibrated-flooring.*"
     )
     assert answer["flooring"]["spread_ratio"] == pytest.approx(0.012 / 0.007)
+    # where the pooled file turns closer on the class's held-out runs than the class's own, the pooled file
+    sandy = per_class.iloc[[0]].assign(terrain_class="sandy_loam", class_fit_error=0.030, pooled_fit_error=0.022)
+    (pick,) = class_answer(sandy, table)
+    assert pick["fit"] == "the pooled fit" and pick["error"] == pytest.approx(0.022)
     # on ice MuJoCo has no class file: its pooled file, judged by the pooled fit's error
     assert answer["ice"]["fit"] == "the pooled fit" and answer["ice"]["error"] == pytest.approx(0.065)
     assert answer["ice"]["files"][0]["name"] == "mujoco-calibrated.*"

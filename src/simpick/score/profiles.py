@@ -235,8 +235,8 @@ def class_answer(
     link: str = "../simulators/settings",
 ) -> list[dict[str, Any]]:
     """Per terrain class with held-out runs, the calibrated file that turned closest to the robot on them: among
-    the simulators whose calibrated profile passes the mechanics of its own parameters, each one's class file
-    (where the class has one) or its pooled calibrated file, judged on the class's held-out runs (per_class.csv,
+    the simulators whose calibrated profile passes the mechanics of its own parameters, each one's pooled
+    calibrated file and its class file where the class has one, judged on the class's held-out runs (per_class.csv,
     rule simulators), with the class's own spread beside it. A class's held-out runs are few (their number is
     given): a hint per class, beside the table's judgement over every held-out run."""
     if per_class is None or per_class.empty or table is None or table.empty:
@@ -253,32 +253,50 @@ def class_answer(
             if sim not in passing or not (_num(r.get("heldout_runs")) or 0):
                 continue
             own = _text(r.get("settings_file"))
-            error = _num(r.get("class_fit_error") if own else r.get("pooled_fit_error"))
-            if error is None:
-                continue
-            stem = Path(own).name if own else f"{sim}-calibrated"
-            files = (
-                [{"name": n, "href": f"{link}/{n}"} for n in sorted(p.name for p in folder.glob(f"{stem}.*"))]
-                if folder is not None and folder.is_dir()
-                else [{"name": f"{stem}.*", "href": ""}]
-            )
-            model = _text(r.get("model_file")) if own else _text(calibrated.set_index("simulator").model_file.get(sim))
             spread = _num(r.get("class_spread"))
-            options.append(
-                {
-                    "terrain_class": str(cls),
-                    "simulator": sim,
-                    "label": labels.get(sim, sim),
-                    "fit": "its class's own fit" if own else "the pooled fit",
-                    "error": error,
-                    "runs": int(_num(r.get("heldout_runs")) or 0),
-                    "spread": spread,
-                    "spread_runs": int(_num(r.get("spread_runs")) or 0),
-                    "spread_ratio": error / spread if spread else None,
-                    "files": files,
-                    "model": _model(model, link),
-                }
-            )
+            # the pooled file always, and the class's own where it has one: each judged on the class's runs
+            for stem, error, model, fit in (
+                (
+                    f"{sim}-calibrated",
+                    _num(r.get("pooled_fit_error")),
+                    _text(calibrated.set_index("simulator").model_file.get(sim)),
+                    "the pooled fit",
+                ),
+                *(
+                    [
+                        (
+                            Path(own).name,
+                            _num(r.get("class_fit_error")),
+                            _text(r.get("model_file")),
+                            "its class's own fit",
+                        )
+                    ]
+                    if own
+                    else []
+                ),
+            ):
+                if error is None:
+                    continue
+                files = (
+                    [{"name": n, "href": f"{link}/{n}"} for n in sorted(p.name for p in folder.glob(f"{stem}.*"))]
+                    if folder is not None and folder.is_dir()
+                    else [{"name": f"{stem}.*", "href": ""}]
+                )
+                options.append(
+                    {
+                        "terrain_class": str(cls),
+                        "simulator": sim,
+                        "label": labels.get(sim, sim),
+                        "fit": fit,
+                        "error": error,
+                        "runs": int(_num(r.get("heldout_runs")) or 0),
+                        "spread": spread,
+                        "spread_runs": int(_num(r.get("spread_runs")) or 0),
+                        "spread_ratio": error / spread if spread else None,
+                        "files": files,
+                        "model": _model(model, link),
+                    }
+                )
         if options:
             out.append(min(options, key=lambda o: o["error"]))
     return out
