@@ -34,3 +34,29 @@ def flat_scenario(robot, settings: Mapping, ground_mu: float, timestep: float, m
         starts=((0.0, 0.0, 0.0),),
         settings=dict(settings),
     )
+
+
+def add_sdf_claims(model, base_link: str, command_track: float, wheel_track: float, ground_mu: float, claims) -> None:
+    """The SDF custom elements a Gazebo or Gazebo Classic world carries for its reader (namespace simpick, which
+    sdformat keeps and no physics reads): ``simpick:drive`` (the base link the claims are about, the command and
+    wheel tracks, the ground's friction) and a ``simpick:yaw_rate_gain`` per claim, on the ``model`` element."""
+    import xml.etree.ElementTree as ET
+
+    ET.SubElement(
+        model,
+        "simpick:drive",
+        base_link=base_link,
+        command_track=repr(float(command_track)),
+        wheel_track=repr(float(wheel_track)),
+        ground_friction=repr(float(ground_mu)),
+    )
+    for c in claims:
+        ET.SubElement(
+            model,
+            "simpick:yaw_rate_gain",
+            case=c.case,
+            v=repr(float(c.v)),
+            w=repr(float(c.w)),
+            duration=repr(float(c.duration)),
+            gain=repr(float(c.gain)),
+        )

@@ -30,7 +30,7 @@ from simpick.engines.gzphysics_engine import (
     world_tree,
 )
 from simpick.engines.simulator_files.common import _num, xml_comment
-from simpick.engines.simulator_models.common import TurningClaim, flat_scenario
+from simpick.engines.simulator_models.common import TurningClaim, add_sdf_claims, flat_scenario
 from simpick.inputs.robot.settings import RobotParams
 
 # the custom elements' namespace, declared on <sdf> as xmlns:simpick (an SDF custom element needs its prefix declared)
@@ -86,24 +86,7 @@ def write_gazebo_model(
     ET.SubElement(plugin, "wheel_separation").text = repr(float(robot.track))
     ET.SubElement(plugin, "wheel_radius").text = repr(float(radius))
     ET.SubElement(plugin, "topic").text = topic
-    ET.SubElement(
-        model,
-        "simpick:drive",
-        base_link=spec_robot.base_link,
-        command_track=repr(float(robot.track)),
-        wheel_track=repr(float(spec_robot.track)),
-        ground_friction=repr(float(ground_mu)),
-    )
-    for c in claims:
-        ET.SubElement(
-            model,
-            "simpick:yaw_rate_gain",
-            case=c.case,
-            v=repr(float(c.v)),
-            w=repr(float(c.w)),
-            duration=repr(float(c.duration)),
-            gain=repr(float(c.gain)),
-        )
+    add_sdf_claims(model, spec_robot.base_link, robot.track, spec_robot.track, ground_mu, claims)
     named = sorted({e.tag for e in root.iter() if e.tag in FILE_ELEMENTS})
     if named:  # simpick's robot reader drops a description's meshes, so an engine's world names no file
         raise ValueError(f"the Gazebo model of {robot_urdf} names files ({', '.join(named)}): it would not open alone")

@@ -30,7 +30,7 @@ from simpick.engines.ode_settings import OdeSettings
 from simpick.engines.ode_world import SPAWN_CLEARANCE
 from simpick.engines.simulator_files.common import _num, xml_comment
 from simpick.engines.simulator_files.sdf import CONTACTS_PER_WHEEL, GROUND_KD, GROUND_KP, surface_values
-from simpick.engines.simulator_models.common import TurningClaim
+from simpick.engines.simulator_models.common import TurningClaim, add_sdf_claims
 from simpick.engines.simulator_models.gazebo import FILE_ELEMENTS, NAMESPACE
 from simpick.inputs.robot.settings import RobotParams
 
@@ -190,24 +190,7 @@ def write_gazebo_classic_model(
     _text(plugin, "max_wheel_torque", float(robot.max_wheel_torque))
     _text(plugin, "max_wheel_acceleration", 0.0)
     _text(plugin, "update_rate", 1.0 / float(timestep))
-    ET.SubElement(
-        model,
-        "simpick:drive",
-        base_link=spec.base_link,
-        command_track=repr(float(robot.track)),
-        wheel_track=repr(float(spec.track)),
-        ground_friction=repr(float(ground_mu)),
-    )
-    for c in claims:
-        ET.SubElement(
-            model,
-            "simpick:yaw_rate_gain",
-            case=c.case,
-            v=repr(float(c.v)),
-            w=repr(float(c.w)),
-            duration=repr(float(c.duration)),
-            gain=repr(float(c.gain)),
-        )
+    add_sdf_claims(model, spec.base_link, robot.track, spec.track, ground_mu, claims)
     named = sorted({e.tag for e in root.iter() if e.tag in FILE_ELEMENTS})
     if named:
         raise ValueError(f"the Gazebo Classic model of {robot_urdf} names files ({', '.join(named)})")

@@ -47,11 +47,9 @@ def segment_units(p: CalibrateParams, inputs: dict, runs: list[str], classes: li
     )
 
 
-def steady_units(p: CalibrateParams, robot, commands, mu: float, real: float, runs: list[str]) -> Units:
-    """Kinds drive and replay: the engine's steady turn from rest at each of ``commands`` on flat ground of
-    friction ``mu`` (the validation's steady-turn case), each against the training units' real gain ``real``:
-    a unit per command (not a replay of the runs: a DRIVE step or a full replay's window per evaluation costs
-    more than these kinds' fits are given)."""
+def _steady_turns(p: CalibrateParams, robot, commands: list, grounds: list[float]):
+    """The function of a trial's settings that gives the engine's steady yaw-rate gain at each of ``commands``
+    from rest on flat ground of the matching friction in ``grounds`` (the validation's steady-turn case)."""
     from simpick.studies.validation.cases import Setup, run_case
 
     def simulate(settings: dict) -> np.ndarray:
@@ -64,8 +62,19 @@ def steady_units(p: CalibrateParams, robot, commands, mu: float, real: float, ru
             settings={**p.engine_settings, **settings},
         )
         ratio = float(settings.get("friction_ratio", p.engine_settings.get("friction_ratio", 1.0)))
-        return np.array([_engine_gain(run_case, setup, ratio, v, w, mu, p.duration) for v, w in commands])
+        return np.array(
+            [_engine_gain(run_case, setup, ratio, v, w, mu, p.duration) for (v, w), mu in zip(commands, grounds)]
+        )
 
+    return simulate
+
+
+def steady_units(p: CalibrateParams, robot, commands, mu: float, real: float, runs: list[str]) -> Units:
+    """Kinds drive and replay: the engine's steady turn from rest at each of ``commands`` on flat ground of
+    friction ``mu`` (the validation's steady-turn case), each against the training units' real gain ``real``:
+    a unit per command (not a replay of the runs: a DRIVE step or a full replay's window per evaluation costs
+    more than these kinds' fits are given)."""
+    simulate = _steady_turns(p, robot, [tuple(c) for c in commands], [mu] * len(commands))
     describe = {"commands": [list(c) for c in commands], "mu": mu, "duration": p.duration}
     names = [f"v{v}_w{w}" for v, w in commands]
     return Units(names, np.full(len(commands), real), names, simulate, describe)
@@ -88,24 +97,9 @@ def run_units(p: CalibrateParams, robot, picked: pd.DataFrame) -> Units:
     steady-turn case), against that unit's own real gain: the per-run gain residuals the held-out figure takes,
     at each run's representative command (a replay of every DRIVE step or full-replay window per evaluation costs
     more than these kinds' fits are given)."""
-    from simpick.studies.validation.cases import Setup, run_case
-
     commands = list(zip(picked.v.astype(float), picked.w.astype(float)))
     grounds = [float(p.grounds[str(c)]) for c in picked.terrain_class]
-
-    def simulate(settings: dict) -> np.ndarray:
-        setup = Setup(
-            engine=p.engine,
-            robot=robot,
-            timestep=p.physics.timestep,
-            max_wheel_torque=p.robot.max_wheel_torque,
-            track=p.robot.track,
-            settings={**p.engine_settings, **settings},
-        )
-        ratio = float(settings.get("friction_ratio", p.engine_settings.get("friction_ratio", 1.0)))
-        return np.array(
-            [_engine_gain(run_case, setup, ratio, v, w, mu, p.duration) for (v, w), mu in zip(commands, grounds)]
-        )
+    simulate = _steady_turns(p, robot, commands, grounds)
 
     runs = [f"{c}/{r}" for c, r in zip(picked.terrain_class, picked.run)]
     describe = {
