@@ -192,3 +192,31 @@ def test_without_the_program_the_plan_writes_no_gazebo_model(monkeypatch, tmp_pa
     plan = Plan(config, Study.model_validate(config), basedir=str(ROOT))
     assert not [p for p in plan.model_profiles if p.startswith("gazebo-")]
     assert "mujoco-calibrated" in plan.model_profiles
+
+
+def test_a_robot_a_differential_drive_plugin_cannot_drive_gets_no_gazebo_world_planned():
+    """gz-sim's DiffDrive and Gazebo Classic's diff-drive plugin give each side's joints one speed: the diffbot's
+    mirrored right wheel (its joint turns backwards to roll forward) and its caster get no Gazebo or Gazebo Classic
+    world planned, where the writer would refuse them and stop the models job; the Husky gets both."""
+    from simpick.engines.simulator_models import WRITERS
+    from simpick.inputs.robot import load_robot
+
+    husky = load_robot(ROOT / "resources" / "robot" / "husky_a200.urdf")
+    diffbot = load_robot(ROOT / "resources" / "robot" / "diffbot.urdf.xacro")
+    assert any(w.axis_sign != 1 for w in diffbot.driven) and diffbot.casters
+    assert WRITERS["gazebo"].writes(husky) and WRITERS["gazebo_classic"].writes(husky)
+    assert not WRITERS["gazebo"].writes(diffbot) and not WRITERS["gazebo_classic"].writes(diffbot)
+
+
+def test_a_suspended_robot_gets_no_newton_or_genesis_script_planned():
+    """The Newton and Genesis scripts build no passive suspension: the Warthog gets none planned (the writers would
+    refuse it and stop the models job), the Husky gets both, and Drake's model, which holds the rockers, stays."""
+    from simpick.engines.simulator_models import WRITERS
+    from simpick.inputs.robot import load_robot
+
+    husky = load_robot(ROOT / "resources" / "robot" / "husky_a200.urdf")
+    warthog = load_robot(ROOT / "resources" / "robot" / "warthog.urdf")
+    assert warthog.suspension
+    for simulator in ("isaac_lab_newton", "genesis"):
+        assert WRITERS[simulator].writes(husky) and not WRITERS[simulator].writes(warthog), simulator
+    assert WRITERS["drake"].writes(warthog)

@@ -59,6 +59,30 @@ def _converts(robot) -> bool:
     return gzphysics_engine.PROGRAM.is_file() and not robot.couplings
 
 
+def _diff_drive(robot) -> bool:
+    """A differential drive's plugin (gz-sim's DiffDrive, Gazebo Classic's gazebo_ros_diff_drive) drives the robot:
+    each side's joints at one speed, (v -+ w s / 2) / r, so every driven joint rolls it forward at a positive speed,
+    with one wheel radius and as many wheels on each side."""
+    driven = robot.driven
+    sides = [sum(w.side == s for w in driven) for s in ("left", "right")]
+    return (
+        bool(driven)
+        and all(w.axis_sign == 1 for w in driven)
+        and len({w.radius for w in driven}) == 1
+        and sides[0] == sides[1]
+    )
+
+
+def _gazebo_classic(robot) -> bool:
+    """What the Gazebo Classic writer builds: sdformat's URDF conversion here, no casters, a differential drive."""
+    return _converts(robot) and not robot.casters and _diff_drive(robot)
+
+
+def _unsuspended(robot) -> bool:
+    """No passive suspension nor coupling: what the Newton and Genesis scripts build."""
+    return not (robot.suspension or robot.couplings)
+
+
 def _plain_wheels(robot) -> bool:
     """The robot's moving joints are its driven wheels on its base (what the Webots writer builds)."""
     return not (robot.suspension or robot.casters or robot.couplings)
@@ -82,12 +106,12 @@ class ModelWriter(NamedTuple):
 # because two simulators share an engine (Gazebo Classic's and Webots' profiles both run on the ODE adapter)
 WRITERS = {
     "mujoco": ModelWriter("xml", _mujoco_files, opened_here=True),
-    "gazebo": ModelWriter("sdf", _gazebo_files, opened_here=True),
+    "gazebo": ModelWriter("sdf", _gazebo_files, opened_here=True, writes=_diff_drive),
     "drake": ModelWriter("urdf", write_drake_model, opened_here=True),
-    "gazebo_classic": ModelWriter("world", _gazebo_classic_files, opened_here=False, writes=_converts),
+    "gazebo_classic": ModelWriter("world", _gazebo_classic_files, opened_here=False, writes=_gazebo_classic),
     "webots": ModelWriter("wbt", _webots_files, opened_here=False, writes=_plain_wheels),
-    "isaac_lab_newton": ModelWriter("py", write_newton_model, opened_here=True),
-    "genesis": ModelWriter("py", write_genesis_model, opened_here=True),
+    "isaac_lab_newton": ModelWriter("py", write_newton_model, opened_here=True, writes=_unsuspended),
+    "genesis": ModelWriter("py", write_genesis_model, opened_here=True, writes=_unsuspended),
 }
 
 
