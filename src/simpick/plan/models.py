@@ -304,7 +304,7 @@ class ModelPlanning:
             p.rsplit(SEPARATOR, 1)[0] for p in self.model_profiles if p.endswith(f"{SEPARATOR}calibrated")
         )
         calibrations = [self.calibration_file(s) for s in fitted] if self.calibration_spaces else []
-        return {"urdf": self.config["robot"]["urdf"], "calibrations": calibrations}
+        return {"urdf": self.settings.robot.urdf, "calibrations": calibrations}
 
     def calibrated_input(self, model: str) -> dict:
         """A model's jobs' extra input: a calibrated profile's fit, whose settings they merge at run time."""

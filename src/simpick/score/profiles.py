@@ -244,6 +244,7 @@ def class_answer(
     calibrated = table[table.variant.astype(str) == "calibrated"]
     passing = {str(r["simulator"]) for r in calibrated.to_dict("records") if _mechanics(r)[0]}
     labels = dict(zip(table.simulator.astype(str), table.label.astype(str)))
+    models = {str(r["simulator"]): _text(r.get("model_file")) for r in calibrated.to_dict("records")}
     folder = Path(settings) if settings else None
     out = []
     for cls, rows in per_class.groupby("terrain_class", sort=True):
@@ -259,7 +260,7 @@ def class_answer(
                 (
                     f"{sim}-calibrated",
                     _num(r.get("pooled_fit_error")),
-                    _text(calibrated.set_index("simulator").model_file.get(sim)),
+                    models.get(sim, ""),
                     "the pooled fit",
                 ),
                 *(

@@ -27,6 +27,9 @@ def with_calibrated(params: dict, calibrated: str | None) -> tuple[dict, dict]:
     if not calibrated:
         return params, {}
     settings = read_calibrated(calibrated)
-    merged = dict(params)
-    merged["engine_settings"] = {**dict(params["engine_settings"]), **settings}
-    return merged, {"calibrated_from": str(calibrated), "calibrated_settings": settings}
+    return merge_settings(params, settings), {"calibrated_from": str(calibrated), "calibrated_settings": settings}
+
+
+def merge_settings(params: dict, settings: dict) -> dict:
+    """A job's params with ``settings`` merged over its ``engine_settings`` (a fit's, or a fit's trial)."""
+    return {**params, "engine_settings": {**dict(params["engine_settings"]), **settings}}

@@ -67,7 +67,7 @@ from simpick.studies.simulator_calibration.space import (
     load_search_spaces,
     resolve,
 )
-from simpick.studies.simulator_calibration.units import run_units, segment_units, steady_units
+from simpick.studies.simulator_calibration.units import run_units, segment_units
 
 __all__ = [
     "CALIBRATED",
@@ -92,7 +92,6 @@ __all__ = [
     "run_units",
     "segment_units",
     "split_job",
-    "steady_units",
     "step_margins",
     "steps_key",
     "with_calibrated",

@@ -76,7 +76,7 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
             f"the ratio only switches DART's turn); the search space has {sorted(space.settings)}"
         )
     fixed = {k: r.value for k, r in space.requires.items()}
-    units = _units(p, inputs, robot, train, classes, turns, real)
+    units = _units(p, inputs, robot, train, classes, turns)
     # as many settings as the runs can identify at most, in the params' order (the job's params are canonical, their
     # keys sorted: Gazebo Classic's and Webots' contact_slip before the ratio)
     names = list(space.settings)[: max(1, len(set(units.runs)))]
@@ -253,7 +253,7 @@ def _class_fits(
             "spread_runs": len(every),
         }
         if p.class_nfev and str(cls) in p.grounds and ratio_axis is not None:
-            units = _units(p, inputs, robot, runs, [str(cls)], t, gain)
+            units = _units(p, inputs, robot, runs, [str(cls)], t)
             others = {**fixed, **{k: v for k, v in pooled.items() if k != "friction_ratio"}}
             fit = least_squares_fit(
                 units,
@@ -309,7 +309,7 @@ def _class_fits(
             if len(held):
                 hgains = real_gains(held)
                 hruns = [f"{cls}/{r}" for r in hgains.run]
-                hunits = _units(p, inputs, robot, hruns, [str(cls)], held, float(hgains.gain.mean()))
+                hunits = _units(p, inputs, robot, hruns, [str(cls)], held)
                 pooled_held = np.asarray(hunits.simulate({**fixed, **pooled}), float)
                 own_held = (
                     np.asarray(hunits.simulate({**others, "friction_ratio": ratio}), float)

@@ -37,11 +37,6 @@ class CalibrateParams(JobParams):
         "(simpick.simulate.real.SegmentsUnitParams, its plan-time settings: the tuned ones); the fit replays the "
         "training runs' turning segments with them, each trial's settings merged as the job merges the fit's",
     )
-    commands: list[tuple[float, float]] | None = Field(
-        None,
-        description="kinds drive and replay: (v m/s, w rad/s) of steady-turn cases fitted against the training "
-        "runs' pooled gain on the classes' median ground; None: the training units' own (representative_units)",
-    )
     duration: Positive = Field(6.0, description="s of a steady-turn case, kinds drive and replay (its second half)")
     tolerance: Positive = Field(
         0.005,

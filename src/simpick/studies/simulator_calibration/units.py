@@ -19,6 +19,7 @@ def segment_units(p: CalibrateParams, inputs: dict, runs: list[str], classes: li
     trial's settings merged over them as simpick.simulate.calibrated merges the fit's) and its simulated gain
     taken as the comparison takes it (simpick.compare.real.segment_row, in the segment's compared window)."""
     from simpick.compare.real import segment_row
+    from simpick.simulate.calibrated import merge_settings
     from simpick.simulate.real import prepare_segment, table_segment
 
     seg = turning_segments(inputs["segments"], runs, classes)
@@ -27,8 +28,7 @@ def segment_units(p: CalibrateParams, inputs: dict, runs: list[str], classes: li
     track = p.robot.track
 
     def simulate(settings: dict) -> np.ndarray:
-        params = dict(p.segments_case)  # the fit's settings over the job's, as with_calibrated merges a fit's
-        params["engine_settings"] = {**dict(params["engine_settings"]), **settings}
+        params = merge_settings(p.segments_case, settings)  # the trial's over the job's, as a fit's are merged
         out = []
         for name, row in zip(names, rows):
             _, run = prepare_segment(inputs["urdf"], inputs, params, name)
@@ -69,27 +69,13 @@ def _steady_turns(p: CalibrateParams, robot, commands: list, grounds: list[float
     return simulate
 
 
-def steady_units(p: CalibrateParams, robot, commands, mu: float, real: float, runs: list[str]) -> Units:
-    """Kinds drive and replay: the engine's steady turn from rest at each of ``commands`` on flat ground of
-    friction ``mu`` (the validation's steady-turn case), each against the training units' real gain ``real``:
-    a unit per command (not a replay of the runs: a DRIVE step or a full replay's window per evaluation costs
-    more than these kinds' fits are given)."""
-    simulate = _steady_turns(p, robot, [tuple(c) for c in commands], [mu] * len(commands))
-    describe = {"commands": [list(c) for c in commands], "mu": mu, "duration": p.duration}
-    names = [f"v{v}_w{w}" for v, w in commands]
-    return Units(names, np.full(len(commands), real), names, simulate, describe)
-
-
-def _units(p: CalibrateParams, inputs: dict, robot, runs: list[str], classes: list[str], turns, real: float) -> Units:
-    """The fitted units: the training runs' turning segments (kind segments), else steady-turn cases at their
-    representative commands (:func:`steady_units`) on the classes' median friction."""
+def _units(p: CalibrateParams, inputs: dict, robot, runs: list[str], classes: list[str], turns) -> Units:
+    """The fitted units: the training runs' turning segments (kind segments), else each run (or DRIVE step) a
+    steady turn at its own representative command on its class's ground against its own real gain
+    (:func:`representative_units`, :func:`run_units`)."""
     if p.kind == "segments" and p.segments_case is not None:
         return segment_units(p, inputs, runs, classes)
-    if not p.commands:  # each unit its own: the run's command, its class's ground, its real gain
-        picked = representative_units(turns, p.drive_commands)
-        return run_units(p, robot, picked)
-    mu = float(np.median([p.grounds[c] for c in classes]))
-    return steady_units(p, robot, p.commands, mu, real, runs)
+    return run_units(p, robot, representative_units(turns, p.drive_commands))
 
 
 def run_units(p: CalibrateParams, robot, picked: pd.DataFrame) -> Units:
