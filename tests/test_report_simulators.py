@@ -575,3 +575,22 @@ def test_per_class_the_first_page_names_the_closest_calibrated_file_that_keeps_i
     # on ice MuJoCo has no class file: its pooled file, judged by the pooled fit's error
     assert answer["ice"]["fit"] == "the pooled fit" and answer["ice"]["error"] == pytest.approx(0.065)
     assert answer["ice"]["files"][0]["name"] == "mujoco-calibrated.*"
+
+
+def test_a_study_where_no_profile_ran_adds_no_empty_reason_about_calibration():
+    """Where no simulator ran any profile the answer's own reason says so; the calibrated profiles' missing reason
+    is not printed as an empty list ("... ran in this study: .")."""
+    from simpick.score.profiles import _why_no_calibrated
+
+    table = pd.DataFrame(
+        {
+            "simulator": ["mujoco", "mujoco", "drake"],
+            "variant": ["tuned", "calibrated", "calibrated"],
+            "status": ["not run: not in simulators.run"] * 2 + ["not run: pydrake is not installed"],
+        }
+    )
+    assert _why_no_calibrated(table, ["tuned", "calibrated"], heldout=True) == ""
+    table.loc[0, "status"] = "run"
+    assert _why_no_calibrated(table, ["tuned", "calibrated"], heldout=True) == (
+        "no calibrated profile ran in this study: not in simulators.run"
+    )

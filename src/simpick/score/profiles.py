@@ -313,6 +313,8 @@ def _why_no_calibrated(table: pd.DataFrame, variants: list[str], heldout: bool) 
     ran = table.status.astype(str).str.startswith("run")
     if (ran & (table.variant == "calibrated")).any():
         return ""
+    if not ran.any():  # no profile ran at all: the answer's own reason says so, nothing to add about calibration
+        return ""
     # the simulators that ran some profile: why their calibrated one did not (the others' rows say why they ran none)
     rows = table[(table.variant == "calibrated") & table.simulator.isin(table.simulator[ran])]
     reasons = sorted({str(s).removeprefix("not run: ") for s in rows.status})
