@@ -17,14 +17,17 @@ from lxml import etree
 
 from conftest import ROOT, study_config
 from simpick.config import Study
-from simpick.engines.simulator_models import WRITERS, isaac_lab
+from simpick.engines.simulator_models import WRITERS, coppeliasim, isaac_lab
 from simpick.inputs.robot.settings import RobotParams
 from simpick.plan import Plan
 from simpick.studies.simulator_models import simulator_models_job
 
 DURATION = 1.0  # s, each claimed case cut to it (the claims are compared with the job's, not measured here)
 CATALOG = ROOT / "resources/simulators/simulators.yaml"
-PROFILES = {"isaac_sim": ("isaac_sim-shipped", "isaac_sim-tuned")}
+PROFILES = {
+    "isaac_sim": ("isaac_sim-shipped", "isaac_sim-tuned"),
+    "coppeliasim": ("coppeliasim-shipped", "coppeliasim-tuned"),
+}
 
 
 @pytest.fixture(scope="module")
@@ -163,6 +166,109 @@ def test_a_changed_profile_setting_or_a_wrong_value_changes_or_fails_the_isaac_l
     assert wrong != text and check_isaac_lab(assigned(wrong), q, study)
     wrong = text.replace("'restitution_combine_mode'", "'restitution_mode'", 1)
     assert check_isaac_lab(assigned(wrong), q, study)
+
+
+# --- CoppeliaSim ---------------------------------------------------------------------------------------------------
+
+
+def coppeliasim_names(text: str, data: dict) -> set[str]:
+    """Every CoppeliaSim name the script uses: the quoted constants in its data and the sim / simURDF functions its
+    code calls."""
+    names = set()
+
+    def walk(value):
+        if isinstance(value, dict):
+            for k, v in value.items():
+                walk(k)
+                walk(v)
+        elif isinstance(value, str) and value.startswith("sim."):
+            names.add(value)
+
+    for variable in ("INT32_PARAMS", "ENGINE_INT32_PARAMS", "FLOAT_PARAMS", "GROUND", "ROBOT_SHAPE", "WHEEL_JOINT"):
+        walk(data[variable])
+    for node in ast.walk(ast.parse(text)):
+        if (
+            isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Attribute)
+            and isinstance(node.func.value, ast.Name)
+        ):
+            owner = {"sim": "sim", "simurdf": "simURDF"}.get(node.func.value.id)
+            if owner:
+                names.add(f"{owner}.{node.func.attr}")
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "named":
+            if isinstance(node.args[1], ast.Constant):
+                names.add(node.args[1].value)
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "RemoteAPIClient":
+            names.add("RemoteAPIClient")
+    return names
+
+
+def check_coppeliasim(text: str, q: dict, study: dict) -> list[str]:
+    data = assigned(text)
+    used = coppeliasim_names(text, data)
+    bad = [f"{n} is not a quoted CoppeliaSim name" for n in used if n not in coppeliasim.NAMES]
+
+    def expect(what, got, want):
+        if got != pytest.approx(want):
+            bad.append(f"{what}: {got} != {want}")
+
+    expect(
+        "iterations",
+        data["ENGINE_INT32_PARAMS"]["sim.bullet_global_constraintsolvingiterations"],
+        q["solver_iterations"],
+    )
+    for key in ("sim.floatparam_physicstimestep", "sim.floatparam_simulation_time_step"):
+        expect(key, data["FLOAT_PARAMS"][key], q["time_step"])
+    expect("PHYSICS_STEP", data["PHYSICS_STEP"], q["time_step"])
+    if data["INT32_PARAMS"] != {"sim.intparam_dynamic_engine": "sim.physics_bullet"}:
+        bad.append(f"engine: {data['INT32_PARAMS']}")
+    ground = data["GROUND"]["engine_float"]["sim.bullet_body_friction"]
+    robot = data["ROBOT_SHAPE"]["engine_float"]["sim.bullet_body_friction"]
+    expect("contact friction (Bullet's product)", ground * robot, study["ground_mu"])
+    expect("ground friction", ground, study["ground_mu"])
+    if data["GROUND"]["int32"] != {"sim.shapeintparam_static": 1, "sim.shapeintparam_respondable": 1}:
+        bad.append("the ground is not static and respondable")
+    expect("max torque", data["WHEEL_JOINT"]["max_torque"], study["torque"])
+    if data["WHEEL_JOINT"]["int32"] != {"sim.jointintparam_dynctrlmode": "sim.jointdynctrl_velocity"}:
+        bad.append("the wheels are not in velocity control")
+    expect("COMMAND_TRACK", data["COMMAND_TRACK"], study["track"])
+    return bad
+
+
+@pytest.mark.parametrize("profile", PROFILES["coppeliasim"])
+def test_the_coppeliasim_script_holds_coppeliasim_s_names_and_the_profile_s_values(models, study, profile):
+    folder, claims = models
+    text = (folder / f"{profile}.py").read_text()
+    assert check_coppeliasim(text, quoted("coppeliasim", profile.split("-")[1]), study) == []
+    data = assigned(text)
+    check_claims(data, claims[profile])
+    assert {w["joint"] for w in data["WHEELS"]} == urdf_wheels(folder / f"{profile}.urdf")
+    assert "NOT OPENED IN COPPELIASIM HERE" in text
+    # the check sees the script's calls: a name CoppeliaSim does not have fails it
+    wrong = text.replace("sim.setJointTargetForce(", "sim.setJointMaxForce(", 1)
+    assert wrong != text and check_coppeliasim(wrong, quoted("coppeliasim", profile.split("-")[1]), study)
+
+
+def test_a_changed_profile_setting_changes_the_coppeliasim_script_and_an_unexposed_one_is_refused(plan, study):
+    params = plan.simulator_models_params()
+    settings = dict(params["profiles"]["coppeliasim-tuned"]["settings"])
+    robot = RobotParams.model_validate(params["robot"])
+    urdf = str(ROOT / plan.config["robot"]["urdf"])
+
+    def write(s: dict) -> str:
+        files = WRITERS["coppeliasim"].write(urdf, s, study["ground_mu"], [], robot=robot, timestep=study["timestep"])
+        return files["py"]
+
+    q = quoted("coppeliasim", "tuned")
+    assert check_coppeliasim(write(settings), q, study) == []
+    changed = write(settings | {"solver_iterations": 70, "time_step": 0.004})
+    data = assigned(changed)
+    assert data["ENGINE_INT32_PARAMS"]["sim.bullet_global_constraintsolvingiterations"] == 70
+    assert data["FLOAT_PARAMS"]["sim.floatparam_physicstimestep"] == 0.004
+    assert len(check_coppeliasim(changed, q, study)) == 4
+    for unexposed in ({"friction_ratio": 0.7}, {"contact_stiffness": 1e6}, {"spinning_friction": 0.01}):
+        with pytest.raises(ValueError):
+            write(settings | unexposed)
 
 
 def test_the_plan_notes_the_vendor_models_as_not_opened_here(plan):
