@@ -8,7 +8,9 @@ module per simulator whose engine can write such a model (MuJoCo: :mod:`.mujoco`
 own ``MjSpec``; Gazebo: :mod:`.gazebo`, one SDF world from the adapter's own; Drake: :mod:`.drake`, a URDF with
 Drake's tags, the ground's SDFormat file and the plant's YAML; Gazebo Classic: :mod:`.gazebo_classic`, an SDF 1.7
 world; Webots: :mod:`.webots`, a .wbt world; Newton: :mod:`.newton_script` and Genesis: :mod:`.genesis_script`, a
-Python script that builds the robot with the simulator's own API, beside the URDF it loads); :data:`WRITERS` names
+Python script that builds the robot with the simulator's own API, beside the URDF it loads; Isaac Sim:
+:mod:`.isaac_lab`, a script of Isaac Lab's configuration classes, and CoppeliaSim: :mod:`.coppeliasim`, a ZeroMQ
+remote-API script, neither opened here); :data:`WRITERS` names
 them by simulator (Gazebo Classic and Webots share the ODE adapter, each with a format of its own), and rule
 simulator_models writes one model per profile of those simulators (:mod:`simpick.studies.simulator_models`), where
 the profile's engine is configured."""
@@ -20,10 +22,12 @@ from typing import NamedTuple
 
 from simpick.engines import gzphysics_engine
 from simpick.engines.simulator_models.common import TurningClaim
+from simpick.engines.simulator_models.coppeliasim import write_coppeliasim_model
 from simpick.engines.simulator_models.drake import write_drake_model
 from simpick.engines.simulator_models.gazebo import write_gazebo_model
 from simpick.engines.simulator_models.gazebo_classic import write_gazebo_classic_model
 from simpick.engines.simulator_models.genesis_script import write_genesis_model
+from simpick.engines.simulator_models.isaac_lab import write_isaac_lab_model
 from simpick.engines.simulator_models.mujoco import write_mujoco_model
 from simpick.engines.simulator_models.newton_script import write_newton_model
 from simpick.engines.simulator_models.webots import write_webots_model
@@ -79,7 +83,8 @@ def _gazebo_classic(robot) -> bool:
 
 
 def _unsuspended(robot) -> bool:
-    """No passive suspension nor coupling: what the Newton and Genesis scripts build."""
+    """No passive suspension nor coupling: what the Newton, Genesis, Isaac Lab and CoppeliaSim scripts build (the
+    adapters' joint friction and couplings have no counterpart there)."""
     return not (robot.suspension or robot.couplings)
 
 
@@ -112,6 +117,8 @@ WRITERS = {
     "webots": ModelWriter("wbt", _webots_files, opened_here=False, writes=_plain_wheels),
     "isaac_lab_newton": ModelWriter("py", write_newton_model, opened_here=True, writes=_unsuspended),
     "genesis": ModelWriter("py", write_genesis_model, opened_here=True, writes=_unsuspended),
+    "isaac_sim": ModelWriter("py", write_isaac_lab_model, opened_here=False, writes=_unsuspended),
+    "coppeliasim": ModelWriter("py", write_coppeliasim_model, opened_here=False, writes=_unsuspended),
 }
 
 
@@ -125,10 +132,12 @@ __all__ = [
     "ModelWriter",
     "TurningClaim",
     "not_opened_note",
+    "write_coppeliasim_model",
     "write_drake_model",
     "write_gazebo_classic_model",
     "write_gazebo_model",
     "write_genesis_model",
+    "write_isaac_lab_model",
     "write_mujoco_model",
     "write_newton_model",
     "write_webots_model",
