@@ -41,7 +41,7 @@ FIT = {
     "source": "a test's runs",
     "settings": {"fdir1": "wheel_x", "wheel_mu2": 1.0, "friction_ratio": 0.675},
     "fit": {"fixed": {"fdir1": "wheel_x", "wheel_mu2": 1.0}},
-    "per_class": {"grass": {"friction_ratio": 0.9, "engine_gain": 0.0, "improves": True}},
+    "per_class": {"grass": {"settings": {"friction_ratio": 0.9}, "engine_gain": 0.0, "improves": True}},
 }
 STEMS = ("gazebo-tuned", "gazebo-calibrated", "gazebo-calibrated-grass")
 NS = {"simpick": "urn:simpick:model"}

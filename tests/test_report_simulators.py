@@ -448,8 +448,8 @@ def test_the_per_class_fits_stand_beside_the_pooled_with_their_held_out_runs_and
                 "terrain_class": cls,
                 "train_runs": 2,
                 "real_gain": 0.7,
-                "pooled_ratio": pooled,
-                "class_ratio": ratio,
+                "pooled_settings": f"friction_ratio = {pooled}",
+                "class_settings": f"friction_ratio = {ratio}",
                 "engine_gain": 0.7,
                 "heldout_runs": held,
                 "class_fit_error": own,
@@ -469,7 +469,7 @@ def test_the_per_class_fits_stand_beside_the_pooled_with_their_held_out_runs_and
     assert body.split("<tbody>")[1].count("<tr>") == 3
     assert 'href="../simulators/settings/mujoco-calibrated-flooring.xml"' in body
     assert 'href="../simulators/settings/mujoco-calibrated-sandy_loam.xml"' in body
-    assert "0.576 (0.698)" in body and "0.011" in body and "0.079" in body
+    assert "friction_ratio = 0.576 (friction_ratio = 0.698)" in body and "0.011" in body and "0.079" in body
     # a class without held-out runs shows no error, not a zero
     ice = re.search(r"<tr><td>Gazebo Classic</td><td>ice</td>.*?</tr>", body, re.S).group(0)
     assert '<td class="num">0</td><td class="num">–</td><td class="num">–</td>' in ice, ice

@@ -373,7 +373,11 @@ def test_the_fit_on_the_committed_segments_lowers_its_training_error_and_fits_ea
     judged = 0
     for entry in fit["per_class"].values():
         assert entry["placed_by"].startswith("its own least-squares fit on the engine")
-        assert entry["trials"][0][0] == pytest.approx(fit["settings"]["friction_ratio"], abs=1e-4)
+        # one training run: the first of the pooled fit's settings, from the pooled value
+        assert entry["fitted"] == ["friction_ratio"] and set(entry["settings"]) == set(fit["settings"])
+        assert entry["trials"][0]["settings"]["friction_ratio"] == pytest.approx(
+            fit["settings"]["friction_ratio"], abs=1e-4
+        )
         assert entry["train_error"] <= entry["pooled_train_error"] + 1e-9
         assert entry["improves"] == (entry["train_error"] + params["tolerance"] < entry["pooled_train_error"])
         assert not set(entry["runs"]) & set(fit["test_runs"]) and set(entry["runs"]) <= set(fit["train_runs"])
@@ -607,7 +611,7 @@ def test_a_class_whose_own_fit_differs_gets_its_own_file_and_a_row_beside_the_po
     catalog = load_catalog(ROOT / "resources/simulators/simulators.yaml")
     sim = catalog.simulators["mujoco"]
     entry = {
-        "friction_ratio": 0.576,
+        "settings": {"friction_ratio": 0.576},
         "real_gain": 0.712,
         "runs": ["flooring/07"],
         "placed_by": "its own fit on the engine (2 trials from the Coulomb placement)",
@@ -615,9 +619,9 @@ def test_a_class_whose_own_fit_differs_gets_its_own_file_and_a_row_beside_the_po
         "reached": True,
         "heldout": {"runs": 1, "real_gain": 0.72, "class_fit_error": 0.011, "pooled_fit_error": 0.079},
     }
-    same = dict(entry, friction_ratio=0.702, heldout=None)  # within 0.01 of the pooled: no file of its own
+    same = dict(entry, settings={"friction_ratio": 0.702}, heldout=None)  # within 0.01 of the pooled: no file
     placed = {k: v for k, v in entry.items() if k != "engine_gain"}  # placed by Coulomb alone: no file
-    worse = dict(entry, friction_ratio=0.9, improves=False)  # turns farther from its training runs: no file
+    worse = dict(entry, settings={"friction_ratio": 0.9}, improves=False)  # farther from its training runs: none
     fit = {
         "simulator": "mujoco",
         "robot": "husky_a200",
@@ -632,9 +636,9 @@ def test_a_class_whose_own_fit_differs_gets_its_own_file_and_a_row_beside_the_po
     table = stage.per_class_table({"mujoco": fit}, catalog)
     assert list(table.terrain_class) == ["flooring", "ice", "snow", "asphalt"]
     row = table.set_index("terrain_class").loc["flooring"]
-    assert (row.class_ratio, row.pooled_ratio, row.class_fit_error, row.pooled_fit_error) == (
-        0.576,
-        0.698,
+    assert (row.class_settings, row.pooled_settings, row.class_fit_error, row.pooled_fit_error) == (
+        "friction_ratio = 0.576",
+        "friction_ratio = 0.698",
         0.011,
         0.079,
     )
@@ -660,7 +664,7 @@ def test_a_class_whose_own_fit_differs_gets_its_own_file_and_a_row_beside_the_po
     names = sorted(p.name for p in tmp_path.iterdir())
     assert names == ["mujoco-calibrated-flooring.xml", "mujoco-calibrated.xml"], names
     own = (tmp_path / "mujoco-calibrated-flooring.xml").read_text()
-    assert "calibrated for flooring" in own and "0.079" in own and "not a replay" in own
+    assert "calibrated for flooring" in own and "0.079" in own and "friction_ratio = 0.576" in own
     back = formats.read("mjcf", "mujoco", {"xml": own})
     assert back["friction_ratio"] == pytest.approx(0.576)
     pooled = formats.read("mjcf", "mujoco", {"xml": (tmp_path / "mujoco-calibrated.xml").read_text()})
@@ -684,13 +688,16 @@ needs_drive = pytest.mark.skipif(
 
 @pytest.fixture(scope="module")
 def drive_steps(tmp_path_factory):
-    """DRIVE's steps table of the shared sessions, as its import step writes it."""
+    """DRIVE's steps table of the shared sessions, as its import step writes it, its case and wheels tables
+    beside it."""
     from simpick.real import drive as D
-    from simpick.real.logs.drive import read_drive
 
-    path = tmp_path_factory.mktemp("drive") / "steps.csv"
-    D.step_table(read_drive(CALIB)).to_csv(path, index=False)
-    return path
+    folder = tmp_path_factory.mktemp("drive")
+    D.write_tables(
+        D.open_drive(CALIB),
+        {t: str(folder / f"{t}.csv") for t in ("steps", "cases")} | {"wheels": str(folder / "wheels.parquet")},
+    )
+    return folder / "steps.csv"
 
 
 def _warthog_config(drive: bool = True, run: list[str] | None = None) -> dict:
@@ -726,12 +733,24 @@ def test_drive_steps_are_split_one_by_one_stratified_by_turning_and_the_same_eve
 def test_the_fit_on_drive_pools_the_target_class_s_training_steps_and_never_a_held_out_one(drive_steps, tmp_path):
     plan = _plan(_warthog_config(run=["mujoco"]))
     assert plan.calibration_source == "drive" and "mujoco-calibrated" in plan.calibrated
-    assert plan.calibration_real_input() == {"steps": "results/drive/drive/steps.csv"}
-    params = dict(plan.simulator_calibrate_params("mujoco"), duration=3.0, max_nfev=2, drive_commands=2)
+    assert plan.calibration_real_input() == {
+        "steps": "results/drive/drive/steps.csv",
+        "cases": "results/drive/drive/cases.csv",
+        "wheels": "results/drive/drive/wheels.parquet",
+    }
+    params = dict(plan.simulator_calibrate_params("mujoco"), max_nfev=2, class_nfev=0, drive_commands=2)
     assert params["kind"] == "drive" and params["source"] == "drive-drive"
+    assert params["steps_case"]["engine"] == "mujoco-calibrated" and "session" not in params["steps_case"]
     split = tmp_path / "split.csv"
     cal.split_job({"steps": str(drive_steps)}, 0.5, 11, str(split))
-    inputs = {"split": str(split), "steps": str(drive_steps), "urdf": str(ROOT / "resources/robot/warthog.urdf")}
+    folder = drive_steps.parent
+    inputs = {
+        "split": str(split),
+        "steps": str(drive_steps),
+        "cases": str(folder / "cases.csv"),
+        "wheels": str(folder / "wheels.parquet"),
+        "urdf": str(ROOT / "resources/robot/warthog.urdf"),
+    }
     fit = cal.calibrate(inputs, params, str(tmp_path / "mujoco.yaml"))
     train, test = cal.read_split(split)
     steps = pd.read_csv(drive_steps)
@@ -742,7 +761,9 @@ def test_the_fit_on_drive_pools_the_target_class_s_training_steps_and_never_a_he
     assert fit["fit"]["real_gain"] == pytest.approx(fitted.gain.mean(), abs=1e-4)
     assert set(fit["fit"]["real_runs"]) == set(fitted.key) and not set(fit["fit"]["real_runs"]) & set(test)
     assert sorted(fit["per_class"]) == ["asphalt", "grass", "gravel"]
-    assert len(fit["fit"]["cases"]["commands"]) == 2
+    # two training steps, each replayed from its warm-up as DRIVE's replay replays it, none held out
+    assert len(fit["fit"]["cases"]["steps"]) == 2 and not set(fit["fit"]["cases"]["steps"]) & set(test)
+    assert fit["fit"]["method"].endswith(cal.job.REPLAYED["drive"]) and "warm-up" in fit["fit"]["cases"]["from"]
     # the Warthog's real gain on asphalt (0.58) is about its isotropic Coulomb gain (0.57): a ratio near 1
     assert 0.8 < fit["settings"]["friction_ratio"] < 1.3
 
@@ -793,17 +814,40 @@ def test_held_out_drive_steps_judge_every_row_on_the_test_steps_only(tmp_path):
 # --- on the full replay's runs (borealtc_dir): the calibration's split, the steady turning windows ---
 
 
-def test_the_full_replay_fits_on_its_training_runs_windows_with_the_calibration_s_split(tmp_path):
+def _replay_log(tmp_path, cls: str, run: str, gain: float, straight: float) -> str:
+    """A canonical log of 35 s: straight for ``straight`` s, then a spin (0.4 m/s a side) turning at ``gain``."""
+    from simpick.real.logs.canonical import RealLog, write_canonical
+
+    t = np.round(np.arange(0.0, 35.0, 0.01), 6)
+    spin = t >= straight
+    left, right = np.where(spin, -0.4, 0.3), np.where(spin, 0.4, 0.3)
+    wz = gain * (right - left) / 0.555
+    imu = pd.DataFrame({"time": t, "ax": 0.0, "ay": 0.0, "az": 9.81, "wx": 0.0, "wy": 0.0, "wz": wz})
+    commands = pd.DataFrame({"time": t, "v_left": left, "v_right": right})
+    meta = {"dataset": "borealtc", "terrain_class": cls.upper(), "run_id": run, "name": f"{cls}-{run}"}
+    return str(write_canonical(RealLog(imu=imu, commands=commands, meta=meta), tmp_path / f"logs/{cls}/{run}.parquet"))
+
+
+def test_the_full_replay_fits_on_its_training_runs_first_turning_windows_replayed_from_rest(tmp_path, monkeypatch):
+    """Kind replay fits what its held-out table judges: each training run replayed from rest as its replay simulate
+    job replays it (its class's case params, the trial's settings merged), up to the end of its first turning
+    window of the comparison's grid, and that window's gain taken as the comparison takes it; never a held-out
+    run, and each class's own fit judged on its held-out runs' windows the same way."""
+    import simpick.simulate.real as real_sim
+
     config = _config(run=["mujoco"])
     config["borealtc_dir"] = str(ROOT.parent / "shared/data/borealtc")
     plan = _plan(config)
     assert plan.calibration_source == "replay"
-    assert plan.calibration_real_input() == {
-        "windows": "results/real/borealtc/turning/windows.csv",
-        "calibration_split": "results/calibration/replay-borealtc/split.csv",
-    }
-    params = dict(plan.simulator_calibrate_params("mujoco"), duration=3.0, max_nfev=2, class_nfev=1, drive_commands=2)
+    real_input = plan.calibration_real_input()
+    assert real_input["windows"] == "results/real/borealtc/turning/windows.csv"
+    assert real_input["calibration_split"] == "results/calibration/replay-borealtc/split.csv"
+    assert real_input["logs"] and all(path.startswith("results/real/borealtc/logs/") for path in real_input["logs"])
+    params = dict(plan.simulator_calibrate_params("mujoco"), max_nfev=4, class_nfev=2)
     assert params["kind"] == "replay" and params["source"] == "replay-borealtc"
+    assert params["replay_window"] == 10.0 and set(params["replay_cases"]) == set(params["classes"])
+    assert params["replay_cases"]["ice"]["engine"] == "mujoco-calibrated"
+    assert params["replay_cases"]["ice"]["terrain_class"] == "ice"
     # the calibration's split of the replay's runs, taken as it is
     runs = [("flooring", f"{k:02d}") for k in range(1, 7)] + [("ice", f"{k:02d}") for k in range(1, 5)]
     calibration_split = tmp_path / "calibration_split.csv"
@@ -814,30 +858,60 @@ def test_the_full_replay_fits_on_its_training_runs_windows_with_the_calibration_
     split = tmp_path / "split.csv"
     cal.split_job({"calibration_split": str(calibration_split), "windows": "unused"}, 0.5, 11, str(split))
     assert pd.read_csv(split).equals(pd.read_csv(calibration_split))
-    # two steady turning windows a run; a test run's gain is 0.1, a training one's 0.7 (flooring) or 0.6 (ice)
+    # the real robot turns at 0.7 on flooring, 0.6 on ice; some runs drive straight 12 s first
+    logs = [
+        _replay_log(tmp_path, c, r, 0.7 if c == "flooring" else 0.6, 12.0 * (i % 4 == 2))
+        for i, (c, r) in enumerate(runs)
+    ]
     windows = pd.DataFrame(
-        [
-            {
-                "terrain_class": c,
-                "run": r,
-                "v": 0.3,
-                "w_kinematic": 0.4 * (1 + k),
-                "yaw_rate_gain": 0.1 if i % 2 else (0.7 if c == "flooring" else 0.6) + 0.01 * k,
-            }
-            for i, (c, r) in enumerate(runs)
-            for k in range(2)
-        ]
+        [{"terrain_class": c, "run": r, "v": 0.0, "w_kinematic": 1.44, "yaw_rate_gain": 0.7} for c, r in runs]
     )
     windows.to_csv(tmp_path / "windows.csv", index=False)
-    inputs = {"split": str(split), "windows": str(tmp_path / "windows.csv"), "urdf": config["robot"]["urdf"]}
+    replayed = []
+
+    def fake_replay(log, urdf, p, duration=None):  # the engine: gain 1.05 - 0.5 x ratio, 0.2 less on ice
+        p = real_sim.real_case(p)
+        replayed.append((f"{p.terrain_class}/{log.meta['run_id']}", duration, p.engine))
+        t = np.round(np.arange(0.01, duration, 0.01), 6)
+        cmd = log.wheel_commands(0.555)
+        held = np.clip(np.searchsorted(cmd.time.to_numpy(), t, side="right") - 1, 0, len(cmd) - 1)
+        w = (cmd.v_right.to_numpy()[held] - cmd.v_left.to_numpy()[held]) / 0.555
+        gain = 1.05 - 0.5 * p.engine_settings["friction_ratio"] - (0.2 if p.terrain_class == "ice" else 0.0)
+        return {"time": t, "wz": gain * w}, {"health": {"status": "ok", "reasons": []}}
+
+    monkeypatch.setattr(real_sim, "replay_log", fake_replay)
+    inputs = {
+        "split": str(split),
+        "windows": str(tmp_path / "windows.csv"),
+        "logs": logs,
+        "urdf": config["robot"]["urdf"],
+    }
     train, test = cal.read_split(split)
-    turns = cal.real_turns(inputs, train, ["flooring", "ice"])
-    assert set(turns.terrain_class + "/" + turns.run) == set(train) and (turns.gain > 0.5).all()
     fit = cal.calibrate(inputs, params, str(tmp_path / "mujoco.yaml"))
-    # the runs' means (flooring 0.705 x 3 runs, ice 0.605 x 2 runs), averaged over the runs
-    assert fit["fit"]["real_gain"] == pytest.approx((3 * 0.705 + 2 * 0.605) / 5, abs=1e-4)
-    assert len(fit["fit"]["cases"]["commands"]) == 2 and not set(fit["fit"]["real_runs"]) & set(test)
-    assert fit["per_class"]["flooring"]["heldout"]["runs"] == 3
+    f = fit["fit"]
+    # one window a run, its first that turns on the comparison's grid: [0, 10] s, or [10, 20] s after 12 s straight;
+    # each run replayed from rest up to that window's end
+    assert f["cases"]["windows"] == [
+        "flooring/01 [0, 10] s",
+        "flooring/03 [10, 20] s",
+        "flooring/05 [0, 10] s",
+        "ice/01 [10, 20] s",
+        "ice/03 [0, 10] s",
+    ]
+    assert {w.split()[0] for w in f["cases"]["windows"]} == set(train)
+    assert all(run in set(train) | set(test) for run, _, _ in replayed)
+    pooled = {(run, d) for run, d, e in replayed[: len(f["cases"]["windows"])]}
+    assert all(run in set(train) and d <= 20.1 for run, d in pooled) and all(
+        e == "mujoco-calibrated" for *_, e in replayed
+    )
+    assert f["method"].endswith(cal.job.REPLAYED["replay"])
+    # each class's own ratio is where the engine turns as its runs do: flooring 0.7 at 0.7, ice 0.6 at 0.5
+    assert f["kept"] == "the fit" and f["train_error"] < f["train_error_tuned"]
+    flooring, ice = fit["per_class"]["flooring"], fit["per_class"]["ice"]
+    assert flooring["settings"]["friction_ratio"] == pytest.approx(0.7, abs=0.03)
+    assert ice["settings"]["friction_ratio"] == pytest.approx(0.5, abs=0.03)
+    assert flooring["heldout"]["runs"] == 3 and "windows" in flooring["heldout"]["cases"]
+    assert ice["heldout"]["class_fit_error"] < ice["heldout"]["pooled_fit_error"]
 
 
 @needs_drive
@@ -1004,13 +1078,62 @@ def test_a_ratio_the_search_space_fixes_is_set_not_fitted_and_gets_no_class_fit(
     assert out["settings"]["friction_ratio"] == 0.7 and f["fixed"]["friction_ratio"] == 0.7
     assert out["settings"]["wheel_servo_kp"] == pytest.approx(400.0, rel=0.1)
     assert f["bounds"] == [0.3, 1.8] and all(t[0] == 0.7 for t in f["trials"])
-    assert out["per_class"] and all(e["placed_by"].startswith("the pooled fit") for e in out["per_class"].values())
+    # the classes fit what the pooled fit fitted (the servo gain), never the fixed ratio
+    assert out["per_class"] and all(e["fitted"] == ["wheel_servo_kp"] for e in out["per_class"].values())
+    assert all(e["settings"]["friction_ratio"] == 0.7 for e in out["per_class"].values())
 
 
-def test_the_replay_s_units_are_its_runs_each_at_its_own_command_and_real_gain():
-    """Kinds replay and drive fit per-run residuals: each run at its turning window of median |w| against the mean
-    of its windows' real gains (the held-out figure averages a run's windows), at most n runs, the median run of
-    each of n bins by |w|."""
+def test_a_class_fits_every_setting_the_pooled_fit_fitted_and_its_file_carries_them(tmp_path, monkeypatch):
+    """A class's own fit takes the pooled fit's settings in its order, as many as its training runs identify, from
+    the pooled values: here the servo gain alone (Gazebo's slip2 stands the same way, its ratio fixed), which only
+    ice's runs set lower; ice's entry carries its fitted gain with its interval, and its file and the per-class
+    table read them."""
+    params = _mujoco_params(class_nfev=4, max_nfev=4)
+    space = params["space"]
+    ratio = {"value": 0.7, "exposed_as": "the pairs' friction ratio, fixed", "source": "a test"}
+    params["space"] = {
+        **space,
+        "settings": {"wheel_servo_kp": space["settings"]["wheel_servo_kp"]},
+        "requires": {**space.get("requires", {}), "friction_ratio": ratio},
+    }
+    truth = {"friction_ratio": 0.7, "wheel_servo_kp": 1000.0}
+
+    def simulate(s: dict) -> np.ndarray:
+        return _generated_gains({**params["engine_settings"], **s}, 0.05)
+
+    pooled = cal.Units(UNIT_RUNS, _generated_gains(truth, 0.05), [f"u{k}" for k in range(7)], simulate, {"g": 1})
+    ice = cal.Units(
+        ["ice/02", "ice/03"], _generated_gains({**truth, "wheel_servo_kp": 300.0}, 0.05)[2:4], ["i0", "i1"], None, {}
+    )
+    ice.simulate = lambda s: simulate(s)[2:4]
+
+    def units(p, inputs, robot, runs, classes, turns):
+        return ice if classes == ["ice"] else pooled
+
+    monkeypatch.setattr(cal.job, "_units", units)
+    split = tmp_path / "split.csv"
+    cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(split))
+    inputs = {"split": str(split), "segments": str(SEGMENTS), "urdf": str(ROOT / "resources/robot/husky_a200.urdf")}
+    out = cal.calibrate(inputs, params, str(tmp_path / "mujoco.yaml"))
+    e = out["per_class"]["ice"]
+    assert out["settings"]["wheel_servo_kp"] == pytest.approx(1000.0, rel=0.1)
+    assert e["fitted"] == ["wheel_servo_kp"] and e["improves"], e
+    assert e["settings"]["wheel_servo_kp"] == pytest.approx(300.0, rel=0.15) and e["settings"]["friction_ratio"] == 0.7
+    assert "wheel_servo_kp" in e["parameters"] and e["trials"][0]["settings"]["wheel_servo_kp"] == pytest.approx(
+        out["settings"]["wheel_servo_kp"], rel=1e-3
+    )
+    assert set(settings_stage.class_files(out)) >= {"ice"}
+    catalog = load_catalog(ROOT / "resources/simulators/simulators.yaml")
+    tuned = catalog.settings("mujoco", "tuned", "husky_a200")
+    files = settings_stage.calibrated_settings("mujoco", tuned, out)
+    assert files["-ice"]["wheel_servo_kp"] == pytest.approx(e["settings"]["wheel_servo_kp"])
+    row = stage.per_class_table({"mujoco": out}, catalog).set_index("terrain_class").loc["ice"]
+    assert f"wheel_servo_kp = {e['settings']['wheel_servo_kp']}" in row.class_settings
+
+
+def test_the_drive_steps_replayed_are_stratified_by_their_turn_rate_each_with_its_real_gain():
+    """Kind drive replays at most n training steps, stratified by how fast they turn: per unit its turning window of
+    median |w| and the mean of its windows' real gains, the median unit of each of n bins by |w|."""
     turns = pd.DataFrame(
         {
             "terrain_class": ["ice", "ice", "ice", "flooring", "flooring", "snow"],

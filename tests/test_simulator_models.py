@@ -32,7 +32,7 @@ FIT = {
     "searchable": True,
     "source": "a test's runs",
     "settings": {"friction_ratio": 0.7},
-    "per_class": {"grass": {"friction_ratio": 0.5, "engine_gain": 0.75, "improves": True}},
+    "per_class": {"grass": {"settings": {"friction_ratio": 0.5}, "engine_gain": 0.75, "improves": True}},
 }
 STEMS = ("mujoco-tuned", "mujoco-calibrated", "mujoco-calibrated-grass")
 # attributes through which an MJCF names another file

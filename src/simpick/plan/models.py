@@ -323,14 +323,21 @@ class ModelPlanning:
     def calibration_real_input(self) -> dict:
         """The real runs rule simulator_split splits and simulator_calibrate fits on: the committed segments
         (``segments``), the full replay's steady turning windows (``windows``, rule real_turning) with the
-        calibration's split of its runs (``calibration_split``), or DRIVE's steps table (``steps``, written by
-        its import step)."""
+        calibration's split of its runs (``calibration_split``) and their logs (``logs``), or DRIVE's steps, case
+        and wheels tables (``steps``, ``cases``, ``wheels``, written by its import step)."""
         if self.calibration_source == "replay":
-            return {"windows": f"{self.replay}/turning/windows.csv", "calibration_split": f"{self.cal_dir}/split.csv"}
+            # and the runs' canonical logs, which the fit replays as the replay's simulate jobs do
+            return {
+                "windows": f"{self.replay}/turning/windows.csv",
+                "calibration_split": f"{self.cal_dir}/split.csv",
+                "logs": self.real_logs(self.replay_set.name),
+            }
         if self.calibration_source == "drive":
             from simpick.sources import module as source_module
 
-            return {"steps": f"{source_module('drive').root(self.settings)}/steps.csv"}
+            # and the case and wheels tables, which the fit's step replays read as DRIVE's replay does
+            root = source_module("drive").root(self.settings)
+            return {"steps": f"{root}/steps.csv", "cases": f"{root}/cases.csv", "wheels": f"{root}/wheels.parquet"}
         return {"segments": self.settings.real_data.segments}
 
     def simulator_split_params(self) -> dict:
@@ -367,14 +374,29 @@ class ModelPlanning:
                 for c in (study.calibration.target.classes or study.real_data.classes)
             },
         }
+        calibrated = model_name(simulator, "calibrated")
         if self.calibration_source == "replay":
+            from simpick.sources.base import real_params
+
             data["kind"] = "replay"
+            data["replay_window"] = float(study.real_data.window)
+            if model_name(simulator, "calibrated") in self.calibrated:
+                # each class's replay simulate job's case params for the calibrated profile (its plan-time settings)
+                data["replay_cases"] = {
+                    c: real_params(study, calibrated, self.model_settings(calibrated), c) for c in data["grounds"]
+                }
         if self.calibration_source == "drive":
             # DRIVE's sessions name their terrain in their steps table, known when the job runs: the fit pools
             # the target classes among them (every class of them where none is a target), so every class's
             # ground is given
             data["kind"] = "drive"
             data["grounds"] = {c: float(k.friction) for c, k in study.real_data.classes.items()}
+            if model_name(simulator, "calibrated") in self.calibrated:
+                from simpick.sources import drive as drive_source
+
+                # DRIVE's replay params for the calibrated profile (its plan-time settings), less the session
+                case = drive_source.case_params(study, "drive", {}, calibrated, self.model_settings(calibrated), "", [])
+                data["steps_case"] = {k: v for k, v in case.items() if k != "session"}
         searchable = model_name(simulator, "calibrated") in self.calibrated
         if searchable and self.calibration_source not in ("replay", "drive") and "segments" in self.sources:
             # the committed segments: the fit replays the training runs' turning segments as the calibrated

@@ -23,6 +23,11 @@ OUTCOME_WORDS = {
 }
 
 
+def _text_or_dash(x) -> str:
+    """A table's text cell, or a dash where it is empty."""
+    return str(x) if isinstance(x, str) and x else "–"
+
+
 def _f(x, digits: int = 3) -> str:
     try:
         x = float(x)
@@ -158,8 +163,8 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
                     "terrain_class": r["terrain_class"],
                     "train_runs": int(r["train_runs"]) if pd.notna(r.get("train_runs")) else 0,
                     "real_gain": _f(r.get("real_gain")),
-                    "class_ratio": _f(r.get("class_ratio")),
-                    "pooled_ratio": _f(r.get("pooled_ratio")),
+                    "class_settings": _text_or_dash(r.get("class_settings")),
+                    "pooled_settings": _text_or_dash(r.get("pooled_settings")),
                     "engine_gain": _f(r.get("engine_gain")),
                     "heldout_runs": held,
                     "spread": _f(r.get("class_spread")),

@@ -172,21 +172,51 @@ def _runs(runs, most: int = 12) -> str:
     return f"{len(runs)} (listed in results/simulators/calibration/split.csv and the fit's file)"
 
 
-# a class's own ratio gets a file of its own where it differs from the pooled one by at least this much
+# a class's own settings get a file of their own where one differs from the pooled fit's by at least this much: the
+# friction ratio by this much, any other setting by this share of the pooled value
 CLASS_FILE_RATIO = 0.01
+
+
+def class_settings(entry: dict) -> dict:
+    """A class's own fitted settings (its fit's ``settings``; an entry of the friction ratio alone, from before
+    the classes fitted every setting, as that)."""
+    if entry.get("settings"):
+        return dict(entry["settings"])
+    return {"friction_ratio": entry["friction_ratio"]} if entry.get("friction_ratio") is not None else {}
+
+
+def settings_text(settings: dict) -> str:
+    """Settings in words: ``name = value``, ``, ``-joined."""
+    return ", ".join(f"{k} = {v}" for k, v in settings.items())
+
+
+def _differs(name: str, own, pooled) -> bool:
+    if own is None:
+        return False
+    if pooled is None:
+        return True
+    scale = 1.0 if name == "friction_ratio" else abs(float(pooled))
+    return abs(float(own) - float(pooled)) >= CLASS_FILE_RATIO * scale
+
+
+# how a class's held-out runs were judged, by the first key of their cases (simpick.studies.simulator_calibration.units)
+HELDOUT_CASES = {
+    "segments": "their turning segments replayed",
+    "windows": "their first turning windows of the full replay, each run replayed from rest",
+    "steps": "their steps replayed from the warm-up",
+}
 
 
 def class_header(sim, simulator: str, fit: dict, terrain: str, entry: dict) -> list[str]:
     """The head of a class's calibrated file: what it was fitted on, its engine fit, and both fits on the
-    class's held-out runs (their turning segments replayed; DRIVE and the full replay: a steady-turn case at
-    their commands, not a replay)."""
+    class's held-out runs (what the held-out figure replays of them)."""
     held = entry.get("heldout") or {}
     lines = [
         f"simpick settings: {sim.label}, calibrated for {terrain}, for {fit.get('robot')}",
         f"fitted on {fit.get('source')}, {terrain} only: training runs {_runs(entry.get('runs'))}, real steady "
-        f"yaw-rate gain {_num(entry.get('real_gain'))}; {entry.get('placed_by')}: friction_ratio "
-        f"{entry.get('friction_ratio')}, engine gain {_num(entry.get('engine_gain'))} (the pooled fit's ratio "
-        f"{(fit.get('settings') or {}).get('friction_ratio')})",
+        f"yaw-rate gain {_num(entry.get('real_gain'))}; {entry.get('placed_by')}: "
+        f"{settings_text(class_settings(entry))}, engine gain {_num(entry.get('engine_gain'))} (the pooled fit's "
+        f"{settings_text(fit.get('settings') or {}) or 'tuned settings'})",
     ]
     if held:
         lines.append(
@@ -195,9 +225,9 @@ def class_header(sim, simulator: str, fit: dict, terrain: str, entry: dict) -> l
             f"{_num(held.get('class_fit_error'))}), the pooled fit {_num(held.get('pooled_fit_gain'))} (error "
             f"{_num(held.get('pooled_fit_error'))}): "
             + (
-                "their turning segments replayed"
-                if "segments" in (held.get("cases") or {})
-                else "a steady-turn case, not a replay of those runs"
+                HELDOUT_CASES.get(
+                    next(iter(held.get("cases") or {}), ""), "a steady-turn case, not a replay of those runs"
+                )
             )
         )
     else:
@@ -207,25 +237,25 @@ def class_header(sim, simulator: str, fit: dict, terrain: str, entry: dict) -> l
 
 
 def class_files(fit: dict | None) -> dict[str, dict]:
-    """terrain class -> its own fit, for the classes whose ratio, fitted on the engine, differs from the pooled
-    and turns closer to the class's training runs than the pooled fit does (``improves``: training runs alone)."""
+    """terrain class -> its own fit, for the classes whose settings, fitted on the engine, differ from the pooled
+    fit's (:data:`CLASS_FILE_RATIO`) and turn closer to the class's training runs than the pooled fit does
+    (``improves``: training runs alone)."""
     if not fit or not fit.get("searchable"):
         return {}
-    pooled = (fit.get("settings") or {}).get("friction_ratio")
+    pooled = fit.get("settings") or {}
     return {
         c: e
         for c, e in (fit.get("per_class") or {}).items()
-        if pooled is not None
+        if pooled
         and e.get("engine_gain") is not None
         and e.get("improves", True)
-        and e.get("friction_ratio") is not None
-        and abs(float(e["friction_ratio"]) - float(pooled)) >= CLASS_FILE_RATIO
+        and any(_differs(k, v, pooled.get(k)) for k, v in class_settings(e).items())
     }
 
 
 def calibrated_settings(engine: str, settings: Mapping[str, Any], fit: dict) -> dict[str, dict]:
     """A calibrated profile's full adapter settings per file (its name's tail): ``""`` its tuned ``settings`` with
-    the fit's over them, ``"-<class>"`` those with a class's own friction ratio, for each class with a file of its
+    the fit's over them, ``"-<class>"`` those with a class's own settings over them, for each class with a file of its
     own (:func:`class_files`). The settings files and the models (rule simulator_models) are written from these."""
     from simpick.engines import get_engine
 
@@ -236,7 +266,7 @@ def calibrated_settings(engine: str, settings: Mapping[str, Any], fit: dict) -> 
     # <mu2> raised to their <mu>), also where the pooled fit was not kept and the pooled file has none of them
     fixed = dict((fit.get("fit") or {}).get("fixed") or {})
     for cls, entry in class_files(fit).items():
-        own = model.model_validate({**pooled, **fixed, "friction_ratio": entry["friction_ratio"]})
+        own = model.model_validate({**pooled, **fixed, **class_settings(entry)})
         out[f"-{cls}"] = own.model_dump(mode="json")
     return out
 
@@ -258,14 +288,19 @@ def _calibrated_file(formats, sim, simulator, settings, fit, table, catalog, rob
     header = calibrated_header(sim, simulator, fit, row.iloc[0].to_dict() if len(row) else None)
     files = [("", settings, entries, header)]
     for cls, entry in class_files(fit).items():  # a class whose own fit differs: a file of its own
-        text = str((fit.get("exposed") or {}).get("friction_ratio", "not exposed"))
-        text = text.replace(str((fit.get("settings") or {}).get("friction_ratio")), str(entry["friction_ratio"]))
-        setting = Setting(value=entry["friction_ratio"], exposed_as=text, source=f"fitted: {fit.get('source')}, {cls}")
+        own = {}
+        for key, value in class_settings(entry).items():  # each of the class's own values, said as the pooled's
+            text = str((fit.get("exposed") or {}).get(key, "not exposed"))
+            text = text.replace(str(fitted.get(key)), str(value)) if fitted.get(key) is not None else text
+            own[key] = (
+                "calibrated",
+                Setting(value=value, exposed_as=text, source=f"fitted: {fit.get('source')}, {cls}"),
+            )
         files.append(
             (
                 f"-{cls}",
                 variants[f"-{cls}"],
-                {**entries, "friction_ratio": ("calibrated", setting)},
+                {**entries, **own},
                 class_header(sim, simulator, fit, cls, entry),
             )
         )

@@ -26,7 +26,14 @@ from simpick.score.equivalence import outcomes_table
 from simpick.score.mechanics import mechanics_table
 from simpick.score.scoring import FACT_KEYS
 from simpick.score.settings import Statistics, Verdict
-from simpick.score.simulator_settings import class_files, fit_parts, fitted_parameters, read_fits
+from simpick.score.simulator_settings import (
+    class_files,
+    class_settings,
+    fit_parts,
+    fitted_parameters,
+    read_fits,
+    settings_text,
+)
 from simpick.score.split import read_split
 from simpick.score.verdict import METRICS, NO_SPEED, per_run_values, read_per_test
 from simpick.tables import write_csv
@@ -454,12 +461,12 @@ def per_class_table(
     model_notes: dict[str, str] | None = None,
 ) -> pd.DataFrame:
     """results/simulators/per_class.csv: per simulator and terrain class, the class's own fit beside the pooled
-    one, both judged on the class's held-out runs (a steady-turn case at their commands); ``model_files``: profile
+    one, both judged on the class's held-out runs (as the held-out table replays them); ``model_files``: profile
     -> its model's path, beside which a class with a file of its own has its model (rule simulator_models), and
     ``model_notes`` what the report says beside it (SimulatorsParams.model_notes)."""
     rows = []
     for simulator, fit in fits.items():
-        pooled = (fit.get("settings") or {}).get("friction_ratio")
+        pooled = settings_text(fit.get("settings") or {})
         files = class_files(fit)
         model = (model_files or {}).get(model_name(simulator, "calibrated"))
         note = (model_notes or {}).get(model_name(simulator, "calibrated"), "")
@@ -472,8 +479,8 @@ def per_class_table(
                     "terrain_class": cls,
                     "train_runs": len(e.get("runs") or []),
                     "real_gain": e.get("real_gain"),
-                    "pooled_ratio": pooled,
-                    "class_ratio": e.get("friction_ratio"),
+                    "pooled_settings": pooled,
+                    "class_settings": settings_text(class_settings(e)),
                     "placed_by": e.get("placed_by"),
                     "engine_gain": e.get("engine_gain"),
                     "pooled_engine_gain": e.get("pooled_engine_gain"),
@@ -509,8 +516,8 @@ PER_CLASS_COLUMNS = [
     "terrain_class",
     "train_runs",
     "real_gain",
-    "pooled_ratio",
-    "class_ratio",
+    "pooled_settings",
+    "class_settings",
     "placed_by",
     "engine_gain",
     "pooled_engine_gain",

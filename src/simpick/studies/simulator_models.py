@@ -26,7 +26,7 @@ from simpick.engines.simulator_models import WRITERS, TurningClaim
 from simpick.engines.simulators import engine_of, split
 from simpick.inputs.robot.settings import RobotParams
 from simpick.params import JobParams, PhysicsStep, Positive
-from simpick.score.simulator_settings import calibrated_settings, class_files, read_fits
+from simpick.score.simulator_settings import calibrated_settings, class_files, class_settings, read_fits, settings_text
 from simpick.studies.validation.cases import Setup, run_case
 from simpick.studies.validation.measures import DEFAULT_HEADING
 from simpick.studies.validation.settings import ValidationCase
@@ -114,7 +114,7 @@ def _models(profile: str, entry: ModelProfile, fit: dict | None, robot: str) -> 
             out.append((profile, settings, [head(profile), values]))
             continue
         cls = tail.removeprefix("-")
-        own = f"; and {cls}'s own friction_ratio = {per_class[cls]['friction_ratio']}, fitted on its training runs"
+        own = f"; and {cls}'s own {settings_text(class_settings(per_class[cls]))}, fitted on its training runs"
         out.append((profile + tail, settings, [head(profile + tail, cls), values + own]))
     return out
 

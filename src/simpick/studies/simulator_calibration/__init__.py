@@ -22,23 +22,28 @@ simulator's by scipy.optimize.least_squares (trf, a forward-difference Jacobian)
 the same budget of evaluations, and the file names the one that ran (its version, iterations and evaluations).
 Each setting gets a 95 % interval from the Jacobian at the optimum (mujoco.sysid's from its calculate_intervals),
 or is named unidentifiable from these runs; the file gives the tuned profile's training error (the first
-evaluation) beside the optimum's, and keeps the tuned settings where the optimum is not below it. Kinds drive and
-replay fit the same per-run residuals, each run (a DRIVE step is one) a steady turn from rest at its own
-representative command on its own class's ground against its own real gain (:func:`representative_units`,
-:func:`run_units`): not a replay of every window, which costs more than these fits are given.
+evaluation) beside the optimum's, and keeps the tuned settings where the optimum is not below it. Kinds replay and
+drive fit the same per-run residuals on what their own held-out tables replay: the full replay's training runs each
+replayed from rest as its replay simulate job replays it up to the end of its first turning window of the held-out
+comparison's grid, that window's gain taken as the comparison takes it (:func:`~.units.window_units`), and DRIVE's
+training steps (up to ``drive_commands``, stratified by |w|) each replayed from its warm-up as DRIVE's replay does
+(:func:`~.units.step_units`). The cap keeps an evaluation near the cost of the steady turns these kinds ran before.
 
-Per class, where a class has a training run that turns, its own ratio is fitted the same way on its runs (the
-other settings at the pooled fit's), beside the pooled fit, and both are judged on its held-out runs.
+Per class, where a class has a training run that turns, every setting the pooled fit fitted is fitted again on its
+runs (in the pooled order, as many as its runs identify, the rest at the pooled fit's values, from the pooled
+fit), beside the pooled fit, and both are judged on its held-out runs; the class's entry carries its ``settings``
+and their intervals.
 The split is the calibration's (:func:`simpick.studies.calibration.split.split_runs`: by run, seeded,
 stratified by turning): nothing of a test run reaches the fit.
 
 The modules, one idea each: ``space`` (the search space: its models, :func:`~.space.load_search_spaces`,
 :func:`~.space.resolve`), ``params`` (:class:`~.params.CalibrateParams`, what rule simulator_calibrate's job
 reads), ``runs`` (the real runs: the split of rule simulator_split, the training runs' turning units and real
-gains, the representative units), ``fit`` (the least-squares machinery: :class:`~.fit.Axis`,
-:class:`~.fit.Units`, :func:`~.fit.least_squares_fit` by scipy or mujoco.sysid, the intervals, the step
-margins), ``units`` (what an evaluation runs on the engine: the segments replayed, or steady-turn cases) and
-``job`` (rule simulator_calibrate's job: :func:`~.job.calibrate`, each part's share, the classes' own fits).
+gains, the full replay's turning windows, DRIVE's representative steps), ``fit`` (the least-squares machinery:
+:class:`~.fit.Axis`, :class:`~.fit.Units`, :func:`~.fit.least_squares_fit` by scipy or mujoco.sysid, the
+intervals, the step margins), ``units`` (what an evaluation runs on the engine: segments, full-replay windows or
+DRIVE steps replayed) and ``job`` (rule simulator_calibrate's job: :func:`~.job.calibrate`, each part's share,
+the classes' own fits).
 """
 
 from __future__ import annotations
@@ -57,6 +62,7 @@ from simpick.studies.simulator_calibration.runs import (
     representative_units,
     split_job,
     steps_key,
+    turning_windows,
 )
 from simpick.studies.simulator_calibration.space import (
     CALIBRATED,
@@ -67,7 +73,7 @@ from simpick.studies.simulator_calibration.space import (
     load_search_spaces,
     resolve,
 )
-from simpick.studies.simulator_calibration.units import run_units, segment_units
+from simpick.studies.simulator_calibration.units import segment_units, step_units, window_units
 
 __all__ = [
     "CALIBRATED",
@@ -89,10 +95,12 @@ __all__ = [
     "real_turns",
     "representative_units",
     "resolve",
-    "run_units",
     "segment_units",
     "split_job",
     "step_margins",
+    "turning_windows",
+    "step_units",
     "steps_key",
+    "window_units",
     "with_calibrated",
 ]

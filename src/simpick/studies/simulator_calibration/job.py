@@ -125,11 +125,7 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
         {
             "method": _method(space.optimizer, p.diff_step, p.max_nfev)
             + ": the per-run gain residuals (engine - real) of the training runs' turning "
-            + (
-                "segments replayed as the segments' simulate jobs replay them"
-                if p.kind == "segments"
-                else "units, each a steady-turn case at a representative command"
-            ),
+            + REPLAYED[p.kind],
             "objective": "sum over training runs of each run's mean squared gain residual; judged as the held-out "
             "figure is: each run's mean |engine - real gain|, then the mean over runs",
             "cases": units.describe,
@@ -183,7 +179,9 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     test_turns = real_turns(inputs, test, every)
     pooled = {**fixed, **fit["settings"]} if improved else {}
     tuned_by_unit = dict(zip(units.names, np.asarray(tuned_gains, float)))
-    out["per_class"] = _class_fits(p, inputs, robot, trained, test_turns, pooled, space, fixed, tuned_by_unit)
+    # each class from the pooled fit's settings (the tuned ones where it was not kept), in the pooled fit's order
+    kept_start = {k: float(pooled.get(k, start[k])) for k in names}
+    out["per_class"] = _class_fits(p, inputs, robot, trained, test_turns, kept_start, space, fixed, tuned_by_unit)
     _write(out, output)
     return out
 
@@ -220,24 +218,34 @@ def part_shares(
     return out
 
 
+# what an evaluation replays, per kind, in the file's method
+REPLAYED = {
+    "segments": "segments replayed as the segments' simulate jobs replay them",
+    "replay": "windows of the full replay's held-out grid, each run replayed from rest as its replay simulate job "
+    "replays it up to its last fitted window (its first turning windows: fit.cases)",
+    "drive": "steps replayed as DRIVE's replay replays them (the warm-up at the real robot's wheel speeds, then the "
+    "step's measured ones), at most drive_commands of them stratified by |w| (fit.cases)",
+}
+
+
 def _class_fits(
     p, inputs, robot, train: pd.DataFrame, test: pd.DataFrame, pooled: dict, space, fixed, tuned_by_unit=None
 ) -> dict:
-    """Per terrain class with training turns: its own fit (the friction_ratio alone, one class's runs identifying
-    no more, the other settings at the pooled fit's; ``p.class_nfev`` least-squares evaluations from the pooled
-    fit) on its training runs' units, beside the pooled fit and the tuned profile on the same units (the tuned
-    gains from ``tuned_by_unit``, unit -> the pooled fit's tuned evaluation, where it has them), and both fits
-    judged on the class's held-out runs the same way (its turning segments replayed; kinds drive and replay:
-    steady-turn cases at their commands). The class's own spread is the standard deviation of its runs' real
-    gains, training and held-out (NaN below two runs). A class keeps a fit of its own only where its training
-    error is below both the pooled fit's (by the fit's tolerance) and the tuned profile's."""
+    """Per terrain class with training turns: its own fit of the pooled fit's settings (``pooled``: name -> the
+    pooled fit's value, or its start where it was not kept, in the pooled fit's order; as many of them as the
+    class's training runs can identify, the rest at the pooled values; ``p.class_nfev`` least-squares evaluations
+    from the pooled values) on its training runs' units, beside the pooled fit and the tuned profile on the same
+    units (the tuned gains from ``tuned_by_unit``, unit -> the pooled fit's tuned evaluation, where it has them),
+    and both judged on the class's held-out runs the same way (what the held-out figure replays). The class's own
+    spread is the standard deviation of its runs' real gains, training and held-out (NaN below two runs). A class
+    keeps a fit of its own (its ``settings``: the required ones and the pooled fit's with its fitted values over them,
+    each fitted value with its interval in ``parameters``) only where its
+    training error is below the pooled fit's, no fitted value lies within a step of the engine's response, and it
+    beats the pooled one by the fit's tolerance and the tuned profile (``improves``)."""
     out = {}
     tuned_by_unit = tuned_by_unit or {}
-    # a ratio the search space fixes (Gazebo's) gets no class fit: every class is placed by the pooled fit
-    ratio_axis = (
-        Axis("friction_ratio", space.settings["friction_ratio"]) if "friction_ratio" in space.settings else None
-    )
-    pooled_ratio = float(pooled.get("friction_ratio", p.engine_settings.get("friction_ratio", 1.0)))
+    order = [k for k in pooled if k in space.settings]
+    base = {**fixed, **pooled}
     for cls, t in train.groupby("terrain_class"):
         gains = real_gains(t)
         gain = float(gains.gain.mean())
@@ -245,27 +253,26 @@ def _class_fits(
         held = test[test.terrain_class == cls]
         every = pd.concat([gains, real_gains(held)]) if len(held) else gains
         entry: dict[str, Any] = {
-            "friction_ratio": _r(pooled_ratio),
+            "settings": {**fixed, **{k: _r(v) for k, v in pooled.items()}},
             "real_gain": _r(gain),
             "runs": runs,
             "placed_by": "the pooled fit (no fit of its own)",
             "class_spread": _r(float(every.gain.std(ddof=1)) if len(every) > 1 else math.nan),
             "spread_runs": len(every),
         }
-        if p.class_nfev and str(cls) in p.grounds and ratio_axis is not None:
+        if p.class_nfev and str(cls) in p.grounds and order:
             units = _units(p, inputs, robot, runs, [str(cls)], t)
-            others = {**fixed, **{k: v for k, v in pooled.items() if k != "friction_ratio"}}
+            axes = [Axis(k, space.settings[k]) for k in order[: max(1, len(set(units.runs)))]]
             fit = least_squares_fit(
                 units,
-                [ratio_axis],
-                others,
-                {"friction_ratio": pooled_ratio},
+                axes,
+                base,
+                {a.name: min(max(pooled[a.name], a.low), a.high) for a in axes},
                 p.class_nfev,
                 p.diff_step,
                 p.noise,
                 optimizer=space.optimizer,
             )
-            own_ratio = float(fit["settings"]["friction_ratio"])
             pooled_gains = fit["start_gains"]
             pooled_error = units.error(pooled_gains)
             if all(n in tuned_by_unit for n in units.names):
@@ -273,20 +280,18 @@ def _class_fits(
             else:
                 tuned_error = units.error(np.asarray(units.simulate({}), float))
             better = math.isfinite(fit["error"]) and fit["error"] < pooled_error
-            steps = (
-                step_margins(units, others, fit["settings"], fit["gains"], [ratio_axis], fit["fitted"])
-                if better
-                else {}
-            )
+            steps = step_margins(units, base, fit["settings"], fit["gains"], axes, fit["fitted"]) if better else {}
             better = better and not any(m["step"] for m in steps.values())
-            ratio = own_ratio if better else pooled_ratio
+            own = {**pooled, **fit["settings"]} if better else dict(pooled)
             at = fit["gains"] if better else pooled_gains
             engine_gain = float(np.nanmean(at)) if np.isfinite(at).any() else math.nan
             entry.update(
                 {
-                    "friction_ratio": _r(ratio),
-                    "placed_by": "its own least-squares fit on the engine "
-                    f"({_trials(fit['report']['engine_evaluations'])} from the pooled fit, {fit['report']['name']})",
+                    "settings": {**fixed, **{k: _r(v) for k, v in own.items()}},
+                    "fitted": [a.name for a in axes],
+                    "placed_by": "its own least-squares fit on the engine of "
+                    f"{', '.join(a.name for a in axes)} ({_trials(fit['report']['engine_evaluations'])} from the "
+                    f"pooled fit, {fit['report']['name']})",
                     "engine_gain": _r(engine_gain),
                     "pooled_engine_gain": _r(
                         float(np.nanmean(pooled_gains)) if np.isfinite(pooled_gains).any() else math.nan
@@ -303,19 +308,19 @@ def _class_fits(
                     "parameters": fit["parameters"],
                     "step_margins": steps,
                     "cases": units.describe,
-                    "trials": [[_r(s["friction_ratio"]), _r(float(np.nanmean(g)))] for s, g in fit["evaluations"]],
+                    "trials": [
+                        {"settings": {k: _r(v) for k, v in s.items()}, "gain": _r(float(np.nanmean(g)))}
+                        for s, g in fit["evaluations"]
+                    ],
                 }
             )
             if len(held):
                 hgains = real_gains(held)
                 hruns = [f"{cls}/{r}" for r in hgains.run]
                 hunits = _units(p, inputs, robot, hruns, [str(cls)], held)
-                pooled_held = np.asarray(hunits.simulate({**fixed, **pooled}), float)
-                own_held = (
-                    np.asarray(hunits.simulate({**others, "friction_ratio": ratio}), float)
-                    if abs(ratio - pooled_ratio) > 1e-9
-                    else pooled_held
-                )
+                pooled_held = np.asarray(hunits.simulate(base), float)
+                moved = any(abs(own[k] - pooled[k]) > 1e-9 for k in own)
+                own_held = np.asarray(hunits.simulate({**base, **own}), float) if moved else pooled_held
                 entry["heldout"] = {
                     "runs": len(hgains),
                     "real_gain": _r(float(hgains.gain.mean())),

@@ -37,7 +37,24 @@ class CalibrateParams(JobParams):
         "(simpick.simulate.real.SegmentsUnitParams, its plan-time settings: the tuned ones); the fit replays the "
         "training runs' turning segments with them, each trial's settings merged as the job merges the fit's",
     )
-    duration: Positive = Field(6.0, description="s of a steady-turn case, kinds drive and replay (its second half)")
+    replay_cases: dict[str, dict[str, Any]] | None = Field(
+        None,
+        description="kind replay: per terrain class, the calibrated profile's replay simulate job's params "
+        "(simpick.simulate.real.RealUnitParams less its cases, its plan-time settings: the tuned ones); the fit "
+        "replays the training runs with them, each trial's settings merged as the job merges the fit's",
+    )
+    replay_window: Positive = Field(10.0, description="kind replay: s of the held-out comparison's windows")
+    replay_windows: Annotated[int, Field(ge=1, le=12)] = Field(
+        1,
+        description="kind replay: the turning windows per training run the fit replays, each run's first ones "
+        "(the run replayed from rest up to the last one's end, as the held-out replay reaches it): one a run "
+        "keeps an evaluation near the steady-turn fit's cost (a run's first turning window mostly ends at 10 s)",
+    )
+    steps_case: dict[str, Any] | None = Field(
+        None,
+        description="kind drive: the calibrated profile's DRIVE replay params (simpick.simulate.steps.StepsParams, "
+        "its plan-time settings: the tuned ones); the fit replays the chosen training steps with them",
+    )
     tolerance: Positive = Field(
         0.005,
         description="gain within which a fit is said to reach the real one, and by which a class's own fit must "
@@ -67,8 +84,7 @@ class CalibrateParams(JobParams):
     )
     drive_commands: Annotated[int, Field(ge=1, le=12)] = Field(
         6,
-        description="kinds drive and replay: how many training units (runs, DRIVE's steps) the fit runs, each "
-        "at its own command and class ground against its own real gain (the median unit by |w| of each of as "
-        "many equal bins): DRIVE has some 170 training steps, a full BorealTC replay hundreds of turning windows, "
-        "each a 6 s engine run",
+        description="kind drive: how many training steps the fit replays, each from its warm-up against its own "
+        "real gain (the median step by |w| of each of as many equal bins): DRIVE has some 170 training steps, each "
+        "a replay of some 7 s",
     )

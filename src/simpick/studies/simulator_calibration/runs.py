@@ -1,5 +1,5 @@
 """The real runs a calibration fits: the split (rule simulator_split), the training runs' turning units and
-their real gains, and the representative units the steady-turn kinds run."""
+their real gains, the full replay's turning windows of its held-out grid, and DRIVE's representative steps."""
 
 from __future__ import annotations
 
@@ -77,16 +77,15 @@ def real_gains(turns: pd.DataFrame) -> pd.DataFrame:
 
 
 def representative_units(turns: pd.DataFrame, n: int) -> pd.DataFrame:
-    """Kinds drive and replay (and segments without a replay case): the training units the fit runs, at most
-    ``n``, each with its own command, class and real gain. Per unit (a run; a DRIVE step is one) its turning window
-    of median |w| gives the command and the mean of its windows' gains the real gain, as the held-out figure
-    averages a run's windows; where there are more than ``n`` units, the median unit by |w| of each of ``n`` equal
-    bins of them (terrain_class, run, v, w, gain)."""
+    """Kind drive: the training steps the fit replays, at most ``n``, each with its command, class and real gain.
+    Per unit (a run; a DRIVE step is one) its turning window of median |w| gives the command and the mean of its
+    windows' gains the real gain; where there are more than ``n`` units, the median unit by |w| of each of ``n``
+    equal bins of them (terrain_class, run, v, w, gain): deterministic, stratified by how fast they turn."""
     rows = []
     for (cls, run), g in turns.groupby(["terrain_class", "run"], sort=True):
         g = g.assign(aw=g.w.abs()).sort_values(["aw"], kind="stable").reset_index(drop=True)
         mid = g.iloc[len(g) // 2]
-        rows.append({"terrain_class": cls, "run": run, "v": round(float(mid.v), 3), "w": round(float(mid.w), 3)})
+        rows.append({"terrain_class": cls, "run": run, "v": float(mid.v), "w": float(mid.w)})
         rows[-1]["gain"] = float(g.gain.mean())
     if not rows:
         return pd.DataFrame(columns=["terrain_class", "run", "v", "w", "gain"])
@@ -94,3 +93,39 @@ def representative_units(turns: pd.DataFrame, n: int) -> pd.DataFrame:
     order = order.assign(aw=order.w.abs()).sort_values(["aw", "terrain_class", "run"]).reset_index(drop=True)
     bins = np.array_split(np.arange(len(order)), min(n, len(order)))
     return order.iloc[[int(b[len(b) // 2]) for b in bins]].drop(columns="aw").reset_index(drop=True)
+
+
+WINDOW_UNIT_COLUMNS = ["key", "terrain_class", "run", "t_start", "t_end", "gain"]
+
+
+def turning_windows(logs: dict, runs: list[str], classes: list[str], track: float, window: float, n: int):
+    """Per run of ``runs`` (``class/run``) in ``classes`` with a canonical log in ``logs`` (``class/run`` -> log),
+    its first ``n`` windows that turn on the full replay's held-out grid (simpick.compare.real.replay_compare:
+    ``window`` s windows from t = 0, a tail shorter than half a window left out), each with its real gain over the
+    real IMU's samples in it against the recorded wheel speeds held at them (NaN where the wheels do not turn it:
+    not a turning window) (``WINDOW_UNIT_COLUMNS``)."""
+    from simpick.compare import realmetrics
+
+    rows = []
+    for key in sorted(set(runs)):
+        cls, run = key.split("/", 1)
+        if cls not in classes or key not in logs:
+            continue
+        log = logs[key]
+        cmd, imu = log.wheel_commands(track), log.imu
+        t = imu.time.to_numpy(float)
+        end = float(min(t[-1], cmd.time.iloc[-1]))
+        rate = 1.0 / float(np.median(np.diff(t)))
+        held = np.clip(np.searchsorted(cmd.time.to_numpy(), t, side="right") - 1, 0, len(cmd) - 1)
+        left, right, wz = cmd.v_left.to_numpy()[held], cmd.v_right.to_numpy()[held], imu.wz.to_numpy(float)
+        found = 0
+        for w0 in np.arange(0.0, end + 1e-9, window):
+            sel = (t > w0) & (t <= min(w0 + window, end))
+            if sel.sum() < 0.5 * window * rate or found >= n:
+                continue
+            gain = realmetrics.yaw_rate_gain(wz[sel], left[sel], right[sel], track)
+            if np.isfinite(gain):
+                t_end = round(min(float(w0 + window), end), 6)
+                rows.append([key, cls, run, float(w0), t_end, float(gain)])
+                found += 1
+    return pd.DataFrame(rows, columns=WINDOW_UNIT_COLUMNS)

@@ -1,5 +1,6 @@
-"""What an evaluation of the fit runs on the engine: the training runs' turning segments replayed, or
-steady-turn cases at representative commands, as :class:`~.fit.Units`."""
+"""What an evaluation of the fit runs on the engine, as :class:`~.fit.Units`: what the held-out figure of the fit's
+source replays, on the training runs: the committed segments' turning segments (:func:`segment_units`), the full
+replay's turning windows (:func:`window_units`) or DRIVE's turning steps (:func:`step_units`)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import pandas as pd
 
 from simpick.studies.simulator_calibration.fit import Units
 from simpick.studies.simulator_calibration.params import CalibrateParams
-from simpick.studies.simulator_calibration.runs import representative_units, turning_segments
+from simpick.studies.simulator_calibration.runs import representative_units, turning_segments, turning_windows
 
 
 def segment_units(p: CalibrateParams, inputs: dict, runs: list[str], classes: list[str]) -> Units:
@@ -21,6 +22,9 @@ def segment_units(p: CalibrateParams, inputs: dict, runs: list[str], classes: li
     from simpick.compare.real import segment_row
     from simpick.simulate.calibrated import merge_settings
     from simpick.simulate.real import prepare_segment, table_segment
+
+    if p.segments_case is None:
+        raise ValueError("kind segments fits on the calibrated profile's segments case: the params give none")
 
     seg = turning_segments(inputs["segments"], runs, classes)
     names = list(seg.segment)
@@ -47,63 +51,104 @@ def segment_units(p: CalibrateParams, inputs: dict, runs: list[str], classes: li
     )
 
 
-def _steady_turns(p: CalibrateParams, robot, commands: list, grounds: list[float]):
-    """The function of a trial's settings that gives the engine's steady yaw-rate gain at each of ``commands``
-    from rest on flat ground of the matching friction in ``grounds`` (the validation's steady-turn case)."""
-    from simpick.studies.validation.cases import Setup, run_case
+# s replayed past a run's last fitted window: the trace's last samples reach the window's end as the full replay's do
+END_MARGIN = 0.05
+
+
+def window_units(p: CalibrateParams, inputs: dict, runs: list[str], classes: list[str]) -> Units:
+    """Kind replay: per run of ``runs`` in ``classes``, its first ``p.replay_windows`` turning windows of the
+    held-out comparison's grid (:func:`~.runs.turning_windows`), each replayed as the calibrated profile's replay
+    simulate job replays its run (simpick.simulate.real.replay_log with the job's params of the run's class, the
+    trial's settings merged over them: from rest at t = 0, by the recorded wheel speeds) up to the end of the run's
+    last such window, and each window's simulated gain taken as simpick.compare.real.replay_compare takes it (the
+    gain over the trace's samples in the window, against the recorded wheel speeds held at them). The first
+    windows: a later window is only reached by replaying the whole run before it, as the held-out replay does."""
+    from simpick.compare import realmetrics
+    from simpick.real.logs import read_canonical
+    from simpick.simulate.calibrated import merge_settings
+    from simpick.simulate.real import replay_log
+
+    logs = {}
+    for path in [inputs["logs"]] if isinstance(inputs["logs"], str) else inputs["logs"]:
+        log = read_canonical(path)
+        logs[f"{str(log.meta['terrain_class']).lower()}/{log.meta['run_id']}"] = log
+    track, window = p.robot.track, p.replay_window
+    picked = turning_windows(logs, runs, classes, track, window, p.replay_windows)
+    ends = picked.groupby("key").t_end.max().to_dict()
+    order = list(ends)
 
     def simulate(settings: dict) -> np.ndarray:
-        setup = Setup(
-            engine=p.engine,
-            robot=robot,
-            timestep=p.physics.timestep,
-            max_wheel_torque=p.robot.max_wheel_torque,
-            track=p.robot.track,
-            settings={**p.engine_settings, **settings},
-        )
-        ratio = float(settings.get("friction_ratio", p.engine_settings.get("friction_ratio", 1.0)))
-        return np.array(
-            [_engine_gain(run_case, setup, ratio, v, w, mu, p.duration) for (v, w), mu in zip(commands, grounds)]
-        )
+        gains: dict[tuple[str, float], float] = {}
+        for key in order:
+            cls = key.split("/")[0]
+            params = merge_settings(p.replay_cases[cls], settings)
+            frame, meta = replay_log(logs[key], inputs["urdf"], params, duration=float(ends[key]) + END_MARGIN)
+            if meta["health"]["status"] != "ok":
+                continue  # a failed replay: its windows' gains NaN (the fit's FAILED_RESIDUAL)
+            sim = pd.DataFrame(frame)
+            cmd = logs[key].wheel_commands(track)
+            held = np.clip(np.searchsorted(cmd.time.to_numpy(), sim.time.to_numpy(), side="right") - 1, 0, len(cmd) - 1)
+            left, right = cmd.v_left.to_numpy()[held], cmd.v_right.to_numpy()[held]
+            for w0 in picked[picked.key == key].t_start:
+                sel = ((sim.time > w0) & (sim.time <= w0 + window)).to_numpy()
+                gains[(key, w0)] = realmetrics.yaw_rate_gain(sim.wz[sel], left[sel], right[sel], track)
+        return np.array([gains.get((k, w0), math.nan) for k, w0 in zip(picked.key, picked.t_start)], float)
 
-    return simulate
+    describe = {
+        "windows": [f"{k} [{a:g}, {a + window:g}] s" for k, a in zip(picked.key, picked.t_start)],
+        "window": f"the held-out comparison's {window:g} s windows from each run's start; per run its first "
+        f"{p.replay_windows} that turn (real gain defined), the run replayed from rest up to the last one's end",
+        "replayed_seconds": round(float(sum(ends.values())) + END_MARGIN * len(ends), 3),
+    }
+    return Units(list(picked.key), picked.gain.to_numpy(float), describe["windows"], simulate, describe)
+
+
+def step_units(p: CalibrateParams, inputs: dict, turns: pd.DataFrame) -> Units:
+    """Kind drive: at most ``p.drive_commands`` training steps (:func:`~.runs.representative_units`: the median
+    step by |w| of each of as many equal bins), each replayed as DRIVE's replay replays it
+    (simpick.simulate.steps.drive_step: the warm-up from rest at the wheel speeds the real robot measured before
+    the step, then the step's measured wheel speeds, on its class's ground, the trial's settings merged over the
+    calibrated profile's replay params) and its gain taken as simpick.compare.steps.step_errors takes it (the
+    steady part's mean simulated yaw rate over the step's kinematic one)."""
+    from simpick.simulate.calibrated import merge_settings
+    from simpick.simulate.step_rows import step_row
+    from simpick.simulate.steps import StepsParams, drive_step, ground, read_wheels, step_samples
+    from simpick.studies.simulator_calibration.runs import steps_key
+
+    picked = representative_units(turns, p.drive_commands)
+    cases = pd.read_csv(inputs["cases"])
+    cases = cases.assign(key=cases.terrain_class + "/" + steps_key(cases)).set_index("key")
+    keys = [f"{c}/{r}" for c, r in zip(picked.terrain_class, picked.run)]
+    chosen = [cases.loc[k] for k in keys]
+    wheels = read_wheels(inputs["wheels"])
+    samples = [step_samples(wheels, c.session, int(c.step), inputs["wheels"]) for c in chosen]
+    w_kin = picked.w.to_numpy(float)
+
+    def simulate(settings: dict) -> np.ndarray:
+        sp = StepsParams.model_validate(merge_settings(p.steps_case, settings))
+        out = []
+        for case, sample, w in zip(chosen, samples, w_kin):
+            frame, meta = drive_step(
+                sample, case, inputs["urdf"], ground(sp, case.terrain_class, "a step"), sp.replay.warmup
+            )
+            row = step_row(frame, meta, case)
+            out.append(float(row["sim_yaw_rate"]) / w if row["status"] == "ok" else math.nan)
+        return np.array(out)
+
+    describe = {
+        "steps": keys,
+        "commands": [[float(v), float(w)] for v, w in zip(picked.v, picked.w)],
+        "from": "each step replayed from its warm-up at the real robot's wheel speeds before it, then its measured "
+        "wheel speeds; its gain over its steady part, against its real gain",
+    }
+    return Units(keys, picked.gain.to_numpy(float), keys, simulate, describe)
 
 
 def _units(p: CalibrateParams, inputs: dict, robot, runs: list[str], classes: list[str], turns) -> Units:
-    """The fitted units: the training runs' turning segments (kind segments), else each run (or DRIVE step) a
-    steady turn at its own representative command on its class's ground against its own real gain
-    (:func:`representative_units`, :func:`run_units`)."""
-    if p.kind == "segments" and p.segments_case is not None:
-        return segment_units(p, inputs, runs, classes)
-    return run_units(p, robot, representative_units(turns, p.drive_commands))
-
-
-def run_units(p: CalibrateParams, robot, picked: pd.DataFrame) -> Units:
-    """The engine's steady turn from rest at each picked unit's command on its class's ground (the validation's
-    steady-turn case), against that unit's own real gain: the per-run gain residuals the held-out figure takes,
-    at each run's representative command (a replay of every DRIVE step or full-replay window per evaluation costs
-    more than these kinds' fits are given)."""
-    commands = list(zip(picked.v.astype(float), picked.w.astype(float)))
-    grounds = [float(p.grounds[str(c)]) for c in picked.terrain_class]
-    simulate = _steady_turns(p, robot, commands, grounds)
-
-    runs = [f"{c}/{r}" for c, r in zip(picked.terrain_class, picked.run)]
-    describe = {
-        "units": runs,
-        "commands": [[v, w] for v, w in commands],
-        "grounds": grounds,
-        "duration": p.duration,
-        "from": "each unit's turning window of median |w| (a steady turn from rest on its class's ground), against "
-        "its windows' mean real gain",
-    }
-    return Units(runs, picked.gain.to_numpy(float), runs, simulate, describe)
-
-
-def _engine_gain(run_case, setup, ratio: float, v: float, w: float, mu: float, duration: float) -> float:
-    """The engine's steady yaw-rate gain on the validation's steady-turn case at ``ratio`` (NaN if it failed)."""
-    case = {"kind": "yaw_gain", "v": v, "w": w, "mu": mu, "duration": duration, "friction_ratio": ratio}
-    record = run_case(setup, f"calibrate_r{ratio:.4f}", case)
-    checks = [c for c in record["checks"] if c["quantity"] == "yaw_rate_gain"]
-    if record["status"] != "ok" or not checks:
-        return math.nan
-    return float(checks[0]["engine_value"])
+    """The fitted units, what the held-out figure replays on the training runs: their turning segments (kind
+    segments), their turning windows of the full replay (kind replay) or their turning steps (kind drive)."""
+    if p.kind == "replay":
+        return window_units(p, inputs, runs, classes)
+    if p.kind == "drive":
+        return step_units(p, inputs, turns)
+    return segment_units(p, inputs, runs, classes)
