@@ -208,3 +208,34 @@ def test_a_suspended_robot_s_model_turns_as_the_adapter_turns_it(tmp_path):
     case = ValidationCase.model_validate({"kind": "yaw_gain", "v": 0.0, "w": 0.5, "mu": 0.8, "duration": DURATION})
     claimed = run_case(setup, "spin", case)["checks"][0]["engine_value"]
     assert abs(loader_gain(tmp_path, "drake", 0.0, 0.5, DURATION) - claimed) < 0.01
+
+
+def test_a_calibrated_model_carries_the_fitted_compliance_and_drive(tmp_path):
+    """The calibrated profile's fitted settings (the wheels' hydroelastic modulus, their PD drive's damping) reach
+    the files a Drake user loads: the plant reads them from the URDF's tags, not from simpick."""
+    from pydrake.geometry import Role, SceneGraph
+
+    config = study_config()
+    plan = Plan(config, Study.model_validate(config), basedir=str(ROOT))
+    params = plan.simulator_models_params()
+    assert "drake-calibrated" in params["profiles"]
+    params["profiles"] = {"drake-calibrated": params["profiles"]["drake-calibrated"]}
+    params["cases"] = {name: dict(case, duration=DURATION) for name, case in params["cases"].items()}
+    fitted = {"hydroelastic_modulus": 3.0e6, "wheel_drive_damping": 500.0}
+    fit = tmp_path / "drake.yaml"  # named as rule simulator_calibrate names a simulator's fit
+    fit.write_text(yaml.safe_dump({"searchable": True, "source": "a test's runs", "settings": fitted}))
+    inputs = {"urdf": str(ROOT / plan.config["robot"]["urdf"]), "calibrations": [str(fit)]}
+    simulator_models_job(inputs, params, str(tmp_path / "models"))
+    simulator, plant, context, robot, data = load(tmp_path / "models", "drake-calibrated")
+    for index in plant.GetJointActuatorIndices(robot):
+        gains = plant.get_joint_actuator(index).get_controller_gains()
+        assert (gains.p, gains.d) == (0.0, 500.0)
+    graph = next(s for s in simulator.get_system().GetSystems() if isinstance(s, SceneGraph))
+    inspector = graph.get_query_output_port().Eval(graph.GetMyContextFromRoot(simulator.get_context())).inspector()
+    wheels = 0
+    for g in inspector.GetAllGeometryIds(Role.kProximity):
+        if inspector.GetName(inspector.GetFrameId(g)).endswith("wheel"):
+            props = inspector.GetProximityProperties(g)
+            assert props.GetProperty("hydroelastic", "hydroelastic_modulus") == 3.0e6
+            wheels += 1
+    assert wheels == 4

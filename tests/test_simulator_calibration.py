@@ -77,11 +77,50 @@ def test_every_runnable_simulator_has_a_search_space_of_exposed_settings_each_wi
                     model.model_validate({key: bound, **{k: r.value for k, r in space.requires.items()}})
             else:
                 assert space.if_unbound, (name, key)
-    # the isotropic ones say so; the two-direction ones are searchable where their engine binds the ratio
-    for name in ("isaac_sim", "drake", "coppeliasim"):
-        assert spaces[name].searchable is False
-    for name in ("gazebo_classic", "webots", "mujoco"):
+    # CoppeliaSim's Bullet material exposes neither a second direction nor a compliance: it says so; the
+    # two-direction ones are searchable where their engine binds the ratio, and the isotropic Drake and Isaac Sim
+    # on their contact's compliance and their wheels' drive alone
+    assert spaces["coppeliasim"].searchable is False
+    for name in ("gazebo_classic", "webots", "mujoco", "drake", "isaac_sim"):
         assert cal.resolve(SPACES, name, spaces[name], SIMULATORS[name]) == (True, None)
+    for name in ("drake", "isaac_sim"):
+        assert "friction_ratio" not in spaces[name].settings and spaces[name].why_not is None
+    # every searchable simulator's setting names its part and quotes its source, an actuator's part said in the file
+    raw = yaml.safe_load(SPACES.read_text())["simulators"]
+    parts = {}
+    for name, space in spaces.items():
+        for key, setting in space.settings.items():
+            parts[(name, key)] = setting.part
+            assert setting.part in ("contact", "actuator"), (name, key)
+            assert LINE.search(setting.source) or "XMLreference" in setting.source, (name, key)
+            if key.startswith(("wheel_servo", "wheel_drive")):
+                assert raw[name]["settings"][key]["part"] == "actuator", (name, key)
+    assert parts[("drake", "wheel_drive_damping")] == parts[("isaac_sim", "wheel_drive_damping")] == "actuator"
+    assert {parts[("drake", "hydroelastic_modulus")], parts[("gazebo_classic", "contact_kp")]} == {"contact"}
+    assert parts[("webots", "contact_soft_cfm")] == "contact"
+
+
+def test_the_compliance_and_drive_settings_are_planned_for_every_simulator_that_fits_them():
+    """The new settings pass planning (each an adapter setting, its bounds accepted) and reach the calibrate job's
+    params: Drake and Isaac Sim get a calibrated profile of their own."""
+    run = ["gazebo_classic", "webots", "drake", "isaac_sim", "coppeliasim"]
+    plan = _plan(_config(run=run))
+    assert {"drake-calibrated", "isaac_sim-calibrated", "gazebo_classic-calibrated"} <= set(plan.calibrated)
+    assert "coppeliasim-calibrated" not in plan.calibrated
+    expected = {
+        "drake": {"hydroelastic_modulus", "wheel_drive_damping"},
+        "isaac_sim": {"wheel_drive_damping"},
+        "gazebo_classic": {"contact_kp", "contact_slip", "friction_ratio"},
+        "webots": {"contact_slip", "contact_soft_cfm", "friction_ratio"},
+    }
+    for simulator, names in expected.items():
+        p = cal.CalibrateParams.model_validate(plan.simulator_calibrate_params(simulator))
+        assert p.searchable and set(p.space["settings"]) == names, simulator
+        model = get_engine(p.engine).settings_model
+        for name in names:  # the tuned profile with each bound validates on the adapter
+            for bound in p.space["settings"][name]["bounds"]:
+                required = {k: r["value"] for k, r in p.space["requires"].items()}
+                model.model_validate({**p.engine_settings, **required, name: bound})
 
 
 def test_planning_refuses_a_setting_the_engine_lacks(tmp_path):
@@ -112,10 +151,10 @@ def test_planning_refuses_a_setting_the_engine_lacks(tmp_path):
 
 def test_a_search_space_without_its_reason_is_refused(tmp_path):
     data = yaml.safe_load(SPACES.read_text())
-    del data["simulators"]["drake"]["why_not"]
+    del data["simulators"]["coppeliasim"]["why_not"]
     path = tmp_path / "calibration.yaml"
     path.write_text(yaml.safe_dump(data))
-    with pytest.raises(cal.SearchSpaceError, match="simulators.drake: .*why_not"):
+    with pytest.raises(cal.SearchSpaceError, match="simulators.coppeliasim: .*why_not"):
         cal.load_search_spaces(path)
 
 
@@ -402,29 +441,29 @@ def _setup(plan, simulator, params):
 
 
 def test_a_simulator_without_a_turning_setting_writes_why_and_fits_nothing(tmp_path):
-    plan = _plan(_config(run=["drake"]))
-    params = plan.simulator_calibrate_params("drake")
+    plan = _plan(_config(run=["coppeliasim"]))
+    params = plan.simulator_calibrate_params("coppeliasim")
     split = tmp_path / "split.csv"
     cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(split))
     fit = cal.calibrate(
         {"split": str(split), "segments": str(SEGMENTS), "urdf": str(ROOT / "resources/robot/husky_a200.urdf")},
         params,
-        str(tmp_path / "drake.yaml"),
+        str(tmp_path / "coppeliasim.yaml"),
     )
-    assert fit["searchable"] is False and fit["settings"] == {} and "CoulombFriction" in fit["why_not"]
-    assert plan.profile_results["drake-calibrated"] == plan.profile_results["drake-tuned"]
+    assert fit["searchable"] is False and fit["settings"] == {} and "Bullet material" in fit["why_not"]
+    assert plan.profile_results["coppeliasim-calibrated"] == plan.profile_results["coppeliasim-tuned"]
 
 
 # --- the plan and the jobs ---
 
 
 def test_the_calibrated_profile_reads_its_fit_and_leaves_the_other_profiles_jobs_alone():
-    config = _config(run=["gazebo_classic", "isaac_sim"])
+    config = _config(run=["gazebo_classic", "coppeliasim"])
     with_cal = _plan(copy.deepcopy(config))
     config["simulators"]["variants"] = ["shipped", "tuned"]
     without = _plan(config)
     assert "gazebo_classic-calibrated" in with_cal.profiles and "gazebo_classic-calibrated" in with_cal.calibrated
-    assert with_cal.profile_results["isaac_sim-calibrated"] == with_cal.profile_results["isaac_sim-tuned"]
+    assert with_cal.profile_results["coppeliasim-calibrated"] == with_cal.profile_results["coppeliasim-tuned"]
     assert with_cal.validation_inputs("gazebo_classic-calibrated")["calibrated"].endswith("gazebo_classic.yaml")
     assert "calibrated" not in with_cal.validation_inputs("gazebo_classic-tuned")
     for model in ("gazebo_classic-shipped", "gazebo_classic-tuned", "ode"):
@@ -1150,3 +1189,42 @@ def test_the_drive_steps_replayed_are_stratified_by_their_turn_rate_each_with_it
     assert (by["flooring/01"].v, by["flooring/01"].w) == (0.0, 0.4) and by["flooring/01"].gain == pytest.approx(0.71)
     two = cal.representative_units(turns, 2)  # bins by |w|: [ice 0.3, snow 0.34] and [flooring 0.4]
     assert len(two) == 2 and set(two.run) == {"04", "01"}
+
+
+def test_a_space_without_a_friction_ratio_fits_its_compliance_and_drive(tmp_path, monkeypatch):
+    """Drake's space (no second friction direction: its wheels' hydroelastic modulus and PD damping) fitted on a
+    generated robot whose gain falls with a softer tyre and a softer drive: the fit runs without a ratio, recovers
+    both settings, says which setting its trials follow and places no Coulomb ratio; each part has its share."""
+    plan = _plan(_config(run=["drake"]))
+    params = dict(plan.simulator_calibrate_params("drake"), class_nfev=0, max_nfev=8)
+    assert "friction_ratio" not in params["space"]["settings"] and "friction_ratio" not in params["engine_settings"]
+    rates = TURN_RATES
+
+    def gains(settings: dict) -> np.ndarray:
+        soft = math.log10(1.0e8 / settings["hydroelastic_modulus"])  # 0 rigid .. 3 soft
+        lag = math.log10(1.0e6 / settings["wheel_drive_damping"])  # 0 stiff .. 4 soft
+        return 0.70 - 0.02 * soft * (1 + rates) - 0.01 * lag * rates
+
+    truth = {"hydroelastic_modulus": 1.0e6, "wheel_drive_damping": 1.0e3}
+    real = gains(truth)
+
+    def simulate(settings: dict) -> np.ndarray:
+        return gains({**params["engine_settings"], **settings})
+
+    units = cal.Units(UNIT_RUNS, real, [f"u{k}" for k in range(len(real))], simulate, {"generated": True})
+    monkeypatch.setattr(cal.job, "_units", lambda *args: units)
+    split = tmp_path / "split.csv"
+    cal.split_job({"segments": str(SEGMENTS)}, 0.5, 11, str(split))
+    inputs = {"split": str(split), "segments": str(SEGMENTS), "urdf": str(ROOT / "resources/robot/husky_a200.urdf")}
+    out = cal.calibrate(inputs, params, str(tmp_path / "drake.yaml"))
+    f = out["fit"]
+    assert f["kept"] == "the fit" and f["train_error"] < f["train_error_tuned"]
+    assert set(out["settings"]) == set(truth) and "friction_ratio" not in out["exposed"]
+    for name, value in truth.items():
+        assert out["settings"][name] == pytest.approx(value, rel=0.1), (name, f["parameters"][name])
+        assert f["parameters"][name]["identifiable"], name
+    assert f["coulomb_ratio"] is None and f["bounds"] is None and f["trials_of"] == "hydroelastic_modulus"
+    assert f["trials"][0][0] == params["engine_settings"]["hydroelastic_modulus"]
+    assert f["parts"]["contact"]["settings"] == ["hydroelastic_modulus"]
+    assert f["parts"]["actuator"]["settings"] == ["wheel_drive_damping"]
+    assert out["per_class"] and all(e["placed_by"].startswith("the pooled fit") for e in out["per_class"].values())

@@ -261,6 +261,37 @@ def test_the_drake_files_load_through_drake_s_own_readers(catalog, variant, tmp_
             assert p.GetProperty("hydroelastic", "resolution_hint") == pytest.approx(settings["mesh_resolution"])
 
 
+def test_a_fitted_drake_drive_damping_reaches_the_wheels_transmissions_as_drake_reads_them(catalog, tmp_path):
+    """The calibrated Drake profile fits its wheels' PD damping: the fragment carries it as <drake:controller_gains>,
+    which Drake's parser gives each wheel's actuator once pasted into a SimpleTransmission's <actuator>."""
+    from pydrake.multibody.parsing import Parser
+    from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlantConfig
+    from pydrake.systems.framework import DiagramBuilder
+
+    settings = {**_settings(catalog, "drake", "tuned"), "wheel_drive_damping": 750.0, "hydroelastic_modulus": 2.0e6}
+    texts = formats.write_profile_file("drake", "drake", settings, ["t"], WHEELS, catalog.entries("drake", "tuned"))
+    assert formats.read("drake", "drake", texts)["wheel_drive_damping"] == 750.0
+    assert formats.read("drake", "drake", texts)["hydroelastic_modulus"] == 2.0e6
+    gains = ET.fromstring(texts["wheels.urdf"]).find("{http://drake.mit.edu}controller_gains")
+    text = HUSKY_URDF.read_text().replace("<robot ", '<robot xmlns:drake="http://drake.mit.edu" ', 1)
+    robot = ET.fromstring(text)
+    joints = {j.find("child").get("link"): j.get("name") for j in robot.findall("joint")}
+    for wheel in WHEELS:
+        transmission = ET.SubElement(robot, "transmission", name=f"{wheel}_trans")
+        ET.SubElement(transmission, "type").text = "transmission_interface/SimpleTransmission"
+        ET.SubElement(transmission, "joint", name=joints[wheel])
+        ET.SubElement(transmission, "actuator", name=f"{wheel}_motor").append(gains)
+    ET.register_namespace("drake", "http://drake.mit.edu")
+    path = tmp_path / "husky.urdf"
+    path.write_text(ET.tostring(robot, encoding="unicode"))
+    plant, _ = AddMultibodyPlant(MultibodyPlantConfig(time_step=0.001), DiagramBuilder())
+    Parser(plant).AddModels(str(path))
+    plant.Finalize()
+    for wheel in WHEELS:
+        actuator = plant.GetJointActuatorByName(f"{wheel}_motor")
+        assert (actuator.get_controller_gains().p, actuator.get_controller_gains().d) == (0.0, 750.0)
+
+
 # --- Newton and Genesis: their own classes, in their own venvs ---
 
 

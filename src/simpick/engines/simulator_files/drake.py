@@ -55,15 +55,27 @@ def write_drake(settings: Mapping, entries: Mapping | None, title: list[str]) ->
             "mu_static": "drake:mu_static",
         },
     )
+    # the wheels' drive: Drake's implicit PD gains on each wheel joint's actuator (p 0: a velocity drive), where a
+    # profile sets its damping (the calibrated profile fits it)
+    gains = None
+    if settings.get("wheel_drive_damping") is not None:
+        gains = ET.Element("drake:controller_gains", p="0", d=_num(settings["wheel_drive_damping"]))
+        tag_notes += _meanings(
+            entries, ("wheel_drive_damping",), settings, {"wheel_drive_damping": "drake:controller_gains d"}
+        )
     # the fragment alone is not a document (the drake: prefix is declared by the robot's <robot> element):
     # it is given inside a <robot> that declares it, to paste the <drake:proximity_properties> element from
     robot = ET.Element("robot", {"name": "simpick_wheel_tags", "xmlns:drake": "http://drake.mit.edu"})
     robot.append(props)
-    urdf = (
-        xml_comment([*title, "paste <drake:proximity_properties> inside each wheel's <collision>", *tag_notes])
-        + _tostring(robot)
-        + "\n"
-    )
+    paste = ["paste <drake:proximity_properties> inside each wheel's <collision>"]
+    if gains is not None:
+        robot.append(gains)
+        paste.append(
+            "and <drake:controller_gains> inside the <actuator> of each wheel joint's <transmission> (type "
+            "SimpleTransmission), the joint's <limit effort> its torque bound"
+        )
+    urdf = xml_comment([*title, *paste, *tag_notes]) + _tostring(robot) + "\n"
+
     return {"yaml": yaml_text, "wheels.urdf": urdf}
 
 
@@ -83,6 +95,9 @@ def read_drake(texts: Mapping[str, str]) -> dict:
     if hydro:
         out["hydroelastic_modulus"] = float(re.search(r'hydroelastic_modulus value="([^"]+)"', tags).group(1))
     out["wheel_dissipation"] = float(re.search(r'hunt_crossley_dissipation value="([^"]+)"', tags).group(1))
+    m = re.search(r'drake:controller_gains[^>]*\bd="([^"]+)"', tags)
+    if m:
+        out["wheel_drive_damping"] = float(m.group(1))
     for key in ("mu_dynamic", "mu_static"):
         m = re.search(rf'drake:{key} value="([^"]+)"', tags)
         if m:

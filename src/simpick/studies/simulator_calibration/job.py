@@ -70,11 +70,9 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
         out["fit"]["note"] = "no setting fitted: the calibrated row is the tuned profile, the best it reaches"
         _write(out, output)
         return out
-    if "friction_ratio" not in space.settings and "friction_ratio" not in space.requires:
-        raise ValueError(
-            "the fit needs friction_ratio among the settings, or fixed among the required ones (Gazebo's, where "
-            f"the ratio only switches DART's turn); the search space has {sorted(space.settings)}"
-        )
+    # a simulator without a second friction direction (Drake, Isaac Sim) fits its contact's compliance and its
+    # wheels' drive alone: no ratio is fitted, fixed or placed by Coulomb
+    has_ratio = "friction_ratio" in space.settings or "friction_ratio" in space.requires
     fixed = {k: r.value for k, r in space.requires.items()}
     units = _units(p, inputs, robot, train, classes, turns)
     # as many settings as the runs can identify at most, in the params' order (the job's params are canonical, their
@@ -119,7 +117,10 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     layout = contact_layout(robot)
     ratio_space = space.settings.get("friction_ratio")
     bounds = tuple(ratio_space.bounds) if ratio_space else (FRICTION_RATIO.low, FRICTION_RATIO.high)
-    coulomb = ratio_for_gain(layout, real, 0.5, 0.5, p.robot.track, bounds)
+    coulomb = ratio_for_gain(layout, real, 0.5, 0.5, p.robot.track, bounds) if has_ratio else math.nan
+    # each evaluation's (value, mean gain) of the ratio, else of the first fitted setting
+    lead = "friction_ratio" if has_ratio else names[0]
+    lead_tuned = ratio if has_ratio else tuned[lead] if tuned[lead] is not None else start[lead]
     engine_gain = float(np.nanmean(at)) if np.isfinite(at).any() else math.nan
     out["fit"].update(
         {
@@ -155,9 +156,10 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
             "residual_sd_from": fit["residual_sd_from"],
             "optimizer": fit["report"],
             "coulomb_ratio": _r(coulomb),
-            # (ratio, mean engine gain over the units) of each evaluation, in order
+            # (the lead setting's value, mean engine gain over the units) of each evaluation, in order
+            "trials_of": lead,
             "trials": [
-                [_r(s.get("friction_ratio", ratio)), _r(float(np.nanmean(g)) if np.isfinite(g).any() else math.nan)]
+                [_r(s.get(lead, lead_tuned)), _r(float(np.nanmean(g)) if np.isfinite(g).any() else math.nan)]
                 for s, g in fit["evaluations"]
             ],
             "all_trials": [
@@ -172,7 +174,7 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
             "engine_gain": _r(engine_gain),
             "reached": bool(math.isfinite(engine_gain) and abs(engine_gain - real) <= p.tolerance),
             "tolerance": p.tolerance,
-            "bounds": list(bounds),
+            "bounds": list(bounds) if has_ratio else None,
         }
     )
     out["fit"]["parts"] = part_shares(units, space, fixed, start, fit["settings"], tuned_error, fit["error"], improved)
