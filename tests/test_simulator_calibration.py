@@ -1032,18 +1032,19 @@ def test_the_contact_s_and_the_actuator_s_shares_of_a_fit_are_measured_apart():
     assert "no actuator setting" in alone["actuator"]["why_none"]
 
 
-def test_a_setting_listed_before_the_ratio_is_fitted_first_and_alone_on_one_run(tmp_path, monkeypatch):
-    """The fit takes the settings in the params' order, which the job's canonical params sort (Gazebo Classic's
-    and Webots' contact_slip before the ratio): one training run fits the first alone, and the file keeps the
-    tuned ratio. Here the MuJoCo fit with its servo gain listed first, on one run."""
+@pytest.mark.parametrize("order", [["wheel_servo_kp", "friction_ratio"], ["friction_ratio", "wheel_servo_kp"]])
+def test_the_fit_takes_the_settings_in_the_search_space_s_order_one_alone_on_one_run(tmp_path, monkeypatch, order):
+    """The fit takes the settings in the search space's ``order``: one training run fits the first alone, and the
+    file keeps the other's tuned value. Here the MuJoCo fit on one run, each order in turn (the shipped one puts
+    the ratio first, so that a class with one training run fits its ratio)."""
     params = _mujoco_params(class_nfev=0)
-    settings = params["space"]["settings"]
-    params["space"] = {**params["space"], "settings": {k: settings[k] for k in ("wheel_servo_kp", "friction_ratio")}}
-    truth = {"friction_ratio": params["engine_settings"]["friction_ratio"], "wheel_servo_kp": 400.0}
+    params["space"] = {**params["space"], "order": order}
+    tuned = params["engine_settings"]
+    truth = {"friction_ratio": 0.8, "wheel_servo_kp": 400.0}
     real = _generated_gains(truth, 0.05)
 
     def simulate(s: dict) -> np.ndarray:
-        return _generated_gains({**params["engine_settings"], **s}, 0.05)
+        return _generated_gains({**tuned, **s}, 0.05)
 
     runs = ["flooring/07"] * len(real)
     units = cal.Units(runs, real, [f"u{k}" for k in range(len(real))], simulate, {"generated": True})
@@ -1053,9 +1054,22 @@ def test_a_setting_listed_before_the_ratio_is_fitted_first_and_alone_on_one_run(
     inputs = {"split": str(split), "segments": str(SEGMENTS), "urdf": str(ROOT / "resources/robot/husky_a200.urdf")}
     out = cal.calibrate(inputs, params, str(tmp_path / "mujoco.yaml"))
     f = out["fit"]
-    assert list(f["parameters"]) == ["wheel_servo_kp"] and "friction_ratio" not in out["settings"]
+    first, other = order
+    assert list(f["parameters"]) == [first]
     assert f["kept"] == "the fit" and f["train_error"] < f["train_error_tuned"]
-    assert all(t[0] == params["engine_settings"]["friction_ratio"] for t in f["trials"])
+    assert out["settings"].get(other, tuned[other]) == tuned[other]
+
+
+def test_an_order_naming_a_setting_twice_or_one_the_entry_lacks_is_refused():
+    space = cal.load_search_spaces(ROOT / "resources/simulators/calibration.yaml")["mujoco"].model_dump()
+    for order in (["friction_ratio", "friction_ratio"], ["wheel_separation"]):
+        with pytest.raises(ValueError, match="must name settings of this entry, each once"):
+            cal.SearchSpace.model_validate({**space, "order": order})
+    assert cal.SearchSpace.model_validate({**space, "order": []}).fit_order() == sorted(space["settings"])
+    assert cal.SearchSpace.model_validate({**space, "order": ["wheel_servo_kp"]}).fit_order() == [
+        "wheel_servo_kp",
+        "friction_ratio",
+    ]
 
 
 def test_a_setting_the_tuned_profile_leaves_unset_starts_at_its_bounds_middle(tmp_path, monkeypatch):
@@ -1099,6 +1113,7 @@ def test_a_ratio_the_search_space_fixes_is_set_not_fitted_and_gets_no_class_fit(
         **space,
         "settings": {"wheel_servo_kp": space["settings"]["wheel_servo_kp"]},
         "requires": {**space.get("requires", {}), "friction_ratio": ratio},
+        "order": [],
     }
     truth = {"friction_ratio": 0.7, "wheel_servo_kp": 400.0}
     real = _generated_gains(truth, 0.05)
@@ -1134,6 +1149,7 @@ def test_a_class_fits_every_setting_the_pooled_fit_fitted_and_its_file_carries_t
         **space,
         "settings": {"wheel_servo_kp": space["settings"]["wheel_servo_kp"]},
         "requires": {**space.get("requires", {}), "friction_ratio": ratio},
+        "order": [],
     }
     truth = {"friction_ratio": 0.7, "wheel_servo_kp": 1000.0}
 
@@ -1223,8 +1239,8 @@ def test_a_space_without_a_friction_ratio_fits_its_compliance_and_drive(tmp_path
     for name, value in truth.items():
         assert out["settings"][name] == pytest.approx(value, rel=0.1), (name, f["parameters"][name])
         assert f["parameters"][name]["identifiable"], name
-    assert f["coulomb_ratio"] is None and f["bounds"] is None and f["trials_of"] == "hydroelastic_modulus"
-    assert f["trials"][0][0] == params["engine_settings"]["hydroelastic_modulus"]
+    assert f["coulomb_ratio"] is None and f["bounds"] is None and f["trials_of"] == "wheel_drive_damping"
+    assert f["trials"][0][0] == params["engine_settings"]["wheel_drive_damping"]
     assert f["parts"]["contact"]["settings"] == ["hydroelastic_modulus"]
     assert f["parts"]["actuator"]["settings"] == ["wheel_drive_damping"]
     assert out["per_class"] and all(e["placed_by"].startswith("the pooled fit") for e in out["per_class"].values())

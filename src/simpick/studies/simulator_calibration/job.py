@@ -75,9 +75,9 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     has_ratio = "friction_ratio" in space.settings or "friction_ratio" in space.requires
     fixed = {k: r.value for k, r in space.requires.items()}
     units = _units(p, inputs, robot, train, classes, turns)
-    # as many settings as the runs can identify at most, in the params' order (the job's params are canonical, their
-    # keys sorted: Gazebo Classic's and Webots' contact_slip before the ratio)
-    names = list(space.settings)[: max(1, len(set(units.runs)))]
+    # as many settings as the runs can identify at most, in the search space's order (SearchSpace.order: the one
+    # that moves the turn most first, so that a class with one training run fits it)
+    names = space.fit_order()[: max(1, len(set(units.runs)))]
     axes = [Axis(k, space.settings[k]) for k in names]
     # the tuned profile's values; None where it does not set the setting (Gazebo's <slip2>: no slip written)
     tuned = {k: p.engine_settings.get(k, 1.0 if k == "friction_ratio" else None) for k in names}

@@ -62,6 +62,11 @@ class SearchSpace(_Strict):
         "from the best (0: from the tuned profile): where the engine's gain jumps with it, a local fit cannot leave "
         "the jump it starts in; the reason is given beside it",
     )
+    order: list[str] = Field(
+        [],
+        description="the order the fit takes the settings in where the training runs identify fewer than all of "
+        "them (a class with one training run fits the first alone); the settings it does not name follow, sorted",
+    )
     if_unbound: str | None = Field(
         None, description="the simulator exposes the settings, but simpick's adapter binds none of them: why"
     )
@@ -80,7 +85,16 @@ class SearchSpace(_Strict):
             raise ValueError("searchable false needs why_not: why no setting it exposes moves the turning")
         if not self.searchable and (self.settings or self.requires):
             raise ValueError("searchable false takes no settings or requires")
+        unknown = [k for k in self.order if k not in self.settings]
+        if unknown or len(set(self.order)) != len(self.order):
+            raise ValueError(
+                f"order {self.order} must name settings of this entry, each once (settings: {sorted(self.settings)})"
+            )
         return self
+
+    def fit_order(self) -> list[str]:
+        """The settings in the order the fit takes them: those ``order`` names first, then the others sorted."""
+        return list(self.order) + sorted(k for k in self.settings if k not in self.order)
 
 
 class SearchSpaceError(ValueError):
