@@ -429,5 +429,6 @@ def test_the_plan_writes_these_models_for_gazebo_classic_and_webots_only_and_not
     assert [p for p, f in files.items() if f.endswith(".wbt")] == list(PROFILES["webots"])
     assert notes["webots-shipped"] == "fields checked; not opened in Webots here"
     assert notes["gazebo_classic-calibrated"] == "fields checked; not opened in Gazebo Classic 11 here"
-    # the others not opened here are the Python set-ups of tests/test_vendor_models.py
-    assert not [p for p in notes if not p.startswith(("webots-", "gazebo_classic-", "isaac_sim-", "coppeliasim-"))]
+    # the others not opened here are the Python scripts of tests/test_vendor_models.py
+    vendors = ("isaac_sim-", "coppeliasim-", "morse-")
+    assert not [p for p in notes if not p.startswith(("webots-", "gazebo_classic-", *vendors))]

@@ -9,6 +9,7 @@ from the writer. A setting changed in the profile changes the file, and the gain
 from __future__ import annotations
 
 import ast
+import builtins
 from pathlib import Path
 
 import pytest
@@ -17,7 +18,7 @@ from lxml import etree
 
 from conftest import ROOT, study_config
 from simpick.config import Study
-from simpick.engines.simulator_models import WRITERS, coppeliasim, isaac_lab
+from simpick.engines.simulator_models import WRITERS, coppeliasim, isaac_lab, morse
 from simpick.inputs.robot.settings import RobotParams
 from simpick.plan import Plan
 from simpick.studies.simulator_models import simulator_models_job
@@ -27,6 +28,7 @@ CATALOG = ROOT / "resources/simulators/simulators.yaml"
 PROFILES = {
     "isaac_sim": ("isaac_sim-shipped", "isaac_sim-tuned"),
     "coppeliasim": ("coppeliasim-shipped", "coppeliasim-tuned"),
+    "morse": ("morse-shipped", "morse-tuned"),
 }
 
 
@@ -278,3 +280,179 @@ def test_the_plan_notes_the_vendor_models_as_not_opened_here(plan):
         for p in profiles:
             assert files[p] == f"results/simulators/models/{p}.py"
             assert notes[p] == f"fields checked; not opened in {label} here"
+
+
+# --- MORSE ---------------------------------------------------------------------------------------------------------
+
+PYTHON_OWN = {"items"}  # the script's own Python: a dict's items()
+
+
+def morse_names(text: str, data: dict) -> set[str]:
+    """Every MORSE and Blender name the builder script uses: what it imports from morse.builder, every attribute,
+    keyword and called name its code holds (its own functions and Python's builtins aside), the module it makes the
+    robot's logic, and the keys and names its data hands to Blender and MORSE."""
+    tree = ast.parse(text)
+    own = {n.name for n in ast.walk(tree) if isinstance(n, ast.FunctionDef)}
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            names.add(node.module)
+            names |= {a.name for a in node.names}
+        elif isinstance(node, ast.Attribute) and node.attr not in PYTHON_OWN:
+            names.add(node.attr)
+        elif isinstance(node, ast.Call):
+            names |= {k.arg for k in node.keywords if k.arg}
+            if isinstance(node.func, ast.Name) and node.func.id not in own and node.func.id not in dir(builtins):
+                names.add(node.func.id)
+            if isinstance(node.func, ast.Attribute) and node.func.attr == "morseable":
+                names |= {a.value for a in node.args if isinstance(a, ast.Constant)}
+    for part in (data["CHASSIS"], *data["WHEEL_BODIES"]):
+        names |= set(part["game"])
+        names |= {part["game"].get("physics_type"), part["game"].get("collision_bounds_type")} - {None}
+    names |= set(data["ROBOT_PROPERTIES"]) | {data["ROBOT_PROPERTIES"]["classpath"]}
+    names |= {data["ENVIRONMENT"], data["GROUND"]["object"], data["INTERFACE"]}
+    return names
+
+
+def urdf_parts(path: Path) -> dict:
+    """The description read here, apart from the writer: each continuous joint's child link -> (origin xyz, mass,
+    cylinder radius, length), and the whole robot's mass."""
+    root = etree.parse(str(path)).getroot()
+    links = {link.get("name"): link for link in root.findall("link")}
+    mass = {n: float(link.find("inertial/mass").get("value")) for n, link in links.items()}
+    wheels = {}
+    for joint in root.findall("joint"):
+        if joint.get("type") == "continuous":
+            child = joint.find("child").get("link")
+            cylinder = links[child].find("collision/geometry/cylinder")
+            xyz = tuple(float(v) for v in joint.find("origin").get("xyz").split())
+            wheels[child] = (xyz, mass[child], float(cylinder.get("radius")), float(cylinder.get("length")))
+    return {"wheels": wheels, "mass": sum(mass.values())}
+
+
+def check_morse(text: str, q: dict, study: dict, parts: dict) -> list[str]:
+    """What in the MORSE builder script differs from MORSE's and Blender's names (the writer's quoted table), the
+    catalog's quoted values ``q``, the study and the robot's description (``parts``)."""
+    data = assigned(text)
+    bad = [f"{n} is not a quoted MORSE or Blender name" for n in morse_names(text, data) if n not in morse.NAMES]
+
+    def expect(what, got, want):
+        if got != pytest.approx(want):
+            bad.append(f"{what}: {got} != {want}")
+
+    expect("FPS (1 / time_step)", data["FPS"], round(1.0 / q["time_step"]))
+    expect("PHYSICS_STEP_SUB", data["PHYSICS_STEP_SUB"], q["sub_steps"])
+    ground = data["GROUND"]["friction"]
+    expect("ground friction", ground, study["ground_mu"])
+    expect("chassis contact (Bullet's product)", data["CHASSIS"]["friction"] * ground, study["ground_mu"])
+    ratio = q.get("friction_ratio", 1.0)
+    wheels = {w["name"]: w for w in data["WHEEL_BODIES"]}
+    if set(wheels) != set(parts["wheels"]):
+        bad.append(f"wheels {sorted(wheels)} are not the description's {sorted(parts['wheels'])}")
+    for name, (xyz, mass, radius, length) in parts["wheels"].items():
+        w = wheels.get(name)
+        if w is None:
+            continue
+        expect(f"{name} mass", w["game"]["mass"], mass)
+        expect(f"{name} radius", w["radius"], radius)
+        expect(f"{name} width", w["width"], length)
+        expect(f"{name} x, y", w["location"][:2], xyz[:2])
+        coefficients = w["game"].get("friction_coefficients", (1.0, 1.0, 1.0))
+        lateral = coefficients[2] * w["friction"] * ground
+        rolling = coefficients[0] * w["friction"] * ground
+        expect(f"{name} rolling friction", rolling, study["ground_mu"])
+        expect(f"{name} lateral / rolling", lateral / rolling, ratio)
+        expect(f"{name} anisotropic", w["game"]["use_anisotropic_friction"], ratio != 1.0)
+        if (w["game"].get("physics_type"), w["game"].get("collision_bounds_type")) != ("RIGID_BODY", "CYLINDER"):
+            bad.append(f"{name} is not a rigid cylinder")
+    chassis_mass = parts["mass"] - sum(m for _, m, _, _ in parts["wheels"].values())
+    expect("chassis mass (the rest of the robot)", data["CHASSIS"]["game"]["mass"], chassis_mass)
+    chassis = data["CHASSIS"]["game"]
+    if (chassis.get("physics_type"), chassis.get("collision_bounds_type")) != ("RIGID_BODY", "BOX"):
+        bad.append("the chassis is not a rigid box")
+    props = data["ROBOT_PROPERTIES"]
+    expect("FixTurningSpeed", props["FixTurningSpeed"], study["track"])
+    if props["HasSuspension"] is not False:
+        bad.append("HasSuspension is not False")
+    slots = {slot: props[f"Wheel{slot}Name"] for slot in ("FL", "FR", "RL", "RR")}
+    for slot, name in slots.items():
+        w = wheels.get(name)
+        if w is None or (w["location"][0] > 0) != (slot[0] == "F") or (w["location"][1] > 0) != (slot[1] == "L"):
+            bad.append(f"Wheel{slot}Name {name} is not the {slot} wheel")
+    expect("WHEEL_ROLL", data["WHEEL_ROLL"], 1.5707963267948966)
+    return bad
+
+
+@pytest.fixture(scope="module")
+def husky(plan) -> dict:
+    return urdf_parts(ROOT / plan.config["robot"]["urdf"])
+
+
+@pytest.mark.parametrize("profile", PROFILES["morse"])
+def test_the_morse_script_holds_morse_s_and_blender_s_names_and_the_profile_s_values(models, study, husky, profile):
+    folder, claims = models
+    assert not (folder / f"{profile}.urdf").exists()  # the robot is built from its parts
+    text = (folder / f"{profile}.py").read_text()
+    q = quoted("morse", profile.split("-")[1])
+    assert check_morse(text, q, study, husky) == []
+    data = assigned(text)
+    check_claims(data, claims[profile])
+    assert "NOT OPENED IN MORSE HERE" in text
+    # a name MORSE does not have fails the check: a builder call, a Blender key in the data
+    wrong = text.replace("env.set_physics_step_sub(", "env.set_physics_substeps(", 1)
+    assert wrong != text and check_morse(wrong, q, study, husky)
+    wrong = text.replace("'collision_bounds_type'", "'collision_shape'", 1)
+    assert wrong != text and check_morse(wrong, q, study, husky)
+
+
+def test_a_changed_profile_setting_changes_the_morse_script_and_an_unexposed_one_is_refused(plan, study, husky):
+    params = plan.simulator_models_params()
+    settings = dict(params["profiles"]["morse-tuned"]["settings"])
+    robot = RobotParams.model_validate(params["robot"])
+    urdf = str(ROOT / plan.config["robot"]["urdf"])
+
+    def write(s: dict) -> str:
+        files = WRITERS["morse"].write(urdf, s, study["ground_mu"], [], robot=robot, timestep=study["timestep"])
+        assert set(files) == {"py"}
+        return files["py"]
+
+    q = quoted("morse", "tuned")
+    assert check_morse(write(settings), q, study, husky) == []
+    changed = write(settings | {"sub_steps": 3, "time_step": 0.01})
+    data = assigned(changed)
+    assert (data["FPS"], data["PHYSICS_STEP_SUB"]) == (100, 3)
+    assert len(check_morse(changed, q, study, husky)) == 2
+    # the friction ratio as Blender holds it: below 1 along the axle, above 1 over the rolling axes and the friction
+    for ratio in (0.3, 1.5):
+        text = write(settings | {"friction_ratio": ratio})
+        assert check_morse(text, q | {"friction_ratio": ratio}, study, husky) == []
+        assert check_morse(text, q, study, husky)
+        wheel = assigned(text)["WHEEL_BODIES"][0]
+        assert all(0 < c <= 1 for c in wheel["game"]["friction_coefficients"])
+        assert wheel["friction"] == pytest.approx(max(1.0, ratio))
+    for unexposed in (
+        {"contact_stiffness": 1e6},
+        {"spinning_friction": 0.01},
+        {"solver_iterations": 50},
+        {"contact_erp": 0.08},
+        {"time_step": 0.007},
+    ):
+        with pytest.raises(ValueError):
+            write(settings | unexposed)
+
+
+def test_the_morse_writer_takes_only_robots_morse_s_wheeled_robot_holds(plan):
+    from dataclasses import replace
+
+    spec = plan.robot
+    writes = WRITERS["morse"].writes
+    assert writes(spec)
+    assert not writes(replace(spec, wheels=spec.wheels[:3]))  # one side short
+    assert not writes(
+        replace(spec, wheels=tuple(replace(w, radius=w.radius * (1 + i)) for i, w in enumerate(spec.wheels)))
+    )
+    assert not writes(replace(spec, rigid=None))
+    from simpick.inputs.robot import load_robot
+
+    warthog = load_robot(ROOT / "resources" / "robot" / "warthog.urdf")  # its rockers: no wheel on the chassis
+    assert warthog.suspension and not writes(warthog)

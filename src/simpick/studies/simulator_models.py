@@ -10,7 +10,7 @@ written model back: tests/test_simulator_models.py (and test_gazebo_models.py, t
 simulator's own loader alone and measure the same gains there; where no loader of the simulator installs here (Gazebo
 Classic, Webots: the writer's ``opened_here``), tests/test_classic_models.py checks the file's fields against the
 catalog's quoted values and the robot instead, and tests/test_vendor_models.py the keywords of the Python set-ups of
-Isaac Lab and CoppeliaSim against their quoted names and the profile's values.
+Isaac Lab and CoppeliaSim and of MORSE's builder script against their quoted names and the profile's values.
 """
 
 from __future__ import annotations

@@ -9,8 +9,9 @@ own ``MjSpec``; Gazebo: :mod:`.gazebo`, one SDF world from the adapter's own; Dr
 Drake's tags, the ground's SDFormat file and the plant's YAML; Gazebo Classic: :mod:`.gazebo_classic`, an SDF 1.7
 world; Webots: :mod:`.webots`, a .wbt world; Newton: :mod:`.newton_script` and Genesis: :mod:`.genesis_script`, a
 Python script that builds the robot with the simulator's own API, beside the URDF it loads; Isaac Sim:
-:mod:`.isaac_lab`, a script of Isaac Lab's configuration classes, and CoppeliaSim: :mod:`.coppeliasim`, a ZeroMQ
-remote-API script, neither opened here); :data:`WRITERS` names
+:mod:`.isaac_lab`, a script of Isaac Lab's configuration classes, CoppeliaSim: :mod:`.coppeliasim`, a ZeroMQ
+remote-API script, and MORSE: :mod:`.morse`, a ``morse.builder`` script that builds the robot from its parts, none
+of the three opened here); :data:`WRITERS` names
 them by simulator (Gazebo Classic and Webots share the ODE adapter, each with a format of its own), and rule
 simulator_models writes one model per profile of those simulators (:mod:`simpick.studies.simulator_models`), where
 the profile's engine is configured."""
@@ -28,6 +29,7 @@ from simpick.engines.simulator_models.gazebo import write_gazebo_model
 from simpick.engines.simulator_models.gazebo_classic import write_gazebo_classic_model
 from simpick.engines.simulator_models.genesis_script import write_genesis_model
 from simpick.engines.simulator_models.isaac_lab import write_isaac_lab_model
+from simpick.engines.simulator_models.morse import write_morse_model, writes_morse
 from simpick.engines.simulator_models.mujoco import write_mujoco_model
 from simpick.engines.simulator_models.newton_script import write_newton_model
 from simpick.engines.simulator_models.webots import write_webots_model
@@ -119,6 +121,8 @@ WRITERS = {
     "genesis": ModelWriter("py", write_genesis_model, opened_here=True, writes=_unsuspended),
     "isaac_sim": ModelWriter("py", write_isaac_lab_model, opened_here=False, writes=_unsuspended),
     "coppeliasim": ModelWriter("py", write_coppeliasim_model, opened_here=False, writes=_unsuspended),
+    # MORSE's wheeled robot: two or four driven cylinder wheels on a box chassis, no casters, suspension or couplings
+    "morse": ModelWriter("py", write_morse_model, opened_here=False, writes=writes_morse),
 }
 
 
@@ -138,6 +142,7 @@ __all__ = [
     "write_gazebo_model",
     "write_genesis_model",
     "write_isaac_lab_model",
+    "write_morse_model",
     "write_mujoco_model",
     "write_newton_model",
     "write_webots_model",
