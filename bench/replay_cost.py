@@ -99,20 +99,26 @@ def job_case(plan, source: str, model: str, run: str, results: Path, overrides: 
 
 
 def captured_scenario(urdf: str, inputs: dict, params: dict, name: str):
-    """(engine, scenario, wheel commands) that the job's replay of case ``name`` steps (run to capture them)."""
+    """(engine, scenario, wheel commands) that the job's replay of case ``name`` would step: the case is
+    prepared and run up to its stepping, which is not done."""
     import simpick.simulate.real as real
+
+    class Captured(Exception):
+        pass
 
     seen = {}
     original = real.run_commands
 
     def capture(engine, commands, scenario, recording, noise_seed):
         seen.update(engine=engine, scenario=scenario, commands=commands)
-        return original(engine, commands, scenario, recording, noise_seed)
+        raise Captured
 
     real.run_commands = capture
     try:
         _, run = real.prepare_replay(urdf, inputs, params, name)
         run()
+    except Captured:
+        pass
     finally:
         real.run_commands = original
     return seen["engine"], seen["scenario"], seen["commands"]
