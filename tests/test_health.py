@@ -198,3 +198,45 @@ def test_the_healthy_default_engines_pass_on_flat_ground(robot):
         scenario, commands = setup(robot, torque=100.0, w=0.5, duration=3.0)
         health = check(get_engine(engine).simulate(scenario, commands), LIMITS, commands[:, 0])
         assert health.ok, (engine, health.reasons)
+
+
+def test_the_lag_gives_lfilters_floats_bit_for_bit():
+    """The servo band's lag is computed without scipy.signal (its import costs each job 0.6 s of CPU): it must give
+    the very floats lfilter gives, so a trace's health record stays what it was."""
+    from scipy.signal import lfilter
+
+    from simpick.simulate.health import first_order_lag
+
+    rng = np.random.default_rng(3)
+    held = np.repeat(rng.normal(scale=10.0, size=(60, 2)), 150, axis=0)  # a replay: commands held 0.15 s
+    arrays = [
+        np.column_stack([held, held]),  # the Husky: each side's two wheels on one command
+        rng.normal(size=(2000, 4)),
+        np.array([[0.0, -0.0, 1e-300], [1e300, -2.5, 0.0], [np.inf, 3.0, -0.0]]),
+        np.zeros((1, 2)),
+    ]
+    for dt, lag in ((0.001, 0.05), (0.004, 0.05), (0.0005, 0.2)):
+        a = -np.expm1(-dt / lag)
+        for commands in arrays:
+            expected = lfilter([a], [1.0, a - 1.0], commands, axis=0)
+            assert first_order_lag(commands, a).view(np.uint64).tolist() == expected.view(np.uint64).tolist()
+
+
+def test_the_health_check_does_not_import_scipy_signal():
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import simpick
+
+    code = (
+        "import sys, numpy as np\n"
+        "from simpick.simulate.health import following_error\n"
+        "following_error(np.zeros((10, 4)), np.ones((10, 4)), 0.001, 0.05)\n"
+        "assert 'scipy.signal' not in sys.modules, 'scipy.signal imported'\n"
+    )
+    # the simpick this test imports, whichever is installed
+    src = str(Path(simpick.__file__).resolve().parents[1])
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])}
+    subprocess.run([sys.executable, "-c", code], check=True, env=env)
