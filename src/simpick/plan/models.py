@@ -392,10 +392,11 @@ class ModelPlanning:
             data["kind"] = "drive"
             data["grounds"] = {c: float(k.friction) for c, k in study.real_data.classes.items()}
             if model_name(simulator, "calibrated") in self.calibrated:
-                from simpick.sources import drive as drive_source
+                from simpick.sources import module as source_module
 
                 # DRIVE's replay params for the calibrated profile (its plan-time settings), less the session
-                case = drive_source.case_params(study, "drive", {}, calibrated, self.model_settings(calibrated), "", [])
+                drive = source_module("drive")
+                case = drive.case_params(study, "drive", {}, calibrated, self.model_settings(calibrated), "", [])
                 data["steps_case"] = {k: v for k, v in case.items() if k != "session"}
         searchable = model_name(simulator, "calibrated") in self.calibrated
         if searchable and self.calibration_source not in ("replay", "drive") and "segments" in self.sources:
