@@ -63,17 +63,23 @@ if PLAN.replay_set:
         script:
             "../scripts/real_segments.py"
 
+
+if PLAN.replay_cases:
+
     # How the real robot turns, the target an engine must meet: its yaw-rate gain in steady-command windows
-    # against speed, turn radius and wheel-speed difference, beside the rigid-Coulomb prediction.
+    # against speed, turn radius and wheel-speed difference, beside the rigid-Coulomb prediction. Per replayed
+    # source (the dataset folder, the user's own logs): the calibration's runs where it fits on that source.
     rule real_turning:
         input:
-            logs=PLAN.real_logs(PLAN.replay_set.name),
+            logs=lambda wc: PLAN.real_logs(wc.source),
             urdf=SETTINGS.robot.urdf,
         output:
-            windows=f"{PLAN.replay}/turning/windows.csv",
-            summary=f"{PLAN.replay}/turning/summary.csv",
+            windows="results/real/{source}/turning/windows.csv",
+            summary="results/real/{source}/turning/summary.csv",
         log:
-            f"results/logs/real/{PLAN.replay_set.name}/real_turning.log",
+            "results/logs/real/{source}/real_turning.log",
+        wildcard_constraints:
+            source="|".join(re.escape(s) for s in PLAN.replay_cases),
         conda:
             "../envs/simpick.yaml"
         params:
@@ -125,6 +131,8 @@ if PLAN.own_logs:
     rule import_own_log:
         """One of the user's logs (a mapped CSV or a ROS bag) to the canonical form, filed under
         its terrain class like a dataset folder's runs."""
+        input:
+            lambda wc: PLAN.own_log_files(wc.run),
         output:
             f"{PLAN.own}/logs/{{terrain_class}}/{{run}}.parquet",
         log:

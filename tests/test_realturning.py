@@ -72,12 +72,21 @@ def test_runs_spread_and_coulomb_prediction():
     assert summary["coulomb_gain_min"] == summary["coulomb_gain_max"] == pytest.approx(0.478)
 
 
-def test_body_twist_logs_have_no_wheel_windows():
-    log = synthetic_log([(4.0, 0.1, 0.4)], lambda v, w: 0.6)
+def test_body_twist_logs_give_the_windows_of_the_wheel_speeds_they_command():
+    """A user's own log of (v, w) commands is read as the wheel speeds they command over the track, as the
+    replay drives the engines with them: the same windows and gains as its wheel-command twin."""
+    log = synthetic_log([(4.0, 0.1, 0.4), (4.0, 0.3, 0.3)], lambda v, w: 0.6)
+    cmd = log.commands
     body = RealLog(
-        imu=log.imu, commands=pd.DataFrame({"time": log.commands["time"], "v": 0.25, "w": 0.5}), meta=log.meta
+        imu=log.imu,
+        commands=pd.DataFrame(
+            {"time": cmd["time"], "v": (cmd.v_left + cmd.v_right) / 2, "w": (cmd.v_right - cmd.v_left) / TRACK}
+        ),
+        meta=log.meta,
     )
-    assert turning_windows(body, TRACK).empty
+    windows, twin = turning_windows(body, TRACK), turning_windows(log, TRACK)
+    assert len(windows) >= 2 and np.allclose(windows["yaw_rate_gain"], 0.6)
+    pd.testing.assert_frame_equal(windows, twin)
 
 
 def test_the_figure_job_draws_the_windows_or_says_there_are_none(tmp_path):

@@ -1244,3 +1244,44 @@ def test_a_space_without_a_friction_ratio_fits_its_compliance_and_drive(tmp_path
     assert f["parts"]["contact"]["settings"] == ["hydroelastic_modulus"]
     assert f["parts"]["actuator"]["settings"] == ["wheel_drive_damping"]
     assert out["per_class"] and all(e["placed_by"].startswith("the pooled fit") for e in out["per_class"].values())
+
+
+def test_own_logs_the_verdict_rests_on_are_the_calibration_s_runs(tmp_path):
+    """With accuracy.reference own, the calibrated profiles fit on the user's own logs as on a full replay's runs:
+    the logs replayed (kind replay, each class's replay params), their steady turning windows (rule real_turning
+    over source own) and a split of every own run by whether it turns; without it, the committed segments."""
+    config = _config(run=["mujoco"])
+    csv_log = tmp_path / "mine.csv"
+    csv_log.write_text("t,ax,ay,az,wx,wy,wz,v,w\n0,0,0,9.81,0,0,0,0,0\n")
+    mapping = {k: k for k in ("ax", "ay", "az", "wx", "wy", "wz", "v", "w")} | {"time": "t"}
+    config["own_logs"] = [
+        {"name": n, "terrain_class": c, "csv": str(csv_log), "mapping": mapping}
+        for n, c in (("a", "flooring"), ("b", "flooring"), ("c", "flooring"), ("d", "ice"))
+    ]
+    assert _plan(config).calibration_source == "segments"  # own logs compared, the verdict on the segments
+    config["accuracy"]["reference"] = "own"
+    plan = _plan(config)
+    assert plan.calibration_source == "own" and plan.calibrated == ["mujoco-calibrated"]
+    inputs = plan.calibration_real_input()
+    assert inputs["windows"] == "results/real/own/turning/windows.csv" and "calibration_split" not in inputs
+    assert sorted(inputs["logs"]) == [
+        f"results/real/own/logs/{c}/{n}.parquet"
+        for n, c in (("a", "flooring"), ("b", "flooring"), ("c", "flooring"), ("d", "ice"))
+    ]
+    params = plan.simulator_calibrate_params("mujoco")
+    assert params["kind"] == "replay" and params["source"] == "replay-own"
+    assert params["replay_cases"]["flooring"]["terrain_class"] == "flooring"
+    # the split: every own run a unit, stratified by whether its log has a steady turning window
+    windows = tmp_path / "windows.csv"
+    pd.DataFrame({"terrain_class": ["flooring", "flooring"], "run": ["a", "b"]}).to_csv(windows, index=False)
+    logs = [
+        str(tmp_path / "own" / c / f"{n}.parquet")
+        for n, c in (("a", "flooring"), ("b", "flooring"), ("c", "flooring"), ("d", "ice"))
+    ]
+    split = tmp_path / "split.csv"
+    cal.split_job({"windows": str(windows), "logs": logs}, 0.5, 11, str(split))
+    table = pd.read_csv(split, dtype={"run": str})
+    assert sorted(table.run) == ["a", "b", "c", "d"]
+    sets = dict(zip(table.run, table.set))
+    assert {sets["a"], sets["b"]} == {"train", "test"}  # the two turning runs, one each side
+    assert sets["d"] == "train"  # a class of one run keeps it for training

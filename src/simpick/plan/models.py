@@ -125,21 +125,25 @@ class ModelPlanning:
                 )
             return (
                 "no real runs of this robot to fit on here (the committed segments are the Husky's): give its "
-                "DRIVE steps (drive_dir) with simulators.drive: true, or a segments table of its own runs "
-                "(real_data.segments, real_data.robot); logs under own_logs are replayed and compared, not fitted on"
+                "DRIVE steps (drive_dir) with simulators.drive: true, its own logs (own_logs) with "
+                "accuracy.reference: own, or a segments table of its own runs (real_data.segments, real_data.robot)"
             )
         return ""
 
     @property
     def calibration_source(self) -> str | None:
-        """The real runs the calibrated profiles fit on and are judged on: ``segments`` (the committed
-        segments, where they are this robot's), ``drive`` (DRIVE's steps, where the profiles replay them) or
-        None (neither)."""
+        """The real runs the calibrated profiles fit on and are judged on: ``replay`` (a dataset folder's runs,
+        where the verdict rests on them), ``own`` (the user's own logs, where the verdict rests on them:
+        accuracy.reference own), ``segments`` (the committed segments, where they are this robot's), ``drive``
+        (DRIVE's steps, where the profiles replay them) or None (none of these)."""
         # the verdict rests on the full replay (simpick.plan.answer.accuracy_source), known from the settings
         # alone: the dataset folder is opened after this planning step
         replayed = self.settings.borealtc_dir and self.settings.accuracy.reference not in ("paper", "own")
         if self.real_data_robot and replayed:
             return "replay"
+        if self.settings.own_logs and self.settings.accuracy.reference == "own":
+            # the user's own logs, where the verdict rests on them: fitted and judged as the full replay's runs
+            return "own"
         if self.real_data_robot and self.settings.real_data.segments:
             return "segments"
         if self.settings.drive_dir and self.settings.simulators.drive:
@@ -332,6 +336,10 @@ class ModelPlanning:
                 "calibration_split": f"{self.cal_dir}/split.csv",
                 "logs": self.real_logs(self.replay_set.name),
             }
+        if self.calibration_source == "own":
+            # the user's logs: their steady turning windows (rule real_turning over source own), split here by
+            # run as the committed segments are, and the logs the fit replays
+            return {"windows": f"{self.own}/turning/windows.csv", "logs": self.real_logs("own")}
         if self.calibration_source == "drive":
             from simpick.sources import module as source_module
 
@@ -360,6 +368,7 @@ class ModelPlanning:
             "source": {
                 "drive": f"drive-{study.drive_dataset}",
                 "replay": f"replay-{self.replay_set.name if self.replay_set else ''}",
+                "own": "replay-own",
             }.get(self.calibration_source, f"segments-{self.dataset}"),
             "engine_settings": self.profile_settings[tuned],
             "physics": {"timestep": study.physics.timestep},
@@ -375,7 +384,7 @@ class ModelPlanning:
             },
         }
         calibrated = model_name(simulator, "calibrated")
-        if self.calibration_source == "replay":
+        if self.calibration_source in ("replay", "own"):
             from simpick.sources.base import real_params
 
             data["kind"] = "replay"
@@ -399,7 +408,7 @@ class ModelPlanning:
                 case = drive.case_params(study, "drive", {}, calibrated, self.model_settings(calibrated), "", [])
                 data["steps_case"] = {k: v for k, v in case.items() if k != "session"}
         searchable = model_name(simulator, "calibrated") in self.calibrated
-        if searchable and self.calibration_source not in ("replay", "drive") and "segments" in self.sources:
+        if searchable and self.calibration_source == "segments" and "segments" in self.sources:
             # the committed segments: the fit replays the training runs' turning segments as the calibrated
             # profile's simulate job replays them (its params over every segment, its plan-time settings)
             names = [name for _, name in self.sources["segments"]["cases"]]

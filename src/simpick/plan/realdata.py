@@ -57,6 +57,12 @@ class RealDataPlanning:
         if self.own_logs:
             self.replay_cases["own"] = own_source.cases(self.settings)
 
+    def own_log_files(self, name: str) -> list[str]:
+        """The files of the user's own log ``name`` (its CSVs or its bag): rule import_own_log's inputs, so that a
+        log replaced under the same name is imported, replayed and compared again."""
+        entry = self.own_logs[name]
+        return [entry[k] for k in ("csv", "commands_csv", "rosbag") if entry.get(k)]
+
     def real_logs(self, source):
         return [source_base.log_path(source, c, run) for c, run in self.replay_cases[source]]
 

@@ -94,9 +94,8 @@ def turning_windows(
     overlap. ``coulomb``, a callable (v, w) -> gain, adds the rigid-Coulomb prediction at each
     window's command.
     """
-    if log.command_kind != "wheels":
-        return pd.DataFrame(columns=WINDOW_COLUMNS)
-    imu, cmd = log.imu, log.commands
+    # a log of body commands (v, w: a user's own CSV or bag) is read as the wheel speeds they command
+    imu, cmd = log.imu, log.wheel_commands(track)
     t_imu, wz = imu["time"].to_numpy(float), imu["wz"].to_numpy(float)
     t_cmd = cmd["time"].to_numpy(float)
     left, right = cmd["v_left"].to_numpy(float), cmd["v_right"].to_numpy(float)

@@ -24,6 +24,19 @@ def split_job(inputs: dict, test_fraction: float, seed: int, output: str) -> Non
         split = pd.read_csv(inputs["calibration_split"], dtype={"run": str, "unit": str})
         write_csv(split, output)
         return
+    if "windows" in inputs:
+        # the user's own logs: every run (its canonical log, results/real/own/logs/<class>/<run>.parquet), a unit
+        # of its own, turning where it has a steady turning window (rule real_turning)
+        win = pd.read_csv(inputs["windows"], dtype={"run": str})
+        turning = set(zip(win.terrain_class.astype(str).str.lower(), win.run.astype(str)))
+        logs = [inputs["logs"]] if isinstance(inputs["logs"], str) else list(inputs["logs"])
+        rows = [
+            [Path(f).parent.name, Path(f).stem, Path(f).stem, (Path(f).parent.name, Path(f).stem) in turning]
+            for f in logs
+        ]
+        units = pd.DataFrame(rows, columns=["terrain_class", "run", "unit", "turns"]).astype({"run": str})
+        write_csv(split_runs(units, test_fraction, seed), output)
+        return
     if "steps" in inputs:
         steps = pd.read_csv(inputs["steps"])
         key = steps_key(steps)
