@@ -153,8 +153,18 @@ def test_own_csv_log_is_imported_replayed_and_compared_by_the_workflow(tmp_path)
     ]
     config["accuracy"]["reference"] = "own"
     write_config(tmp_path, config)
-    run = snakemake(tmp_path, "results/metrics/own/summary.csv", "results/scores/weighted.csv")
+    run = snakemake(
+        tmp_path,
+        "results/metrics/own/summary.csv",
+        "results/scores/weighted.csv",
+        "results/real/own/turning/windows.csv",
+    )
     assert run.returncode == 0, run.stderr[-3000:]
+    # the own logs' steady turning windows (what a calibration on them fits), from its (v, w) commands
+    from simpick.real.turning import WINDOW_COLUMNS
+
+    windows = pd.read_csv(tmp_path / "results/real/own/turning/windows.csv", dtype={"run": str})
+    assert list(windows.columns) == WINDOW_COLUMNS and set(windows.run) <= {"mine"}  # its 12 s: none steady
     log = read_canonical(tmp_path / "results/real/own/logs/flooring/mine.parquet")
     assert np.allclose(log.imu.wz.to_numpy(), imu.wz.to_numpy(), atol=1e-9)  # deg/s came back as rad/s
     per_test = pd.read_csv(tmp_path / "results/metrics/own/per_test.csv")
