@@ -68,7 +68,8 @@ class CalibrateParams(JobParams):
     )
     class_nfev: Annotated[int, Field(ge=0, le=12)] = Field(
         3,
-        description="the same for each class's own fit (its friction_ratio alone, from the pooled fit); 0: none",
+        description="the same for each class's own fit (the pooled fit's settings in the search space's order, as "
+        "many as the class's training runs, from the pooled values); 0: none",
     )
     diff_step: Annotated[float, Field(gt=0, lt=0.5)] = Field(
         0.05,
