@@ -1285,3 +1285,12 @@ def test_own_logs_the_verdict_rests_on_are_the_calibration_s_runs(tmp_path):
     sets = dict(zip(table.run, table.set))
     assert {sets["a"], sets["b"]} == {"train", "test"}  # the two turning runs, one each side
     assert sets["d"] == "train"  # a class of one run keeps it for training
+
+
+def test_a_fitted_setting_is_written_to_four_significant_digits_not_four_decimals():
+    """Webots' softCFM is fitted over 1e-6 to 1e-2: four decimals would write 2.3e-6 as 0, another contact."""
+    from simpick.studies.simulator_calibration.fit import _r, _rs
+
+    assert _rs(2.34567e-6) == 2.346e-6 and _r(2.34567e-6) == 0.0
+    assert _rs(0.00123456) == 0.001235 and _rs(880123.4) == 880100.0 and _rs(0.69694) == 0.6969
+    assert _rs(None) is None and _rs(float("nan")) is None

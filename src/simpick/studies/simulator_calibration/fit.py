@@ -199,7 +199,7 @@ def least_squares_fit(
         x = a.to_x(optimum[a.name])
         j = column.get(a.name)
         entry = {
-            "value": _r(x),
+            "value": _rs(x),
             "bounds": [a.low, a.high],
             "log": a.log,
             "sensitivity": _r(float(sensitivity[j] if j is not None else s0)),
@@ -210,7 +210,7 @@ def least_squares_fit(
             entry.update(identifiable=False, why=f"unidentifiable from these runs: {unidentifiable[a.name]}")
         else:
             sd, low, high = intervals[j]
-            entry.update(identifiable=True, sd=_r(sd), interval=[_r(low), _r(high)])
+            entry.update(identifiable=True, sd=_rs(sd), interval=[_rs(low), _rs(high)])
         if optimum[a.name] <= 1e-3 or optimum[a.name] >= 1 - 1e-3:
             entry["at_bound"] = "low" if optimum[a.name] <= 1e-3 else "high"
         parameters[a.name] = entry
@@ -405,7 +405,7 @@ def step_margins(units: Units, base: dict, settings: dict, gains: np.ndarray, ax
             moved.append(float(np.max(np.abs(at[both] - gains[both]))) if both.all() else math.inf)
         largest = max(moved) if moved else 0.0
         out[a.name] = {
-            "probed": [_r(v) for v in probes],
+            "probed": [_rs(v) for v in probes],
             "largest_gain_change": _r(largest) if math.isfinite(largest) else "a run failed",
             "step": bool(largest > STEP_GAIN),
         }
@@ -413,4 +413,11 @@ def step_margins(units: Units, base: dict, settings: dict, gains: np.ndarray, ax
 
 
 def _r(x: float) -> float | None:
+    """A gain, an error or a share as the files give it: 4 decimals."""
     return round(float(x), 4) if x is not None and math.isfinite(float(x)) else None
+
+
+def _rs(x: float) -> float | None:
+    """A setting's value as the files give it: 4 significant digits, so that a compliance of 2e-6 (softCFM) or a
+    slip of 1.23e-3 keeps its value, which 4 decimals would round to 0 or by 2 %."""
+    return float(f"{float(x):.4g}") if x is not None and math.isfinite(float(x)) else None

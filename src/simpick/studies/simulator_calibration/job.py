@@ -19,6 +19,7 @@ from simpick.studies.simulator_calibration.fit import (
     Axis,
     Units,
     _r,
+    _rs,
     least_squares_fit,
     step_margins,
 )
@@ -99,9 +100,9 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     near_step = sorted(k for k, m in steps.items() if m["step"])
     improved = improved and not near_step
     kept = (
-        {k: _r(v) for k, v in fit["settings"].items()}
+        {k: _rs(v) for k, v in fit["settings"].items()}
         if improved
-        else {k: _r(v) for k, v in tuned.items() if v is not None}
+        else {k: _rs(v) for k, v in tuned.items() if v is not None}
     )
     out["settings"] = {**fixed, **kept} if improved else kept
     # the ratio fitted, else fixed by the search space (Gazebo's), else the tuned one (not fitted: one run)
@@ -134,7 +135,7 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
                 {"run": r, "unit": n, "real_gain": _r(g), "tuned_gain": _r(t), "calibrated_gain": _r(c)}
                 for r, n, g, t, c in zip(units.runs, units.names, units.real, tuned_gains, at)
             ],
-            "start": {k: _r(v) for k, v in start.items()},
+            "start": {k: _rs(v) for k, v in start.items()},
             "fixed": fixed,
             "train_error_tuned": _r(tuned_error),
             "train_error": _r(fit["error"]) if improved else _r(tuned_error),
@@ -159,12 +160,12 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
             # (the lead setting's value, mean engine gain over the units) of each evaluation, in order
             "trials_of": lead,
             "trials": [
-                [_r(s.get(lead, lead_tuned)), _r(float(np.nanmean(g)) if np.isfinite(g).any() else math.nan)]
+                [_rs(s.get(lead, lead_tuned)), _r(float(np.nanmean(g)) if np.isfinite(g).any() else math.nan)]
                 for s, g in fit["evaluations"]
             ],
             "all_trials": [
                 {
-                    "settings": {k: _r(v) for k, v in s.items()},
+                    "settings": {k: _rs(v) for k, v in s.items()},
                     "gain": _r(float(np.nanmean(g)) if np.isfinite(g).any() else math.nan),
                     "gains": [_r(x) for x in g],
                     "error": _r(units.error(g)),
@@ -186,7 +187,9 @@ def calibrate(inputs: dict, params: dict, output: str) -> dict:
     tuned_by_unit = dict(zip(units.names, np.asarray(tuned_gains, float)))
     # each class from the pooled fit's settings (the tuned ones where it was not kept), in the pooled fit's order
     kept_start = {k: float(pooled.get(k, start[k])) for k in names}
-    out["per_class"] = _class_fits(p, inputs, robot, trained, test_turns, kept_start, space, fixed, tuned_by_unit)
+    out["per_class"] = _class_fits(
+        p, inputs, robot, trained, test_turns, kept_start, space, fixed, tuned_by_unit, kept=out["settings"]
+    )
     _write(out, output)
     return out
 
@@ -234,7 +237,16 @@ REPLAYED = {
 
 
 def _class_fits(
-    p, inputs, robot, train: pd.DataFrame, test: pd.DataFrame, pooled: dict, space, fixed, tuned_by_unit=None
+    p,
+    inputs,
+    robot,
+    train: pd.DataFrame,
+    test: pd.DataFrame,
+    pooled: dict,
+    space,
+    fixed,
+    tuned_by_unit=None,
+    kept: dict | None = None,
 ) -> dict:
     """Per terrain class with training turns: its own fit of the pooled fit's settings (``pooled``: name -> the
     pooled fit's value, or its start where it was not kept, in the pooled fit's order; as many of them as the
@@ -246,8 +258,13 @@ def _class_fits(
     keeps a fit of its own (its ``settings``: the required ones and the pooled fit's with its fitted values over them,
     each fitted value with its interval in ``parameters``) only where its
     training error is below the pooled fit's, no fitted value lies within a step of the engine's response, and it
-    beats the pooled one by the fit's tolerance and the tuned profile (``improves``)."""
+    beats the pooled one by the fit's tolerance and the tuned profile (``improves``). ``kept``: the settings the
+    pooled file holds (the fit's, or the tuned ones where it was not kept; default the start ``pooled``), against
+    which a class's fit is compared on its training and held-out runs: where the fit was not kept and the tuned
+    profile leaves a setting unset, the class's fit starts that setting at its bounds' middle, which is not what the
+    pooled file does."""
     out = {}
+    kept = {**fixed, **pooled} if kept is None else dict(kept)
     tuned_by_unit = tuned_by_unit or {}
     order = [k for k in pooled if k in space.settings]
     base = {**fixed, **pooled}
@@ -258,7 +275,7 @@ def _class_fits(
         held = test[test.terrain_class == cls]
         every = pd.concat([gains, real_gains(held)]) if len(held) else gains
         entry: dict[str, Any] = {
-            "settings": {**fixed, **{k: _r(v) for k, v in pooled.items()}},
+            "settings": {k: _rs(v) if isinstance(v, float) else v for k, v in kept.items()},
             "real_gain": _r(gain),
             "runs": runs,
             "placed_by": "the pooled fit (no fit of its own)",
@@ -278,7 +295,10 @@ def _class_fits(
                 p.noise,
                 optimizer=space.optimizer,
             )
-            pooled_gains = fit["start_gains"]
+            # the pooled file's gains: the fit's start where that is what the file holds
+            at_start = {**base, **{a.name: min(max(pooled[a.name], a.low), a.high) for a in axes}}
+            same = _same_settings(kept, at_start)
+            pooled_gains = fit["start_gains"] if same else np.asarray(units.simulate(kept), float)
             pooled_error = units.error(pooled_gains)
             if all(n in tuned_by_unit for n in units.names):
                 tuned_error = units.error(np.array([tuned_by_unit[n] for n in units.names], float))
@@ -287,12 +307,12 @@ def _class_fits(
             better = math.isfinite(fit["error"]) and fit["error"] < pooled_error
             steps = step_margins(units, base, fit["settings"], fit["gains"], axes, fit["fitted"]) if better else {}
             better = better and not any(m["step"] for m in steps.values())
-            own = {**pooled, **fit["settings"]} if better else dict(pooled)
+            own = {**base, **fit["settings"]} if better else dict(kept)
             at = fit["gains"] if better else pooled_gains
             engine_gain = float(np.nanmean(at)) if np.isfinite(at).any() else math.nan
             entry.update(
                 {
-                    "settings": {**fixed, **{k: _r(v) for k, v in own.items()}},
+                    "settings": {k: _rs(v) if isinstance(v, float) else v for k, v in own.items()},
                     "fitted": [a.name for a in axes],
                     "placed_by": "its own least-squares fit on the engine of "
                     f"{', '.join(a.name for a in axes)} ({_trials(fit['report']['engine_evaluations'])} from the "
@@ -315,7 +335,7 @@ def _class_fits(
                     "step_margins": steps,
                     "cases": units.describe,
                     "trials": [
-                        {"settings": {k: _r(v) for k, v in s.items()}, "gain": _r(float(np.nanmean(g)))}
+                        {"settings": {k: _rs(v) for k, v in s.items()}, "gain": _r(float(np.nanmean(g)))}
                         for s, g in fit["evaluations"]
                     ],
                 }
@@ -324,9 +344,8 @@ def _class_fits(
                 hgains = real_gains(held)
                 hruns = [f"{cls}/{r}" for r in hgains.run]
                 hunits = _units(p, inputs, robot, hruns, [str(cls)], held)
-                pooled_held = np.asarray(hunits.simulate(base), float)
-                moved = any(abs(own[k] - pooled[k]) > 1e-9 for k in own)
-                own_held = np.asarray(hunits.simulate({**base, **own}), float) if moved else pooled_held
+                pooled_held = np.asarray(hunits.simulate(kept), float)
+                own_held = np.asarray(hunits.simulate(own), float) if better else pooled_held
                 entry["heldout"] = {
                     "runs": len(hgains),
                     "real_gain": _r(float(hgains.gain.mean())),
@@ -338,6 +357,20 @@ def _class_fits(
                 }
         out[str(cls)] = entry
     return out
+
+
+def _same_settings(a: dict, b: dict) -> bool:
+    """The same settings, a number within the file's rounding (4 significant digits) of the other's."""
+    if set(a) != set(b):
+        return False
+    for k in a:
+        x, y = a[k], b[k]
+        if isinstance(x, (int, float)) and isinstance(y, (int, float)) and not isinstance(x, bool):
+            if not math.isclose(float(x), float(y), rel_tol=1e-3, abs_tol=1e-12):
+                return False
+        elif x != y:
+            return False
+    return True
 
 
 def _mean(values) -> float:
