@@ -1294,3 +1294,22 @@ def test_a_fitted_setting_is_written_to_four_significant_digits_not_four_decimal
     assert _rs(2.34567e-6) == 2.346e-6 and _r(2.34567e-6) == 0.0
     assert _rs(0.00123456) == 0.001235 and _rs(880123.4) == 880100.0 and _rs(0.69694) == 0.6969
     assert _rs(None) is None and _rs(float("nan")) is None
+
+
+def test_a_class_file_is_told_apart_by_its_numbers_beside_a_required_choice():
+    """A class's settings carry the search space's required ones, some of them words (Webots' friction_direction
+    "wheel"): the class gets a file of its own where a number differs, and a word only where the word does."""
+    from simpick.score.simulator_settings import class_files
+
+    pooled = {"friction_direction": "wheel", "friction_ratio": 0.7, "contact_slip": 0.001}
+    entry = {"engine_gain": 0.6, "improves": True}
+    fit = {
+        "searchable": True,
+        "settings": pooled,
+        "per_class": {
+            "ice": {**entry, "settings": {**pooled, "friction_ratio": 0.5}},
+            "flooring": {**entry, "settings": dict(pooled)},
+            "snow": {**entry, "settings": {**pooled, "friction_direction": "wheel_x"}},
+        },
+    }
+    assert sorted(class_files(fit)) == ["ice", "snow"]

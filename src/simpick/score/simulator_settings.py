@@ -195,6 +195,8 @@ def _differs(name: str, own, pooled) -> bool:
         return False
     if pooled is None:
         return True
+    if isinstance(own, str) or isinstance(pooled, str):  # a required choice (Webots' friction_direction "wheel")
+        return own != pooled
     scale = 1.0 if name == "friction_ratio" else abs(float(pooled))
     return abs(float(own) - float(pooled)) >= CLASS_FILE_RATIO * scale
 
