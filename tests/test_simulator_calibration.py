@@ -1313,3 +1313,28 @@ def test_a_class_file_is_told_apart_by_its_numbers_beside_a_required_choice():
         },
     }
     assert sorted(class_files(fit)) == ["ice", "snow"]
+
+
+def test_a_log_setting_of_many_decades_beside_a_ratio_gets_an_interval_that_holds_its_truth():
+    """A contact stiffness over 1e5-1e11 (Gazebo Classic's <kp>) fitted beside a ratio: the covariance is taken over
+    u, where both span [0, 1]; in the settings' own units J^T J is singular to machine precision and gave the
+    stiffness a zero-width interval. The gains slope with both, differently per run."""
+    space = {
+        "friction_ratio": cal.SearchSetting(exposed_as="r", bounds=(0.3, 1.8), source="a.c:1"),
+        "kp": cal.SearchSetting(exposed_as="k", bounds=(1.0e5, 1.0e11), source="a.c:2", log=True),
+    }
+    axes = [cal.Axis(k, v) for k, v in space.items()]
+    weight = np.array([0.02, 0.05, 0.08, 0.03])
+
+    def gains(settings):
+        return 0.95 - 0.4 * settings["friction_ratio"] - weight * math.log10(settings["kp"] / 1.0e5)
+
+    truth = {"friction_ratio": 0.6, "kp": 1.0e9}
+    noise = np.array([0.004, -0.003, 0.002, -0.004])
+    units = cal.Units(["a/1", "b/1", "c/1", "d/1"], gains(truth) + noise, list("abcd"), gains, {})
+    fit = cal.least_squares_fit(units, axes, {}, {"friction_ratio": 1.0, "kp": 1.0e8}, 12, 0.05, 0.045, 0, "scipy")
+    kp = fit["parameters"]["kp"]
+    assert kp["identifiable"], kp
+    low, high = kp["interval"]
+    assert low < truth["kp"] < high and high / low > 1.01  # not a point
+    assert fit["parameters"]["friction_ratio"]["interval"][0] < 0.6 < fit["parameters"]["friction_ratio"]["interval"][1]

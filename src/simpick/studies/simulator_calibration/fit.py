@@ -347,15 +347,17 @@ OPTIMIZERS = {"scipy": _scipy_least_squares, "mujoco.sysid": _sysid_least_square
 
 
 def _normal_intervals(active: list[Axis], u: np.ndarray, J: np.ndarray, r: np.ndarray, dof: int, noise: float):
-    """Per active setting (sd, low, high) in its units: the covariance (J^T J)^-1 s^2 over the settings' units,
-    a normal 95 % interval about the optimum clipped to the bounds (the linearisation does not know them)."""
+    """Per active setting (sd, low, high) in its units: the covariance (J^T J)^-1 s^2 over u, where every setting
+    spans [0, 1] (in the settings' own units a compliance of 1e10 beside a ratio of 0.5 leaves J^T J singular to
+    machine precision, and its inverse gave a zero-width interval), a normal 95 % interval u +- 1.96 sd mapped to the
+    setting's units (over the logarithm for a log setting) and clipped to the bounds (the linearisation does not know
+    them); sd in the setting's units at the optimum (sd over u times dx/du)."""
     s2 = float(r @ r) / dof if dof > 0 else noise**2
-    Jx = J / np.array([a.dx_du(v) for a, v in zip(active, u)])
-    cov = np.linalg.pinv(Jx.T @ Jx) * s2
+    cov = np.linalg.pinv(J.T @ J) * s2
     out = []
     for j, (a, v) in enumerate(zip(active, u)):
-        x, sd = a.to_x(v), math.sqrt(max(float(cov[j, j]), 0.0))
-        out.append((sd, max(x - Z95 * sd, a.low), min(x + Z95 * sd, a.high)))
+        sd_u = math.sqrt(max(float(cov[j, j]), 0.0))
+        out.append((sd_u * a.dx_du(v), a.to_x(v - Z95 * sd_u), a.to_x(v + Z95 * sd_u)))
     source = "the residuals" if dof > 0 else f"the real robot's run-to-run spread {noise} (no degree of freedom)"
     return out, f"the Jacobian at the optimum: (J^T J)^-1 s^2, s^2 from {source}; 95 % normal, clipped to the bounds"
 
