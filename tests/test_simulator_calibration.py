@@ -1101,12 +1101,9 @@ def test_a_setting_the_tuned_profile_leaves_unset_starts_at_its_bounds_middle(tm
     assert out["fit"]["kept"].startswith("the tuned settings") and "wheel_servo_kp" not in out["settings"]
 
 
-def test_a_ratio_the_search_space_fixes_is_set_not_fitted_and_gets_no_class_fit(tmp_path, monkeypatch):
-    """Gazebo's search space fixes the ratio among its required settings (it only switches DART's turn) and fits
-    the wheels' slip2: the fit runs with the ratio fixed, the file states it with the fit, no class gets a fit of
-    its own ratio, and the Coulomb reference keeps the calibration's ratio bounds. Here the MuJoCo fit with its
-    ratio fixed at the runs' own 0.7 and its servo gain fitted."""
-    params = _mujoco_params(class_nfev=3, max_nfev=4)
+def _ratio_fixed(params: dict) -> dict:
+    """The MuJoCo fit's params with its ratio fixed at 0.7 among the required settings and its servo gain the only
+    setting fitted, as Gazebo's space fixes its ratio and fits its slip2."""
     space = params["space"]
     ratio = {"value": 0.7, "exposed_as": "the pairs' friction ratio, fixed", "source": "a test"}
     params["space"] = {
@@ -1115,6 +1112,15 @@ def test_a_ratio_the_search_space_fixes_is_set_not_fitted_and_gets_no_class_fit(
         "requires": {**space.get("requires", {}), "friction_ratio": ratio},
         "order": [],
     }
+    return params
+
+
+def test_a_ratio_the_search_space_fixes_is_set_not_fitted_and_gets_no_class_fit(tmp_path, monkeypatch):
+    """Gazebo's search space fixes the ratio among its required settings (it only switches DART's turn) and fits
+    the wheels' slip2: the fit runs with the ratio fixed, the file states it with the fit, no class gets a fit of
+    its own ratio, and the Coulomb reference keeps the calibration's ratio bounds. Here the MuJoCo fit with its
+    ratio fixed at the runs' own 0.7 and its servo gain fitted."""
+    params = _ratio_fixed(_mujoco_params(class_nfev=3, max_nfev=4))
     truth = {"friction_ratio": 0.7, "wheel_servo_kp": 400.0}
     real = _generated_gains(truth, 0.05)
 
@@ -1142,15 +1148,7 @@ def test_a_class_fits_every_setting_the_pooled_fit_fitted_and_its_file_carries_t
     the pooled values: here the servo gain alone (Gazebo's slip2 stands the same way, its ratio fixed), which only
     ice's runs set lower; ice's entry carries its fitted gain with its interval, and its file and the per-class
     table read them."""
-    params = _mujoco_params(class_nfev=4, max_nfev=4)
-    space = params["space"]
-    ratio = {"value": 0.7, "exposed_as": "the pairs' friction ratio, fixed", "source": "a test"}
-    params["space"] = {
-        **space,
-        "settings": {"wheel_servo_kp": space["settings"]["wheel_servo_kp"]},
-        "requires": {**space.get("requires", {}), "friction_ratio": ratio},
-        "order": [],
-    }
+    params = _ratio_fixed(_mujoco_params(class_nfev=4, max_nfev=4))
     truth = {"friction_ratio": 0.7, "wheel_servo_kp": 1000.0}
 
     def simulate(s: dict) -> np.ndarray:
