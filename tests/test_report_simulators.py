@@ -453,6 +453,9 @@ def test_the_per_class_fits_stand_beside_the_pooled_with_their_held_out_runs_and
                 "engine_gain": 0.7,
                 "heldout_runs": held,
                 "class_fit_error": own,
+                # flooring has enough held-out runs for an interval of its class fit's error
+                "class_fit_error_low": 0.006 if cls == "flooring" else None,
+                "class_fit_error_high": 0.02 if cls == "flooring" else None,
                 "pooled_fit_error": other,
                 "settings_file": f"results/simulators/settings/{sim}-calibrated-{cls}" if has_file else "",
             }
@@ -469,7 +472,8 @@ def test_the_per_class_fits_stand_beside_the_pooled_with_their_held_out_runs_and
     assert body.split("<tbody>")[1].count("<tr>") == 3
     assert 'href="../simulators/settings/mujoco-calibrated-flooring.xml"' in body
     assert 'href="../simulators/settings/mujoco-calibrated-sandy_loam.xml"' in body
-    assert "friction_ratio = 0.576 (friction_ratio = 0.698)" in body and "0.011" in body and "0.079" in body
+    assert "friction_ratio = 0.576 (friction_ratio = 0.698)" in body and "0.011 [0.006, 0.020]" in body
+    assert '<td class="num">0.079</td>' in body  # the pooled error without an interval has none written
     # a class without held-out runs shows no error, not a zero
     ice = re.search(r"<tr><td>Gazebo Classic</td><td>ice</td>.*?</tr>", body, re.S).group(0)
     assert '<td class="num">0</td><td class="num">–</td><td class="num">–</td>' in ice, ice
@@ -575,6 +579,11 @@ def test_per_class_the_first_page_names_the_closest_calibrated_file_that_keeps_i
     # on ice MuJoCo has no class file: its pooled file, judged by the pooled fit's error
     assert answer["ice"]["fit"] == "the pooled fit" and answer["ice"]["error"] == pytest.approx(0.065)
     assert answer["ice"]["files"][0]["name"] == "mujoco-calibrated.*"
+    assert answer["ice"]["low"] is None  # no interval columns: none given
+    # a class with enough held-out runs for an interval carries the picked fit's own interval
+    held = per_class.assign(pooled_fit_error_low=0.05, pooled_fit_error_high=0.081, class_fit_error_low=None)
+    ice = {a["terrain_class"]: a for a in class_answer(held, table)}["ice"]
+    assert (ice["error"], ice["low"], ice["high"]) == (0.065, 0.05, 0.081)
 
 
 def test_a_study_where_no_profile_ran_adds_no_empty_reason_about_calibration():

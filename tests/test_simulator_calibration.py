@@ -424,6 +424,8 @@ def test_the_fit_on_the_committed_segments_lowers_its_training_error_and_fits_ea
         if held:
             judged += 1
             assert held["runs"] >= 1 and held["class_fit_error"] >= 0 and held["pooled_fit_error"] >= 0
+            # a class's few held-out runs (fewer than statistics.min_runs) give no interval
+            assert held["runs"] < 6 and held["class_fit_error_interval"] is None
             assert set(held["cases"]["segments"]).isdisjoint(f["cases"]["segments"])
     assert judged >= 1
 
@@ -656,7 +658,14 @@ def test_a_class_whose_own_fit_differs_gets_its_own_file_and_a_row_beside_the_po
         "placed_by": "its own fit on the engine (2 trials from the Coulomb placement)",
         "engine_gain": 0.7115,
         "reached": True,
-        "heldout": {"runs": 1, "real_gain": 0.72, "class_fit_error": 0.011, "pooled_fit_error": 0.079},
+        "heldout": {
+            "runs": 7,
+            "real_gain": 0.72,
+            "class_fit_error": 0.011,
+            "class_fit_error_interval": [0.006, 0.02],
+            "pooled_fit_error": 0.079,
+            "pooled_fit_error_interval": None,
+        },
     }
     same = dict(entry, settings={"friction_ratio": 0.702}, heldout=None)  # within 0.01 of the pooled: no file
     placed = {k: v for k, v in entry.items() if k != "engine_gain"}  # placed by Coulomb alone: no file
@@ -681,6 +690,8 @@ def test_a_class_whose_own_fit_differs_gets_its_own_file_and_a_row_beside_the_po
         0.011,
         0.079,
     )
+    assert (row.class_fit_error_low, row.class_fit_error_high) == (0.006, 0.02)
+    assert math.isnan(row.pooled_fit_error_low) and math.isnan(row.pooled_fit_error_high)
     assert row.settings_file.endswith("mujoco-calibrated-flooring")
     assert table.set_index("terrain_class").loc["ice"].settings_file == ""
 
@@ -1336,3 +1347,22 @@ def test_a_log_setting_of_many_decades_beside_a_ratio_gets_an_interval_that_hold
     low, high = kp["interval"]
     assert low < truth["kp"] < high and high / low > 1.01  # not a point
     assert fit["parameters"]["friction_ratio"]["interval"][0] < 0.6 < fit["parameters"]["friction_ratio"]["interval"][1]
+
+
+def test_a_class_held_out_error_gets_its_interval_over_runs_only_from_min_runs_runs():
+    """The per-class held-out error's interval is the table's: BCa over runs (each run's units averaged first), none
+    below statistics.min_runs runs; a run with many units weighs as one run."""
+    from simpick.compare.realmetrics import mean_ci
+    from simpick.studies.simulator_calibration.fit import Units
+
+    runs = [f"ice/{i:02d}" for i in range(7)] + ["ice/00"] * 3
+    real = np.full(len(runs), 0.6)
+    errors = np.array([0.01, 0.03, 0.02, 0.05, 0.04, 0.02, 0.03, 0.01, 0.01, 0.01])
+    units = Units(runs, real, [f"u{i}" for i in range(len(runs))], lambda s: None, {})
+    sims = real + errors
+    low, high = units.error_interval(sims, 6, 0.95, 0)
+    mean, want_low, want_high, n = mean_ci(np.abs(sims - real), np.asarray(runs, object), 6, 0.95, 0)
+    assert n == 7 and units.error(sims) == pytest.approx(mean) and (low, high) == pytest.approx((want_low, want_high))
+    assert low < mean < high
+    assert all(math.isnan(x) for x in units.error_interval(sims, 8, 0.95, 0))  # 7 runs < 8
+    assert all(math.isnan(x) for x in units.error_interval(np.full(len(runs), np.nan), 6, 0.95, 0))

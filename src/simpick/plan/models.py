@@ -373,6 +373,8 @@ class ModelPlanning:
             "engine_settings": self.profile_settings[tuned],
             "physics": {"timestep": study.physics.timestep},
             "robot": self._robot(),
+            "statistics": study.statistics.model_dump(mode="json"),
+            "seed": int(study.seed),
             "searchable": model_name(simulator, "calibrated") in self.calibrated,
             "why_not": self.calibrated_why_not.get(simulator),
             "space": space.model_dump(mode="json") if space is not None else {"searchable": False, "why_not": "-"},

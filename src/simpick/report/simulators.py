@@ -36,6 +36,13 @@ def _f(x, digits: int = 3) -> str:
     return "–" if not math.isfinite(x) else f"{x:.{digits}f}"
 
 
+def _with_interval(row: dict, column: str) -> str:
+    """A per-class held-out error with its 95 % interval where the class had enough held-out runs for one."""
+    low, high = _f(row.get(f"{column}_low")), _f(row.get(f"{column}_high"))
+    interval = f" [{low}, {high}]" if "–" not in (low, high) else ""
+    return f"{_f(row.get(column))}{interval}"
+
+
 DEMANDING = ("closeness", "mechanics")  # the questions answered with their most demanding answer
 
 
@@ -172,8 +179,8 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
                     "train_tuned": _f(r.get("tuned_train_error")),
                     "train_pooled": _f(r.get("pooled_train_error")),
                     "train_class": _f(r.get("class_train_error")),
-                    "class_error": _f(r.get("class_fit_error")) if held else "–",
-                    "pooled_error": _f(r.get("pooled_fit_error")) if held else "–",
+                    "class_error": _with_interval(r, "class_fit_error") if held else "–",
+                    "pooled_error": _with_interval(r, "pooled_fit_error") if held else "–",
                     "settings": [f"../simulators/settings/{name}" for name in files],
                     "model": _model_link(r.get("model_file")),
                     "model_note": _model_note(r.get("model_note")),

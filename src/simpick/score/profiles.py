@@ -256,26 +256,15 @@ def class_answer(
             own = _text(r.get("settings_file"))
             spread = _num(r.get("class_spread"))
             # the pooled file always, and the class's own where it has one: each judged on the class's runs
-            for stem, error, model, fit in (
-                (
-                    f"{sim}-calibrated",
-                    _num(r.get("pooled_fit_error")),
-                    models.get(sim, ""),
-                    "the pooled fit",
-                ),
+            for stem, column, model, fit in (
+                (f"{sim}-calibrated", "pooled_fit_error", models.get(sim, ""), "the pooled fit"),
                 *(
-                    [
-                        (
-                            Path(own).name,
-                            _num(r.get("class_fit_error")),
-                            _text(r.get("model_file")),
-                            "its class's own fit",
-                        )
-                    ]
+                    [(Path(own).name, "class_fit_error", _text(r.get("model_file")), "its class's own fit")]
                     if own
                     else []
                 ),
             ):
+                error = _num(r.get(column))
                 if error is None:
                     continue
                 files = (
@@ -290,6 +279,9 @@ def class_answer(
                         "label": labels.get(sim, sim),
                         "fit": fit,
                         "error": error,
+                        # its 95 % interval where the class has statistics.min_runs held-out runs, else None
+                        "low": _num(r.get(f"{column}_low")),
+                        "high": _num(r.get(f"{column}_high")),
                         "runs": int(_num(r.get("heldout_runs")) or 0),
                         "spread": spread,
                         "spread_runs": int(_num(r.get("spread_runs")) or 0),

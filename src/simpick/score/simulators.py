@@ -493,7 +493,11 @@ def per_class_table(
                     "heldout_runs": held.get("runs", 0),
                     "heldout_real_gain": held.get("real_gain"),
                     "class_fit_error": held.get("class_fit_error"),
+                    "class_fit_error_low": _end(held.get("class_fit_error_interval"), 0),
+                    "class_fit_error_high": _end(held.get("class_fit_error_interval"), 1),
                     "pooled_fit_error": held.get("pooled_fit_error"),
+                    "pooled_fit_error_low": _end(held.get("pooled_fit_error_interval"), 0),
+                    "pooled_fit_error_high": _end(held.get("pooled_fit_error_interval"), 1),
                     "settings_file": f"results/simulators/settings/{model_name(simulator, 'calibrated')}-{cls}"
                     if cls in files
                     else "",
@@ -502,6 +506,11 @@ def per_class_table(
                 }
             )
     return pd.DataFrame(rows, columns=PER_CLASS_COLUMNS)
+
+
+def _end(interval, i: int) -> float:
+    """One end of a fit's interval (NaN where the class had too few held-out runs for one)."""
+    return float(interval[i]) if interval and interval[i] is not None else math.nan
 
 
 def _class_model(model: str, cls: str) -> str:
@@ -530,7 +539,11 @@ PER_CLASS_COLUMNS = [
     "heldout_runs",
     "heldout_real_gain",
     "class_fit_error",
+    "class_fit_error_low",
+    "class_fit_error_high",
     "pooled_fit_error",
+    "pooled_fit_error_low",
+    "pooled_fit_error_high",
     "settings_file",
     "model_file",
     "model_note",

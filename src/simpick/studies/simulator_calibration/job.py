@@ -11,6 +11,7 @@ import numpy as np
 import pandas as pd
 import yaml
 
+from simpick.compare.realmetrics import statistics_settings
 from simpick.engines.base import FRICTION_RATIO
 from simpick.score.split import read_split
 from simpick.studies.simulator_calibration.fit import (
@@ -346,6 +347,9 @@ def _class_fits(
                 hunits = _units(p, inputs, robot, hruns, [str(cls)], held)
                 pooled_held = np.asarray(hunits.simulate(kept), float)
                 own_held = np.asarray(hunits.simulate(own), float) if better else pooled_held
+                min_runs, level = statistics_settings(p.statistics)
+                own_ci = hunits.error_interval(own_held, min_runs, level, p.seed)
+                pooled_ci = hunits.error_interval(pooled_held, min_runs, level, p.seed)
                 entry["heldout"] = {
                     "runs": len(hgains),
                     "real_gain": _r(float(hgains.gain.mean())),
@@ -353,7 +357,12 @@ def _class_fits(
                     "class_fit_gain": _r(float(np.nanmean(own_held))),
                     "pooled_fit_gain": _r(float(np.nanmean(pooled_held))),
                     "class_fit_error": _r(hunits.error(own_held)),
+                    # 95 % BCa over the class's held-out runs; null below statistics.min_runs runs
+                    "class_fit_error_interval": [_r(own_ci[0]), _r(own_ci[1])] if math.isfinite(own_ci[0]) else None,
                     "pooled_fit_error": _r(hunits.error(pooled_held)),
+                    "pooled_fit_error_interval": (
+                        [_r(pooled_ci[0]), _r(pooled_ci[1])] if math.isfinite(pooled_ci[0]) else None
+                    ),
                 }
         out[str(cls)] = entry
     return out

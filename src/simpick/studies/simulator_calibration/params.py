@@ -83,6 +83,12 @@ class CalibrateParams(JobParams):
         "config verdict.margins.gain_error), the residuals' standard deviation of the intervals where the runs "
         "leave no degree of freedom (as many settings as runs)",
     )
+    statistics: dict[str, Any] = Field(
+        default_factory=dict,
+        description="the study's statistics settings (min_runs, level): a class's held-out errors get their BCa "
+        "interval over its held-out runs as the table's held-out column does, none below min_runs runs",
+    )
+    seed: int = Field(0, description="the study's seed: the bootstrap's resampling")
     drive_commands: Annotated[int, Field(ge=1, le=12)] = Field(
         6,
         description="kind drive: how many training steps the fit replays, each from its warm-up against its own "
