@@ -65,7 +65,15 @@ PROFILES = {
     "isaac_sim": {
         "shipped": (0.420, 0.40, 0.44, 0, "", "yes", ""),
         "tuned": (0.390, 0.37, 0.41, 0, "", "yes", ""),
-        "calibrated": (0.390, 0.37, 0.41, 0, "", "no: PhysX materials are isotropic", "passes 20/20"),
+        "calibrated": (
+            0.390,
+            0.37,
+            0.41,
+            0,
+            "",
+            "no: PhysX materials are isotropic (NVIDIA-Omniverse/PhysX physx/include/PxMaterial.h:120)",
+            "passes 20/20",
+        ),
     },
 }
 
@@ -202,7 +210,9 @@ def test_the_first_page_names_the_simulator_its_profile_and_its_settings_file(re
     sentences = html.unescape(re.search(r'id="simulators-sentences">(.*?)</ul>', text, re.S).group(1))
     assert "as shipped, MuJoCo (0.250, 5.6x the spread)" in sentences
     assert "as tuned, Webots (0.196" in sentences
+    # the reason's first clause: its source is the simulators' section's, not the first page's
     assert "Isaac Sim cannot move its turning within its own settings (PhysX materials are isotropic)" in sentences
+    assert "PxMaterial.h" not in sentences and "(the sources: the simulators' section)" in sentences
     assert (
         "Webots, calibrated (friction_ratio 0.20) comes closer (0.012), but its own mechanics: passes 17/20"
         in sentences

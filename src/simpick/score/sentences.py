@@ -7,6 +7,8 @@ writes them.
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pandas as pd
 from pydantic import Field
@@ -368,6 +370,11 @@ def _against_spread(p: dict, spread: float | None) -> str:
     return f"{text}, {p['spread_ratio']:.1f} times the robot's own spread of {_e(spread)}"
 
 
+def _reason(text: str) -> str:
+    """A reason's first clause, for the first page: what it says before its source (a parenthesis or a colon)."""
+    return re.split(r" \(|: |; ", text, maxsplit=1)[0].strip().rstrip(".,")
+
+
 def simulator_sentences(answer: dict, robot: str, noun: str = RUNS) -> list[dict]:
     """The first page's sentences on the simulators (simpick.score.profiles.simulator_answer
     of the simulators' table): the closest profile and its settings, the closest per variant, where a simulator
@@ -422,11 +429,11 @@ def simulator_sentences(answer: dict, robot: str, noun: str = RUNS) -> list[dict
                 "need": "not_settable",
                 "title": "Where the settings cannot move the turning",
                 "text": "; ".join(
-                    f"{s['label']} cannot move its turning within its own settings ({p['not_settable']}): the best "
-                    f"it reaches is {_e(s['best']['error'])} ({s['best']['variant']})"
+                    f"{s['label']} cannot move its turning within its own settings ({_reason(p['not_settable'])}): "
+                    f"the best it reaches is {_e(s['best']['error'])} ({s['best']['variant']})"
                     for s, p in fixed
                 )
-                + ".",
+                + " (the sources: the simulators' section).",
                 "files": [],
                 "rests_on": ["simulators/table.csv: turning_settable"],
             }
