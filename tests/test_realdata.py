@@ -113,7 +113,7 @@ def test_own_csv_log_is_imported_replayed_and_compared_by_the_workflow(tmp_path)
     from simpick.real.logs import borealtc, read_canonical
 
     real = borealtc.read_run(BOREALTC / "FLOORING" / "imu_01.csv", BOREALTC / "FLOORING" / "pro_01.csv", "FLOORING")
-    imu = real.imu[real.imu.time < 12.0]
+    imu = real.imu[real.imu.time < 20.0]  # flooring/01 turns steadily from 12 s
     body = real.body_commands()
     held = np.clip(np.searchsorted(body.time, imu.time, side="right") - 1, 0, len(body) - 1)
     own = pd.DataFrame(
@@ -161,10 +161,24 @@ def test_own_csv_log_is_imported_replayed_and_compared_by_the_workflow(tmp_path)
     )
     assert run.returncode == 0, run.stderr[-3000:]
     # the own logs' steady turning windows (what a calibration on them fits), from its (v, w) commands
-    from simpick.real.turning import WINDOW_COLUMNS
+    from simpick.real.logs.canonical import RealLog
+    from simpick.real.turning import WINDOW_COLUMNS, turning_windows
 
     windows = pd.read_csv(tmp_path / "results/real/own/turning/windows.csv", dtype={"run": str})
-    assert list(windows.columns) == WINDOW_COLUMNS and set(windows.run) <= {"mine"}  # its 12 s: none steady
+    assert list(windows.columns) == WINDOW_COLUMNS and set(windows.run) == {"mine"}
+    # the body commands, held at the IMU's samples, give the windows of the recorded wheel commands over the same
+    # 20 s (BorealTC's own log): as many, where they are, with the same gain
+    rules = config["real_data"]["segment_rules"]  # the study's window rules (rule real_turning's)
+    twin = turning_windows(
+        RealLog(imu=imu, commands=real.commands[real.commands.time < 20.0]),
+        config["robot"]["track"],
+        settle=0.5,
+        tolerance=rules["tolerance"],
+        min_turn=rules["min_turn"],
+    )
+    assert len(windows) >= 3 and len(windows) == len(twin), (windows, twin)
+    assert np.allclose(windows.t_start, twin.t_start, atol=0.1) and windows.t_start.min() >= 12.0
+    assert np.allclose(windows.yaw_rate_gain, twin.yaw_rate_gain, atol=0.025)  # commands held at the IMU's rate
     log = read_canonical(tmp_path / "results/real/own/logs/flooring/mine.parquet")
     assert np.allclose(log.imu.wz.to_numpy(), imu.wz.to_numpy(), atol=1e-9)  # deg/s came back as rad/s
     per_test = pd.read_csv(tmp_path / "results/metrics/own/per_test.csv")
