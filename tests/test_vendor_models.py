@@ -87,6 +87,33 @@ def urdf_wheels(path: Path) -> set[str]:
     return {j.get("name") for j in etree.parse(str(path)).getroot().findall("joint") if j.get("type") == "continuous"}
 
 
+class Findings(list):
+    """What a script gets wrong, one line each naming the field, what the script holds and what it should."""
+
+    def expect(self, what: str, got, want) -> None:
+        if got != pytest.approx(want):
+            self.append(f"{what}: {got} != {want}")
+
+    def unknown(self, used, table, kind: str) -> None:
+        """Each used name that the writer's quoted table of the simulator's own names lacks."""
+        self.extend(f"{n} is not a quoted {kind} name" for n in sorted(used, key=str) if n not in table)
+
+
+def writer(plan, study: dict, simulator: str):
+    """The simulator's model writer as rule simulator_models calls it, on the study's robot: settings -> script."""
+    params = plan.simulator_models_params()
+    robot = RobotParams.model_validate(params["robot"])
+    urdf = str(ROOT / plan.config["robot"]["urdf"])
+
+    def write(settings: dict) -> str:
+        files = WRITERS[simulator].write(
+            urdf, settings, study["ground_mu"], [], robot=robot, timestep=study["timestep"]
+        )
+        return files["py"]
+
+    return write
+
+
 def check_claims(data: dict, claims) -> None:
     stated = {c["case"]: (c["v"], c["w"], c["duration"], c["gain"]) for c in data["CLAIMS"]}
     assert stated and stated == {c.case: (c.v, c.w, DURATION, c.gain) for c in claims}
@@ -98,15 +125,10 @@ def check_claims(data: dict, claims) -> None:
 def check_isaac_lab(data: dict, q: dict, study: dict) -> list[str]:
     """What in the Isaac Lab script differs from Isaac Lab's names (the writer's quoted table), the catalog's
     quoted values ``q`` and the study."""
-    bad = []
+    bad = Findings()
     for variable, cls in isaac_lab.VARIABLES.items():
-        names = isaac_lab.FIELDS[cls][1]
-        bad += [f"{variable}: {k} is no field of {cls}" for k in data[variable] if k not in names]
-
-    def expect(what, got, want):
-        if got != pytest.approx(want):
-            bad.append(f"{what}: {got} != {want}")
-
+        bad.unknown(data[variable], isaac_lab.FIELDS[cls][1], f"{cls} field ({variable})")
+    expect = bad.expect
     expect("solver_type", data["PHYSX"]["solver_type"], {"pgs": 0, "tgs": 1}[q["solver"]])
     expect("bounce_threshold_velocity", data["PHYSX"]["bounce_threshold_velocity"], q["bounce_threshold"])
     root = data["ARTICULATION_ROOT"]
@@ -148,14 +170,8 @@ def test_the_isaac_lab_script_holds_isaac_lab_s_names_and_the_profile_s_values(m
 
 
 def test_a_changed_profile_setting_or_a_wrong_value_changes_or_fails_the_isaac_lab_script(plan, study):
-    params = plan.simulator_models_params()
-    settings = dict(params["profiles"]["isaac_sim-tuned"]["settings"])
-    robot = RobotParams.model_validate(params["robot"])
-    urdf = str(ROOT / plan.config["robot"]["urdf"])
-
-    def write(s: dict) -> str:
-        files = WRITERS["isaac_sim"].write(urdf, s, study["ground_mu"], [], robot=robot, timestep=study["timestep"])
-        return files["py"]
+    settings = dict(plan.simulator_models_params()["profiles"]["isaac_sim-tuned"]["settings"])
+    write = writer(plan, study, "isaac_sim")
 
     text = write(settings)
     q = quoted("isaac_sim", "tuned")
@@ -208,12 +224,9 @@ def coppeliasim_names(text: str, data: dict) -> set[str]:
 def check_coppeliasim(text: str, q: dict, study: dict) -> list[str]:
     data = assigned(text)
     used = coppeliasim_names(text, data)
-    bad = [f"{n} is not a quoted CoppeliaSim name" for n in used if n not in coppeliasim.NAMES]
-
-    def expect(what, got, want):
-        if got != pytest.approx(want):
-            bad.append(f"{what}: {got} != {want}")
-
+    bad = Findings()
+    bad.unknown(used, coppeliasim.NAMES, "CoppeliaSim")
+    expect = bad.expect
     expect(
         "iterations",
         data["ENGINE_INT32_PARAMS"]["sim.bullet_global_constraintsolvingiterations"],
@@ -252,14 +265,8 @@ def test_the_coppeliasim_script_holds_coppeliasim_s_names_and_the_profile_s_valu
 
 
 def test_a_changed_profile_setting_changes_the_coppeliasim_script_and_an_unexposed_one_is_refused(plan, study):
-    params = plan.simulator_models_params()
-    settings = dict(params["profiles"]["coppeliasim-tuned"]["settings"])
-    robot = RobotParams.model_validate(params["robot"])
-    urdf = str(ROOT / plan.config["robot"]["urdf"])
-
-    def write(s: dict) -> str:
-        files = WRITERS["coppeliasim"].write(urdf, s, study["ground_mu"], [], robot=robot, timestep=study["timestep"])
-        return files["py"]
+    settings = dict(plan.simulator_models_params()["profiles"]["coppeliasim-tuned"]["settings"])
+    write = writer(plan, study, "coppeliasim")
 
     q = quoted("coppeliasim", "tuned")
     assert check_coppeliasim(write(settings), q, study) == []
@@ -334,12 +341,9 @@ def check_morse(text: str, q: dict, study: dict, parts: dict) -> list[str]:
     """What in the MORSE builder script differs from MORSE's and Blender's names (the writer's quoted table), the
     catalog's quoted values ``q``, the study and the robot's description (``parts``)."""
     data = assigned(text)
-    bad = [f"{n} is not a quoted MORSE or Blender name" for n in morse_names(text, data) if n not in morse.NAMES]
-
-    def expect(what, got, want):
-        if got != pytest.approx(want):
-            bad.append(f"{what}: {got} != {want}")
-
+    bad = Findings()
+    bad.unknown(morse_names(text, data), morse.NAMES, "MORSE or Blender")
+    expect = bad.expect
     expect("FPS (1 / time_step)", data["FPS"], round(1.0 / q["time_step"]))
     expect("PHYSICS_STEP_SUB", data["PHYSICS_STEP_SUB"], q["sub_steps"])
     ground = data["GROUND"]["friction"]
@@ -406,15 +410,8 @@ def test_the_morse_script_holds_morse_s_and_blender_s_names_and_the_profile_s_va
 
 
 def test_a_changed_profile_setting_changes_the_morse_script_and_an_unexposed_one_is_refused(plan, study, husky):
-    params = plan.simulator_models_params()
-    settings = dict(params["profiles"]["morse-tuned"]["settings"])
-    robot = RobotParams.model_validate(params["robot"])
-    urdf = str(ROOT / plan.config["robot"]["urdf"])
-
-    def write(s: dict) -> str:
-        files = WRITERS["morse"].write(urdf, s, study["ground_mu"], [], robot=robot, timestep=study["timestep"])
-        assert set(files) == {"py"}
-        return files["py"]
+    settings = dict(plan.simulator_models_params()["profiles"]["morse-tuned"]["settings"])
+    write = writer(plan, study, "morse")
 
     q = quoted("morse", "tuned")
     assert check_morse(write(settings), q, study, husky) == []
