@@ -187,7 +187,7 @@ def test_a_suspended_robot_s_model_turns_as_the_adapter_turns_it(tmp_path):
     a coupler constraint, their Coulomb friction as the still actuators (PD towards speed 0, effort limit the
     friction). Loaded by Drake alone it spins at the gain simpick's validation measures on the adapter (measured:
     0.5768 for 1 s at both)."""
-    from simpick.engines.simulator_models import write_drake_model
+    from simpick.engines.simulator_models import ModelRequest, write_drake_model
     from simpick.inputs.robot.settings import RobotParams
     from simpick.studies.validation.cases import Setup, run_case
     from simpick.studies.validation.settings import ValidationCase
@@ -197,7 +197,8 @@ def test_a_suspended_robot_s_model_turns_as_the_adapter_turns_it(tmp_path):
     urdf = str(ROOT / "resources/robot/warthog.urdf")
     robot = RobotParams.model_validate({"track": 1.1, "max_wheel_torque": 500.0})
     settings = plan.profile_settings["drake-tuned"]
-    for tail, text in write_drake_model(urdf, settings, 0.8, ["a test"], robot=robot, timestep=0.001).items():
+    request = ModelRequest(urdf, settings, 0.8, ["a test"], robot=robot, timestep=0.001)
+    for tail, text in write_drake_model(request).items():
         (tmp_path / f"drake.{tail}").write_text(text)
     _, plant, _, _, data = load(tmp_path, "drake")
     assert data["drive"]["still"] == ["left_diff_unit_jnt_friction", "right_diff_unit_jnt_friction"]

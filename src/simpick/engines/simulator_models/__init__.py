@@ -11,18 +11,19 @@ world; Webots: :mod:`.webots`, a .wbt world; Newton: :mod:`.newton_script` and G
 Python script that builds the robot with the simulator's own API, beside the URDF it loads; Isaac Sim:
 :mod:`.isaac_lab`, a script of Isaac Lab's configuration classes, CoppeliaSim: :mod:`.coppeliasim`, a ZeroMQ
 remote-API script, and MORSE: :mod:`.morse`, a ``morse.builder`` script that builds the robot from its parts, none
-of the three opened here); :data:`WRITERS` names
-them by simulator (Gazebo Classic and Webots share the ODE adapter, each with a format of its own), and rule
-simulator_models writes one model per profile of those simulators (:mod:`simpick.studies.simulator_models`), where
-the profile's engine is configured."""
+of the three opened here); each writer takes one :class:`ModelRequest` (what a model is written from), and
+:data:`WRITERS` names them by simulator (Gazebo Classic and Webots share the ODE adapter, each with a format of its
+own), and rule simulator_models writes one model per profile of those simulators
+(:mod:`simpick.studies.simulator_models`), where the profile's engine is configured."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
 from typing import NamedTuple
 
 from simpick.engines import gzphysics_engine
-from simpick.engines.simulator_models.common import TurningClaim
+from simpick.engines.simulator_models.common import ModelRequest, TurningClaim
 from simpick.engines.simulator_models.coppeliasim import write_coppeliasim_model
 from simpick.engines.simulator_models.drake import write_drake_model
 from simpick.engines.simulator_models.gazebo import write_gazebo_model
@@ -33,26 +34,7 @@ from simpick.engines.simulator_models.morse import write_morse_model, writes_mor
 from simpick.engines.simulator_models.mujoco import write_mujoco_model
 from simpick.engines.simulator_models.newton_script import write_newton_model
 from simpick.engines.simulator_models.webots import write_webots_model
-
-
-def _mujoco_files(*args, stem: str, **kwargs) -> dict[str, str]:
-    """MuJoCo's model is one file."""
-    return {"xml": write_mujoco_model(*args, **kwargs)}
-
-
-def _gazebo_files(*args, stem: str, **kwargs) -> dict[str, str]:
-    """Gazebo's model is one SDF world."""
-    return {"sdf": write_gazebo_model(*args, **kwargs)}
-
-
-def _gazebo_classic_files(*args, stem: str, **kwargs) -> dict[str, str]:
-    """Gazebo Classic's model is one SDF 1.7 world."""
-    return {"world": write_gazebo_classic_model(*args, **kwargs)}
-
-
-def _webots_files(*args, stem: str, **kwargs) -> dict[str, str]:
-    """Webots' model is one world file."""
-    return {"wbt": write_webots_model(*args, **kwargs)}
+from simpick.inputs.robot.settings import RobotParams
 
 
 def _always(robot) -> bool:
@@ -96,27 +78,56 @@ def _plain_wheels(robot) -> bool:
 
 
 class ModelWriter(NamedTuple):
-    """How a simulator's model is written: ``suffix``, that of the file that opens it; ``write``, its writer,
-    returning {suffix: text}, one file per suffix, each named <stem>.<suffix> (``stem``: the profile's name, by which
-    a model's files name each other); ``opened_here``, whether the tests open it with the simulator's own loader
-    (False: no loader of the simulator installs here, so its fields are checked against the catalog's quoted values
-    instead, and the report says so beside its link); ``writes``, whether it can write the study's robot (a
-    :class:`~simpick.inputs.robot.RobotSpec`)."""
+    """How a simulator's model is written: ``suffix``, that of the file that opens it; ``writer``, the simulator's
+    writer, which takes a :class:`ModelRequest` and returns its model's one file's text (that file's suffix:
+    ``suffix``) or {suffix: text}, a model of several files (:meth:`write` calls it); ``opened_here``, whether the
+    tests open it with the simulator's own loader (False: no loader of the simulator installs here, so its fields
+    are checked against the catalog's quoted values instead, and the report says so beside its link); ``writes``,
+    whether it can write the study's robot (a :class:`~simpick.inputs.robot.RobotSpec`)."""
 
     suffix: str
-    write: Callable[..., dict[str, str]]
+    writer: Callable[[ModelRequest], str | dict[str, str]]
     opened_here: bool
     writes: Callable[..., bool] = _always
+
+    def write(
+        self,
+        robot_urdf: str | Path,
+        settings: Mapping,
+        ground_mu: float,
+        header_lines: Sequence[str],
+        *,
+        robot: RobotParams,
+        timestep: float,
+        claims: Sequence[TurningClaim] = (),
+        name: str = "",
+        stem: str = "",
+    ) -> dict[str, str]:
+        """The model of the :class:`ModelRequest` of these fields as {suffix: text}, one file per suffix, each named
+        <stem>.<suffix> (``stem``: the profile's name, by which a model's files name each other)."""
+        request = ModelRequest(
+            robot_urdf,
+            settings,
+            ground_mu,
+            header_lines,
+            robot=robot,
+            timestep=timestep,
+            claims=claims,
+            name=name,
+            stem=stem,
+        )
+        files = self.writer(request)
+        return {self.suffix: files} if isinstance(files, str) else files
 
 
 # simulator -> its model's writer: each profile of a simulator here gets a model of its own, keyed by simulator
 # because two simulators share an engine (Gazebo Classic's and Webots' profiles both run on the ODE adapter)
 WRITERS = {
-    "mujoco": ModelWriter("xml", _mujoco_files, opened_here=True),
-    "gazebo": ModelWriter("sdf", _gazebo_files, opened_here=True, writes=_diff_drive),
+    "mujoco": ModelWriter("xml", write_mujoco_model, opened_here=True),
+    "gazebo": ModelWriter("sdf", write_gazebo_model, opened_here=True, writes=_diff_drive),
     "drake": ModelWriter("urdf", write_drake_model, opened_here=True),
-    "gazebo_classic": ModelWriter("world", _gazebo_classic_files, opened_here=False, writes=_gazebo_classic),
-    "webots": ModelWriter("wbt", _webots_files, opened_here=False, writes=_plain_wheels),
+    "gazebo_classic": ModelWriter("world", write_gazebo_classic_model, opened_here=False, writes=_gazebo_classic),
+    "webots": ModelWriter("wbt", write_webots_model, opened_here=False, writes=_plain_wheels),
     "isaac_lab_newton": ModelWriter("py", write_newton_model, opened_here=True, writes=_unsuspended),
     "genesis": ModelWriter("py", write_genesis_model, opened_here=True, writes=_unsuspended),
     "isaac_sim": ModelWriter("py", write_isaac_lab_model, opened_here=False, writes=_unsuspended),
@@ -133,6 +144,7 @@ def not_opened_note(label: str) -> str:
 
 __all__ = [
     "WRITERS",
+    "ModelRequest",
     "ModelWriter",
     "TurningClaim",
     "not_opened_note",

@@ -1,11 +1,14 @@
-"""What every model writer shares: the claims a model states and the world it is written from."""
+"""What every model writer shares: the request it writes from, the claims a model states and the world it is
+written from."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 from simpick.engines.base import Scenario
+from simpick.inputs.robot.settings import RobotParams
 
 
 @dataclass(frozen=True)
@@ -19,6 +22,36 @@ class TurningClaim:
     w: float
     duration: float
     gain: float
+
+
+@dataclass(frozen=True)
+class ModelRequest:
+    """What a model writer writes from (every writer of :mod:`simpick.engines.simulator_models` takes one):
+
+    ``robot_urdf``: the robot's description, read with ``robot``'s settings (the robot the model holds);
+    ``settings``: the profile's adapter settings in full (MuJoCo's, Gazebo's, Drake's, Newton's or Genesis'
+    adapter's; the ODE adapter's for Gazebo Classic and Webots, the PhysX adapter's for Isaac Lab, the PyBullet
+    adapter's for CoppeliaSim and MORSE); ``ground_mu``: the friction of the ground the robot stands on (a plane,
+    Drake's half space, a ground object); ``header_lines``: what the file is and where its values come from, heading
+    it before the lines the writer knows (what drives it, its ground, its claims); ``robot``: the study's robot
+    settings (the URDF's reading, the command track, the wheels' torque bound); ``timestep``: the study's step
+    (Drake's plant steps at the adapter's own, a whole multiple of it); ``claims``: the yaw-rate gains the model
+    claims; ``name``: the model's name, as each format holds one: MuJoCo's <mujoco model> ("": the robot's), the
+    Gazebo world's name ("": the adapter's) and Gazebo Classic's ("": ``simpick``), each with its characters outside
+    [A-Za-z0-9_] made ``_`` (gz-sim puts it in topic names), the Webots world's title and info ("": the robot's), a
+    line of Drake's headers ("": none), the first line of a script's docstring ("": the robot's); ``stem``: the
+    shared name of a model of several files, each <stem>.<suffix>, by which they name each other ("": the writer's
+    simulator's name; a one-file model names no other file and ignores it)."""
+
+    robot_urdf: str | Path
+    settings: Mapping
+    ground_mu: float
+    header_lines: Sequence[str]
+    robot: RobotParams
+    timestep: float
+    claims: Sequence[TurningClaim] = ()
+    name: str = ""
+    stem: str = ""
 
 
 def flat_scenario(robot, settings: Mapping, ground_mu: float, timestep: float, max_wheel_torque: float) -> Scenario:

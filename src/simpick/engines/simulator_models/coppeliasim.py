@@ -22,12 +22,11 @@ gears have no counterpart here.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from pathlib import Path
+from collections.abc import Mapping
 
 from simpick.engines.pybullet_engine import PyBulletSettings
 from simpick.engines.simulator_files.common import _num
-from simpick.engines.simulator_models.common import TurningClaim
+from simpick.engines.simulator_models.common import ModelRequest
 from simpick.engines.simulator_models.python_script import (
     assign,
     claim_lines,
@@ -190,40 +189,30 @@ def coppeliasim_values(settings: Mapping, ground_mu: float, robot: RobotParams, 
     }
 
 
-def write_coppeliasim_model(
-    robot_urdf: str | Path,
-    settings: Mapping,
-    ground_mu: float,
-    header_lines: list[str],
-    *,
-    robot: RobotParams,
-    timestep: float,
-    claims: Sequence[TurningClaim] = (),
-    name: str = "",
-    stem: str = "coppeliasim",
-) -> dict[str, str]:
+def write_coppeliasim_model(request: ModelRequest) -> dict[str, str]:
     """{suffix: text}: ``py``, the remote-API script, and ``urdf``, the robot's description it imports
-    (``<stem>.urdf``): the robot described by ``robot_urdf`` on a ground of friction ``ground_mu`` with the PyBullet
-    adapter's ``settings`` of a CoppeliaSim profile, claiming ``claims``."""
-    spec = robot.spec(robot_urdf)
+    (``<stem>.urdf``, the request's stem, "": ``coppeliasim``): the ``request``'s robot on a ground of its ground
+    friction with the PyBullet adapter's settings of a CoppeliaSim profile, claiming its claims."""
+    stem = request.stem or "coppeliasim"
+    spec = request.robot.spec(request.robot_urdf)
     if spec.suspension or spec.couplings:
         raise ValueError(f"the CoppeliaSim model of {spec.name} is not written: its passive suspension is not")
-    values = coppeliasim_values(settings, ground_mu, robot, timestep)
+    values = coppeliasim_values(request.settings, request.ground_mu, request.robot, request.timestep)
     comments = {
         "PHYSICS_STEP": "s: the physics step, and the simulation step (one pass a step)",
         "URDF_OPTIONS": "simURDF.import's options: none (the robot centred above the ground, resting on it)",
     }
     data = [
-        claims_block(claims),
+        claims_block(request.claims),
         assign("URDF", f"{stem}.urdf", "the robot's description, beside this file (the one simpick's adapter loads)"),
         assign("BASE_LINK", spec.base_link),
-        wheels_block(spec, robot.track),
+        wheels_block(spec, request.robot.track),
         *(assign(k, v, comments.get(k, "")) for k, v in values.items()),
     ]
     step = values["PHYSICS_STEP"]
     iterations = values["ENGINE_INT32_PARAMS"]["sim.bullet_global_constraintsolvingiterations"]
     header = [
-        *header_lines,
+        *request.header_lines,
         "NOT OPENED IN COPPELIASIM HERE: no CoppeliaSim installs on simpick's machine; the names the script uses are "
         "checked against CoppeliaSim's sources as quoted in simpick.engines.simulator_models.coppeliasim.NAMES and "
         "its values against the profile (tests/test_vendor_models.py)",
@@ -231,16 +220,17 @@ def write_coppeliasim_model(
         f"python {stem}.py (every claim), or --v V --w W [--duration S]; it imports {stem}.urdf from its own folder "
         "into the open scene (one scene per run: start from an empty one) and prints, per run, the yaw-rate gain",
         f"sets: Bullet (2.78), {iterations} constraint-solving iterations, physics and simulation step "
-        f"{_num(step)} s; a static respondable cuboid ground, Bullet friction {_num(ground_mu)}; every robot shape "
-        f"friction {_num(ROBOT_FRICTION)} (Bullet multiplies them: each wheel contact {_num(ground_mu)}); the wheels "
-        f"in velocity control, max torque {_num(robot.max_wheel_torque)} N m; Bullet 2.78's own contact ERP (0.2), "
-        "which CoppeliaSim does not expose",
-        *claim_lines(claims),
+        f"{_num(step)} s; a static respondable cuboid ground, Bullet friction {_num(request.ground_mu)}; every "
+        f"robot shape friction {_num(ROBOT_FRICTION)} (Bullet multiplies them: each wheel contact "
+        f"{_num(request.ground_mu)}); the wheels in velocity control, max torque "
+        f"{_num(request.robot.max_wheel_torque)} N m; Bullet 2.78's own contact ERP (0.2), which CoppeliaSim does not "
+        "expose",
+        *claim_lines(request.claims),
         "the gains claimed are simpick's PyBullet multibody's at this step and iterations, not CoppeliaSim's rigid "
         "bodies' (resources/simulators/simulators.yaml, coppeliasim, differs)",
     ]
     doc = (
-        f"{name or spec.name}: CoppeliaSim (Bullet) on flat ground, built over the ZeroMQ remote API.\n\n"
+        f"{request.name or spec.name}: CoppeliaSim (Bullet) on flat ground, built over the ZeroMQ remote API.\n\n"
         f"python {stem}.py runs every claim (CLAIMS) and prints the gain measured beside the one claimed;\n"
         f"python {stem}.py --v 0.5 --w 0.5 --duration 6 runs one command.\n"
     )

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 from collections.abc import Mapping, Sequence
-from pathlib import Path
 
 from simpick.engines.base import GRAVITY, engine_step_multiple
 from simpick.engines.drake_engine import (
@@ -35,7 +34,7 @@ from simpick.engines.drake_engine import (
     _terrain_friction,
 )
 from simpick.engines.simulator_files.common import _num, xml_comment
-from simpick.engines.simulator_models.common import TurningClaim
+from simpick.engines.simulator_models.common import ModelRequest, TurningClaim
 from simpick.engines.suspension import coupled_urdf
 from simpick.inputs.robot.settings import RobotParams
 
@@ -63,34 +62,24 @@ SOURCES = [
 ]
 
 
-def write_drake_model(
-    robot_urdf: str | Path,
-    settings: Mapping,
-    ground_mu: float,
-    header_lines: list[str],
-    *,
-    robot: RobotParams,
-    timestep: float,
-    claims: Sequence[TurningClaim] = (),
-    name: str = "",
-    stem: str = "drake",
-) -> dict[str, str]:
-    """{suffix: text} of the model's files (``urdf``, ``ground.sdf``, ``plant.yaml``; ``stem`` is their shared
-    name, by which each names the others): the robot described by ``robot_urdf`` (read with ``robot``'s
-    settings) on a half space of friction ``ground_mu``, with the Drake adapter's ``settings`` (a profile's full
-    adapter settings) and the study's step ``timestep`` (the plant's own step is the adapter's: a whole multiple
-    of it); each headed by ``header_lines`` and what this writer knows; ``claims`` into the YAML."""
+def write_drake_model(request: ModelRequest) -> dict[str, str]:
+    """{suffix: text} of the model's files (``urdf``, ``ground.sdf``, ``plant.yaml``; the request's stem, "":
+    ``drake``, is their shared name, by which each names the others): the ``request``'s robot on a half space of its
+    ground friction, with the Drake adapter's settings and the study's step (the plant's own step is the adapter's:
+    a whole multiple of it); each headed by the header lines and what this writer knows; the claims into the
+    YAML."""
+    stem = request.stem or "drake"
     import pydrake
     import yaml
     from pydrake.common.yaml import yaml_dump_typed
     from pydrake.geometry import SceneGraphConfig
     from pydrake.multibody.plant import MultibodyPlantConfig
 
-    spec = robot.spec(robot_urdf)
-    typed = DrakeSettings.model_validate(dict(settings))
+    spec = request.robot.spec(request.robot_urdf)
+    typed = DrakeSettings.model_validate(dict(request.settings))
     hydro = typed.contact_model == "hydroelastic"
     defaults = SceneGraphConfig().default_proximity_properties
-    plant_step = timestep * engine_step_multiple(typed.time_step, timestep)
+    plant_step = request.timestep * engine_step_multiple(typed.time_step, request.timestep)
     files = {suffix: f"{stem}.{suffix}" for suffix in ("urdf", "ground.sdf", "plant.yaml")}
     version = getattr(pydrake, "__version__", "") or _drake_version()
 
@@ -128,7 +117,7 @@ def write_drake_model(
                 root,
                 joints[wheel.joint],
                 f"{wheel.joint}_drive",
-                robot.max_wheel_torque,
+                request.robot.max_wheel_torque,
                 0.0,
                 typed.wheel_drive_damping,
             )
@@ -158,10 +147,12 @@ def write_drake_model(
     ET.indent(root)
     urdf_text = ET.tostring(root, encoding="unicode")
     if " filename=" in urdf_text:
-        raise ValueError(f"the Drake model of {robot_urdf} names files (a collision mesh): it would not open alone")
+        raise ValueError(
+            f"the Drake model of {request.robot_urdf} names files (a collision mesh): it would not open alone"
+        )
 
     # --- the ground ---
-    ground_f = _terrain_friction(ground_mu, "the model's ground friction")
+    ground_f = _terrain_friction(request.ground_mu, "the model's ground friction")
     sdf = ET.Element("sdf", {"version": "1.9", "xmlns:drake": DRAKE_NS})
     model = ET.SubElement(sdf, "model", name="ground")
     ET.SubElement(model, "static").text = "true"
@@ -198,7 +189,7 @@ def write_drake_model(
         "gravity": [0.0, 0.0, -GRAVITY],
         "base": {"body": spec.base_link, "xyz": [0.0, 0.0, spec.base_height + SPAWN_CLEARANCE], "yaw": 0.0},
         "drive": {
-            "command_track": float(robot.track),
+            "command_track": float(request.robot.track),
             "wheel_track": float(spec.track),
             "actuators": [
                 {
@@ -212,27 +203,29 @@ def write_drake_model(
             ],
             "still": friction_actuators,
         },
-        "claims": {c.case: {"v": c.v, "w": c.w, "duration": c.duration, "gain": round(c.gain, 6)} for c in claims},
+        "claims": {
+            c.case: {"v": c.v, "w": c.w, "duration": c.duration, "gain": round(c.gain, 6)} for c in request.claims
+        },
     }
     yaml_text = yaml.safe_dump(data, sort_keys=False, default_flow_style=None, width=200)
 
     lines = [
-        *header_lines,
+        *request.header_lines,
         *_load_lines(files, spec.base_link),
-        *_drive_lines(typed, robot, spec, actuators, friction_actuators, plant_step, timestep),
-        *_contact_lines(typed, hydro, ground_mu, ground_f, defaults),
-        *_claim_lines(claims),
+        *_drive_lines(typed, request.robot, spec, actuators, friction_actuators, plant_step, request.timestep),
+        *_contact_lines(typed, hydro, request.ground_mu, ground_f, defaults),
+        *_claim_lines(request.claims),
         f"files: {files['urdf']} (the robot), {files['ground.sdf']} (the ground), {files['plant.yaml']} (the plant "
         "and the commands); they name no other file"
         + (f"; the description's visual meshes are left out ({', '.join(dropped)})" if dropped else ""),
         *SOURCES,
         f"written with Drake {version}",
     ]
-    name_line = [f"model: {name}"] if name else []
+    name_line = [f"model: {request.name}"] if request.name else []
     return {
         "urdf": '<?xml version="1.0"?>\n' + xml_comment([*name_line, *lines]) + urdf_text + "\n",
         "ground.sdf": '<?xml version="1.0"?>\n'
-        + xml_comment([*name_line, f"the ground of {files['urdf']} (its header says all)", *header_lines[:1]])
+        + xml_comment([*name_line, f"the ground of {files['urdf']} (its header says all)", *request.header_lines[:1]])
         + sdf_text
         + "\n",
         "plant.yaml": "".join(f"# {line}\n" for line in [*name_line, *lines]) + yaml_text,

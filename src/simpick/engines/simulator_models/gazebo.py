@@ -18,8 +18,7 @@ from __future__ import annotations
 
 import re
 import xml.etree.ElementTree as ET
-from collections.abc import Mapping, Sequence
-from pathlib import Path
+from collections.abc import Sequence
 
 from simpick.engines.gzphysics_engine import (
     PLUGIN,
@@ -30,7 +29,7 @@ from simpick.engines.gzphysics_engine import (
     world_tree,
 )
 from simpick.engines.simulator_files.common import _num, xml_comment
-from simpick.engines.simulator_models.common import TurningClaim, add_sdf_claims, flat_scenario
+from simpick.engines.simulator_models.common import ModelRequest, TurningClaim, add_sdf_claims, flat_scenario
 from simpick.inputs.robot.settings import RobotParams
 
 # the custom elements' namespace, declared on <sdf> as xmlns:simpick (an SDF custom element needs its prefix declared)
@@ -43,30 +42,21 @@ DIFF_DRIVE = {"filename": "gz-sim-diff-drive-system", "name": "gz::sim::systems:
 FILE_ELEMENTS = ("uri", "include")
 
 
-def write_gazebo_model(
-    robot_urdf: str | Path,
-    settings: Mapping,
-    ground_mu: float,
-    header_lines: list[str],
-    *,
-    robot: RobotParams,
-    timestep: float,
-    claims: Sequence[TurningClaim] = (),
-    name: str = "",
-) -> str:
-    """The SDF text of the robot described by ``robot_urdf`` (read with ``robot``'s settings) on a plane of
-    friction ``ground_mu``, with the Gazebo adapter's ``settings`` (a profile's full adapter settings) and step
-    ``timestep``; headed by ``header_lines`` and the lines this writer knows (what drives it, its ground, its
-    ``claims``). ``name``: the world's name, its characters outside [A-Za-z0-9_] made ``_`` (gz-sim puts it in
+def write_gazebo_model(request: ModelRequest) -> str:
+    """The SDF text of the ``request``'s robot on a plane of its ground friction, with the Gazebo adapter's
+    settings and the request's step; headed by its header lines and the lines this writer knows (what drives it, its
+    ground, its claims); its name the world's, its characters outside [A-Za-z0-9_] made ``_`` (gz-sim puts it in
     topic names)."""
-    spec_robot = robot.spec(robot_urdf)
-    typed = GzPhysicsSettings.of(dict(settings), GzPhysicsEngine.name)
-    scenario = flat_scenario(spec_robot, typed.model_dump(mode="json"), ground_mu, timestep, robot.max_wheel_torque)
+    spec_robot = request.robot.spec(request.robot_urdf)
+    typed = GzPhysicsSettings.of(dict(request.settings), GzPhysicsEngine.name)
+    scenario = flat_scenario(
+        spec_robot, typed.model_dump(mode="json"), request.ground_mu, request.timestep, request.robot.max_wheel_torque
+    )
     root = world_tree(scenario, typed)
     root.set("xmlns:simpick", NAMESPACE)
     world = root.find("world")
-    if name:
-        world.set("name", re.sub(r"[^A-Za-z0-9_]+", "_", name).strip("_"))
+    if request.name:
+        world.set("name", re.sub(r"[^A-Za-z0-9_]+", "_", request.name).strip("_"))
     model = world.find("model[@name='robot0']")
     driven = spec_robot.driven
     radii = {w.radius for w in driven}
@@ -83,17 +73,21 @@ def write_gazebo_model(
         for wheel in driven:
             if wheel.side == side:
                 ET.SubElement(plugin, f"{side}_joint").text = wheel.joint
-    ET.SubElement(plugin, "wheel_separation").text = repr(float(robot.track))
+    ET.SubElement(plugin, "wheel_separation").text = repr(float(request.robot.track))
     ET.SubElement(plugin, "wheel_radius").text = repr(float(radius))
     ET.SubElement(plugin, "topic").text = topic
-    add_sdf_claims(model, spec_robot.base_link, robot.track, spec_robot.track, ground_mu, claims)
+    add_sdf_claims(
+        model, spec_robot.base_link, request.robot.track, spec_robot.track, request.ground_mu, request.claims
+    )
     named = sorted({e.tag for e in root.iter() if e.tag in FILE_ELEMENTS})
     if named:  # simpick's robot reader drops a description's meshes, so an engine's world names no file
-        raise ValueError(f"the Gazebo model of {robot_urdf} names files ({', '.join(named)}): it would not open alone")
+        raise ValueError(
+            f"the Gazebo model of {request.robot_urdf} names files ({', '.join(named)}): it would not open alone"
+        )
     lines = [
-        *header_lines,
-        *_drive_lines(typed, robot, spec_robot, plugin, radius, topic, ground_mu, timestep),
-        *_claim_lines(claims, spec_robot.base_link),
+        *request.header_lines,
+        *_drive_lines(typed, request.robot, spec_robot, plugin, radius, topic, request.ground_mu, request.timestep),
+        *_claim_lines(request.claims, spec_robot.base_link),
         f"written with {GzPhysicsEngine().version()} ({PROGRAM.name} convert: sdformat's URDF parser; numbers at "
         "full double precision)",
     ]

@@ -22,7 +22,6 @@ from __future__ import annotations
 import re
 import xml.etree.ElementTree as ET
 from collections.abc import Mapping, Sequence
-from pathlib import Path
 
 from simpick.engines import gzphysics_engine
 from simpick.engines.base import GRAVITY
@@ -30,7 +29,7 @@ from simpick.engines.ode_settings import OdeSettings
 from simpick.engines.ode_world import SPAWN_CLEARANCE
 from simpick.engines.simulator_files.common import _num, xml_comment
 from simpick.engines.simulator_files.sdf import CONTACTS_PER_WHEEL, GROUND_KD, GROUND_KP, surface_values
-from simpick.engines.simulator_models.common import TurningClaim, add_sdf_claims
+from simpick.engines.simulator_models.common import ModelRequest, TurningClaim, add_sdf_claims
 from simpick.engines.simulator_models.gazebo import FILE_ELEMENTS, NAMESPACE
 from simpick.inputs.robot.settings import RobotParams
 
@@ -73,23 +72,12 @@ def _surface(values: Mapping[str, str]) -> ET.Element:
     return surface
 
 
-def write_gazebo_classic_model(
-    robot_urdf: str | Path,
-    settings: Mapping,
-    ground_mu: float,
-    header_lines: list[str],
-    *,
-    robot: RobotParams,
-    timestep: float,
-    claims: Sequence[TurningClaim] = (),
-    name: str = "",
-) -> str:
-    """The SDF 1.7 text of the robot described by ``robot_urdf`` (read with ``robot``'s settings) on a plane of
-    friction ``ground_mu``, with the ODE adapter's ``settings`` (a Gazebo Classic profile's in full) and step
-    ``timestep``; headed by ``header_lines`` and what this writer knows. ``name``: the world's name, its characters
-    outside [A-Za-z0-9_] made ``_``."""
-    spec = robot.spec(robot_urdf)
-    s = OdeSettings.of(dict(settings), "ode")
+def write_gazebo_classic_model(request: ModelRequest) -> str:
+    """The SDF 1.7 text of the ``request``'s robot on a plane of its ground friction, with the ODE adapter's
+    settings (a Gazebo Classic profile's in full) and the request's step; headed by its header lines and what this
+    writer knows; its name the world's, its characters outside [A-Za-z0-9_] made ``_``."""
+    spec = request.robot.spec(request.robot_urdf)
+    s = OdeSettings.of(dict(request.settings), "ode")
     if s.friction_direction not in ("plane", "wheel_x"):
         raise ValueError(
             f"Gazebo Classic has no friction direction {s.friction_direction!r}: an SDF <fdir1> gives 'wheel_x' "
@@ -112,12 +100,12 @@ def write_gazebo_classic_model(
     radius = radii.pop()
 
     root = ET.Element("sdf", {"version": "1.7", "xmlns:simpick": NAMESPACE})
-    world = ET.SubElement(root, "world", name=re.sub(r"[^A-Za-z0-9_]+", "_", name).strip("_") or "simpick")
+    world = ET.SubElement(root, "world", name=re.sub(r"[^A-Za-z0-9_]+", "_", request.name).strip("_") or "simpick")
     _text(world, "gravity", (0.0, 0.0, -float(GRAVITY)))
     physics = ET.SubElement(world, "physics", name="simpick", type="ode")
-    _text(physics, "max_step_size", float(timestep))
+    _text(physics, "max_step_size", float(request.timestep))
     _text(physics, "real_time_factor", 1.0)
-    _text(physics, "real_time_update_rate", 1.0 / float(timestep))
+    _text(physics, "real_time_update_rate", 1.0 / float(request.timestep))
     _text(physics, "max_contacts", int(s.max_contacts))
     ode = ET.SubElement(physics, "ode")
     solver = ET.SubElement(ode, "solver")
@@ -142,8 +130,8 @@ def write_gazebo_classic_model(
         if kind == "collision":
             surface = ET.SubElement(element, "surface")
             friction = ET.SubElement(ET.SubElement(surface, "friction"), "ode")
-            _text(friction, "mu", float(ground_mu))
-            _text(friction, "mu2", float(ground_mu) * max(1.0, ratio))
+            _text(friction, "mu", float(request.ground_mu))
+            _text(friction, "mu2", float(request.ground_mu) * max(1.0, ratio))
             contact = ET.SubElement(ET.SubElement(surface, "contact"), "ode")
             _text(contact, "kp", GROUND_KP)
             _text(contact, "kd", GROUND_KD)
@@ -168,8 +156,8 @@ def write_gazebo_classic_model(
             limit = ET.SubElement(joint.find("axis"), "limit")
         for old in limit.findall("effort"):
             limit.remove(old)
-        _text(limit, "effort", float(robot.max_wheel_torque))
-    values = surface_values("ode", s.model_dump(mode="json"), ground_mu)
+        _text(limit, "effort", float(request.robot.max_wheel_torque))
+    values = surface_values("ode", s.model_dump(mode="json"), request.ground_mu)
     for link_xml in model.findall("link"):
         if link_xml.get("name") not in wheel_links:
             continue
@@ -185,19 +173,19 @@ def write_gazebo_classic_model(
         _text(plugin, "left_joint", a.joint)
         _text(plugin, "right_joint", b.joint)
     for _ in left:
-        _text(plugin, "wheel_separation", float(robot.track))
+        _text(plugin, "wheel_separation", float(request.robot.track))
         _text(plugin, "wheel_diameter", 2.0 * float(radius))
-    _text(plugin, "max_wheel_torque", float(robot.max_wheel_torque))
+    _text(plugin, "max_wheel_torque", float(request.robot.max_wheel_torque))
     _text(plugin, "max_wheel_acceleration", 0.0)
-    _text(plugin, "update_rate", 1.0 / float(timestep))
-    add_sdf_claims(model, spec.base_link, robot.track, spec.track, ground_mu, claims)
+    _text(plugin, "update_rate", 1.0 / float(request.timestep))
+    add_sdf_claims(model, spec.base_link, request.robot.track, spec.track, request.ground_mu, request.claims)
     named = sorted({e.tag for e in root.iter() if e.tag in FILE_ELEMENTS})
     if named:
-        raise ValueError(f"the Gazebo Classic model of {robot_urdf} names files ({', '.join(named)})")
+        raise ValueError(f"the Gazebo Classic model of {request.robot_urdf} names files ({', '.join(named)})")
     lines = [
-        *header_lines,
-        *_lines(s, robot, spec, model, values, radius, ground_mu, timestep),
-        *_claim_lines(claims, spec.base_link),
+        *request.header_lines,
+        *_lines(s, request.robot, spec, model, values, radius, request.ground_mu, request.timestep),
+        *_claim_lines(request.claims, spec.base_link),
         f"robot written with {gzphysics_engine.GzPhysicsEngine().version()} ({gzphysics_engine.PROGRAM.name} "
         "convert: sdformat 12's URDF parser); numbers at full double precision",
     ]

@@ -7,9 +7,6 @@ URDF the adapter loads (:mod:`.python_script`).
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from pathlib import Path
-
 from simpick.engines.genesis_engine import (
     ENUM_OPTIONS,
     INIT_OPTIONS,
@@ -21,7 +18,7 @@ from simpick.engines.genesis_engine import (
 )
 from simpick.engines.simulator_files.common import _num
 from simpick.engines.simulator_files.python_setups import python_blocks
-from simpick.engines.simulator_models.common import TurningClaim, flat_scenario
+from simpick.engines.simulator_models.common import ModelRequest, flat_scenario
 from simpick.engines.simulator_models.python_script import (
     Code,
     assign,
@@ -33,7 +30,6 @@ from simpick.engines.simulator_models.python_script import (
     wheels_block,
 )
 from simpick.engines.suspension import coupled_urdf
-from simpick.inputs.robot.settings import RobotParams
 
 IMPORTS = """import genesis as gs
 import numpy as np
@@ -88,26 +84,18 @@ gs.init(backend=gs.cpu, **INIT)
 '''
 
 
-def write_genesis_model(
-    robot_urdf: str | Path,
-    settings: Mapping,
-    ground_mu: float,
-    header_lines: list[str],
-    *,
-    robot: RobotParams,
-    timestep: float,
-    claims: Sequence[TurningClaim] = (),
-    name: str = "",
-    stem: str = "genesis",
-) -> dict[str, str]:
-    """{suffix: text}: ``py``, the script, and ``urdf``, the robot's description it loads (``<stem>.urdf``): the robot
-    described by ``robot_urdf`` (read with ``robot``'s settings) on a plane of friction ``ground_mu`` with the Genesis
-    adapter's ``settings`` (a profile's full settings) and step ``timestep``, claiming ``claims``."""
-    spec_robot = robot.spec(robot_urdf)
-    typed = GenesisSettings.model_validate(dict(settings))
+def write_genesis_model(request: ModelRequest) -> dict[str, str]:
+    """{suffix: text}: ``py``, the script, and ``urdf``, the robot's description it loads (``<stem>.urdf``, the
+    request's stem, "": ``genesis``): the ``request``'s robot on a plane of its ground friction with the Genesis
+    adapter's settings and the request's step, claiming its claims."""
+    stem = request.stem or "genesis"
+    spec_robot = request.robot.spec(request.robot_urdf)
+    typed = GenesisSettings.model_validate(dict(request.settings))
     if spec_robot.suspension or spec_robot.couplings:
         raise ValueError(f"the Genesis model of {spec_robot.name} is not written: its passive suspension is not")
-    scenario = flat_scenario(spec_robot, typed.model_dump(mode="json"), ground_mu, timestep, robot.max_wheel_torque)
+    scenario = flat_scenario(
+        spec_robot, typed.model_dump(mode="json"), request.ground_mu, request.timestep, request.robot.max_wheel_torque
+    )
     blocks = {call: kwargs for _, call, kwargs in python_blocks("genesis", typed.model_dump(mode="json"))}
     exact = {k: Code(f"gs.{ENUM_OPTIONS[k]}.{v}") if k in ENUM_OPTIONS else v for k, v in rigid_options(typed).items()}
     rigid = over_fragment(blocks["gs.options.RigidOptions"], exact, "RigidOptions")
@@ -116,7 +104,7 @@ def write_genesis_model(
     )
     version = GenesisEngine().version()
     data = [
-        claims_block(claims),
+        claims_block(request.claims),
         assign("URDF", f"{stem}.urdf", "the robot's description, beside this file (the one simpick's adapter loads)"),
         assign("BASE_LINK", spec_robot.base_link, "kept as a link of its own (links_to_keep): the pose measured"),
         assign(
@@ -126,36 +114,37 @@ def write_genesis_model(
         ),
         assign("BASE_QUAT_WXYZ", (1.0, 0.0, 0.0, 0.0)),
         assign("INIT", INIT_OPTIONS, "gs.init's keywords beside the CPU backend"),
-        assign("TIMESTEP", timestep, "s"),
+        assign("TIMESTEP", request.timestep, "s"),
         assign("GRAVITY", tuple(scenario.gravity), "m/s^2"),
         assign("RIGID_OPTIONS", rigid, "gs.options.RigidOptions' keywords"),
         assign("URDF_OPTIONS", urdf_options, "gs.morphs.URDF's keywords beside the file and the pose"),
-        assign("GROUND_FRICTION", max(ground_mu, MIN_FRICTION), "the plane's gs.materials.Rigid friction"),
+        assign("GROUND_FRICTION", max(request.ground_mu, MIN_FRICTION), "the plane's gs.materials.Rigid friction"),
         assign(
             "ROBOT_FRICTION",
             MIN_FRICTION,
             "the robot's: Genesis's floor (a contact takes the larger of its two materials', the ground's)",
         ),
-        wheels_block(spec_robot, robot.track),
+        wheels_block(spec_robot, request.robot.track),
         assign("WHEEL_KV", typed.wheel_kv, "N m s/rad, the wheels' velocity gain (kp 0)"),
-        assign("MAX_WHEEL_TORQUE", robot.max_wheel_torque, "N m, each wheel's force range"),
+        assign("MAX_WHEEL_TORQUE", request.robot.max_wheel_torque, "N m, each wheel's force range"),
     ]
     header = [
-        *header_lines,
+        *request.header_lines,
         f"runs as it is, with genesis-world installed: python {stem}.py (every claim), or --v V --w W "
         f"[--duration S]; it loads {stem}.urdf from its own folder and prints, per run, the yaw-rate gain it measures "
         "(Genesis compiles its kernels on a first run)",
         f"builds, with Genesis's own API as simpick's Genesis adapter does: gs.init on the CPU backend, a gs.Scene "
-        f"(step {_num(timestep)} s, RIGID_OPTIONS: {typed.friction_cone} cone, {typed.constraint_solver} solver, "
-        f"{typed.iterations} iterations), a gs.morphs.Plane of friction {_num(max(ground_mu, MIN_FRICTION))}, "
+        f"(step {_num(request.timestep)} s, RIGID_OPTIONS: {typed.friction_cone} cone, {typed.constraint_solver} "
+        f"solver, {typed.iterations} iterations), a gs.morphs.Plane of friction "
+        f"{_num(max(request.ground_mu, MIN_FRICTION))}, "
         f"{spec_robot.name}'s URDF as a gs.morphs.URDF entity (default_armature {typed.default_armature}), the "
         f"wheels velocity-controlled (kv {_num(typed.wheel_kv)} N m s/rad, force within "
-        f"+-{_num(robot.max_wheel_torque)} N m)",
-        *claim_lines(claims),
+        f"+-{_num(request.robot.max_wheel_torque)} N m)",
+        *claim_lines(request.claims),
         f"written for genesis-world {version} (the version simpick's adapter ran)",
     ]
     doc = (
-        f"{name or spec_robot.name}: Genesis on flat ground, as simpick's adapter builds it.\n\n"
+        f"{request.name or spec_robot.name}: Genesis on flat ground, as simpick's adapter builds it.\n\n"
         f"python {stem}.py runs every claim (CLAIMS) and prints the gain measured beside the one claimed;\n"
         f"python {stem}.py --v 0.5 --w 0.5 --duration 6 runs one command.\n"
     )

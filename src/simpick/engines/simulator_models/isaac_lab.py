@@ -23,14 +23,13 @@ ground's own value. A robot with passive suspension or coupled joints is not wri
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from pathlib import Path
+from collections.abc import Mapping
 
 from simpick.engines.base import GRAVITY
 from simpick.engines.physx_engine import SPAWN_CLEARANCE, PhysxSettings
 from simpick.engines.simulator_files.common import _num
 from simpick.engines.simulator_files.python_setups import PHYSX_SOLVER, python_blocks
-from simpick.engines.simulator_models.common import TurningClaim
+from simpick.engines.simulator_models.common import ModelRequest
 from simpick.engines.simulator_models.python_script import (
     assign,
     claim_lines,
@@ -304,50 +303,39 @@ def isaac_lab_values(settings: Mapping, ground_mu: float, robot: RobotParams, ti
     }
 
 
-def write_isaac_lab_model(
-    robot_urdf: str | Path,
-    settings: Mapping,
-    ground_mu: float,
-    header_lines: list[str],
-    *,
-    robot: RobotParams,
-    timestep: float,
-    claims: Sequence[TurningClaim] = (),
-    name: str = "",
-    stem: str = "isaac_sim",
-) -> dict[str, str]:
+def write_isaac_lab_model(request: ModelRequest) -> dict[str, str]:
     """{suffix: text}: ``py``, the Isaac Lab script, and ``urdf``, the robot's description it loads
-    (``<stem>.urdf``): the robot described by ``robot_urdf`` (read with ``robot``'s settings) on a ground plane of
-    friction ``ground_mu`` with the PhysX adapter's ``settings`` (a profile's full settings) and step ``timestep``,
-    claiming ``claims``."""
-    spec = robot.spec(robot_urdf)
+    (``<stem>.urdf``, the request's stem, "": ``isaac_sim``): the ``request``'s robot on a ground plane of its ground
+    friction with the PhysX adapter's settings and the request's step, claiming its claims."""
+    stem = request.stem or "isaac_sim"
+    spec = request.robot.spec(request.robot_urdf)
     if spec.suspension or spec.couplings:
         raise ValueError(f"the Isaac Lab model of {spec.name} is not written: its passive suspension is not")
-    values = isaac_lab_values(settings, ground_mu, robot, timestep, spec)
+    values = isaac_lab_values(request.settings, request.ground_mu, request.robot, request.timestep, spec)
     doc_vars = [assign(var, value, f"{VARIABLES[var]}'s keywords") for var, value in values.items()]
     data = [
-        claims_block(claims),
+        claims_block(request.claims),
         assign("URDF", f"{stem}.urdf", "the robot's description, beside this file (the one simpick's adapter loads)"),
-        assign("TIMESTEP", timestep, "s"),
-        wheels_block(spec, robot.track),
+        assign("TIMESTEP", request.timestep, "s"),
+        wheels_block(spec, request.robot.track),
         assign("PASSIVE_JOINTS", list(spec.passive_joints), "joints left free (no drive, no friction)"),
         *doc_vars,
     ]
     physx, root, actuator = values["PHYSX"], values["ARTICULATION_ROOT"], values["WHEEL_ACTUATOR"]
     header = [
-        *header_lines,
+        *request.header_lines,
         "NOT OPENED IN ISAAC SIM HERE: no Isaac Sim installs on simpick's machine; the script's keywords are checked "
         "against Isaac Lab's classes as quoted in simpick.engines.simulator_models.isaac_lab.FIELDS and its values "
         "against the profile (tests/test_vendor_models.py)",
         f"runs in {VERSION}: ./isaaclab.sh -p {stem}.py (every claim), or --v V --w W [--duration S]; it loads "
         f"{stem}.urdf from its own folder (the URDF importer converts it to USD) and prints, per run, the yaw-rate "
         "gain it measures",
-        f"sets up: SimulationCfg (dt {_num(timestep)} s, CPU, PhysxCfg solver_type {physx['solver_type']} "
+        f"sets up: SimulationCfg (dt {_num(request.timestep)} s, CPU, PhysxCfg solver_type {physx['solver_type']} "
         f"(1 TGS, 0 PGS), bounce_threshold_velocity {_num(physx['bounce_threshold_velocity'])} m/s); a GroundPlaneCfg "
-        f"whose material has friction {_num(ground_mu)} and the robot's (the scene's default material) "
-        f"{_num(WHEEL_FRICTION)}, combined by {COMBINE!r}: each wheel contact has the ground's {_num(ground_mu)}, "
-        f"restitution 0; {spec.name}'s URDF (UrdfFileCfg, floating, fixed joints merged, no self-collision, "
-        f"solver iterations {root['solver_position_iteration_count']} position / "
+        f"whose material has friction {_num(request.ground_mu)} and the robot's (the scene's default material) "
+        f"{_num(WHEEL_FRICTION)}, combined by {COMBINE!r}: each wheel contact has the ground's "
+        f"{_num(request.ground_mu)}, restitution 0; {spec.name}'s URDF (UrdfFileCfg, floating, fixed joints merged, "
+        f"no self-collision, solver iterations {root['solver_position_iteration_count']} position / "
         f"{root['solver_velocity_iteration_count']} velocity, link damping 0); the wheels one ImplicitActuatorCfg, "
         f"stiffness 0, damping {_num(actuator['damping'])} N m s/rad, effort_limit_sim "
         f"{_num(actuator['effort_limit_sim'])} N m, joint friction 0, velocity_limit_sim unset (the URDF's, as the "
@@ -355,10 +343,11 @@ def write_isaac_lab_model(
         "differs from simpick's adapter: its collision cylinders are 4 turned 64-sided convex prisms (the importer "
         "makes its own collider here) and it gives the contact the ground's coefficient as the average of 0 and twice "
         "the ground's (the same coefficient); PhysX 5.3 through SAPIEN 3 on the CPU, not Isaac Sim's PhysX",
-        *claim_lines(claims),
+        *claim_lines(request.claims),
     ]
     doc = (
-        f"{name or spec.name}: Isaac Lab (PhysX) on flat ground, set up from simpick's PhysX adapter's values.\n\n"
+        f"{request.name or spec.name}: Isaac Lab (PhysX) on flat ground, set up from simpick's PhysX adapter's "
+        "values.\n\n"
         f"./isaaclab.sh -p {stem}.py runs every claim (CLAIMS) and prints the gain measured beside the one claimed;\n"
         f"./isaaclab.sh -p {stem}.py --v 0.5 --w 0.5 --duration 6 runs one command.\n"
     )

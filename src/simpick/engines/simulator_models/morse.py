@@ -48,14 +48,13 @@ cylinder wheels of one radius, as many on each side, no casters, suspension or c
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
-from pathlib import Path
+from collections.abc import Mapping
 
 import numpy as np
 
 from simpick.engines.pybullet_engine import SPAWN_CLEARANCE, PyBulletSettings
 from simpick.engines.simulator_files.common import _header, _num
-from simpick.engines.simulator_models.common import TurningClaim
+from simpick.engines.simulator_models.common import ModelRequest
 from simpick.engines.simulator_models.python_script import assign, claim_lines, wheels_block
 from simpick.inputs.robot.settings import RobotParams
 
@@ -324,28 +323,19 @@ def morse_values(spec, settings: Mapping, ground_mu: float, robot: RobotParams, 
     }
 
 
-def write_morse_model(
-    robot_urdf: str | Path,
-    settings: Mapping,
-    ground_mu: float,
-    header_lines: list[str],
-    *,
-    robot: RobotParams,
-    timestep: float,
-    claims: Sequence[TurningClaim] = (),
-    name: str = "",
-    stem: str = "morse",
-) -> dict[str, str]:
-    """{suffix: text}: ``py``, the builder script: the robot described by ``robot_urdf`` on a ground of friction
-    ``ground_mu`` with the PyBullet adapter's ``settings`` of a MORSE profile, claiming ``claims``."""
-    spec = robot.spec(robot_urdf)
+def write_morse_model(request: ModelRequest) -> dict[str, str]:
+    """{suffix: text}: ``py``, the builder script (run as ``<stem>.py``, the request's stem, "": ``morse``): the
+    ``request``'s robot on a ground of its ground friction with the PyBullet adapter's settings of a MORSE profile,
+    claiming its claims."""
+    stem = request.stem or "morse"
+    spec = request.robot.spec(request.robot_urdf)
     if not writes_morse(spec):
         raise ValueError(
             f"the MORSE model of {spec.name} is not written: MORSE's wheeled robot holds two or four driven cylinder "
             "wheels of one radius on a chassis of boxes, with no casters, suspension or couplings"
         )
-    values = morse_values(spec, settings, ground_mu, robot, timestep)
-    rows = [{"case": c.case, "v": c.v, "w": c.w, "duration": c.duration, "gain": c.gain} for c in claims]
+    values = morse_values(spec, request.settings, request.ground_mu, request.robot, request.timestep)
+    rows = [{"case": c.case, "v": c.v, "w": c.w, "duration": c.duration, "gain": c.gain} for c in request.claims]
     comments = {
         "FPS": "Hz: the game engine's frame rate, its physics step 1 / FPS (env.simulator_frequency)",
         "PHYSICS_STEP_SUB": "Bullet substeps per physics step (env.set_physics_step_sub)",
@@ -363,10 +353,10 @@ def write_morse_model(
             "the robot at rest, (v m/s, w rad/s) held from the first step for duration s, the mean of the base's\n"
             "yaw rate about its own z axis over the second half of the run, over w. Not measured in MORSE.",
         ),
-        wheels_block(spec, robot.track),
+        wheels_block(spec, request.robot.track),
         *(assign(k, v, comments.get(k, "")) for k, v in values.items()),
     ]
-    ratio = float(PyBulletSettings.model_validate(dict(settings)).friction_ratio)
+    ratio = float(PyBulletSettings.model_validate(dict(request.settings)).friction_ratio)
     wheels = values["WHEEL_BODIES"]
     wheel = wheels[0]
     coefficients = ", ".join(_num(c) for c in wheel["game"].get("friction_coefficients", ()))
@@ -377,26 +367,29 @@ def write_morse_model(
     )
     chassis = values["CHASSIS"]
     header = [
-        *header_lines,
+        *request.header_lines,
         "NOT OPENED IN MORSE HERE: MORSE needs Blender 2.79's game engine, which does not install on simpick's "
         "machine; the names the script uses are checked against MORSE's and Blender's sources as quoted in "
         "simpick.engines.simulator_models.morse.NAMES and its values against the profile (tests/test_vendor_models.py)",
         f"runs in {VERSION}: morse run {stem}.py; drive it through MORSE's socket interface: the {values['ACTUATOR']} "
         "actuator's set_speed(v, w) service or its (v, w) stream",
         f"writes: the chassis {spec.base_link} as a box {' x '.join(_num(v) for v in chassis['size'])} m of "
-        f"{_num(chassis['game']['mass'])} kg (MORSE's SegwayRMP400 class, FixTurningSpeed {_num(robot.track)} m); "
-        f"{len(wheels)} cylinder wheels r {_num(wheel['radius'])} m, width {_num(wheel['width'])} m, "
+        f"{_num(chassis['game']['mass'])} kg (MORSE's SegwayRMP400 class, FixTurningSpeed "
+        f"{_num(request.robot.track)} m); {len(wheels)} cylinder wheels r {_num(wheel['radius'])} m, width "
+        f"{_num(wheel['width'])} m, "
         f"{_num(wheel['game']['mass'])} kg, friction {_num(wheel['friction'])}, {anisotropic}; a MotionVWDiff "
-        f"actuator; the empty environment's Ground, friction {_num(ground_mu)}; {values['FPS']} Hz "
+        f"actuator; the empty environment's Ground, friction {_num(request.ground_mu)}; {values['FPS']} Hz "
         f"(step {_num(1.0 / values['FPS'])} s), {values['PHYSICS_STEP_SUB']} physics substeps",
         f"approximated: one box for the chassis, Blender's own inertia from the shapes, MORSE's wheel motor bound "
-        f"{_num(MOTOR_BOUND)} (not {_num(robot.max_wheel_torque)} N m), Blender's {MORSE_ITERATIONS} solver iterations",
-        *claim_lines(claims),
+        f"{_num(MOTOR_BOUND)} (not {_num(request.robot.max_wheel_torque)} N m), Blender's {MORSE_ITERATIONS} solver "
+        "iterations",
+        *claim_lines(request.claims),
         "the gains claimed are simpick's PyBullet multibody's at this step and substeps, not MORSE's rigid bodies' "
         "(resources/simulators/simulators.yaml, morse, differs)",
     ]
     doc = (
-        f"{name or spec.name}: MORSE (Blender's game engine, Bullet) on flat ground, built with morse.builder.\n\n"
+        f"{request.name or spec.name}: MORSE (Blender's game engine, Bullet) on flat ground, built with "
+        "morse.builder.\n\n"
         f"morse run {stem}.py builds the scene and starts the simulation.\n"
     )
     text = _header("#", header) + f'"""{doc}"""\n\n' + IMPORTS + "\n" + "\n".join(data) + BODY

@@ -13,12 +13,11 @@ adapter's to 1e-9.
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
-from collections.abc import Mapping, Sequence
-from pathlib import Path
+from collections.abc import Sequence
 
 from simpick.engines.mujoco_engine import SENSORS, SPAWN_CLEARANCE, MujocoEngine, MujocoSettings
 from simpick.engines.simulator_files.common import _num, xml_comment
-from simpick.engines.simulator_models.common import TurningClaim, flat_scenario
+from simpick.engines.simulator_models.common import ModelRequest, TurningClaim, flat_scenario
 from simpick.inputs.robot.settings import RobotParams
 
 # the names the file gives the recorded robot's sensors (the adapter leaves them unnamed), in SENSORS' order
@@ -34,28 +33,19 @@ SENSOR_NAMES = {
 FILE_ATTRIBUTES = ("file", "meshdir", "texturedir", "assetdir")
 
 
-def write_mujoco_model(
-    robot_urdf: str | Path,
-    settings: Mapping,
-    ground_mu: float,
-    header_lines: list[str],
-    *,
-    robot: RobotParams,
-    timestep: float,
-    claims: Sequence[TurningClaim] = (),
-    name: str = "",
-) -> str:
-    """The MJCF text of the robot described by ``robot_urdf`` (read with ``robot``'s settings) on a plane of
-    friction ``ground_mu``, with MuJoCo's adapter's ``settings`` (a profile's full adapter settings) and step
-    ``timestep``; headed by ``header_lines`` (what the file is and where its values come from) and the lines
-    this writer knows (what drives it, its ground, its ``claims``). ``name``: the model's name (<mujoco model>)."""
+def write_mujoco_model(request: ModelRequest) -> str:
+    """The MJCF text of the ``request``'s robot on a plane of its ground friction, with MuJoCo's adapter's settings
+    and the request's step; headed by its header lines and the lines this writer knows (what drives it, its ground,
+    its claims); its name the model's (<mujoco model>)."""
     import mujoco
 
-    spec_robot = robot.spec(robot_urdf)
-    typed = MujocoSettings.model_validate(dict(settings))
-    scenario = flat_scenario(spec_robot, typed.model_dump(mode="json"), ground_mu, timestep, robot.max_wheel_torque)
+    spec_robot = request.robot.spec(request.robot_urdf)
+    typed = MujocoSettings.model_validate(dict(request.settings))
+    scenario = flat_scenario(
+        spec_robot, typed.model_dump(mode="json"), request.ground_mu, request.timestep, request.robot.max_wheel_torque
+    )
     spec = MujocoEngine().spec(scenario)
-    spec.modelname = name or spec_robot.name
+    spec.modelname = request.name or spec_robot.name
     labels = [SENSOR_NAMES[k] for k, _ in SENSORS if k in SENSOR_NAMES]
     for sensor, label in zip(spec.sensors, labels + [f"r0/{j}/speed" for j in spec_robot.wheel_joints], strict=True):
         sensor.name = label
@@ -63,22 +53,28 @@ def write_mujoco_model(
     driven = spec_robot.driven
     spec.add_text(name="wheel_actuators", data=" ".join(actuators))
     numerics = {
-        "command_track": [robot.track],
+        "command_track": [request.robot.track],
         "wheel_track": [spec_robot.track],
         # each driven wheel's own, as simpick's commands divide by it (RobotSpec.joint_speeds)
         "wheel_radius": [w.radius for w in driven],
         "wheel_side": [1.0 if w.side == "left" else -1.0 for w in driven],
         "wheel_axis_sign": [float(w.axis_sign) for w in driven],
-        "ground_friction": [ground_mu],
-        **{f"yaw_rate_gain/{c.case}": [c.v, c.w, c.duration, c.gain] for c in claims},
+        "ground_friction": [request.ground_mu],
+        **{f"yaw_rate_gain/{c.case}": [c.v, c.w, c.duration, c.gain] for c in request.claims},
     }
     for key, data in numerics.items():
         spec.add_numeric(name=key, data=data)
     text = spec.to_xml()
     named = sorted({f"{e.tag} {a}" for e in ET.fromstring(text).iter() for a in e.attrib if a in FILE_ATTRIBUTES})
     if named:  # simpick's robot reader drops a description's meshes, so an engine's model names no file
-        raise ValueError(f"the MuJoCo model of {robot_urdf} names files ({', '.join(named)}): it would not open alone")
-    lines = [*header_lines, *_drive_lines(typed, robot, spec_robot, actuators, ground_mu), *_claim_lines(claims)]
+        raise ValueError(
+            f"the MuJoCo model of {request.robot_urdf} names files ({', '.join(named)}): it would not open alone"
+        )
+    lines = [
+        *request.header_lines,
+        *_drive_lines(typed, request.robot, spec_robot, actuators, request.ground_mu),
+        *_claim_lines(request.claims),
+    ]
     lines.append(f"written with MuJoCo {mujoco.__version__} (MjSpec.to_xml: numbers to 6 significant digits)")
     return xml_comment(lines) + text
 

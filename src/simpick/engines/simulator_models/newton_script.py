@@ -10,9 +10,6 @@ SolverMuJoCo only: the profiles simpick runs are on it; the other solvers (XPBD,
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from pathlib import Path
-
 from simpick.engines.newton_engine import (
     GROUND_ATTRIBUTES,
     SPAWN_CLEARANCE,
@@ -26,7 +23,7 @@ from simpick.engines.newton_engine import (
 )
 from simpick.engines.simulator_files.common import _num
 from simpick.engines.simulator_files.python_setups import python_blocks
-from simpick.engines.simulator_models.common import TurningClaim, flat_scenario
+from simpick.engines.simulator_models.common import ModelRequest, flat_scenario
 from simpick.engines.simulator_models.python_script import (
     assign,
     claim_lines,
@@ -37,7 +34,6 @@ from simpick.engines.simulator_models.python_script import (
     wheels_block,
 )
 from simpick.engines.suspension import coupled_urdf
-from simpick.inputs.robot.settings import RobotParams
 
 IMPORTS = """import numpy as np
 import warp as wp
@@ -135,40 +131,34 @@ def run(v: float, w: float, duration: float) -> np.ndarray:
 '''
 
 
-def write_newton_model(
-    robot_urdf: str | Path,
-    settings: Mapping,
-    ground_mu: float,
-    header_lines: list[str],
-    *,
-    robot: RobotParams,
-    timestep: float,
-    claims: Sequence[TurningClaim] = (),
-    name: str = "",
-    stem: str = "newton",
-) -> dict[str, str]:
-    """{suffix: text}: ``py``, the script, and ``urdf``, the robot's description it loads (``<stem>.urdf``): the robot
-    described by ``robot_urdf`` (read with ``robot``'s settings) on a plane of friction ``ground_mu`` with the Newton
-    adapter's ``settings`` (a profile's full settings) and step ``timestep``, claiming ``claims``."""
-    spec_robot = robot.spec(robot_urdf)
-    typed = NewtonSettings.model_validate(dict(settings))
+def write_newton_model(request: ModelRequest) -> dict[str, str]:
+    """{suffix: text}: ``py``, the script, and ``urdf``, the robot's description it loads (``<stem>.urdf``, the
+    request's stem, "": ``newton``): the ``request``'s robot on a plane of its ground friction with the Newton
+    adapter's settings and the request's step, claiming its claims."""
+    stem = request.stem or "newton"
+    spec_robot = request.robot.spec(request.robot_urdf)
+    typed = NewtonSettings.model_validate(dict(request.settings))
     if typed.solver != "mujoco":
         raise ValueError(f"the Newton model is written for SolverMuJoCo only, not solver {typed.solver!r}")
     if spec_robot.suspension or spec_robot.couplings:
         raise ValueError(f"the Newton model of {spec_robot.name} is not written: its passive suspension is not")
-    scenario = flat_scenario(spec_robot, typed.model_dump(mode="json"), ground_mu, timestep, robot.max_wheel_torque)
+    scenario = flat_scenario(
+        spec_robot, typed.model_dump(mode="json"), request.ground_mu, request.timestep, request.robot.max_wheel_torque
+    )
     NewtonEngine().check(scenario)
-    blocks = {call: kwargs for _, call, kwargs in python_blocks("newton", typed.model_dump(mode="json"), ground_mu)}
+    blocks = {
+        call: kwargs for _, call, kwargs in python_blocks("newton", typed.model_dump(mode="json"), request.ground_mu)
+    }
     solver = over_fragment(blocks["SolverMuJoCo"], solver_mujoco_options(typed), "SolverMuJoCo")
     pair = None
     if typed.wheel_contact == "pairs":
         pair = over_fragment(
-            blocks["newton.ModelBuilder.add_custom_values"], pair_values(typed, ground_mu), "the wheel pairs"
+            blocks["newton.ModelBuilder.add_custom_values"], pair_values(typed, request.ground_mu), "the wheel pairs"
         )
     intvelocity = typed.wheel_drive == "intvelocity"
     version = NewtonEngine().version()
     data = [
-        claims_block(claims),
+        claims_block(request.claims),
         assign("URDF", f"{stem}.urdf", "the robot's description, beside this file (the one simpick's adapter loads)"),
         assign("BASE_LINK", spec_robot.base_link),
         assign(
@@ -177,17 +167,17 @@ def write_newton_model(
             f"m: the base at rest height + {_num(SPAWN_CLEARANCE)} m, heading 0",
         ),
         assign("BASE_QUAT_XYZW", (0.0, 0.0, 0.0, 1.0)),
-        assign("TIMESTEP", timestep, "s"),
+        assign("TIMESTEP", request.timestep, "s"),
         assign("GRAVITY", tuple(scenario.gravity), "m/s^2"),
-        assign("GROUND_FRICTION", ground_mu, "the ground plane's friction coefficient"),
+        assign("GROUND_FRICTION", request.ground_mu, "the ground plane's friction coefficient"),
         assign("GROUND_ATTRIBUTES", GROUND_ATTRIBUTES, "MuJoCo takes every contact parameter of the ground's geom"),
-        assign("ROBOT_SHAPE", robot_shape(ground_mu), "ShapeConfig of the robot's shapes"),
-        wheels_block(spec_robot, robot.track),
+        assign("ROBOT_SHAPE", robot_shape(request.ground_mu), "ShapeConfig of the robot's shapes"),
+        wheels_block(spec_robot, request.robot.track),
         assign("PASSIVE_JOINTS", list(spec_robot.passive_joints), "joints left free"),
-        assign("MAX_WHEEL_TORQUE", robot.max_wheel_torque, "N m, each wheel's torque bound"),
+        assign("MAX_WHEEL_TORQUE", request.robot.max_wheel_torque, "N m, each wheel's torque bound"),
         assign(
             "WHEEL_ACTUATOR",
-            intvelocity_actuator(typed.wheel_servo_kp, robot.max_wheel_torque) if intvelocity else None,
+            intvelocity_actuator(typed.wheel_servo_kp, request.robot.max_wheel_torque) if intvelocity else None,
             "newton.solvers.mujoco.add_actuator_general's keywords: a MuJoCo <intvelocity> actuator per wheel\n"
             "(None: Newton's joint velocity drive, gain WHEEL_DRIVE_DAMPING)",
         ),
@@ -211,24 +201,24 @@ def write_newton_model(
     }[typed.wheel_contact]
     drive = (
         f"a MuJoCo <intvelocity> actuator per wheel (kp {_num(typed.wheel_servo_kp)} N m/rad, critically damped, "
-        f"torque within +-{_num(robot.max_wheel_torque)} N m)"
+        f"torque within +-{_num(request.robot.max_wheel_torque)} N m)"
         if intvelocity
         else f"Newton's joint velocity drive (kd {_num(typed.wheel_drive_damping)} N m s/rad, effort limit "
-        f"{_num(robot.max_wheel_torque)} N m)"
+        f"{_num(request.robot.max_wheel_torque)} N m)"
     )
     header = [
-        *header_lines,
+        *request.header_lines,
         f"runs as it is, with newton installed: python {stem}.py (every claim), or --v V --w W [--duration S]; "
         f"it loads {stem}.urdf from its own folder and prints, per run, the yaw-rate gain it measures",
         f"builds, with Newton's own API as simpick's Newton adapter does: a ModelBuilder with SolverMuJoCo's "
-        f"attributes, a ground plane (friction {_num(ground_mu)}, MuJoCo priority 1), {spec_robot.name}'s URDF "
+        f"attributes, a ground plane (friction {_num(request.ground_mu)}, MuJoCo priority 1), {spec_robot.name}'s URDF "
         f"(add_urdf, floating, no self-collision), wheels driven by {drive}, contact: {contact}; SolverMuJoCo "
-        f"(SOLVER) on Warp's CPU device, step {_num(timestep)} s",
-        *claim_lines(claims),
+        f"(SOLVER) on Warp's CPU device, step {_num(request.timestep)} s",
+        *claim_lines(request.claims),
         f"written for Newton {version} (the version simpick's adapter ran)",
     ]
     doc = (
-        f"{name or spec_robot.name}: Newton (SolverMuJoCo) on flat ground, as simpick's adapter builds it.\n\n"
+        f"{request.name or spec_robot.name}: Newton (SolverMuJoCo) on flat ground, as simpick's adapter builds it.\n\n"
         f"python {stem}.py runs every claim (CLAIMS) and prints the gain measured beside the one claimed;\n"
         f"python {stem}.py --v 0.5 --w 0.5 --duration 6 runs one command.\n"
     )

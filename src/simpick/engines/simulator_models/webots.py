@@ -18,8 +18,6 @@ claims are simpick's reproduction's (ODE 0.16 through simpick's adapter), not We
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
-from pathlib import Path
 
 import numpy as np
 
@@ -28,7 +26,7 @@ from simpick.engines.ode_settings import OdeSettings
 from simpick.engines.ode_world import SPAWN_CLEARANCE
 from simpick.engines.simulator_files.common import _num
 from simpick.engines.simulator_files.webots import WEBOTS_FRICTION_SOURCE, contact_properties
-from simpick.engines.simulator_models.common import TurningClaim
+from simpick.engines.simulator_models.common import ModelRequest
 from simpick.inputs.robot.settings import RobotParams
 
 VERSION = "R2025a"
@@ -113,22 +111,12 @@ def _solid_fields(body, material: str, pad: str, name: str = "") -> list[str]:
     ]
 
 
-def write_webots_model(
-    robot_urdf: str | Path,
-    settings: Mapping,
-    ground_mu: float,
-    header_lines: list[str],
-    *,
-    robot: RobotParams,
-    timestep: float,
-    claims: Sequence[TurningClaim] = (),
-    name: str = "",
-) -> str:
-    """The .wbt text of the robot described by ``robot_urdf`` (read with ``robot``'s settings) on a Plane of
-    friction ``ground_mu``, with the ODE adapter's ``settings`` (a Webots profile's in full) and step ``timestep``;
-    headed by ``header_lines`` and what this writer knows. ``name``: the world's title."""
-    spec = robot.spec(robot_urdf)
-    s = OdeSettings.of(dict(settings), "ode")
+def write_webots_model(request: ModelRequest) -> str:
+    """The .wbt text of the ``request``'s robot on a Plane of its ground friction, with the ODE adapter's settings
+    (a Webots profile's in full) and the request's step; headed by its header lines and what this writer knows; its
+    name the world's title."""
+    spec = request.robot.spec(request.robot_urdf)
+    s = OdeSettings.of(dict(request.settings), "ode")
     model = spec.rigid
     if model is None or model.suspension or model.passive or spec.couplings:
         raise ValueError(
@@ -150,34 +138,42 @@ def write_webots_model(
             "keep ODE's defaults (inf, 0)"
         )
     driven = spec.driven
-    speeds = [abs(c.v) + abs(c.w) * float(robot.track) / 2 for c in claims]
+    speeds = [abs(c.v) + abs(c.w) * float(request.robot.track) / 2 for c in request.claims]
     fastest = max(speeds, default=0.0) / min(w.radius for w in driven)
     if fastest >= MAX_VELOCITY:
         raise ValueError(f"a claimed command turns a wheel at {fastest:.3g} rad/s, above maxVelocity {MAX_VELOCITY}")
     wheel_directions = s.friction_direction == "wheel"
     info = [
-        f"simpick model: {name or spec.name}; its gains are simpick's ODE reproduction's, not Webots'",
+        f"simpick model: {request.name or spec.name}; its gains are simpick's ODE reproduction's, not Webots'",
         *(
             f"simpick yaw_rate_gain {c.case}: v {c.v!r} w {c.w!r} duration {c.duration!r} gain {c.gain!r}"
-            for c in claims
+            for c in request.claims
         ),
     ]
     body_settings = {**s.model_dump(mode="json"), "friction_ratio": 1.0}
     lines = [
         f"#VRML_SIM {VERSION} utf8",
-        *(f"# {line}".rstrip() for line in _header(header_lines, s, robot, spec, claims, ground_mu, timestep)),
+        *(
+            f"# {line}".rstrip()
+            for line in _header(
+                request.header_lines, s, request.robot, spec, request.claims, request.ground_mu, request.timestep
+            )
+        ),
         "WorldInfo {",
         "  info [",
         *(f'    "{text}"' for text in info),
         "  ]",
-        f'  title "{name or spec.name}"',
+        f'  title "{request.name or spec.name}"',
         f"  gravity {float(GRAVITY)!r}",
         f"  CFM {float(s.cfm)!r}",
         f"  ERP {float(s.erp)!r}",
-        f"  basicTimeStep {float(timestep) * 1000.0!r}  # ms",
+        f"  basicTimeStep {float(request.timestep) * 1000.0!r}  # ms",
         "  contactProperties [",
-        *(f"    {line}" for line in contact_properties(s.model_dump(mode="json"), ground_mu, WHEEL, wheel_directions)),
-        *(f"    {line}" for line in contact_properties(body_settings, ground_mu, BODY)),
+        *(
+            f"    {line}"
+            for line in contact_properties(s.model_dump(mode="json"), request.ground_mu, WHEEL, wheel_directions)
+        ),
+        *(f"    {line}" for line in contact_properties(body_settings, request.ground_mu, BODY)),
         "  ]",
         "}",
         "Viewpoint {",
@@ -203,7 +199,7 @@ def write_webots_model(
             "    HingeJoint {",
             f"      jointParameters HingeJointParameters {{ axis {_vec(hinge_axis)} anchor {_vec(xyz)} }}",
             "      device [",
-            f'        RotationalMotor {{ name "{wheel.joint}" maxTorque {float(robot.max_wheel_torque)!r} '
+            f'        RotationalMotor {{ name "{wheel.joint}" maxTorque {float(request.robot.max_wheel_torque)!r} '
             f"maxVelocity {MAX_VELOCITY!r} }}",
             f'        PositionSensor {{ name "{wheel.joint} sensor" }}',
             "      ]",
