@@ -357,6 +357,12 @@ def test_the_page_across_robots_answers_which_simulator_per_robot(tmp_path):
     ):
         folder = tmp_path / "robots" / robot
         sims = write_simulators(folder / "simulators", calibrated=calibrated, heldout=calibrated == "run")
+        if robot == "husky":  # the Husky's calibrated Gazebo Classic profile has a model that opens as it is
+            table = pd.read_csv(sims / "table.csv")
+            table["model_file"] = ""
+            pick = (table.simulator == "gazebo_classic") & (table.variant == "calibrated")
+            table.loc[pick, "model_file"] = "results/simulators/models/gazebo_classic-calibrated.world"
+            table.to_csv(sims / "table.csv", index=False)
         frame.to_csv(folder / "answer.csv", index=False)
         (folder / "headline.yaml").write_text(
             yaml.safe_dump({"source_title": "data", "n_runs": 12, "units": units, "basis": "", "paragraph": "p."})
@@ -388,6 +394,12 @@ def test_the_page_across_robots_answers_which_simulator_per_robot(tmp_path):
     assert list(rows)[:2] == ["gazebo_classic", "mujoco"]
     husky_cell, warthog_cell = re.findall(r'<td class="cell">(.*?)</td>', rows["gazebo_classic"], re.S)
     assert "<b>calibrated</b>" in husky_cell and "within the robot's spread" in husky_cell
+    # a cell as compact as the first page's: the model's file where there is one (its settings are in it), the
+    # count of mechanics passed, no settings and no case names
+    assert '<a href="husky/simulators/models/gazebo_classic-calibrated.world">' in husky_cell
+    assert "gazebo_classic-calibrated.sdf" not in husky_cell and "<code>" not in husky_cell
+    assert "own mechanics 20/20" in husky_cell
+    assert "breaks mechanics" not in table and "passes 17/20" not in table
     assert "<b>tuned</b>" in warthog_cell and "gazebo_classic-tuned.sdf" in warthog_cell
     assert "not run: pydrake is not installed" in rows["drake"]
 
