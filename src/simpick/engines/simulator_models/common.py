@@ -53,6 +53,11 @@ class ModelRequest:
     name: str = ""
     stem: str = ""
 
+    def flat_world(self, robot, settings: Mapping) -> Scenario:
+        """:func:`flat_scenario` of ``robot`` (the description read) with the adapter's ``settings`` (validated, as
+        a dict) on this request's ground, step and wheel torque bound."""
+        return flat_scenario(robot, settings, self.ground_mu, self.timestep, self.robot.max_wheel_torque)
+
 
 def flat_scenario(robot, settings: Mapping, ground_mu: float, timestep: float, max_wheel_torque: float) -> Scenario:
     """One robot at rest at the origin, heading 0, on a flat floor of friction ``ground_mu`` and no terrain shape:

@@ -29,7 +29,7 @@ from simpick.engines.gzphysics_engine import (
     world_tree,
 )
 from simpick.engines.simulator_files.common import _num, xml_comment
-from simpick.engines.simulator_models.common import ModelRequest, TurningClaim, add_sdf_claims, flat_scenario
+from simpick.engines.simulator_models.common import ModelRequest, TurningClaim, add_sdf_claims
 from simpick.inputs.robot.settings import RobotParams
 
 # the custom elements' namespace, declared on <sdf> as xmlns:simpick (an SDF custom element needs its prefix declared)
@@ -49,9 +49,7 @@ def write_gazebo_model(request: ModelRequest) -> str:
     topic names)."""
     spec_robot = request.robot.spec(request.robot_urdf)
     typed = GzPhysicsSettings.of(dict(request.settings), GzPhysicsEngine.name)
-    scenario = flat_scenario(
-        spec_robot, typed.model_dump(mode="json"), request.ground_mu, request.timestep, request.robot.max_wheel_torque
-    )
+    scenario = request.flat_world(spec_robot, typed.model_dump(mode="json"))
     root = world_tree(scenario, typed)
     root.set("xmlns:simpick", NAMESPACE)
     world = root.find("world")

@@ -18,7 +18,7 @@ from simpick.engines.genesis_engine import (
 )
 from simpick.engines.simulator_files.common import _num
 from simpick.engines.simulator_files.python_setups import python_blocks
-from simpick.engines.simulator_models.common import ModelRequest, flat_scenario
+from simpick.engines.simulator_models.common import ModelRequest
 from simpick.engines.simulator_models.python_script import (
     Code,
     assign,
@@ -93,9 +93,7 @@ def write_genesis_model(request: ModelRequest) -> dict[str, str]:
     typed = GenesisSettings.model_validate(dict(request.settings))
     if spec_robot.suspension or spec_robot.couplings:
         raise ValueError(f"the Genesis model of {spec_robot.name} is not written: its passive suspension is not")
-    scenario = flat_scenario(
-        spec_robot, typed.model_dump(mode="json"), request.ground_mu, request.timestep, request.robot.max_wheel_torque
-    )
+    scenario = request.flat_world(spec_robot, typed.model_dump(mode="json"))
     blocks = {call: kwargs for _, call, kwargs in python_blocks("genesis", typed.model_dump(mode="json"))}
     exact = {k: Code(f"gs.{ENUM_OPTIONS[k]}.{v}") if k in ENUM_OPTIONS else v for k, v in rigid_options(typed).items()}
     rigid = over_fragment(blocks["gs.options.RigidOptions"], exact, "RigidOptions")

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 
 from simpick.engines.mujoco_engine import SENSORS, SPAWN_CLEARANCE, MujocoEngine, MujocoSettings
 from simpick.engines.simulator_files.common import _num, xml_comment
-from simpick.engines.simulator_models.common import ModelRequest, TurningClaim, flat_scenario
+from simpick.engines.simulator_models.common import ModelRequest, TurningClaim
 from simpick.inputs.robot.settings import RobotParams
 
 # the names the file gives the recorded robot's sensors (the adapter leaves them unnamed), in SENSORS' order
@@ -41,9 +41,7 @@ def write_mujoco_model(request: ModelRequest) -> str:
 
     spec_robot = request.robot.spec(request.robot_urdf)
     typed = MujocoSettings.model_validate(dict(request.settings))
-    scenario = flat_scenario(
-        spec_robot, typed.model_dump(mode="json"), request.ground_mu, request.timestep, request.robot.max_wheel_torque
-    )
+    scenario = request.flat_world(spec_robot, typed.model_dump(mode="json"))
     spec = MujocoEngine().spec(scenario)
     spec.modelname = request.name or spec_robot.name
     labels = [SENSOR_NAMES[k] for k, _ in SENSORS if k in SENSOR_NAMES]

@@ -23,7 +23,7 @@ from simpick.engines.newton_engine import (
 )
 from simpick.engines.simulator_files.common import _num
 from simpick.engines.simulator_files.python_setups import python_blocks
-from simpick.engines.simulator_models.common import ModelRequest, flat_scenario
+from simpick.engines.simulator_models.common import ModelRequest
 from simpick.engines.simulator_models.python_script import (
     assign,
     claim_lines,
@@ -142,9 +142,7 @@ def write_newton_model(request: ModelRequest) -> dict[str, str]:
         raise ValueError(f"the Newton model is written for SolverMuJoCo only, not solver {typed.solver!r}")
     if spec_robot.suspension or spec_robot.couplings:
         raise ValueError(f"the Newton model of {spec_robot.name} is not written: its passive suspension is not")
-    scenario = flat_scenario(
-        spec_robot, typed.model_dump(mode="json"), request.ground_mu, request.timestep, request.robot.max_wheel_torque
-    )
+    scenario = request.flat_world(spec_robot, typed.model_dump(mode="json"))
     NewtonEngine().check(scenario)
     blocks = {
         call: kwargs for _, call, kwargs in python_blocks("newton", typed.model_dump(mode="json"), request.ground_mu)
