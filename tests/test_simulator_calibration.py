@@ -424,6 +424,7 @@ def test_the_fit_on_the_committed_segments_lowers_its_training_error_and_fits_ea
         if held:
             judged += 1
             assert held["runs"] >= 1 and held["class_fit_error"] >= 0 and held["pooled_fit_error"] >= 0
+            assert held["runs"] <= held["available"]  # the runs judged, of the class's held-out ones
             # a class's few held-out runs (fewer than statistics.min_runs) give no interval
             assert held["runs"] < 6 and held["class_fit_error_interval"] is None
             assert set(held["cases"]["segments"]).isdisjoint(f["cases"]["segments"])

@@ -36,6 +36,15 @@ def _f(x, digits: int = 3) -> str:
     return "–" if not math.isfinite(x) else f"{x:.{digits}f}"
 
 
+def _judged(judged: int, available) -> str:
+    """The held-out units a class's fits are judged on, "n of m" where the class holds out more (DRIVE's steps)."""
+    try:
+        available = int(available)
+    except (TypeError, ValueError):
+        return str(judged)
+    return f"{judged} of {available}" if available > judged else str(judged)
+
+
 def _with_interval(row: dict, column: str) -> str:
     """A per-class held-out error with its 95 % interval where the class had enough held-out runs for one."""
     low, high = _f(row.get(f"{column}_low")), _f(row.get(f"{column}_high"))
@@ -173,7 +182,8 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
                     "class_settings": _text_or_dash(r.get("class_settings")),
                     "pooled_settings": _text_or_dash(r.get("pooled_settings")),
                     "engine_gain": _f(r.get("engine_gain")),
-                    "heldout_runs": held,
+                    # the units judged, and of how many the class holds out where the fit judges fewer (DRIVE)
+                    "heldout_runs": _judged(held, r.get("heldout_available")),
                     "spread": _f(r.get("class_spread")),
                     "spread_runs": int(r["spread_runs"]) if pd.notna(r.get("spread_runs")) else 0,
                     "train_tuned": _f(r.get("tuned_train_error")),

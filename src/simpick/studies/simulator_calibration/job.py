@@ -351,7 +351,10 @@ def _class_fits(
                 own_ci = hunits.error_interval(own_held, min_runs, level, p.seed)
                 pooled_ci = hunits.error_interval(pooled_held, min_runs, level, p.seed)
                 entry["heldout"] = {
-                    "runs": len(hgains),
+                    # the units judged (their runs; DRIVE: steps, at most drive_commands of them) and of how many
+                    # held-out ones the class has
+                    "runs": len(set(hunits.runs)),
+                    "available": len(hgains),
                     "real_gain": _r(float(hgains.gain.mean())),
                     "cases": hunits.describe,
                     "class_fit_gain": _r(float(np.nanmean(own_held))),
