@@ -812,6 +812,16 @@ def test_the_fit_on_drive_pools_the_target_class_s_training_steps_and_never_a_he
     assert fit["fit"]["real_gain"] == pytest.approx(fitted.gain.mean(), abs=1e-4)
     assert set(fit["fit"]["real_runs"]) == set(fitted.key) and not set(fit["fit"]["real_runs"]) & set(test)
     assert sorted(fit["per_class"]) == ["asphalt", "grass", "gravel"]
+    # a class's spread is its own step-to-step repeatability (the table's spread over its steps alone), not the
+    # spread of its steps' gains, which DRIVE draws at independent commands
+    from simpick.compare.steps import gain_repeatability
+
+    assert params["drive_tolerance"] > 0
+    for cls, entry in fit["per_class"].items():
+        sd, pairs = gain_repeatability(steps[steps.terrain_class == cls], params["drive_tolerance"])
+        assert entry["class_spread"] == pytest.approx(sd, abs=1e-4) and entry["spread_runs"] == pairs > 0
+        assert "pairs of steps of similar command" in entry["spread_basis"]
+        assert entry["class_spread"] < steps[(steps.terrain_class == cls) & steps.turning].gain.std()
     # two training steps, each replayed from its warm-up as DRIVE's replay replays it, none held out
     assert len(fit["fit"]["cases"]["steps"]) == 2 and not set(fit["fit"]["cases"]["steps"]) & set(test)
     assert fit["fit"]["method"].endswith(cal.job.REPLAYED["drive"]) and "warm-up" in fit["fit"]["cases"]["from"]

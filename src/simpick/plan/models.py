@@ -402,9 +402,10 @@ class ModelPlanning:
             # ground is given
             data["kind"] = "drive"
             data["grounds"] = {c: float(k.friction) for c, k in study.real_data.classes.items()}
-            if model_name(simulator, "calibrated") in self.calibrated:
-                from simpick.sources import module as source_module
+            from simpick.sources import module as source_module
 
+            data["drive_tolerance"] = float(source_module("drive").compare_settings(study)["tolerance"])
+            if model_name(simulator, "calibrated") in self.calibrated:
                 # DRIVE's replay params for the calibrated profile (its plan-time settings), less the session
                 drive = source_module("drive")
                 case = drive.case_params(study, "drive", {}, calibrated, self.model_settings(calibrated), "", [])

@@ -10,7 +10,7 @@ from typing import Any
 
 import pandas as pd
 
-from simpick.score.profiles import _text
+from simpick.score.profiles import _text, spread_count
 from simpick.score.tree import read_tree
 
 OUTCOME_WORDS = {
@@ -185,7 +185,7 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
                     # the units judged, and of how many the class holds out where the fit judges fewer (DRIVE)
                     "heldout_runs": _judged(held, r.get("heldout_available")),
                     "spread": _f(r.get("class_spread")),
-                    "spread_runs": int(r["spread_runs"]) if pd.notna(r.get("spread_runs")) else 0,
+                    "spread_runs": spread_count(r),
                     "train_tuned": _f(r.get("tuned_train_error")),
                     "train_pooled": _f(r.get("pooled_train_error")),
                     "train_class": _f(r.get("class_train_error")),

@@ -228,6 +228,13 @@ def simulator_answer(
     }
 
 
+def spread_count(row: dict) -> str:
+    """What a class's spread was taken over: its runs' count, or "<n> pairs" where it is DRIVE's step-to-step
+    repeatability over pairs of steps of similar command (per_class.csv's spread_basis)."""
+    n = int(_num(row.get("spread_runs")) or 0)
+    return f"{n} pairs" if "pairs" in _text(row.get("spread_basis")) else str(n)
+
+
 def class_answer(
     per_class: pd.DataFrame | None,
     table: pd.DataFrame | None,
@@ -284,7 +291,7 @@ def class_answer(
                         "high": _num(r.get(f"{column}_high")),
                         "runs": int(_num(r.get("heldout_runs")) or 0),
                         "spread": spread,
-                        "spread_runs": int(_num(r.get("spread_runs")) or 0),
+                        "spread_runs": spread_count(r),
                         "spread_ratio": error / spread if spread else None,
                         "files": files,
                         "model": _model(model, link),

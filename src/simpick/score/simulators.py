@@ -487,6 +487,8 @@ def per_class_table(
                     "reached": e.get("reached"),
                     "class_spread": e.get("class_spread"),
                     "spread_runs": e.get("spread_runs"),
+                    # how the spread was taken: over its runs' gains, or (DRIVE) over pairs of similar steps
+                    "spread_basis": e.get("spread_basis") or "standard deviation of its runs' real gains",
                     "tuned_train_error": e.get("tuned_train_error"),
                     "pooled_train_error": e.get("pooled_train_error"),
                     "class_train_error": e.get("train_error"),
@@ -534,6 +536,7 @@ PER_CLASS_COLUMNS = [
     "reached",
     "class_spread",
     "spread_runs",
+    "spread_basis",
     "tuned_train_error",
     "pooled_train_error",
     "class_train_error",

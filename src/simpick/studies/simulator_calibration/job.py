@@ -255,7 +255,9 @@ def _class_fits(
     from the pooled values) on its training runs' units, beside the pooled fit and the tuned profile on the same
     units (the tuned gains from ``tuned_by_unit``, unit -> the pooled fit's tuned evaluation, where it has them),
     and both judged on the class's held-out runs the same way (what the held-out figure replays). The class's own
-    spread is the standard deviation of its runs' real gains, training and held-out (NaN below two runs). A class
+    spread is the standard deviation of its runs' real gains, training and held-out (NaN below two runs); on DRIVE,
+    whose steps are drawn at independent commands, the class's step-to-step repeatability of its gain (the table's
+    spread, :func:`simpick.compare.steps.gain_repeatability`, over the class's steps alone). A class
     keeps a fit of its own (its ``settings``: the required ones and the pooled fit's with its fitted values over them,
     each fitted value with its interval in ``parameters``) only where its
     training error is below the pooled fit's, no fitted value lies within a step of the engine's response, and it
@@ -283,6 +285,19 @@ def _class_fits(
             "class_spread": _r(float(every.gain.std(ddof=1)) if len(every) > 1 else math.nan),
             "spread_runs": len(every),
         }
+        if p.kind == "drive" and p.drive_tolerance is not None:
+            from simpick.compare.steps import gain_repeatability
+
+            steps = pd.read_csv(inputs["steps"])
+            sd, pairs = gain_repeatability(steps[steps.terrain_class == cls], p.drive_tolerance)
+            entry.update(
+                {
+                    "class_spread": _r(sd),
+                    "spread_runs": pairs,
+                    "spread_basis": f"step-to-step repeatability of its gain over {pairs} pairs of steps of similar "
+                    "command",
+                }
+            )
         if p.class_nfev and str(cls) in p.grounds and order:
             units = _units(p, inputs, robot, runs, [str(cls)], t)
             axes = [Axis(k, space.settings[k]) for k in order[: max(1, len(set(units.runs)))]]

@@ -55,6 +55,11 @@ class CalibrateParams(JobParams):
         description="kind drive: the calibrated profile's DRIVE replay params (simpick.simulate.steps.StepsParams, "
         "its plan-time settings: the tuned ones); the fit replays the chosen training steps with them",
     )
+    drive_tolerance: Positive | None = Field(
+        None,
+        description="kind drive: rad/s within which two steps' wheel commands are similar (the DRIVE comparison's "
+        "tolerance): a class's spread is its step-to-step repeatability over such pairs, as the table's spread is",
+    )
     tolerance: Positive = Field(
         0.005,
         description="gain within which a fit is said to reach the real one, and by which a class's own fit must "
