@@ -476,6 +476,7 @@ def test_the_per_class_fits_stand_beside_the_pooled_with_their_held_out_runs_and
                 "heldout_runs": held,
                 # flooring's fits were judged on 1 of its 3 held-out runs (as on DRIVE: a few steps of many)
                 "heldout_available": held + 2 if cls == "flooring" else held,
+                "train_fitted": 1 if cls == "flooring" else 2,  # flooring's fit replayed 1 of its 2 training runs
                 # flooring's spread as DRIVE's is taken: over pairs of steps of similar command
                 "class_spread": 0.02,
                 "spread_runs": 12,
@@ -505,6 +506,7 @@ def test_the_per_class_fits_stand_beside_the_pooled_with_their_held_out_runs_and
     assert "friction_ratio = 0.576 (friction_ratio = 0.698)" in body and "0.011 [0.006, 0.020]" in body
     assert '<td class="num">0.079</td>' in body  # the pooled error without an interval has none written
     assert '<td class="num">0.020 (12 pairs)</td>' in body and '<td class="num">0.020 (12)</td>' in body
+    assert '<td>flooring</td>\n<td class="num">1 of 2</td>' in body, body
     assert '<td class="num">1 of 3</td>' in body and '<td class="num">1</td><td class="num">0.060</td>' in body
     # a class without held-out runs shows no error, not a zero
     ice = re.search(r"<tr><td>Gazebo Classic</td><td>ice</td>.*?</tr>", body, re.S).group(0)

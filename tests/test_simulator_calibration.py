@@ -414,6 +414,7 @@ def test_the_fit_on_the_committed_segments_lowers_its_training_error_and_fits_ea
         assert entry["placed_by"].startswith("its own least-squares fit on the engine")
         # one training run: the first of the pooled fit's settings, from the pooled value
         assert entry["fitted"] == ["friction_ratio"] and set(entry["settings"]) == set(fit["settings"])
+        assert entry["fitted_runs"] == 1 == len(entry["runs"])  # its one training run, replayed
         assert entry["trials"][0]["settings"]["friction_ratio"] == pytest.approx(
             fit["settings"]["friction_ratio"], abs=1e-4
         )

@@ -177,7 +177,11 @@ def simulators_section(folder: str, weights: dict[str, float]) -> dict[str, Any]
                 {
                     "label": r["label"],
                     "terrain_class": r["terrain_class"],
-                    "train_runs": int(r["train_runs"]) if pd.notna(r.get("train_runs")) else 0,
+                    # the training units the class's fit replayed, of how many the class has where fewer (DRIVE)
+                    "train_runs": _judged(
+                        int(r["train_fitted"]) if pd.notna(r.get("train_fitted")) else int(r.get("train_runs") or 0),
+                        r.get("train_runs"),
+                    ),
                     "real_gain": _f(r.get("real_gain")),
                     "class_settings": _text_or_dash(r.get("class_settings")),
                     "pooled_settings": _text_or_dash(r.get("pooled_settings")),

@@ -478,6 +478,8 @@ def per_class_table(
                     "label": catalog.simulators[simulator].label if simulator in catalog.simulators else simulator,
                     "terrain_class": cls,
                     "train_runs": len(e.get("runs") or []),
+                    # of them, the ones its own fit replayed (DRIVE: a few representative steps); none without a fit
+                    "train_fitted": e.get("fitted_runs", len(e.get("runs") or [])),
                     "real_gain": e.get("real_gain"),
                     "pooled_settings": pooled,
                     "class_settings": settings_text(class_settings(e)),
@@ -527,6 +529,7 @@ PER_CLASS_COLUMNS = [
     "label",
     "terrain_class",
     "train_runs",
+    "train_fitted",
     "real_gain",
     "pooled_settings",
     "class_settings",

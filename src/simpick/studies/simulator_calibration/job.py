@@ -330,6 +330,8 @@ def _class_fits(
                 {
                     "settings": {k: _rs(v) if isinstance(v, float) else v for k, v in own.items()},
                     "fitted": [a.name for a in axes],
+                    # the training units the class's fit replays (their runs; DRIVE: at most drive_commands steps)
+                    "fitted_runs": len(set(units.runs)),
                     "placed_by": "its own least-squares fit on the engine of "
                     f"{', '.join(a.name for a in axes)} ({_trials(fit['report']['engine_evaluations'])} from the "
                     f"pooled fit, {fit['report']['name']})",
