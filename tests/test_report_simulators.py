@@ -357,6 +357,15 @@ def test_the_page_across_robots_answers_which_simulator_per_robot(tmp_path):
     ):
         folder = tmp_path / "robots" / robot
         sims = write_simulators(folder / "simulators", calibrated=calibrated, heldout=calibrated == "run")
+        # Isaac Sim closest of all on both robots, but every profile of it breaks its mechanics
+        table = pd.read_csv(sims / "table.csv", dtype={"mechanics_own": object})
+        isaac = table.simulator == "isaac_sim"
+        table.loc[isaac, ["mechanics", "mechanics_failed"]] = ["fail", 5]
+        table.loc[isaac, "gain_error"] = 0.001
+        if calibrated == "run":  # the Husky's table judges on held-out runs
+            table.loc[isaac, ["heldout_gain_error", "heldout_gain_error_low", "heldout_gain_error_high"]] = 0.001
+            table.loc[isaac, "mechanics_own"] = "passes 15/20; breaks mechanics its tuned profile keeps: slope_10"
+        table.to_csv(sims / "table.csv", index=False)
         if robot == "husky":  # the Husky's calibrated Gazebo Classic profile has a model that opens as it is
             table = pd.read_csv(sims / "table.csv")
             table["model_file"] = ""
@@ -400,6 +409,13 @@ def test_the_page_across_robots_answers_which_simulator_per_robot(tmp_path):
     assert "gazebo_classic-calibrated.sdf" not in husky_cell and "<code>" not in husky_cell
     assert "own mechanics 20/20" in husky_cell
     assert "breaks mechanics" not in table and "passes 17/20" not in table
+    # a simulator whose every pick breaks its mechanics comes after those with a pick that keeps them, however close
+    kept = [
+        any("<b>" in c and "✗</b>" not in c for c in re.findall(r'<td class="cell">(.*?)</td>', body, re.S))
+        for body in rows.values()
+    ]
+    assert kept == sorted(kept, reverse=True) and dict(zip(rows, kept))["isaac_sim"] is False, dict(zip(rows, kept))
+    assert "0.001" in rows["isaac_sim"] and list(rows).index("isaac_sim") > list(rows).index("webots")
     assert "<b>tuned</b>" in warthog_cell and "gazebo_classic-tuned.sdf" in warthog_cell
     assert "not run: pydrake is not installed" in rows["drake"]
 

@@ -189,8 +189,15 @@ def simulators_per_robot(
             else:
                 cells.append({"pick": s["best"], "spread": answers[robot]["spread"]})
         rows.append({"simulator": simulator, "label": label, "cells": cells})
-    # the simulators by their best pick over the robots, those measured on no robot last
-    rows.sort(key=lambda r: min((c["pick"]["error"] for c in r["cells"] if "pick" in c), default=math.inf))
+
+    # the simulators by their best pick over the robots that keeps its mechanics, then those whose picks all break
+    # them (a pick marked ✗ is never the answer), those measured on no robot last
+    def order(row: dict) -> tuple[int, float]:
+        picks = [c["pick"] for c in row["cells"] if "pick" in c]
+        passing = [p["error"] for p in picks if p["passes"]]
+        return (0, min(passing)) if passing else (1, min((p["error"] for p in picks), default=math.inf))
+
+    rows.sort(key=order)
     return {
         "given": any(a["given"] for a in answers.values()),
         "robots": [labels[r] for r in robots],
