@@ -22,6 +22,7 @@ from simpick.engines.catalog import load_catalog
 from simpick.engines.simulators import SIMULATORS, VARIANTS
 from simpick.inputs.robot import load_from_config
 from simpick.plan import Plan
+from simpick.score import simulator_classes as classes_stage
 from simpick.score import simulator_settings as settings_stage
 from simpick.score import simulators as stage
 from simpick.studies import simulator_calibration as cal
@@ -683,7 +684,7 @@ def test_a_class_whose_own_fit_differs_gets_its_own_file_and_a_row_beside_the_po
         "fit": {"real_gain": 0.645},
     }
     assert set(settings_stage.class_files(fit)) == {"flooring"}
-    table = stage.per_class_table({"mujoco": fit}, catalog)
+    table = classes_stage.per_class_table({"mujoco": fit}, catalog)
     assert list(table.terrain_class) == ["flooring", "ice", "snow", "asphalt"]
     row = table.set_index("terrain_class").loc["flooring"]
     assert (row.class_settings, row.pooled_settings, row.class_fit_error, row.pooled_fit_error) == (
@@ -1203,7 +1204,7 @@ def test_a_class_fits_every_setting_the_pooled_fit_fitted_and_its_file_carries_t
     tuned = catalog.settings("mujoco", "tuned", "husky_a200")
     files = settings_stage.calibrated_settings("mujoco", tuned, out)
     assert files["-ice"]["wheel_servo_kp"] == pytest.approx(e["settings"]["wheel_servo_kp"])
-    row = stage.per_class_table({"mujoco": out}, catalog).set_index("terrain_class").loc["ice"]
+    row = classes_stage.per_class_table({"mujoco": out}, catalog).set_index("terrain_class").loc["ice"]
     assert f"wheel_servo_kp = {e['settings']['wheel_servo_kp']}" in row.class_settings
 
 

@@ -20,7 +20,7 @@ from conftest import ROOT, study_config
 from simpick.config import Study
 from simpick.engines.catalog import load_catalog
 from simpick.plan import Plan
-from simpick.score.simulators import per_class_table
+from simpick.score.simulator_classes import per_class_table
 from simpick.studies.simulator_models import simulator_models_job
 
 # s: each claimed case cut from its 6 s to 1 s, so each model steps 6 s in all. A claim is tested at the duration
