@@ -404,10 +404,10 @@ class ModelPlanning:
             data["grounds"] = {c: float(k.friction) for c, k in study.real_data.classes.items()}
             from simpick.sources import module as source_module
 
-            data["drive_tolerance"] = float(source_module("drive").compare_settings(study)["tolerance"])
+            drive = source_module("drive")
+            data["drive_tolerance"] = float(drive.compare_settings(study)["tolerance"])
             if model_name(simulator, "calibrated") in self.calibrated:
                 # DRIVE's replay params for the calibrated profile (its plan-time settings), less the session
-                drive = source_module("drive")
                 case = drive.case_params(study, "drive", {}, calibrated, self.model_settings(calibrated), "", [])
                 data["steps_case"] = {k: v for k, v in case.items() if k != "session"}
         searchable = model_name(simulator, "calibrated") in self.calibrated

@@ -73,25 +73,24 @@ class Units:
     def error(self, sims: np.ndarray) -> float:
         """The judged figure on these units: each run's mean |simulated - real gain| over its healthy units, then
         the mean over runs (simpick.compare.realmetrics.mean_ci, as the table's held-out columns)."""
-        from simpick.compare.realmetrics import mean_ci
-
-        ok = np.isfinite(sims)
-        if not ok.any():
-            return math.nan
-        return mean_ci(np.abs(sims - self.real)[ok], np.asarray(self.runs, object)[ok], 10**9)[0]
+        return self.error_ci(sims, 10**9, 0.95, 0)[0]
 
     def error_interval(self, sims: np.ndarray, min_runs: int, level: float, seed: int) -> tuple[float, float]:
         """The BCa interval of :meth:`error` over the runs, as the table's held-out column gives it (NaN below
         ``min_runs`` runs)."""
+        return self.error_ci(sims, min_runs, level, seed)[1:]
+
+    def error_ci(self, sims: np.ndarray, min_runs: int, level: float, seed: int) -> tuple[float, float, float]:
+        """(:meth:`error`, its interval's low and high ends); NaN where no unit ran."""
         from simpick.compare.realmetrics import mean_ci
 
         ok = np.isfinite(sims)
         if not ok.any():
-            return math.nan, math.nan
-        _, low, high, _ = mean_ci(
+            return math.nan, math.nan, math.nan
+        mean, low, high, _ = mean_ci(
             np.abs(sims - self.real)[ok], np.asarray(self.runs, object)[ok], min_runs, level, seed
         )
-        return low, high
+        return mean, low, high
 
 
 def least_squares_fit(

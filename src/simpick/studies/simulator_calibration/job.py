@@ -271,6 +271,8 @@ def _class_fits(
     tuned_by_unit = tuned_by_unit or {}
     order = [k for k in pooled if k in space.settings]
     base = {**fixed, **pooled}
+    # DRIVE's steps, read once: each class's spread is its step-to-step repeatability over them
+    drive_steps = pd.read_csv(inputs["steps"]) if p.kind == "drive" and p.drive_tolerance is not None else None
     for cls, t in train.groupby("terrain_class"):
         gains = real_gains(t)
         gain = float(gains.gain.mean())
@@ -282,22 +284,8 @@ def _class_fits(
             "real_gain": _r(gain),
             "runs": runs,
             "placed_by": "the pooled fit (no fit of its own)",
-            "class_spread": _r(float(every.gain.std(ddof=1)) if len(every) > 1 else math.nan),
-            "spread_runs": len(every),
+            **_class_spread(drive_steps, str(cls), every, p.drive_tolerance),
         }
-        if p.kind == "drive" and p.drive_tolerance is not None:
-            from simpick.compare.steps import gain_repeatability
-
-            steps = pd.read_csv(inputs["steps"])
-            sd, pairs = gain_repeatability(steps[steps.terrain_class == cls], p.drive_tolerance)
-            entry.update(
-                {
-                    "class_spread": _r(sd),
-                    "spread_runs": pairs,
-                    "spread_basis": f"step-to-step repeatability of its gain over {pairs} pairs of steps of similar "
-                    "command",
-                }
-            )
         if p.class_nfev and str(cls) in p.grounds and order:
             units = _units(p, inputs, robot, runs, [str(cls)], t)
             axes = [Axis(k, space.settings[k]) for k in order[: max(1, len(set(units.runs)))]]
@@ -386,6 +374,25 @@ def _class_fits(
                 }
         out[str(cls)] = entry
     return out
+
+
+def _class_spread(steps: pd.DataFrame | None, cls: str, every: pd.DataFrame, tolerance: float | None) -> dict:
+    """A class's spread: the standard deviation of its runs' real gains (``every``: training and held-out; NaN
+    below two runs), or where DRIVE's ``steps`` are given, the class's step-to-step repeatability of its gain over
+    pairs of steps of similar command (within ``tolerance``), the table's spread over the class's steps alone."""
+    if steps is None:
+        return {
+            "class_spread": _r(float(every.gain.std(ddof=1)) if len(every) > 1 else math.nan),
+            "spread_runs": len(every),
+        }
+    from simpick.compare.steps import gain_repeatability
+
+    sd, pairs = gain_repeatability(steps[steps.terrain_class == cls], tolerance)
+    return {
+        "class_spread": _r(sd),
+        "spread_runs": pairs,
+        "spread_basis": f"step-to-step repeatability of its gain over {pairs} pairs of steps of similar command",
+    }
 
 
 def _same_settings(a: dict, b: dict) -> bool:
