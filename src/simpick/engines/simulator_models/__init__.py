@@ -18,8 +18,7 @@ own), and rule simulator_models writes one model per profile of those simulators
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
-from pathlib import Path
+from collections.abc import Callable
 from typing import NamedTuple
 
 from simpick.engines import gzphysics_engine
@@ -34,7 +33,6 @@ from simpick.engines.simulator_models.morse import write_morse_model, writes_mor
 from simpick.engines.simulator_models.mujoco import write_mujoco_model
 from simpick.engines.simulator_models.newton_script import write_newton_model
 from simpick.engines.simulator_models.webots import write_webots_model
-from simpick.inputs.robot.settings import RobotParams
 
 
 def _always(robot) -> bool:
@@ -90,32 +88,11 @@ class ModelWriter(NamedTuple):
     opened_here: bool
     writes: Callable[..., bool] = _always
 
-    def write(
-        self,
-        robot_urdf: str | Path,
-        settings: Mapping,
-        ground_mu: float,
-        header_lines: Sequence[str],
-        *,
-        robot: RobotParams,
-        timestep: float,
-        claims: Sequence[TurningClaim] = (),
-        name: str = "",
-        stem: str = "",
-    ) -> dict[str, str]:
-        """The model of the :class:`ModelRequest` of these fields as {suffix: text}, one file per suffix, each named
-        <stem>.<suffix> (``stem``: the profile's name, by which a model's files name each other)."""
-        request = ModelRequest(
-            robot_urdf,
-            settings,
-            ground_mu,
-            header_lines,
-            robot=robot,
-            timestep=timestep,
-            claims=claims,
-            name=name,
-            stem=stem,
-        )
+    def write(self, *args, **kwargs) -> dict[str, str]:
+        """The model of ``ModelRequest(*args, **kwargs)`` (robot_urdf, settings, ground_mu, header_lines; robot,
+        timestep, claims, name, stem) as {suffix: text}, one file per suffix, each named <stem>.<suffix> (``stem``:
+        the profile's name, by which a model's files name each other)."""
+        request = ModelRequest(*args, **kwargs)
         files = self.writer(request)
         return {self.suffix: files} if isinstance(files, str) else files
 
